@@ -1,0 +1,280 @@
+//! Serde types of graph description files (`graph/*.ron`) and layer definition files
+//! (`layers/*.ron`). These are the file formats; the compiler turns them into a plan.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// A frame: layer instances connected by named outputs, and the output to present.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Graph")]
+pub struct GraphDesc {
+    /// The resource presented as the frame's image, as `"node.output"`.
+    pub output: String,
+    pub nodes: BTreeMap<String, NodeDesc>,
+}
+
+/// A node of a graph file.
+#[derive(Debug, Clone, Deserialize)]
+pub enum NodeDesc {
+    /// An instance of a layer file.
+    Layer(LayerNode),
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerNode {
+    /// Layer file name without extension, looked up in the layers directory.
+    pub layer: String,
+    /// Layer input name -> `"node.output"` that feeds it.
+    #[serde(default)]
+    pub inputs: BTreeMap<String, String>,
+    /// Parameter overrides.
+    #[serde(default)]
+    pub params: BTreeMap<String, ParamValue>,
+}
+
+/// A parameter value as written in a graph file.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum ParamValue {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+}
+
+impl ParamValue {
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            ParamValue::Bool(_) => "bool",
+            ParamValue::Int(_) => "int",
+            ParamValue::Float(_) => "float",
+        }
+    }
+}
+
+/// A reusable sub-graph of passes with typed inputs, outputs and parameters.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Layer")]
+pub struct LayerDesc {
+    #[serde(default)]
+    pub inputs: BTreeMap<String, ResourceDecl>,
+    #[serde(default)]
+    pub outputs: BTreeMap<String, ResourceDecl>,
+    /// Resources private to the layer, written by one of its passes and read by another.
+    #[serde(default)]
+    pub transients: BTreeMap<String, ResourceDecl>,
+    #[serde(default)]
+    pub params: BTreeMap<String, ParamDecl>,
+    pub passes: Vec<PassDesc>,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub enum ResourceDecl {
+    Texture(TextureDecl),
+    Buffer(BufferDecl),
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureDecl {
+    pub format: Format,
+    #[serde(default)]
+    pub size: SizeDecl,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BufferDecl {
+    /// Size in bytes.
+    pub size: u64,
+}
+
+/// Texture size, relative to the frame or absolute.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+pub enum SizeDecl {
+    /// A fraction of the frame size (1.0 = full resolution).
+    Relative(f32),
+    Absolute(u32, u32),
+}
+
+impl Default for SizeDecl {
+    fn default() -> Self {
+        SizeDecl::Relative(1.0)
+    }
+}
+
+impl SizeDecl {
+    pub fn resolve(&self, frame: (u32, u32)) -> (u32, u32) {
+        match *self {
+            SizeDecl::Relative(s) => (
+                ((frame.0 as f32 * s).round() as u32).max(1),
+                ((frame.1 as f32 * s).round() as u32).max(1),
+            ),
+            SizeDecl::Absolute(w, h) => (w.max(1), h.max(1)),
+        }
+    }
+}
+
+/// Texture formats a layer may declare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+pub enum Format {
+    R8Unorm,
+    Rg8Unorm,
+    Rgba8Unorm,
+    Rgba8UnormSrgb,
+    R16Float,
+    Rg16Float,
+    Rgba16Float,
+    R32Float,
+    Rg32Float,
+    Rgba32Float,
+    R32Uint,
+    Rgba32Uint,
+    Depth32Float,
+}
+
+impl Format {
+    pub fn to_wgpu(self) -> wgpu::TextureFormat {
+        use wgpu::TextureFormat as T;
+        match self {
+            Format::R8Unorm => T::R8Unorm,
+            Format::Rg8Unorm => T::Rg8Unorm,
+            Format::Rgba8Unorm => T::Rgba8Unorm,
+            Format::Rgba8UnormSrgb => T::Rgba8UnormSrgb,
+            Format::R16Float => T::R16Float,
+            Format::Rg16Float => T::Rg16Float,
+            Format::Rgba16Float => T::Rgba16Float,
+            Format::R32Float => T::R32Float,
+            Format::Rg32Float => T::Rg32Float,
+            Format::Rgba32Float => T::Rgba32Float,
+            Format::R32Uint => T::R32Uint,
+            Format::Rgba32Uint => T::Rgba32Uint,
+            Format::Depth32Float => T::Depth32Float,
+        }
+    }
+
+    /// The WGSL storage-texture format of the same name, where one exists.
+    pub fn to_storage(self) -> Option<naga::StorageFormat> {
+        use naga::StorageFormat as S;
+        Some(match self {
+            Format::R8Unorm => S::R8Unorm,
+            Format::Rg8Unorm => S::Rg8Unorm,
+            Format::Rgba8Unorm => S::Rgba8Unorm,
+            Format::R16Float => S::R16Float,
+            Format::Rg16Float => S::Rg16Float,
+            Format::Rgba16Float => S::Rgba16Float,
+            Format::R32Float => S::R32Float,
+            Format::Rg32Float => S::Rg32Float,
+            Format::Rgba32Float => S::Rgba32Float,
+            Format::R32Uint => S::R32Uint,
+            Format::Rgba32Uint => S::Rgba32Uint,
+            Format::Rgba8UnormSrgb | Format::Depth32Float => return None,
+        })
+    }
+
+    pub fn is_depth(self) -> bool {
+        matches!(self, Format::Depth32Float)
+    }
+
+    pub fn is_uint(self) -> bool {
+        matches!(self, Format::R32Uint | Format::Rgba32Uint)
+    }
+
+    /// Whether a shader may sample it with a filtering sampler.
+    pub fn is_filterable(self) -> bool {
+        !matches!(self, Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rgba32Uint | Format::Depth32Float)
+    }
+
+    pub fn bytes_per_texel(self) -> u64 {
+        match self {
+            Format::R8Unorm => 1,
+            Format::Rg8Unorm | Format::R16Float => 2,
+            Format::Rgba8Unorm | Format::Rgba8UnormSrgb | Format::Rg16Float | Format::R32Float | Format::R32Uint | Format::Depth32Float => 4,
+            Format::Rgba16Float | Format::Rg32Float => 8,
+            Format::Rgba32Float | Format::Rgba32Uint => 16,
+        }
+    }
+}
+
+/// A declared parameter: type, default and range. Parameters reach shaders through a
+/// uniform struct named `params` whose members are matched by name.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub enum ParamDecl {
+    Float { default: f64, min: f64, max: f64 },
+    Int { default: i64, min: i64, max: i64 },
+    Bool { default: bool },
+}
+
+impl ParamDecl {
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            ParamDecl::Float { .. } => "float",
+            ParamDecl::Int { .. } => "int",
+            ParamDecl::Bool { .. } => "bool",
+        }
+    }
+
+    pub fn default_value(&self) -> ParamValue {
+        match *self {
+            ParamDecl::Float { default, .. } => ParamValue::Float(default),
+            ParamDecl::Int { default, .. } => ParamValue::Int(default),
+            ParamDecl::Bool { default } => ParamValue::Bool(default),
+        }
+    }
+}
+
+/// One GPU pass of a layer.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Pass")]
+pub struct PassDesc {
+    pub name: String,
+    pub kind: PassKind,
+    /// WGSL file, relative to the `shaders/` directory beside the layers directory.
+    pub shader: String,
+    /// Entry point: the compute entry for `Compute`, the fragment entry for render passes.
+    #[serde(default)]
+    pub entry: Option<String>,
+    /// Vertex entry of render passes (default `vs_main`).
+    #[serde(default)]
+    pub vertex_entry: Option<String>,
+    /// Layer resources the pass reads (bound as textures or read-only buffers).
+    #[serde(default)]
+    pub reads: Vec<String>,
+    /// Layer resources the pass writes (storage textures/buffers for compute, attachments for
+    /// render passes, in fragment output order; a depth texture becomes the depth attachment).
+    #[serde(default)]
+    pub writes: Vec<String>,
+    #[serde(default)]
+    pub dispatch: Dispatch,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+pub enum PassKind {
+    /// A compute shader dispatch.
+    Compute,
+    /// A full-screen triangle drawn into the pass's attachments.
+    Fullscreen,
+    /// The scene's meshes drawn into the pass's attachments.
+    SceneRaster,
+}
+
+impl PassKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            PassKind::Compute => "compute",
+            PassKind::Fullscreen => "fullscreen",
+            PassKind::SceneRaster => "scene_raster",
+        }
+    }
+}
+
+/// Dispatch size of a compute pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+pub enum Dispatch {
+    /// One invocation per texel of the first written texture (or of the frame), using the
+    /// shader's workgroup size.
+    #[default]
+    PerPixel,
+    /// A fixed number of workgroups.
+    Groups(u32, u32, u32),
+}

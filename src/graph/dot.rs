@@ -1,0 +1,36 @@
+//! Graphviz output of a compiled plan: passes as boxes, resources as ellipses, culled passes
+//! greyed out. Built with petgraph's `Dot` writer.
+
+use super::compile::Plan;
+use petgraph::dot::{Config, Dot};
+use petgraph::graph::DiGraph;
+
+/// Writes the plan's kept passes and resources as a Graphviz digraph.
+pub fn to_dot(plan: &Plan) -> String {
+    let mut g: DiGraph<String, &'static str> = DiGraph::new();
+    let res: Vec<_> = plan
+        .resources
+        .iter()
+        .map(|r| {
+            let alloc = match r.slot {
+                Some(s) => format!("slot {s}"),
+                None => "unused".to_string(),
+            };
+            g.add_node(format!("{}\\n{}", r.name, alloc))
+        })
+        .collect();
+    for p in &plan.passes {
+        let v = g.add_node(format!("[{}] {}", p.kind.name(), p.name));
+        for (_, r) in &p.reads {
+            g.add_edge(res[*r], v, "read");
+        }
+        for (_, r) in &p.writes {
+            g.add_edge(v, res[*r], "write");
+        }
+    }
+    for c in &plan.culled {
+        g.add_node(format!("[culled] {c}"));
+    }
+    let body = format!("{:?}", Dot::with_config(&g, &[Config::EdgeNoLabel]));
+    body.replace("\\\\n", "\\n")
+}

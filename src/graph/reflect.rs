@@ -1,0 +1,261 @@
+//! Shader reflection through naga: loads a WGSL file (with its `//#include` files), validates
+//! it, and lists its global bindings, entry points and uniform struct layouts. Bind group
+//! layouts are built from this, never written by hand per pass.
+
+use crate::error::{ErrorKind, GraphError, Location};
+use std::path::{Path, PathBuf};
+
+/// WGSL text assembled from a file and the files it includes. Included files are appended
+/// after the main file, so the main file's line numbers stay as written.
+#[derive(Debug, Clone)]
+pub struct ShaderSource {
+    pub text: String,
+    /// (file, byte offset where its text starts in `text`)
+    segments: Vec<(PathBuf, usize)>,
+}
+
+impl ShaderSource {
+    /// Reads `path`; lines `//#include "rel/path.wgsl"` name files relative to `shader_root`.
+    pub fn load(path: &Path, shader_root: &Path, referenced_from: &Location) -> Result<Self, GraphError> {
+        let mut src = ShaderSource { text: String::new(), segments: Vec::new() };
+        let mut included: Vec<PathBuf> = Vec::new();
+        src.append(path, shader_root, referenced_from, &mut included)?;
+        Ok(src)
+    }
+
+    fn append(&mut self, path: &Path, root: &Path, from: &Location, seen: &mut Vec<PathBuf>) -> Result<(), GraphError> {
+        if seen.iter().any(|p| p == path) {
+            return Ok(());
+        }
+        seen.push(path.to_path_buf());
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            GraphError::new(ErrorKind::Io, from.clone(), format!("cannot read shader {}: {e}", path.display()))
+                .help("check the shader path; it is relative to the shaders/ directory")
+        })?;
+        let start = self.text.len();
+        self.segments.push((path.to_path_buf(), start));
+        self.text.push_str(&text);
+        if !self.text.ends_with('\n') {
+            self.text.push('\n');
+        }
+        for (line_no, line) in text.lines().enumerate() {
+            if let Some(rest) = line.trim().strip_prefix("//#include") {
+                let rel = rest.trim().trim_matches('"');
+                let loc = Location::new(path, line_no as u32 + 1, 1);
+                self.append(&root.join(rel), root, &loc, seen)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// File location of a byte offset in the assembled text.
+    pub fn locate(&self, offset: usize) -> Location {
+        let (file, start) = self
+            .segments
+            .iter()
+            .rev()
+            .find(|(_, s)| *s <= offset)
+            .cloned()
+            .unwrap_or_else(|| (PathBuf::new(), 0));
+        let end = self.segments.iter().map(|(_, s)| *s).find(|s| *s > start).unwrap_or(self.text.len());
+        Location::at_offset(&file, &self.text[start..end], offset - start)
+    }
+
+    pub fn main_file(&self) -> &Path {
+        &self.segments[0].0
+    }
+}
+
+/// What a global binding is, as far as a bind group layout cares.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BindingKind {
+    SampledTexture { dim: naga::ImageDimension, arrayed: bool, kind: naga::ScalarKind },
+    DepthTexture,
+    StorageTexture { format: naga::StorageFormat, access: naga::StorageAccess },
+    Sampler { comparison: bool },
+    Uniform { size: u32, members: Vec<UniformMember>, type_name: Option<String> },
+    Storage { read_only: bool, min_size: u32 },
+    Other(String),
+}
+
+impl BindingKind {
+    pub fn describe(&self) -> String {
+        match self {
+            BindingKind::SampledTexture { dim, arrayed, kind } => {
+                format!("texture_{:?}{}<{:?}>", dim, if *arrayed { "_array" } else { "" }, kind).to_lowercase()
+            }
+            BindingKind::DepthTexture => "texture_depth_2d".into(),
+            BindingKind::StorageTexture { format, access } => {
+                format!("texture_storage_2d<{format:?}, {}>", access_name(*access)).to_lowercase()
+            }
+            BindingKind::Sampler { comparison } => if *comparison { "sampler_comparison" } else { "sampler" }.into(),
+            BindingKind::Uniform { type_name, .. } => format!("var<uniform> {}", type_name.clone().unwrap_or_default()),
+            BindingKind::Storage { read_only, .. } => if *read_only { "var<storage, read>" } else { "var<storage, read_write>" }.into(),
+            BindingKind::Other(s) => s.clone(),
+        }
+    }
+}
+
+pub fn access_name(access: naga::StorageAccess) -> &'static str {
+    let r = access.contains(naga::StorageAccess::LOAD);
+    let w = access.contains(naga::StorageAccess::STORE);
+    match (r, w) {
+        (true, true) => "read_write",
+        (true, false) => "read",
+        _ => "write",
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct UniformMember {
+    pub name: String,
+    pub offset: u32,
+    pub scalar: Option<naga::ScalarKind>,
+    /// Number of scalar components (1 for scalars, N for vecN); 0 for anything else.
+    pub components: u32,
+}
+
+/// One `@group(g) @binding(b) var name` of a shader.
+#[derive(Debug, Clone)]
+pub struct ShaderBinding {
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub kind: BindingKind,
+    pub location: Location,
+}
+
+#[derive(Debug, Clone)]
+pub struct EntryPointInfo {
+    pub name: String,
+    pub stage: naga::ShaderStage,
+    pub workgroup_size: [u32; 3],
+    /// Vertex input locations (vertex stage) or colour output locations (fragment stage).
+    pub locations: Vec<u32>,
+}
+
+/// The reflected interface of one WGSL file.
+#[derive(Debug, Clone)]
+pub struct ShaderInfo {
+    pub path: PathBuf,
+    pub source: ShaderSource,
+    pub bindings: Vec<ShaderBinding>,
+    pub entry_points: Vec<EntryPointInfo>,
+}
+
+impl ShaderInfo {
+    pub fn entry(&self, name: &str) -> Option<&EntryPointInfo> {
+        self.entry_points.iter().find(|e| e.name == name)
+    }
+
+    pub fn binding(&self, name: &str) -> Option<&ShaderBinding> {
+        self.bindings.iter().find(|b| b.name == name)
+    }
+}
+
+/// Parses, validates and reflects a WGSL file.
+pub fn reflect(path: &Path, shader_root: &Path, referenced_from: &Location) -> Result<ShaderInfo, GraphError> {
+    let source = ShaderSource::load(path, shader_root, referenced_from)?;
+    let module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
+        let offset = e.labels().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
+        let labels: Vec<String> = e.labels().map(|(_, l)| l.to_string()).filter(|l| !l.is_empty()).collect();
+        let mut err = GraphError::new(
+            ErrorKind::ShaderInvalid,
+            source.locate(offset),
+            format!("WGSL does not parse: {}{}", e.message(), if labels.is_empty() { String::new() } else { format!(" ({})", labels.join("; ")) }),
+        )
+        .help("fix the WGSL at this line");
+        err = err.note(referenced_from.clone(), "shader used by this pass");
+        err
+    })?;
+    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    if let Err(e) = validator.validate(&module) {
+        let offset = e.spans().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
+        let mut chain = e.as_inner().to_string();
+        let mut inner: Option<&dyn std::error::Error> = std::error::Error::source(e.as_inner());
+        while let Some(s) = inner {
+            chain.push_str(": ");
+            chain.push_str(&s.to_string());
+            inner = s.source();
+        }
+        return Err(GraphError::new(ErrorKind::ShaderInvalid, source.locate(offset), format!("WGSL does not validate: {chain}"))
+            .note(referenced_from.clone(), "shader used by this pass")
+            .help("fix the WGSL at this line"));
+    }
+
+    let mut bindings = Vec::new();
+    for (handle, var) in module.global_variables.iter() {
+        let Some(rb) = &var.binding else { continue };
+        let name = var.name.clone().unwrap_or_default();
+        let span = module.global_variables.get_span(handle);
+        let location = source.locate(span.to_range().map(|r| r.start).unwrap_or(0));
+        let ty = &module.types[var.ty];
+        let kind = match (&var.space, &ty.inner) {
+            (naga::AddressSpace::Handle, naga::TypeInner::Image { dim, arrayed, class }) => match class {
+                naga::ImageClass::Sampled { kind, .. } => BindingKind::SampledTexture { dim: *dim, arrayed: *arrayed, kind: *kind },
+                naga::ImageClass::Depth { .. } => BindingKind::DepthTexture,
+                naga::ImageClass::Storage { format, access } => BindingKind::StorageTexture { format: *format, access: *access },
+                other => BindingKind::Other(format!("{other:?}")),
+            },
+            (naga::AddressSpace::Handle, naga::TypeInner::Sampler { comparison }) => BindingKind::Sampler { comparison: *comparison },
+            (naga::AddressSpace::Uniform, inner) => {
+                let mut members = Vec::new();
+                if let naga::TypeInner::Struct { members: ms, .. } = inner {
+                    for m in ms {
+                        let (scalar, components) = match &module.types[m.ty].inner {
+                            naga::TypeInner::Scalar(s) => (Some(s.kind), 1),
+                            naga::TypeInner::Vector { size, scalar } => (Some(scalar.kind), *size as u32),
+                            _ => (None, 0),
+                        };
+                        members.push(UniformMember { name: m.name.clone().unwrap_or_default(), offset: m.offset, scalar, components });
+                    }
+                }
+                BindingKind::Uniform { size: inner.size(module.to_ctx()), members, type_name: ty.name.clone() }
+            }
+            (naga::AddressSpace::Storage { access }, inner) => BindingKind::Storage {
+                read_only: !access.contains(naga::StorageAccess::STORE),
+                min_size: match inner {
+                    naga::TypeInner::Array { size: naga::ArraySize::Dynamic, stride, .. } => *stride,
+                    other => other.size(module.to_ctx()),
+                },
+            },
+            (space, inner) => BindingKind::Other(format!("{space:?} {inner:?}")),
+        };
+        bindings.push(ShaderBinding { name, group: rb.group, binding: rb.binding, kind, location });
+    }
+
+    let mut entry_points = Vec::new();
+    for ep in &module.entry_points {
+        let mut locations = Vec::new();
+        let mut collect = |binding: &Option<naga::Binding>, ty: naga::Handle<naga::Type>| {
+            if let Some(naga::Binding::Location { location, .. }) = binding {
+                locations.push(*location);
+            } else if binding.is_none() {
+                if let naga::TypeInner::Struct { members, .. } = &module.types[ty].inner {
+                    for m in members {
+                        if let Some(naga::Binding::Location { location, .. }) = &m.binding {
+                            locations.push(*location);
+                        }
+                    }
+                }
+            }
+        };
+        match ep.stage {
+            naga::ShaderStage::Vertex => {
+                for arg in &ep.function.arguments {
+                    collect(&arg.binding, arg.ty);
+                }
+            }
+            naga::ShaderStage::Fragment => {
+                if let Some(result) = &ep.function.result {
+                    collect(&result.binding, result.ty);
+                }
+            }
+            _ => {}
+        }
+        locations.sort_unstable();
+        entry_points.push(EntryPointInfo { name: ep.name.clone(), stage: ep.stage, workgroup_size: ep.workgroup_size, locations });
+    }
+
+    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points })
+}

@@ -1,0 +1,134 @@
+//! The `raygraph` command line: parses arguments and calls the library.
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use raygraph::graph::{self, Project};
+use raygraph::runtime::{exec::write_png, profiler::pass_table, Executor, Gpu};
+use raygraph::scene::builtin;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "raygraph", version, about = "Render-graph framework for hybrid ray tracing on wgpu")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render the built-in scene headless, write a PNG and print per-pass timings.
+    Render {
+        /// Graph description file.
+        #[arg(long, default_value = "graph/raster.ron")]
+        graph: PathBuf,
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Output PNG.
+        #[arg(long, default_value = "out.png")]
+        out: PathBuf,
+        /// Frames to time (after one warm-up frame); the table shows medians.
+        #[arg(long, default_value_t = 10)]
+        frames: u32,
+        /// Layers directory (default: `layers/` beside the graph's directory).
+        #[arg(long)]
+        layers: Option<PathBuf>,
+        /// Shaders directory (default: `shaders/` beside the graph's directory).
+        #[arg(long)]
+        shaders: Option<PathBuf>,
+    },
+    /// Graph files: validate or draw.
+    Graph {
+        #[command(subcommand)]
+        command: GraphCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum GraphCommand {
+    /// Validate a graph file (and its layers and shaders) and print the plan.
+    Check {
+        file: PathBuf,
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+    },
+    /// Write the compiled graph as Graphviz (to stdout, or --out).
+    Dot {
+        file: PathBuf,
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+fn project_for(graph: &Path, layers: Option<PathBuf>, shaders: Option<PathBuf>) -> Project {
+    let mut p = Project::beside_graph(graph);
+    if let Some(l) = layers {
+        p.layers_dir = l;
+    }
+    if let Some(s) = shaders {
+        p.shaders_dir = s;
+    }
+    p
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info,wgpu_core=warn,wgpu_hal=warn,naga=warn")).init();
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Graph { command: GraphCommand::Check { file, width, height } } => {
+            let plan = graph::compile(&file, &Project::beside_graph(&file), (width, height))?;
+            print!("{}", plan.report());
+            println!("ok: {} is valid", file.display());
+        }
+        Command::Graph { command: GraphCommand::Dot { file, out } } => {
+            let plan = graph::compile(&file, &Project::beside_graph(&file), (1280, 720))?;
+            let dot = graph::dot::to_dot(&plan);
+            match out {
+                Some(path) => std::fs::write(&path, dot).with_context(|| format!("could not write {}", path.display()))?,
+                None => print!("{dot}"),
+            }
+        }
+        Command::Render { graph: graph_file, width, height, out, frames, layers, shaders } => {
+            anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
+            let project = project_for(&graph_file, layers, shaders);
+            let plan = graph::compile(&graph_file, &project, (width, height))?;
+            let gpu = Gpu::new()?;
+            println!("adapter: {}", gpu.describe());
+            let scene = builtin::default_scene();
+            let mut exec = Executor::new(&gpu, plan, &scene)?;
+            let camera = scene.camera;
+            exec.render(&gpu, &camera, &scene)?; // warm-up: pipeline compilation, first use
+            let mut timings = Vec::new();
+            for _ in 0..frames.max(1) {
+                timings.push(exec.render(&gpu, &camera, &scene)?);
+            }
+            let img = exec.read_output(&gpu)?;
+            write_png(&out, &img)?;
+            let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+            println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name);
+            print!("{}", pass_table(&names, &timings));
+            println!("culled passes: {}", if exec.plan().culled.is_empty() { "none".into() } else { exec.plan().culled.join(", ") });
+            println!(
+                "transient memory: {} with reuse, {} without",
+                graph::compile::fmt_bytes(exec.plan().bytes_with_reuse()),
+                graph::compile::fmt_bytes(exec.plan().bytes_without_reuse())
+            );
+            println!("wrote {}", out.display());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,518 @@
+//! The executor: allocates a plan's slots, builds pipelines and bind groups from shader
+//! reflection, and records every pass of a frame with a timestamp pair around it.
+
+use super::gpu::Gpu;
+use super::profiler::{map_read, FrameTimings, GpuTimer};
+use super::uniforms::FrameUniforms;
+use crate::error::{ErrorKind, GraphError, RuntimeError};
+use crate::graph::builtins;
+use crate::graph::compile::{Plan, PlannedPass, ResourceId};
+use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
+use crate::graph::reflect::BindingKind;
+use crate::scene::gpu::GpuScene;
+use crate::scene::{Camera, Scene};
+use std::time::Instant;
+
+enum Pipeline {
+    Compute(wgpu::ComputePipeline),
+    Render(wgpu::RenderPipeline),
+}
+
+struct PassRuntime {
+    pipeline: Pipeline,
+    bind_group: wgpu::BindGroup,
+    colors: Vec<ResourceId>,
+    depth: Option<ResourceId>,
+    groups: [u32; 3],
+}
+
+enum Physical {
+    Texture(wgpu::Texture),
+    Buffer(wgpu::Buffer),
+}
+
+/// A plan instantiated on a device, ready to render frames.
+pub struct Executor {
+    plan: Plan,
+    slots: Vec<Physical>,
+    passes: Vec<PassRuntime>,
+    frame_uniforms: wgpu::Buffer,
+    debug_counters: wgpu::Buffer,
+    scene: Option<GpuScene>,
+    timer: Option<GpuTimer>,
+    frame_index: u32,
+}
+
+impl Executor {
+    /// Allocates the plan's resources and builds its pipelines. The scene is uploaded only if
+    /// the plan uses it.
+    pub fn new(gpu: &Gpu, plan: Plan, scene: &Scene) -> Result<Self, RuntimeError> {
+        let device = &gpu.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let slots = plan
+            .slots
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match &s.decl {
+                ResourceDecl::Texture(t) => {
+                    let mut usage = wgpu::TextureUsages::empty();
+                    if s.usage.sampled {
+                        usage |= wgpu::TextureUsages::TEXTURE_BINDING;
+                    }
+                    if s.usage.storage {
+                        usage |= wgpu::TextureUsages::STORAGE_BINDING;
+                    }
+                    if s.usage.attachment {
+                        usage |= wgpu::TextureUsages::RENDER_ATTACHMENT;
+                    }
+                    if s.usage.copy_src {
+                        usage |= wgpu::TextureUsages::COPY_SRC;
+                    }
+                    Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
+                        label: Some(&format!("slot {i}")),
+                        size: wgpu::Extent3d { width: s.extent.0, height: s.extent.1, depth_or_array_layers: 1 },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: t.format.to_wgpu(),
+                        usage,
+                        view_formats: &[],
+                    }))
+                }
+                ResourceDecl::Buffer(b) => Physical::Buffer(device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("slot {i}")),
+                    size: b.size.max(4),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                })),
+            })
+            .collect::<Vec<_>>();
+
+        let frame_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniforms"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let debug_counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("debug counters"),
+            size: builtins::DEBUG_COUNTER_COUNT as u64 * 4,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let scene_gpu = if plan.uses_scene {
+            let s = GpuScene::upload(device, &gpu.queue, scene);
+            log::info!("scene `{}` uploaded: {} triangles, {} bytes", scene.name, scene.triangle_count(), s.bytes);
+            Some(s)
+        } else {
+            log::info!("scene not uploaded: no pass of the graph uses it");
+            None
+        };
+        let linear = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("linear"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let nearest = device.create_sampler(&wgpu::SamplerDescriptor { label: Some("nearest"), ..Default::default() });
+
+        let mut exec = Self { plan, slots, passes: Vec::new(), frame_uniforms, debug_counters, scene: scene_gpu, timer: None, frame_index: 0 };
+        let mut passes = Vec::new();
+        for pass in &exec.plan.passes {
+            passes.push(exec.build_pass(gpu, pass, &linear, &nearest)?);
+        }
+        exec.passes = passes;
+        if gpu.timestamps {
+            exec.timer = Some(GpuTimer::new(device, &gpu.queue, exec.plan.passes.len() as u32));
+        }
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Gpu(format!("creating the graph's GPU objects failed: {e}")));
+        }
+        Ok(exec)
+    }
+
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    fn texture_view(&self, r: ResourceId) -> wgpu::TextureView {
+        match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
+            Physical::Texture(t) => t.create_view(&wgpu::TextureViewDescriptor::default()),
+            Physical::Buffer(_) => unreachable!("texture resource mapped to a buffer slot"),
+        }
+    }
+
+    fn buffer(&self, r: ResourceId) -> &wgpu::Buffer {
+        match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
+            Physical::Buffer(b) => b,
+            Physical::Texture(_) => unreachable!("buffer resource mapped to a texture slot"),
+        }
+    }
+
+    fn build_pass(&self, gpu: &Gpu, pass: &PlannedPass, linear: &wgpu::Sampler, nearest: &wgpu::Sampler) -> Result<PassRuntime, RuntimeError> {
+        let device = &gpu.device;
+        let shader = &pass.shader;
+        let visibility = match pass.kind {
+            PassKind::Compute => wgpu::ShaderStages::COMPUTE,
+            _ => wgpu::ShaderStages::VERTEX_FRAGMENT,
+        };
+        let resource_of = |name: &str| pass.reads.iter().chain(&pass.writes).find(|(l, _)| l == name).map(|(_, r)| *r);
+
+        // Layout entries and resources, from reflection.
+        let mut layout_entries = Vec::new();
+        let mut views: Vec<(u32, wgpu::TextureView)> = Vec::new();
+        let mut buffers: Vec<(u32, wgpu::Buffer)> = Vec::new();
+        let mut params_buffer: Option<(u32, wgpu::Buffer)> = None;
+        for b in &shader.bindings {
+            let ty = match &b.kind {
+                BindingKind::SampledTexture { arrayed, kind, .. } => {
+                    let filterable = match resource_of(&b.name) {
+                        Some(r) => matches!(&self.plan.resources[r].decl, ResourceDecl::Texture(t) if t.format.is_filterable()),
+                        None => true,
+                    };
+                    wgpu::BindingType::Texture {
+                        sample_type: match kind {
+                            naga::ScalarKind::Uint => wgpu::TextureSampleType::Uint,
+                            naga::ScalarKind::Sint => wgpu::TextureSampleType::Sint,
+                            _ => wgpu::TextureSampleType::Float { filterable },
+                        },
+                        view_dimension: if *arrayed { wgpu::TextureViewDimension::D2Array } else { wgpu::TextureViewDimension::D2 },
+                        multisampled: false,
+                    }
+                }
+                BindingKind::DepthTexture => wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Depth, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+                BindingKind::StorageTexture { access, .. } => {
+                    let r = resource_of(&b.name).expect("checked by the compiler");
+                    let ResourceDecl::Texture(t) = &self.plan.resources[r].decl else { unreachable!() };
+                    let load = access.contains(naga::StorageAccess::LOAD);
+                    wgpu::BindingType::StorageTexture {
+                        access: if load { wgpu::StorageTextureAccess::ReadWrite } else { wgpu::StorageTextureAccess::WriteOnly },
+                        format: t.format.to_wgpu(),
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    }
+                }
+                BindingKind::Sampler { comparison } => wgpu::BindingType::Sampler(if *comparison {
+                    wgpu::SamplerBindingType::Comparison
+                } else if b.name == builtins::NEAREST_SAMPLER {
+                    wgpu::SamplerBindingType::NonFiltering
+                } else {
+                    wgpu::SamplerBindingType::Filtering
+                }),
+                BindingKind::Uniform { .. } => wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                BindingKind::Storage { read_only, .. } => wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: *read_only }, has_dynamic_offset: false, min_binding_size: None },
+                BindingKind::Other(what) => {
+                    return Err(GraphError::new(ErrorKind::Unsupported, b.location.clone(), format!("binding `{}` of kind {what} is not supported", b.name)).into());
+                }
+            };
+            layout_entries.push(wgpu::BindGroupLayoutEntry { binding: b.binding, visibility, ty, count: None });
+
+            if let Some(r) = resource_of(&b.name) {
+                match &self.plan.resources[r].decl {
+                    ResourceDecl::Texture(_) => views.push((b.binding, self.texture_view(r))),
+                    ResourceDecl::Buffer(_) => buffers.push((b.binding, self.buffer(r).clone())),
+                }
+                continue;
+            }
+            match b.name.as_str() {
+                builtins::FRAME => buffers.push((b.binding, self.frame_uniforms.clone())),
+                builtins::DEBUG_COUNTERS => buffers.push((b.binding, self.debug_counters.clone())),
+                builtins::PARAMS => {
+                    let BindingKind::Uniform { size, members, .. } = &b.kind else { unreachable!() };
+                    let mut bytes = vec![0u8; (*size as usize).max(16)];
+                    for m in members {
+                        let Some((decl, value)) = pass.params.get(&m.name) else { continue };
+                        let word: [u8; 4] = match (decl, value, m.scalar) {
+                            (ParamDecl::Float { .. }, ParamValue::Float(v), _) => (*v as f32).to_le_bytes(),
+                            (_, ParamValue::Int(v), Some(naga::ScalarKind::Uint)) => (*v as u32).to_le_bytes(),
+                            (_, ParamValue::Int(v), _) => (*v as i32).to_le_bytes(),
+                            (_, ParamValue::Bool(v), _) => (*v as u32).to_le_bytes(),
+                            (_, ParamValue::Float(v), _) => (*v as f32).to_le_bytes(),
+                        };
+                        let o = m.offset as usize;
+                        bytes[o..o + 4].copy_from_slice(&word);
+                    }
+                    let buf = wgpu::util::DeviceExt::create_buffer_init(device, &wgpu::util::BufferInitDescriptor {
+                        label: Some(&format!("{} params", pass.name)),
+                        contents: &bytes,
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    });
+                    params_buffer = Some((b.binding, buf));
+                }
+                builtins::SCENE_INSTANCES => buffers.push((b.binding, self.scene.as_ref().expect("plan uses the scene").instances.clone())),
+                builtins::SCENE_TEXTURES => views.push((b.binding, self.scene.as_ref().expect("plan uses the scene").texture_view.clone())),
+                _ => {}
+            }
+        }
+        let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&pass.name), entries: &layout_entries });
+        let mut entries: Vec<wgpu::BindGroupEntry> = Vec::new();
+        for (binding, view) in &views {
+            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: wgpu::BindingResource::TextureView(view) });
+        }
+        for (binding, buf) in buffers.iter().chain(params_buffer.iter()) {
+            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: buf.as_entire_binding() });
+        }
+        for b in &shader.bindings {
+            match b.name.as_str() {
+                builtins::LINEAR_SAMPLER => entries.push(wgpu::BindGroupEntry { binding: b.binding, resource: wgpu::BindingResource::Sampler(linear) }),
+                builtins::NEAREST_SAMPLER => entries.push(wgpu::BindGroupEntry { binding: b.binding, resource: wgpu::BindingResource::Sampler(nearest) }),
+                _ => {}
+            }
+        }
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&pass.name), layout: &bgl, entries: &entries });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &[Some(&bgl)], immediate_size: 0 });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&shader.path.display().to_string()),
+            source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
+        });
+
+        let colors: Vec<ResourceId> = pass.writes.iter().map(|(_, r)| *r).filter(|r| !self.is_depth(*r)).collect();
+        let depth = pass.writes.iter().map(|(_, r)| *r).find(|r| self.is_depth(*r));
+        let (pipeline, groups) = match pass.kind {
+            PassKind::Compute => {
+                let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&pass.name),
+                    layout: Some(&layout),
+                    module: &module,
+                    entry_point: Some(&pass.entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+                let groups = match pass.dispatch {
+                    Dispatch::Groups(x, y, z) => [x, y, z],
+                    Dispatch::PerPixel => {
+                        let extent = pass
+                            .writes
+                            .iter()
+                            .find(|(_, r)| matches!(self.plan.resources[*r].decl, ResourceDecl::Texture(_)))
+                            .map(|(_, r)| self.plan.resources[*r].extent)
+                            .unwrap_or(self.plan.frame_size);
+                        let wg = pass.shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
+                        [extent.0.div_ceil(wg[0].max(1)), extent.1.div_ceil(wg[1].max(1)), 1]
+                    }
+                };
+                (Pipeline::Compute(p), groups)
+            }
+            PassKind::Fullscreen | PassKind::SceneRaster => {
+                let targets: Vec<Option<wgpu::ColorTargetState>> = colors
+                    .iter()
+                    .map(|r| match &self.plan.resources[*r].decl {
+                        ResourceDecl::Texture(t) => Some(wgpu::ColorTargetState { format: t.format.to_wgpu(), blend: None, write_mask: wgpu::ColorWrites::ALL }),
+                        ResourceDecl::Buffer(_) => None,
+                    })
+                    .collect();
+                let attributes = [
+                    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 },
+                    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 12, shader_location: 1 },
+                    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x2, offset: 24, shader_location: 2 },
+                ];
+                let used: Vec<wgpu::VertexAttribute> = {
+                    let locs = pass.shader.entry(&pass.vertex_entry).map(|e| e.locations.clone()).unwrap_or_default();
+                    attributes.iter().filter(|a| locs.contains(&a.shader_location)).copied().collect()
+                };
+                let vertex_buffers = [Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &used,
+                })];
+                let scene_raster = pass.kind == PassKind::SceneRaster;
+                let p = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(&pass.name),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some(&pass.vertex_entry),
+                        compilation_options: Default::default(),
+                        buffers: if scene_raster { &vertex_buffers } else { &[] },
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: if scene_raster { Some(wgpu::Face::Back) } else { None },
+                        ..Default::default()
+                    },
+                    depth_stencil: depth.map(|_| wgpu::DepthStencilState {
+                        format: wgpu::TextureFormat::Depth32Float,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Less),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some(&pass.entry), compilation_options: Default::default(), targets: &targets }),
+                    multiview_mask: None,
+                    cache: None,
+                });
+                (Pipeline::Render(p), [0, 0, 0])
+            }
+        };
+        Ok(PassRuntime { pipeline, bind_group, colors, depth, groups })
+    }
+
+    fn is_depth(&self, r: ResourceId) -> bool {
+        matches!(&self.plan.resources[r].decl, ResourceDecl::Texture(t) if t.format.is_depth())
+    }
+
+    fn frame_uniforms(&self, camera: &Camera, scene: &Scene) -> FrameUniforms {
+        let (w, h) = self.plan.frame_size;
+        let vp = camera.view_proj(w as f32 / h as f32);
+        let l = &scene.light;
+        FrameUniforms {
+            view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
+            camera_pos: camera.position.extend(1.0).into(),
+            light_dir: l.direction.normalize().extend(l.intensity).into(),
+            light_color: l.color.extend(l.ambient).into(),
+            resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            frame_index: self.frame_index,
+            _pad: [0; 3],
+        }
+    }
+
+    /// Records and submits one frame; waits for it and returns its pass timings.
+    pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
+        let start = Instant::now();
+        gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&self.frame_uniforms(camera, scene)));
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut cpu_ms = Vec::with_capacity(self.passes.len());
+        let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> = self
+            .passes
+            .iter()
+            .map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r))))
+            .collect();
+        for (i, (pass, planned)) in self.passes.iter().zip(&self.plan.passes).enumerate() {
+            let t0 = Instant::now();
+            match &pass.pipeline {
+                Pipeline::Compute(pipeline) => {
+                    let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some(&planned.name),
+                        timestamp_writes: self.timer.as_ref().and_then(|t| t.compute_writes(i as u32)),
+                    });
+                    cp.set_pipeline(pipeline);
+                    cp.set_bind_group(0, &pass.bind_group, &[]);
+                    cp.dispatch_workgroups(pass.groups[0], pass.groups[1], pass.groups[2]);
+                }
+                Pipeline::Render(pipeline) => {
+                    let (color_views, depth_view) = &views[i];
+                    let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
+                        .iter()
+                        .map(|v| {
+                            Some(wgpu::RenderPassColorAttachment {
+                                view: v,
+                                depth_slice: None,
+                                resolve_target: None,
+                                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                            })
+                        })
+                        .collect();
+                    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some(&planned.name),
+                        color_attachments: &attachments,
+                        depth_stencil_attachment: depth_view.as_ref().map(|v| wgpu::RenderPassDepthStencilAttachment {
+                            view: v,
+                            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                            stencil_ops: None,
+                        }),
+                        timestamp_writes: self.timer.as_ref().and_then(|t| t.render_writes(i as u32)),
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                    rp.set_pipeline(pipeline);
+                    rp.set_bind_group(0, &pass.bind_group, &[]);
+                    if planned.kind == PassKind::SceneRaster {
+                        let scene = self.scene.as_ref().expect("plan uses the scene");
+                        rp.set_vertex_buffer(0, scene.vertices.slice(..));
+                        rp.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+                        for d in &scene.draws {
+                            rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
+                        }
+                    } else {
+                        rp.draw(0..3, 0..1);
+                    }
+                }
+            }
+            cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        }
+        if let Some(timer) = &self.timer {
+            timer.resolve(&mut encoder, self.passes.len() as u32);
+        }
+        gpu.queue.submit([encoder.finish()]);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Gpu(format!("recording the frame failed: {e}")));
+        }
+        gpu.wait()?;
+        let gpu_ms = match &self.timer {
+            Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),
+            None => None,
+        };
+        self.frame_index += 1;
+        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3 })
+    }
+
+    /// Reads back the graph output as tightly packed RGBA8 rows.
+    pub fn read_output(&self, gpu: &Gpu) -> Result<image::RgbaImage, RuntimeError> {
+        self.read_texture_rgba8(gpu, self.plan.output)
+    }
+
+    /// Reads back any kept RGBA8 texture resource.
+    pub fn read_texture_rgba8(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
+        let (w, h) = self.plan.resources[r].extent;
+        let Physical::Texture(texture) = &self.slots[self.plan.resources[r].slot.ok_or_else(|| RuntimeError::Gpu("resource is not allocated".into()))?] else {
+            return Err(RuntimeError::Gpu("resource is not a texture".into()));
+        };
+        let padded = (w * 4).div_ceil(256) * 256;
+        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("output readback"),
+            size: padded as u64 * h as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
+            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        );
+        gpu.queue.submit([encoder.finish()]);
+        let data = map_read(&gpu.device, buf.slice(..))?;
+        let mut pixels = Vec::with_capacity((w * h * 4) as usize);
+        for row in 0..h as usize {
+            pixels.extend_from_slice(&data[row * padded as usize..row * padded as usize + w as usize * 4]);
+        }
+        drop(data);
+        buf.unmap();
+        image::RgbaImage::from_raw(w, h, pixels).ok_or_else(|| RuntimeError::Gpu("readback size mismatch".into()))
+    }
+
+    /// Reads the `debug_counters` buffer (shaders may count events into it).
+    pub fn read_debug_counters(&self, gpu: &Gpu) -> Result<Vec<u32>, RuntimeError> {
+        let size = builtins::DEBUG_COUNTER_COUNT as u64 * 4;
+        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("counter readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.debug_counters, 0, &buf, 0, size);
+        gpu.queue.submit([encoder.finish()]);
+        let data = map_read(&gpu.device, buf.slice(..))?;
+        let v = bytemuck::cast_slice::<u8, u32>(&data).to_vec();
+        drop(data);
+        buf.unmap();
+        Ok(v)
+    }
+}
+
+/// Writes an image as PNG atomically (temporary file, then rename): a failed write never
+/// leaves a truncated file behind.
+pub fn write_png(path: &std::path::Path, img: &image::RgbaImage) -> Result<(), RuntimeError> {
+    let tmp = path.with_extension("png.partial");
+    let result = img.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| match e {
+        image::ImageError::IoError(source) => RuntimeError::Output { path: path.to_path_buf(), source },
+        other => RuntimeError::Encode { path: path.to_path_buf(), message: other.to_string() },
+    });
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
+    std::fs::rename(&tmp, path).map_err(|source| {
+        let _ = std::fs::remove_file(&tmp);
+        RuntimeError::Output { path: path.to_path_buf(), source }
+    })
+}

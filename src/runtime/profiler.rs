@@ -1,0 +1,145 @@
+//! GPU and CPU timing of passes: a timestamp query pair around every pass (when the adapter
+//! has timestamp queries), CPU time of recording each pass, and medians over frames.
+
+use crate::error::RuntimeError;
+
+/// Timestamp queries for up to `capacity` passes per frame.
+pub struct GpuTimer {
+    query_set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    capacity: u32,
+    period_ns: f32,
+}
+
+impl GpuTimer {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, capacity: u32) -> Self {
+        let count = capacity.max(1) * 2;
+        let query_set = device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass timestamps"), ty: wgpu::QueryType::Timestamp, count });
+        let size = count as u64 * 8;
+        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamp resolve"),
+            size,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamp readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self { query_set, resolve, readback, capacity: capacity.max(1), period_ns: queue.get_timestamp_period() }
+    }
+
+    pub fn compute_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(pass * 2),
+            end_of_pass_write_index: Some(pass * 2 + 1),
+        })
+    }
+
+    pub fn render_writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        (pass < self.capacity).then(|| wgpu::RenderPassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(pass * 2),
+            end_of_pass_write_index: Some(pass * 2 + 1),
+        })
+    }
+
+    /// Records the resolve of `passes` query pairs into the readback buffer.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, passes: u32) {
+        let n = passes.min(self.capacity) * 2;
+        if n == 0 {
+            return;
+        }
+        encoder.resolve_query_set(&self.query_set, 0..n, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, n as u64 * 8);
+    }
+
+    /// Reads the GPU milliseconds of each pass (after the frame's submission completed).
+    pub fn read(&self, device: &wgpu::Device, passes: u32) -> Result<Vec<f64>, RuntimeError> {
+        let n = passes.min(self.capacity) as usize;
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let slice = self.readback.slice(..(n as u64 * 16));
+        let data = map_read(device, slice)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&data);
+        let ms = (0..n)
+            .map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6)
+            .collect();
+        drop(data);
+        self.readback.unmap();
+        Ok(ms)
+    }
+}
+
+/// Maps a buffer slice for reading and waits for it.
+pub fn map_read<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) })
+        .map_err(|e| RuntimeError::Gpu(e.to_string()))?;
+    match rx.recv() {
+        Ok(Ok(())) => slice.get_mapped_range().map_err(|e| RuntimeError::Gpu(format!("buffer map failed: {e}"))),
+        Ok(Err(e)) => Err(RuntimeError::Gpu(format!("buffer map failed: {e}"))),
+        Err(_) => Err(RuntimeError::Gpu("buffer map callback was dropped".into())),
+    }
+}
+
+/// Per-pass timings of one frame.
+#[derive(Debug, Clone)]
+pub struct FrameTimings {
+    /// GPU milliseconds per pass (None without timestamp queries).
+    pub gpu_ms: Option<Vec<f64>>,
+    /// CPU milliseconds spent recording each pass.
+    pub cpu_ms: Vec<f64>,
+    /// Wall-clock milliseconds from the start of recording to the end of GPU work.
+    pub frame_ms: f64,
+}
+
+pub fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(|a, b| a.total_cmp(b));
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+/// Median per-pass table over several frames.
+pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(s, "{:<30} {:<12} {:>10} {:>10}", "pass", "kind", "GPU ms", "CPU ms");
+    let mut gpu_total = 0.0;
+    let mut cpu_total = 0.0;
+    for (i, (name, kind)) in names.iter().enumerate() {
+        let mut cpu: Vec<f64> = frames.iter().map(|f| f.cpu_ms[i]).collect();
+        let cpu = median(&mut cpu);
+        cpu_total += cpu;
+        let gpu = if frames.iter().all(|f| f.gpu_ms.is_some()) {
+            let mut g: Vec<f64> = frames.iter().filter_map(|f| f.gpu_ms.as_ref().map(|v| v[i])).collect();
+            let m = median(&mut g);
+            gpu_total += m;
+            format!("{m:>10.3}")
+        } else {
+            format!("{:>10}", "n/a")
+        };
+        let _ = writeln!(s, "{name:<30} {kind:<12} {gpu} {cpu:>10.3}");
+    }
+    let mut frame: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
+    let gpu_total = if frames.iter().all(|f| f.gpu_ms.is_some()) { format!("{gpu_total:>10.3}") } else { format!("{:>10}", "n/a") };
+    let _ = writeln!(s, "{:<30} {:<12} {gpu_total} {cpu_total:>10.3}", "total (passes)", "");
+    let _ = writeln!(s, "frame wall time (median of {}): {:.3} ms", frames.len(), median(&mut frame));
+    s
+}
