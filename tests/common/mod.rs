@@ -1,0 +1,76 @@
+//! Helpers shared by the integration tests: throw-away project directories built from the
+//! fixtures in `tests/fixtures`, and line lookup for asserting error locations.
+#![allow(dead_code)]
+
+use raygraph::graph::{compile, Plan, Project};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn fixtures() -> PathBuf {
+    repo().join("tests/fixtures")
+}
+
+/// A directory with `graph/`, `layers/` and `shaders/`, seeded with the fixture layers and
+/// shaders, removed on drop.
+pub struct TempProject {
+    pub root: PathBuf,
+}
+
+static COUNTER: AtomicU32 = AtomicU32::new(0);
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
+}
+
+impl TempProject {
+    pub fn new() -> Self {
+        let n = COUNTER.fetch_add(1, Ordering::SeqCst);
+        let root = std::env::temp_dir().join(format!("raygraph-test-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        copy_dir(&fixtures().join("layers"), &root.join("layers"));
+        copy_dir(&fixtures().join("shaders"), &root.join("shaders"));
+        std::fs::create_dir_all(root.join("graph")).unwrap();
+        Self { root }
+    }
+
+    pub fn write(&self, rel: &str, text: &str) -> PathBuf {
+        let p = self.root.join(rel);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    pub fn project(&self) -> Project {
+        Project { layers_dir: self.root.join("layers"), shaders_dir: self.root.join("shaders") }
+    }
+
+    /// Writes `graph/<name>` and compiles it at 64x32.
+    pub fn compile(&self, name: &str, graph: &str) -> Result<Plan, raygraph::error::GraphError> {
+        let path = self.write(&format!("graph/{name}"), graph);
+        compile(&path, &self.project(), (64, 32))
+    }
+}
+
+impl Drop for TempProject {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.root);
+    }
+}
+
+/// 1-based line of the first line of `text` containing `needle`.
+pub fn line_of(text: &str, needle: &str) -> u32 {
+    text.lines().position(|l| l.contains(needle)).unwrap_or_else(|| panic!("`{needle}` not in text")) as u32 + 1
+}

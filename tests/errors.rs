@@ -1,0 +1,253 @@
+//! Every class of compile error, each asserting its kind and the file:line it points at.
+
+mod common;
+use common::{line_of, TempProject};
+use raygraph::error::{ErrorKind, GraphError};
+
+fn expect(err: Result<raygraph::graph::Plan, GraphError>, kind: ErrorKind, file_suffix: &str, line: u32) -> GraphError {
+    let e = match err {
+        Ok(_) => panic!("expected a {kind:?} error, but the graph compiled"),
+        Err(e) => e,
+    };
+    let text = e.to_string();
+    assert_eq!(e.kind, kind, "wrong error class: {text}");
+    assert!(e.location.file.ends_with(file_suffix), "error should point at {file_suffix}: {text}");
+    assert_eq!(e.location.line, line, "wrong line: {text}");
+    assert!(e.location.col >= 1);
+    let prefix = format!("{}:{}:{}: error:", e.location.file.display(), e.location.line, e.location.col);
+    assert!(text.starts_with(&prefix), "message must start with file:line:col: {text}");
+    assert!(e.help.is_some(), "every error says what to change: {text}");
+    e
+}
+
+const GOOD: &str = r#"Graph(
+    output: "out.color",
+    nodes: {
+        "fill": Layer(layer: "fill", params: {"value": 0.5}),
+        "out": Layer(layer: "to8", inputs: {"src": "fill.color"}),
+    },
+)
+"#;
+
+#[test]
+fn the_baseline_graph_compiles() {
+    let p = TempProject::new();
+    let plan = p.compile("good.ron", GOOD).expect("baseline compiles");
+    assert_eq!(plan.passes.len(), 2);
+}
+
+#[test]
+fn syntax_error() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#""fill": Layer(layer: "fill", params: {"value": 0.5}),"#, r#""fill": Layer(layer: "fill" params: {"value": 0.5}),"#);
+    expect(p.compile("g.ron", &g), ErrorKind::Syntax, "graph/g.ron", line_of(&g, r#""fill": Layer"#));
+}
+
+#[test]
+fn syntax_error_in_layer_file() {
+    let p = TempProject::new();
+    let layer = "Layer(\n    outputs: {\n        \"color\": Texture(format: Rgba16Floatt),\n    },\n    passes: [],\n)\n";
+    p.write("layers/broken.ron", layer);
+    let g = GOOD.replace(r#"layer: "fill""#, r#"layer: "broken""#);
+    expect(p.compile("g.ron", &g), ErrorKind::Syntax, "layers/broken.ron", 3);
+}
+
+#[test]
+fn unknown_layer() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to_eight""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::UnknownLayer, "graph/g.ron", line_of(&g, "to_eight"));
+    assert!(e.to_string().contains("to8"), "help lists the known layers: {e}");
+}
+
+#[test]
+fn unknown_node_output() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#""src": "fill.color""#, r#""src": "fill.colour""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::UnknownOutput, "graph/g.ron", line_of(&g, "fill.colour"));
+    assert!(e.to_string().contains("color"), "help lists the outputs: {e}");
+    let g = GOOD.replace(r#""src": "fill.color""#, r#""src": "fil.color""#);
+    expect(p.compile("g2.ron", &g), ErrorKind::UnknownOutput, "graph/g2.ron", line_of(&g, "fil.color"));
+    let g = GOOD.replace(r#"output: "out.color""#, r#"output: "out.rgb""#);
+    expect(p.compile("g3.ron", &g), ErrorKind::UnknownOutput, "graph/g3.ron", line_of(&g, "out.rgb"));
+}
+
+#[test]
+fn cycle() {
+    let p = TempProject::new();
+    let g = r#"Graph(
+    output: "out.color",
+    nodes: {
+        "a": Layer(layer: "invert", inputs: {"src": "b.dst"}),
+        "b": Layer(layer: "invert", inputs: {"src": "a.dst"}),
+        "out": Layer(layer: "to8", inputs: {"src": "b.dst"}),
+    },
+)
+"#;
+    let e = p.compile("g.ron", g).expect_err("cycle");
+    assert_eq!(e.kind, ErrorKind::Cycle, "{e}");
+    assert!(e.location.file.ends_with("graph/g.ron"));
+    assert!([line_of(g, r#""a": Layer"#), line_of(g, r#""b": Layer"#)].contains(&e.location.line), "points at a node of the cycle: {e}");
+}
+
+#[test]
+fn read_with_no_producer() {
+    let p = TempProject::new();
+    // An input left unconnected.
+    let g = GOOD.replace(r#", inputs: {"src": "fill.color"}"#, "");
+    expect(p.compile("g.ron", &g), ErrorKind::NoProducer, "graph/g.ron", line_of(&g, r#""out": Layer"#));
+    // A pass that reads a transient no pass writes.
+    let layer = r#"Layer(
+    outputs: { "color": Texture(format: Rgba16Float) },
+    transients: { "tmp": Texture(format: Rgba16Float) },
+    passes: [
+        Pass(name: "invert", kind: Compute, shader: "test/invert.wgsl", reads: ["tmp"], writes: ["color"]),
+    ],
+)
+"#;
+    p.write("layers/orphan.ron", layer);
+    let g = GOOD.replace(r#"layer: "fill", params: {"value": 0.5}"#, r#"layer: "orphan""#);
+    expect(p.compile("g2.ron", &g), ErrorKind::NoProducer, "layers/orphan.ron", line_of(layer, r#"name: "invert""#));
+}
+
+#[test]
+fn two_producers() {
+    let p = TempProject::new();
+    let layer = r#"Layer(
+    outputs: { "color": Texture(format: Rgba16Float) },
+    params: { "value": Float(default: 1.0, min: 0.0, max: 1.0), "counter": Int(default: 0, min: 0, max: 15) },
+    passes: [
+        Pass(name: "first", kind: Compute, shader: "test/fill.wgsl", writes: ["color"]),
+        Pass(name: "second", kind: Compute, shader: "test/fill.wgsl", writes: ["color"]),
+    ],
+)
+"#;
+    p.write("layers/twice.ron", layer);
+    let g = GOOD.replace(r#"layer: "fill""#, r#"layer: "twice""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::TwoProducers, "layers/twice.ron", line_of(layer, r#"name: "second""#));
+    assert_eq!(e.notes[0].0.line, line_of(layer, r#"name: "first""#), "notes the first producer: {e}");
+}
+
+#[test]
+fn parameter_out_of_range() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#""value": 0.5"#, r#""value": 1.5"#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::ParamOutOfRange, "graph/g.ron", line_of(&g, r#""value": 1.5"#));
+    assert!(e.to_string().contains("0..=1"), "{e}");
+    let g = GOOD.replace(r#"params: {"value": 0.5}"#, r#"params: {"counter": 99}"#);
+    expect(p.compile("g2.ron", &g), ErrorKind::ParamOutOfRange, "graph/g2.ron", line_of(&g, "99"));
+}
+
+#[test]
+fn parameter_of_wrong_type() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#""value": 0.5"#, r#""value": true"#);
+    expect(p.compile("g.ron", &g), ErrorKind::ParamType, "graph/g.ron", line_of(&g, r#""value": true"#));
+    let g = GOOD.replace(r#"params: {"value": 0.5}"#, r#"params: {"counter": 2.5}"#);
+    expect(p.compile("g2.ron", &g), ErrorKind::ParamType, "graph/g2.ron", line_of(&g, "2.5"));
+}
+
+#[test]
+fn unknown_parameter() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#""value": 0.5"#, r#""valeu": 0.5"#);
+    expect(p.compile("g.ron", &g), ErrorKind::UnknownParam, "graph/g.ron", line_of(&g, "valeu"));
+}
+
+#[test]
+fn texture_format_mismatch_between_producer_and_consumer() {
+    let p = TempProject::new();
+    // to8 outputs Rgba8Unorm; invert expects Rgba16Float.
+    let g = r#"Graph(
+    output: "out.color",
+    nodes: {
+        "fill": Layer(layer: "fill"),
+        "first": Layer(layer: "to8", inputs: {"src": "fill.color"}),
+        "inv": Layer(layer: "invert", inputs: {"src": "first.color"}),
+        "out": Layer(layer: "to8", inputs: {"src": "inv.dst"}),
+    },
+)
+"#;
+    let e = expect(p.compile("g.ron", g), ErrorKind::FormatMismatch, "graph/g.ron", line_of(g, r#""src": "first.color""#));
+    let text = e.to_string();
+    assert!(text.contains("Rgba16Float") && text.contains("Rgba8Unorm"), "{text}");
+    assert!(e.notes.iter().any(|(l, _)| l.file.ends_with("layers/invert.ron")), "notes the layer's declaration: {text}");
+}
+
+#[test]
+fn shader_binding_mismatch() {
+    let p = TempProject::new();
+    // Storage format differs from the resource's format.
+    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/fill.wgsl")).unwrap().replace("texture_storage_2d<rgba16float, write>", "texture_storage_2d<rgba8unorm, write>");
+    p.write("shaders/test/fill_rgba8.wgsl", &wgsl);
+    let layer = std::fs::read_to_string(p.root.join("layers/fill.ron")).unwrap().replace("test/fill.wgsl", "test/fill_rgba8.wgsl");
+    p.write("layers/fill8.ron", &layer);
+    let g = GOOD.replace(r#"layer: "fill""#, r#"layer: "fill8""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::BindingMismatch, "layers/fill8.ron", line_of(&layer, r#"name: "fill""#));
+    let (loc, _) = &e.notes[0];
+    assert!(loc.file.ends_with("shaders/test/fill_rgba8.wgsl"), "names the WGSL file: {e}");
+    assert_eq!(loc.line, line_of(&wgsl, "var color"), "names the WGSL line: {e}");
+
+    // A binding the pass does not declare.
+    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/to8.wgsl")).unwrap() + "@group(0) @binding(7) var extra: texture_2d<f32>;\n";
+    p.write("shaders/test/to8_extra.wgsl", &wgsl);
+    let layer = std::fs::read_to_string(p.root.join("layers/to8.ron")).unwrap().replace("test/to8.wgsl", "test/to8_extra.wgsl");
+    p.write("layers/to8x.ron", &layer);
+    let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to8x""#);
+    let e = expect(p.compile("g2.ron", &g), ErrorKind::BindingMismatch, "layers/to8x.ron", line_of(&layer, "name: \"convert\""));
+    assert_eq!(e.notes[0].0.line, line_of(&wgsl, "var extra"), "{e}");
+
+    // A declared resource the shader does not bind.
+    let layer = std::fs::read_to_string(p.root.join("layers/to8.ron")).unwrap().replace(r#"reads: ["src"]"#, r#"reads: ["src", "more"]"#).replace("inputs: {", "inputs: {\n        \"more\": Texture(format: Rgba16Float),");
+    p.write("layers/to8m.ron", &layer);
+    let g = GOOD.replace(r#"layer: "to8", inputs: {"src": "fill.color"}"#, r#"layer: "to8m", inputs: {"src": "fill.color", "more": "fill.color"}"#);
+    let e = expect(p.compile("g3.ron", &g), ErrorKind::BindingMismatch, "layers/to8m.ron", line_of(&layer, "name: \"convert\""));
+    assert!(e.to_string().contains("`more`"), "{e}");
+}
+
+#[test]
+fn wgsl_that_fails_to_validate() {
+    let p = TempProject::new();
+    // Parses, but assigns a vec3 to a vec4 store: a type error found by the front end.
+    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/to8.wgsl")).unwrap().replace(
+        "textureStore(color, id.xy, clamp(textureLoad(src, id.xy, 0), vec4<f32>(0.0), vec4<f32>(1.0)));",
+        "let bad: vec4<f32> = vec3<f32>(1.0);\n    textureStore(color, id.xy, bad);",
+    );
+    p.write("shaders/test/to8_bad.wgsl", &wgsl);
+    let layer = std::fs::read_to_string(p.root.join("layers/to8.ron")).unwrap().replace("test/to8.wgsl", "test/to8_bad.wgsl");
+    p.write("layers/to8b.ron", &layer);
+    let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to8b""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::ShaderInvalid, "shaders/test/to8_bad.wgsl", line_of(&wgsl, "let bad"));
+    assert!(e.notes.iter().any(|(l, _)| l.file.ends_with("layers/to8b.ron")), "names the layer file: {e}");
+
+    // Syntax error in WGSL.
+    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/to8.wgsl")).unwrap().replace("let size = textureDimensions(color);", "let size = textureDimensions(color)");
+    p.write("shaders/test/to8_syntax.wgsl", &wgsl);
+    let layer = std::fs::read_to_string(p.root.join("layers/to8.ron")).unwrap().replace("test/to8.wgsl", "test/to8_syntax.wgsl");
+    p.write("layers/to8s.ron", &layer);
+    let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to8s""#);
+    let e = p.compile("g2.ron", &g).expect_err("bad WGSL");
+    assert_eq!(e.kind, ErrorKind::ShaderInvalid, "{e}");
+    assert!(e.location.file.ends_with("shaders/test/to8_syntax.wgsl"), "{e}");
+    let l = line_of(&wgsl, "let size");
+    assert!(e.location.line == l || e.location.line == l + 1, "{e}");
+
+    // Invalid only for the validator (not the parser): an atomic in a uniform buffer.
+    let wgsl = "@group(0) @binding(0) var<uniform> n: atomic<u32>;\n@compute @workgroup_size(1) fn cs_main() {}\n";
+    p.write("shaders/test/uniform_atomic.wgsl", wgsl);
+    let layer = "Layer(\n    outputs: { \"color\": Texture(format: Rgba16Float) },\n    passes: [ Pass(name: \"x\", kind: Compute, shader: \"test/uniform_atomic.wgsl\", writes: [\"color\"]) ],\n)\n";
+    p.write("layers/ua.ron", layer);
+    let g = GOOD.replace(r#"layer: "fill", params: {"value": 0.5}"#, r#"layer: "ua""#);
+    let e = p.compile("g3.ron", &g).expect_err("invalid WGSL");
+    assert_eq!(e.kind, ErrorKind::ShaderInvalid, "{e}");
+    assert!(e.location.file.ends_with("shaders/test/uniform_atomic.wgsl"), "{e}");
+    assert_eq!(e.location.line, 1, "{e}");
+}
+
+#[test]
+fn missing_graph_file_is_an_io_error() {
+    let p = TempProject::new();
+    let e = raygraph::graph::compile(&p.root.join("graph/none.ron"), &p.project(), (8, 8)).expect_err("missing");
+    assert_eq!(e.kind, ErrorKind::Io);
+    assert!(e.to_string().contains("none.ron"));
+}

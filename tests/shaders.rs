@@ -1,0 +1,50 @@
+//! Every WGSL file in `shaders/` (and the test fixtures) parses and validates with naga.
+
+mod common;
+use raygraph::error::Location;
+use raygraph::graph::reflect::reflect;
+use std::path::{Path, PathBuf};
+
+fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            wgsl_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "wgsl") {
+            out.push(p);
+        }
+    }
+}
+
+#[test]
+fn every_wgsl_file_validates() {
+    for root in [common::repo().join("shaders"), common::fixtures().join("shaders")] {
+        let mut files = Vec::new();
+        wgsl_files(&root, &mut files);
+        assert!(!files.is_empty(), "no WGSL under {}", root.display());
+        for f in files {
+            let info = reflect(&f, &root, &Location::file_start(&f)).unwrap_or_else(|e| panic!("{e}"));
+            // Files in common/ hold shared declarations; the rest define entry points.
+            if !f.components().any(|c| c.as_os_str() == "common") {
+                assert!(!info.entry_points.is_empty(), "{} has no entry point", f.display());
+            }
+        }
+    }
+}
+
+#[test]
+fn included_files_report_their_own_lines() {
+    let root = common::repo().join("shaders");
+    let f = root.join("forward/forward.wgsl");
+    let info = reflect(&f, &root, &Location::file_start(&f)).unwrap();
+    let text = std::fs::read_to_string(&f).unwrap();
+    let frame = info.binding("frame").unwrap();
+    assert!(frame.location.file.ends_with("forward/forward.wgsl"));
+    assert_eq!(frame.location.line, common::line_of(&text, "var<uniform> frame"));
+    // An offset inside the appended include maps back into the include.
+    let offset = info.source.text.find("struct Instance").unwrap();
+    let loc = info.source.locate(offset);
+    assert!(loc.file.ends_with("common/scene.wgsl"), "{loc}");
+    let inc = std::fs::read_to_string(root.join("common/scene.wgsl")).unwrap();
+    assert_eq!(loc.line, common::line_of(&inc, "struct Instance"));
+}
