@@ -130,4 +130,6 @@ pub enum RuntimeError {
     Encode { path: PathBuf, message: String },
     #[error(transparent)]
     Graph(#[from] GraphError),
+    #[error(transparent)]
+    SceneLimit(#[from] crate::scene::gpu::SceneLimitError),
 }

@@ -9,3 +9,4 @@ pub mod error;
 pub mod graph;
 pub mod runtime;
 pub mod scene;
+pub mod util;

@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use raygraph::graph::{self, Project};
 use raygraph::runtime::{exec::write_png, profiler::pass_table, Executor, Gpu};
-use raygraph::scene::builtin;
+use raygraph::scene::{self, track::Track, LoadOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -17,11 +17,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render the built-in scene headless, write a PNG and print per-pass timings.
+    /// Render a scene headless, write a PNG and print per-pass timings.
     Render {
         /// Graph description file.
         #[arg(long, default_value = "graph/raster.ron")]
         graph: PathBuf,
+        /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
+        #[arg(long, default_value = "default")]
+        scene: String,
+        #[command(flatten)]
+        view: ViewArgs,
         #[arg(long, default_value_t = 1280)]
         width: u32,
         #[arg(long, default_value_t = 720)]
@@ -43,6 +48,61 @@ enum Command {
     Graph {
         #[command(subcommand)]
         command: GraphCommand,
+    },
+    /// Scenes: statistics and export.
+    Scene {
+        #[command(subcommand)]
+        command: SceneCommand,
+    },
+}
+
+/// Where the camera is.
+#[derive(clap::Args)]
+struct ViewArgs {
+    /// A named camera preset of the scene (see `raygraph scene info`).
+    #[arg(long, conflicts_with = "track")]
+    camera: Option<String>,
+    /// A camera track file (RON); the camera is the track's at --track-frame.
+    #[arg(long)]
+    track: Option<PathBuf>,
+    /// Frame index on the track.
+    #[arg(long, default_value_t = 0, requires = "track")]
+    track_frame: u32,
+    /// Seed of the generated atrium.
+    #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
+    seed: u64,
+}
+
+#[derive(Subcommand)]
+enum SceneCommand {
+    /// Print triangles, meshes, instances, materials, textures, bounds, camera presets and what
+    /// the file uses that raygraph ignores.
+    Info {
+        /// A built-in scene name or a .gltf/.glb file.
+        scene: String,
+        /// Copy the scene N×N×N times on a grid.
+        #[arg(long, default_value_t = 1)]
+        duplicate: u32,
+        /// With --duplicate: give every copy its own meshes (one BLAS per copy).
+        #[arg(long)]
+        no_dedup: bool,
+        #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
+        seed: u64,
+    },
+    /// Write a scene (built-in or loaded) as binary glTF.
+    Export {
+        scene: String,
+        out: PathBuf,
+        #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
+        seed: u64,
+    },
+    /// Write an orbit camera track around a scene (a starting point for recorded tracks).
+    Orbit {
+        scene: String,
+        out: PathBuf,
+        /// Length in seconds.
+        #[arg(long, default_value_t = 10.0)]
+        seconds: f32,
     },
 }
 
@@ -102,15 +162,39 @@ fn run(cli: Cli) -> Result<()> {
                 None => print!("{dot}"),
             }
         }
-        Command::Render { graph: graph_file, width, height, out, frames, layers, shaders } => {
+        Command::Scene { command: SceneCommand::Info { scene, duplicate, no_dedup, seed } } => {
+            let (mut s, report) = scene::open(&scene, &LoadOptions { textures: true, seed })?;
+            if duplicate > 1 {
+                s = raygraph::scene::duplicate::duplicate(&s, duplicate, !no_dedup);
+            }
+            print!("{}", raygraph::scene::info::describe(&s, Some(&report)));
+        }
+        Command::Scene { command: SceneCommand::Export { scene, out, seed } } => {
+            let (s, _) = scene::open(&scene, &LoadOptions { textures: true, seed })?;
+            raygraph::scene::export::write_glb(&s, &out)?;
+            println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes.len(), s.textures.len());
+        }
+        Command::Scene { command: SceneCommand::Orbit { scene, out, seconds } } => {
+            let (s, _) = scene::open(&scene, &LoadOptions { textures: false, ..Default::default() })?;
+            let b = s.bounds();
+            let radius = 0.5 * b.diagonal().max(1e-3);
+            let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera.fov_y.to_degrees());
+            track.save(&out)?;
+            println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
+        }
+        Command::Render { graph: graph_file, scene: scene_spec, view, width, height, out, frames, layers, shaders } => {
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let project = project_for(&graph_file, layers, shaders);
             let plan = graph::compile(&graph_file, &project, (width, height))?;
             let gpu = Gpu::new()?;
             println!("adapter: {}", gpu.describe());
-            let scene = builtin::default_scene();
+            let (scene, _report) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage.textures, seed: view.seed })?;
+            let camera = match (&view.camera, &view.track) {
+                (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
+                (None, Some(path)) => Track::load(path)?.camera_at_frame(view.track_frame, &scene.camera),
+                (None, None) => scene.camera,
+            };
             let mut exec = Executor::new(&gpu, plan, &scene)?;
-            let camera = scene.camera;
             exec.render(&gpu, &camera, &scene)?; // warm-up: pipeline compilation, first use
             let mut timings = Vec::new();
             for _ in 0..frames.max(1) {

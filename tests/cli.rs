@@ -69,3 +69,62 @@ fn render_to_an_unwritable_path_fails_cleanly() {
     assert!(stderr.contains("/nonexistent-dir/x.png"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+fn run_ok(args: &[&str]) -> String {
+    let out = raygraph().args(args).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{args:?}: {stdout}{}", String::from_utf8_lossy(&out.stderr));
+    stdout
+}
+
+/// The number after `key` on its line of `scene info` output.
+fn field(info: &str, key: &str) -> f64 {
+    let line = info.lines().find(|l| l.starts_with(key)).unwrap_or_else(|| panic!("no `{key}` in {info}"));
+    line[key.len()..].split_whitespace().next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn scene_info_of_the_atrium_is_within_5_percent_of_the_papers_sponza_row() {
+    let info = run_ok(&["scene", "info", "atrium"]);
+    println!("{info}");
+    for (key, paper) in [("triangles", 262_267.0), ("meshes", 103.0), ("textures", 69.0)] {
+        let got = field(&info, key);
+        assert!((got - paper).abs() / paper <= 0.05, "{key}: {got} against the paper's {paper}");
+    }
+    assert!(info.contains("bounds") && info.contains("cameras") && info.contains("ignored"), "{info}");
+}
+
+#[test]
+fn scene_export_writes_a_glb_that_scene_info_reads_back() {
+    let dir = common::gltf_doc::temp_dir("cli-export");
+    let glb = dir.join("organic.glb");
+    let said = run_ok(&["scene", "export", "organic", glb.to_str().unwrap()]);
+    assert!(said.contains("3920 triangles"), "{said}");
+    let info = run_ok(&["scene", "info", glb.to_str().unwrap()]);
+    assert_eq!(field(&info, "triangles"), 3920.0, "{info}");
+    assert_eq!(field(&info, "textures"), 2.0, "{info}");
+    // A failed export (no such directory) reports the path and leaves nothing.
+    let out = raygraph().args(["scene", "export", "box", "/nonexistent-dir/b.glb"]).output().unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("/nonexistent-dir/b.glb"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn render_takes_a_scene_a_camera_preset_and_a_track() {
+    let dir = common::gltf_doc::temp_dir("cli-render");
+    let png = |n: &str| dir.join(n).to_str().unwrap().to_string();
+    run_ok(&["render", "--scene", "box", "--camera", "front", "--width", "48", "--height", "32", "--frames", "1", "--out", &png("front.png")]);
+    run_ok(&["render", "--scene", "box", "--camera", "close", "--width", "48", "--height", "32", "--frames", "1", "--out", &png("close.png")]);
+    let (a, b) = (image::open(png("front.png")).unwrap().to_rgba8(), image::open(png("close.png")).unwrap().to_rgba8());
+    assert!(a != b, "two presets give two pictures");
+    let track = png("orbit.ron");
+    run_ok(&["scene", "orbit", "box", &track, "--seconds", "2"]);
+    run_ok(&["render", "--scene", "box", "--track", &track, "--track-frame", "15", "--width", "48", "--height", "32", "--frames", "1", "--out", &png("t15.png")]);
+    run_ok(&["render", "--scene", "box", "--track", &track, "--track-frame", "15", "--width", "48", "--height", "32", "--frames", "1", "--out", &png("t15b.png")]);
+    assert!(image::open(png("t15.png")).unwrap().to_rgba8() == image::open(png("t15b.png")).unwrap().to_rgba8(), "playback by frame index is deterministic");
+    let out = raygraph().args(["render", "--scene", "box", "--camera", "nowhere", "--frames", "1", "--out", &png("x.png")]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("corner, front, close"), "{stderr}");
+    assert!(!dir.join("x.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

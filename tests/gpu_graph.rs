@@ -32,7 +32,7 @@ fn culled_pass_is_neither_allocated_nor_executed() {
     let unused = plan.resource_by_name("unused.color").unwrap();
     assert!(!plan.is_kept(unused), "the culled pass's output must not be allocated");
     assert!(plan.slots.iter().all(|s| !s.members.contains(&unused)));
-    assert!(!plan.uses_scene, "a graph that reads no scene data uploads no scene");
+    assert!(!plan.scene_usage.any(), "a graph that reads no scene data uploads no scene");
 
     let gpu = gpu();
     let scene = default_scene();

@@ -1,11 +1,29 @@
-// Scene instance records, bound as `scene_instances`. Mirrors InstanceUniforms in
-// src/runtime/uniforms.rs. `texture` is a layer of `scene_textures` (0 = white).
+// Scene records. `Instance` (bound as `scene_instances`) mirrors InstanceUniforms and
+// `Material` (bound as `scene_materials`) mirrors MaterialUniforms in src/runtime/uniforms.rs.
+// Texture fields are layers of `scene_textures` (0 = white; `normal_texture` 0 = none).
 struct Instance {
     model: mat4x4<f32>,
     normal_matrix: mat4x4<f32>,
-    base_color: vec4<f32>,
-    texture: u32,
+    material: u32,
+    mesh: u32,
     _pad0: u32,
     _pad1: u32,
-    _pad2: u32,
+}
+
+const MATERIAL_DOUBLE_SIDED: u32 = 1u;
+const MATERIAL_ALPHA_MASK: u32 = 2u;
+const MATERIAL_ALPHA_BLEND: u32 = 4u;
+
+struct Material {
+    base_color: vec4<f32>,
+    emissive: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    normal_scale: f32,
+    alpha_cutoff: f32,
+    flags: u32,
+    base_texture: u32,
+    metallic_roughness_texture: u32,
+    normal_texture: u32,
+    emissive_texture: u32,
 }

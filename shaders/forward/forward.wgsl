@@ -7,6 +7,7 @@
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
 @group(0) @binding(2) var scene_textures: texture_2d_array<f32>;
 @group(0) @binding(3) var linear_sampler: sampler;
+@group(0) @binding(4) var<storage, read> scene_materials: array<Material>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -34,9 +35,9 @@ fn vs_main(
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    let inst = scene_instances[in.instance];
-    let tex = textureSample(scene_textures, linear_sampler, in.uv, i32(inst.texture));
-    let albedo = inst.base_color.rgb * tex.rgb;
+    let material = scene_materials[scene_instances[in.instance].material];
+    let tex = textureSample(scene_textures, linear_sampler, in.uv, i32(material.base_texture));
+    let albedo = material.base_color.rgb * tex.rgb;
     let n = normalize(in.world_normal);
     let l = frame.light_dir.xyz;
     let direct = max(dot(n, l), 0.0) * frame.light_dir.w * frame.light_color.rgb;

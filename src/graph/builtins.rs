@@ -8,6 +8,7 @@ pub const PARAMS: &str = "params";
 pub const DEBUG_COUNTERS: &str = "debug_counters";
 pub const SCENE_INSTANCES: &str = "scene_instances";
 pub const SCENE_TEXTURES: &str = "scene_textures";
+pub const SCENE_MATERIALS: &str = "scene_materials";
 pub const LINEAR_SAMPLER: &str = "linear_sampler";
 pub const NEAREST_SAMPLER: &str = "nearest_sampler";
 
@@ -19,10 +20,43 @@ pub fn frame_uniform_size() -> u32 {
 }
 
 pub fn is_builtin(name: &str) -> bool {
-    matches!(name, FRAME | PARAMS | DEBUG_COUNTERS | SCENE_INSTANCES | SCENE_TEXTURES | LINEAR_SAMPLER | NEAREST_SAMPLER)
+    matches!(name, FRAME | PARAMS | DEBUG_COUNTERS | SCENE_INSTANCES | SCENE_MATERIALS | SCENE_TEXTURES | LINEAR_SAMPLER | NEAREST_SAMPLER)
 }
 
-/// Whether the binding needs the scene on the GPU.
-pub fn is_scene_binding(name: &str) -> bool {
-    matches!(name, SCENE_INSTANCES | SCENE_TEXTURES)
+/// Which parts of the scene the kept passes of a plan use; only these are uploaded.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SceneUsage {
+    /// Vertex and index buffers (a `SceneRaster` pass draws the meshes).
+    pub geometry: bool,
+    /// `scene_instances`.
+    pub instances: bool,
+    /// `scene_materials`.
+    pub materials: bool,
+    /// `scene_textures` (images are then decoded and uploaded).
+    pub textures: bool,
+}
+
+impl SceneUsage {
+    pub fn any(&self) -> bool {
+        self.geometry || self.instances || self.materials || self.textures
+    }
+
+    /// Adds what a binding called `name` needs.
+    pub fn add_binding(&mut self, name: &str) {
+        match name {
+            SCENE_INSTANCES => self.instances = true,
+            SCENE_MATERIALS => self.materials = true,
+            SCENE_TEXTURES => self.textures = true,
+            _ => {}
+        }
+    }
+
+    /// A short list for reports, e.g. `geometry, instances, textures`.
+    pub fn describe(&self) -> String {
+        let parts: Vec<&str> = [(self.geometry, "geometry"), (self.instances, "instances"), (self.materials, "materials"), (self.textures, "textures")]
+            .into_iter()
+            .filter_map(|(on, name)| on.then_some(name))
+            .collect();
+        if parts.is_empty() { "nothing (no pass reads the scene)".into() } else { parts.join(", ") }
+    }
 }

@@ -117,8 +117,8 @@ pub struct Plan {
     pub resources: Vec<PlannedResource>,
     pub slots: Vec<Slot>,
     pub output: ResourceId,
-    /// Whether any kept pass draws or reads the scene.
-    pub uses_scene: bool,
+    /// Which parts of the scene the kept passes draw or read.
+    pub scene_usage: builtins::SceneUsage,
 }
 
 impl Plan {
@@ -175,7 +175,7 @@ impl Plan {
             self.slots.len(),
             self.resources.iter().filter(|r| r.slot.is_some()).count()
         );
-        let _ = writeln!(s, "scene on GPU: {}", if self.uses_scene { "yes" } else { "no (no pass reads it)" });
+        let _ = writeln!(s, "scene on GPU: {}", self.scene_usage.describe());
         s
     }
 }
@@ -415,7 +415,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let mut planned: Vec<PlannedPass> = Vec::new();
     let mut first: HashMap<ResourceId, usize> = HashMap::new();
     let mut last: HashMap<ResourceId, usize> = HashMap::new();
-    let mut uses_scene = false;
+    let mut scene_usage = builtins::SceneUsage::default();
     for (order, &pi) in schedule.iter().enumerate() {
         let p = &passes[pi];
         let node = &nodes[p.node];
@@ -437,7 +437,10 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             }
         }
         let shader = shaders[pi].clone();
-        uses_scene |= pass.kind == PassKind::SceneRaster || shader.bindings.iter().any(|b| builtins::is_scene_binding(&b.name));
+        scene_usage.geometry |= pass.kind == PassKind::SceneRaster;
+        for b in &shader.bindings {
+            scene_usage.add_binding(&b.name);
+        }
         planned.push(PlannedPass {
             name: pass_name(&nodes, p),
             node: node.name.clone(),
@@ -487,7 +490,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     }
 
     // Phase 10: the plan.
-    Ok(Plan { graph_file: graph_file.to_path_buf(), frame_size, passes: planned, culled, resources, slots, output, uses_scene })
+    Ok(Plan { graph_file: graph_file.to_path_buf(), frame_size, passes: planned, culled, resources, slots, output, scene_usage })
 }
 
 fn same_shape(a: &ResourceDecl, b: &ResourceDecl) -> bool {
@@ -832,6 +835,7 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
         },
         builtins::DEBUG_COUNTERS => (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write> array<atomic<u32>>".into()),
         builtins::SCENE_INSTANCES => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Instance>".into()),
+        builtins::SCENE_MATERIALS => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Material>".into()),
         builtins::SCENE_TEXTURES => {
             let want = BindingKind::SampledTexture { dim: naga::ImageDimension::D2, arrayed: true, kind: naga::ScalarKind::Float };
             (b.kind != want).then(|| want.describe())

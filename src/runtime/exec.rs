@@ -44,6 +44,17 @@ pub struct Executor {
 }
 
 impl Executor {
+    /// The scene as uploaded (None when no kept pass reads it).
+    pub fn uploaded_scene(&self) -> Option<&GpuScene> {
+        self.scene.as_ref()
+    }
+
+    /// A part of the uploaded scene; the plan's [`SceneUsage`](builtins::SceneUsage) decides
+    /// what was uploaded, so a missing part is an internal inconsistency reported as an error.
+    fn scene_part<T>(&self, part: impl Fn(&GpuScene) -> Option<&T>) -> Result<&T, RuntimeError> {
+        self.scene.as_ref().and_then(part).ok_or_else(|| RuntimeError::Gpu("a pass binds a part of the scene that the plan did not upload".into()))
+    }
+
     /// Allocates the plan's resources and builds its pipelines. The scene is uploaded only if
     /// the plan uses it.
     pub fn new(gpu: &Gpu, plan: Plan, scene: &Scene) -> Result<Self, RuntimeError> {
@@ -100,9 +111,9 @@ impl Executor {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let scene_gpu = if plan.uses_scene {
-            let s = GpuScene::upload(device, &gpu.queue, scene);
-            log::info!("scene `{}` uploaded: {} triangles, {} bytes", scene.name, scene.triangle_count(), s.bytes);
+        let scene_gpu = if plan.scene_usage.any() {
+            let s = GpuScene::upload(device, &gpu.queue, scene, plan.scene_usage)?;
+            log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes);
             Some(s)
         } else {
             log::info!("scene not uploaded: no pass of the graph uses it");
@@ -114,6 +125,7 @@ impl Executor {
             address_mode_v: wgpu::AddressMode::Repeat,
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
         let nearest = device.create_sampler(&wgpu::SamplerDescriptor { label: Some("nearest"), ..Default::default() });
@@ -240,8 +252,9 @@ impl Executor {
                     });
                     params_buffer = Some((b.binding, buf));
                 }
-                builtins::SCENE_INSTANCES => buffers.push((b.binding, self.scene.as_ref().expect("plan uses the scene").instances.clone())),
-                builtins::SCENE_TEXTURES => views.push((b.binding, self.scene.as_ref().expect("plan uses the scene").texture_view.clone())),
+                builtins::SCENE_INSTANCES => buffers.push((b.binding, self.scene_part(|s| s.instances.as_ref())?.clone())),
+                builtins::SCENE_MATERIALS => buffers.push((b.binding, self.scene_part(|s| s.materials.as_ref())?.clone())),
+                builtins::SCENE_TEXTURES => views.push((b.binding, self.scene_part(|s| s.textures.as_ref())?.1.clone())),
                 _ => {}
             }
         }
@@ -420,9 +433,11 @@ impl Executor {
                     rp.set_pipeline(pipeline);
                     rp.set_bind_group(0, &pass.bind_group, &[]);
                     if planned.kind == PassKind::SceneRaster {
-                        let scene = self.scene.as_ref().expect("plan uses the scene");
-                        rp.set_vertex_buffer(0, scene.vertices.slice(..));
-                        rp.set_index_buffer(scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+                        let (Some(scene), Some(vertices), Some(indices)) = (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok()) else {
+                            return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", planned.name)));
+                        };
+                        rp.set_vertex_buffer(0, vertices.slice(..));
+                        rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
                         for d in &scene.draws {
                             rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
                         }
@@ -502,17 +517,8 @@ impl Executor {
 /// Writes an image as PNG atomically (temporary file, then rename): a failed write never
 /// leaves a truncated file behind.
 pub fn write_png(path: &std::path::Path, img: &image::RgbaImage) -> Result<(), RuntimeError> {
-    let tmp = path.with_extension("png.partial");
-    let result = img.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| match e {
-        image::ImageError::IoError(source) => RuntimeError::Output { path: path.to_path_buf(), source },
-        other => RuntimeError::Encode { path: path.to_path_buf(), message: other.to_string() },
-    });
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    std::fs::rename(&tmp, path).map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        RuntimeError::Output { path: path.to_path_buf(), source }
-    })
+    let mut png = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .map_err(|e| RuntimeError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
+    crate::util::write_atomic(path, &png).map_err(|source| RuntimeError::Output { path: path.to_path_buf(), source })
 }

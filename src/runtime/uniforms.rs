@@ -27,8 +27,33 @@ pub struct InstanceUniforms {
     pub model: [[f32; 4]; 4],
     /// Inverse-transpose of the model matrix (for normals).
     pub normal_matrix: [[f32; 4]; 4],
-    pub base_color: [f32; 4],
-    /// Layer in `scene_textures`; layer 0 is plain white.
-    pub texture: u32,
-    pub _pad: [u32; 3],
+    /// Index into `scene_materials`.
+    pub material: u32,
+    /// Index of the mesh in the scene.
+    pub mesh: u32,
+    pub _pad: [u32; 2],
 }
+
+/// Mirrors `struct Material` in `shaders/common/scene.wgsl`. Texture fields are layers of
+/// `scene_textures`: layer 0 is plain white, and 0 in `normal_texture` means "no normal map".
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MaterialUniforms {
+    pub base_color: [f32; 4],
+    pub emissive: [f32; 3],
+    pub metallic: f32,
+    pub roughness: f32,
+    pub normal_scale: f32,
+    /// Alpha-mask cutoff (0 unless the material is alpha-tested).
+    pub alpha_cutoff: f32,
+    /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`].
+    pub flags: u32,
+    pub base_texture: u32,
+    pub metallic_roughness_texture: u32,
+    pub normal_texture: u32,
+    pub emissive_texture: u32,
+}
+
+pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
+pub const MATERIAL_ALPHA_MASK: u32 = 2;
+pub const MATERIAL_ALPHA_BLEND: u32 = 4;

@@ -13,6 +13,7 @@ pub fn plane(name: &str, size: f32, tiles: f32) -> Mesh {
         name: name.into(),
         vertices: vec![v(-h, -h, 0.0, 0.0), v(-h, h, 0.0, tiles), v(h, h, tiles, tiles), v(h, -h, tiles, 0.0)],
         indices: vec![0, 1, 2, 0, 2, 3],
+        tangents: None,
     }
 }
 
@@ -37,7 +38,7 @@ pub fn cube(name: &str) -> Mesh {
         }
         indices.extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
     }
-    Mesh { name: name.into(), vertices, indices }
+    Mesh { name: name.into(), vertices, indices, tangents: None }
 }
 
 /// A UV sphere of radius 1.
@@ -65,7 +66,7 @@ pub fn sphere(name: &str, rings: u32, segments: u32) -> Mesh {
             }
         }
     }
-    Mesh { name: name.into(), vertices, indices }
+    Mesh { name: name.into(), vertices, indices, tangents: None }
 }
 
 /// A checkerboard texture.
@@ -106,10 +107,10 @@ pub fn default_scene() -> Scene {
     let meshes = vec![plane("floor", 12.0, 6.0), cube("cube"), sphere("sphere", 24, 48)];
     let textures = vec![checker("checker", 256, 8, [225, 225, 225], [60, 60, 66]), bricks("bricks", 256)];
     let materials = vec![
-        Material { name: "floor".into(), base_color: [1.0, 1.0, 1.0, 1.0], texture: Some(0) },
-        Material { name: "bricks".into(), base_color: [1.0, 1.0, 1.0, 1.0], texture: Some(1) },
-        Material { name: "red".into(), base_color: [0.8, 0.15, 0.1, 1.0], texture: None },
-        Material { name: "blue".into(), base_color: [0.15, 0.3, 0.85, 1.0], texture: None },
+        Material::diffuse("floor", [1.0, 1.0, 1.0, 1.0], Some(0)),
+        Material::diffuse("bricks", [1.0, 1.0, 1.0, 1.0], Some(1)),
+        Material::diffuse("red", [0.8, 0.15, 0.1, 1.0], None),
+        Material::diffuse("blue", [0.15, 0.3, 0.85, 1.0], None),
     ];
     let instances = vec![
         Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },
@@ -124,6 +125,11 @@ pub fn default_scene() -> Scene {
         instances,
         textures,
         camera: Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 },
+        presets: vec![
+            ("main".into(), Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 }),
+            ("low".into(), Camera::look(Vec3::new(-4.0, 0.6, 4.5), Vec3::new(0.0, 0.8, 0.0), 50.0, 0.05, 100.0)),
+            ("top".into(), Camera::look(Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO, 50.0, 0.05, 100.0)),
+        ],
         light: Light { direction: Vec3::new(-0.4, 0.8, 0.45).normalize(), color: Vec3::new(1.0, 0.96, 0.9), intensity: 3.0, ambient: 0.35 },
     }
 }

@@ -13,7 +13,48 @@ pub struct Camera {
     pub far: f32,
 }
 
+impl Default for Camera {
+    fn default() -> Self {
+        Self { position: Vec3::new(0.0, 1.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 1000.0 }
+    }
+}
+
 impl Camera {
+    /// A camera at `position` looking at `target`, y up, `fov_y_deg` vertical field of view.
+    pub fn look(position: Vec3, target: Vec3, fov_y_deg: f32, near: f32, far: f32) -> Self {
+        Self { position, target, up: Vec3::Y, fov_y: fov_y_deg.to_radians(), near, far }
+    }
+
+    /// Presets for any scene from its bounds: `front` (framing all of it), `top` (looking
+    /// down) and `side`.
+    pub fn presets_for(bounds: super::Bounds) -> Vec<(String, Camera)> {
+        let front = Self::framing(bounds);
+        let d = front.position.distance(front.target);
+        let c = bounds.center();
+        let top = Self::look(c + Vec3::new(0.0, d, d * 1e-3), c, front.fov_y.to_degrees(), front.near, front.far);
+        let side = Self::look(c + Vec3::new(d, d * 0.1, 0.0), c, front.fov_y.to_degrees(), front.near, front.far);
+        vec![("front".into(), front), ("top".into(), top), ("side".into(), side)]
+    }
+
+    /// A camera that sees all of `bounds`, from the front-right and above.
+    pub fn framing(bounds: super::Bounds) -> Self {
+        if bounds.is_empty() {
+            return Self::default();
+        }
+        let radius = (0.5 * bounds.diagonal()).max(1e-3);
+        let fov_y = 50f32.to_radians();
+        let distance = radius / (0.5 * fov_y).sin() * 1.05;
+        let dir = Vec3::new(0.55, 0.45, 1.0).normalize();
+        Self {
+            position: bounds.center() + dir * distance,
+            target: bounds.center(),
+            up: Vec3::Y,
+            fov_y,
+            near: (distance - radius).max(distance * 1e-3) * 0.5,
+            far: (distance + radius) * 2.0,
+        }
+    }
+
     pub fn view(&self) -> Mat4 {
         Mat4::look_at_rh(self.position, self.target, self.up)
     }

@@ -1,9 +1,16 @@
-//! The scene on the GPU: one vertex and one index buffer for all meshes, a storage buffer of
-//! instances, and a 2D texture array of all textures (layer 0 is plain white). Uploaded only
-//! when the compiled plan uses the scene.
+//! The scene on the GPU: one vertex and one index buffer for all meshes, storage buffers of
+//! instances and materials, and all textures in one mipmapped 2D texture array (layer 0 is
+//! plain white). Only the parts the compiled plan uses ([`SceneUsage`]) are uploaded.
+//!
+//! Textures: every image is resampled to [`TEXTURE_SIZE`]² and becomes one layer of a
+//! `texture_2d_array<f32>`, so any shader reaches any texture through one binding on every
+//! adapter (binding arrays of separate textures are not used: the array works everywhere, and
+//! the built-in scenes' textures are at most 256² anyway). Too many layers, or buffers larger
+//! than the device allows, are an error with the numbers, never a panic.
 
-use super::Scene;
-use crate::runtime::uniforms::InstanceUniforms;
+use super::{AlphaMode, Scene};
+use crate::graph::builtins::SceneUsage;
+use crate::runtime::uniforms::{InstanceUniforms, MaterialUniforms, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED};
 use wgpu::util::DeviceExt;
 
 /// One indexed draw per instance.
@@ -14,103 +21,218 @@ pub struct Draw {
     pub instance: u32,
 }
 
+/// The scene does not fit the device.
+#[derive(Debug, thiserror::Error)]
+#[error("scene `{scene}` does not fit the GPU: {what} needs {needed}, the device allows {allowed}\n  help: {help}")]
+pub struct SceneLimitError {
+    pub scene: String,
+    pub what: String,
+    pub needed: u64,
+    pub allowed: u64,
+    pub help: String,
+}
+
 pub struct GpuScene {
-    pub vertices: wgpu::Buffer,
-    pub indices: wgpu::Buffer,
-    pub instances: wgpu::Buffer,
-    pub textures: wgpu::Texture,
-    pub texture_view: wgpu::TextureView,
+    pub vertices: Option<wgpu::Buffer>,
+    pub indices: Option<wgpu::Buffer>,
+    pub instances: Option<wgpu::Buffer>,
+    pub materials: Option<wgpu::Buffer>,
+    pub textures: Option<(wgpu::Texture, wgpu::TextureView)>,
     pub draws: Vec<Draw>,
+    /// What was uploaded.
+    pub usage: SceneUsage,
     /// Bytes uploaded.
     pub bytes: u64,
 }
 
 /// Side of the square layers of the texture array.
 pub const TEXTURE_SIZE: u32 = 256;
+/// Mip levels of the texture array (down to 1x1).
+pub const TEXTURE_MIPS: u32 = TEXTURE_SIZE.ilog2() + 1;
+
+fn check(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str) -> Result<(), SceneLimitError> {
+    if needed > allowed {
+        return Err(SceneLimitError { scene: scene.name.clone(), what: what.into(), needed, allowed, help: help.into() });
+    }
+    Ok(())
+}
 
 impl GpuScene {
-    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Self {
-        let mut vertices = Vec::new();
-        let mut indices = Vec::new();
-        let mut ranges = Vec::new();
-        for mesh in &scene.meshes {
-            let first_index = indices.len() as u32;
-            let base_vertex = vertices.len() as i32;
-            vertices.extend_from_slice(&mesh.vertices);
-            indices.extend_from_slice(&mesh.indices);
-            ranges.push((first_index..indices.len() as u32, base_vertex));
-        }
-        let instances: Vec<InstanceUniforms> = scene
-            .instances
-            .iter()
-            .map(|inst| {
-                let m = &scene.materials[inst.material];
-                InstanceUniforms {
-                    model: inst.transform.to_cols_array_2d(),
-                    normal_matrix: inst.transform.inverse().transpose().to_cols_array_2d(),
-                    base_color: m.base_color,
-                    texture: m.texture.map(|t| t as u32 + 1).unwrap_or(0),
-                    _pad: [0; 3],
-                }
-            })
-            .collect();
-        let draws = scene
-            .instances
-            .iter()
-            .enumerate()
-            .map(|(i, inst)| Draw { indices: ranges[inst.mesh].0.clone(), base_vertex: ranges[inst.mesh].1, instance: i as u32 })
-            .collect();
-
+    /// Uploads the parts of `scene` that `usage` names.
+    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, usage: SceneUsage) -> Result<Self, SceneLimitError> {
+        let limits = device.limits();
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
-        let vbuf = init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
-        let ibuf = init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
-        let instance_bytes: &[u8] = if instances.is_empty() { &[0u8; std::mem::size_of::<InstanceUniforms>()] } else { bytemuck::cast_slice(&instances) };
-        let inst_buf = init("scene instances", instance_bytes, wgpu::BufferUsages::STORAGE);
+        let mut bytes = 0u64;
+        let mut out = GpuScene { vertices: None, indices: None, instances: None, materials: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
 
-        let layers = scene.textures.len() as u32 + 1;
-        let textures = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("scene textures"),
-            size: wgpu::Extent3d { width: TEXTURE_SIZE, height: TEXTURE_SIZE, depth_or_array_layers: layers },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8UnormSrgb,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let white = vec![255u8; (TEXTURE_SIZE * TEXTURE_SIZE * 4) as usize];
-        let mut tex_bytes = 0u64;
-        for layer in 0..layers {
-            let data = if layer == 0 { white.clone() } else { resample(&scene.textures[layer as usize - 1]) };
-            tex_bytes += data.len() as u64;
-            queue.write_texture(
-                wgpu::TexelCopyTextureInfo { texture: &textures, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
-                &data,
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(TEXTURE_SIZE * 4), rows_per_image: Some(TEXTURE_SIZE) },
-                wgpu::Extent3d { width: TEXTURE_SIZE, height: TEXTURE_SIZE, depth_or_array_layers: 1 },
-            );
+        if usage.geometry {
+            let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
+            let index_count: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
+            let vertex_bytes = (vertex_count * std::mem::size_of::<super::Vertex>()) as u64;
+            let help = "use a smaller scene or a lower duplication factor";
+            check(scene, "the vertex buffer", vertex_bytes, limits.max_buffer_size, help)?;
+            check(scene, "the index buffer", index_count as u64 * 4, limits.max_buffer_size, help)?;
+            check(scene, "the vertex count", vertex_count as u64, i32::MAX as u64, help)?;
+            let mut vertices = Vec::with_capacity(vertex_count.max(1));
+            let mut indices = Vec::with_capacity(index_count.max(3));
+            let mut ranges = Vec::new();
+            for mesh in &scene.meshes {
+                let first_index = indices.len() as u32;
+                let base_vertex = vertices.len() as i32;
+                vertices.extend_from_slice(&mesh.vertices);
+                indices.extend_from_slice(&mesh.indices);
+                ranges.push((first_index..indices.len() as u32, base_vertex));
+            }
+            out.draws = scene
+                .instances
+                .iter()
+                .enumerate()
+                .map(|(i, inst)| Draw { indices: ranges[inst.mesh].0.clone(), base_vertex: ranges[inst.mesh].1, instance: i as u32 })
+                .collect();
+            // wgpu buffers may not be empty.
+            if vertices.is_empty() {
+                vertices.push(super::Vertex::default());
+            }
+            if indices.is_empty() {
+                indices.extend_from_slice(&[0, 0, 0]);
+            }
+            out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX));
+            out.indices = Some(init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX));
+            bytes += (vertices.len() * std::mem::size_of::<super::Vertex>() + indices.len() * 4) as u64;
         }
-        let texture_view = textures.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
-        let bytes = (vertices.len() * std::mem::size_of::<super::Vertex>() + indices.len() * 4 + instance_bytes.len()) as u64 + tex_bytes;
-        Self { vertices: vbuf, indices: ibuf, instances: inst_buf, textures, texture_view, draws, bytes }
+
+        if usage.instances {
+            let instances: Vec<InstanceUniforms> = scene
+                .instances
+                .iter()
+                .map(|inst| InstanceUniforms {
+                    model: inst.transform.to_cols_array_2d(),
+                    normal_matrix: inst.transform.inverse().transpose().to_cols_array_2d(),
+                    material: inst.material as u32,
+                    mesh: inst.mesh as u32,
+                    _pad: [0; 2],
+                })
+                .collect();
+            out.instances = Some(storage_records(device, scene, "instance", instances, &mut bytes)?);
+        }
+
+        if usage.materials {
+            let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
+            let materials: Vec<MaterialUniforms> = scene
+                .materials
+                .iter()
+                .map(|m| {
+                    let (alpha_flag, cutoff) = match m.alpha_mode {
+                        AlphaMode::Opaque => (0, 0.0),
+                        AlphaMode::Mask(c) => (MATERIAL_ALPHA_MASK, c),
+                        AlphaMode::Blend => (MATERIAL_ALPHA_BLEND, 0.0),
+                    };
+                    MaterialUniforms {
+                        base_color: m.base_color,
+                        emissive: m.emissive,
+                        metallic: m.metallic,
+                        roughness: m.roughness,
+                        normal_scale: m.normal_scale,
+                        alpha_cutoff: cutoff,
+                        flags: alpha_flag | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 },
+                        base_texture: layer(m.texture),
+                        metallic_roughness_texture: layer(m.metallic_roughness_texture),
+                        normal_texture: layer(m.normal_texture),
+                        emissive_texture: layer(m.emissive_texture),
+                    }
+                })
+                .collect();
+            out.materials = Some(storage_records(device, scene, "material", materials, &mut bytes)?);
+        }
+
+        if usage.textures {
+            let layers = scene.textures.len() as u32 + 1;
+            check(scene, "the texture array (one layer per texture, plus white)", layers as u64, limits.max_texture_array_layers as u64, "use fewer textures")?;
+            let textures = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("scene textures"),
+                size: wgpu::Extent3d { width: TEXTURE_SIZE, height: TEXTURE_SIZE, depth_or_array_layers: layers },
+                mip_level_count: TEXTURE_MIPS,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8UnormSrgb,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            let white = image::RgbaImage::from_pixel(TEXTURE_SIZE, TEXTURE_SIZE, image::Rgba([255; 4]));
+            for layer in 0..layers {
+                let base = if layer == 0 { white.clone() } else { resample(&scene.textures[layer as usize - 1]) };
+                let mut level = base;
+                for mip in 0..TEXTURE_MIPS {
+                    let size = TEXTURE_SIZE >> mip;
+                    if mip > 0 {
+                        level = downsample_srgb(&level);
+                    }
+                    bytes += level.as_raw().len() as u64;
+                    queue.write_texture(
+                        wgpu::TexelCopyTextureInfo { texture: &textures, mip_level: mip, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
+                        level.as_raw(),
+                        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size * 4), rows_per_image: Some(size) },
+                        wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+                    );
+                }
+            }
+            let view = textures.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+            out.textures = Some((textures, view));
+        }
+        out.bytes = bytes;
+        Ok(out)
     }
 }
 
-/// Nearest-neighbour resample of an image to TEXTURE_SIZE².
-fn resample(img: &super::TextureImage) -> Vec<u8> {
-    if img.width == TEXTURE_SIZE && img.height == TEXTURE_SIZE {
-        return img.rgba.clone();
+/// A storage buffer of `records` (one zeroed record if there are none: bindings may not be
+/// empty), checked against the device's storage binding limit.
+fn storage_records<T: bytemuck::Pod>(device: &wgpu::Device, scene: &Scene, what: &str, mut records: Vec<T>, bytes: &mut u64) -> Result<wgpu::Buffer, SceneLimitError> {
+    let needed = (records.len() * std::mem::size_of::<T>()) as u64;
+    let allowed = device.limits().max_storage_buffer_binding_size;
+    check(scene, &format!("the {what} buffer (one storage binding)"), needed, allowed, &format!("use fewer {what}s"))?;
+    if records.is_empty() {
+        records.push(T::zeroed());
     }
-    let mut out = Vec::with_capacity((TEXTURE_SIZE * TEXTURE_SIZE * 4) as usize);
-    for y in 0..TEXTURE_SIZE {
-        for x in 0..TEXTURE_SIZE {
-            let sx = (x * img.width / TEXTURE_SIZE).min(img.width.saturating_sub(1));
-            let sy = (y * img.height / TEXTURE_SIZE).min(img.height.saturating_sub(1));
-            let i = ((sy * img.width + sx) * 4) as usize;
-            out.extend_from_slice(img.rgba.get(i..i + 4).unwrap_or(&[255, 0, 255, 255]));
+    *bytes += needed;
+    Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(&format!("scene {what}s")), contents: bytemuck::cast_slice(&records), usage: wgpu::BufferUsages::STORAGE }))
+}
+
+/// The image at TEXTURE_SIZE² (a triangle filter when shrinking; a malformed image becomes
+/// the magenta fallback rather than a panic).
+fn resample(img: &super::TextureImage) -> image::RgbaImage {
+    match image::RgbaImage::from_raw(img.width, img.height, img.rgba.clone()) {
+        Some(i) if i.width() == TEXTURE_SIZE && i.height() == TEXTURE_SIZE => i,
+        Some(i) if i.width() > 0 && i.height() > 0 => image::imageops::resize(&i, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle),
+        _ => {
+            let fb = super::gltf_import::fallback_texture(&img.name);
+            let i = image::RgbaImage::from_raw(fb.width, fb.height, fb.rgba).unwrap_or_else(|| image::RgbaImage::new(1, 1));
+            image::imageops::resize(&i, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Nearest)
         }
     }
-    out
+}
+
+/// Halves an sRGB image with a 2x2 box filter in linear space.
+fn downsample_srgb(img: &image::RgbaImage) -> image::RgbaImage {
+    fn to_linear(c: u8) -> f32 {
+        let c = c as f32 / 255.0;
+        if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    }
+    fn to_srgb(l: f32) -> u8 {
+        let c = if l <= 0.0031308 { l * 12.92 } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+        (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+    }
+    let (w, h) = ((img.width() / 2).max(1), (img.height() / 2).max(1));
+    image::RgbaImage::from_fn(w, h, |x, y| {
+        let mut acc = [0f32; 4];
+        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let p = img.get_pixel((2 * x + dx).min(img.width() - 1), (2 * y + dy).min(img.height() - 1));
+            for c in 0..3 {
+                acc[c] += to_linear(p[c]);
+            }
+            acc[3] += p[3] as f32;
+        }
+        image::Rgba([to_srgb(acc[0] / 4.0), to_srgb(acc[1] / 4.0), to_srgb(acc[2] / 4.0), (acc[3] / 4.0 + 0.5) as u8])
+    })
 }

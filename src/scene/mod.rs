@@ -3,12 +3,21 @@
 
 pub mod builtin;
 pub mod camera;
+pub mod duplicate;
+pub mod export;
+pub mod gltf_import;
 pub mod gpu;
+pub mod info;
+pub mod load;
+pub mod procedural;
+pub mod track;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 pub use camera::Camera;
+pub use gltf_import::{ImportReport, SceneError};
+pub use load::{open, LoadOptions};
 
 /// Vertex layout shared by every mesh: `@location(0)` position, `(1)` normal, `(2)` uv.
 #[repr(C)]
@@ -19,11 +28,13 @@ pub struct Vertex {
     pub uv: [f32; 2],
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Mesh {
     pub name: String,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
+    /// Per-vertex tangents (xyz, w = handedness), present where a normal map needs them.
+    pub tangents: Option<Vec<[f32; 4]>>,
 }
 
 impl Mesh {
@@ -32,12 +43,51 @@ impl Mesh {
     }
 }
 
+/// How a material's alpha is interpreted (glTF `alphaMode`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum AlphaMode {
+    #[default]
+    Opaque,
+    Mask(f32),
+    Blend,
+}
+
+/// A PBR metallic-roughness material. Texture fields index [`Scene::textures`].
 #[derive(Debug, Clone)]
 pub struct Material {
     pub name: String,
     pub base_color: [f32; 4],
-    /// Index into [`Scene::textures`].
+    /// Base-colour texture.
     pub texture: Option<usize>,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub metallic_roughness_texture: Option<usize>,
+    pub normal_texture: Option<usize>,
+    pub normal_scale: f32,
+    pub emissive: [f32; 3],
+    pub emissive_texture: Option<usize>,
+    pub alpha_mode: AlphaMode,
+    pub double_sided: bool,
+}
+
+impl Material {
+    /// A plain diffuse material.
+    pub fn diffuse(name: &str, base_color: [f32; 4], texture: Option<usize>) -> Self {
+        Self {
+            name: name.into(),
+            base_color,
+            texture,
+            metallic: 0.0,
+            roughness: 0.8,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            emissive: [0.0; 3],
+            emissive_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+        }
+    }
 }
 
 /// One placement of a mesh.
@@ -74,12 +124,106 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub instances: Vec<Instance>,
     pub textures: Vec<TextureImage>,
+    /// The default view.
     pub camera: Camera,
+    /// Named static views (the paper's static-camera tests); the first is `camera`.
+    pub presets: Vec<(String, Camera)>,
     pub light: Light,
 }
 
+impl Default for Light {
+    fn default() -> Self {
+        Self { direction: Vec3::new(-0.4, 0.8, 0.45).normalize(), color: Vec3::new(1.0, 0.96, 0.9), intensity: 3.0, ambient: 0.35 }
+    }
+}
+
+/// Axis-aligned bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Bounds {
+    pub const EMPTY: Bounds = Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x
+    }
+
+    pub fn grow(&mut self, p: Vec3) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    pub fn union(&self, o: &Bounds) -> Bounds {
+        Bounds { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    pub fn diagonal(&self) -> f32 {
+        if self.is_empty() { 0.0 } else { (self.max - self.min).length() }
+    }
+}
+
+impl Mesh {
+    /// Bounds of the vertices the indices use.
+    pub fn bounds(&self) -> Bounds {
+        let mut b = Bounds::EMPTY;
+        for i in &self.indices {
+            b.grow(Vec3::from(self.vertices[*i as usize].position));
+        }
+        b
+    }
+}
+
 impl Scene {
+    /// The preset called `name`, or an error listing the presets there are.
+    pub fn preset(&self, name: &str) -> Result<Camera, String> {
+        self.presets.iter().find(|(n, _)| n == name).map(|(_, c)| *c).ok_or_else(|| {
+            let names: Vec<&str> = self.presets.iter().map(|(n, _)| n.as_str()).collect();
+            format!("scene `{}` has no camera preset `{name}`; its presets are: {}", self.name, names.join(", "))
+        })
+    }
+
+    /// Drops every texture and every material's reference to one (for graphs that sample
+    /// none).
+    pub fn strip_textures(&mut self) {
+        self.textures.clear();
+        for m in &mut self.materials {
+            m.texture = None;
+            m.metallic_roughness_texture = None;
+            m.normal_texture = None;
+            m.emissive_texture = None;
+        }
+    }
+
+    /// Triangles over all instances (a mesh placed twice counts twice).
     pub fn triangle_count(&self) -> usize {
         self.instances.iter().map(|i| self.meshes[i.mesh].triangle_count()).sum()
+    }
+
+    /// World-space bounds of all instances.
+    pub fn bounds(&self) -> Bounds {
+        let mesh_bounds: Vec<Bounds> = self.meshes.iter().map(Mesh::bounds).collect();
+        let mut b = Bounds::EMPTY;
+        for inst in &self.instances {
+            let mb = mesh_bounds[inst.mesh];
+            if mb.is_empty() {
+                continue;
+            }
+            for i in 0..8 {
+                let c = Vec3::new(
+                    if i & 1 == 0 { mb.min.x } else { mb.max.x },
+                    if i & 2 == 0 { mb.min.y } else { mb.max.y },
+                    if i & 4 == 0 { mb.min.z } else { mb.max.z },
+                );
+                b.grow(inst.transform.transform_point3(c));
+            }
+        }
+        b
     }
 }

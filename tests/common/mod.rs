@@ -2,6 +2,8 @@
 //! fixtures in `tests/fixtures`, and line lookup for asserting error locations.
 #![allow(dead_code)]
 
+pub mod gltf_doc;
+
 use raygraph::graph::{compile, Plan, Project};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};

@@ -1,0 +1,189 @@
+//! Writes a [`Scene`] as a binary glTF (`.glb`): one buffer, one glTF mesh per raygraph mesh,
+//! one node per instance (with its matrix), PBR materials and PNG-embedded textures. The file
+//! is written to a temporary name and renamed, so a failure never leaves a partial file.
+
+use super::gltf_import::SceneError;
+use super::{AlphaMode, Scene};
+use gltf::json;
+use json::validation::Checked::Valid;
+use json::validation::USize64;
+use std::borrow::Cow;
+use std::path::Path;
+
+struct BinWriter {
+    bin: Vec<u8>,
+}
+
+impl BinWriter {
+    fn view(&mut self, root: &mut json::Root, buffer: json::Index<json::Buffer>, bytes: &[u8], target: Option<json::buffer::Target>) -> json::Index<json::buffer::View> {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        root.push(json::buffer::View {
+            buffer,
+            byte_length: USize64::from(bytes.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            target: target.map(Valid),
+        })
+    }
+}
+
+fn accessor(
+    root: &mut json::Root,
+    view: json::Index<json::buffer::View>,
+    count: usize,
+    component: json::accessor::ComponentType,
+    ty: json::accessor::Type,
+    bounds: Option<([f32; 3], [f32; 3])>,
+) -> json::Index<json::Accessor> {
+    root.push(json::Accessor {
+        buffer_view: Some(view),
+        byte_offset: Some(USize64(0)),
+        count: USize64::from(count),
+        component_type: Valid(json::accessor::GenericComponentType(component)),
+        extensions: None,
+        extras: Default::default(),
+        type_: Valid(ty),
+        min: bounds.map(|b| json::Value::from(b.0.to_vec())),
+        max: bounds.map(|b| json::Value::from(b.1.to_vec())),
+        name: None,
+        normalized: false,
+        sparse: None,
+    })
+}
+
+/// Encodes the scene as GLB bytes.
+pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
+    use json::accessor::{ComponentType as C, Type as T};
+    let mut root = json::Root::default();
+    let buffer = root.push(json::Buffer { byte_length: USize64(0), extensions: None, extras: Default::default(), name: None, uri: None });
+    let mut w = BinWriter { bin: Vec::new() };
+
+    // Textures as PNG images inside the buffer.
+    let mut textures = Vec::new();
+    for t in &scene.textures {
+        let img = image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
+        let mut png = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
+        let view = w.view(&mut root, buffer, &png, None);
+        let image = root.push(json::Image {
+            buffer_view: Some(view),
+            mime_type: Some(json::image::MimeType("image/png".into())),
+            name: Some(t.name.clone()),
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        });
+        textures.push(root.push(json::Texture { name: Some(t.name.clone()), sampler: None, source: image, extensions: None, extras: Default::default() }));
+    }
+    let info = |t: Option<usize>| t.map(|i| json::texture::Info { index: textures[i], tex_coord: 0, extensions: None, extras: Default::default() });
+    let mut materials = Vec::new();
+    for m in &scene.materials {
+        let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
+            AlphaMode::Opaque => (json::material::AlphaMode::Opaque, None),
+            AlphaMode::Mask(c) => (json::material::AlphaMode::Mask, Some(json::material::AlphaCutoff(c))),
+            AlphaMode::Blend => (json::material::AlphaMode::Blend, None),
+        };
+        materials.push(root.push(json::Material {
+            name: Some(m.name.clone()),
+            alpha_mode: Valid(alpha_mode),
+            alpha_cutoff,
+            double_sided: m.double_sided,
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor(m.base_color),
+                base_color_texture: info(m.texture),
+                metallic_factor: json::material::StrengthFactor(m.metallic),
+                roughness_factor: json::material::StrengthFactor(m.roughness),
+                metallic_roughness_texture: info(m.metallic_roughness_texture),
+                extensions: None,
+                extras: Default::default(),
+            },
+            normal_texture: m.normal_texture.map(|i| json::material::NormalTexture { index: textures[i], scale: m.normal_scale, tex_coord: 0, extensions: None, extras: Default::default() }),
+            emissive_texture: info(m.emissive_texture),
+            emissive_factor: json::material::EmissiveFactor(m.emissive),
+            ..Default::default()
+        }));
+    }
+
+    // Meshes. The material goes with the primitive, so a mesh used with several materials
+    // is written once per (mesh, material) pair.
+    let mut gltf_mesh: std::collections::HashMap<(usize, usize), json::Index<json::Mesh>> = Default::default();
+    let mut nodes = Vec::new();
+    for inst in &scene.instances {
+        let key = (inst.mesh, inst.material);
+        if !gltf_mesh.contains_key(&key) {
+            let mesh = &scene.meshes[inst.mesh];
+            let b = mesh.bounds();
+            let bounds = if b.is_empty() { None } else { Some((b.min.to_array(), b.max.to_array())) };
+            let pos: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
+            let nrm: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.normal).collect();
+            let uv: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv).collect();
+            let n = mesh.vertices.len();
+            let vp = w.view(&mut root, buffer, bytemuck::cast_slice(&pos), Some(json::buffer::Target::ArrayBuffer));
+            let pa = accessor(&mut root, vp, n, C::F32, T::Vec3, bounds);
+            let vn = w.view(&mut root, buffer, bytemuck::cast_slice(&nrm), Some(json::buffer::Target::ArrayBuffer));
+            let na = accessor(&mut root, vn, n, C::F32, T::Vec3, None);
+            let vu = w.view(&mut root, buffer, bytemuck::cast_slice(&uv), Some(json::buffer::Target::ArrayBuffer));
+            let ua = accessor(&mut root, vu, n, C::F32, T::Vec2, None);
+            let vi = w.view(&mut root, buffer, bytemuck::cast_slice(&mesh.indices), Some(json::buffer::Target::ElementArrayBuffer));
+            let ia = accessor(&mut root, vi, mesh.indices.len(), C::U32, T::Scalar, None);
+            let mut attributes = std::collections::BTreeMap::new();
+            attributes.insert(Valid(json::mesh::Semantic::Positions), pa);
+            attributes.insert(Valid(json::mesh::Semantic::Normals), na);
+            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), ua);
+            if let Some(t) = &mesh.tangents {
+                let vt = w.view(&mut root, buffer, bytemuck::cast_slice(t), Some(json::buffer::Target::ArrayBuffer));
+                attributes.insert(Valid(json::mesh::Semantic::Tangents), accessor(&mut root, vt, n, C::F32, T::Vec4, None));
+            }
+            let m = root.push(json::Mesh {
+                name: Some(mesh.name.clone()),
+                primitives: vec![json::mesh::Primitive {
+                    attributes,
+                    extensions: None,
+                    extras: Default::default(),
+                    indices: Some(ia),
+                    material: Some(materials[inst.material]),
+                    mode: Valid(json::mesh::Mode::Triangles),
+                    targets: None,
+                }],
+                weights: None,
+                extensions: None,
+                extras: Default::default(),
+            });
+            gltf_mesh.insert(key, m);
+        }
+        let matrix = inst.transform.to_cols_array();
+        nodes.push(root.push(json::Node {
+            mesh: Some(gltf_mesh[&key]),
+            matrix: if inst.transform == glam::Mat4::IDENTITY { None } else { Some(matrix) },
+            ..Default::default()
+        }));
+    }
+    let s = root.push(json::Scene { name: Some(scene.name.clone()), nodes, extensions: None, extras: Default::default() });
+    root.scene = Some(s);
+    while w.bin.len() % 4 != 0 {
+        w.bin.push(0);
+    }
+    root.buffers[0].byte_length = USize64::from(w.bin.len());
+
+    let json_string = json::serialize::to_string(&root).map_err(|e| e.to_string())?;
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
+        bin: Some(Cow::Owned(w.bin)),
+        json: Cow::Owned(json_string.into_bytes()),
+    };
+    glb.to_vec().map_err(|e| e.to_string())
+}
+
+/// Writes the scene to `path` as GLB, atomically.
+pub fn write_glb(scene: &Scene, path: &Path) -> Result<(), SceneError> {
+    let err = |message: String| SceneError::Write { path: path.to_path_buf(), message };
+    let bytes = to_glb(scene).map_err(err)?;
+    crate::util::write_atomic(path, &bytes).map_err(|e| err(e.to_string()))
+}

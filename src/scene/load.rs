@@ -1,0 +1,55 @@
+//! Opening a scene by name or path: the built-in scenes (`default`, `box`, `organic`,
+//! `atrium`) or a glTF/GLB file, with only the parts the active graph needs.
+
+use super::gltf_import::{self, ImportReport, SceneError};
+use super::{builtin, procedural, Scene};
+use std::path::Path;
+
+/// What to load. Textures are decoded only when a pass of the active graph samples them.
+#[derive(Debug, Clone, Copy)]
+pub struct LoadOptions {
+    pub textures: bool,
+    /// Seed of the generated `atrium`.
+    pub seed: u64,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self { textures: true, seed: procedural::ATRIUM_DEFAULT_SEED }
+    }
+}
+
+/// Names of the built-in scenes.
+pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium"];
+
+/// The built-in scene called `name`.
+pub fn builtin(name: &str, seed: u64) -> Option<Scene> {
+    match name {
+        "default" => Some(builtin::default_scene()),
+        "atrium" => Some(procedural::atrium(seed)),
+        other => procedural::by_name(other),
+    }
+}
+
+/// Opens `spec`: a built-in scene name, or a path to a `.gltf` / `.glb` file. The report is
+/// empty for built-in scenes.
+pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
+    let path = Path::new(spec);
+    let looks_like_file = path.extension().is_some() || spec.contains('/') || path.exists();
+    let (mut scene, report) = if let (false, Some(scene)) = (looks_like_file, builtin(spec, options.seed)) {
+        let mut report = ImportReport::default();
+        let referenced = scene.materials.iter().flat_map(|m| [m.texture, m.metallic_roughness_texture, m.normal_texture, m.emissive_texture]).flatten().count();
+        if !options.textures {
+            report.textures_not_loaded = referenced;
+        }
+        (scene, report)
+    } else if looks_like_file {
+        gltf_import::load(path, options)?
+    } else {
+        return Err(SceneError::UnknownScene(spec.to_string(), BUILTIN_NAMES.join(", ")));
+    };
+    if !options.textures {
+        scene.strip_textures();
+    }
+    Ok((scene, report))
+}

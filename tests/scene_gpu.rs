@@ -1,0 +1,127 @@
+//! The scene on the GPU: a glTF written by the test is rendered through `graph/raster.ron`
+//! (the textured quad shows in the image), only what the graph reads is uploaded, and a scene
+//! beyond the device's limits is an error with the numbers.
+
+mod common;
+
+use common::gltf_doc::{png, temp_dir, Doc};
+use glam::Vec3;
+use raygraph::graph::{compile, Project};
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::gpu::GpuScene;
+use raygraph::scene::{builtin, gltf_import, Camera, LoadOptions, Scene, TextureImage};
+use serde_json::json;
+
+fn gpu() -> Gpu {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
+    println!("adapter: {}", gpu.describe());
+    gpu
+}
+
+#[test]
+fn a_written_gltf_renders_through_the_raster_graph() {
+    let dir = temp_dir("gltf-render");
+    // A textured quad (green texture, white factor) facing +z, and a small red one in front.
+    let mut d = Doc::new();
+    let green = d.texture_embedded(&png(8, 8, [20, 230, 40, 255]));
+    let m_green = d.material(json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": green}}}));
+    let m_red = d.material(json!({"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.05, 0.05, 1.0]}}));
+    let p = d.positions(&[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+    let uv = d.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], "VEC2", 4);
+    let i = d.indices_u16(&[0, 1, 2, 0, 2, 3]);
+    let quad_green = d.mesh(&[("POSITION", p), ("TEXCOORD_0", uv)], Some(i), Some(m_green), None);
+    let quad_red = d.mesh(&[("POSITION", p), ("TEXCOORD_0", uv)], Some(i), Some(m_red), None);
+    d.node(json!({"mesh": quad_green, "scale": [3.0, 3.0, 1.0]}), true);
+    d.node(json!({"mesh": quad_red, "translation": [1.5, 0.0, 0.5], "scale": [0.5, 0.5, 1.0]}), true);
+    let path = d.write_glb(&dir, "quads");
+
+    let graph = common::repo().join("graph/raster.ron");
+    let plan = compile(&graph, &Project::beside_graph(&graph), (96, 64)).unwrap();
+    let (mut scene, _) = gltf_import::load(&path, &LoadOptions { textures: plan.scene_usage.textures, ..Default::default() }).unwrap();
+    scene.light.direction = Vec3::Z; // light from the camera's side
+    let camera = Camera::look(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 50.0, 0.1, 100.0);
+    let gpu = gpu();
+    let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+    exec.render(&gpu, &camera, &scene).unwrap();
+    let img = exec.read_output(&gpu).unwrap();
+    let _ = img.save(std::env::temp_dir().join("raygraph_gltf_quads.png"));
+    let at = |x: f32, y: f32| img.get_pixel((x * 96.0) as u32, (y * 64.0) as u32).0;
+    let ndc = camera.view_proj(96.0 / 64.0).project_point3(Vec3::new(1.5, 0.0, 0.5));
+    let (g, r) = (at(0.3, 0.5), at(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y));
+    println!("green quad pixel {g:?}, red quad pixel {r:?}");
+    let (g, r) = (g.map(u32::from), r.map(u32::from));
+    assert!(g[1] > 100 && g[1] > 2 * g[0].max(g[2]), "the textured quad is green: {g:?}");
+    assert!(r[0] > 200 && r[0] > r[1].max(r[2]) + 80, "the red quad is red: {r:?}");
+    let corner = at(0.02, 0.02).map(u32::from);
+    assert!(corner != g, "the background is not the quad");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+const FLAT_LAYER: &str = r#"// Draws the scene in flat white: reads instances, samples no textures.
+Layer(
+    outputs: { "color": Texture(format: Rgba8Unorm) },
+    transients: { "depth": Texture(format: Depth32Float) },
+    passes: [
+        Pass(name: "draw", kind: SceneRaster, shader: "test/flat.wgsl", writes: ["color", "depth"]),
+    ],
+)"#;
+
+const FLAT_WGSL: &str = r#"//#include "common/frame.wgsl"
+//#include "common/scene.wgsl"
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
+
+@vertex
+fn vs_main(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
+    return frame.view_proj * (scene_instances[instance].model * vec4<f32>(position, 1.0));
+}
+
+@fragment
+fn fs_main() -> @location(0) vec4<f32> {
+    return vec4<f32>(1.0);
+}
+"#;
+
+#[test]
+fn only_what_the_graph_reads_is_uploaded() {
+    let p = common::TempProject::new();
+    let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join("shaders/common")).arg(p.root.join("shaders")).status().unwrap();
+    assert!(status.success());
+    p.write("layers/flat.ron", FLAT_LAYER);
+    p.write("shaders/test/flat.wgsl", FLAT_WGSL);
+    let plan = p.compile("flat.ron", r#"Graph(output: "flat.color", nodes: {"flat": Layer(layer: "flat")})"#).unwrap();
+    assert!(plan.scene_usage.geometry && plan.scene_usage.instances);
+    assert!(!plan.scene_usage.textures && !plan.scene_usage.materials, "{:?}", plan.scene_usage);
+    let gpu = gpu();
+    let scene = builtin::default_scene();
+    let exec = Executor::new(&gpu, plan, &scene).unwrap();
+    let up = exec.uploaded_scene().expect("the scene is drawn");
+    assert!(up.textures.is_none() && up.materials.is_none(), "no textures or materials uploaded");
+    assert!(up.vertices.is_some() && up.instances.is_some());
+
+    // The raster graph samples textures: they are uploaded with their mip chain.
+    let graph = common::repo().join("graph/raster.ron");
+    let plan = compile(&graph, &Project::beside_graph(&graph), (32, 32)).unwrap();
+    assert!(plan.scene_usage.textures && plan.scene_usage.materials);
+    let exec = Executor::new(&gpu, plan, &scene).unwrap();
+    let (tex, _) = exec.uploaded_scene().unwrap().textures.as_ref().unwrap();
+    assert_eq!(tex.depth_or_array_layers(), scene.textures.len() as u32 + 1);
+    assert_eq!(tex.mip_level_count(), raygraph::scene::gpu::TEXTURE_MIPS);
+}
+
+#[test]
+fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
+    let gpu = gpu();
+    let limit = gpu.device.limits().max_texture_array_layers;
+    let mut scene: Scene = builtin::default_scene();
+    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4] };
+    scene.textures = vec![tiny; limit as usize + 5];
+    let usage = raygraph::graph::builtins::SceneUsage { textures: true, ..Default::default() };
+    let err = match GpuScene::upload(&gpu.device, &gpu.queue, &scene, usage) {
+        Ok(_) => panic!("{} texture layers uploaded with a limit of {limit}", limit + 6),
+        Err(e) => e.to_string(),
+    };
+    println!("{err}");
+    assert!(err.contains(&(limit as u64 + 6).to_string()) && err.contains(&limit.to_string()), "{err}");
+    assert!(err.contains("default"), "names the scene: {err}");
+}
