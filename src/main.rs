@@ -185,9 +185,10 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render { graph: graph_file, scene: scene_spec, view, width, height, out, frames, layers, shaders } => {
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let project = project_for(&graph_file, layers, shaders);
-            let plan = graph::compile(&graph_file, &project, (width, height))?;
+            graph::compile(&graph_file, &project, (width, height))?; // report graph errors before opening a device
             let gpu = Gpu::new()?;
             println!("adapter: {}", gpu.describe());
+            let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &gpu.compile_options())?;
             let (scene, _report) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage.textures, seed: view.seed })?;
             let camera = match (&view.camera, &view.track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,

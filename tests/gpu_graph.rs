@@ -49,8 +49,8 @@ fn culled_pass_is_neither_allocated_nor_executed() {
 #[test]
 fn texture_reuse_saves_memory_and_renders_the_same_image() {
     let (file, project) = chain_project();
-    let reused = compile_with(&file, &project, (W, H), &CompileOptions { reuse: true }).unwrap();
-    let separate = compile_with(&file, &project, (W, H), &CompileOptions { reuse: false }).unwrap();
+    let reused = compile_with(&file, &project, (W, H), &CompileOptions { reuse: true, ..Default::default() }).unwrap();
+    let separate = compile_with(&file, &project, (W, H), &CompileOptions { reuse: false, ..Default::default() }).unwrap();
     assert!(reused.bytes_with_reuse() < separate.bytes_with_reuse(), "reuse must save memory");
     assert_eq!(reused.bytes_without_reuse(), separate.bytes_with_reuse());
     let fill = reused.resource_by_name("fill.color").unwrap();

@@ -8,7 +8,7 @@ use common::gltf_doc::{png, temp_dir, Doc};
 use glam::Vec3;
 use raygraph::graph::{compile, Project};
 use raygraph::runtime::{Executor, Gpu};
-use raygraph::scene::gpu::GpuScene;
+use raygraph::scene::gpu::{GpuScene, SceneTextures};
 use raygraph::scene::{builtin, gltf_import, Camera, LoadOptions, Scene, TextureImage};
 use serde_json::json;
 
@@ -104,9 +104,34 @@ fn only_what_the_graph_reads_is_uploaded() {
     let plan = compile(&graph, &Project::beside_graph(&graph), (32, 32)).unwrap();
     assert!(plan.scene_usage.textures && plan.scene_usage.materials);
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let (tex, _) = exec.uploaded_scene().unwrap().textures.as_ref().unwrap();
-    assert_eq!(tex.depth_or_array_layers(), scene.textures.len() as u32 + 1);
-    assert_eq!(tex.mip_level_count(), raygraph::scene::gpu::TEXTURE_MIPS);
+    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures.as_ref() else { panic!("the default options bind a texture array") };
+    assert_eq!(texture.depth_or_array_layers(), scene.textures.len() as u32 + 1);
+    assert_eq!(texture.mip_level_count(), raygraph::scene::gpu::TEXTURE_MIPS);
+}
+
+/// Metric: RMSE over RGB in 8-bit units <= 3 between the texture-array and binding-array
+/// renders of the default scene (its textures are 256², so only filtering details differ).
+#[test]
+fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
+    let gpu = gpu();
+    assert!(gpu.texture_binding_arrays, "lavapipe has texture binding arrays; CI must exercise them");
+    let graph = common::repo().join("graph/raster.ron");
+    let scene = builtin::default_scene();
+    let mut images = Vec::new();
+    for options in [raygraph::graph::compile::CompileOptions::default(), gpu.compile_options()] {
+        let plan = raygraph::graph::compile::compile_with(&graph, &Project::beside_graph(&graph), (160, 90), &options).unwrap();
+        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+        match exec.uploaded_scene().unwrap().textures.as_ref().unwrap() {
+            SceneTextures::Array { .. } => assert!(options.includes.is_empty()),
+            SceneTextures::Separate { views, .. } => assert_eq!(views.len(), scene.textures.len() + 1),
+        }
+        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        images.push(exec.read_output(&gpu).unwrap());
+    }
+    let sq: f64 = images[0].pixels().zip(images[1].pixels()).flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2))).sum();
+    let rmse = (sq / (3.0 * 160.0 * 90.0)).sqrt();
+    println!("texture array vs binding array: RMSE {rmse:.3}");
+    assert!(rmse <= 3.0, "RMSE {rmse}");
 }
 
 #[test]

@@ -2,7 +2,8 @@
 
 mod common;
 use raygraph::error::Location;
-use raygraph::graph::reflect::reflect;
+use raygraph::graph::reflect::{reflect, reflect_with};
+use raygraph::runtime::gpu::all_include_variants;
 use std::path::{Path, PathBuf};
 
 fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -16,18 +17,31 @@ fn wgsl_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+fn is_include(f: &Path) -> bool {
+    f.components().any(|c| c.as_os_str() == "common" || c.as_os_str() == "trace")
+}
+
+/// Shaders with entry points validate under every include substitution a device can select;
+/// the included files (`common/`, `trace/`) are validated as part of them, and each must be
+/// reached by at least one shader under at least one variant.
 #[test]
 fn every_wgsl_file_validates() {
     for root in [common::repo().join("shaders"), common::fixtures().join("shaders")] {
         let mut files = Vec::new();
         wgsl_files(&root, &mut files);
         assert!(!files.is_empty(), "no WGSL under {}", root.display());
-        for f in files {
-            let info = reflect(&f, &root, &Location::file_start(&f)).unwrap_or_else(|e| panic!("{e}"));
-            // Files in common/ hold shared declarations; the rest define entry points.
-            if !f.components().any(|c| c.as_os_str() == "common") {
+        let mut reached = std::collections::BTreeSet::new();
+        for f in files.iter().filter(|f| !is_include(f)) {
+            for aliases in all_include_variants() {
+                let info = reflect_with(f, &root, &Location::file_start(f), &aliases).unwrap_or_else(|e| panic!("{e}\n(include substitutions {aliases:?})"));
                 assert!(!info.entry_points.is_empty(), "{} has no entry point", f.display());
+                for s in info.source.files() {
+                    reached.insert(s.to_path_buf());
+                }
             }
+        }
+        for f in files.iter().filter(|f| is_include(f)) {
+            assert!(reached.contains(f.as_path()), "{} is included by no shader, so nothing validates it", f.display());
         }
     }
 }

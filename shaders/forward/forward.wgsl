@@ -2,10 +2,11 @@
 // a hemisphere ambient term. Writes linear HDR colour; alpha 1 marks geometry.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
+//#include "common/scene_textures.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(2) var scene_textures: texture_2d_array<f32>;
+@group(1) @binding(0) var scene_textures: SceneTextures;
 @group(0) @binding(3) var linear_sampler: sampler;
 @group(0) @binding(4) var<storage, read> scene_materials: array<Material>;
 
@@ -36,7 +37,7 @@ fn vs_main(
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let material = scene_materials[scene_instances[in.instance].material];
-    let tex = textureSample(scene_textures, linear_sampler, in.uv, i32(material.base_texture));
+    let tex = sample_scene_texture(material.base_texture, in.uv);
     let albedo = material.base_color.rgb * tex.rgb;
     let n = normalize(in.world_normal);
     let l = frame.light_dir.xyz;

@@ -9,6 +9,9 @@ pub const DEBUG_COUNTERS: &str = "debug_counters";
 pub const SCENE_INSTANCES: &str = "scene_instances";
 pub const SCENE_TEXTURES: &str = "scene_textures";
 pub const SCENE_MATERIALS: &str = "scene_materials";
+/// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
+/// uniform buffers).
+pub const SCENE_TEXTURES_GROUP: u32 = 1;
 pub const LINEAR_SAMPLER: &str = "linear_sampler";
 pub const NEAREST_SAMPLER: &str = "nearest_sampler";
 
@@ -34,6 +37,8 @@ pub struct SceneUsage {
     pub materials: bool,
     /// `scene_textures` (images are then decoded and uploaded).
     pub textures: bool,
+    /// `scene_textures` is a binding array (one texture per element) rather than a texture array.
+    pub texture_binding_array: bool,
 }
 
 impl SceneUsage {
@@ -41,12 +46,15 @@ impl SceneUsage {
         self.geometry || self.instances || self.materials || self.textures
     }
 
-    /// Adds what a binding called `name` needs.
-    pub fn add_binding(&mut self, name: &str) {
-        match name {
+    /// Adds what a binding needs.
+    pub fn add_binding(&mut self, b: &crate::graph::reflect::ShaderBinding) {
+        match b.name.as_str() {
             SCENE_INSTANCES => self.instances = true,
             SCENE_MATERIALS => self.materials = true,
-            SCENE_TEXTURES => self.textures = true,
+            SCENE_TEXTURES => {
+                self.textures = true;
+                self.texture_binding_array |= b.kind == crate::graph::reflect::BindingKind::TextureBindingArray;
+            }
             _ => {}
         }
     }

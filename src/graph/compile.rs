@@ -286,11 +286,13 @@ pub fn compile(graph_file: &Path, project: &Project, frame_size: (u32, u32)) -> 
 pub struct CompileOptions {
     /// Let identical resources with disjoint lifetimes share memory.
     pub reuse: bool,
+    /// Include substitutions of the device and back-end (see [`reflect::IncludeAliases`]).
+    pub includes: reflect::IncludeAliases,
 }
 
 impl Default for CompileOptions {
     fn default() -> Self {
-        Self { reuse: true }
+        Self { reuse: true, includes: reflect::IncludeAliases::new() }
     }
 }
 
@@ -402,7 +404,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         let info = match shader_cache.get(&path) {
             Some(info) => info.clone(),
             None => {
-                let info = Arc::new(reflect::reflect(&path, &project.shaders_dir, &shader_loc)?);
+                let info = Arc::new(reflect::reflect_with(&path, &project.shaders_dir, &shader_loc, &options.includes)?);
                 shader_cache.insert(path.clone(), info.clone());
                 info
             }
@@ -439,7 +441,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         let shader = shaders[pi].clone();
         scene_usage.geometry |= pass.kind == PassKind::SceneRaster;
         for b in &shader.bindings {
-            scene_usage.add_binding(&b.name);
+            scene_usage.add_binding(b);
         }
         planned.push(PlannedPass {
             name: pass_name(&nodes, p),
@@ -766,8 +768,13 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
 
     // Every binding the shader declares must be a declared resource or a built-in.
     for b in &info.bindings {
-        if b.group != 0 {
-            return Err(mismatch(format!("binding `{}` is in @group({}); all bindings live in @group(0)", b.name, b.group), b.location.clone(), "use @group(0)"));
+        let want_group = if b.name == builtins::SCENE_TEXTURES { builtins::SCENE_TEXTURES_GROUP } else { 0 };
+        if b.group != want_group {
+            return Err(mismatch(
+                format!("binding `{}` is in @group({}); it lives in @group({want_group})", b.name, b.group),
+                b.location.clone(),
+                &format!("use @group({want_group}) (bindings live in @group(0), except `scene_textures`, which is in @group(1): a binding array may not share a group with uniform buffers)"),
+            ));
         }
         let read = p.reads.iter().find(|(l, _)| *l == b.name);
         let write = p.writes.iter().find(|(l, _)| *l == b.name);
@@ -837,8 +844,10 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
         builtins::SCENE_INSTANCES => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Instance>".into()),
         builtins::SCENE_MATERIALS => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Material>".into()),
         builtins::SCENE_TEXTURES => {
-            let want = BindingKind::SampledTexture { dim: naga::ImageDimension::D2, arrayed: true, kind: naga::ScalarKind::Float };
-            (b.kind != want).then(|| want.describe())
+            // The texture array everywhere, or a binding array where the device has them
+            // (chosen through the `common/scene_textures.wgsl` include).
+            let array = BindingKind::SampledTexture { dim: naga::ImageDimension::D2, arrayed: true, kind: naga::ScalarKind::Float };
+            (b.kind != array && b.kind != BindingKind::TextureBindingArray).then(|| format!("var scene_textures: SceneTextures (from common/scene_textures.wgsl), i.e. {}", array.describe()))
         }
         builtins::LINEAR_SAMPLER | builtins::NEAREST_SAMPLER => (b.kind != BindingKind::Sampler { comparison: false }).then(|| "sampler".into()),
         builtins::PARAMS => match &b.kind {

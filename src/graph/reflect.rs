@@ -5,6 +5,14 @@
 use crate::error::{ErrorKind, GraphError, Location};
 use std::path::{Path, PathBuf};
 
+/// Include substitutions chosen by the device and back-end: `//#include "a.wgsl"` reads the
+/// file the map gives for `a.wgsl` instead (for example the bindless variant of
+/// `common/scene_textures.wgsl`, or the active back-end's `trace/trace.wgsl`).
+pub type IncludeAliases = std::collections::BTreeMap<String, String>;
+
+/// Name of the synthetic segment holding hoisted `enable` directives.
+const ENABLE_SEGMENT: &str = "<enable directives>";
+
 /// WGSL text assembled from a file and the files it includes. Included files are appended
 /// after the main file, so the main file's line numbers stay as written.
 #[derive(Debug, Clone)]
@@ -16,14 +24,27 @@ pub struct ShaderSource {
 
 impl ShaderSource {
     /// Reads `path`; lines `//#include "rel/path.wgsl"` name files relative to `shader_root`.
-    pub fn load(path: &Path, shader_root: &Path, referenced_from: &Location) -> Result<Self, GraphError> {
+    pub fn load(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<Self, GraphError> {
         let mut src = ShaderSource { text: String::new(), segments: Vec::new() };
         let mut included: Vec<PathBuf> = Vec::new();
-        src.append(path, shader_root, referenced_from, &mut included)?;
+        let mut enables: Vec<String> = Vec::new();
+        src.append(path, shader_root, referenced_from, aliases, &mut included, &mut enables)?;
+        if !enables.is_empty() {
+            // WGSL wants `enable` directives before every declaration: they are blanked where
+            // they were written (offsets and lines stay true) and put in a prefix segment.
+            let mut prefix: String = enables.iter().map(|e| format!("{e}\n")).collect();
+            let shift = prefix.len();
+            prefix.push_str(&src.text);
+            src.text = prefix;
+            for seg in &mut src.segments {
+                seg.1 += shift;
+            }
+            src.segments.insert(0, (PathBuf::from(ENABLE_SEGMENT), 0));
+        }
         Ok(src)
     }
 
-    fn append(&mut self, path: &Path, root: &Path, from: &Location, seen: &mut Vec<PathBuf>) -> Result<(), GraphError> {
+    fn append(&mut self, path: &Path, root: &Path, from: &Location, aliases: &IncludeAliases, seen: &mut Vec<PathBuf>, enables: &mut Vec<String>) -> Result<(), GraphError> {
         if seen.iter().any(|p| p == path) {
             return Ok(());
         }
@@ -34,15 +55,28 @@ impl ShaderSource {
         })?;
         let start = self.text.len();
         self.segments.push((path.to_path_buf(), start));
-        self.text.push_str(&text);
+        let mut body = String::with_capacity(text.len());
+        for line in text.split_inclusive('\n') {
+            let directive = line.trim();
+            if directive.starts_with("enable ") && directive.ends_with(';') {
+                if !enables.iter().any(|e| e == directive) {
+                    enables.push(directive.to_string());
+                }
+                body.extend(line.chars().map(|c| if c == '\n' { '\n' } else { ' ' }));
+            } else {
+                body.push_str(line);
+            }
+        }
+        self.text.push_str(&body);
         if !self.text.ends_with('\n') {
             self.text.push('\n');
         }
         for (line_no, line) in text.lines().enumerate() {
             if let Some(rest) = line.trim().strip_prefix("//#include") {
                 let rel = rest.trim().trim_matches('"');
+                let rel = aliases.get(rel).map(String::as_str).unwrap_or(rel);
                 let loc = Location::new(path, line_no as u32 + 1, 1);
-                self.append(&root.join(rel), root, &loc, seen)?;
+                self.append(&root.join(rel), root, &loc, aliases, seen, enables)?;
             }
         }
         Ok(())
@@ -61,8 +95,13 @@ impl ShaderSource {
         Location::at_offset(&file, &self.text[start..end], offset - start)
     }
 
+    /// The files the text was assembled from, main file first.
+    pub fn files(&self) -> impl Iterator<Item = &Path> {
+        self.segments.iter().map(|(p, _)| p.as_path()).filter(|p| *p != Path::new(ENABLE_SEGMENT))
+    }
+
     pub fn main_file(&self) -> &Path {
-        &self.segments[0].0
+        self.files().next().unwrap_or(Path::new(""))
     }
 }
 
@@ -70,6 +109,9 @@ impl ShaderSource {
 #[derive(Debug, Clone, PartialEq)]
 pub enum BindingKind {
     SampledTexture { dim: naga::ImageDimension, arrayed: bool, kind: naga::ScalarKind },
+    /// `binding_array<texture_2d<f32>>` (unsized): one texture per element.
+    TextureBindingArray,
+    AccelerationStructure,
     DepthTexture,
     StorageTexture { format: naga::StorageFormat, access: naga::StorageAccess },
     Sampler { comparison: bool },
@@ -85,6 +127,8 @@ impl BindingKind {
                 format!("texture_{:?}{}<{:?}>", dim, if *arrayed { "_array" } else { "" }, kind).to_lowercase()
             }
             BindingKind::DepthTexture => "texture_depth_2d".into(),
+            BindingKind::TextureBindingArray => "binding_array<texture_2d<f32>>".into(),
+            BindingKind::AccelerationStructure => "acceleration_structure".into(),
             BindingKind::StorageTexture { format, access } => {
                 format!("texture_storage_2d<{format:?}, {}>", access_name(*access)).to_lowercase()
             }
@@ -153,9 +197,14 @@ impl ShaderInfo {
     }
 }
 
-/// Parses, validates and reflects a WGSL file.
+/// Parses, validates and reflects a WGSL file (includes as written).
 pub fn reflect(path: &Path, shader_root: &Path, referenced_from: &Location) -> Result<ShaderInfo, GraphError> {
-    let source = ShaderSource::load(path, shader_root, referenced_from)?;
+    reflect_with(path, shader_root, referenced_from, &IncludeAliases::new())
+}
+
+/// [`reflect`] with include substitutions.
+pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<ShaderInfo, GraphError> {
+    let source = ShaderSource::load(path, shader_root, referenced_from, aliases)?;
     let module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
         let offset = e.labels().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
         let labels: Vec<String> = e.labels().map(|(_, l)| l.to_string()).filter(|l| !l.is_empty()).collect();
@@ -198,6 +247,12 @@ pub fn reflect(path: &Path, shader_root: &Path, referenced_from: &Location) -> R
                 other => BindingKind::Other(format!("{other:?}")),
             },
             (naga::AddressSpace::Handle, naga::TypeInner::Sampler { comparison }) => BindingKind::Sampler { comparison: *comparison },
+            (naga::AddressSpace::Handle, naga::TypeInner::AccelerationStructure { .. }) => BindingKind::AccelerationStructure,
+            (naga::AddressSpace::Handle, naga::TypeInner::BindingArray { base, size: naga::ArraySize::Dynamic })
+                if matches!(module.types[*base].inner, naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. } }) =>
+            {
+                BindingKind::TextureBindingArray
+            }
             (naga::AddressSpace::Uniform, inner) => {
                 let mut members = Vec::new();
                 if let naga::TypeInner::Struct { members: ms, .. } = inner {

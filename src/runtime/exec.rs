@@ -9,7 +9,7 @@ use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
-use crate::scene::gpu::GpuScene;
+use crate::scene::gpu::{GpuScene, SceneTextures};
 use crate::scene::{Camera, Scene};
 use std::time::Instant;
 
@@ -20,7 +20,8 @@ enum Pipeline {
 
 struct PassRuntime {
     pipeline: Pipeline,
-    bind_group: wgpu::BindGroup,
+    /// One per `@group`, in order.
+    bind_groups: Vec<wgpu::BindGroup>,
     colors: Vec<ResourceId>,
     depth: Option<ResourceId>,
     groups: [u32; 3],
@@ -174,9 +175,10 @@ impl Executor {
 
         // Layout entries and resources, from reflection.
         let mut layout_entries = Vec::new();
-        let mut views: Vec<(u32, wgpu::TextureView)> = Vec::new();
-        let mut buffers: Vec<(u32, wgpu::Buffer)> = Vec::new();
-        let mut params_buffer: Option<(u32, wgpu::Buffer)> = None;
+        let mut views: Vec<((u32, u32), wgpu::TextureView)> = Vec::new();
+        let mut view_arrays: Vec<((u32, u32), Vec<wgpu::TextureView>)> = Vec::new();
+        let mut buffers: Vec<((u32, u32), wgpu::Buffer)> = Vec::new();
+        let mut params_buffer: Option<((u32, u32), wgpu::Buffer)> = None;
         for b in &shader.bindings {
             let ty = match &b.kind {
                 BindingKind::SampledTexture { arrayed, kind, .. } => {
@@ -194,6 +196,8 @@ impl Executor {
                         multisampled: false,
                     }
                 }
+                BindingKind::TextureBindingArray => wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+                BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
                 BindingKind::DepthTexture => wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Depth, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
                 BindingKind::StorageTexture { access, .. } => {
                     let r = resource_of(&b.name).expect("checked by the compiler");
@@ -218,18 +222,22 @@ impl Executor {
                     return Err(GraphError::new(ErrorKind::Unsupported, b.location.clone(), format!("binding `{}` of kind {what} is not supported", b.name)).into());
                 }
             };
-            layout_entries.push(wgpu::BindGroupLayoutEntry { binding: b.binding, visibility, ty, count: None });
+            let count = match b.kind {
+                BindingKind::TextureBindingArray => Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures.as_ref())?.count()).expect("white texture is always there")),
+                _ => None,
+            };
+            layout_entries.push((b.group, wgpu::BindGroupLayoutEntry { binding: b.binding, visibility, ty, count }));
 
             if let Some(r) = resource_of(&b.name) {
                 match &self.plan.resources[r].decl {
-                    ResourceDecl::Texture(_) => views.push((b.binding, self.texture_view(r))),
-                    ResourceDecl::Buffer(_) => buffers.push((b.binding, self.buffer(r).clone())),
+                    ResourceDecl::Texture(_) => views.push(((b.group, b.binding), self.texture_view(r))),
+                    ResourceDecl::Buffer(_) => buffers.push(((b.group, b.binding), self.buffer(r).clone())),
                 }
                 continue;
             }
             match b.name.as_str() {
-                builtins::FRAME => buffers.push((b.binding, self.frame_uniforms.clone())),
-                builtins::DEBUG_COUNTERS => buffers.push((b.binding, self.debug_counters.clone())),
+                builtins::FRAME => buffers.push(((b.group, b.binding), self.frame_uniforms.clone())),
+                builtins::DEBUG_COUNTERS => buffers.push(((b.group, b.binding), self.debug_counters.clone())),
                 builtins::PARAMS => {
                     let BindingKind::Uniform { size, members, .. } = &b.kind else { unreachable!() };
                     let mut bytes = vec![0u8; (*size as usize).max(16)];
@@ -250,31 +258,44 @@ impl Executor {
                         contents: &bytes,
                         usage: wgpu::BufferUsages::UNIFORM,
                     });
-                    params_buffer = Some((b.binding, buf));
+                    params_buffer = Some(((b.group, b.binding), buf));
                 }
-                builtins::SCENE_INSTANCES => buffers.push((b.binding, self.scene_part(|s| s.instances.as_ref())?.clone())),
-                builtins::SCENE_MATERIALS => buffers.push((b.binding, self.scene_part(|s| s.materials.as_ref())?.clone())),
-                builtins::SCENE_TEXTURES => views.push((b.binding, self.scene_part(|s| s.textures.as_ref())?.1.clone())),
+                builtins::SCENE_INSTANCES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.instances.as_ref())?.clone())),
+                builtins::SCENE_MATERIALS => buffers.push(((b.group, b.binding), self.scene_part(|s| s.materials.as_ref())?.clone())),
+                builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+                    SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => views.push(((b.group, b.binding), view.clone())),
+                    SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => view_arrays.push(((b.group, b.binding), v.clone())),
+                    _ => return Err(RuntimeError::Gpu(format!("pass {}: scene textures were uploaded in the other layout than the shader binds", pass.name))),
+                },
                 _ => {}
             }
         }
-        let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&pass.name), entries: &layout_entries });
-        let mut entries: Vec<wgpu::BindGroupEntry> = Vec::new();
-        for (binding, view) in &views {
-            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: wgpu::BindingResource::TextureView(view) });
-        }
-        for (binding, buf) in buffers.iter().chain(params_buffer.iter()) {
-            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: buf.as_entire_binding() });
-        }
+        // One bind group per @group the shader uses (group 1 holds the scene's texture binding
+        // array, which may not share a group with uniform buffers).
+        let group_count = shader.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
+        let view_refs: Vec<((u32, u32), Vec<&wgpu::TextureView>)> = view_arrays.iter().map(|(k, v)| (*k, v.iter().collect())).collect();
+        let mut entries: Vec<((u32, u32), wgpu::BindingResource)> = Vec::new();
+        entries.extend(view_refs.iter().map(|(k, a)| (*k, wgpu::BindingResource::TextureViewArray(a))));
+        entries.extend(views.iter().map(|(k, v)| (*k, wgpu::BindingResource::TextureView(v))));
+        entries.extend(buffers.iter().chain(params_buffer.iter()).map(|(k, buf)| (*k, buf.as_entire_binding())));
         for b in &shader.bindings {
             match b.name.as_str() {
-                builtins::LINEAR_SAMPLER => entries.push(wgpu::BindGroupEntry { binding: b.binding, resource: wgpu::BindingResource::Sampler(linear) }),
-                builtins::NEAREST_SAMPLER => entries.push(wgpu::BindGroupEntry { binding: b.binding, resource: wgpu::BindingResource::Sampler(nearest) }),
+                builtins::LINEAR_SAMPLER => entries.push(((b.group, b.binding), wgpu::BindingResource::Sampler(linear))),
+                builtins::NEAREST_SAMPLER => entries.push(((b.group, b.binding), wgpu::BindingResource::Sampler(nearest))),
                 _ => {}
             }
         }
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&pass.name), layout: &bgl, entries: &entries });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &[Some(&bgl)], immediate_size: 0 });
+        let mut layouts = Vec::new();
+        let mut bind_groups = Vec::new();
+        for g in 0..group_count {
+            let layout_g: Vec<wgpu::BindGroupLayoutEntry> = layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect();
+            let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&format!("{} group {g}", pass.name)), entries: &layout_g });
+            let entries_g: Vec<wgpu::BindGroupEntry> = entries.iter().filter(|((eg, _), _)| *eg == g).map(|((_, binding), r)| wgpu::BindGroupEntry { binding: *binding, resource: r.clone() }).collect();
+            bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&format!("{} group {g}", pass.name)), layout: &bgl, entries: &entries_g }));
+            layouts.push(bgl);
+        }
+        let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &layout_refs, immediate_size: 0 });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&shader.path.display().to_string()),
             source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
@@ -358,7 +379,7 @@ impl Executor {
                 (Pipeline::Render(p), [0, 0, 0])
             }
         };
-        Ok(PassRuntime { pipeline, bind_group, colors, depth, groups })
+        Ok(PassRuntime { pipeline, bind_groups, colors, depth, groups })
     }
 
     fn is_depth(&self, r: ResourceId) -> bool {
@@ -402,7 +423,9 @@ impl Executor {
                         timestamp_writes: self.timer.as_ref().and_then(|t| t.compute_writes(i as u32)),
                     });
                     cp.set_pipeline(pipeline);
-                    cp.set_bind_group(0, &pass.bind_group, &[]);
+                    for (g, bg) in pass.bind_groups.iter().enumerate() {
+                        cp.set_bind_group(g as u32, bg, &[]);
+                    }
                     cp.dispatch_workgroups(pass.groups[0], pass.groups[1], pass.groups[2]);
                 }
                 Pipeline::Render(pipeline) => {
@@ -431,7 +454,9 @@ impl Executor {
                         multiview_mask: None,
                     });
                     rp.set_pipeline(pipeline);
-                    rp.set_bind_group(0, &pass.bind_group, &[]);
+                    for (g, bg) in pass.bind_groups.iter().enumerate() {
+                        rp.set_bind_group(g as u32, bg, &[]);
+                    }
                     if planned.kind == PassKind::SceneRaster {
                         let (Some(scene), Some(vertices), Some(indices)) = (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok()) else {
                             return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", planned.name)));

@@ -32,12 +32,31 @@ pub struct SceneLimitError {
     pub help: String,
 }
 
+/// The scene's textures as the graph's shaders bind them.
+pub enum SceneTextures {
+    /// One `texture_2d_array` of 256² layers (layer 0 white).
+    Array { texture: wgpu::Texture, view: wgpu::TextureView },
+    /// One texture per element of a `binding_array<texture_2d<f32>>` (element 0 white), each
+    /// at its own size with its own mip chain.
+    Separate { textures: Vec<wgpu::Texture>, views: Vec<wgpu::TextureView> },
+}
+
+impl SceneTextures {
+    /// Number of layers or elements (textures + the white one).
+    pub fn count(&self) -> u32 {
+        match self {
+            SceneTextures::Array { texture, .. } => texture.depth_or_array_layers(),
+            SceneTextures::Separate { views, .. } => views.len() as u32,
+        }
+    }
+}
+
 pub struct GpuScene {
     pub vertices: Option<wgpu::Buffer>,
     pub indices: Option<wgpu::Buffer>,
     pub instances: Option<wgpu::Buffer>,
     pub materials: Option<wgpu::Buffer>,
-    pub textures: Option<(wgpu::Texture, wgpu::TextureView)>,
+    pub textures: Option<SceneTextures>,
     pub draws: Vec<Draw>,
     /// What was uploaded.
     pub usage: SceneUsage,
@@ -148,38 +167,32 @@ impl GpuScene {
         }
 
         if usage.textures {
-            let layers = scene.textures.len() as u32 + 1;
-            check(scene, "the texture array (one layer per texture, plus white)", layers as u64, limits.max_texture_array_layers as u64, "use fewer textures")?;
-            let textures = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("scene textures"),
-                size: wgpu::Extent3d { width: TEXTURE_SIZE, height: TEXTURE_SIZE, depth_or_array_layers: layers },
-                mip_level_count: TEXTURE_MIPS,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba8UnormSrgb,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            });
-            let white = image::RgbaImage::from_pixel(TEXTURE_SIZE, TEXTURE_SIZE, image::Rgba([255; 4]));
-            for layer in 0..layers {
-                let base = if layer == 0 { white.clone() } else { resample(&scene.textures[layer as usize - 1]) };
-                let mut level = base;
-                for mip in 0..TEXTURE_MIPS {
-                    let size = TEXTURE_SIZE >> mip;
-                    if mip > 0 {
-                        level = downsample_srgb(&level);
-                    }
-                    bytes += level.as_raw().len() as u64;
-                    queue.write_texture(
-                        wgpu::TexelCopyTextureInfo { texture: &textures, mip_level: mip, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
-                        level.as_raw(),
-                        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size * 4), rows_per_image: Some(size) },
-                        wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-                    );
+            let count = scene.textures.len() as u32 + 1;
+            let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures.iter().map(to_image));
+            out.textures = Some(if usage.texture_binding_array {
+                let allowed = limits.max_binding_array_elements_per_shader_stage;
+                check(scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
+                let (mut textures, mut views) = (Vec::new(), Vec::new());
+                for (i, img) in images.enumerate() {
+                    let max = limits.max_texture_dimension_2d;
+                    let img = if img.width() > max || img.height() > max { image::imageops::resize(&img, img.width().min(max), img.height().min(max), image::imageops::FilterType::Triangle) } else { img };
+                    let mips = img.width().max(img.height()).ilog2() + 1;
+                    let texture = create_texture(device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips);
+                    bytes += upload_mips(queue, &texture, 0, img);
+                    views.push(texture.create_view(&wgpu::TextureViewDescriptor::default()));
+                    textures.push(texture);
                 }
-            }
-            let view = textures.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
-            out.textures = Some((textures, view));
+                SceneTextures::Separate { textures, views }
+            } else {
+                check(scene, "the texture array (one layer per texture, plus white)", count as u64, limits.max_texture_array_layers as u64, "use fewer textures")?;
+                let texture = create_texture(device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS);
+                for (layer, img) in images.enumerate() {
+                    let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle) };
+                    bytes += upload_mips(queue, &texture, layer as u32, img);
+                }
+                let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+                SceneTextures::Array { texture, view }
+            });
         }
         out.bytes = bytes;
         Ok(out)
@@ -199,18 +212,47 @@ fn storage_records<T: bytemuck::Pod>(device: &wgpu::Device, scene: &Scene, what:
     Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(&format!("scene {what}s")), contents: bytemuck::cast_slice(&records), usage: wgpu::BufferUsages::STORAGE }))
 }
 
-/// The image at TEXTURE_SIZE² (a triangle filter when shrinking; a malformed image becomes
-/// the magenta fallback rather than a panic).
-fn resample(img: &super::TextureImage) -> image::RgbaImage {
+/// The texture as an image; malformed pixel data becomes the magenta fallback, never a panic.
+fn to_image(img: &super::TextureImage) -> image::RgbaImage {
     match image::RgbaImage::from_raw(img.width, img.height, img.rgba.clone()) {
-        Some(i) if i.width() == TEXTURE_SIZE && i.height() == TEXTURE_SIZE => i,
-        Some(i) if i.width() > 0 && i.height() > 0 => image::imageops::resize(&i, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle),
+        Some(i) if i.width() > 0 && i.height() > 0 => i,
         _ => {
             let fb = super::gltf_import::fallback_texture(&img.name);
-            let i = image::RgbaImage::from_raw(fb.width, fb.height, fb.rgba).unwrap_or_else(|| image::RgbaImage::new(1, 1));
-            image::imageops::resize(&i, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Nearest)
+            image::RgbaImage::from_raw(fb.width, fb.height, fb.rgba).unwrap_or_else(|| image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 0, 255, 255])))
         }
     }
+}
+
+fn create_texture(device: &wgpu::Device, label: &str, width: u32, height: u32, layers: u32, mips: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
+        mip_level_count: mips,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+/// Writes `base` and its mip chain (box-filtered in linear space) into `layer`; returns bytes.
+fn upload_mips(queue: &wgpu::Queue, texture: &wgpu::Texture, layer: u32, base: image::RgbaImage) -> u64 {
+    let mut level = base;
+    let mut bytes = 0;
+    for mip in 0..texture.mip_level_count() {
+        if mip > 0 {
+            level = downsample_srgb(&level);
+        }
+        bytes += level.as_raw().len() as u64;
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo { texture, mip_level: mip, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
+            level.as_raw(),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(level.width() * 4), rows_per_image: Some(level.height()) },
+            wgpu::Extent3d { width: level.width(), height: level.height(), depth_or_array_layers: 1 },
+        );
+    }
+    bytes
 }
 
 /// Halves an sRGB image with a 2x2 box filter in linear space.

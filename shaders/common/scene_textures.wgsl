@@ -1,0 +1,13 @@
+// Scene textures as one `texture_2d_array<f32>` (every texture resampled to 256x256 with a
+// mip chain): works on every adapter. Declare `var scene_textures: SceneTextures;` and
+// `var linear_sampler: sampler;`, then call `sample_scene_texture(layer, uv)`.
+// Devices with texture binding arrays get common/scene_textures_bindless.wgsl instead.
+alias SceneTextures = texture_2d_array<f32>;
+
+fn sample_scene_texture(layer: u32, uv: vec2<f32>) -> vec4<f32> {
+    return textureSample(scene_textures, linear_sampler, uv, layer);
+}
+
+fn sample_scene_texture_level(layer: u32, uv: vec2<f32>, lod: f32) -> vec4<f32> {
+    return textureSampleLevel(scene_textures, linear_sampler, uv, layer, lod);
+}
