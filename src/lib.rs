@@ -5,6 +5,7 @@
 //! - [`scene`]: the CPU scene, the built-in scene and its GPU upload.
 //! - [`error`]: located diagnostics.
 
+pub mod accel;
 pub mod error;
 pub mod graph;
 pub mod runtime;

@@ -2,6 +2,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use raygraph::accel::backend::Backend;
 use raygraph::graph::{self, Project};
 use raygraph::runtime::{exec::write_png, profiler::pass_table, Executor, Gpu};
 use raygraph::scene::{self, track::Track, LoadOptions};
@@ -25,6 +26,10 @@ enum Command {
         /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
         #[arg(long, default_value = "default")]
         scene: String,
+        /// Traversal back-end: ray-query or compute (default: ray-query where the adapter
+        /// supports it, else compute).
+        #[arg(long)]
+        backend: Option<Backend>,
         #[command(flatten)]
         view: ViewArgs,
         #[arg(long, default_value_t = 1280)]
@@ -182,13 +187,16 @@ fn run(cli: Cli) -> Result<()> {
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
-        Command::Render { graph: graph_file, scene: scene_spec, view, width, height, out, frames, layers, shaders } => {
+        Command::Render { graph: graph_file, scene: scene_spec, backend, view, width, height, out, frames, layers, shaders } => {
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let project = project_for(&graph_file, layers, shaders);
             graph::compile(&graph_file, &project, (width, height))?; // report graph errors before opening a device
-            let gpu = Gpu::new()?;
+            let gpu = Gpu::with_backend(backend)?;
             println!("adapter: {}", gpu.describe());
             let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &gpu.compile_options())?;
+            if plan.passes.iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
+                println!("back-end: {}", gpu.describe_backend());
+            }
             let (scene, _report) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage.textures, seed: view.seed })?;
             let camera = match (&view.camera, &view.track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
@@ -207,6 +215,12 @@ fn run(cli: Cli) -> Result<()> {
             println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name);
             print!("{}", pass_table(&names, &timings));
             println!("culled passes: {}", if exec.plan().culled.is_empty() { "none".into() } else { exec.plan().culled.join(", ") });
+            if let Some(accel) = timings.first().and_then(|t| t.accel.as_ref()) {
+                println!("acceleration structures, first timed frame: {}", accel.describe());
+            }
+            if let Some(rays) = timings.last().and_then(|t| t.rays) {
+                println!("rays per frame: {} traced ({} closest-hit, {} any-hit), {} hits, {} invalid", rays.traced(), rays.closest, rays.any, rays.hits, rays.invalid);
+            }
             println!(
                 "transient memory: {} with reuse, {} without",
                 graph::compile::fmt_bytes(exec.plan().bytes_with_reuse()),

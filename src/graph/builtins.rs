@@ -15,6 +15,15 @@ pub const SCENE_TEXTURES_GROUP: u32 = 1;
 pub const LINEAR_SAMPLER: &str = "linear_sampler";
 pub const NEAREST_SAMPLER: &str = "nearest_sampler";
 
+/// The bind group of the trace module's bindings (`accel_*`, declared by the back-end's
+/// `trace/*.wgsl`, never by a pass's own shader).
+pub const ACCEL_GROUP: u32 = 2;
+
+/// Whether a binding belongs to the trace module.
+pub fn is_accel_binding(name: &str) -> bool {
+    name.starts_with("accel_")
+}
+
 /// Number of u32 counters in the `debug_counters` buffer.
 pub const DEBUG_COUNTER_COUNT: u32 = 16;
 

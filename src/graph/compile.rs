@@ -5,6 +5,7 @@
 use super::builtins;
 use super::desc::*;
 use super::reflect::{self, BindingKind, ShaderInfo};
+use crate::accel::backend::Backend;
 use crate::error::{ErrorKind, GraphError, Location};
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::Direction;
@@ -53,6 +54,8 @@ impl PlannedResource {
         match &self.decl {
             ResourceDecl::Texture(t) => self.extent.0 as u64 * self.extent.1 as u64 * t.format.bytes_per_texel(),
             ResourceDecl::Buffer(b) => b.size,
+            // Owned by the acceleration-structure cache, not a transient of the frame.
+            ResourceDecl::Accel => 0,
         }
     }
 }
@@ -119,6 +122,8 @@ pub struct Plan {
     pub output: ResourceId,
     /// Which parts of the scene the kept passes draw or read.
     pub scene_usage: builtins::SceneUsage,
+    /// The back-end trace passes were compiled for.
+    pub backend: Backend,
 }
 
 impl Plan {
@@ -157,6 +162,7 @@ impl Plan {
             let what = match &r.decl {
                 ResourceDecl::Texture(t) => format!("{:?} {}x{}", t.format, r.extent.0, r.extent.1),
                 ResourceDecl::Buffer(b) => format!("buffer {} B", b.size),
+                ResourceDecl::Accel => "acceleration structure".to_string(),
             };
             match r.slot {
                 Some(slot) => {
@@ -191,6 +197,7 @@ pub fn fmt_bytes(b: u64) -> String {
 }
 
 /// Text of a file with helpers to find where a name is written.
+#[derive(Clone)]
 struct SourceText {
     path: PathBuf,
     text: String,
@@ -286,15 +293,33 @@ pub fn compile(graph_file: &Path, project: &Project, frame_size: (u32, u32)) -> 
 pub struct CompileOptions {
     /// Let identical resources with disjoint lifetimes share memory.
     pub reuse: bool,
-    /// Include substitutions of the device and back-end (see [`reflect::IncludeAliases`]).
+    /// Include substitutions of the device (see [`reflect::IncludeAliases`]).
     pub includes: reflect::IncludeAliases,
+    /// The traversal back-end trace passes are compiled for: `trace/trace.wgsl` becomes its
+    /// module.
+    pub backend: Backend,
 }
 
 impl Default for CompileOptions {
     fn default() -> Self {
-        Self { reuse: true, includes: reflect::IncludeAliases::new() }
+        Self { reuse: true, includes: reflect::IncludeAliases::new(), backend: Backend::Compute }
     }
 }
+
+impl CompileOptions {
+    /// The include substitutions in effect: the device's, plus the back-end's trace module.
+    pub fn all_includes(&self) -> reflect::IncludeAliases {
+        let mut a = self.includes.clone();
+        // `trace/trace.wgsl` itself includes the compute back-end, the default.
+        if self.backend != Backend::Compute {
+            a.insert(TRACE_INCLUDE.into(), self.backend.trace_module().into());
+        }
+        a
+    }
+}
+
+/// The include every trace pass uses; the back-end substitutes its module for it.
+pub const TRACE_INCLUDE: &str = "trace/trace.wgsl";
 
 /// [`compile`] with explicit options.
 pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32), options: &CompileOptions) -> Result<Plan, GraphError> {
@@ -394,17 +419,22 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         .collect();
 
     // Phase 7: shader interface check (every pass, kept or culled: a broken file is an error).
+    let includes = options.all_includes();
     let mut shader_cache: HashMap<PathBuf, Arc<ShaderInfo>> = HashMap::new();
     let mut shaders: Vec<Arc<ShaderInfo>> = Vec::new();
     for p in &passes {
         let node = &nodes[p.node];
         let pass = &node.layer.passes[p.index];
+        if pass.kind == PassKind::AccelBuild {
+            shaders.push(Arc::new(ShaderInfo::none()));
+            continue;
+        }
         let path = project.shaders_dir.join(&pass.shader);
         let shader_loc = node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name), "shader"]);
         let info = match shader_cache.get(&path) {
             Some(info) => info.clone(),
             None => {
-                let info = Arc::new(reflect::reflect_with(&path, &project.shaders_dir, &shader_loc, &options.includes)?);
+                let info = Arc::new(reflect::reflect_with(&path, &project.shaders_dir, &shader_loc, &includes)?);
                 shader_cache.insert(path.clone(), info.clone());
                 info
             }
@@ -434,7 +464,8 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         }
         for (_, r) in &p.writes {
             match pass.kind {
-                PassKind::Compute => resources[*r].usage.storage = true,
+                PassKind::Compute | PassKind::Trace => resources[*r].usage.storage = true,
+                PassKind::AccelBuild => {}
                 _ => resources[*r].usage.attachment = true,
             }
         }
@@ -492,20 +523,21 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     }
 
     // Phase 10: the plan.
-    Ok(Plan { graph_file: graph_file.to_path_buf(), frame_size, passes: planned, culled, resources, slots, output, scene_usage })
+    Ok(Plan { graph_file: graph_file.to_path_buf(), frame_size, passes: planned, culled, resources, slots, output, scene_usage, backend: options.backend })
 }
 
 fn same_shape(a: &ResourceDecl, b: &ResourceDecl) -> bool {
     match (a, b) {
         (ResourceDecl::Texture(x), ResourceDecl::Texture(y)) => x.format == y.format,
         (ResourceDecl::Buffer(x), ResourceDecl::Buffer(y)) => x.size == y.size,
+        // One acceleration structure per Accel node: never shared.
         _ => false,
     }
 }
 
 fn entry_name(pass: &PassDesc) -> String {
     pass.entry.clone().unwrap_or_else(|| match pass.kind {
-        PassKind::Compute => "cs_main".into(),
+        PassKind::Compute | PassKind::Trace => "cs_main".into(),
         _ => "fs_main".into(),
     })
 }
@@ -537,7 +569,13 @@ fn unknown_output(reference: &str, loc: Location, nodes: &[ResolvedNode]) -> Gra
 fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Result<Vec<ResolvedNode>, GraphError> {
     let mut out = Vec::new();
     for (name, node) in &graph.nodes {
-        let NodeDesc::Layer(ln) = node;
+        let ln = match node {
+            NodeDesc::Layer(ln) => ln,
+            NodeDesc::Accel(accel) => {
+                out.push(accel_node(name, accel, gsrc));
+                continue;
+            }
+        };
         let node_anchor = SourceText::quoted(name);
         let path = project.layers_dir.join(format!("{}.ron", ln.layer));
         if !path.is_file() {
@@ -568,6 +606,29 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
         out.push(ResolvedNode { name: name.clone(), layer_name: ln.layer.clone(), layer, layer_src, params, locals: HashMap::new() });
     }
     Ok(out)
+}
+
+/// The built-in acceleration-structure node: one `AccelBuild` pass writing `tlas`, with the
+/// node's settings as parameters (the runtime reads `dedup`).
+fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode {
+    let layer = LayerDesc {
+        inputs: BTreeMap::new(),
+        outputs: BTreeMap::from([("tlas".to_string(), ResourceDecl::Accel)]),
+        transients: BTreeMap::new(),
+        params: BTreeMap::new(),
+        passes: vec![PassDesc {
+            name: "build".into(),
+            kind: PassKind::AccelBuild,
+            shader: String::new(),
+            entry: None,
+            vertex_entry: None,
+            reads: Vec::new(),
+            writes: vec!["tlas".into()],
+            dispatch: Dispatch::default(),
+        }],
+    };
+    let params = BTreeMap::from([("dedup".to_string(), (ParamDecl::Bool { default: true }, ParamValue::Bool(accel.dedup)))]);
+    ResolvedNode { name: name.to_string(), layer_name: "Accel".into(), layer, layer_src: gsrc.clone(), params, locals: HashMap::new() }
 }
 
 type ParamProblem = (ErrorKind, String, String);
@@ -610,7 +671,7 @@ fn declare_resources(nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedReso
         for (local, name, decl) in decls {
             let extent = match &decl {
                 ResourceDecl::Texture(t) => t.size.resolve(frame),
-                ResourceDecl::Buffer(_) => (0, 0),
+                ResourceDecl::Buffer(_) | ResourceDecl::Accel => (0, 0),
             };
             node.locals.insert(local, resources.len());
             resources.push(PlannedResource { name, decl, extent, usage: Usage::default(), first_use: 0, last_use: 0, slot: None });
@@ -621,7 +682,7 @@ fn declare_resources(nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedReso
 fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNode], resources: &[PlannedResource]) -> Result<(), GraphError> {
     for ni in 0..nodes.len() {
         let name = nodes[ni].name.clone();
-        let NodeDesc::Layer(ln) = &graph.nodes[&name];
+        let NodeDesc::Layer(ln) = &graph.nodes[&name] else { continue };
         let node_anchor = SourceText::quoted(&name);
         for input in ln.inputs.keys() {
             if !nodes[ni].layer.inputs.contains_key(input) {
@@ -650,6 +711,7 @@ fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNod
             let compatible = match (&decl, produced) {
                 (ResourceDecl::Texture(a), ResourceDecl::Texture(b)) => a.format == b.format,
                 (ResourceDecl::Buffer(a), ResourceDecl::Buffer(b)) => a.size <= b.size,
+                (ResourceDecl::Accel, ResourceDecl::Accel) => true,
                 _ => false,
             };
             if !compatible {
@@ -671,6 +733,7 @@ fn describe_decl(d: &ResourceDecl) -> String {
     match d {
         ResourceDecl::Texture(t) => format!("a {:?} texture", t.format),
         ResourceDecl::Buffer(b) => format!("a buffer of {} bytes", b.size),
+        ResourceDecl::Accel => "an acceleration structure".into(),
     }
 }
 
@@ -719,6 +782,9 @@ fn collect_passes(nodes: &[ResolvedNode], _resources: &[PlannedResource], produc
 
 /// Matches a pass's shader bindings by name against its declared resources and the built-ins.
 fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &ShaderInfo, resources: &[PlannedResource]) -> Result<(), GraphError> {
+    if pass.kind == PassKind::AccelBuild {
+        return Ok(());
+    }
     let shader_file = info.source.main_file().to_path_buf();
     let mismatch = |msg: String, shader_loc: Location, help: &str| {
         GraphError::new(ErrorKind::BindingMismatch, p.location.clone(), format!("layer `{}`, pass `{}`: {msg}", node.layer_name, pass.name))
@@ -730,10 +796,23 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
     // Entry points.
     let entry = entry_name(pass);
     let stage_ok = |name: &str, stage: naga::ShaderStage| info.entry(name).map(|e| e.stage == stage).unwrap_or(false);
+    let accel_reads = p.reads.iter().filter(|(_, r)| resources[*r].decl == ResourceDecl::Accel).count();
+    let binds_trace = info.bindings.iter().any(|b| builtins::is_accel_binding(&b.name));
     match pass.kind {
-        PassKind::Compute => {
+        PassKind::AccelBuild => {}
+        PassKind::Compute | PassKind::Trace => {
             if !stage_ok(&entry, naga::ShaderStage::Compute) {
                 return Err(mismatch(format!("the shader has no compute entry point `{entry}`"), file_loc, "add `@compute @workgroup_size(8, 8) fn ...` or set `entry:` in the pass"));
+            }
+            if pass.kind == PassKind::Trace && (accel_reads != 1 || !binds_trace) {
+                return Err(mismatch(
+                    format!("a trace pass reads exactly one acceleration structure and includes the trace module; this one reads {accel_reads} and {} it", if binds_trace { "includes" } else { "does not include" }),
+                    file_loc,
+                    "add the layer's `Accel` input to `reads` and `//#include \"trace/trace.wgsl\"` to the shader",
+                ));
+            }
+            if pass.kind == PassKind::Compute && accel_reads > 0 {
+                return Err(mismatch("a compute pass reads an acceleration structure".into(), file_loc, "make it `kind: Trace`"));
             }
         }
         PassKind::Fullscreen | PassKind::SceneRaster => {
@@ -768,7 +847,13 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
 
     // Every binding the shader declares must be a declared resource or a built-in.
     for b in &info.bindings {
-        let want_group = if b.name == builtins::SCENE_TEXTURES { builtins::SCENE_TEXTURES_GROUP } else { 0 };
+        let want_group = if b.name == builtins::SCENE_TEXTURES {
+            builtins::SCENE_TEXTURES_GROUP
+        } else if builtins::is_accel_binding(&b.name) {
+            builtins::ACCEL_GROUP
+        } else {
+            0
+        };
         if b.group != want_group {
             return Err(mismatch(
                 format!("binding `{}` is in @group({}); it lives in @group({want_group})", b.name, b.group),
@@ -787,9 +872,10 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                     (b.kind != want).then(|| want.describe())
                 }
                 ResourceDecl::Buffer(_) => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read>".to_string()),
+                ResourceDecl::Accel => Some("no binding of that name (the trace module binds the acceleration structure)".into()),
             }
         } else if let Some((_, r)) = write {
-            if pass.kind != PassKind::Compute {
+            if !pass.kind.is_compute() {
                 Some("no binding (it is a render attachment of this pass)".into())
             } else {
                 match &resources[*r].decl {
@@ -801,8 +887,11 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                         },
                     },
                     ResourceDecl::Buffer(_) => (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write>".to_string()),
+                    ResourceDecl::Accel => Some("nothing: only an Accel node writes an acceleration structure".into()),
                 }
             }
+        } else if builtins::is_accel_binding(&b.name) {
+            (pass.kind != PassKind::Trace).then(|| "no trace-module binding: only `kind: Trace` passes trace rays".to_string())
         } else if builtins::is_builtin(&b.name) {
             check_builtin(node, b)?
         } else {
@@ -817,8 +906,8 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
         }
     }
     // Every declared read (and compute write) must be bound by the shader.
-    for (local, r) in p.reads.iter().chain(p.writes.iter().filter(|_| pass.kind == PassKind::Compute)) {
-        if info.binding(local).is_none() {
+    for (local, r) in p.reads.iter().chain(p.writes.iter().filter(|_| pass.kind.is_compute())) {
+        if resources[*r].decl != ResourceDecl::Accel && info.binding(local).is_none() {
             return Err(mismatch(
                 format!("the pass declares `{local}` ({}) but the shader has no binding named `{local}`", resources[*r].name),
                 file_loc,

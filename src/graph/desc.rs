@@ -18,6 +18,23 @@ pub struct GraphDesc {
 pub enum NodeDesc {
     /// An instance of a layer file.
     Layer(LayerNode),
+    /// The acceleration-structure cache: output `tlas`, built or updated only when the scene
+    /// changes, and only if a kept trace pass reads it.
+    Accel(AccelNode),
+}
+
+/// Settings of the acceleration-structure node.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AccelNode {
+    /// Identical meshes share one BLAS (off: one BLAS per instance).
+    pub dedup: bool,
+}
+
+impl Default for AccelNode {
+    fn default() -> Self {
+        Self { dedup: true }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -72,6 +89,9 @@ pub struct LayerDesc {
 pub enum ResourceDecl {
     Texture(TextureDecl),
     Buffer(BufferDecl),
+    /// The scene's acceleration structure (produced by an `Accel` node, read by trace passes
+    /// through the back-end's trace module).
+    Accel,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -230,6 +250,7 @@ pub struct PassDesc {
     pub name: String,
     pub kind: PassKind,
     /// WGSL file, relative to the `shaders/` directory beside the layers directory.
+    #[serde(default)]
     pub shader: String,
     /// Entry point: the compute entry for `Compute`, the fragment entry for render passes.
     #[serde(default)]
@@ -256,6 +277,12 @@ pub enum PassKind {
     Fullscreen,
     /// The scene's meshes drawn into the pass's attachments.
     SceneRaster,
+    /// A compute pass that reads the acceleration structure and includes `trace/trace.wgsl`,
+    /// which the active back-end implements.
+    Trace,
+    /// The acceleration-structure build of an `Accel` node (no shader; not for layer files).
+    #[serde(skip)]
+    AccelBuild,
 }
 
 impl PassKind {
@@ -264,7 +291,14 @@ impl PassKind {
             PassKind::Compute => "compute",
             PassKind::Fullscreen => "fullscreen",
             PassKind::SceneRaster => "scene_raster",
+            PassKind::Trace => "trace",
+            PassKind::AccelBuild => "accel_build",
         }
+    }
+
+    /// Whether the pass is recorded as a compute dispatch.
+    pub fn is_compute(self) -> bool {
+        matches!(self, PassKind::Compute | PassKind::Trace)
     }
 }
 

@@ -188,6 +188,11 @@ pub struct ShaderInfo {
 }
 
 impl ShaderInfo {
+    /// The interface of a pass without a shader (an acceleration-structure build).
+    pub fn none() -> Self {
+        ShaderInfo { path: PathBuf::new(), source: ShaderSource { text: String::new(), segments: Vec::new() }, bindings: Vec::new(), entry_points: Vec::new() }
+    }
+
     pub fn entry(&self, name: &str) -> Option<&EntryPointInfo> {
         self.entry_points.iter().find(|e| e.name == name)
     }

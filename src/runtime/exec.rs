@@ -9,6 +9,7 @@ use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
+use crate::accel::cache::AccelCache;
 use crate::scene::gpu::{GpuScene, SceneTextures};
 use crate::scene::{Camera, Scene};
 use std::time::Instant;
@@ -16,12 +17,18 @@ use std::time::Instant;
 enum Pipeline {
     Compute(wgpu::ComputePipeline),
     Render(wgpu::RenderPipeline),
+    /// The `Accel` node's build: the cache's update, recorded at the start of the frame.
+    AccelBuild,
 }
 
 struct PassRuntime {
     pipeline: Pipeline,
-    /// One per `@group`, in order.
+    /// One per `@group`, in order; the trace module's group is in `accel_group`.
     bind_groups: Vec<wgpu::BindGroup>,
+    /// Trace passes: the layout of the trace module's bind group, and the group itself (made
+    /// again whenever the cache replaces its GPU objects).
+    accel_layout: Option<(wgpu::BindGroupLayout, Vec<wgpu::BindGroupLayoutEntry>, Vec<String>)>,
+    accel_group: Option<wgpu::BindGroup>,
     colors: Vec<ResourceId>,
     depth: Option<ResourceId>,
     groups: [u32; 3],
@@ -30,6 +37,8 @@ struct PassRuntime {
 enum Physical {
     Texture(wgpu::Texture),
     Buffer(wgpu::Buffer),
+    /// An acceleration structure: owned by the [`AccelCache`], not by a slot.
+    Accel,
 }
 
 /// A plan instantiated on a device, ready to render frames.
@@ -42,6 +51,9 @@ pub struct Executor {
     scene: Option<GpuScene>,
     timer: Option<GpuTimer>,
     frame_index: u32,
+    /// The acceleration-structure cache (graphs whose kept passes trace rays).
+    accel: Option<AccelCache>,
+    accel_generation: u64,
 }
 
 impl Executor {
@@ -91,6 +103,7 @@ impl Executor {
                         view_formats: &[],
                     }))
                 }
+                ResourceDecl::Accel => Physical::Accel,
                 ResourceDecl::Buffer(b) => Physical::Buffer(device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(&format!("slot {i}")),
                     size: b.size.max(4),
@@ -131,7 +144,12 @@ impl Executor {
         });
         let nearest = device.create_sampler(&wgpu::SamplerDescriptor { label: Some("nearest"), ..Default::default() });
 
-        let mut exec = Self { plan, slots, passes: Vec::new(), frame_uniforms, debug_counters, scene: scene_gpu, timer: None, frame_index: 0 };
+        let accel = plan.passes.iter().find(|p| p.kind == PassKind::AccelBuild).map(|p| {
+            let dedup = !matches!(p.params.get("dedup"), Some((_, ParamValue::Bool(false))));
+            log::info!("acceleration structures: back-end {}, de-duplication {}", plan.backend, if dedup { "on" } else { "off" });
+            AccelCache::new(device, plan.backend, dedup)
+        });
+        let mut exec = Self { plan, slots, passes: Vec::new(), frame_uniforms, debug_counters, scene: scene_gpu, timer: None, frame_index: 0, accel, accel_generation: u64::MAX };
         let mut passes = Vec::new();
         for pass in &exec.plan.passes {
             passes.push(exec.build_pass(gpu, pass, &linear, &nearest)?);
@@ -153,24 +171,24 @@ impl Executor {
     fn texture_view(&self, r: ResourceId) -> wgpu::TextureView {
         match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
             Physical::Texture(t) => t.create_view(&wgpu::TextureViewDescriptor::default()),
-            Physical::Buffer(_) => unreachable!("texture resource mapped to a buffer slot"),
+            Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
         }
     }
 
     fn buffer(&self, r: ResourceId) -> &wgpu::Buffer {
         match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
             Physical::Buffer(b) => b,
-            Physical::Texture(_) => unreachable!("buffer resource mapped to a texture slot"),
+            Physical::Texture(_) | Physical::Accel => unreachable!("buffer resource mapped to a texture slot"),
         }
     }
 
     fn build_pass(&self, gpu: &Gpu, pass: &PlannedPass, linear: &wgpu::Sampler, nearest: &wgpu::Sampler) -> Result<PassRuntime, RuntimeError> {
         let device = &gpu.device;
         let shader = &pass.shader;
-        let visibility = match pass.kind {
-            PassKind::Compute => wgpu::ShaderStages::COMPUTE,
-            _ => wgpu::ShaderStages::VERTEX_FRAGMENT,
-        };
+        if pass.kind == PassKind::AccelBuild {
+            return Ok(PassRuntime { pipeline: Pipeline::AccelBuild, bind_groups: Vec::new(), accel_layout: None, accel_group: None, colors: Vec::new(), depth: None, groups: [0; 3] });
+        }
+        let visibility = if pass.kind.is_compute() { wgpu::ShaderStages::COMPUTE } else { wgpu::ShaderStages::VERTEX_FRAGMENT };
         let resource_of = |name: &str| pass.reads.iter().chain(&pass.writes).find(|(l, _)| l == name).map(|(_, r)| *r);
 
         // Layout entries and resources, from reflection.
@@ -232,6 +250,7 @@ impl Executor {
                 match &self.plan.resources[r].decl {
                     ResourceDecl::Texture(_) => views.push(((b.group, b.binding), self.texture_view(r))),
                     ResourceDecl::Buffer(_) => buffers.push(((b.group, b.binding), self.buffer(r).clone())),
+                    ResourceDecl::Accel => {} // bound through the trace module's group
                 }
                 continue;
             }
@@ -287,11 +306,18 @@ impl Executor {
         }
         let mut layouts = Vec::new();
         let mut bind_groups = Vec::new();
+        let mut accel_layout = None;
         for g in 0..group_count {
             let layout_g: Vec<wgpu::BindGroupLayoutEntry> = layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect();
             let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&format!("{} group {g}", pass.name)), entries: &layout_g });
-            let entries_g: Vec<wgpu::BindGroupEntry> = entries.iter().filter(|((eg, _), _)| *eg == g).map(|((_, binding), r)| wgpu::BindGroupEntry { binding: *binding, resource: r.clone() }).collect();
-            bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&format!("{} group {g}", pass.name)), layout: &bgl, entries: &entries_g }));
+            if pass.kind == PassKind::Trace && g == builtins::ACCEL_GROUP {
+                // Bound per frame from the acceleration-structure cache.
+                let names = layout_g.iter().map(|e| shader.bindings.iter().find(|b| b.group == g && b.binding == e.binding).map(|b| b.name.clone()).unwrap_or_default()).collect();
+                accel_layout = Some((bgl.clone(), layout_g, names));
+            } else {
+                let entries_g: Vec<wgpu::BindGroupEntry> = entries.iter().filter(|((eg, _), _)| *eg == g).map(|((_, binding), r)| wgpu::BindGroupEntry { binding: *binding, resource: r.clone() }).collect();
+                bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&format!("{} group {g}", pass.name)), layout: &bgl, entries: &entries_g }));
+            }
             layouts.push(bgl);
         }
         let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
@@ -304,7 +330,8 @@ impl Executor {
         let colors: Vec<ResourceId> = pass.writes.iter().map(|(_, r)| *r).filter(|r| !self.is_depth(*r)).collect();
         let depth = pass.writes.iter().map(|(_, r)| *r).find(|r| self.is_depth(*r));
         let (pipeline, groups) = match pass.kind {
-            PassKind::Compute => {
+            PassKind::AccelBuild => unreachable!("returned above"),
+            PassKind::Compute | PassKind::Trace => {
                 let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some(&pass.name),
                     layout: Some(&layout),
@@ -333,7 +360,7 @@ impl Executor {
                     .iter()
                     .map(|r| match &self.plan.resources[*r].decl {
                         ResourceDecl::Texture(t) => Some(wgpu::ColorTargetState { format: t.format.to_wgpu(), blend: None, write_mask: wgpu::ColorWrites::ALL }),
-                        ResourceDecl::Buffer(_) => None,
+                        ResourceDecl::Buffer(_) | ResourceDecl::Accel => None,
                     })
                     .collect();
                 let attributes = [
@@ -379,7 +406,7 @@ impl Executor {
                 (Pipeline::Render(p), [0, 0, 0])
             }
         };
-        Ok(PassRuntime { pipeline, bind_groups, colors, depth, groups })
+        Ok(PassRuntime { pipeline, bind_groups, accel_layout, accel_group: None, colors, depth, groups })
     }
 
     fn is_depth(&self, r: ResourceId) -> bool {
@@ -409,6 +436,8 @@ impl Executor {
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
+        // The acceleration structure first: every trace pass depends on it.
+        let accel_report = self.update_accel(gpu, &mut encoder, scene)?;
         let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> = self
             .passes
             .iter()
@@ -417,6 +446,10 @@ impl Executor {
         for (i, (pass, planned)) in self.passes.iter().zip(&self.plan.passes).enumerate() {
             let t0 = Instant::now();
             match &pass.pipeline {
+                Pipeline::AccelBuild => {
+                    cpu_ms.push(accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
+                    continue;
+                }
                 Pipeline::Compute(pipeline) => {
                     let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some(&planned.name),
@@ -425,6 +458,9 @@ impl Executor {
                     cp.set_pipeline(pipeline);
                     for (g, bg) in pass.bind_groups.iter().enumerate() {
                         cp.set_bind_group(g as u32, bg, &[]);
+                    }
+                    if let Some(bg) = &pass.accel_group {
+                        cp.set_bind_group(builtins::ACCEL_GROUP, bg, &[]);
                     }
                     cp.dispatch_workgroups(pass.groups[0], pass.groups[1], pass.groups[2]);
                 }
@@ -476,6 +512,9 @@ impl Executor {
         if let Some(timer) = &self.timer {
             timer.resolve(&mut encoder, self.passes.len() as u32);
         }
+        if let Some(cache) = &self.accel {
+            cache.copy_stats(&mut encoder);
+        }
         gpu.queue.submit([encoder.finish()]);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RuntimeError::Gpu(format!("recording the frame failed: {e}")));
@@ -485,8 +524,49 @@ impl Executor {
             Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),
             None => None,
         };
+        let rays = match &self.accel {
+            Some(cache) => Some(cache.read_stats(&gpu.device)?),
+            None => None,
+        };
         self.frame_index += 1;
-        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3 })
+        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3, rays, accel: accel_report.map(|(r, _)| r) })
+    }
+
+    /// Runs the `Accel` node: clears the ray counters, updates the cache between a pair of
+    /// timestamps, and re-creates the trace passes' accel bind groups if the cache replaced
+    /// its GPU objects. Returns the build report and its CPU milliseconds.
+    fn update_accel(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, scene: &Scene) -> Result<Option<(crate::accel::cache::BuildReport, f64)>, RuntimeError> {
+        let Some(cache) = self.accel.as_mut() else { return Ok(None) };
+        let index = self.plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild).unwrap_or(0) as u32;
+        cache.clear_stats(encoder);
+        if let Some(t) = &self.timer {
+            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel begin"), timestamp_writes: t.begin_writes(index) }));
+        }
+        let t0 = Instant::now();
+        let report = cache.update(&gpu.device, &gpu.queue, encoder, scene)?;
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        if let Some(t) = &self.timer {
+            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel end"), timestamp_writes: t.end_writes(index) }));
+        }
+        if cache.generation() != self.accel_generation {
+            self.accel_generation = cache.generation();
+            let cache = self.accel.as_ref().expect("checked above");
+            for pass in &mut self.passes {
+                let Some((layout, entries, names)) = &pass.accel_layout else { continue };
+                let mut bg_entries = Vec::new();
+                for (e, name) in entries.iter().zip(names) {
+                    let resource = cache.binding(name).ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
+                    bg_entries.push(wgpu::BindGroupEntry { binding: e.binding, resource });
+                }
+                pass.accel_group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));
+            }
+        }
+        Ok(Some((report, ms)))
+    }
+
+    /// The acceleration-structure cache, for graphs that trace rays.
+    pub fn accel(&self) -> Option<&AccelCache> {
+        self.accel.as_ref()
     }
 
     /// Reads back the graph output as tightly packed RGBA8 rows.

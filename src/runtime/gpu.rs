@@ -1,6 +1,7 @@
 //! The GPU context: instance, adapter and device, with the optional features the runtime
 //! uses (timestamp queries) requested only where the adapter has them.
 
+use crate::accel::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
 
 pub struct Gpu {
@@ -13,6 +14,10 @@ pub struct Gpu {
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
     /// one texture per element instead of as one resampled texture array.
     pub texture_binding_arrays: bool,
+    /// The traversal back-end chosen at start-up, and why.
+    pub selection: Selection,
+    /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
+    pub backends: Vec<Backend>,
 }
 
 /// Features that scene texture binding arrays need.
@@ -24,6 +29,11 @@ impl Gpu {
     /// Opens the first Vulkan adapter (set `WGPU_BACKEND` to choose another backend, and
     /// `WGPU_ADAPTER_NAME` to pick an adapter by name).
     pub fn new() -> Result<Self, RuntimeError> {
+        Self::with_backend(None)
+    }
+
+    /// [`Gpu::new`] with the traversal back-end forced (`--backend`); `None` selects one.
+    pub fn with_backend(requested: Option<Backend>) -> Result<Self, RuntimeError> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::VULKAN;
@@ -38,6 +48,9 @@ impl Gpu {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
         let mut required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        // G-buffers write more than WebGPU's default 32 bytes per pixel.
+        required_limits.max_color_attachment_bytes_per_sample = adapter.limits().max_color_attachment_bytes_per_sample;
+        required_limits.max_color_attachments = adapter.limits().max_color_attachments;
         let texture_binding_arrays = adapter.features().contains(BINDLESS)
             && adapter.limits().max_binding_array_elements_per_shader_stage >= 256
             && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none();
@@ -45,10 +58,22 @@ impl Gpu {
             required_features |= BINDLESS;
             required_limits.max_binding_array_elements_per_shader_stage = adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
         }
+        let selection = backend::select(adapter.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
+        let ray_query = adapter.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+        let mut experimental_features = wgpu::ExperimentalFeatures::disabled();
+        if ray_query {
+            required_features |= wgpu::Features::EXPERIMENTAL_RAY_QUERY;
+            required_limits = required_limits.using_acceleration_structure_values(adapter.limits());
+            // SAFETY: ray queries are an experimental wgpu feature; raygraph checks every
+            // ray it traces (no NaN/Inf or zero directions, ordered t range) before tracing.
+            experimental_features = unsafe { wgpu::ExperimentalFeatures::enabled() };
+        }
+        let backends: Vec<Backend> = Backend::ALL.into_iter().filter(|b| adapter.features().contains(b.features())).collect();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("raygraph"),
             required_features,
             required_limits,
+            experimental_features,
             ..Default::default()
         }))
         .map_err(|e| RuntimeError::Device { adapter: info.name.clone(), message: e.to_string() })?;
@@ -60,14 +85,23 @@ impl Gpu {
             "scene textures: {}",
             if texture_binding_arrays { "binding array (one texture per element)" } else { "one 256x256 texture array (set by RAYGRAPH_NO_BINDLESS or missing features)" }
         );
-        Ok(Self { adapter, device, queue, info, timestamps, texture_binding_arrays })
+        log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
+        Ok(Self { adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends })
     }
 
-    /// Compiler options for this device: the include substitutions its features select.
+    /// Compiler options for this device and its selected back-end.
     pub fn compile_options(&self) -> crate::graph::compile::CompileOptions {
-        let mut options = crate::graph::compile::CompileOptions::default();
-        options.includes = include_aliases(self.texture_binding_arrays);
-        options
+        self.compile_options_for(self.selection.backend)
+    }
+
+    /// Compiler options for this device and `backend`.
+    pub fn compile_options_for(&self, backend: Backend) -> crate::graph::compile::CompileOptions {
+        crate::graph::compile::CompileOptions { includes: include_aliases(self.texture_binding_arrays), backend, ..Default::default() }
+    }
+
+    /// `back-end (reason)`, for reports.
+    pub fn describe_backend(&self) -> String {
+        format!("{} ({})", self.selection.backend, self.selection.reason)
     }
 
     /// One line naming the adapter, for logs and reports.
@@ -93,7 +127,13 @@ pub fn include_aliases(texture_binding_arrays: bool) -> crate::graph::reflect::I
     a
 }
 
-/// Every set of include substitutions a device can select (tests validate each).
+/// Every set of include substitutions a device and back-end can select (tests validate each).
 pub fn all_include_variants() -> Vec<crate::graph::reflect::IncludeAliases> {
-    vec![include_aliases(false), include_aliases(true)]
+    let mut out = Vec::new();
+    for bindless in [false, true] {
+        for backend in Backend::ALL {
+            out.push(crate::graph::compile::CompileOptions { includes: include_aliases(bindless), backend, ..Default::default() }.all_includes());
+        }
+    }
+    out
 }

@@ -40,6 +40,17 @@ impl GpuTimer {
         })
     }
 
+    /// Only the start of `pass` (for work recorded outside a pass: an empty compute pass
+    /// writes it).
+    pub fn begin_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites { query_set: &self.query_set, beginning_of_pass_write_index: Some(pass * 2), end_of_pass_write_index: None })
+    }
+
+    /// Only the end of `pass`.
+    pub fn end_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites { query_set: &self.query_set, beginning_of_pass_write_index: None, end_of_pass_write_index: Some(pass * 2 + 1) })
+    }
+
     pub fn render_writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         (pass < self.capacity).then(|| wgpu::RenderPassTimestampWrites {
             query_set: &self.query_set,
@@ -101,6 +112,10 @@ pub struct FrameTimings {
     pub cpu_ms: Vec<f64>,
     /// Wall-clock milliseconds from the start of recording to the end of GPU work.
     pub frame_ms: f64,
+    /// Ray counts from the GPU counters (graphs with an `Accel` node).
+    pub rays: Option<crate::accel::cache::RayStats>,
+    /// What the acceleration-structure node built this frame.
+    pub accel: Option<crate::accel::cache::BuildReport>,
 }
 
 pub fn median(values: &mut [f64]) -> f64 {

@@ -1,0 +1,35 @@
+// Sampling helpers: per-pixel random numbers (PCG hash), the R2 low-discrepancy sequence
+// (Roberts 2018) and cosine-weighted hemisphere directions around a normal.
+
+fn pcg_hash(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Two uniform numbers in [0, 1) for a pixel and seed.
+fn pixel_random2(pixel: vec2<u32>, seed: u32) -> vec2<f32> {
+    let h1 = pcg_hash(pixel.x ^ pcg_hash(pixel.y ^ pcg_hash(seed)));
+    let h2 = pcg_hash(h1);
+    return vec2<f32>(f32(h1 >> 8u), f32(h2 >> 8u)) * (1.0 / 16777216.0);
+}
+
+// The i-th point of the R2 sequence in [0, 1)^2.
+fn r2_sample(i: u32) -> vec2<f32> {
+    let g = 1.32471795724474602596;
+    return fract(vec2<f32>(0.5) + f32(i + 1u) * vec2<f32>(1.0 / g, 1.0 / (g * g)));
+}
+
+// A cosine-weighted direction around unit `n` from two uniform numbers.
+fn cosine_hemisphere(n: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let r = sqrt(u.x);
+    let phi = 6.28318530718 * u.y;
+    let local = vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+    // Orthonormal basis (Duff et al. 2017).
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    let t = vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    let bt = vec3<f32>(b, s + n.y * n.y * a, -n.y);
+    return normalize(local.x * t + local.y * bt + local.z * n);
+}

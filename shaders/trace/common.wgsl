@@ -1,0 +1,75 @@
+// The trace interface every trace pass uses, whatever the back-end:
+//   trace_closest(ray) -> Hit   closest hit in [t_min, t_max]
+//   trace_any(ray) -> bool      any hit in [t_min, t_max]; stops at the first (shadow/AO rays)
+//   trace_flush_stats()         adds this invocation's ray counts to the GPU counters; call it
+//                               once at the end of the entry point
+// A pass includes "trace/trace.wgsl"; the back-end chosen at start-up substitutes its module
+// (trace/compute.wgsl or trace/ray_query.wgsl), which includes this file and binds its
+// acceleration structure in @group(2).
+// Invalid rays (NaN/Inf origin or direction, zero direction, t_min < 0, t_max < t_min) never
+// reach the traversal: they count as invalid and miss.
+
+struct Ray {
+    origin: vec3<f32>,
+    t_min: f32,
+    dir: vec3<f32>,
+    t_max: f32,
+}
+
+struct Hit {
+    t: f32,
+    // Index of the instance in the scene (Scene::instances), or NO_HIT.
+    instance: u32,
+    // Triangle index within the instance's mesh.
+    primitive: u32,
+    // Barycentric weights of the triangle's second and third vertices.
+    bary: vec2<f32>,
+    // Counter-clockwise seen from the ray origin (in object space).
+    front_face: bool,
+}
+
+const NO_HIT: u32 = 0xffffffffu;
+
+// Slots of `accel_stats`.
+const STAT_CLOSEST_RAYS: u32 = 0u;
+const STAT_ANY_RAYS: u32 = 1u;
+const STAT_INVALID_RAYS: u32 = 2u;
+const STAT_HITS: u32 = 3u;
+
+var<private> trace_count_closest: u32 = 0u;
+var<private> trace_count_any: u32 = 0u;
+var<private> trace_count_invalid: u32 = 0u;
+var<private> trace_count_hits: u32 = 0u;
+
+fn trace_miss() -> Hit {
+    return Hit(-1.0, NO_HIT, 0u, vec2<f32>(0.0), false);
+}
+
+// Finiteness from the bits: comparisons and min/max may not see NaN once a driver compiles
+// with fast-math assumptions; an all-ones exponent is NaN or infinity whatever the compiler.
+fn trace_finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn trace_finite3(v: vec3<f32>) -> bool {
+    return trace_finite(v.x) && trace_finite(v.y) && trace_finite(v.z);
+}
+
+fn trace_ray_is_valid(ray: Ray) -> bool {
+    let dir_ok = trace_finite3(ray.dir) && any(ray.dir != vec3<f32>(0.0));
+    // t_max may be +infinity; t_min must be finite and not negative (sign bit clear).
+    let t_max_ok = trace_finite(ray.t_max) || bitcast<u32>(ray.t_max) == 0x7f800000u;
+    let t_ok = trace_finite(ray.t_min) && (bitcast<u32>(ray.t_min) & 0x80000000u) == 0u && t_max_ok && ray.t_max >= ray.t_min;
+    return trace_finite3(ray.origin) && dir_ok && t_ok;
+}
+
+fn trace_flush_stats() {
+    if trace_count_closest != 0u { atomicAdd(&accel_stats[STAT_CLOSEST_RAYS], trace_count_closest); }
+    if trace_count_any != 0u { atomicAdd(&accel_stats[STAT_ANY_RAYS], trace_count_any); }
+    if trace_count_invalid != 0u { atomicAdd(&accel_stats[STAT_INVALID_RAYS], trace_count_invalid); }
+    if trace_count_hits != 0u { atomicAdd(&accel_stats[STAT_HITS], trace_count_hits); }
+    trace_count_closest = 0u;
+    trace_count_any = 0u;
+    trace_count_invalid = 0u;
+    trace_count_hits = 0u;
+}

@@ -1,0 +1,289 @@
+// Back-end `compute`: the project's own two-level BVH (src/accel/layout.rs), traversed here.
+// TLAS over instances; per instance the ray goes to object space (direction not renormalised,
+// so t stays the world t) and the instance's BLAS is traversed. Nearer child first with a short
+// stack; any-hit rays stop at the first hit. The slab test never forms infinities (zero
+// direction components become a tiny signed value before the reciprocal) and widens t_far by
+// a few ulps (Ize 2013); the ray-triangle test is watertight (Woop, Benthin, Wald 2013) with each
+// edge function evaluated in one canonical vertex order, so a shared edge gives the same value
+// to both triangles however the compiler fuses the arithmetic.
+//#include "trace/common.wgsl"
+
+struct AccelNode {
+    min: vec3<f32>,
+    // Interior (count == 0): left child; the right child follows it. Leaf: first primitive.
+    left_or_first: u32,
+    max: vec3<f32>,
+    count: u32,
+}
+
+struct AccelTriangle {
+    v0: vec3<f32>,
+    prim: u32,
+    v1: vec3<f32>,
+    _pad0: u32,
+    v2: vec3<f32>,
+    _pad1: u32,
+}
+
+struct AccelInstance {
+    // Rows of the 3x4 world-to-object and object-to-world matrices.
+    w2o0: vec4<f32>,
+    w2o1: vec4<f32>,
+    w2o2: vec4<f32>,
+    o2w0: vec4<f32>,
+    o2w1: vec4<f32>,
+    o2w2: vec4<f32>,
+    blas_root: u32,
+    instance_id: u32,
+    mask: u32,
+    _pad: u32,
+}
+
+@group(2) @binding(0) var<storage, read> accel_tlas_nodes: array<AccelNode>;
+@group(2) @binding(1) var<storage, read> accel_instances: array<AccelInstance>;
+@group(2) @binding(2) var<storage, read> accel_blas_nodes: array<AccelNode>;
+@group(2) @binding(3) var<storage, read> accel_triangles: array<AccelTriangle>;
+@group(2) @binding(4) var<storage, read_write> accel_stats: array<atomic<u32>>;
+
+const TRACE_STACK: u32 = 48u;
+// 1 + 4 ulps: t_far is widened by this factor so a box the ray grazes is not lost to rounding.
+const TRACE_WIDEN: f32 = 1.0000005;
+
+// Per-ray constants of the slab and watertight tests, in one space (world or object).
+struct TraceRay {
+    origin: vec3<f32>,
+    inv_dir: vec3<f32>,
+    // Axis permutation (kz = largest |dir| component) and shear of the watertight test.
+    kx: u32,
+    ky: u32,
+    kz: u32,
+    shear: vec3<f32>,
+}
+
+fn trace_safe_inverse(d: vec3<f32>) -> vec3<f32> {
+    let tiny = select(vec3<f32>(-1e-30), vec3<f32>(1e-30), d >= vec3<f32>(0.0));
+    return 1.0 / select(d, tiny, abs(d) < vec3<f32>(1e-30));
+}
+
+fn trace_prepare(origin: vec3<f32>, dir: vec3<f32>) -> TraceRay {
+    let a = abs(dir);
+    var kz = 2u;
+    if a.x > a.y && a.x > a.z {
+        kz = 0u;
+    } else if a.y > a.z {
+        kz = 1u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kx + 1u) % 3u;
+    if dir[kz] < 0.0 {
+        let t = kx;
+        kx = ky;
+        ky = t;
+    }
+    let shear = vec3<f32>(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+    return TraceRay(origin, trace_safe_inverse(dir), kx, ky, kz, shear);
+}
+
+// Entry and exit distances of the ray through a box (exit < entry: missed).
+fn trace_slab(r: TraceRay, node: AccelNode, t_min: f32, t_max: f32) -> vec2<f32> {
+    let t1 = (node.min - r.origin) * r.inv_dir;
+    let t2 = (node.max - r.origin) * r.inv_dir;
+    let near = min(t1, t2);
+    let far = max(t1, t2);
+    let enter = max(max(near.x, near.y), max(near.z, t_min));
+    let exit = min(min(far.x, far.y), min(far.z, t_max)) * TRACE_WIDEN;
+    return vec2<f32>(enter, exit);
+}
+
+// Edge function of the 2D points p, q (sheared triangle vertices), evaluated with the two
+// points in a canonical order so the same edge always gives bitwise the same value.
+fn trace_edge(p: vec2<f32>, q: vec2<f32>) -> f32 {
+    let swap = p.x > q.x || (p.x == q.x && p.y > q.y);
+    let a = select(p, q, swap);
+    let b = select(q, p, swap);
+    let e = a.x * b.y - a.y * b.x;
+    return select(e, -e, swap);
+}
+
+struct TriHit {
+    t: f32,
+    u: f32,
+    v: f32,
+}
+
+// Watertight ray-triangle test; t < 0 means no hit inside (t_min, t_max).
+fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> TriHit {
+    let a3 = tri.v0 - r.origin;
+    let b3 = tri.v1 - r.origin;
+    let c3 = tri.v2 - r.origin;
+    let a = vec2<f32>(a3[r.kx] - r.shear.x * a3[r.kz], a3[r.ky] - r.shear.y * a3[r.kz]);
+    let b = vec2<f32>(b3[r.kx] - r.shear.x * b3[r.kz], b3[r.ky] - r.shear.y * b3[r.kz]);
+    let c = vec2<f32>(c3[r.kx] - r.shear.x * c3[r.kz], c3[r.ky] - r.shear.y * c3[r.kz]);
+    let u = trace_edge(b, c);
+    let v = trace_edge(c, a);
+    let w = trace_edge(a, b);
+    let miss = TriHit(-1.0, 0.0, 0.0);
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return miss;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return miss;
+    }
+    let az = r.shear.z * a3[r.kz];
+    let bz = r.shear.z * b3[r.kz];
+    let cz = r.shear.z * c3[r.kz];
+    let t = (u * az + v * bz + w * cz) / det;
+    if !(t > t_min && t <= t_max) {
+        return miss;
+    }
+    return TriHit(t, v / det, w / det);
+}
+
+fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w: f32) -> vec3<f32> {
+    let h = vec4<f32>(p, w);
+    return vec3<f32>(dot(m0, h), dot(m1, h), dot(m2, h));
+}
+
+// Traverses one BLAS. Returns the index of the closest (or, for any-hit, the first) triangle
+// hit, NO_HIT if none; `best` carries t and barycentrics in and out.
+fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool) -> u32 {
+    var stack: array<u32, TRACE_STACK>;
+    var sp = 0u;
+    var node_index = root;
+    var found = NO_HIT;
+    loop {
+        let node = accel_blas_nodes[node_index];
+        if node.count > 0u {
+            for (var i = node.left_or_first; i < node.left_or_first + node.count; i++) {
+                let h = trace_triangle(r, accel_triangles[i], t_min, (*best).t);
+                if h.t >= 0.0 {
+                    *best = h;
+                    found = i;
+                    if any_hit {
+                        return found;
+                    }
+                }
+            }
+        } else {
+            let left = node.left_or_first;
+            let hl = trace_slab(r, accel_blas_nodes[left], t_min, (*best).t);
+            let hr = trace_slab(r, accel_blas_nodes[left + 1u], t_min, (*best).t);
+            let in_l = hl.x <= hl.y;
+            let in_r = hr.x <= hr.y;
+            if in_l && in_r {
+                let near_first = hl.x <= hr.x;
+                node_index = select(left + 1u, left, near_first);
+                if sp < TRACE_STACK {
+                    stack[sp] = select(left, left + 1u, near_first);
+                    sp++;
+                }
+                continue;
+            } else if in_l {
+                node_index = left;
+                continue;
+            } else if in_r {
+                node_index = left + 1u;
+                continue;
+            }
+        }
+        if sp == 0u {
+            break;
+        }
+        sp--;
+        node_index = stack[sp];
+    }
+    return found;
+}
+
+struct TraceResult {
+    hit: Hit,
+    any: bool,
+}
+
+fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
+    var best = TriHit(ray.t_max, 0.0, 0.0);
+    var result = trace_miss();
+    var hit_anything = false;
+    let world = trace_prepare(ray.origin, ray.dir);
+    var stack: array<u32, TRACE_STACK>;
+    var sp = 0u;
+    var node_index = 0u;
+    loop {
+        let node = accel_tlas_nodes[node_index];
+        if node.count > 0u {
+            for (var i = node.left_or_first; i < node.left_or_first + node.count; i++) {
+                let inst = accel_instances[i];
+                if inst.mask == 0u {
+                    continue; // padding instance of an empty scene
+                }
+                let o = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0);
+                let d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
+                let r = trace_prepare(o, d);
+                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit);
+                if tri != NO_HIT {
+                    hit_anything = true;
+                    if any_hit {
+                        return TraceResult(result, true);
+                    }
+                    let t = accel_triangles[tri];
+                    let n = cross(t.v1 - t.v0, t.v2 - t.v0);
+                    result = Hit(best.t, inst.instance_id, t.prim, vec2<f32>(best.u, best.v), dot(n, d) < 0.0);
+                }
+            }
+        } else {
+            let left = node.left_or_first;
+            let hl = trace_slab(world, accel_tlas_nodes[left], ray.t_min, best.t);
+            let hr = trace_slab(world, accel_tlas_nodes[left + 1u], ray.t_min, best.t);
+            let in_l = hl.x <= hl.y;
+            let in_r = hr.x <= hr.y;
+            if in_l && in_r {
+                let near_first = hl.x <= hr.x;
+                node_index = select(left + 1u, left, near_first);
+                if sp < TRACE_STACK {
+                    stack[sp] = select(left, left + 1u, near_first);
+                    sp++;
+                }
+                continue;
+            } else if in_l {
+                node_index = left;
+                continue;
+            } else if in_r {
+                node_index = left + 1u;
+                continue;
+            }
+        }
+        if sp == 0u {
+            break;
+        }
+        sp--;
+        node_index = stack[sp];
+    }
+    return TraceResult(result, hit_anything);
+}
+
+fn trace_closest(ray: Ray) -> Hit {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return trace_miss();
+    }
+    trace_count_closest++;
+    let r = trace_impl(ray, false);
+    if r.any {
+        trace_count_hits++;
+    }
+    return r.hit;
+}
+
+fn trace_any(ray: Ray) -> bool {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return false;
+    }
+    trace_count_any++;
+    let hit = trace_impl(ray, true).any;
+    if hit {
+        trace_count_hits++;
+    }
+    return hit;
+}

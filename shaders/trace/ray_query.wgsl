@@ -1,0 +1,44 @@
+// Back-end `ray-query`: wgpu's EXPERIMENTAL_RAY_QUERY (a BLAS per mesh, a TLAS of instances
+// whose custom data is the scene instance index). Shadow and AO rays set
+// TERMINATE_ON_FIRST_HIT, the paper's shadow-ray flag. Geometry is built opaque.
+enable wgpu_ray_query;
+//#include "trace/common.wgsl"
+
+@group(2) @binding(0) var accel_tlas: acceleration_structure;
+@group(2) @binding(1) var<storage, read_write> accel_stats: array<atomic<u32>>;
+
+const TRACE_FLAG_FORCE_OPAQUE: u32 = 1u;
+const TRACE_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 4u;
+
+fn trace_closest(ray: Ray) -> Hit {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return trace_miss();
+    }
+    trace_count_closest++;
+    var rq: ray_query;
+    rayQueryInitialize(&rq, accel_tlas, RayDesc(TRACE_FLAG_FORCE_OPAQUE, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
+    rayQueryProceed(&rq);
+    let x = rayQueryGetCommittedIntersection(&rq);
+    if x.kind == RAY_QUERY_INTERSECTION_NONE {
+        return trace_miss();
+    }
+    trace_count_hits++;
+    return Hit(x.t, x.instance_custom_data, x.primitive_index, x.barycentrics, x.front_face);
+}
+
+fn trace_any(ray: Ray) -> bool {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return false;
+    }
+    trace_count_any++;
+    var rq: ray_query;
+    rayQueryInitialize(&rq, accel_tlas, RayDesc(TRACE_FLAG_FORCE_OPAQUE | TRACE_FLAG_TERMINATE_ON_FIRST_HIT, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
+    rayQueryProceed(&rq);
+    let hit = rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE;
+    if hit {
+        trace_count_hits++;
+    }
+    return hit;
+}

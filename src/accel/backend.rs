@@ -1,0 +1,76 @@
+//! The traversal back-ends and their selection at start-up, as in the paper: `ray-query`
+//! (wgpu's EXPERIMENTAL_RAY_QUERY: the driver's BLAS/TLAS, hardware traversal where there is
+//! any) where the adapter supports it, else `compute` (the project's own BVH traversed in a
+//! WGSL compute shader, which runs everywhere). `--backend` overrides the choice.
+
+use std::fmt;
+use std::str::FromStr;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Backend {
+    RayQuery,
+    Compute,
+}
+
+impl Backend {
+    pub const ALL: [Backend; 2] = [Backend::RayQuery, Backend::Compute];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::RayQuery => "ray-query",
+            Backend::Compute => "compute",
+        }
+    }
+
+    /// The WGSL module that implements `trace/trace.wgsl` for this back-end.
+    pub fn trace_module(self) -> &'static str {
+        match self {
+            Backend::RayQuery => "trace/ray_query.wgsl",
+            Backend::Compute => "trace/compute.wgsl",
+        }
+    }
+
+    /// Device features the back-end needs.
+    pub fn features(self) -> wgpu::Features {
+        match self {
+            Backend::RayQuery => wgpu::Features::EXPERIMENTAL_RAY_QUERY,
+            Backend::Compute => wgpu::Features::empty(),
+        }
+    }
+}
+
+impl fmt::Display for Backend {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "ray-query" | "rayquery" | "ray_query" => Ok(Backend::RayQuery),
+            "compute" => Ok(Backend::Compute),
+            other => Err(format!("unknown back-end `{other}`; the back-ends are: ray-query, compute")),
+        }
+    }
+}
+
+/// The back-end in use and why it was chosen.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Selection {
+    pub backend: Backend,
+    pub reason: String,
+}
+
+/// Picks the back-end for an adapter with `features`: the requested one if the adapter can run
+/// it (an error naming what is missing if not), else `ray-query` where supported, else `compute`.
+pub fn select(features: wgpu::Features, requested: Option<Backend>) -> Result<Selection, String> {
+    let supports = |b: Backend| features.contains(b.features());
+    match requested {
+        Some(b) if supports(b) => Ok(Selection { backend: b, reason: "requested with --backend".into() }),
+        Some(b) => Err(format!("back-end `{b}` needs {:?}, which this adapter does not have; use --backend compute (runs everywhere)", b.features())),
+        None if supports(Backend::RayQuery) => Ok(Selection { backend: Backend::RayQuery, reason: "the adapter supports ray queries (EXPERIMENTAL_RAY_QUERY)".into() }),
+        None => Ok(Selection { backend: Backend::Compute, reason: "the adapter has no ray queries; using the compute-shader BVH".into() }),
+    }
+}

@@ -1,0 +1,172 @@
+//! Tracing a list of rays through a back-end outside any graph: the harness that tests compare
+//! with the f64 reference, and that benches use for raw traversal throughput. It compiles
+//! `shaders/batch/batch.wgsl` with the back-end's trace module, exactly as a graph's trace pass
+//! would be.
+
+use super::backend::Backend;
+use super::cache::{AccelCache, BuildReport, RayStats};
+use crate::error::{GraphError, Location, RuntimeError};
+use crate::graph::compile::CompileOptions;
+use crate::graph::reflect;
+use crate::runtime::gpu::include_aliases;
+use crate::runtime::profiler::map_read;
+use crate::runtime::Gpu;
+use crate::scene::Scene;
+use bytemuck::{Pod, Zeroable};
+use std::path::Path;
+use wgpu::util::DeviceExt;
+
+/// Mirrors `struct Ray` in `shaders/trace/common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct GpuRay {
+    pub origin: [f32; 3],
+    pub t_min: f32,
+    pub dir: [f32; 3],
+    pub t_max: f32,
+}
+
+/// One result of a batch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BatchHit {
+    pub t: f32,
+    pub instance: u32,
+    pub primitive: u32,
+    pub bary: [f32; 2],
+    pub front_face: bool,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct RawResult {
+    t: f32,
+    instance: u32,
+    primitive: u32,
+    flags: u32,
+    bary: [f32; 2],
+    _pad: [u32; 2],
+}
+
+/// A back-end with a scene's acceleration structure built, ready to trace batches.
+pub struct BatchTracer {
+    cache: AccelCache,
+    pipeline: wgpu::ComputePipeline,
+    layout0: wgpu::BindGroupLayout,
+    accel_group: wgpu::BindGroup,
+    /// What building the scene's acceleration structure did.
+    pub build: BuildReport,
+}
+
+/// Workgroup size of `batch.wgsl`.
+const GROUP: u32 = 64;
+
+impl BatchTracer {
+    /// Builds `scene`'s acceleration structure for `backend` (de-duplication on).
+    pub fn new(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path) -> Result<Self, RuntimeError> {
+        if !gpu.backends.contains(&backend) {
+            return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info.name)));
+        }
+        let device = &gpu.device;
+        let options = CompileOptions { includes: include_aliases(gpu.texture_binding_arrays), backend, ..Default::default() };
+        let path = shaders_dir.join("batch/batch.wgsl");
+        let info = reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
+
+        let mut cache = AccelCache::new(device, backend, true);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
+        gpu.queue.submit([encoder.finish()]);
+
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let storage = |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+        let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("batch"),
+            entries: &[entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }), entry(1, storage(true)), entry(2, storage(false))],
+        });
+        let empty = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch empty"), entries: &[] });
+        let accel_bindings: Vec<&reflect::ShaderBinding> = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).collect();
+        let accel_entries: Vec<wgpu::BindGroupLayoutEntry> = accel_bindings
+            .iter()
+            .map(|b| {
+                let ty = match &b.kind {
+                    reflect::BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
+                    reflect::BindingKind::Storage { read_only, .. } => storage(*read_only),
+                    other => unreachable!("trace modules bind buffers and acceleration structures, not {other:?}"),
+                };
+                entry(b.binding, ty)
+            })
+            .collect();
+        let layout2 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch accel"), entries: &accel_entries });
+        let mut bg_entries = Vec::new();
+        for b in &accel_bindings {
+            let resource = cache.binding(&b.name).ok_or_else(|| RuntimeError::Gpu(format!("back-end {backend} has no binding `{}`", b.name)))?;
+            bg_entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
+        }
+        let accel_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch accel"), layout: &layout2, entries: &bg_entries });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("batch"), bind_group_layouts: &[Some(&layout0), Some(&empty), Some(&layout2)], immediate_size: 0 });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("batch.wgsl"), source: wgpu::ShaderSource::Wgsl(info.source.text.as_str().into()) });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor { label: Some("batch"), layout: Some(&pipeline_layout), module: &module, entry_point: Some("cs_main"), compilation_options: Default::default(), cache: None });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Gpu(format!("creating the batch tracer failed: {e}")));
+        }
+        Ok(Self { cache, pipeline, layout0, accel_group, build })
+    }
+
+    /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.
+    pub fn closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
+        let (raw, stats) = self.run(gpu, rays, 0)?;
+        let hits = raw.iter().map(|r| (r.flags & 1 != 0).then(|| BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 })).collect();
+        Ok((hits, stats))
+    }
+
+    /// Whether each ray hits anything (terminating on the first hit).
+    pub fn any(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<bool>, RayStats), RuntimeError> {
+        let (raw, stats) = self.run(gpu, rays, 1)?;
+        Ok((raw.iter().map(|r| r.flags & 1 != 0).collect(), stats))
+    }
+
+    fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32) -> Result<(Vec<RawResult>, RayStats), RuntimeError> {
+        let device = &gpu.device;
+        let n = rays.len().max(1);
+        let params: [u32; 4] = [rays.len() as u32, mode, 0, 0];
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("batch params"), contents: bytemuck::bytes_of(&params), usage: wgpu::BufferUsages::UNIFORM });
+        let padded: Vec<GpuRay> = if rays.is_empty() { vec![GpuRay::zeroed()] } else { rays.to_vec() };
+        let ray_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("batch rays"), contents: bytemuck::cast_slice(&padded), usage: wgpu::BufferUsages::STORAGE });
+        let size = (n * std::mem::size_of::<RawResult>()) as u64;
+        let results = device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch results"), size, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let bg0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("batch"),
+            layout: &self.layout0,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: ray_buf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: results.as_entire_binding() },
+            ],
+        });
+        let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &[] });
+        let empty = device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &empty_layout, entries: &[] });
+        let groups = (n as u32).div_ceil(GROUP);
+        let (gx, gy) = if groups <= 65_535 { (groups, 1) } else { (65_535, groups.div_ceil(65_535)) };
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.cache.clear_stats(&mut encoder);
+        {
+            let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("batch"), timestamp_writes: None });
+            cp.set_pipeline(&self.pipeline);
+            cp.set_bind_group(0, &bg0, &[]);
+            cp.set_bind_group(1, &empty, &[]);
+            cp.set_bind_group(2, &self.accel_group, &[]);
+            cp.dispatch_workgroups(gx, gy, 1);
+        }
+        encoder.copy_buffer_to_buffer(&results, 0, &readback, 0, size);
+        self.cache.copy_stats(&mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+        gpu.wait()?;
+        let data = map_read(device, readback.slice(..))?;
+        let out: Vec<RawResult> = bytemuck::cast_slice::<u8, RawResult>(&data)[..rays.len()].to_vec();
+        drop(data);
+        readback.unmap();
+        let stats = self.cache.read_stats(device)?;
+        Ok((out, stats))
+    }
+}

@@ -1,0 +1,856 @@
+//! Binned-SAH BVH builder (parallel with rayon), SAH cost, refit, and the two levels built
+//! with it: [`Blas`] (one per mesh, over its triangles, in object space) and [`Tlas`] (over
+//! the instances' world-space boxes), tied together by [`SceneAccel`].
+//!
+//! # Tree shape
+//!
+//! A [`Bvh`] is a flat array of [`BvhNode`]s with the root at index 0. An interior node has
+//! `count == 0` and its two children at `left_or_first` and `left_or_first + 1` (siblings are
+//! adjacent, and a child's index is always greater than its parent's); a leaf has
+//! `1 <= count <= max_leaf_size` primitives starting at `left_or_first` in
+//! [`Bvh::prim_order`]. An empty input gives a tree with no nodes at all (the GPU layout turns
+//! that into a never-hit placeholder, see [`crate::accel::layout`]).
+//!
+//! # Splitting
+//!
+//! Each node bins its primitives' *centroids* into [`BuildConfig::bins`] equal-width bins on
+//! each of the three axes and evaluates the surface-area heuristic at every bin boundary:
+//!
+//! ```text
+//! cost(split) = C_trav * A(node) + C_isect * (A(left) * N(left) + A(right) * N(right))
+//! cost(leaf)  = C_isect * A(node) * N(node)
+//! ```
+//!
+//! with [`TRAVERSAL_COST`] `C_trav = 1` and [`INTERSECTION_COST`] `C_isect = 1` (a box test and
+//! a primitive test cost about the same in a compute-shader traversal; only the ratio matters).
+//! A node becomes a leaf when it holds at most `max_leaf_size` (4) primitives and the leaf is no
+//! more expensive than the best split. When all centroids coincide, and for every node at depth
+//! [`MEDIAN_FALLBACK_DEPTH`] (24) or deeper, the node is split at the object median of its
+//! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
+//! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
+//! suffices, and one of 48 up to 2^26 primitives. (SAH trees of real scenes are far shallower:
+//! the 262k-triangle atrium is 25 deep.)
+//!
+//! Subtrees with at least [`BuildConfig::parallel_threshold`] primitives are built with
+//! `rayon::join` and concatenated; smaller ones are built sequentially into one array.
+
+use crate::scene::{Mesh, Scene};
+use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3};
+use rayon::prelude::*;
+use std::time::{Duration, Instant};
+
+/// SAH cost of visiting an interior node (one ray-box test for each child).
+pub const TRAVERSAL_COST: f32 = 1.0;
+/// SAH cost of one ray-primitive test.
+pub const INTERSECTION_COST: f32 = 1.0;
+/// Default maximum number of primitives in a leaf.
+pub const MAX_LEAF_SIZE: usize = 4;
+/// Default number of SAH bins per axis.
+pub const DEFAULT_BINS: usize = 16;
+/// Below this depth nodes are split at the object median instead of by SAH.
+pub const MEDIAN_FALLBACK_DEPTH: usize = 24;
+/// Upper bound on the depth (root = 0) of any tree this builder makes; a nearer-first
+/// traversal pushes at most one node per level, so a stack of this many entries suffices.
+pub const MAX_TREE_DEPTH: usize = 64;
+
+/// An axis-aligned box. The empty box has `min = +inf`, `max = -inf`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    pub fn new(min: Vec3, max: Vec3) -> Self {
+        Self { min, max }
+    }
+
+    /// The box of `points`; [`Aabb::EMPTY`] if any coordinate is not finite.
+    pub fn from_points(points: &[Vec3]) -> Self {
+        let mut b = Aabb::EMPTY;
+        for p in points {
+            if !p.is_finite() {
+                return Aabb::EMPTY;
+            }
+            b.grow(*p);
+        }
+        b
+    }
+
+    /// True if the box contains no point (min > max on some axis, or NaN).
+    pub fn is_empty(&self) -> bool {
+        !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.min.is_finite() && self.max.is_finite()
+    }
+
+    pub fn grow(&mut self, p: Vec3) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Surface area; 0 for an empty box.
+    pub fn surface_area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let d = self.max - self.min;
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    /// True if `o` lies inside `self` (an empty `o` lies inside anything).
+    pub fn contains(&self, o: &Aabb) -> bool {
+        o.is_empty() || (self.min.cmple(o.min).all() && o.max.cmple(self.max).all())
+    }
+}
+
+/// One primitive handed to the builder: its box, the point it is binned by, and an id that
+/// the builder carries into [`Bvh::prim_order`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BuildPrim {
+    pub bounds: Aabb,
+    pub centroid: Vec3,
+    pub id: u32,
+}
+
+impl BuildPrim {
+    /// A primitive binned by the centre of its box.
+    pub fn new(bounds: Aabb, id: u32) -> Self {
+        Self { bounds, centroid: bounds.center(), id }
+    }
+}
+
+/// How nodes are split.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SplitMethod {
+    /// Binned surface-area heuristic (the default).
+    BinnedSah,
+    /// Object median of the longest centroid axis (a naive baseline for comparisons).
+    Median,
+}
+
+/// Builder settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildConfig {
+    pub method: SplitMethod,
+    /// SAH bins per axis (clamped to 2..=[`MAX_BINS`]).
+    pub bins: usize,
+    /// Maximum primitives per leaf (clamped to at least 1).
+    pub max_leaf_size: usize,
+    /// Subtrees with at least this many primitives are built in parallel.
+    pub parallel_threshold: usize,
+}
+
+impl Default for BuildConfig {
+    fn default() -> Self {
+        Self { method: SplitMethod::BinnedSah, bins: DEFAULT_BINS, max_leaf_size: MAX_LEAF_SIZE, parallel_threshold: 4096 }
+    }
+}
+
+/// A BVH node (CPU form of [`crate::accel::layout::GpuBvhNode`], with indices local to its
+/// tree): interior if `count == 0` (children at `left_or_first`, `left_or_first + 1`), else a
+/// leaf of `count` primitives from `left_or_first` in [`Bvh::prim_order`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BvhNode {
+    pub bounds: Aabb,
+    pub left_or_first: u32,
+    pub count: u32,
+}
+
+impl BvhNode {
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+/// A built tree: nodes (root at 0; empty if there were no usable primitives) and the ids of
+/// the primitives in leaf order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Bvh {
+    pub nodes: Vec<BvhNode>,
+    pub prim_order: Vec<u32>,
+}
+
+impl Bvh {
+    /// Builds a tree over `prims`. Primitives whose box is empty or not finite, or whose
+    /// centroid is not finite, are left out (callers filter them first and count them).
+    pub fn build(prims: &[BuildPrim], cfg: &BuildConfig) -> Bvh {
+        let mut work: Vec<BuildPrim> = prims.iter().filter(|p| !p.bounds.is_empty() && p.bounds.is_finite() && p.centroid.is_finite()).copied().collect();
+        if work.is_empty() {
+            return Bvh::default();
+        }
+        let cfg = BuildConfig {
+            method: cfg.method,
+            bins: cfg.bins.clamp(2, MAX_BINS),
+            max_leaf_size: cfg.max_leaf_size.max(1),
+            parallel_threshold: cfg.parallel_threshold.max(2),
+        };
+        let nodes = build_subtree(&mut work, 0, 0, &cfg);
+        Bvh { nodes, prim_order: work.iter().map(|p| p.id).collect() }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Bounds of the root; [`Aabb::EMPTY`] for an empty tree.
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+    }
+
+    /// The SAH cost of the tree, normalised by the root's surface area:
+    /// `sum over interior nodes of TRAVERSAL_COST * A(n) / A(root)
+    ///  + sum over leaves of INTERSECTION_COST * count * A(n) / A(root)`.
+    /// It is the expected number of box-pair and primitive tests of a random ray that hits the
+    /// root box. 0 for an empty tree; a root of zero area counts every node with weight 1.
+    pub fn sah_cost(&self) -> f32 {
+        let Some(root) = self.nodes.first() else { return 0.0 };
+        let root_area = root.bounds.surface_area() as f64;
+        let mut cost = 0.0f64;
+        for n in &self.nodes {
+            let rel = if root_area > 0.0 { n.bounds.surface_area() as f64 / root_area } else { 1.0 };
+            cost += rel * if n.is_leaf() { INTERSECTION_COST as f64 * n.count as f64 } else { TRAVERSAL_COST as f64 };
+        }
+        cost as f32
+    }
+
+    /// Depth of the deepest leaf (root = 0); 0 for an empty tree.
+    pub fn depth(&self) -> usize {
+        let mut depth = vec![0usize; self.nodes.len()];
+        let mut max = 0;
+        for (i, n) in self.nodes.iter().enumerate() {
+            if !n.is_leaf() {
+                let child_depth = depth[i] + 1;
+                for c in [n.left_or_first as usize, n.left_or_first as usize + 1] {
+                    if let Some(d) = depth.get_mut(c) {
+                        *d = child_depth;
+                        max = max.max(child_depth);
+                    }
+                }
+            }
+        }
+        max
+    }
+
+    /// Number of leaves.
+    pub fn leaf_count(&self) -> usize {
+        self.nodes.iter().filter(|n| n.is_leaf()).count()
+    }
+
+    /// Recomputes every node's box bottom-up from `bounds_of(id)` of its primitives, keeping
+    /// the topology (moved primitives, same set). Relies on children following their parent.
+    pub fn refit(&mut self, bounds_of: impl Fn(u32) -> Aabb) {
+        for i in (0..self.nodes.len()).rev() {
+            let n = self.nodes[i];
+            let first = n.left_or_first as usize;
+            let b = if n.is_leaf() {
+                let mut b = Aabb::EMPTY;
+                for &id in self.prim_order.get(first..first + n.count as usize).unwrap_or(&[]) {
+                    let pb = bounds_of(id);
+                    if !pb.is_empty() && pb.is_finite() {
+                        b = b.union(&pb);
+                    }
+                }
+                b
+            } else {
+                let l = self.nodes.get(first).map_or(Aabb::EMPTY, |c| c.bounds);
+                let r = self.nodes.get(first + 1).map_or(Aabb::EMPTY, |c| c.bounds);
+                l.union(&r)
+            };
+            self.nodes[i].bounds = b;
+        }
+    }
+}
+
+fn union_bounds(prims: &[BuildPrim]) -> (Aabb, Aabb) {
+    let mut b = Aabb::EMPTY;
+    let mut c = Aabb::EMPTY;
+    for p in prims {
+        b = b.union(&p.bounds);
+        c.grow(p.centroid);
+    }
+    (b, c)
+}
+
+fn union_bounds_par(prims: &[BuildPrim], cfg: &BuildConfig) -> (Aabb, Aabb) {
+    if prims.len() < cfg.parallel_threshold * 4 {
+        return union_bounds(prims);
+    }
+    prims.par_chunks(cfg.parallel_threshold).map(union_bounds).reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(&b.0), a.1.union(&b.1)))
+}
+
+/// Builds the subtree over `prims` (which start at `first` in the final primitive order):
+/// the returned nodes have the subtree root at 0 and child indices local to the vector.
+fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildConfig) -> Vec<BvhNode> {
+    if prims.len() < cfg.parallel_threshold {
+        let mut nodes = Vec::with_capacity(prims.len());
+        nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
+        build_sequential(&mut nodes, 0, prims, first, depth, cfg);
+        return nodes;
+    }
+    let (bounds, centroids) = union_bounds_par(prims, cfg);
+    let Some(mid) = split(prims, &bounds, &centroids, depth, cfg) else {
+        return vec![BvhNode { bounds, left_or_first: first, count: prims.len() as u32 }];
+    };
+    let (l, r) = prims.split_at_mut(mid);
+    let (ln, rn) = rayon::join(|| build_subtree(l, first, depth + 1, cfg), || build_subtree(r, first + mid as u32, depth + 1, cfg));
+    // [root, left root, right root, left descendants..., right descendants...]
+    let shift = |n: &BvhNode, by: usize| if n.is_leaf() { *n } else { BvhNode { left_or_first: n.left_or_first + by as u32, ..*n } };
+    let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
+    nodes.push(BvhNode { bounds, left_or_first: 1, count: 0 });
+    nodes.push(shift(&ln[0], 2));
+    nodes.push(shift(&rn[0], ln.len() + 1));
+    nodes.extend(ln[1..].iter().map(|n| shift(n, 2)));
+    nodes.extend(rn[1..].iter().map(|n| shift(n, ln.len() + 1)));
+    nodes
+}
+
+fn build_sequential(nodes: &mut Vec<BvhNode>, idx: usize, prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildConfig) {
+    let (bounds, centroids) = union_bounds(prims);
+    match split(prims, &bounds, &centroids, depth, cfg) {
+        None => nodes[idx] = BvhNode { bounds, left_or_first: first, count: prims.len() as u32 },
+        Some(mid) => {
+            let left = nodes.len();
+            nodes[idx] = BvhNode { bounds, left_or_first: left as u32, count: 0 };
+            nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
+            nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
+            let (l, r) = prims.split_at_mut(mid);
+            build_sequential(nodes, left, l, first, depth + 1, cfg);
+            build_sequential(nodes, left + 1, r, first + mid as u32, depth + 1, cfg);
+        }
+    }
+}
+
+/// Upper bound of [`BuildConfig::bins`].
+pub const MAX_BINS: usize = 64;
+
+/// Nodes with at least this many primitives bin them in parallel.
+const PARALLEL_BINNING: usize = 16 * 1024;
+
+/// Per-axis bin counts and boxes.
+#[derive(Clone, Copy)]
+struct Bins {
+    count: [[u32; MAX_BINS]; 3],
+    bounds: [[Aabb; MAX_BINS]; 3],
+}
+
+impl Bins {
+    fn new() -> Self {
+        Self { count: [[0; MAX_BINS]; 3], bounds: [[Aabb::EMPTY; MAX_BINS]; 3] }
+    }
+
+    fn add(&mut self, prims: &[BuildPrim], maps: &[Option<(f32, f32)>; 3], bins: usize) {
+        for p in prims {
+            for (axis, map) in maps.iter().enumerate() {
+                if let Some((lo, scale)) = *map {
+                    let b = bin_index(p.centroid[axis], lo, scale, bins);
+                    self.count[axis][b] += 1;
+                    self.bounds[axis][b] = self.bounds[axis][b].union(&p.bounds);
+                }
+            }
+        }
+    }
+
+    fn merge(mut self, o: Bins) -> Bins {
+        for axis in 0..3 {
+            for b in 0..MAX_BINS {
+                self.count[axis][b] += o.count[axis][b];
+                self.bounds[axis][b] = self.bounds[axis][b].union(&o.bounds[axis][b]);
+            }
+        }
+        self
+    }
+}
+
+/// Decides how to split `prims` and partitions them in place: `None` for a leaf, else the
+/// number of primitives in the left child (always `0 < mid < len`).
+fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize, cfg: &BuildConfig) -> Option<usize> {
+    let n = prims.len();
+    if n <= 1 {
+        return None;
+    }
+    if cfg.method == SplitMethod::Median || depth >= MEDIAN_FALLBACK_DEPTH {
+        return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+    }
+    let bins = cfg.bins;
+    let maps = [0, 1, 2].map(|axis| bin_mapping(centroids, axis, bins));
+    if maps.iter().all(Option::is_none) {
+        // All centroids coincide: no plane separates them.
+        return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+    }
+    let binned = if n >= PARALLEL_BINNING {
+        prims
+            .par_chunks(PARALLEL_BINNING / 4)
+            .map(|c| {
+                let mut b = Bins::new();
+                b.add(c, &maps, bins);
+                b
+            })
+            .reduce(Bins::new, Bins::merge)
+    } else {
+        let mut b = Bins::new();
+        b.add(prims, &maps, bins);
+        b
+    };
+    let node_area = bounds.surface_area();
+    // Best (cost, axis, number of bins on the left).
+    let mut best: Option<(f32, usize, usize)> = None;
+    let mut right_area = [0.0f32; MAX_BINS];
+    let mut right_count = [0u32; MAX_BINS];
+    for axis in (0..3).filter(|&a| maps[a].is_some()) {
+        let (count, boxes) = (&binned.count[axis], &binned.bounds[axis]);
+        // Suffix sweep: right_*[i] describes bins i..bins.
+        let (mut acc_box, mut acc_n) = (Aabb::EMPTY, 0u32);
+        for i in (1..bins).rev() {
+            acc_box = acc_box.union(&boxes[i]);
+            acc_n += count[i];
+            right_area[i] = acc_box.surface_area();
+            right_count[i] = acc_n;
+        }
+        let (mut acc_box, mut acc_n) = (Aabb::EMPTY, 0u32);
+        for i in 1..bins {
+            acc_box = acc_box.union(&boxes[i - 1]);
+            acc_n += count[i - 1];
+            if acc_n == 0 || right_count[i] == 0 {
+                continue;
+            }
+            let cost = TRAVERSAL_COST * node_area + INTERSECTION_COST * (acc_box.surface_area() * acc_n as f32 + right_area[i] * right_count[i] as f32);
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, i));
+            }
+        }
+    }
+    let Some((cost, axis, plane)) = best else {
+        return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+    };
+    let leaf_cost = INTERSECTION_COST * node_area * n as f32;
+    if n <= cfg.max_leaf_size && leaf_cost <= cost {
+        return None;
+    }
+    let Some((lo, scale)) = maps[axis] else { return Some(median_split(prims, centroids)) };
+    let mid = partition(prims, |p| bin_index(p.centroid[axis], lo, scale, bins) < plane);
+    if mid == 0 || mid == n {
+        // Cannot happen with the same mapping as the binning pass; stay safe anyway.
+        return Some(median_split(prims, centroids));
+    }
+    Some(mid)
+}
+
+/// `(lo, bins / extent)` for binning centroids along `axis`, or `None` if they do not spread.
+fn bin_mapping(centroids: &Aabb, axis: usize, bins: usize) -> Option<(f32, f32)> {
+    let (lo, hi) = (centroids.min[axis], centroids.max[axis]);
+    let extent = hi - lo;
+    let scale = bins as f32 / extent;
+    (extent > 0.0 && scale.is_finite()).then_some((lo, scale))
+}
+
+fn bin_index(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
+    // `as usize` saturates (negative and NaN give 0).
+    (((c - lo) * scale) as usize).min(bins - 1)
+}
+
+fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> usize {
+    let mut i = 0;
+    let mut j = prims.len();
+    while i < j {
+        if left(&prims[i]) {
+            i += 1;
+        } else {
+            j -= 1;
+            prims.swap(i, j);
+        }
+    }
+    i
+}
+
+fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> usize {
+    let d = centroids.max - centroids.min;
+    let axis = if d.x >= d.y && d.x >= d.z {
+        0
+    } else if d.y >= d.z {
+        1
+    } else {
+        2
+    };
+    let mid = prims.len() / 2;
+    prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    mid
+}
+
+// ---------------------------------------------------------------------------------------------
+// Triangles and instances
+// ---------------------------------------------------------------------------------------------
+
+/// Why a triangle is or is not in a BLAS.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TriangleStatus {
+    Valid,
+    /// An index is out of range of the vertex array.
+    BadIndex,
+    /// A vertex coordinate is NaN or infinite.
+    NonFinite,
+    /// `(v1 - v0) x (v2 - v0)` evaluated in f32 is zero (or overflows): no area in f32.
+    Degenerate,
+}
+
+/// Classifies the triangle of object-space vertices `v`.
+pub fn triangle_status(v: &[Vec3; 3]) -> TriangleStatus {
+    if !(v[0].is_finite() && v[1].is_finite() && v[2].is_finite()) {
+        return TriangleStatus::NonFinite;
+    }
+    let n = (v[1] - v[0]).cross(v[2] - v[0]);
+    if n == Vec3::ZERO || !n.is_finite() {
+        return TriangleStatus::Degenerate;
+    }
+    TriangleStatus::Valid
+}
+
+/// Object-space vertices of triangle `tri` (index/3) of `mesh`, or `None` if an index is out of
+/// range.
+pub fn mesh_triangle(mesh: &Mesh, tri: usize) -> Option<[Vec3; 3]> {
+    let idx = mesh.indices.get(3 * tri..3 * tri + 3)?;
+    let p = |i: u32| mesh.vertices.get(i as usize).map(|v| Vec3::from(v.position));
+    Some([p(idx[0])?, p(idx[1])?, p(idx[2])?])
+}
+
+/// The vertices and status of triangle `tri` of `mesh` (zero vertices when an index is bad).
+pub fn classify_mesh_triangle(mesh: &Mesh, tri: usize) -> ([Vec3; 3], TriangleStatus) {
+    match mesh_triangle(mesh, tri) {
+        Some(v) => (v, triangle_status(&v)),
+        None => ([Vec3::ZERO; 3], TriangleStatus::BadIndex),
+    }
+}
+
+/// An instance transform as an f64 affine map, or `None` if it cannot be used: a non-finite
+/// entry, a singular (or non-finite-inverse) 3x3 part. Only the affine 3x4 part of the matrix is
+/// used; a projective last row is ignored.
+pub fn instance_transform(m: &Mat4) -> Option<DAffine3> {
+    if !m.is_finite() {
+        return None;
+    }
+    let d = m.as_dmat4();
+    let a = DAffine3 { matrix3: DMat3::from_cols(d.x_axis.truncate(), d.y_axis.truncate(), d.z_axis.truncate()), translation: d.w_axis.truncate() };
+    let det = a.matrix3.determinant();
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let inv = a.inverse();
+    (inv.matrix3.is_finite() && inv.translation.is_finite()).then_some(a)
+}
+
+/// The world-space box of object box `b` under `xf`, computed in f64 from the 8 corners and
+/// widened by a relative 1e-5 so that it conservatively contains the f32 traversal's view of
+/// the instance. [`Aabb::EMPTY`] for an empty or non-finite box.
+pub fn instance_world_bounds(b: &Aabb, xf: &DAffine3) -> Aabb {
+    if b.is_empty() || !b.is_finite() {
+        return Aabb::EMPTY;
+    }
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for i in 0..8 {
+        let c = DVec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x } as f64,
+            if i & 2 == 0 { b.min.y } else { b.max.y } as f64,
+            if i & 4 == 0 { b.min.z } else { b.max.z } as f64,
+        );
+        let w = xf.transform_point3(c);
+        lo = lo.min(w);
+        hi = hi.max(w);
+    }
+    let pad = 1e-5 * lo.abs().max(hi.abs()).max_element() + 1e-30;
+    let (lo, hi) = ((lo - pad).as_vec3(), (hi + pad).as_vec3());
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Aabb::EMPTY;
+    }
+    Aabb { min: lo, max: hi }
+}
+
+/// Errors of refitting an acceleration structure whose inputs changed too much.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum AccelError {
+    #[error("the scene has {found} instances but the acceleration structure was built for {expected}; rebuild it")]
+    InstanceCountChanged { expected: usize, found: usize },
+    #[error("instance {0} changed its mesh or became (un)usable; rebuild instead of refitting")]
+    InstanceChanged(usize),
+    #[error("the scene has {found} meshes but the acceleration structure was built for {expected}; rebuild it")]
+    MeshCountChanged { expected: usize, found: usize },
+    #[error("mesh {mesh} has {found} triangles but its BLAS was built for {expected}; rebuild it")]
+    MeshChanged { mesh: usize, expected: usize, found: usize },
+}
+
+/// A bottom-level BVH over one mesh's triangles in object space. Primitive ids in
+/// `bvh.prim_order` are triangle indices (index / 3) in the mesh. Triangles that are
+/// degenerate, non-finite or have a bad index are left out and counted.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Blas {
+    pub bvh: Bvh,
+    /// Triangles in the mesh when built (`indices.len() / 3`).
+    pub triangle_count: usize,
+    pub dropped_degenerate: u32,
+    pub dropped_non_finite: u32,
+    pub dropped_bad_index: u32,
+}
+
+impl Blas {
+    pub fn build(mesh: &Mesh, cfg: &BuildConfig) -> Blas {
+        let tris = mesh.triangle_count();
+        let classify = |t: usize| {
+            let (v, status) = classify_mesh_triangle(mesh, t);
+            (status, BuildPrim::new(Aabb::from_points(&v), t as u32))
+        };
+        let classified: Vec<(TriangleStatus, BuildPrim)> =
+            if tris >= cfg.parallel_threshold { (0..tris).into_par_iter().map(classify).collect() } else { (0..tris).map(classify).collect() };
+        let mut blas = Blas { triangle_count: tris, ..Default::default() };
+        let mut prims = Vec::with_capacity(tris);
+        for (status, prim) in classified {
+            match status {
+                TriangleStatus::Valid => prims.push(prim),
+                TriangleStatus::Degenerate => blas.dropped_degenerate += 1,
+                TriangleStatus::NonFinite => blas.dropped_non_finite += 1,
+                TriangleStatus::BadIndex => blas.dropped_bad_index += 1,
+            }
+        }
+        blas.bvh = Bvh::build(&prims, cfg);
+        blas
+    }
+
+    /// Triangles left out of the tree.
+    pub fn dropped(&self) -> u32 {
+        self.dropped_degenerate + self.dropped_non_finite + self.dropped_bad_index
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.bvh.is_empty()
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    /// Refits the boxes to `mesh`'s current vertex positions (same triangles, moved vertices).
+    /// A triangle that has become non-finite gets an empty box (it can still be tested; the
+    /// watertight test never reports a NaN hit).
+    pub fn refit(&mut self, mesh: &Mesh, mesh_index: usize) -> Result<(), AccelError> {
+        if mesh.triangle_count() != self.triangle_count {
+            return Err(AccelError::MeshChanged { mesh: mesh_index, expected: self.triangle_count, found: mesh.triangle_count() });
+        }
+        self.bvh.refit(|id| mesh_triangle(mesh, id as usize).map_or(Aabb::EMPTY, |v| Aabb::from_points(&v)));
+        Ok(())
+    }
+}
+
+/// A top-level BVH over instances. Primitive ids are indices into `Scene::instances`;
+/// instances that cannot be hit (bad mesh index, unusable transform, empty BLAS) are left out.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Tlas {
+    pub bvh: Bvh,
+    /// World-space box of every scene instance ([`Aabb::EMPTY`] for one left out).
+    pub instance_bounds: Vec<Aabb>,
+    pub dropped_instances: u32,
+}
+
+impl Tlas {
+    /// Builds over `instance_bounds` (one per scene instance; empty boxes are left out).
+    pub fn build(instance_bounds: &[Aabb], cfg: &BuildConfig) -> Tlas {
+        let prims: Vec<BuildPrim> =
+            instance_bounds.iter().enumerate().filter(|(_, b)| !b.is_empty() && b.is_finite()).map(|(i, b)| BuildPrim::new(*b, i as u32)).collect();
+        let dropped = (instance_bounds.len() - prims.len()) as u32;
+        Tlas { bvh: Bvh::build(&prims, cfg), instance_bounds: instance_bounds.to_vec(), dropped_instances: dropped }
+    }
+
+    /// Refits to new instance boxes (same instances, moved). Fails if the set of usable
+    /// instances changed.
+    pub fn refit(&mut self, instance_bounds: &[Aabb]) -> Result<(), AccelError> {
+        if instance_bounds.len() != self.instance_bounds.len() {
+            return Err(AccelError::InstanceCountChanged { expected: self.instance_bounds.len(), found: instance_bounds.len() });
+        }
+        for (i, (old, new)) in self.instance_bounds.iter().zip(instance_bounds).enumerate() {
+            let usable = |b: &Aabb| !b.is_empty() && b.is_finite();
+            if usable(old) != usable(new) {
+                return Err(AccelError::InstanceChanged(i));
+            }
+        }
+        self.instance_bounds = instance_bounds.to_vec();
+        let bounds = &self.instance_bounds;
+        self.bvh.refit(|id| bounds.get(id as usize).copied().unwrap_or(Aabb::EMPTY));
+        Ok(())
+    }
+}
+
+/// Options of [`SceneAccel::build`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct AccelOptions {
+    /// One BLAS per mesh, shared by its instances (true, the default), or one per instance.
+    pub dedup: bool,
+    pub build: BuildConfig,
+}
+
+impl Default for AccelOptions {
+    fn default() -> Self {
+        Self { dedup: true, build: BuildConfig::default() }
+    }
+}
+
+/// Both levels for a scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneAccel {
+    /// With `dedup`, BLAS `i` is mesh `i`'s; without, BLAS `i` belongs to instance `i`.
+    pub blases: Vec<Blas>,
+    /// The mesh each BLAS was built from (`None`: an instance whose mesh index is out of range;
+    /// its BLAS is empty).
+    pub blas_mesh: Vec<Option<usize>>,
+    /// Per scene instance: its BLAS, or `None` when the instance is left out of the TLAS.
+    pub instance_blas: Vec<Option<u32>>,
+    /// Per scene instance: its affine transform, when usable.
+    pub instance_transforms: Vec<Option<DAffine3>>,
+    pub tlas: Tlas,
+    pub dedup: bool,
+    /// Wall time of [`SceneAccel::build`].
+    pub build_time: Duration,
+}
+
+impl SceneAccel {
+    pub fn build(scene: &Scene, opts: &AccelOptions) -> SceneAccel {
+        let start = Instant::now();
+        let mesh_blases: Vec<Blas> = scene.meshes.par_iter().map(|m| Blas::build(m, &opts.build)).collect();
+        let (blases, blas_mesh): (Vec<Blas>, Vec<Option<usize>>) = if opts.dedup {
+            (mesh_blases, (0..scene.meshes.len()).map(Some).collect())
+        } else {
+            scene
+                .instances
+                .iter()
+                .map(|inst| match mesh_blases.get(inst.mesh) {
+                    Some(b) => (b.clone(), Some(inst.mesh)),
+                    None => (Blas::default(), None),
+                })
+                .unzip()
+        };
+        let mut accel = SceneAccel {
+            blases,
+            blas_mesh,
+            instance_blas: Vec::new(),
+            instance_transforms: Vec::new(),
+            tlas: Tlas::default(),
+            dedup: opts.dedup,
+            build_time: Duration::ZERO,
+        };
+        accel.instance_transforms = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
+        accel.instance_blas = (0..scene.instances.len())
+            .map(|i| {
+                let b = if accel.dedup { scene.instances[i].mesh } else { i };
+                let usable = accel.instance_transforms[i].is_some() && accel.blases.get(b).is_some_and(|bl| !bl.is_empty());
+                usable.then_some(b as u32)
+            })
+            .collect();
+        let bounds = accel.instance_world_bounds();
+        accel.tlas = Tlas::build(&bounds, &opts.build);
+        accel.build_time = start.elapsed();
+        log::debug!(
+            "accel: {} BLAS ({} nodes), TLAS over {} instances ({} left out), built in {:?}",
+            accel.blases.len(),
+            accel.blases.iter().map(|b| b.bvh.nodes.len()).sum::<usize>(),
+            accel.tlas.bvh.prim_order.len(),
+            accel.tlas.dropped_instances,
+            accel.build_time
+        );
+        accel
+    }
+
+    fn instance_world_bounds(&self) -> Vec<Aabb> {
+        self.instance_blas
+            .iter()
+            .zip(&self.instance_transforms)
+            .map(|(b, xf)| match (b, xf) {
+                (Some(b), Some(xf)) => self.blases.get(*b as usize).map_or(Aabb::EMPTY, |bl| instance_world_bounds(&bl.bounds(), xf)),
+                _ => Aabb::EMPTY,
+            })
+            .collect()
+    }
+
+    /// Refits the TLAS after instances moved (same instances and meshes, new transforms).
+    pub fn refit_instances(&mut self, scene: &Scene) -> Result<(), AccelError> {
+        if scene.instances.len() != self.instance_blas.len() {
+            return Err(AccelError::InstanceCountChanged { expected: self.instance_blas.len(), found: scene.instances.len() });
+        }
+        let mut transforms = Vec::with_capacity(scene.instances.len());
+        for (i, inst) in scene.instances.iter().enumerate() {
+            let xf = instance_transform(&inst.transform);
+            let expected_blas = if self.dedup { inst.mesh } else { i };
+            if xf.is_some() != self.instance_transforms[i].is_some()
+                || self.instance_blas[i].is_some_and(|b| b as usize != expected_blas)
+                || (!self.dedup && self.blas_mesh.get(i).copied().flatten() != Some(inst.mesh))
+            {
+                return Err(AccelError::InstanceChanged(i));
+            }
+            transforms.push(xf);
+        }
+        let old = std::mem::replace(&mut self.instance_transforms, transforms);
+        let bounds = self.instance_world_bounds();
+        if let Err(e) = self.tlas.refit(&bounds) {
+            self.instance_transforms = old;
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// Refits every BLAS to its mesh's current vertices, then the TLAS (moved vertices and
+    /// instances, same triangles).
+    pub fn refit_meshes(&mut self, scene: &Scene) -> Result<(), AccelError> {
+        if self.dedup && scene.meshes.len() != self.blases.len() {
+            return Err(AccelError::MeshCountChanged { expected: self.blases.len(), found: scene.meshes.len() });
+        }
+        for (blas, mesh) in self.blases.iter().zip(&self.blas_mesh) {
+            if let Some(m) = mesh {
+                let found = scene.meshes.get(*m).map_or(0, Mesh::triangle_count);
+                if found != blas.triangle_count {
+                    return Err(AccelError::MeshChanged { mesh: *m, expected: blas.triangle_count, found });
+                }
+            }
+        }
+        let results: Vec<Result<(), AccelError>> = self
+            .blases
+            .par_iter_mut()
+            .zip(&self.blas_mesh)
+            .map(|(blas, mesh)| match mesh.and_then(|m| scene.meshes.get(m).map(|mm| (m, mm))) {
+                Some((m, mm)) => blas.refit(mm, m),
+                None => Ok(()),
+            })
+            .collect();
+        results.into_iter().collect::<Result<(), AccelError>>()?;
+        self.refit_instances(scene)
+    }
+
+    /// Dropped triangles over the distinct meshes: (degenerate, non-finite, bad index).
+    pub fn dropped_triangles(&self) -> (u32, u32, u32) {
+        let mut seen = std::collections::HashSet::new();
+        let mut d = (0, 0, 0);
+        for (b, m) in self.blases.iter().zip(&self.blas_mesh) {
+            if let Some(m) = m {
+                if seen.insert(*m) {
+                    d.0 += b.dropped_degenerate;
+                    d.1 += b.dropped_non_finite;
+                    d.2 += b.dropped_bad_index;
+                }
+            }
+        }
+        d
+    }
+}

@@ -1,0 +1,467 @@
+//! The acceleration-structure cache behind a graph's `Accel` node. Keyed by content hashes of
+//! the meshes (positions and indices) and of the instances (mesh and transform):
+//!
+//! - unchanged scene: no build work at all;
+//! - a mesh's geometry changed: only that mesh's BLAS is rebuilt (one per instance of it
+//!   without de-duplication), then the TLAS;
+//! - instances moved: the TLAS only — refitted in the `compute` back-end when the set of
+//!   instances is the same, rebuilt in `ray-query` (wgpu has no refit);
+//! - identical meshes share one BLAS unless de-duplication is off.
+//!
+//! Each update returns a [`BuildReport`]: what was built and its CPU time (GPU time comes from
+//! the `Accel` pass's timestamps). The cache also owns the `accel_stats` ray counters that the
+//! trace module adds to.
+
+use super::backend::Backend;
+use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, AccelOptions, Aabb, Blas, SceneAccel, Tlas, TriangleStatus};
+use super::layout::{flatten, GpuAccel};
+use crate::error::RuntimeError;
+use crate::runtime::profiler::map_read;
+use crate::scene::{Mesh, Scene};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Slots of the `accel_stats` buffer (see `shaders/trace/common.wgsl`).
+pub const STAT_SLOTS: usize = 4;
+
+/// Ray counts of one frame, read from the GPU counters.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RayStats {
+    pub closest: u64,
+    pub any: u64,
+    /// Rays with NaN/Inf, a zero direction or a bad t range: counted and not traced.
+    pub invalid: u64,
+    pub hits: u64,
+}
+
+impl RayStats {
+    pub fn traced(&self) -> u64 {
+        self.closest + self.any
+    }
+}
+
+/// What happened to the top level in an update.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum TlasWork {
+    #[default]
+    None,
+    Refit,
+    Rebuild,
+}
+
+/// The work of one [`AccelCache::update`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BuildReport {
+    pub blas_built: usize,
+    pub blas_reused: usize,
+    pub tlas: TlasWork,
+    /// CPU time of the update (hashing, CPU builds, flattening, recording), milliseconds.
+    pub cpu_ms: f64,
+    /// Bytes uploaded to GPU buffers this update (compute back-end).
+    pub bytes_uploaded: u64,
+    /// BLAS count in use.
+    pub blas_count: usize,
+}
+
+impl BuildReport {
+    pub fn built_anything(&self) -> bool {
+        self.blas_built > 0 || self.tlas != TlasWork::None
+    }
+
+    pub fn describe(&self) -> String {
+        if !self.built_anything() {
+            return format!("no build ({} BLAS cached)", self.blas_count);
+        }
+        let tlas = match self.tlas {
+            TlasWork::None => "TLAS kept",
+            TlasWork::Refit => "TLAS refit",
+            TlasWork::Rebuild => "TLAS rebuilt",
+        };
+        format!("{} BLAS built, {} reused, {tlas}, {:.2} ms CPU", self.blas_built, self.blas_reused, self.cpu_ms)
+    }
+}
+
+/// A fast 64-bit hash of plain data (not cryptographic; a change detector).
+fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
+    let mut h = seed ^ 0x9E37_79B9_7F4A_7C15 ^ bytes.len() as u64;
+    let mut chunks = bytes.chunks_exact(8);
+    for c in &mut chunks {
+        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
+        h = (h ^ w).wrapping_mul(0xFF51_AFD7_ED55_8CCD).rotate_left(29);
+    }
+    for &b in chunks.remainder() {
+        h = (h ^ b as u64).wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    }
+    h ^ (h >> 33)
+}
+
+/// Content hash of what an acceleration structure sees of a mesh: positions and indices.
+pub fn mesh_hash(mesh: &Mesh) -> u64 {
+    let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
+    hash_words(hash_words(1, bytemuck::cast_slice(&positions)), bytemuck::cast_slice(&mesh.indices))
+}
+
+fn instance_hash(inst: &crate::scene::Instance) -> u64 {
+    hash_words(inst.mesh as u64, bytemuck::cast_slice(&inst.transform.to_cols_array()))
+}
+
+/// One BLAS unit: a mesh (de-duplication on) or an instance (off).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct UnitKey {
+    mesh: usize,
+    hash: u64,
+}
+
+struct ComputeState {
+    accel: SceneAccel,
+    /// tlas_nodes, instances, blas_nodes, triangles
+    buffers: [wgpu::Buffer; 4],
+}
+
+struct RqBlas {
+    blas: wgpu::Blas,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    size: wgpu::BlasTriangleGeometrySizeDescriptor,
+}
+
+struct RayQueryState {
+    /// Per unit; `None` for a unit with no valid triangle (its instances are left out).
+    blases: Vec<Option<RqBlas>>,
+    tlas: wgpu::Tlas,
+    capacity: u32,
+}
+
+enum State {
+    Empty,
+    Compute(ComputeState),
+    RayQuery(RayQueryState),
+}
+
+/// The cache of one `Accel` node.
+pub struct AccelCache {
+    backend: Backend,
+    dedup: bool,
+    units: Vec<UnitKey>,
+    instances: Vec<u64>,
+    instance_meshes: Vec<usize>,
+    state: State,
+    stats: wgpu::Buffer,
+    stats_readback: wgpu::Buffer,
+    /// Changes whenever the GPU objects bound by trace passes are replaced.
+    generation: u64,
+    /// Total BLAS builds since creation (tests read it).
+    pub total_blas_builds: usize,
+}
+
+impl AccelCache {
+    pub fn new(device: &wgpu::Device, backend: Backend, dedup: bool) -> Self {
+        let size = (STAT_SLOTS * 4) as u64;
+        let stats = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accel stats"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let stats_readback = device.create_buffer(&wgpu::BufferDescriptor { label: Some("accel stats readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        Self { backend, dedup, units: Vec::new(), instances: Vec::new(), instance_meshes: Vec::new(), state: State::Empty, stats, stats_readback, generation: 0, total_blas_builds: 0 }
+    }
+
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Brings the acceleration structure up to date with `scene`, recording GPU work into
+    /// `encoder` (ray-query builds) or writing buffers through `queue` (compute back-end).
+    pub fn update(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) -> Result<BuildReport, RuntimeError> {
+        let start = Instant::now();
+        let mesh_hashes: Vec<u64> = scene.meshes.par_iter().map(mesh_hash).collect();
+        let units: Vec<UnitKey> = if self.dedup {
+            mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash }).collect()
+        } else {
+            scene.instances.iter().map(|i| UnitKey { mesh: i.mesh, hash: mesh_hashes.get(i.mesh).copied().unwrap_or(0) }).collect()
+        };
+        let instances: Vec<u64> = scene.instances.iter().map(instance_hash).collect();
+        if let Some(bad) = scene.instances.iter().position(|i| i.mesh >= scene.meshes.len()) {
+            return Err(RuntimeError::Gpu(format!("scene `{}`: instance {bad} refers to mesh {} of {}", scene.name, scene.instances[bad].mesh, scene.meshes.len())));
+        }
+        let fresh = matches!(self.state, State::Empty);
+        let changed: Vec<usize> = (0..units.len()).filter(|&u| fresh || self.units.get(u) != Some(&units[u])).collect();
+        let instances_changed = fresh || instances != self.instances;
+        let same_instance_set = !fresh && self.instances.len() == instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
+        let mut report = BuildReport { blas_count: units.len(), ..Default::default() };
+        if changed.is_empty() && !instances_changed {
+            report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+            return Ok(report);
+        }
+        report.blas_built = changed.len();
+        report.blas_reused = units.len() - changed.len();
+        self.total_blas_builds += changed.len();
+        match self.backend {
+            Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
+            Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &mut report)?,
+        }
+        self.units = units;
+        self.instances = instances;
+        self.instance_meshes = scene.instances.iter().map(|i| i.mesh).collect();
+        report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        log::debug!("accel: {}", report.describe());
+        Ok(report)
+    }
+
+    fn update_compute(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, units: &[UnitKey], changed: &[usize], same_instance_set: bool, report: &mut BuildReport) -> Result<(), RuntimeError> {
+        let opts = AccelOptions { dedup: self.dedup, ..Default::default() };
+        let old = match std::mem::replace(&mut self.state, State::Empty) {
+            State::Compute(c) => Some(c),
+            _ => None,
+        };
+        // Instances moved, nothing else: refit the TLAS in place.
+        if let Some(mut c) = old.filter(|_| changed.is_empty() && same_instance_set) {
+            if c.accel.refit_instances(scene).is_ok() {
+                report.tlas = TlasWork::Refit;
+                let flat = flatten(scene, &c.accel);
+                report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
+                self.state = State::Compute(c);
+                return Ok(());
+            }
+            self.state = State::Compute(c);
+        }
+        let old = match std::mem::replace(&mut self.state, State::Empty) {
+            State::Compute(c) => Some(c),
+            _ => None,
+        };
+        let built: Vec<(usize, Blas)> = changed.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
+        let mut old_blases = old.as_ref().map(|c| c.accel.blases.clone()).unwrap_or_default();
+        old_blases.resize_with(units.len(), Blas::default);
+        let mut blases = old_blases;
+        for (u, b) in built {
+            blases[u] = b;
+        }
+        let instance_transforms: Vec<_> = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
+        let instance_blas: Vec<Option<u32>> = scene
+            .instances
+            .iter()
+            .enumerate()
+            .map(|(i, inst)| {
+                let b = if self.dedup { inst.mesh } else { i };
+                (instance_transforms[i].is_some() && blases.get(b).is_some_and(|bl| !bl.is_empty())).then_some(b as u32)
+            })
+            .collect();
+        let bounds: Vec<Aabb> = instance_blas
+            .iter()
+            .zip(&instance_transforms)
+            .map(|(b, xf)| match (b, xf) {
+                (Some(b), Some(xf)) => instance_world_bounds(&blases[*b as usize].bounds(), xf),
+                _ => Aabb::EMPTY,
+            })
+            .collect();
+        let tlas = Tlas::build(&bounds, &opts.build);
+        let accel = SceneAccel {
+            blases,
+            blas_mesh: units.iter().map(|k| Some(k.mesh)).collect(),
+            instance_blas,
+            instance_transforms,
+            tlas,
+            dedup: self.dedup,
+            build_time: std::time::Duration::ZERO,
+        };
+        report.tlas = TlasWork::Rebuild;
+        let flat = flatten(scene, &accel);
+        check_fits(&scene.name, &flat, device.limits().max_storage_buffer_binding_size)?;
+        let mut buffers = match old {
+            Some(c) => c.buffers,
+            None => {
+                self.generation += 1;
+                [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32))
+            }
+        };
+        report.bytes_uploaded = self.upload(device, queue, &mut buffers, &flat);
+        self.state = State::Compute(ComputeState { accel, buffers });
+        Ok(())
+    }
+
+    /// Writes the flattened arrays, growing buffers (and bumping the generation) as needed.
+    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, buffers: &mut [wgpu::Buffer; 4], flat: &GpuAccel) -> u64 {
+        let data: [&[u8]; 4] = [bytemuck::cast_slice(&flat.tlas_nodes), bytemuck::cast_slice(&flat.instances), bytemuck::cast_slice(&flat.blas_nodes), bytemuck::cast_slice(&flat.triangles)];
+        let mut bytes = 0;
+        for (buf, d) in buffers.iter_mut().zip(data) {
+            if (d.len() as u64) > buf.size() {
+                let label = format!("accel buffer of {} bytes", d.len());
+                *buf = storage(device, &label, (d.len() as u64).next_power_of_two());
+                self.generation += 1;
+            }
+            queue.write_buffer(buf, 0, d);
+            bytes += d.len() as u64;
+        }
+        bytes
+    }
+
+    fn update_ray_query(&mut self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, scene: &Scene, units: &[UnitKey], changed: &[usize], report: &mut BuildReport) -> Result<(), RuntimeError> {
+        const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
+        if scene.instances.len() > MAX_CUSTOM_DATA {
+            return Err(RuntimeError::Gpu(format!(
+                "scene `{}` has {} instances; the ray-query back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
+                scene.name,
+                scene.instances.len()
+            )));
+        }
+        let old = match std::mem::replace(&mut self.state, State::Empty) {
+            State::RayQuery(r) => Some(r),
+            _ => None,
+        };
+        let (mut blases, old_tlas) = match old {
+            Some(r) => (r.blases, Some((r.tlas, r.capacity))),
+            None => (Vec::new(), None),
+        };
+        blases.truncate(units.len());
+        blases.resize_with(units.len(), || None);
+        for &u in changed {
+            blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u);
+        }
+        let needed = (scene.instances.len() as u32).max(1);
+        let (mut tlas, capacity) = match old_tlas {
+            Some((t, cap)) if cap >= needed => (t, cap),
+            _ => {
+                self.generation += 1;
+                let cap = needed.next_power_of_two();
+                let t = device.create_tlas(&wgpu::CreateTlasDescriptor {
+                    label: Some("accel tlas"),
+                    max_instances: cap,
+                    flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+                    update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+                });
+                (t, cap)
+            }
+        };
+        for i in 0..capacity as usize {
+            tlas[i] = scene.instances.get(i).and_then(|inst| {
+                let b = blases[if self.dedup { inst.mesh } else { i }].as_ref()?;
+                instance_transform(&inst.transform)?;
+                let m = inst.transform;
+                let rows = [0, 1, 2].map(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], m.w_axis[r]]);
+                Some(wgpu::TlasInstance::new(&b.blas, bytemuck::cast(rows), i as u32, 0xff))
+            });
+        }
+        let entries: Vec<wgpu::BlasBuildEntry> = changed
+            .iter()
+            .filter_map(|&u| blases[u].as_ref())
+            .map(|b| wgpu::BlasBuildEntry {
+                blas: &b.blas,
+                geometry: wgpu::BlasGeometries::TriangleGeometries(vec![wgpu::BlasTriangleGeometry {
+                    size: &b.size,
+                    vertex_buffer: &b.vertices,
+                    first_vertex: 0,
+                    vertex_stride: 12,
+                    index_buffer: Some(&b.indices),
+                    first_index: Some(0),
+                    transform_buffer: None,
+                    transform_buffer_offset: None,
+                }]),
+            })
+            .collect();
+        encoder.build_acceleration_structures(entries.iter(), [&tlas]);
+        drop(entries);
+        report.tlas = TlasWork::Rebuild;
+        self.state = State::RayQuery(RayQueryState { blases, tlas, capacity });
+        Ok(())
+    }
+
+    /// The GPU object a trace-module binding (`accel_*`) refers to.
+    pub fn binding(&self, name: &str) -> Option<wgpu::BindingResource<'_>> {
+        if name == "accel_stats" {
+            return Some(self.stats.as_entire_binding());
+        }
+        match (&self.state, name) {
+            (State::Compute(c), "accel_tlas_nodes") => Some(c.buffers[0].as_entire_binding()),
+            (State::Compute(c), "accel_instances") => Some(c.buffers[1].as_entire_binding()),
+            (State::Compute(c), "accel_blas_nodes") => Some(c.buffers[2].as_entire_binding()),
+            (State::Compute(c), "accel_triangles") => Some(c.buffers[3].as_entire_binding()),
+            (State::RayQuery(r), "accel_tlas") => Some(r.tlas.as_binding()),
+            _ => None,
+        }
+    }
+
+    /// Zeroes the ray counters (start of a frame).
+    pub fn clear_stats(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.stats, 0, None);
+    }
+
+    /// Copies the ray counters for [`AccelCache::read_stats`] (end of a frame).
+    pub fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, (STAT_SLOTS * 4) as u64);
+    }
+
+    /// The ray counts of the last submitted frame (after it completed).
+    pub fn read_stats(&self, device: &wgpu::Device) -> Result<RayStats, RuntimeError> {
+        let data = map_read(device, self.stats_readback.slice(..))?;
+        let v: &[u32] = bytemuck::cast_slice(&data);
+        let stats = RayStats { closest: v[0] as u64, any: v[1] as u64, invalid: v[2] as u64, hits: v[3] as u64 };
+        drop(data);
+        self.stats_readback.unmap();
+        Ok(stats)
+    }
+}
+
+/// The compute back-end binds each array as one storage buffer: a scene whose arrays exceed
+/// the device's binding size is refused with the numbers.
+pub fn check_fits(scene: &str, flat: &GpuAccel, max_binding: u64) -> Result<(), RuntimeError> {
+    let arrays = [
+        ("BLAS nodes", std::mem::size_of_val(flat.blas_nodes.as_slice())),
+        ("triangles", std::mem::size_of_val(flat.triangles.as_slice())),
+        ("TLAS nodes", std::mem::size_of_val(flat.tlas_nodes.as_slice())),
+        ("instances", std::mem::size_of_val(flat.instances.as_slice())),
+    ];
+    for (what, bytes) in arrays {
+        if bytes as u64 > max_binding {
+            return Err(RuntimeError::Gpu(format!(
+                "scene `{scene}` is too large for the compute back-end: its {what} take {bytes} bytes in one storage binding, the device allows {max_binding}\n  help: use a smaller scene or duplication factor, or the ray-query back-end"
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(32), usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false })
+}
+
+/// A wgpu BLAS over a mesh's triangles. Triangles the compute back-end leaves out (degenerate,
+/// non-finite, bad index) become (0, 0, 0) here, so primitive indices stay the mesh's own;
+/// non-finite positions are zeroed. `None` if no triangle is valid.
+fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
+    use wgpu::util::DeviceExt;
+    let tris = mesh.triangle_count();
+    let mut indices = Vec::with_capacity(tris * 3);
+    let mut valid = 0;
+    for t in 0..tris {
+        if classify_mesh_triangle(mesh, t).1 == TriangleStatus::Valid {
+            indices.extend_from_slice(&mesh.indices[3 * t..3 * t + 3]);
+            valid += 1;
+        } else {
+            indices.extend_from_slice(&[0, 0, 0]);
+        }
+    }
+    if valid == 0 {
+        return None;
+    }
+    let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
+    let usage = wgpu::BufferUsages::BLAS_INPUT;
+    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas vertices"), contents: bytemuck::cast_slice(&positions), usage });
+    let index_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas indices"), contents: bytemuck::cast_slice(&indices), usage });
+    let size = wgpu::BlasTriangleGeometrySizeDescriptor {
+        vertex_format: wgpu::VertexFormat::Float32x3,
+        vertex_count: positions.len() as u32,
+        index_format: Some(wgpu::IndexFormat::Uint32),
+        index_count: Some(indices.len() as u32),
+        flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+    };
+    let blas = device.create_blas(
+        &wgpu::CreateBlasDescriptor { label: Some(&format!("blas {unit}")), flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE, update_mode: wgpu::AccelerationStructureUpdateMode::Build },
+        wgpu::BlasGeometrySizeDescriptors::Triangles { descriptors: vec![size.clone()] },
+    );
+    Some(RqBlas { blas, vertices, indices: index_buf, size })
+}

@@ -1,0 +1,340 @@
+//! A CPU traversal of [`GpuAccel`] in f32 that does step for step what the `compute`
+//! back-end's WGSL does, so that the layout and the numerics are tested before the GPU runs.
+//!
+//! For every ray:
+//!
+//! 1. Rays with a non-finite origin or direction, a zero direction, or a NaN interval miss.
+//! 2. The reciprocal direction is taken after replacing every component with
+//!    `|d| < DIR_EPSILON` by `copysign(DIR_EPSILON, d)` ([`safe_reciprocal`]), so that no
+//!    infinity (and so no `0 * inf = NaN`) ever appears in a slab test.
+//! 3. Slab test ([`slab_test`]): per axis the near plane is `min` if the reciprocal is >= 0,
+//!    else `max` (so an inverted box is never entered); `t_near = max(t_near_x, t_near_y,
+//!    t_near_z, t_min)`, `t_far = min(t_far_x, t_far_y, t_far_z, t_max) * T_FAR_SCALE` with
+//!    `T_FAR_SCALE = 1 + 2 * gamma(3)` (Ize, "Robust BVH ray traversal", JCGT 2013; scaling
+//!    `t_max` too keeps a box whose entry rounds a few ulps past the current closest hit, which
+//!    may hold a triangle whose computed `t` is just below it); hit if `t_near <= t_far`.
+//! 4. TLAS: test the root's box; then loop: at a leaf, test its instances in order; at an
+//!    interior node test both children's boxes against the current closest `t`, continue with
+//!    the nearer (left on a tie) and push the farther; pop when nothing is left. The stack is a
+//!    fixed array of [`TRAVERSAL_STACK_SIZE`] entries per level.
+//! 5. Per instance whose `mask & INSTANCE_MASK_ALL != 0`: origin and direction are moved to
+//!    object space with `world_to_object` (direction not renormalised, so `t` stays the world
+//!    `t`), and the BLAS from `blas_root` is traversed the same way with the object-space ray.
+//! 6. Triangles: the watertight test of Woop, Benthin and Wald (JCGT 2013), see
+//!    [`WatertightRay::intersect`]. A hit is accepted if `t_min <= t <= t_closest` and then
+//!    becomes the new closest (so of hits at exactly the same `t` the last one tested wins).
+//!    [`CpuTraverser::any`] returns at the first accepted hit.
+
+use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, INSTANCE_MASK_ALL, TRAVERSAL_STACK_SIZE};
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Direction components smaller than this in magnitude are replaced by it (with their sign).
+pub const DIR_EPSILON: f32 = 1e-30;
+/// `1 + 2 * gamma(3)` with `gamma(n) = n u / (1 - n u)`, `u = 2^-24`: the far-distance scale of a
+/// conservative slab test (3 ulps above 1).
+pub const T_FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * 5.960_464_5e-8 / (1.0 - 3.0 * 5.960_464_5e-8));
+
+/// A ray: hits are reported for `t_min <= t <= t_max`, at `origin + t * dir`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    pub origin: Vec3,
+    pub dir: Vec3,
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+impl Ray {
+    /// A ray over `[0, inf]`.
+    pub fn new(origin: Vec3, dir: Vec3) -> Self {
+        Self { origin, dir, t_min: 0.0, t_max: f32::INFINITY }
+    }
+
+    pub fn with_interval(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Self {
+        Self { origin, dir, t_min, t_max }
+    }
+}
+
+/// A ray hit. `u`, `v` are the barycentric weights of the triangle's `v1` and `v2` (the weight
+/// of `v0` is `1 - u - v`); `front_face` is true when the triangle winds counter-clockwise seen
+/// from the ray origin (decided in object space).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub instance_id: u32,
+    pub prim: u32,
+    pub u: f32,
+    pub v: f32,
+    pub front_face: bool,
+}
+
+/// `1 / d` per component after replacing tiny components by `copysign(DIR_EPSILON, d)`.
+pub fn safe_reciprocal(d: Vec3) -> Vec3 {
+    let f = |x: f32| 1.0 / if x.abs() < DIR_EPSILON { DIR_EPSILON.copysign(x) } else { x };
+    Vec3::new(f(d.x), f(d.y), f(d.z))
+}
+
+/// The conservative slab test: `Some(t_near)` if `[t_min, t_max]` overlaps the node's box.
+pub fn slab_test(n: &GpuBvhNode, o: Vec3, inv: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+    let axis = |a: usize| {
+        let (near, far) = if inv[a] >= 0.0 { (n.min[a], n.max[a]) } else { (n.max[a], n.min[a]) };
+        ((near - o[a]) * inv[a], (far - o[a]) * inv[a])
+    };
+    let (x0, x1) = axis(0);
+    let (y0, y1) = axis(1);
+    let (z0, z1) = axis(2);
+    let t0 = x0.max(y0).max(z0).max(t_min);
+    let t1 = x1.min(y1).min(z1).min(t_max) * T_FAR_SCALE;
+    (t0 <= t1).then_some(t0)
+}
+
+/// Affine 3x4 row-major times a point.
+pub fn transform_point(m: &[[f32; 4]; 3], p: Vec3) -> Vec3 {
+    let r = |i: usize| m[i][0] * p.x + m[i][1] * p.y + m[i][2] * p.z + m[i][3];
+    Vec3::new(r(0), r(1), r(2))
+}
+
+/// Affine 3x4 row-major times a vector (no translation).
+pub fn transform_vector(m: &[[f32; 4]; 3], d: Vec3) -> Vec3 {
+    let r = |i: usize| m[i][0] * d.x + m[i][1] * d.y + m[i][2] * d.z;
+    Vec3::new(r(0), r(1), r(2))
+}
+
+/// True if `a` precedes `b` lexicographically by (x, y, z): the fixed order in which the two
+/// vertices of an edge enter its edge function.
+fn vertex_before(a: Vec3, b: Vec3) -> bool {
+    a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z)))
+}
+
+/// The 2D edge function `P x Q = Px Qy - Py Qx` of sheared vertices `p`, `q`, always evaluated
+/// with the lexicographically smaller object-space vertex first and negated if needed, so both
+/// triangles sharing the edge compute bitwise the same magnitude (one of them negated).
+fn edge_function(p: (f32, f32), q: (f32, f32), p_obj: Vec3, q_obj: Vec3) -> f32 {
+    if vertex_before(p_obj, q_obj) {
+        p.0 * q.1 - p.1 * q.0
+    } else {
+        -(q.0 * p.1 - q.1 * p.0)
+    }
+}
+
+/// A ray prepared for the watertight ray-triangle test in one space (object space here).
+#[derive(Debug, Clone, Copy)]
+pub struct WatertightRay {
+    pub org: Vec3,
+    /// The axis of the largest `|dir|` component, and the two others (swapped when
+    /// `dir[kz] < 0` to keep the winding).
+    pub kx: usize,
+    pub ky: usize,
+    pub kz: usize,
+    /// Shear `dir[kx] / dir[kz]`, `dir[ky] / dir[kz]` and scale `1 / dir[kz]`.
+    pub sx: f32,
+    pub sy: f32,
+    pub sz: f32,
+}
+
+impl WatertightRay {
+    /// `None` for a zero direction.
+    pub fn new(org: Vec3, dir: Vec3) -> Option<Self> {
+        let a = dir.abs();
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        if dir[kz] == 0.0 || !dir[kz].is_finite() {
+            return None;
+        }
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        Some(Self { org, kx, ky, kz, sx: dir[kx] / dir[kz], sy: dir[ky] / dir[kz], sz: 1.0 / dir[kz] })
+    }
+
+    /// Woop-Benthin-Wald watertight test: translate the vertices to the origin, shear them so
+    /// the ray is +z, and evaluate the edge functions `U` (edge v2-v1, weight of v0), `V` (edge
+    /// v0-v2, weight of v1), `W` (edge v1-v0, weight of v2) with [`edge_function`]. Accepted iff
+    /// none is < 0 or none is > 0 (an exact 0 counts as either sign, so a ray through a shared
+    /// edge or vertex hits every triangle around it, never none), and `det = U + V + W != 0`.
+    /// Returns `(t, u, v, front_face)` for `t_min <= t <= t_max`; `front_face` is `det > 0`
+    /// (counter-clockwise seen from the origin).
+    pub fn intersect(&self, tri: &GpuTriangle, t_min: f32, t_max: f32) -> Option<(f32, f32, f32, bool)> {
+        let (p0, p1, p2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+        let a = p0 - self.org;
+        let b = p1 - self.org;
+        let c = p2 - self.org;
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let a2 = (a[kx] - self.sx * a[kz], a[ky] - self.sy * a[kz]);
+        let b2 = (b[kx] - self.sx * b[kz], b[ky] - self.sy * b[kz]);
+        let c2 = (c[kx] - self.sx * c[kz], c[ky] - self.sy * c[kz]);
+        let u = edge_function(c2, b2, p2, p1);
+        let v = edge_function(a2, c2, p0, p2);
+        let w = edge_function(b2, a2, p1, p0);
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None;
+        }
+        let az = self.sz * a[kz];
+        let bz = self.sz * b[kz];
+        let cz = self.sz * c[kz];
+        let tt = u * az + v * bz + w * cz;
+        let rcp = 1.0 / det;
+        let t = tt * rcp;
+        // Written so that a NaN `t` is rejected.
+        if !(t >= t_min && t <= t_max) {
+            return None;
+        }
+        Some((t, v * rcp, w * rcp, det > 0.0))
+    }
+}
+
+/// Traverses a [`GpuAccel`] on the CPU.
+#[derive(Debug, Clone, Copy)]
+pub struct CpuTraverser<'a> {
+    pub accel: &'a GpuAccel,
+}
+
+impl<'a> CpuTraverser<'a> {
+    pub fn new(accel: &'a GpuAccel) -> Self {
+        Self { accel }
+    }
+
+    /// The closest hit in `[t_min, t_max]`.
+    pub fn closest(&self, ray: &Ray) -> Option<Hit> {
+        self.trace(ray, false)
+    }
+
+    /// Whether anything is hit in `[t_min, t_max]` (stops at the first hit found).
+    pub fn any(&self, ray: &Ray) -> bool {
+        self.trace(ray, true).is_some()
+    }
+
+    /// [`CpuTraverser::closest`] for many rays, in parallel.
+    pub fn closest_many(&self, rays: &[Ray]) -> Vec<Option<Hit>> {
+        rays.par_iter().map(|r| self.closest(r)).collect()
+    }
+
+    /// [`CpuTraverser::any`] for many rays, in parallel.
+    pub fn any_many(&self, rays: &[Ray]) -> Vec<bool> {
+        rays.par_iter().map(|r| self.any(r)).collect()
+    }
+
+    fn trace(&self, ray: &Ray, any_hit: bool) -> Option<Hit> {
+        let a = self.accel;
+        if !(ray.origin.is_finite() && ray.dir.is_finite()) || ray.dir == Vec3::ZERO || ray.t_min.is_nan() || ray.t_max.is_nan() {
+            return None;
+        }
+        let inv = safe_reciprocal(ray.dir);
+        let mut t_far = ray.t_max;
+        let mut best: Option<Hit> = None;
+        let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
+        let mut sp = 0usize;
+        slab_test(a.tlas_nodes.first()?, ray.origin, inv, ray.t_min, t_far)?;
+        let mut node = 0u32;
+        loop {
+            let Some(n) = a.tlas_nodes.get(node as usize) else { break };
+            if n.count > 0 {
+                for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
+                    let Some(inst) = a.instances.get(k as usize) else { break };
+                    if inst.mask & INSTANCE_MASK_ALL == 0 {
+                        continue;
+                    }
+                    if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit) {
+                        t_far = h.t;
+                        best = Some(h);
+                        if any_hit {
+                            return best;
+                        }
+                    }
+                }
+            } else if let Some(next) = visit_children(&a.tlas_nodes, n, ray.origin, inv, ray.t_min, t_far, &mut stack, &mut sp) {
+                node = next;
+                continue;
+            }
+            if sp == 0 {
+                break;
+            }
+            sp -= 1;
+            node = stack[sp];
+        }
+        best
+    }
+
+    /// The closest hit in `[ray.t_min, t_far]` within one instance.
+    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, mut t_far: f32, any_hit: bool) -> Option<Hit> {
+        let a = self.accel;
+        let o = transform_point(&inst.world_to_object, ray.origin);
+        let d = transform_vector(&inst.world_to_object, ray.dir);
+        let wt = WatertightRay::new(o, d)?;
+        let inv = safe_reciprocal(d);
+        let mut best: Option<Hit> = None;
+        let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
+        let mut sp = 0usize;
+        let mut node = inst.blas_root;
+        slab_test(a.blas_nodes.get(node as usize)?, o, inv, ray.t_min, t_far)?;
+        loop {
+            let Some(n) = a.blas_nodes.get(node as usize) else { break };
+            if n.count > 0 {
+                for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
+                    let Some(tri) = a.triangles.get(k as usize) else { break };
+                    if let Some((t, u, v, front_face)) = wt.intersect(tri, ray.t_min, t_far) {
+                        t_far = t;
+                        best = Some(Hit { t, instance_id: inst.instance_id, prim: tri.prim, u, v, front_face });
+                        if any_hit {
+                            return best;
+                        }
+                    }
+                }
+            } else if let Some(next) = visit_children(&a.blas_nodes, n, o, inv, ray.t_min, t_far, &mut stack, &mut sp) {
+                node = next;
+                continue;
+            }
+            if sp == 0 {
+                break;
+            }
+            sp -= 1;
+            node = stack[sp];
+        }
+        best
+    }
+}
+
+/// Tests both children of interior node `n`; returns the child to visit next (the nearer, left
+/// on a tie) after pushing the other one if it is hit too.
+#[allow(clippy::too_many_arguments)]
+fn visit_children(
+    nodes: &[GpuBvhNode],
+    n: &GpuBvhNode,
+    o: Vec3,
+    inv: Vec3,
+    t_min: f32,
+    t_far: f32,
+    stack: &mut [u32; TRAVERSAL_STACK_SIZE],
+    sp: &mut usize,
+) -> Option<u32> {
+    let l = n.left_or_first;
+    let r = l.wrapping_add(1);
+    let tl = nodes.get(l as usize).and_then(|c| slab_test(c, o, inv, t_min, t_far));
+    let tr = nodes.get(r as usize).and_then(|c| slab_test(c, o, inv, t_min, t_far));
+    match (tl, tr) {
+        (Some(a), Some(b)) => {
+            let (near, far) = if a <= b { (l, r) } else { (r, l) };
+            // The builder bounds the depth so the stack cannot overflow; if a foreign tree
+            // does, the farther subtree is skipped rather than written out of bounds.
+            if *sp < TRAVERSAL_STACK_SIZE {
+                stack[*sp] = far;
+                *sp += 1;
+            }
+            Some(near)
+        }
+        (Some(_), None) => Some(l),
+        (None, Some(_)) => Some(r),
+        (None, None) => None,
+    }
+}

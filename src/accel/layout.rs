@@ -1,0 +1,260 @@
+//! The GPU layout of the two-level BVH that the `compute` back-end's WGSL traverses, and
+//! [`flatten`], which turns a [`SceneAccel`] into it.
+//!
+//! Four storage arrays, all `#[repr(C)]` + [`Pod`], none ever empty:
+//!
+//! - `blas_nodes: array<GpuBvhNode>`: the BLAS nodes of every BLAS, concatenated.
+//! - `triangles: array<GpuTriangle>`: object-space triangles of every BLAS in leaf order.
+//! - `tlas_nodes: array<GpuBvhNode>`: the TLAS, root at index 0.
+//! - `instances: array<GpuInstance>`: the instances in TLAS leaf order.
+//!
+//! # Nodes
+//!
+//! A [`GpuBvhNode`] with `count == 0` is interior: its children are at `left_or_first` and
+//! `left_or_first + 1` in the same array. With `count > 0` it is a leaf of `count` primitives
+//! starting at `left_or_first`: triangles for a BLAS node, instances for a TLAS node. Every
+//! index is absolute into its array. A traversal tests a node's own box before using it (the
+//! root's box first, then both children's boxes when visiting an interior node). Node boxes
+//! are the exact bounds widened outward by one ulp plus 1e-20 ([`widen_up`]), so that a ray
+//! with a zero direction component lying exactly in a face plane still enters the box.
+//!
+//! # Empty trees
+//!
+//! An empty BLAS (a mesh with no usable triangle) and an empty TLAS (no usable instance) are a
+//! single *leaf* of `count = 1` with the inverted box `min = +f32::MAX`, `max = -f32::MAX`
+//! ([`EMPTY_BOX_MIN`], [`EMPTY_BOX_MAX`]). A slab test that picks the near/far plane by the sign
+//! of the direction (as [`crate::accel::cpu_traverse`] does) never enters it; a traversal that
+//! took `min`/`max` of the two slab distances would see an unbounded box, so the leaf still
+//! points at a primitive that cannot be hit: the empty BLAS at a padding triangle with three
+//! zero vertices (`det == 0`, rejected; `prim` = [`NO_PRIM`]), the empty TLAS at a padding
+//! instance with `mask = 0`, `instance_id` = [`NO_INSTANCE`] and an empty BLAS. No box holds a
+//! NaN.
+//!
+//! # Instances
+//!
+//! [`GpuInstance`] matrices are affine 3x4, row-major: row `r` is
+//! `[m[r][0], m[r][1], m[r][2], t[r]]`, so `p' = (dot(row0.xyz, p) + row0.w, ...)`. They are
+//! computed in f64 and rounded to f32. A ray is moved into object space with `world_to_object`
+//! (origin as a point, direction as a vector, not renormalised, so `t` stays the world `t`).
+
+use super::bvh::{mesh_triangle, Aabb, AccelOptions, Bvh, SceneAccel, MAX_TREE_DEPTH};
+use crate::scene::Scene;
+use bytemuck::{Pod, Zeroable};
+use glam::DAffine3;
+
+/// `min` of an empty node's box.
+pub const EMPTY_BOX_MIN: [f32; 3] = [f32::MAX; 3];
+/// `max` of an empty node's box.
+pub const EMPTY_BOX_MAX: [f32; 3] = [-f32::MAX; 3];
+/// `prim` of the padding triangle.
+pub const NO_PRIM: u32 = u32::MAX;
+/// `instance_id` of the padding instance.
+pub const NO_INSTANCE: u32 = u32::MAX;
+/// `mask` of every real instance (the padding instance has 0). A traversal skips an instance
+/// whose `mask & ray_mask == 0`; the CPU traversal uses `ray_mask` = [`INSTANCE_MASK_ALL`].
+pub const INSTANCE_MASK_ALL: u32 = 0xFF;
+/// Traversal stack entries that suffice for one level (TLAS or BLAS) of any tree the builder
+/// makes (nearer-first traversal pushes at most one node per level).
+pub const TRAVERSAL_STACK_SIZE: usize = MAX_TREE_DEPTH;
+
+/// A BVH node, 32 bytes. See the module docs for the meaning of `left_or_first` and `count`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
+pub struct GpuBvhNode {
+    pub min: [f32; 3],
+    pub left_or_first: u32,
+    pub max: [f32; 3],
+    pub count: u32,
+}
+
+/// An object-space triangle, 48 bytes, in BLAS leaf order. `prim` is the triangle's index in
+/// its mesh (index / 3).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
+pub struct GpuTriangle {
+    pub v0: [f32; 3],
+    pub prim: u32,
+    pub v1: [f32; 3],
+    pub _pad0: u32,
+    pub v2: [f32; 3],
+    pub _pad1: u32,
+}
+
+/// An instance, 112 bytes. Matrices are row-major 3x4 (see the module docs). `blas_root` is the
+/// absolute index of its BLAS's root in `blas_nodes`; `instance_id` its index in
+/// `Scene::instances`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
+pub struct GpuInstance {
+    pub world_to_object: [[f32; 4]; 3],
+    pub object_to_world: [[f32; 4]; 3],
+    pub blas_root: u32,
+    pub instance_id: u32,
+    pub mask: u32,
+    pub _pad: u32,
+}
+
+/// The flattened two-level BVH. Every array has at least one element.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GpuAccel {
+    pub blas_nodes: Vec<GpuBvhNode>,
+    pub triangles: Vec<GpuTriangle>,
+    pub tlas_nodes: Vec<GpuBvhNode>,
+    pub instances: Vec<GpuInstance>,
+    /// Root of each BLAS in `blas_nodes`: per mesh with de-duplication (the default), per scene
+    /// instance without. Host-side bookkeeping (empty for a scene without meshes), not a binding.
+    pub blas_roots: Vec<u32>,
+}
+
+impl GpuAccel {
+    /// Builds both levels for `scene` and flattens them.
+    pub fn build(scene: &Scene, opts: &AccelOptions) -> GpuAccel {
+        flatten(scene, &SceneAccel::build(scene, opts))
+    }
+
+    /// Bytes of the four GPU arrays.
+    pub fn byte_size(&self) -> usize {
+        std::mem::size_of_val(self.blas_nodes.as_slice())
+            + std::mem::size_of_val(self.triangles.as_slice())
+            + std::mem::size_of_val(self.tlas_nodes.as_slice())
+            + std::mem::size_of_val(self.instances.as_slice())
+    }
+}
+
+/// The node of an empty tree: a never-entered leaf of one padding primitive at `first`.
+pub fn empty_node(first: u32) -> GpuBvhNode {
+    GpuBvhNode { min: EMPTY_BOX_MIN, left_or_first: first, max: EMPTY_BOX_MAX, count: 1 }
+}
+
+/// Absolute part of the outward widening of every node box, see [`widen_down`].
+pub const BOX_PAD_ABS: f32 = 1e-20;
+
+/// `x` moved outward (down) by one ulp past `x - BOX_PAD_ABS`. The traversal replaces a zero
+/// direction component by `+-1e-30`, which moves a ray that lies exactly in a box face plane by
+/// `1e-30 * t` across that plane; widening every box by more than that (for `t < 1e10`) keeps
+/// such a ray inside, so it still reaches a triangle edge lying in that plane.
+pub fn widen_down(x: f32) -> f32 {
+    (x - BOX_PAD_ABS).next_down()
+}
+
+/// `x` moved outward (up), the mirror of [`widen_down`].
+pub fn widen_up(x: f32) -> f32 {
+    (x + BOX_PAD_ABS).next_up()
+}
+
+fn box_arrays(b: &Aabb) -> ([f32; 3], [f32; 3]) {
+    // Non-empty trees have finite boxes; an empty (or, defensively, non-finite) one becomes the
+    // inverted placeholder so that no NaN or infinity reaches the GPU.
+    if b.is_empty() || !b.is_finite() {
+        (EMPTY_BOX_MIN, EMPTY_BOX_MAX)
+    } else {
+        let (min, max) = (b.min.to_array().map(widen_down), b.max.to_array().map(widen_up));
+        if min.iter().chain(&max).all(|x| x.is_finite()) {
+            (min, max)
+        } else {
+            (b.min.to_array(), b.max.to_array())
+        }
+    }
+}
+
+/// Appends `bvh`'s nodes to `out` with interior indices shifted by `node_base` and leaf indices
+/// by `prim_base`.
+fn push_nodes(out: &mut Vec<GpuBvhNode>, bvh: &Bvh, node_base: u32, prim_base: u32) {
+    out.extend(bvh.nodes.iter().map(|n| {
+        let (min, max) = box_arrays(&n.bounds);
+        let left_or_first = if n.is_leaf() { n.left_or_first + prim_base } else { n.left_or_first + node_base };
+        GpuBvhNode { min, left_or_first, max, count: n.count }
+    }));
+}
+
+/// Row-major 3x4 rows of an affine map.
+pub fn affine_rows(a: &DAffine3) -> [[f32; 4]; 3] {
+    let m = a.matrix3;
+    let t = a.translation;
+    [0, 1, 2].map(|r| [m.x_axis[r] as f32, m.y_axis[r] as f32, m.z_axis[r] as f32, t[r] as f32])
+}
+
+/// Flattens `accel` (built from `scene`) into the GPU layout.
+pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
+    let mut out = GpuAccel::default();
+    let mut empty_blas_nodes = Vec::new();
+    for (blas, mesh) in accel.blases.iter().zip(&accel.blas_mesh) {
+        let node_base = out.blas_nodes.len() as u32;
+        out.blas_roots.push(node_base);
+        let mesh = mesh.and_then(|m| scene.meshes.get(m));
+        match mesh {
+            Some(mesh) if !blas.is_empty() => {
+                let tri_base = out.triangles.len() as u32;
+                push_nodes(&mut out.blas_nodes, &blas.bvh, node_base, tri_base);
+                out.triangles.extend(blas.bvh.prim_order.iter().map(|&prim| {
+                    // The mesh is the one the BLAS was built from; a bad index (a mesh edited
+                    // behind our back) becomes a zero, never-hit triangle.
+                    let v = mesh_triangle(mesh, prim as usize).unwrap_or([glam::Vec3::ZERO; 3]);
+                    GpuTriangle { v0: v[0].to_array(), prim, v1: v[1].to_array(), _pad0: 0, v2: v[2].to_array(), _pad1: 0 }
+                }));
+            }
+            _ => {
+                empty_blas_nodes.push(node_base as usize);
+                out.blas_nodes.push(empty_node(0));
+            }
+        }
+    }
+
+    // TLAS.
+    let tlas = &accel.tlas.bvh;
+    if !tlas.is_empty() {
+        push_nodes(&mut out.tlas_nodes, tlas, 0, 0);
+        for &i in &tlas.prim_order {
+            let i = i as usize;
+            let root = accel.instance_blas.get(i).copied().flatten().and_then(|b| out.blas_roots.get(b as usize).copied());
+            match (accel.instance_transforms.get(i).copied().flatten(), root) {
+                (Some(xf), Some(root)) => out.instances.push(GpuInstance {
+                    world_to_object: affine_rows(&xf.inverse()),
+                    object_to_world: affine_rows(&xf),
+                    blas_root: root,
+                    instance_id: i as u32,
+                    mask: INSTANCE_MASK_ALL,
+                    _pad: 0,
+                }),
+                // Unreachable for an accel built from `scene`; keep the slot as padding.
+                _ => {
+                    let pad = padding_instance(&mut out, &mut empty_blas_nodes);
+                    out.instances.push(pad);
+                }
+            }
+        }
+    } else {
+        out.tlas_nodes.push(empty_node(0));
+        let pad = padding_instance(&mut out, &mut empty_blas_nodes);
+        out.instances.push(pad);
+    }
+
+    // The padding triangle for the empty BLAS leaves (and so that `triangles` is never empty).
+    if !empty_blas_nodes.is_empty() || out.triangles.is_empty() {
+        let pad = out.triangles.len() as u32;
+        out.triangles.push(GpuTriangle { prim: NO_PRIM, ..Default::default() });
+        for n in empty_blas_nodes {
+            out.blas_nodes[n].left_or_first = pad;
+        }
+    }
+    let depth = accel.blases.iter().map(|b| b.bvh.depth()).chain([tlas.depth()]).max().unwrap_or(0);
+    if depth >= TRAVERSAL_STACK_SIZE {
+        log::warn!("accel: a BVH is {depth} levels deep; a {TRAVERSAL_STACK_SIZE}-entry traversal stack may overflow");
+    }
+    out
+}
+
+/// A never-hit instance pointing at an empty BLAS (appended if there is none yet).
+fn padding_instance(out: &mut GpuAccel, empty_blas_nodes: &mut Vec<usize>) -> GpuInstance {
+    let root = match empty_blas_nodes.first() {
+        Some(&n) => n as u32,
+        None => {
+            let n = out.blas_nodes.len();
+            out.blas_nodes.push(empty_node(0));
+            empty_blas_nodes.push(n);
+            n as u32
+        }
+    };
+    let identity = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+    GpuInstance { world_to_object: identity, object_to_world: identity, blas_root: root, instance_id: NO_INSTANCE, mask: 0, _pad: 0 }
+}

@@ -1,0 +1,30 @@
+//! Acceleration structures for ray tracing.
+//!
+//! The CPU side of the `compute` back-end's own two-level BVH, and the ground truth it is tested
+//! against:
+//!
+//! - [`bvh`]: the parallel binned-SAH builder ([`bvh::Bvh`]: build, SAH cost, refit), the
+//!   bottom level per mesh ([`bvh::Blas`], over object-space triangles; degenerate and
+//!   non-finite triangles are left out and counted), the top level over instances
+//!   ([`bvh::Tlas`]) and both together for a scene ([`bvh::SceneAccel`], with or without BLAS
+//!   de-duplication, refit after instances or vertices moved).
+//! - [`layout`]: the `#[repr(C)]` GPU layout that the WGSL traversal reads ([`layout::GpuBvhNode`],
+//!   [`layout::GpuTriangle`], [`layout::GpuInstance`], [`layout::GpuAccel`]) and
+//!   [`layout::flatten`], including the never-hit placeholders that keep every array non-empty.
+//! - [`cpu_traverse`]: an f32 traversal of [`layout::GpuAccel`] that does what the WGSL does
+//!   (robust slab test, nearer-first stack traversal, watertight ray-triangle test), so the
+//!   layout and numerics are tested before any GPU runs.
+//! - [`reference`]: the brute-force f64 ray caster that tests use as ground truth for both GPU
+//!   back-ends, with each hit's distance to the nearest edge to classify disagreements.
+//!
+//! The remaining modules (back-end selection, the acceleration-structure cache behind a
+//! graph's `Accel` node, batch tracing through a back-end) are the GPU side and document
+//! themselves.
+
+pub mod backend;
+pub mod batch;
+pub mod bvh;
+pub mod cache;
+pub mod cpu_traverse;
+pub mod layout;
+pub mod reference;
