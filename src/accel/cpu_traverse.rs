@@ -3,39 +3,46 @@
 //!
 //! For every ray:
 //!
-//! 1. Rays with a non-finite origin or direction, a zero direction, or a NaN interval miss.
+//! 1. Invalid rays miss ([`ray_is_valid`]: non-finite origin or direction, zero direction,
+//!    negative or non-finite `t_min`, `t_max < t_min`).
 //! 2. The reciprocal direction is taken after replacing every component with
 //!    `|d| < DIR_EPSILON` by `copysign(DIR_EPSILON, d)` ([`safe_reciprocal`]), so that no
 //!    infinity (and so no `0 * inf = NaN`) ever appears in a slab test.
 //! 3. Slab test ([`slab_test`]): per axis the near plane is `min` if the reciprocal is >= 0,
-//!    else `max` (so an inverted box is never entered); `t_near = max(t_near_x, t_near_y,
-//!    t_near_z, t_min)`, `t_far = min(t_far_x, t_far_y, t_far_z, t_max) * T_FAR_SCALE` with
-//!    `T_FAR_SCALE = 1 + 2 * gamma(3)` (Ize, "Robust BVH ray traversal", JCGT 2013; scaling
-//!    `t_max` too keeps a box whose entry rounds a few ulps past the current closest hit, which
-//!    may hold a triangle whose computed `t` is just below it); hit if `t_near <= t_far`.
-//! 4. TLAS: test the root's box; then loop: at a leaf, test its instances in order; at an
-//!    interior node test both children's boxes against the current closest `t`, continue with
-//!    the nearer (left on a tie) and push the farther; pop when nothing is left. The stack is a
-//!    fixed array of [`TRAVERSAL_STACK_SIZE`] entries per level.
-//! 5. Per instance whose `mask & INSTANCE_MASK_ALL != 0`: origin and direction are moved to
-//!    object space with `world_to_object` (direction not renormalised, so `t` stays the world
-//!    `t`), and the BLAS from `blas_root` is traversed the same way with the object-space ray.
+//!    else `max`; `t_near = max(t_near_x, t_near_y, t_near_z, t_min)`,
+//!    `t_far = min(t_far_x, t_far_y, t_far_z, t_max) * T_FAR_SCALE` (Ize, "Robust BVH ray
+//!    traversal", JCGT 2013; scaling `t_max` too keeps a box whose entry rounds a few ulps past
+//!    the current closest hit); hit if `t_near <= t_far`. For a proper box this is bitwise the
+//!    WGSL's `min`/`max` of the two slab distances (rounding is monotone); only the inverted
+//!    placeholder box differs, and the layout makes that harmless either way.
+//! 4. TLAS: test the root's box (the WGSL skips this early-out; boxes nest and the test is
+//!    monotone, so the results are the same); then loop: at a leaf, test its instances in order;
+//!    at an interior node test both children's boxes against the current closest `t`, continue
+//!    with the nearer (left on a tie) and push the farther; pop when nothing is left. The stack
+//!    is a fixed array of [`TRAVERSAL_STACK_SIZE`] entries per level; a push onto a full stack
+//!    is dropped (the builder's depth bound makes that unreachable).
+//! 5. Per instance with a non-zero `mask`: origin and direction are moved to object space with
+//!    `world_to_object` (direction not renormalised, so `t` stays the world `t`), and the BLAS
+//!    from `blas_root` is traversed the same way with the object-space ray.
 //! 6. Triangles: the watertight test of Woop, Benthin and Wald (JCGT 2013), see
-//!    [`WatertightRay::intersect`]. A hit is accepted if `t_min <= t <= t_closest` and then
+//!    [`WatertightRay::intersect`]. A hit is accepted if `t_min < t <= t_closest` and then
 //!    becomes the new closest (so of hits at exactly the same `t` the last one tested wins).
 //!    [`CpuTraverser::any`] returns at the first accepted hit.
+//!
+//! Everything is plain f32 arithmetic in a fixed order, with no fused multiply-add.
 
-use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, INSTANCE_MASK_ALL, TRAVERSAL_STACK_SIZE};
+use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, TRAVERSAL_STACK_SIZE};
 use glam::Vec3;
 use rayon::prelude::*;
 
 /// Direction components smaller than this in magnitude are replaced by it (with their sign).
 pub const DIR_EPSILON: f32 = 1e-30;
-/// `1 + 2 * gamma(3)` with `gamma(n) = n u / (1 - n u)`, `u = 2^-24`: the far-distance scale of a
-/// conservative slab test (3 ulps above 1).
-pub const T_FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * 5.960_464_5e-8 / (1.0 - 3.0 * 5.960_464_5e-8));
+/// The far-distance scale of the conservative slab test: 1 + 4 ulps, above Ize's
+/// `1 + 2 * gamma(3)` (`gamma(n) = n u / (1 - n u)`, `u = 2^-24`, about 3 ulps). The WGSL's
+/// `TRACE_WIDEN`.
+pub const T_FAR_SCALE: f32 = 1.000_000_5;
 
-/// A ray: hits are reported for `t_min <= t <= t_max`, at `origin + t * dir`.
+/// A ray: hits are reported for `t_min < t <= t_max`, at `origin + t * dir`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray {
     pub origin: Vec3,
@@ -66,6 +73,15 @@ pub struct Hit {
     pub u: f32,
     pub v: f32,
     pub front_face: bool,
+}
+
+/// Whether a ray is traced at all (the WGSL's `trace_ray_is_valid`): finite origin and
+/// direction, a non-zero direction, `t_min` finite and not negative (not even -0), `t_max` finite
+/// or +inf, and `t_max >= t_min`. Invalid rays miss.
+pub fn ray_is_valid(ray: &Ray) -> bool {
+    let t_max_ok = ray.t_max.is_finite() || ray.t_max == f32::INFINITY;
+    let t_ok = ray.t_min.is_finite() && !ray.t_min.is_sign_negative() && t_max_ok && ray.t_max >= ray.t_min;
+    ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO && t_ok
 }
 
 /// `1 / d` per component after replacing tiny components by `copysign(DIR_EPSILON, d)`.
@@ -100,20 +116,19 @@ pub fn transform_vector(m: &[[f32; 4]; 3], d: Vec3) -> Vec3 {
     Vec3::new(r(0), r(1), r(2))
 }
 
-/// True if `a` precedes `b` lexicographically by (x, y, z): the fixed order in which the two
-/// vertices of an edge enter its edge function.
-fn vertex_before(a: Vec3, b: Vec3) -> bool {
-    a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z)))
-}
-
 /// The 2D edge function `P x Q = Px Qy - Py Qx` of sheared vertices `p`, `q`, always evaluated
-/// with the lexicographically smaller object-space vertex first and negated if needed, so both
-/// triangles sharing the edge compute bitwise the same magnitude (one of them negated).
-fn edge_function(p: (f32, f32), q: (f32, f32), p_obj: Vec3, q_obj: Vec3) -> f32 {
-    if vertex_before(p_obj, q_obj) {
-        p.0 * q.1 - p.1 * q.0
+/// with the two points in a fixed order (lexicographic by x, then y; a shared vertex has the
+/// same sheared coordinates in every triangle) and negated if they were swapped, so both
+/// triangles sharing an edge compute bitwise the same magnitude, one of them negated, however a
+/// compiler fuses the arithmetic. The WGSL's `trace_edge`.
+pub fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
+    let swap = p.0 > q.0 || (p.0 == q.0 && p.1 > q.1);
+    let (a, b) = if swap { (q, p) } else { (p, q) };
+    let e = a.0 * b.1 - a.1 * b.0;
+    if swap {
+        -e
     } else {
-        -(q.0 * p.1 - q.1 * p.0)
+        e
     }
 }
 
@@ -121,6 +136,7 @@ fn edge_function(p: (f32, f32), q: (f32, f32), p_obj: Vec3, q_obj: Vec3) -> f32 
 #[derive(Debug, Clone, Copy)]
 pub struct WatertightRay {
     pub org: Vec3,
+    pub dir: Vec3,
     /// The axis of the largest `|dir|` component, and the two others (swapped when
     /// `dir[kz] < 0` to keep the winding).
     pub kx: usize,
@@ -136,9 +152,9 @@ impl WatertightRay {
     /// `None` for a zero direction.
     pub fn new(org: Vec3, dir: Vec3) -> Option<Self> {
         let a = dir.abs();
-        let kz = if a.x >= a.y && a.x >= a.z {
+        let kz = if a.x > a.y && a.x > a.z {
             0
-        } else if a.y >= a.z {
+        } else if a.y > a.z {
             1
         } else {
             2
@@ -151,16 +167,18 @@ impl WatertightRay {
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        Some(Self { org, kx, ky, kz, sx: dir[kx] / dir[kz], sy: dir[ky] / dir[kz], sz: 1.0 / dir[kz] })
+        Some(Self { org, dir, kx, ky, kz, sx: dir[kx] / dir[kz], sy: dir[ky] / dir[kz], sz: 1.0 / dir[kz] })
     }
 
     /// Woop-Benthin-Wald watertight test: translate the vertices to the origin, shear them so
-    /// the ray is +z, and evaluate the edge functions `U` (edge v2-v1, weight of v0), `V` (edge
-    /// v0-v2, weight of v1), `W` (edge v1-v0, weight of v2) with [`edge_function`]. Accepted iff
-    /// none is < 0 or none is > 0 (an exact 0 counts as either sign, so a ray through a shared
-    /// edge or vertex hits every triangle around it, never none), and `det = U + V + W != 0`.
-    /// Returns `(t, u, v, front_face)` for `t_min <= t <= t_max`; `front_face` is `det > 0`
-    /// (counter-clockwise seen from the origin).
+    /// the ray is +z, and evaluate the edge functions `U = E(v1, v2)` (weight of v0),
+    /// `V = E(v2, v0)` (weight of v1), `W = E(v0, v1)` (weight of v2) with [`edge_function`].
+    /// Accepted iff none is < 0 or none is > 0 (an exact 0 counts as either sign, so a ray
+    /// through a shared edge or vertex hits every triangle around it, never none; with
+    /// sign-exact-or-zero f32 edge functions the triangle that truly contains the ray always
+    /// passes), and `det = U + V + W != 0`. Returns `(t, u, v, front_face)` for
+    /// `t_min < t <= t_max` (`u`, `v` the weights of v1, v2); `front_face` is
+    /// `dot((v1 - v0) x (v2 - v0), dir) < 0`, counter-clockwise seen from the origin.
     pub fn intersect(&self, tri: &GpuTriangle, t_min: f32, t_max: f32) -> Option<(f32, f32, f32, bool)> {
         let (p0, p1, p2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
         let a = p0 - self.org;
@@ -170,9 +188,9 @@ impl WatertightRay {
         let a2 = (a[kx] - self.sx * a[kz], a[ky] - self.sy * a[kz]);
         let b2 = (b[kx] - self.sx * b[kz], b[ky] - self.sy * b[kz]);
         let c2 = (c[kx] - self.sx * c[kz], c[ky] - self.sy * c[kz]);
-        let u = edge_function(c2, b2, p2, p1);
-        let v = edge_function(a2, c2, p0, p2);
-        let w = edge_function(b2, a2, p1, p0);
+        let u = edge_function(b2, c2);
+        let v = edge_function(c2, a2);
+        let w = edge_function(a2, b2);
         if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
             return None;
         }
@@ -183,14 +201,13 @@ impl WatertightRay {
         let az = self.sz * a[kz];
         let bz = self.sz * b[kz];
         let cz = self.sz * c[kz];
-        let tt = u * az + v * bz + w * cz;
-        let rcp = 1.0 / det;
-        let t = tt * rcp;
+        let t = (u * az + v * bz + w * cz) / det;
         // Written so that a NaN `t` is rejected.
-        if !(t >= t_min && t <= t_max) {
+        if !(t > t_min && t <= t_max) {
             return None;
         }
-        Some((t, v * rcp, w * rcp, det > 0.0))
+        let front_face = (p1 - p0).cross(p2 - p0).dot(self.dir) < 0.0;
+        Some((t, v / det, w / det, front_face))
     }
 }
 
@@ -205,12 +222,12 @@ impl<'a> CpuTraverser<'a> {
         Self { accel }
     }
 
-    /// The closest hit in `[t_min, t_max]`.
+    /// The closest hit in `(t_min, t_max]`.
     pub fn closest(&self, ray: &Ray) -> Option<Hit> {
         self.trace(ray, false)
     }
 
-    /// Whether anything is hit in `[t_min, t_max]` (stops at the first hit found).
+    /// Whether anything is hit in `(t_min, t_max]` (stops at the first hit found).
     pub fn any(&self, ray: &Ray) -> bool {
         self.trace(ray, true).is_some()
     }
@@ -227,7 +244,7 @@ impl<'a> CpuTraverser<'a> {
 
     fn trace(&self, ray: &Ray, any_hit: bool) -> Option<Hit> {
         let a = self.accel;
-        if !(ray.origin.is_finite() && ray.dir.is_finite()) || ray.dir == Vec3::ZERO || ray.t_min.is_nan() || ray.t_max.is_nan() {
+        if !ray_is_valid(ray) {
             return None;
         }
         let inv = safe_reciprocal(ray.dir);
@@ -242,7 +259,7 @@ impl<'a> CpuTraverser<'a> {
             if n.count > 0 {
                 for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
                     let Some(inst) = a.instances.get(k as usize) else { break };
-                    if inst.mask & INSTANCE_MASK_ALL == 0 {
+                    if inst.mask == 0 {
                         continue;
                     }
                     if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit) {

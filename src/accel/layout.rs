@@ -50,8 +50,8 @@ pub const EMPTY_BOX_MAX: [f32; 3] = [-f32::MAX; 3];
 pub const NO_PRIM: u32 = u32::MAX;
 /// `instance_id` of the padding instance.
 pub const NO_INSTANCE: u32 = u32::MAX;
-/// `mask` of every real instance (the padding instance has 0). A traversal skips an instance
-/// whose `mask & ray_mask == 0`; the CPU traversal uses `ray_mask` = [`INSTANCE_MASK_ALL`].
+/// `mask` of every real instance. The padding instance has 0, and the traversals skip instances
+/// with `mask == 0` (a future ray mask would skip `mask & ray_mask == 0`).
 pub const INSTANCE_MASK_ALL: u32 = 0xFF;
 /// Traversal stack entries that suffice for one level (TLAS or BLAS) of any tree the builder
 /// makes (nearer-first traversal pushes at most one node per level).
