@@ -213,7 +213,7 @@ fn run(cli: Cli) -> Result<()> {
             write_png(&out, &img)?;
             let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
             println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name);
-            print!("{}", pass_table(&names, &timings));
+            print!("{}", pass_table(&names, &timings, width as u64 * height as u64));
             println!("culled passes: {}", if exec.plan().culled.is_empty() { "none".into() } else { exec.plan().culled.join(", ") });
             if let Some(accel) = timings.first().and_then(|t| t.accel.as_ref()) {
                 println!("acceleration structures, first timed frame: {}", accel.describe());

@@ -27,3 +27,24 @@ struct Material {
     normal_texture: u32,
     emissive_texture: u32,
 }
+
+// Geometry for shading hits (`scene_vertices`, `scene_indices`, `scene_meshes`): a vertex is
+// 8 floats (position, normal, uv) as in src/scene/mod.rs `Vertex`; a mesh record gives its
+// first index, base vertex and index count.
+struct SceneVertex {
+    px: f32,
+    py: f32,
+    pz: f32,
+    nx: f32,
+    ny: f32,
+    nz: f32,
+    u: f32,
+    v: f32,
+}
+
+struct MeshRecord {
+    first_index: u32,
+    base_vertex: u32,
+    index_count: u32,
+    _pad: u32,
+}

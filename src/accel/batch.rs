@@ -71,7 +71,7 @@ impl BatchTracer {
         let path = shaders_dir.join("batch/batch.wgsl");
         let info = reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
 
-        let mut cache = AccelCache::new(device, backend, true);
+        let mut cache = AccelCache::new(device, backend, true, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
         let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
         gpu.queue.submit([encoder.finish()]);
@@ -99,7 +99,7 @@ impl BatchTracer {
         let layout2 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch accel"), entries: &accel_entries });
         let mut bg_entries = Vec::new();
         for b in &accel_bindings {
-            let resource = cache.binding(&b.name).ok_or_else(|| RuntimeError::Gpu(format!("back-end {backend} has no binding `{}`", b.name)))?;
+            let resource = cache.binding(&b.name, 0).ok_or_else(|| RuntimeError::Gpu(format!("back-end {backend} has no binding `{}`", b.name)))?;
             bg_entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
         }
         let accel_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch accel"), layout: &layout2, entries: &bg_entries });
@@ -166,7 +166,7 @@ impl BatchTracer {
         let out: Vec<RawResult> = bytemuck::cast_slice::<u8, RawResult>(&data)[..rays.len()].to_vec();
         drop(data);
         readback.unmap();
-        let stats = self.cache.read_stats(device)?;
+        let stats = self.cache.read_stats(device)?[0];
         Ok((out, stats))
     }
 }

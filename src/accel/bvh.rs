@@ -203,7 +203,8 @@ impl Bvh {
             max_leaf_size: cfg.max_leaf_size.max(1),
             parallel_threshold: cfg.parallel_threshold.max(2),
         };
-        let nodes = build_subtree(&mut work, 0, 0, &cfg);
+        let (bounds, centroids) = union_bounds_par(&work, &cfg);
+        let nodes = build_subtree(&mut work, 0, 0, &cfg, bounds, centroids);
         Bvh { nodes, prim_order: work.iter().map(|p| p.id).collect() }
     }
 
@@ -217,10 +218,14 @@ impl Bvh {
     }
 
     /// The SAH cost of the tree, normalised by the root's surface area:
-    /// `sum over interior nodes of TRAVERSAL_COST * A(n) / A(root)
-    ///  + sum over leaves of INTERSECTION_COST * count * A(n) / A(root)`.
-    /// It is the expected number of box-pair and primitive tests of a random ray that hits the
-    /// root box. 0 for an empty tree; a root of zero area counts every node with weight 1.
+    ///
+    /// ```text
+    /// sum over interior nodes n: TRAVERSAL_COST * A(n) / A(root)            (1 per node)
+    /// sum over leaves l:         INTERSECTION_COST * count(l) * A(l) / A(root)  (1 per primitive)
+    /// ```
+    ///
+    /// It is the expected number of node visits and primitive tests of a random ray that hits
+    /// the root box. 0 for an empty tree; a root of zero area counts every node with weight 1.
     pub fn sah_cost(&self) -> f32 {
         let Some(root) = self.nodes.first() else { return 0.0 };
         let root_area = root.bounds.surface_area() as f64;
@@ -291,27 +296,33 @@ fn union_bounds(prims: &[BuildPrim]) -> (Aabb, Aabb) {
 }
 
 fn union_bounds_par(prims: &[BuildPrim], cfg: &BuildConfig) -> (Aabb, Aabb) {
-    if prims.len() < cfg.parallel_threshold * 4 {
+    if prims.len() < cfg.parallel_threshold.saturating_mul(4) {
         return union_bounds(prims);
     }
     prims.par_chunks(cfg.parallel_threshold).map(union_bounds).reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(&b.0), a.1.union(&b.1)))
 }
 
-/// Builds the subtree over `prims` (which start at `first` in the final primitive order):
-/// the returned nodes have the subtree root at 0 and child indices local to the vector.
-fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildConfig) -> Vec<BvhNode> {
+/// Builds the subtree over `prims` (which start at `first` in the final primitive order, and
+/// whose boxes and centroids span `bounds` and `centroids`): the returned nodes have the subtree
+/// root at 0 and child indices local to the vector.
+fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildConfig, bounds: Aabb, centroids: Aabb) -> Vec<BvhNode> {
     if prims.len() < cfg.parallel_threshold {
         let mut nodes = Vec::with_capacity(prims.len());
         nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
-        build_sequential(&mut nodes, 0, prims, first, depth, cfg);
+        let mut scratch = Bins::new();
+        build_sequential(&mut nodes, 0, prims, first, depth, cfg, (bounds, centroids), &mut scratch);
         return nodes;
     }
-    let (bounds, centroids) = union_bounds_par(prims, cfg);
-    let Some(mid) = split(prims, &bounds, &centroids, depth, cfg) else {
+    let mut scratch = Bins::new();
+    let Some(sp) = split(prims, &bounds, &centroids, depth, cfg, &mut scratch) else {
         return vec![BvhNode { bounds, left_or_first: first, count: prims.len() as u32 }];
     };
+    let mid = sp.mid;
     let (l, r) = prims.split_at_mut(mid);
-    let (ln, rn) = rayon::join(|| build_subtree(l, first, depth + 1, cfg), || build_subtree(r, first + mid as u32, depth + 1, cfg));
+    let (ln, rn) = rayon::join(
+        || build_subtree(l, first, depth + 1, cfg, sp.left.0, sp.left.1),
+        || build_subtree(r, first + mid as u32, depth + 1, cfg, sp.right.0, sp.right.1),
+    );
     // [root, left root, right root, left descendants..., right descendants...]
     let shift = |n: &BvhNode, by: usize| if n.is_leaf() { *n } else { BvhNode { left_or_first: n.left_or_first + by as u32, ..*n } };
     let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
@@ -323,20 +334,38 @@ fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildC
     nodes
 }
 
-fn build_sequential(nodes: &mut Vec<BvhNode>, idx: usize, prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildConfig) {
-    let (bounds, centroids) = union_bounds(prims);
-    match split(prims, &bounds, &centroids, depth, cfg) {
+/// `span`: the boxes' and the centroids' bounds of `prims`.
+#[allow(clippy::too_many_arguments)]
+fn build_sequential(
+    nodes: &mut Vec<BvhNode>,
+    idx: usize,
+    prims: &mut [BuildPrim],
+    first: u32,
+    depth: usize,
+    cfg: &BuildConfig,
+    span: (Aabb, Aabb),
+    scratch: &mut Bins,
+) {
+    let (bounds, centroids) = span;
+    match split(prims, &bounds, &centroids, depth, cfg, scratch) {
         None => nodes[idx] = BvhNode { bounds, left_or_first: first, count: prims.len() as u32 },
-        Some(mid) => {
+        Some(sp) => {
             let left = nodes.len();
             nodes[idx] = BvhNode { bounds, left_or_first: left as u32, count: 0 };
             nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
             nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
-            let (l, r) = prims.split_at_mut(mid);
-            build_sequential(nodes, left, l, first, depth + 1, cfg);
-            build_sequential(nodes, left + 1, r, first + mid as u32, depth + 1, cfg);
+            let (l, r) = prims.split_at_mut(sp.mid);
+            build_sequential(nodes, left, l, first, depth + 1, cfg, sp.left, scratch);
+            build_sequential(nodes, left + 1, r, first + sp.mid as u32, depth + 1, cfg, sp.right, scratch);
         }
     }
+}
+
+/// A decided split: `prims[..mid]` go left; each side's (box bounds, centroid bounds).
+struct Split {
+    mid: usize,
+    left: (Aabb, Aabb),
+    right: (Aabb, Aabb),
 }
 
 /// Upper bound of [`BuildConfig::bins`].
@@ -355,6 +384,14 @@ struct Bins {
 impl Bins {
     fn new() -> Self {
         Self { count: [[0; MAX_BINS]; 3], bounds: [[Aabb::EMPTY; MAX_BINS]; 3] }
+    }
+
+    /// Empties the first `bins` bins of every axis.
+    fn reset(&mut self, bins: usize) {
+        for axis in 0..3 {
+            self.count[axis][..bins].fill(0);
+            self.bounds[axis][..bins].fill(Aabb::EMPTY);
+        }
     }
 
     fn add(&mut self, prims: &[BuildPrim], maps: &[Option<(f32, f32)>; 3], bins: usize) {
@@ -381,8 +418,8 @@ impl Bins {
 }
 
 /// Decides how to split `prims` and partitions them in place: `None` for a leaf, else the
-/// number of primitives in the left child (always `0 < mid < len`).
-fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize, cfg: &BuildConfig) -> Option<usize> {
+/// split (always `0 < mid < len`). `scratch` is reused for the bins of small nodes.
+fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize, cfg: &BuildConfig, scratch: &mut Bins) -> Option<Split> {
     let n = prims.len();
     if n <= 1 {
         return None;
@@ -390,25 +427,28 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize,
     if cfg.method == SplitMethod::Median || depth >= MEDIAN_FALLBACK_DEPTH {
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
     }
-    let bins = cfg.bins;
+    // Small nodes get fewer bins: as many as primitives (at least 4) is plenty there.
+    let bins = cfg.bins.min(n.max(4));
     let maps = [0, 1, 2].map(|axis| bin_mapping(centroids, axis, bins));
     if maps.iter().all(Option::is_none) {
         // All centroids coincide: no plane separates them.
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
     }
-    let binned = if n >= PARALLEL_BINNING {
-        prims
+    let parallel;
+    let binned: &Bins = if n >= PARALLEL_BINNING {
+        parallel = prims
             .par_chunks(PARALLEL_BINNING / 4)
             .map(|c| {
                 let mut b = Bins::new();
                 b.add(c, &maps, bins);
                 b
             })
-            .reduce(Bins::new, Bins::merge)
+            .reduce(Bins::new, Bins::merge);
+        &parallel
     } else {
-        let mut b = Bins::new();
-        b.add(prims, &maps, bins);
-        b
+        scratch.reset(bins);
+        scratch.add(prims, &maps, bins);
+        scratch
     };
     let node_area = bounds.surface_area();
     // Best (cost, axis, number of bins on the left).
@@ -446,12 +486,12 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize,
         return None;
     }
     let Some((lo, scale)) = maps[axis] else { return Some(median_split(prims, centroids)) };
-    let mid = partition(prims, |p| bin_index(p.centroid[axis], lo, scale, bins) < plane);
-    if mid == 0 || mid == n {
+    let sp = partition(prims, |p| bin_index(p.centroid[axis], lo, scale, bins) < plane);
+    if sp.mid == 0 || sp.mid == n {
         // Cannot happen with the same mapping as the binning pass; stay safe anyway.
         return Some(median_split(prims, centroids));
     }
-    Some(mid)
+    Some(sp)
 }
 
 /// `(lo, bins / extent)` for binning centroids along `axis`, or `None` if they do not spread.
@@ -467,21 +507,28 @@ fn bin_index(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
     (((c - lo) * scale) as usize).min(bins - 1)
 }
 
-fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> usize {
+/// Moves the primitives for which `left` holds to the front, measuring both sides on the way.
+fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> Split {
+    let (mut lb, mut lc, mut rb, mut rc) = (Aabb::EMPTY, Aabb::EMPTY, Aabb::EMPTY, Aabb::EMPTY);
     let mut i = 0;
     let mut j = prims.len();
     while i < j {
-        if left(&prims[i]) {
+        let p = prims[i];
+        if left(&p) {
+            lb = lb.union(&p.bounds);
+            lc.grow(p.centroid);
             i += 1;
         } else {
+            rb = rb.union(&p.bounds);
+            rc.grow(p.centroid);
             j -= 1;
             prims.swap(i, j);
         }
     }
-    i
+    Split { mid: i, left: (lb, lc), right: (rb, rc) }
 }
 
-fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> usize {
+fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> Split {
     let d = centroids.max - centroids.min;
     let axis = if d.x >= d.y && d.x >= d.z {
         0
@@ -492,7 +539,7 @@ fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> usize {
     };
     let mid = prims.len() / 2;
     prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-    mid
+    Split { mid, left: union_bounds(&prims[..mid]), right: union_bounds(&prims[mid..]) }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -38,6 +38,14 @@ impl RayStats {
     pub fn traced(&self) -> u64 {
         self.closest + self.any
     }
+
+    pub fn misses(&self) -> u64 {
+        self.traced() - self.hits.min(self.traced())
+    }
+
+    pub fn add(&self, o: &RayStats) -> RayStats {
+        RayStats { closest: self.closest + o.closest, any: self.any + o.any, invalid: self.invalid + o.invalid, hits: self.hits + o.hits }
+    }
 }
 
 /// What happened to the top level in an update.
@@ -146,8 +154,11 @@ pub struct AccelCache {
     instances: Vec<u64>,
     instance_meshes: Vec<usize>,
     state: State,
+    /// One window of [`STAT_SLOTS`] counters per trace pass, at `stats_stride` bytes apart.
     stats: wgpu::Buffer,
     stats_readback: wgpu::Buffer,
+    stats_windows: u32,
+    stats_stride: u64,
     /// Changes whenever the GPU objects bound by trace passes are replaced.
     generation: u64,
     /// Total BLAS builds since creation (tests read it).
@@ -155,8 +166,11 @@ pub struct AccelCache {
 }
 
 impl AccelCache {
-    pub fn new(device: &wgpu::Device, backend: Backend, dedup: bool) -> Self {
-        let size = (STAT_SLOTS * 4) as u64;
+    /// A cache for `backend`, with ray counters for `trace_passes` passes.
+    pub fn new(device: &wgpu::Device, backend: Backend, dedup: bool, trace_passes: u32) -> Self {
+        let stats_windows = trace_passes.max(1);
+        let stats_stride = (device.limits().min_storage_buffer_offset_alignment as u64).max((STAT_SLOTS * 4) as u64);
+        let size = stats_stride * stats_windows as u64;
         let stats = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("accel stats"),
             size,
@@ -164,7 +178,7 @@ impl AccelCache {
             mapped_at_creation: false,
         });
         let stats_readback = device.create_buffer(&wgpu::BufferDescriptor { label: Some("accel stats readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        Self { backend, dedup, units: Vec::new(), instances: Vec::new(), instance_meshes: Vec::new(), state: State::Empty, stats, stats_readback, generation: 0, total_blas_builds: 0 }
+        Self { backend, dedup, units: Vec::new(), instances: Vec::new(), instance_meshes: Vec::new(), state: State::Empty, stats, stats_readback, stats_windows, stats_stride, generation: 0, total_blas_builds: 0 }
     }
 
     pub fn backend(&self) -> Backend {
@@ -370,10 +384,12 @@ impl AccelCache {
         Ok(())
     }
 
-    /// The GPU object a trace-module binding (`accel_*`) refers to.
-    pub fn binding(&self, name: &str) -> Option<wgpu::BindingResource<'_>> {
+    /// The GPU object a trace-module binding (`accel_*`) refers to; `accel_stats` is the
+    /// counter window of trace pass number `window`.
+    pub fn binding(&self, name: &str, window: u32) -> Option<wgpu::BindingResource<'_>> {
         if name == "accel_stats" {
-            return Some(self.stats.as_entire_binding());
+            let offset = self.stats_stride * window.min(self.stats_windows - 1) as u64;
+            return Some(wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &self.stats, offset, size: std::num::NonZeroU64::new((STAT_SLOTS * 4) as u64) }));
         }
         match (&self.state, name) {
             (State::Compute(c), "accel_tlas_nodes") => Some(c.buffers[0].as_entire_binding()),
@@ -392,14 +408,20 @@ impl AccelCache {
 
     /// Copies the ray counters for [`AccelCache::read_stats`] (end of a frame).
     pub fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, (STAT_SLOTS * 4) as u64);
+        encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, self.stats.size());
     }
 
-    /// The ray counts of the last submitted frame (after it completed).
-    pub fn read_stats(&self, device: &wgpu::Device) -> Result<RayStats, RuntimeError> {
+    /// The ray counts of each trace pass in the last submitted frame (after it completed).
+    pub fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
         let data = map_read(device, self.stats_readback.slice(..))?;
-        let v: &[u32] = bytemuck::cast_slice(&data);
-        let stats = RayStats { closest: v[0] as u64, any: v[1] as u64, invalid: v[2] as u64, hits: v[3] as u64 };
+        let words: &[u32] = bytemuck::cast_slice(&data);
+        let per = (self.stats_stride / 4) as usize;
+        let stats = (0..self.stats_windows as usize)
+            .map(|w| {
+                let v = &words[w * per..w * per + STAT_SLOTS];
+                RayStats { closest: v[0] as u64, any: v[1] as u64, invalid: v[2] as u64, hits: v[3] as u64 }
+            })
+            .collect();
         drop(data);
         self.stats_readback.unmap();
         Ok(stats)

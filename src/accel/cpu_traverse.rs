@@ -254,8 +254,7 @@ impl<'a> CpuTraverser<'a> {
         let mut sp = 0usize;
         slab_test(a.tlas_nodes.first()?, ray.origin, inv, ray.t_min, t_far)?;
         let mut node = 0u32;
-        loop {
-            let Some(n) = a.tlas_nodes.get(node as usize) else { break };
+        while let Some(n) = a.tlas_nodes.get(node as usize) {
             if n.count > 0 {
                 for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
                     let Some(inst) = a.instances.get(k as usize) else { break };
@@ -295,8 +294,7 @@ impl<'a> CpuTraverser<'a> {
         let mut sp = 0usize;
         let mut node = inst.blas_root;
         slab_test(a.blas_nodes.get(node as usize)?, o, inv, ray.t_min, t_far)?;
-        loop {
-            let Some(n) = a.blas_nodes.get(node as usize) else { break };
+        while let Some(n) = a.blas_nodes.get(node as usize) {
             if n.count > 0 {
                 for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
                     let Some(tri) = a.triangles.get(k as usize) else { break };

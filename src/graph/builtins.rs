@@ -9,6 +9,11 @@ pub const DEBUG_COUNTERS: &str = "debug_counters";
 pub const SCENE_INSTANCES: &str = "scene_instances";
 pub const SCENE_TEXTURES: &str = "scene_textures";
 pub const SCENE_MATERIALS: &str = "scene_materials";
+/// Every mesh's vertices (`array<SceneVertex>`), indices (`array<u32>`) and ranges
+/// (`array<MeshRecord>`): what a trace pass reads to shade a hit.
+pub const SCENE_VERTICES: &str = "scene_vertices";
+pub const SCENE_INDICES: &str = "scene_indices";
+pub const SCENE_MESHES: &str = "scene_meshes";
 /// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
 /// uniform buffers).
 pub const SCENE_TEXTURES_GROUP: u32 = 1;
@@ -32,7 +37,7 @@ pub fn frame_uniform_size() -> u32 {
 }
 
 pub fn is_builtin(name: &str) -> bool {
-    matches!(name, FRAME | PARAMS | DEBUG_COUNTERS | SCENE_INSTANCES | SCENE_MATERIALS | SCENE_TEXTURES | LINEAR_SAMPLER | NEAREST_SAMPLER)
+    matches!(name, FRAME | PARAMS | DEBUG_COUNTERS | SCENE_INSTANCES | SCENE_MATERIALS | SCENE_TEXTURES | SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES | LINEAR_SAMPLER | NEAREST_SAMPLER)
 }
 
 /// Which parts of the scene the kept passes of a plan use; only these are uploaded.
@@ -48,11 +53,13 @@ pub struct SceneUsage {
     pub textures: bool,
     /// `scene_textures` is a binding array (one texture per element) rather than a texture array.
     pub texture_binding_array: bool,
+    /// `scene_vertices`, `scene_indices`, `scene_meshes` (geometry read in shaders).
+    pub geometry_storage: bool,
 }
 
 impl SceneUsage {
     pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures
+        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage
     }
 
     /// Adds what a binding needs.
@@ -60,6 +67,7 @@ impl SceneUsage {
         match b.name.as_str() {
             SCENE_INSTANCES => self.instances = true,
             SCENE_MATERIALS => self.materials = true,
+            SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES => self.geometry_storage = true,
             SCENE_TEXTURES => {
                 self.textures = true;
                 self.texture_binding_array |= b.kind == crate::graph::reflect::BindingKind::TextureBindingArray;
@@ -70,7 +78,7 @@ impl SceneUsage {
 
     /// A short list for reports, e.g. `geometry, instances, textures`.
     pub fn describe(&self) -> String {
-        let parts: Vec<&str> = [(self.geometry, "geometry"), (self.instances, "instances"), (self.materials, "materials"), (self.textures, "textures")]
+        let parts: Vec<&str> = [(self.geometry, "geometry"), (self.geometry_storage, "geometry for shading hits"), (self.instances, "instances"), (self.materials, "materials"), (self.textures, "textures")]
             .into_iter()
             .filter_map(|(on, name)| on.then_some(name))
             .collect();

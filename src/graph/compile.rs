@@ -47,6 +47,8 @@ pub struct PlannedResource {
     pub last_use: usize,
     /// Physical allocation (kept resources only).
     pub slot: Option<usize>,
+    /// A constant texture (an unconnected input's fallback value): filled once, never written.
+    pub constant: Option<[f32; 4]>,
 }
 
 impl PlannedResource {
@@ -88,6 +90,8 @@ pub struct Slot {
     pub usage: Usage,
     pub bytes: u64,
     pub members: Vec<ResourceId>,
+    /// A constant (fallback) texture's value, written once when the slot is created.
+    pub constant: Option<[f32; 4]>,
 }
 
 /// A kept pass, in execution order.
@@ -334,7 +338,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let mut resources: Vec<PlannedResource> = Vec::new();
     let mut producers: HashMap<ResourceId, usize> = HashMap::new();
     declare_resources(&mut nodes, &mut resources, frame_size);
-    connect_inputs(&graph, &gsrc, &mut nodes, &resources)?;
+    connect_inputs(&graph, &gsrc, &mut nodes, &mut resources)?;
     let passes = collect_passes(&nodes, &resources, &mut producers)?;
 
     let mut g: DiGraph<Vertex, ()> = DiGraph::new();
@@ -352,7 +356,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     // Phase 4: validate: every read has a producer, no cycles, output exists.
     for p in &passes {
         for (local, r) in &p.reads {
-            if !producers.contains_key(r) {
+            if !producers.contains_key(r) && resources[*r].constant.is_none() {
                 let node = &nodes[p.node];
                 let pass = &node.layer.passes[p.index];
                 return Err(GraphError::new(
@@ -506,6 +510,8 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         let res = &resources[r];
         let fits = slots.iter().position(|s| {
             options.reuse
+                && res.constant.is_none()
+                && s.constant.is_none()
                 && same_shape(&s.decl, &res.decl)
                 && s.extent == res.extent
                 && s.members.iter().all(|m| resources[*m].last_use < res.first_use || res.last_use < resources[*m].first_use)
@@ -513,7 +519,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         let slot = match fits {
             Some(s) => s,
             None => {
-                slots.push(Slot { decl: res.decl.clone(), extent: res.extent, usage: Usage::default(), bytes: res.bytes(), members: Vec::new() });
+                slots.push(Slot { decl: res.decl.clone(), extent: res.extent, usage: Usage::default(), bytes: res.bytes(), members: Vec::new(), constant: res.constant });
                 slots.len() - 1
             }
         };
@@ -570,6 +576,7 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
     let mut out = Vec::new();
     for (name, node) in &graph.nodes {
         let ln = match node {
+            NodeDesc::Layer(ln) if !ln.enabled => continue,
             NodeDesc::Layer(ln) => ln,
             NodeDesc::Accel(accel) => {
                 out.push(accel_node(name, accel, gsrc));
@@ -674,12 +681,12 @@ fn declare_resources(nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedReso
                 ResourceDecl::Buffer(_) | ResourceDecl::Accel => (0, 0),
             };
             node.locals.insert(local, resources.len());
-            resources.push(PlannedResource { name, decl, extent, usage: Usage::default(), first_use: 0, last_use: 0, slot: None });
+            resources.push(PlannedResource { name, decl, extent, usage: Usage::default(), first_use: 0, last_use: 0, slot: None, constant: None });
         }
     }
 }
 
-fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNode], resources: &[PlannedResource]) -> Result<(), GraphError> {
+fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedResource>) -> Result<(), GraphError> {
     for ni in 0..nodes.len() {
         let name = nodes[ni].name.clone();
         let NodeDesc::Layer(ln) = &graph.nodes[&name] else { continue };
@@ -694,6 +701,38 @@ fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNod
         }
         let inputs: Vec<(String, ResourceDecl)> = nodes[ni].layer.inputs.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
         for (input, decl) in inputs {
+            let fallback = match &decl {
+                ResourceDecl::Texture(t) => t.fallback,
+                _ => None,
+            };
+            let disabled_source = ln.inputs.get(&input).and_then(|source| {
+                let (src_node, _) = split_ref(source);
+                matches!(graph.nodes.get(src_node), Some(NodeDesc::Layer(l)) if !l.enabled).then(|| src_node.to_string())
+            });
+            if ln.inputs.get(&input).is_none() || disabled_source.is_some() {
+                if let (Some(value), ResourceDecl::Texture(t)) = (fallback, &decl) {
+                    // A constant 1x1 texture holding the fallback value.
+                    let mut t = t.clone();
+                    t.size = SizeDecl::Absolute(1, 1);
+                    nodes[ni].locals.insert(input.clone(), resources.len());
+                    resources.push(PlannedResource {
+                        name: format!("{name}/{input} (fallback)"),
+                        decl: ResourceDecl::Texture(t),
+                        extent: (1, 1),
+                        usage: Usage::default(),
+                        first_use: 0,
+                        last_use: 0,
+                        slot: None,
+                        constant: Some([value.0, value.1, value.2, value.3]),
+                    });
+                    continue;
+                }
+                if let Some(src) = disabled_source {
+                    let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(&input)]);
+                    return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("input `{input}` of node `{name}` comes from node `{src}`, which is switched off, and layer `{}` declares no fallback for it", nodes[ni].layer_name))
+                        .help(format!("switch `{src}` on, or give the input a `fallback: Some((r, g, b, a))` in the layer file")));
+                }
+            }
             let Some(source) = ln.inputs.get(&input) else {
                 let loc = gsrc.locate(&["nodes", &node_anchor]);
                 return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("input `{input}` of node `{name}` (layer `{}`) is not connected: nothing produces it", nodes[ni].layer_name))
@@ -932,6 +971,9 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
         builtins::DEBUG_COUNTERS => (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write> array<atomic<u32>>".into()),
         builtins::SCENE_INSTANCES => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Instance>".into()),
         builtins::SCENE_MATERIALS => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Material>".into()),
+        builtins::SCENE_VERTICES | builtins::SCENE_INDICES | builtins::SCENE_MESHES => {
+            (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> (declared in common/scene.wgsl)".into())
+        }
         builtins::SCENE_TEXTURES => {
             // The texture array everywhere, or a binding array where the device has them
             // (chosen through the `common/scene_textures.wgsl` include).

@@ -48,6 +48,14 @@ pub struct LayerNode {
     /// Parameter overrides.
     #[serde(default)]
     pub params: BTreeMap<String, ParamValue>,
+    /// `false` switches the node off: its passes and resources are not instantiated, and the
+    /// inputs it fed read their declared `fallback` value instead.
+    #[serde(default = "enabled_default")]
+    pub enabled: bool,
+}
+
+fn enabled_default() -> bool {
+    true
 }
 
 /// A parameter value as written in a graph file.
@@ -100,6 +108,10 @@ pub struct TextureDecl {
     pub format: Format,
     #[serde(default)]
     pub size: SizeDecl,
+    /// For a layer input: the value it reads (a 1x1 texture) when its producer is switched
+    /// off or it is not connected. Inputs without one must be connected.
+    #[serde(default)]
+    pub fallback: Option<(f32, f32, f32, f32)>,
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -203,6 +215,36 @@ impl Format {
     /// Whether a shader may sample it with a filtering sampler.
     pub fn is_filterable(self) -> bool {
         !matches!(self, Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rgba32Uint | Format::Depth32Float)
+    }
+
+    /// One texel holding `v` (the channels the format has), for constant textures; `None` for
+    /// depth, which cannot be written from the CPU.
+    pub fn encode_texel(self, v: [f32; 4]) -> Option<Vec<u8>> {
+        let unorm = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let (channels, kind) = match self {
+            Format::R8Unorm => (1, 0),
+            Format::Rg8Unorm => (2, 0),
+            Format::Rgba8Unorm | Format::Rgba8UnormSrgb => (4, 0),
+            Format::R16Float => (1, 1),
+            Format::Rg16Float => (2, 1),
+            Format::Rgba16Float => (4, 1),
+            Format::R32Float => (1, 2),
+            Format::Rg32Float => (2, 2),
+            Format::Rgba32Float => (4, 2),
+            Format::R32Uint => (1, 3),
+            Format::Rgba32Uint => (4, 3),
+            Format::Depth32Float => return None,
+        };
+        let mut out = Vec::new();
+        for &x in &v[..channels] {
+            match kind {
+                0 => out.push(unorm(x)),
+                1 => out.extend_from_slice(&f32_to_f16(x).to_le_bytes()),
+                2 => out.extend_from_slice(&x.to_le_bytes()),
+                _ => out.extend_from_slice(&(x.max(0.0) as u32).to_le_bytes()),
+            }
+        }
+        Some(out)
     }
 
     pub fn bytes_per_texel(self) -> u64 {
@@ -311,4 +353,37 @@ pub enum Dispatch {
     PerPixel,
     /// A fixed number of workgroups.
     Groups(u32, u32, u32),
+}
+
+/// IEEE half precision from f32 (round to nearest even; overflow to infinity).
+pub fn f32_to_f16(x: f32) -> u16 {
+    let bits = x.to_bits();
+    let sign = ((bits >> 16) & 0x8000) as u16;
+    let exp = ((bits >> 23) & 0xff) as i32;
+    let mant = bits & 0x7f_ffff;
+    if exp == 0xff {
+        return sign | 0x7c00 | if mant != 0 { 0x200 } else { 0 };
+    }
+    let e = exp - 127 + 15;
+    if e >= 0x1f {
+        return sign | 0x7c00;
+    }
+    if e <= 0 {
+        if e < -10 {
+            return sign;
+        }
+        // Subnormal half: value = m16 * 2^-24, so m16 = m >> (14 - e).
+        let m = mant | 0x80_0000;
+        let shift = (14 - e) as u32;
+        let (q, rem, halfway) = (m >> shift, m & ((1 << shift) - 1), 1 << (shift - 1));
+        let up = rem > halfway || (rem == halfway && q & 1 == 1);
+        return sign | (q + up as u32) as u16;
+    }
+    let half = sign | ((e as u16) << 10) | (mant >> 13) as u16;
+    let rest = mant & 0x1fff;
+    if rest > 0x1000 || (rest == 0x1000 && half & 1 != 0) {
+        half + 1
+    } else {
+        half
+    }
 }

@@ -54,6 +54,8 @@ pub struct Executor {
     /// The acceleration-structure cache (graphs whose kept passes trace rays).
     accel: Option<AccelCache>,
     accel_generation: u64,
+    /// Bounding sphere of the scene (centre, radius) this frame.
+    scene_sphere: (glam::Vec3, f32),
 }
 
 impl Executor {
@@ -92,6 +94,9 @@ impl Executor {
                     if s.usage.copy_src {
                         usage |= wgpu::TextureUsages::COPY_SRC;
                     }
+                    if s.constant.is_some() {
+                        usage |= wgpu::TextureUsages::COPY_DST;
+                    }
                     Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
                         label: Some(&format!("slot {i}")),
                         size: wgpu::Extent3d { width: s.extent.0, height: s.extent.1, depth_or_array_layers: 1 },
@@ -113,6 +118,17 @@ impl Executor {
             })
             .collect::<Vec<_>>();
 
+        for (slot, physical) in plan.slots.iter().zip(&slots) {
+            if let (Some(value), ResourceDecl::Texture(t), Physical::Texture(texture)) = (slot.constant, &slot.decl, physical) {
+                let texel = t.format.encode_texel(value).ok_or_else(|| RuntimeError::Gpu(format!("a {:?} input cannot have a fallback value", t.format)))?;
+                gpu.queue.write_texture(
+                    wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+                    &texel,
+                    wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(texel.len() as u32), rows_per_image: Some(1) },
+                    wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                );
+            }
+        }
         let frame_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("frame uniforms"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
@@ -147,9 +163,9 @@ impl Executor {
         let accel = plan.passes.iter().find(|p| p.kind == PassKind::AccelBuild).map(|p| {
             let dedup = !matches!(p.params.get("dedup"), Some((_, ParamValue::Bool(false))));
             log::info!("acceleration structures: back-end {}, de-duplication {}", plan.backend, if dedup { "on" } else { "off" });
-            AccelCache::new(device, plan.backend, dedup)
+            AccelCache::new(device, plan.backend, dedup, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32)
         });
-        let mut exec = Self { plan, slots, passes: Vec::new(), frame_uniforms, debug_counters, scene: scene_gpu, timer: None, frame_index: 0, accel, accel_generation: u64::MAX };
+        let mut exec = Self { plan, slots, passes: Vec::new(), frame_uniforms, debug_counters, scene: scene_gpu, timer: None, frame_index: 0, accel, accel_generation: u64::MAX, scene_sphere: (glam::Vec3::ZERO, 1.0) };
         let mut passes = Vec::new();
         for pass in &exec.plan.passes {
             passes.push(exec.build_pass(gpu, pass, &linear, &nearest)?);
@@ -281,6 +297,9 @@ impl Executor {
                 }
                 builtins::SCENE_INSTANCES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.instances.as_ref())?.clone())),
                 builtins::SCENE_MATERIALS => buffers.push(((b.group, b.binding), self.scene_part(|s| s.materials.as_ref())?.clone())),
+                builtins::SCENE_VERTICES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.vertices.as_ref())?.clone())),
+                builtins::SCENE_INDICES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.indices.as_ref())?.clone())),
+                builtins::SCENE_MESHES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.meshes.as_ref())?.clone())),
                 builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
                     SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => views.push(((b.group, b.binding), view.clone())),
                     SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => view_arrays.push(((b.group, b.binding), v.clone())),
@@ -417,13 +436,26 @@ impl Executor {
         let (w, h) = self.plan.frame_size;
         let vp = camera.view_proj(w as f32 / h as f32);
         let l = &scene.light;
+        let (center, radius) = self.scene_sphere;
+        let dir = l.direction.normalize();
+        let up = if dir.y.abs() > 0.99 { glam::Vec3::Z } else { glam::Vec3::Y };
+        let light_view = glam::Mat4::look_at_rh(center + dir * radius * 2.0, center, up);
+        let light_proj = glam::Mat4::orthographic_rh(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5);
+        let (pl, pc) = match scene.point_light {
+            Some(p) => (p.position.extend(p.intensity), p.color.extend(1.0)),
+            None => (glam::Vec4::ZERO, glam::Vec4::ZERO),
+        };
         FrameUniforms {
             view_proj: vp.to_cols_array_2d(),
             inv_view_proj: vp.inverse().to_cols_array_2d(),
             camera_pos: camera.position.extend(1.0).into(),
-            light_dir: l.direction.normalize().extend(l.intensity).into(),
+            light_dir: dir.extend(l.intensity).into(),
             light_color: l.color.extend(l.ambient).into(),
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            light_view_proj: (light_proj * light_view).to_cols_array_2d(),
+            point_light: pl.into(),
+            point_color: pc.into(),
+            scene_sphere: center.extend(radius).into(),
             frame_index: self.frame_index,
             _pad: [0; 3],
         }
@@ -432,6 +464,9 @@ impl Executor {
     /// Records and submits one frame; waits for it and returns its pass timings.
     pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
         let start = Instant::now();
+        // Every frame: the scene may have changed since the last one.
+        let b = scene.bounds();
+        self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
         gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&self.frame_uniforms(camera, scene)));
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
@@ -524,12 +559,19 @@ impl Executor {
             Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),
             None => None,
         };
-        let rays = match &self.accel {
-            Some(cache) => Some(cache.read_stats(&gpu.device)?),
-            None => None,
-        };
+        // Ray counters: one window per trace pass, in schedule order.
+        let mut pass_rays = vec![None; self.plan.passes.len()];
+        let mut rays = None;
+        if let Some(cache) = &self.accel {
+            let windows = cache.read_stats(&gpu.device)?;
+            let trace_passes = self.plan.passes.iter().enumerate().filter(|(_, p)| p.kind == PassKind::Trace).map(|(i, _)| i);
+            for (i, stats) in trace_passes.zip(&windows) {
+                pass_rays[i] = Some(*stats);
+            }
+            rays = Some(windows.iter().fold(crate::accel::cache::RayStats::default(), |a, b| a.add(b)));
+        }
         self.frame_index += 1;
-        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3, rays, accel: accel_report.map(|(r, _)| r) })
+        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3, rays, pass_rays, accel: accel_report.map(|(r, _)| r) })
     }
 
     /// Runs the `Accel` node: clears the ray counters, updates the cache between a pair of
@@ -551,11 +593,11 @@ impl Executor {
         if cache.generation() != self.accel_generation {
             self.accel_generation = cache.generation();
             let cache = self.accel.as_ref().expect("checked above");
-            for pass in &mut self.passes {
+            for (window, pass) in self.passes.iter_mut().filter(|p| p.accel_layout.is_some()).enumerate() {
                 let Some((layout, entries, names)) = &pass.accel_layout else { continue };
                 let mut bg_entries = Vec::new();
                 for (e, name) in entries.iter().zip(names) {
-                    let resource = cache.binding(name).ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
+                    let resource = cache.binding(name, window as u32).ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
                     bg_entries.push(wgpu::BindGroupEntry { binding: e.binding, resource });
                 }
                 pass.accel_group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));

@@ -112,8 +112,10 @@ pub struct FrameTimings {
     pub cpu_ms: Vec<f64>,
     /// Wall-clock milliseconds from the start of recording to the end of GPU work.
     pub frame_ms: f64,
-    /// Ray counts from the GPU counters (graphs with an `Accel` node).
+    /// Ray counts from the GPU counters (graphs with an `Accel` node), all trace passes.
     pub rays: Option<crate::accel::cache::RayStats>,
+    /// Ray counts per pass (`Some` for trace passes).
+    pub pass_rays: Vec<Option<crate::accel::cache::RayStats>>,
     /// What the acceleration-structure node built this frame.
     pub accel: Option<crate::accel::cache::BuildReport>,
 }
@@ -131,26 +133,38 @@ pub fn median(values: &mut [f64]) -> f64 {
     }
 }
 
-/// Median per-pass table over several frames.
-pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings]) -> String {
+/// Median per-pass table over several frames. Trace passes also show rays per pixel and
+/// GigaRays/s, from the rays counted on the GPU and the pass's GPU time (`pixels` per frame).
+pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings], pixels: u64) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let _ = writeln!(s, "{:<30} {:<12} {:>10} {:>10}", "pass", "kind", "GPU ms", "CPU ms");
+    let _ = writeln!(s, "{:<30} {:<12} {:>10} {:>10} {:>10} {:>10}", "pass", "kind", "GPU ms", "CPU ms", "rays/px", "GRays/s");
     let mut gpu_total = 0.0;
     let mut cpu_total = 0.0;
     for (i, (name, kind)) in names.iter().enumerate() {
         let mut cpu: Vec<f64> = frames.iter().map(|f| f.cpu_ms[i]).collect();
         let cpu = median(&mut cpu);
         cpu_total += cpu;
+        let mut gpu_median = None;
         let gpu = if frames.iter().all(|f| f.gpu_ms.is_some()) {
             let mut g: Vec<f64> = frames.iter().filter_map(|f| f.gpu_ms.as_ref().map(|v| v[i])).collect();
             let m = median(&mut g);
             gpu_total += m;
+            gpu_median = Some(m);
             format!("{m:>10.3}")
         } else {
             format!("{:>10}", "n/a")
         };
-        let _ = writeln!(s, "{name:<30} {kind:<12} {gpu} {cpu:>10.3}");
+        let mut rays: Vec<f64> = frames.iter().filter_map(|f| f.pass_rays.get(i).copied().flatten().map(|r| r.traced() as f64)).collect();
+        let (per_px, grays) = if rays.is_empty() {
+            (String::new(), String::new())
+        } else {
+            let r = median(&mut rays);
+            let g = gpu_median.filter(|ms| *ms > 0.0).map(|ms| format!("{:>10.3}", r / (ms * 1e-3) / 1e9)).unwrap_or_else(|| format!("{:>10}", "n/a"));
+            (format!("{:>10.2}", r / pixels.max(1) as f64), g)
+        };
+        let line = format!("{name:<30} {kind:<12} {gpu} {cpu:>10.3} {per_px} {grays}");
+        let _ = writeln!(s, "{}", line.trim_end());
     }
     let mut frame: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
     let gpu_total = if frames.iter().all(|f| f.gpu_ms.is_some()) { format!("{gpu_total:>10.3}") } else { format!("{:>10}", "n/a") };

@@ -16,6 +16,14 @@ pub struct FrameUniforms {
     pub light_color: [f32; 4],
     /// width, height, 1/width, 1/height.
     pub resolution: [f32; 4],
+    /// Orthographic view-projection of the directional light, covering the scene (shadow maps).
+    pub light_view_proj: [[f32; 4]; 4],
+    /// xyz position, w intensity (0: no point light).
+    pub point_light: [f32; 4],
+    /// rgb colour, a unused.
+    pub point_color: [f32; 4],
+    /// xyz scene bounds centre, w half diagonal (ray lengths and offsets scale with it).
+    pub scene_sphere: [f32; 4],
     pub frame_index: u32,
     pub _pad: [u32; 3],
 }

@@ -56,6 +56,8 @@ pub struct GpuScene {
     pub indices: Option<wgpu::Buffer>,
     pub instances: Option<wgpu::Buffer>,
     pub materials: Option<wgpu::Buffer>,
+    /// Per mesh: first index, base vertex, index count (`scene_meshes`).
+    pub meshes: Option<wgpu::Buffer>,
     pub textures: Option<SceneTextures>,
     pub draws: Vec<Draw>,
     /// What was uploaded.
@@ -84,9 +86,9 @@ impl GpuScene {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let mut bytes = 0u64;
-        let mut out = GpuScene { vertices: None, indices: None, instances: None, materials: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
+        let mut out = GpuScene { vertices: None, indices: None, instances: None, materials: None, meshes: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
 
-        if usage.geometry {
+        if usage.geometry || usage.geometry_storage {
             let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
             let index_count: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
             let vertex_bytes = (vertex_count * std::mem::size_of::<super::Vertex>()) as u64;
@@ -97,7 +99,9 @@ impl GpuScene {
             let mut vertices = Vec::with_capacity(vertex_count.max(1));
             let mut indices = Vec::with_capacity(index_count.max(3));
             let mut ranges = Vec::new();
+            let mut records: Vec<[u32; 4]> = Vec::new();
             for mesh in &scene.meshes {
+                records.push([indices.len() as u32, vertices.len() as u32, mesh.indices.len() as u32, 0]);
                 let first_index = indices.len() as u32;
                 let base_vertex = vertices.len() as i32;
                 vertices.extend_from_slice(&mesh.vertices);
@@ -117,8 +121,18 @@ impl GpuScene {
             if indices.is_empty() {
                 indices.extend_from_slice(&[0, 0, 0]);
             }
-            out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX));
-            out.indices = Some(init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX));
+            let storage = if usage.geometry_storage { wgpu::BufferUsages::STORAGE } else { wgpu::BufferUsages::empty() };
+            if usage.geometry_storage {
+                let limit = limits.max_storage_buffer_binding_size;
+                check(scene, "the vertex buffer (one storage binding)", vertex_bytes, limit, "use a smaller scene")?;
+                check(scene, "the index buffer (one storage binding)", index_count as u64 * 4, limit, "use a smaller scene")?;
+                if records.is_empty() {
+                    records.push([0; 4]);
+                }
+                out.meshes = Some(init("scene meshes", bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE));
+            }
+            out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX | storage));
+            out.indices = Some(init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX | storage));
             bytes += (vertices.len() * std::mem::size_of::<super::Vertex>() + indices.len() * 4) as u64;
         }
 

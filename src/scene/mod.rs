@@ -129,6 +129,17 @@ pub struct Scene {
     /// Named static views (the paper's static-camera tests); the first is `camera`.
     pub presets: Vec<(String, Camera)>,
     pub light: Light,
+    /// An optional point light (besides the directional `light`).
+    pub point_light: Option<PointLight>,
+}
+
+/// A point light with inverse-square falloff.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLight {
+    pub position: Vec3,
+    pub color: Vec3,
+    /// Radiant intensity: irradiance at 1 unit, facing the light.
+    pub intensity: f32,
 }
 
 impl Default for Light {

@@ -50,5 +50,6 @@ pub(super) fn build() -> Scene {
             ("close".into(), Camera::look(Vec3::new(0.45, 0.35, 0.9), Vec3::ZERO, 60.0, 0.05, 50.0)),
         ],
         light: Light { direction: Vec3::new(-0.45, 0.8, 0.4).normalize(), color: Vec3::new(1.0, 0.97, 0.92), intensity: 3.0, ambient: 0.3 },
+        point_light: None,
     }
 }

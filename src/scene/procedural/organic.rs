@@ -168,5 +168,6 @@ pub(super) fn build() -> Scene {
             ("profile".into(), Camera::look(Vec3::new(3.2, 0.2, 0.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
         ],
         light: Light { direction: Vec3::new(0.5, 0.7, 0.5).normalize(), color: Vec3::new(1.0, 0.97, 0.92), intensity: 3.0, ambient: 0.3 },
+        point_light: None,
     }
 }
