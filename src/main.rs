@@ -21,8 +21,12 @@ enum Command {
     /// Render a scene headless, write a PNG and print per-pass timings.
     Render {
         /// Graph description file.
-        #[arg(long, default_value = "graph/raster.ron")]
+        #[arg(long, default_value = "graph/raster.ron", conflicts_with = "mode")]
         graph: PathBuf,
+        /// The paper's modes, a shortcut for their graphs: raster (graph/raster.ron), hybrid
+        /// (graph/hybrid.ron), full-rt (graph/full_rt.ron).
+        #[arg(long)]
+        mode: Option<Mode>,
         /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
         #[arg(long, default_value = "default")]
         scene: String,
@@ -59,6 +63,24 @@ enum Command {
         #[command(subcommand)]
         command: SceneCommand,
     },
+}
+
+/// The paper's three rendering modes.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Mode {
+    Raster,
+    Hybrid,
+    FullRt,
+}
+
+impl Mode {
+    fn graph(self) -> &'static str {
+        match self {
+            Mode::Raster => "graph/raster.ron",
+            Mode::Hybrid => "graph/hybrid.ron",
+            Mode::FullRt => "graph/full_rt.ron",
+        }
+    }
 }
 
 /// Where the camera is.
@@ -187,7 +209,8 @@ fn run(cli: Cli) -> Result<()> {
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
-        Command::Render { graph: graph_file, scene: scene_spec, backend, view, width, height, out, frames, layers, shaders } => {
+        Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, layers, shaders } => {
+            let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let project = project_for(&graph_file, layers, shaders);
             graph::compile(&graph_file, &project, (width, height))?; // report graph errors before opening a device

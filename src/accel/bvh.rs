@@ -24,22 +24,30 @@
 //! with [`TRAVERSAL_COST`] `C_trav = 1` and [`INTERSECTION_COST`] `C_isect = 1` (a box test and
 //! a primitive test cost about the same in a compute-shader traversal; only the ratio matters).
 //! A node becomes a leaf when it holds at most `max_leaf_size` (4) primitives and the leaf is no
-//! more expensive than the best split. When all centroids coincide, and for every node at depth
+//! more expensive than the best split. Nodes of fewer than `bins` primitives use as many bins as
+//! primitives (at least 4). When all centroids coincide, and for every node at depth
 //! [`MEDIAN_FALLBACK_DEPTH`] (24) or deeper, the node is split at the object median of its
 //! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
 //! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
 //! suffices, and one of 48 up to 2^26 primitives. (SAH trees of real scenes are far shallower:
-//! the 262k-triangle atrium is 25 deep.)
+//! the 262k triangles of the atrium in one BLAS are 24 deep.)
 //!
 //! Subtrees with at least [`BuildConfig::parallel_threshold`] primitives are built with
-//! `rayon::join` and concatenated; smaller ones are built sequentially into one array.
+//! `rayon::join` and concatenated; smaller ones are built sequentially into one array. Nodes of
+//! more than 16k primitives also bin in parallel, and [`SceneAccel::build`] builds the BLASes of
+//! all meshes in parallel. Each partition pass measures both sides' bounds on the way, so a node
+//! touches its primitives twice (bin, partition).
+//!
+//! Measured on the 2-core development machine (optimised build, machine shared with other
+//! work): the atrium's two levels (one BLAS per mesh, 99k distinct triangles, TLAS over 468
+//! instances) in about 60 ms, all 262k instanced triangles baked into one BLAS in about 200 ms.
 
 use crate::scene::{Mesh, Scene};
-use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3};
+use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3, Vec3A};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
-/// SAH cost of visiting an interior node (one ray-box test for each child).
+/// SAH cost of visiting an interior node (testing its two children's boxes).
 pub const TRAVERSAL_COST: f32 = 1.0;
 /// SAH cost of one ray-primitive test.
 pub const INTERSECTION_COST: f32 = 1.0;
@@ -47,7 +55,7 @@ pub const INTERSECTION_COST: f32 = 1.0;
 pub const MAX_LEAF_SIZE: usize = 4;
 /// Default number of SAH bins per axis.
 pub const DEFAULT_BINS: usize = 16;
-/// Below this depth nodes are split at the object median instead of by SAH.
+/// Nodes at this depth or deeper are split at the object median instead of by SAH.
 pub const MEDIAN_FALLBACK_DEPTH: usize = 24;
 /// Upper bound on the depth (root = 0) of any tree this builder makes; a nearer-first
 /// traversal pushes at most one node per level, so a stack of this many entries suffices.
@@ -193,7 +201,11 @@ impl Bvh {
     /// Builds a tree over `prims`. Primitives whose box is empty or not finite, or whose
     /// centroid is not finite, are left out (callers filter them first and count them).
     pub fn build(prims: &[BuildPrim], cfg: &BuildConfig) -> Bvh {
-        let mut work: Vec<BuildPrim> = prims.iter().filter(|p| !p.bounds.is_empty() && p.bounds.is_finite() && p.centroid.is_finite()).copied().collect();
+        let mut work: Vec<Work> = prims
+            .iter()
+            .filter(|p| !p.bounds.is_empty() && p.bounds.is_finite() && p.centroid.is_finite())
+            .map(|p| Work { bounds: Box3A { min: p.bounds.min.into(), max: p.bounds.max.into() }, centroid: p.centroid.into(), id: p.id })
+            .collect();
         if work.is_empty() {
             return Bvh::default();
         }
@@ -285,9 +297,49 @@ impl Bvh {
     }
 }
 
-fn union_bounds(prims: &[BuildPrim]) -> (Aabb, Aabb) {
-    let mut b = Aabb::EMPTY;
-    let mut c = Aabb::EMPTY;
+/// A primitive as the builder works on it: SIMD-friendly copies of a [`BuildPrim`].
+#[derive(Debug, Clone, Copy)]
+struct Work {
+    bounds: Box3A,
+    centroid: Vec3A,
+    id: u32,
+}
+
+/// [`Aabb`] with 16-byte SIMD vectors, for the builder's inner loops.
+#[derive(Debug, Clone, Copy)]
+struct Box3A {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Box3A {
+    const EMPTY: Box3A = Box3A { min: Vec3A::splat(f32::INFINITY), max: Vec3A::splat(f32::NEG_INFINITY) };
+
+    fn union(&self, o: &Box3A) -> Box3A {
+        Box3A { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    fn grow(&mut self, p: Vec3A) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    fn surface_area(&self) -> f32 {
+        let d = self.max - self.min;
+        if d.x < 0.0 || d.y < 0.0 || d.z < 0.0 {
+            return 0.0;
+        }
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    fn to_aabb(self) -> Aabb {
+        Aabb { min: self.min.into(), max: self.max.into() }
+    }
+}
+
+fn union_bounds(prims: &[Work]) -> (Box3A, Box3A) {
+    let mut b = Box3A::EMPTY;
+    let mut c = Box3A::EMPTY;
     for p in prims {
         b = b.union(&p.bounds);
         c.grow(p.centroid);
@@ -295,17 +347,17 @@ fn union_bounds(prims: &[BuildPrim]) -> (Aabb, Aabb) {
     (b, c)
 }
 
-fn union_bounds_par(prims: &[BuildPrim], cfg: &BuildConfig) -> (Aabb, Aabb) {
+fn union_bounds_par(prims: &[Work], cfg: &BuildConfig) -> (Box3A, Box3A) {
     if prims.len() < cfg.parallel_threshold.saturating_mul(4) {
         return union_bounds(prims);
     }
-    prims.par_chunks(cfg.parallel_threshold).map(union_bounds).reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(&b.0), a.1.union(&b.1)))
+    prims.par_chunks(cfg.parallel_threshold).map(union_bounds).reduce(|| (Box3A::EMPTY, Box3A::EMPTY), |a, b| (a.0.union(&b.0), a.1.union(&b.1)))
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final primitive order, and
 /// whose boxes and centroids span `bounds` and `centroids`): the returned nodes have the subtree
 /// root at 0 and child indices local to the vector.
-fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildConfig, bounds: Aabb, centroids: Aabb) -> Vec<BvhNode> {
+fn build_subtree(prims: &mut [Work], first: u32, depth: usize, cfg: &BuildConfig, bounds: Box3A, centroids: Box3A) -> Vec<BvhNode> {
     if prims.len() < cfg.parallel_threshold {
         let mut nodes = Vec::with_capacity(prims.len());
         nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
@@ -315,7 +367,7 @@ fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildC
     }
     let mut scratch = Bins::new();
     let Some(sp) = split(prims, &bounds, &centroids, depth, cfg, &mut scratch) else {
-        return vec![BvhNode { bounds, left_or_first: first, count: prims.len() as u32 }];
+        return vec![BvhNode { bounds: bounds.to_aabb(), left_or_first: first, count: prims.len() as u32 }];
     };
     let mid = sp.mid;
     let (l, r) = prims.split_at_mut(mid);
@@ -326,7 +378,7 @@ fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildC
     // [root, left root, right root, left descendants..., right descendants...]
     let shift = |n: &BvhNode, by: usize| if n.is_leaf() { *n } else { BvhNode { left_or_first: n.left_or_first + by as u32, ..*n } };
     let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
-    nodes.push(BvhNode { bounds, left_or_first: 1, count: 0 });
+    nodes.push(BvhNode { bounds: bounds.to_aabb(), left_or_first: 1, count: 0 });
     nodes.push(shift(&ln[0], 2));
     nodes.push(shift(&rn[0], ln.len() + 1));
     nodes.extend(ln[1..].iter().map(|n| shift(n, 2)));
@@ -339,19 +391,19 @@ fn build_subtree(prims: &mut [BuildPrim], first: u32, depth: usize, cfg: &BuildC
 fn build_sequential(
     nodes: &mut Vec<BvhNode>,
     idx: usize,
-    prims: &mut [BuildPrim],
+    prims: &mut [Work],
     first: u32,
     depth: usize,
     cfg: &BuildConfig,
-    span: (Aabb, Aabb),
+    span: (Box3A, Box3A),
     scratch: &mut Bins,
 ) {
     let (bounds, centroids) = span;
     match split(prims, &bounds, &centroids, depth, cfg, scratch) {
-        None => nodes[idx] = BvhNode { bounds, left_or_first: first, count: prims.len() as u32 },
+        None => nodes[idx] = BvhNode { bounds: bounds.to_aabb(), left_or_first: first, count: prims.len() as u32 },
         Some(sp) => {
             let left = nodes.len();
-            nodes[idx] = BvhNode { bounds, left_or_first: left as u32, count: 0 };
+            nodes[idx] = BvhNode { bounds: bounds.to_aabb(), left_or_first: left as u32, count: 0 };
             nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
             nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
             let (l, r) = prims.split_at_mut(sp.mid);
@@ -364,8 +416,8 @@ fn build_sequential(
 /// A decided split: `prims[..mid]` go left; each side's (box bounds, centroid bounds).
 struct Split {
     mid: usize,
-    left: (Aabb, Aabb),
-    right: (Aabb, Aabb),
+    left: (Box3A, Box3A),
+    right: (Box3A, Box3A),
 }
 
 /// Upper bound of [`BuildConfig::bins`].
@@ -378,23 +430,23 @@ const PARALLEL_BINNING: usize = 16 * 1024;
 #[derive(Clone, Copy)]
 struct Bins {
     count: [[u32; MAX_BINS]; 3],
-    bounds: [[Aabb; MAX_BINS]; 3],
+    bounds: [[Box3A; MAX_BINS]; 3],
 }
 
 impl Bins {
     fn new() -> Self {
-        Self { count: [[0; MAX_BINS]; 3], bounds: [[Aabb::EMPTY; MAX_BINS]; 3] }
+        Self { count: [[0; MAX_BINS]; 3], bounds: [[Box3A::EMPTY; MAX_BINS]; 3] }
     }
 
     /// Empties the first `bins` bins of every axis.
     fn reset(&mut self, bins: usize) {
         for axis in 0..3 {
             self.count[axis][..bins].fill(0);
-            self.bounds[axis][..bins].fill(Aabb::EMPTY);
+            self.bounds[axis][..bins].fill(Box3A::EMPTY);
         }
     }
 
-    fn add(&mut self, prims: &[BuildPrim], maps: &[Option<(f32, f32)>; 3], bins: usize) {
+    fn add(&mut self, prims: &[Work], maps: &[Option<(f32, f32)>; 3], bins: usize) {
         for p in prims {
             for (axis, map) in maps.iter().enumerate() {
                 if let Some((lo, scale)) = *map {
@@ -419,7 +471,7 @@ impl Bins {
 
 /// Decides how to split `prims` and partitions them in place: `None` for a leaf, else the
 /// split (always `0 < mid < len`). `scratch` is reused for the bins of small nodes.
-fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize, cfg: &BuildConfig, scratch: &mut Bins) -> Option<Split> {
+fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cfg: &BuildConfig, scratch: &mut Bins) -> Option<Split> {
     let n = prims.len();
     if n <= 1 {
         return None;
@@ -458,14 +510,14 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize,
     for axis in (0..3).filter(|&a| maps[a].is_some()) {
         let (count, boxes) = (&binned.count[axis], &binned.bounds[axis]);
         // Suffix sweep: right_*[i] describes bins i..bins.
-        let (mut acc_box, mut acc_n) = (Aabb::EMPTY, 0u32);
+        let (mut acc_box, mut acc_n) = (Box3A::EMPTY, 0u32);
         for i in (1..bins).rev() {
             acc_box = acc_box.union(&boxes[i]);
             acc_n += count[i];
             right_area[i] = acc_box.surface_area();
             right_count[i] = acc_n;
         }
-        let (mut acc_box, mut acc_n) = (Aabb::EMPTY, 0u32);
+        let (mut acc_box, mut acc_n) = (Box3A::EMPTY, 0u32);
         for i in 1..bins {
             acc_box = acc_box.union(&boxes[i - 1]);
             acc_n += count[i - 1];
@@ -495,7 +547,7 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, centroids: &Aabb, depth: usize,
 }
 
 /// `(lo, bins / extent)` for binning centroids along `axis`, or `None` if they do not spread.
-fn bin_mapping(centroids: &Aabb, axis: usize, bins: usize) -> Option<(f32, f32)> {
+fn bin_mapping(centroids: &Box3A, axis: usize, bins: usize) -> Option<(f32, f32)> {
     let (lo, hi) = (centroids.min[axis], centroids.max[axis]);
     let extent = hi - lo;
     let scale = bins as f32 / extent;
@@ -508,8 +560,8 @@ fn bin_index(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
 }
 
 /// Moves the primitives for which `left` holds to the front, measuring both sides on the way.
-fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> Split {
-    let (mut lb, mut lc, mut rb, mut rc) = (Aabb::EMPTY, Aabb::EMPTY, Aabb::EMPTY, Aabb::EMPTY);
+fn partition(prims: &mut [Work], left: impl Fn(&Work) -> bool) -> Split {
+    let (mut lb, mut lc, mut rb, mut rc) = (Box3A::EMPTY, Box3A::EMPTY, Box3A::EMPTY, Box3A::EMPTY);
     let mut i = 0;
     let mut j = prims.len();
     while i < j {
@@ -528,7 +580,7 @@ fn partition(prims: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> Spli
     Split { mid: i, left: (lb, lc), right: (rb, rc) }
 }
 
-fn median_split(prims: &mut [BuildPrim], centroids: &Aabb) -> Split {
+fn median_split(prims: &mut [Work], centroids: &Box3A) -> Split {
     let d = centroids.max - centroids.min;
     let axis = if d.x >= d.y && d.x >= d.z {
         0

@@ -13,8 +13,8 @@
 //! A [`GpuBvhNode`] with `count == 0` is interior: its children are at `left_or_first` and
 //! `left_or_first + 1` in the same array. With `count > 0` it is a leaf of `count` primitives
 //! starting at `left_or_first`: triangles for a BLAS node, instances for a TLAS node. Every
-//! index is absolute into its array. A traversal tests a node's own box before using it (the
-//! root's box first, then both children's boxes when visiting an interior node). Node boxes
+//! index is absolute into its array. A traversal tests both children's boxes when visiting an
+//! interior node (testing the root's box first is an optional early-out). Node boxes
 //! are the exact bounds widened outward by one ulp plus 1e-20 ([`widen_up`]), so that a ray
 //! with a zero direction component lying exactly in a face plane still enters the box.
 //!
@@ -23,9 +23,10 @@
 //! An empty BLAS (a mesh with no usable triangle) and an empty TLAS (no usable instance) are a
 //! single *leaf* of `count = 1` with the inverted box `min = +f32::MAX`, `max = -f32::MAX`
 //! ([`EMPTY_BOX_MIN`], [`EMPTY_BOX_MAX`]). A slab test that picks the near/far plane by the sign
-//! of the direction (as [`crate::accel::cpu_traverse`] does) never enters it; a traversal that
-//! took `min`/`max` of the two slab distances would see an unbounded box, so the leaf still
-//! points at a primitive that cannot be hit: the empty BLAS at a padding triangle with three
+//! of the direction (as [`crate::accel::cpu_traverse`] does) never enters it; one that takes
+//! `min`/`max` of the two slab distances (as the WGSL does) sees an unbounded box, and a
+//! traversal may not test the root's box at all, so the leaf also points at a primitive that
+//! cannot be hit: the empty BLAS at a padding triangle with three
 //! zero vertices (`det == 0`, rejected; `prim` = [`NO_PRIM`]), the empty TLAS at a padding
 //! instance with `mask = 0`, `instance_id` = [`NO_INSTANCE`] and an empty BLAS. No box holds a
 //! NaN.

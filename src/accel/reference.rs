@@ -15,7 +15,7 @@
 //! few 1e-7 is rounding, not a bug.
 
 use super::bvh::{instance_transform, mesh_triangle, triangle_status, TriangleStatus};
-use super::cpu_traverse::Ray;
+use super::cpu_traverse::{ray_is_valid, Ray};
 use crate::scene::Scene;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -76,15 +76,18 @@ impl Reference {
         self.tris.len()
     }
 
-    /// The closest hit with `t_min <= t <= t_max` (the first triangle in scene order on a tie).
+    /// The closest hit with `t_min < t <= t_max` (the first triangle in scene order on a tie).
+    /// Rays that the traversals reject ([`ray_is_valid`]) miss here too.
     pub fn closest(&self, ray: &Ray) -> Option<RefHit> {
+        if !ray_is_valid(ray) {
+            return None;
+        }
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let (t_min, t_max) = (ray.t_min as f64, ray.t_max as f64);
         let mut best: Option<(f64, f64, f64, bool, usize)> = None;
         for (k, tri) in self.tris.iter().enumerate() {
-            let limit = best.map_or(t_max, |b| b.0);
             if let Some((t, u, v, front)) = moller_trumbore(&tri.v, o, d) {
-                if t >= t_min && t <= limit && best.is_none_or(|b| t < b.0) {
+                if t > t_min && t <= t_max && best.is_none_or(|b| t < b.0) {
                     best = Some((t, u, v, front, k));
                 }
             }
@@ -102,11 +105,14 @@ impl Reference {
         })
     }
 
-    /// Whether any triangle is hit with `t_min <= t <= t_max`.
+    /// Whether any triangle is hit with `t_min < t <= t_max`.
     pub fn any(&self, ray: &Ray) -> bool {
+        if !ray_is_valid(ray) {
+            return false;
+        }
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let (t_min, t_max) = (ray.t_min as f64, ray.t_max as f64);
-        self.tris.iter().any(|tri| moller_trumbore(&tri.v, o, d).is_some_and(|(t, ..)| t >= t_min && t <= t_max))
+        self.tris.iter().any(|tri| moller_trumbore(&tri.v, o, d).is_some_and(|(t, ..)| t > t_min && t <= t_max))
     }
 
     pub fn closest_many(&self, rays: &[Ray]) -> Vec<Option<RefHit>> {
@@ -122,13 +128,13 @@ impl Reference {
         self.by_id.get(&(instance_id, prim)).map(|&k| self.tris[k].v)
     }
 
-    /// The hit of `ray` on triangle `prim` of instance `instance_id` alone (`t_min <= t <=
-    /// t_max`), if any.
+    /// The hit of `ray` on triangle `prim` of instance `instance_id` alone
+    /// (`t_min < t <= t_max`), if any.
     pub fn hit_triangle(&self, ray: &Ray, instance_id: u32, prim: u32) -> Option<RefHit> {
         let tri = &self.tris[*self.by_id.get(&(instance_id, prim))?];
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let (t, u, v, front) = moller_trumbore(&tri.v, o, d)?;
-        (t >= ray.t_min as f64 && t <= ray.t_max as f64).then(|| RefHit {
+        (t > ray.t_min as f64 && t <= ray.t_max as f64).then(|| RefHit {
             t,
             instance_id,
             prim,

@@ -387,3 +387,15 @@ pub fn f32_to_f16(x: f32) -> u16 {
         half
     }
 }
+
+/// f32 from IEEE half precision.
+pub fn f16_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = ((h >> 10) & 0x1f) as i32;
+    let mant = (h & 0x3ff) as f32;
+    sign * match exp {
+        0 => mant * 2f32.powi(-24),
+        31 => if mant == 0.0 { f32::INFINITY } else { f32::NAN },
+        e => (1.0 + mant / 1024.0) * 2f32.powi(e - 15),
+    }
+}

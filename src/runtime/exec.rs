@@ -91,9 +91,8 @@ impl Executor {
                     if s.usage.attachment {
                         usage |= wgpu::TextureUsages::RENDER_ATTACHMENT;
                     }
-                    if s.usage.copy_src {
-                        usage |= wgpu::TextureUsages::COPY_SRC;
-                    }
+                    // Every texture can be read back (tests, the viewer's pass inspector).
+                    usage |= wgpu::TextureUsages::COPY_SRC;
                     if s.constant.is_some() {
                         usage |= wgpu::TextureUsages::COPY_DST;
                     }
@@ -618,13 +617,62 @@ impl Executor {
 
     /// Reads back any kept RGBA8 texture resource.
     pub fn read_texture_rgba8(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
+        let (w, h, format, data) = self.read_texture_bytes(gpu, r)?;
+        if format.bytes_per_texel() != 4 || format.is_uint() {
+            return Err(RuntimeError::Gpu(format!("{} is {format:?}, not an 8-bit RGBA texture", self.plan.resources[r].name)));
+        }
+        image::RgbaImage::from_raw(w, h, data).ok_or_else(|| RuntimeError::Gpu("readback size mismatch".into()))
+    }
+
+    /// Reads back any kept colour texture as RGBA f32 per texel (row-major; missing channels
+    /// 0, alpha 1); float, half and 8-bit unorm formats.
+    pub fn read_texture_f32(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, Vec<[f32; 4]>), RuntimeError> {
+        let (w, h, format, data) = self.read_texture_bytes(gpu, r)?;
+        use crate::graph::desc::Format as F;
+        let (channels, kind) = match format {
+            F::R8Unorm => (1, 0),
+            F::Rg8Unorm => (2, 0),
+            F::Rgba8Unorm | F::Rgba8UnormSrgb => (4, 0),
+            F::R16Float => (1, 1),
+            F::Rg16Float => (2, 1),
+            F::Rgba16Float => (4, 1),
+            F::R32Float | F::Depth32Float => (1, 2),
+            F::Rg32Float => (2, 2),
+            F::Rgba32Float => (4, 2),
+            F::R32Uint | F::Rgba32Uint => return Err(RuntimeError::Gpu(format!("{format:?} is not a float format"))),
+        };
+        let size = [1usize, 2, 4][kind];
+        let texel = channels * size;
+        let texels = data
+            .chunks_exact(texel)
+            .map(|t| {
+                let mut v = [0.0, 0.0, 0.0, 1.0];
+                for (c, b) in t.chunks_exact(size).enumerate() {
+                    v[c] = match kind {
+                        0 => b[0] as f32 / 255.0,
+                        1 => crate::graph::desc::f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
+                        _ => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+                    };
+                }
+                v
+            })
+            .collect();
+        Ok((w, h, texels))
+    }
+
+    /// A kept texture's texels, tightly packed rows.
+    fn read_texture_bytes(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, crate::graph::desc::Format, Vec<u8>), RuntimeError> {
         let (w, h) = self.plan.resources[r].extent;
+        let ResourceDecl::Texture(t) = &self.plan.resources[r].decl else {
+            return Err(RuntimeError::Gpu(format!("{} is not a texture", self.plan.resources[r].name)));
+        };
         let Physical::Texture(texture) = &self.slots[self.plan.resources[r].slot.ok_or_else(|| RuntimeError::Gpu("resource is not allocated".into()))?] else {
             return Err(RuntimeError::Gpu("resource is not a texture".into()));
         };
-        let padded = (w * 4).div_ceil(256) * 256;
+        let row = w * t.format.bytes_per_texel() as u32;
+        let padded = row.div_ceil(256) * 256;
         let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("output readback"),
+            label: Some("texture readback"),
             size: padded as u64 * h as u64,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
@@ -637,13 +685,13 @@ impl Executor {
         );
         gpu.queue.submit([encoder.finish()]);
         let data = map_read(&gpu.device, buf.slice(..))?;
-        let mut pixels = Vec::with_capacity((w * h * 4) as usize);
-        for row in 0..h as usize {
-            pixels.extend_from_slice(&data[row * padded as usize..row * padded as usize + w as usize * 4]);
+        let mut bytes = Vec::with_capacity((row * h) as usize);
+        for y in 0..h as usize {
+            bytes.extend_from_slice(&data[y * padded as usize..y * padded as usize + row as usize]);
         }
         drop(data);
         buf.unmap();
-        image::RgbaImage::from_raw(w, h, pixels).ok_or_else(|| RuntimeError::Gpu("readback size mismatch".into()))
+        Ok((w, h, t.format, bytes))
     }
 
     /// Reads the `debug_counters` buffer (shaders may count events into it).

@@ -51,6 +51,10 @@ impl Gpu {
         // G-buffers write more than WebGPU's default 32 bytes per pixel.
         required_limits.max_color_attachment_bytes_per_sample = adapter.limits().max_color_attachment_bytes_per_sample;
         required_limits.max_color_attachments = adapter.limits().max_color_attachments;
+        // Trace passes bind the scene's geometry, the back-end's arrays and several G-buffer
+        // targets at once: more than WebGPU's defaults (8 storage buffers, 4 storage textures).
+        required_limits.max_storage_buffers_per_shader_stage = adapter.limits().max_storage_buffers_per_shader_stage;
+        required_limits.max_storage_textures_per_shader_stage = adapter.limits().max_storage_textures_per_shader_stage;
         let texture_binding_arrays = adapter.features().contains(BINDLESS)
             && adapter.limits().max_binding_array_elements_per_shader_stage >= 256
             && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none();

@@ -110,7 +110,7 @@ pub fn default_scene() -> Scene {
         Material::diffuse("floor", [1.0, 1.0, 1.0, 1.0], Some(0)),
         Material::diffuse("bricks", [1.0, 1.0, 1.0, 1.0], Some(1)),
         Material::diffuse("red", [0.8, 0.15, 0.1, 1.0], None),
-        Material::diffuse("blue", [0.15, 0.3, 0.85, 1.0], None),
+        Material { metallic: 1.0, roughness: 0.08, ..Material::diffuse("blue", [0.15, 0.3, 0.85, 1.0], None) },
     ];
     let instances = vec![
         Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },

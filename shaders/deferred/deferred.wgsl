@@ -1,5 +1,6 @@
-// G-buffer of the simple deferred layer: world position, shading normal, geometric normal
-// (from screen-space derivatives of the position, turned towards the camera) and albedo.
+// G-buffer: world position, shading normal (normal-mapped through a cotangent frame from
+// screen-space derivatives, so meshes need no tangents), geometric normal (from derivatives of
+// the position), albedo and material. Normals face the camera.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
@@ -41,12 +42,32 @@ struct GBuffer {
     @location(1) normal: vec4<f32>,
     @location(2) geo_normal: vec4<f32>,
     @location(3) albedo: vec4<f32>,
+    @location(4) material: vec4<f32>,
+}
+
+// Perturbs n by a tangent-space normal map sample (Schüler, "Normal Mapping Without
+// Precomputed Tangents", 2013).
+fn perturb(n: vec3<f32>, p: vec3<f32>, uv: vec2<f32>, map: vec3<f32>, scale: f32) -> vec3<f32> {
+    let dp1 = dpdx(p);
+    let dp2 = dpdy(p);
+    let duv1 = dpdx(uv);
+    let duv2 = dpdy(uv);
+    let dp2perp = cross(dp2, n);
+    let dp1perp = cross(n, dp1);
+    let t = dp2perp * duv1.x + dp1perp * duv2.x;
+    let b = dp2perp * duv1.y + dp1perp * duv2.y;
+    let invmax = inverseSqrt(max(max(dot(t, t), dot(b, b)), 1e-20));
+    let m = map * 2.0 - vec3<f32>(1.0);
+    let local = vec3<f32>(m.xy * scale, m.z);
+    return normalize(t * invmax * local.x + b * invmax * local.y + n * local.z);
 }
 
 @fragment
 fn fs_main(in: VertexOut) -> GBuffer {
     let material = scene_materials[scene_instances[in.instance].material];
-    let albedo = material.base_color.rgb * sample_scene_texture(material.base_texture, in.uv).rgb;
+    let base = sample_scene_texture(material.base_texture, in.uv);
+    let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
+    let emissive = material.emissive * sample_scene_texture(material.emissive_texture, in.uv).rgb;
     let to_camera = frame.camera_pos.xyz - in.world;
     var geo = normalize(cross(dpdx(in.world), dpdy(in.world)));
     if dot(geo, to_camera) < 0.0 {
@@ -54,12 +75,18 @@ fn fs_main(in: VertexOut) -> GBuffer {
     }
     var n = normalize(in.normal);
     if dot(n, geo) < 0.0 {
-        n = -n; // back side of a double-sided surface
+        n = -n; // the back of a double-sided surface
+    }
+    if material.normal_texture != 0u {
+        let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
+        n = perturb(n, in.world, in.uv, map, material.normal_scale);
     }
     var out: GBuffer;
     out.position = vec4<f32>(in.world, 1.0);
     out.normal = vec4<f32>(n, 0.0);
     out.geo_normal = vec4<f32>(geo, 0.0);
-    out.albedo = vec4<f32>(albedo, 1.0);
+    out.albedo = vec4<f32>(material.base_color.rgb * base.rgb, 1.0);
+    let e = dot(emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
+    out.material = vec4<f32>(material.metallic * mr.b, clamp(material.roughness * mr.g, 0.02, 1.0), min(e / 16.0, 1.0), 1.0);
     return out;
 }

@@ -1,0 +1,120 @@
+// Reflections: closest-hit rays along the mirror direction (glossy: a cosine-power lobe whose
+// width follows the roughness), hit points shaded with the same BRDF as the resolve pass and a
+// shadow ray to the directional light; further bounces weighted by the Fresnel term.
+//#include "common/frame.wgsl"
+//#include "common/scene.wgsl"
+//#include "common/scene_textures.wgsl"
+//#include "common/ray_offset.wgsl"
+//#include "common/sampling.wgsl"
+//#include "common/lighting.wgsl"
+//#include "trace/trace.wgsl"
+//#include "common/surface.wgsl"
+
+struct Params {
+    bounces: u32,
+    glossy: u32,
+    max_roughness: f32,
+    seed: u32,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var<storage, read> scene_instances: array<Instance>;
+@group(0) @binding(3) var<storage, read> scene_materials: array<Material>;
+@group(0) @binding(4) var<storage, read> scene_meshes: array<MeshRecord>;
+@group(0) @binding(5) var<storage, read> scene_indices: array<u32>;
+@group(0) @binding(6) var<storage, read> scene_vertices: array<SceneVertex>;
+@group(0) @binding(7) var linear_sampler: sampler;
+@group(0) @binding(8) var position: texture_2d<f32>;
+@group(0) @binding(9) var normal: texture_2d<f32>;
+@group(0) @binding(10) var geo_normal: texture_2d<f32>;
+@group(0) @binding(11) var material: texture_2d<f32>;
+@group(0) @binding(12) var reflection: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(0) var scene_textures: SceneTextures;
+
+// A direction around the mirror direction r: exact for roughness 0, a cosine-power lobe
+// (exponent 2/roughness^4 - 2, the Blinn-Phong equivalent of GGX) otherwise.
+fn glossy_direction(r: vec3<f32>, roughness: f32, u: vec2<f32>) -> vec3<f32> {
+    if params.glossy == 0u || roughness < 0.03 {
+        return r;
+    }
+    let a = roughness * roughness;
+    let exponent = max(2.0 / (a * a) - 2.0, 1.0);
+    let cos_t = pow(u.x, 1.0 / (exponent + 1.0));
+    let sin_t = sqrt(max(0.0, 1.0 - cos_t * cos_t));
+    let phi = 6.28318530718 * u.y;
+    let s = select(-1.0, 1.0, r.z >= 0.0);
+    let k = -1.0 / (s + r.z);
+    let b = r.x * r.y * k;
+    let t = vec3<f32>(1.0 + s * r.x * r.x * k, s * b, -s * r.x);
+    let bt = vec3<f32>(b, s + r.y * r.y * k, -r.y);
+    return normalize(t * (sin_t * cos(phi)) + bt * (sin_t * sin(phi)) + r * cos_t);
+}
+
+// Direct light and sky ambient at a hit, seen from direction v.
+fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
+    let origin = offset_ray_origin(s.position, s.geo_normal);
+    let l = frame.light_dir.xyz;
+    var color = s.emissive + frame.light_color.a * sky_color(s.normal) * s.albedo * (1.0 - s.metallic);
+    if dot(s.geo_normal, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, 3.0e38)) {
+        color += brdf_light(s.normal, v, l, frame.light_color.rgb * frame.light_dir.w, s.albedo, s.metallic, s.roughness);
+    }
+    if frame.point_light.w > 0.0 {
+        let to_light = frame.point_light.xyz - origin;
+        let d = length(to_light);
+        let pl = to_light / d;
+        if dot(s.geo_normal, pl) > 0.0 && !trace_any(Ray(origin, 0.0, pl, d * 0.9999)) {
+            color += brdf_light(s.normal, v, pl, frame.point_color.rgb * frame.point_light.w / (d * d), s.albedo, s.metallic, s.roughness);
+        }
+    }
+    return color;
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(reflection);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let p = textureLoad(position, id.xy, 0);
+    let m = textureLoad(material, id.xy, 0);
+    if p.w == 0.0 || m.g > params.max_roughness {
+        textureStore(reflection, id.xy, vec4<f32>(0.0));
+        return;
+    }
+    var n = normalize(textureLoad(normal, id.xy, 0).xyz);
+    var geo = normalize(textureLoad(geo_normal, id.xy, 0).xyz);
+    var origin = offset_ray_origin(p.xyz, geo);
+    var v = normalize(frame.camera_pos.xyz - p.xyz);
+    var roughness = m.g;
+    var radiance = vec3<f32>(0.0);
+    var throughput = vec3<f32>(1.0);
+    let rnd = pixel_random2(id.xy, params.seed);
+    for (var bounce = 0u; bounce < params.bounces; bounce++) {
+        var dir = glossy_direction(reflect(-v, n), roughness, fract(rnd + r2_sample(bounce)));
+        if dot(dir, geo) <= 0.0 {
+            dir = reflect(dir, geo); // keep the ray above the surface it leaves
+        }
+        let ray = Ray(origin, 0.0, dir, 3.0e38);
+        let hit = trace_closest(ray);
+        if hit.instance == NO_HIT {
+            radiance += throughput * sky_color(dir);
+            break;
+        }
+        let s = surface_at(ray, hit);
+        radiance += throughput * shade_hit(s, -dir);
+        // The next bounce leaves the hit point, weighted by its Fresnel reflectance.
+        let f = fresnel_schlick(dot(s.normal, -dir), specular_f0(s.albedo, s.metallic));
+        throughput *= f;
+        if s.roughness > params.max_roughness || max(throughput.x, max(throughput.y, throughput.z)) < 0.01 {
+            break;
+        }
+        n = s.normal;
+        geo = s.geo_normal;
+        origin = offset_ray_origin(s.position, s.geo_normal);
+        v = -dir;
+        roughness = s.roughness;
+    }
+    textureStore(reflection, id.xy, vec4<f32>(radiance, 1.0));
+    trace_flush_stats();
+}
