@@ -242,7 +242,14 @@ fn run(cli: Cli) -> Result<()> {
                 println!("acceleration structures, first timed frame: {}", accel.describe());
             }
             if let Some(rays) = timings.last().and_then(|t| t.rays) {
-                println!("rays per frame: {} traced ({} closest-hit, {} any-hit), {} hits, {} invalid", rays.traced(), rays.closest, rays.any, rays.hits, rays.invalid);
+                println!(
+                    "rays per frame: {} traced ({} closest-hit, {} any-hit), {} hits, {} invalid",
+                    rays.traced(),
+                    rays.closest,
+                    rays.any,
+                    rays.hits,
+                    rays.invalid
+                );
             }
             println!(
                 "transient memory: {} with reuse, {} without",

@@ -86,14 +86,14 @@ fn graphs_that_do_not_trace_build_nothing() {
         let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join(dir)).arg(&p.root).status().unwrap();
         assert!(status.success());
     }
-    // The output shows the G-buffer's albedo; the ray-traced node feeds nothing that reaches it.
+    // The output shows the G-buffer's normals; the ray-traced node feeds nothing that reaches it.
     let text = r#"Graph(
         output: "tonemap.color",
         nodes: {
             "gb": Layer(layer: "deferred"),
             "accel": Accel(),
             "rt": Layer(layer: "rt_ao", inputs: {"position": "gb.position", "geo_normal": "gb.geo_normal", "tlas": "accel.tlas"}),
-            "tonemap": Layer(layer: "tonemap", inputs: {"hdr": "gb.albedo"}),
+            "tonemap": Layer(layer: "tonemap", inputs: {"hdr": "gb.normal"}),
         },
     )"#;
     let graph = p.write("graph/unused_rt.ron", text);

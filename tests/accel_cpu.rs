@@ -361,10 +361,11 @@ fn check_bvh(name: &str, bvh: &Bvh, ids: &HashSet<u32>, bounds_of: impl Fn(u32) 
         let first = n.left_or_first as usize;
         if n.is_leaf() {
             assert!(n.count as usize <= max_leaf, "{name}: leaf {i} holds {}", n.count);
-            for k in first..first + n.count as usize {
-                assert!(!covered[k], "{name}: primitive slot {k} in two leaves");
-                covered[k] = true;
-                assert!(n.bounds.contains(&bounds_of(bvh.prim_order[k])), "{name}: leaf {i} does not contain primitive {}", bvh.prim_order[k]);
+            let slots = first..first + n.count as usize;
+            for (slot, &id) in covered[slots.clone()].iter_mut().zip(&bvh.prim_order[slots]) {
+                assert!(!*slot, "{name}: primitive {id} in two leaves");
+                *slot = true;
+                assert!(n.bounds.contains(&bounds_of(id)), "{name}: leaf {i} does not contain primitive {id}");
             }
         } else {
             assert!(first > i && first + 1 < bvh.nodes.len(), "{name}: node {i} children at {first}");
@@ -861,7 +862,42 @@ fn probe_rays() -> Vec<Ray> {
     rays.push(Ray::new(Vec3::ZERO, Vec3::ZERO));
     rays.push(Ray::new(Vec3::splat(f32::NAN), Vec3::X));
     rays.push(Ray::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0)));
+    rays.push(Ray::with_interval(Vec3::new(0.2, 0.2, 2.0), -Vec3::Z, -1.0, 10.0));
+    rays.push(Ray::with_interval(Vec3::new(0.2, 0.2, 2.0), -Vec3::Z, 3.0, 1.0));
     rays
+}
+
+#[test]
+fn ray_interval_and_invalid_rays() {
+    let scene = box_scene();
+    let gpu = GpuAccel::build(&scene, &AccelOptions::default());
+    let trav = CpuTraverser::new(&gpu);
+    let reference = Reference::new(&scene);
+    let o = Vec3::new(0.1, 0.2, 2.0);
+    let d = -Vec3::Z;
+    let cases = [
+        (Ray::new(o, d), Some(1.5)),
+        (Ray::with_interval(o, d, 1.6, f32::INFINITY), Some(2.5)),
+        (Ray::with_interval(o, d, 0.0, 1.4), None),
+        (Ray::with_interval(o, d, 1.5, 2.0), None),      // t_min is exclusive
+        (Ray::with_interval(o, d, 0.0, 1.5), Some(1.5)), // t_max is inclusive
+        (Ray::with_interval(o, d, -1.0, 5.0), None),     // negative t_min: invalid
+        (Ray::with_interval(o, d, -0.0, 5.0), None),     // -0 too, as in the WGSL
+        (Ray::with_interval(o, d, 3.0, 2.0), None),      // t_max < t_min
+        (Ray::with_interval(o, d, 0.0, f32::NAN), None),
+        (Ray::new(o, Vec3::ZERO), None),
+        (Ray::new(Vec3::new(f32::INFINITY, 0.0, 0.0), d), None),
+    ];
+    for (ray, want) in cases {
+        let h = trav.closest(&ray);
+        assert_eq!(h.map(|h| h.t), want, "{ray:?}");
+        assert_eq!(trav.any(&ray), want.is_some(), "{ray:?}");
+        assert_eq!(reference.closest(&ray).map(|r| r.t as f32), want, "reference: {ray:?}");
+        if let Some(h) = h {
+            // Entering through the +z face from outside is front-facing, leaving through -z not.
+            assert_eq!(h.front_face, h.t < 2.0, "{ray:?}");
+        }
+    }
 }
 
 #[test]

@@ -132,7 +132,8 @@ fn both_back_ends_agree_with_the_f64_reference() {
     for name in ["box", "organic", "default", "atrium"] {
         let s = scene(name);
         let reference = Reference::new(&s);
-        let normals: std::collections::HashMap<(u32, u32), DVec3> = world_triangles(&s).into_iter().map(|(i, p, v)| ((i, p), (v[1] - v[0]).cross(v[2] - v[0]).as_dvec3().normalize())).collect();
+        let normals: std::collections::HashMap<(u32, u32), DVec3> =
+            world_triangles(&s).into_iter().map(|(i, p, v)| ((i, p), (v[1] - v[0]).cross(v[2] - v[0]).as_dvec3().normalize())).collect();
         let extent = s.bounds().max.abs().max(s.bounds().min.abs()).max_element() as f64;
         let per_group = if name == "atrium" { 150 } else { 400 };
         let rays = test_rays(&s, 7, per_group);
@@ -156,7 +157,8 @@ fn both_back_ends_agree_with_the_f64_reference() {
                 // The point where a grazing ray crosses a plane moves by the rounding divided
                 // by the sine, and with it the distance to an edge.
                 let near_edge_of = |dist: f64, inst: u32, prim: u32| dist <= EDGE_EPS / sine_of(inst, prim).min(1.0);
-                at_edge[k] = want.is_some_and(|w| near_edge_of(w.edge_dist, w.instance_id, w.prim)) || got.is_some_and(|g| near_edge_of(edge_of(g.instance, g.primitive), g.instance, g.primitive));
+                at_edge[k] = want.is_some_and(|w| near_edge_of(w.edge_dist, w.instance_id, w.prim))
+                    || got.is_some_and(|g| near_edge_of(edge_of(g.instance, g.primitive), g.instance, g.primitive));
                 let t_tolerance = |w: &raygraph::accel::reference::RefHit| {
                     let sine = sine_of(w.instance_id, w.prim);
                     (sine, tolerance_at(sine, w.t))
@@ -170,7 +172,10 @@ fn both_back_ends_agree_with_the_f64_reference() {
                             t_err_max = t_err_max.max(err);
                         }
                         if err > tolerance {
-                            failures.push(format!("{name}/{backend} ray {k} ({group}): t {} against {} (relative error {err:e}, tolerance {tolerance:e})", g.t, w.t));
+                            failures.push(format!(
+                                "{name}/{backend} ray {k} ({group}): t {} against {} (relative error {err:e}, tolerance {tolerance:e})",
+                                g.t, w.t
+                            ));
                         }
                     }
                     (Some(g), Some(w)) => {
@@ -185,20 +190,44 @@ fn both_back_ends_agree_with_the_f64_reference() {
                         let gpu_ambiguous = near_edge_of(edge_of(g.instance, g.primitive), g.instance, g.primitive) && g.t as f64 <= w.t + tol;
                         let explained = same_t || ref_ambiguous || gpu_ambiguous;
                         if !explained {
-                            failures.push(format!("{name}/{backend} ray {k} ({group}): hit {}/{} at {} but the reference hits {}/{} at {} (edge distance {:e}, sines {:e} {:e})", g.instance, g.primitive, g.t, w.instance_id, w.prim, w.t, w.edge_dist, sine_of(w.instance_id, w.prim), sine_of(g.instance, g.primitive)));
+                            failures.push(format!(
+                                "{name}/{backend} ray {k} ({group}): hit {}/{} at {} but the reference hits {}/{} at {} (edge distance {:e}, sines {:e} {:e})",
+                                g.instance,
+                                g.primitive,
+                                g.t,
+                                w.instance_id,
+                                w.prim,
+                                w.t,
+                                w.edge_dist,
+                                sine_of(w.instance_id, w.prim),
+                                sine_of(g.instance, g.primitive)
+                            ));
                         }
                         near_edge += 1;
                     }
                     (None, Some(w)) => {
                         if !near_edge_of(w.edge_dist, w.instance_id, w.prim) {
-                            failures.push(format!("{name}/{backend} ray {k} ({group}) missed; the reference hits {}/{} at {} (edge distance {:e}, sine {:e})", w.instance_id, w.prim, w.t, w.edge_dist, sine_of(w.instance_id, w.prim)));
+                            failures.push(format!(
+                                "{name}/{backend} ray {k} ({group}) missed; the reference hits {}/{} at {} (edge distance {:e}, sine {:e})",
+                                w.instance_id,
+                                w.prim,
+                                w.t,
+                                w.edge_dist,
+                                sine_of(w.instance_id, w.prim)
+                            ));
                         }
                         near_edge += 1;
                     }
                     (Some(g), None) => {
                         let e = edge_of(g.instance, g.primitive);
                         if !near_edge_of(e, g.instance, g.primitive) {
-                            failures.push(format!("{name}/{backend} ray {k} ({group}) hit {}/{} at {}; the reference misses (edge distance {e:e}, sine {:e})", g.instance, g.primitive, g.t, sine_of(g.instance, g.primitive)));
+                            failures.push(format!(
+                                "{name}/{backend} ray {k} ({group}) hit {}/{} at {}; the reference misses (edge distance {e:e}, sine {:e})",
+                                g.instance,
+                                g.primitive,
+                                g.t,
+                                sine_of(g.instance, g.primitive)
+                            ));
                         }
                         near_edge += 1;
                     }
@@ -252,10 +281,17 @@ fn no_ray_escapes_the_closed_organic_mesh_from_inside() {
         let escaped: Vec<usize> = hits.iter().enumerate().filter(|(_, h)| h.is_none()).map(|(i, _)| i).collect();
         let (any, _) = tracer.any(&gpu, &rays).unwrap();
         let escaped_any = any.iter().filter(|h| !**h).count();
-        println!("{backend}: {} rays at vertices and edge midpoints from inside: {} escaped (closest), {escaped_any} (any); {} of them aimed at vertices", rays.len(), escaped.len(), escaped.iter().filter(|i| **i < m.vertices.len()).count());
+        println!(
+            "{backend}: {} rays at vertices and edge midpoints from inside: {} escaped (closest), {escaped_any} (any); {} of them aimed at vertices",
+            rays.len(),
+            escaped.len(),
+            escaped.iter().filter(|i| **i < m.vertices.len()).count()
+        );
         match backend {
             // The project's own traversal: watertight, no exceptions.
-            Backend::Compute => assert!(escaped.is_empty() && escaped_any == 0, "{backend}: rays {:?} escaped the closed mesh", &escaped[..escaped.len().min(10)]),
+            Backend::Compute => {
+                assert!(escaped.is_empty() && escaped_any == 0, "{backend}: rays {:?} escaped the closed mesh", &escaped[..escaped.len().min(10)])
+            }
             // The driver's intersector: Mesa lavapipe (25.0) lets some rays aimed exactly at a
             // vertex shared by several triangles through (measured: 34 of 1,962 vertex rays,
             // none of the 11,760 edge-midpoint rays). Assert exactly that much: no escape at an

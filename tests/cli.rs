@@ -47,11 +47,7 @@ fn graph_dot_writes_graphviz() {
 #[test]
 fn render_writes_a_png_and_prints_the_pass_table() {
     let out_png = std::env::temp_dir().join(format!("raygraph-cli-{}.png", std::process::id()));
-    let out = raygraph()
-        .args(["render", "--width", "96", "--height", "54", "--frames", "2", "--out"])
-        .arg(&out_png)
-        .output()
-        .unwrap();
+    let out = raygraph().args(["render", "--width", "96", "--height", "54", "--frames", "2", "--out"]).arg(&out_png).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("adapter:"), "{stdout}");
@@ -119,8 +115,40 @@ fn render_takes_a_scene_a_camera_preset_and_a_track() {
     assert!(a != b, "two presets give two pictures");
     let track = png("orbit.ron");
     run_ok(&["scene", "orbit", "box", &track, "--seconds", "2"]);
-    run_ok(&["render", "--scene", "box", "--track", &track, "--track-frame", "15", "--width", "48", "--height", "32", "--frames", "1", "--out", &png("t15.png")]);
-    run_ok(&["render", "--scene", "box", "--track", &track, "--track-frame", "15", "--width", "48", "--height", "32", "--frames", "1", "--out", &png("t15b.png")]);
+    run_ok(&[
+        "render",
+        "--scene",
+        "box",
+        "--track",
+        &track,
+        "--track-frame",
+        "15",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "1",
+        "--out",
+        &png("t15.png"),
+    ]);
+    run_ok(&[
+        "render",
+        "--scene",
+        "box",
+        "--track",
+        &track,
+        "--track-frame",
+        "15",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "1",
+        "--out",
+        &png("t15b.png"),
+    ]);
     assert!(image::open(png("t15.png")).unwrap().to_rgba8() == image::open(png("t15b.png")).unwrap().to_rgba8(), "playback by frame index is deterministic");
     let out = raygraph().args(["render", "--scene", "box", "--camera", "nowhere", "--frames", "1", "--out", &png("x.png")]).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);

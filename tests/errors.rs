@@ -178,7 +178,9 @@ fn texture_format_mismatch_between_producer_and_consumer() {
 fn shader_binding_mismatch() {
     let p = TempProject::new();
     // Storage format differs from the resource's format.
-    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/fill.wgsl")).unwrap().replace("texture_storage_2d<rgba16float, write>", "texture_storage_2d<rgba8unorm, write>");
+    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/fill.wgsl"))
+        .unwrap()
+        .replace("texture_storage_2d<rgba16float, write>", "texture_storage_2d<rgba8unorm, write>");
     p.write("shaders/test/fill_rgba8.wgsl", &wgsl);
     let layer = std::fs::read_to_string(p.root.join("layers/fill.ron")).unwrap().replace("test/fill.wgsl", "test/fill_rgba8.wgsl");
     p.write("layers/fill8.ron", &layer);
@@ -198,7 +200,10 @@ fn shader_binding_mismatch() {
     assert_eq!(e.notes[0].0.line, line_of(&wgsl, "var extra"), "{e}");
 
     // A declared resource the shader does not bind.
-    let layer = std::fs::read_to_string(p.root.join("layers/to8.ron")).unwrap().replace(r#"reads: ["src"]"#, r#"reads: ["src", "more"]"#).replace("inputs: {", "inputs: {\n        \"more\": Texture(format: Rgba16Float),");
+    let layer = std::fs::read_to_string(p.root.join("layers/to8.ron"))
+        .unwrap()
+        .replace(r#"reads: ["src"]"#, r#"reads: ["src", "more"]"#)
+        .replace("inputs: {", "inputs: {\n        \"more\": Texture(format: Rgba16Float),");
     p.write("layers/to8m.ron", &layer);
     let g = GOOD.replace(r#"layer: "to8", inputs: {"src": "fill.color"}"#, r#"layer: "to8m", inputs: {"src": "fill.color", "more": "fill.color"}"#);
     let e = expect(p.compile("g3.ron", &g), ErrorKind::BindingMismatch, "layers/to8m.ron", line_of(&layer, "name: \"convert\""));
@@ -221,7 +226,9 @@ fn wgsl_that_fails_to_validate() {
     assert!(e.notes.iter().any(|(l, _)| l.file.ends_with("layers/to8b.ron")), "names the layer file: {e}");
 
     // Syntax error in WGSL.
-    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/to8.wgsl")).unwrap().replace("let size = textureDimensions(color);", "let size = textureDimensions(color)");
+    let wgsl = std::fs::read_to_string(p.root.join("shaders/test/to8.wgsl"))
+        .unwrap()
+        .replace("let size = textureDimensions(color);", "let size = textureDimensions(color)");
     p.write("shaders/test/to8_syntax.wgsl", &wgsl);
     let layer = std::fs::read_to_string(p.root.join("layers/to8.ron")).unwrap().replace("test/to8.wgsl", "test/to8_syntax.wgsl");
     p.write("layers/to8s.ron", &layer);

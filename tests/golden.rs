@@ -56,7 +56,12 @@ fn raster_graph_matches_reference_image() {
     if rmse > MAX_RMSE || outlier_fraction > MAX_OUTLIER_FRACTION {
         let diff_path = std::env::temp_dir().join("raygraph_raster_actual.png");
         let _ = img.save(&diff_path);
-        panic!("image differs from the reference: RMSE {rmse:.3} (max {MAX_RMSE}), outliers {:.3}% (max {}%); actual image at {}", outlier_fraction * 100.0, MAX_OUTLIER_FRACTION * 100.0, diff_path.display());
+        panic!(
+            "image differs from the reference: RMSE {rmse:.3} (max {MAX_RMSE}), outliers {:.3}% (max {}%); actual image at {}",
+            outlier_fraction * 100.0,
+            MAX_OUTLIER_FRACTION * 100.0,
+            diff_path.display()
+        );
     }
     // The image is not trivially uniform: the scene is there.
     let distinct: std::collections::HashSet<[u8; 4]> = img.pixels().map(|p| p.0).collect();

@@ -104,7 +104,9 @@ fn only_what_the_graph_reads_is_uploaded() {
     let plan = compile(&graph, &Project::beside_graph(&graph), (32, 32)).unwrap();
     assert!(plan.scene_usage.textures && plan.scene_usage.materials);
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures.as_ref() else { panic!("the default options bind a texture array") };
+    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures.as_ref() else {
+        panic!("the default options bind a texture array")
+    };
     assert_eq!(texture.depth_or_array_layers(), scene.textures.len() as u32 + 1);
     assert_eq!(texture.mip_level_count(), raygraph::scene::gpu::TEXTURE_MIPS);
 }

@@ -95,7 +95,8 @@ fn check_full_document(s: &Scene, r: &raygraph::scene::ImportReport) {
     assert_eq!(a[0].mesh, a[1].mesh);
     let corner = |t: &Mat4| t.transform_point3(Vec3::new(1.0, 1.0, 0.0));
     let expect1 = Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0)) * Mat4::from_scale(Vec3::splat(2.0));
-    let expect2 = Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0)) * Mat4::from_rotation_translation(Quat::from_rotation_y(std::f32::consts::FRAC_PI_2), Vec3::new(0.0, 3.0, 0.0));
+    let expect2 = Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0))
+        * Mat4::from_rotation_translation(Quat::from_rotation_y(std::f32::consts::FRAC_PI_2), Vec3::new(0.0, 3.0, 0.0));
     let got: Vec<Vec3> = a.iter().map(|i| corner(&i.transform)).collect();
     for want in [corner(&expect1), corner(&expect2)] {
         assert!(got.iter().any(|g| g.distance(want) < 1e-5), "want {want}, got {got:?}");
@@ -197,7 +198,13 @@ fn built_in_scenes_export_and_import_back_to_the_same_triangles() {
         let path = dir.join(format!("{name}.glb"));
         export::write_glb(&s, &path).unwrap();
         let (back, report) = load(&path);
-        println!("{name}: {} triangles, {} meshes, {} textures -> {} bytes", s.triangle_count(), s.meshes.len(), s.textures.len(), std::fs::metadata(&path).unwrap().len());
+        println!(
+            "{name}: {} triangles, {} meshes, {} textures -> {} bytes",
+            s.triangle_count(),
+            s.meshes.len(),
+            s.textures.len(),
+            std::fs::metadata(&path).unwrap().len()
+        );
         assert_eq!(back.triangle_count(), s.triangle_count(), "{name}");
         assert_eq!(back.textures.len(), s.textures.len(), "{name}");
         assert_eq!(back.instances.len(), s.instances.len(), "{name}");

@@ -1,6 +1,6 @@
 // G-buffer: world position, shading normal (normal-mapped through a cotangent frame from
 // screen-space derivatives, so meshes need no tangents), geometric normal (from derivatives of
-// the position), albedo and material. Normals face the camera.
+// the object-space position, transformed), albedo and material. Normals face the camera.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
@@ -17,6 +17,9 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) @interpolate(flat) instance: u32,
+    // Object-space position: its derivatives give the face normal without the rounding of
+    // large world coordinates (an instance far from the origin).
+    @location(4) local: vec3<f32>,
 }
 
 @vertex
@@ -34,6 +37,7 @@ fn vs_main(
     out.normal = (inst.normal_matrix * vec4<f32>(normal, 0.0)).xyz;
     out.uv = uv;
     out.instance = instance;
+    out.local = position;
     return out;
 }
 
@@ -68,14 +72,15 @@ fn fs_main(in: VertexOut) -> GBuffer {
     let base = sample_scene_texture(material.base_texture, in.uv);
     let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
     let emissive = material.emissive * sample_scene_texture(material.emissive_texture, in.uv).rgb;
-    let to_camera = frame.camera_pos.xyz - in.world;
-    var geo = normalize(cross(dpdx(in.world), dpdy(in.world)));
-    if dot(geo, to_camera) < 0.0 {
-        geo = -geo;
-    }
+    let inst = scene_instances[in.instance];
+    // Back faces are culled, so every fragment shows the side its vertex normals point to: the
+    // face normal is oriented by them, not by a test against positions (which lose precision
+    // far from the origin) nor by the sign of the derivatives (which flips in quads that
+    // straddle the horizon).
     var n = normalize(in.normal);
-    if dot(n, geo) < 0.0 {
-        n = -n; // the back of a double-sided surface
+    var geo = normalize((inst.normal_matrix * vec4<f32>(cross(dpdx(in.local), dpdy(in.local)), 0.0)).xyz);
+    if dot(geo, n) < 0.0 {
+        geo = -geo;
     }
     if material.normal_texture != 0u {
         let map = sample_scene_texture(material.normal_texture, in.uv).rgb;

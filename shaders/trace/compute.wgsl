@@ -46,6 +46,10 @@ struct AccelInstance {
 @group(2) @binding(4) var<storage, read_write> accel_stats: array<atomic<u32>>;
 
 const TRACE_STACK: u32 = 48u;
+// gamma(n) = n u / (1 - n u), u = 2^-24: rounding-error bounds of n floating-point operations.
+const TRACE_GAMMA2: f32 = 1.1920930e-7;
+const TRACE_GAMMA3: f32 = 1.7881396e-7;
+const TRACE_GAMMA5: f32 = 2.9802326e-7;
 // 1 + 4 ulps: t_far is widened by this factor so a box the ray grazes is not lost to rounding.
 const TRACE_WIDEN: f32 = 1.0000005;
 
@@ -135,6 +139,20 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     let cz = r.shear.z * c3[r.kz];
     let t = (u * az + v * bz + w * cz) / det;
     if !(t > t_min && t <= t_max) {
+        return miss;
+    }
+    // A conservative bound on t's rounding error (PBR 3rd ed. 3.9.2): closer hits may lie
+    // behind the origin (a ray leaving a large triangle at a shallow angle would hit it again).
+    let max_z = max(abs(az), max(abs(bz), abs(cz)));
+    let max_x = max(abs(a.x), max(abs(b.x), abs(c.x)));
+    let max_y = max(abs(a.y), max(abs(b.y), abs(c.y)));
+    let max_e = max(abs(u), max(abs(v), abs(w)));
+    let delta_z = TRACE_GAMMA3 * max_z;
+    let delta_x = TRACE_GAMMA5 * (max_x + max_z);
+    let delta_y = TRACE_GAMMA5 * (max_y + max_z);
+    let delta_e = 2.0 * (TRACE_GAMMA2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    let delta_t = 3.0 * (TRACE_GAMMA3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * abs(1.0 / det);
+    if t <= delta_t {
         return miss;
     }
     return TriHit(t, v / det, w / det);

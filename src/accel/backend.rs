@@ -70,7 +70,9 @@ pub fn select(features: wgpu::Features, requested: Option<Backend>) -> Result<Se
     match requested {
         Some(b) if supports(b) => Ok(Selection { backend: b, reason: "requested with --backend".into() }),
         Some(b) => Err(format!("back-end `{b}` needs {:?}, which this adapter does not have; use --backend compute (runs everywhere)", b.features())),
-        None if supports(Backend::RayQuery) => Ok(Selection { backend: Backend::RayQuery, reason: "the adapter supports ray queries (EXPERIMENTAL_RAY_QUERY)".into() }),
+        None if supports(Backend::RayQuery) => {
+            Ok(Selection { backend: Backend::RayQuery, reason: "the adapter supports ray queries (EXPERIMENTAL_RAY_QUERY)".into() })
+        }
         None => Ok(Selection { backend: Backend::Compute, reason: "the adapter has no ray queries; using the compute-shader BVH".into() }),
     }
 }

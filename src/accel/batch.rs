@@ -69,7 +69,8 @@ impl BatchTracer {
         let device = &gpu.device;
         let options = CompileOptions { includes: include_aliases(gpu.texture_binding_arrays), backend, ..Default::default() };
         let path = shaders_dir.join("batch/batch.wgsl");
-        let info = reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
+        let info =
+            reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
 
         let mut cache = AccelCache::new(device, backend, true, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
@@ -77,11 +78,16 @@ impl BatchTracer {
         gpu.queue.submit([encoder.finish()]);
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let storage = |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
+        let storage =
+            |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
         let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("batch"),
-            entries: &[entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }), entry(1, storage(true)), entry(2, storage(false))],
+            entries: &[
+                entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+                entry(1, storage(true)),
+                entry(2, storage(false)),
+            ],
         });
         let empty = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch empty"), entries: &[] });
         let accel_bindings: Vec<&reflect::ShaderBinding> = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).collect();
@@ -103,9 +109,23 @@ impl BatchTracer {
             bg_entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
         }
         let accel_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch accel"), layout: &layout2, entries: &bg_entries });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("batch"), bind_group_layouts: &[Some(&layout0), Some(&empty), Some(&layout2)], immediate_size: 0 });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("batch.wgsl"), source: wgpu::ShaderSource::Wgsl(info.source.text.as_str().into()) });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor { label: Some("batch"), layout: Some(&pipeline_layout), module: &module, entry_point: Some("cs_main"), compilation_options: Default::default(), cache: None });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("batch"),
+            bind_group_layouts: &[Some(&layout0), Some(&empty), Some(&layout2)],
+            immediate_size: 0,
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("batch.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(info.source.text.as_str().into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("batch"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RuntimeError::Gpu(format!("creating the batch tracer failed: {e}")));
         }
@@ -115,7 +135,10 @@ impl BatchTracer {
     /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.
     pub fn closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
         let (raw, stats) = self.run(gpu, rays, 0)?;
-        let hits = raw.iter().map(|r| (r.flags & 1 != 0).then(|| BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 })).collect();
+        let hits = raw
+            .iter()
+            .map(|r| (r.flags & 1 != 0).then(|| BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 }))
+            .collect();
         Ok((hits, stats))
     }
 
@@ -129,12 +152,30 @@ impl BatchTracer {
         let device = &gpu.device;
         let n = rays.len().max(1);
         let params: [u32; 4] = [rays.len() as u32, mode, 0, 0];
-        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("batch params"), contents: bytemuck::bytes_of(&params), usage: wgpu::BufferUsages::UNIFORM });
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("batch params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
         let padded: Vec<GpuRay> = if rays.is_empty() { vec![GpuRay::zeroed()] } else { rays.to_vec() };
-        let ray_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("batch rays"), contents: bytemuck::cast_slice(&padded), usage: wgpu::BufferUsages::STORAGE });
+        let ray_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("batch rays"),
+            contents: bytemuck::cast_slice(&padded),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let size = (n * std::mem::size_of::<RawResult>()) as u64;
-        let results = device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch results"), size, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let results = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("batch results"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("batch readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let bg0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("batch"),
             layout: &self.layout0,

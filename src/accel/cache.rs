@@ -13,7 +13,7 @@
 //! trace module adds to.
 
 use super::backend::Backend;
-use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, AccelOptions, Aabb, Blas, SceneAccel, Tlas, TriangleStatus};
+use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas, TriangleStatus};
 use super::layout::{flatten, GpuAccel};
 use crate::error::RuntimeError;
 use crate::runtime::profiler::map_read;
@@ -177,8 +177,26 @@ impl AccelCache {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let stats_readback = device.create_buffer(&wgpu::BufferDescriptor { label: Some("accel stats readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        Self { backend, dedup, units: Vec::new(), instances: Vec::new(), instance_meshes: Vec::new(), state: State::Empty, stats, stats_readback, stats_windows, stats_stride, generation: 0, total_blas_builds: 0 }
+        let stats_readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accel stats readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            backend,
+            dedup,
+            units: Vec::new(),
+            instances: Vec::new(),
+            instance_meshes: Vec::new(),
+            state: State::Empty,
+            stats,
+            stats_readback,
+            stats_windows,
+            stats_stride,
+            generation: 0,
+            total_blas_builds: 0,
+        }
     }
 
     pub fn backend(&self) -> Backend {
@@ -191,7 +209,13 @@ impl AccelCache {
 
     /// Brings the acceleration structure up to date with `scene`, recording GPU work into
     /// `encoder` (ray-query builds) or writing buffers through `queue` (compute back-end).
-    pub fn update(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) -> Result<BuildReport, RuntimeError> {
+    pub fn update(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+    ) -> Result<BuildReport, RuntimeError> {
         let start = Instant::now();
         let mesh_hashes: Vec<u64> = scene.meshes.par_iter().map(mesh_hash).collect();
         let units: Vec<UnitKey> = if self.dedup {
@@ -201,12 +225,18 @@ impl AccelCache {
         };
         let instances: Vec<u64> = scene.instances.iter().map(instance_hash).collect();
         if let Some(bad) = scene.instances.iter().position(|i| i.mesh >= scene.meshes.len()) {
-            return Err(RuntimeError::Gpu(format!("scene `{}`: instance {bad} refers to mesh {} of {}", scene.name, scene.instances[bad].mesh, scene.meshes.len())));
+            return Err(RuntimeError::Gpu(format!(
+                "scene `{}`: instance {bad} refers to mesh {} of {}",
+                scene.name,
+                scene.instances[bad].mesh,
+                scene.meshes.len()
+            )));
         }
         let fresh = matches!(self.state, State::Empty);
         let changed: Vec<usize> = (0..units.len()).filter(|&u| fresh || self.units.get(u) != Some(&units[u])).collect();
         let instances_changed = fresh || instances != self.instances;
-        let same_instance_set = !fresh && self.instances.len() == instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
+        let same_instance_set =
+            !fresh && self.instances.len() == instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
         let mut report = BuildReport { blas_count: units.len(), ..Default::default() };
         if changed.is_empty() && !instances_changed {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -227,7 +257,16 @@ impl AccelCache {
         Ok(report)
     }
 
-    fn update_compute(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, units: &[UnitKey], changed: &[usize], same_instance_set: bool, report: &mut BuildReport) -> Result<(), RuntimeError> {
+    fn update_compute(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        units: &[UnitKey],
+        changed: &[usize],
+        same_instance_set: bool,
+        report: &mut BuildReport,
+    ) -> Result<(), RuntimeError> {
         let opts = AccelOptions { dedup: self.dedup, ..Default::default() };
         let old = match std::mem::replace(&mut self.state, State::Empty) {
             State::Compute(c) => Some(c),
@@ -300,7 +339,12 @@ impl AccelCache {
 
     /// Writes the flattened arrays, growing buffers (and bumping the generation) as needed.
     fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, buffers: &mut [wgpu::Buffer; 4], flat: &GpuAccel) -> u64 {
-        let data: [&[u8]; 4] = [bytemuck::cast_slice(&flat.tlas_nodes), bytemuck::cast_slice(&flat.instances), bytemuck::cast_slice(&flat.blas_nodes), bytemuck::cast_slice(&flat.triangles)];
+        let data: [&[u8]; 4] = [
+            bytemuck::cast_slice(&flat.tlas_nodes),
+            bytemuck::cast_slice(&flat.instances),
+            bytemuck::cast_slice(&flat.blas_nodes),
+            bytemuck::cast_slice(&flat.triangles),
+        ];
         let mut bytes = 0;
         for (buf, d) in buffers.iter_mut().zip(data) {
             if (d.len() as u64) > buf.size() {
@@ -314,7 +358,15 @@ impl AccelCache {
         bytes
     }
 
-    fn update_ray_query(&mut self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, scene: &Scene, units: &[UnitKey], changed: &[usize], report: &mut BuildReport) -> Result<(), RuntimeError> {
+    fn update_ray_query(
+        &mut self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+        units: &[UnitKey],
+        changed: &[usize],
+        report: &mut BuildReport,
+    ) -> Result<(), RuntimeError> {
         const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
         if scene.instances.len() > MAX_CUSTOM_DATA {
             return Err(RuntimeError::Gpu(format!(
@@ -389,7 +441,11 @@ impl AccelCache {
     pub fn binding(&self, name: &str, window: u32) -> Option<wgpu::BindingResource<'_>> {
         if name == "accel_stats" {
             let offset = self.stats_stride * window.min(self.stats_windows - 1) as u64;
-            return Some(wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &self.stats, offset, size: std::num::NonZeroU64::new((STAT_SLOTS * 4) as u64) }));
+            return Some(wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &self.stats,
+                offset,
+                size: std::num::NonZeroU64::new((STAT_SLOTS * 4) as u64),
+            }));
         }
         match (&self.state, name) {
             (State::Compute(c), "accel_tlas_nodes") => Some(c.buffers[0].as_entire_binding()),
@@ -448,7 +504,12 @@ pub fn check_fits(scene: &str, flat: &GpuAccel, max_binding: u64) -> Result<(), 
 }
 
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(32), usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false })
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(32),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 /// A wgpu BLAS over a mesh's triangles. Triangles the compute back-end leaves out (degenerate,
@@ -472,8 +533,10 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
     }
     let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
     let usage = wgpu::BufferUsages::BLAS_INPUT;
-    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas vertices"), contents: bytemuck::cast_slice(&positions), usage });
-    let index_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas indices"), contents: bytemuck::cast_slice(&indices), usage });
+    let vertices =
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas vertices"), contents: bytemuck::cast_slice(&positions), usage });
+    let index_buf =
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas indices"), contents: bytemuck::cast_slice(&indices), usage });
     let size = wgpu::BlasTriangleGeometrySizeDescriptor {
         vertex_format: wgpu::VertexFormat::Float32x3,
         vertex_count: positions.len() as u32,
@@ -482,7 +545,11 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
         flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
     };
     let blas = device.create_blas(
-        &wgpu::CreateBlasDescriptor { label: Some(&format!("blas {unit}")), flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE, update_mode: wgpu::AccelerationStructureUpdateMode::Build },
+        &wgpu::CreateBlasDescriptor {
+            label: Some(&format!("blas {unit}")),
+            flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+            update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+        },
         wgpu::BlasGeometrySizeDescriptors::Triangles { descriptors: vec![size.clone()] },
     );
     Some(RqBlas { blas, vertices, indices: index_buf, size })

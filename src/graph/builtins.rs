@@ -37,7 +37,20 @@ pub fn frame_uniform_size() -> u32 {
 }
 
 pub fn is_builtin(name: &str) -> bool {
-    matches!(name, FRAME | PARAMS | DEBUG_COUNTERS | SCENE_INSTANCES | SCENE_MATERIALS | SCENE_TEXTURES | SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES | LINEAR_SAMPLER | NEAREST_SAMPLER)
+    matches!(
+        name,
+        FRAME
+            | PARAMS
+            | DEBUG_COUNTERS
+            | SCENE_INSTANCES
+            | SCENE_MATERIALS
+            | SCENE_TEXTURES
+            | SCENE_VERTICES
+            | SCENE_INDICES
+            | SCENE_MESHES
+            | LINEAR_SAMPLER
+            | NEAREST_SAMPLER
+    )
 }
 
 /// Which parts of the scene the kept passes of a plan use; only these are uploaded.
@@ -78,10 +91,20 @@ impl SceneUsage {
 
     /// A short list for reports, e.g. `geometry, instances, textures`.
     pub fn describe(&self) -> String {
-        let parts: Vec<&str> = [(self.geometry, "geometry"), (self.geometry_storage, "geometry for shading hits"), (self.instances, "instances"), (self.materials, "materials"), (self.textures, "textures")]
-            .into_iter()
-            .filter_map(|(on, name)| on.then_some(name))
-            .collect();
-        if parts.is_empty() { "nothing (no pass reads the scene)".into() } else { parts.join(", ") }
+        let parts: Vec<&str> = [
+            (self.geometry, "geometry"),
+            (self.geometry_storage, "geometry for shading hits"),
+            (self.instances, "instances"),
+            (self.materials, "materials"),
+            (self.textures, "textures"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect();
+        if parts.is_empty() {
+            "nothing (no pass reads the scene)".into()
+        } else {
+            parts.join(", ")
+        }
     }
 }

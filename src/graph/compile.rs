@@ -158,7 +158,15 @@ impl Plan {
         for (i, p) in self.passes.iter().enumerate() {
             let reads: Vec<&str> = p.reads.iter().map(|(_, r)| self.resources[*r].name.as_str()).collect();
             let writes: Vec<&str> = p.writes.iter().map(|(_, r)| self.resources[*r].name.as_str()).collect();
-            let _ = writeln!(s, "  {i:>2}. {:<28} {:<12} {}  reads [{}] writes [{}]", p.name, p.kind.name(), p.shader.path.display(), reads.join(", "), writes.join(", "));
+            let _ = writeln!(
+                s,
+                "  {i:>2}. {:<28} {:<12} {}  reads [{}] writes [{}]",
+                p.name,
+                p.kind.name(),
+                p.shader.path.display(),
+                reads.join(", "),
+                writes.join(", ")
+            );
         }
         let _ = writeln!(s, "passes culled ({}): {}", self.culled.len(), if self.culled.is_empty() { "none".to_string() } else { self.culled.join(", ") });
         let _ = writeln!(s, "resources:");
@@ -230,24 +238,14 @@ impl SourceText {
 fn read_file(path: &Path, from: Option<Location>) -> Result<SourceText, GraphError> {
     match std::fs::read_to_string(path) {
         Ok(text) => Ok(SourceText { path: path.to_path_buf(), text }),
-        Err(e) => Err(GraphError::new(
-            ErrorKind::Io,
-            from.unwrap_or_else(|| Location::file_start(path)),
-            format!("cannot read {}: {e}", path.display()),
-        )),
+        Err(e) => Err(GraphError::new(ErrorKind::Io, from.unwrap_or_else(|| Location::file_start(path)), format!("cannot read {}: {e}", path.display()))),
     }
 }
 
 fn parse_ron<T: serde::de::DeserializeOwned>(src: &SourceText, what: &str) -> Result<T, GraphError> {
-    ron::Options::default()
-        .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
-        .from_str::<T>(&src.text).map_err(|e| {
-        GraphError::new(
-            ErrorKind::Syntax,
-            Location::new(&src.path, e.position.line as u32, e.position.col as u32),
-            format!("invalid {what} file: {}", e.code),
-        )
-        .help(format!("see docs/ARCHITECTURE.md for the {what} file format"))
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES).from_str::<T>(&src.text).map_err(|e| {
+        GraphError::new(ErrorKind::Syntax, Location::new(&src.path, e.position.line as u32, e.position.col as u32), format!("invalid {what} file: {}", e.code))
+            .help(format!("see docs/ARCHITECTURE.md for the {what} file format"))
     })
 }
 
@@ -394,8 +392,12 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     match &resources[output].decl {
         ResourceDecl::Texture(t) if matches!(t.format, Format::Rgba8Unorm | Format::Rgba8UnormSrgb) => {}
         other => {
-            return Err(GraphError::new(ErrorKind::Unsupported, output_loc, format!("graph output `{}` is {other:?}; the output must be an Rgba8Unorm or Rgba8UnormSrgb texture", graph.output))
-                .help("add a tone-map layer that writes an Rgba8UnormSrgb texture and make it the output"))
+            return Err(GraphError::new(
+                ErrorKind::Unsupported,
+                output_loc,
+                format!("graph output `{}` is {other:?}; the output must be an Rgba8Unorm or Rgba8UnormSrgb texture", graph.output),
+            )
+            .help("add a tone-map layer that writes an Rgba8UnormSrgb texture and make it the output"))
         }
     }
 
@@ -417,10 +419,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             _ => None,
         })
         .collect();
-    let culled: Vec<String> = (0..passes.len())
-        .filter(|p| !reaches[pass_vertex[*p].index()])
-        .map(|p| pass_name(&nodes, &passes[p]))
-        .collect();
+    let culled: Vec<String> = (0..passes.len()).filter(|p| !reaches[pass_vertex[*p].index()]).map(|p| pass_name(&nodes, &passes[p])).collect();
 
     // Phase 7: shader interface check (every pass, kept or culled: a broken file is an error).
     let includes = options.all_includes();
@@ -519,7 +518,14 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         let slot = match fits {
             Some(s) => s,
             None => {
-                slots.push(Slot { decl: res.decl.clone(), extent: res.extent, usage: Usage::default(), bytes: res.bytes(), members: Vec::new(), constant: res.constant });
+                slots.push(Slot {
+                    decl: res.decl.clone(),
+                    extent: res.extent,
+                    usage: Usage::default(),
+                    bytes: res.bytes(),
+                    members: Vec::new(),
+                    constant: res.constant,
+                });
                 slots.len() - 1
             }
         };
@@ -596,8 +602,7 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
         }
         let layer_src = read_file(&path, None)?;
         let layer: LayerDesc = parse_ron(&layer_src, "layer")?;
-        let mut params: BTreeMap<String, (ParamDecl, ParamValue)> =
-            layer.params.iter().map(|(k, d)| (k.clone(), (d.clone(), d.default_value()))).collect();
+        let mut params: BTreeMap<String, (ParamDecl, ParamValue)> = layer.params.iter().map(|(k, d)| (k.clone(), (d.clone(), d.default_value()))).collect();
         for (pname, value) in &ln.params {
             let loc = gsrc.locate(&["nodes", &node_anchor, "params", &SourceText::quoted(pname)]);
             let Some(decl) = layer.params.get(pname) else {
@@ -605,9 +610,8 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
                 return Err(GraphError::new(ErrorKind::UnknownParam, loc, format!("layer `{}` has no parameter `{pname}`", ln.layer))
                     .help(format!("its parameters are: {}", if names.is_empty() { "none".into() } else { names.join(", ") })));
             };
-            let value = check_param(decl, *value).map_err(|(kind, msg, help)| {
-                GraphError::new(kind, loc.clone(), format!("parameter `{pname}` of node `{name}`: {msg}")).help(help)
-            })?;
+            let value = check_param(decl, *value)
+                .map_err(|(kind, msg, help)| GraphError::new(kind, loc.clone(), format!("parameter `{pname}` of node `{name}`: {msg}")).help(help))?;
             params.insert(pname.clone(), (decl.clone(), value));
         }
         out.push(ResolvedNode { name: name.clone(), layer_name: ln.layer.clone(), layer, layer_src, params, locals: HashMap::new() });
@@ -642,7 +646,9 @@ type ParamProblem = (ErrorKind, String, String);
 
 /// Checks a value against its declaration; ints are accepted where floats are expected.
 pub fn check_param(decl: &ParamDecl, value: ParamValue) -> Result<ParamValue, ParamProblem> {
-    let wrong = || (ErrorKind::ParamType, format!("expected {}, found {} ({value:?})", decl.type_name(), value.type_name()), format!("write a {} value", decl.type_name()));
+    let wrong = || {
+        (ErrorKind::ParamType, format!("expected {}, found {} ({value:?})", decl.type_name(), value.type_name()), format!("write a {} value", decl.type_name()))
+    };
     match (decl, value) {
         (ParamDecl::Float { min, max, .. }, ParamValue::Float(_) | ParamValue::Int(_)) => {
             let v = match value {
@@ -729,14 +735,25 @@ fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNod
                 }
                 if let Some(src) = disabled_source {
                     let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(&input)]);
-                    return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("input `{input}` of node `{name}` comes from node `{src}`, which is switched off, and layer `{}` declares no fallback for it", nodes[ni].layer_name))
-                        .help(format!("switch `{src}` on, or give the input a `fallback: Some((r, g, b, a))` in the layer file")));
+                    return Err(GraphError::new(
+                        ErrorKind::NoProducer,
+                        loc,
+                        format!(
+                            "input `{input}` of node `{name}` comes from node `{src}`, which is switched off, and layer `{}` declares no fallback for it",
+                            nodes[ni].layer_name
+                        ),
+                    )
+                    .help(format!("switch `{src}` on, or give the input a `fallback: Some((r, g, b, a))` in the layer file")));
                 }
             }
             let Some(source) = ln.inputs.get(&input) else {
                 let loc = gsrc.locate(&["nodes", &node_anchor]);
-                return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("input `{input}` of node `{name}` (layer `{}`) is not connected: nothing produces it", nodes[ni].layer_name))
-                    .help(format!("add `inputs: {{\"{input}\": \"node.output\"}}` to node `{name}`")));
+                return Err(GraphError::new(
+                    ErrorKind::NoProducer,
+                    loc,
+                    format!("input `{input}` of node `{name}` (layer `{}`) is not connected: nothing produces it", nodes[ni].layer_name),
+                )
+                .help(format!("add `inputs: {{\"{input}\": \"node.output\"}}` to node `{name}`")));
             };
             let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(&input), &SourceText::quoted(source)]);
             let (src_node, src_out) = split_ref(source);
@@ -784,7 +801,8 @@ fn collect_passes(nodes: &[ResolvedNode], _resources: &[PlannedResource], produc
             let location = node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name)]);
             let lookup = |local: &String, what: &str| -> Result<(String, ResourceId), GraphError> {
                 node.locals.get(local).map(|r| (local.clone(), *r)).ok_or_else(|| {
-                    let mut names: Vec<&str> = node.layer.inputs.keys().chain(node.layer.outputs.keys()).chain(node.layer.transients.keys()).map(|s| s.as_str()).collect();
+                    let mut names: Vec<&str> =
+                        node.layer.inputs.keys().chain(node.layer.outputs.keys()).chain(node.layer.transients.keys()).map(|s| s.as_str()).collect();
                     names.sort();
                     GraphError::new(
                         ErrorKind::UnknownOutput,
@@ -798,13 +816,21 @@ fn collect_passes(nodes: &[ResolvedNode], _resources: &[PlannedResource], produc
             let writes = pass.writes.iter().map(|l| lookup(l, "writes")).collect::<Result<Vec<_>, _>>()?;
             for (local, r) in &writes {
                 if node.layer.inputs.contains_key(local) {
-                    return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("pass `{}` writes `{local}`, an input of layer `{}` that another node produces", pass.name, node.layer_name))
-                        .help("write a new output instead of the input"));
+                    return Err(GraphError::new(
+                        ErrorKind::TwoProducers,
+                        location.clone(),
+                        format!("pass `{}` writes `{local}`, an input of layer `{}` that another node produces", pass.name, node.layer_name),
+                    )
+                    .help("write a new output instead of the input"));
                 }
                 if let Some((first_loc, first_pass)) = producer_loc.get(r) {
-                    return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("`{local}` is written by two passes: `{first_pass}` and `{}`", pass.name))
-                        .note(first_loc.clone(), "first producer")
-                        .help("give each pass its own output, or merge the passes"));
+                    return Err(GraphError::new(
+                        ErrorKind::TwoProducers,
+                        location.clone(),
+                        format!("`{local}` is written by two passes: `{first_pass}` and `{}`", pass.name),
+                    )
+                    .note(first_loc.clone(), "first producer")
+                    .help("give each pass its own output, or merge the passes"));
                 }
                 if reads.iter().any(|(_, rr)| rr == r) {
                     return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("pass `{}` both reads and writes `{local}`", pass.name))
@@ -841,11 +867,18 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
         PassKind::AccelBuild => {}
         PassKind::Compute | PassKind::Trace => {
             if !stage_ok(&entry, naga::ShaderStage::Compute) {
-                return Err(mismatch(format!("the shader has no compute entry point `{entry}`"), file_loc, "add `@compute @workgroup_size(8, 8) fn ...` or set `entry:` in the pass"));
+                return Err(mismatch(
+                    format!("the shader has no compute entry point `{entry}`"),
+                    file_loc,
+                    "add `@compute @workgroup_size(8, 8) fn ...` or set `entry:` in the pass",
+                ));
             }
             if pass.kind == PassKind::Trace && (accel_reads != 1 || !binds_trace) {
                 return Err(mismatch(
-                    format!("a trace pass reads exactly one acceleration structure and includes the trace module; this one reads {accel_reads} and {} it", if binds_trace { "includes" } else { "does not include" }),
+                    format!(
+                        "a trace pass reads exactly one acceleration structure and includes the trace module; this one reads {accel_reads} and {} it",
+                        if binds_trace { "includes" } else { "does not include" }
+                    ),
                     file_loc,
                     "add the layer's `Accel` input to `reads` and `//#include \"trace/trace.wgsl\"` to the shader",
                 ));
@@ -857,17 +890,30 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
         PassKind::Fullscreen | PassKind::SceneRaster => {
             let vs = pass.vertex_entry.clone().unwrap_or_else(|| "vs_main".into());
             if !stage_ok(&vs, naga::ShaderStage::Vertex) {
-                return Err(mismatch(format!("the shader has no vertex entry point `{vs}`"), file_loc, "add a `@vertex` function or set `vertex_entry:` in the pass"));
+                return Err(mismatch(
+                    format!("the shader has no vertex entry point `{vs}`"),
+                    file_loc,
+                    "add a `@vertex` function or set `vertex_entry:` in the pass",
+                ));
             }
             if !stage_ok(&entry, naga::ShaderStage::Fragment) {
-                return Err(mismatch(format!("the shader has no fragment entry point `{entry}`"), file_loc, "add a `@fragment` function or set `entry:` in the pass"));
+                return Err(mismatch(
+                    format!("the shader has no fragment entry point `{entry}`"),
+                    file_loc,
+                    "add a `@fragment` function or set `entry:` in the pass",
+                ));
             }
             let colors: Vec<&(String, ResourceId)> = p.writes.iter().filter(|(_, r)| !is_depth(&resources[*r])).collect();
             let outs = &info.entry(&entry).map(|e| e.locations.clone()).unwrap_or_default();
             let expected: Vec<u32> = (0..colors.len() as u32).collect();
             if *outs != expected {
                 return Err(mismatch(
-                    format!("the pass writes {} colour attachment(s) ({}), but `{entry}` writes @location {:?}", colors.len(), colors.iter().map(|(l, _)| l.as_str()).collect::<Vec<_>>().join(", "), outs),
+                    format!(
+                        "the pass writes {} colour attachment(s) ({}), but `{entry}` writes @location {:?}",
+                        colors.len(),
+                        colors.iter().map(|(l, _)| l.as_str()).collect::<Vec<_>>().join(", "),
+                        outs
+                    ),
                     file_loc,
                     "make the fragment outputs @location(0..n) match the order of `writes`",
                 ));
@@ -878,7 +924,11 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
             if pass.kind == PassKind::SceneRaster {
                 let vs_locs = info.entry(&vs).map(|e| e.locations.clone()).unwrap_or_default();
                 if let Some(bad) = vs_locs.iter().find(|l| **l > 2) {
-                    return Err(mismatch(format!("vertex input @location({bad}) does not exist"), file_loc, "scene vertices provide @location(0) position, (1) normal, (2) uv"));
+                    return Err(mismatch(
+                        format!("vertex input @location({bad}) does not exist"),
+                        file_loc,
+                        "scene vertices provide @location(0) position, (1) normal, (2) uv",
+                    ));
                 }
             }
         }
@@ -925,7 +975,9 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                             _ => Some(BindingKind::StorageTexture { format: fmt, access: naga::StorageAccess::STORE }.describe()),
                         },
                     },
-                    ResourceDecl::Buffer(_) => (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write>".to_string()),
+                    ResourceDecl::Buffer(_) => {
+                        (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write>".to_string())
+                    }
                     ResourceDecl::Accel => Some("nothing: only an Accel node writes an acceleration structure".into()),
                 }
             }
@@ -941,7 +993,11 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
             ));
         };
         if let Some(want) = expected {
-            return Err(mismatch(format!("shader binding `{}` is {}, but the pass's resource needs {want}", b.name, b.kind.describe()), b.location.clone(), "change the WGSL declaration or the resource's format in the layer file"));
+            return Err(mismatch(
+                format!("shader binding `{}` is {}, but the pass's resource needs {want}", b.name, b.kind.describe()),
+                b.location.clone(),
+                "change the WGSL declaration or the resource's format in the layer file",
+            ));
         }
     }
     // Every declared read (and compute write) must be bound by the shader.
@@ -968,7 +1024,9 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
             BindingKind::Uniform { size, .. } if *size == builtins::frame_uniform_size() => None,
             _ => Some(format!("var<uniform> frame: Frame ({} bytes, from common/frame.wgsl)", builtins::frame_uniform_size())),
         },
-        builtins::DEBUG_COUNTERS => (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write> array<atomic<u32>>".into()),
+        builtins::DEBUG_COUNTERS => {
+            (!matches!(b.kind, BindingKind::Storage { read_only: false, .. })).then(|| "var<storage, read_write> array<atomic<u32>>".into())
+        }
         builtins::SCENE_INSTANCES => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Instance>".into()),
         builtins::SCENE_MATERIALS => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Material>".into()),
         builtins::SCENE_VERTICES | builtins::SCENE_INDICES | builtins::SCENE_MESHES => {
@@ -978,7 +1036,8 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
             // The texture array everywhere, or a binding array where the device has them
             // (chosen through the `common/scene_textures.wgsl` include).
             let array = BindingKind::SampledTexture { dim: naga::ImageDimension::D2, arrayed: true, kind: naga::ScalarKind::Float };
-            (b.kind != array && b.kind != BindingKind::TextureBindingArray).then(|| format!("var scene_textures: SceneTextures (from common/scene_textures.wgsl), i.e. {}", array.describe()))
+            (b.kind != array && b.kind != BindingKind::TextureBindingArray)
+                .then(|| format!("var scene_textures: SceneTextures (from common/scene_textures.wgsl), i.e. {}", array.describe()))
         }
         builtins::LINEAR_SAMPLER | builtins::NEAREST_SAMPLER => (b.kind != BindingKind::Sampler { comparison: false }).then(|| "sampler".into()),
         builtins::PARAMS => match &b.kind {
@@ -988,7 +1047,11 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
                         continue;
                     }
                     let Some(decl) = node.layer.params.get(&m.name) else {
-                        return Ok(Some(format!("only members named after the layer's parameters; `{}` is not one (declared: {})", m.name, node.layer.params.keys().cloned().collect::<Vec<_>>().join(", "))));
+                        return Ok(Some(format!(
+                            "only members named after the layer's parameters; `{}` is not one (declared: {})",
+                            m.name,
+                            node.layer.params.keys().cloned().collect::<Vec<_>>().join(", ")
+                        )));
                     };
                     let ok = matches!(
                         (decl, m.scalar, m.components),

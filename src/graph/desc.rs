@@ -138,10 +138,7 @@ impl Default for SizeDecl {
 impl SizeDecl {
     pub fn resolve(&self, frame: (u32, u32)) -> (u32, u32) {
         match *self {
-            SizeDecl::Relative(s) => (
-                ((frame.0 as f32 * s).round() as u32).max(1),
-                ((frame.1 as f32 * s).round() as u32).max(1),
-            ),
+            SizeDecl::Relative(s) => (((frame.0 as f32 * s).round() as u32).max(1), ((frame.1 as f32 * s).round() as u32).max(1)),
             SizeDecl::Absolute(w, h) => (w.max(1), h.max(1)),
         }
     }
@@ -395,7 +392,13 @@ pub fn f16_to_f32(h: u16) -> f32 {
     let mant = (h & 0x3ff) as f32;
     sign * match exp {
         0 => mant * 2f32.powi(-24),
-        31 => if mant == 0.0 { f32::INFINITY } else { f32::NAN },
+        31 => {
+            if mant == 0.0 {
+                f32::INFINITY
+            } else {
+                f32::NAN
+            }
+        }
         e => (1.0 + mant / 1024.0) * 2f32.powi(e - 15),
     }
 }

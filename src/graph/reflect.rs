@@ -44,7 +44,15 @@ impl ShaderSource {
         Ok(src)
     }
 
-    fn append(&mut self, path: &Path, root: &Path, from: &Location, aliases: &IncludeAliases, seen: &mut Vec<PathBuf>, enables: &mut Vec<String>) -> Result<(), GraphError> {
+    fn append(
+        &mut self,
+        path: &Path,
+        root: &Path,
+        from: &Location,
+        aliases: &IncludeAliases,
+        seen: &mut Vec<PathBuf>,
+        enables: &mut Vec<String>,
+    ) -> Result<(), GraphError> {
         if seen.iter().any(|p| p == path) {
             return Ok(());
         }
@@ -84,13 +92,7 @@ impl ShaderSource {
 
     /// File location of a byte offset in the assembled text.
     pub fn locate(&self, offset: usize) -> Location {
-        let (file, start) = self
-            .segments
-            .iter()
-            .rev()
-            .find(|(_, s)| *s <= offset)
-            .cloned()
-            .unwrap_or_else(|| (PathBuf::new(), 0));
+        let (file, start) = self.segments.iter().rev().find(|(_, s)| *s <= offset).cloned().unwrap_or_else(|| (PathBuf::new(), 0));
         let end = self.segments.iter().map(|(_, s)| *s).find(|s| *s > start).unwrap_or(self.text.len());
         Location::at_offset(&file, &self.text[start..end], offset - start)
     }
@@ -108,15 +110,31 @@ impl ShaderSource {
 /// What a global binding is, as far as a bind group layout cares.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BindingKind {
-    SampledTexture { dim: naga::ImageDimension, arrayed: bool, kind: naga::ScalarKind },
+    SampledTexture {
+        dim: naga::ImageDimension,
+        arrayed: bool,
+        kind: naga::ScalarKind,
+    },
     /// `binding_array<texture_2d<f32>>` (unsized): one texture per element.
     TextureBindingArray,
     AccelerationStructure,
     DepthTexture,
-    StorageTexture { format: naga::StorageFormat, access: naga::StorageAccess },
-    Sampler { comparison: bool },
-    Uniform { size: u32, members: Vec<UniformMember>, type_name: Option<String> },
-    Storage { read_only: bool, min_size: u32 },
+    StorageTexture {
+        format: naga::StorageFormat,
+        access: naga::StorageAccess,
+    },
+    Sampler {
+        comparison: bool,
+    },
+    Uniform {
+        size: u32,
+        members: Vec<UniformMember>,
+        type_name: Option<String>,
+    },
+    Storage {
+        read_only: bool,
+        min_size: u32,
+    },
     Other(String),
 }
 
@@ -129,9 +147,7 @@ impl BindingKind {
             BindingKind::DepthTexture => "texture_depth_2d".into(),
             BindingKind::TextureBindingArray => "binding_array<texture_2d<f32>>".into(),
             BindingKind::AccelerationStructure => "acceleration_structure".into(),
-            BindingKind::StorageTexture { format, access } => {
-                format!("texture_storage_2d<{format:?}, {}>", access_name(*access)).to_lowercase()
-            }
+            BindingKind::StorageTexture { format, access } => format!("texture_storage_2d<{format:?}, {}>", access_name(*access)).to_lowercase(),
             BindingKind::Sampler { comparison } => if *comparison { "sampler_comparison" } else { "sampler" }.into(),
             BindingKind::Uniform { type_name, .. } => format!("var<uniform> {}", type_name.clone().unwrap_or_default()),
             BindingKind::Storage { read_only, .. } => if *read_only { "var<storage, read>" } else { "var<storage, read_write>" }.into(),
@@ -254,7 +270,14 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
             (naga::AddressSpace::Handle, naga::TypeInner::Sampler { comparison }) => BindingKind::Sampler { comparison: *comparison },
             (naga::AddressSpace::Handle, naga::TypeInner::AccelerationStructure { .. }) => BindingKind::AccelerationStructure,
             (naga::AddressSpace::Handle, naga::TypeInner::BindingArray { base, size: naga::ArraySize::Dynamic })
-                if matches!(module.types[*base].inner, naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: false, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. } }) =>
+                if matches!(
+                    module.types[*base].inner,
+                    naga::TypeInner::Image {
+                        dim: naga::ImageDimension::D2,
+                        arrayed: false,
+                        class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. }
+                    }
+                ) =>
             {
                 BindingKind::TextureBindingArray
             }

@@ -4,12 +4,12 @@
 use super::gpu::Gpu;
 use super::profiler::{map_read, FrameTimings, GpuTimer};
 use super::uniforms::FrameUniforms;
+use crate::accel::cache::AccelCache;
 use crate::error::{ErrorKind, GraphError, RuntimeError};
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
-use crate::accel::cache::AccelCache;
 use crate::scene::gpu::{GpuScene, SceneTextures};
 use crate::scene::{Camera, Scene};
 use std::time::Instant;
@@ -164,7 +164,19 @@ impl Executor {
             log::info!("acceleration structures: back-end {}, de-duplication {}", plan.backend, if dedup { "on" } else { "off" });
             AccelCache::new(device, plan.backend, dedup, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32)
         });
-        let mut exec = Self { plan, slots, passes: Vec::new(), frame_uniforms, debug_counters, scene: scene_gpu, timer: None, frame_index: 0, accel, accel_generation: u64::MAX, scene_sphere: (glam::Vec3::ZERO, 1.0) };
+        let mut exec = Self {
+            plan,
+            slots,
+            passes: Vec::new(),
+            frame_uniforms,
+            debug_counters,
+            scene: scene_gpu,
+            timer: None,
+            frame_index: 0,
+            accel,
+            accel_generation: u64::MAX,
+            scene_sphere: (glam::Vec3::ZERO, 1.0),
+        };
         let mut passes = Vec::new();
         for pass in &exec.plan.passes {
             passes.push(exec.build_pass(gpu, pass, &linear, &nearest)?);
@@ -201,7 +213,15 @@ impl Executor {
         let device = &gpu.device;
         let shader = &pass.shader;
         if pass.kind == PassKind::AccelBuild {
-            return Ok(PassRuntime { pipeline: Pipeline::AccelBuild, bind_groups: Vec::new(), accel_layout: None, accel_group: None, colors: Vec::new(), depth: None, groups: [0; 3] });
+            return Ok(PassRuntime {
+                pipeline: Pipeline::AccelBuild,
+                bind_groups: Vec::new(),
+                accel_layout: None,
+                accel_group: None,
+                colors: Vec::new(),
+                depth: None,
+                groups: [0; 3],
+            });
         }
         let visibility = if pass.kind.is_compute() { wgpu::ShaderStages::COMPUTE } else { wgpu::ShaderStages::VERTEX_FRAGMENT };
         let resource_of = |name: &str| pass.reads.iter().chain(&pass.writes).find(|(l, _)| l == name).map(|(_, r)| *r);
@@ -229,9 +249,17 @@ impl Executor {
                         multisampled: false,
                     }
                 }
-                BindingKind::TextureBindingArray => wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+                BindingKind::TextureBindingArray => wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
                 BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
-                BindingKind::DepthTexture => wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Depth, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+                BindingKind::DepthTexture => wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
                 BindingKind::StorageTexture { access, .. } => {
                     let r = resource_of(&b.name).expect("checked by the compiler");
                     let ResourceDecl::Texture(t) = &self.plan.resources[r].decl else { unreachable!() };
@@ -249,14 +277,24 @@ impl Executor {
                 } else {
                     wgpu::SamplerBindingType::Filtering
                 }),
-                BindingKind::Uniform { .. } => wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-                BindingKind::Storage { read_only, .. } => wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: *read_only }, has_dynamic_offset: false, min_binding_size: None },
+                BindingKind::Uniform { .. } => {
+                    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }
+                }
+                BindingKind::Storage { read_only, .. } => wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: *read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
                 BindingKind::Other(what) => {
-                    return Err(GraphError::new(ErrorKind::Unsupported, b.location.clone(), format!("binding `{}` of kind {what} is not supported", b.name)).into());
+                    return Err(
+                        GraphError::new(ErrorKind::Unsupported, b.location.clone(), format!("binding `{}` of kind {what} is not supported", b.name)).into()
+                    );
                 }
             };
             let count = match b.kind {
-                BindingKind::TextureBindingArray => Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures.as_ref())?.count()).expect("white texture is always there")),
+                BindingKind::TextureBindingArray => {
+                    Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures.as_ref())?.count()).expect("white texture is always there"))
+                }
                 _ => None,
             };
             layout_entries.push((b.group, wgpu::BindGroupLayoutEntry { binding: b.binding, visibility, ty, count }));
@@ -287,11 +325,14 @@ impl Executor {
                         let o = m.offset as usize;
                         bytes[o..o + 4].copy_from_slice(&word);
                     }
-                    let buf = wgpu::util::DeviceExt::create_buffer_init(device, &wgpu::util::BufferInitDescriptor {
-                        label: Some(&format!("{} params", pass.name)),
-                        contents: &bytes,
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    });
+                    let buf = wgpu::util::DeviceExt::create_buffer_init(
+                        device,
+                        &wgpu::util::BufferInitDescriptor {
+                            label: Some(&format!("{} params", pass.name)),
+                            contents: &bytes,
+                            usage: wgpu::BufferUsages::UNIFORM,
+                        },
+                    );
                     params_buffer = Some(((b.group, b.binding), buf));
                 }
                 builtins::SCENE_INSTANCES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.instances.as_ref())?.clone())),
@@ -301,7 +342,9 @@ impl Executor {
                 builtins::SCENE_MESHES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.meshes.as_ref())?.clone())),
                 builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
                     SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => views.push(((b.group, b.binding), view.clone())),
-                    SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => view_arrays.push(((b.group, b.binding), v.clone())),
+                    SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => {
+                        view_arrays.push(((b.group, b.binding), v.clone()))
+                    }
                     _ => return Err(RuntimeError::Gpu(format!("pass {}: scene textures were uploaded in the other layout than the shader binds", pass.name))),
                 },
                 _ => {}
@@ -327,19 +370,32 @@ impl Executor {
         let mut accel_layout = None;
         for g in 0..group_count {
             let layout_g: Vec<wgpu::BindGroupLayoutEntry> = layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect();
-            let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&format!("{} group {g}", pass.name)), entries: &layout_g });
+            let bgl =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&format!("{} group {g}", pass.name)), entries: &layout_g });
             if pass.kind == PassKind::Trace && g == builtins::ACCEL_GROUP {
                 // Bound per frame from the acceleration-structure cache.
-                let names = layout_g.iter().map(|e| shader.bindings.iter().find(|b| b.group == g && b.binding == e.binding).map(|b| b.name.clone()).unwrap_or_default()).collect();
+                let names = layout_g
+                    .iter()
+                    .map(|e| shader.bindings.iter().find(|b| b.group == g && b.binding == e.binding).map(|b| b.name.clone()).unwrap_or_default())
+                    .collect();
                 accel_layout = Some((bgl.clone(), layout_g, names));
             } else {
-                let entries_g: Vec<wgpu::BindGroupEntry> = entries.iter().filter(|((eg, _), _)| *eg == g).map(|((_, binding), r)| wgpu::BindGroupEntry { binding: *binding, resource: r.clone() }).collect();
-                bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&format!("{} group {g}", pass.name)), layout: &bgl, entries: &entries_g }));
+                let entries_g: Vec<wgpu::BindGroupEntry> = entries
+                    .iter()
+                    .filter(|((eg, _), _)| *eg == g)
+                    .map(|((_, binding), r)| wgpu::BindGroupEntry { binding: *binding, resource: r.clone() })
+                    .collect();
+                bind_groups.push(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(&format!("{} group {g}", pass.name)),
+                    layout: &bgl,
+                    entries: &entries_g,
+                }));
             }
             layouts.push(bgl);
         }
         let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &layout_refs, immediate_size: 0 });
+        let layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &layout_refs, immediate_size: 0 });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&shader.path.display().to_string()),
             source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
@@ -377,7 +433,9 @@ impl Executor {
                 let targets: Vec<Option<wgpu::ColorTargetState>> = colors
                     .iter()
                     .map(|r| match &self.plan.resources[*r].decl {
-                        ResourceDecl::Texture(t) => Some(wgpu::ColorTargetState { format: t.format.to_wgpu(), blend: None, write_mask: wgpu::ColorWrites::ALL }),
+                        ResourceDecl::Texture(t) => {
+                            Some(wgpu::ColorTargetState { format: t.format.to_wgpu(), blend: None, write_mask: wgpu::ColorWrites::ALL })
+                        }
                         ResourceDecl::Buffer(_) | ResourceDecl::Accel => None,
                     })
                     .collect();
@@ -405,10 +463,7 @@ impl Executor {
                         compilation_options: Default::default(),
                         buffers: if scene_raster { &vertex_buffers } else { &[] },
                     },
-                    primitive: wgpu::PrimitiveState {
-                        cull_mode: if scene_raster { Some(wgpu::Face::Back) } else { None },
-                        ..Default::default()
-                    },
+                    primitive: wgpu::PrimitiveState { cull_mode: if scene_raster { Some(wgpu::Face::Back) } else { None }, ..Default::default() },
                     depth_stencil: depth.map(|_| wgpu::DepthStencilState {
                         format: wgpu::TextureFormat::Depth32Float,
                         depth_write_enabled: Some(true),
@@ -417,7 +472,12 @@ impl Executor {
                         bias: Default::default(),
                     }),
                     multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some(&pass.entry), compilation_options: Default::default(), targets: &targets }),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(&pass.entry),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
                     multiview_mask: None,
                     cache: None,
                 });
@@ -472,11 +532,8 @@ impl Executor {
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
         // The acceleration structure first: every trace pass depends on it.
         let accel_report = self.update_accel(gpu, &mut encoder, scene)?;
-        let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> = self
-            .passes
-            .iter()
-            .map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r))))
-            .collect();
+        let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> =
+            self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
         for (i, (pass, planned)) in self.passes.iter().zip(&self.plan.passes).enumerate() {
             let t0 = Instant::now();
             match &pass.pipeline {
@@ -528,7 +585,9 @@ impl Executor {
                         rp.set_bind_group(g as u32, bg, &[]);
                     }
                     if planned.kind == PassKind::SceneRaster {
-                        let (Some(scene), Some(vertices), Some(indices)) = (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok()) else {
+                        let (Some(scene), Some(vertices), Some(indices)) =
+                            (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok())
+                        else {
                             return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", planned.name)));
                         };
                         rp.set_vertex_buffer(0, vertices.slice(..));
@@ -576,7 +635,12 @@ impl Executor {
     /// Runs the `Accel` node: clears the ray counters, updates the cache between a pair of
     /// timestamps, and re-creates the trace passes' accel bind groups if the cache replaced
     /// its GPU objects. Returns the build report and its CPU milliseconds.
-    fn update_accel(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, scene: &Scene) -> Result<Option<(crate::accel::cache::BuildReport, f64)>, RuntimeError> {
+    fn update_accel(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+    ) -> Result<Option<(crate::accel::cache::BuildReport, f64)>, RuntimeError> {
         let Some(cache) = self.accel.as_mut() else { return Ok(None) };
         let index = self.plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild).unwrap_or(0) as u32;
         cache.clear_stats(encoder);
@@ -596,7 +660,9 @@ impl Executor {
                 let Some((layout, entries, names)) = &pass.accel_layout else { continue };
                 let mut bg_entries = Vec::new();
                 for (e, name) in entries.iter().zip(names) {
-                    let resource = cache.binding(name, window as u32).ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
+                    let resource = cache
+                        .binding(name, window as u32)
+                        .ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
                     bg_entries.push(wgpu::BindGroupEntry { binding: e.binding, resource });
                 }
                 pass.accel_group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));
@@ -697,7 +763,12 @@ impl Executor {
     /// Reads the `debug_counters` buffer (shaders may count events into it).
     pub fn read_debug_counters(&self, gpu: &Gpu) -> Result<Vec<u32>, RuntimeError> {
         let size = builtins::DEBUG_COUNTER_COUNT as u64 * 4;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: Some("counter readback"), size, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("counter readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.debug_counters, 0, &buf, 0, size);
         gpu.queue.submit([encoder.finish()]);

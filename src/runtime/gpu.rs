@@ -39,8 +39,8 @@ impl Gpu {
             desc.backends = wgpu::Backends::VULKAN;
         }
         let instance = wgpu::Instance::new(desc);
-        let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None))
-            .map_err(|e| RuntimeError::NoAdapter(e.to_string()))?;
+        let adapter =
+            pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None)).map_err(|e| RuntimeError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut required_features = wgpu::Features::empty();
@@ -60,7 +60,8 @@ impl Gpu {
             && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none();
         if texture_binding_arrays {
             required_features |= BINDLESS;
-            required_limits.max_binding_array_elements_per_shader_stage = adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
+            required_limits.max_binding_array_elements_per_shader_stage =
+                adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
         }
         let selection = backend::select(adapter.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
         let ray_query = adapter.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
@@ -87,7 +88,11 @@ impl Gpu {
         }
         log::info!(
             "scene textures: {}",
-            if texture_binding_arrays { "binding array (one texture per element)" } else { "one 256x256 texture array (set by RAYGRAPH_NO_BINDLESS or missing features)" }
+            if texture_binding_arrays {
+                "binding array (one texture per element)"
+            } else {
+                "one 256x256 texture array (set by RAYGRAPH_NO_BINDLESS or missing features)"
+            }
         );
         log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
         Ok(Self { adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends })

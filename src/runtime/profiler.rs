@@ -43,12 +43,20 @@ impl GpuTimer {
     /// Only the start of `pass` (for work recorded outside a pass: an empty compute pass
     /// writes it).
     pub fn begin_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites { query_set: &self.query_set, beginning_of_pass_write_index: Some(pass * 2), end_of_pass_write_index: None })
+        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(pass * 2),
+            end_of_pass_write_index: None,
+        })
     }
 
     /// Only the end of `pass`.
     pub fn end_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites { query_set: &self.query_set, beginning_of_pass_write_index: None, end_of_pass_write_index: Some(pass * 2 + 1) })
+        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: None,
+            end_of_pass_write_index: Some(pass * 2 + 1),
+        })
     }
 
     pub fn render_writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
@@ -78,9 +86,7 @@ impl GpuTimer {
         let slice = self.readback.slice(..(n as u64 * 16));
         let data = map_read(device, slice)?;
         let ticks: &[u64] = bytemuck::cast_slice(&data);
-        let ms = (0..n)
-            .map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6)
-            .collect();
+        let ms = (0..n).map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6).collect();
         drop(data);
         self.readback.unmap();
         Ok(ms)

@@ -114,7 +114,11 @@ pub fn default_scene() -> Scene {
     ];
     let instances = vec![
         Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },
-        Instance { mesh: 1, material: 1, transform: Mat4::from_scale_rotation_translation(Vec3::splat(1.6), glam::Quat::from_rotation_y(0.5), Vec3::new(-1.6, 0.8, 0.0)) },
+        Instance {
+            mesh: 1,
+            material: 1,
+            transform: Mat4::from_scale_rotation_translation(Vec3::splat(1.6), glam::Quat::from_rotation_y(0.5), Vec3::new(-1.6, 0.8, 0.0)),
+        },
         Instance { mesh: 2, material: 2, transform: Mat4::from_scale_rotation_translation(Vec3::splat(0.9), glam::Quat::IDENTITY, Vec3::new(1.2, 0.9, 0.6)) },
         Instance { mesh: 2, material: 3, transform: Mat4::from_scale_rotation_translation(Vec3::splat(0.5), glam::Quat::IDENTITY, Vec3::new(0.2, 0.5, 2.2)) },
     ];
@@ -126,7 +130,10 @@ pub fn default_scene() -> Scene {
         textures,
         camera: Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 },
         presets: vec![
-            ("main".into(), Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 }),
+            (
+                "main".into(),
+                Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 },
+            ),
             ("low".into(), Camera::look(Vec3::new(-4.0, 0.6, 4.5), Vec3::new(0.0, 0.8, 0.0), 50.0, 0.05, 100.0)),
             ("top".into(), Camera::look(Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO, 50.0, 0.05, 100.0)),
         ],

@@ -15,7 +15,13 @@ struct BinWriter {
 }
 
 impl BinWriter {
-    fn view(&mut self, root: &mut json::Root, buffer: json::Index<json::Buffer>, bytes: &[u8], target: Option<json::buffer::Target>) -> json::Index<json::buffer::View> {
+    fn view(
+        &mut self,
+        root: &mut json::Root,
+        buffer: json::Index<json::Buffer>,
+        bytes: &[u8],
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::buffer::View> {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }
@@ -68,7 +74,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     // Textures as PNG images inside the buffer.
     let mut textures = Vec::new();
     for t in &scene.textures {
-        let img = image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
+        let img =
+            image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
         let mut png = Vec::new();
         img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
         let view = w.view(&mut root, buffer, &png, None);
@@ -104,7 +111,13 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
                 extensions: None,
                 extras: Default::default(),
             },
-            normal_texture: m.normal_texture.map(|i| json::material::NormalTexture { index: textures[i], scale: m.normal_scale, tex_coord: 0, extensions: None, extras: Default::default() }),
+            normal_texture: m.normal_texture.map(|i| json::material::NormalTexture {
+                index: textures[i],
+                scale: m.normal_scale,
+                tex_coord: 0,
+                extensions: None,
+                extras: Default::default(),
+            }),
             emissive_texture: info(m.emissive_texture),
             emissive_factor: json::material::EmissiveFactor(m.emissive),
             ..Default::default()

@@ -66,11 +66,21 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
         let uri = match buffer.source() {
-            gltf::buffer::Source::Uri(u) => if u.starts_with("data:") { "embedded data uri".to_string() } else { u.to_string() },
+            gltf::buffer::Source::Uri(u) => {
+                if u.starts_with("data:") {
+                    "embedded data uri".to_string()
+                } else {
+                    u.to_string()
+                }
+            }
             gltf::buffer::Source::Bin => "GLB binary chunk".to_string(),
         };
-        let data = gltf::buffer::Data::from_source_and_blob(buffer.source(), Some(base), &mut blob)
-            .map_err(|e| SceneError::Buffer { path: path.to_path_buf(), buffer: buffer.index(), uri: uri.clone(), message: e.to_string() })?;
+        let data = gltf::buffer::Data::from_source_and_blob(buffer.source(), Some(base), &mut blob).map_err(|e| SceneError::Buffer {
+            path: path.to_path_buf(),
+            buffer: buffer.index(),
+            uri: uri.clone(),
+            message: e.to_string(),
+        })?;
         if data.len() < buffer.length() {
             return Err(SceneError::Buffer {
                 path: path.to_path_buf(),
@@ -85,7 +95,12 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
     for view in gltf.document.views() {
         let len = buffers[view.buffer().index()].len();
         if view.offset() + view.length() > len {
-            return Err(parse_err(format!("bufferView {} ends at byte {} but buffer {} has {len} bytes", view.index(), view.offset() + view.length(), view.buffer().index())));
+            return Err(parse_err(format!(
+                "bufferView {} ends at byte {} but buffer {} has {len} bytes",
+                view.index(),
+                view.offset() + view.length(),
+                view.buffer().index()
+            )));
         }
     }
     for acc in gltf.document.accessors() {
@@ -198,7 +213,9 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
                 None => (0..positions.len() as u32).collect(),
             };
             let indices = triangle_list(mode, indices);
-            for (what, len) in [("NORMAL", normals.as_ref().map(Vec::len)), ("TEXCOORD_0", uvs.as_ref().map(Vec::len)), ("TANGENT", tangents.as_ref().map(Vec::len))] {
+            for (what, len) in
+                [("NORMAL", normals.as_ref().map(Vec::len)), ("TEXCOORD_0", uvs.as_ref().map(Vec::len)), ("TANGENT", tangents.as_ref().map(Vec::len))]
+            {
                 if let Some(len) = len {
                     if len != positions.len() {
                         return Err(prim_err(format!("{what} has {len} elements but POSITION has {}", positions.len())));
@@ -288,7 +305,8 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
         return Err(SceneError::Empty { path: path.to_path_buf() });
     }
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
-    let mut scene = Scene { name, meshes, materials, instances, textures, camera: Camera::default(), presets: Vec::new(), light: Light::default(), point_light: None };
+    let mut scene =
+        Scene { name, meshes, materials, instances, textures, camera: Camera::default(), presets: Vec::new(), light: Light::default(), point_light: None };
     scene.camera = Camera::framing(scene.bounds());
     scene.presets = Camera::presets_for(scene.bounds());
     Ok((scene, report))
@@ -298,7 +316,9 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
 /// is flipped, as glTF specifies).
 fn triangle_list(mode: gltf::mesh::Mode, i: Vec<u32>) -> Vec<u32> {
     match mode {
-        gltf::mesh::Mode::TriangleStrip => (2..i.len()).flat_map(|k| if k % 2 == 0 { [i[k - 2], i[k - 1], i[k]] } else { [i[k - 1], i[k - 2], i[k]] }).collect(),
+        gltf::mesh::Mode::TriangleStrip => {
+            (2..i.len()).flat_map(|k| if k % 2 == 0 { [i[k - 2], i[k - 1], i[k]] } else { [i[k - 1], i[k - 2], i[k]] }).collect()
+        }
         gltf::mesh::Mode::TriangleFan => (2..i.len()).flat_map(|k| [i[0], i[k - 1], i[k]]).collect(),
         _ => i,
     }

@@ -86,7 +86,8 @@ impl GpuScene {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let mut bytes = 0u64;
-        let mut out = GpuScene { vertices: None, indices: None, instances: None, materials: None, meshes: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
+        let mut out =
+            GpuScene { vertices: None, indices: None, instances: None, materials: None, meshes: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
 
         if usage.geometry || usage.geometry_storage {
             let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
@@ -189,7 +190,11 @@ impl GpuScene {
                 let (mut textures, mut views) = (Vec::new(), Vec::new());
                 for (i, img) in images.enumerate() {
                     let max = limits.max_texture_dimension_2d;
-                    let img = if img.width() > max || img.height() > max { image::imageops::resize(&img, img.width().min(max), img.height().min(max), image::imageops::FilterType::Triangle) } else { img };
+                    let img = if img.width() > max || img.height() > max {
+                        image::imageops::resize(&img, img.width().min(max), img.height().min(max), image::imageops::FilterType::Triangle)
+                    } else {
+                        img
+                    };
                     let mips = img.width().max(img.height()).ilog2() + 1;
                     let texture = create_texture(device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips);
                     bytes += upload_mips(queue, &texture, 0, img);
@@ -198,10 +203,20 @@ impl GpuScene {
                 }
                 SceneTextures::Separate { textures, views }
             } else {
-                check(scene, "the texture array (one layer per texture, plus white)", count as u64, limits.max_texture_array_layers as u64, "use fewer textures")?;
+                check(
+                    scene,
+                    "the texture array (one layer per texture, plus white)",
+                    count as u64,
+                    limits.max_texture_array_layers as u64,
+                    "use fewer textures",
+                )?;
                 let texture = create_texture(device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS);
                 for (layer, img) in images.enumerate() {
-                    let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle) };
+                    let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) {
+                        img
+                    } else {
+                        image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle)
+                    };
                     bytes += upload_mips(queue, &texture, layer as u32, img);
                 }
                 let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
@@ -215,7 +230,13 @@ impl GpuScene {
 
 /// A storage buffer of `records` (one zeroed record if there are none: bindings may not be
 /// empty), checked against the device's storage binding limit.
-fn storage_records<T: bytemuck::Pod>(device: &wgpu::Device, scene: &Scene, what: &str, mut records: Vec<T>, bytes: &mut u64) -> Result<wgpu::Buffer, SceneLimitError> {
+fn storage_records<T: bytemuck::Pod>(
+    device: &wgpu::Device,
+    scene: &Scene,
+    what: &str,
+    mut records: Vec<T>,
+    bytes: &mut u64,
+) -> Result<wgpu::Buffer, SceneLimitError> {
     let needed = (records.len() * std::mem::size_of::<T>()) as u64;
     let allowed = device.limits().max_storage_buffer_binding_size;
     check(scene, &format!("the {what} buffer (one storage binding)"), needed, allowed, &format!("use fewer {what}s"))?;
@@ -223,7 +244,11 @@ fn storage_records<T: bytemuck::Pod>(device: &wgpu::Device, scene: &Scene, what:
         records.push(T::zeroed());
     }
     *bytes += needed;
-    Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(&format!("scene {what}s")), contents: bytemuck::cast_slice(&records), usage: wgpu::BufferUsages::STORAGE }))
+    Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(&format!("scene {what}s")),
+        contents: bytemuck::cast_slice(&records),
+        usage: wgpu::BufferUsages::STORAGE,
+    }))
 }
 
 /// The texture as an image; malformed pixel data becomes the magenta fallback, never a panic.
@@ -273,7 +298,11 @@ fn upload_mips(queue: &wgpu::Queue, texture: &wgpu::Texture, layer: u32, base: i
 fn downsample_srgb(img: &image::RgbaImage) -> image::RgbaImage {
     fn to_linear(c: u8) -> f32 {
         let c = c as f32 / 255.0;
-        if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
     }
     fn to_srgb(l: f32) -> u8 {
         let c = if l <= 0.0031308 { l * 12.92 } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };

@@ -17,7 +17,17 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     if b.is_empty() {
         let _ = writeln!(s, "bounds      empty");
     } else {
-        let _ = writeln!(s, "bounds      min {:.3} {:.3} {:.3}  max {:.3} {:.3} {:.3}  (diagonal {:.3})", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z, b.diagonal());
+        let _ = writeln!(
+            s,
+            "bounds      min {:.3} {:.3} {:.3}  max {:.3} {:.3} {:.3}  (diagonal {:.3})",
+            b.min.x,
+            b.min.y,
+            b.min.z,
+            b.max.x,
+            b.max.y,
+            b.max.z,
+            b.diagonal()
+        );
     }
     if let Some((row, tris, meshes, textures)) = paper_row(&scene.name) {
         let _ = writeln!(s, "paper       Table 1 `{row}`: {tris} triangles, {meshes} meshes, {textures} textures");

@@ -176,7 +176,11 @@ impl Bounds {
     }
 
     pub fn diagonal(&self) -> f32 {
-        if self.is_empty() { 0.0 } else { (self.max - self.min).length() }
+        if self.is_empty() {
+            0.0
+        } else {
+            (self.max - self.min).length()
+        }
     }
 }
 

@@ -335,7 +335,8 @@ fn baluster(h: f32, segments: u32) -> MeshBuilder {
 /// A hanging cloth: top edge along x at y = 0, hanging down by `h`, bulging towards +z (its
 /// front). Folds, a sagging hem and a breeze come from `rng`.
 fn cloth(rng: &mut Rng, w: f32, h: f32, nu: u32, nv: u32, fold_amp: f32) -> MeshBuilder {
-    let folds: Vec<(f32, f32, f32)> = (0..4).map(|i| (rng.range(0.4, 1.0) * fold_amp / (i + 1) as f32, (2 + i * 2) as f32 + rng.range(-0.5, 0.5), rng.range(0.0, TAU))).collect();
+    let folds: Vec<(f32, f32, f32)> =
+        (0..4).map(|i| (rng.range(0.4, 1.0) * fold_amp / (i + 1) as f32, (2 + i * 2) as f32 + rng.range(-0.5, 0.5), rng.range(0.0, TAU))).collect();
     let belly = rng.range(0.04, 0.14);
     let breeze = rng.range(0.0, 0.12);
     let skew = rng.range(-0.06, 0.06);
@@ -428,7 +429,15 @@ fn lantern(rng: &mut Rng, chain: f32, segments: u32) -> MeshBuilder {
 /// A round medallion facing +y (a disc with a rim and a dome).
 fn medallion(rng: &mut Rng, r: f32, segments: u32) -> MeshBuilder {
     let dome = rng.range(0.08, 0.16);
-    let mut prof = vec![Vec2::new(0.0, 0.0), Vec2::new(r, 0.0), Vec2::new(r, 0.0), Vec2::new(r, 0.06), Vec2::new(r * 0.92, 0.09), Vec2::new(r * 0.8, 0.06), Vec2::new(r * 0.75, 0.06)];
+    let mut prof = vec![
+        Vec2::new(0.0, 0.0),
+        Vec2::new(r, 0.0),
+        Vec2::new(r, 0.0),
+        Vec2::new(r, 0.06),
+        Vec2::new(r * 0.92, 0.09),
+        Vec2::new(r * 0.8, 0.06),
+        Vec2::new(r * 0.75, 0.06),
+    ];
     let n = 10;
     for i in 0..=n {
         let t = i as f32 / n as f32;
@@ -482,13 +491,18 @@ pub(super) fn build(seed: u64) -> Scene {
     let white = Vec3::ONE;
 
     // --- Floors ---------------------------------------------------------------------------
-    let m_court = a.textured(tex_tiles("atrium_floor_tiles", 256, jitter(&mut tr, rgb(226, 214, 190), 0.05), jitter(&mut tr, rgb(120, 124, 112), 0.05), 8, &mut tr), white, 0.6);
+    let m_court = a.textured(
+        tex_tiles("atrium_floor_tiles", 256, jitter(&mut tr, rgb(226, 214, 190), 0.05), jitter(&mut tr, rgb(120, 124, 112), 0.05), 8, &mut tr),
+        white,
+        0.6,
+    );
     let mut b = MeshBuilder::new();
     b.patch(Vec3::new(-HALF_X, 0.0, -3.1), Vec3::new(2.0 * HALF_X, 0.0, 0.0), Vec3::new(0.0, 0.0, 6.2), 96, 20, 0.5, Vec3::Y);
     let me = a.mesh(b, "courtyard_floor");
     a.put(me, m_court, Mat4::IDENTITY);
 
-    let m_aisle = a.textured(tex_blocks("atrium_aisle_bricks", 128, jitter(&mut tr, rgb(168, 92, 64), 0.06), rgb(150, 140, 128), 16, 4, 0.12, &mut tr), white, 0.8);
+    let m_aisle =
+        a.textured(tex_blocks("atrium_aisle_bricks", 128, jitter(&mut tr, rgb(168, 92, 64), 0.06), rgb(150, 140, 128), 16, 4, 0.12, &mut tr), white, 0.8);
     let mut b = MeshBuilder::new();
     b.patch(Vec3::new(-HALF_X, 0.0, -WALL_Z), Vec3::new(2.0 * HALF_X, 0.0, 0.0), Vec3::new(0.0, 0.0, WALL_Z - 3.1), 60, 8, 0.5, Vec3::Y);
     let me = a.mesh(b, "aisle_floor");
@@ -513,7 +527,8 @@ pub(super) fn build(seed: u64) -> Scene {
         a.put(me, m_roof, side(s));
     }
 
-    let m_plaster = a.textured(tex_noise("atrium_wall_plaster", 128, jitter(&mut tr, rgb(214, 190, 150), 0.05), rgb(170, 140, 104), 8, 1.6, &mut tr), white, 0.9);
+    let m_plaster =
+        a.textured(tex_noise("atrium_wall_plaster", 128, jitter(&mut tr, rgb(214, 190, 150), 0.05), rgb(170, 140, 104), 8, 1.6, &mut tr), white, 0.9);
     let mut b = MeshBuilder::new();
     b.cuboid(Vec3::new(-HALF_X - WALL_T, 0.0, -WALL_Z - WALL_T), Vec3::new(HALF_X + WALL_T, TOP_Y, -WALL_Z), 1.0, 0.25);
     let me = a.mesh(b, "outer_wall");
@@ -521,7 +536,8 @@ pub(super) fn build(seed: u64) -> Scene {
         a.put(me, m_plaster, side(s));
     }
 
-    let m_endwall = a.textured(tex_blocks("atrium_end_wall_bricks", 128, jitter(&mut tr, rgb(176, 104, 72), 0.06), rgb(196, 188, 172), 16, 4, 0.1, &mut tr), white, 0.85);
+    let m_endwall =
+        a.textured(tex_blocks("atrium_end_wall_bricks", 128, jitter(&mut tr, rgb(176, 104, 72), 0.06), rgb(196, 188, 172), 16, 4, 0.1, &mut tr), white, 0.85);
     let mut b = MeshBuilder::new();
     b.cuboid(Vec3::new(HALF_X, 0.0, -WALL_Z - WALL_T), Vec3::new(HALF_X + WALL_T, TOP_Y, WALL_Z + WALL_T), 0.6, 0.25);
     let me = a.mesh(b, "end_wall");
@@ -539,13 +555,29 @@ pub(super) fn build(seed: u64) -> Scene {
 
     // Cornice on top of the attic and a string course under the gallery, on the courtyard face.
     let m_cornice = a.textured(tex_noise("atrium_cornice", 64, stone * 0.9, stone, 4, 1.0, &mut tr), white, 0.7);
-    let cornice = [Vec2::new(-0.3, -0.1), Vec2::new(0.0, -0.1), Vec2::new(0.05, 0.05), Vec2::new(0.18, 0.12), Vec2::new(0.25, 0.3), Vec2::new(0.35, 0.32), Vec2::new(0.35, -0.1)];
+    let cornice = [
+        Vec2::new(-0.3, -0.1),
+        Vec2::new(0.0, -0.1),
+        Vec2::new(0.05, 0.05),
+        Vec2::new(0.18, 0.12),
+        Vec2::new(0.25, 0.3),
+        Vec2::new(0.35, 0.32),
+        Vec2::new(0.35, -0.1),
+    ];
     let me = a.mesh(moulding(&cornice.map(|p| Vec2::new(p.x - 0.35, p.y)), 60), "cornice");
     for s in 0..2 {
         a.put(me, m_cornice, side(s) * at(0.0, TOP_Y, -ARCADE_Z + G_PANEL_T / 2.0));
     }
     let m_string = m_cornice;
-    let string = [Vec2::new(0.0, -0.1), Vec2::new(0.0, 0.08), Vec2::new(0.06, 0.16), Vec2::new(0.22, 0.16), Vec2::new(0.3, 0.08), Vec2::new(0.35, 0.08), Vec2::new(0.35, -0.1)];
+    let string = [
+        Vec2::new(0.0, -0.1),
+        Vec2::new(0.0, 0.08),
+        Vec2::new(0.06, 0.16),
+        Vec2::new(0.22, 0.16),
+        Vec2::new(0.3, 0.08),
+        Vec2::new(0.35, 0.08),
+        Vec2::new(0.35, -0.1),
+    ];
     let me = a.mesh(moulding(&string, 60), "string_course");
     for s in 0..2 {
         a.put(me, m_string, side(s) * at(0.0, SLAB_Y0, -ARCADE_Z + G_PANEL_T / 2.0));
@@ -751,7 +783,11 @@ pub(super) fn build(seed: u64) -> Scene {
     let m_frame = a.textured(tex_noise("atrium_door_frame", 64, warm * 0.8, warm, 4, 1.0, &mut tr), white, 0.7);
     let m_door = a.textured(tex_wood("atrium_door_wood", 128, jitter(&mut tr, rgb(120, 80, 50), 0.05), rgb(60, 36, 20), 6, &mut tr), white, 0.7);
     let m_rose = a.textured(tex_marble("atrium_rose_stone", 64, stone, stone * 0.6, 2.0, &mut tr), white, 0.6);
-    let m_glass = a.textured(tex_diamonds("atrium_rose_glass", 128, jitter(&mut tr, rgb(40, 60, 150), 0.1), jitter(&mut tr, rgb(160, 40, 40), 0.1), rgb(200, 170, 60), 6, &mut tr), white, 0.2);
+    let m_glass = a.textured(
+        tex_diamonds("atrium_rose_glass", 128, jitter(&mut tr, rgb(40, 60, 150), 0.1), jitter(&mut tr, rgb(160, 40, 40), 0.1), rgb(200, 170, 60), 6, &mut tr),
+        white,
+        0.2,
+    );
     let m_bronze = a.textured(tex_noise("atrium_mask_bronze", 64, rgb(90, 70, 40), rgb(60, 100, 80), 8, 1.6, &mut tr), white, 0.4);
     a.materials[m_bronze].metallic = 0.7;
     // Models face +z at z = 0; `wall` turns that to face -x at the east wall.
@@ -775,7 +811,9 @@ pub(super) fn build(seed: u64) -> Scene {
     b.face_towards(first, Vec3::Z);
     let door = a.mesh(b, "door_leaf");
     let mut b = MeshBuilder::new();
-    let ring_path = |r: f32, n: u32| -> Vec<Vec3> { (0..n).map(|i| Vec3::new(r * (TAU * i as f32 / n as f32).cos(), r * (TAU * i as f32 / n as f32).sin(), 0.1)).collect() };
+    let ring_path = |r: f32, n: u32| -> Vec<Vec3> {
+        (0..n).map(|i| Vec3::new(r * (TAU * i as f32 / n as f32).cos(), r * (TAU * i as f32 / n as f32).sin(), 0.1)).collect()
+    };
     b.sweep(&ring_path(1.7, 48), &circle(0.13, 10), true, false, 1.0);
     b.sweep(&ring_path(0.6, 32), &circle(0.08, 8), true, false, 1.0);
     for i in 0..12 {
@@ -815,9 +853,23 @@ pub(super) fn build(seed: u64) -> Scene {
     // --- Fountain ------------------------------------------------------------------------------
     let m_basin = a.textured(tex_blocks("atrium_fountain_basin", 128, stone * 0.95, stone * 0.6, 2, 8, 0.06, &mut tr), white, 0.6);
     let m_water = a.textured(tex_noise("atrium_water", 128, jitter(&mut tr, rgb(40, 90, 110), 0.05), rgb(90, 150, 160), 8, 1.6, &mut tr), white, 0.05);
-    let m_fmarble = a.textured(tex_marble("atrium_fountain_marble", 128, jitter(&mut tr, rgb(236, 230, 220), 0.04), rgb(120, 120, 130), 4.0, &mut tr), white, 0.3);
+    let m_fmarble =
+        a.textured(tex_marble("atrium_fountain_marble", 128, jitter(&mut tr, rgb(236, 230, 220), 0.04), rgb(120, 120, 130), 4.0, &mut tr), white, 0.3);
     let mut b = MeshBuilder::new();
-    let basin = [Vec2::new(0.0, 0.0), Vec2::new(1.9, 0.0), Vec2::new(1.9, 0.0), Vec2::new(1.9, 0.5), Vec2::new(1.95, 0.55), Vec2::new(1.95, 0.6), Vec2::new(1.95, 0.6), Vec2::new(1.7, 0.6), Vec2::new(1.7, 0.6), Vec2::new(1.7, 0.15), Vec2::new(1.7, 0.15), Vec2::new(0.0, 0.15)];
+    let basin = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(1.9, 0.0),
+        Vec2::new(1.9, 0.0),
+        Vec2::new(1.9, 0.5),
+        Vec2::new(1.95, 0.55),
+        Vec2::new(1.95, 0.6),
+        Vec2::new(1.95, 0.6),
+        Vec2::new(1.7, 0.6),
+        Vec2::new(1.7, 0.6),
+        Vec2::new(1.7, 0.15),
+        Vec2::new(1.7, 0.15),
+        Vec2::new(0.0, 0.15),
+    ];
     b.lathe(&refine(&basin, 0.15), 48, 6.0, 1.0);
     let me = a.mesh(b, "fountain_basin");
     a.put(me, m_basin, Mat4::IDENTITY);
@@ -833,7 +885,18 @@ pub(super) fn build(seed: u64) -> Scene {
         prof.push(Vec2::new(0.22 + 0.06 * (t * 3.0 * TAU).cos() * (1.0 - t) + 0.05 * t, 0.3 + 1.2 * t));
     }
     // Upper bowl (outside up, rim, inside down), then a finial.
-    prof.extend_from_slice(&refine(&[Vec2::new(0.3, 1.5), Vec2::new(0.9, 1.72), Vec2::new(0.95, 1.8), Vec2::new(0.95, 1.8), Vec2::new(0.85, 1.8), Vec2::new(0.85, 1.8), Vec2::new(0.2, 1.65)], 0.08));
+    prof.extend_from_slice(&refine(
+        &[
+            Vec2::new(0.3, 1.5),
+            Vec2::new(0.9, 1.72),
+            Vec2::new(0.95, 1.8),
+            Vec2::new(0.95, 1.8),
+            Vec2::new(0.85, 1.8),
+            Vec2::new(0.85, 1.8),
+            Vec2::new(0.2, 1.65),
+        ],
+        0.08,
+    ));
     let n = 16;
     for i in 0..=n {
         let t = i as f32 / n as f32;
@@ -848,10 +911,14 @@ pub(super) fn build(seed: u64) -> Scene {
 
     // --- Planted vases along the colonnades ----------------------------------------------------
     let m_vase: Vec<usize> = (0..3)
-        .map(|i| a.textured(tex_noise(&format!("atrium_terracotta_{i}"), 64, jitter(&mut tr, rgb(178, 96, 60), 0.08), rgb(120, 60, 40), 6, 1.2, &mut tr), white, 0.8))
+        .map(|i| {
+            a.textured(tex_noise(&format!("atrium_terracotta_{i}"), 64, jitter(&mut tr, rgb(178, 96, 60), 0.08), rgb(120, 60, 40), 6, 1.2, &mut tr), white, 0.8)
+        })
         .collect();
     let m_leaf: Vec<usize> = (0..3)
-        .map(|i| a.textured(tex_noise(&format!("atrium_foliage_{i}"), 64, jitter(&mut tr, rgb(40, 90, 36), 0.08), rgb(100, 140, 60), 16, 2.0, &mut tr), white, 0.9))
+        .map(|i| {
+            a.textured(tex_noise(&format!("atrium_foliage_{i}"), 64, jitter(&mut tr, rgb(40, 90, 36), 0.08), rgb(100, 140, 60), 16, 2.0, &mut tr), white, 0.9)
+        })
         .collect();
     let vases: Vec<usize> = (0..4).map(|i| a.mesh(vase(&mut gr, 22), &format!("vase_{i}"))).collect();
     let mut n_bush = 0;
@@ -882,9 +949,26 @@ pub(super) fn build(seed: u64) -> Scene {
         materials: a.materials,
         instances: a.instances,
         textures: a.textures,
-        camera: Camera { position: Vec3::new(-13.2, 1.8, 0.6), target: Vec3::new(6.0, 4.2, -0.4), up: Vec3::Y, fov_y: 60f32.to_radians(), near: 0.05, far: 120.0 },
+        camera: Camera {
+            position: Vec3::new(-13.2, 1.8, 0.6),
+            target: Vec3::new(6.0, 4.2, -0.4),
+            up: Vec3::Y,
+            fov_y: 60f32.to_radians(),
+            near: 0.05,
+            far: 120.0,
+        },
         presets: vec![
-            ("courtyard".into(), Camera { position: Vec3::new(-13.2, 1.8, 0.6), target: Vec3::new(6.0, 4.2, -0.4), up: Vec3::Y, fov_y: 60f32.to_radians(), near: 0.05, far: 120.0 }),
+            (
+                "courtyard".into(),
+                Camera {
+                    position: Vec3::new(-13.2, 1.8, 0.6),
+                    target: Vec3::new(6.0, 4.2, -0.4),
+                    up: Vec3::Y,
+                    fov_y: 60f32.to_radians(),
+                    near: 0.05,
+                    far: 120.0,
+                },
+            ),
             ("gallery".into(), Camera::look(Vec3::new(-12.0, 7.6, -5.0), Vec3::new(10.0, 5.0, -4.0), 60.0, 0.05, 120.0)),
             ("aisle".into(), Camera::look(Vec3::new(12.0, 1.7, 5.2), Vec3::new(-10.0, 2.5, 5.0), 60.0, 0.05, 120.0)),
             ("sky".into(), Camera::look(Vec3::new(0.5, 30.0, 0.0), Vec3::new(0.0, 0.0, 0.0), 55.0, 0.05, 120.0)),

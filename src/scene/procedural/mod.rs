@@ -430,11 +430,7 @@ impl MeshBuilder {
 fn frames(path: &[Vec3], closed: bool) -> Vec<(Vec3, Vec3)> {
     let n = path.len();
     let tangent = |k: usize| -> Vec3 {
-        let (a, b) = if closed {
-            (path[(k + n - 1) % n], path[(k + 1) % n])
-        } else {
-            (path[k.saturating_sub(1)], path[(k + 1).min(n - 1)])
-        };
+        let (a, b) = if closed { (path[(k + n - 1) % n], path[(k + 1) % n]) } else { (path[k.saturating_sub(1)], path[(k + 1).min(n - 1)]) };
         (b - a).normalize_or(Vec3::X)
     };
     let t0 = tangent(0);
@@ -538,7 +534,11 @@ pub(crate) fn tex_tiles(name: &str, size: u32, a: Rgb, b: Rgb, cells: u32, rng: 
         let joint = fx < 0.03 || fy < 0.03;
         let vein = (((u + v) * 9.0 + 6.0 * n) * PI).sin().abs();
         let c = base * (1.0 + 0.25 * n) * (0.93 + 0.07 * vein);
-        if joint { c * 0.6 } else { c }
+        if joint {
+            c * 0.6
+        } else {
+            c
+        }
     })
 }
 
@@ -584,7 +584,13 @@ pub(crate) fn tex_diamonds(name: &str, size: u32, a: Rgb, b: Rgb, border: Rgb, n
         let (x, y) = ((u * nf).fract() - 0.5, (v * nf).fract() - 0.5);
         let inside = x.abs() + y.abs() < 0.5;
         let edge = (u - 0.5).abs() > 0.42 || (v - 0.5).abs() > 0.45;
-        let c = if edge { border } else if inside { a } else { b };
+        let c = if edge {
+            border
+        } else if inside {
+            a
+        } else {
+            b
+        };
         c * (1.0 + 0.15 * noise.at(u, v))
     })
 }
@@ -599,7 +605,11 @@ pub(crate) fn tex_wood(name: &str, size: u32, light: Rgb, dark: Rgb, planks: u32
         let fv = (v * pf).fract();
         let g = (((u + offsets[p]) * 24.0 + 3.0 * noise.at(u, v + offsets[p])) * PI).sin() * 0.5 + 0.5;
         let c = light.lerp(dark, 0.6 * g);
-        if !(0.04..=0.96).contains(&fv) { dark * 0.6 } else { c }
+        if !(0.04..=0.96).contains(&fv) {
+            dark * 0.6
+        } else {
+            c
+        }
     })
 }
 

@@ -59,18 +59,43 @@ fn radius(d: Vec3, feats: &[Feature], seed: u32) -> f32 {
 fn icosahedron() -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let t = (1.0 + 5f32.sqrt()) / 2.0;
     let corners: Vec<Vec3> = [
-        (-1.0, t, 0.0), (1.0, t, 0.0), (-1.0, -t, 0.0), (1.0, -t, 0.0),
-        (0.0, -1.0, t), (0.0, 1.0, t), (0.0, -1.0, -t), (0.0, 1.0, -t),
-        (t, 0.0, -1.0), (t, 0.0, 1.0), (-t, 0.0, -1.0), (-t, 0.0, 1.0),
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
     ]
     .iter()
     .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
     .collect();
     let mut faces = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for f in &mut faces {
         let (a, b, c) = (corners[f[0] as usize], corners[f[1] as usize], corners[f[2] as usize]);
@@ -150,7 +175,11 @@ pub(super) fn build() -> Scene {
     let base = image("organic_skin", 256, |u, v| {
         let c = skin.lerp(shade, (0.5 + 1.6 * noise.at(u, v)).clamp(0.0, 1.0));
         let s = spots.at(u, v);
-        if s > 0.28 { c.lerp(spot, ((s - 0.28) * 6.0).min(0.6)) } else { c }
+        if s > 0.28 {
+            c.lerp(spot, ((s - 0.28) * 6.0).min(0.6))
+        } else {
+            c
+        }
     });
     let textures = vec![base, tex_roughness("organic_roughness", 128, 0.55, 0.6, &mut rng)];
     let mut m = material("organic_skin", [1.0; 4], Some(0), 0.55);
@@ -163,7 +192,10 @@ pub(super) fn build() -> Scene {
         textures,
         camera: Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0 },
         presets: vec![
-            ("three-quarter".into(), Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0 }),
+            (
+                "three-quarter".into(),
+                Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0 },
+            ),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.1, 3.2), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
             ("profile".into(), Camera::look(Vec3::new(3.2, 0.2, 0.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
         ],

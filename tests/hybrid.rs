@@ -1,0 +1,362 @@
+//! The hybrid and full ray-tracing modes against closed-form cases (lavapipe, small sizes):
+//! AO of an open plane (V = 1), under a parallel ceiling (V = (h/R)^2, within 3 sigma) and
+//! inside a closed dome (V = 0); the analytic shadow outline of a sphere; no self-shadowing or
+//! self-occlusion of an open plane seen from 0 to 89.9 degrees, also 1e5 units from the
+//! origin; exact ray counts; a mirror showing the mirrored scene; hybrid against full RT; and
+//! switched-off effects culled.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use raygraph::accel::backend::Backend;
+use raygraph::graph::compile::compile_with;
+use raygraph::graph::Project;
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::builtin::{plane, sphere};
+use raygraph::scene::{Camera, Instance, Light, Material, Mesh, Scene};
+
+fn gpu() -> Gpu {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
+    println!("adapter: {}", gpu.describe());
+    gpu
+}
+
+/// A scene of (mesh, material, transform) parts.
+fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) -> Scene {
+    let mut s = Scene {
+        name: "test".into(),
+        meshes: Vec::new(),
+        materials: Vec::new(),
+        instances: Vec::new(),
+        textures: Vec::new(),
+        camera,
+        presets: vec![("test".into(), camera)],
+        light: Light { direction: light_dir.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 },
+        point_light: None,
+    };
+    for (mesh, material, transform) in parts {
+        s.instances.push(Instance { mesh: s.meshes.len(), material: s.materials.len(), transform });
+        s.meshes.push(mesh);
+        s.materials.push(material);
+    }
+    s
+}
+
+fn grey() -> Material {
+    Material::diffuse("grey", [0.7, 0.7, 0.7, 1.0], None)
+}
+
+/// A project directory with the repository's layers and shaders and the given graph.
+fn project(graph: &str) -> (common::TempProject, std::path::PathBuf) {
+    let p = common::TempProject::new();
+    for dir in ["layers", "shaders"] {
+        let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join(dir)).arg(&p.root).status().unwrap();
+        assert!(status.success());
+    }
+    let path = p.write("graph/test.ron", graph);
+    (p, path)
+}
+
+/// The hybrid graph with the AO node's parameters replaced.
+fn hybrid_with_ao(params: &str) -> String {
+    std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap().replace(r#"params: {"rays": 8, "range_scale": 0.05}"#, params)
+}
+
+/// Renders one frame. Without texture reuse, so every intermediate channel can be read back
+/// after the frame (with reuse a later pass may own its memory by then).
+fn run(gpu: &Gpu, graph: &std::path::Path, backend: Backend, scene: &Scene, size: (u32, u32)) -> (Executor, raygraph::runtime::profiler::FrameTimings) {
+    let options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+    let plan = compile_with(graph, &Project::beside_graph(graph), size, &options).unwrap();
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    let t = exec.render(gpu, &scene.camera, scene).unwrap();
+    (exec, t)
+}
+
+fn channel(gpu: &Gpu, exec: &Executor, name: &str) -> Vec<[f32; 4]> {
+    let r = exec.plan().resource_by_name(name).unwrap_or_else(|| panic!("no resource {name}"));
+    exec.read_texture_f32(gpu, r).unwrap().2
+}
+
+/// AO on closed-form configurations: the mean over all pixels against the analytic value.
+#[test]
+fn ambient_occlusion_matches_the_closed_forms() {
+    let gpu = gpu();
+    let big = 400.0;
+    let down = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
+    let (h, r) = (0.5f32, 1.0f32);
+    let ceiling = Mat4::from_translation(Vec3::new(0.0, h, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
+    let dome = Mat4::from_scale(Vec3::splat(0.8));
+    let cases: Vec<(&str, Scene, f64)> = vec![
+        ("open plane", scene(vec![(plane("floor", big, 1.0), grey(), Mat4::IDENTITY)], down, Vec3::Y), 1.0),
+        (
+            "parallel ceiling",
+            scene(vec![(plane("floor", big, 1.0), grey(), Mat4::IDENTITY), (plane("ceiling", big, 1.0), grey(), ceiling)], down, Vec3::Y),
+            ((h / r) as f64).powi(2),
+        ),
+        ("closed dome", scene(vec![(plane("floor", 4.0, 1.0), grey(), Mat4::IDENTITY), (sphere("dome", 32, 64), grey(), dome)], down, Vec3::Y), 0.0),
+    ];
+    let rays = 64;
+    let (_p, graph) = project(&hybrid_with_ao(&format!(r#"params: {{"rays": {rays}, "range": {r}, "range_scale": 0.0, "sampling": 0}}"#)));
+    for backend in Backend::ALL {
+        for (name, s, expected) in &cases {
+            let (exec, _) = run(&gpu, &graph, backend, s, (24, 24));
+            let ao = channel(&gpu, &exec, "ao.ao");
+            let n = ao.len() as f64;
+            let mean = ao.iter().map(|v| v[0] as f64).sum::<f64>() / n;
+            // Independent (white-noise) samples: sigma of the mean of n * rays Bernoulli draws.
+            let sigma = (expected * (1.0 - expected) / (n * rays as f64)).sqrt();
+            println!("{backend:9} {name:16}: mean V {mean:.5}, analytic {expected:.5}, 3 sigma {:.5}", 3.0 * sigma);
+            assert!((mean - expected).abs() <= 3.0 * sigma + 1e-6, "{backend}/{name}: V {mean} against {expected} (3 sigma {})", 3.0 * sigma);
+        }
+    }
+}
+
+/// The shadow of a sphere on a plane: a pixel whose point's ray to the light passes the
+/// sphere's centre closer than r - margin is shadowed, farther than r + margin is lit. Margin:
+/// 3% of r (the 32x64 tessellation is within 0.5% of the sphere) plus one pixel's footprint.
+#[test]
+fn the_hard_shadow_of_a_sphere_follows_its_analytic_outline() {
+    let gpu = gpu();
+    let (c, r) = (Vec3::new(0.0, 1.5, 0.0), 0.6);
+    let light = Vec3::new(0.5, 1.0, 0.3).normalize();
+    let cam = Camera::look(Vec3::new(-1.5, 6.0, -3.0), Vec3::new(-0.5, 0.0, -0.3), 45.0, 0.05, 100.0);
+    let s = scene(
+        vec![
+            (plane("floor", 20.0, 1.0), grey(), Mat4::IDENTITY),
+            (sphere("ball", 32, 64), grey(), Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c)),
+        ],
+        cam,
+        light,
+    );
+    let graph = common::repo().join("graph/hybrid.ron");
+    for backend in Backend::ALL {
+        let size = (64u32, 48u32);
+        let (exec, _) = run(&gpu, &graph, backend, &s, size);
+        let pos = channel(&gpu, &exec, "gbuffer.position");
+        let shadow = channel(&gpu, &exec, "shadow.shadow");
+        let footprint = 2.0 * 8.0 * (22.5f32.to_radians()).tan() / size.1 as f32; // at ~8 units
+        let margin = 0.03 * r + footprint;
+        let (mut inside, mut outside, mut wrong) = (0, 0, 0);
+        for (p, sh) in pos.iter().zip(&shadow) {
+            if p[3] == 0.0 || p[1].abs() > 1e-3 {
+                continue; // sky or sphere
+            }
+            let q = Vec3::new(p[0], p[1], p[2]);
+            let along = (c - q).dot(light);
+            let dist = if along > 0.0 { (c - q - light * along).length() } else { f32::INFINITY };
+            if dist < r - margin {
+                inside += 1;
+                wrong += (sh[0] != 0.0) as usize;
+            } else if dist > r + margin {
+                outside += 1;
+                wrong += (sh[0] != 1.0) as usize;
+            }
+        }
+        println!("{backend}: {inside} pixels inside the outline, {outside} outside, {wrong} wrong");
+        assert!(inside > 50 && outside > 500, "the view holds the shadow and lit floor");
+        assert_eq!(wrong, 0, "{backend}: pixels on the wrong side of the analytic outline");
+    }
+}
+
+/// An open lit plane: no pixel shadowed and AO exactly 1, from the normal to 89.9 degrees, at
+/// the origin and 1e5 units away.
+#[test]
+fn an_open_plane_never_shadows_or_occludes_itself() {
+    let gpu = gpu();
+    let (_p, graph) = project(&hybrid_with_ao(r#"params: {"rays": 16, "range": 2.0, "range_scale": 0.0}"#));
+    for offset in [Vec3::ZERO, Vec3::new(1e5, 1e5, 1e5)] {
+        for degrees in [0.0f32, 30.0, 60.0, 80.0, 89.0, 89.9] {
+            let a = degrees.to_radians();
+            let target = offset + Vec3::new(0.0, 0.0, 0.0);
+            let eye = target + Vec3::new(0.0, 3.0 * a.cos(), 3.0 * a.sin());
+            // Straight down, "up" is +z (a y-up camera would be degenerate).
+            let up = if degrees == 0.0 { Vec3::Z } else { Vec3::Y };
+            let cam = Camera { up, ..Camera::look(eye, target, 50.0, 0.01, 1e4) };
+            let s = scene(vec![(plane("floor", 4000.0, 1.0), grey(), Mat4::from_translation(offset))], cam, Vec3::new(0.3, 1.0, 0.2));
+            for backend in Backend::ALL {
+                let (exec, _) = run(&gpu, &graph, backend, &s, (32, 24));
+                let pos = channel(&gpu, &exec, "gbuffer.position");
+                let shadow = channel(&gpu, &exec, "shadow.shadow");
+                let ao = channel(&gpu, &exec, "ao.ao");
+                let on_plane: Vec<usize> = (0..pos.len()).filter(|i| pos[*i][3] != 0.0).collect();
+                let shadowed = on_plane.iter().filter(|i| shadow[**i][0] != 1.0).count();
+                let occluded = on_plane.iter().filter(|i| ao[**i][0] != 1.0).count();
+                assert!(!on_plane.is_empty(), "the plane is in view at {degrees} degrees");
+                let geo = channel(&gpu, &exec, "gbuffer.geo_normal");
+                for i in on_plane.iter().filter(|i| shadow[**i][0] != 1.0).take(3) {
+                    println!("  shadowed pixel {i}: position {:?} geometric normal {:?}", pos[*i], geo[*i]);
+                }
+                assert_eq!(
+                    (shadowed, occluded),
+                    (0, 0),
+                    "{backend}, offset {offset}, {degrees} degrees: {shadowed} shadowed and {occluded} occluded of {} pixels",
+                    on_plane.len()
+                );
+            }
+        }
+        println!("offset {offset}: no self-shadowing or self-occlusion from 0 to 89.9 degrees on both back-ends");
+    }
+}
+
+/// Primary rays: a camera half covered by a plane whose edge runs between two pixel columns
+/// hits exactly half of the pixels.
+#[test]
+fn ray_counters_count_hits_and_misses_exactly() {
+    let gpu = gpu();
+    let cam = Camera::look(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 60.0, 0.01, 100.0);
+    // A quad spanning x in [-100, 0], y in [-100, 100] at z = -10, facing the camera.
+    let quad = plane("half", 200.0, 1.0);
+    let t = Mat4::from_translation(Vec3::new(-100.0, 0.0, -10.0)) * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let s = scene(vec![(quad, grey(), t)], cam, Vec3::Z);
+    let (_p, graph) = project(
+        &std::fs::read_to_string(common::repo().join("graph/full_rt.ron"))
+            .unwrap()
+            .replace("\"shadow\": Layer(", "\"shadow\": Layer(enabled: false, ")
+            .replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ")
+            .replace("\"reflection\": Layer(", "\"reflection\": Layer(enabled: false, "),
+    );
+    let (w, h) = (40u32, 30u32);
+    for backend in Backend::ALL {
+        let (exec, timings) = run(&gpu, &graph, backend, &s, (w, h));
+        let primary = exec.plan().passes.iter().position(|p| p.name == "gbuffer/primary").unwrap();
+        let stats = timings.pass_rays[primary].unwrap();
+        println!("{backend}: {stats:?}");
+        assert_eq!(stats.closest, (w * h) as u64);
+        assert_eq!(stats.hits, (w * h / 2) as u64, "{backend}: hits");
+        assert_eq!(stats.misses(), (w * h / 2) as u64);
+        let pos = channel(&gpu, &exec, "gbuffer.position");
+        assert_eq!(pos.iter().filter(|p| p[3] != 0.0).count(), (w * h / 2) as usize);
+        assert_eq!(timings.rays.unwrap(), stats, "only the primary pass traces");
+    }
+}
+
+/// A mirror floor under a red ball: where the mirrored view ray meets the ball, the reflection
+/// is red; where it meets nothing, it is the sky.
+#[test]
+fn a_mirror_shows_the_mirrored_scene() {
+    let gpu = gpu();
+    let mirror = Material { metallic: 1.0, roughness: 0.02, ..Material::diffuse("mirror", [0.95, 0.95, 0.95, 1.0], None) };
+    let red = Material::diffuse("red", [0.9, 0.05, 0.05, 1.0], None);
+    let (c, r) = (Vec3::new(0.0, 1.0, 0.0), 0.5);
+    let cam = Camera::look(Vec3::new(0.0, 2.0, 4.0), Vec3::new(0.0, 0.0, 0.0), 50.0, 0.05, 100.0);
+    let s = scene(
+        vec![
+            (plane("mirror", 6.0, 1.0), mirror, Mat4::IDENTITY),
+            (sphere("ball", 32, 64), red, Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c)),
+        ],
+        cam,
+        Vec3::new(0.2, 1.0, 0.6),
+    );
+    let graph = common::repo().join("graph/hybrid.ron");
+    for backend in Backend::ALL {
+        let (exec, _) = run(&gpu, &graph, backend, &s, (48, 36));
+        let pos = channel(&gpu, &exec, "gbuffer.position");
+        let refl = channel(&gpu, &exec, "reflection.reflection");
+        let (mut ball, mut sky, mut wrong) = (0, 0, 0);
+        for (p, f) in pos.iter().zip(&refl) {
+            if p[3] == 0.0 || p[1].abs() > 1e-3 || p[0].abs() > 2.8 || p[2].abs() > 2.8 {
+                continue; // not on the mirror (away from its rim)
+            }
+            let q = Vec3::new(p[0], p[1], p[2]);
+            let v = (q - cam.position).normalize();
+            let d = Vec3::new(v.x, -v.y, v.z); // the mirrored direction
+            let along = (c - q).dot(d);
+            let dist = (c - q - d * along).length();
+            if along > 0.0 && dist < r * 0.9 {
+                ball += 1;
+                wrong += !(f[0] > 2.0 * f[1] && f[0] > 2.0 * f[2]) as usize;
+            } else if dist > r * 1.1 || along < 0.0 {
+                sky += 1;
+                wrong += !(f[2] > f[0] && f[2] > 0.2) as usize; // bluish sky
+            }
+        }
+        println!("{backend}: {ball} pixels reflect the ball, {sky} the sky, {wrong} wrong");
+        assert!(ball > 20 && sky > 100);
+        assert_eq!(wrong, 0, "{backend}");
+    }
+}
+
+/// Away from silhouettes (pixels whose 3x3 neighbourhood lies on one surface in both modes) the
+/// hybrid and full-RT images agree: mean absolute difference <= 2 and 99th percentile <= 16 in
+/// 8-bit units, on an untextured scene (texture filtering differs between the modes).
+#[test]
+fn hybrid_and_full_rt_agree_away_from_silhouettes() {
+    let gpu = gpu();
+    let cam = Camera::look(Vec3::new(2.5, 2.0, 4.0), Vec3::new(0.0, 0.5, 0.0), 45.0, 0.05, 100.0);
+    let s = scene(
+        vec![
+            (plane("floor", 12.0, 1.0), grey(), Mat4::IDENTITY),
+            (
+                sphere("ball", 24, 48),
+                Material::diffuse("red", [0.8, 0.2, 0.1, 1.0], None),
+                Mat4::from_scale_rotation_translation(Vec3::splat(0.7), glam::Quat::IDENTITY, Vec3::new(0.0, 0.7, 0.0)),
+            ),
+            (raygraph::scene::builtin::cube("box"), Material::diffuse("blue", [0.2, 0.3, 0.8, 1.0], None), Mat4::from_translation(Vec3::new(-1.4, 0.5, -0.6))),
+        ],
+        cam,
+        Vec3::new(-0.4, 0.8, 0.45),
+    );
+    let (w, h) = (64u32, 48u32);
+    let mut images = Vec::new();
+    let mut positions = Vec::new();
+    for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
+        let (exec, _) = run(&gpu, &common::repo().join(graph), Backend::Compute, &s, (w, h));
+        images.push(exec.read_output(&gpu).unwrap());
+        positions.push(channel(&gpu, &exec, "gbuffer.position"));
+    }
+    let interior = |x: u32, y: u32| {
+        if x == 0 || y == 0 || x + 1 >= w || y + 1 >= h {
+            return false;
+        }
+        let i = (y * w + x) as usize;
+        (0..2).all(|k| {
+            let p = positions[k][i];
+            p[3] != 0.0
+                && (-1..=1).all(|dy: i32| {
+                    (-1..=1).all(|dx: i32| {
+                        let q = positions[k][((y as i32 + dy) as u32 * w + (x as i32 + dx) as u32) as usize];
+                        let depth = Vec3::new(p[0], p[1], p[2]).distance(cam.position);
+                        q[3] != 0.0 && Vec3::new(q[0] - p[0], q[1] - p[1], q[2] - p[2]).length() < 0.1 * depth
+                    })
+                })
+        })
+    };
+    let mut diffs = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            if interior(x, y) {
+                let (a, b) = (images[0].get_pixel(x, y), images[1].get_pixel(x, y));
+                diffs.push((0..3).map(|c| (a[c] as i32 - b[c] as i32).abs()).max().unwrap());
+            }
+        }
+    }
+    diffs.sort_unstable();
+    let mean = diffs.iter().sum::<i32>() as f64 / diffs.len() as f64;
+    let p99 = diffs[diffs.len() * 99 / 100];
+    println!("hybrid vs full RT over {} interior pixels: mean |difference| {mean:.2}, 99th percentile {p99}, max {}", diffs.len(), diffs.last().unwrap());
+    assert!(diffs.len() > (w * h / 4) as usize, "{} interior pixels", diffs.len());
+    assert!(mean <= 2.0 && p99 <= 16, "mean {mean}, p99 {p99}");
+}
+
+#[test]
+fn a_switched_off_effect_is_culled_and_reads_its_fallback() {
+    let gpu = gpu();
+    let text = std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap().replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ");
+    let (_p, graph) = project(&text);
+    let plan = compile_with(&graph, &Project::beside_graph(&graph), (32, 24), &gpu.compile_options()).unwrap();
+    assert!(plan.passes.iter().all(|p| !p.name.starts_with("ao/")), "no AO pass");
+    assert!(plan.resource_by_name("ao.ao").is_none(), "no AO texture");
+    assert!(plan.resource_by_name("resolve/ao (fallback)").is_some_and(|r| plan.resources[r].extent == (1, 1)));
+    let s = raygraph::scene::builtin::default_scene();
+    let mut exec = Executor::new(&gpu, plan, &s).unwrap();
+    let t = exec.render(&gpu, &s.camera, &s).unwrap();
+    let full = compile_with(
+        &common::repo().join("graph/hybrid.ron"),
+        &Project::beside_graph(&common::repo().join("graph/hybrid.ron")),
+        (32, 24),
+        &gpu.compile_options(),
+    )
+    .unwrap();
+    assert!(exec.plan().bytes_with_reuse() < full.bytes_with_reuse(), "less transient memory without AO");
+    assert!(t.rays.unwrap().any > 0, "shadow rays still traced");
+}

@@ -1,0 +1,313 @@
+//! Shadow maps in the Rasterization graph (`shadow_map` layer -> `forward` layer), on scenes
+//! built in code, with the layers and shaders of the repository at their default parameters.
+//!
+//! "Shadowed" is read against a second render of the same graph with `shadows: false` on the
+//! `forward` node: a pixel is *shadowed* when the sum of its RGB bytes is below
+//! `SHADOWED_RATIO` times the unshadowed render's, and *darkened* when it is below it by more
+//! than `DARKENED_SUM` (8-bit units summed over RGB; a lit pixel computes the same value, so
+//! lit pixels should be equal). The tone map runs at exposure 0.25 with the sky off, so a lit
+//! grey floor stays well below saturation and a floor in shadow (ambient only) is about a
+//! quarter as bright.
+//!
+//! Analytic classification uses the pixel's camera ray: its hit on the plane y = 0 and its
+//! footprint there (the largest distance to the hits of the neighbouring pixels' rays, in world
+//! units per pixel), so a world distance to the analytic shadow outline divided by the
+//! footprint is a lower bound of the distance in pixels.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use raygraph::graph::{compile, Project};
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::builtin::{default_scene, plane, sphere};
+use raygraph::scene::{Camera, Instance, Light, Material, Scene};
+use std::path::Path;
+
+const W: u32 = 320;
+const H: u32 = 240;
+/// Shadowed: RGB sum below this fraction of the unshadowed render's.
+const SHADOWED_RATIO: f64 = 0.6;
+/// Darkened: RGB sum below the unshadowed render's by more than this.
+const DARKENED_SUM: i32 = 3;
+/// Pixels closer than this (in pixels) to the analytic shadow outline are not classified: the
+/// 3x3 PCF, the shadow-map texels and the sphere's tessellation blur the edge.
+const EDGE_MARGIN_PX: f64 = 3.0;
+/// Half the width of the floor plane.
+const FLOOR_HALF: f32 = 4.0;
+
+fn gpu() -> Gpu {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
+    println!("adapter: {}", gpu.describe());
+    gpu
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
+}
+
+/// A temporary project with the repository's layers and shaders and the Rasterization graph
+/// written with `shadows` set on the forward node (every other parameter at its default).
+struct Graphs {
+    project: common::TempProject,
+}
+
+impl Graphs {
+    fn new() -> Self {
+        let project = common::TempProject::new();
+        for dir in ["layers", "shaders"] {
+            copy_dir(&common::repo().join(dir), &project.root.join(dir));
+        }
+        for shadows in [false, true] {
+            let text = format!(
+                r#"// graph/raster.ron with `shadows: {shadows}` and a tone map that keeps a lit floor unsaturated.
+Graph(
+    output: "tonemap.color",
+    nodes: {{
+        "shadow_map": Layer(layer: "shadow_map"),
+        "forward": Layer(
+            layer: "forward",
+            inputs: {{"shadow_map": "shadow_map.depth"}},
+            params: {{"shadows": {shadows}}},
+        ),
+        "tonemap": Layer(
+            layer: "tonemap",
+            inputs: {{"hdr": "forward.color"}},
+            params: {{"exposure": 0.25, "sky": false}},
+        ),
+    }},
+)
+"#
+            );
+            project.write(&format!("graph/shadows_{shadows}.ron"), &text);
+        }
+        Self { project }
+    }
+
+    fn render(&self, gpu: &Gpu, shadows: bool, scene: &Scene, camera: &Camera) -> image::RgbaImage {
+        let path = self.project.root.join(format!("graph/shadows_{shadows}.ron"));
+        let plan = compile(&path, &Project::beside_graph(&path), (W, H)).unwrap_or_else(|e| panic!("{e}"));
+        let mut exec = Executor::new(gpu, plan, scene).unwrap();
+        exec.render(gpu, camera, scene).unwrap();
+        exec.read_output(gpu).unwrap()
+    }
+}
+
+/// A grey floor (`FLOOR_HALF` * 2 wide at y = 0), optionally a grey sphere `sphere_at` =
+/// (centre, radius), under a directional light towards `light`, seen by `camera`.
+fn scene(sphere_at: Option<(Vec3, f32)>, light: Vec3, camera: Camera) -> Scene {
+    let mut s = default_scene();
+    s.name = "shadow test".into();
+    s.meshes = vec![plane("floor", 2.0 * FLOOR_HALF, 1.0), sphere("ball", 48, 96)];
+    s.textures = Vec::new();
+    s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
+    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
+    if let Some((c, r)) = sphere_at {
+        s.instances.push(Instance { mesh: 1, material: 0, transform: Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c) });
+    }
+    s.light = Light { direction: light.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
+    s.camera = camera;
+    s.presets = vec![("main".into(), camera)];
+    s
+}
+
+/// Camera rays of the frame.
+struct Rays {
+    origin: Vec3,
+    inv_view_proj: Mat4,
+}
+
+impl Rays {
+    fn new(camera: &Camera) -> Self {
+        Self { origin: camera.position, inv_view_proj: camera.view_proj(W as f32 / H as f32).inverse() }
+    }
+
+    /// Unit direction through the point (x, y) in pixels (pixel centres at +0.5).
+    fn dir(&self, x: f64, y: f64) -> Vec3 {
+        let ndc = glam::Vec4::new((x / W as f64 * 2.0 - 1.0) as f32, (1.0 - y / H as f64 * 2.0) as f32, 1.0, 1.0);
+        let p = self.inv_view_proj * ndc;
+        (p.truncate() / p.w - self.origin).normalize()
+    }
+
+    /// Where the ray through (x, y) meets y = 0.
+    fn floor_hit(&self, x: f64, y: f64) -> Option<Vec3> {
+        let d = self.dir(x, y);
+        (d.y < 0.0).then(|| self.origin + d * (-self.origin.y / d.y))
+    }
+
+    /// The floor point seen at pixel (px, py) and the footprint there (world units per pixel),
+    /// for pixels whose ray meets the floor at least `EDGE_MARGIN_PX` pixels inside its edge.
+    fn floor_pixel(&self, px: u32, py: u32) -> Option<(Vec3, f32)> {
+        let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+        let p = self.floor_hit(x, y)?;
+        let fx = self.floor_hit(x + 1.0, y)?.distance(p);
+        let fy = self.floor_hit(x, y + 1.0)?.distance(p);
+        let f = fx.max(fy);
+        let inside = FLOOR_HALF - EDGE_MARGIN_PX as f32 * f;
+        (p.x.abs() < inside && p.z.abs() < inside).then_some((p, f))
+    }
+
+    /// Whether the ray through pixel (px, py) passes within `radius` of `centre` (in front of
+    /// the camera).
+    fn passes_near(&self, px: u32, py: u32, centre: Vec3, radius: f32) -> bool {
+        let d = self.dir(px as f64 + 0.5, py as f64 + 0.5);
+        let t = (centre - self.origin).dot(d);
+        t > 0.0 && (self.origin + d * t).distance(centre) < radius
+    }
+}
+
+fn rgb_sum(img: &image::RgbaImage, x: u32, y: u32) -> i32 {
+    let p = img.get_pixel(x, y);
+    p[0] as i32 + p[1] as i32 + p[2] as i32
+}
+
+fn look(position: Vec3, target: Vec3) -> Camera {
+    Camera::look(position, target, 50.0, 0.05, 100.0)
+}
+
+/// (a) A sphere of radius 1 centred 2.5 above the floor, the light straight above: the floor's
+/// shadow is the disc of radius 1 under the sphere's centre. Every floor pixel at least
+/// `EDGE_MARGIN_PX` pixels inside its outline is shadowed, every one at least that far outside
+/// is lit (and not darkened at all). Pixels whose ray passes within 1.1 radii of the sphere's
+/// centre (the sphere itself, and its silhouette) are left out.
+#[test]
+fn a_sphere_above_the_floor_casts_a_disc_of_its_radius_straight_down() {
+    let gpu = gpu();
+    let graphs = Graphs::new();
+    let (centre, radius) = (Vec3::new(0.0, 2.5, 0.0), 1.0f32);
+    for camera in [look(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO), look(Vec3::new(-7.0, 4.5, -3.0), Vec3::new(0.0, 0.5, 0.0))] {
+        let s = scene(Some((centre, radius)), Vec3::Y, camera);
+        let lit_img = graphs.render(&gpu, false, &s, &camera);
+        let img = graphs.render(&gpu, true, &s, &camera);
+        let rays = Rays::new(&camera);
+        let (mut inside, mut inside_ok, mut outside, mut outside_ok) = (0usize, 0usize, 0usize, 0usize);
+        let (mut worst_inside_ratio, mut worst_outside_darkening) = (0.0f64, 0i32);
+        for py in 0..H {
+            for px in 0..W {
+                let Some((p, footprint)) = rays.floor_pixel(px, py) else { continue };
+                if rays.passes_near(px, py, centre, 1.1 * radius) {
+                    continue;
+                }
+                let to_outline_px = (Vec3::new(p.x, 0.0, p.z).length() - radius) as f64 / footprint as f64;
+                let (on, sh) = (rgb_sum(&lit_img, px, py), rgb_sum(&img, px, py));
+                let ratio = sh as f64 / on.max(1) as f64;
+                if to_outline_px < -EDGE_MARGIN_PX {
+                    inside += 1;
+                    inside_ok += (ratio < SHADOWED_RATIO) as usize;
+                    worst_inside_ratio = worst_inside_ratio.max(ratio);
+                } else if to_outline_px > EDGE_MARGIN_PX {
+                    outside += 1;
+                    outside_ok += (on - sh <= DARKENED_SUM) as usize;
+                    worst_outside_darkening = worst_outside_darkening.max(on - sh);
+                }
+            }
+        }
+        println!(
+            "camera at {:?}: {inside_ok}/{inside} floor pixels > {EDGE_MARGIN_PX} px inside the disc shadowed (highest shadowed/lit ratio {worst_inside_ratio:.3}, \
+             limit {SHADOWED_RATIO}); {outside_ok}/{outside} pixels > {EDGE_MARGIN_PX} px outside lit (largest darkening {worst_outside_darkening}, limit {DARKENED_SUM})",
+            camera.position
+        );
+        assert!(inside > 300 && outside > 10_000, "the view must show the shadow and the floor around it: {inside} inside, {outside} outside");
+        assert_eq!(inside_ok, inside, "pixels inside the analytic shadow are lit (highest ratio {worst_inside_ratio:.3})");
+        assert_eq!(outside_ok, outside, "pixels outside the analytic shadow are darkened (by up to {worst_outside_darkening})");
+    }
+}
+
+/// (b) Shadow acne: a lone floor with nothing above it, lit from straight above, 45 degrees
+/// and 70 degrees from the zenith (two azimuths each), seen from four cameras (grazing, high,
+/// around the floor): no floor pixel is darkened at all by the shadow map.
+#[test]
+fn an_open_floor_has_no_shadow_acne_from_any_view() {
+    let gpu = gpu();
+    let graphs = Graphs::new();
+    // (degrees from the zenith, azimuth in degrees)
+    let lights = [(0.0, 0.0), (45.0, 0.0), (45.0, 135.0), (70.0, 60.0), (70.0, 210.0)].map(|(z, a): (f32, f32)| {
+        let (z, a) = (z.to_radians(), a.to_radians());
+        Vec3::new(z.sin() * a.cos(), z.cos(), z.sin() * a.sin())
+    });
+    let cameras = [
+        look(Vec3::new(0.0, 1.2, 7.0), Vec3::new(0.0, 0.0, 0.0)),
+        look(Vec3::new(5.5, 3.0, 5.5), Vec3::new(0.0, 0.0, 0.0)),
+        look(Vec3::new(-6.0, 1.0, -2.0), Vec3::new(0.0, 0.0, 0.5)),
+        look(Vec3::new(0.5, 9.0, 1.0), Vec3::new(0.0, 0.0, 0.0)),
+    ];
+    let mut total = 0usize;
+    for light in lights {
+        for camera in cameras {
+            let s = scene(None, light, camera);
+            let lit_img = graphs.render(&gpu, false, &s, &camera);
+            let img = graphs.render(&gpu, true, &s, &camera);
+            let rays = Rays::new(&camera);
+            let (mut floor, mut darkened, mut worst) = (0usize, 0usize, 0i32);
+            for py in 0..H {
+                for px in 0..W {
+                    if rays.floor_pixel(px, py).is_none() {
+                        continue;
+                    }
+                    floor += 1;
+                    let d = rgb_sum(&lit_img, px, py) - rgb_sum(&img, px, py);
+                    darkened += (d > DARKENED_SUM) as usize;
+                    worst = worst.max(d);
+                }
+            }
+            let zenith = light.normalize().y.acos().to_degrees();
+            println!(
+                "light {zenith:.0} deg from the zenith, camera at {:?}: {darkened} of {floor} floor pixels darkened (largest darkening {worst})",
+                camera.position
+            );
+            assert!(floor > 10_000, "the view must show the floor ({floor} pixels)");
+            assert_eq!(
+                darkened, 0,
+                "shadow acne: {darkened} of {floor} floor pixels darkened by up to {worst} (light {light:?}, camera {:?})",
+                camera.position
+            );
+            total += floor;
+        }
+    }
+    println!("{total} floor pixels checked");
+}
+
+/// (c) `shadows: false`: the sphere scene of (a) draws its floor exactly as a floor with
+/// nothing above it does (every floor pixel not covered by the sphere, within 1 per channel),
+/// while the same scene with shadows on does not.
+#[test]
+fn shadows_off_draw_the_floor_fully_lit() {
+    let gpu = gpu();
+    let graphs = Graphs::new();
+    let (centre, radius) = (Vec3::new(0.0, 2.5, 0.0), 1.0f32);
+    let camera = look(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO);
+    let with_sphere = scene(Some((centre, radius)), Vec3::new(0.3, 1.0, -0.2), camera);
+    let open = scene(None, Vec3::new(0.3, 1.0, -0.2), camera);
+    let off = graphs.render(&gpu, false, &with_sphere, &camera);
+    let on = graphs.render(&gpu, true, &with_sphere, &camera);
+    let reference = graphs.render(&gpu, false, &open, &camera);
+    let rays = Rays::new(&camera);
+    let (mut floor, mut off_differs, mut on_shadowed, mut worst) = (0usize, 0usize, 0usize, 0i32);
+    for py in 0..H {
+        for px in 0..W {
+            if rays.floor_pixel(px, py).is_none() || rays.passes_near(px, py, centre, 1.1 * radius) {
+                continue;
+            }
+            floor += 1;
+            let (a, b) = (off.get_pixel(px, py), reference.get_pixel(px, py));
+            let d = (0..3).map(|c| (a[c] as i32 - b[c] as i32).abs()).max().unwrap();
+            off_differs += (d > 1) as usize;
+            worst = worst.max(d);
+            on_shadowed += ((rgb_sum(&on, px, py) as f64) < SHADOWED_RATIO * rgb_sum(&reference, px, py) as f64) as usize;
+        }
+    }
+    println!(
+        "shadows off: {off_differs} of {floor} floor pixels differ from the open floor by more than 1 (largest {worst}); shadows on: {on_shadowed} shadowed"
+    );
+    assert!(floor > 10_000);
+    assert_eq!(off_differs, 0, "with shadows off the sphere still darkens the floor (by up to {worst})");
+    assert!(on_shadowed > 500, "with shadows on the sphere should shadow the floor ({on_shadowed} pixels)");
+}
