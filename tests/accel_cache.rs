@@ -57,11 +57,7 @@ fn the_cache_builds_only_what_changed() {
 #[test]
 fn deduplication_shares_one_blas_per_mesh() {
     let gpu = gpu();
-    let p = common::TempProject::new();
-    for dir in ["layers", "shaders"] {
-        let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join(dir)).arg(&p.root).status().unwrap();
-        assert!(status.success());
-    }
+    let p = common::TempProject::with_repo_files();
     let text = std::fs::read_to_string(common::repo().join("graph/ao.ron")).unwrap();
     let scene = default_scene();
     for (dedup, expected) in [(true, scene.meshes.len()), (false, scene.instances.len())] {
@@ -81,11 +77,7 @@ fn graphs_that_do_not_trace_build_nothing() {
     let exec = executor(&gpu, &common::repo().join("graph/raster.ron"), Backend::Compute, (16, 16));
     assert!(exec.accel().is_none(), "no Accel node, no cache");
     // An Accel node whose only reader is culled is culled with it.
-    let p = common::TempProject::new();
-    for dir in ["layers", "shaders"] {
-        let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join(dir)).arg(&p.root).status().unwrap();
-        assert!(status.success());
-    }
+    let p = common::TempProject::with_repo_files();
     // The output shows the G-buffer's normals; the ray-traced node feeds nothing that reaches it.
     let text = r#"Graph(
         output: "tonemap.color",

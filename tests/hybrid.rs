@@ -48,11 +48,7 @@ fn grey() -> Material {
 
 /// A project directory with the repository's layers and shaders and the given graph.
 fn project(graph: &str) -> (common::TempProject, std::path::PathBuf) {
-    let p = common::TempProject::new();
-    for dir in ["layers", "shaders"] {
-        let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join(dir)).arg(&p.root).status().unwrap();
-        assert!(status.success());
-    }
+    let p = common::TempProject::with_repo_files();
     let path = p.write("graph/test.ron", graph);
     (p, path)
 }

@@ -21,7 +21,6 @@ use raygraph::graph::{compile, Project};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::{default_scene, plane, sphere};
 use raygraph::scene::{Camera, Instance, Light, Material, Scene};
-use std::path::Path;
 
 const W: u32 = 320;
 const H: u32 = 240;
@@ -41,19 +40,6 @@ fn gpu() -> Gpu {
     gpu
 }
 
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy_dir(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), target).unwrap();
-        }
-    }
-}
-
 /// A temporary project with the repository's layers and shaders and the Rasterization graph
 /// written with `shadows` set on the forward node (every other parameter at its default).
 struct Graphs {
@@ -62,10 +48,7 @@ struct Graphs {
 
 impl Graphs {
     fn new() -> Self {
-        let project = common::TempProject::new();
-        for dir in ["layers", "shaders"] {
-            copy_dir(&common::repo().join(dir), &project.root.join(dir));
-        }
+        let project = common::TempProject::with_repo_files();
         for shadows in [false, true] {
             let text = format!(
                 r#"// graph/raster.ron with `shadows: {shadows}` and a tone map that keeps a lit floor unsaturated.

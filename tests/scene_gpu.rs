@@ -85,8 +85,7 @@ fn fs_main() -> @location(0) vec4<f32> {
 #[test]
 fn only_what_the_graph_reads_is_uploaded() {
     let p = common::TempProject::new();
-    let status = std::process::Command::new("cp").arg("-r").arg(common::repo().join("shaders/common")).arg(p.root.join("shaders")).status().unwrap();
-    assert!(status.success());
+    common::copy_dir(&common::repo().join("shaders/common"), &p.root.join("shaders/common"));
     p.write("layers/flat.ron", FLAT_LAYER);
     p.write("shaders/test/flat.wgsl", FLAT_WGSL);
     let plan = p.compile("flat.ron", r#"Graph(output: "flat.color", nodes: {"flat": Layer(layer: "flat")})"#).unwrap();

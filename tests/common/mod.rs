@@ -24,7 +24,7 @@ pub struct TempProject {
 
 static COUNTER: AtomicU32 = AtomicU32::new(0);
 
-fn copy_dir(from: &Path, to: &Path) {
+pub fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();
     for e in std::fs::read_dir(from).unwrap() {
         let e = e.unwrap();
@@ -46,6 +46,17 @@ impl TempProject {
         copy_dir(&fixtures().join("shaders"), &root.join("shaders"));
         std::fs::create_dir_all(root.join("graph")).unwrap();
         Self { root }
+    }
+
+    /// A project with the repository's own `layers/` and `shaders/` (fixtures replaced), for
+    /// tests that write variants of the shipped graphs.
+    pub fn with_repo_files() -> Self {
+        let p = Self::new();
+        for dir in ["layers", "shaders"] {
+            let _ = std::fs::remove_dir_all(p.root.join(dir));
+            copy_dir(&repo().join(dir), &p.root.join(dir));
+        }
+        p
     }
 
     pub fn write(&self, rel: &str, text: &str) -> PathBuf {
