@@ -166,7 +166,7 @@ pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings], pix
             (String::new(), String::new())
         } else {
             let r = median(&mut rays);
-            let g = gpu_median.filter(|ms| *ms > 0.0).map(|ms| format!("{:>10.3}", r / (ms * 1e-3) / 1e9)).unwrap_or_else(|| format!("{:>10}", "n/a"));
+            let g = gpu_median.filter(|ms| *ms > 0.0).map(|ms| format!("{:>10.4}", r / (ms * 1e-3) / 1e9)).unwrap_or_else(|| format!("{:>10}", "n/a"));
             (format!("{:>10.2}", r / pixels.max(1) as f64), g)
         };
         let line = format!("{name:<30} {kind:<12} {gpu} {cpu:>10.3} {per_px} {grays}");
