@@ -154,6 +154,53 @@ fn the_hard_shadow_of_a_sphere_follows_its_analytic_outline() {
     }
 }
 
+/// A point light above a sphere: a floor point is in shadow exactly when the segment to the
+/// light passes through the sphere (margin as above), read from the point-light channel.
+#[test]
+fn the_point_light_shadow_follows_its_analytic_outline() {
+    let gpu = gpu();
+    let (c, r) = (Vec3::new(0.0, 1.2, 0.0), 0.5);
+    let light = Vec3::new(0.4, 3.0, 0.2);
+    let cam = Camera::look(Vec3::new(-1.0, 5.0, -2.5), Vec3::new(-0.2, 0.0, -0.1), 50.0, 0.05, 100.0);
+    let mut s = scene(
+        vec![
+            (plane("floor", 20.0, 1.0), grey(), Mat4::IDENTITY),
+            (sphere("ball", 32, 64), grey(), Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c)),
+        ],
+        cam,
+        Vec3::Y,
+    );
+    s.point_light = Some(raygraph::scene::PointLight { position: light, color: Vec3::ONE, intensity: 10.0 });
+    let graph = common::repo().join("graph/hybrid.ron");
+    for backend in Backend::ALL {
+        let size = (64u32, 48u32);
+        let (exec, _) = run(&gpu, &graph, backend, &s, size);
+        let pos = channel(&gpu, &exec, "gbuffer.position");
+        let shadow = channel(&gpu, &exec, "shadow.shadow");
+        let margin = 0.03 * r + 2.0 * 6.0 * (25f32.to_radians()).tan() / size.1 as f32;
+        let (mut inside, mut outside, mut wrong) = (0, 0, 0);
+        for (p, sh) in pos.iter().zip(&shadow) {
+            if p[3] == 0.0 || p[1].abs() > 1e-3 {
+                continue;
+            }
+            let q = Vec3::new(p[0], p[1], p[2]);
+            let d = (light - q).normalize();
+            let along = (c - q).dot(d).clamp(0.0, (light - q).length());
+            let dist = (c - q - d * along).length();
+            if dist < r - margin {
+                inside += 1;
+                wrong += (sh[1] != 0.0) as usize;
+            } else if dist > r + margin {
+                outside += 1;
+                wrong += (sh[1] != 1.0) as usize;
+            }
+        }
+        println!("{backend}: point light: {inside} pixels inside the outline, {outside} outside, {wrong} wrong");
+        assert!(inside > 30 && outside > 500);
+        assert_eq!(wrong, 0, "{backend}");
+    }
+}
+
 /// An open lit plane: no pixel shadowed and AO exactly 1, from the normal to 89.9 degrees, at
 /// the origin and 1e5 units away.
 #[test]
@@ -274,7 +321,8 @@ fn a_mirror_shows_the_mirrored_scene() {
 
 /// Away from silhouettes (pixels whose 3x3 neighbourhood lies on one surface in both modes) the
 /// hybrid and full-RT images agree: mean absolute difference <= 2 and 99th percentile <= 16 in
-/// 8-bit units, on an untextured scene (texture filtering differs between the modes).
+/// 8-bit units, on an untextured scene (texture filtering differs between the modes); and the
+/// G-buffers agree there: positions within 1e-3 of the depth, normals within 1e-3 in 1 - cos.
 #[test]
 fn hybrid_and_full_rt_agree_away_from_silhouettes() {
     let gpu = gpu();
@@ -295,10 +343,12 @@ fn hybrid_and_full_rt_agree_away_from_silhouettes() {
     let (w, h) = (64u32, 48u32);
     let mut images = Vec::new();
     let mut positions = Vec::new();
+    let mut normals = Vec::new();
     for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
         let (exec, _) = run(&gpu, &common::repo().join(graph), Backend::Compute, &s, (w, h));
         images.push(exec.read_output(&gpu).unwrap());
         positions.push(channel(&gpu, &exec, "gbuffer.position"));
+        normals.push(channel(&gpu, &exec, "gbuffer.normal"));
     }
     let interior = |x: u32, y: u32| {
         if x == 0 || y == 0 || x + 1 >= w || y + 1 >= h {
@@ -318,9 +368,19 @@ fn hybrid_and_full_rt_agree_away_from_silhouettes() {
         })
     };
     let mut diffs = Vec::new();
+    let (mut worst_position, mut worst_normal) = (0.0f32, 0.0f32);
     for y in 0..h {
         for x in 0..w {
             if interior(x, y) {
+                // The G-buffer channels agree where both hit: the same point and normal.
+                let i = (y * w + x) as usize;
+                let (p, q) = (positions[0][i], positions[1][i]);
+                let depth = Vec3::new(p[0], p[1], p[2]).distance(cam.position);
+                worst_position = worst_position.max(Vec3::new(p[0] - q[0], p[1] - q[1], p[2] - q[2]).length() / depth);
+                let (n, m) = (normals[0][i], normals[1][i]);
+                // Half-float storage: normalise before comparing.
+                let e = 1.0 - Vec3::new(n[0], n[1], n[2]).normalize().dot(Vec3::new(m[0], m[1], m[2]).normalize());
+                worst_normal = worst_normal.max(e);
                 let (a, b) = (images[0].get_pixel(x, y), images[1].get_pixel(x, y));
                 diffs.push((0..3).map(|c| (a[c] as i32 - b[c] as i32).abs()).max().unwrap());
             }
@@ -330,6 +390,8 @@ fn hybrid_and_full_rt_agree_away_from_silhouettes() {
     let mean = diffs.iter().sum::<i32>() as f64 / diffs.len() as f64;
     let p99 = diffs[diffs.len() * 99 / 100];
     println!("hybrid vs full RT over {} interior pixels: mean |difference| {mean:.2}, 99th percentile {p99}, max {}", diffs.len(), diffs.last().unwrap());
+    println!("G-buffers: largest position difference {worst_position:.2e} of the depth, largest 1 - cos(normal angle) {worst_normal:.2e}");
+    assert!(worst_position <= 1e-3 && worst_normal <= 1e-3, "G-buffer channels differ: position {worst_position}, normal {worst_normal}");
     assert!(diffs.len() > (w * h / 4) as usize, "{} interior pixels", diffs.len());
     assert!(mean <= 2.0 && p99 <= 16, "mean {mean}, p99 {p99}");
 }
