@@ -132,4 +132,6 @@ pub enum RuntimeError {
     Graph(#[from] GraphError),
     #[error(transparent)]
     SceneLimit(#[from] crate::scene::gpu::SceneLimitError),
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
 }

@@ -6,6 +6,7 @@
 //! - [`error`]: located diagnostics.
 
 pub mod accel;
+pub mod bench;
 pub mod error;
 pub mod graph;
 pub mod runtime;

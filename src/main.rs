@@ -3,6 +3,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use raygraph::accel::backend::Backend;
+use raygraph::bench::rays::RaysConfig;
 use raygraph::graph::{self, Project};
 use raygraph::runtime::{exec::write_png, profiler::pass_table, Executor, Gpu};
 use raygraph::scene::{self, track::Track, LoadOptions};
@@ -62,6 +63,43 @@ enum Command {
     Scene {
         #[command(subcommand)]
         command: SceneCommand,
+    },
+    /// The experiments.
+    Bench {
+        #[command(subcommand)]
+        command: BenchCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// The paper's Table 3: GigaRays/s of the scene workload (primary + 1 shadow + N AO rays per
+    /// pixel) on each scene, and the Miss and Stress tests, for every back-end.
+    Rays {
+        /// Seconds on a CPU instead of the paper's size (CI).
+        #[arg(long)]
+        quick: bool,
+        /// Comma-separated scenes (built-in names or glTF files).
+        #[arg(long, value_delimiter = ',')]
+        scenes: Option<Vec<String>>,
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        #[arg(long)]
+        frames: Option<u32>,
+        /// AO rays per pixel of the scene workload.
+        #[arg(long)]
+        ao_rays: Option<i64>,
+        /// Primary rays per pixel of the Miss and Stress tests.
+        #[arg(long)]
+        primary_rays: Option<i64>,
+        /// Only this back-end (default: every back-end the adapter has).
+        #[arg(long)]
+        backend: Option<Backend>,
+        /// Results folder.
+        #[arg(long, default_value = "bench-results/rays")]
+        out: PathBuf,
     },
 }
 
@@ -208,6 +246,42 @@ fn run(cli: Cli) -> Result<()> {
             let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera.fov_y.to_degrees());
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
+        }
+        Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, primary_rays, backend, out } } => {
+            let gpu = Gpu::with_backend(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let backends = match backend {
+                Some(b) => vec![b],
+                None => gpu.backends.clone(),
+            };
+            let root = PathBuf::from(".");
+            let mut cfg = if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) };
+            if let Some(s) = scenes {
+                cfg.scenes = s;
+            }
+            cfg.size = (width.unwrap_or(cfg.size.0), height.unwrap_or(cfg.size.1));
+            cfg.frames = frames.unwrap_or(cfg.frames);
+            cfg.ao_rays = ao_rays.unwrap_or(cfg.ao_rays);
+            cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
+            let command = std::env::args().collect::<Vec<_>>().join(" ");
+            let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
+            let bar = indicatif::ProgressBar::new(1);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            let rows = raygraph::bench::rays::run(&gpu, &cfg, |done, total, label| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+                bar.set_message(label.to_string());
+            })?;
+            bar.finish_and_clear();
+            let dir = raygraph::bench::results_dir(&out).with_context(|| format!("could not create {}", out.display()))?;
+            let md = raygraph::bench::rays::markdown(&info, &rows);
+            for (name, text) in [("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())] {
+                raygraph::util::write_atomic(&dir.join(name), text.as_bytes()).with_context(|| format!("could not write {}", dir.join(name).display()))?;
+            }
+            print!("{md}");
+            println!("wrote {}/rays.csv and rays.md", dir.display());
         }
         Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);

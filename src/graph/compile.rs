@@ -300,11 +300,14 @@ pub struct CompileOptions {
     /// The traversal back-end trace passes are compiled for: `trace/trace.wgsl` becomes its
     /// module.
     pub backend: Backend,
+    /// Parameter values that override the graph file's, as `("node", "param") -> value`
+    /// (benches, the viewer); checked like the file's own.
+    pub params: BTreeMap<(String, String), ParamValue>,
 }
 
 impl Default for CompileOptions {
     fn default() -> Self {
-        Self { reuse: true, includes: reflect::IncludeAliases::new(), backend: Backend::Compute }
+        Self { reuse: true, includes: reflect::IncludeAliases::new(), backend: Backend::Compute, params: BTreeMap::new() }
     }
 }
 
@@ -331,6 +334,24 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
 
     // Phase 2: resolve layers and parameters.
     let mut nodes = resolve_layers(&graph, &gsrc, project)?;
+    for ((node, param), value) in &options.params {
+        let loc = Location::file_start(graph_file);
+        let n = nodes.iter_mut().find(|n| &n.name == node).ok_or_else(|| {
+            GraphError::new(
+                ErrorKind::UnknownLayer,
+                loc.clone(),
+                format!("a parameter override names node `{node}`, which the graph does not have (or has switched off)"),
+            )
+        })?;
+        let decl = n
+            .params
+            .get(param)
+            .map(|(d, _)| d.clone())
+            .ok_or_else(|| GraphError::new(ErrorKind::UnknownParam, loc.clone(), format!("node `{node}` has no parameter `{param}`")))?;
+        let checked = check_param(&decl, *value)
+            .map_err(|(kind, msg, help)| GraphError::new(kind, loc.clone(), format!("override of `{node}.{param}`: {msg}")).help(help))?;
+        n.params.insert(param.clone(), (decl, checked));
+    }
 
     // Phase 3: build the petgraph graph of passes and resources.
     let mut resources: Vec<PlannedResource> = Vec::new();

@@ -4,6 +4,7 @@
 pub mod exec;
 pub mod gpu;
 pub mod profiler;
+pub mod report;
 pub mod uniforms;
 
 pub use exec::Executor;

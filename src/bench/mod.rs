@@ -1,0 +1,56 @@
+//! The experiments: `raygraph bench rays` (the paper's Table 3). Each bench writes a results
+//! folder with CSV and markdown whose header names the adapter, driver, back-end, resolution
+//! and git revision.
+
+pub mod rays;
+
+use std::path::{Path, PathBuf};
+
+/// The header every results file starts with.
+#[derive(Debug, Clone)]
+pub struct RunInfo {
+    pub command: String,
+    pub adapter: String,
+    pub width: u32,
+    pub height: u32,
+    pub revision: String,
+    pub date: String,
+}
+
+impl RunInfo {
+    pub fn new(command: &str, gpu: &crate::runtime::Gpu, size: (u32, u32)) -> Self {
+        let revision = std::process::Command::new("git")
+            .args(["rev-parse", "--short", "HEAD"])
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+            .unwrap_or_else(|| "unknown".into());
+        let date = std::process::Command::new("date")
+            .args(["-u", "+%Y-%m-%dT%H:%M:%SZ"])
+            .output()
+            .ok()
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+            .unwrap_or_default();
+        RunInfo { command: command.to_string(), adapter: gpu.describe(), width: size.0, height: size.1, revision, date }
+    }
+
+    /// Markdown lines for the top of a results file.
+    pub fn markdown(&self) -> String {
+        format!(
+            "- command: `{}`\n- adapter: {}\n- resolution: {}x{}\n- revision: {}\n- date: {}\n",
+            self.command, self.adapter, self.width, self.height, self.revision, self.date
+        )
+    }
+
+    /// `#`-comment lines for the top of a CSV file.
+    pub fn csv_comment(&self) -> String {
+        self.markdown().lines().map(|l| format!("# {}\n", l.trim_start_matches("- "))).collect()
+    }
+}
+
+/// `dir`, created if needed.
+pub fn results_dir(dir: &Path) -> std::io::Result<PathBuf> {
+    std::fs::create_dir_all(dir)?;
+    Ok(dir.to_path_buf())
+}
