@@ -47,6 +47,10 @@ enum Command {
         /// Frames to time (after one warm-up frame); the table shows medians.
         #[arg(long, default_value_t = 10)]
         frames: u32,
+        /// Also write the per-pass statistics (mean, median, min, max) as CSV, markdown and a
+        /// Chrome trace (open in Perfetto) into this folder.
+        #[arg(long)]
+        report: Option<PathBuf>,
         /// Layers directory (default: `layers/` beside the graph's directory).
         #[arg(long)]
         layers: Option<PathBuf>,
@@ -283,7 +287,7 @@ fn run(cli: Cli) -> Result<()> {
             print!("{md}");
             println!("wrote {}/rays.csv and rays.md", dir.display());
         }
-        Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, layers, shaders } => {
+        Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let project = project_for(&graph_file, layers, shaders);
@@ -311,6 +315,12 @@ fn run(cli: Cli) -> Result<()> {
             let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
             println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name);
             print!("{}", pass_table(&names, &timings, width as u64 * height as u64));
+            if let Some(dir) = &report {
+                let r = raygraph::runtime::report::Report::new(&names, width as u64 * height as u64, &timings);
+                for p in r.write_all(dir, "render").with_context(|| format!("could not write the report into {}", dir.display()))? {
+                    println!("wrote {}", p.display());
+                }
+            }
             println!("culled passes: {}", if exec.plan().culled.is_empty() { "none".into() } else { exec.plan().culled.join(", ") });
             if let Some(accel) = timings.first().and_then(|t| t.accel.as_ref()) {
                 println!("acceleration structures, first timed frame: {}", accel.describe());

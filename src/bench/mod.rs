@@ -19,13 +19,7 @@ pub struct RunInfo {
 
 impl RunInfo {
     pub fn new(command: &str, gpu: &crate::runtime::Gpu, size: (u32, u32)) -> Self {
-        let revision = std::process::Command::new("git")
-            .args(["rev-parse", "--short", "HEAD"])
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-            .unwrap_or_else(|| "unknown".into());
+        let revision = env!("RAYGRAPH_REVISION").to_string();
         let date = std::process::Command::new("date")
             .args(["-u", "+%Y-%m-%dT%H:%M:%SZ"])
             .output()

@@ -177,8 +177,8 @@ impl Report {
     /// event (`"ph": "X"`) per pass per frame and track. The times are durations, not measured
     /// start times: within a frame the passes are laid out back to back on each track, and
     /// each frame starts where the previous one (its finite wall time, or the longer of its
-    /// track sums) ended. Passes with a non-finite time get no event; `args` has the frame index and
-    /// the pass's rays and hits of that frame where counted.
+    /// track sums) ended. Passes with a non-finite time get no event; `args` has the frame
+    /// index and the pass's rays and hits of that frame where counted.
     pub fn to_chrome_trace(&self) -> String {
         let mut events = Vec::new();
         for (tid, name) in [(TRACE_GPU_TID, "GPU"), (TRACE_CPU_TID, "CPU")] {
@@ -186,7 +186,7 @@ impl Report {
         }
         let mut start_us = 0.0;
         for (k, f) in self.frames.iter().enumerate() {
-            let wall_us = f.frame_ms * 1e3;
+            let wall_us = if f.frame_ms.is_finite() { f.frame_ms.max(0.0) * 1e3 } else { 0.0 };
             let mut end_us = start_us + wall_us;
             for (tid, times) in [(TRACE_GPU_TID, f.gpu_ms.as_deref()), (TRACE_CPU_TID, Some(f.cpu_ms.as_slice()))] {
                 let mut t = start_us;
