@@ -105,6 +105,44 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/rays")]
         out: PathBuf,
     },
+    /// The paper's Figure 9: BLAS and TLAS build times against triangles, each scene copied
+    /// N×N×N (one BLAS per copy), per builder, with SAH cost and the trace time of the result.
+    Build {
+        #[arg(long)]
+        quick: bool,
+        #[arg(long, value_delimiter = ',')]
+        scenes: Option<Vec<String>>,
+        /// Largest duplication factor N.
+        #[arg(long)]
+        max_factor: Option<u32>,
+        /// Skip duplications with more triangles than this.
+        #[arg(long)]
+        max_triangles: Option<usize>,
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[arg(long, default_value = "bench-results/build")]
+        out: PathBuf,
+    },
+}
+
+/// A progress bar for a bench.
+fn progress_bar() -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(1);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Writes a bench's files into `dir` atomically, prints the markdown.
+fn write_results(dir: &Path, files: &[(&str, String)], markdown: &str) -> Result<()> {
+    let dir = raygraph::bench::results_dir(dir).with_context(|| format!("could not create {}", dir.display()))?;
+    for (name, text) in files {
+        raygraph::util::write_atomic(&dir.join(name), text.as_bytes()).with_context(|| format!("could not write {}", dir.join(name).display()))?;
+    }
+    print!("{markdown}");
+    println!("wrote {}", files.iter().map(|(n, _)| dir.join(n).display().to_string()).collect::<Vec<_>>().join(", "));
+    Ok(())
 }
 
 /// The paper's three rendering modes.
@@ -269,23 +307,38 @@ fn run(cli: Cli) -> Result<()> {
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
-            let bar = indicatif::ProgressBar::new(1);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
+            let bar = progress_bar();
             let rows = raygraph::bench::rays::run(&gpu, &cfg, |done, total, label| {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
                 bar.set_message(label.to_string());
             })?;
             bar.finish_and_clear();
-            let dir = raygraph::bench::results_dir(&out).with_context(|| format!("could not create {}", out.display()))?;
             let md = raygraph::bench::rays::markdown(&info, &rows);
-            for (name, text) in [("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())] {
-                raygraph::util::write_atomic(&dir.join(name), text.as_bytes()).with_context(|| format!("could not write {}", dir.join(name).display()))?;
+            write_results(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())], &md)?;
+        }
+        Command::Bench { command: BenchCommand::Build { quick, scenes, max_factor, max_triangles, backend, out } } => {
+            use raygraph::bench::build::{self as build_bench, BuildBenchConfig};
+            let gpu = Gpu::with_backend(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            let root = PathBuf::from(".");
+            let mut cfg = if quick { BuildBenchConfig::quick(&root, backends) } else { BuildBenchConfig::paper(&root, backends) };
+            if let Some(s) = scenes {
+                cfg.scenes = s;
             }
-            print!("{md}");
-            println!("wrote {}/rays.csv and rays.md", dir.display());
+            cfg.max_factor = max_factor.unwrap_or(cfg.max_factor);
+            cfg.max_triangles = max_triangles.unwrap_or(cfg.max_triangles);
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.rays);
+            let bar = progress_bar();
+            let (rows, skipped) = build_bench::run(&gpu, &cfg, |done, total, label| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+                bar.set_message(label.to_string());
+            })?;
+            bar.finish_and_clear();
+            let md = build_bench::markdown(&info, &rows, &skipped);
+            write_results(&out, &[("build.csv", build_bench::csv(&info, &rows)), ("build.md", md.clone())], &md)?;
         }
         Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);

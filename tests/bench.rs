@@ -35,3 +35,32 @@ fn bench_rays_quick_writes_a_complete_table() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn bench_build_quick_writes_a_complete_table() {
+    let out = common::gltf_doc::temp_dir("bench-build");
+    let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", "build", "--quick", "--out"]).arg(&out).output().unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stdout}{}", String::from_utf8_lossy(&run.stderr));
+    let csv = std::fs::read_to_string(out.join("build.csv")).unwrap();
+    assert!(std::fs::read_to_string(out.join("build.md")).unwrap().contains("adapter:"));
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header, ["scene", "factor", "triangles", "backend", "blas_ms", "tlas_ms", "total_ms", "blas_sah", "tlas_sah", "trace_ms", "mrays_per_s"]);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // box and organic, N = 1 and 2, both back-ends.
+    assert_eq!(rows.len(), 8, "{csv}");
+    for r in &rows {
+        assert_eq!(r.len(), header.len(), "{r:?}");
+        let n: usize = r[1].parse().unwrap();
+        let base = if r[0] == "box" { 12 } else { 3920 };
+        assert_eq!(r[2].parse::<usize>().unwrap(), base * n * n * n, "N×N×N copies: {r:?}");
+        assert!(r[6].parse::<f64>().unwrap().is_finite());
+        assert!(r[9].parse::<f64>().is_ok_and(|x| x > 0.0), "the trace was timed on the GPU: {r:?}");
+        if r[3] == "compute" {
+            let sah: f64 = r[7].parse().unwrap();
+            assert!(sah.is_finite() && sah >= 1.0, "SAH cost of the CPU builder: {r:?}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

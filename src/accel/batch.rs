@@ -53,8 +53,11 @@ pub struct BatchTracer {
     pipeline: wgpu::ComputePipeline,
     layout0: wgpu::BindGroupLayout,
     accel_group: wgpu::BindGroup,
+    timer: Option<crate::runtime::profiler::GpuTimer>,
     /// What building the scene's acceleration structure did.
     pub build: BuildReport,
+    /// Wall milliseconds of the build, from the start of the update until the GPU finished it.
+    pub build_wall_ms: f64,
 }
 
 /// Workgroup size of `batch.wgsl`.
@@ -63,6 +66,11 @@ const GROUP: u32 = 64;
 impl BatchTracer {
     /// Builds `scene`'s acceleration structure for `backend` (de-duplication on).
     pub fn new(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path) -> Result<Self, RuntimeError> {
+        Self::with_dedup(gpu, backend, scene, shaders_dir, true)
+    }
+
+    /// [`BatchTracer::new`] with de-duplication switchable (off: one BLAS per instance).
+    pub fn with_dedup(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path, dedup: bool) -> Result<Self, RuntimeError> {
         if !gpu.backends.contains(&backend) {
             return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info.name)));
         }
@@ -72,10 +80,13 @@ impl BatchTracer {
         let info =
             reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
 
-        let mut cache = AccelCache::new(device, backend, true, 1);
+        let start = std::time::Instant::now();
+        let mut cache = AccelCache::new(device, backend, dedup, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
         let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
         gpu.queue.submit([encoder.finish()]);
+        gpu.wait()?;
+        let build_wall_ms = start.elapsed().as_secs_f64() * 1e3;
 
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let storage =
@@ -129,12 +140,13 @@ impl BatchTracer {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RuntimeError::Gpu(format!("creating the batch tracer failed: {e}")));
         }
-        Ok(Self { cache, pipeline, layout0, accel_group, build })
+        let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(device, &gpu.queue, 1));
+        Ok(Self { cache, pipeline, layout0, accel_group, timer, build, build_wall_ms })
     }
 
     /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.
     pub fn closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
-        let (raw, stats) = self.run(gpu, rays, 0)?;
+        let (raw, stats, _) = self.run(gpu, rays, 0)?;
         let hits = raw
             .iter()
             .map(|r| (r.flags & 1 != 0).then(|| BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 }))
@@ -144,11 +156,18 @@ impl BatchTracer {
 
     /// Whether each ray hits anything (terminating on the first hit).
     pub fn any(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<bool>, RayStats), RuntimeError> {
-        let (raw, stats) = self.run(gpu, rays, 1)?;
+        let (raw, stats, _) = self.run(gpu, rays, 1)?;
         Ok((raw.iter().map(|r| r.flags & 1 != 0).collect(), stats))
     }
 
-    fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32) -> Result<(Vec<RawResult>, RayStats), RuntimeError> {
+    /// Traces `rays` for their closest hits and returns the counters and the dispatch's GPU
+    /// milliseconds (timestamp queries; `None` without them).
+    pub fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
+        let (_, stats, ms) = self.run(gpu, rays, 0)?;
+        Ok((stats, ms))
+    }
+
+    fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
         let device = &gpu.device;
         let n = rays.len().max(1);
         let params: [u32; 4] = [rays.len() as u32, mode, 0, 0];
@@ -192,7 +211,10 @@ impl BatchTracer {
         let mut encoder = device.create_command_encoder(&Default::default());
         self.cache.clear_stats(&mut encoder);
         {
-            let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("batch"), timestamp_writes: None });
+            let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("batch"),
+                timestamp_writes: self.timer.as_ref().and_then(|t| t.compute_writes(0)),
+            });
             cp.set_pipeline(&self.pipeline);
             cp.set_bind_group(0, &bg0, &[]);
             cp.set_bind_group(1, &empty, &[]);
@@ -201,6 +223,9 @@ impl BatchTracer {
         }
         encoder.copy_buffer_to_buffer(&results, 0, &readback, 0, size);
         self.cache.copy_stats(&mut encoder);
+        if let Some(t) = &self.timer {
+            t.resolve(&mut encoder, 1);
+        }
         gpu.queue.submit([encoder.finish()]);
         gpu.wait()?;
         let data = map_read(device, readback.slice(..))?;
@@ -208,6 +233,10 @@ impl BatchTracer {
         drop(data);
         readback.unmap();
         let stats = self.cache.read_stats(device)?[0];
-        Ok((out, stats))
+        let ms = match &self.timer {
+            Some(t) => t.read(device, 1)?.first().copied(),
+            None => None,
+        };
+        Ok((out, stats, ms))
     }
 }

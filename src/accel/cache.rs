@@ -69,6 +69,13 @@ pub struct BuildReport {
     pub bytes_uploaded: u64,
     /// BLAS count in use.
     pub blas_count: usize,
+    /// CPU milliseconds of the BLAS and TLAS builds (compute back-end; the ray-query back-end
+    /// builds on the GPU inside the `Accel` pass's timestamps).
+    pub blas_ms: f64,
+    pub tlas_ms: f64,
+    /// SAH cost of the built BVHs, triangle-weighted over the BLASes, and of the TLAS (compute).
+    pub blas_sah: Option<f64>,
+    pub tlas_sah: Option<f64>,
 }
 
 impl BuildReport {
@@ -287,7 +294,9 @@ impl AccelCache {
             State::Compute(c) => Some(c),
             _ => None,
         };
+        let t0 = Instant::now();
         let built: Vec<(usize, Blas)> = changed.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
+        report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
         let mut old_blases = old.as_ref().map(|c| c.accel.blases.clone()).unwrap_or_default();
         old_blases.resize_with(units.len(), Blas::default);
         let mut blases = old_blases;
@@ -312,7 +321,14 @@ impl AccelCache {
                 _ => Aabb::EMPTY,
             })
             .collect();
+        let t0 = Instant::now();
         let tlas = Tlas::build(&bounds, &opts.build);
+        report.tlas_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let tris: f64 = blases.iter().map(|b| b.bvh.prim_order.len() as f64).sum();
+        if tris > 0.0 {
+            report.blas_sah = Some(blases.iter().map(|b| b.bvh.sah_cost() as f64 * b.bvh.prim_order.len() as f64).sum::<f64>() / tris);
+        }
+        report.tlas_sah = (!tlas.bvh.is_empty()).then(|| tlas.bvh.sah_cost() as f64);
         let accel = SceneAccel {
             blases,
             blas_mesh: units.iter().map(|k| Some(k.mesh)).collect(),

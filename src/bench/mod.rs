@@ -1,7 +1,8 @@
-//! The experiments: `raygraph bench rays` (the paper's Table 3). Each bench writes a results
+//! The experiments: `raygraph bench rays` (the paper's Table 3) and `bench build` (Figure 9). Each bench writes a results
 //! folder with CSV and markdown whose header names the adapter, driver, back-end, resolution
 //! and git revision.
 
+pub mod build;
 pub mod rays;
 
 use std::path::{Path, PathBuf};

@@ -1,0 +1,178 @@
+//! `raygraph bench build`: the paper's Figure 9. Each scene copied N×N×N (N = 1..max, one BLAS
+//! per copy: de-duplication off) is built by every back-end's builder; reported: triangles,
+//! BLAS and TLAS build time (CPU builder: measured separately; ray-query: the driver's GPU
+//! build, wall time until it finished), SAH cost of the result (CPU builder), and the GPU time
+//! of tracing a fixed grid of camera rays through it, so build speed can be weighed against
+//! trace speed. Copies beyond a triangle budget are skipped and listed.
+
+use super::RunInfo;
+use crate::accel::backend::Backend;
+use crate::accel::batch::{BatchTracer, GpuRay};
+use crate::error::RuntimeError;
+use crate::runtime::Gpu;
+use crate::scene::duplicate::duplicate;
+use crate::scene::{LoadOptions, Scene};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone)]
+pub struct BuildBenchConfig {
+    pub scenes: Vec<String>,
+    pub max_factor: u32,
+    /// Duplications with more triangles than this are skipped.
+    pub max_triangles: usize,
+    /// Camera rays traced through each build (a grid of this size).
+    pub rays: (u32, u32),
+    pub backends: Vec<Backend>,
+    pub root: PathBuf,
+}
+
+impl BuildBenchConfig {
+    pub fn paper(root: &Path, backends: Vec<Backend>) -> Self {
+        Self {
+            scenes: vec!["box".into(), "organic".into(), "atrium".into()],
+            max_factor: 10,
+            max_triangles: 30_000_000,
+            rays: (1024, 1024),
+            backends,
+            root: root.to_path_buf(),
+        }
+    }
+
+    pub fn quick(root: &Path, backends: Vec<Backend>) -> Self {
+        Self { scenes: vec!["box".into(), "organic".into()], max_factor: 2, max_triangles: 100_000, rays: (32, 32), backends, root: root.to_path_buf() }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct BuildRow {
+    pub scene: String,
+    pub factor: u32,
+    pub triangles: usize,
+    pub backend: Backend,
+    pub blas_ms: Option<f64>,
+    pub tlas_ms: Option<f64>,
+    /// Until the structure was usable on the GPU (CPU build, flattening and upload; or the GPU
+    /// build), milliseconds.
+    pub total_ms: f64,
+    pub blas_sah: Option<f64>,
+    pub tlas_sah: Option<f64>,
+    pub trace_ms: Option<f64>,
+    pub mrays_per_s: Option<f64>,
+}
+
+/// Camera rays through a `w`×`h` grid from the scene's default camera.
+fn camera_rays(scene: &Scene, (w, h): (u32, u32)) -> Vec<GpuRay> {
+    let cam = scene.camera;
+    let inv = cam.view_proj(w as f32 / h as f32).inverse();
+    let mut rays = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
+            let far = inv.project_point3(ndc.extend(1.0));
+            let dir = (far - cam.position).normalize();
+            rays.push(GpuRay { origin: cam.position.into(), t_min: 0.0, dir: dir.into(), t_max: 3.0e38 });
+        }
+    }
+    rays
+}
+
+pub fn run(gpu: &Gpu, cfg: &BuildBenchConfig, mut progress: impl FnMut(usize, usize, &str)) -> Result<(Vec<BuildRow>, Vec<String>), RuntimeError> {
+    let shaders = cfg.root.join("shaders");
+    let total = cfg.scenes.len() * cfg.max_factor as usize * cfg.backends.len();
+    let (mut rows, mut skipped, mut done) = (Vec::new(), Vec::new(), 0);
+    for name in &cfg.scenes {
+        let (scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
+        for n in 1..=cfg.max_factor {
+            let triangles = scene.triangle_count() * (n as usize).pow(3);
+            if triangles > cfg.max_triangles {
+                skipped.push(format!("{name} x{n}: {triangles} triangles over the budget of {}", cfg.max_triangles));
+                done += cfg.backends.len();
+                progress(done, total, &format!("{name} x{n}: skipped"));
+                continue;
+            }
+            let copies = duplicate(&scene, n, false);
+            let rays = camera_rays(&copies, cfg.rays);
+            for &backend in &cfg.backends {
+                let tracer = BatchTracer::with_dedup(gpu, backend, &copies, &shaders, false)?;
+                tracer.time_closest(gpu, &rays)?; // warm-up: pipeline and caches
+                let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
+                let b = &tracer.build;
+                let cpu_builder = backend == Backend::Compute;
+                rows.push(BuildRow {
+                    scene: name.clone(),
+                    factor: n,
+                    triangles,
+                    backend,
+                    blas_ms: cpu_builder.then_some(b.blas_ms),
+                    tlas_ms: cpu_builder.then_some(b.tlas_ms),
+                    total_ms: tracer.build_wall_ms,
+                    blas_sah: b.blas_sah,
+                    tlas_sah: b.tlas_sah,
+                    trace_ms,
+                    mrays_per_s: trace_ms.filter(|ms| *ms > 0.0).map(|ms| stats.traced() as f64 / (ms * 1e-3) / 1e6),
+                });
+                done += 1;
+                progress(done, total, &format!("{name} x{n}: {backend}"));
+            }
+        }
+    }
+    Ok((rows, skipped))
+}
+
+fn opt(v: Option<f64>, decimals: usize) -> String {
+    v.map(|x| format!("{x:.decimals$}")).unwrap_or_default()
+}
+
+pub fn csv(info: &RunInfo, rows: &[BuildRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,factor,triangles,backend,blas_ms,tlas_ms,total_ms,blas_sah,tlas_sah,trace_ms,mrays_per_s\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{:.4},{},{},{},{}",
+            r.scene,
+            r.factor,
+            r.triangles,
+            r.backend,
+            opt(r.blas_ms, 4),
+            opt(r.tlas_ms, 4),
+            r.total_ms,
+            opt(r.blas_sah, 3),
+            opt(r.tlas_sah, 3),
+            opt(r.trace_ms, 4),
+            opt(r.mrays_per_s, 2)
+        );
+    }
+    s
+}
+
+pub fn markdown(info: &RunInfo, rows: &[BuildRow], skipped: &[String]) -> String {
+    let mut s = format!("# bench build\n\n{}\n", info.markdown());
+    s.push_str("| scene | N | triangles | back-end | BLAS ms | TLAS ms | total ms | BLAS SAH | TLAS SAH | trace ms | Mrays/s |\n");
+    s.push_str("| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {:.2} | {} | {} | {} | {} |",
+            r.scene,
+            r.factor,
+            r.triangles,
+            r.backend,
+            opt(r.blas_ms, 2),
+            opt(r.tlas_ms, 3),
+            r.total_ms,
+            opt(r.blas_sah, 1),
+            opt(r.tlas_sah, 1),
+            opt(r.trace_ms, 3),
+            opt(r.mrays_per_s, 1)
+        );
+    }
+    if !skipped.is_empty() {
+        s.push_str("\nSkipped (triangle budget):\n");
+        for k in skipped {
+            let _ = writeln!(s, "- {k}");
+        }
+    }
+    s
+}
