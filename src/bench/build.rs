@@ -94,7 +94,17 @@ pub fn run(gpu: &Gpu, cfg: &BuildBenchConfig, mut progress: impl FnMut(usize, us
             let copies = duplicate(&scene, n, false);
             let rays = camera_rays(&copies, cfg.rays);
             for &backend in &cfg.backends {
-                let tracer = BatchTracer::with_dedup(gpu, backend, &copies, &shaders, false)?;
+                let tracer = match BatchTracer::with_dedup(gpu, backend, &copies, &shaders, false) {
+                    Ok(t) => t,
+                    // Too large for the device: recorded, and the bench goes on.
+                    Err(e @ RuntimeError::Gpu(_)) => {
+                        skipped.push(format!("{name} x{n} on {backend}: {}", e.to_string().lines().next().unwrap_or_default()));
+                        done += 1;
+                        progress(done, total, &format!("{name} x{n}: {backend} skipped"));
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
                 tracer.time_closest(gpu, &rays)?; // warm-up: pipeline and caches
                 let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
                 let b = &tracer.build;
@@ -169,7 +179,7 @@ pub fn markdown(info: &RunInfo, rows: &[BuildRow], skipped: &[String]) -> String
         );
     }
     if !skipped.is_empty() {
-        s.push_str("\nSkipped (triangle budget):\n");
+        s.push_str("\nSkipped (triangle budget or device limits):\n");
         for k in skipped {
             let _ = writeln!(s, "- {k}");
         }

@@ -55,6 +55,9 @@ impl Gpu {
         // targets at once: more than WebGPU's defaults (8 storage buffers, 4 storage textures).
         required_limits.max_storage_buffers_per_shader_stage = adapter.limits().max_storage_buffers_per_shader_stage;
         required_limits.max_storage_textures_per_shader_stage = adapter.limits().max_storage_textures_per_shader_stage;
+        // Large scenes: the compute back-end binds each BVH array as one storage buffer.
+        required_limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
+        required_limits.max_buffer_size = adapter.limits().max_buffer_size;
         let texture_binding_arrays = adapter.features().contains(BINDLESS)
             && adapter.limits().max_binding_array_elements_per_shader_stage >= 256
             && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none();
