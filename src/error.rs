@@ -134,4 +134,6 @@ pub enum RuntimeError {
     SceneLimit(#[from] crate::scene::gpu::SceneLimitError),
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),
+    #[error(transparent)]
+    Track(#[from] crate::scene::track::TrackError),
 }

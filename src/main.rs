@@ -123,6 +123,39 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/build")]
         out: PathBuf,
     },
+    /// The paper's Figures 10 and 11: a camera track through raster, hybrid and full RT; FPS
+    /// and GigaRays/s per frame.
+    Track {
+        #[arg(long)]
+        quick: bool,
+        #[arg(long, default_value = "atrium")]
+        scene: String,
+        #[arg(long, default_value = "assets/tracks/atrium.ron")]
+        track: PathBuf,
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[arg(long, default_value = "bench-results/track")]
+        out: PathBuf,
+    },
+    /// Reflection bounces 1..8 against rays/s.
+    Depth {
+        #[arg(long)]
+        quick: bool,
+        #[arg(long, default_value = "atrium")]
+        scene: String,
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[arg(long, default_value = "bench-results/depth")]
+        out: PathBuf,
+    },
 }
 
 /// A progress bar for a bench.
@@ -339,6 +372,54 @@ fn run(cli: Cli) -> Result<()> {
             bar.finish_and_clear();
             let md = build_bench::markdown(&info, &rows, &skipped);
             write_results(&out, &[("build.csv", build_bench::csv(&info, &rows)), ("build.md", md.clone())], &md)?;
+        }
+        Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, out } } => {
+            use raygraph::bench::track::{self as track_bench, TrackConfig};
+            let gpu = Gpu::with_backend(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let (w, h) = if quick { (48, 27) } else { (2560, 1440) };
+            let cfg = TrackConfig {
+                scene,
+                track: track.clone(),
+                size: (width.unwrap_or(w), height.unwrap_or(h)),
+                stride: if quick { 60 } else { 1 },
+                backends: backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone()),
+                root: PathBuf::from("."),
+            };
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
+            let bar = progress_bar();
+            let rows = track_bench::run(&gpu, &cfg, |done, total, label| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+                bar.set_message(label.to_string());
+            })?;
+            bar.finish_and_clear();
+            let md = track_bench::markdown(&info, &track, &rows);
+            write_results(&out, &[("track.csv", track_bench::csv(&info, &rows)), ("track.md", md.clone())], &md)?;
+        }
+        Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
+            use raygraph::bench::depth::{self as depth_bench, DepthConfig};
+            let gpu = Gpu::with_backend(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let (w, h, max_bounces, frames) = if quick { (48, 27, 3, 1) } else { (2560, 1440, 8, 5) };
+            let cfg = DepthConfig {
+                scene,
+                size: (width.unwrap_or(w), height.unwrap_or(h)),
+                max_bounces,
+                frames,
+                backends: backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone()),
+                root: PathBuf::from("."),
+            };
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
+            let bar = progress_bar();
+            let rows = depth_bench::run(&gpu, &cfg, |done, total, label| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+                bar.set_message(label.to_string());
+            })?;
+            bar.finish_and_clear();
+            let md = depth_bench::markdown(&info, &rows);
+            write_results(&out, &[("depth.csv", depth_bench::csv(&info, &rows)), ("depth.md", md.clone())], &md)?;
         }
         Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);

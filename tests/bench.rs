@@ -64,3 +64,43 @@ fn bench_build_quick_writes_a_complete_table() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// Runs `raygraph bench NAME --quick` and returns the CSV's header and rows.
+fn quick_csv(name: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let out = common::gltf_doc::temp_dir(&format!("bench-{name}"));
+    let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", name, "--quick", "--out"]).arg(&out).output().unwrap();
+    assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(std::fs::read_to_string(out.join(format!("{name}.md"))).unwrap().contains("revision:"));
+    let csv = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    let header = lines.next().unwrap().split(',').map(str::to_string).collect::<Vec<_>>();
+    let rows = lines.map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>()).collect();
+    (header, rows)
+}
+
+#[test]
+fn bench_track_quick_plays_the_track_through_every_mode() {
+    let (header, rows) = quick_csv("track");
+    assert_eq!(header, ["mode", "backend", "frame", "gpu_ms", "fps", "rays", "grays_per_s"]);
+    // raster once, hybrid and full RT per back-end; every 60th frame of the 241-frame track.
+    assert_eq!(rows.len(), 5 * 5, "{rows:?}");
+    for r in &rows {
+        assert_eq!(r.len(), header.len());
+        let fps: f64 = r[4].parse().unwrap();
+        assert!(fps.is_finite() && fps > 0.0, "{r:?}");
+        let rays: u64 = r[5].parse().unwrap();
+        assert_eq!(rays > 0, r[0] != "raster", "ray-traced modes count rays, raster none: {r:?}");
+    }
+}
+
+#[test]
+fn bench_depth_quick_counts_more_reflection_rays_with_more_bounces() {
+    let (header, rows) = quick_csv("depth");
+    assert_eq!(header, ["backend", "bounces", "reflection_ms", "rays_per_pixel", "grays_per_s", "frame_ms"]);
+    assert_eq!(rows.len(), 6, "3 bounce counts on both back-ends: {rows:?}");
+    for pair in rows.windows(2).filter(|w| w[0][0] == w[1][0]) {
+        let (a, b): (f64, f64) = (pair[0][3].parse().unwrap(), pair[1][3].parse().unwrap());
+        assert!(b >= a && a > 0.0, "rays per pixel grow with the bounce count: {pair:?}");
+    }
+}

@@ -3,7 +3,9 @@
 //! and git revision.
 
 pub mod build;
+pub mod depth;
 pub mod rays;
+pub mod track;
 
 use std::path::{Path, PathBuf};
 
@@ -48,4 +50,24 @@ impl RunInfo {
 pub fn results_dir(dir: &Path) -> std::io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     Ok(dir.to_path_buf())
+}
+
+/// Renders `warmup` untimed frames, then `frames` timed ones with the camera `camera_at(i)`.
+pub fn timed_frames(
+    gpu: &crate::runtime::Gpu,
+    exec: &mut crate::runtime::Executor,
+    scene: &crate::scene::Scene,
+    warmup: u32,
+    frames: u32,
+    camera_at: impl Fn(u32) -> crate::scene::Camera,
+) -> Result<Vec<crate::runtime::profiler::FrameTimings>, crate::error::RuntimeError> {
+    for _ in 0..warmup {
+        exec.render(gpu, &camera_at(0), scene)?;
+    }
+    (0..frames.max(1)).map(|i| exec.render(gpu, &camera_at(i), scene)).collect()
+}
+
+/// A frame's GPU milliseconds: the sum over its passes (its wall time without timestamps).
+pub fn frame_gpu_ms(f: &crate::runtime::profiler::FrameTimings) -> f64 {
+    f.gpu_ms.as_ref().map(|v| v.iter().sum()).unwrap_or(f.frame_ms)
 }

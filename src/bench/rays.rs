@@ -11,7 +11,7 @@ use crate::accel::backend::Backend;
 use crate::graph::compile::{compile_with, CompileOptions};
 use crate::graph::desc::ParamValue;
 use crate::graph::Project;
-use crate::runtime::profiler::{median, FrameTimings};
+use crate::runtime::profiler::median;
 use crate::runtime::{Executor, Gpu};
 use crate::scene::{Camera, LoadOptions, Scene};
 use std::fmt::Write;
@@ -92,14 +92,8 @@ fn measure(
 ) -> Result<(f64, u64, u64), crate::error::RuntimeError> {
     let plan = compile_with(graph, project, cfg.size, options)?;
     let mut exec = Executor::new(gpu, plan, scene)?;
-    for _ in 0..cfg.warmup {
-        exec.render(gpu, camera, scene)?;
-    }
-    let mut frames: Vec<FrameTimings> = Vec::new();
-    for _ in 0..cfg.frames.max(1) {
-        frames.push(exec.render(gpu, camera, scene)?);
-    }
-    let mut gpu_ms: Vec<f64> = frames.iter().map(|f| f.gpu_ms.as_ref().map(|v| v.iter().sum()).unwrap_or(f.frame_ms)).collect();
+    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *camera)?;
+    let mut gpu_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
     let mut rays: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.traced()).unwrap_or(0) as f64).collect();
     let mut hits: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.hits).unwrap_or(0) as f64).collect();
     Ok((median(&mut gpu_ms), median(&mut rays) as u64, median(&mut hits) as u64))

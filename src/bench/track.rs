@@ -1,0 +1,101 @@
+//! `raygraph bench track`: the paper's Figures 10 and 11. A recorded camera track
+//! (`assets/tracks/*.ron`) played frame by frame through the raster, hybrid and full-RT graphs
+//! on every back-end; per frame: GPU milliseconds, FPS, rays and GigaRays/s.
+
+use super::RunInfo;
+use crate::accel::backend::Backend;
+use crate::graph::compile::compile_with;
+use crate::graph::Project;
+use crate::runtime::{Executor, Gpu};
+use crate::scene::track::Track;
+use crate::scene::LoadOptions;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone)]
+pub struct TrackConfig {
+    pub scene: String,
+    pub track: PathBuf,
+    pub size: (u32, u32),
+    /// Play every `stride`-th frame of the track.
+    pub stride: u32,
+    pub backends: Vec<Backend>,
+    pub root: PathBuf,
+}
+
+#[derive(Debug, Clone)]
+pub struct TrackRow {
+    pub mode: &'static str,
+    pub backend: Option<Backend>,
+    pub frame: u32,
+    pub gpu_ms: f64,
+    pub fps: f64,
+    pub rays: u64,
+    pub grays_per_s: f64,
+}
+
+pub const MODES: [(&str, &str); 3] = [("raster", "graph/raster.ron"), ("hybrid", "graph/hybrid.ron"), ("full-rt", "graph/full_rt.ron")];
+
+pub fn run(gpu: &Gpu, cfg: &TrackConfig, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<TrackRow>, crate::error::RuntimeError> {
+    let track = Track::load(&cfg.track)?;
+    let (scene, _) = crate::scene::open(&cfg.scene, &LoadOptions::default())?;
+    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
+    let frames: Vec<u32> = (0..track.frame_count()).step_by(cfg.stride.max(1) as usize).collect();
+    // Raster runs once (it traces nothing); the ray-traced modes once per back-end.
+    let mut runs: Vec<(&'static str, &str, Option<Backend>)> = vec![("raster", MODES[0].1, None)];
+    for &b in &cfg.backends {
+        runs.push(("hybrid", MODES[1].1, Some(b)));
+        runs.push(("full-rt", MODES[2].1, Some(b)));
+    }
+    let mut rows = Vec::new();
+    for (k, (mode, graph, backend)) in runs.iter().enumerate() {
+        let options = gpu.compile_options_for(backend.unwrap_or(gpu.selection.backend));
+        let plan = compile_with(&cfg.root.join(graph), &project, cfg.size, &options)?;
+        let mut exec = Executor::new(gpu, plan, &scene)?;
+        let timings = super::timed_frames(gpu, &mut exec, &scene, 1, frames.len() as u32, |i| track.camera_at_frame(frames[i as usize], &scene.camera))?;
+        for (f, t) in frames.iter().zip(&timings) {
+            let ms = super::frame_gpu_ms(t);
+            let rays = t.rays.map(|r| r.traced()).unwrap_or(0);
+            rows.push(TrackRow { mode, backend: *backend, frame: *f, gpu_ms: ms, fps: 1000.0 / ms, rays, grays_per_s: rays as f64 / (ms * 1e-3) / 1e9 });
+        }
+        progress(k + 1, runs.len(), mode);
+    }
+    Ok(rows)
+}
+
+pub fn csv(info: &RunInfo, rows: &[TrackRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("mode,backend,frame,gpu_ms,fps,rays,grays_per_s\n");
+    for r in rows {
+        let _ =
+            writeln!(s, "{},{},{},{:.4},{:.3},{},{:.5}", r.mode, r.backend.map(|b| b.name()).unwrap_or(""), r.frame, r.gpu_ms, r.fps, r.rays, r.grays_per_s);
+    }
+    s
+}
+
+/// Per mode and back-end: median, min and max FPS over the track, median GigaRays/s.
+pub fn markdown(info: &RunInfo, track: &Path, rows: &[TrackRow]) -> String {
+    let mut s = format!("# bench track\n\n{}- track: `{}`\n\n", info.markdown(), track.display());
+    s.push_str("| mode | back-end | frames | median FPS | min FPS | max FPS | median GigaRays/s |\n| --- | --- | ---: | ---: | ---: | ---: | ---: |\n");
+    let mut keys: Vec<(&str, Option<Backend>)> = Vec::new();
+    for r in rows {
+        if !keys.contains(&(r.mode, r.backend)) {
+            keys.push((r.mode, r.backend));
+        }
+    }
+    for (mode, backend) in keys {
+        let sel: Vec<&TrackRow> = rows.iter().filter(|r| r.mode == mode && r.backend == backend).collect();
+        let mut fps: Vec<f64> = sel.iter().map(|r| r.fps).collect();
+        let mut gr: Vec<f64> = sel.iter().map(|r| r.grays_per_s).collect();
+        let (min, max) = fps.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        let _ = writeln!(
+            s,
+            "| {mode} | {} | {} | {:.1} | {min:.1} | {max:.1} | {:.3} |",
+            backend.map(|b| b.name()).unwrap_or("—"),
+            sel.len(),
+            crate::runtime::profiler::median(&mut fps),
+            crate::runtime::profiler::median(&mut gr)
+        );
+    }
+    s
+}
