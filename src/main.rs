@@ -167,6 +167,14 @@ fn progress_bar() -> indicatif::ProgressBar {
     bar
 }
 
+/// Reports the plots a bench wrote.
+fn write_plots(result: std::result::Result<Vec<PathBuf>, String>) -> Result<()> {
+    for p in result.map_err(anyhow::Error::msg)? {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
 /// Writes a bench's files into `dir` atomically, prints the markdown.
 fn write_results(dir: &Path, files: &[(&str, String)], markdown: &str) -> Result<()> {
     let dir = raygraph::bench::results_dir(dir).with_context(|| format!("could not create {}", dir.display()))?;
@@ -349,6 +357,7 @@ fn run(cli: Cli) -> Result<()> {
             bar.finish_and_clear();
             let md = raygraph::bench::rays::markdown(&info, &rows);
             write_results(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())], &md)?;
+            write_plots(raygraph::bench::rays::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Build { quick, scenes, max_factor, max_triangles, backend, out } } => {
             use raygraph::bench::build::{self as build_bench, BuildBenchConfig};
@@ -372,6 +381,7 @@ fn run(cli: Cli) -> Result<()> {
             bar.finish_and_clear();
             let md = build_bench::markdown(&info, &rows, &skipped);
             write_results(&out, &[("build.csv", build_bench::csv(&info, &rows)), ("build.md", md.clone())], &md)?;
+            write_plots(build_bench::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, out } } => {
             use raygraph::bench::track::{self as track_bench, TrackConfig};
@@ -396,6 +406,7 @@ fn run(cli: Cli) -> Result<()> {
             bar.finish_and_clear();
             let md = track_bench::markdown(&info, &track, &rows);
             write_results(&out, &[("track.csv", track_bench::csv(&info, &rows)), ("track.md", md.clone())], &md)?;
+            write_plots(track_bench::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
             use raygraph::bench::depth::{self as depth_bench, DepthConfig};
@@ -420,6 +431,7 @@ fn run(cli: Cli) -> Result<()> {
             bar.finish_and_clear();
             let md = depth_bench::markdown(&info, &rows);
             write_results(&out, &[("depth.csv", depth_bench::csv(&info, &rows)), ("depth.md", md.clone())], &md)?;
+            write_plots(depth_bench::plots(&out, &rows))?;
         }
         Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);

@@ -11,6 +11,7 @@ fn bench_rays_quick_writes_a_complete_table() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}{}", String::from_utf8_lossy(&run.stderr));
     let csv = std::fs::read_to_string(out.join("rays.csv")).unwrap();
+    assert_plots(&out);
     let md = std::fs::read_to_string(out.join("rays.md")).unwrap();
     assert!(md.contains("adapter:") && md.contains("revision:") && md.contains("resolution: 48x27"), "{md}");
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
@@ -43,6 +44,7 @@ fn bench_build_quick_writes_a_complete_table() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{stdout}{}", String::from_utf8_lossy(&run.stderr));
     let csv = std::fs::read_to_string(out.join("build.csv")).unwrap();
+    assert_plots(&out);
     assert!(std::fs::read_to_string(out.join("build.md")).unwrap().contains("adapter:"));
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -72,6 +74,7 @@ fn quick_csv(name: &str) -> (Vec<String>, Vec<Vec<String>>) {
     assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
     assert!(std::fs::read_to_string(out.join(format!("{name}.md"))).unwrap().contains("revision:"));
     let csv = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
+    assert_plots(&out);
     let _ = std::fs::remove_dir_all(&out);
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header = lines.next().unwrap().split(',').map(str::to_string).collect::<Vec<_>>();
@@ -102,5 +105,16 @@ fn bench_depth_quick_counts_more_reflection_rays_with_more_bounces() {
     for pair in rows.windows(2).filter(|w| w[0][0] == w[1][0]) {
         let (a, b): (f64, f64) = (pair[0][3].parse().unwrap(), pair[1][3].parse().unwrap());
         assert!(b >= a && a > 0.0, "rays per pixel grow with the bounce count: {pair:?}");
+    }
+}
+
+/// Every bench writes PNG plots that decode to a picture with more than a blank page in it.
+fn assert_plots(dir: &std::path::Path) {
+    let pngs: Vec<_> = std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.extension().is_some_and(|x| x == "png")).collect();
+    assert!(!pngs.is_empty(), "no plot in {}", dir.display());
+    for p in pngs {
+        let img = image::open(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())).to_rgb8();
+        let colours: std::collections::HashSet<[u8; 3]> = img.pixels().map(|px| px.0).collect();
+        assert!(colours.len() > 10, "{} looks empty", p.display());
     }
 }

@@ -186,3 +186,30 @@ pub fn markdown(info: &RunInfo, rows: &[BuildRow], skipped: &[String]) -> String
     }
     s
 }
+
+/// `build_time.png` (build until usable, against triangles, log-log as the paper's Figure 9)
+/// and `build_trace.png` (trace Mrays/s of the result).
+pub fn plots(dir: &Path, rows: &[BuildRow]) -> Result<Vec<PathBuf>, String> {
+    use super::plot::{LinePlot, Series};
+    let mut keys: Vec<(String, Backend)> = Vec::new();
+    for r in rows {
+        if !keys.contains(&(r.scene.clone(), r.backend)) {
+            keys.push((r.scene.clone(), r.backend));
+        }
+    }
+    let series = |f: &dyn Fn(&BuildRow) -> Option<f64>| -> Vec<Series> {
+        keys.iter()
+            .map(|(s, b)| Series {
+                name: format!("{s}, {b}"),
+                points: rows.iter().filter(|r| &r.scene == s && r.backend == *b).filter_map(|r| f(r).map(|y| (r.triangles as f64, y))).collect(),
+            })
+            .collect()
+    };
+    let time = dir.join("build_time.png");
+    LinePlot { title: "Acceleration-structure build (Figure 9)", x_label: "triangles", y_label: "ms until usable", log_x: true, log_y: true, x_labels: None }
+        .write(&time, &series(&|r| Some(r.total_ms)))?;
+    let trace = dir.join("build_trace.png");
+    LinePlot { title: "Trace speed of the built structure", x_label: "triangles", y_label: "Mrays/s", log_x: true, log_y: true, x_labels: None }
+        .write(&trace, &series(&|r| r.mrays_per_s))?;
+    Ok(vec![time, trace])
+}

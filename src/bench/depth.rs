@@ -89,3 +89,24 @@ pub fn markdown(info: &RunInfo, rows: &[DepthRow]) -> String {
     }
     s
 }
+
+/// `depth.png`: reflection GigaRays/s and rays per pixel against the bounce count.
+pub fn plots(dir: &std::path::Path, rows: &[DepthRow]) -> Result<Vec<PathBuf>, String> {
+    use super::plot::{LinePlot, Series};
+    let mut backends: Vec<Backend> = Vec::new();
+    for r in rows {
+        if !backends.contains(&r.backend) {
+            backends.push(r.backend);
+        }
+    }
+    let mut series = Vec::new();
+    for b in &backends {
+        let sel: Vec<&DepthRow> = rows.iter().filter(|r| r.backend == *b).collect();
+        series.push(Series { name: format!("{b}: GigaRays/s"), points: sel.iter().map(|r| (r.bounces as f64, r.grays_per_s)).collect() });
+        series.push(Series { name: format!("{b}: rays/pixel"), points: sel.iter().map(|r| (r.bounces as f64, r.rays_per_pixel)).collect() });
+    }
+    let path = dir.join("depth.png");
+    LinePlot { title: "Reflection bounces", x_label: "bounces", y_label: "GigaRays/s and rays/pixel", log_x: false, log_y: true, x_labels: None }
+        .write(&path, &series)?;
+    Ok(vec![path])
+}

@@ -4,6 +4,7 @@
 
 pub mod build;
 pub mod depth;
+pub mod plot;
 pub mod rays;
 pub mod track;
 

@@ -221,3 +221,36 @@ pub fn markdown(info: &RunInfo, rows: &[RaysRow]) -> String {
     }
     s
 }
+
+/// `rays.png`: GigaRays/s per test and back-end beside the paper's RTX 2080 Ti (log scale).
+pub fn plots(dir: &Path, rows: &[RaysRow]) -> Result<Vec<PathBuf>, String> {
+    use super::plot::{LinePlot, Series};
+    let mut tests: Vec<String> = Vec::new();
+    for r in rows {
+        if !tests.contains(&r.test) {
+            tests.push(r.test.clone());
+        }
+    }
+    let mut backends: Vec<Backend> = Vec::new();
+    for r in rows {
+        if !backends.contains(&r.backend) {
+            backends.push(r.backend);
+        }
+    }
+    let paper = [("box", 12.82), ("organic", 5.50), ("atrium", 7.09), ("Miss", 12.52), ("Stress", 6.25)];
+    let mut series: Vec<Series> = backends
+        .iter()
+        .map(|b| Series {
+            name: format!("raygraph {b}"),
+            points: rows.iter().filter(|r| r.backend == *b).map(|r| (tests.iter().position(|t| *t == r.test).unwrap_or(0) as f64, r.grays_per_s)).collect(),
+        })
+        .collect();
+    series.push(Series {
+        name: "paper, RTX 2080 Ti".into(),
+        points: tests.iter().enumerate().filter_map(|(i, t)| paper.iter().find(|(n, _)| n == t).map(|(_, g)| (i as f64, *g))).collect(),
+    });
+    let path = dir.join("rays.png");
+    LinePlot { title: "GigaRays/s (Table 3)", x_label: "test", y_label: "GigaRays/s", log_x: false, log_y: true, x_labels: Some(&tests) }
+        .write(&path, &series)?;
+    Ok(vec![path])
+}

@@ -99,3 +99,30 @@ pub fn markdown(info: &RunInfo, track: &Path, rows: &[TrackRow]) -> String {
     }
     s
 }
+
+/// `track_fps.png` and `track_grays.png`: per frame, per mode and back-end.
+pub fn plots(dir: &Path, rows: &[TrackRow]) -> Result<Vec<PathBuf>, String> {
+    use super::plot::{LinePlot, Series};
+    let mut keys: Vec<(&str, Option<Backend>)> = Vec::new();
+    for r in rows {
+        if !keys.contains(&(r.mode, r.backend)) {
+            keys.push((r.mode, r.backend));
+        }
+    }
+    let series = |f: &dyn Fn(&TrackRow) -> f64, traced_only: bool| -> Vec<Series> {
+        keys.iter()
+            .filter(|(_, b)| !traced_only || b.is_some())
+            .map(|(m, b)| Series {
+                name: b.map(|b| format!("{m}, {b}")).unwrap_or_else(|| m.to_string()),
+                points: rows.iter().filter(|r| r.mode == *m && r.backend == *b).map(|r| (r.frame as f64, f(r))).collect(),
+            })
+            .collect()
+    };
+    let fps = dir.join("track_fps.png");
+    LinePlot { title: "Frame rate along the track (Figure 10)", x_label: "frame", y_label: "FPS", log_x: false, log_y: false, x_labels: None }
+        .write(&fps, &series(&|r| r.fps, false))?;
+    let gr = dir.join("track_grays.png");
+    LinePlot { title: "GigaRays/s along the track (Figure 11)", x_label: "frame", y_label: "GigaRays/s", log_x: false, log_y: false, x_labels: None }
+        .write(&gr, &series(&|r| r.grays_per_s, true))?;
+    Ok(vec![fps, gr])
+}
