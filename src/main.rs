@@ -158,13 +158,20 @@ enum BenchCommand {
     },
 }
 
-/// A progress bar for a bench.
-fn progress_bar() -> indicatif::ProgressBar {
+/// Runs a bench behind a progress bar; the bench reports (done, total, label).
+fn with_progress<T>(run: impl FnOnce(&mut dyn FnMut(usize, usize, &str)) -> T) -> T {
     let bar = indicatif::ProgressBar::new(1);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed}]").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    bar
+    let mut update = |done: usize, total: usize, label: &str| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(label.to_string());
+    };
+    let out = run(&mut update);
+    bar.finish_and_clear();
+    out
 }
 
 /// Reports the plots a bench wrote.
@@ -348,13 +355,7 @@ fn run(cli: Cli) -> Result<()> {
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
-            let bar = progress_bar();
-            let rows = raygraph::bench::rays::run(&gpu, &cfg, |done, total, label| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-                bar.set_message(label.to_string());
-            })?;
-            bar.finish_and_clear();
+            let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress))?;
             let md = raygraph::bench::rays::markdown(&info, &rows);
             write_results(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())], &md)?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;
@@ -372,13 +373,7 @@ fn run(cli: Cli) -> Result<()> {
             cfg.max_factor = max_factor.unwrap_or(cfg.max_factor);
             cfg.max_triangles = max_triangles.unwrap_or(cfg.max_triangles);
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.rays);
-            let bar = progress_bar();
-            let (rows, skipped) = build_bench::run(&gpu, &cfg, |done, total, label| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-                bar.set_message(label.to_string());
-            })?;
-            bar.finish_and_clear();
+            let (rows, skipped) = with_progress(|progress| build_bench::run(&gpu, &cfg, progress))?;
             let md = build_bench::markdown(&info, &rows, &skipped);
             write_results(&out, &[("build.csv", build_bench::csv(&info, &rows)), ("build.md", md.clone())], &md)?;
             write_plots(build_bench::plots(&out, &rows))?;
@@ -397,13 +392,7 @@ fn run(cli: Cli) -> Result<()> {
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
-            let bar = progress_bar();
-            let rows = track_bench::run(&gpu, &cfg, |done, total, label| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-                bar.set_message(label.to_string());
-            })?;
-            bar.finish_and_clear();
+            let rows = with_progress(|progress| track_bench::run(&gpu, &cfg, progress))?;
             let md = track_bench::markdown(&info, &track, &rows);
             write_results(&out, &[("track.csv", track_bench::csv(&info, &rows)), ("track.md", md.clone())], &md)?;
             write_plots(track_bench::plots(&out, &rows))?;
@@ -422,13 +411,7 @@ fn run(cli: Cli) -> Result<()> {
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
-            let bar = progress_bar();
-            let rows = depth_bench::run(&gpu, &cfg, |done, total, label| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-                bar.set_message(label.to_string());
-            })?;
-            bar.finish_and_clear();
+            let rows = with_progress(|progress| depth_bench::run(&gpu, &cfg, progress))?;
             let md = depth_bench::markdown(&info, &rows);
             write_results(&out, &[("depth.csv", depth_bench::csv(&info, &rows)), ("depth.md", md.clone())], &md)?;
             write_plots(depth_bench::plots(&out, &rows))?;
