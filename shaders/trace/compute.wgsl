@@ -99,6 +99,29 @@ fn trace_slab(r: TraceRay, node: AccelNode, t_min: f32, t_max: f32) -> vec2<f32>
     return vec2<f32>(enter, exit);
 }
 
+// The node to visit after an interior node whose children (at `left`, `left + 1`) the ray
+// enters over the intervals `hl`, `hr` (entry, exit): the nearer child hit (left on a tie),
+// the other pushed if hit too; NO_HIT if neither is.
+fn trace_children(left: u32, hl: vec2<f32>, hr: vec2<f32>, stack: ptr<function, array<u32, TRACE_STACK>>, sp: ptr<function, u32>) -> u32 {
+    let in_l = hl.x <= hl.y;
+    let in_r = hr.x <= hr.y;
+    if in_l && in_r {
+        let near_first = hl.x <= hr.x;
+        if *sp < TRACE_STACK {
+            (*stack)[*sp] = select(left, left + 1u, near_first);
+            *sp += 1u;
+        }
+        return select(left + 1u, left, near_first);
+    }
+    if in_l {
+        return left;
+    }
+    if in_r {
+        return left + 1u;
+    }
+    return NO_HIT;
+}
+
 // Edge function of the 2D points p, q (sheared triangle vertices), evaluated with the two
 // points in a canonical order so the same edge always gives bitwise the same value.
 fn trace_edge(p: vec2<f32>, q: vec2<f32>) -> f32 {
@@ -185,23 +208,9 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
             }
         } else {
             let left = node.left_or_first;
-            let hl = trace_slab(r, accel_blas_nodes[left], t_min, (*best).t);
-            let hr = trace_slab(r, accel_blas_nodes[left + 1u], t_min, (*best).t);
-            let in_l = hl.x <= hl.y;
-            let in_r = hr.x <= hr.y;
-            if in_l && in_r {
-                let near_first = hl.x <= hr.x;
-                node_index = select(left + 1u, left, near_first);
-                if sp < TRACE_STACK {
-                    stack[sp] = select(left, left + 1u, near_first);
-                    sp++;
-                }
-                continue;
-            } else if in_l {
-                node_index = left;
-                continue;
-            } else if in_r {
-                node_index = left + 1u;
+            let next = trace_children(left, trace_slab(r, accel_blas_nodes[left], t_min, (*best).t), trace_slab(r, accel_blas_nodes[left + 1u], t_min, (*best).t), &stack, &sp);
+            if next != NO_HIT {
+                node_index = next;
                 continue;
             }
         }
@@ -251,23 +260,9 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
             }
         } else {
             let left = node.left_or_first;
-            let hl = trace_slab(world, accel_tlas_nodes[left], ray.t_min, best.t);
-            let hr = trace_slab(world, accel_tlas_nodes[left + 1u], ray.t_min, best.t);
-            let in_l = hl.x <= hl.y;
-            let in_r = hr.x <= hr.y;
-            if in_l && in_r {
-                let near_first = hl.x <= hr.x;
-                node_index = select(left + 1u, left, near_first);
-                if sp < TRACE_STACK {
-                    stack[sp] = select(left, left + 1u, near_first);
-                    sp++;
-                }
-                continue;
-            } else if in_l {
-                node_index = left;
-                continue;
-            } else if in_r {
-                node_index = left + 1u;
+            let next = trace_children(left, trace_slab(world, accel_tlas_nodes[left], ray.t_min, best.t), trace_slab(world, accel_tlas_nodes[left + 1u], ray.t_min, best.t), &stack, &sp);
+            if next != NO_HIT {
+                node_index = next;
                 continue;
             }
         }
