@@ -114,14 +114,7 @@ fn the_ao_graph_draws_the_same_picture_on_both_back_ends() {
         images.push(exec.read_output(&gpu).unwrap());
     }
     let (a, b) = (&images[0], &images[1]);
-    let mut sq = 0.0;
-    let mut outliers = 0;
-    for (p, q) in a.pixels().zip(b.pixels()) {
-        let d: Vec<i32> = (0..3).map(|c| p[c] as i32 - q[c] as i32).collect();
-        sq += d.iter().map(|x| (x * x) as f64).sum::<f64>();
-        outliers += d.iter().any(|x| x.abs() > 24) as usize;
-    }
-    let rmse = (sq / (3.0 * 96.0 * 64.0)).sqrt();
+    let (rmse, outliers) = difference(a, b);
     println!("ray-query vs compute: RMSE {rmse:.3}, {outliers} outlier pixels; rays {:?} / {:?}", rays[0], rays[1]);
     assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
     assert_eq!(rays[0].traced(), rays[1].traced(), "the same rays on both back-ends");
@@ -129,4 +122,46 @@ fn the_ao_graph_draws_the_same_picture_on_both_back_ends() {
     // The effects are there: shadowed and occluded pixels exist.
     let distinct: std::collections::HashSet<[u8; 4]> = a.pixels().map(|p| p.0).collect();
     assert!(distinct.len() > 100);
+}
+
+/// RMSE over RGB in 8-bit units, and the pixels with a channel off by more than 24.
+fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, usize) {
+    let mut sq = 0.0;
+    let mut outliers = 0;
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let d: Vec<i32> = (0..3).map(|c| p[c] as i32 - q[c] as i32).collect();
+        sq += d.iter().map(|x| (x * x) as f64).sum::<f64>();
+        outliers += d.iter().any(|x| x.abs() > 24) as usize;
+    }
+    ((sq / (3.0 * a.width() as f64 * a.height() as f64)).sqrt(), outliers)
+}
+
+/// The merged layout (`Accel(merge: true)`, compute back-end): one BVH over every instance,
+/// nothing built while the scene is unchanged, rebuilt when an instance moves, and the AO
+/// graph's picture as the two-level layout draws it (the metric above).
+#[test]
+fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
+    let gpu = gpu();
+    let p = common::TempProject::with_repo_files();
+    let text = std::fs::read_to_string(common::repo().join("graph/ao.ron")).unwrap();
+    let merged_graph = p.write("graph/ao_merged.ron", &text.replace("Accel()", "Accel(merge: true)"));
+    let mut scene = default_scene();
+    let mut images = Vec::new();
+    for graph in [common::repo().join("graph/ao.ron"), merged_graph.clone()] {
+        let mut exec = executor(&gpu, &graph, Backend::Compute, (96, 64));
+        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        images.push(exec.read_output(&gpu).unwrap());
+    }
+    let (rmse, outliers) = difference(&images[0], &images[1]);
+    println!("two levels vs merged: RMSE {rmse:.3}, {outliers} outlier pixels");
+    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
+
+    let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (32, 24));
+    let first = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+    assert_eq!((first.blas_count, first.blas_built, first.tlas), (1, 1, TlasWork::Rebuild), "{first:?}");
+    let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+    assert!(!r.built_anything(), "an unchanged scene builds nothing: {r:?}");
+    scene.instances[1].transform = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0)) * scene.instances[1].transform;
+    let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+    assert_eq!((r.blas_built, r.tlas), (1, TlasWork::Rebuild), "a moved instance rebuilds the merged BVH: {r:?}");
 }

@@ -8,7 +8,7 @@
 use glam::{Mat4, Quat, Vec3};
 use raygraph::accel::bvh::{instance_transform, Aabb, AccelError, AccelOptions, Blas, BuildConfig, Bvh, SceneAccel, SplitMethod, MAX_TREE_DEPTH};
 use raygraph::accel::cpu_traverse::{CpuTraverser, Hit, Ray};
-use raygraph::accel::layout::{flatten, GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, NO_INSTANCE, NO_PRIM};
+use raygraph::accel::layout::{flatten, merge, merge_instances, GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, NO_INSTANCE, NO_PRIM};
 use raygraph::accel::reference::{RefHit, Reference};
 use raygraph::scene::procedural::{atrium, box_scene, organic};
 use raygraph::scene::{Instance, Mesh, Scene, Vertex};
@@ -271,6 +271,11 @@ fn classify(tally: &mut Tally, reference: &Reference, ray: &Ray, h: Option<Hit>,
 fn check_agreement(scene: &Scene, n: usize, seed: u64) -> (GpuAccel, Vec<Ray>, Vec<Option<Hit>>) {
     let accel = GpuAccel::build(scene, &AccelOptions::default());
     check_gpu_accel(&accel, scene);
+    check_agreement_with(scene, accel, n, seed)
+}
+
+/// [`check_agreement`] for a given layout of `scene`.
+fn check_agreement_with(scene: &Scene, accel: GpuAccel, n: usize, seed: u64) -> (GpuAccel, Vec<Ray>, Vec<Option<Hit>>) {
     let reference = Reference::new(scene);
     let rays = make_rays(scene, n, seed);
     let plain: Vec<Ray> = rays.iter().map(|r| r.1).collect();
@@ -620,6 +625,46 @@ fn traversal_agrees_with_reference_atrium_meshes() {
         .collect();
     let scene = subset(&full, &pick);
     check_agreement(&scene, 200, 4);
+}
+
+/// The merged layout of `scene` (one BVH over all instances in world space).
+fn merged(scene: &Scene) -> GpuAccel {
+    let (mesh, origin) = merge_instances(scene);
+    merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
+}
+
+#[test]
+fn merged_layout_agrees_with_reference_and_two_levels() {
+    let mut scene = multi_scene();
+    // A mirrored instance: its triangles wind the other way in world space.
+    let mirror = Mat4::from_translation(Vec3::new(-1.0, 1.5, 2.0)) * Mat4::from_scale(Vec3::new(-0.8, 0.8, 0.8));
+    scene.instances.push(Instance { mesh: 0, material: 0, transform: mirror });
+    let mirrored = scene.instances.len() as u32 - 1;
+    let (_, rays, two_level) = check_agreement(&scene, 250, 5);
+    let (accel, _, merged_hits) = check_agreement_with(&scene, merged(&scene), 250, 5);
+    assert_eq!((accel.instances.len(), accel.tlas_nodes.len()), (1, 1), "one instance under a one-leaf TLAS");
+    // Rays aimed exactly at vertices and edges may take either neighbour; the others must find
+    // the same triangle.
+    let categories: Vec<&str> = make_rays(&scene, 250, 5).iter().map(|r| r.0).collect();
+    let (mut same, mut hits, mut mirrored_faces) = (0, 0, [0, 0]);
+    for (i, (a, b)) in two_level.iter().zip(&merged_hits).enumerate() {
+        let (Some(a), Some(b)) = (a, b) else { continue };
+        if matches!(categories[i], "vertex" | "edge") {
+            continue;
+        }
+        hits += 1;
+        if (a.instance_id, a.prim) == (b.instance_id, b.prim) {
+            same += 1;
+            assert_eq!(a.front_face, b.front_face, "ray {i} {:?}: front face differs on instance {}", rays[i], a.instance_id);
+            assert!((a.t - b.t).abs() <= 1e-4 * a.t.max(1.0), "ray {i}: t {} vs {}", a.t, b.t);
+            if a.instance_id == mirrored {
+                mirrored_faces[a.front_face as usize] += 1;
+            }
+        }
+    }
+    println!("merged vs two levels: {same} of {hits} hits on the same triangle; mirrored instance back/front faces {mirrored_faces:?}");
+    assert!(same as f64 >= 0.99 * hits as f64, "{same} of {hits}");
+    assert!(mirrored_faces[0] > 0 && mirrored_faces[1] > 0, "both sides of the mirrored instance were hit: {mirrored_faces:?}");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -97,3 +97,26 @@ fn every_pass_gets_a_gpu_timestamp_when_the_adapter_has_them() {
     assert_eq!(gpu_ms.len(), n);
     assert!(gpu_ms.iter().all(|ms| ms.is_finite() && *ms >= 0.0), "{gpu_ms:?}");
 }
+
+/// A `Fullscreen` pass (a fragment per texel, vertex stage from `common/fullscreen.wgsl`)
+/// writes exactly what the compute pass of the same conversion writes.
+#[test]
+fn a_fullscreen_pass_draws_what_the_compute_pass_writes() {
+    let (file, _) = chain_project();
+    let p = common::TempProject::new();
+    let text = std::fs::read_to_string(&file).unwrap();
+    let fs_graph = p.write("graph/chain_fs.ron", &text.replace(r#"layer: "to8""#, r#"layer: "to8_fullscreen""#));
+    let gpu = gpu();
+    let scene = default_scene();
+    let mut images = Vec::new();
+    for graph in [file, fs_graph] {
+        let plan = compile(&graph, &Project::beside_graph(&graph), (W, H)).unwrap();
+        let kinds: Vec<_> = plan.passes.iter().filter(|p| p.node == "out").map(|p| p.kind).collect();
+        println!("{}: out pass {kinds:?}", graph.display());
+        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        images.push(exec.read_output(&gpu).unwrap());
+    }
+    assert_eq!(images[0].dimensions(), (W, H));
+    assert!(images[0] == images[1], "the fragment and compute conversions differ");
+}

@@ -1,7 +1,7 @@
-// Resolve of the hybrid and full-RT modes. Inputs that may be 1x1 fallbacks are read at a
-// clamped texel.
+// Resolve of the hybrid and full-RT modes, as a compute pass (on GPUs with few graphics units,
+// such as the H100, a full-screen fragment pass is several times slower). Inputs that may be
+// 1x1 fallbacks are read at a clamped texel.
 //#include "common/frame.wgsl"
-//#include "common/fullscreen.wgsl"
 //#include "common/lighting.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -12,14 +12,22 @@
 @group(0) @binding(5) var shadow: texture_2d<f32>;
 @group(0) @binding(6) var ao: texture_2d<f32>;
 @group(0) @binding(7) var reflection: texture_2d<f32>;
+@group(0) @binding(8) var hdr: texture_storage_2d<rgba16float, write>;
 
 fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
 }
 
-@fragment
-fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let texel = vec2<u32>(in.position.xy);
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let texel = id.xy;
+    if any(texel >= textureDimensions(hdr)) {
+        return;
+    }
+    textureStore(hdr, texel, shade(texel));
+}
+
+fn shade(texel: vec2<u32>) -> vec4<f32> {
     let p = load(position, texel);
     if p.w == 0.0 {
         return vec4<f32>(0.0); // sky: the tone-map pass draws it

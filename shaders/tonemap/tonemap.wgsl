@@ -1,6 +1,6 @@
-// Tone map: exposure, then the ACES filmic fit (Narkowicz 2015), into an sRGB target.
+// Tone map: exposure, then the ACES filmic fit (Narkowicz 2015), encoded as sRGB into an 8-bit
+// target (a compute pass: storage textures cannot be sRGB, so the encoding is done here).
 // Texels with alpha 0 (nothing drawn) show a sky gradient.
-//#include "common/fullscreen.wgsl"
 
 struct Params {
     exposure: f32,
@@ -9,6 +9,7 @@ struct Params {
 
 @group(0) @binding(0) var hdr: texture_2d<f32>;
 @group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var color: texture_storage_2d<rgba8unorm, write>;
 
 fn aces(x: vec3<f32>) -> vec3<f32> {
     let a = 2.51;
@@ -19,14 +20,24 @@ fn aces(x: vec3<f32>) -> vec3<f32> {
     return clamp((x * (a * x + b)) / (x * (c * x + d) + e), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-@fragment
-fn fs_main(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let size = textureDimensions(hdr);
-    let texel = min(vec2<u32>(in.position.xy), size - vec2<u32>(1u));
-    let c = textureLoad(hdr, texel, 0);
-    var color = c.rgb;
-    if (c.a == 0.0 && params.sky != 0u) {
-        color = mix(vec3<f32>(0.9, 0.85, 0.8), vec3<f32>(0.35, 0.55, 0.9), in.uv.y * -1.0 + 1.0);
+// The sRGB transfer function (IEC 61966-2-1), what an sRGB render target applies on store.
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    let hi = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(hi, 12.92 * c, c <= vec3<f32>(0.0031308));
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(color);
+    if any(id.xy >= size) {
+        return;
     }
-    return vec4<f32>(aces(color * params.exposure), 1.0);
+    let c = textureLoad(hdr, min(id.xy, textureDimensions(hdr) - vec2<u32>(1u)), 0);
+    var linear = c.rgb;
+    if (c.a == 0.0 && params.sky != 0u) {
+        // Pixel centres, as the fragment stage saw them: v = 0 at the top, 1 at the bottom.
+        let v = (f32(id.y) + 0.5) / f32(size.y);
+        linear = mix(vec3<f32>(0.9, 0.85, 0.8), vec3<f32>(0.35, 0.55, 0.9), 1.0 - v);
+    }
+    textureStore(color, id.xy, vec4<f32>(srgb_encode(aces(linear * params.exposure)), 1.0));
 }

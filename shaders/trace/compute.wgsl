@@ -1,11 +1,13 @@
 // Back-end `compute`: the project's own two-level BVH (src/accel/layout.rs), traversed here.
 // TLAS over instances; per instance the ray goes to object space (direction not renormalised,
-// so t stays the world t) and the instance's BLAS is traversed. Nearer child first with a short
-// stack; any-hit rays stop at the first hit. The slab test never forms infinities (zero
-// direction components become a tiny signed value before the reciprocal) and widens t_far by
-// a few ulps (Ize 2013); the ray-triangle test is watertight (Woop, Benthin, Wald 2013) with each
-// edge function evaluated in one canonical vertex order, so a shared edge gives the same value
-// to both triangles however the compiler fuses the arithmetic.
+// so t stays the world t) and the instance's BLAS is traversed. Nearer child first with one
+// stack for both levels; any-hit rays stop at the first hit. The slab test never forms
+// infinities (zero direction components become a tiny signed value before the reciprocal)
+// and widens t_far by a few ulps (Ize 2013); the ray-triangle test is watertight (Woop,
+// Benthin, Wald 2013) with each edge function evaluated in one canonical vertex order, so a
+// shared edge gives the same value to both triangles however the compiler fuses the arithmetic.
+// In the merged layout (src/accel/layout.rs) the one instance is the identity and each
+// triangle names its scene instance.
 //#include "trace/common.wgsl"
 
 struct AccelNode {
@@ -20,10 +22,14 @@ struct AccelTriangle {
     v0: vec3<f32>,
     prim: u32,
     v1: vec3<f32>,
-    _pad0: u32,
+    // Merged layout only (instance_id == MERGED_INSTANCE): the triangle's scene instance, and
+    // bit 0 set where that instance's transform mirrors.
+    instance: u32,
     v2: vec3<f32>,
-    _pad1: u32,
+    flags: u32,
 }
+
+const MERGED_INSTANCE: u32 = 0xfffffffeu;
 
 struct AccelInstance {
     // Rows of the 3x4 world-to-object and object-to-world matrices.
@@ -45,7 +51,11 @@ struct AccelInstance {
 @group(2) @binding(3) var<storage, read> accel_triangles: array<AccelTriangle>;
 @group(2) @binding(4) var<storage, read_write> accel_stats: array<atomic<u32>>;
 
-const TRACE_STACK: u32 = 48u;
+// The traversal stack, shared by both levels (a BLAS's entries go on top of the TLAS's). WGSL
+// zero-initialises every variable: a function-scope array would be cleared on every call (64
+// stores per ray, or per instance entered), a module-scope one once per invocation.
+const TRACE_STACK: u32 = 64u;
+var<private> trace_stack: array<u32, TRACE_STACK>;
 // gamma(n) = n u / (1 - n u), u = 2^-24: rounding-error bounds of n floating-point operations.
 const TRACE_GAMMA2: f32 = 1.1920930e-7;
 const TRACE_GAMMA3: f32 = 1.7881396e-7;
@@ -57,11 +67,13 @@ const TRACE_WIDEN: f32 = 1.0000005;
 struct TraceRay {
     origin: vec3<f32>,
     inv_dir: vec3<f32>,
-    // Axis permutation (kz = largest |dir| component) and shear of the watertight test.
-    kx: u32,
-    ky: u32,
-    kz: u32,
-    shear: vec3<f32>,
+    // The watertight test's permute-and-shear map (kz = the largest |dir| component, kx, ky
+    // the others; x' = p[kx] - Sx p[kz], y' = p[ky] - Sy p[kz], z' = Sz p[kz]) as three rows,
+    // so a vertex is mapped with three dot products instead of nine dynamically indexed
+    // components (each row has a 1, an exact -S and a 0, so the values are the same).
+    row_x: vec3<f32>,
+    row_y: vec3<f32>,
+    row_z: vec3<f32>,
 }
 
 fn trace_safe_inverse(d: vec3<f32>) -> vec3<f32> {
@@ -85,7 +97,11 @@ fn trace_prepare(origin: vec3<f32>, dir: vec3<f32>) -> TraceRay {
         ky = t;
     }
     let shear = vec3<f32>(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
-    return TraceRay(origin, trace_safe_inverse(dir), kx, ky, kz, shear);
+    let axes = vec3<u32>(0u, 1u, 2u);
+    let ex = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kx));
+    let ey = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(ky));
+    let ez = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kz));
+    return TraceRay(origin, trace_safe_inverse(dir), ex - shear.x * ez, ey - shear.y * ez, shear.z * ez);
 }
 
 // Entry and exit distances of the ray through a box (exit < entry: missed).
@@ -102,13 +118,13 @@ fn trace_slab(r: TraceRay, node: AccelNode, t_min: f32, t_max: f32) -> vec2<f32>
 // The node to visit after an interior node whose children (at `left`, `left + 1`) the ray
 // enters over the intervals `hl`, `hr` (entry, exit): the nearer child hit (left on a tie),
 // the other pushed if hit too; NO_HIT if neither is.
-fn trace_children(left: u32, hl: vec2<f32>, hr: vec2<f32>, stack: ptr<function, array<u32, TRACE_STACK>>, sp: ptr<function, u32>) -> u32 {
+fn trace_children(left: u32, hl: vec2<f32>, hr: vec2<f32>, sp: ptr<function, u32>) -> u32 {
     let in_l = hl.x <= hl.y;
     let in_r = hr.x <= hr.y;
     if in_l && in_r {
         let near_first = hl.x <= hr.x;
         if *sp < TRACE_STACK {
-            (*stack)[*sp] = select(left, left + 1u, near_first);
+            trace_stack[*sp] = select(left, left + 1u, near_first);
             *sp += 1u;
         }
         return select(left + 1u, left, near_first);
@@ -143,9 +159,9 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     let a3 = tri.v0 - r.origin;
     let b3 = tri.v1 - r.origin;
     let c3 = tri.v2 - r.origin;
-    let a = vec2<f32>(a3[r.kx] - r.shear.x * a3[r.kz], a3[r.ky] - r.shear.y * a3[r.kz]);
-    let b = vec2<f32>(b3[r.kx] - r.shear.x * b3[r.kz], b3[r.ky] - r.shear.y * b3[r.kz]);
-    let c = vec2<f32>(c3[r.kx] - r.shear.x * c3[r.kz], c3[r.ky] - r.shear.y * c3[r.kz]);
+    let a = vec2<f32>(dot(r.row_x, a3), dot(r.row_y, a3));
+    let b = vec2<f32>(dot(r.row_x, b3), dot(r.row_y, b3));
+    let c = vec2<f32>(dot(r.row_x, c3), dot(r.row_y, c3));
     let u = trace_edge(b, c);
     let v = trace_edge(c, a);
     let w = trace_edge(a, b);
@@ -157,9 +173,9 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     if det == 0.0 {
         return miss;
     }
-    let az = r.shear.z * a3[r.kz];
-    let bz = r.shear.z * b3[r.kz];
-    let cz = r.shear.z * c3[r.kz];
+    let az = dot(r.row_z, a3);
+    let bz = dot(r.row_z, b3);
+    let cz = dot(r.row_z, c3);
     let t = (u * az + v * bz + w * cz) / det;
     if !(t > t_min && t <= t_max) {
         return miss;
@@ -186,11 +202,10 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
     return vec3<f32>(dot(m0, h), dot(m1, h), dot(m2, h));
 }
 
-// Traverses one BLAS. Returns the index of the closest (or, for any-hit, the first) triangle
-// hit, NO_HIT if none; `best` carries t and barycentrics in and out.
-fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool) -> u32 {
-    var stack: array<u32, TRACE_STACK>;
-    var sp = 0u;
+// Traverses one BLAS on top of the TLAS entries already on `trace_stack`. Returns the index of the closest (or, for any-hit, the first) triangle hit, NO_HIT if none;
+// `best` carries t and barycentrics in and out; `sp` is back where it was on return.
+fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, sp: ptr<function, u32>) -> u32 {
+    let base = *sp;
     var node_index = root;
     var found = NO_HIT;
     loop {
@@ -202,23 +217,24 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                     *best = h;
                     found = i;
                     if any_hit {
+                        *sp = base;
                         return found;
                     }
                 }
             }
         } else {
             let left = node.left_or_first;
-            let next = trace_children(left, trace_slab(r, accel_blas_nodes[left], t_min, (*best).t), trace_slab(r, accel_blas_nodes[left + 1u], t_min, (*best).t), &stack, &sp);
+            let next = trace_children(left, trace_slab(r, accel_blas_nodes[left], t_min, (*best).t), trace_slab(r, accel_blas_nodes[left + 1u], t_min, (*best).t), sp);
             if next != NO_HIT {
                 node_index = next;
                 continue;
             }
         }
-        if sp == 0u {
+        if *sp == base {
             break;
         }
-        sp--;
-        node_index = stack[sp];
+        *sp -= 1u;
+        node_index = trace_stack[*sp];
     }
     return found;
 }
@@ -233,7 +249,6 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
     var result = trace_miss();
     var hit_anything = false;
     let world = trace_prepare(ray.origin, ray.dir);
-    var stack: array<u32, TRACE_STACK>;
     var sp = 0u;
     var node_index = 0u;
     loop {
@@ -244,10 +259,16 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
                 if inst.mask == 0u {
                     continue; // padding instance of an empty scene
                 }
-                let o = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0);
-                let d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
-                let r = trace_prepare(o, d);
-                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit);
+                // The merged layout's one instance is the identity: the world ray is the
+                // object-space ray.
+                let merged = inst.instance_id == MERGED_INSTANCE;
+                var d = ray.dir;
+                var r = world;
+                if !merged {
+                    d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
+                    r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
+                }
+                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, &sp);
                 if tri != NO_HIT {
                     hit_anything = true;
                     if any_hit {
@@ -255,12 +276,14 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
                     }
                     let t = accel_triangles[tri];
                     let n = cross(t.v1 - t.v0, t.v2 - t.v0);
-                    result = Hit(best.t, inst.instance_id, t.prim, vec2<f32>(best.u, best.v), dot(n, d) < 0.0);
+                    let id = select(inst.instance_id, t.instance, merged);
+                    let front = (dot(n, d) < 0.0) != (merged && (t.flags & 1u) != 0u);
+                    result = Hit(best.t, id, t.prim, vec2<f32>(best.u, best.v), front);
                 }
             }
         } else {
             let left = node.left_or_first;
-            let next = trace_children(left, trace_slab(world, accel_tlas_nodes[left], ray.t_min, best.t), trace_slab(world, accel_tlas_nodes[left + 1u], ray.t_min, best.t), &stack, &sp);
+            let next = trace_children(left, trace_slab(world, accel_tlas_nodes[left], ray.t_min, best.t), trace_slab(world, accel_tlas_nodes[left + 1u], ray.t_min, best.t), &sp);
             if next != NO_HIT {
                 node_index = next;
                 continue;
@@ -270,7 +293,7 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
             break;
         }
         sp--;
-        node_index = stack[sp];
+        node_index = trace_stack[sp];
     }
     return TraceResult(result, hit_anything);
 }

@@ -4,7 +4,7 @@
 //! would be.
 
 use super::backend::Backend;
-use super::cache::{AccelCache, BuildReport, RayStats};
+use super::cache::{AccelCache, AccelSettings, BuildReport, RayStats};
 use crate::error::{GraphError, Location, RuntimeError};
 use crate::graph::compile::CompileOptions;
 use crate::graph::reflect;
@@ -81,7 +81,7 @@ impl BatchTracer {
             reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
 
         let start = std::time::Instant::now();
-        let mut cache = AccelCache::new(device, backend, dedup, 1);
+        let mut cache = AccelCache::new(device, backend, AccelSettings { dedup, merge: false }, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
         let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
         gpu.queue.submit([encoder.finish()]);
@@ -125,10 +125,7 @@ impl BatchTracer {
             bind_group_layouts: &[Some(&layout0), Some(&empty), Some(&layout2)],
             immediate_size: 0,
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("batch.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(info.source.text.as_str().into()),
-        });
+        let module = gpu.shader_module("batch.wgsl", &info.source.text);
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("batch"),
             layout: Some(&pipeline_layout),

@@ -14,7 +14,7 @@
 
 use super::backend::Backend;
 use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas, TriangleStatus};
-use super::layout::{flatten, GpuAccel};
+use super::layout::{flatten, merge, merge_instances, GpuAccel};
 use crate::error::RuntimeError;
 use crate::runtime::profiler::map_read;
 use crate::scene::{Mesh, Scene};
@@ -128,7 +128,8 @@ struct UnitKey {
 }
 
 struct ComputeState {
-    accel: SceneAccel,
+    /// The two levels (`None` in the merged layout, which is rebuilt on any change).
+    accel: Option<SceneAccel>,
     /// tlas_nodes, instances, blas_nodes, triangles
     buffers: [wgpu::Buffer; 4],
 }
@@ -153,10 +154,42 @@ enum State {
     RayQuery(RayQueryState),
 }
 
+/// How an `Accel` node organises the scene (the node's `dedup` and `merge` settings).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AccelSettings {
+    /// One BLAS per mesh, shared by its instances (off: one per instance).
+    pub dedup: bool,
+    /// `compute` back-end: one BVH over all instances in world space (see
+    /// [`crate::accel::layout::merge_instances`]).
+    pub merge: bool,
+}
+
+impl Default for AccelSettings {
+    fn default() -> Self {
+        Self { dedup: true, merge: false }
+    }
+}
+
+impl AccelSettings {
+    /// Whether `backend` builds the merged layout.
+    pub fn merges(&self, backend: Backend) -> bool {
+        self.merge && backend == Backend::Compute
+    }
+
+    pub fn describe(&self, backend: Backend) -> String {
+        if self.merges(backend) {
+            "all instances merged into one BVH".into()
+        } else {
+            format!("de-duplication {}", if self.dedup { "on" } else { "off" })
+        }
+    }
+}
+
 /// The cache of one `Accel` node.
 pub struct AccelCache {
     backend: Backend,
     dedup: bool,
+    merge: bool,
     units: Vec<UnitKey>,
     instances: Vec<u64>,
     instance_meshes: Vec<usize>,
@@ -174,7 +207,7 @@ pub struct AccelCache {
 
 impl AccelCache {
     /// A cache for `backend`, with ray counters for `trace_passes` passes.
-    pub fn new(device: &wgpu::Device, backend: Backend, dedup: bool, trace_passes: u32) -> Self {
+    pub fn new(device: &wgpu::Device, backend: Backend, settings: AccelSettings, trace_passes: u32) -> Self {
         let stats_windows = trace_passes.max(1);
         let stats_stride = (device.limits().min_storage_buffer_offset_alignment as u64).max((STAT_SLOTS * 4) as u64);
         let size = stats_stride * stats_windows as u64;
@@ -192,7 +225,8 @@ impl AccelCache {
         });
         Self {
             backend,
-            dedup,
+            dedup: settings.dedup,
+            merge: settings.merges(backend),
             units: Vec::new(),
             instances: Vec::new(),
             instance_meshes: Vec::new(),
@@ -225,12 +259,15 @@ impl AccelCache {
     ) -> Result<BuildReport, RuntimeError> {
         let start = Instant::now();
         let mesh_hashes: Vec<u64> = scene.meshes.par_iter().map(mesh_hash).collect();
-        let units: Vec<UnitKey> = if self.dedup {
+        let instances: Vec<u64> = scene.instances.iter().map(instance_hash).collect();
+        let units: Vec<UnitKey> = if self.merge {
+            // One unit, the whole scene: any change rebuilds it.
+            vec![UnitKey { mesh: 0, hash: hash_words(hash_words(2, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&instances)) }]
+        } else if self.dedup {
             mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash }).collect()
         } else {
             scene.instances.iter().map(|i| UnitKey { mesh: i.mesh, hash: mesh_hashes.get(i.mesh).copied().unwrap_or(0) }).collect()
         };
-        let instances: Vec<u64> = scene.instances.iter().map(instance_hash).collect();
         if let Some(bad) = scene.instances.iter().position(|i| i.mesh >= scene.meshes.len()) {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}`: instance {bad} refers to mesh {} of {}",
@@ -253,6 +290,7 @@ impl AccelCache {
         report.blas_reused = units.len() - changed.len();
         self.total_blas_builds += changed.len();
         match self.backend {
+            Backend::Compute if self.merge => self.update_compute_merged(device, queue, scene, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &mut report)?,
         }
@@ -281,9 +319,10 @@ impl AccelCache {
         };
         // Instances moved, nothing else: refit the TLAS in place.
         if let Some(mut c) = old.filter(|_| changed.is_empty() && same_instance_set) {
-            if c.accel.refit_instances(scene).is_ok() {
+            let refitted = c.accel.as_mut().is_some_and(|a| a.refit_instances(scene).is_ok());
+            if let Some(accel) = c.accel.as_ref().filter(|_| refitted) {
                 report.tlas = TlasWork::Refit;
-                let flat = flatten(scene, &c.accel);
+                let flat = flatten(scene, accel);
                 report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
                 self.state = State::Compute(c);
                 return Ok(());
@@ -297,7 +336,7 @@ impl AccelCache {
         let t0 = Instant::now();
         let built: Vec<(usize, Blas)> = changed.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
         report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
-        let mut old_blases = old.as_ref().map(|c| c.accel.blases.clone()).unwrap_or_default();
+        let mut old_blases = old.as_ref().and_then(|c| c.accel.as_ref()).map(|a| a.blases.clone()).unwrap_or_default();
         old_blases.resize_with(units.len(), Blas::default);
         let mut blases = old_blases;
         for (u, b) in built {
@@ -340,7 +379,23 @@ impl AccelCache {
         };
         report.tlas = TlasWork::Rebuild;
         let flat = flatten(scene, &accel);
-        check_fits(&scene.name, &flat, device.limits().max_storage_buffer_binding_size)?;
+        self.install(device, queue, scene, old, Some(accel), &flat, report)
+    }
+
+    /// Checks that `flat` fits the device, uploads it into `old`'s buffers (or new ones) and
+    /// makes it the current state.
+    #[allow(clippy::too_many_arguments)]
+    fn install(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        old: Option<ComputeState>,
+        accel: Option<SceneAccel>,
+        flat: &GpuAccel,
+        report: &mut BuildReport,
+    ) -> Result<(), RuntimeError> {
+        check_fits(&scene.name, flat, device.limits().max_storage_buffer_binding_size)?;
         let mut buffers = match old {
             Some(c) => c.buffers,
             None => {
@@ -348,9 +403,25 @@ impl AccelCache {
                 [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32))
             }
         };
-        report.bytes_uploaded = self.upload(device, queue, &mut buffers, &flat);
+        report.bytes_uploaded = self.upload(device, queue, &mut buffers, flat);
         self.state = State::Compute(ComputeState { accel, buffers });
         Ok(())
+    }
+
+    /// The merged layout: one BLAS over every instance's world-space triangles.
+    fn update_compute_merged(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, report: &mut BuildReport) -> Result<(), RuntimeError> {
+        let old = match std::mem::replace(&mut self.state, State::Empty) {
+            State::Compute(c) => Some(c),
+            _ => None,
+        };
+        let t0 = Instant::now();
+        let (mesh, origin) = merge_instances(scene);
+        let blas = Blas::build(&mesh, &AccelOptions::default().build);
+        report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
+        report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
+        report.tlas = TlasWork::Rebuild;
+        let flat = merge(&mesh, &origin, blas);
+        self.install(device, queue, scene, old, None, &flat, report)
     }
 
     /// Writes the flattened arrays, growing buffers (and bumping the generation) as needed.

@@ -28,10 +28,13 @@
 //!    [`WatertightRay::intersect`]. A hit is accepted if `t_min < t <= t_closest` and then
 //!    becomes the new closest (so of hits at exactly the same `t` the last one tested wins).
 //!    [`CpuTraverser::any`] returns at the first accepted hit.
+//! 7. The hit's instance is the instance's `instance_id`, or, for the one instance of a merged
+//!    layout ([`MERGED_INSTANCE`]), the triangle's `instance`, with `front_face` flipped where
+//!    the triangle's flags say its transform mirrors.
 //!
 //! Everything is plain f32 arithmetic in a fixed order, with no fused multiply-add.
 
-use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, TRAVERSAL_STACK_SIZE};
+use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, MERGED_INSTANCE, TRAVERSAL_STACK_SIZE, TRI_MIRRORED};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -320,7 +323,11 @@ impl<'a> CpuTraverser<'a> {
                     let Some(tri) = a.triangles.get(k as usize) else { break };
                     if let Some((t, u, v, front_face)) = wt.intersect(tri, ray.t_min, t_far) {
                         t_far = t;
-                        best = Some(Hit { t, instance_id: inst.instance_id, prim: tri.prim, u, v, front_face });
+                        best = Some(if inst.instance_id == MERGED_INSTANCE {
+                            Hit { t, instance_id: tri.instance, prim: tri.prim, u, v, front_face: front_face != (tri.flags & TRI_MIRRORED != 0) }
+                        } else {
+                            Hit { t, instance_id: inst.instance_id, prim: tri.prim, u, v, front_face }
+                        });
                         if any_hit {
                             return best;
                         }

@@ -38,8 +38,8 @@
 //! computed in f64 and rounded to f32. A ray is moved into object space with `world_to_object`
 //! (origin as a point, direction as a vector, not renormalised, so `t` stays the world `t`).
 
-use super::bvh::{mesh_triangle, Aabb, AccelOptions, Bvh, SceneAccel, MAX_TREE_DEPTH};
-use crate::scene::Scene;
+use super::bvh::{instance_transform, mesh_triangle, Aabb, AccelOptions, Blas, Bvh, SceneAccel, Tlas, MAX_TREE_DEPTH};
+use crate::scene::{Mesh, Scene};
 use bytemuck::{Pod, Zeroable};
 use glam::DAffine3;
 
@@ -54,8 +54,9 @@ pub const NO_INSTANCE: u32 = u32::MAX;
 /// `mask` of every real instance. The padding instance has 0, and the traversals skip instances
 /// with `mask == 0` (a future ray mask would skip `mask & ray_mask == 0`).
 pub const INSTANCE_MASK_ALL: u32 = 0xFF;
-/// Traversal stack entries that suffice for one level (TLAS or BLAS) of any tree the builder
-/// makes (nearer-first traversal pushes at most one node per level).
+/// Traversal stack entries per ray (nearer-first traversal pushes at most one node per tree
+/// level; the WGSL's one stack holds the TLAS's entries and then the BLAS's, the CPU mirror
+/// keeps one such stack per level).
 pub const TRAVERSAL_STACK_SIZE: usize = MAX_TREE_DEPTH;
 
 /// A BVH node, 32 bytes. See the module docs for the meaning of `left_or_first` and `count`.
@@ -69,17 +70,26 @@ pub struct GpuBvhNode {
 }
 
 /// An object-space triangle, 48 bytes, in BLAS leaf order. `prim` is the triangle's index in
-/// its mesh (index / 3).
+/// its mesh (index / 3). In a merged BLAS ([`merge`]) `instance` is the scene instance the
+/// triangle came from and `flags` holds [`TRI_MIRRORED`]; both are 0 otherwise.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuTriangle {
     pub v0: [f32; 3],
     pub prim: u32,
     pub v1: [f32; 3],
-    pub _pad0: u32,
+    pub instance: u32,
     pub v2: [f32; 3],
-    pub _pad1: u32,
+    pub flags: u32,
 }
+
+/// `GpuTriangle::flags` bit: the triangle's instance transform mirrors (negative determinant),
+/// so a hit's `front_face` (defined in object space) is the opposite of the world-space winding.
+pub const TRI_MIRRORED: u32 = 1;
+
+/// `GpuInstance::instance_id` of the one instance over a merged BLAS: the hit's instance is
+/// the triangle's `instance`.
+pub const MERGED_INSTANCE: u32 = 0xFFFF_FFFE;
 
 /// An instance, 112 bytes. Matrices are row-major 3x4 (see the module docs). `blas_root` is the
 /// absolute index of its BLAS's root in `blas_nodes`; `instance_id` its index in
@@ -177,12 +187,17 @@ pub fn affine_rows(a: &DAffine3) -> [[f32; 4]; 3] {
 
 /// Flattens `accel` (built from `scene`) into the GPU layout.
 pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
+    flatten_meshes(&scene.meshes, accel)
+}
+
+/// [`flatten`] with the meshes the BLASes were built from.
+fn flatten_meshes(meshes: &[Mesh], accel: &SceneAccel) -> GpuAccel {
     let mut out = GpuAccel::default();
     let mut empty_blas_nodes = Vec::new();
     for (blas, mesh) in accel.blases.iter().zip(&accel.blas_mesh) {
         let node_base = out.blas_nodes.len() as u32;
         out.blas_roots.push(node_base);
-        let mesh = mesh.and_then(|m| scene.meshes.get(m));
+        let mesh = mesh.and_then(|m| meshes.get(m));
         match mesh {
             Some(mesh) if !blas.is_empty() => {
                 let tri_base = out.triangles.len() as u32;
@@ -191,7 +206,7 @@ pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
                     // The mesh is the one the BLAS was built from; a bad index (a mesh edited
                     // behind our back) becomes a zero, never-hit triangle.
                     let v = mesh_triangle(mesh, prim as usize).unwrap_or([glam::Vec3::ZERO; 3]);
-                    GpuTriangle { v0: v[0].to_array(), prim, v1: v[1].to_array(), _pad0: 0, v2: v[2].to_array(), _pad1: 0 }
+                    GpuTriangle { v0: v[0].to_array(), prim, v1: v[1].to_array(), instance: 0, v2: v[2].to_array(), flags: 0 }
                 }));
             }
             _ => {
@@ -238,9 +253,10 @@ pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
             out.blas_nodes[n].left_or_first = pad;
         }
     }
-    let depth = accel.blases.iter().map(|b| b.bvh.depth()).chain([tlas.depth()]).max().unwrap_or(0);
+    // The WGSL keeps one stack for both levels: a BLAS's entries go on top of the TLAS's.
+    let depth = accel.blases.iter().map(|b| b.bvh.depth()).max().unwrap_or(0) + tlas.depth();
     if depth >= TRAVERSAL_STACK_SIZE {
-        log::warn!("accel: a BVH is {depth} levels deep; a {TRAVERSAL_STACK_SIZE}-entry traversal stack may overflow");
+        log::warn!("accel: TLAS and BLAS together are {depth} levels deep; the {TRAVERSAL_STACK_SIZE}-entry traversal stack may overflow and miss hits");
     }
     out
 }
@@ -258,4 +274,65 @@ fn padding_instance(out: &mut GpuAccel, empty_blas_nodes: &mut Vec<usize>) -> Gp
     };
     let identity = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
     GpuInstance { world_to_object: identity, object_to_world: identity, blas_root: root, instance_id: NO_INSTANCE, mask: 0, _pad: 0 }
+}
+
+/// Where a triangle of a merged mesh came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TriangleOrigin {
+    pub instance: u32,
+    pub prim: u32,
+    pub mirrored: bool,
+}
+
+/// All instances' triangles in world space as one mesh: the merged layout of a static scene,
+/// where a ray traverses one BVH instead of every instance whose box it crosses. Positions are
+/// transformed in f64 and rounded once, so a vertex shared by two triangles of an instance
+/// stays shared (the watertight test needs that). Instances with an unusable transform or mesh
+/// are left out; a triangle with an out-of-range index keeps an out-of-range index.
+pub fn merge_instances(scene: &Scene) -> (Mesh, Vec<TriangleOrigin>) {
+    let mut mesh = Mesh { name: format!("{} (merged)", scene.name), vertices: Vec::new(), indices: Vec::new(), tangents: None };
+    let mut origin = Vec::new();
+    for (i, inst) in scene.instances.iter().enumerate() {
+        let (Some(src), Some(xf)) = (scene.meshes.get(inst.mesh), instance_transform(&inst.transform)) else { continue };
+        let base = mesh.vertices.len() as u64;
+        mesh.vertices.extend(src.vertices.iter().map(|v| {
+            let p = xf.transform_point3(glam::DVec3::from(v.position.map(f64::from)));
+            crate::scene::Vertex { position: p.as_vec3().to_array(), ..*v }
+        }));
+        let mirrored = xf.matrix3.determinant() < 0.0;
+        for (t, tri) in src.indices.chunks_exact(3).enumerate() {
+            let in_range = tri.iter().all(|&k| (k as usize) < src.vertices.len());
+            mesh.indices.extend(tri.iter().map(|&k| if in_range { u32::try_from(base + k as u64).unwrap_or(u32::MAX) } else { u32::MAX }));
+            origin.push(TriangleOrigin { instance: i as u32, prim: t as u32, mirrored });
+        }
+    }
+    (mesh, origin)
+}
+
+/// The GPU layout of a merged scene: one BLAS over [`merge_instances`]'s mesh under a TLAS of
+/// one identity instance ([`MERGED_INSTANCE`]), each triangle carrying its scene instance.
+pub fn merge(merged: &Mesh, origin: &[TriangleOrigin], blas: Blas) -> GpuAccel {
+    let bounds = blas.bounds();
+    let usable = !blas.is_empty();
+    let accel = SceneAccel {
+        blases: vec![blas],
+        blas_mesh: vec![Some(0)],
+        instance_blas: vec![usable.then_some(0)],
+        instance_transforms: vec![usable.then_some(DAffine3::IDENTITY)],
+        tlas: Tlas::build(&[if usable { bounds } else { Aabb::EMPTY }], &crate::accel::bvh::BuildConfig::default()),
+        dedup: true,
+        build_time: std::time::Duration::ZERO,
+    };
+    let mut out = flatten_meshes(std::slice::from_ref(merged), &accel);
+    if usable {
+        out.instances[0].instance_id = MERGED_INSTANCE;
+    }
+    for tri in &mut out.triangles {
+        if let Some(o) = origin.get(tri.prim as usize) {
+            tri.prim = o.prim;
+            tri.instance = o.instance;
+            tri.flags = if o.mirrored { TRI_MIRRORED } else { 0 };
+        }
+    }
+    out
 }

@@ -641,7 +641,7 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
 }
 
 /// The built-in acceleration-structure node: one `AccelBuild` pass writing `tlas`, with the
-/// node's settings as parameters (the runtime reads `dedup`).
+/// node's settings as parameters (the runtime reads `dedup` and `merge`).
 fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode {
     let layer = LayerDesc {
         inputs: BTreeMap::new(),
@@ -659,7 +659,10 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             dispatch: Dispatch::default(),
         }],
     };
-    let params = BTreeMap::from([("dedup".to_string(), (ParamDecl::Bool { default: true }, ParamValue::Bool(accel.dedup)))]);
+    let params = BTreeMap::from([
+        ("dedup".to_string(), (ParamDecl::Bool { default: true }, ParamValue::Bool(accel.dedup))),
+        ("merge".to_string(), (ParamDecl::Bool { default: false }, ParamValue::Bool(accel.merge))),
+    ]);
     ResolvedNode { name: name.to_string(), layer_name: "Accel".into(), layer, layer_src: gsrc.clone(), params, locals: HashMap::new() }
 }
 

@@ -29,11 +29,15 @@ pub enum NodeDesc {
 pub struct AccelNode {
     /// Identical meshes share one BLAS (off: one BLAS per instance).
     pub dedup: bool,
+    /// `compute` back-end: one BVH over every instance's world-space triangles instead of a
+    /// BLAS per mesh under a TLAS of instances. Faster to trace where instance boxes overlap;
+    /// any change to the scene rebuilds it. The `ray-query` back-end ignores it.
+    pub merge: bool,
 }
 
 impl Default for AccelNode {
     fn default() -> Self {
-        Self { dedup: true }
+        Self { dedup: true, merge: false }
     }
 }
 

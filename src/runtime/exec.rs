@@ -4,7 +4,7 @@
 use super::gpu::Gpu;
 use super::profiler::{map_read, FrameTimings, GpuTimer};
 use super::uniforms::FrameUniforms;
-use crate::accel::cache::AccelCache;
+use crate::accel::cache::{AccelCache, AccelSettings};
 use crate::error::{ErrorKind, GraphError, RuntimeError};
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
@@ -160,9 +160,12 @@ impl Executor {
         let nearest = device.create_sampler(&wgpu::SamplerDescriptor { label: Some("nearest"), ..Default::default() });
 
         let accel = plan.passes.iter().find(|p| p.kind == PassKind::AccelBuild).map(|p| {
-            let dedup = !matches!(p.params.get("dedup"), Some((_, ParamValue::Bool(false))));
-            log::info!("acceleration structures: back-end {}, de-duplication {}", plan.backend, if dedup { "on" } else { "off" });
-            AccelCache::new(device, plan.backend, dedup, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32)
+            let settings = AccelSettings {
+                dedup: !matches!(p.params.get("dedup"), Some((_, ParamValue::Bool(false)))),
+                merge: matches!(p.params.get("merge"), Some((_, ParamValue::Bool(true)))),
+            };
+            log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
+            AccelCache::new(device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32)
         });
         let mut exec = Self {
             plan,
@@ -396,10 +399,7 @@ impl Executor {
         let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
         let layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &layout_refs, immediate_size: 0 });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(&shader.path.display().to_string()),
-            source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
-        });
+        let module = gpu.shader_module(&shader.path.display().to_string(), &shader.source.text);
 
         let colors: Vec<ResourceId> = pass.writes.iter().map(|(_, r)| *r).filter(|r| !self.is_depth(*r)).collect();
         let depth = pass.writes.iter().map(|(_, r)| *r).find(|r| self.is_depth(*r));

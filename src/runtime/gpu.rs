@@ -26,6 +26,19 @@ const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgp
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
 impl Gpu {
+    /// Compiles a WGSL module with the runtime checks of [`shader_checks`].
+    pub fn shader_module(&self, label: &str, wgsl: &str) -> wgpu::ShaderModule {
+        let desc = wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(wgsl.into()) };
+        let checks = shader_checks();
+        if checks.force_loop_bounding {
+            return self.device.create_shader_module(desc);
+        }
+        // SAFETY: only naga's loop bounding is dropped (see `shader_checks`): every loop in the
+        // project's shaders ends (traversal loops pop a finite stack, ray loops count to a
+        // parameter); bounds checks and the rest stay.
+        unsafe { self.device.create_shader_module_trusted(desc, checks) }
+    }
+
     /// Opens the first Vulkan adapter (set `WGPU_BACKEND` to choose another backend, and
     /// `WGPU_ADAPTER_NAME` to pick an adapter by name).
     pub fn new() -> Result<Self, RuntimeError> {
@@ -148,4 +161,14 @@ pub fn all_include_variants() -> Vec<crate::graph::reflect::IncludeAliases> {
         }
     }
     out
+}
+
+/// Runtime checks compiled into every shader: all of wgpu's but naga's loop bounding, a
+/// 64-bit counter decremented and tested on every loop iteration so that a driver cannot
+/// treat an endless loop as unreachable. It costs the BVH traversal 6-9% on an H100 (PERF.md)
+/// and guards nothing a terminating loop needs; `RAYGRAPH_SHADER_CHECKS=all` keeps it.
+pub fn shader_checks() -> wgpu::ShaderRuntimeChecks {
+    let mut checks = wgpu::ShaderRuntimeChecks::checked();
+    checks.force_loop_bounding = std::env::var("RAYGRAPH_SHADER_CHECKS").is_ok_and(|v| v == "all");
+    checks
 }
