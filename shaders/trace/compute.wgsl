@@ -249,6 +249,15 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
     var result = trace_miss();
     var hit_anything = false;
     let world = trace_prepare(ray.origin, ray.dir);
+    // A root that is a leaf (one instance, as in the merged layout) is entered unconditionally
+    // by the loop below; its box is tested here first, so rays that miss the scene stop.
+    let root = accel_tlas_nodes[0];
+    if root.count > 0u {
+        let h = trace_slab(world, root, ray.t_min, best.t);
+        if h.x > h.y {
+            return TraceResult(result, false);
+        }
+    }
     var sp = 0u;
     var node_index = 0u;
     loop {

@@ -15,8 +15,8 @@
 //!    the current closest hit); hit if `t_near <= t_far`. For a proper box this is bitwise the
 //!    WGSL's `min`/`max` of the two slab distances (rounding is monotone); only the inverted
 //!    placeholder box differs, and the layout makes that harmless either way.
-//! 4. TLAS: test the root's box (the WGSL skips this early-out; boxes nest and the test is
-//!    monotone, so the results are the same); then loop: at a leaf, test its instances in order;
+//! 4. TLAS: test the root's box (the WGSL does so only when the root is a leaf; boxes nest and
+//!    the test is monotone, so the results are the same); then loop: at a leaf, test its instances in order;
 //!    at an interior node test both children's boxes against the current closest `t`, continue
 //!    with the nearer (left on a tie) and push the farther; pop when nothing is left. The stack
 //!    is a fixed array of [`TRAVERSAL_STACK_SIZE`] entries per level; a push onto a full stack
