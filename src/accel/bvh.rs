@@ -53,6 +53,9 @@ pub const TRAVERSAL_COST: f32 = 1.0;
 pub const INTERSECTION_COST: f32 = 1.0;
 /// Default maximum number of primitives in a leaf.
 pub const MAX_LEAF_SIZE: usize = 4;
+/// Largest `max_leaf_size` the builder accepts: the GPU traversal packs a node's primitive
+/// count into 3 bits (see `crate::accel::layout`).
+pub const MAX_LEAF_LIMIT: usize = 7;
 /// Default number of SAH bins per axis.
 pub const DEFAULT_BINS: usize = 16;
 /// Nodes at this depth or deeper are split at the object median instead of by SAH.
@@ -161,7 +164,7 @@ pub struct BuildConfig {
     pub method: SplitMethod,
     /// SAH bins per axis (clamped to 2..=[`MAX_BINS`]).
     pub bins: usize,
-    /// Maximum primitives per leaf (clamped to at least 1).
+    /// Maximum primitives per leaf (clamped to 1..=[`MAX_LEAF_LIMIT`]).
     pub max_leaf_size: usize,
     /// Subtrees with at least this many primitives are built in parallel.
     pub parallel_threshold: usize,
@@ -212,7 +215,7 @@ impl Bvh {
         let cfg = BuildConfig {
             method: cfg.method,
             bins: cfg.bins.clamp(2, MAX_BINS),
-            max_leaf_size: cfg.max_leaf_size.max(1),
+            max_leaf_size: cfg.max_leaf_size.clamp(1, MAX_LEAF_LIMIT),
             parallel_threshold: cfg.parallel_threshold.max(2),
         };
         let (bounds, centroids) = union_bounds_par(&work, &cfg);

@@ -580,6 +580,13 @@ pub fn check_fits(scene: &str, flat: &GpuAccel, max_binding: u64) -> Result<(), 
         ("TLAS nodes", std::mem::size_of_val(flat.tlas_nodes.as_slice())),
         ("instances", std::mem::size_of_val(flat.instances.as_slice())),
     ];
+    let longest = [flat.blas_nodes.len(), flat.triangles.len(), flat.tlas_nodes.len(), flat.instances.len()].into_iter().max().unwrap_or(0);
+    if longest >= super::layout::MAX_INDEX {
+        return Err(RuntimeError::Gpu(format!(
+            "scene `{scene}` is too large for the compute back-end: an array of its acceleration structure has {longest} elements, the traversal indexes fewer than {}\n  help: use a smaller scene or duplication factor, or the ray-query back-end",
+            super::layout::MAX_INDEX
+        )));
+    }
     for (what, bytes) in arrays {
         if bytes as u64 > max_binding {
             return Err(RuntimeError::Gpu(format!(

@@ -14,9 +14,13 @@
 //! `left_or_first + 1` in the same array. With `count > 0` it is a leaf of `count` primitives
 //! starting at `left_or_first`: triangles for a BLAS node, instances for a TLAS node. Every
 //! index is absolute into its array. A traversal tests both children's boxes when visiting an
-//! interior node (testing the root's box first is an optional early-out). Node boxes
-//! are the exact bounds widened outward by one ulp plus 1e-20 ([`widen_up`]), so that a ray
-//! with a zero direction component lying exactly in a face plane still enters the box.
+//! interior node (testing the root's box first is an optional early-out). The WGSL reads the
+//! arrays as 16-byte words and carries a node as the descriptor `left_or_first << 3 | count`,
+//! so `count` is at most 7 ([`crate::accel::bvh::MAX_LEAF_LIMIT`]) and every array is shorter
+//! than [`MAX_INDEX`] (no descriptor can then equal the WGSL's `NO_HIT`, `0xffffffff`).
+//! Node boxes are the exact bounds widened outward by one ulp plus 1e-20 ([`widen_up`]), so
+//! that a ray with a zero direction component lying exactly in a face plane still enters the
+//! box.
 //!
 //! # Empty trees
 //!
@@ -54,6 +58,9 @@ pub const NO_INSTANCE: u32 = u32::MAX;
 /// `mask` of every real instance. The padding instance has 0, and the traversals skip instances
 /// with `mask == 0` (a future ray mask would skip `mask & ray_mask == 0`).
 pub const INSTANCE_MASK_ALL: u32 = 0xFF;
+/// Bound on the length of every GPU array (29 bits of a traversal descriptor, less one).
+pub const MAX_INDEX: usize = (1 << 29) - 1;
+
 /// Traversal stack entries per ray (nearer-first traversal pushes at most one node per tree
 /// level; the WGSL's one stack holds the TLAS's entries and then the BLAS's, the CPU mirror
 /// keeps one such stack per level).
