@@ -450,13 +450,19 @@ impl Bins {
     }
 
     fn add(&mut self, prims: &[Work], maps: &[Option<(f32, f32)>; 3], bins: usize) {
+        // All three axes at once, with `bin_index`'s arithmetic (so the partition that follows
+        // puts every primitive in the bin counted here); an axis whose centroids do not spread
+        // bins everything into bin 0 and is not swept.
+        let lo = Vec3A::from_array(maps.map(|m| m.map_or(0.0, |m| m.0)));
+        let scale = Vec3A::from_array(maps.map(|m| m.map_or(0.0, |m| m.1)));
+        let last = Vec3A::splat((bins - 1) as f32);
         for p in prims {
-            for (axis, map) in maps.iter().enumerate() {
-                if let Some((lo, scale)) = *map {
-                    let b = bin_index(p.centroid[axis], lo, scale, bins);
-                    self.count[axis][b] += 1;
-                    self.bounds[axis][b] = self.bounds[axis][b].union(&p.bounds);
-                }
+            let b = ((p.centroid - lo) * scale).min(last).max(Vec3A::ZERO).as_uvec3();
+            for axis in 0..3 {
+                // `bins <= MAX_BINS`, a power of two: the mask only spares the bounds check.
+                let b = b[axis] as usize & (MAX_BINS - 1);
+                self.count[axis][b] += 1;
+                self.bounds[axis][b] = self.bounds[axis][b].union(&p.bounds);
             }
         }
     }
