@@ -182,6 +182,17 @@ fn write_plots(result: std::result::Result<Vec<PathBuf>, String>) -> Result<()> 
     Ok(())
 }
 
+/// Rewrites a bench's files in `dir` with the rows finished so far, atomically: a run that is
+/// interrupted (Ctrl-C, a lost device) leaves those rows and never a half-written file. A
+/// failure is a warning here; the final write reports it as an error.
+fn write_partial(dir: &Path, files: &[(&str, String)]) {
+    let written = raygraph::bench::results_dir(dir)
+        .and_then(|dir| files.iter().try_for_each(|(name, text)| raygraph::util::write_atomic(&dir.join(name), text.as_bytes())));
+    if let Err(e) = written {
+        log::warn!("could not update the results in {}: {e}", dir.display());
+    }
+}
+
 /// Writes a bench's files into `dir` atomically, prints the markdown.
 fn write_results(dir: &Path, files: &[(&str, String)], markdown: &str) -> Result<()> {
     let dir = raygraph::bench::results_dir(dir).with_context(|| format!("could not create {}", dir.display()))?;
@@ -355,7 +366,11 @@ fn run(cli: Cli) -> Result<()> {
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
-            let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress))?;
+            let rows = with_progress(|progress| {
+                raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| {
+                    write_partial(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, rows)), ("rays.md", raygraph::bench::rays::markdown(&info, rows))])
+                })
+            })?;
             let md = raygraph::bench::rays::markdown(&info, &rows);
             write_results(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())], &md)?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;
@@ -373,7 +388,11 @@ fn run(cli: Cli) -> Result<()> {
             cfg.max_factor = max_factor.unwrap_or(cfg.max_factor);
             cfg.max_triangles = max_triangles.unwrap_or(cfg.max_triangles);
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.rays);
-            let (rows, skipped) = with_progress(|progress| build_bench::run(&gpu, &cfg, progress))?;
+            let (rows, skipped) = with_progress(|progress| {
+                build_bench::run(&gpu, &cfg, progress, |rows| {
+                    write_partial(&out, &[("build.csv", build_bench::csv(&info, rows)), ("build.md", build_bench::markdown(&info, rows, &[]))])
+                })
+            })?;
             let md = build_bench::markdown(&info, &rows, &skipped);
             write_results(&out, &[("build.csv", build_bench::csv(&info, &rows)), ("build.md", md.clone())], &md)?;
             write_plots(build_bench::plots(&out, &rows))?;
@@ -392,7 +411,11 @@ fn run(cli: Cli) -> Result<()> {
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
-            let rows = with_progress(|progress| track_bench::run(&gpu, &cfg, progress))?;
+            let rows = with_progress(|progress| {
+                track_bench::run(&gpu, &cfg, progress, |rows| {
+                    write_partial(&out, &[("track.csv", track_bench::csv(&info, rows)), ("track.md", track_bench::markdown(&info, &track, rows))])
+                })
+            })?;
             let md = track_bench::markdown(&info, &track, &rows);
             write_results(&out, &[("track.csv", track_bench::csv(&info, &rows)), ("track.md", md.clone())], &md)?;
             write_plots(track_bench::plots(&out, &rows))?;
@@ -411,7 +434,11 @@ fn run(cli: Cli) -> Result<()> {
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
-            let rows = with_progress(|progress| depth_bench::run(&gpu, &cfg, progress))?;
+            let rows = with_progress(|progress| {
+                depth_bench::run(&gpu, &cfg, progress, |rows| {
+                    write_partial(&out, &[("depth.csv", depth_bench::csv(&info, rows)), ("depth.md", depth_bench::markdown(&info, rows))])
+                })
+            })?;
             let md = depth_bench::markdown(&info, &rows);
             write_results(&out, &[("depth.csv", depth_bench::csv(&info, &rows)), ("depth.md", md.clone())], &md)?;
             write_plots(depth_bench::plots(&out, &rows))?;

@@ -1,5 +1,6 @@
 //! `raygraph bench rays --quick` as a user runs it: the results folder holds the CSV and the
-//! markdown with every column, rays counted on the GPU, and no NaN. Speed is not checked.
+//! markdown with every column, rays counted on the GPU, and no NaN, also when the run is
+//! interrupted. Speed is not checked.
 
 mod common;
 use std::process::Command;
@@ -117,4 +118,46 @@ fn assert_plots(dir: &std::path::Path) {
         let colours: std::collections::HashSet<[u8; 3]> = img.pixels().map(|px| px.0).collect();
         assert!(colours.len() > 10, "{} looks empty", p.display());
     }
+}
+
+/// A bench interrupted mid-way (SIGINT, as Ctrl-C sends) leaves its results folder with the rows
+/// finished so far, each file whole: the files are rewritten atomically after every row.
+#[test]
+fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
+    let out = common::gltf_doc::temp_dir("bench-interrupted");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raygraph"))
+        .current_dir(common::repo())
+        .args(["bench", "rays", "--quick", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let data_rows = |csv: &str| csv.lines().filter(|l| !l.starts_with('#')).count().saturating_sub(1);
+    let start = std::time::Instant::now();
+    loop {
+        let csv = std::fs::read_to_string(out.join("rays.csv")).unwrap_or_default();
+        if data_rows(&csv) >= 2 {
+            break;
+        }
+        assert!(child.try_wait().unwrap().is_none(), "the bench ended before two rows were written");
+        assert!(start.elapsed().as_secs() < 600, "no rows after 10 minutes");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "the bench was interrupted: {status}");
+    let csv = std::fs::read_to_string(out.join("rays.csv")).unwrap();
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    let columns = lines.next().unwrap().split(',').count();
+    let rows: Vec<&str> = lines.collect();
+    assert!((2..10).contains(&rows.len()), "{csv}");
+    for r in &rows {
+        assert_eq!(r.split(',').count(), columns, "a whole row: {r}");
+    }
+    let md = std::fs::read_to_string(out.join("rays.md")).unwrap();
+    assert_eq!(md.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| test") && !l.starts_with("| ---")).count(), rows.len(), "{md}");
+    println!("interrupted after {} rows: {:?}", rows.len(), std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name()).collect::<Vec<_>>());
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -77,7 +77,13 @@ fn camera_rays(scene: &Scene, (w, h): (u32, u32)) -> Vec<GpuRay> {
     rays
 }
 
-pub fn run(gpu: &Gpu, cfg: &BuildBenchConfig, mut progress: impl FnMut(usize, usize, &str)) -> Result<(Vec<BuildRow>, Vec<String>), RuntimeError> {
+/// `on_rows` sees the rows finished so far after each one (to keep the results folder current).
+pub fn run(
+    gpu: &Gpu,
+    cfg: &BuildBenchConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+    mut on_rows: impl FnMut(&[BuildRow]),
+) -> Result<(Vec<BuildRow>, Vec<String>), RuntimeError> {
     let shaders = cfg.root.join("shaders");
     let total = cfg.scenes.len() * cfg.max_factor as usize * cfg.backends.len();
     let (mut rows, mut skipped, mut done) = (Vec::new(), Vec::new(), 0);
@@ -122,6 +128,7 @@ pub fn run(gpu: &Gpu, cfg: &BuildBenchConfig, mut progress: impl FnMut(usize, us
                     trace_ms,
                     mrays_per_s: trace_ms.filter(|ms| *ms > 0.0).map(|ms| stats.traced() as f64 / (ms * 1e-3) / 1e6),
                 });
+                on_rows(&rows);
                 done += 1;
                 progress(done, total, &format!("{name} x{n}: {backend}"));
             }

@@ -34,7 +34,13 @@ pub struct DepthRow {
     pub frame_ms: f64,
 }
 
-pub fn run(gpu: &Gpu, cfg: &DepthConfig, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<DepthRow>, crate::error::RuntimeError> {
+/// `on_rows` sees the rows finished so far after each one (to keep the results folder current).
+pub fn run(
+    gpu: &Gpu,
+    cfg: &DepthConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+    mut on_rows: impl FnMut(&[DepthRow]),
+) -> Result<Vec<DepthRow>, crate::error::RuntimeError> {
     let (scene, _) = crate::scene::open(&cfg.scene, &LoadOptions::default())?;
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let graph = cfg.root.join("graph/hybrid.ron");
@@ -66,6 +72,7 @@ pub fn run(gpu: &Gpu, cfg: &DepthConfig, mut progress: impl FnMut(usize, usize, 
                 grays_per_s: rays / (ms * 1e-3) / 1e9,
                 frame_ms: median(&mut frame_ms),
             });
+            on_rows(&rows);
             progress(rows.len(), total, &format!("{backend}: {bounces} bounces"));
         }
     }

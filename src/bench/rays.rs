@@ -129,7 +129,13 @@ pub fn miss_and_stress_cameras(scene: &Scene) -> (Camera, Camera) {
 }
 
 /// Runs the table; `progress` is called after every measurement with (done, total, label).
-pub fn run(gpu: &Gpu, cfg: &RaysConfig, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<RaysRow>, crate::error::RuntimeError> {
+/// `on_rows` sees the rows finished so far after each one (to keep the results folder current).
+pub fn run(
+    gpu: &Gpu,
+    cfg: &RaysConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+    mut on_rows: impl FnMut(&[RaysRow]),
+) -> Result<Vec<RaysRow>, crate::error::RuntimeError> {
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let workload = cfg.root.join("graph/bench_rays.ron");
     let primary = cfg.root.join("graph/bench_primary.ron");
@@ -148,6 +154,7 @@ pub fn run(gpu: &Gpu, cfg: &RaysConfig, mut progress: impl FnMut(usize, usize, &
             options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
             let m = measure(gpu, &workload, &project, &options, &scene, &scene.camera, cfg)?;
             rows.push(row(name, backend, cfg, m, Some(1000.0 / raster_ms)));
+            on_rows(&rows);
             done += 1;
             progress(done, total, &format!("{name}: {backend}"));
         }
@@ -161,6 +168,7 @@ pub fn run(gpu: &Gpu, cfg: &RaysConfig, mut progress: impl FnMut(usize, usize, &
             for (test, camera) in [("Miss", &miss), ("Stress", &stress)] {
                 let m = measure(gpu, &primary, &project, &options, &scene, camera, cfg)?;
                 rows.push(row(test, backend, cfg, m, None));
+                on_rows(&rows);
                 done += 1;
                 progress(done, total, &format!("{test}: {backend}"));
             }

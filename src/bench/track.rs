@@ -36,7 +36,13 @@ pub struct TrackRow {
 
 pub const MODES: [(&str, &str); 3] = [("raster", "graph/raster.ron"), ("hybrid", "graph/hybrid.ron"), ("full-rt", "graph/full_rt.ron")];
 
-pub fn run(gpu: &Gpu, cfg: &TrackConfig, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<TrackRow>, crate::error::RuntimeError> {
+/// `on_rows` sees the rows finished so far after each mode (to keep the results folder current).
+pub fn run(
+    gpu: &Gpu,
+    cfg: &TrackConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+    mut on_rows: impl FnMut(&[TrackRow]),
+) -> Result<Vec<TrackRow>, crate::error::RuntimeError> {
     let track = Track::load(&cfg.track)?;
     let (scene, _) = crate::scene::open(&cfg.scene, &LoadOptions::default())?;
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
@@ -58,6 +64,7 @@ pub fn run(gpu: &Gpu, cfg: &TrackConfig, mut progress: impl FnMut(usize, usize, 
             let rays = t.rays.map(|r| r.traced()).unwrap_or(0);
             rows.push(TrackRow { mode, backend: *backend, frame: *f, gpu_ms: ms, fps: 1000.0 / ms, rays, grays_per_s: rays as f64 / (ms * 1e-3) / 1e9 });
         }
+        on_rows(&rows);
         progress(k + 1, runs.len(), mode);
     }
     Ok(rows)
