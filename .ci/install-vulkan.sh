@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs the Vulkan loader and Mesa's lavapipe (>= 24.1, with VK_KHR_ray_query) on Debian 12.
-# The backports suite is added by copying the machine's own first Debian source entry.
+# Installs the Vulkan loader, Mesa's lavapipe (>= 24.1, with VK_KHR_ray_query) and the Khronos
+# validation layer on Debian 12. The backports suite is added by copying the machine's own
+# first Debian source entry.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
@@ -15,7 +16,11 @@ have_lavapipe() {
     [ -n "$v" ] && dpkg --compare-versions "$v" ge 24.1
 }
 
-if have_lavapipe && dpkg-query -W libvulkan1 >/dev/null 2>&1; then
+have_validation() {
+    [ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ]
+}
+
+if have_lavapipe && dpkg-query -W libvulkan1 >/dev/null 2>&1 && have_validation; then
     echo "lavapipe $(dpkg-query -W -f='${Version}' mesa-vulkan-drivers) already installed"
     exit 0
 fi
@@ -33,4 +38,5 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers libvulkan1 >/dev/null
-echo "installed lavapipe $(dpkg-query -W -f='${Version}' mesa-vulkan-drivers)"
+$SUDO apt-get install -y -qq vulkan-validationlayers >/dev/null
+echo "installed lavapipe $(dpkg-query -W -f='${Version}' mesa-vulkan-drivers), validation layers $(dpkg-query -W -f='${Version}' vulkan-validationlayers)"
