@@ -193,13 +193,15 @@ fn write_partial(dir: &Path, files: &[(&str, String)]) {
     }
 }
 
-/// Writes a bench's files into `dir` atomically, prints the markdown.
-fn write_results(dir: &Path, files: &[(&str, String)], markdown: &str) -> Result<()> {
+/// Writes a bench's files into `dir` atomically, prints the markdown (the `.md` file).
+fn write_results(dir: &Path, files: &[(&str, String)]) -> Result<()> {
     let dir = raygraph::bench::results_dir(dir).with_context(|| format!("could not create {}", dir.display()))?;
     for (name, text) in files {
         raygraph::util::write_atomic(&dir.join(name), text.as_bytes()).with_context(|| format!("could not write {}", dir.join(name).display()))?;
     }
-    print!("{markdown}");
+    for (_, text) in files.iter().filter(|(name, _)| name.ends_with(".md")) {
+        print!("{text}");
+    }
     println!("wrote {}", files.iter().map(|(n, _)| dir.join(n).display().to_string()).collect::<Vec<_>>().join(", "));
     Ok(())
 }
@@ -366,13 +368,9 @@ fn run(cli: Cli) -> Result<()> {
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
-            let rows = with_progress(|progress| {
-                raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| {
-                    write_partial(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, rows)), ("rays.md", raygraph::bench::rays::markdown(&info, rows))])
-                })
-            })?;
-            let md = raygraph::bench::rays::markdown(&info, &rows);
-            write_results(&out, &[("rays.csv", raygraph::bench::rays::csv(&info, &rows)), ("rays.md", md.clone())], &md)?;
+            let files = |rows: &[_]| [("rays.csv", raygraph::bench::rays::csv(&info, rows)), ("rays.md", raygraph::bench::rays::markdown(&info, rows))];
+            let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
+            write_results(&out, &files(&rows))?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Build { quick, scenes, max_factor, max_triangles, backend, out } } => {
@@ -388,13 +386,10 @@ fn run(cli: Cli) -> Result<()> {
             cfg.max_factor = max_factor.unwrap_or(cfg.max_factor);
             cfg.max_triangles = max_triangles.unwrap_or(cfg.max_triangles);
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.rays);
-            let (rows, skipped) = with_progress(|progress| {
-                build_bench::run(&gpu, &cfg, progress, |rows| {
-                    write_partial(&out, &[("build.csv", build_bench::csv(&info, rows)), ("build.md", build_bench::markdown(&info, rows, &[]))])
-                })
-            })?;
-            let md = build_bench::markdown(&info, &rows, &skipped);
-            write_results(&out, &[("build.csv", build_bench::csv(&info, &rows)), ("build.md", md.clone())], &md)?;
+            let files =
+                |rows: &[_], skipped: &[String]| [("build.csv", build_bench::csv(&info, rows)), ("build.md", build_bench::markdown(&info, rows, skipped))];
+            let (rows, skipped) = with_progress(|progress| build_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows, &[]))))?;
+            write_results(&out, &files(&rows, &skipped))?;
             write_plots(build_bench::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, out } } => {
@@ -411,13 +406,9 @@ fn run(cli: Cli) -> Result<()> {
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
-            let rows = with_progress(|progress| {
-                track_bench::run(&gpu, &cfg, progress, |rows| {
-                    write_partial(&out, &[("track.csv", track_bench::csv(&info, rows)), ("track.md", track_bench::markdown(&info, &track, rows))])
-                })
-            })?;
-            let md = track_bench::markdown(&info, &track, &rows);
-            write_results(&out, &[("track.csv", track_bench::csv(&info, &rows)), ("track.md", md.clone())], &md)?;
+            let files = |rows: &[_]| [("track.csv", track_bench::csv(&info, rows)), ("track.md", track_bench::markdown(&info, &track, rows))];
+            let rows = with_progress(|progress| track_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
+            write_results(&out, &files(&rows))?;
             write_plots(track_bench::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
@@ -434,13 +425,9 @@ fn run(cli: Cli) -> Result<()> {
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
-            let rows = with_progress(|progress| {
-                depth_bench::run(&gpu, &cfg, progress, |rows| {
-                    write_partial(&out, &[("depth.csv", depth_bench::csv(&info, rows)), ("depth.md", depth_bench::markdown(&info, rows))])
-                })
-            })?;
-            let md = depth_bench::markdown(&info, &rows);
-            write_results(&out, &[("depth.csv", depth_bench::csv(&info, &rows)), ("depth.md", md.clone())], &md)?;
+            let files = |rows: &[_]| [("depth.csv", depth_bench::csv(&info, rows)), ("depth.md", depth_bench::markdown(&info, rows))];
+            let rows = with_progress(|progress| depth_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
+            write_results(&out, &files(&rows))?;
             write_plots(depth_bench::plots(&out, &rows))?;
         }
         Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {

@@ -449,18 +449,11 @@ impl Bins {
         }
     }
 
-    fn add(&mut self, prims: &[Work], maps: &[Option<(f32, f32)>; 3], bins: usize) {
-        // All three axes at once, with `bin_index`'s arithmetic (so the partition that follows
-        // puts every primitive in the bin counted here); an axis whose centroids do not spread
-        // bins everything into bin 0 and is not swept.
-        let lo = Vec3A::from_array(maps.map(|m| m.map_or(0.0, |m| m.0)));
-        let scale = Vec3A::from_array(maps.map(|m| m.map_or(0.0, |m| m.1)));
-        let last = Vec3A::splat((bins - 1) as f32);
+    fn add(&mut self, prims: &[Work], map: &BinMap) {
         for p in prims {
-            let b = ((p.centroid - lo) * scale).min(last).max(Vec3A::ZERO).as_uvec3();
+            let b = map.bins_of(p);
             for axis in 0..3 {
-                // `bins <= MAX_BINS`, a power of two: the mask only spares the bounds check.
-                let b = b[axis] as usize & (MAX_BINS - 1);
+                let b = b[axis] as usize;
                 self.count[axis][b] += 1;
                 self.bounds[axis][b] = self.bounds[axis][b].union(&p.bounds);
             }
@@ -491,6 +484,7 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
     // Small nodes get fewer bins: as many as primitives (at least 4) is plenty there.
     let bins = cfg.bins.min(n.max(4));
     let maps = [0, 1, 2].map(|axis| bin_mapping(centroids, axis, bins));
+    let map = BinMap::new(&maps, bins);
     if maps.iter().all(Option::is_none) {
         // All centroids coincide: no plane separates them.
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
@@ -501,14 +495,14 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
             .par_chunks(PARALLEL_BINNING / 4)
             .map(|c| {
                 let mut b = Bins::new();
-                b.add(c, &maps, bins);
+                b.add(c, &map);
                 b
             })
             .reduce(Bins::new, Bins::merge);
         &parallel
     } else {
         scratch.reset(bins);
-        scratch.add(prims, &maps, bins);
+        scratch.add(prims, &map);
         scratch
     };
     let node_area = bounds.surface_area();
@@ -546,8 +540,11 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
     if n <= cfg.max_leaf_size && leaf_cost <= cost {
         return None;
     }
-    let Some((lo, scale)) = maps[axis] else { return Some(median_split(prims, centroids)) };
-    let sp = partition(prims, |p| bin_index(p.centroid[axis], lo, scale, bins) < plane);
+    if maps[axis].is_none() {
+        return Some(median_split(prims, centroids));
+    }
+    // The same bins as the binning pass, so each side gets exactly the primitives counted.
+    let sp = partition(prims, |p| (map.bins_of(p)[axis] as usize) < plane);
     if sp.mid == 0 || sp.mid == n {
         // Cannot happen with the same mapping as the binning pass; stay safe anyway.
         return Some(median_split(prims, centroids));
@@ -563,9 +560,28 @@ fn bin_mapping(centroids: &Box3A, axis: usize, bins: usize) -> Option<(f32, f32)
     (extent > 0.0 && scale.is_finite()).then_some((lo, scale))
 }
 
-fn bin_index(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
-    // `as usize` saturates (negative and NaN give 0).
-    (((c - lo) * scale) as usize).min(bins - 1)
+/// Bin of a primitive's centroid along each axis, `(c - lo) * bins / extent` clamped to
+/// `0..bins`; an axis whose centroids do not spread maps everything to bin 0 (and is not swept).
+struct BinMap {
+    lo: Vec3A,
+    scale: Vec3A,
+    last: Vec3A,
+}
+
+impl BinMap {
+    fn new(maps: &[Option<(f32, f32)>; 3], bins: usize) -> Self {
+        Self {
+            lo: Vec3A::from_array(maps.map(|m| m.map_or(0.0, |m| m.0))),
+            scale: Vec3A::from_array(maps.map(|m| m.map_or(0.0, |m| m.1))),
+            last: Vec3A::splat((bins - 1) as f32),
+        }
+    }
+
+    /// All three axes with one SIMD expression; the mask (`bins <= MAX_BINS`, a power of two)
+    /// only spares the bounds checks where the index is used.
+    fn bins_of(&self, p: &Work) -> glam::UVec3 {
+        ((p.centroid - self.lo) * self.scale).min(self.last).max(Vec3A::ZERO).as_uvec3() & glam::UVec3::splat(MAX_BINS as u32 - 1)
+    }
 }
 
 /// Moves the primitives for which `left` holds to the front, measuring both sides on the way.
