@@ -8,7 +8,9 @@
 pub mod accel;
 pub mod bench;
 pub mod error;
+pub mod fuzz;
 pub mod graph;
 pub mod runtime;
 pub mod scene;
+pub mod soak;
 pub mod util;

@@ -68,6 +68,26 @@ enum Command {
         #[command(subcommand)]
         command: SceneCommand,
     },
+    /// A long headless run in which the scene, the graph and a shader change; checks that
+    /// memory and live GPU objects stay flat and the image finite (RELIABILITY.md).
+    Soak {
+        #[arg(long, default_value = "default")]
+        scene: String,
+        #[arg(long, default_value_t = 10_000)]
+        frames: u32,
+        /// Frames per cycle of changes; the checks run at the end of each cycle.
+        #[arg(long, default_value_t = 500)]
+        cycle: u32,
+        #[arg(long, default_value_t = 64)]
+        width: u32,
+        #[arg(long, default_value_t = 64)]
+        height: u32,
+        /// Allowed growth of the resident set over the first check, in MiB.
+        #[arg(long, default_value_t = 32.0)]
+        rss_tolerance: f64,
+        #[arg(long)]
+        backend: Option<Backend>,
+    },
     /// The experiments.
     Bench {
         #[command(subcommand)]
@@ -349,6 +369,31 @@ fn run(cli: Cli) -> Result<()> {
             let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera.fov_y.to_degrees());
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
+        }
+        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend } => {
+            use raygraph::soak::{self, SoakConfig};
+            let gpu = Gpu::with_backend(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let mut cfg = SoakConfig::new(Path::new("."), frames, cycle, (width, height));
+            cfg.scene = scene;
+            cfg.rss_tolerance_mib = rss_tolerance;
+            cfg.backend = backend;
+            println!("{:>7} {:>9} {:>8} {:>7}  live GPU objects", "frame", "seconds", "RSS MiB", "finite");
+            let report = soak::run(&gpu, &cfg, |c, _| {
+                let live = c.live.map(|l| l.describe()).unwrap_or_else(|| "(no registry report)".into());
+                println!("{:>7} {:>9.1} {:>8.1} {:>7}  {live}", c.frame, c.seconds, c.rss_mib, c.finite);
+            })?;
+            println!(
+                "{} frames: {} with instances moving, {} meshes added and {} removed, {} graph swaps, {} shader errors caught and {} fixed",
+                report.frames, report.moved_frames, report.meshes_added, report.meshes_removed, report.graph_swaps, report.shader_errors, report.shader_fixes
+            );
+            if let Some(e) = &report.shader_error_example {
+                println!("first shader error, as reported:\n{e}");
+            }
+            if !report.failures.is_empty() {
+                anyhow::bail!("soak failed:\n  {}", report.failures.join("\n  "));
+            }
+            println!("ok: memory and live GPU objects flat over {} checks", report.checks.len());
         }
         Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, primary_rays, backend, out } } => {
             let gpu = Gpu::with_backend(backend)?;

@@ -151,3 +151,46 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     assert!(err.contains(&(limit as u64 + 6).to_string()) && err.contains(&limit.to_string()), "{err}");
     assert!(err.contains("default"), "names the scene: {err}");
 }
+
+/// An executor made for one scene renders a changed scene exactly as a fresh executor made for
+/// the changed scene does: moved instances (records rewritten in place), an added mesh and
+/// instance, and their removal (scene uploaded again), through a raster and a hybrid graph.
+#[test]
+fn the_executor_follows_a_changing_scene() {
+    let gpu = gpu();
+    let size = (80, 48);
+    let base = builtin::default_scene();
+    let mut moved = base.clone();
+    moved.instances[0].transform = glam::Mat4::from_translation(Vec3::new(0.4, 0.2, -0.3)) * moved.instances[0].transform;
+    let mut added = base.clone();
+    added.meshes.push(builtin::sphere("added", 8, 16));
+    added.instances.push(raygraph::scene::Instance {
+        mesh: added.meshes.len() - 1,
+        material: 0,
+        transform: glam::Mat4::from_translation(base.camera.target + Vec3::Y * 0.3) * glam::Mat4::from_scale(Vec3::splat(0.6)),
+    });
+    for graph in ["graph/raster.ron", "graph/hybrid.ron"] {
+        let path = common::repo().join(graph);
+        let project = Project::beside_graph(&path);
+        let plan = || raygraph::graph::compile::compile_with(&path, &project, size, &gpu.compile_options()).unwrap();
+        let render = |exec: &mut Executor, scene: &Scene| {
+            exec.render(&gpu, &scene.camera, scene).unwrap();
+            exec.read_output(&gpu).unwrap()
+        };
+        let mut exec = Executor::new(&gpu, plan(), &base).unwrap();
+        let first = render(&mut exec, &base);
+        for (what, scene) in [("moved", &moved), ("added", &added), ("base again", &base)] {
+            let followed = render(&mut exec, scene);
+            let fresh = render(&mut Executor::new(&gpu, plan(), scene).unwrap(), scene);
+            let differing = followed.pixels().zip(fresh.pixels()).filter(|(a, b)| a != b).count();
+            assert_eq!(differing, 0, "{graph}, {what}: {differing} pixels differ from a fresh executor's image");
+            let changed = followed.pixels().zip(first.pixels()).filter(|(a, b)| a != b).count();
+            println!("{graph}, {what}: same as a fresh executor; {changed} pixels differ from the first frame");
+            if what == "base again" {
+                assert_eq!(changed, 0, "{graph}: back to the first scene, the image must be the first one");
+            } else {
+                assert!(changed > 20, "{graph}, {what}: the change must show in the image ({changed} pixels)");
+            }
+        }
+    }
+}

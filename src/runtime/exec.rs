@@ -10,7 +10,7 @@ use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
-use crate::scene::gpu::{GpuScene, SceneTextures};
+use crate::scene::gpu::{GpuScene, SceneContent, SceneTextures};
 use crate::scene::{Camera, Scene};
 use std::time::Instant;
 
@@ -56,6 +56,9 @@ pub struct Executor {
     accel_generation: u64,
     /// Bounding sphere of the scene (centre, radius) this frame.
     scene_sphere: (glam::Vec3, f32),
+    /// What the uploaded scene was made from (see [`Executor::sync_scene`]).
+    scene_content: SceneContent,
+    samplers: (wgpu::Sampler, wgpu::Sampler),
 }
 
 impl Executor {
@@ -140,7 +143,8 @@ impl Executor {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let scene_gpu = if plan.scene_usage.any() {
+        let plan_uploads = plan.scene_usage.any();
+        let scene_gpu = if plan_uploads {
             let s = GpuScene::upload(device, &gpu.queue, scene, plan.scene_usage)?;
             log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes);
             Some(s)
@@ -179,12 +183,10 @@ impl Executor {
             accel,
             accel_generation: u64::MAX,
             scene_sphere: (glam::Vec3::ZERO, 1.0),
+            scene_content: if plan_uploads { SceneContent::of(scene) } else { SceneContent::default() },
+            samplers: (linear, nearest),
         };
-        let mut passes = Vec::new();
-        for pass in &exec.plan.passes {
-            passes.push(exec.build_pass(gpu, pass, &linear, &nearest)?);
-        }
-        exec.passes = passes;
+        exec.passes = exec.build_passes(gpu)?;
         if gpu.timestamps {
             exec.timer = Some(GpuTimer::new(device, &gpu.queue, exec.plan.passes.len() as u32));
         }
@@ -196,6 +198,36 @@ impl Executor {
 
     pub fn plan(&self) -> &Plan {
         &self.plan
+    }
+
+    fn build_passes(&self, gpu: &Gpu) -> Result<Vec<PassRuntime>, RuntimeError> {
+        self.plan.passes.iter().map(|pass| self.build_pass(gpu, pass, &self.samplers.0, &self.samplers.1)).collect()
+    }
+
+    /// Keeps the uploaded scene equal to `scene`: moved instances are rewritten in place; any
+    /// other change (meshes, materials, textures, instances added or removed) uploads the scene
+    /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
+    fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        let Some(uploaded) = &self.scene else { return Ok(()) };
+        let content = SceneContent::of(scene);
+        if content == self.scene_content {
+            return Ok(());
+        }
+        if content.structure == self.scene_content.structure && uploaded.write_instances(&gpu.queue, scene) {
+            self.scene_content = content;
+            return Ok(());
+        }
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
+        self.passes = self.build_passes(gpu)?;
+        // The new passes have no accel bind group yet: make the next update re-create them.
+        self.accel_generation = u64::MAX;
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RuntimeError::Gpu(format!("uploading the changed scene failed: {e}")));
+        }
+        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
+        self.scene_content = content;
+        Ok(())
     }
 
     fn texture_view(&self, r: ResourceId) -> wgpu::TextureView {
@@ -523,6 +555,7 @@ impl Executor {
     /// Records and submits one frame; waits for it and returns its pass timings.
     pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
         let start = Instant::now();
+        self.sync_scene(gpu, scene)?;
         // Every frame: the scene may have changed since the last one.
         let b = scene.bounds();
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };

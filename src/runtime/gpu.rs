@@ -5,6 +5,8 @@ use crate::accel::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
 
 pub struct Gpu {
+    /// Kept for [`wgpu::Instance::generate_report`] (live object counts).
+    pub instance: wgpu::Instance,
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -111,7 +113,7 @@ impl Gpu {
             }
         );
         log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
-        Ok(Self { adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends })
+        Ok(Self { instance, adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends })
     }
 
     /// Compiler options for this device and its selected back-end.

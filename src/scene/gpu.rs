@@ -138,18 +138,7 @@ impl GpuScene {
         }
 
         if usage.instances {
-            let instances: Vec<InstanceUniforms> = scene
-                .instances
-                .iter()
-                .map(|inst| InstanceUniforms {
-                    model: inst.transform.to_cols_array_2d(),
-                    normal_matrix: inst.transform.inverse().transpose().to_cols_array_2d(),
-                    material: inst.material as u32,
-                    mesh: inst.mesh as u32,
-                    _pad: [0; 2],
-                })
-                .collect();
-            out.instances = Some(storage_records(device, scene, "instance", instances, &mut bytes)?);
+            out.instances = Some(storage_records(device, scene, "instance", instance_records(scene), &mut bytes)?);
         }
 
         if usage.materials {
@@ -247,7 +236,7 @@ fn storage_records<T: bytemuck::Pod>(
     Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(&format!("scene {what}s")),
         contents: bytemuck::cast_slice(&records),
-        usage: wgpu::BufferUsages::STORAGE,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
     }))
 }
 
@@ -320,4 +309,79 @@ fn downsample_srgb(img: &image::RgbaImage) -> image::RgbaImage {
         }
         image::Rgba([to_srgb(acc[0] / 4.0), to_srgb(acc[1] / 4.0), to_srgb(acc[2] / 4.0), (acc[3] / 4.0 + 0.5) as u8])
     })
+}
+
+fn instance_records(scene: &Scene) -> Vec<InstanceUniforms> {
+    scene
+        .instances
+        .iter()
+        .map(|inst| InstanceUniforms {
+            model: inst.transform.to_cols_array_2d(),
+            normal_matrix: inst.transform.inverse().transpose().to_cols_array_2d(),
+            material: inst.material as u32,
+            mesh: inst.mesh as u32,
+            _pad: [0; 2],
+        })
+        .collect()
+}
+
+impl GpuScene {
+    /// Rewrites the instance records in place (transforms changed, nothing else). Returns
+    /// false if there is no instance buffer or its size no longer matches.
+    pub fn write_instances(&self, queue: &wgpu::Queue, scene: &Scene) -> bool {
+        let Some(buffer) = &self.instances else { return false };
+        let records = instance_records(scene);
+        let bytes: &[u8] = bytemuck::cast_slice(&records);
+        if records.is_empty() || bytes.len() as u64 != buffer.size() {
+            return false;
+        }
+        queue.write_buffer(buffer, 0, bytes);
+        true
+    }
+}
+
+/// What an upload depends on, split in two: everything but the instance transforms
+/// ([`SceneContent::structure`]: a change re-uploads the scene) and the transforms alone (a
+/// change rewrites the instance records in place). Meshes and materials are hashed by content;
+/// a texture by its size and the address of its pixels (a replaced image is seen, pixels
+/// edited in place are not).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SceneContent {
+    pub structure: u64,
+    pub transforms: u64,
+}
+
+impl SceneContent {
+    pub fn of(scene: &Scene) -> Self {
+        use rayon::prelude::*;
+        use std::hash::{Hash, Hasher};
+        let meshes: Vec<u64> = scene
+            .meshes
+            .par_iter()
+            .map(|m| {
+                let mut h = std::collections::hash_map::DefaultHasher::new();
+                bytemuck::cast_slice::<_, u8>(&m.vertices).hash(&mut h);
+                m.indices.hash(&mut h);
+                if let Some(t) = &m.tangents {
+                    bytemuck::cast_slice::<_, u8>(t).hash(&mut h);
+                }
+                h.finish()
+            })
+            .collect();
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        meshes.hash(&mut h);
+        format!("{:?}", scene.materials).hash(&mut h);
+        for i in &scene.instances {
+            (i.mesh, i.material).hash(&mut h);
+        }
+        for t in &scene.textures {
+            (t.width, t.height, t.rgba.len(), t.rgba.as_ptr() as usize).hash(&mut h);
+        }
+        let structure = h.finish();
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for i in &scene.instances {
+            bytemuck::cast_slice::<_, u8>(&i.transform.to_cols_array()).hash(&mut h);
+        }
+        Self { structure, transforms: h.finish() }
+    }
 }

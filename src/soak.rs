@@ -1,0 +1,287 @@
+//! The soak run (`raygraph soak`): thousands of headless frames while the scene, the graph and
+//! a shader change, checking at the end of every cycle that process memory and the live GPU
+//! objects stay flat and that the image stays finite.
+//!
+//! A cycle of `cycle` frames, with `c = cycle`:
+//!
+//! - frames `[0, c/4)`: every instance moves (the acceleration structure refits or rebuilds,
+//!   the uploaded instance records are rewritten); at `c/4` they are back in place;
+//! - `c/4`: a sphere mesh and an instance of it are added; `c/2`: removed again;
+//! - `5c/8`: the graph is hot-swapped to the second graph; `7c/8`: back to the first;
+//! - `3c/4`: a WGSL file the graph uses is broken: recompiling must fail with an error naming
+//!   that file, and the running graph keeps rendering; `3c/4 + 1`: the file is restored and the
+//!   recompiled graph takes over;
+//! - `c - 1`: the scene and graph are as at the start, and the check runs.
+//!
+//! The graphs, layers and shaders are copied into a private temporary folder first, so the
+//! user's files are never touched. The first check is the reference: later checks must show
+//! the same number of live buffers, textures, views, bind groups, pipelines and shader modules
+//! (wgpu's registry report), a resident set within `rss_tolerance_mib` of it, and a finite HDR
+//! image.
+
+use crate::accel::backend::Backend;
+use crate::error::RuntimeError;
+use crate::graph::compile::{compile_with, Project};
+use crate::runtime::{Executor, Gpu};
+use crate::scene::{LoadOptions, Scene};
+use glam::{Mat4, Vec3};
+use std::path::{Path, PathBuf};
+
+/// What a soak run does.
+#[derive(Debug, Clone)]
+pub struct SoakConfig {
+    pub scene: String,
+    pub frames: u32,
+    pub cycle: u32,
+    pub size: (u32, u32),
+    /// Folder holding `graph/`, `layers/` and `shaders/` (copied before the run).
+    pub root: PathBuf,
+    /// The graph that runs at every check, and the one swapped in for part of each cycle
+    /// (paths relative to `root`).
+    pub graphs: [PathBuf; 2],
+    /// The WGSL file broken and restored in every cycle (relative to `root/shaders`).
+    pub broken_shader: PathBuf,
+    /// Allowed growth of the resident set over the first check, in MiB.
+    pub rss_tolerance_mib: f64,
+    pub backend: Option<Backend>,
+}
+
+impl SoakConfig {
+    pub fn new(root: &Path, frames: u32, cycle: u32, size: (u32, u32)) -> Self {
+        Self {
+            scene: "default".into(),
+            frames,
+            cycle: cycle.max(16),
+            size,
+            root: root.to_path_buf(),
+            graphs: [PathBuf::from("graph/hybrid.ron"), PathBuf::from("graph/full_rt.ron")],
+            broken_shader: PathBuf::from("resolve/resolve.wgsl"),
+            rss_tolerance_mib: 32.0,
+            backend: None,
+        }
+    }
+}
+
+/// Live wgpu objects (kept by the application), from the registry report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LiveObjects {
+    pub buffers: usize,
+    pub textures: usize,
+    pub texture_views: usize,
+    pub samplers: usize,
+    pub bind_groups: usize,
+    pub bind_group_layouts: usize,
+    pub compute_pipelines: usize,
+    pub render_pipelines: usize,
+    pub shader_modules: usize,
+}
+
+impl LiveObjects {
+    pub fn of(gpu: &Gpu) -> Option<Self> {
+        let report = gpu.instance.generate_report()?;
+        let hub = report.hub_report();
+        Some(Self {
+            buffers: hub.buffers.num_kept_from_user,
+            textures: hub.textures.num_kept_from_user,
+            texture_views: hub.texture_views.num_kept_from_user,
+            samplers: hub.samplers.num_kept_from_user,
+            bind_groups: hub.bind_groups.num_kept_from_user,
+            bind_group_layouts: hub.bind_group_layouts.num_kept_from_user,
+            compute_pipelines: hub.compute_pipelines.num_kept_from_user,
+            render_pipelines: hub.render_pipelines.num_kept_from_user,
+            shader_modules: hub.shader_modules.num_kept_from_user,
+        })
+    }
+
+    pub fn describe(&self) -> String {
+        format!(
+            "{} buffers, {} textures, {} views, {} samplers, {} bind groups, {} layouts, {}+{} pipelines, {} shader modules",
+            self.buffers,
+            self.textures,
+            self.texture_views,
+            self.samplers,
+            self.bind_groups,
+            self.bind_group_layouts,
+            self.compute_pipelines,
+            self.render_pipelines,
+            self.shader_modules
+        )
+    }
+}
+
+/// One end-of-cycle check.
+#[derive(Debug, Clone)]
+pub struct Check {
+    pub frame: u32,
+    pub rss_mib: f64,
+    pub live: Option<LiveObjects>,
+    /// Every texel of the HDR image is finite.
+    pub finite: bool,
+    pub seconds: f64,
+}
+
+/// Counts of what happened, and what failed.
+#[derive(Debug, Clone, Default)]
+pub struct SoakReport {
+    pub checks: Vec<Check>,
+    pub frames: u32,
+    pub moved_frames: u32,
+    pub meshes_added: u32,
+    pub meshes_removed: u32,
+    pub graph_swaps: u32,
+    pub shader_errors: u32,
+    pub shader_fixes: u32,
+    /// The first shader error seen, as the user would read it.
+    pub shader_error_example: Option<String>,
+    pub failures: Vec<String>,
+}
+
+/// Resident set size of this process in MiB (Linux `/proc/self/statm`; 0 elsewhere).
+pub fn rss_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/statm")
+        .ok()
+        .and_then(|s| s.split_whitespace().nth(1).and_then(|p| p.parse::<f64>().ok()))
+        .map(|pages| pages * 4096.0 / (1024.0 * 1024.0))
+        .unwrap_or(0.0)
+}
+
+/// The private copy of the project, removed when dropped.
+struct Workdir(PathBuf);
+
+impl Drop for Workdir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn copy_dir(from: &Path, to: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(to)?;
+    for entry in std::fs::read_dir(from)? {
+        let entry = entry?;
+        let target = to.join(entry.file_name());
+        if entry.file_type()?.is_dir() {
+            copy_dir(&entry.path(), &target)?;
+        } else {
+            std::fs::copy(entry.path(), &target)?;
+        }
+    }
+    Ok(())
+}
+
+fn io_error(path: &Path, e: std::io::Error) -> RuntimeError {
+    RuntimeError::Output { path: path.to_path_buf(), source: e }
+}
+
+/// Runs the soak; `on_check` sees every check as it is made. Failures of the checks are
+/// collected in the report; an `Err` is a frame or a compile that should have worked and did not.
+pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakReport)) -> Result<SoakReport, RuntimeError> {
+    let work = Workdir(std::env::temp_dir().join(format!("raygraph-soak-{}", std::process::id())));
+    for dir in ["graph", "layers", "shaders"] {
+        copy_dir(&cfg.root.join(dir), &work.0.join(dir)).map_err(|e| io_error(&work.0.join(dir), e))?;
+    }
+    let project = Project { layers_dir: work.0.join("layers"), shaders_dir: work.0.join("shaders") };
+    let options = match cfg.backend {
+        Some(b) => gpu.compile_options_for(b),
+        None => gpu.compile_options(),
+    };
+    let graphs = cfg.graphs.clone().map(|g| work.0.join(g));
+    let compile = |graph: &Path| compile_with(graph, &project, cfg.size, &options);
+
+    let (base, _) = crate::scene::open(&cfg.scene, &LoadOptions { textures: true, ..Default::default() })?;
+    let mut scene: Scene = base.clone();
+    let b = base.bounds();
+    let radius = 0.5 * b.diagonal().max(1e-3);
+    let sphere = crate::scene::builtin::sphere("soak sphere", 12, 24);
+    let shader = project.shaders_dir.join(&cfg.broken_shader);
+    let good_wgsl = std::fs::read_to_string(&shader).map_err(|e| io_error(&shader, e))?;
+
+    let mut current = 0usize;
+    let mut exec = Executor::new(gpu, compile(&graphs[0])?, &scene)?;
+    let hdr = |exec: &Executor| exec.plan().resource_by_name("resolve.hdr");
+    let mut report = SoakReport::default();
+    let c = cfg.cycle;
+    let start = std::time::Instant::now();
+    for f in 0..cfg.frames {
+        let p = f % c;
+        if p < c / 4 {
+            let phase = f as f32 * 0.37;
+            let offset = Vec3::new(phase.sin(), 0.0, phase.cos()) * (0.05 * radius);
+            for (inst, orig) in scene.instances.iter_mut().zip(&base.instances) {
+                inst.transform = Mat4::from_translation(offset) * orig.transform;
+            }
+            report.moved_frames += 1;
+        } else if p == c / 4 {
+            for (inst, orig) in scene.instances.iter_mut().zip(&base.instances) {
+                inst.transform = orig.transform;
+            }
+            scene.meshes.push(sphere.clone());
+            let at = Mat4::from_translation(b.center() + Vec3::Y * (0.25 * radius)) * Mat4::from_scale(Vec3::splat(0.2 * radius));
+            scene.instances.push(crate::scene::Instance { mesh: scene.meshes.len() - 1, material: 0, transform: at });
+            report.meshes_added += 1;
+        } else if p == c / 2 {
+            scene.instances.pop();
+            scene.meshes.pop();
+            report.meshes_removed += 1;
+        } else if p == 5 * c / 8 || p == 7 * c / 8 {
+            current = 1 - current;
+            exec = Executor::new(gpu, compile(&graphs[current])?, &scene)?;
+            report.graph_swaps += 1;
+        } else if p == 3 * c / 4 {
+            let broken = format!("{good_wgsl}\nfn broken_on_purpose( {{\n");
+            std::fs::write(&shader, broken).map_err(|e| io_error(&shader, e))?;
+            match compile(&graphs[current]) {
+                Ok(_) => report.failures.push(format!("frame {f}: a graph using the broken {} compiled", shader.display())),
+                Err(e) => {
+                    let message = e.to_string();
+                    if !message.contains(&shader.display().to_string()) {
+                        report.failures.push(format!("frame {f}: the shader error does not name {}: {message}", shader.display()));
+                    }
+                    report.shader_error_example.get_or_insert(message);
+                    report.shader_errors += 1;
+                }
+            }
+        } else if p == 3 * c / 4 + 1 {
+            std::fs::write(&shader, &good_wgsl).map_err(|e| io_error(&shader, e))?;
+            exec = Executor::new(gpu, compile(&graphs[current])?, &scene)?;
+            report.shader_fixes += 1;
+        }
+        exec.render(gpu, &scene.camera, &scene)?;
+        report.frames = f + 1;
+        if p == c - 1 {
+            let finite = match hdr(&exec) {
+                Some(r) => exec.read_texture_f32(gpu, r)?.2.iter().all(|t| t.iter().all(|x| x.is_finite())),
+                None => true,
+            };
+            let check = Check { frame: f + 1, rss_mib: rss_mib(), live: LiveObjects::of(gpu), finite, seconds: start.elapsed().as_secs_f64() };
+            if let Some(first) = report.checks.first() {
+                if check.live != first.live {
+                    report.failures.push(format!(
+                        "frame {}: live GPU objects changed: {} (first check: {})",
+                        check.frame,
+                        check.live.map(|l| l.describe()).unwrap_or_default(),
+                        first.live.map(|l| l.describe()).unwrap_or_default()
+                    ));
+                }
+                if check.rss_mib - first.rss_mib > cfg.rss_tolerance_mib {
+                    report.failures.push(format!(
+                        "frame {}: resident memory grew by {:.1} MiB (from {:.1} to {:.1} MiB; tolerance {} MiB)",
+                        check.frame,
+                        check.rss_mib - first.rss_mib,
+                        first.rss_mib,
+                        check.rss_mib,
+                        cfg.rss_tolerance_mib
+                    ));
+                }
+            }
+            if !check.finite {
+                report.failures.push(format!("frame {}: the HDR image has a non-finite texel", check.frame));
+            }
+            report.checks.push(check.clone());
+            on_check(&check, &report);
+        }
+    }
+    if report.checks.len() < 2 {
+        report.failures.push(format!("{} frames make {} checks of a {}-frame cycle: at least two are needed", cfg.frames, report.checks.len(), c));
+    }
+    Ok(report)
+}
