@@ -124,6 +124,10 @@ pub enum RuntimeError {
     Device { adapter: String, message: String },
     #[error("GPU error: {0}")]
     Gpu(String),
+    #[error("the GPU device was lost ({adapter}): {reason}\n  help: nothing was written; a driver reset or a GPU fault ends the run, start it again")]
+    DeviceLost { adapter: String, reason: String },
+    #[error("the GPU ran out of memory ({adapter}) {what}: {message}\n  help: nothing was written; use a smaller frame (--width, --height) or scene")]
+    OutOfMemory { adapter: String, what: String, message: String },
     #[error("could not write {path}: {source}")]
     Output { path: PathBuf, source: std::io::Error },
     #[error("could not encode image {path}: {message}")]

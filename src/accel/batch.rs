@@ -88,7 +88,7 @@ impl BatchTracer {
         gpu.wait()?;
         let build_wall_ms = start.elapsed().as_secs_f64() * 1e3;
 
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = gpu.scopes();
         let storage =
             |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
@@ -134,9 +134,7 @@ impl BatchTracer {
             compilation_options: Default::default(),
             cache: None,
         });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RuntimeError::Gpu(format!("creating the batch tracer failed: {e}")));
-        }
+        scope.finish(gpu, "creating the batch tracer")?;
         let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(device, &gpu.queue, 1));
         Ok(Self { cache, pipeline, layout0, accel_group, timer, build, build_wall_ms })
     }

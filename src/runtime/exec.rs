@@ -41,6 +41,14 @@ enum Physical {
     Accel,
 }
 
+/// The label of slot `i`: the resources it holds and its size, so that an allocation error
+/// names them (`slot 4: gbuffer.position, 2197 MiB`).
+fn slot_label(plan: &Plan, i: usize) -> String {
+    let slot = &plan.slots[i];
+    let names: Vec<&str> = slot.members.iter().filter_map(|r| plan.resources.get(*r).map(|r| r.name.as_str())).collect();
+    format!("slot {i}: {}, {}", names.join(" + "), crate::graph::compile::fmt_bytes(slot.bytes))
+}
+
 /// A plan instantiated on a device, ready to render frames.
 pub struct Executor {
     plan: Plan,
@@ -77,12 +85,13 @@ impl Executor {
     /// the plan uses it.
     pub fn new(gpu: &Gpu, plan: Plan, scene: &Scene) -> Result<Self, RuntimeError> {
         let device = &gpu.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = gpu.scopes();
         let slots = plan
             .slots
             .iter()
             .enumerate()
-            .map(|(i, s)| match &s.decl {
+            .map(|(i, s)| (i, s, slot_label(&plan, i)))
+            .map(|(_, s, label)| match &s.decl {
                 ResourceDecl::Texture(t) => {
                     let mut usage = wgpu::TextureUsages::empty();
                     if s.usage.sampled {
@@ -100,7 +109,7 @@ impl Executor {
                         usage |= wgpu::TextureUsages::COPY_DST;
                     }
                     Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
-                        label: Some(&format!("slot {i}")),
+                        label: Some(&label),
                         size: wgpu::Extent3d { width: s.extent.0, height: s.extent.1, depth_or_array_layers: 1 },
                         mip_level_count: 1,
                         sample_count: 1,
@@ -112,7 +121,7 @@ impl Executor {
                 }
                 ResourceDecl::Accel => Physical::Accel,
                 ResourceDecl::Buffer(b) => Physical::Buffer(device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&format!("slot {i}")),
+                    label: Some(&label),
                     size: b.size.max(4),
                     usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                     mapped_at_creation: false,
@@ -190,9 +199,7 @@ impl Executor {
         if gpu.timestamps {
             exec.timer = Some(GpuTimer::new(device, &gpu.queue, exec.plan.passes.len() as u32));
         }
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RuntimeError::Gpu(format!("creating the graph's GPU objects failed: {e}")));
-        }
+        scope.finish(gpu, "creating the graph's GPU objects")?;
         Ok(exec)
     }
 
@@ -217,14 +224,12 @@ impl Executor {
             self.scene_content = content;
             return Ok(());
         }
-        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = gpu.scopes();
         self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
         self.passes = self.build_passes(gpu)?;
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RuntimeError::Gpu(format!("uploading the changed scene failed: {e}")));
-        }
+        scope.finish(gpu, "uploading the changed scene")?;
         log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
         self.scene_content = content;
         Ok(())
@@ -555,12 +560,17 @@ impl Executor {
     /// Records and submits one frame; waits for it and returns its pass timings.
     pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
         let start = Instant::now();
+        if gpu.inject_device_loss_at == Some(self.frame_index) {
+            log::warn!("RAYGRAPH_INJECT_DEVICE_LOSS: destroying the device at frame {}", self.frame_index);
+            gpu.device.destroy();
+        }
+        gpu.check()?;
         self.sync_scene(gpu, scene)?;
         // Every frame: the scene may have changed since the last one.
         let b = scene.bounds();
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
         gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&self.frame_uniforms(camera, scene)));
-        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let scope = gpu.scopes();
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
         // The acceleration structure first: every trace pass depends on it.
@@ -642,9 +652,7 @@ impl Executor {
             cache.copy_stats(&mut encoder);
         }
         gpu.queue.submit([encoder.finish()]);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RuntimeError::Gpu(format!("recording the frame failed: {e}")));
-        }
+        scope.finish(gpu, "recording the frame")?;
         gpu.wait()?;
         let gpu_ms = match &self.timer {
             Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),

@@ -3,6 +3,7 @@
 
 use crate::accel::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
+use std::sync::{Arc, Mutex};
 
 pub struct Gpu {
     /// Kept for [`wgpu::Instance::generate_report`] (live object counts).
@@ -20,6 +21,17 @@ pub struct Gpu {
     pub selection: Selection,
     /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
     pub backends: Vec<Backend>,
+    /// Device loss and errors raised outside any error scope, as wgpu reported them.
+    faults: Arc<Mutex<Faults>>,
+    /// Test hook (`RAYGRAPH_INJECT_DEVICE_LOSS=N`): the device is destroyed, a real loss as far
+    /// as wgpu and the driver are concerned, when frame N of an executor starts.
+    pub inject_device_loss_at: Option<u32>,
+}
+
+#[derive(Debug, Default)]
+struct Faults {
+    lost: Option<String>,
+    uncaptured: Option<String>,
 }
 
 /// Features that scene texture binding arrays need.
@@ -100,6 +112,28 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| RuntimeError::Device { adapter: info.name.clone(), message: e.to_string() })?;
+        let faults = Arc::new(Mutex::new(Faults::default()));
+        let on_lost = faults.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            let reason = match reason {
+                wgpu::DeviceLostReason::Destroyed => "the device was destroyed",
+                wgpu::DeviceLostReason::Unknown => "the driver reported the device lost",
+            };
+            let text = if message.is_empty() { reason.to_string() } else { format!("{reason}: {message}") };
+            if let Ok(mut f) = on_lost.lock() {
+                f.lost.get_or_insert(text);
+            }
+        });
+        // wgpu's default handler panics on an error outside every error scope; record it and
+        // let the next check report it instead.
+        let on_error = faults.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            log::error!("GPU error outside an error scope: {e}");
+            if let Ok(mut f) = on_error.lock() {
+                f.uncaptured.get_or_insert(e.to_string());
+            }
+        }));
+        let inject_device_loss_at = std::env::var("RAYGRAPH_INJECT_DEVICE_LOSS").ok().and_then(|v| v.parse().ok());
         log::info!("adapter: {} ({:?}, {:?}, driver {} {})", info.name, info.device_type, info.backend, info.driver, info.driver_info);
         if !timestamps {
             log::warn!("adapter has no timestamp queries: GPU pass times are not available");
@@ -113,7 +147,7 @@ impl Gpu {
             }
         );
         log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
-        Ok(Self { instance, adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends })
+        Ok(Self { instance, adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends, faults, inject_device_loss_at })
     }
 
     /// Compiler options for this device and its selected back-end.
@@ -138,10 +172,60 @@ impl Gpu {
 
     /// Waits for all submitted work; device loss becomes an error, never a hang.
     pub fn wait(&self) -> Result<(), RuntimeError> {
-        self.device
-            .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) })
-            .map(|_| ())
-            .map_err(|e| RuntimeError::Gpu(e.to_string()))
+        let waited = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) });
+        self.check()?;
+        waited.map(|_| ()).map_err(|e| RuntimeError::Gpu(e.to_string()))
+    }
+
+    /// Reports a lost device, then an error wgpu raised outside every error scope (once).
+    pub fn check(&self) -> Result<(), RuntimeError> {
+        let Ok(mut f) = self.faults.lock() else { return Ok(()) };
+        if let Some(reason) = &f.lost {
+            return Err(RuntimeError::DeviceLost { adapter: self.info.name.clone(), reason: reason.clone() });
+        }
+        match f.uncaptured.take() {
+            Some(e) => Err(RuntimeError::Gpu(e)),
+            None => Ok(()),
+        }
+    }
+
+    /// Opens error scopes for out-of-memory and validation errors around GPU work; close them
+    /// with [`GpuScopes::finish`].
+    pub fn scopes(&self) -> GpuScopes {
+        GpuScopes { oom: self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory), validation: self.device.push_error_scope(wgpu::ErrorFilter::Validation) }
+    }
+
+    /// Turns an error caught by an error scope into the error to report: the device's loss if
+    /// it is lost (every later call fails with it), out of memory as such, else `context: e`.
+    pub fn scope_error(&self, context: &str, e: wgpu::Error) -> RuntimeError {
+        if let Err(lost @ RuntimeError::DeviceLost { .. }) = self.check() {
+            return lost;
+        }
+        match e {
+            wgpu::Error::OutOfMemory { source } => {
+                RuntimeError::OutOfMemory { adapter: self.info.name.clone(), what: format!("while {context}"), message: source.to_string() }
+            }
+            e => RuntimeError::Gpu(format!("{context} failed: {e}")),
+        }
+    }
+}
+
+/// The error scopes of [`Gpu::scopes`] (dropped unfinished, they are popped and forgotten).
+pub struct GpuScopes {
+    oom: wgpu::ErrorScopeGuard,
+    validation: wgpu::ErrorScopeGuard,
+}
+
+impl GpuScopes {
+    /// Closes the scopes: an error caught while `context` ("creating ...") ran, a lost device
+    /// or an earlier uncaptured error becomes the `Err`.
+    pub fn finish(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
+        let validation = pollster::block_on(self.validation.pop());
+        let oom = pollster::block_on(self.oom.pop());
+        if let Some(e) = oom.or(validation) {
+            return Err(gpu.scope_error(context, e));
+        }
+        gpu.check()
     }
 }
 
