@@ -105,3 +105,32 @@ fn the_fuzz_seeds_are_accepted() {
     }
     assert!(n >= 20, "only {n} seeds");
 }
+
+/// Every input a fuzzer found a crash with (`tests/fixtures/fuzz/<target>/`, named after what
+/// is wrong with it) is now an error that names the file, from the entry point and, for scene
+/// files, from `raygraph scene info`.
+#[test]
+fn every_fuzz_finding_is_a_clear_error() {
+    let fixtures = common::repo().join("tests/fixtures/fuzz");
+    let entry: [(&str, fn(&[u8]) -> Result<(), String>, &str); 4] = [
+        ("graph_file", raygraph::fuzz::graph_file, "graph.ron"),
+        ("layer_file", raygraph::fuzz::layer_file, "fuzz.ron"),
+        ("scene_file", raygraph::fuzz::scene_file, "scene."),
+        ("track_file", raygraph::fuzz::track_file, "track.ron"),
+    ];
+    let mut n = 0;
+    for (target, run, scratch_name) in entry {
+        for f in files(&fixtures.join(target)) {
+            let e = run(&std::fs::read(&f).unwrap()).expect_err(&format!("{}: must be refused", f.display()));
+            println!("{}: {e}", f.display());
+            assert!(e.contains(scratch_name), "{}: the error must name the file: {e}", f.display());
+            if target == "scene_file" {
+                let out = raygraph().args(["scene", "info"]).arg(&f).output().unwrap();
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                assert!(!out.status.success() && stderr.contains(&*f.to_string_lossy()) && !stderr.contains("panicked"), "{stderr}");
+            }
+            n += 1;
+        }
+    }
+    assert!(n >= 1, "no fuzz findings under {}", fixtures.display());
+}

@@ -54,10 +54,42 @@ pub fn fallback_texture(name: &str) -> TextureImage {
 }
 
 /// Loads a glTF or GLB file.
+/// `gltf::Gltf::from_slice` with one check first: gltf-json 1.4's validator reads the accessor
+/// a primitive's `POSITION` names without a bounds check, so a file naming a missing accessor
+/// would panic inside it instead of failing validation.
+fn parse_and_validate(bytes: &[u8]) -> Result<gltf::Gltf, String> {
+    use gltf::json::validation::Validate;
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| e.to_string())?;
+    let root = gltf.document.as_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &primitive.attributes {
+                if accessor.value() >= root.accessors.len() {
+                    return Err(format!(
+                        "meshes[{m}].primitives[{p}].attributes: {} names accessor {}, but the file has {} accessors",
+                        match semantic {
+                            gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                            gltf::json::validation::Checked::Invalid => "an unknown attribute".to_string(),
+                        },
+                        accessor.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    let mut errors = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| errors.push((path(), error)));
+    if !errors.is_empty() {
+        return Err(gltf::Error::Validation(errors).to_string());
+    }
+    Ok(gltf)
+}
+
 pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
     let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
     let bytes = std::fs::read(path).map_err(|e| parse_err(e.to_string()))?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| parse_err(e.to_string()))?;
+    let gltf = parse_and_validate(&bytes).map_err(parse_err)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let mut report = ImportReport::default();
 
