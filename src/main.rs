@@ -436,6 +436,10 @@ fn run(cli: Cli) -> Result<()> {
             let (rows, skipped) = with_progress(|progress| build_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows, &[]))))?;
             write_results(&out, &files(&rows, &skipped))?;
             write_plots(build_bench::plots(&out, &rows))?;
+            if cfg.backends.contains(&Backend::Compute) {
+                let refit = build_bench::run_refit(&gpu, &cfg, if quick { 3 } else { 20 })?;
+                write_results(&out, &[("refit.csv", build_bench::refit_csv(&info, &refit)), ("refit.md", build_bench::refit_markdown(&info, &refit))])?;
+            }
         }
         Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, out } } => {
             use raygraph::bench::track::{self as track_bench, TrackConfig};

@@ -15,6 +15,7 @@
 use super::backend::Backend;
 use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas, TriangleStatus};
 use super::layout::{flatten, merge, merge_instances, GpuAccel};
+use super::refit::MergedRefit;
 use crate::error::RuntimeError;
 use crate::runtime::profiler::map_read;
 use crate::scene::{Mesh, Scene};
@@ -76,11 +77,13 @@ pub struct BuildReport {
     /// SAH cost of the built BVHs, triangle-weighted over the BLASes, and of the TLAS (compute).
     pub blas_sah: Option<f64>,
     pub tlas_sah: Option<f64>,
+    /// The merged BLAS was refitted on the GPU (inside the `Accel` pass's timestamps).
+    pub blas_refit: bool,
 }
 
 impl BuildReport {
     pub fn built_anything(&self) -> bool {
-        self.blas_built > 0 || self.tlas != TlasWork::None
+        self.blas_built > 0 || self.blas_refit || self.tlas != TlasWork::None
     }
 
     pub fn describe(&self) -> String {
@@ -92,7 +95,8 @@ impl BuildReport {
             TlasWork::Refit => "TLAS refit",
             TlasWork::Rebuild => "TLAS rebuilt",
         };
-        format!("{} BLAS built, {} reused, {tlas}, {:.2} ms CPU", self.blas_built, self.blas_reused, self.cpu_ms)
+        let refit = if self.blas_refit { " (merged BLAS refitted on the GPU)" } else { "" };
+        format!("{} BLAS built{refit}, {} reused, {tlas}, {:.2} ms CPU", self.blas_built, self.blas_reused, self.cpu_ms)
     }
 }
 
@@ -128,10 +132,12 @@ struct UnitKey {
 }
 
 struct ComputeState {
-    /// The two levels (`None` in the merged layout, which is rebuilt on any change).
+    /// The two levels (`None` in the merged layout).
     accel: Option<SceneAccel>,
     /// tlas_nodes, instances, blas_nodes, triangles
     buffers: [wgpu::Buffer; 4],
+    /// The merged layout's GPU refit, and the hash of the meshes it was built from.
+    refit: Option<(MergedRefit, u64)>,
 }
 
 struct RqBlas {
@@ -244,6 +250,18 @@ impl AccelCache {
         self.backend
     }
 
+    /// Tree levels of the merged layout's GPU refit (its dispatches), if there is one.
+    pub fn refit_levels(&self) -> Option<usize> {
+        match &self.state {
+            State::Compute(ComputeState { refit: Some((r, _)), .. }) => Some(r.level_count()),
+            _ => None,
+        }
+    }
+
+    fn instance_meshes_of(&self, scene: &Scene) -> Vec<u64> {
+        scene.instances.iter().map(|i| i.mesh as u64).collect()
+    }
+
     pub fn generation(&self) -> u64 {
         self.generation
     }
@@ -286,11 +304,18 @@ impl AccelCache {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
             return Ok(report);
         }
-        report.blas_built = changed.len();
-        report.blas_reused = units.len() - changed.len();
-        self.total_blas_builds += changed.len();
+        // The merged layout when only instances moved: a GPU refit, no build.
+        let meshes_hash = hash_words(hash_words(3, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&self.instance_meshes_of(scene)));
+        let refit = match &self.state {
+            State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
+            _ => false,
+        };
+        let built = if refit { 0 } else { changed.len() };
+        report.blas_built = built;
+        report.blas_reused = units.len() - built;
+        self.total_blas_builds += built;
         match self.backend {
-            Backend::Compute if self.merge => self.update_compute_merged(device, queue, scene, &mut report)?,
+            Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, meshes_hash, refit, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &mut report)?,
         }
@@ -404,16 +429,36 @@ impl AccelCache {
             }
         };
         report.bytes_uploaded = self.upload(device, queue, &mut buffers, flat);
-        self.state = State::Compute(ComputeState { accel, buffers });
+        self.state = State::Compute(ComputeState { accel, buffers, refit: None });
         Ok(())
     }
 
-    /// The merged layout: one BLAS over every instance's world-space triangles.
-    fn update_compute_merged(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, report: &mut BuildReport) -> Result<(), RuntimeError> {
+    /// The merged layout: one BLAS over every instance's world-space triangles, rebuilt when
+    /// anything but the instance transforms changed, else refitted on the GPU.
+    fn update_compute_merged(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+        meshes_hash: u64,
+        refit: bool,
+        report: &mut BuildReport,
+    ) -> Result<(), RuntimeError> {
         let old = match std::mem::replace(&mut self.state, State::Empty) {
             State::Compute(c) => Some(c),
             _ => None,
         };
+        // Only instances moved: refit on the GPU.
+        if let Some(c) = old.as_ref().filter(|_| refit) {
+            if let Some((refit, _)) = &c.refit {
+                refit.record(device, queue, encoder, scene, &c.buffers);
+                report.tlas = TlasWork::Refit;
+                report.blas_refit = true;
+            }
+            self.state = old.map(State::Compute).unwrap_or(State::Empty);
+            return Ok(());
+        }
         let t0 = Instant::now();
         let (mesh, origin) = merge_instances(scene);
         let blas = Blas::build(&mesh, &AccelOptions::default().build);
@@ -421,7 +466,11 @@ impl AccelCache {
         report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
         report.tlas = TlasWork::Rebuild;
         let flat = merge(&mesh, &origin, blas);
-        self.install(device, queue, scene, old, None, &flat, report)
+        self.install(device, queue, scene, old, None, &flat, report)?;
+        if let State::Compute(c) = &mut self.state {
+            c.refit = MergedRefit::new(device, scene, &flat).map(|r| (r, meshes_hash));
+        }
+        Ok(())
     }
 
     /// Writes the flattened arrays, growing buffers (and bumping the generation) as needed.

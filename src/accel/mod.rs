@@ -28,3 +28,4 @@ pub mod cache;
 pub mod cpu_traverse;
 pub mod layout;
 pub mod reference;
+pub mod refit;

@@ -9,6 +9,7 @@ use super::RunInfo;
 use crate::accel::backend::Backend;
 use crate::accel::batch::{BatchTracer, GpuRay};
 use crate::error::RuntimeError;
+use crate::runtime::profiler::median;
 use crate::runtime::Gpu;
 use crate::scene::duplicate::duplicate;
 use crate::scene::{LoadOptions, Scene};
@@ -219,4 +220,104 @@ pub fn plots(dir: &Path, rows: &[BuildRow]) -> Result<Vec<PathBuf>, String> {
     LinePlot { title: "Trace speed of the built structure", x_label: "triangles", y_label: "Mrays/s", log_x: true, log_y: true, x_labels: None }
         .write(&trace, &series(&|r| r.mrays_per_s))?;
     Ok(vec![time, trace])
+}
+
+/// The merged layout's GPU refit against its CPU rebuild, per scene (no duplication): the scene
+/// through `graph/bench_primary.ron` (`Accel(merge: true)`, one primary ray per pixel), built
+/// once, then every instance moved a little before each of `frames` frames.
+#[derive(Debug, Clone)]
+pub struct RefitRow {
+    pub scene: String,
+    pub triangles: usize,
+    /// Dispatches of the refit (tree levels).
+    pub levels: usize,
+    /// CPU milliseconds of the first build (merge and binned-SAH build).
+    pub rebuild_ms: f64,
+    /// GPU milliseconds of the `Accel` pass on the refitted frames (median, min).
+    pub refit_gpu_ms: Option<(f64, f64)>,
+    /// CPU milliseconds of the cache's update on those frames (change detection and recording).
+    pub refit_cpu_ms: f64,
+}
+
+pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<RefitRow>, RuntimeError> {
+    use crate::graph::compile::{compile_with, Project};
+    use crate::graph::desc::PassKind;
+    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
+    let graph = cfg.root.join("graph/bench_primary.ron");
+    let mut options = gpu.compile_options_for(Backend::Compute);
+    options.params.insert(("primary".into(), "rays".into()), crate::graph::desc::ParamValue::Int(1));
+    let mut rows = Vec::new();
+    for name in &cfg.scenes {
+        let (mut scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
+        let plan = compile_with(&graph, &project, (64, 64), &options)?;
+        let accel_pass = plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild);
+        let mut exec = crate::runtime::Executor::new(gpu, plan, &scene)?;
+        let first = exec.render(gpu, &scene.camera, &scene)?;
+        let rebuild_ms = first.accel.as_ref().map(|r| r.blas_ms).unwrap_or(0.0);
+        let radius = 0.5 * scene.bounds().diagonal();
+        let base: Vec<_> = scene.instances.iter().map(|i| i.transform).collect();
+        let (mut gpu_ms, mut cpu_ms) = (Vec::new(), Vec::new());
+        for f in 0..frames.max(1) {
+            let offset = glam::Vec3::new((f as f32 * 0.7).sin(), 0.0, (f as f32 * 0.7).cos()) * (1e-3 * radius);
+            for (inst, t) in scene.instances.iter_mut().zip(&base) {
+                inst.transform = glam::Mat4::from_translation(offset) * *t;
+            }
+            let t = exec.render(gpu, &scene.camera, &scene)?;
+            let report = t.accel.clone().unwrap_or_default();
+            if !report.blas_refit {
+                return Err(RuntimeError::Gpu(format!(
+                    "bench build: moving the instances of `{name}` did not refit the merged layout ({})",
+                    report.describe()
+                )));
+            }
+            cpu_ms.push(report.cpu_ms);
+            if let (Some(ms), Some(i)) = (&t.gpu_ms, accel_pass) {
+                gpu_ms.push(ms[i]);
+            }
+        }
+        let levels = exec.accel().and_then(|a| a.refit_levels()).unwrap_or(0);
+        let min = gpu_ms.iter().copied().fold(f64::INFINITY, f64::min);
+        let refit_gpu_ms = (!gpu_ms.is_empty()).then(|| (median(&mut gpu_ms), min));
+        rows.push(RefitRow { scene: name.clone(), triangles: scene.triangle_count(), levels, rebuild_ms, refit_gpu_ms, refit_cpu_ms: median(&mut cpu_ms) });
+    }
+    Ok(rows)
+}
+
+pub fn refit_markdown(info: &RunInfo, rows: &[RefitRow]) -> String {
+    let mut s = format!("# bench build: merged layout, GPU refit against CPU rebuild\n\n{}\n", info.markdown());
+    s.push_str("| scene | triangles | levels (dispatches) | CPU rebuild ms | GPU refit ms (median) | GPU refit ms (min) | CPU ms per refit frame |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.2} | {} | {} | {:.3} |",
+            r.scene,
+            r.triangles,
+            r.levels,
+            r.rebuild_ms,
+            opt(r.refit_gpu_ms.map(|m| m.0), 4),
+            opt(r.refit_gpu_ms.map(|m| m.1), 4),
+            r.refit_cpu_ms
+        );
+    }
+    s
+}
+
+pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,triangles,levels,rebuild_ms,refit_gpu_ms_median,refit_gpu_ms_min,refit_cpu_ms\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{:.4},{},{},{:.4}",
+            r.scene,
+            r.triangles,
+            r.levels,
+            r.rebuild_ms,
+            opt(r.refit_gpu_ms.map(|m| m.0), 5),
+            opt(r.refit_gpu_ms.map(|m| m.1), 5),
+            r.refit_cpu_ms
+        );
+    }
+    s
 }

@@ -86,6 +86,40 @@ fn parse_and_validate(bytes: &[u8]) -> Result<gltf::Gltf, String> {
     Ok(gltf)
 }
 
+/// The component types and shapes glTF 2.0 allows for what the importer reads (the `gltf`
+/// crate's readers assume them and would panic on others).
+fn check_accessor_types(prim: &gltf::Primitive) -> Result<(), String> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    use gltf::Semantic as S;
+    let check = |what: &str, acc: gltf::Accessor, types: &[T], dims: D| {
+        if types.contains(&acc.data_type()) && acc.dimensions() == dims {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} accessor {} is {:?} {:?}; glTF requires {:?} of {}",
+                acc.index(),
+                acc.dimensions(),
+                acc.data_type(),
+                dims,
+                types.iter().map(|t| format!("{t:?}")).collect::<Vec<_>>().join(" or ")
+            ))
+        }
+    };
+    if let Some(acc) = prim.indices() {
+        check("the indices", acc, &[T::U8, T::U16, T::U32], D::Scalar)?;
+    }
+    for (semantic, acc) in prim.attributes() {
+        match semantic {
+            S::Positions => check("the POSITION", acc, &[T::F32], D::Vec3)?,
+            S::Normals => check("the NORMAL", acc, &[T::F32], D::Vec3)?,
+            S::Tangents => check("the TANGENT", acc, &[T::F32], D::Vec4)?,
+            S::TexCoords(0) => check("the TEXCOORD_0", acc, &[T::F32, T::U8, T::U16], D::Vec2)?,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
     let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
     let bytes = std::fs::read(path).map_err(|e| parse_err(e.to_string()))?;
@@ -235,6 +269,7 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
                 continue;
             }
             let prim_err = |message: String| SceneError::Primitive { path: path.to_path_buf(), mesh: mesh_name.clone(), primitive: prim.index(), message };
+            check_accessor_types(&prim).map_err(prim_err)?;
             let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
             let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(|| prim_err("has no POSITION attribute".into()))?.collect();
             let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());

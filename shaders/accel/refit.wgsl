@@ -1,0 +1,102 @@
+// GPU refit of the merged layout (src/accel/refit.rs): after instances move, every triangle is
+// moved to world space again from its object-space vertices and its instance's transform, and
+// every node box is recomputed bottom-up, one dispatch per tree level (the previous level's
+// boxes are complete when a dispatch starts). The topology stays; boxes are widened outward
+// exactly as src/accel/layout.rs widens them (1e-20, then one ulp), so they stay conservative.
+
+struct Params {
+    // This level's nodes are level_nodes[first .. first + count].
+    first: u32,
+    count: u32,
+    // 1 for the root's level: the TLAS's one node (a leaf over the merged instance) gets the
+    // root's box too.
+    root_level: u32,
+    _pad: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+// Node i: [2i] = (min.xyz, left_or_first), [2i + 1] = (max.xyz, count); as in compute.wgsl.
+@group(0) @binding(1) var<storage, read_write> nodes: array<vec4<f32>>;
+// Triangle i: [3i] = (v0, prim), [3i + 1] = (v1, instance), [3i + 2] = (v2, flags).
+@group(0) @binding(2) var<storage, read_write> triangles: array<vec4<f32>>;
+// Triangle i's object-space vertices: [3i], [3i + 1], [3i + 2] (w unused).
+@group(0) @binding(3) var<storage, read> object_vertices: array<vec4<f32>>;
+// Scene instance j's object-to-world rows: [3j], [3j + 1], [3j + 2].
+@group(0) @binding(4) var<storage, read> transforms: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> level_nodes: array<u32>;
+@group(0) @binding(6) var<storage, read_write> tlas_nodes: array<vec4<f32>>;
+
+const NO_PRIM: u32 = 0xffffffffu;
+const BOX_PAD_ABS: f32 = 1e-20;
+
+// One ulp towards -inf (x finite), as Rust's f32::next_down.
+fn next_down(x: f32) -> f32 {
+    let b = bitcast<u32>(x);
+    if (b & 0x7fffffffu) == 0u {
+        return -bitcast<f32>(1u);
+    }
+    return bitcast<f32>(select(b - 1u, b + 1u, x < 0.0));
+}
+
+fn widen_down(x: vec3<f32>) -> vec3<f32> {
+    let y = x - BOX_PAD_ABS;
+    return vec3<f32>(next_down(y.x), next_down(y.y), next_down(y.z));
+}
+
+fn widen_up(x: vec3<f32>) -> vec3<f32> {
+    let y = -(x + BOX_PAD_ABS);
+    return -vec3<f32>(next_down(y.x), next_down(y.y), next_down(y.z));
+}
+
+fn to_world(j: u32, p: vec3<f32>) -> vec3<f32> {
+    let h = vec4<f32>(p, 1.0);
+    return vec3<f32>(dot(transforms[3u * j], h), dot(transforms[3u * j + 1u], h), dot(transforms[3u * j + 2u], h));
+}
+
+@compute @workgroup_size(64)
+fn refit_level(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.count {
+        return;
+    }
+    let node = level_nodes[params.first + id.x];
+    let a = nodes[2u * node];
+    let b = nodes[2u * node + 1u];
+    let first = bitcast<u32>(a.w);
+    let count = bitcast<u32>(b.w);
+    var lo = vec3<f32>(3.0e38);
+    var hi = vec3<f32>(-3.0e38);
+    if count > 0u {
+        for (var i = first; i < first + count; i++) {
+            let t0 = triangles[3u * i];
+            let t1 = triangles[3u * i + 1u];
+            let t2 = triangles[3u * i + 2u];
+            if bitcast<u32>(t0.w) == NO_PRIM {
+                continue;
+            }
+            let j = bitcast<u32>(t1.w);
+            let v0 = to_world(j, object_vertices[3u * i].xyz);
+            let v1 = to_world(j, object_vertices[3u * i + 1u].xyz);
+            let v2 = to_world(j, object_vertices[3u * i + 2u].xyz);
+            triangles[3u * i] = vec4<f32>(v0, t0.w);
+            triangles[3u * i + 1u] = vec4<f32>(v1, t1.w);
+            triangles[3u * i + 2u] = vec4<f32>(v2, t2.w);
+            lo = min(lo, min(v0, min(v1, v2)));
+            hi = max(hi, max(v0, max(v1, v2)));
+        }
+        if lo.x > hi.x {
+            return; // padding only: the box stays the never-entered placeholder
+        }
+        lo = widen_down(lo);
+        hi = widen_up(hi);
+    } else {
+        // The children's boxes are widened already; their union is the widened union.
+        lo = min(nodes[2u * first].xyz, nodes[2u * first + 2u].xyz);
+        hi = max(nodes[2u * first + 1u].xyz, nodes[2u * first + 3u].xyz);
+    }
+    nodes[2u * node] = vec4<f32>(lo, a.w);
+    nodes[2u * node + 1u] = vec4<f32>(hi, b.w);
+    if params.root_level == 1u {
+        tlas_nodes[0] = vec4<f32>(lo, tlas_nodes[0].w);
+        tlas_nodes[1] = vec4<f32>(hi, tlas_nodes[1].w);
+    }
+}
