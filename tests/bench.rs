@@ -68,12 +68,13 @@ fn bench_build_quick_writes_a_complete_table() {
     // The merged layout's GPU refit (the run fails if moving the instances did not refit).
     let refit = std::fs::read_to_string(out.join("refit.csv")).unwrap();
     let mut lines = refit.lines().filter(|l| !l.starts_with('#'));
-    assert_eq!(lines.next().unwrap(), "scene,triangles,levels,rebuild_ms,refit_gpu_ms_median,refit_gpu_ms_min,refit_cpu_ms");
+    assert_eq!(lines.next().unwrap(), "scene,triangles,levels,dispatches,rebuild_ms,refit_gpu_ms_median,refit_gpu_ms_min,refit_cpu_ms");
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), ["box", "organic"], "{refit}");
     for r in &rows {
         assert!(r[2].parse::<usize>().unwrap() >= 1, "tree levels: {r:?}");
-        assert!(r[4].parse::<f64>().is_ok_and(|x| x > 0.0), "the refit was timed on the GPU: {r:?}");
+        assert!(r[3].parse::<usize>().unwrap() >= 1, "dispatches: {r:?}");
+        assert!(r[5].parse::<f64>().is_ok_and(|x| x > 0.0), "the refit was timed on the GPU: {r:?}");
     }
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -3,14 +3,17 @@
 // every node box is recomputed bottom-up, one dispatch per tree level (the previous level's
 // boxes are complete when a dispatch starts). The topology stays; boxes are widened outward
 // exactly as src/accel/layout.rs widens them (1e-20, then one ulp), so they stay conservative.
+// Levels with many nodes get a dispatch each (`refit_level`); runs of consecutive small levels
+// (the top of the tree, and the deep tail) are done by one workgroup in one dispatch
+// (`refit_small_levels`), with a storage barrier between levels.
 
 struct Params {
-    // This level's nodes are level_nodes[first .. first + count].
-    first: u32,
-    count: u32,
-    // 1 for the root's level: the TLAS's one node (a leaf over the merged instance) gets the
-    // root's box too.
-    root_level: u32,
+    // The levels level_ranges[first_level .. first_level + level_count].
+    first_level: u32,
+    level_count: u32,
+    // 1 for the dispatch that ends with the root (node 0): the TLAS's one node (a leaf over the
+    // merged instance) then gets the root's box too.
+    writes_root: u32,
     _pad: u32,
 }
 
@@ -25,6 +28,8 @@ struct Params {
 @group(0) @binding(4) var<storage, read> transforms: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> level_nodes: array<u32>;
 @group(0) @binding(6) var<storage, read_write> tlas_nodes: array<vec4<f32>>;
+// Per level (deepest first): (first, count) into level_nodes.
+@group(0) @binding(7) var<storage, read> level_ranges: array<vec2<u32>>;
 
 const NO_PRIM: u32 = 0xffffffffu;
 const BOX_PAD_ABS: f32 = 1e-20;
@@ -53,12 +58,8 @@ fn to_world(j: u32, p: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(transforms[3u * j], h), dot(transforms[3u * j + 1u], h), dot(transforms[3u * j + 2u], h));
 }
 
-@compute @workgroup_size(64)
-fn refit_level(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.count {
-        return;
-    }
-    let node = level_nodes[params.first + id.x];
+// Recomputes node `node`'s box (and, for a leaf, moves its triangles).
+fn refit_node(node: u32) {
     let a = nodes[2u * node];
     let b = nodes[2u * node + 1u];
     let first = bitcast<u32>(a.w);
@@ -95,8 +96,35 @@ fn refit_level(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     nodes[2u * node] = vec4<f32>(lo, a.w);
     nodes[2u * node + 1u] = vec4<f32>(hi, b.w);
-    if params.root_level == 1u {
-        tlas_nodes[0] = vec4<f32>(lo, tlas_nodes[0].w);
-        tlas_nodes[1] = vec4<f32>(hi, tlas_nodes[1].w);
+}
+
+fn copy_root_to_tlas() {
+    tlas_nodes[0] = vec4<f32>(nodes[0].xyz, tlas_nodes[0].w);
+    tlas_nodes[1] = vec4<f32>(nodes[1].xyz, tlas_nodes[1].w);
+}
+
+// One level, one node per invocation.
+@compute @workgroup_size(64)
+fn refit_level(@builtin(global_invocation_id) id: vec3<u32>) {
+    let range = level_ranges[params.first_level];
+    if id.x < range.y {
+        refit_node(level_nodes[range.x + id.x]);
+    }
+}
+
+const SMALL_GROUP: u32 = 256u;
+
+// Several small levels, deepest first, by one workgroup.
+@compute @workgroup_size(256)
+fn refit_small_levels(@builtin(local_invocation_index) lane: u32) {
+    for (var l = 0u; l < params.level_count; l++) {
+        let range = level_ranges[params.first_level + l];
+        for (var k = lane; k < range.y; k += SMALL_GROUP) {
+            refit_node(level_nodes[range.x + k]);
+        }
+        storageBarrier();
+    }
+    if params.writes_root == 1u && lane == 0u {
+        copy_root_to_tlas();
     }
 }

@@ -250,10 +250,10 @@ impl AccelCache {
         self.backend
     }
 
-    /// Tree levels of the merged layout's GPU refit (its dispatches), if there is one.
-    pub fn refit_levels(&self) -> Option<usize> {
+    /// Tree levels and dispatches of the merged layout's GPU refit, if there is one.
+    pub fn refit_shape(&self) -> Option<(usize, usize)> {
         match &self.state {
-            State::Compute(ComputeState { refit: Some((r, _)), .. }) => Some(r.level_count()),
+            State::Compute(ComputeState { refit: Some((r, _)), .. }) => Some((r.level_count(), r.dispatch_count())),
             _ => None,
         }
     }

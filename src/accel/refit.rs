@@ -1,7 +1,7 @@
 //! GPU refit of the merged layout (`Accel(merge: true)` on the `compute` back-end): when only
 //! instance transforms change, the triangles are moved to world space again on the GPU and
-//! every node box is recomputed bottom-up (`shaders/accel/refit.wgsl`, one dispatch per tree
-//! level), instead of merging and rebuilding on the CPU. The tree's topology is kept, so its
+//! every node box is recomputed bottom-up (`shaders/accel/refit.wgsl`: one dispatch per large
+//! tree level, one per run of small levels), instead of merging and rebuilding on the CPU. The tree's topology is kept, so its
 //! quality is the one built for the first positions; a structural change rebuilds.
 
 use super::bvh::instance_transform;
@@ -39,15 +39,18 @@ pub fn levels_deepest_first(nodes: &[GpuBvhNode]) -> (Vec<u32>, Vec<(u32, u32)>)
 
 /// The refit's own GPU objects for one merged build.
 pub struct MergedRefit {
-    pipeline: wgpu::ComputePipeline,
+    /// `refit_level` (one large level) and `refit_small_levels` (a run of small ones).
+    pipelines: [wgpu::ComputePipeline; 2],
     layout: wgpu::BindGroupLayout,
     object_vertices: wgpu::Buffer,
     transforms: wgpu::Buffer,
     level_nodes: wgpu::Buffer,
-    /// One `Params` record per level, `params_stride` bytes apart.
+    level_ranges: wgpu::Buffer,
+    /// One `Params` record per dispatch, `params_stride` bytes apart.
     params: wgpu::Buffer,
     params_stride: u64,
-    levels: Vec<(u32, u32)>,
+    dispatches: Vec<Dispatch>,
+    levels: usize,
     /// Which scene instances were merged (usable transform and mesh), in scene order.
     usable: Vec<bool>,
 }
@@ -71,12 +74,14 @@ impl MergedRefit {
             object.extend(verts.map(|v| v.extend(0.0).to_array()));
         }
         let (order, levels) = levels_deepest_first(&flat.blas_nodes);
+        let dispatches = plan_dispatches(&levels);
         let params_stride = device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
-        let mut params = vec![0u8; params_stride as usize * levels.len().max(1)];
-        for (k, &(first, count)) in levels.iter().enumerate() {
-            let record = [first, count, (k + 1 == levels.len()) as u32, 0];
+        let mut params = vec![0u8; params_stride as usize * dispatches.len().max(1)];
+        for (k, d) in dispatches.iter().enumerate() {
+            let record = [d.first_level, d.level_count, (k + 1 == dispatches.len()) as u32, 0];
             params[k * params_stride as usize..][..16].copy_from_slice(bytemuck::cast_slice(&record));
         }
+        let ranges: Vec<[u32; 2]> = levels.iter().map(|&(first, count)| [first, count]).collect();
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
@@ -84,6 +89,7 @@ impl MergedRefit {
         let object_vertices = init("refit object vertices", bytemuck::cast_slice(&object), storage);
         let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
         let level_nodes = init("refit level nodes", bytemuck::cast_slice(&order), storage);
+        let level_ranges = init("refit level ranges", bytemuck::cast_slice(&ranges), storage);
         let params = init("refit params", &params, wgpu::BufferUsages::UNIFORM);
 
         let module =
@@ -98,20 +104,44 @@ impl MergedRefit {
         let ro = wgpu::BufferBindingType::Storage { read_only: true };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("refit"),
-            entries: &[buffer(0, wgpu::BufferBindingType::Uniform), buffer(1, rw), buffer(2, rw), buffer(3, ro), buffer(4, ro), buffer(5, ro), buffer(6, rw)],
+            entries: &[
+                buffer(0, wgpu::BufferBindingType::Uniform),
+                buffer(1, rw),
+                buffer(2, rw),
+                buffer(3, ro),
+                buffer(4, ro),
+                buffer(5, ro),
+                buffer(6, rw),
+                buffer(7, ro),
+            ],
         });
         let pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("refit"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("refit_level"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipelines = [pipeline("refit_level"), pipeline("refit_small_levels")];
         let usable = usable_instances(scene);
-        Some(Self { pipeline, layout, object_vertices, transforms, level_nodes, params, params_stride, levels, usable })
+        Some(Self {
+            pipelines,
+            layout,
+            object_vertices,
+            transforms,
+            level_nodes,
+            level_ranges,
+            params,
+            params_stride,
+            dispatches,
+            levels: levels.len(),
+            usable,
+        })
     }
 
     /// Whether `scene` differs from the merged one only in where its instances are (same
@@ -142,20 +172,52 @@ impl MergedRefit {
                 wgpu::BindGroupEntry { binding: 4, resource: self.transforms.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 5, resource: self.level_nodes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: buffers[0].as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 7, resource: self.level_ranges.as_entire_binding() },
             ],
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel refit"), timestamp_writes: None });
-        pass.set_pipeline(&self.pipeline);
-        for (k, &(_, count)) in self.levels.iter().enumerate() {
+        for (k, d) in self.dispatches.iter().enumerate() {
+            pass.set_pipeline(&self.pipelines[d.small as usize]);
             pass.set_bind_group(0, &bind_group, &[(k as u64 * self.params_stride) as u32]);
-            pass.dispatch_workgroups(count.div_ceil(WORKGROUP), 1, 1);
+            pass.dispatch_workgroups(if d.small { 1 } else { d.nodes.div_ceil(WORKGROUP) }, 1, 1);
         }
     }
 
-    /// Tree levels, one dispatch each.
+    /// Tree levels.
     pub fn level_count(&self) -> usize {
-        self.levels.len()
+        self.levels
     }
+
+    /// Dispatches per refit.
+    pub fn dispatch_count(&self) -> usize {
+        self.dispatches.len()
+    }
+}
+
+/// Levels with at most this many nodes are refitted by one workgroup, several in a row.
+pub const SMALL_LEVEL: u32 = 1024;
+
+/// One dispatch of the refit: a large level, or a run of consecutive small levels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Dispatch {
+    pub first_level: u32,
+    pub level_count: u32,
+    /// Nodes of the (large) level.
+    pub nodes: u32,
+    pub small: bool,
+}
+
+/// Groups `levels` (deepest first) into dispatches.
+pub fn plan_dispatches(levels: &[(u32, u32)]) -> Vec<Dispatch> {
+    let mut out: Vec<Dispatch> = Vec::new();
+    for (l, &(_, count)) in levels.iter().enumerate() {
+        let small = count <= SMALL_LEVEL;
+        match out.last_mut() {
+            Some(d) if small && d.small => d.level_count += 1,
+            _ => out.push(Dispatch { first_level: l as u32, level_count: 1, nodes: count, small }),
+        }
+    }
+    out
 }
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {

@@ -229,8 +229,9 @@ pub fn plots(dir: &Path, rows: &[BuildRow]) -> Result<Vec<PathBuf>, String> {
 pub struct RefitRow {
     pub scene: String,
     pub triangles: usize,
-    /// Dispatches of the refit (tree levels).
+    /// Tree levels, and the refit's dispatches (large levels one each, runs of small ones one).
     pub levels: usize,
+    pub dispatches: usize,
     /// CPU milliseconds of the first build (merge and binned-SAH build).
     pub rebuild_ms: f64,
     /// GPU milliseconds of the `Accel` pass on the refitted frames (median, min).
@@ -275,25 +276,34 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
                 gpu_ms.push(ms[i]);
             }
         }
-        let levels = exec.accel().and_then(|a| a.refit_levels()).unwrap_or(0);
+        let (levels, dispatches) = exec.accel().and_then(|a| a.refit_shape()).unwrap_or((0, 0));
         let min = gpu_ms.iter().copied().fold(f64::INFINITY, f64::min);
         let refit_gpu_ms = (!gpu_ms.is_empty()).then(|| (median(&mut gpu_ms), min));
-        rows.push(RefitRow { scene: name.clone(), triangles: scene.triangle_count(), levels, rebuild_ms, refit_gpu_ms, refit_cpu_ms: median(&mut cpu_ms) });
+        rows.push(RefitRow {
+            scene: name.clone(),
+            triangles: scene.triangle_count(),
+            levels,
+            dispatches,
+            rebuild_ms,
+            refit_gpu_ms,
+            refit_cpu_ms: median(&mut cpu_ms),
+        });
     }
     Ok(rows)
 }
 
 pub fn refit_markdown(info: &RunInfo, rows: &[RefitRow]) -> String {
     let mut s = format!("# bench build: merged layout, GPU refit against CPU rebuild\n\n{}\n", info.markdown());
-    s.push_str("| scene | triangles | levels (dispatches) | CPU rebuild ms | GPU refit ms (median) | GPU refit ms (min) | CPU ms per refit frame |\n");
-    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("| scene | triangles | tree levels | dispatches | CPU rebuild ms | GPU refit ms (median) | GPU refit ms (min) | CPU ms per refit frame |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.2} | {} | {} | {:.3} |",
+            "| {} | {} | {} | {} | {:.2} | {} | {} | {:.3} |",
             r.scene,
             r.triangles,
             r.levels,
+            r.dispatches,
             r.rebuild_ms,
             opt(r.refit_gpu_ms.map(|m| m.0), 4),
             opt(r.refit_gpu_ms.map(|m| m.1), 4),
@@ -305,14 +315,15 @@ pub fn refit_markdown(info: &RunInfo, rows: &[RefitRow]) -> String {
 
 pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("scene,triangles,levels,rebuild_ms,refit_gpu_ms_median,refit_gpu_ms_min,refit_cpu_ms\n");
+    s.push_str("scene,triangles,levels,dispatches,rebuild_ms,refit_gpu_ms_median,refit_gpu_ms_min,refit_cpu_ms\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{},{:.4},{},{},{:.4}",
+            "{},{},{},{},{:.4},{},{},{:.4}",
             r.scene,
             r.triangles,
             r.levels,
+            r.dispatches,
             r.rebuild_ms,
             opt(r.refit_gpu_ms.map(|m| m.0), 5),
             opt(r.refit_gpu_ms.map(|m| m.1), 5),
