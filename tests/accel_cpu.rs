@@ -1031,3 +1031,53 @@ fn empty_placeholders_are_never_entered() {
     let wt = raygraph::accel::cpu_traverse::WatertightRay::new(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z).expect("ray");
     assert!(wt.intersect(&gpu.triangles[blas.left_or_first as usize], 0.0, f32::INFINITY).is_none());
 }
+
+/// The GPU refit's plan (`accel::refit::plan_treelets`) on the merged atrium and on small
+/// trees: every node exactly once; every interior node after both its children (in an earlier
+/// level of its treelet, or in a subtree treelet when it is in the top one); subtree treelets
+/// within the node limit.
+#[test]
+fn refit_treelets_cover_every_node_children_first() {
+    use raygraph::accel::refit::{plan_treelets, TREELET_NODES};
+    let atrium = raygraph::scene::load::builtin("atrium", 0).unwrap();
+    for scene in [atrium, raygraph::scene::load::builtin("organic", 0).unwrap(), raygraph::scene::load::builtin("box", 0).unwrap()] {
+        let a = merged(&scene);
+        let nodes = &a.blas_nodes;
+        let plan = plan_treelets(nodes, TREELET_NODES);
+        let mut seen = vec![0u32; nodes.len()];
+        // When each node is refitted: (treelet, level within it).
+        let mut when = vec![(usize::MAX, usize::MAX); nodes.len()];
+        for (t, &[first_level, count]) in plan.treelets.iter().enumerate() {
+            let mut size = 0;
+            for l in 0..count as usize {
+                let [first, n] = plan.levels[first_level as usize + l];
+                for &node in &plan.nodes[first as usize..(first + n) as usize] {
+                    seen[node as usize] += 1;
+                    when[node as usize] = (t, l);
+                    size += 1;
+                }
+            }
+            if !(plan.has_top && t + 1 == plan.treelets.len()) {
+                assert!(size <= TREELET_NODES, "{}: treelet {t} has {size} nodes", scene.name);
+            }
+        }
+        assert!(seen.iter().all(|&k| k == 1), "{}: every node exactly once", scene.name);
+        let top = plan.treelets.len() - 1;
+        for (i, n) in nodes.iter().enumerate().filter(|(_, n)| n.count == 0) {
+            for c in [n.left_or_first as usize, n.left_or_first as usize + 1] {
+                let (tp, lp) = when[i];
+                let (tc, lc) = when[c];
+                let before = (tc == tp && lc < lp) || (plan.has_top && tp == top && tc != top);
+                assert!(before, "{}: node {i} ({tp}, {lp}) is refitted before its child {c} ({tc}, {lc})", scene.name);
+            }
+        }
+        println!(
+            "{}: {} nodes, {} levels deep, {} treelets{}",
+            scene.name,
+            nodes.len(),
+            plan.depth,
+            plan.treelets.len(),
+            if plan.has_top { " (the last one the top)" } else { "" }
+        );
+    }
+}

@@ -1,20 +1,21 @@
 // GPU refit of the merged layout (src/accel/refit.rs): after instances move, every triangle is
 // moved to world space again from its object-space vertices and its instance's transform, and
-// every node box is recomputed bottom-up, one dispatch per tree level (the previous level's
-// boxes are complete when a dispatch starts). The topology stays; boxes are widened outward
-// exactly as src/accel/layout.rs widens them (1e-20, then one ulp), so they stay conservative.
-// Levels with many nodes get a dispatch each (`refit_level`); runs of consecutive small levels
-// (the top of the tree, and the deep tail) are done by one workgroup in one dispatch
-// (`refit_small_levels`), with a storage barrier between levels.
+// every node box is recomputed bottom-up. The topology stays; boxes are widened outward exactly
+// as src/accel/layout.rs widens them (1e-20, then one ulp), so they stay conservative.
+//
+// The tree is cut into treelets: subtrees of at most a few hundred nodes, and the top part
+// above them. One workgroup refits one treelet, level by level from its deepest, with a
+// storage barrier between levels (a workgroup sees its own writes after it). The first
+// dispatch refits every subtree treelet, the second the top one.
 
 struct Params {
-    // The levels level_ranges[first_level .. first_level + level_count].
-    first_level: u32,
-    level_count: u32,
+    // This dispatch refits treelets[first_treelet + workgroup index].
+    first_treelet: u32,
     // 1 for the dispatch that ends with the root (node 0): the TLAS's one node (a leaf over the
     // merged instance) then gets the root's box too.
     writes_root: u32,
-    _pad: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -28,8 +29,10 @@ struct Params {
 @group(0) @binding(4) var<storage, read> transforms: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> level_nodes: array<u32>;
 @group(0) @binding(6) var<storage, read_write> tlas_nodes: array<vec4<f32>>;
-// Per level (deepest first): (first, count) into level_nodes.
+// Per treelet level (deepest first): (first, count) into level_nodes.
 @group(0) @binding(7) var<storage, read> level_ranges: array<vec2<u32>>;
+// Per treelet: (first level, level count) into level_ranges.
+@group(0) @binding(8) var<storage, read> treelets: array<vec2<u32>>;
 
 const NO_PRIM: u32 = 0xffffffffu;
 const BOX_PAD_ABS: f32 = 1e-20;
@@ -103,23 +106,14 @@ fn copy_root_to_tlas() {
     tlas_nodes[1] = vec4<f32>(nodes[1].xyz, tlas_nodes[1].w);
 }
 
-// One level, one node per invocation.
-@compute @workgroup_size(64)
-fn refit_level(@builtin(global_invocation_id) id: vec3<u32>) {
-    let range = level_ranges[params.first_level];
-    if id.x < range.y {
-        refit_node(level_nodes[range.x + id.x]);
-    }
-}
+const GROUP: u32 = 256u;
 
-const SMALL_GROUP: u32 = 256u;
-
-// Several small levels, deepest first, by one workgroup.
 @compute @workgroup_size(256)
-fn refit_small_levels(@builtin(local_invocation_index) lane: u32) {
-    for (var l = 0u; l < params.level_count; l++) {
-        let range = level_ranges[params.first_level + l];
-        for (var k = lane; k < range.y; k += SMALL_GROUP) {
+fn refit_treelets(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let treelet = treelets[params.first_treelet + group.x];
+    for (var l = 0u; l < treelet.y; l++) {
+        let range = level_ranges[treelet.x + l];
+        for (var k = lane; k < range.y; k += GROUP) {
             refit_node(level_nodes[range.x + k]);
         }
         storageBarrier();

@@ -1,7 +1,7 @@
 //! GPU refit of the merged layout (`Accel(merge: true)` on the `compute` back-end): when only
 //! instance transforms change, the triangles are moved to world space again on the GPU and
-//! every node box is recomputed bottom-up (`shaders/accel/refit.wgsl`: one dispatch per large
-//! tree level, one per run of small levels), instead of merging and rebuilding on the CPU. The tree's topology is kept, so its
+//! every node box is recomputed bottom-up (`shaders/accel/refit.wgsl`: the tree cut into
+//! treelets of at most [`TREELET_NODES`] nodes, one workgroup each, then the top part), instead of merging and rebuilding on the CPU. The tree's topology is kept, so its
 //! quality is the one built for the first positions; a structural change rebuilds.
 
 use super::bvh::instance_transform;
@@ -11,45 +11,109 @@ use wgpu::util::DeviceExt;
 
 /// The refit kernel (part of the back-end, not of any graph).
 pub const REFIT_WGSL: &str = include_str!("../../shaders/accel/refit.wgsl");
-const WORKGROUP: u32 = 64;
 
-/// The levels of a tree, deepest first: node indices grouped by depth, and (first, count) per
-/// level into that list.
-pub fn levels_deepest_first(nodes: &[GpuBvhNode]) -> (Vec<u32>, Vec<(u32, u32)>) {
-    let mut by_depth: Vec<Vec<u32>> = Vec::new();
-    let mut frontier = vec![0u32];
-    while !frontier.is_empty() && !nodes.is_empty() {
-        let mut next = Vec::new();
-        for &n in &frontier {
-            let node = &nodes[n as usize];
-            if node.count == 0 {
-                next.extend([node.left_or_first, node.left_or_first + 1]);
-            }
+/// Subtrees of at most this many nodes are treelets (one workgroup each); the nodes above them
+/// form the top treelet. Raised for trees so large that the treelets would pass the dispatch
+/// limit.
+pub const TREELET_NODES: usize = 512;
+
+/// The refit's work, as the shader reads it: node indices grouped by treelet and, within one,
+/// by level from the deepest; `(first, count)` per level into `nodes`; `(first level, level
+/// count)` per treelet, the subtree treelets first and the top one (if any) last.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TreeletPlan {
+    pub nodes: Vec<u32>,
+    pub levels: Vec<[u32; 2]>,
+    pub treelets: Vec<[u32; 2]>,
+    /// Whether the last treelet is the top part (refitted after all the others).
+    pub has_top: bool,
+    /// Depth of the tree (levels from the root to the deepest leaf).
+    pub depth: usize,
+}
+
+/// Cuts the tree `nodes` (root at 0, children of interior node `n` at `n.left_or_first` and
+/// the next) into treelets of at most `max_nodes` nodes and the top part above them.
+pub fn plan_treelets(nodes: &[GpuBvhNode], max_nodes: usize) -> TreeletPlan {
+    let mut plan = TreeletPlan::default();
+    if nodes.is_empty() {
+        return plan;
+    }
+    let children = |n: u32| {
+        let node = &nodes[n as usize];
+        (node.count == 0).then_some([node.left_or_first, node.left_or_first + 1])
+    };
+    // Pre-order with depths, then subtree sizes from the back (children come after parents).
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut stack = vec![(0u32, 0usize)];
+    while let Some((n, d)) = stack.pop() {
+        order.push((n, d));
+        plan.depth = plan.depth.max(d + 1);
+        if let Some(c) = children(n) {
+            stack.extend([(c[1], d + 1), (c[0], d + 1)]);
         }
-        by_depth.push(std::mem::replace(&mut frontier, next));
     }
-    let mut order = Vec::new();
-    let mut levels = Vec::new();
-    for level in by_depth.iter().rev() {
-        levels.push((order.len() as u32, level.len() as u32));
-        order.extend_from_slice(level);
+    let mut size = vec![1usize; nodes.len()];
+    for &(n, _) in order.iter().rev() {
+        if let Some(c) = children(n) {
+            size[n as usize] = 1 + size[c[0] as usize] + size[c[1] as usize];
+        }
     }
-    (order, levels)
+    let push_levels = |plan: &mut TreeletPlan, by_depth: Vec<Vec<u32>>| {
+        let first_level = plan.levels.len() as u32;
+        for level in by_depth.iter().rev().filter(|l| !l.is_empty()) {
+            plan.levels.push([plan.nodes.len() as u32, level.len() as u32]);
+            plan.nodes.extend_from_slice(level);
+        }
+        plan.treelets.push([first_level, plan.levels.len() as u32 - first_level]);
+    };
+    // Treelet roots: nodes small enough whose parent is not (or the root itself).
+    let mut top: Vec<Vec<u32>> = Vec::new();
+    let mut stack = vec![(0u32, 0usize)];
+    while let Some((n, d)) = stack.pop() {
+        if size[n as usize] <= max_nodes {
+            let mut by_depth: Vec<Vec<u32>> = Vec::new();
+            let mut inner = vec![(n, 0usize)];
+            while let Some((m, k)) = inner.pop() {
+                if by_depth.len() <= k {
+                    by_depth.resize(k + 1, Vec::new());
+                }
+                by_depth[k].push(m);
+                if let Some(c) = children(m) {
+                    inner.extend([(c[1], k + 1), (c[0], k + 1)]);
+                }
+            }
+            push_levels(&mut plan, by_depth);
+            continue;
+        }
+        if top.len() <= d {
+            top.resize(d + 1, Vec::new());
+        }
+        top[d].push(n);
+        if let Some(c) = children(n) {
+            stack.extend([(c[1], d + 1), (c[0], d + 1)]);
+        }
+    }
+    if !top.is_empty() {
+        push_levels(&mut plan, top);
+        plan.has_top = true;
+    }
+    plan
 }
 
 /// The refit's own GPU objects for one merged build.
 pub struct MergedRefit {
-    /// `refit_level` (one large level) and `refit_small_levels` (a run of small ones).
-    pipelines: [wgpu::ComputePipeline; 2],
+    pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     object_vertices: wgpu::Buffer,
     transforms: wgpu::Buffer,
     level_nodes: wgpu::Buffer,
     level_ranges: wgpu::Buffer,
+    treelets: wgpu::Buffer,
     /// One `Params` record per dispatch, `params_stride` bytes apart.
     params: wgpu::Buffer,
     params_stride: u64,
-    dispatches: Vec<Dispatch>,
+    /// Workgroups (treelets) per dispatch: the subtree treelets, then the top one.
+    dispatches: Vec<u32>,
     levels: usize,
     /// Which scene instances were merged (usable transform and mesh), in scene order.
     usable: Vec<bool>,
@@ -73,23 +137,27 @@ impl MergedRefit {
                 .unwrap_or([glam::Vec3::ZERO; 3]);
             object.extend(verts.map(|v| v.extend(0.0).to_array()));
         }
-        let (order, levels) = levels_deepest_first(&flat.blas_nodes);
-        let dispatches = plan_dispatches(&levels);
+        let max_nodes = TREELET_NODES.max(flat.blas_nodes.len().div_ceil(60_000));
+        let plan = plan_treelets(&flat.blas_nodes, max_nodes);
+        let subtrees = plan.treelets.len() as u32 - plan.has_top as u32;
+        let dispatches: Vec<u32> = [subtrees, plan.has_top as u32].into_iter().filter(|&n| n > 0).collect();
         let params_stride = device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
-        let mut params = vec![0u8; params_stride as usize * dispatches.len().max(1)];
-        for (k, d) in dispatches.iter().enumerate() {
-            let record = [d.first_level, d.level_count, (k + 1 == dispatches.len()) as u32, 0];
+        let mut params = vec![0u8; params_stride as usize * dispatches.len()];
+        let mut first = 0;
+        for (k, &n) in dispatches.iter().enumerate() {
+            let record = [first, (k + 1 == dispatches.len()) as u32, 0, 0];
             params[k * params_stride as usize..][..16].copy_from_slice(bytemuck::cast_slice(&record));
+            first += n;
         }
-        let ranges: Vec<[u32; 2]> = levels.iter().map(|&(first, count)| [first, count]).collect();
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let storage = wgpu::BufferUsages::STORAGE;
         let object_vertices = init("refit object vertices", bytemuck::cast_slice(&object), storage);
         let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
-        let level_nodes = init("refit level nodes", bytemuck::cast_slice(&order), storage);
-        let level_ranges = init("refit level ranges", bytemuck::cast_slice(&ranges), storage);
+        let level_nodes = init("refit level nodes", bytemuck::cast_slice(&plan.nodes), storage);
+        let level_ranges = init("refit level ranges", bytemuck::cast_slice(&plan.levels), storage);
+        let treelets = init("refit treelets", bytemuck::cast_slice(&plan.treelets), storage);
         let params = init("refit params", &params, wgpu::BufferUsages::UNIFORM);
 
         let module =
@@ -113,33 +181,32 @@ impl MergedRefit {
                 buffer(5, ro),
                 buffer(6, rw),
                 buffer(7, ro),
+                buffer(8, ro),
             ],
         });
         let pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipelines = [pipeline("refit_level"), pipeline("refit_small_levels")];
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("refit"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("refit_treelets"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
         let usable = usable_instances(scene);
         Some(Self {
-            pipelines,
+            pipeline,
             layout,
             object_vertices,
             transforms,
             level_nodes,
             level_ranges,
+            treelets,
             params,
             params_stride,
             dispatches,
-            levels: levels.len(),
+            levels: plan.depth,
             usable,
         })
     }
@@ -173,13 +240,14 @@ impl MergedRefit {
                 wgpu::BindGroupEntry { binding: 5, resource: self.level_nodes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: buffers[0].as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 7, resource: self.level_ranges.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 8, resource: self.treelets.as_entire_binding() },
             ],
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel refit"), timestamp_writes: None });
-        for (k, d) in self.dispatches.iter().enumerate() {
-            pass.set_pipeline(&self.pipelines[d.small as usize]);
+        pass.set_pipeline(&self.pipeline);
+        for (k, &groups) in self.dispatches.iter().enumerate() {
             pass.set_bind_group(0, &bind_group, &[(k as u64 * self.params_stride) as u32]);
-            pass.dispatch_workgroups(if d.small { 1 } else { d.nodes.div_ceil(WORKGROUP) }, 1, 1);
+            pass.dispatch_workgroups(groups, 1, 1);
         }
     }
 
@@ -192,32 +260,6 @@ impl MergedRefit {
     pub fn dispatch_count(&self) -> usize {
         self.dispatches.len()
     }
-}
-
-/// Levels with at most this many nodes are refitted by one workgroup, several in a row.
-pub const SMALL_LEVEL: u32 = 1024;
-
-/// One dispatch of the refit: a large level, or a run of consecutive small levels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Dispatch {
-    pub first_level: u32,
-    pub level_count: u32,
-    /// Nodes of the (large) level.
-    pub nodes: u32,
-    pub small: bool,
-}
-
-/// Groups `levels` (deepest first) into dispatches.
-pub fn plan_dispatches(levels: &[(u32, u32)]) -> Vec<Dispatch> {
-    let mut out: Vec<Dispatch> = Vec::new();
-    for (l, &(_, count)) in levels.iter().enumerate() {
-        let small = count <= SMALL_LEVEL;
-        match out.last_mut() {
-            Some(d) if small && d.small => d.level_count += 1,
-            _ => out.push(Dispatch { first_level: l as u32, level_count: 1, nodes: count, small }),
-        }
-    }
-    out
 }
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {
