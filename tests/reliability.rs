@@ -108,7 +108,9 @@ fn the_fuzz_seeds_are_accepted() {
 
 /// Every input a fuzzer found a crash with (`tests/fixtures/fuzz/<target>/`, named after what
 /// is wrong with it) is now an error that names the file, from the entry point and, for scene
-/// files, from `raygraph scene info`.
+/// files, from `raygraph scene info`; or, for a file named `loads-with-warning-*`, a scene
+/// that loads with a warning (a broken image becomes the fallback texture, as a missing one
+/// does).
 #[test]
 fn every_fuzz_finding_is_a_clear_error() {
     let fixtures = common::repo().join("tests/fixtures/fuzz");
@@ -121,6 +123,13 @@ fn every_fuzz_finding_is_a_clear_error() {
     let mut n = 0;
     for (target, run, scratch_name) in entry {
         for f in files(&fixtures.join(target)) {
+            if f.file_name().unwrap().to_string_lossy().starts_with("loads-with-warning-") {
+                let (_, report) = raygraph::scene::open(&f.to_string_lossy(), &Default::default()).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+                println!("{}: {:?}", f.display(), report.warnings);
+                assert!(!report.warnings.is_empty() && report.missing_images > 0, "{}: {report:?}", f.display());
+                n += 1;
+                continue;
+            }
             let e = run(&std::fs::read(&f).unwrap()).expect_err(&format!("{}: must be refused", f.display()));
             println!("{}: {e}", f.display());
             assert!(e.contains(scratch_name), "{}: the error must name the file: {e}", f.display());

@@ -201,6 +201,16 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
         if let Some(t) = texture_of_image.get(&image.index()) {
             return *t;
         }
+        // glTF requires a uri or a bufferView with a mimeType; `Image::source` unwraps them.
+        let usable = gltf.document.as_json().images.get(image.index()).is_some_and(|j| j.uri.is_some() || j.buffer_view.is_some() && j.mime_type.is_some());
+        if !usable {
+            let name = image.name().map(str::to_string).unwrap_or_else(|| format!("image {}", image.index()));
+            report.missing_images += 1;
+            report.warn(format!("{}: image `{name}` has neither a uri nor a bufferView with a mimeType; using the fallback texture", path.display()));
+            textures.push(fallback_texture(&name));
+            texture_of_image.insert(image.index(), textures.len() - 1);
+            return textures.len() - 1;
+        }
         let name = image.name().map(str::to_string).unwrap_or_else(|| match image.source() {
             gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => uri.to_string(),
             _ => format!("image {}", image.index()),
