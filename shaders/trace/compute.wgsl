@@ -97,6 +97,9 @@ struct TraceRay {
     row_x: vec3<f32>,
     row_y: vec3<f32>,
     row_z: vec3<f32>,
+    // |dir[kx]|, |dir[ky]|: the shear terms' share of a sheared x, y is at most these times the
+    // sheared z (for the t error bound).
+    shear_mag: vec2<f32>,
 }
 
 fn trace_safe_inverse(d: vec3<f32>) -> vec3<f32> {
@@ -124,7 +127,7 @@ fn trace_prepare(origin: vec3<f32>, dir: vec3<f32>) -> TraceRay {
     let ex = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kx));
     let ey = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(ky));
     let ez = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kz));
-    return TraceRay(origin, trace_safe_inverse(dir), ex - shear.x * ez, ey - shear.y * ez, shear.z * ez);
+    return TraceRay(origin, trace_safe_inverse(dir), ex - shear.x * ez, ey - shear.y * ez, shear.z * ez, vec2<f32>(abs(dir[kx]), abs(dir[ky])));
 }
 
 // Entry and exit distances of the ray through a box (exit < entry: missed).
@@ -213,15 +216,17 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     if !(t > t_min && t <= t_max) {
         return miss;
     }
-    // A conservative bound on t's rounding error (PBR 3rd ed. 3.9.2): closer hits may lie
-    // behind the origin (a ray leaving a large triangle at a shallow angle would hit it again).
+    // A conservative bound on t's rounding error (PBR 3rd ed. 3.9.2, with the shear term of x'
+    // and y' bounded by |dir[kx]| z' and |dir[ky]| z' instead of z': PBR's bound rejects true
+    // hits of grazing rays): closer hits may lie behind the origin (a ray leaving a large
+    // triangle at a shallow angle would hit it again).
     let max_z = max(abs(az), max(abs(bz), abs(cz)));
     let max_x = max(abs(a.x), max(abs(b.x), abs(c.x)));
     let max_y = max(abs(a.y), max(abs(b.y), abs(c.y)));
     let max_e = max(abs(u), max(abs(v), abs(w)));
     let delta_z = TRACE_GAMMA3 * max_z;
-    let delta_x = TRACE_GAMMA5 * (max_x + max_z);
-    let delta_y = TRACE_GAMMA5 * (max_y + max_z);
+    let delta_x = TRACE_GAMMA5 * (max_x + r.shear_mag.x * max_z);
+    let delta_y = TRACE_GAMMA5 * (max_y + r.shear_mag.y * max_z);
     let delta_e = 2.0 * (TRACE_GAMMA2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
     let delta_t = 3.0 * (TRACE_GAMMA3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * abs(1.0 / det);
     if t <= delta_t {

@@ -66,11 +66,12 @@ const GROUP: u32 = 64;
 impl BatchTracer {
     /// Builds `scene`'s acceleration structure for `backend` (de-duplication on).
     pub fn new(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path) -> Result<Self, RuntimeError> {
-        Self::with_dedup(gpu, backend, scene, shaders_dir, true)
+        Self::with_settings(gpu, backend, scene, shaders_dir, AccelSettings { dedup: true, merge: false })
     }
 
-    /// [`BatchTracer::new`] with de-duplication switchable (off: one BLAS per instance).
-    pub fn with_dedup(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path, dedup: bool) -> Result<Self, RuntimeError> {
+    /// [`BatchTracer::new`] with the `Accel` node's settings (de-duplication off: one BLAS per
+    /// instance; merge: one BVH over all instances, `compute` only).
+    pub fn with_settings(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path, settings: AccelSettings) -> Result<Self, RuntimeError> {
         if !gpu.backends.contains(&backend) {
             return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info.name)));
         }
@@ -81,7 +82,7 @@ impl BatchTracer {
             reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
 
         let start = std::time::Instant::now();
-        let mut cache = AccelCache::new(device, backend, AccelSettings { dedup, merge: false }, 1);
+        let mut cache = AccelCache::new(device, backend, settings, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
         let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
         gpu.queue.submit([encoder.finish()]);

@@ -209,7 +209,7 @@ impl WatertightRay {
         if !(t > t_min && t <= t_max) {
             return None;
         }
-        if t <= t_error_bound([a2, b2, c2], [az, bz, cz], [u, v, w], det) {
+        if t <= t_error_bound([a2, b2, c2], [az, bz, cz], [u, v, w], det, (self.dir[kx].abs(), self.dir[ky].abs())) {
             return None;
         }
         let front_face = (p1 - p0).cross(p2 - p0).dot(self.dir) < 0.0;
@@ -221,15 +221,18 @@ impl WatertightRay {
 /// Humphreys, PBR 3rd ed. §3.9.2): a hit closer than this may lie behind the origin, so it is
 /// rejected. Without it, a ray leaving a large triangle's surface at a shallow angle can hit
 /// that triangle again at a tiny positive t (the sheared z values are large and cancel).
-pub fn t_error_bound(xy: [(f32, f32); 3], z: [f32; 3], e: [f32; 3], det: f32) -> f32 {
+/// `shear` is `(|dir[kx]|, |dir[ky]|)`: the shear term `S_x p_z` of a sheared `x` is
+/// `|dir[kx]|` times the sheared `z`, where PBR bounds it by the sheared `z` itself, which
+/// rejects true hits of grazing rays (and is too small for directions longer than 1).
+pub fn t_error_bound(xy: [(f32, f32); 3], z: [f32; 3], e: [f32; 3], det: f32, shear: (f32, f32)) -> f32 {
     let gamma = |n: f32| n * (f32::EPSILON * 0.5) / (1.0 - n * f32::EPSILON * 0.5);
     let max_z = z.iter().fold(0.0f32, |m, v| m.max(v.abs()));
     let max_x = xy.iter().fold(0.0f32, |m, v| m.max(v.0.abs()));
     let max_y = xy.iter().fold(0.0f32, |m, v| m.max(v.1.abs()));
     let max_e = e.iter().fold(0.0f32, |m, v| m.max(v.abs()));
     let delta_z = gamma(3.0) * max_z;
-    let delta_x = gamma(5.0) * (max_x + max_z);
-    let delta_y = gamma(5.0) * (max_y + max_z);
+    let delta_x = gamma(5.0) * (max_x + shear.0 * max_z);
+    let delta_y = gamma(5.0) * (max_y + shear.1 * max_z);
     let delta_e = 2.0 * (gamma(2.0) * max_x * max_y + delta_y * max_x + delta_x * max_y);
     3.0 * (gamma(3.0) * max_e * max_z + delta_e * max_z + delta_z * max_e) * (1.0 / det).abs()
 }

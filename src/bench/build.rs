@@ -101,17 +101,18 @@ pub fn run(
             let copies = duplicate(&scene, n, false);
             let rays = camera_rays(&copies, cfg.rays);
             for &backend in &cfg.backends {
-                let tracer = match BatchTracer::with_dedup(gpu, backend, &copies, &shaders, false) {
-                    Ok(t) => t,
-                    // Too large for the device: recorded, and the bench goes on.
-                    Err(e @ RuntimeError::Gpu(_)) => {
-                        skipped.push(format!("{name} x{n} on {backend}: {}", e.to_string().lines().next().unwrap_or_default()));
-                        done += 1;
-                        progress(done, total, &format!("{name} x{n}: {backend} skipped"));
-                        continue;
-                    }
-                    Err(e) => return Err(e),
-                };
+                let tracer =
+                    match BatchTracer::with_settings(gpu, backend, &copies, &shaders, crate::accel::cache::AccelSettings { dedup: false, merge: false }) {
+                        Ok(t) => t,
+                        // Too large for the device: recorded, and the bench goes on.
+                        Err(e @ RuntimeError::Gpu(_)) => {
+                            skipped.push(format!("{name} x{n} on {backend}: {}", e.to_string().lines().next().unwrap_or_default()));
+                            done += 1;
+                            progress(done, total, &format!("{name} x{n}: {backend} skipped"));
+                            continue;
+                        }
+                        Err(e) => return Err(e),
+                    };
                 tracer.time_closest(gpu, &rays)?; // warm-up: pipeline and caches
                 let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
                 let b = &tracer.build;
