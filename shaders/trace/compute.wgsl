@@ -97,9 +97,6 @@ struct TraceRay {
     row_x: vec3<f32>,
     row_y: vec3<f32>,
     row_z: vec3<f32>,
-    // |dir[kx]|, |dir[ky]|: the shear terms' share of a sheared x, y is at most these times the
-    // sheared z (for the t error bound).
-    shear_mag: vec2<f32>,
 }
 
 fn trace_safe_inverse(d: vec3<f32>) -> vec3<f32> {
@@ -127,7 +124,7 @@ fn trace_prepare(origin: vec3<f32>, dir: vec3<f32>) -> TraceRay {
     let ex = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kx));
     let ey = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(ky));
     let ez = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kz));
-    return TraceRay(origin, trace_safe_inverse(dir), ex - shear.x * ez, ey - shear.y * ez, shear.z * ez, vec2<f32>(abs(dir[kx]), abs(dir[ky])));
+    return TraceRay(origin, trace_safe_inverse(dir), ex - shear.x * ez, ey - shear.y * ez, shear.z * ez);
 }
 
 // Entry and exit distances of the ray through a box (exit < entry: missed).
@@ -225,8 +222,14 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     let max_y = max(abs(a.y), max(abs(b.y), abs(c.y)));
     let max_e = max(abs(u), max(abs(v), abs(w)));
     let delta_z = TRACE_GAMMA3 * max_z;
-    let delta_x = TRACE_GAMMA5 * (max_x + r.shear_mag.x * max_z);
-    let delta_y = TRACE_GAMMA5 * (max_y + r.shear_mag.y * max_z);
+    // |dir[kx]| = |Sx / Sz| = |row_x . row_z| / (row_z . row_z) (row_x = e_kx - Sx e_kz,
+    // row_z = Sz e_kz), widened by 1e-6 for its own rounding; the same for y. Computed here,
+    // for accepted hits only, rather than carried with the ray.
+    let zz = dot(r.row_z, r.row_z);
+    let shear_x = abs(dot(r.row_x, r.row_z)) / zz * 1.000001;
+    let shear_y = abs(dot(r.row_y, r.row_z)) / zz * 1.000001;
+    let delta_x = TRACE_GAMMA5 * (max_x + shear_x * max_z);
+    let delta_y = TRACE_GAMMA5 * (max_y + shear_y * max_z);
     let delta_e = 2.0 * (TRACE_GAMMA2 * max_x * max_y + delta_y * max_x + delta_x * max_y);
     let delta_t = 3.0 * (TRACE_GAMMA3 * max_e * max_z + delta_e * max_z + delta_z * max_e) * abs(1.0 / det);
     if t <= delta_t {
