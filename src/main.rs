@@ -161,6 +161,17 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/track")]
         out: PathBuf,
     },
+    /// Ambient occlusion against its closed form (floor under a parallel ceiling): error
+    /// (RMSE, relMSE, bias, variance over seeds) against rays per pixel and GPU time, for white
+    /// noise and the R2 sequence, with the fitted convergence slopes.
+    Error {
+        #[arg(long)]
+        quick: bool,
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[arg(long, default_value = "bench-results/error")]
+        out: PathBuf,
+    },
     /// Reflection bounces 1..8 against rays/s.
     Depth {
         #[arg(long)]
@@ -459,6 +470,19 @@ fn run(cli: Cli) -> Result<()> {
             let rows = with_progress(|progress| track_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(track_bench::plots(&out, &rows))?;
+        }
+        Command::Bench { command: BenchCommand::Error { quick, backend, out } } => {
+            use raygraph::bench::error::{self as error_bench, ErrorConfig};
+            let gpu = Gpu::with_backend(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            let root = PathBuf::from(".");
+            let cfg = if quick { ErrorConfig::quick(&root, backends) } else { ErrorConfig::full(&root, backends) };
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
+            let files = |rows: &[_]| [("error.csv", error_bench::csv(&info, rows)), ("error.md", error_bench::markdown(&info, rows))];
+            let rows = with_progress(|progress| error_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
+            write_results(&out, &files(&rows))?;
+            write_plots(error_bench::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
             use raygraph::bench::depth::{self as depth_bench, DepthConfig};

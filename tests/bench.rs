@@ -172,3 +172,39 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
     println!("interrupted after {} rows: {:?}", rows.len(), std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name()).collect::<Vec<_>>());
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `raygraph bench error --quick`: AO against its closed form on every back-end; the RMSE of
+/// white-noise sampling falls with rays per pixel at the Monte Carlo rate (fitted log-log slope
+/// within 0.1 of -0.5) and that of the R2 sequence falls faster; the bias is within noise.
+#[test]
+fn bench_error_quick_converges_at_the_expected_rates() {
+    let (header, rows) = quick_csv("error");
+    assert_eq!(header, ["backend", "sampling", "rays", "ao_ms", "rmse", "relmse", "bias", "variance"]);
+    let mut backends: Vec<String> = rows.iter().map(|r| r[0].clone()).collect();
+    backends.dedup();
+    assert_eq!(backends.len(), 2, "both back-ends run: {backends:?}");
+    for b in &backends {
+        let slope = |sampling: &str| {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| &r[0] == b && r[1] == sampling)
+                .map(|r| (r[2].parse::<f64>().unwrap().ln(), r[4].parse::<f64>().unwrap().ln()))
+                .collect();
+            assert!(pts.len() >= 5, "{b} {sampling}: {} rows", pts.len());
+            let n = pts.len() as f64;
+            let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+            pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>()
+        };
+        let (white, r2) = (slope("white"), slope("r2"));
+        println!("{b}: slope white {white:.3}, r2 {r2:.3}");
+        assert!((white + 0.5).abs() <= 0.1, "{b}: white-noise slope {white}");
+        assert!(r2 < white - 0.1, "{b}: the R2 sequence converges faster than white noise ({r2} against {white})");
+        for r in rows.iter().filter(|r| &r[0] == b) {
+            let (bias, variance, rays): (f64, f64, f64) = (r[6].parse().unwrap(), r[7].parse().unwrap(), r[2].parse().unwrap());
+            assert!(r[3].parse::<f64>().unwrap() > 0.0, "the AO pass was timed: {r:?}");
+            // Bias over 1024 pixels x 4 seeds: within 5 sigma of a Bernoulli(0.25) mean.
+            let sigma = (0.25 * 0.75 / rays / 4096.0).sqrt();
+            assert!(bias.abs() <= 5.0 * sigma + 1e-4 && variance >= 0.0, "{b}: {r:?}");
+        }
+    }
+}

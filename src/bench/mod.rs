@@ -1,9 +1,11 @@
-//! The experiments: `raygraph bench rays` (the paper's Table 3) and `bench build` (Figure 9). Each bench writes a results
-//! folder with CSV and markdown whose header names the adapter, driver, back-end, resolution
-//! and git revision.
+//! The experiments: `raygraph bench rays` (the paper's Table 3), `bench build` (Figure 9),
+//! `bench track` (Figures 10 and 11), `bench depth` (reflection bounces) and `bench error` (AO
+//! error against rays and time). Each bench writes a results folder with CSV and markdown whose
+//! header names the adapter, driver, back-end, resolution and git revision.
 
 pub mod build;
 pub mod depth;
+pub mod error;
 pub mod plot;
 pub mod rays;
 pub mod track;

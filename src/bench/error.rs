@@ -1,0 +1,255 @@
+//! `raygraph bench error`: speed against error for ray-traced ambient occlusion. The scene is a
+//! floor under a parallel ceiling at height `h`, with AO rays of length `R`: for cosine-weighted
+//! directions the unoccluded fraction is `(h/R)^2` at every floor point, so the reference is
+//! exact. For every back-end, sampling scheme (`white`: independent numbers per ray; `r2`: the
+//! R2 low-discrepancy sequence, rotated per pixel) and rays per pixel 1, 2, 4, ..., the AO pass
+//! of `graph/ao.ron` runs with several seeds. A row holds the AO pass's GPU time (median) and,
+//! over all pixels and seeds, the RMSE and relMSE against the reference, the bias (mean error)
+//! and the variance (mean over pixels of the variance across seeds). The slope of log RMSE
+//! against log rays per pixel is fitted per back-end and scheme (-0.5 for white noise).
+
+use super::RunInfo;
+use crate::accel::backend::Backend;
+use crate::error::RuntimeError;
+use crate::graph::compile::compile_with;
+use crate::graph::desc::ParamValue;
+use crate::graph::Project;
+use crate::runtime::profiler::median;
+use crate::runtime::{Executor, Gpu};
+use crate::scene::{builtin, Camera, Instance, Scene};
+use glam::{Mat4, Vec3};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+/// Ceiling height and AO ray length: the reference unoccluded fraction is `(H / R)^2`.
+pub const CEILING: f32 = 0.5;
+pub const RANGE: f32 = 1.0;
+
+/// The sampling schemes of `layers/rt_ao.ron` (its `sampling` parameter).
+pub const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
+
+#[derive(Debug, Clone)]
+pub struct ErrorConfig {
+    pub size: (u32, u32),
+    /// Rays per pixel run: 1, 2, 4, ... up to this.
+    pub max_rays: i64,
+    pub seeds: u32,
+    pub frames: u32,
+    pub backends: Vec<Backend>,
+    pub root: PathBuf,
+}
+
+impl ErrorConfig {
+    pub fn full(root: &Path, backends: Vec<Backend>) -> Self {
+        Self { size: (256, 256), max_rays: 256, seeds: 8, frames: 5, backends, root: root.to_path_buf() }
+    }
+
+    pub fn quick(root: &Path, backends: Vec<Backend>) -> Self {
+        Self { size: (32, 32), max_rays: 64, seeds: 4, frames: 1, backends, root: root.to_path_buf() }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct ErrorRow {
+    pub backend: Backend,
+    pub sampling: &'static str,
+    pub rays: i64,
+    pub ao_ms: f64,
+    pub rmse: f64,
+    pub relmse: f64,
+    pub bias: f64,
+    pub variance: f64,
+}
+
+/// The floor, the ceiling (a floor turned over, facing down) and a camera between them looking
+/// down: every pixel sees the floor.
+pub fn ceiling_scene() -> Scene {
+    let mut s = builtin::default_scene();
+    s.name = "parallel ceiling".into();
+    s.meshes = vec![builtin::plane("floor", 400.0, 1.0)];
+    s.textures.clear();
+    for m in &mut s.materials {
+        m.texture = None;
+        m.metallic_roughness_texture = None;
+        m.normal_texture = None;
+        m.emissive_texture = None;
+    }
+    let ceiling = Mat4::from_translation(Vec3::new(0.0, CEILING, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
+    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }];
+    s.camera = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
+    s.presets = vec![("default".into(), s.camera)];
+    s.point_light = None;
+    s
+}
+
+/// `on_rows` sees the rows finished so far after each one.
+pub fn run(
+    gpu: &Gpu,
+    cfg: &ErrorConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+    mut on_rows: impl FnMut(&[ErrorRow]),
+) -> Result<Vec<ErrorRow>, RuntimeError> {
+    let scene = ceiling_scene();
+    let reference = (CEILING as f64 / RANGE as f64).powi(2);
+    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
+    let graph = cfg.root.join("graph/ao.ron");
+    let rays: Vec<i64> = std::iter::successors(Some(1i64), |r| Some(r * 2)).take_while(|r| *r <= cfg.max_rays).collect();
+    let total = cfg.backends.len() * SCHEMES.len() * rays.len();
+    let mut rows = Vec::new();
+    for &backend in &cfg.backends {
+        for &(sampling, scheme) in &SCHEMES {
+            for &n in &rays {
+                let mut images: Vec<Vec<f64>> = Vec::new();
+                let mut ms = Vec::new();
+                for seed in 0..cfg.seeds {
+                    let mut options = gpu.compile_options_for(backend);
+                    for (name, value) in [
+                        ("rays", ParamValue::Int(n)),
+                        ("range", ParamValue::Float(RANGE as f64)),
+                        ("range_scale", ParamValue::Float(0.0)),
+                        ("sampling", ParamValue::Int(scheme)),
+                        ("seed", ParamValue::Int(seed as i64)),
+                    ] {
+                        options.params.insert(("ao".into(), name.into()), value);
+                    }
+                    let plan = compile_with(&graph, &project, cfg.size, &options)?;
+                    let pass = plan.passes.iter().position(|p| p.name == "ao/ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no pass ao/ao".into()))?;
+                    let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
+                    let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
+                    let mut exec = Executor::new(gpu, plan, &scene)?;
+                    let frames = super::timed_frames(gpu, &mut exec, &scene, 1, cfg.frames, |_| scene.camera)?;
+                    ms.extend(frames.iter().map(|f| f.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(f.frame_ms)));
+                    let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
+                    let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
+                    // Floor pixels only (every pixel, with this camera).
+                    images.push(values.iter().zip(&positions).filter(|(_, p)| p[3] != 0.0 && p[1].abs() < 1e-3).map(|(v, _)| v[0] as f64).collect());
+                }
+                let pixels = images.iter().map(Vec::len).min().unwrap_or(0);
+                if pixels == 0 {
+                    return Err(RuntimeError::Gpu("bench error: no floor pixel in the AO image".into()));
+                }
+                let samples = (pixels * images.len()) as f64;
+                let errors = || images.iter().flat_map(|img| img[..pixels].iter().map(|v| v - reference));
+                let rmse = (errors().map(|e| e * e).sum::<f64>() / samples).sqrt();
+                let relmse = errors().map(|e| e * e / (reference * reference + 1e-2)).sum::<f64>() / samples;
+                let bias = errors().sum::<f64>() / samples;
+                let seeds = images.len() as f64;
+                let variance = if images.len() > 1 {
+                    (0..pixels)
+                        .map(|p| {
+                            let mean = images.iter().map(|img| img[p]).sum::<f64>() / seeds;
+                            images.iter().map(|img| (img[p] - mean).powi(2)).sum::<f64>() / (seeds - 1.0)
+                        })
+                        .sum::<f64>()
+                        / pixels as f64
+                } else {
+                    0.0
+                };
+                rows.push(ErrorRow { backend, sampling, rays: n, ao_ms: median(&mut ms), rmse, relmse, bias, variance });
+                on_rows(&rows);
+                progress(rows.len(), total, &format!("{backend}: {sampling}, {n} rays/pixel"));
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// Least-squares slope of log RMSE against log rays per pixel, per back-end and scheme.
+pub fn slopes(rows: &[ErrorRow]) -> Vec<(Backend, &'static str, f64)> {
+    let mut out = Vec::new();
+    for r in rows {
+        if out.iter().any(|(b, s, _)| *b == r.backend && *s == r.sampling) {
+            continue;
+        }
+        let pts: Vec<(f64, f64)> =
+            rows.iter().filter(|q| q.backend == r.backend && q.sampling == r.sampling && q.rmse > 0.0).map(|q| ((q.rays as f64).ln(), q.rmse.ln())).collect();
+        let n = pts.len() as f64;
+        if n < 2.0 {
+            continue;
+        }
+        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+        let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+        out.push((r.backend, r.sampling, slope));
+    }
+    out
+}
+
+/// The fewest rays per pixel (and their AO time) at which a series' RMSE is at most `target`.
+fn equal_error(rows: &[ErrorRow], backend: Backend, sampling: &str, target: f64) -> Option<(i64, f64)> {
+    rows.iter().filter(|r| r.backend == backend && r.sampling == sampling && r.rmse <= target).map(|r| (r.rays, r.ao_ms)).min_by_key(|r| r.0)
+}
+
+pub fn csv(info: &RunInfo, rows: &[ErrorRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("backend,sampling,rays,ao_ms,rmse,relmse,bias,variance\n");
+    for r in rows {
+        let _ = writeln!(s, "{},{},{},{:.5},{:.6},{:.6},{:.6},{:.7}", r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance);
+    }
+    s
+}
+
+pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
+    let mut s = format!("# bench error: ambient occlusion against the closed form\n\n{}\n", info.markdown());
+    let _ = writeln!(
+        s,
+        "Floor under a parallel ceiling at h = {CEILING}, AO rays of length R = {RANGE}: reference unoccluded fraction (h/R)^2 = {}.\n",
+        (CEILING as f64 / RANGE as f64).powi(2)
+    );
+    s.push_str("| back-end | sampling | rays/pixel | AO ms | RMSE | relMSE | bias | variance |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.4} | {:.5} | {:.5} | {:+.5} | {:.6} |",
+            r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance
+        );
+    }
+    s.push_str("\nFitted slope of log RMSE against log rays per pixel:\n\n| back-end | sampling | slope |\n| --- | --- | ---: |\n");
+    for (b, sampling, slope) in slopes(rows) {
+        let _ = writeln!(s, "| {b} | {sampling} | {slope:.3} |");
+    }
+    s.push_str("\nEqual error: the fewest rays per pixel (AO ms) reaching each RMSE:\n\n| back-end | RMSE | white | r2 |\n| --- | ---: | ---: | ---: |\n");
+    let mut backends: Vec<Backend> = Vec::new();
+    for r in rows {
+        if !backends.contains(&r.backend) {
+            backends.push(r.backend);
+        }
+    }
+    for &b in &backends {
+        for target in [0.1, 0.05, 0.02, 0.01] {
+            let cell = |sampling| equal_error(rows, b, sampling, target).map(|(n, ms)| format!("{n} ({ms:.3} ms)")).unwrap_or_else(|| "—".into());
+            let _ = writeln!(s, "| {b} | {target} | {} | {} |", cell("white"), cell("r2"));
+        }
+    }
+    s.push_str("\nEqual time: the lowest RMSE each scheme reaches within a budget of AO pass time (the budgets are the white-noise rows' times):\n\n| back-end | AO ms budget | white RMSE | r2 RMSE |\n| --- | ---: | ---: | ---: |\n");
+    for &b in &backends {
+        for budget in rows.iter().filter(|r| r.backend == b && r.sampling == "white").map(|r| r.ao_ms) {
+            let best = |sampling: &str| {
+                rows.iter()
+                    .filter(|r| r.backend == b && r.sampling == sampling && r.ao_ms <= budget)
+                    .map(|r| r.rmse)
+                    .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.min(x))))
+                    .map(|x| format!("{x:.5}"))
+                    .unwrap_or_else(|| "—".into())
+            };
+            let _ = writeln!(s, "| {b} | {budget:.4} | {} | {} |", best("white"), best("r2"));
+        }
+    }
+    s
+}
+
+/// `error.png`: RMSE against the AO pass's GPU time, log-log, one line per back-end and scheme.
+pub fn plots(dir: &Path, rows: &[ErrorRow]) -> Result<Vec<PathBuf>, String> {
+    use super::plot::{LinePlot, Series};
+    let mut series: Vec<Series> = Vec::new();
+    for r in rows {
+        let name = format!("{}: {}", r.backend, r.sampling);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push((r.ao_ms.max(1e-6), r.rmse.max(1e-9))),
+            None => series.push(Series { name, points: vec![(r.ao_ms.max(1e-6), r.rmse.max(1e-9))] }),
+        }
+    }
+    let path = dir.join("error.png");
+    LinePlot { title: "AO error against time", x_label: "AO pass GPU ms", y_label: "RMSE against the closed form", log_x: true, log_y: true, x_labels: None }
+        .write(&path, &series)?;
+    Ok(vec![path])
+}
