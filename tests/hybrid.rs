@@ -107,6 +107,44 @@ fn ambient_occlusion_matches_the_closed_forms() {
     }
 }
 
+/// Unbounded AO rays (length 1e5) from a floor beside walls 400 units tall and wide, and under
+/// a sphere: the unoccluded fraction of cosine-weighted directions is 1/2 beside one wall (at
+/// any distance), 1/4 in a corner of two, and 1 - (r/d)^2 directly below a sphere of radius r
+/// whose centre is d above the floor (the form factor of a sphere seen from below); within 3
+/// sigma of the white-noise estimate (the walls' finite size and the sphere's tessellation
+/// change the values by less than 1e-3).
+#[test]
+fn ambient_occlusion_beside_walls_in_a_corner_and_under_a_sphere_matches_the_closed_forms() {
+    let gpu = gpu();
+    let big = 400.0;
+    let down = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
+    let narrow = Camera::look(Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 0.0, 0.001), 5.0, 0.01, 100.0);
+    // builtin::plane lies in y = 0 facing +y; turned about x it stands in z = 0.
+    let wall_z = Mat4::from_translation(Vec3::new(0.0, 0.0, 0.5)) * Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    let wall_x = Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0)) * Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
+    let (r, d) = (1.0f32, 2.0f32);
+    let ball = Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, Vec3::new(0.0, d, 0.0));
+    let floor = || (plane("floor", big, 1.0), grey(), Mat4::IDENTITY);
+    let cases: Vec<(&str, Scene, f64)> = vec![
+        ("one wall", scene(vec![floor(), (plane("wall", big, 1.0), grey(), wall_z)], down, Vec3::Y), 0.5),
+        ("corner", scene(vec![floor(), (plane("wall", big, 1.0), grey(), wall_z), (plane("wall", big, 1.0), grey(), wall_x)], down, Vec3::Y), 0.25),
+        ("under a sphere", scene(vec![floor(), (sphere("ball", 32, 64), grey(), ball)], narrow, Vec3::Y), 1.0 - ((r / d) as f64).powi(2)),
+    ];
+    let rays = 64;
+    let (_p, graph) = project(&hybrid_with_ao(&format!(r#"params: {{"rays": {rays}, "range": 100000.0, "range_scale": 0.0, "sampling": 0}}"#)));
+    for backend in Backend::ALL {
+        for (name, s, expected) in &cases {
+            let (exec, _) = run(&gpu, &graph, backend, s, (24, 24));
+            let ao = channel(&gpu, &exec, "ao.ao");
+            let n = ao.len() as f64;
+            let mean = ao.iter().map(|v| v[0] as f64).sum::<f64>() / n;
+            let sigma = (expected * (1.0 - expected) / (n * rays as f64)).sqrt();
+            println!("{backend:9} {name:16}: mean V {mean:.5}, analytic {expected:.5}, 3 sigma {:.5}", 3.0 * sigma);
+            assert!((mean - expected).abs() <= 3.0 * sigma + 1e-3, "{backend}/{name}: V {mean} against {expected} (3 sigma {})", 3.0 * sigma);
+        }
+    }
+}
+
 /// The shadow of a sphere on a plane: a pixel whose point's ray to the light passes the
 /// sphere's centre closer than r - margin is shadowed, farther than r + margin is lit. Margin:
 /// 3% of r (the 32x64 tessellation is within 0.5% of the sphere) plus one pixel's footprint.
