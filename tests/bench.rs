@@ -175,11 +175,12 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
 
 /// `raygraph bench error --quick`: AO against its closed form on every back-end; the RMSE of
 /// white-noise sampling falls with rays per pixel at the Monte Carlo rate (fitted log-log slope
-/// within 0.1 of -0.5) and that of the R2 sequence falls faster; the bias is within noise.
+/// within 0.1 of -0.5) and that of the R2 sequence falls faster; the bias is within noise; FLIP
+/// is reported (mean at most the 99th percentile, both in (0, 1]) and falls from 1 to 64 rays.
 #[test]
 fn bench_error_quick_converges_at_the_expected_rates() {
     let (header, rows) = quick_csv("error");
-    assert_eq!(header, ["backend", "sampling", "rays", "ao_ms", "rmse", "relmse", "bias", "variance"]);
+    assert_eq!(header, ["backend", "sampling", "rays", "ao_ms", "rmse", "relmse", "bias", "variance", "flip_mean", "flip_p99"]);
     let mut backends: Vec<String> = rows.iter().map(|r| r[0].clone()).collect();
     backends.dedup();
     assert_eq!(backends.len(), 2, "both back-ends run: {backends:?}");
@@ -196,6 +197,10 @@ fn bench_error_quick_converges_at_the_expected_rates() {
             pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>()
         };
         let (white, r2) = (slope("white"), slope("r2"));
+        for sampling in ["white", "r2"] {
+            let flip: Vec<f64> = rows.iter().filter(|r| &r[0] == b && r[1] == sampling).map(|r| r[8].parse().unwrap()).collect();
+            assert!(flip.last() < flip.first(), "{b} {sampling}: FLIP must fall with more rays: {flip:?}");
+        }
         println!("{b}: slope white {white:.3}, r2 {r2:.3}");
         assert!((white + 0.5).abs() <= 0.1, "{b}: white-noise slope {white}");
         assert!(r2 < white - 0.1, "{b}: the R2 sequence converges faster than white noise ({r2} against {white})");
@@ -205,6 +210,8 @@ fn bench_error_quick_converges_at_the_expected_rates() {
             // Bias over 1024 pixels x 4 seeds: within 5 sigma of a Bernoulli(0.25) mean.
             let sigma = (0.25 * 0.75 / rays / 4096.0).sqrt();
             assert!(bias.abs() <= 5.0 * sigma + 1e-4 && variance >= 0.0, "{b}: {r:?}");
+            let (flip_mean, flip_p99): (f64, f64) = (r[8].parse().unwrap(), r[9].parse().unwrap());
+            assert!(flip_mean > 0.0 && flip_mean <= flip_p99 && flip_p99 <= 1.0, "FLIP mean and 99th percentile: {r:?}");
         }
     }
 }

@@ -5,7 +5,8 @@
 //! R2 low-discrepancy sequence, rotated per pixel) and rays per pixel 1, 2, 4, ..., the AO pass
 //! of `graph/ao.ron` runs with several seeds. A row holds the AO pass's GPU time (median) and,
 //! over all pixels and seeds, the RMSE and relMSE against the reference, the bias (mean error)
-//! and the variance (mean over pixels of the variance across seeds). The slope of log RMSE
+//! and the variance (mean over pixels of the variance across seeds), and FLIP (mean and 99th
+//! percentile) of the images shown as grey against the reference grey. The slope of log RMSE
 //! against log rays per pixel is fitted per back-end and scheme (-0.5 for white noise).
 
 use super::RunInfo;
@@ -59,6 +60,10 @@ pub struct ErrorRow {
     pub relmse: f64,
     pub bias: f64,
     pub variance: f64,
+    /// FLIP (NVIDIA's perceptual difference, `nv-flip`) of the AO images shown as grey against
+    /// the reference grey: mean and 99th percentile over all pixels of all seeds.
+    pub flip_mean: f64,
+    pub flip_p99: f64,
 }
 
 /// The floor, the ceiling (a floor turned over, facing down) and a camera between them looking
@@ -101,6 +106,7 @@ pub fn run(
             for &n in &rays {
                 let mut images: Vec<Vec<f64>> = Vec::new();
                 let mut ms = Vec::new();
+                let mut flip = nv_flip::FlipPool::new();
                 for seed in 0..cfg.seeds {
                     let mut options = gpu.compile_options_for(backend);
                     for (name, value) in [
@@ -121,6 +127,19 @@ pub fn run(
                     ms.extend(frames.iter().map(|f| f.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(f.frame_ms)));
                     let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
                     let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
+                    let grey = |v: f64| {
+                        let c = (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+                        [c, c, c]
+                    };
+                    let test: Vec<u8> = values.iter().flat_map(|v| grey(v[0] as f64)).collect();
+                    let reference_image: Vec<u8> = values.iter().flat_map(|_| grey(reference)).collect();
+                    let (w, h) = cfg.size;
+                    let error_map = nv_flip::flip(
+                        nv_flip::FlipImageRgb8::with_data(w, h, &reference_image),
+                        nv_flip::FlipImageRgb8::with_data(w, h, &test),
+                        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+                    );
+                    flip.update_with_image(&error_map);
                     // Floor pixels only (every pixel, with this camera).
                     images.push(values.iter().zip(&positions).filter(|(_, p)| p[3] != 0.0 && p[1].abs() < 1e-3).map(|(v, _)| v[0] as f64).collect());
                 }
@@ -145,13 +164,23 @@ pub fn run(
                 } else {
                     0.0
                 };
-                rows.push(ErrorRow { backend, sampling, rays: n, ao_ms: median(&mut ms), rmse, relmse, bias, variance });
+                let (flip_mean, flip_p99) = (flip.mean() as f64, flip.get_percentile(0.99, false) as f64);
+                rows.push(ErrorRow { backend, sampling, rays: n, ao_ms: median(&mut ms), rmse, relmse, bias, variance, flip_mean, flip_p99 });
                 on_rows(&rows);
                 progress(rows.len(), total, &format!("{backend}: {sampling}, {n} rays/pixel"));
             }
         }
     }
     Ok(rows)
+}
+
+/// The sRGB transfer function (AO is shown as a grey on an sRGB display).
+fn linear_to_srgb(x: f64) -> f64 {
+    if x <= 0.0031308 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// Least-squares slope of log RMSE against log rays per pixel, per back-end and scheme.
@@ -181,9 +210,13 @@ fn equal_error(rows: &[ErrorRow], backend: Backend, sampling: &str, target: f64)
 
 pub fn csv(info: &RunInfo, rows: &[ErrorRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("backend,sampling,rays,ao_ms,rmse,relmse,bias,variance\n");
+    s.push_str("backend,sampling,rays,ao_ms,rmse,relmse,bias,variance,flip_mean,flip_p99\n");
     for r in rows {
-        let _ = writeln!(s, "{},{},{},{:.5},{:.6},{:.6},{:.6},{:.7}", r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance);
+        let _ = writeln!(
+            s,
+            "{},{},{},{:.5},{:.6},{:.6},{:.6},{:.7},{:.5},{:.5}",
+            r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance, r.flip_mean, r.flip_p99
+        );
     }
     s
 }
@@ -195,12 +228,12 @@ pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
         "Floor under a parallel ceiling at h = {CEILING}, AO rays of length R = {RANGE}: reference unoccluded fraction (h/R)^2 = {}.\n",
         (CEILING as f64 / RANGE as f64).powi(2)
     );
-    s.push_str("| back-end | sampling | rays/pixel | AO ms | RMSE | relMSE | bias | variance |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("| back-end | sampling | rays/pixel | AO ms | RMSE | relMSE | bias | variance | FLIP mean | FLIP p99 |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.4} | {:.5} | {:.5} | {:+.5} | {:.6} |",
-            r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance
+            "| {} | {} | {} | {:.4} | {:.5} | {:.5} | {:+.5} | {:.6} | {:.4} | {:.4} |",
+            r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance, r.flip_mean, r.flip_p99
         );
     }
     s.push_str("\nFitted slope of log RMSE against log rays per pixel:\n\n| back-end | sampling | slope |\n| --- | --- | ---: |\n");
