@@ -35,6 +35,8 @@ pub struct ErrorConfig {
     /// Rays per pixel run: 1, 2, 4, ... up to this.
     pub max_rays: i64,
     pub seeds: u32,
+    /// Untimed frames before the timed ones of every seed (the GPU's clocks rise under load).
+    pub warmup: u32,
     pub frames: u32,
     pub backends: Vec<Backend>,
     pub root: PathBuf,
@@ -42,11 +44,11 @@ pub struct ErrorConfig {
 
 impl ErrorConfig {
     pub fn full(root: &Path, backends: Vec<Backend>) -> Self {
-        Self { size: (256, 256), max_rays: 256, seeds: 8, frames: 5, backends, root: root.to_path_buf() }
+        Self { size: (256, 256), max_rays: 256, seeds: 8, warmup: 20, frames: 10, backends, root: root.to_path_buf() }
     }
 
     pub fn quick(root: &Path, backends: Vec<Backend>) -> Self {
-        Self { size: (32, 32), max_rays: 64, seeds: 4, frames: 1, backends, root: root.to_path_buf() }
+        Self { size: (32, 32), max_rays: 64, seeds: 4, warmup: 1, frames: 1, backends, root: root.to_path_buf() }
     }
 }
 
@@ -123,7 +125,7 @@ pub fn run(
                     let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
                     let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
                     let mut exec = Executor::new(gpu, plan, &scene)?;
-                    let frames = super::timed_frames(gpu, &mut exec, &scene, 1, cfg.frames, |_| scene.camera)?;
+                    let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
                     ms.extend(frames.iter().map(|f| f.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(f.frame_ms)));
                     let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
                     let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
