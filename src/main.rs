@@ -483,6 +483,10 @@ fn run(cli: Cli) -> Result<()> {
             let rows = with_progress(|progress| error_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(error_bench::plots(&out, &rows))?;
+            let (scenes, size): (&[&str], _) = if quick { (&["default"], (96, 54)) } else { (&["default", "atrium"], (1280, 720)) };
+            let hybrid = error_bench::run_hybrid(&gpu, &cfg, scenes, size)?;
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, size);
+            write_results(&out, &[("hybrid.csv", error_bench::hybrid_csv(&info, &hybrid)), ("hybrid.md", error_bench::hybrid_markdown(&info, &hybrid))])?;
         }
         Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
             use raygraph::bench::depth::{self as depth_bench, DepthConfig};

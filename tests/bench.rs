@@ -81,17 +81,24 @@ fn bench_build_quick_writes_a_complete_table() {
 
 /// Runs `raygraph bench NAME --quick` and returns the CSV's header and rows.
 fn quick_csv(name: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let (header, rows, _) = quick_csv_with(name, "");
+    (header, rows)
+}
+
+/// [`quick_csv`], also returning the text of another results file (if named and present).
+fn quick_csv_with(name: &str, other: &str) -> (Vec<String>, Vec<Vec<String>>, Option<String>) {
     let out = common::gltf_doc::temp_dir(&format!("bench-{name}"));
     let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", name, "--quick", "--out"]).arg(&out).output().unwrap();
     assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
     assert!(std::fs::read_to_string(out.join(format!("{name}.md"))).unwrap().contains("revision:"));
     let csv = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
+    let other = (!other.is_empty()).then(|| std::fs::read_to_string(out.join(other)).ok()).flatten();
     assert_plots(&out);
     let _ = std::fs::remove_dir_all(&out);
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header = lines.next().unwrap().split(',').map(str::to_string).collect::<Vec<_>>();
     let rows = lines.map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>()).collect();
-    (header, rows)
+    (header, rows, other)
 }
 
 #[test]
@@ -179,7 +186,18 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
 /// is reported (mean at most the 99th percentile, both in (0, 1]) and falls from 1 to 64 rays.
 #[test]
 fn bench_error_quick_converges_at_the_expected_rates() {
-    let (header, rows) = quick_csv("error");
+    let (header, rows, hybrid) = quick_csv_with("error", "hybrid.csv");
+    // Hybrid against full RT: untextured, the two modes draw the same image (the G-buffer is
+    // the only difference); both rows per back-end, with and without textures.
+    let hybrid = hybrid.expect("bench error writes hybrid.csv");
+    let mut lines = hybrid.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(lines.next().unwrap(), "scene,textures,backend,hybrid_ms,full_rt_ms,rmse,differing,flip_mean,flip_p99");
+    let hybrid_rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(hybrid_rows.len(), 4, "{hybrid}");
+    for r in hybrid_rows.iter().filter(|r| r[1] == "false") {
+        let flip_mean: f64 = r[7].parse().unwrap();
+        assert!(flip_mean < 0.01, "untextured, hybrid and full RT agree: {r:?}");
+    }
     assert_eq!(header, ["backend", "sampling", "rays", "ao_ms", "rmse", "relmse", "bias", "variance", "flip_mean", "flip_p99"]);
     let mut backends: Vec<String> = rows.iter().map(|r| r[0].clone()).collect();
     backends.dedup();

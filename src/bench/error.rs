@@ -8,6 +8,8 @@
 //! and the variance (mean over pixels of the variance across seeds), and FLIP (mean and 99th
 //! percentile) of the images shown as grey against the reference grey. The slope of log RMSE
 //! against log rays per pixel is fitted per back-end and scheme (-0.5 for white noise).
+//! Also hybrid against full RT ([`run_hybrid`]): both final images of a scene, compared with
+//! full RT as the reference, and both frame times.
 
 use super::RunInfo;
 use crate::accel::backend::Backend;
@@ -287,4 +289,103 @@ pub fn plots(dir: &Path, rows: &[ErrorRow]) -> Result<Vec<PathBuf>, String> {
     LinePlot { title: "AO error against time", x_label: "AO pass GPU ms", y_label: "RMSE against the closed form", log_x: true, log_y: true, x_labels: None }
         .write(&path, &series)?;
     Ok(vec![path])
+}
+
+/// Hybrid against full RT on one scene and back-end: both graphs' final images (the same
+/// camera, shadows, AO and reflections; the G-buffer rasterized or from primary rays) and their
+/// GPU frame times.
+#[derive(Debug, Clone)]
+pub struct HybridRow {
+    pub backend: Backend,
+    pub scene: String,
+    /// With the scene's textures, or with every material's constant colour only.
+    pub textures: bool,
+    pub hybrid_ms: f64,
+    pub full_rt_ms: f64,
+    /// Over the 8-bit RGB output: RMSE (in 8-bit units), the fraction of pixels with a channel
+    /// differing by more than 8, and FLIP (mean, 99th percentile).
+    pub rmse: f64,
+    pub differing: f64,
+    pub flip_mean: f64,
+    pub flip_p99: f64,
+}
+
+pub fn run_hybrid(gpu: &Gpu, cfg: &ErrorConfig, scenes: &[&str], size: (u32, u32)) -> Result<Vec<HybridRow>, RuntimeError> {
+    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
+    let mut rows = Vec::new();
+    for (name, textures) in scenes.iter().flat_map(|n| [(n, true), (n, false)]) {
+        let (scene, _) = crate::scene::open(name, &crate::scene::LoadOptions { textures, ..Default::default() })?;
+        for &backend in &cfg.backends {
+            let mut images = Vec::new();
+            let mut times = Vec::new();
+            for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
+                let plan = compile_with(&cfg.root.join(graph), &project, size, &gpu.compile_options_for(backend))?;
+                let mut exec = Executor::new(gpu, plan, &scene)?;
+                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+                let mut ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
+                times.push(median(&mut ms));
+                images.push(exec.read_output(gpu)?);
+            }
+            let (a, b) = (&images[0], &images[1]);
+            let rgb = |img: &image::RgbaImage| img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
+            let (ra, rb) = (rgb(a), rgb(b));
+            let n = ra.len() as f64;
+            let rmse = (ra.iter().zip(&rb).map(|(x, y)| (*x as f64 - *y as f64).powi(2)).sum::<f64>() / n).sqrt();
+            let differing =
+                a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| (p[c] as i32 - q[c] as i32).abs() > 8)).count() as f64 / (size.0 * size.1) as f64;
+            let error_map = nv_flip::flip(
+                nv_flip::FlipImageRgb8::with_data(size.0, size.1, &rb),
+                nv_flip::FlipImageRgb8::with_data(size.0, size.1, &ra),
+                nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+            );
+            let mut pool = nv_flip::FlipPool::from_image(&error_map);
+            rows.push(HybridRow {
+                backend,
+                scene: name.to_string(),
+                textures,
+                hybrid_ms: times[0],
+                full_rt_ms: times[1],
+                rmse,
+                differing,
+                flip_mean: pool.mean() as f64,
+                flip_p99: pool.get_percentile(0.99, false) as f64,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+pub fn hybrid_csv(info: &RunInfo, rows: &[HybridRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,textures,backend,hybrid_ms,full_rt_ms,rmse,differing,flip_mean,flip_p99\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{:.4},{:.4},{:.4},{:.5},{:.5},{:.5}",
+            r.scene, r.textures, r.backend, r.hybrid_ms, r.full_rt_ms, r.rmse, r.differing, r.flip_mean, r.flip_p99
+        );
+    }
+    s
+}
+
+pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
+    let mut s = format!("# bench error: hybrid against full ray tracing\n\n{}\n", info.markdown());
+    s.push_str("Full RT's image is the reference; RMSE in 8-bit units over RGB; differing: pixels with a channel more than 8 apart.\n\n");
+    s.push_str("| scene | textures | back-end | hybrid ms | full RT ms | RMSE | differing pixels | FLIP mean | FLIP p99 |\n| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.3} | {:.3} | {:.2} | {:.2}% | {:.4} | {:.4} |",
+            r.scene,
+            if r.textures { "yes" } else { "no" },
+            r.backend,
+            r.hybrid_ms,
+            r.full_rt_ms,
+            r.rmse,
+            100.0 * r.differing,
+            r.flip_mean,
+            r.flip_p99
+        );
+    }
+    s
 }
