@@ -188,15 +188,21 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
 fn bench_error_quick_converges_at_the_expected_rates() {
     let (header, rows, hybrid) = quick_csv_with("error", "hybrid.csv");
     // Hybrid against full RT: untextured, the two modes draw the same image (the G-buffer is
-    // the only difference); both rows per back-end, with and without textures.
+    // the only difference); textured, nearly; both rows per back-end.
     let hybrid = hybrid.expect("bench error writes hybrid.csv");
     let mut lines = hybrid.lines().filter(|l| !l.starts_with('#'));
     assert_eq!(lines.next().unwrap(), "scene,textures,backend,hybrid_ms,full_rt_ms,rmse,differing,flip_mean,flip_p99");
     let hybrid_rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(hybrid_rows.len(), 4, "{hybrid}");
-    for r in hybrid_rows.iter().filter(|r| r[1] == "false") {
+    for r in &hybrid_rows {
         let flip_mean: f64 = r[7].parse().unwrap();
-        assert!(flip_mean < 0.01, "untextured, hybrid and full RT agree: {r:?}");
+        if r[1] == "false" {
+            assert!(flip_mean < 0.01, "untextured, hybrid and full RT agree: {r:?}");
+        } else {
+            // Textured: full RT's primary rays pick mip levels from their ray cones as the
+            // rasterizer does from derivatives (level 0 everywhere measured FLIP 0.196 here).
+            assert!(flip_mean < 0.05, "textured, hybrid and full RT nearly agree: {r:?}");
+        }
     }
     assert_eq!(header, ["backend", "sampling", "rays", "ao_ms", "rmse", "relmse", "bias", "variance", "flip_mean", "flip_p99"]);
     let mut backends: Vec<String> = rows.iter().map(|r| r[0].clone()).collect();

@@ -11,3 +11,10 @@ fn sample_scene_texture(layer: u32, uv: vec2<f32>) -> vec4<f32> {
 fn sample_scene_texture_level(layer: u32, uv: vec2<f32>, lod: f32) -> vec4<f32> {
     return textureSampleLevel(scene_textures[layer], linear_sampler, uv, lod);
 }
+
+// log2 of the texture's side in texels (the geometric mean of width and height), for choosing a
+// mip level from a footprint in uv units.
+fn scene_texture_log2_size(layer: u32) -> f32 {
+    let d = vec2<f32>(textureDimensions(scene_textures[layer]));
+    return 0.5 * log2(d.x * d.y);
+}

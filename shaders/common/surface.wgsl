@@ -1,5 +1,8 @@
 // Shading data at a ray hit: interpolated position, normals and uv from the scene's vertex and
-// index buffers, and the material's textures (level 0: compute shaders have no derivatives).
+// index buffers, and the material's textures: at level 0 (`surface_at`), or at the mip level
+// of a ray cone's footprint (`surface_at_cone`, Akenine-Möller et al., "Texture Level of Detail
+// Strategies for Real-Time Ray Tracing", Ray Tracing Gems ch. 20): compute shaders have no
+// derivatives.
 // Needs the main shader to declare `scene_instances`, `scene_materials`, `scene_meshes`,
 // `scene_indices`, `scene_vertices`, `scene_textures`, `linear_sampler`, and to include
 // common/scene.wgsl, common/scene_textures.wgsl and trace/trace.wgsl.
@@ -21,6 +24,11 @@ fn scene_vertex(i: u32) -> SceneVertex {
 }
 
 fn surface_at(ray: Ray, hit: Hit) -> Surface {
+    return surface_at_cone(ray, hit, 0.0);
+}
+
+// `cone_width`: the width of the ray's cone at the hit (0: sample level 0).
+fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let inst = scene_instances[hit.instance];
     let mesh = scene_meshes[inst.mesh];
     let first = mesh.first_index + 3u * hit.primitive;
@@ -43,9 +51,27 @@ fn surface_at(ray: Ray, hit: Hit) -> Surface {
         n = -n;
     }
     let material = scene_materials[inst.material];
-    let base = sample_scene_texture_level(material.base_texture, uv, 0.0);
-    let mr = sample_scene_texture_level(material.metallic_roughness_texture, uv, 0.0);
-    let emissive = material.emissive * sample_scene_texture_level(material.emissive_texture, uv, 0.0).rgb;
+    // Mip level in uv units: half the log2 of uv area over world area, plus log2 of the cone's
+    // footprint across the surface; each texture adds log2 of its size.
+    var lod_uv = -1.0e9;
+    if cone_width > 0.0 {
+        let world_area = length(cross((inst.model * vec4<f32>(pb - pa, 0.0)).xyz, (inst.model * vec4<f32>(pc - pa, 0.0)).xyz));
+        let ea = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
+        let eb = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
+        let uv_area = abs(ea.x * eb.y - ea.y * eb.x);
+        let cosine = abs(dot(geo, normalize(ray.dir)));
+        if world_area > 0.0 && uv_area > 0.0 && cosine > 0.0 {
+            lod_uv = 0.5 * log2(uv_area / world_area) + log2(cone_width / cosine);
+        }
+    }
+    let lod = vec3<f32>(
+        max(lod_uv + scene_texture_log2_size(material.base_texture), 0.0),
+        max(lod_uv + scene_texture_log2_size(material.metallic_roughness_texture), 0.0),
+        max(lod_uv + scene_texture_log2_size(material.emissive_texture), 0.0),
+    );
+    let base = sample_scene_texture_level(material.base_texture, uv, lod.x);
+    let mr = sample_scene_texture_level(material.metallic_roughness_texture, uv, lod.y);
+    let emissive = material.emissive * sample_scene_texture_level(material.emissive_texture, uv, lod.z).rgb;
     var s: Surface;
     s.position = (inst.model * vec4<f32>(local, 1.0)).xyz;
     s.normal = n;

@@ -1,6 +1,7 @@
 // Primary rays through pixel centres (the rasterizer's sample positions), closest hit, the
 // G-buffer channels of the Deferred layer from the hit (no normal maps: compute shaders have
-// no derivatives for them).
+// no derivatives for them). Textures are sampled at the mip level of the pixel's ray cone (its
+// spread: the angle between neighbouring pixels' rays), as the rasterizer's derivatives pick.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
@@ -45,7 +46,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(albedo, id.xy, vec4<f32>(0.0));
         textureStore(material, id.xy, vec4<f32>(0.0));
     } else {
-        let s = surface_at(ray, hit);
+        let spread = length(camera_ray(id.xy + vec2<u32>(1u, 0u)).dir - ray.dir);
+        let s = surface_at_cone(ray, hit, spread * hit.t);
         textureStore(position, id.xy, vec4<f32>(s.position, 1.0));
         textureStore(normal, id.xy, vec4<f32>(s.normal, 0.0));
         textureStore(geo_normal, id.xy, vec4<f32>(s.geo_normal, 0.0));
