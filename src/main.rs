@@ -172,6 +172,20 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/error")]
         out: PathBuf,
     },
+    /// Bytes per ray of Table 3's tests on the compute back-end, counted by its CPU mirror, and
+    /// the load-bound ceiling they give; with a `bench rays` CSV, achieved/ceiling (no GPU).
+    Roofline {
+        #[arg(long)]
+        quick: bool,
+        /// A `bench rays` results CSV whose compute rows give the achieved GigaRays/s.
+        #[arg(long)]
+        rays: Option<PathBuf>,
+        /// Aggregate L1 bandwidth in bytes/s (default: the H100's).
+        #[arg(long)]
+        bandwidth: Option<f64>,
+        #[arg(long, default_value = "bench-results/roofline")]
+        out: PathBuf,
+    },
     /// Reflection bounces 1..8 against rays/s.
     Depth {
         #[arg(long)]
@@ -487,6 +501,25 @@ fn run(cli: Cli) -> Result<()> {
             let hybrid = error_bench::run_hybrid(&gpu, &cfg, scenes, size)?;
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, size);
             write_results(&out, &[("hybrid.csv", error_bench::hybrid_csv(&info, &hybrid)), ("hybrid.md", error_bench::hybrid_markdown(&info, &hybrid))])?;
+        }
+        Command::Bench { command: BenchCommand::Roofline { quick, rays, bandwidth, out } } => {
+            use raygraph::bench::roofline;
+            let bandwidth = bandwidth.unwrap_or(roofline::H100_L1_BYTES_PER_S);
+            let (stride, ao_rays, scenes): (u32, u32, &[&str]) = if quick { (160, 4, &["box", "organic"]) } else { (16, 64, &["box", "organic", "atrium"]) };
+            let mut rows = Vec::new();
+            for name in scenes {
+                let (s, _) = scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
+                rows.push(roofline::scene_workload(&s, stride, ao_rays, bandwidth));
+            }
+            let (atrium, _) = scene::open(if quick { "organic" } else { "atrium" }, &LoadOptions { textures: false, ..Default::default() })?;
+            let (miss, stress) = raygraph::bench::rays::miss_and_stress_cameras(&atrium);
+            rows.push(roofline::primary_workload("Miss", &atrium, &miss, stride, bandwidth));
+            rows.push(roofline::primary_workload("Stress", &atrium, &stress, stride, bandwidth));
+            if let Some(path) = &rays {
+                let text = std::fs::read_to_string(path).with_context(|| format!("could not read {}", path.display()))?;
+                roofline::with_achieved(&mut rows, &text);
+            }
+            write_results(&out, &[("roofline.csv", roofline::csv(&rows)), ("roofline.md", roofline::markdown(&rows, bandwidth, stride))])?;
         }
         Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
             use raygraph::bench::depth::{self as depth_bench, DepthConfig};

@@ -239,3 +239,31 @@ fn bench_error_quick_converges_at_the_expected_rates() {
         }
     }
 }
+
+/// `raygraph bench roofline --quick` (CPU only): every test's row, with the bytes per ray that
+/// its counts imply, and no ceiling below what Table 3 could hold (the counts are per ray).
+#[test]
+fn bench_roofline_quick_counts_bytes_per_ray() {
+    let out = common::gltf_doc::temp_dir("bench-roofline");
+    let run =
+        Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", "roofline", "--quick", "--out"]).arg(&out).output().unwrap();
+    assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    let csv = std::fs::read_to_string(out.join("roofline.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays"
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), ["box", "organic", "Miss", "Stress"], "{csv}");
+    for r in &rows {
+        let v: Vec<f64> = r[1..8].iter().map(|x| x.parse().unwrap()).collect();
+        assert!(v[0] > 0.0, "rays counted: {r:?}");
+        // bytes = 64 interior + 48 triangles + 64 instances, per ray.
+        assert!((v[5] - (64.0 * v[1] + 48.0 * v[3] + 64.0 * v[4])).abs() <= 0.1 + 1e-3 * v[5], "{r:?}");
+    }
+    let stress: f64 = rows[3][6].parse().unwrap();
+    let miss: f64 = rows[2][6].parse().unwrap();
+    assert!(stress > 100.0 && miss < stress, "all-hit rays load more than all-miss ones: {csv}");
+}

@@ -237,6 +237,34 @@ pub fn t_error_bound(xy: [(f32, f32); 3], z: [f32; 3], e: [f32; 3], det: f32, sh
     3.0 * (gamma(3.0) * max_e * max_z + delta_e * max_z + delta_z * max_e) * (1.0 / det).abs()
 }
 
+/// What one traversal touched: the loads the `compute` back-end makes for it are these
+/// counts times the sizes of the GPU layout's records.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct TraversalCounts {
+    /// Interior nodes visited, TLAS and BLAS (each reads its two children: 64 bytes).
+    pub interior: u64,
+    /// Leaves visited.
+    pub leaves: u64,
+    /// Triangles tested (48 bytes each).
+    pub triangles: u64,
+    /// Instances entered (64 of their 112 bytes are read).
+    pub instances: u64,
+}
+
+impl TraversalCounts {
+    pub fn add(&mut self, o: &TraversalCounts) {
+        self.interior += o.interior;
+        self.leaves += o.leaves;
+        self.triangles += o.triangles;
+        self.instances += o.instances;
+    }
+
+    /// Bytes of nodes, triangles and instances the `compute` back-end loads for them.
+    pub fn bytes(&self) -> u64 {
+        64 * self.interior + 48 * self.triangles + 64 * self.instances
+    }
+}
+
 /// Traverses a [`GpuAccel`] on the CPU.
 #[derive(Debug, Clone, Copy)]
 pub struct CpuTraverser<'a> {
@@ -250,12 +278,18 @@ impl<'a> CpuTraverser<'a> {
 
     /// The closest hit in `(t_min, t_max]`.
     pub fn closest(&self, ray: &Ray) -> Option<Hit> {
-        self.trace(ray, false)
+        self.trace(ray, false, &mut TraversalCounts::default())
     }
 
     /// Whether anything is hit in `(t_min, t_max]` (stops at the first hit found).
     pub fn any(&self, ray: &Ray) -> bool {
-        self.trace(ray, true).is_some()
+        self.trace(ray, true, &mut TraversalCounts::default()).is_some()
+    }
+
+    /// [`CpuTraverser::closest`] (`any_hit` false) or [`CpuTraverser::any`], adding what the
+    /// traversal touched to `counts`.
+    pub fn counted(&self, ray: &Ray, any_hit: bool, counts: &mut TraversalCounts) -> Option<Hit> {
+        self.trace(ray, any_hit, counts)
     }
 
     /// [`CpuTraverser::closest`] for many rays, in parallel.
@@ -268,7 +302,7 @@ impl<'a> CpuTraverser<'a> {
         rays.par_iter().map(|r| self.any(r)).collect()
     }
 
-    fn trace(&self, ray: &Ray, any_hit: bool) -> Option<Hit> {
+    fn trace(&self, ray: &Ray, any_hit: bool, counts: &mut TraversalCounts) -> Option<Hit> {
         let a = self.accel;
         if !ray_is_valid(ray) {
             return None;
@@ -282,12 +316,14 @@ impl<'a> CpuTraverser<'a> {
         let mut node = 0u32;
         while let Some(n) = a.tlas_nodes.get(node as usize) {
             if n.count > 0 {
+                counts.leaves += 1;
                 for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
                     let Some(inst) = a.instances.get(k as usize) else { break };
                     if inst.mask == 0 {
                         continue;
                     }
-                    if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit) {
+                    counts.instances += 1;
+                    if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit, counts) {
                         t_far = h.t;
                         best = Some(h);
                         if any_hit {
@@ -295,7 +331,10 @@ impl<'a> CpuTraverser<'a> {
                         }
                     }
                 }
-            } else if let Some(next) = visit_children(&a.tlas_nodes, n, ray.origin, inv, ray.t_min, t_far, &mut stack, &mut sp) {
+            } else if let Some(next) = {
+                counts.interior += 1;
+                visit_children(&a.tlas_nodes, n, ray.origin, inv, ray.t_min, t_far, &mut stack, &mut sp)
+            } {
                 node = next;
                 continue;
             }
@@ -309,7 +348,7 @@ impl<'a> CpuTraverser<'a> {
     }
 
     /// The closest hit in `[ray.t_min, t_far]` within one instance.
-    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, mut t_far: f32, any_hit: bool) -> Option<Hit> {
+    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, mut t_far: f32, any_hit: bool, counts: &mut TraversalCounts) -> Option<Hit> {
         let a = self.accel;
         let o = transform_point(&inst.world_to_object, ray.origin);
         let d = transform_vector(&inst.world_to_object, ray.dir);
@@ -322,8 +361,10 @@ impl<'a> CpuTraverser<'a> {
         slab_test(a.blas_nodes.get(node as usize)?, o, inv, ray.t_min, t_far)?;
         while let Some(n) = a.blas_nodes.get(node as usize) {
             if n.count > 0 {
+                counts.leaves += 1;
                 for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
                     let Some(tri) = a.triangles.get(k as usize) else { break };
+                    counts.triangles += 1;
                     if let Some((t, u, v, front_face)) = wt.intersect(tri, ray.t_min, t_far) {
                         t_far = t;
                         best = Some(if inst.instance_id == MERGED_INSTANCE {
@@ -336,7 +377,10 @@ impl<'a> CpuTraverser<'a> {
                         }
                     }
                 }
-            } else if let Some(next) = visit_children(&a.blas_nodes, n, o, inv, ray.t_min, t_far, &mut stack, &mut sp) {
+            } else if let Some(next) = {
+                counts.interior += 1;
+                visit_children(&a.blas_nodes, n, o, inv, ray.t_min, t_far, &mut stack, &mut sp)
+            } {
                 node = next;
                 continue;
             }
