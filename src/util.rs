@@ -1,4 +1,5 @@
-//! Small file-system helpers shared by every writer of user-visible files.
+//! Small helpers: atomic writes shared by every writer of user-visible files, and the
+//! deterministic random numbers of benches and tests.
 
 use std::io::Write;
 use std::path::Path;
@@ -19,4 +20,34 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// splitmix64: a small deterministic generator for sampled rays in benches and tests (not for
+/// anything that needs statistical quality beyond that).
+#[derive(Debug, Clone)]
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1), 24 bits.
+    pub fn f(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// A uniformly distributed unit vector.
+    pub fn dir(&mut self) -> glam::Vec3 {
+        loop {
+            let v = glam::Vec3::new(self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0);
+            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
 }

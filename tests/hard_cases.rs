@@ -109,28 +109,7 @@ fn crossings(gpu: &Gpu, t: &BatchTracer, rays: &[GpuRay], cap: usize) -> Vec<usi
     counts
 }
 
-/// splitmix64
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn f(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn dir(&mut self) -> Vec3 {
-        loop {
-            let v = Vec3::new(self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0);
-            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
-                return v.normalize();
-            }
-        }
-    }
-}
+use raygraph::util::SplitMix64 as Rng;
 
 /// A closed sphere with every vertex moved radially by up to 10% (deterministic), so no two
 /// triangles are symmetric: rays from three inside points aimed exactly at every vertex and

@@ -33,18 +33,6 @@ pub struct RooflineRow {
     pub achieved: Option<f64>,
 }
 
-/// splitmix64, for the AO directions.
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
 /// `shaders/common/ray_offset.wgsl`: along the normal by 256 ulps of the largest coordinate.
 fn offset(p: Vec3, n: Vec3) -> Vec3 {
     p + n * (p.abs().max_element() * (256.0 / 8_388_608.0)).max(1.0 / 65536.0)
@@ -88,7 +76,7 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
     let tracer = CpuTraverser::new(&accel);
     let mut counts = TraversalCounts::default();
     let mut rays = 0u64;
-    let mut rng = Rng(1);
+    let mut rng = crate::util::SplitMix64(1);
     let range = 0.05 * 0.5 * scene.bounds().diagonal();
     for r in camera_rays(&scene.camera, (2560, 1440), stride) {
         rays += 1;

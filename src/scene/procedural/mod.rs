@@ -54,28 +54,25 @@ pub fn by_name(name: &str) -> Option<Scene> {
 // Random numbers and noise
 // ---------------------------------------------------------------------------------------------
 
-/// A splitmix64 generator: tiny, fast and fully deterministic.
+/// A splitmix64 generator ([`crate::util::SplitMix64`]) seeded for scene generation: tiny,
+/// fast and fully deterministic.
 #[derive(Debug, Clone)]
-pub(crate) struct Rng(u64);
+pub(crate) struct Rng(crate::util::SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        let mut r = Rng(seed ^ 0x6A09_E667_F3BC_C908);
+        let mut r = Rng(crate::util::SplitMix64(seed ^ 0x6A09_E667_F3BC_C908));
         r.next_u64();
         r
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in [0, 1).
     pub fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+        self.0.f()
     }
 
     /// Uniform in [lo, hi).
