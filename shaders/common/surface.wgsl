@@ -1,7 +1,7 @@
 // Shading data at a ray hit: interpolated position, normals and uv from the scene's vertex and
-// index buffers, and the material's textures: at level 0 (`surface_at`), or at the mip level
-// of a ray cone's footprint (`surface_at_cone`, Akenine-Möller et al., "Texture Level of Detail
-// Strategies for Real-Time Ray Tracing", Ray Tracing Gems ch. 20): compute shaders have no
+// index buffers, and the material's textures at the mip level of the ray cone's footprint
+// (`surface_at_cone`, Akenine-Möller et al., "Texture Level of Detail Strategies for Real-Time
+// Ray Tracing", Ray Tracing Gems ch. 20; width 0 samples level 0): compute shaders have no
 // derivatives.
 // Needs the main shader to declare `scene_instances`, `scene_materials`, `scene_meshes`,
 // `scene_indices`, `scene_vertices`, `scene_textures`, `linear_sampler`, and to include
@@ -21,10 +21,6 @@ struct Surface {
 
 fn scene_vertex(i: u32) -> SceneVertex {
     return scene_vertices[i];
-}
-
-fn surface_at(ray: Ray, hit: Hit) -> Surface {
-    return surface_at_cone(ray, hit, 0.0);
 }
 
 // `cone_width`: the width of the ray's cone at the hit (0: sample level 0).

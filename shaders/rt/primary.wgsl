@@ -3,6 +3,7 @@
 // no derivatives for them). Textures are sampled at the mip level of the pixel's ray cone (its
 // spread: the angle between neighbouring pixels' rays), as the rasterizer's derivatives pick.
 //#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "trace/trace.wgsl"
@@ -22,22 +23,13 @@
 @group(0) @binding(11) var material: texture_storage_2d<rgba8unorm, write>;
 @group(1) @binding(0) var scene_textures: SceneTextures;
 
-// The world-space ray through the centre of pixel `p`.
-fn camera_ray(p: vec2<u32>) -> Ray {
-    let ndc = vec2<f32>((f32(p.x) + 0.5) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(p.y) + 0.5) * frame.resolution.w * 2.0);
-    let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
-    let far_point = far.xyz / far.w;
-    let origin = frame.camera_pos.xyz;
-    return Ray(origin, 0.0, normalize(far_point - origin), 3.0e38);
-}
-
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(position);
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    let ray = camera_ray(id.xy);
+    let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(id.xy), 3.0e38);
     let hit = trace_closest(ray);
     if hit.instance == NO_HIT {
         textureStore(position, id.xy, vec4<f32>(0.0));
@@ -46,8 +38,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(albedo, id.xy, vec4<f32>(0.0));
         textureStore(material, id.xy, vec4<f32>(0.0));
     } else {
-        let spread = length(camera_ray(id.xy + vec2<u32>(1u, 0u)).dir - ray.dir);
-        let s = surface_at_cone(ray, hit, spread * hit.t);
+        let s = surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t);
         textureStore(position, id.xy, vec4<f32>(s.position, 1.0));
         textureStore(normal, id.xy, vec4<f32>(s.normal, 0.0));
         textureStore(geo_normal, id.xy, vec4<f32>(s.geo_normal, 0.0));

@@ -1,7 +1,10 @@
 // Reflections: closest-hit rays along the mirror direction (glossy: a cosine-power lobe whose
 // width follows the roughness), hit points shaded with the same BRDF as the resolve pass and a
-// shadow ray to the directional light; further bounces weighted by the Fresnel term.
+// shadow ray to the directional light; further bounces weighted by the Fresnel term. Hit
+// textures are sampled at the mip level of the pixel's ray cone, grown along the whole path
+// (camera to the first surface, then every bounce; surfaces taken as flat).
 //#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -90,6 +93,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var radiance = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
     let rnd = pixel_random2(id.xy, params.seed);
+    let spread = camera_pixel_spread(id.xy);
+    var path = distance(frame.camera_pos.xyz, p.xyz);
     for (var bounce = 0u; bounce < params.bounces; bounce++) {
         var dir = glossy_direction(reflect(-v, n), roughness, fract(rnd + r2_sample(bounce)));
         if dot(dir, geo) <= 0.0 {
@@ -101,7 +106,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             radiance += throughput * sky_color(dir);
             break;
         }
-        let s = surface_at(ray, hit);
+        path += hit.t;
+        let s = surface_at_cone(ray, hit, spread * path);
         radiance += throughput * shade_hit(s, -dir);
         // The next bounce leaves the hit point, weighted by its Fresnel reflectance.
         let f = fresnel_schlick(dot(s.normal, -dir), specular_f0(s.albedo, s.metallic));
