@@ -5,7 +5,7 @@
 //! starting on a box face, lit planes scaled by 1e-4 and 1e4 and moved 1e5 away, coplanar
 //! overlapping quads, a thin AO occluder, a thin wall in front of a light, a camera inside a
 //! closed box, and rays spawned from hits. Ray origins on surfaces use the project's offset
-//! (`shaders/common/ray_offset.wgsl`, mirrored by `offset_ray_origin` below).
+//! (`shaders/common/ray_offset.wgsl`, mirrored by `cpu_traverse::offset_ray_origin`).
 
 mod common;
 
@@ -13,6 +13,7 @@ use glam::{Mat4, Quat, Vec3};
 use raygraph::accel::backend::Backend;
 use raygraph::accel::batch::{BatchHit, BatchTracer, GpuRay};
 use raygraph::accel::cache::AccelSettings;
+use raygraph::accel::cpu_traverse::offset_ray_origin;
 use raygraph::runtime::Gpu;
 use raygraph::scene::{builtin, Instance, Mesh, Scene, Vertex};
 
@@ -49,25 +50,13 @@ fn scene_of(meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Scene {
     let mut s = builtin::default_scene();
     s.name = "case".into();
     s.meshes = meshes;
-    s.textures.clear();
-    for m in &mut s.materials {
-        m.texture = None;
-        m.metallic_roughness_texture = None;
-        m.normal_texture = None;
-        m.emissive_texture = None;
-    }
+    s.strip_textures();
     s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
     s
 }
 
 fn ray(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> GpuRay {
     GpuRay { origin: origin.to_array(), t_min, dir: dir.to_array(), t_max }
-}
-
-/// `shaders/common/ray_offset.wgsl`'s `offset_ray_origin`: along the normal by 256 ulps of the
-/// largest coordinate, at least 2^-16.
-fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
-    p + n * (p.abs().max_element() * (256.0 / 8_388_608.0)).max(1.0 / 65536.0)
 }
 
 fn closest(gpu: &Gpu, t: &BatchTracer, rays: &[GpuRay]) -> Vec<Option<BatchHit>> {

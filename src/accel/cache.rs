@@ -100,8 +100,9 @@ impl BuildReport {
     }
 }
 
-/// A fast 64-bit hash of plain data (not cryptographic; a change detector).
-fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
+/// A fast 64-bit hash of plain data (not cryptographic; a change detector). Also what the
+/// executor's scene-change detection ([`crate::scene::gpu::SceneContent`]) uses.
+pub fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
     let mut h = seed ^ 0x9E37_79B9_7F4A_7C15 ^ bytes.len() as u64;
     let mut chunks = bytes.chunks_exact(8);
     for c in &mut chunks {
@@ -452,7 +453,7 @@ impl AccelCache {
         // Only instances moved: refit on the GPU.
         if let Some(c) = old.as_ref().filter(|_| refit) {
             if let Some((refit, _)) = &c.refit {
-                refit.record(device, queue, encoder, scene, &c.buffers);
+                refit.record(queue, encoder, scene);
                 report.tlas = TlasWork::Refit;
                 report.blas_refit = true;
             }
@@ -468,7 +469,7 @@ impl AccelCache {
         let flat = merge(&mesh, &origin, blas);
         self.install(device, queue, scene, old, None, &flat, report)?;
         if let State::Compute(c) = &mut self.state {
-            c.refit = MergedRefit::new(device, scene, &flat).map(|r| (r, meshes_hash));
+            c.refit = MergedRefit::new(device, scene, &flat, &c.buffers).map(|r| (r, meshes_hash));
         }
         Ok(())
     }

@@ -107,6 +107,12 @@ pub fn slab_test(n: &GpuBvhNode, o: Vec3, inv: Vec3, t_min: f32, t_max: f32) -> 
     (t0 <= t1).then_some(t0)
 }
 
+/// `shaders/common/ray_offset.wgsl`'s `offset_ray_origin`: `p` moved along `n` by 256 ulps of
+/// its largest coordinate, at least 2^-16 (for rays spawned from surfaces on the CPU).
+pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+    p + n * (p.abs().max_element() * (256.0 / 8_388_608.0)).max(1.0 / 65536.0)
+}
+
 /// Affine 3x4 row-major times a point.
 pub fn transform_point(m: &[[f32; 4]; 3], p: Vec3) -> Vec3 {
     let r = |i: usize| m[i][0] * p.x + m[i][1] * p.y + m[i][2] * p.z + m[i][3];

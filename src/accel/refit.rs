@@ -100,17 +100,13 @@ pub fn plan_treelets(nodes: &[GpuBvhNode], max_nodes: usize) -> TreeletPlan {
     plan
 }
 
-/// The refit's own GPU objects for one merged build.
+/// The refit's own GPU objects for one merged build (its arrays stay the same buffers until
+/// the next build, which makes a new refit).
 pub struct MergedRefit {
     pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
-    object_vertices: wgpu::Buffer,
+    /// The merged arrays and the refit's own buffers; `Params` records `params_stride` apart.
+    bind_group: wgpu::BindGroup,
     transforms: wgpu::Buffer,
-    level_nodes: wgpu::Buffer,
-    level_ranges: wgpu::Buffer,
-    treelets: wgpu::Buffer,
-    /// One `Params` record per dispatch, `params_stride` bytes apart.
-    params: wgpu::Buffer,
     params_stride: u64,
     /// Workgroups (treelets) per dispatch: the subtree treelets, then the top one.
     dispatches: Vec<u32>,
@@ -120,8 +116,9 @@ pub struct MergedRefit {
 }
 
 impl MergedRefit {
-    /// The refit of `flat` (the merged layout of `scene`); `None` for an empty tree.
-    pub fn new(device: &wgpu::Device, scene: &Scene, flat: &GpuAccel) -> Option<Self> {
+    /// The refit of `flat` (the merged layout of `scene`) in the cache's `buffers` (tlas nodes,
+    /// instances, blas nodes, triangles); `None` for an empty tree.
+    pub fn new(device: &wgpu::Device, scene: &Scene, flat: &GpuAccel, buffers: &[wgpu::Buffer; 4]) -> Option<Self> {
         if *flat.blas_roots.first()? != 0 || flat.triangles.iter().all(|t| t.prim == NO_PRIM) {
             return None;
         }
@@ -194,21 +191,26 @@ impl MergedRefit {
             compilation_options: Default::default(),
             cache: None,
         });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("refit"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &params, offset: 0, size: wgpu::BufferSize::new(16) }),
+                },
+                wgpu::BindGroupEntry { binding: 1, resource: buffers[2].as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: buffers[3].as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: object_vertices.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: transforms.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: level_nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: buffers[0].as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 7, resource: level_ranges.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 8, resource: treelets.as_entire_binding() },
+            ],
+        });
         let usable = usable_instances(scene);
-        Some(Self {
-            pipeline,
-            layout,
-            object_vertices,
-            transforms,
-            level_nodes,
-            level_ranges,
-            treelets,
-            params,
-            params_stride,
-            dispatches,
-            levels: plan.depth,
-            usable,
-        })
+        Some(Self { pipeline, bind_group, transforms, params_stride, dispatches, levels: plan.depth, usable })
     }
 
     /// Whether `scene` differs from the merged one only in where its instances are (same
@@ -218,35 +220,16 @@ impl MergedRefit {
         usable_instances(scene) == self.usable
     }
 
-    /// Writes `scene`'s transforms and records the refit of the merged arrays `buffers`
-    /// (tlas nodes, instances, blas nodes, triangles, as the cache holds them).
-    pub fn record(&self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene, buffers: &[wgpu::Buffer; 4]) {
+    /// Writes `scene`'s transforms and records the refit of the merged arrays.
+    pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
         let rows: Vec<[[f32; 4]; 3]> = scene.instances.iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
         if !rows.is_empty() {
             queue.write_buffer(&self.transforms, 0, bytemuck::cast_slice(&rows));
         }
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("refit"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &self.params, offset: 0, size: wgpu::BufferSize::new(16) }),
-                },
-                wgpu::BindGroupEntry { binding: 1, resource: buffers[2].as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: buffers[3].as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: self.object_vertices.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: self.transforms.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 5, resource: self.level_nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 6, resource: buffers[0].as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 7, resource: self.level_ranges.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 8, resource: self.treelets.as_entire_binding() },
-            ],
-        });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel refit"), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         for (k, &groups) in self.dispatches.iter().enumerate() {
-            pass.set_bind_group(0, &bind_group, &[(k as u64 * self.params_stride) as u32]);
+            pass.set_bind_group(0, &self.bind_group, &[(k as u64 * self.params_stride) as u32]);
             pass.dispatch_workgroups(groups, 1, 1);
         }
     }

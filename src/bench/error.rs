@@ -76,13 +76,7 @@ pub fn ceiling_scene() -> Scene {
     let mut s = builtin::default_scene();
     s.name = "parallel ceiling".into();
     s.meshes = vec![builtin::plane("floor", 400.0, 1.0)];
-    s.textures.clear();
-    for m in &mut s.materials {
-        m.texture = None;
-        m.metallic_roughness_texture = None;
-        m.normal_texture = None;
-        m.emissive_texture = None;
-    }
+    s.strip_textures();
     let ceiling = Mat4::from_translation(Vec3::new(0.0, CEILING, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
     s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }];
     s.camera = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);

@@ -12,7 +12,7 @@
 //! surface as the shaders do; the Miss and Stress tests' primary rays from their cameras.
 
 use crate::accel::bvh::{Blas, BuildConfig};
-use crate::accel::cpu_traverse::{CpuTraverser, Ray, TraversalCounts};
+use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraversalCounts};
 use crate::accel::layout::{merge, merge_instances, GpuAccel};
 use crate::scene::{Camera, Scene};
 use glam::Vec3;
@@ -31,11 +31,6 @@ pub struct RooflineRow {
     pub ceiling: f64,
     /// From a `bench rays` CSV, if given: achieved GigaRays/s.
     pub achieved: Option<f64>,
-}
-
-/// `shaders/common/ray_offset.wgsl`: along the normal by 256 ulps of the largest coordinate.
-fn offset(p: Vec3, n: Vec3) -> Vec3 {
-    p + n * (p.abs().max_element() * (256.0 / 8_388_608.0)).max(1.0 / 65536.0)
 }
 
 fn camera_rays(camera: &Camera, (w, h): (u32, u32), stride: u32) -> Vec<Ray> {
@@ -88,7 +83,7 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
         if n.dot(r.dir) > 0.0 {
             n = -n;
         }
-        let origin = offset(r.origin + r.dir * hit.t, n);
+        let origin = offset_ray_origin(r.origin + r.dir * hit.t, n);
         rays += 1;
         tracer.counted(&Ray::new(origin, scene.light.direction), true, &mut counts);
         let (t, b) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));

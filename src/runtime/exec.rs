@@ -90,8 +90,7 @@ impl Executor {
             .slots
             .iter()
             .enumerate()
-            .map(|(i, s)| (i, s, slot_label(&plan, i)))
-            .map(|(_, s, label)| match &s.decl {
+            .map(|(i, s)| match &s.decl {
                 ResourceDecl::Texture(t) => {
                     let mut usage = wgpu::TextureUsages::empty();
                     if s.usage.sampled {
@@ -109,7 +108,7 @@ impl Executor {
                         usage |= wgpu::TextureUsages::COPY_DST;
                     }
                     Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
-                        label: Some(&label),
+                        label: Some(&slot_label(&plan, i)),
                         size: wgpu::Extent3d { width: s.extent.0, height: s.extent.1, depth_or_array_layers: 1 },
                         mip_level_count: 1,
                         sample_count: 1,
@@ -121,7 +120,7 @@ impl Executor {
                 }
                 ResourceDecl::Accel => Physical::Accel,
                 ResourceDecl::Buffer(b) => Physical::Buffer(device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&label),
+                    label: Some(&slot_label(&plan, i)),
                     size: b.size.max(4),
                     usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                     mapped_at_creation: false,

@@ -353,35 +353,23 @@ pub struct SceneContent {
 
 impl SceneContent {
     pub fn of(scene: &Scene) -> Self {
+        use crate::accel::cache::hash_words;
         use rayon::prelude::*;
-        use std::hash::{Hash, Hasher};
         let meshes: Vec<u64> = scene
             .meshes
             .par_iter()
             .map(|m| {
-                let mut h = std::collections::hash_map::DefaultHasher::new();
-                bytemuck::cast_slice::<_, u8>(&m.vertices).hash(&mut h);
-                m.indices.hash(&mut h);
-                if let Some(t) = &m.tangents {
-                    bytemuck::cast_slice::<_, u8>(t).hash(&mut h);
-                }
-                h.finish()
+                let h = hash_words(hash_words(1, bytemuck::cast_slice(&m.vertices)), bytemuck::cast_slice(&m.indices));
+                m.tangents.as_ref().map_or(h, |t| hash_words(h, bytemuck::cast_slice(t)))
             })
             .collect();
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        meshes.hash(&mut h);
-        format!("{:?}", scene.materials).hash(&mut h);
-        for i in &scene.instances {
-            (i.mesh, i.material).hash(&mut h);
-        }
-        for t in &scene.textures {
-            (t.width, t.height, t.rgba.len(), t.rgba.as_ptr() as usize).hash(&mut h);
-        }
-        let structure = h.finish();
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        for i in &scene.instances {
-            bytemuck::cast_slice::<_, u8>(&i.transform.to_cols_array()).hash(&mut h);
-        }
-        Self { structure, transforms: h.finish() }
+        let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
+        let textures: Vec<[u64; 4]> = scene.textures.iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
+        let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
+        structure = hash_words(structure, format!("{:?}", scene.materials).as_bytes());
+        structure = hash_words(structure, bytemuck::cast_slice(&links));
+        structure = hash_words(structure, bytemuck::cast_slice(&textures));
+        let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
+        Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)) }
     }
 }
