@@ -63,19 +63,9 @@ pub struct BuildRow {
 }
 
 /// Camera rays through a `w`×`h` grid from the scene's default camera.
-fn camera_rays(scene: &Scene, (w, h): (u32, u32)) -> Vec<GpuRay> {
-    let cam = scene.camera;
-    let inv = cam.view_proj(w as f32 / h as f32).inverse();
-    let mut rays = Vec::with_capacity((w * h) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
-            let far = inv.project_point3(ndc.extend(1.0));
-            let dir = (far - cam.position).normalize();
-            rays.push(GpuRay { origin: cam.position.into(), t_min: 0.0, dir: dir.into(), t_max: 3.0e38 });
-        }
-    }
-    rays
+fn camera_rays(scene: &Scene, size: (u32, u32)) -> Vec<GpuRay> {
+    let origin = scene.camera.position.into();
+    super::camera_ray_dirs(&scene.camera, size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
 }
 
 /// `on_rows` sees the rows finished so far after each one (to keep the results folder current).

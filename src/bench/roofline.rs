@@ -33,17 +33,8 @@ pub struct RooflineRow {
     pub achieved: Option<f64>,
 }
 
-fn camera_rays(camera: &Camera, (w, h): (u32, u32), stride: u32) -> Vec<Ray> {
-    let inv = camera.view_proj(w as f32 / h as f32).inverse();
-    let mut rays = Vec::new();
-    for y in (0..h).step_by(stride as usize) {
-        for x in (0..w).step_by(stride as usize) {
-            let ndc = glam::Vec4::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0, 1.0, 1.0);
-            let far = inv * ndc;
-            rays.push(Ray::new(camera.position, (far.truncate() / far.w - camera.position).normalize()));
-        }
-    }
-    rays
+fn camera_rays(camera: &Camera, size: (u32, u32), stride: u32) -> Vec<Ray> {
+    super::camera_ray_dirs(camera, size, stride).into_iter().map(|d| Ray::new(camera.position, d)).collect()
 }
 
 /// The merged layout of `scene`, as `Accel(merge: true)` builds it.
