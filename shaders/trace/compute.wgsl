@@ -2,10 +2,11 @@
 // TLAS over instances; per instance the ray goes to object space (direction not renormalised,
 // so t stays the world t) and the instance's BLAS is traversed. Nearer child first with one
 // stack for both levels; any-hit rays stop at the first hit. The slab test never forms
-// infinities (zero direction components become a tiny signed value before the reciprocal)
-// and widens t_far by a few ulps (Ize 2013); the ray-triangle test is watertight (Woop,
-// Benthin, Wald 2013) with each edge function evaluated in one canonical vertex order, so a
-// shared edge gives the same value to both triangles however the compiler fuses the arithmetic.
+// infinities (zero direction components become a tiny signed value before the reciprocal),
+// takes one multiply-add per plane with a slack that keeps boxes conservative, and widens
+// t_far by a few ulps (Ize 2013); the ray-triangle test is watertight (Woop, Benthin, Wald
+// 2013) with each edge function's sign taken by comparing its two products, so a shared edge
+// gives both triangles opposite signs however the compiler fuses the arithmetic.
 // In the merged layout (src/accel/layout.rs) the one instance is the identity and each
 // triangle names its scene instance.
 //#include "trace/common.wgsl"
@@ -90,6 +91,14 @@ const TRACE_WIDEN: f32 = 1.0000005;
 struct TraceRay {
     origin: vec3<f32>,
     inv_dir: vec3<f32>,
+    // The slab test's t = (b - origin) * inv_dir as fma(b, inv_dir, c), one operation per
+    // component instead of two: c = -origin * inv_dir, moved by a bound on the rounding error
+    // of -origin * inv_dir and of the split product (2^-21 |origin * inv_dir|) towards the
+    // outside of the slab: c_min for the box's min planes, c_max for its max planes. The
+    // boxes stay conservative for every ray and origin (the hard-case suite's translated
+    // scenes), at one added slack per axis.
+    c_min: vec3<f32>,
+    c_max: vec3<f32>,
     // The watertight test's permute-and-shear map (kz = the largest |dir| component, kx, ky
     // the others; x' = p[kx] - Sx p[kz], y' = p[ky] - Sy p[kz], z' = Sz p[kz]) as three rows,
     // so a vertex is mapped with three dot products instead of nine dynamically indexed
@@ -100,8 +109,9 @@ struct TraceRay {
 }
 
 fn trace_safe_inverse(d: vec3<f32>) -> vec3<f32> {
-    let tiny = select(vec3<f32>(-1e-30), vec3<f32>(1e-30), d >= vec3<f32>(0.0));
-    return 1.0 / select(d, tiny, abs(d) < vec3<f32>(1e-30));
+    // 2^-80: its inverse is exact, so a ray in a slab's plane gets t = 0 there exactly.
+    let tiny = select(vec3<f32>(-8.2718061e-25), vec3<f32>(8.2718061e-25), d >= vec3<f32>(0.0));
+    return 1.0 / select(d, tiny, abs(d) < vec3<f32>(8.2718061e-25));
 }
 
 fn trace_prepare(origin: vec3<f32>, dir: vec3<f32>) -> TraceRay {
@@ -124,13 +134,19 @@ fn trace_prepare(origin: vec3<f32>, dir: vec3<f32>) -> TraceRay {
     let ex = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kx));
     let ey = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(ky));
     let ez = select(vec3<f32>(0.0), vec3<f32>(1.0), axes == vec3<u32>(kz));
-    return TraceRay(origin, trace_safe_inverse(dir), ex - shear.x * ez, ey - shear.y * ez, shear.z * ez);
+    let inv = trace_safe_inverse(dir);
+    let oi = -origin * inv;
+    let slack = abs(oi) * 4.7683716e-7;
+    let pos = inv >= vec3<f32>(0.0);
+    let c_min = select(oi + slack, oi - slack, pos);
+    let c_max = select(oi - slack, oi + slack, pos);
+    return TraceRay(origin, inv, c_min, c_max, ex - shear.x * ez, ey - shear.y * ez, shear.z * ez);
 }
 
 // Entry and exit distances of the ray through a box (exit < entry: missed).
 fn trace_slab(r: TraceRay, node: AccelNode, t_min: f32, t_max: f32) -> vec2<f32> {
-    let t1 = (node.min - r.origin) * r.inv_dir;
-    let t2 = (node.max - r.origin) * r.inv_dir;
+    let t1 = fma(node.min, r.inv_dir, r.c_min);
+    let t2 = fma(node.max, r.inv_dir, r.c_max);
     let near = min(t1, t2);
     let far = max(t1, t2);
     let enter = max(max(near.x, near.y), max(near.z, t_min));
@@ -171,14 +187,12 @@ fn trace_children(l: AccelNode, r: AccelNode, hl: vec2<f32>, hr: vec2<f32>, sp: 
     return NO_HIT;
 }
 
-// Edge function of the 2D points p, q (sheared triangle vertices), evaluated with the two
-// points in a canonical order so the same edge always gives bitwise the same value.
-fn trace_edge(p: vec2<f32>, q: vec2<f32>) -> f32 {
-    let swap = p.x > q.x || (p.x == q.x && p.y > q.y);
-    let a = select(p, q, swap);
-    let b = select(q, p, swap);
-    let e = a.x * b.y - a.y * b.x;
-    return select(e, -e, swap);
+// Edge function of the 2D points p, q (sheared triangle vertices) as its two products:
+// e = x - y. The inside test compares them (x < y, x > y) rather than the sign of the
+// difference: a comparison cannot be fused into an FMA, and swapping p and q swaps x and y
+// bitwise, so the two triangles of a shared edge always see opposite signs (watertight).
+fn trace_edge(p: vec2<f32>, q: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(p.x * q.y, p.y * q.x);
 }
 
 struct TriHit {
@@ -195,13 +209,16 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     let a = vec2<f32>(dot(r.row_x, a3), dot(r.row_y, a3));
     let b = vec2<f32>(dot(r.row_x, b3), dot(r.row_y, b3));
     let c = vec2<f32>(dot(r.row_x, c3), dot(r.row_y, c3));
-    let u = trace_edge(b, c);
-    let v = trace_edge(c, a);
-    let w = trace_edge(a, b);
+    let eu = trace_edge(b, c);
+    let ev = trace_edge(c, a);
+    let ew = trace_edge(a, b);
     let miss = TriHit(-1.0, 0.0, 0.0);
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+    if (eu.x < eu.y || ev.x < ev.y || ew.x < ew.y) && (eu.x > eu.y || ev.x > ev.y || ew.x > ew.y) {
         return miss;
     }
+    let u = eu.x - eu.y;
+    let v = ev.x - ev.y;
+    let w = ew.x - ew.y;
     let det = u + v + w;
     if det == 0.0 {
         return miss;

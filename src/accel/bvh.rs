@@ -24,8 +24,10 @@
 //! with [`TRAVERSAL_COST`] `C_trav = 1` and [`INTERSECTION_COST`] `C_isect = 1` (a box test and
 //! a primitive test cost about the same in a compute-shader traversal; only the ratio matters).
 //! A node becomes a leaf when it holds at most `max_leaf_size` (4) primitives and the leaf is no
-//! more expensive than the best split. Nodes of fewer than `bins` primitives use as many bins as
-//! primitives (at least 4). When all centroids coincide, and for every node at depth
+//! more expensive than the best split. Nodes of at least [`FINE_BINNING_PRIMS`] primitives use
+//! `bins` (48) bins, smaller nodes at most [`SMALL_NODE_BINS`] (16), and nodes of fewer
+//! primitives than that as many bins as primitives (at least 4): the large nodes near the root
+//! decide most of the tree's cost, and there are few of them. When all centroids coincide, and for every node at depth
 //! [`MEDIAN_FALLBACK_DEPTH`] (24) or deeper, the node is split at the object median of its
 //! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
 //! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
@@ -56,8 +58,12 @@ pub const MAX_LEAF_SIZE: usize = 4;
 /// Largest `max_leaf_size` the builder accepts: the GPU traversal packs a node's primitive
 /// count into 3 bits (see `crate::accel::layout`).
 pub const MAX_LEAF_LIMIT: usize = 7;
-/// Default number of SAH bins per axis.
-pub const DEFAULT_BINS: usize = 16;
+/// Default number of SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives.
+pub const DEFAULT_BINS: usize = 48;
+/// Most SAH bins per axis of a node of fewer than [`FINE_BINNING_PRIMS`] primitives.
+pub const SMALL_NODE_BINS: usize = 16;
+/// Nodes of at least this many primitives get all of [`BuildConfig::bins`].
+pub const FINE_BINNING_PRIMS: usize = 1024;
 /// Nodes at this depth or deeper are split at the object median instead of by SAH.
 pub const MEDIAN_FALLBACK_DEPTH: usize = 24;
 /// Upper bound on the depth (root = 0) of any tree this builder makes; a nearer-first
@@ -162,7 +168,8 @@ pub enum SplitMethod {
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildConfig {
     pub method: SplitMethod,
-    /// SAH bins per axis (clamped to 2..=[`MAX_BINS`]).
+    /// SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives (clamped to
+    /// 2..=[`MAX_BINS`]); smaller nodes use at most [`SMALL_NODE_BINS`] of them.
     pub bins: usize,
     /// Maximum primitives per leaf (clamped to 1..=[`MAX_LEAF_LIMIT`]).
     pub max_leaf_size: usize,
@@ -481,8 +488,9 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
     if cfg.method == SplitMethod::Median || depth >= MEDIAN_FALLBACK_DEPTH {
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
     }
-    // Small nodes get fewer bins: as many as primitives (at least 4) is plenty there.
-    let bins = cfg.bins.min(n.max(4));
+    // Small nodes get fewer bins: at most SMALL_NODE_BINS, and as many as primitives (at
+    // least 4) is plenty there.
+    let bins = if n >= FINE_BINNING_PRIMS { cfg.bins } else { cfg.bins.min(SMALL_NODE_BINS) }.min(n.max(4));
     let maps = [0, 1, 2].map(|axis| bin_mapping(centroids, axis, bins));
     let map = BinMap::new(&maps, bins);
     if maps.iter().all(Option::is_none) {

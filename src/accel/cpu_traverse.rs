@@ -8,13 +8,14 @@
 //! 2. The reciprocal direction is taken after replacing every component with
 //!    `|d| < DIR_EPSILON` by `copysign(DIR_EPSILON, d)` ([`safe_reciprocal`]), so that no
 //!    infinity (and so no `0 * inf = NaN`) ever appears in a slab test.
-//! 3. Slab test ([`slab_test`]): per axis the near plane is `min` if the reciprocal is >= 0,
+//! 3. Slab test ([`slab_test`], with the per-ray constants of [`SlabRay`]): per axis
+//!    `t = b * inv + c` for the box's min and max planes `b`, where `c = -o * inv` moved
+//!    outwards by a bound on its rounding error and on that of the product (the WGSL's `fma`,
+//!    which a driver may evaluate split); the near plane is `min` if the reciprocal is >= 0,
 //!    else `max`; `t_near = max(t_near_x, t_near_y, t_near_z, t_min)`,
 //!    `t_far = min(t_far_x, t_far_y, t_far_z, t_max) * T_FAR_SCALE` (Ize, "Robust BVH ray
-//!    traversal", JCGT 2013; scaling `t_max` too keeps a box whose entry rounds a few ulps past
-//!    the current closest hit); hit if `t_near <= t_far`. For a proper box this is bitwise the
-//!    WGSL's `min`/`max` of the two slab distances (rounding is monotone); only the inverted
-//!    placeholder box differs, and the layout makes that harmless either way.
+//!    traversal", JCGT 2013, for the relative rounding; scaling `t_max` too keeps a box whose
+//!    entry rounds a few ulps past the current closest hit); hit if `t_near <= t_far`.
 //! 4. TLAS: test the root's box (the WGSL does so only when the root is a leaf; boxes nest and
 //!    the test is monotone, so the results are the same); then loop: at a leaf, test its instances in order;
 //!    at an interior node test both children's boxes against the current closest `t`, continue
@@ -39,7 +40,13 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 /// Direction components smaller than this in magnitude are replaced by it (with their sign).
-pub const DIR_EPSILON: f32 = 1e-30;
+/// A power of two (2^-80), so that its reciprocal and `o * inv` are exact: a ray lying in a
+/// slab's plane gets `t = 0` there exactly.
+pub const DIR_EPSILON: f32 = 8.271_806e-25;
+/// The slab constant's outward slack, relative to `|o * inv|` (2^-21): covers the rounding of
+/// `-o * inv`, of the slack's own addition and of a split `b * inv` (three roundings of about
+/// `|o * inv|` each, 2^-24 apiece).
+pub const SLAB_SLACK: f32 = 4.768_371_6e-7;
 /// The far-distance scale of the conservative slab test: 1 + 4 ulps, above Ize's
 /// `1 + 2 * gamma(3)` (`gamma(n) = n u / (1 - n u)`, `u = 2^-24`, about 3 ulps). The WGSL's
 /// `TRACE_WIDEN`.
@@ -93,11 +100,38 @@ pub fn safe_reciprocal(d: Vec3) -> Vec3 {
     Vec3::new(f(d.x), f(d.y), f(d.z))
 }
 
+/// A ray's constants of the slab test: `t = b * inv + c_min` for a box's min planes and
+/// `b * inv + c_max` for its max planes, one multiply-add per plane instead of a subtraction
+/// and a multiplication. `c_min`, `c_max` are `-o * inv` moved by [`SLAB_SLACK`] towards the
+/// outside of the slab, so every box stays conservative for any origin (the translated scenes
+/// of the hard-case suite). The WGSL's `TraceRay::{inv_dir, c_min, c_max}`.
+#[derive(Debug, Clone, Copy)]
+pub struct SlabRay {
+    pub inv: Vec3,
+    pub c_min: Vec3,
+    pub c_max: Vec3,
+}
+
+impl SlabRay {
+    pub fn new(o: Vec3, d: Vec3) -> Self {
+        let inv = safe_reciprocal(d);
+        let oi = -o * inv;
+        let slack = oi.abs() * SLAB_SLACK;
+        let pos = inv.cmpge(Vec3::ZERO);
+        Self { inv, c_min: Vec3::select(pos, oi - slack, oi + slack), c_max: Vec3::select(pos, oi + slack, oi - slack) }
+    }
+}
+
 /// The conservative slab test: `Some(t_near)` if `[t_min, t_max]` overlaps the node's box.
-pub fn slab_test(n: &GpuBvhNode, o: Vec3, inv: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+pub fn slab_test(n: &GpuBvhNode, r: &SlabRay, t_min: f32, t_max: f32) -> Option<f32> {
     let axis = |a: usize| {
-        let (near, far) = if inv[a] >= 0.0 { (n.min[a], n.max[a]) } else { (n.max[a], n.min[a]) };
-        ((near - o[a]) * inv[a], (far - o[a]) * inv[a])
+        let t_lo = n.min[a] * r.inv[a] + r.c_min[a];
+        let t_hi = n.max[a] * r.inv[a] + r.c_max[a];
+        if r.inv[a] >= 0.0 {
+            (t_lo, t_hi)
+        } else {
+            (t_hi, t_lo)
+        }
     };
     let (x0, x1) = axis(0);
     let (y0, y1) = axis(1);
@@ -125,20 +159,13 @@ pub fn transform_vector(m: &[[f32; 4]; 3], d: Vec3) -> Vec3 {
     Vec3::new(r(0), r(1), r(2))
 }
 
-/// The 2D edge function `P x Q = Px Qy - Py Qx` of sheared vertices `p`, `q`, always evaluated
-/// with the two points in a fixed order (lexicographic by x, then y; a shared vertex has the
-/// same sheared coordinates in every triangle) and negated if they were swapped, so both
-/// triangles sharing an edge compute bitwise the same magnitude, one of them negated, however a
-/// compiler fuses the arithmetic. The WGSL's `trace_edge`.
+/// The 2D edge function `P x Q = Px Qy - Py Qx` of sheared vertices `p`, `q`, as the difference
+/// of the two rounded products. Its sign is the comparison of the products, which is what the
+/// WGSL's `trace_edge` tests (a comparison cannot be fused into an FMA): swapping `p` and `q`
+/// swaps the products bitwise, so both triangles sharing an edge see opposite signs, or both
+/// zero. Here nothing is fused, so the difference has exactly that sign.
 pub fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
-    let swap = p.0 > q.0 || (p.0 == q.0 && p.1 > q.1);
-    let (a, b) = if swap { (q, p) } else { (p, q) };
-    let e = a.0 * b.1 - a.1 * b.0;
-    if swap {
-        -e
-    } else {
-        e
-    }
+    p.0 * q.1 - p.1 * q.0
 }
 
 /// A ray prepared for the watertight ray-triangle test in one space (object space here).
@@ -313,12 +340,12 @@ impl<'a> CpuTraverser<'a> {
         if !ray_is_valid(ray) {
             return None;
         }
-        let inv = safe_reciprocal(ray.dir);
+        let slab = SlabRay::new(ray.origin, ray.dir);
         let mut t_far = ray.t_max;
         let mut best: Option<Hit> = None;
         let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
         let mut sp = 0usize;
-        slab_test(a.tlas_nodes.first()?, ray.origin, inv, ray.t_min, t_far)?;
+        slab_test(a.tlas_nodes.first()?, &slab, ray.t_min, t_far)?;
         let mut node = 0u32;
         while let Some(n) = a.tlas_nodes.get(node as usize) {
             if n.count > 0 {
@@ -339,7 +366,7 @@ impl<'a> CpuTraverser<'a> {
                 }
             } else if let Some(next) = {
                 counts.interior += 1;
-                visit_children(&a.tlas_nodes, n, ray.origin, inv, ray.t_min, t_far, &mut stack, &mut sp)
+                visit_children(&a.tlas_nodes, n, &slab, ray.t_min, t_far, &mut stack, &mut sp)
             } {
                 node = next;
                 continue;
@@ -359,12 +386,12 @@ impl<'a> CpuTraverser<'a> {
         let o = transform_point(&inst.world_to_object, ray.origin);
         let d = transform_vector(&inst.world_to_object, ray.dir);
         let wt = WatertightRay::new(o, d)?;
-        let inv = safe_reciprocal(d);
+        let slab = SlabRay::new(o, d);
         let mut best: Option<Hit> = None;
         let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
         let mut sp = 0usize;
         let mut node = inst.blas_root;
-        slab_test(a.blas_nodes.get(node as usize)?, o, inv, ray.t_min, t_far)?;
+        slab_test(a.blas_nodes.get(node as usize)?, &slab, ray.t_min, t_far)?;
         while let Some(n) = a.blas_nodes.get(node as usize) {
             if n.count > 0 {
                 counts.leaves += 1;
@@ -385,7 +412,7 @@ impl<'a> CpuTraverser<'a> {
                 }
             } else if let Some(next) = {
                 counts.interior += 1;
-                visit_children(&a.blas_nodes, n, o, inv, ray.t_min, t_far, &mut stack, &mut sp)
+                visit_children(&a.blas_nodes, n, &slab, ray.t_min, t_far, &mut stack, &mut sp)
             } {
                 node = next;
                 continue;
@@ -406,8 +433,7 @@ impl<'a> CpuTraverser<'a> {
 fn visit_children(
     nodes: &[GpuBvhNode],
     n: &GpuBvhNode,
-    o: Vec3,
-    inv: Vec3,
+    slab: &SlabRay,
     t_min: f32,
     t_far: f32,
     stack: &mut [u32; TRAVERSAL_STACK_SIZE],
@@ -415,8 +441,8 @@ fn visit_children(
 ) -> Option<u32> {
     let l = n.left_or_first;
     let r = l.wrapping_add(1);
-    let tl = nodes.get(l as usize).and_then(|c| slab_test(c, o, inv, t_min, t_far));
-    let tr = nodes.get(r as usize).and_then(|c| slab_test(c, o, inv, t_min, t_far));
+    let tl = nodes.get(l as usize).and_then(|c| slab_test(c, slab, t_min, t_far));
+    let tr = nodes.get(r as usize).and_then(|c| slab_test(c, slab, t_min, t_far));
     match (tl, tr) {
         (Some(a), Some(b)) => {
             let (near, far) = if a <= b { (l, r) } else { (r, l) };

@@ -148,8 +148,8 @@ pub fn empty_node(first: u32) -> GpuBvhNode {
 pub const BOX_PAD_ABS: f32 = 1e-20;
 
 /// `x` moved outward (down) by one ulp past `x - BOX_PAD_ABS`. The traversal replaces a zero
-/// direction component by `+-1e-30`, which moves a ray that lies exactly in a box face plane by
-/// `1e-30 * t` across that plane; widening every box by more than that (for `t < 1e10`) keeps
+/// direction component by `+-2^-80`, which moves a ray that lies exactly in a box face plane by
+/// `2^-80 * t` across that plane; widening every box by more than that (for `t < 1e4`) keeps
 /// such a ray inside, so it still reaches a triangle edge lying in that plane.
 pub fn widen_down(x: f32) -> f32 {
     (x - BOX_PAD_ABS).next_down()
