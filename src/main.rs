@@ -464,6 +464,11 @@ fn run(cli: Cli) -> Result<()> {
             if cfg.backends.contains(&Backend::Compute) {
                 let refit = build_bench::run_refit(&gpu, &cfg, if quick { 3 } else { 20 })?;
                 write_results(&out, &[("refit.csv", build_bench::refit_csv(&info, &refit)), ("refit.md", build_bench::refit_markdown(&info, &refit))])?;
+                let gpu_builds = build_bench::run_gpu_builds(&gpu, &cfg, if quick { 2 } else { 10 })?;
+                write_results(
+                    &out,
+                    &[("gpu_build.csv", build_bench::gpu_build_csv(&info, &gpu_builds)), ("gpu_build.md", build_bench::gpu_build_markdown(&info, &gpu_builds))],
+                )?;
             }
         }
         Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, out } } => {

@@ -201,3 +201,48 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     println!("organic turned and moved, refitted vs rebuilt: RMSE {rmse:.3}, {outliers} outlier pixels ({levels} levels, {dispatches} dispatches)");
     assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "organic: RMSE {rmse}, {outliers} outliers");
 }
+
+/// The merged layout built by the GPU builder (PLOC, the executor's choice on a real GPU;
+/// chosen here explicitly, lavapipe being a CPU adapter) draws the picture the CPU-built one
+/// draws (the metric above), is refitted on the GPU when its instance moves, and rebuilt on
+/// the GPU when a mesh changes.
+#[test]
+fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
+    use raygraph::accel::cache::MergedBuilder;
+    let gpu = gpu();
+    let p = common::TempProject::with_repo_files();
+    let text = std::fs::read_to_string(common::repo().join("graph/ao.ron")).unwrap();
+    let merged_graph = p.write("graph/ao_merged.ron", &text.replace("Accel()", "Accel(merge: true)"));
+    let mut organic = raygraph::scene::load::builtin("organic", 0).unwrap();
+    let render = |scene: &raygraph::scene::Scene, builder: MergedBuilder| {
+        let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
+        exec.accel_mut().unwrap().set_merged_builder(builder);
+        let r = exec.render(&gpu, &scene.camera, scene).unwrap().accel.unwrap();
+        (exec, r)
+    };
+    let (cpu_exec, cpu) = render(&organic, MergedBuilder::Cpu);
+    let (mut gpu_exec, built) = render(&organic, MergedBuilder::Gpu);
+    assert!(!cpu.blas_gpu_built && built.blas_gpu_built, "{cpu:?} / {built:?}");
+    let (cpu_sah, gpu_sah) = (cpu.blas_sah.unwrap(), built.blas_sah.unwrap());
+    println!("organic: SAH cost CPU build {cpu_sah:.2}, GPU build {gpu_sah:.2}; {}", built.describe());
+    assert!(gpu_sah <= 1.1 * cpu_sah, "SAH {gpu_sah} against {cpu_sah}");
+    let (rmse, outliers) = difference(&cpu_exec.read_output(&gpu).unwrap(), &gpu_exec.read_output(&gpu).unwrap());
+    println!("CPU-built vs GPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
+    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
+
+    // Moved: refitted (the refit plans its treelets from the GPU-built layout).
+    organic.instances[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
+    let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
+    let (fresh, _) = render(&organic, MergedBuilder::Cpu);
+    let (rmse, outliers) = difference(&gpu_exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
+    println!("GPU-built and refitted vs CPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
+    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "refitted: RMSE {rmse}, {outliers} outliers");
+
+    // An edited mesh: rebuilt, on the GPU again.
+    for v in organic.meshes[0].vertices.iter_mut() {
+        v.position[1] *= 1.1;
+    }
+    let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild, "{r:?}");
+}

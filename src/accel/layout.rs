@@ -316,6 +316,28 @@ pub fn merge_instances(scene: &Scene) -> (Mesh, Vec<TriangleOrigin>) {
     (mesh, origin)
 }
 
+/// The merged layout around a BLAS built elsewhere (the GPU builder): `blas_nodes` (root at 0)
+/// and `triangles` in its leaf order under a one-leaf TLAS with the root's box and the one
+/// identity instance [`merge`] makes.
+pub fn merged_accel(blas_nodes: Vec<GpuBvhNode>, triangles: Vec<GpuTriangle>) -> GpuAccel {
+    let root = blas_nodes.first().copied().unwrap_or_else(|| empty_node(0));
+    let identity = affine_rows(&DAffine3::IDENTITY);
+    GpuAccel {
+        tlas_nodes: vec![GpuBvhNode { min: root.min, left_or_first: 0, max: root.max, count: 1 }],
+        instances: vec![GpuInstance {
+            world_to_object: identity,
+            object_to_world: identity,
+            blas_root: 0,
+            instance_id: MERGED_INSTANCE,
+            mask: INSTANCE_MASK_ALL,
+            _pad: 0,
+        }],
+        blas_nodes,
+        triangles,
+        blas_roots: vec![0],
+    }
+}
+
 /// The GPU layout of a merged scene: one BLAS over [`merge_instances`]'s mesh under a TLAS of
 /// one identity instance ([`MERGED_INSTANCE`]), each triangle carrying its scene instance.
 pub fn merge(merged: &Mesh, origin: &[TriangleOrigin], blas: Blas) -> GpuAccel {

@@ -26,6 +26,7 @@ pub mod batch;
 pub mod bvh;
 pub mod cache;
 pub mod cpu_traverse;
+pub mod gpu_build;
 pub mod layout;
 pub mod reference;
 pub mod refit;

@@ -323,3 +323,123 @@ pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
     }
     s
 }
+
+/// The GPU builder (PLOC, [`crate::accel::gpu_build`]) against the CPU binned-SAH builder on
+/// each scene's merged layout: GPU milliseconds of the build (median and min of `builds`), its
+/// rounds and depth, and both trees' SAH cost.
+#[derive(Debug, Clone)]
+pub struct GpuBuildRow {
+    pub scene: String,
+    pub triangles: usize,
+    pub gpu_ms: Option<(f64, f64)>,
+    /// Median GPU milliseconds of each [`crate::accel::gpu_build::Phase`].
+    pub phase_ms: Option<[f64; 4]>,
+    pub rounds: u32,
+    pub depth: u32,
+    /// CPU milliseconds of `Blas::build` of the merged mesh (median of 3).
+    pub cpu_ms: f64,
+    pub gpu_sah: f64,
+    pub cpu_sah: f64,
+}
+
+pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<Vec<GpuBuildRow>, RuntimeError> {
+    use crate::accel::bvh::{Blas, BuildConfig};
+    use crate::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlasBuilder};
+    use crate::accel::layout::{merge, merge_instances, GpuBvhNode};
+    let builder = GpuBlasBuilder::new(&gpu.device);
+    let fail = |e: crate::accel::gpu_build::GpuBuildError| RuntimeError::Gpu(format!("bench build: GPU builder: {e}"));
+    let mut rows = Vec::new();
+    for name in &cfg.scenes {
+        let (scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
+        let (merged, origin) = merge_instances(&scene);
+        let input = merged_triangles(&merged, &origin);
+        if input.is_empty() {
+            continue;
+        }
+        let mut cpu_ms = Vec::new();
+        let mut cpu_blas = None;
+        for _ in 0..3 {
+            let t = std::time::Instant::now();
+            cpu_blas = Some(Blas::build(&merged, &BuildConfig::default()));
+            cpu_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        let cpu = merge(&merged, &origin, cpu_blas.unwrap_or_default());
+        let (mut times, mut phases, mut last) = (Vec::new(), vec![Vec::new(); 4], None);
+        for _ in 0..builds.max(1) {
+            let b = builder.build(&gpu.device, &gpu.queue, &input).map_err(fail)?;
+            times.extend(b.gpu_ms);
+            for (all, ms) in phases.iter_mut().zip(b.phase_ms.into_iter().flatten()) {
+                all.push(ms);
+            }
+            last = Some(b);
+        }
+        let Some(b) = last else { continue };
+        let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).map_err(fail)?;
+        let nodes: &[GpuBvhNode] = bytemuck::cast_slice(&nodes);
+        let min = times.iter().copied().fold(f64::INFINITY, f64::min);
+        rows.push(GpuBuildRow {
+            scene: name.clone(),
+            triangles: input.len(),
+            gpu_ms: (!times.is_empty()).then(|| (median(&mut times), min)),
+            phase_ms: (!times.is_empty()).then(|| [0, 1, 2, 3].map(|p| median(&mut phases[p]))),
+            rounds: b.rounds,
+            depth: b.depth,
+            cpu_ms: median(&mut cpu_ms),
+            gpu_sah: layout_sah_cost(nodes),
+            cpu_sah: layout_sah_cost(&cpu.blas_nodes),
+        });
+    }
+    Ok(rows)
+}
+
+pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
+    let mut s = format!("# bench build: merged layout, GPU builder (PLOC) against the CPU binned-SAH build\n\n{}\n", info.markdown());
+    s.push_str(
+        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
+    );
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let phases = r.phase_ms.map(|p| p.map(|ms| format!("{ms:.3}")).join(" / ")).unwrap_or_else(|| "—".into());
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {:.2} | {:.2} | {:.3} |",
+            r.scene,
+            r.triangles,
+            opt(r.gpu_ms.map(|m| m.0), 3),
+            opt(r.gpu_ms.map(|m| m.1), 3),
+            r.rounds,
+            r.depth,
+            r.cpu_ms,
+            r.gpu_sah,
+            r.cpu_sah,
+            r.gpu_sah / r.cpu_sah
+        );
+    }
+    s
+}
+
+pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,cpu_ms,gpu_sah,cpu_sah\n");
+    for r in rows {
+        let phase = |p: usize| opt(r.phase_ms.map(|m| m[p]), 4);
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.4},{:.4}",
+            r.scene,
+            r.triangles,
+            opt(r.gpu_ms.map(|m| m.0), 4),
+            opt(r.gpu_ms.map(|m| m.1), 4),
+            phase(0),
+            phase(1),
+            phase(2),
+            phase(3),
+            r.rounds,
+            r.depth,
+            r.cpu_ms,
+            r.gpu_sah,
+            r.cpu_sah
+        );
+    }
+    s
+}

@@ -4,7 +4,7 @@
 use super::gpu::Gpu;
 use super::profiler::{map_read, FrameTimings, GpuTimer};
 use super::uniforms::FrameUniforms;
-use crate::accel::cache::{AccelCache, AccelSettings};
+use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
 use crate::error::{ErrorKind, GraphError, RuntimeError};
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
@@ -177,7 +177,11 @@ impl Executor {
                 merge: matches!(p.params.get("merge"), Some((_, ParamValue::Bool(true)))),
             };
             log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
-            AccelCache::new(device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32)
+            let mut cache = AccelCache::new(device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
+            if gpu.info.device_type != wgpu::DeviceType::Cpu {
+                cache.set_merged_builder(MergedBuilder::Gpu);
+            }
+            cache
         });
         let mut exec = Self {
             plan,
@@ -714,6 +718,11 @@ impl Executor {
     /// The acceleration-structure cache, for graphs that trace rays.
     pub fn accel(&self) -> Option<&AccelCache> {
         self.accel.as_ref()
+    }
+
+    /// The acceleration-structure cache, to change how it builds (before the first frame).
+    pub fn accel_mut(&mut self) -> Option<&mut AccelCache> {
+        self.accel.as_mut()
     }
 
     /// Reads back the graph output as tightly packed RGBA8 rows.

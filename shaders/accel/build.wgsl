@@ -1,0 +1,626 @@
+// The GPU BLAS builder (src/accel/gpu_build.rs): PLOC (Meister and Bittner 2018) over the
+// triangles' Morton order, collapsed by the surface-area heuristic into leaves of at most four
+// triangles and written out in the layout the `compute` back-end traverses (src/accel/layout.rs:
+// the children of an interior node side by side, every box widened outwards).
+//
+// Nodes while building: the n triangles are leaves 0..n-1 (their input order), the n - 1
+// clusters made by merging are n..2n-2, in the order they are made (so the root is 2n - 2).
+// Every node carries its box, its triangle count and its SAH cost (the cheaper of a leaf and
+// of its split), computed when it is made from its children's, which earlier dispatches wrote.
+//
+// Entry points, in the order the builder records them:
+//   prim_boxes       the leaves' boxes and costs; the centroid bounds (atomics)
+//   morton           30-bit Morton codes of the centroids, padded to a power of two
+//   sort_block       bitonic sort of each block of 1024 keys in workgroup memory
+//   sort_step        one global compare-exchange step (k, j) of the bitonic network
+//   sort_block_merge the steps j < 1024 of stage k in workgroup memory
+//   ploc_init        the first clusters: the leaves in Morton order
+//   ploc_nearest     each cluster's nearest neighbour among the RADIUS on either side
+//   ploc_merge       mutual nearest neighbours merge into a new node; survivors counted
+//   ploc_scan        the workgroups' survivor counts summed; the next round's dispatch sizes
+//   ploc_compact     survivors moved, in order, to the other cluster array
+//   layout_offsets   per node: first triangle in depth-first order, depth, inside a leaf?
+//   layout_write     the traversal's node pairs and the triangles in leaf order
+
+struct Params {
+    // Triangles.
+    n: u32,
+    // Bitonic stage and step; the PLOC round's parity (which count and dispatch slots it reads).
+    k: u32,
+    j: u32,
+    parity: u32,
+    // Clusters at or below which the rounds stop and `ploc_finish` completes the tree in one
+    // workgroup.
+    finish: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+// Three 16-byte words per triangle: v0 and its primitive, v1 and its instance, v2 and flags.
+@group(0) @binding(1) var<storage, read> tris_in: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> keys: array<u32>;
+@group(0) @binding(3) var<storage, read_write> vals: array<u32>;
+// See the STATE_* indices.
+@group(0) @binding(4) var<storage, read_write> state: array<atomic<u32>>;
+// Two words per node: (min, bitcast count), (max, SAH cost).
+@group(0) @binding(5) var<storage, read_write> node_box: array<vec4<f32>>;
+// Per node: left, right, parent (NONE where there is none), 1 where a leaf is cheaper.
+@group(0) @binding(6) var<storage, read_write> node_link: array<vec4<u32>>;
+@group(0) @binding(7) var<storage, read_write> clusters_in: array<u32>;
+@group(0) @binding(8) var<storage, read_write> clusters_out: array<u32>;
+@group(0) @binding(9) var<storage, read_write> nearest: array<u32>;
+// Per cluster: its survivor's position within its workgroup; per workgroup: the survivors
+// before it.
+@group(0) @binding(10) var<storage, read_write> local_pos: array<u32>;
+@group(0) @binding(11) var<storage, read_write> group_sums: array<u32>;
+// Per node: first triangle in depth-first order; bit 31 set if a proper ancestor is a leaf.
+@group(0) @binding(12) var<storage, read_write> offsets: array<u32>;
+@group(0) @binding(13) var<storage, read_write> out_nodes: array<vec4<f32>>;
+@group(0) @binding(14) var<storage, read_write> out_tris: array<vec4<f32>>;
+
+const NONE: u32 = 0xffffffffu;
+const GROUP: u32 = 256u;
+const RADIUS: u32 = 16u;
+const MAX_LEAF: u32 = 4u;
+// src/accel/bvh.rs's TRAVERSAL_COST and INTERSECTION_COST.
+const TRAVERSAL_COST: f32 = 1.0;
+const INTERSECTION_COST: f32 = 1.0;
+// src/accel/layout.rs's BOX_PAD_ABS.
+const BOX_PAD_ABS: f32 = 1e-20;
+
+// state: centroid bounds as order-preserving integers (0..2 min, 3..5 max); the clusters of
+// each parity (6, 7); the next new node (8); the deepest leaf (9); rounds that merged (10);
+// the parity whose input array holds the clusters (11).
+const STATE_COUNT: u32 = 6u;
+const STATE_NEXT_NODE: u32 = 8u;
+const STATE_DEPTH: u32 = 9u;
+const STATE_ROUNDS: u32 = 10u;
+const STATE_HOLDER: u32 = 11u;
+
+// Dispatch sizes (x, y, z) of each parity for the per-cluster entry points, written by
+// `ploc_scan` only: a buffer read as indirect arguments cannot be bound for writing in the
+// same dispatch, so it lives in a group of its own that only `ploc_scan`'s layout has.
+@group(1) @binding(0) var<storage, read_write> args: array<u32>;
+
+fn float_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+fn key_float(k: u32) -> f32 {
+    return bitcast<f32>(select(~k, k & 0x7fffffffu, (k & 0x80000000u) != 0u));
+}
+
+fn area(lo: vec3<f32>, hi: vec3<f32>) -> f32 {
+    let d = max(hi - lo, vec3<f32>(0.0));
+    return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+fn tri_box(i: u32) -> array<vec3<f32>, 2> {
+    let a = tris_in[3u * i].xyz;
+    let b = tris_in[3u * i + 1u].xyz;
+    let c = tris_in[3u * i + 2u].xyz;
+    return array<vec3<f32>, 2>(min(a, min(b, c)), max(a, max(b, c)));
+}
+
+var<workgroup> wg_lo: array<vec3<f32>, 256>;
+var<workgroup> wg_hi: array<vec3<f32>, 256>;
+
+@compute @workgroup_size(256)
+fn prim_boxes(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = gid.x;
+    var lo = vec3<f32>(3.0e38);
+    var hi = vec3<f32>(-3.0e38);
+    if i < params.n {
+        let b = tri_box(i);
+        let c = 0.5 * (b[0] + b[1]);
+        lo = c;
+        hi = c;
+        node_box[2u * i] = vec4<f32>(b[0], bitcast<f32>(1u));
+        node_box[2u * i + 1u] = vec4<f32>(b[1], INTERSECTION_COST * area(b[0], b[1]));
+        node_link[i] = vec4<u32>(NONE, NONE, NONE, 1u);
+    }
+    wg_lo[lid] = lo;
+    wg_hi[lid] = hi;
+    workgroupBarrier();
+    for (var s = GROUP / 2u; s > 0u; s >>= 1u) {
+        if lid < s {
+            wg_lo[lid] = min(wg_lo[lid], wg_lo[lid + s]);
+            wg_hi[lid] = max(wg_hi[lid], wg_hi[lid + s]);
+        }
+        workgroupBarrier();
+    }
+    if lid == 0u {
+        for (var a = 0u; a < 3u; a++) {
+            atomicMin(&state[a], float_key(wg_lo[0][a]));
+            atomicMax(&state[3u + a], float_key(wg_hi[0][a]));
+        }
+    }
+}
+
+fn spread_bits(x: u32) -> u32 {
+    var v = x & 0x3ffu;
+    v = (v | (v << 16u)) & 0x030000ffu;
+    v = (v | (v << 8u)) & 0x0300f00fu;
+    v = (v | (v << 4u)) & 0x030c30c3u;
+    v = (v | (v << 2u)) & 0x09249249u;
+    return v;
+}
+
+@compute @workgroup_size(256)
+fn morton(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.x + gid.y * groups.x * GROUP;
+    if i >= arrayLength(&keys) {
+        return;
+    }
+    if i >= params.n {
+        keys[i] = NONE;
+        vals[i] = NONE;
+        return;
+    }
+    let lo = vec3<f32>(key_float(atomicLoad(&state[0])), key_float(atomicLoad(&state[1])), key_float(atomicLoad(&state[2])));
+    let hi = vec3<f32>(key_float(atomicLoad(&state[3])), key_float(atomicLoad(&state[4])), key_float(atomicLoad(&state[5])));
+    let b = tri_box(i);
+    let c = 0.5 * (b[0] + b[1]);
+    let extent = max(hi - lo, vec3<f32>(1e-30));
+    let q = vec3<u32>(clamp((c - lo) / extent * 1024.0, vec3<f32>(0.0), vec3<f32>(1023.0)));
+    keys[i] = (spread_bits(q.x) << 2u) | (spread_bits(q.y) << 1u) | spread_bits(q.z);
+    vals[i] = i;
+}
+
+// Keys compare with their values as tie-break (the values are distinct), so the order is
+// total and the sort's result does not depend on how the network is scheduled.
+fn sort_less(ka: u32, va: u32, kb: u32, vb: u32) -> bool {
+    return ka < kb || (ka == kb && va < vb);
+}
+
+var<workgroup> wg_keys: array<u32, 1024>;
+var<workgroup> wg_vals: array<u32, 1024>;
+
+fn sort_block_steps(base: u32, lid: u32, k: u32, j_start: u32) {
+    for (var j = j_start; j > 0u; j >>= 1u) {
+        for (var h = 0u; h < 2u; h++) {
+            let t = lid + h * 256u;
+            let a = (t / j) * 2u * j + (t % j);
+            let b = a + j;
+            let ascending = ((base + a) & k) == 0u;
+            let ka = wg_keys[a];
+            let kb = wg_keys[b];
+            let va = wg_vals[a];
+            let vb = wg_vals[b];
+            if sort_less(kb, vb, ka, va) == ascending {
+                wg_keys[a] = kb;
+                wg_keys[b] = ka;
+                wg_vals[a] = vb;
+                wg_vals[b] = va;
+            }
+        }
+        workgroupBarrier();
+    }
+}
+
+fn block_base(wid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return (wid.x + wid.y * groups.x) * 1024u;
+}
+
+@compute @workgroup_size(256)
+fn sort_block(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let base = block_base(wid, groups);
+    for (var h = 0u; h < 4u; h++) {
+        wg_keys[lid + h * 256u] = keys[base + lid + h * 256u];
+        wg_vals[lid + h * 256u] = vals[base + lid + h * 256u];
+    }
+    workgroupBarrier();
+    for (var k = 2u; k <= 1024u; k <<= 1u) {
+        sort_block_steps(base, lid, k, k >> 1u);
+    }
+    for (var h = 0u; h < 4u; h++) {
+        keys[base + lid + h * 256u] = wg_keys[lid + h * 256u];
+        vals[base + lid + h * 256u] = wg_vals[lid + h * 256u];
+    }
+}
+
+@compute @workgroup_size(256)
+fn sort_block_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let base = block_base(wid, groups);
+    for (var h = 0u; h < 4u; h++) {
+        wg_keys[lid + h * 256u] = keys[base + lid + h * 256u];
+        wg_vals[lid + h * 256u] = vals[base + lid + h * 256u];
+    }
+    workgroupBarrier();
+    sort_block_steps(base, lid, params.k, 512u);
+    for (var h = 0u; h < 4u; h++) {
+        keys[base + lid + h * 256u] = wg_keys[lid + h * 256u];
+        vals[base + lid + h * 256u] = wg_vals[lid + h * 256u];
+    }
+}
+
+@compute @workgroup_size(256)
+fn sort_step(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = gid.x + gid.y * groups.x * GROUP;
+    let j = params.j;
+    let a = (t / j) * 2u * j + (t % j);
+    let b = a + j;
+    if b >= arrayLength(&keys) {
+        return;
+    }
+    let ascending = (a & params.k) == 0u;
+    let ka = keys[a];
+    let kb = keys[b];
+    let va = vals[a];
+    let vb = vals[b];
+    if sort_less(kb, vb, ka, va) == ascending {
+        keys[a] = kb;
+        keys[b] = ka;
+        vals[a] = vb;
+        vals[b] = va;
+    }
+}
+
+fn cluster_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return gid.x + gid.y * groups.x * GROUP;
+}
+
+@compute @workgroup_size(256)
+fn ploc_init(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = cluster_index(gid, groups);
+    if i < params.n {
+        clusters_in[i] = vals[i];
+    }
+}
+
+fn box_lo(node: u32) -> vec3<f32> {
+    return node_box[2u * node].xyz;
+}
+
+fn box_hi(node: u32) -> vec3<f32> {
+    return node_box[2u * node + 1u].xyz;
+}
+
+var<workgroup> win_lo: array<vec3<f32>, 288>;
+var<workgroup> win_hi: array<vec3<f32>, 288>;
+
+@compute @workgroup_size(256)
+fn ploc_nearest(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let count = atomicLoad(&state[STATE_COUNT + params.parity]);
+    let base = (wid.x + wid.y * groups.x) * GROUP;
+    // The window: clusters base - RADIUS .. base + GROUP + RADIUS.
+    for (var w = lid; w < GROUP + 2u * RADIUS; w += GROUP) {
+        let c = i32(base + w) - i32(RADIUS);
+        if c >= 0 && u32(c) < count {
+            let node = clusters_in[u32(c)];
+            win_lo[w] = box_lo(node);
+            win_hi[w] = box_hi(node);
+        }
+    }
+    workgroupBarrier();
+    let i = base + lid;
+    if i >= count {
+        return;
+    }
+    let lo = win_lo[lid + RADIUS];
+    let hi = win_hi[lid + RADIUS];
+    var best = i;
+    var best_area = 3.0e38;
+    let first = max(i32(i) - i32(RADIUS), 0);
+    let last = min(i + RADIUS, count - 1u);
+    for (var c = u32(first); c <= last; c++) {
+        if c == i {
+            continue;
+        }
+        let w = c + RADIUS - base;
+        let a = area(min(lo, win_lo[w]), max(hi, win_hi[w]));
+        // Ties go to the neighbour whose index differs from i in the lowest bits, the same
+        // from both sides: equal boxes pair up as (2m, 2m + 1) and halve each round instead
+        // of chaining onto the lowest index.
+        if a < best_area || (a == best_area && (c ^ i) < (best ^ i)) {
+            best_area = a;
+            best = c;
+        }
+    }
+    nearest[i] = best;
+}
+
+var<workgroup> wg_sums: array<u32, 256>;
+
+// Inclusive sum over the workgroup of each invocation's `value`, left in wg_sums (call from
+// uniform control flow).
+fn workgroup_inclusive_sum(lid: u32, value: u32) -> u32 {
+    wg_sums[lid] = value;
+    workgroupBarrier();
+    for (var s = 1u; s < GROUP; s <<= 1u) {
+        var add = 0u;
+        if lid >= s {
+            add = wg_sums[lid - s];
+        }
+        workgroupBarrier();
+        wg_sums[lid] += add;
+        workgroupBarrier();
+    }
+    return wg_sums[lid];
+}
+
+// Whether cluster i survives this round: it does unless it merges into a lower one.
+fn survives(i: u32) -> bool {
+    let j = nearest[i];
+    return !(j != i && nearest[j] == i && j < i);
+}
+
+@compute @workgroup_size(256)
+fn ploc_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let count = atomicLoad(&state[STATE_COUNT + params.parity]);
+    let group = wid.x + wid.y * groups.x;
+    let i = group * GROUP + lid;
+    var keep = 0u;
+    if i < count {
+        let j = nearest[i];
+        if j != i && nearest[j] == i && i < j {
+            merge_pair(i, j);
+        }
+        keep = select(0u, 1u, survives(i));
+    }
+    // Exclusive sum of the survivors within the workgroup.
+    let upto = workgroup_inclusive_sum(lid, keep);
+    if i < count {
+        local_pos[i] = upto - keep;
+    }
+    if lid == GROUP - 1u {
+        group_sums[group] = upto;
+    }
+}
+
+fn write_args(slot: u32, clusters: u32) {
+    // Dispatch sizes for `clusters` invocations (none when `ploc_finish` takes over), at
+    // most 32768 workgroups in x.
+    var groups = 0u;
+    if clusters > params.finish {
+        groups = (clusters + GROUP - 1u) / GROUP;
+    }
+    args[slot] = min(groups, 32768u);
+    args[slot + 1u] = select(1u, (groups + 32767u) / 32768u, groups > 0u);
+    args[slot + 2u] = 1u;
+}
+
+@compute @workgroup_size(256)
+fn ploc_scan(@builtin(local_invocation_index) lid: u32) {
+    let parity = params.parity;
+    let count = atomicLoad(&state[STATE_COUNT + parity]);
+    // A round at or below `finish` clusters did nothing: the count stays as it is.
+    let running = count > params.finish;
+    let groups = select(0u, (count + GROUP - 1u) / GROUP, running);
+    // Each invocation sums a run of `per` workgroup counts, then the runs are scanned.
+    let per = (groups + GROUP - 1u) / GROUP;
+    var run = 0u;
+    for (var g = lid * per; g < min(groups, (lid + 1u) * per); g++) {
+        run += group_sums[g];
+    }
+    var before = workgroup_inclusive_sum(lid, run) - run;
+    for (var g = lid * per; g < min(groups, (lid + 1u) * per); g++) {
+        let c = group_sums[g];
+        group_sums[g] = before;
+        before += c;
+    }
+    if lid == GROUP - 1u {
+        let next = select(count, wg_sums[lid], running);
+        if running {
+            atomicAdd(&state[STATE_ROUNDS], 1u);
+            atomicStore(&state[STATE_HOLDER], 1u - parity);
+        }
+        atomicStore(&state[STATE_COUNT + 1u - parity], next);
+        write_args(3u * (1u - parity), next);
+    }
+}
+
+@compute @workgroup_size(256)
+fn ploc_compact(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let count = atomicLoad(&state[STATE_COUNT + params.parity]);
+    let group = wid.x + wid.y * groups.x;
+    let i = group * GROUP + lid;
+    if i < count && survives(i) {
+        clusters_out[group_sums[group] + local_pos[i]] = clusters_in[i];
+    }
+}
+
+var<workgroup> wg_uniform: u32;
+
+// Makes the new node for clusters at i and j of clusters_in (see `ploc_merge`).
+fn merge_pair(i: u32, j: u32) {
+    let a = clusters_in[i];
+    let b = clusters_in[j];
+    let id = params.n + atomicAdd(&state[STATE_NEXT_NODE], 1u);
+    let lo = min(box_lo(a), box_lo(b));
+    let hi = max(box_hi(a), box_hi(b));
+    let n = bitcast<u32>(node_box[2u * a].w) + bitcast<u32>(node_box[2u * b].w);
+    let area_ab = area(lo, hi);
+    let split_cost = TRAVERSAL_COST * area_ab + node_box[2u * a + 1u].w + node_box[2u * b + 1u].w;
+    let leaf_cost = select(3.0e38, INTERSECTION_COST * area_ab * f32(n), n <= MAX_LEAF);
+    let leaf = leaf_cost <= split_cost;
+    node_box[2u * id] = vec4<f32>(lo, bitcast<f32>(n));
+    node_box[2u * id + 1u] = vec4<f32>(hi, min(leaf_cost, split_cost));
+    node_link[id] = vec4<u32>(a, b, NONE, select(0u, 1u, leaf));
+    node_link[a].z = id;
+    node_link[b].z = id;
+    clusters_in[i] = id;
+}
+
+fn nearest_of(i: u32, count: u32) -> u32 {
+    let node = clusters_in[i];
+    let lo = box_lo(node);
+    let hi = box_hi(node);
+    var best = i;
+    var best_area = 3.0e38;
+    for (var c = u32(max(i32(i) - i32(RADIUS), 0)); c <= min(i + RADIUS, count - 1u); c++) {
+        if c == i {
+            continue;
+        }
+        let other = clusters_in[c];
+        let a = area(min(lo, box_lo(other)), max(hi, box_hi(other)));
+        if a < best_area || (a == best_area && (c ^ i) < (best ^ i)) {
+            best_area = a;
+            best = c;
+        }
+    }
+    return best;
+}
+
+// The last rounds, from at most `finish` clusters down to one, in one workgroup: the same
+// nearest neighbours, merges and in-order compaction as the rounds above, with barriers
+// instead of dispatches between the steps. Does nothing while there are more clusters.
+@compute @workgroup_size(256)
+fn ploc_finish(@builtin(local_invocation_index) lid: u32) {
+    if lid == 0u {
+        wg_uniform = atomicLoad(&state[STATE_COUNT + atomicLoad(&state[STATE_HOLDER])]);
+    }
+    var count = workgroupUniformLoad(&wg_uniform);
+    if count > params.finish || count <= 1u {
+        return;
+    }
+    // The clusters into clusters_in, wherever the last round left them.
+    let holder = atomicLoad(&state[STATE_HOLDER]);
+    if holder != params.parity {
+        for (var i = lid; i < count; i += GROUP) {
+            clusters_in[i] = clusters_out[i];
+        }
+    }
+    storageBarrier();
+    loop {
+        if count <= 1u {
+            break;
+        }
+        for (var i = lid; i < count; i += GROUP) {
+            nearest[i] = nearest_of(i, count);
+        }
+        storageBarrier();
+        for (var i = lid; i < count; i += GROUP) {
+            let j = nearest[i];
+            if j != i && nearest[j] == i && i < j {
+                merge_pair(i, j);
+            }
+        }
+        storageBarrier();
+        // In-order compaction: each invocation counts the survivors of its run of clusters.
+        let per = (count + GROUP - 1u) / GROUP;
+        let first = min(lid * per, count);
+        let last = min(first + per, count);
+        var run = 0u;
+        for (var i = first; i < last; i++) {
+            run += select(0u, 1u, survives(i));
+        }
+        var pos = workgroup_inclusive_sum(lid, run) - run;
+        for (var i = first; i < last; i++) {
+            if survives(i) {
+                clusters_out[pos] = clusters_in[i];
+                pos++;
+            }
+        }
+        storageBarrier();
+        count = workgroupUniformLoad(&wg_sums[GROUP - 1u]);
+        for (var i = lid; i < count; i += GROUP) {
+            clusters_in[i] = clusters_out[i];
+        }
+        storageBarrier();
+        if lid == 0u {
+            atomicAdd(&state[STATE_ROUNDS], 1u);
+        }
+    }
+    if lid == 0u {
+        atomicStore(&state[STATE_COUNT], 1u);
+        atomicStore(&state[STATE_COUNT + 1u], 1u);
+    }
+}
+
+fn is_leaf(node: u32) -> bool {
+    return node_link[node].w != 0u;
+}
+
+fn node_count(node: u32) -> u32 {
+    return bitcast<u32>(node_box[2u * node].w);
+}
+
+// Every node walks up to the root: its first triangle in depth-first order is the number of
+// triangles in the left siblings of the subtrees it lies in the right side of.
+@compute @workgroup_size(256)
+fn layout_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let x = gid.x + gid.y * groups.x * GROUP;
+    if x >= 2u * params.n - 1u {
+        return;
+    }
+    var offset = 0u;
+    var inside = false;
+    var depth = 0u;
+    var child = x;
+    var parent = node_link[x].z;
+    loop {
+        if parent == NONE {
+            break;
+        }
+        let link = node_link[parent];
+        if link.y == child {
+            offset += node_count(link.x);
+        }
+        inside = inside || link.w != 0u;
+        depth++;
+        child = parent;
+        parent = link.z;
+    }
+    offsets[x] = offset | select(0u, 0x80000000u, inside);
+    if x < params.n {
+        // A triangle goes to its place in depth-first order.
+        out_tris[3u * offset] = tris_in[3u * x];
+        out_tris[3u * offset + 1u] = tris_in[3u * x + 1u];
+        out_tris[3u * offset + 2u] = tris_in[3u * x + 2u];
+    }
+    if !inside && node_link[x].w != 0u {
+        // A leaf of the finished tree: the traversal's stack holds at most its depth.
+        atomicMax(&state[STATE_DEPTH], depth);
+    }
+}
+
+// `x` moved outwards past x -/+ BOX_PAD_ABS by one ulp (src/accel/layout.rs's widen_down and
+// widen_up).
+fn widen_down(v: vec3<f32>) -> vec3<f32> {
+    let y = v - vec3<f32>(BOX_PAD_ABS);
+    let b = bitcast<vec3<u32>>(y);
+    let down = select(b + vec3<u32>(1u), b - vec3<u32>(1u), y > vec3<f32>(0.0));
+    return select(bitcast<vec3<f32>>(down), vec3<f32>(bitcast<f32>(0x80000001u)), y == vec3<f32>(0.0));
+}
+
+fn widen_up(v: vec3<f32>) -> vec3<f32> {
+    let y = v + vec3<f32>(BOX_PAD_ABS);
+    let b = bitcast<vec3<u32>>(y);
+    let up = select(b - vec3<u32>(1u), b + vec3<u32>(1u), y > vec3<f32>(0.0));
+    return select(bitcast<vec3<f32>>(up), vec3<f32>(bitcast<f32>(1u)), y == vec3<f32>(0.0));
+}
+
+// The traversal's entry for `node`: its widened box, and either its leaf (first triangle,
+// count) or the index of its children's pair.
+fn write_entry(e: u32, node: u32) {
+    var first = 1u + 2u * (node - params.n);
+    var count = 0u;
+    if is_leaf(node) {
+        first = offsets[node] & 0x7fffffffu;
+        count = node_count(node);
+    }
+    out_nodes[2u * e] = vec4<f32>(widen_down(box_lo(node)), bitcast<f32>(first));
+    out_nodes[2u * e + 1u] = vec4<f32>(widen_up(box_hi(node)), bitcast<f32>(count));
+}
+
+// Interior node k (not a leaf, not inside one) writes its children at 1 + 2 (k - n) and
+// 2 + 2 (k - n); the root also writes itself at 0.
+@compute @workgroup_size(256)
+fn layout_write(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = gid.x + gid.y * groups.x * GROUP;
+    let n = params.n;
+    if t >= n {
+        return;
+    }
+    if t == 0u {
+        write_entry(0u, select(2u * n - 2u, 0u, n == 1u));
+    }
+    let k = n + t;
+    if k > 2u * n - 2u || is_leaf(k) || (offsets[k] & 0x80000000u) != 0u {
+        return;
+    }
+    let link = node_link[k];
+    write_entry(1u + 2u * t, link.x);
+    write_entry(2u + 2u * t, link.y);
+}

@@ -1,0 +1,551 @@
+//! The GPU BLAS builder: PLOC (Meister and Bittner, "Parallel Locally-Ordered Clustering for
+//! Bounding Volume Hierarchy Construction", 2018) in `shaders/accel/build.wgsl`, for the merged
+//! layout's one large BLAS.
+//!
+//! The triangles are sorted by the 30-bit Morton code of their box centres (bitonic sort,
+//! blocks of 1024 in workgroup memory). Then each round, every cluster finds its nearest
+//! neighbour (the smallest box around both) among the [`RADIUS`] clusters on either side in
+//! that order, mutual nearest neighbours merge into a new node, and the survivors are compacted
+//! in order; the round's dispatch sizes come from the previous round on the GPU (indirect
+//! dispatches), so rounds are recorded without reading anything back. Each new node gets its
+//! SAH cost (the cheaper of a leaf of at most four triangles and its split), so the tree is
+//! collapsed into leaves as it is built. Finally every node walks up to the root to find its
+//! first triangle in depth-first order, and the interior nodes write the traversal's layout
+//! ([`crate::accel::layout`]: children side by side at `1 + 2 k` for the `k`-th merge, boxes
+//! widened outwards as [`crate::accel::layout::widen_down`] does) and the triangles in leaf
+//! order. Unused node slots (inside leaves) stay zero and are never referenced.
+//!
+//! [`GpuBlasBuilder::build`] submits the work, reads back how many clusters are left after the
+//! recorded rounds (recording more if needed) and the finished tree's depth, and reports the
+//! GPU time of its submissions when the adapter has timestamp queries.
+
+use super::bvh::MAX_TREE_DEPTH;
+use super::bvh::{mesh_triangle, triangle_status, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
+use super::layout::{GpuBvhNode, GpuTriangle, TriangleOrigin, TRI_MIRRORED};
+use crate::scene::Mesh;
+use wgpu::util::DeviceExt;
+
+/// The builder's WGSL.
+pub const BUILD_WGSL: &str = include_str!("../../shaders/accel/build.wgsl");
+/// Neighbours searched on either side of a cluster (the WGSL's `RADIUS`).
+pub const RADIUS: u32 = 16;
+/// Clusters at or below which one workgroup finishes the tree (`ploc_finish`): the last
+/// rounds merge few clusters each, and a dispatch per step would cost more than the work
+/// (H100, atrium: 1.90 ms at 1024, 2.07 at 256, 2.27 at 4096; PERF.md).
+/// `RAYGRAPH_GPU_BUILD_FINISH` overrides it, for measuring.
+pub const FINISH_CLUSTERS: u32 = 1024;
+/// Most triangles the GPU builder takes (its dispatch sizes and single-workgroup scan).
+pub const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
+
+const GROUP: u32 = 256;
+const PARAMS_STRIDE: u64 = 256;
+
+/// Why a GPU build did not produce a tree.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuBuildError {
+    #[error("the GPU builder takes 1 to {MAX_GPU_BUILD_TRIANGLES} triangles, not {0}")]
+    Size(usize),
+    #[error("the GPU-built tree is {0} levels deep, past the traversal stack's {MAX_TREE_DEPTH}")]
+    TooDeep(u32),
+    #[error("the GPU build did not finish: {0}")]
+    Device(String),
+}
+
+/// A BLAS built on the GPU, in the layout the `compute` back-end traverses.
+pub struct GpuBlas {
+    /// `2 n - 1` [`GpuBvhNode`]s, root at 0.
+    pub nodes: wgpu::Buffer,
+    /// The `n` triangles in leaf order.
+    pub triangles: wgpu::Buffer,
+    pub node_count: u32,
+    pub triangle_count: u32,
+    /// Depth of the deepest leaf (root = 0).
+    pub depth: u32,
+    /// PLOC rounds that merged anything (the recorded rounds after the last one dispatch no
+    /// work).
+    pub rounds: u32,
+    /// GPU milliseconds of the build's compute passes (None without timestamp queries).
+    pub gpu_ms: Option<f64>,
+    /// The same per [`Phase`]: boxes, Morton codes and sort; the rounds; the finish; layout.
+    pub phase_ms: Option<[f64; 4]>,
+}
+
+impl GpuBlas {
+    /// The built arrays, copied back to the CPU.
+    pub fn read_back(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<(Vec<GpuBvhNode>, Vec<GpuTriangle>), GpuBuildError> {
+        let nodes = read_bytes(device, queue, &self.nodes, 0, self.node_count as u64 * 32)?;
+        let tris = read_bytes(device, queue, &self.triangles, 0, self.triangle_count as u64 * 48)?;
+        Ok((bytemuck::cast_slice(&nodes).to_vec(), bytemuck::cast_slice(&tris).to_vec()))
+    }
+}
+
+/// The merged mesh's usable triangles (the ones the CPU builder keeps: in range, finite, with
+/// an area) as the builder's input records, each carrying its scene instance and primitive.
+pub fn merged_triangles(merged: &Mesh, origin: &[TriangleOrigin]) -> Vec<GpuTriangle> {
+    (0..merged.indices.len() / 3)
+        .filter_map(|t| {
+            let v = mesh_triangle(merged, t)?;
+            let o = origin.get(t)?;
+            (triangle_status(&v) == TriangleStatus::Valid).then(|| GpuTriangle {
+                v0: v[0].to_array(),
+                prim: o.prim,
+                v1: v[1].to_array(),
+                instance: o.instance,
+                v2: v[2].to_array(),
+                flags: if o.mirrored { TRI_MIRRORED } else { 0 },
+            })
+        })
+        .collect()
+}
+
+/// The SAH cost of a tree in the traversal's layout (root at 0), normalised by the root's
+/// area, with the weights of [`crate::accel::bvh::Bvh::sah_cost`]: 1 per interior node, the
+/// count per leaf, each times its area over the root's.
+pub fn layout_sah_cost(nodes: &[GpuBvhNode]) -> f64 {
+    let area = |n: &GpuBvhNode| {
+        let d = [0, 1, 2].map(|a| (n.max[a] - n.min[a]).max(0.0) as f64);
+        2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0])
+    };
+    let Some(root) = nodes.first() else { return 0.0 };
+    let root_area = area(root);
+    let mut cost = 0.0;
+    let mut stack = vec![0usize];
+    while let Some(i) = stack.pop() {
+        let Some(n) = nodes.get(i) else { continue };
+        let rel = if root_area > 0.0 { area(n) / root_area } else { 1.0 };
+        if n.count > 0 {
+            cost += rel * INTERSECTION_COST as f64 * n.count as f64;
+        } else {
+            cost += rel * TRAVERSAL_COST as f64;
+            stack.extend([n.left_or_first as usize, n.left_or_first as usize + 1]);
+        }
+    }
+    cost
+}
+
+/// The builder's pipelines (one per entry point), made once per device.
+pub struct GpuBlasBuilder {
+    group0: wgpu::BindGroupLayout,
+    group1: wgpu::BindGroupLayout,
+    prim_boxes: wgpu::ComputePipeline,
+    morton: wgpu::ComputePipeline,
+    sort_block: wgpu::ComputePipeline,
+    sort_step: wgpu::ComputePipeline,
+    sort_block_merge: wgpu::ComputePipeline,
+    ploc_init: wgpu::ComputePipeline,
+    ploc_nearest: wgpu::ComputePipeline,
+    ploc_merge: wgpu::ComputePipeline,
+    ploc_scan: wgpu::ComputePipeline,
+    ploc_compact: wgpu::ComputePipeline,
+    ploc_finish: wgpu::ComputePipeline,
+    layout_offsets: wgpu::ComputePipeline,
+    layout_write: wgpu::ComputePipeline,
+}
+
+/// Workgroups for `invocations` threads of [`GROUP`], spread over y past 32768 in x.
+fn groups_for(invocations: u64) -> (u32, u32) {
+    let g = invocations.div_ceil(GROUP as u64).max(1);
+    (g.min(32768) as u32, g.div_ceil(32768) as u32)
+}
+
+impl GpuBlasBuilder {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module =
+            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("build.wgsl"), source: wgpu::ShaderSource::Wgsl(BUILD_WGSL.into()) });
+        let entry = |binding, ty, dynamic| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: dynamic, min_binding_size: None },
+            count: None,
+        };
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let mut entries = vec![entry(0, wgpu::BufferBindingType::Uniform, true), entry(1, wgpu::BufferBindingType::Storage { read_only: true }, false)];
+        entries.extend((2..=14).map(|b| entry(b, rw, false)));
+        let group0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("gpu build"), entries: &entries });
+        let group1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("gpu build args"), entries: &[entry(0, rw, false)] });
+        let layout0 = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gpu build"),
+            bind_group_layouts: &[Some(&group0)],
+            immediate_size: 0,
+        });
+        let layout01 = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("gpu build scan"),
+            bind_group_layouts: &[Some(&group0), Some(&group1)],
+            immediate_size: 0,
+        });
+        let pipeline = |name: &str, layout: &wgpu::PipelineLayout| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: Some(layout),
+                module: &module,
+                entry_point: Some(name),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Self {
+            prim_boxes: pipeline("prim_boxes", &layout0),
+            morton: pipeline("morton", &layout0),
+            sort_block: pipeline("sort_block", &layout0),
+            sort_step: pipeline("sort_step", &layout0),
+            sort_block_merge: pipeline("sort_block_merge", &layout0),
+            ploc_init: pipeline("ploc_init", &layout0),
+            ploc_nearest: pipeline("ploc_nearest", &layout0),
+            ploc_merge: pipeline("ploc_merge", &layout0),
+            ploc_scan: pipeline("ploc_scan", &layout01),
+            ploc_compact: pipeline("ploc_compact", &layout0),
+            ploc_finish: pipeline("ploc_finish", &layout0),
+            layout_offsets: pipeline("layout_offsets", &layout0),
+            layout_write: pipeline("layout_write", &layout0),
+            group0,
+            group1,
+        }
+    }
+
+    /// Builds a BLAS over `tris` (every one usable: see [`merged_triangles`]) and waits for it.
+    pub fn build(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris: &[GpuTriangle]) -> Result<GpuBlas, GpuBuildError> {
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let result = self.build_unscoped(device, queue, tris);
+        let validation = pollster::block_on(validation.pop());
+        if let Some(e) = pollster::block_on(oom.pop()).or(validation) {
+            return Err(GpuBuildError::Device(e.to_string()));
+        }
+        result
+    }
+
+    fn build_unscoped(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris: &[GpuTriangle]) -> Result<GpuBlas, GpuBuildError> {
+        let n = tris.len();
+        if n == 0 || n > MAX_GPU_BUILD_TRIANGLES {
+            return Err(GpuBuildError::Size(n));
+        }
+        let n32 = n as u32;
+        let padded = n.next_power_of_two().max(1024) as u64;
+        let nodes = 2 * n as u64 - 1;
+        let storage = wgpu::BufferUsages::STORAGE;
+        let scratch = |label: &str, bytes: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes.max(16), usage: storage, mapped_at_creation: false })
+        };
+        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+
+        // Params records: 0 the base, 1 and 2 the rounds of each parity, then the sort's steps.
+        let mut sort_steps: Vec<(u32, u32, bool)> = Vec::new(); // (k, j, in workgroup memory)
+        let mut k = 2048u64;
+        while k <= padded {
+            let mut j = k / 2;
+            while j >= 1024 {
+                sort_steps.push((k as u32, j as u32, false));
+                j /= 2;
+            }
+            sort_steps.push((k as u32, 512, true));
+            k *= 2;
+        }
+        let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
+        let finish = std::env::var("RAYGRAPH_GPU_BUILD_FINISH").ok().and_then(|v| v.parse().ok()).unwrap_or(FINISH_CLUSTERS);
+        let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
+        put(0, [n32, 0, 0, 0, finish, 0, 0, 0]);
+        put(1, [n32, 0, 0, 0, finish, 0, 0, 0]);
+        put(2, [n32, 0, 0, 1, finish, 0, 0, 0]);
+        for (s, &(k, j, _)) in sort_steps.iter().enumerate() {
+            put(3 + s, [n32, k, j, 0, finish, 0, 0, 0]);
+        }
+        let params = init("gpu build params", &params, wgpu::BufferUsages::UNIFORM);
+
+        let mut state = [0u32; 16];
+        state[..3].fill(u32::MAX);
+        state[6] = n32;
+        let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC);
+        let (gx, gy) = groups_for(n as u64);
+        let first_args = if n32 > finish { [gx, gy, 1, 0, 0, 0] } else { [0; 6] };
+        let args = init("gpu build args", bytemuck::cast_slice(&first_args), storage | wgpu::BufferUsages::INDIRECT);
+        let tris_in = init("gpu build triangles in", bytemuck::cast_slice(tris), storage);
+        let out_usage = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        let out_nodes = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("BLAS nodes (GPU-built)"),
+            size: nodes * 32,
+            usage: out_usage,
+            mapped_at_creation: false,
+        });
+        let out_tris = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("triangles (GPU-built)"),
+            size: n as u64 * 48,
+            usage: out_usage,
+            mapped_at_creation: false,
+        });
+        let buffers = [
+            scratch("gpu build keys", padded * 4),
+            scratch("gpu build values", padded * 4),
+            scratch("gpu build node boxes", nodes * 32),
+            scratch("gpu build node links", nodes * 16),
+            scratch("gpu build clusters a", n as u64 * 4),
+            scratch("gpu build clusters b", n as u64 * 4),
+            scratch("gpu build nearest", n as u64 * 4),
+            scratch("gpu build local positions", n as u64 * 4),
+            scratch("gpu build group sums", (gx as u64 * gy as u64) * 4),
+            scratch("gpu build offsets", nodes * 4),
+        ];
+        let [keys, vals, node_box, node_link, clusters_a, clusters_b, nearest, local_pos, group_sums, offsets] = &buffers;
+        let bind = |clusters_in: &wgpu::Buffer, clusters_out: &wgpu::Buffer| {
+            fn b(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+            }
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("gpu build"),
+                layout: &self.group0,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &params, offset: 0, size: wgpu::BufferSize::new(32) }),
+                    },
+                    b(1, &tris_in),
+                    b(2, keys),
+                    b(3, vals),
+                    b(4, &state),
+                    b(5, node_box),
+                    b(6, node_link),
+                    b(7, clusters_in),
+                    b(8, clusters_out),
+                    b(9, nearest),
+                    b(10, local_pos),
+                    b(11, group_sums),
+                    b(12, offsets),
+                    b(13, &out_nodes),
+                    b(14, &out_tris),
+                ],
+            })
+        };
+        let even = bind(clusters_a, clusters_b);
+        let odd = bind(clusters_b, clusters_a);
+        let args_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gpu build args"),
+            layout: &self.group1,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: args.as_entire_binding() }],
+        });
+        let slot = |s: u64| (s * PARAMS_STRIDE) as u32;
+
+        let mut timer = Timer::new(device, queue);
+        // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
+        // (each leaves about 80% of them on the atrium) and the finish.
+        let first_rounds = if n32 > finish { ((n as f64 / finish as f64).ln() / 1.25f64.ln()).ceil() as u32 + 2 } else { 0 };
+        let mut rounds = 0u32;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build") });
+        let direct = |pass: &mut wgpu::ComputePass, pipeline, invocations: u64| {
+            let (x, y) = groups_for(invocations);
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(x, y, 1);
+        };
+        {
+            let mut pass = timer.pass(&mut encoder, Phase::Sort);
+            pass.set_bind_group(0, &even, &[slot(0)]);
+            direct(&mut pass, &self.prim_boxes, n as u64);
+            direct(&mut pass, &self.morton, padded);
+            pass.set_pipeline(&self.sort_block);
+            let blocks = padded / 1024;
+            let block_groups = (blocks.min(32768) as u32, blocks.div_ceil(32768) as u32);
+            pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
+            for (s, &(_, _, local)) in sort_steps.iter().enumerate() {
+                pass.set_bind_group(0, &even, &[slot(3 + s as u64)]);
+                if local {
+                    pass.set_pipeline(&self.sort_block_merge);
+                    pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
+                } else {
+                    direct(&mut pass, &self.sort_step, padded / 2);
+                }
+            }
+        }
+        {
+            let mut pass = timer.pass(&mut encoder, Phase::Rounds);
+            pass.set_bind_group(0, &even, &[slot(0)]);
+            direct(&mut pass, &self.ploc_init, n as u64);
+            for _ in 0..first_rounds {
+                self.record_round(&mut pass, rounds, [&even, &odd], &args_group, &args, slot);
+                rounds += 1;
+            }
+        }
+        self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), &even, slot(1));
+        timer.resolve(&mut encoder);
+        queue.submit([encoder.finish()]);
+        // More rounds until one cluster is left (a round merges at least the closest pair).
+        loop {
+            let s = read_u32s(device, queue, &state, 0, 16)?;
+            if s[6 + (s[11] & 1) as usize] <= 1 {
+                break;
+            }
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build rounds") });
+            {
+                let mut pass = timer.pass(&mut encoder, Phase::Rounds);
+                for _ in 0..4 {
+                    self.record_round(&mut pass, rounds, [&even, &odd], &args_group, &args, slot);
+                    rounds += 1;
+                }
+            }
+            self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), &even, slot(1));
+            timer.resolve(&mut encoder);
+            queue.submit([encoder.finish()]);
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build layout") });
+        {
+            let mut pass = timer.pass(&mut encoder, Phase::Layout);
+            pass.set_bind_group(0, &even, &[slot(0)]);
+            let (x, y) = groups_for(nodes);
+            pass.set_pipeline(&self.layout_offsets);
+            pass.dispatch_workgroups(x, y, 1);
+            let (x, y) = groups_for(n as u64);
+            pass.set_pipeline(&self.layout_write);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        timer.resolve(&mut encoder);
+        queue.submit([encoder.finish()]);
+        let state = read_u32s(device, queue, &state, 0, 16)?;
+        let depth = state[9];
+        if depth as usize >= MAX_TREE_DEPTH {
+            return Err(GpuBuildError::TooDeep(depth));
+        }
+        let phase_ms = timer.phase_ms(device, queue)?;
+        let gpu_ms = phase_ms.map(|p| p.iter().sum());
+        Ok(GpuBlas { nodes: out_nodes, triangles: out_tris, node_count: nodes as u32, triangle_count: n32, depth, rounds: state[10], gpu_ms, phase_ms })
+    }
+
+    /// The finish: one workgroup, from at most `finish` clusters to the root.
+    fn record_finish(&self, pass: &mut wgpu::ComputePass, even: &wgpu::BindGroup, params_offset: u32) {
+        pass.set_bind_group(0, even, &[params_offset]);
+        pass.set_pipeline(&self.ploc_finish);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    /// One PLOC round: nearest neighbours, merges and survivor counts per workgroup, their sum
+    /// (and the next round's dispatch sizes), compaction into the other cluster array.
+    fn record_round(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        round: u32,
+        groups: [&wgpu::BindGroup; 2],
+        args_group: &wgpu::BindGroup,
+        args: &wgpu::Buffer,
+        slot: impl Fn(u64) -> u32,
+    ) {
+        let parity = round % 2;
+        let bind = groups[parity as usize];
+        let offset = 12 * parity as u64;
+        pass.set_bind_group(0, bind, &[slot(1 + parity as u64)]);
+        pass.set_pipeline(&self.ploc_nearest);
+        pass.dispatch_workgroups_indirect(args, offset);
+        pass.set_pipeline(&self.ploc_merge);
+        pass.dispatch_workgroups_indirect(args, offset);
+        pass.set_pipeline(&self.ploc_scan);
+        pass.set_bind_group(1, args_group, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.ploc_compact);
+        pass.dispatch_workgroups_indirect(args, offset);
+    }
+}
+
+/// Reads `count` words of `buffer` from word `first`, waiting for the GPU.
+fn read_u32s(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer, first: u64, count: u64) -> Result<Vec<u32>, GpuBuildError> {
+    let bytes = read_bytes(device, queue, buffer, first * 4, count * 4)?;
+    Ok(bytemuck::cast_slice(&bytes).to_vec())
+}
+
+/// Copies `size` bytes of `buffer` at `offset` back to the CPU.
+pub fn read_bytes(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer, offset: u64, size: u64) -> Result<Vec<u8>, GpuBuildError> {
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("gpu build readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build readback") });
+    encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, size);
+    queue.submit([encoder.finish()]);
+    let slice = staging.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuBuildError::Device(e.to_string()))?;
+    rx.recv().map_err(|e| GpuBuildError::Device(e.to_string()))?.map_err(|e| GpuBuildError::Device(e.to_string()))?;
+    let bytes = slice.get_mapped_range().map_err(|e| GpuBuildError::Device(e.to_string()))?.to_vec();
+    staging.unmap();
+    Ok(bytes)
+}
+
+/// The parts of a build the timestamps tell apart.
+#[derive(Debug, Clone, Copy)]
+pub enum Phase {
+    /// Leaf boxes, Morton codes and their sort.
+    Sort = 0,
+    /// The PLOC rounds down to [`FINISH_CLUSTERS`].
+    Rounds = 1,
+    /// The one-workgroup finish.
+    Finish = 2,
+    /// Depth-first offsets and the traversal layout.
+    Layout = 3,
+}
+
+/// Timestamps around each compute pass of a build, by [`Phase`] (nothing without timestamp
+/// queries).
+struct Timer {
+    queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
+    phases: Vec<Phase>,
+    resolved: u32,
+    period_ns: f32,
+}
+
+const TIMER_PASSES: u32 = 64;
+
+impl Timer {
+    fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let queries = device.features().contains(wgpu::Features::TIMESTAMP_QUERY).then(|| {
+            let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("gpu build timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * TIMER_PASSES,
+            });
+            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("gpu build timestamp resolve"),
+                size: wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT * TIMER_PASSES as u64,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            (set, resolve)
+        });
+        Self { queries, phases: Vec::new(), resolved: 0, period_ns: queue.get_timestamp_period() }
+    }
+
+    fn pass<'e>(&mut self, encoder: &'e mut wgpu::CommandEncoder, phase: Phase) -> wgpu::ComputePass<'e> {
+        let timestamp_writes = match &self.queries {
+            Some((set, _)) if (self.phases.len() as u32) < TIMER_PASSES => {
+                let k = self.phases.len() as u32;
+                self.phases.push(phase);
+                Some(wgpu::ComputePassTimestampWrites { query_set: set, beginning_of_pass_write_index: Some(2 * k), end_of_pass_write_index: Some(2 * k + 1) })
+            }
+            _ => None,
+        };
+        encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("gpu build"), timestamp_writes }).forget_lifetime()
+    }
+
+    /// Resolves the passes recorded since the last call (each pair into its own aligned slot).
+    fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some((set, resolve)) = &self.queries {
+            for k in self.resolved..self.phases.len() as u32 {
+                encoder.resolve_query_set(set, 2 * k..2 * k + 2, resolve, wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT * k as u64);
+            }
+            self.resolved = self.phases.len() as u32;
+        }
+    }
+
+    fn phase_ms(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Option<[f64; 4]>, GpuBuildError> {
+        let Some((_, resolve)) = &self.queries else { return Ok(None) };
+        if self.phases.is_empty() || self.phases.len() as u32 >= TIMER_PASSES {
+            return Ok(None);
+        }
+        let stride = wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT;
+        let bytes = read_bytes(device, queue, resolve, 0, stride * self.phases.len() as u64)?;
+        let mut ms = [0.0; 4];
+        for (c, &phase) in bytes.chunks(stride as usize).zip(&self.phases) {
+            let p: &[u64] = bytemuck::cast_slice(&c[..16]);
+            ms[phase as usize] += p[1].saturating_sub(p[0]) as f64 * self.period_ns as f64 * 1e-6;
+        }
+        Ok(Some(ms))
+    }
+}

@@ -1,0 +1,189 @@
+//! The GPU BLAS builder (PLOC, `shaders/accel/build.wgsl`) against the CPU binned-SAH builder:
+//! the tree it writes is a valid traversal layout (every triangle in exactly one leaf of at
+//! most four, every box around what it holds, within the traversal stack's depth), its SAH cost
+//! is within the 1.1x of the CPU build's on the atrium, and rays traced through it hit
+//! exactly what they hit through the CPU-built tree.
+
+use glam::Vec3;
+use raygraph::accel::bvh::{Blas, BuildConfig, MAX_TREE_DEPTH};
+use raygraph::accel::cpu_traverse::{CpuTraverser, Ray};
+use raygraph::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlas, GpuBlasBuilder};
+use raygraph::accel::layout::{merge, merge_instances, GpuAccel, GpuBvhNode, GpuTriangle};
+use raygraph::runtime::Gpu;
+use raygraph::scene::load::builtin;
+use raygraph::scene::{Mesh, Scene, Vertex};
+use raygraph::util::SplitMix64;
+
+fn gpu() -> Gpu {
+    Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required")
+}
+
+fn read_back(gpu: &Gpu, b: &GpuBlas) -> (Vec<GpuBvhNode>, Vec<GpuTriangle>) {
+    let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).unwrap();
+    let tris = read_bytes(&gpu.device, &gpu.queue, &b.triangles, 0, b.triangle_count as u64 * 48).unwrap();
+    (bytemuck::cast_slice(&nodes).to_vec(), bytemuck::cast_slice(&tris).to_vec())
+}
+
+fn contains(outer: &GpuBvhNode, lo: [f32; 3], hi: [f32; 3]) -> bool {
+    (0..3).all(|a| outer.min[a] <= lo[a] && hi[a] <= outer.max[a])
+}
+
+/// Checks the layout from the root: returns the depth of the deepest leaf.
+fn check_layout(name: &str, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &[GpuTriangle]) -> usize {
+    assert_eq!(tris.len(), input.len(), "{name}: triangle count");
+    let mut seen = vec![0u32; tris.len()];
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((i, depth)) = stack.pop() {
+        let n = nodes.get(i).unwrap_or_else(|| panic!("{name}: entry {i} out of range"));
+        deepest = deepest.max(depth);
+        if n.count > 0 {
+            assert!(n.count <= 4, "{name}: leaf of {}", n.count);
+            for t in n.left_or_first..n.left_or_first + n.count {
+                let tri = tris.get(t as usize).unwrap_or_else(|| panic!("{name}: triangle {t} out of range"));
+                seen[t as usize] += 1;
+                for v in [tri.v0, tri.v1, tri.v2] {
+                    assert!(contains(n, v, v), "{name}: leaf {i} does not contain its triangle {t}");
+                }
+            }
+        } else {
+            let l = n.left_or_first as usize;
+            assert!(l >= 1 && l + 1 < nodes.len(), "{name}: children {l} of {i} out of range");
+            for c in [l, l + 1] {
+                assert!(contains(n, nodes[c].min, nodes[c].max), "{name}: node {i} does not contain child {c}");
+                stack.push((c, depth + 1));
+            }
+        }
+    }
+    assert!(seen.iter().all(|&s| s == 1), "{name}: every triangle must be in exactly one leaf");
+    // The output is the input reordered.
+    let key = |t: &GpuTriangle| (t.prim, t.instance, t.flags, [t.v0, t.v1, t.v2].map(|v| v.map(f32::to_bits)));
+    let mut a: Vec<_> = input.iter().map(key).collect();
+    let mut b: Vec<_> = tris.iter().map(key).collect();
+    a.sort();
+    b.sort();
+    assert!(a == b, "{name}: the output triangles are not the input's");
+    deepest
+}
+
+fn soup(n: usize, seed: u64, spread: f32) -> Vec<GpuTriangle> {
+    let mut rng = SplitMix64(seed);
+    let mut v = || Vec3::new(rng.f(), rng.f(), rng.f());
+    (0..n)
+        .map(|i| {
+            let c = v() * spread;
+            let (a, b, d) = (c + v() * 0.05, c + v() * 0.05, c + v() * 0.05);
+            GpuTriangle { v0: a.to_array(), prim: i as u32, v1: b.to_array(), instance: 0, v2: d.to_array(), flags: 0 }
+        })
+        .collect()
+}
+
+#[test]
+fn small_and_degenerate_inputs_give_valid_trees() {
+    let gpu = gpu();
+    let builder = GpuBlasBuilder::new(&gpu.device);
+    let mut cases: Vec<(String, Vec<GpuTriangle>)> =
+        [1, 2, 3, 4, 5, 17, 1000, 1025, 5000].iter().map(|&n| (format!("soup of {n}"), soup(n, n as u64, 10.0))).collect();
+    // Every centroid in one place: all Morton codes equal.
+    let one = soup(1, 7, 1.0)[0];
+    cases.push(("600 copies of one triangle".into(), (0..600).map(|i| GpuTriangle { prim: i, ..one }).collect()));
+    // Long thin distribution along one axis.
+    cases.push((
+        "a line".into(),
+        soup(3000, 9, 1.0)
+            .into_iter()
+            .enumerate()
+            .map(|(i, mut t)| {
+                for v in [&mut t.v0, &mut t.v1, &mut t.v2] {
+                    v[0] += i as f32;
+                }
+                t
+            })
+            .collect(),
+    ));
+    for (name, input) in &cases {
+        let scopes = gpu.scopes();
+        let built = builder.build(&gpu.device, &gpu.queue, input).unwrap_or_else(|e| panic!("{name}: {e}"));
+        scopes.finish(&gpu, name).unwrap();
+        let (nodes, tris) = read_back(&gpu, &built);
+        let depth = check_layout(name, &nodes, &tris, input);
+        assert_eq!(depth as u32, built.depth, "{name}: the reported depth");
+        assert!(depth < MAX_TREE_DEPTH, "{name}: depth {depth}");
+    }
+}
+
+fn atrium_rays(scene: &Scene, count: usize) -> Vec<Ray> {
+    let b = scene.bounds();
+    let (lo, hi) = (b.min, b.max);
+    let mut rng = SplitMix64(11);
+    (0..count)
+        .map(|_| {
+            let p = Vec3::new(rng.f(), rng.f(), rng.f());
+            let o = lo + (hi - lo) * p;
+            Ray::new(o, rng.dir())
+        })
+        .collect()
+}
+
+#[test]
+fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the_same_hits() {
+    let gpu = gpu();
+    let builder = GpuBlasBuilder::new(&gpu.device);
+    let scene = builtin("atrium", 0).unwrap();
+    let (merged, origin) = merge_instances(&scene);
+    let input = merged_triangles(&merged, &origin);
+    let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
+    let (nodes, tris) = read_back(&gpu, &built);
+    check_layout("atrium", &nodes, &tris, &input);
+
+    let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
+    let (gpu_sah, cpu_sah) = (layout_sah_cost(&nodes), layout_sah_cost(&cpu.blas_nodes));
+    println!(
+        "atrium: {} triangles, {} PLOC rounds, depth {}; SAH cost GPU {gpu_sah:.2}, CPU {cpu_sah:.2} ({:.3}x)",
+        input.len(),
+        built.rounds,
+        built.depth,
+        gpu_sah / cpu_sah
+    );
+    assert!(gpu_sah <= 1.1 * cpu_sah, "SAH cost {gpu_sah:.2} against the CPU build's {cpu_sah:.2}");
+
+    let gpu_accel = GpuAccel { blas_nodes: nodes, triangles: tris, ..cpu.clone() };
+    let (a, b) = (CpuTraverser::new(&cpu), CpuTraverser::new(&gpu_accel));
+    let rays = atrium_rays(&scene, 20_000);
+    let mut hits = 0;
+    for r in &rays {
+        let (x, y) = (a.closest(r), b.closest(r));
+        assert_eq!(x.is_some(), y.is_some(), "ray {r:?}: hit through one tree only");
+        if let (Some(x), Some(y)) = (x, y) {
+            hits += 1;
+            assert_eq!(x.t, y.t, "ray {r:?}: different closest t");
+        }
+        assert_eq!(a.any(r), b.any(r), "ray {r:?}: any-hit differs");
+    }
+    assert!(hits > rays.len() / 2, "the rays must mostly hit ({hits} of {})", rays.len());
+}
+
+#[test]
+fn an_organic_mesh_and_a_box_build_on_the_gpu() {
+    let gpu = gpu();
+    let builder = GpuBlasBuilder::new(&gpu.device);
+    for name in ["box", "organic"] {
+        let scene = builtin(name, 0).unwrap();
+        let (merged, origin) = merge_instances(&scene);
+        let input = merged_triangles(&merged, &origin);
+        let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
+        let (nodes, tris) = read_back(&gpu, &built);
+        check_layout(name, &nodes, &tris, &input);
+        let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
+        println!("{name}: SAH cost GPU {:.2}, CPU {:.2}", layout_sah_cost(&nodes), layout_sah_cost(&cpu.blas_nodes));
+    }
+    // A mesh with unusable triangles: they are left out of the input, as the CPU builder does.
+    let mut mesh = Mesh::default();
+    for p in [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [f32::NAN, 0.0, 0.0]] {
+        mesh.vertices.push(Vertex { position: p, ..Default::default() });
+    }
+    mesh.indices = vec![0, 1, 2, 0, 1, 3, 0, 0, 1, 0, 1, 9];
+    let origin: Vec<_> = (0..4).map(|p| raygraph::accel::layout::TriangleOrigin { instance: 0, prim: p, mirrored: false }).collect();
+    let input = merged_triangles(&mesh, &origin);
+    assert_eq!(input.len(), 1, "NaN, degenerate and out-of-range triangles are left out");
+}
