@@ -81,7 +81,7 @@ fn soup(n: usize, seed: u64, spread: f32) -> Vec<GpuTriangle> {
 #[test]
 fn small_and_degenerate_inputs_give_valid_trees() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device);
+    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
     let mut cases: Vec<(String, Vec<GpuTriangle>)> =
         [1, 2, 3, 4, 5, 17, 1000, 1025, 5000].iter().map(|&n| (format!("soup of {n}"), soup(n, n as u64, 10.0))).collect();
     // Every centroid in one place: all Morton codes equal.
@@ -128,7 +128,7 @@ fn atrium_rays(scene: &Scene, count: usize) -> Vec<Ray> {
 #[test]
 fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the_same_hits() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device);
+    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
     let scene = builtin("atrium", 0).unwrap();
     let (merged, origin) = merge_instances(&scene);
     let input = merged_triangles(&merged, &origin);
@@ -166,7 +166,7 @@ fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the
 #[test]
 fn an_organic_mesh_and_a_box_build_on_the_gpu() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device);
+    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
     for name in ["box", "organic"] {
         let scene = builtin(name, 0).unwrap();
         let (merged, origin) = merge_instances(&scene);

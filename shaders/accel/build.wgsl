@@ -11,9 +11,9 @@
 // Entry points, in the order the builder records them:
 //   prim_boxes       the leaves' boxes and costs; the centroid bounds (atomics)
 //   morton           30-bit Morton codes of the centroids, padded to a power of two
-//   sort_block       bitonic sort of each block of 1024 keys in workgroup memory
+//   sort_block       bitonic sort of each block of 4096 keys in workgroup memory
 //   sort_step        one global compare-exchange step (k, j) of the bitonic network
-//   sort_block_merge the steps j < 1024 of stage k in workgroup memory
+//   sort_block_merge the steps j < 4096 of stage k in workgroup memory
 //   ploc_init        the first clusters: the leaves in Morton order
 //   ploc_nearest     each cluster's nearest neighbour among the RADIUS on either side
 //   ploc_merge       mutual nearest neighbours merge into a new node; survivors counted
@@ -173,13 +173,16 @@ fn sort_less(ka: u32, va: u32, kb: u32, vb: u32) -> bool {
     return ka < kb || (ka == kb && va < vb);
 }
 
-var<workgroup> wg_keys: array<u32, 1024>;
-var<workgroup> wg_vals: array<u32, 1024>;
+// Blocks of SORT_BLOCK keys and values (32 KiB) are sorted in workgroup memory by
+// SORT_BLOCK / 4 invocations, each doing two compare-exchanges per step.
+const SORT_BLOCK: u32 = 4096u;
+var<workgroup> wg_keys: array<u32, 4096>;
+var<workgroup> wg_vals: array<u32, 4096>;
 
 fn sort_block_steps(base: u32, lid: u32, k: u32, j_start: u32) {
     for (var j = j_start; j > 0u; j >>= 1u) {
         for (var h = 0u; h < 2u; h++) {
-            let t = lid + h * 256u;
+            let t = lid + h * (SORT_BLOCK / 4u);
             let a = (t / j) * 2u * j + (t % j);
             let b = a + j;
             let ascending = ((base + a) & k) == 0u;
@@ -199,39 +202,42 @@ fn sort_block_steps(base: u32, lid: u32, k: u32, j_start: u32) {
 }
 
 fn block_base(wid: vec3<u32>, groups: vec3<u32>) -> u32 {
-    return (wid.x + wid.y * groups.x) * 1024u;
+    return (wid.x + wid.y * groups.x) * SORT_BLOCK;
 }
 
-@compute @workgroup_size(256)
+fn sort_load(base: u32, lid: u32) {
+    for (var h = 0u; h < 4u; h++) {
+        let e = lid + h * (SORT_BLOCK / 4u);
+        wg_keys[e] = keys[base + e];
+        wg_vals[e] = vals[base + e];
+    }
+    workgroupBarrier();
+}
+
+fn sort_store(base: u32, lid: u32) {
+    for (var h = 0u; h < 4u; h++) {
+        let e = lid + h * (SORT_BLOCK / 4u);
+        keys[base + e] = wg_keys[e];
+        vals[base + e] = wg_vals[e];
+    }
+}
+
+@compute @workgroup_size(1024)
 fn sort_block(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let base = block_base(wid, groups);
-    for (var h = 0u; h < 4u; h++) {
-        wg_keys[lid + h * 256u] = keys[base + lid + h * 256u];
-        wg_vals[lid + h * 256u] = vals[base + lid + h * 256u];
-    }
-    workgroupBarrier();
-    for (var k = 2u; k <= 1024u; k <<= 1u) {
+    sort_load(base, lid);
+    for (var k = 2u; k <= SORT_BLOCK; k <<= 1u) {
         sort_block_steps(base, lid, k, k >> 1u);
     }
-    for (var h = 0u; h < 4u; h++) {
-        keys[base + lid + h * 256u] = wg_keys[lid + h * 256u];
-        vals[base + lid + h * 256u] = wg_vals[lid + h * 256u];
-    }
+    sort_store(base, lid);
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(1024)
 fn sort_block_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let base = block_base(wid, groups);
-    for (var h = 0u; h < 4u; h++) {
-        wg_keys[lid + h * 256u] = keys[base + lid + h * 256u];
-        wg_vals[lid + h * 256u] = vals[base + lid + h * 256u];
-    }
-    workgroupBarrier();
-    sort_block_steps(base, lid, params.k, 512u);
-    for (var h = 0u; h < 4u; h++) {
-        keys[base + lid + h * 256u] = wg_keys[lid + h * 256u];
-        vals[base + lid + h * 256u] = wg_vals[lid + h * 256u];
-    }
+    sort_load(base, lid);
+    sort_block_steps(base, lid, params.k, SORT_BLOCK / 2u);
+    sort_store(base, lid);
 }
 
 @compute @workgroup_size(256)
@@ -420,15 +426,9 @@ fn ploc_compact(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     }
 }
 
-var<workgroup> wg_uniform: u32;
-
-// Makes the new node for clusters at i and j of clusters_in (see `ploc_merge`).
-fn merge_pair(i: u32, j: u32) {
-    let a = clusters_in[i];
-    let b = clusters_in[j];
+// Makes the new node of nodes a and b (their boxes' union lo, hi) and returns its id.
+fn make_node(a: u32, b: u32, lo: vec3<f32>, hi: vec3<f32>) -> u32 {
     let id = params.n + atomicAdd(&state[STATE_NEXT_NODE], 1u);
-    let lo = min(box_lo(a), box_lo(b));
-    let hi = max(box_hi(a), box_hi(b));
     let n = bitcast<u32>(node_box[2u * a].w) + bitcast<u32>(node_box[2u * b].w);
     let area_ab = area(lo, hi);
     let split_cost = TRAVERSAL_COST * area_ab + node_box[2u * a + 1u].w + node_box[2u * b + 1u].w;
@@ -439,92 +439,129 @@ fn merge_pair(i: u32, j: u32) {
     node_link[id] = vec4<u32>(a, b, NONE, select(0u, 1u, leaf));
     node_link[a].z = id;
     node_link[b].z = id;
-    clusters_in[i] = id;
+    return id;
 }
 
-fn nearest_of(i: u32, count: u32) -> u32 {
-    let node = clusters_in[i];
-    let lo = box_lo(node);
-    let hi = box_hi(node);
-    var best = i;
-    var best_area = 3.0e38;
-    for (var c = u32(max(i32(i) - i32(RADIUS), 0)); c <= min(i + RADIUS, count - 1u); c++) {
-        if c == i {
-            continue;
-        }
-        let other = clusters_in[c];
-        let a = area(min(lo, box_lo(other)), max(hi, box_hi(other)));
-        if a < best_area || (a == best_area && (c ^ i) < (best ^ i)) {
-            best_area = a;
-            best = c;
-        }
-    }
-    return best;
+// Merges the clusters at i and j of clusters_in into a new node at i.
+fn merge_pair(i: u32, j: u32) {
+    let a = clusters_in[i];
+    let b = clusters_in[j];
+    clusters_in[i] = make_node(a, b, min(box_lo(a), box_lo(b)), max(box_hi(a), box_hi(b)));
 }
 
-// The last rounds, from at most `finish` clusters down to one, in one workgroup: the same
-// nearest neighbours, merges and in-order compaction as the rounds above, with barriers
-// instead of dispatches between the steps. Does nothing while there are more clusters.
-@compute @workgroup_size(256)
-fn ploc_finish(@builtin(local_invocation_index) lid: u32) {
-    if lid == 0u {
-        wg_uniform = atomicLoad(&state[STATE_COUNT + atomicLoad(&state[STATE_HOLDER])]);
+// The finish's clusters (at most FINISH_CAPACITY): boxes (lo.xyz, hi.xyz), node ids, and a
+// word per cluster for nearest neighbours and then the survivors' sum. 32 KiB, the most
+// workgroup memory lavapipe offers (the H100 has 48).
+const FINISH_CAPACITY: u32 = 1024u;
+var<workgroup> fin_box: array<f32, 6144>;
+var<workgroup> fin_node: array<u32, 1024>;
+var<workgroup> fin_aux: array<u32, 1024>;
+
+fn fin_lo(i: u32) -> vec3<f32> {
+    return vec3<f32>(fin_box[6u * i], fin_box[6u * i + 1u], fin_box[6u * i + 2u]);
+}
+
+fn fin_hi(i: u32) -> vec3<f32> {
+    return vec3<f32>(fin_box[6u * i + 3u], fin_box[6u * i + 4u], fin_box[6u * i + 5u]);
+}
+
+fn fin_set(i: u32, node: u32, lo: vec3<f32>, hi: vec3<f32>) {
+    fin_node[i] = node;
+    fin_box[6u * i] = lo.x;
+    fin_box[6u * i + 1u] = lo.y;
+    fin_box[6u * i + 2u] = lo.z;
+    fin_box[6u * i + 3u] = hi.x;
+    fin_box[6u * i + 4u] = hi.y;
+    fin_box[6u * i + 5u] = hi.z;
+}
+
+// The last rounds, from at most `finish` (<= FINISH_CAPACITY) clusters down to one, in one
+// workgroup with one invocation per cluster and the clusters in workgroup memory: the same
+// nearest neighbours (and tie-break), merges and in-order compaction as the rounds above,
+// with barriers instead of dispatches between the steps. Does nothing while there are more
+// clusters.
+@compute @workgroup_size(1024)
+fn ploc_finish(@builtin(local_invocation_index) i: u32) {
+    if i == 0u {
+        fin_aux[0] = atomicLoad(&state[STATE_COUNT + atomicLoad(&state[STATE_HOLDER])]);
     }
-    var count = workgroupUniformLoad(&wg_uniform);
-    if count > params.finish || count <= 1u {
+    var count = workgroupUniformLoad(&fin_aux[0]);
+    if count > min(params.finish, FINISH_CAPACITY) || count <= 1u {
         return;
     }
-    // The clusters into clusters_in, wherever the last round left them.
+    // The clusters, wherever the last round left them.
     let holder = atomicLoad(&state[STATE_HOLDER]);
-    if holder != params.parity {
-        for (var i = lid; i < count; i += GROUP) {
-            clusters_in[i] = clusters_out[i];
+    if i < count {
+        var node = clusters_in[i];
+        if holder != params.parity {
+            node = clusters_out[i];
         }
+        fin_set(i, node, box_lo(node), box_hi(node));
     }
-    storageBarrier();
+    var rounds = 0u;
     loop {
+        workgroupBarrier();
         if count <= 1u {
             break;
         }
-        for (var i = lid; i < count; i += GROUP) {
-            nearest[i] = nearest_of(i, count);
-        }
-        storageBarrier();
-        for (var i = lid; i < count; i += GROUP) {
-            let j = nearest[i];
-            if j != i && nearest[j] == i && i < j {
-                merge_pair(i, j);
+        rounds++;
+        var lo = vec3<f32>(0.0);
+        var hi = vec3<f32>(0.0);
+        if i < count {
+            lo = fin_lo(i);
+            hi = fin_hi(i);
+            var best = i;
+            var best_area = 3.0e38;
+            for (var c = u32(max(i32(i) - i32(RADIUS), 0)); c <= min(i + RADIUS, count - 1u); c++) {
+                if c == i {
+                    continue;
+                }
+                let a = area(min(lo, fin_lo(c)), max(hi, fin_hi(c)));
+                if a < best_area || (a == best_area && (c ^ i) < (best ^ i)) {
+                    best_area = a;
+                    best = c;
+                }
             }
+            fin_aux[i] = best;
         }
-        storageBarrier();
-        // In-order compaction: each invocation counts the survivors of its run of clusters.
-        let per = (count + GROUP - 1u) / GROUP;
-        let first = min(lid * per, count);
-        let last = min(first + per, count);
-        var run = 0u;
-        for (var i = first; i < last; i++) {
-            run += select(0u, 1u, survives(i));
-        }
-        var pos = workgroup_inclusive_sum(lid, run) - run;
-        for (var i = first; i < last; i++) {
-            if survives(i) {
-                clusters_out[pos] = clusters_in[i];
-                pos++;
+        workgroupBarrier();
+        var keep = 0u;
+        var node = 0u;
+        if i < count {
+            let j = fin_aux[i];
+            let mutual = j != i && fin_aux[j] == i;
+            node = fin_node[i];
+            if mutual && i < j {
+                let other_lo = fin_lo(j);
+                let other_hi = fin_hi(j);
+                lo = min(lo, other_lo);
+                hi = max(hi, other_hi);
+                node = make_node(node, fin_node[j], lo, hi);
             }
+            keep = select(1u, 0u, mutual && j < i);
         }
-        storageBarrier();
-        count = workgroupUniformLoad(&wg_sums[GROUP - 1u]);
-        for (var i = lid; i < count; i += GROUP) {
-            clusters_in[i] = clusters_out[i];
+        workgroupBarrier();
+        // Inclusive sum of the survivors, then each moves to its place.
+        fin_aux[i] = keep;
+        workgroupBarrier();
+        for (var s = 1u; s < FINISH_CAPACITY; s <<= 1u) {
+            var add = 0u;
+            if i >= s {
+                add = fin_aux[i - s];
+            }
+            workgroupBarrier();
+            fin_aux[i] += add;
+            workgroupBarrier();
         }
-        storageBarrier();
-        if lid == 0u {
-            atomicAdd(&state[STATE_ROUNDS], 1u);
+        if keep == 1u {
+            fin_set(fin_aux[i] - 1u, node, lo, hi);
         }
+        count = workgroupUniformLoad(&fin_aux[FINISH_CAPACITY - 1u]);
     }
-    if lid == 0u {
+    if i == 0u {
         atomicStore(&state[STATE_COUNT], 1u);
         atomicStore(&state[STATE_COUNT + 1u], 1u);
+        atomicAdd(&state[STATE_ROUNDS], rounds);
     }
 }
 

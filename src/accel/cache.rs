@@ -533,7 +533,17 @@ impl AccelCache {
         if tris.len() < GPU_BUILD_MIN_TRIANGLES || tris.len() > MAX_GPU_BUILD_TRIANGLES {
             return None;
         }
-        let builder = self.gpu_builder.get_or_insert_with(|| GpuBlasBuilder::new(device));
+        if self.gpu_builder.is_none() {
+            match GpuBlasBuilder::new(device) {
+                Ok(b) => self.gpu_builder = Some(b),
+                Err(e) => {
+                    log::warn!("accel: {e}; merged layouts are built on the CPU");
+                    self.merged_builder = MergedBuilder::Cpu;
+                    return None;
+                }
+            }
+        }
+        let builder = self.gpu_builder.as_ref()?;
         match builder.build(device, queue, &tris).and_then(|b| b.read_back(device, queue).map(|(nodes, tris)| (merged_accel(nodes, tris), b.gpu_ms))) {
             Ok(built) => Some(built),
             Err(e) => {

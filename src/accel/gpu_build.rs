@@ -29,15 +29,17 @@ use wgpu::util::DeviceExt;
 pub const BUILD_WGSL: &str = include_str!("../../shaders/accel/build.wgsl");
 /// Neighbours searched on either side of a cluster (the WGSL's `RADIUS`).
 pub const RADIUS: u32 = 16;
-/// Clusters at or below which one workgroup finishes the tree (`ploc_finish`): the last
-/// rounds merge few clusters each, and a dispatch per step would cost more than the work
-/// (H100, atrium: 1.90 ms at 1024, 2.07 at 256, 2.27 at 4096; PERF.md).
-/// `RAYGRAPH_GPU_BUILD_FINISH` overrides it, for measuring.
+/// Clusters at or below which one workgroup finishes the tree (`ploc_finish`, one invocation
+/// per cluster, the clusters in workgroup memory): the last rounds merge few clusters each,
+/// and a dispatch per step would cost more than the work. Also the most the finish holds.
+/// `RAYGRAPH_GPU_BUILD_FINISH` lowers it, for measuring.
 pub const FINISH_CLUSTERS: u32 = 1024;
 /// Most triangles the GPU builder takes (its dispatch sizes and single-workgroup scan).
 pub const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
 
 const GROUP: u32 = 256;
+/// Keys sorted in workgroup memory per block (the WGSL's `SORT_BLOCK`).
+const SORT_BLOCK: u32 = 4096;
 const PARAMS_STRIDE: u64 = 256;
 
 /// Why a GPU build did not produce a tree.
@@ -149,7 +151,16 @@ fn groups_for(invocations: u64) -> (u32, u32) {
 }
 
 impl GpuBlasBuilder {
-    pub fn new(device: &wgpu::Device) -> Self {
+    /// The builder, or why this device cannot run it (its finish needs one workgroup of
+    /// [`FINISH_CLUSTERS`] invocations and 32 KiB of workgroup memory).
+    pub fn new(device: &wgpu::Device) -> Result<Self, GpuBuildError> {
+        let l = device.limits();
+        if l.max_compute_workgroup_storage_size < 32768 || l.max_compute_invocations_per_workgroup < FINISH_CLUSTERS || l.max_compute_workgroup_size_x < FINISH_CLUSTERS {
+            return Err(GpuBuildError::Device(format!(
+                "the GPU builder needs workgroups of {FINISH_CLUSTERS} invocations and 32 KiB of workgroup memory; the device has {} and {} bytes",
+                l.max_compute_invocations_per_workgroup, l.max_compute_workgroup_storage_size
+            )));
+        }
         let module =
             device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("build.wgsl"), source: wgpu::ShaderSource::Wgsl(BUILD_WGSL.into()) });
         let entry = |binding, ty, dynamic| wgpu::BindGroupLayoutEntry {
@@ -183,7 +194,7 @@ impl GpuBlasBuilder {
                 cache: None,
             })
         };
-        Self {
+        Ok(Self {
             prim_boxes: pipeline("prim_boxes", &layout0),
             morton: pipeline("morton", &layout0),
             sort_block: pipeline("sort_block", &layout0),
@@ -199,7 +210,7 @@ impl GpuBlasBuilder {
             layout_write: pipeline("layout_write", &layout0),
             group0,
             group1,
-        }
+        })
     }
 
     /// Builds a BLAS over `tris` (every one usable: see [`merged_triangles`]) and waits for it.
@@ -220,7 +231,7 @@ impl GpuBlasBuilder {
             return Err(GpuBuildError::Size(n));
         }
         let n32 = n as u32;
-        let padded = n.next_power_of_two().max(1024) as u64;
+        let padded = n.next_power_of_two().max(SORT_BLOCK as usize) as u64;
         let nodes = 2 * n as u64 - 1;
         let storage = wgpu::BufferUsages::STORAGE;
         let scratch = |label: &str, bytes: u64| {
@@ -230,18 +241,18 @@ impl GpuBlasBuilder {
 
         // Params records: 0 the base, 1 and 2 the rounds of each parity, then the sort's steps.
         let mut sort_steps: Vec<(u32, u32, bool)> = Vec::new(); // (k, j, in workgroup memory)
-        let mut k = 2048u64;
+        let mut k = 2 * SORT_BLOCK as u64;
         while k <= padded {
             let mut j = k / 2;
-            while j >= 1024 {
+            while j >= SORT_BLOCK as u64 {
                 sort_steps.push((k as u32, j as u32, false));
                 j /= 2;
             }
-            sort_steps.push((k as u32, 512, true));
+            sort_steps.push((k as u32, SORT_BLOCK / 2, true));
             k *= 2;
         }
         let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
-        let finish = std::env::var("RAYGRAPH_GPU_BUILD_FINISH").ok().and_then(|v| v.parse().ok()).unwrap_or(FINISH_CLUSTERS);
+        let finish = std::env::var("RAYGRAPH_GPU_BUILD_FINISH").ok().and_then(|v| v.parse().ok()).unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS);
         let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
         put(0, [n32, 0, 0, 0, finish, 0, 0, 0]);
         put(1, [n32, 0, 0, 0, finish, 0, 0, 0]);
@@ -325,8 +336,8 @@ impl GpuBlasBuilder {
 
         let mut timer = Timer::new(device, queue);
         // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
-        // (each leaves about 80% of them on the atrium) and the finish.
-        let first_rounds = if n32 > finish { ((n as f64 / finish as f64).ln() / 1.25f64.ln()).ceil() as u32 + 2 } else { 0 };
+        // (each leaves about 83% of them on the atrium) and the finish.
+        let first_rounds = if n32 > finish { ((n as f64 / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 1 } else { 0 };
         let mut rounds = 0u32;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build") });
         let direct = |pass: &mut wgpu::ComputePass, pipeline, invocations: u64| {
@@ -340,7 +351,7 @@ impl GpuBlasBuilder {
             direct(&mut pass, &self.prim_boxes, n as u64);
             direct(&mut pass, &self.morton, padded);
             pass.set_pipeline(&self.sort_block);
-            let blocks = padded / 1024;
+            let blocks = padded / SORT_BLOCK as u64;
             let block_groups = (blocks.min(32768) as u32, blocks.div_ceil(32768) as u32);
             pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
             for (s, &(_, _, local)) in sort_steps.iter().enumerate() {

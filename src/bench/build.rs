@@ -346,8 +346,8 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
     use crate::accel::bvh::{Blas, BuildConfig};
     use crate::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlasBuilder};
     use crate::accel::layout::{merge, merge_instances, GpuBvhNode};
-    let builder = GpuBlasBuilder::new(&gpu.device);
     let fail = |e: crate::accel::gpu_build::GpuBuildError| RuntimeError::Gpu(format!("bench build: GPU builder: {e}"));
+    let builder = GpuBlasBuilder::new(&gpu.device).map_err(fail)?;
     let mut rows = Vec::new();
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;

@@ -65,6 +65,11 @@ impl Gpu {
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::VULKAN;
         }
+        // wgpu validates the arguments of every indirect dispatch with a dispatch of its own;
+        // the only indirect dispatches are the GPU builder's, whose arguments its own shader
+        // writes within the limits (accel::gpu_build), and the extra dispatch per round doubled
+        // its dispatch overhead (PERF.md).
+        desc.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
         let instance = wgpu::Instance::new(desc);
         let adapter =
             pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None)).map_err(|e| RuntimeError::NoAdapter(e.to_string()))?;
@@ -85,6 +90,10 @@ impl Gpu {
         // Large scenes: the compute back-end binds each BVH array as one storage buffer.
         required_limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
         required_limits.max_buffer_size = adapter.limits().max_buffer_size;
+        // The GPU builder's finish keeps its clusters in workgroup memory (accel::gpu_build).
+        required_limits.max_compute_workgroup_storage_size = adapter.limits().max_compute_workgroup_storage_size;
+        required_limits.max_compute_invocations_per_workgroup = adapter.limits().max_compute_invocations_per_workgroup;
+        required_limits.max_compute_workgroup_size_x = adapter.limits().max_compute_workgroup_size_x;
         let texture_binding_arrays = adapter.features().contains(BINDLESS)
             && adapter.limits().max_binding_array_elements_per_shader_stage >= 256
             && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none();
