@@ -16,9 +16,8 @@
 //   sort_block_merge the steps j < 4096 of stage k in workgroup memory
 //   ploc_init        the first clusters: the leaves in Morton order
 //   ploc_nearest     each cluster's nearest neighbour among the RADIUS on either side
-//   ploc_merge       mutual nearest neighbours merge into a new node; survivors counted
-//   ploc_scan        the workgroups' survivor counts summed; the next round's dispatch sizes
-//   ploc_compact     survivors moved, in order, to the other cluster array
+//   ploc_merge       mutual nearest neighbours merge into a new node; the survivors move, in
+//                    order, to the other cluster array
 //   layout_offsets   per node: first triangle in depth-first order, depth, inside a leaf?
 //   layout_write     the traversal's node pairs and the triangles in leaf order
 
@@ -48,14 +47,13 @@ struct Params {
 @group(0) @binding(7) var<storage, read_write> clusters_in: array<u32>;
 @group(0) @binding(8) var<storage, read_write> clusters_out: array<u32>;
 @group(0) @binding(9) var<storage, read_write> nearest: array<u32>;
-// Per cluster: its survivor's position within its workgroup; per workgroup: the survivors
-// before it.
-@group(0) @binding(10) var<storage, read_write> local_pos: array<u32>;
-@group(0) @binding(11) var<storage, read_write> group_sums: array<u32>;
+// Per workgroup (tile) of a merge: its survivors, flagged TILE_AGGREGATE, or the survivors of
+// all tiles up to it, flagged TILE_PREFIX; 0 while neither is known.
+@group(0) @binding(10) var<storage, read_write> tile_status: array<atomic<u32>>;
 // Per node: first triangle in depth-first order; bit 31 set if a proper ancestor is a leaf.
-@group(0) @binding(12) var<storage, read_write> offsets: array<u32>;
-@group(0) @binding(13) var<storage, read_write> out_nodes: array<vec4<f32>>;
-@group(0) @binding(14) var<storage, read_write> out_tris: array<vec4<f32>>;
+@group(0) @binding(11) var<storage, read_write> offsets: array<u32>;
+@group(0) @binding(12) var<storage, read_write> out_nodes: array<vec4<f32>>;
+@group(0) @binding(13) var<storage, read_write> out_tris: array<vec4<f32>>;
 
 const NONE: u32 = 0xffffffffu;
 const GROUP: u32 = 256u;
@@ -67,19 +65,19 @@ const INTERSECTION_COST: f32 = 1.0;
 // src/accel/layout.rs's BOX_PAD_ABS.
 const BOX_PAD_ABS: f32 = 1e-20;
 
-// state: centroid bounds as order-preserving integers (0..2 min, 3..5 max); the clusters of
-// each parity (6, 7); the next new node (8); the deepest leaf (9); rounds that merged (10);
-// the parity whose input array holds the clusters (11).
+// state: centroid bounds as order-preserving integers (0..2 min, 3..5 max); the clusters left
+// (6); the merge's next tile ticket (7); the next new node (8); the deepest leaf (9); rounds
+// that merged (10); the parity whose input array holds the clusters (11).
 const STATE_COUNT: u32 = 6u;
+const STATE_TICKET: u32 = 7u;
 const STATE_NEXT_NODE: u32 = 8u;
 const STATE_DEPTH: u32 = 9u;
 const STATE_ROUNDS: u32 = 10u;
 const STATE_HOLDER: u32 = 11u;
 
-// Dispatch sizes (x, y, z) of each parity for the per-cluster entry points, written by
-// `ploc_scan` only: a buffer read as indirect arguments cannot be bound for writing in the
-// same dispatch, so it lives in a group of its own that only `ploc_scan`'s layout has.
-@group(1) @binding(0) var<storage, read_write> args: array<u32>;
+const TILE_AGGREGATE: u32 = 0x40000000u;
+const TILE_PREFIX: u32 = 0x80000000u;
+const TILE_VALUE: u32 = 0x3fffffffu;
 
 fn float_key(x: f32) -> u32 {
     let b = bitcast<u32>(x);
@@ -282,13 +280,43 @@ fn box_hi(node: u32) -> vec3<f32> {
     return node_box[2u * node + 1u].xyz;
 }
 
+var<workgroup> wg_uniform: u32;
+var<workgroup> wg_prefix: u32;
+
+// The clusters left if this round is to run: its parity holds them and there are more than
+// the finish takes; 0 otherwise (a round recorded past the last one does nothing). Rounds are
+// dispatched for all n clusters (indirect dispatches sized by the previous round measured
+// slower on the H100); the workgroups past the clusters left return at once.
+fn round_count(lid: u32) -> u32 {
+    if lid == 0u {
+        let count = atomicLoad(&state[STATE_COUNT]);
+        let mine = atomicLoad(&state[STATE_HOLDER]) == params.parity;
+        wg_uniform = select(0u, count, mine && count > params.finish);
+    }
+    return workgroupUniformLoad(&wg_uniform);
+}
+
 var<workgroup> win_lo: array<vec3<f32>, 288>;
 var<workgroup> win_hi: array<vec3<f32>, 288>;
 
 @compute @workgroup_size(256)
 fn ploc_nearest(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let count = atomicLoad(&state[STATE_COUNT + params.parity]);
-    let base = (wid.x + wid.y * groups.x) * GROUP;
+    let count = round_count(lid);
+    if count == 0u {
+        return;
+    }
+    let group = wid.x + wid.y * groups.x;
+    if group * GROUP >= count {
+        return;
+    }
+    // The merge that follows starts its tiles afresh.
+    if lid == 0u {
+        atomicStore(&tile_status[group], 0u);
+        if group == 0u {
+            atomicStore(&state[STATE_TICKET], 0u);
+        }
+    }
+    let base = group * GROUP;
     // The window: clusters base - RADIUS .. base + GROUP + RADIUS.
     for (var w = lid; w < GROUP + 2u * RADIUS; w += GROUP) {
         let c = i32(base + w) - i32(RADIUS);
@@ -345,84 +373,68 @@ fn workgroup_inclusive_sum(lid: u32, value: u32) -> u32 {
     return wg_sums[lid];
 }
 
-// Whether cluster i survives this round: it does unless it merges into a lower one.
-fn survives(i: u32) -> bool {
-    let j = nearest[i];
-    return !(j != i && nearest[j] == i && j < i);
-}
-
+// Mutual nearest neighbours merge into a new node, and the survivors move, in order, to the
+// other cluster array: each workgroup (tile, in the order the tiles start) sums its
+// survivors and finds how many the tiles before it keep by decoupled look-back (Merrill and
+// Garland 2016: flag and value in one atomic word, so no other ordering is needed; a tile
+// waits only on tiles that started before it). The last tile writes the next round's count.
 @compute @workgroup_size(256)
 fn ploc_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let count = atomicLoad(&state[STATE_COUNT + params.parity]);
-    let group = wid.x + wid.y * groups.x;
-    let i = group * GROUP + lid;
+    let count = round_count(lid);
+    // Workgroups past the clusters (a dispatch sized for more) take no tile.
+    if count == 0u || (wid.x + wid.y * groups.x) * GROUP >= count {
+        return;
+    }
+    if lid == 0u {
+        wg_prefix = atomicAdd(&state[STATE_TICKET], 1u);
+    }
+    let tile = workgroupUniformLoad(&wg_prefix);
+    let i = tile * GROUP + lid;
     var keep = 0u;
+    var node = 0u;
     if i < count {
         let j = nearest[i];
-        if j != i && nearest[j] == i && i < j {
-            merge_pair(i, j);
+        let mutual = j != i && nearest[j] == i;
+        node = clusters_in[i];
+        if mutual && i < j {
+            let other = clusters_in[j];
+            node = make_node(node, other, min(box_lo(node), box_lo(other)), max(box_hi(node), box_hi(other)));
         }
-        keep = select(0u, 1u, survives(i));
+        keep = select(1u, 0u, mutual && j < i);
     }
-    // Exclusive sum of the survivors within the workgroup.
     let upto = workgroup_inclusive_sum(lid, keep);
-    if i < count {
-        local_pos[i] = upto - keep;
-    }
-    if lid == GROUP - 1u {
-        group_sums[group] = upto;
-    }
-}
-
-fn write_args(slot: u32, clusters: u32) {
-    // Dispatch sizes for `clusters` invocations (none when `ploc_finish` takes over), at
-    // most 32768 workgroups in x.
-    var groups = 0u;
-    if clusters > params.finish {
-        groups = (clusters + GROUP - 1u) / GROUP;
-    }
-    args[slot] = min(groups, 32768u);
-    args[slot + 1u] = select(1u, (groups + 32767u) / 32768u, groups > 0u);
-    args[slot + 2u] = 1u;
-}
-
-@compute @workgroup_size(256)
-fn ploc_scan(@builtin(local_invocation_index) lid: u32) {
-    let parity = params.parity;
-    let count = atomicLoad(&state[STATE_COUNT + parity]);
-    // A round at or below `finish` clusters did nothing: the count stays as it is.
-    let running = count > params.finish;
-    let groups = select(0u, (count + GROUP - 1u) / GROUP, running);
-    // Each invocation sums a run of `per` workgroup counts, then the runs are scanned.
-    let per = (groups + GROUP - 1u) / GROUP;
-    var run = 0u;
-    for (var g = lid * per; g < min(groups, (lid + 1u) * per); g++) {
-        run += group_sums[g];
-    }
-    var before = workgroup_inclusive_sum(lid, run) - run;
-    for (var g = lid * per; g < min(groups, (lid + 1u) * per); g++) {
-        let c = group_sums[g];
-        group_sums[g] = before;
-        before += c;
-    }
-    if lid == GROUP - 1u {
-        let next = select(count, wg_sums[lid], running);
-        if running {
-            atomicAdd(&state[STATE_ROUNDS], 1u);
-            atomicStore(&state[STATE_HOLDER], 1u - parity);
+    if lid == 0u {
+        let total = wg_sums[GROUP - 1u];
+        var before = 0u;
+        if tile == 0u {
+            atomicStore(&tile_status[0], TILE_PREFIX | total);
+        } else {
+            atomicStore(&tile_status[tile], TILE_AGGREGATE | total);
+            var k = tile - 1u;
+            loop {
+                let status = atomicLoad(&tile_status[k]);
+                if status == 0u {
+                    continue;
+                }
+                before += status & TILE_VALUE;
+                if (status & TILE_PREFIX) != 0u || k == 0u {
+                    break;
+                }
+                k -= 1u;
+            }
+            atomicStore(&tile_status[tile], TILE_PREFIX | (before + total));
         }
-        atomicStore(&state[STATE_COUNT + 1u - parity], next);
-        write_args(3u * (1u - parity), next);
+        wg_prefix = before;
+        if tile == (count - 1u) / GROUP {
+            let next = before + total;
+            atomicStore(&state[STATE_COUNT], next);
+            atomicStore(&state[STATE_HOLDER], 1u - params.parity);
+            atomicAdd(&state[STATE_ROUNDS], 1u);
+        }
     }
-}
-
-@compute @workgroup_size(256)
-fn ploc_compact(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let count = atomicLoad(&state[STATE_COUNT + params.parity]);
-    let group = wid.x + wid.y * groups.x;
-    let i = group * GROUP + lid;
-    if i < count && survives(i) {
-        clusters_out[group_sums[group] + local_pos[i]] = clusters_in[i];
+    let before = workgroupUniformLoad(&wg_prefix);
+    if keep == 1u {
+        clusters_out[before + upto - 1u] = node;
     }
 }
 
@@ -440,13 +452,6 @@ fn make_node(a: u32, b: u32, lo: vec3<f32>, hi: vec3<f32>) -> u32 {
     node_link[a].z = id;
     node_link[b].z = id;
     return id;
-}
-
-// Merges the clusters at i and j of clusters_in into a new node at i.
-fn merge_pair(i: u32, j: u32) {
-    let a = clusters_in[i];
-    let b = clusters_in[j];
-    clusters_in[i] = make_node(a, b, min(box_lo(a), box_lo(b)), max(box_hi(a), box_hi(b)));
 }
 
 // The finish's clusters (at most FINISH_CAPACITY): boxes (lo.xyz, hi.xyz), node ids, and a
@@ -483,7 +488,7 @@ fn fin_set(i: u32, node: u32, lo: vec3<f32>, hi: vec3<f32>) {
 @compute @workgroup_size(1024)
 fn ploc_finish(@builtin(local_invocation_index) i: u32) {
     if i == 0u {
-        fin_aux[0] = atomicLoad(&state[STATE_COUNT + atomicLoad(&state[STATE_HOLDER])]);
+        fin_aux[0] = atomicLoad(&state[STATE_COUNT]);
     }
     var count = workgroupUniformLoad(&fin_aux[0]);
     if count > min(params.finish, FINISH_CAPACITY) || count <= 1u {
@@ -560,7 +565,6 @@ fn ploc_finish(@builtin(local_invocation_index) i: u32) {
     }
     if i == 0u {
         atomicStore(&state[STATE_COUNT], 1u);
-        atomicStore(&state[STATE_COUNT + 1u], 1u);
         atomicAdd(&state[STATE_ROUNDS], rounds);
     }
 }

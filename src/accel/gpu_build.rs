@@ -128,7 +128,6 @@ pub fn layout_sah_cost(nodes: &[GpuBvhNode]) -> f64 {
 /// The builder's pipelines (one per entry point), made once per device.
 pub struct GpuBlasBuilder {
     group0: wgpu::BindGroupLayout,
-    group1: wgpu::BindGroupLayout,
     prim_boxes: wgpu::ComputePipeline,
     morton: wgpu::ComputePipeline,
     sort_block: wgpu::ComputePipeline,
@@ -137,8 +136,6 @@ pub struct GpuBlasBuilder {
     ploc_init: wgpu::ComputePipeline,
     ploc_nearest: wgpu::ComputePipeline,
     ploc_merge: wgpu::ComputePipeline,
-    ploc_scan: wgpu::ComputePipeline,
-    ploc_compact: wgpu::ComputePipeline,
     ploc_finish: wgpu::ComputePipeline,
     layout_offsets: wgpu::ComputePipeline,
     layout_write: wgpu::ComputePipeline,
@@ -155,7 +152,10 @@ impl GpuBlasBuilder {
     /// [`FINISH_CLUSTERS`] invocations and 32 KiB of workgroup memory).
     pub fn new(device: &wgpu::Device) -> Result<Self, GpuBuildError> {
         let l = device.limits();
-        if l.max_compute_workgroup_storage_size < 32768 || l.max_compute_invocations_per_workgroup < FINISH_CLUSTERS || l.max_compute_workgroup_size_x < FINISH_CLUSTERS {
+        if l.max_compute_workgroup_storage_size < 32768
+            || l.max_compute_invocations_per_workgroup < FINISH_CLUSTERS
+            || l.max_compute_workgroup_size_x < FINISH_CLUSTERS
+        {
             return Err(GpuBuildError::Device(format!(
                 "the GPU builder needs workgroups of {FINISH_CLUSTERS} invocations and 32 KiB of workgroup memory; the device has {} and {} bytes",
                 l.max_compute_invocations_per_workgroup, l.max_compute_workgroup_storage_size
@@ -171,17 +171,11 @@ impl GpuBlasBuilder {
         };
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
         let mut entries = vec![entry(0, wgpu::BufferBindingType::Uniform, true), entry(1, wgpu::BufferBindingType::Storage { read_only: true }, false)];
-        entries.extend((2..=14).map(|b| entry(b, rw, false)));
+        entries.extend((2..=13).map(|b| entry(b, rw, false)));
         let group0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("gpu build"), entries: &entries });
-        let group1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("gpu build args"), entries: &[entry(0, rw, false)] });
         let layout0 = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("gpu build"),
             bind_group_layouts: &[Some(&group0)],
-            immediate_size: 0,
-        });
-        let layout01 = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("gpu build scan"),
-            bind_group_layouts: &[Some(&group0), Some(&group1)],
             immediate_size: 0,
         });
         let pipeline = |name: &str, layout: &wgpu::PipelineLayout| {
@@ -203,13 +197,10 @@ impl GpuBlasBuilder {
             ploc_init: pipeline("ploc_init", &layout0),
             ploc_nearest: pipeline("ploc_nearest", &layout0),
             ploc_merge: pipeline("ploc_merge", &layout0),
-            ploc_scan: pipeline("ploc_scan", &layout01),
-            ploc_compact: pipeline("ploc_compact", &layout0),
             ploc_finish: pipeline("ploc_finish", &layout0),
             layout_offsets: pipeline("layout_offsets", &layout0),
             layout_write: pipeline("layout_write", &layout0),
             group0,
-            group1,
         })
     }
 
@@ -267,8 +258,6 @@ impl GpuBlasBuilder {
         state[6] = n32;
         let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC);
         let (gx, gy) = groups_for(n as u64);
-        let first_args = if n32 > finish { [gx, gy, 1, 0, 0, 0] } else { [0; 6] };
-        let args = init("gpu build args", bytemuck::cast_slice(&first_args), storage | wgpu::BufferUsages::INDIRECT);
         let tris_in = init("gpu build triangles in", bytemuck::cast_slice(tris), storage);
         let out_usage = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         let out_nodes = device.create_buffer(&wgpu::BufferDescriptor {
@@ -291,11 +280,10 @@ impl GpuBlasBuilder {
             scratch("gpu build clusters a", n as u64 * 4),
             scratch("gpu build clusters b", n as u64 * 4),
             scratch("gpu build nearest", n as u64 * 4),
-            scratch("gpu build local positions", n as u64 * 4),
-            scratch("gpu build group sums", (gx as u64 * gy as u64) * 4),
+            scratch("gpu build tile status", (gx as u64 * gy as u64) * 4),
             scratch("gpu build offsets", nodes * 4),
         ];
-        let [keys, vals, node_box, node_link, clusters_a, clusters_b, nearest, local_pos, group_sums, offsets] = &buffers;
+        let [keys, vals, node_box, node_link, clusters_a, clusters_b, nearest, tile_status, offsets] = &buffers;
         let bind = |clusters_in: &wgpu::Buffer, clusters_out: &wgpu::Buffer| {
             fn b(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
@@ -317,21 +305,15 @@ impl GpuBlasBuilder {
                     b(7, clusters_in),
                     b(8, clusters_out),
                     b(9, nearest),
-                    b(10, local_pos),
-                    b(11, group_sums),
-                    b(12, offsets),
-                    b(13, &out_nodes),
-                    b(14, &out_tris),
+                    b(10, tile_status),
+                    b(11, offsets),
+                    b(12, &out_nodes),
+                    b(13, &out_tris),
                 ],
             })
         };
         let even = bind(clusters_a, clusters_b);
         let odd = bind(clusters_b, clusters_a);
-        let args_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("gpu build args"),
-            layout: &self.group1,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: args.as_entire_binding() }],
-        });
         let slot = |s: u64| (s * PARAMS_STRIDE) as u32;
 
         let mut timer = Timer::new(device, queue);
@@ -369,7 +351,7 @@ impl GpuBlasBuilder {
             pass.set_bind_group(0, &even, &[slot(0)]);
             direct(&mut pass, &self.ploc_init, n as u64);
             for _ in 0..first_rounds {
-                self.record_round(&mut pass, rounds, [&even, &odd], &args_group, &args, slot);
+                self.record_round(&mut pass, rounds, [&even, &odd], slot, (gx, gy));
                 rounds += 1;
             }
         }
@@ -378,15 +360,14 @@ impl GpuBlasBuilder {
         queue.submit([encoder.finish()]);
         // More rounds until one cluster is left (a round merges at least the closest pair).
         loop {
-            let s = read_u32s(device, queue, &state, 0, 16)?;
-            if s[6 + (s[11] & 1) as usize] <= 1 {
+            if read_u32s(device, queue, &state, 0, 16)?[6] <= 1 {
                 break;
             }
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build rounds") });
             {
                 let mut pass = timer.pass(&mut encoder, Phase::Rounds);
                 for _ in 0..4 {
-                    self.record_round(&mut pass, rounds, [&even, &odd], &args_group, &args, slot);
+                    self.record_round(&mut pass, rounds, [&even, &odd], slot, (gx, gy));
                     rounds += 1;
                 }
             }
@@ -424,30 +405,16 @@ impl GpuBlasBuilder {
         pass.dispatch_workgroups(1, 1, 1);
     }
 
-    /// One PLOC round: nearest neighbours, merges and survivor counts per workgroup, their sum
-    /// (and the next round's dispatch sizes), compaction into the other cluster array.
-    fn record_round(
-        &self,
-        pass: &mut wgpu::ComputePass,
-        round: u32,
-        groups: [&wgpu::BindGroup; 2],
-        args_group: &wgpu::BindGroup,
-        args: &wgpu::Buffer,
-        slot: impl Fn(u64) -> u32,
-    ) {
-        let parity = round % 2;
-        let bind = groups[parity as usize];
-        let offset = 12 * parity as u64;
-        pass.set_bind_group(0, bind, &[slot(1 + parity as u64)]);
+    /// One PLOC round: nearest neighbours; then merges and the survivors compacted in order
+    /// into the other cluster array. Dispatched for all clusters (`groups`); a round with
+    /// nothing to do returns at once.
+    fn record_round(&self, pass: &mut wgpu::ComputePass, round: u32, bind: [&wgpu::BindGroup; 2], slot: impl Fn(u64) -> u32, groups: (u32, u32)) {
+        let parity = (round % 2) as usize;
+        pass.set_bind_group(0, bind[parity], &[slot(1 + parity as u64)]);
         pass.set_pipeline(&self.ploc_nearest);
-        pass.dispatch_workgroups_indirect(args, offset);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
         pass.set_pipeline(&self.ploc_merge);
-        pass.dispatch_workgroups_indirect(args, offset);
-        pass.set_pipeline(&self.ploc_scan);
-        pass.set_bind_group(1, args_group, &[]);
-        pass.dispatch_workgroups(1, 1, 1);
-        pass.set_pipeline(&self.ploc_compact);
-        pass.dispatch_workgroups_indirect(args, offset);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 }
 

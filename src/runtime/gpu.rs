@@ -65,11 +65,6 @@ impl Gpu {
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::VULKAN;
         }
-        // wgpu validates the arguments of every indirect dispatch with a dispatch of its own;
-        // the only indirect dispatches are the GPU builder's, whose arguments its own shader
-        // writes within the limits (accel::gpu_build), and the extra dispatch per round doubled
-        // its dispatch overhead (PERF.md).
-        desc.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
         let instance = wgpu::Instance::new(desc);
         let adapter =
             pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None)).map_err(|e| RuntimeError::NoAdapter(e.to_string()))?;
