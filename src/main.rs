@@ -506,6 +506,20 @@ fn run(cli: Cli) -> Result<()> {
             let hybrid = error_bench::run_hybrid(&gpu, &cfg, scenes, size)?;
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, size);
             write_results(&out, &[("hybrid.csv", error_bench::hybrid_csv(&info, &hybrid)), ("hybrid.md", error_bench::hybrid_markdown(&info, &hybrid))])?;
+            let sweep = if quick { error_bench::ShadowMapSweep::quick() } else { error_bench::ShadowMapSweep::full() };
+            // The ray-traced truth is the same on every back-end (tests/reference_channels.rs):
+            // the first one traces it.
+            let backend = *cfg.backends.first().context("no back-end to trace the shadow rays with")?;
+            let shadow_maps = error_bench::run_shadow_maps(&gpu, &cfg, &sweep, backend)?;
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, sweep.size);
+            write_results(
+                &out,
+                &[
+                    ("shadow_maps.csv", error_bench::shadow_map_csv(&info, &shadow_maps)),
+                    ("shadow_maps.md", error_bench::shadow_map_markdown(&info, &shadow_maps)),
+                ],
+            )?;
+            write_plots(error_bench::shadow_map_plot(&out, &shadow_maps))?;
         }
         Command::Bench { command: BenchCommand::Roofline { quick, rays, bandwidth, out } } => {
             use raygraph::bench::roofline;

@@ -1081,3 +1081,32 @@ fn refit_treelets_cover_every_node_children_first() {
         );
     }
 }
+
+/// The reference's margins (`Reference::{closest,any}_with_margin`) against their closed forms
+/// on the triangle (0,0,0), (1,0,0), (0,1,0), seen straight down from z = 1 (distances over
+/// the coordinate magnitude, 1 here, 1.1 for the miss): a hit at (0.25, 0.25) is 0.25 from its
+/// nearest edge; a miss at (1.1, 0.25) is (1.35 - 1) / sqrt(2) from the hypotenuse; a ray stopping 0.01 short of the plane misses by
+/// 0.01; a second triangle 1e-3 below makes the closest hit's margin 1e-3 (a depth tie that
+/// close could swap them). Within 1e-12.
+#[test]
+fn reference_margins_match_their_closed_forms() {
+    let tri = mesh("tri", &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2]);
+    let one = Reference::new(&scene_with("margins", vec![tri.clone()], &[(0, Mat4::IDENTITY)]));
+    let down = |x: f32, y: f32, t_max: f32| Ray::with_interval(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0), 0.0, t_max);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12;
+    let (hit, margin) = one.any_with_margin(&down(0.25, 0.25, f32::INFINITY));
+    assert!(hit && close(margin, 0.25), "inside: {hit} {margin}");
+    let (best, margin) = one.closest_with_margin(&down(0.25, 0.25, f32::INFINITY));
+    assert!(best.is_some() && close(margin, 0.25), "closest inside: {margin}");
+    let (hit, margin) = one.any_with_margin(&down(1.1, 0.25, f32::INFINITY));
+    let x = 1.1f32 as f64;
+    let expected = (x + 0.25 - 1.0) / 2f64.sqrt() / x;
+    assert!(!hit && close(margin, expected), "outside: {hit} {margin} against {expected}");
+    let (hit, margin) = one.any_with_margin(&down(0.25, 0.25, 0.99));
+    assert!(!hit && close(margin, 1.0 - 0.99f32 as f64), "short of the plane: {hit} {margin}");
+    let below = Mat4::from_translation(Vec3::new(0.0, 0.0, -1e-3));
+    let two = Reference::new(&scene_with("margins", vec![tri], &[(0, Mat4::IDENTITY), (0, below)]));
+    let (best, margin) = two.closest_with_margin(&down(0.25, 0.25, f32::INFINITY));
+    let gap = (-1e-3f32) as f64;
+    assert!(best.is_some_and(|h| h.instance_id == 0) && close(margin, -gap), "stacked: {best:?} {margin}");
+}

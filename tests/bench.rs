@@ -81,18 +81,18 @@ fn bench_build_quick_writes_a_complete_table() {
 
 /// Runs `raygraph bench NAME --quick` and returns the CSV's header and rows.
 fn quick_csv(name: &str) -> (Vec<String>, Vec<Vec<String>>) {
-    let (header, rows, _) = quick_csv_with(name, "");
+    let (header, rows, _) = quick_csv_with(name, &[]);
     (header, rows)
 }
 
 /// [`quick_csv`], also returning the text of another results file (if named and present).
-fn quick_csv_with(name: &str, other: &str) -> (Vec<String>, Vec<Vec<String>>, Option<String>) {
+fn quick_csv_with(name: &str, others: &[&str]) -> (Vec<String>, Vec<Vec<String>>, Vec<Option<String>>) {
     let out = common::gltf_doc::temp_dir(&format!("bench-{name}"));
     let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", name, "--quick", "--out"]).arg(&out).output().unwrap();
     assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
     assert!(std::fs::read_to_string(out.join(format!("{name}.md"))).unwrap().contains("revision:"));
     let csv = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
-    let other = (!other.is_empty()).then(|| std::fs::read_to_string(out.join(other)).ok()).flatten();
+    let other = others.iter().map(|other| std::fs::read_to_string(out.join(other)).ok()).collect();
     assert_plots(&out);
     let _ = std::fs::remove_dir_all(&out);
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
@@ -186,7 +186,9 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
 /// is reported (mean at most the 99th percentile, both in (0, 1]) and falls from 1 to 64 rays.
 #[test]
 fn bench_error_quick_converges_at_the_expected_rates() {
-    let (header, rows, hybrid) = quick_csv_with("error", "hybrid.csv");
+    let (header, rows, others) = quick_csv_with("error", &["hybrid.csv", "shadow_maps.csv"]);
+    let [hybrid, shadow_maps] = <[Option<String>; 2]>::try_from(others).unwrap();
+    check_shadow_map_sweep(&shadow_maps.expect("bench error writes shadow_maps.csv"));
     // Hybrid against full RT: untextured, the two modes draw the same image (the G-buffer is
     // the only difference); textured, nearly; both rows per back-end.
     let hybrid = hybrid.expect("bench error writes hybrid.csv");
@@ -237,6 +239,33 @@ fn bench_error_quick_converges_at_the_expected_rates() {
             let (flip_mean, flip_p99): (f64, f64) = (r[8].parse().unwrap(), r[9].parse().unwrap());
             assert!(flip_mean > 0.0 && flip_mean <= flip_p99 && flip_p99 <= 1.0, "FLIP mean and 99th percentile: {r:?}");
         }
+    }
+}
+
+/// The shadow-map sweep of `bench error --quick`: every setting (2 map sizes x 2 normal offsets
+/// x 3 biases) compared over a non-empty set of lit and of shadowed pixels, both rates in
+/// [0, 1], the shadow-map pass timed; and, at each map size without normal offset, the
+/// largest bias gives fewer false shadows (shadow acne) than no bias.
+fn check_shadow_map_sweep(csv: &str) {
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(lines.next().unwrap(), "scene,resolution,bias,normal_offset,lit_pixels,shadowed_pixels,false_shadow,false_lit,shadow_map_ms,rt_shadow_ms");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').skip(1).map(|x| x.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 12, "{csv}");
+    for r in &rows {
+        let (lit, shadowed, false_shadow, false_lit, ms) = (r[3], r[4], r[5], r[6], r[7]);
+        assert!(lit > 0.0 && shadowed > 0.0, "rates over non-empty sets: {r:?}");
+        assert!((0.0..=1.0).contains(&false_shadow) && (0.0..=1.0).contains(&false_lit), "rates: {r:?}");
+        assert!(ms > 0.0, "the shadow-map pass was timed: {r:?}");
+    }
+    let mut sizes: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    sizes.dedup();
+    assert_eq!(sizes.len(), 2, "{csv}");
+    for size in sizes {
+        let unoffset: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == size && r[2] == 0.0).collect();
+        let by_bias = |pick: fn(f64, f64) -> bool| *unoffset.iter().reduce(|a, b| if pick(b[1], a[1]) { b } else { a }).unwrap();
+        let (none, largest) = (by_bias(|x, y| x < y), by_bias(|x, y| x > y));
+        println!("map {size}: false shadows {:.4} without bias, {:.4} at bias {}", none[5], largest[5], largest[1]);
+        assert!(largest[1] > none[1] && largest[5] < none[5], "map {size}: a larger bias removes false shadows: {none:?} against {largest:?}");
     }
 }
 

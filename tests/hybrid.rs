@@ -1,6 +1,6 @@
 //! The hybrid and full ray-tracing modes against closed-form cases (lavapipe, small sizes):
 //! AO of an open plane (V = 1), under a parallel ceiling (V = (h/R)^2, within 3 sigma) and
-//! inside a closed dome (V = 0); the analytic shadow outline of a sphere; no self-shadowing or
+//! inside a closed dome (V = 0 for rays longer than its radius, 1 for rays that end inside); the analytic shadow outline of a sphere; no self-shadowing or
 //! self-occlusion of an open plane seen from 0 to 89.9 degrees, also 1e5 units from the
 //! origin; exact ray counts; a mirror showing the mirrored scene; hybrid against full RT; and
 //! switched-off effects culled.
@@ -82,6 +82,7 @@ fn ambient_occlusion_matches_the_closed_forms() {
     let (h, r) = (0.5f32, 1.0f32);
     let ceiling = Mat4::from_translation(Vec3::new(0.0, h, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
     let dome = Mat4::from_scale(Vec3::splat(0.8));
+    let dome_scene = || scene(vec![(plane("floor", 4.0, 1.0), grey(), Mat4::IDENTITY), (sphere("dome", 32, 64), grey(), dome)], down, Vec3::Y);
     let cases: Vec<(&str, Scene, f64)> = vec![
         ("open plane", scene(vec![(plane("floor", big, 1.0), grey(), Mat4::IDENTITY)], down, Vec3::Y), 1.0),
         (
@@ -89,9 +90,12 @@ fn ambient_occlusion_matches_the_closed_forms() {
             scene(vec![(plane("floor", big, 1.0), grey(), Mat4::IDENTITY), (plane("ceiling", big, 1.0), grey(), ceiling)], down, Vec3::Y),
             ((h / r) as f64).powi(2),
         ),
-        ("closed dome", scene(vec![(plane("floor", 4.0, 1.0), grey(), Mat4::IDENTITY), (sphere("dome", 32, 64), grey(), dome)], down, Vec3::Y), 0.0),
+        ("closed dome", dome_scene(), 0.0),
     ];
     check_ao(&gpu, r, &cases, 1e-6);
+    // The same dome (radius 0.8) with rays of length 0.6: the floor points in view lie within
+    // 0.1 of its centre (height 0.25, 40 degrees), so every ray ends at least 0.1 short of it.
+    check_ao(&gpu, 0.6, &[("dome, range < radius", dome_scene(), 1.0)], 0.0);
 }
 
 /// Each case's mean unoccluded fraction from 64 white-noise AO rays per pixel of length

@@ -1,11 +1,12 @@
 // Traces a buffer of rays through the trace interface and writes one result per ray: the
-// back-end test harness (src/accel/batch.rs). `mode` 0: closest hit, 1: any hit.
+// back-end test harness (src/accel/batch.rs). `mode` 0: closest hit, 1: any hit; `flags`: the
+// trace interface's per-ray flags for every ray.
 //#include "trace/trace.wgsl"
 
 struct BatchParams {
     count: u32,
     mode: u32,
-    _pad0: u32,
+    flags: u32,
     _pad1: u32,
 }
 
@@ -33,11 +34,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups
     let ray = batch_rays[i];
     var r = BatchResult(-1.0, NO_HIT, 0u, 0u, vec2<f32>(0.0), 0u, 0u);
     if batch.mode == 0u {
-        let h = trace_closest(ray);
+        let h = trace_closest_flags(ray, batch.flags);
         if h.instance != NO_HIT {
             r = BatchResult(h.t, h.instance, h.primitive, 1u | select(0u, 2u, h.front_face), h.bary, 0u, 0u);
         }
-    } else if trace_any(ray) {
+    } else if trace_any_flags(ray, batch.flags) {
         r.flags = 1u;
     }
     batch_results[i] = r;

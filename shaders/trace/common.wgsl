@@ -1,6 +1,8 @@
 // The trace interface every trace pass uses, whatever the back-end:
 //   trace_closest(ray) -> Hit   closest hit in [t_min, t_max]
 //   trace_any(ray) -> bool      any hit in [t_min, t_max]; stops at the first (shadow/AO rays)
+//   trace_closest_flags(ray, flags), trace_any_flags(ray, flags)
+//                               the same with per-ray flags (TRACE_CULL_BACK_FACES)
 //   trace_flush_stats()         adds this invocation's ray counts to the GPU counters; call it
 //                               once at the end of the entry point
 // A pass includes "trace/trace.wgsl"; the back-end chosen at start-up substitutes its module
@@ -29,6 +31,13 @@ struct Hit {
 }
 
 const NO_HIT: u32 = 0xffffffffu;
+
+// Per-ray flags of trace_closest_flags / trace_any_flags.
+const TRACE_FLAGS_NONE: u32 = 0u;
+// Back faces (clockwise seen from the ray origin in object space, `Hit::front_face` false) are
+// not hit: the ray passes through them. The value is the SPIR-V / WGSL ray flag
+// RAY_FLAG_CULL_BACK_FACING, so the ray-query back-end passes it through.
+const TRACE_CULL_BACK_FACES: u32 = 16u;
 
 // Slots of `accel_stats`.
 const STAT_CLOSEST_RAYS: u32 = 0u;

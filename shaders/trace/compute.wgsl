@@ -9,6 +9,9 @@
 // gives both triangles opposite signs however the compiler fuses the arithmetic.
 // In the merged layout (src/accel/layout.rs) the one instance is the identity and each
 // triangle names its scene instance.
+// Back-face culling (TRACE_CULL_BACK_FACES) is a per-ray value tested only when a triangle
+// test has accepted a hit (trace_back_facing), so rays without it pay one untaken branch per
+// accepted hit and nothing per node or triangle.
 //#include "trace/common.wgsl"
 
 struct AccelNode {
@@ -255,6 +258,15 @@ fn trace_triangle(r: TraceRay, tri: AccelTriangle, t_min: f32, t_max: f32) -> Tr
     return TriHit(t, v / det, w / det);
 }
 
+// Whether an accepted hit of `tri` is on its back face: clockwise seen from the ray origin in
+// object space (the sign of dot((v1 - v0) x (v2 - v0), dir)), for the merged layout's world-space
+// triangles flipped back where the instance mirrors. The direction comes from the shear rows:
+// row_x x row_y = |Sz| dir for both orders of kx, ky.
+fn trace_back_facing(r: TraceRay, tri: AccelTriangle) -> bool {
+    let n = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    return (dot(n, cross(r.row_x, r.row_y)) > 0.0) != ((tri.flags & 1u) != 0u);
+}
+
 fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w: f32) -> vec3<f32> {
     let h = vec4<f32>(p, w);
     return vec3<f32>(dot(m0, h), dot(m1, h), dot(m2, h));
@@ -262,7 +274,8 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
 
 // Traverses one BLAS on top of the TLAS entries already on `trace_stack`. Returns the index of the closest (or, for any-hit, the first) triangle hit, NO_HIT if none;
 // `best` carries t and barycentrics in and out; `sp` is back where it was on return.
-fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, sp: ptr<function, u32>) -> u32 {
+// `cull`: back faces are passed through (TRACE_CULL_BACK_FACES).
+fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, cull: bool, sp: ptr<function, u32>) -> u32 {
     let base = *sp;
     var desc = trace_descriptor(trace_blas_node(root));
     var found = NO_HIT;
@@ -271,8 +284,9 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
         let first = desc >> 3u;
         if count > 0u {
             for (var i = first; i < first + count; i++) {
-                let h = trace_triangle(r, trace_tri(i), t_min, (*best).t);
-                if h.t >= 0.0 {
+                let tri = trace_tri(i);
+                let h = trace_triangle(r, tri, t_min, (*best).t);
+                if h.t >= 0.0 && !(cull && trace_back_facing(r, tri)) {
                     *best = h;
                     found = i;
                     if any_hit {
@@ -324,7 +338,7 @@ struct TraceResult {
     any: bool,
 }
 
-fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
+fn trace_impl(ray: Ray, any_hit: bool, cull: bool) -> TraceResult {
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var result = trace_miss();
     var hit_anything = false;
@@ -358,7 +372,7 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
                     d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
                     r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
                 }
-                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, &sp);
+                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, cull, &sp);
                 if tri != NO_HIT {
                     hit_anything = true;
                     if any_hit {
@@ -390,12 +404,16 @@ fn trace_impl(ray: Ray, any_hit: bool) -> TraceResult {
 }
 
 fn trace_closest(ray: Ray) -> Hit {
+    return trace_closest_flags(ray, TRACE_FLAGS_NONE);
+}
+
+fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
         return trace_miss();
     }
     trace_count_closest++;
-    let r = trace_impl(ray, false);
+    let r = trace_impl(ray, false, (flags & TRACE_CULL_BACK_FACES) != 0u);
     if r.any {
         trace_count_hits++;
     }
@@ -403,12 +421,16 @@ fn trace_closest(ray: Ray) -> Hit {
 }
 
 fn trace_any(ray: Ray) -> bool {
+    return trace_any_flags(ray, TRACE_FLAGS_NONE);
+}
+
+fn trace_any_flags(ray: Ray, flags: u32) -> bool {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
         return false;
     }
     trace_count_any++;
-    let hit = trace_impl(ray, true).any;
+    let hit = trace_impl(ray, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any;
     if hit {
         trace_count_hits++;
     }

@@ -1,6 +1,8 @@
 // Back-end `ray-query`: wgpu's EXPERIMENTAL_RAY_QUERY (a BLAS per mesh, a TLAS of instances
 // whose custom data is the scene instance index). Shadow and AO rays set
-// TERMINATE_ON_FIRST_HIT, the paper's shadow-ray flag. Geometry is built opaque.
+// TERMINATE_ON_FIRST_HIT, the paper's shadow-ray flag. Geometry is built opaque. The trace
+// interface's TRACE_CULL_BACK_FACES is the driver's RAY_FLAG_CULL_BACK_FACING (facing decided
+// in object space, as the compute back-end does).
 enable wgpu_ray_query;
 //#include "trace/common.wgsl"
 
@@ -11,13 +13,18 @@ const TRACE_FLAG_FORCE_OPAQUE: u32 = 1u;
 const TRACE_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 4u;
 
 fn trace_closest(ray: Ray) -> Hit {
+    return trace_closest_flags(ray, TRACE_FLAGS_NONE);
+}
+
+fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
         return trace_miss();
     }
     trace_count_closest++;
     var rq: ray_query;
-    rayQueryInitialize(&rq, accel_tlas, RayDesc(TRACE_FLAG_FORCE_OPAQUE, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
+    let ray_flags = TRACE_FLAG_FORCE_OPAQUE | (flags & TRACE_CULL_BACK_FACES);
+    rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
     rayQueryProceed(&rq);
     let x = rayQueryGetCommittedIntersection(&rq);
     if x.kind == RAY_QUERY_INTERSECTION_NONE {
@@ -28,13 +35,18 @@ fn trace_closest(ray: Ray) -> Hit {
 }
 
 fn trace_any(ray: Ray) -> bool {
+    return trace_any_flags(ray, TRACE_FLAGS_NONE);
+}
+
+fn trace_any_flags(ray: Ray, flags: u32) -> bool {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
         return false;
     }
     trace_count_any++;
     var rq: ray_query;
-    rayQueryInitialize(&rq, accel_tlas, RayDesc(TRACE_FLAG_FORCE_OPAQUE | TRACE_FLAG_TERMINATE_ON_FIRST_HIT, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
+    let ray_flags = TRACE_FLAG_FORCE_OPAQUE | TRACE_FLAG_TERMINATE_ON_FIRST_HIT | (flags & TRACE_CULL_BACK_FACES);
+    rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
     rayQueryProceed(&rq);
     let hit = rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE;
     if hit {

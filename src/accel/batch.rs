@@ -5,6 +5,7 @@
 
 use super::backend::Backend;
 use super::cache::{AccelCache, AccelSettings, BuildReport, RayStats};
+use super::cpu_traverse::TraceFlags;
 use crate::error::{GraphError, Location, RuntimeError};
 use crate::graph::compile::CompileOptions;
 use crate::graph::reflect;
@@ -142,7 +143,13 @@ impl BatchTracer {
 
     /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.
     pub fn closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
-        let (raw, stats, _) = self.run(gpu, rays, 0)?;
+        self.closest_flags(gpu, rays, TraceFlags::NONE)
+    }
+
+    /// [`BatchTracer::closest`] with the trace interface's per-ray `flags` on every ray
+    /// (`trace_closest_flags`).
+    pub fn closest_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
+        let (raw, stats, _) = self.run(gpu, rays, 0, flags)?;
         let hits = raw
             .iter()
             .map(|r| (r.flags & 1 != 0).then(|| BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 }))
@@ -152,21 +159,27 @@ impl BatchTracer {
 
     /// Whether each ray hits anything (terminating on the first hit).
     pub fn any(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(Vec<bool>, RayStats), RuntimeError> {
-        let (raw, stats, _) = self.run(gpu, rays, 1)?;
+        self.any_flags(gpu, rays, TraceFlags::NONE)
+    }
+
+    /// [`BatchTracer::any`] with the trace interface's per-ray `flags` on every ray
+    /// (`trace_any_flags`).
+    pub fn any_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<bool>, RayStats), RuntimeError> {
+        let (raw, stats, _) = self.run(gpu, rays, 1, flags)?;
         Ok((raw.iter().map(|r| r.flags & 1 != 0).collect(), stats))
     }
 
     /// Traces `rays` for their closest hits and returns the counters and the dispatch's GPU
     /// milliseconds (timestamp queries; `None` without them).
     pub fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
-        let (_, stats, ms) = self.run(gpu, rays, 0)?;
+        let (_, stats, ms) = self.run(gpu, rays, 0, TraceFlags::NONE)?;
         Ok((stats, ms))
     }
 
-    fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
+    fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32, flags: TraceFlags) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
         let device = &gpu.device;
         let n = rays.len().max(1);
-        let params: [u32; 4] = [rays.len() as u32, mode, 0, 0];
+        let params: [u32; 4] = [rays.len() as u32, mode, flags.0, 0];
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("batch params"),
             contents: bytemuck::bytes_of(&params),

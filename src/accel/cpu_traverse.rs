@@ -32,6 +32,9 @@
 //! 7. The hit's instance is the instance's `instance_id`, or, for the one instance of a merged
 //!    layout ([`MERGED_INSTANCE`]), the triangle's `instance`, with `front_face` flipped where
 //!    the triangle's flags say its transform mirrors.
+//! 8. With [`TraceFlags::CULL_BACK_FACES`], a hit the triangle test accepted is dropped when
+//!    it is on the triangle's back face ([`back_facing`], the WGSL's `trace_back_facing`), and
+//!    the traversal goes on as if the triangle were not there.
 //!
 //! Everything is plain f32 arithmetic in a fixed order, with no fused multiply-add.
 
@@ -83,6 +86,23 @@ pub struct Hit {
     pub u: f32,
     pub v: f32,
     pub front_face: bool,
+}
+
+/// Per-ray flags of the trace interface (`TRACE_*` in `shaders/trace/common.wgsl`; the same
+/// bits).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TraceFlags(pub u32);
+
+impl TraceFlags {
+    pub const NONE: TraceFlags = TraceFlags(0);
+    /// Back faces (clockwise seen from the ray origin in object space, [`Hit::front_face`]
+    /// false) are not hit. The WGSL's `TRACE_CULL_BACK_FACES`, equal to the ray-query flag
+    /// `RAY_FLAG_CULL_BACK_FACING`.
+    pub const CULL_BACK_FACES: TraceFlags = TraceFlags(16);
+
+    pub fn culls_back_faces(self) -> bool {
+        self.0 & Self::CULL_BACK_FACES.0 != 0
+    }
 }
 
 /// Whether a ray is traced at all (the WGSL's `trace_ray_is_valid`): finite origin and
@@ -248,6 +268,28 @@ impl WatertightRay {
         let front_face = (p1 - p0).cross(p2 - p0).dot(self.dir) < 0.0;
         Some((t, v / det, w / det, front_face))
     }
+
+    /// The shear rows of the WGSL's `TraceRay` (`row_x = e_kx - sx e_kz`,
+    /// `row_y = e_ky - sy e_kz`): their cross product is `|sz|` times the direction.
+    fn shear_rows(&self) -> (Vec3, Vec3) {
+        let mut row_x = Vec3::ZERO;
+        let mut row_y = Vec3::ZERO;
+        row_x[self.kx] = 1.0;
+        row_x[self.kz] = -self.sx;
+        row_y[self.ky] = 1.0;
+        row_y[self.kz] = -self.sy;
+        (row_x, row_y)
+    }
+}
+
+/// Whether a hit the watertight test accepted is on `tri`'s back face, as the WGSL's
+/// `trace_back_facing` decides it for back-face culling: `dot((v1 - v0) x (v2 - v0), dir) > 0`
+/// with the direction taken as `row_x x row_y` (a positive multiple of it), flipped where a
+/// merged-layout triangle's instance mirrors, so the facing is the object-space one.
+pub fn back_facing(ray: &WatertightRay, tri: &GpuTriangle) -> bool {
+    let (p0, p1, p2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+    let (row_x, row_y) = ray.shear_rows();
+    ((p1 - p0).cross(p2 - p0).dot(row_x.cross(row_y)) > 0.0) != (tri.flags & TRI_MIRRORED != 0)
 }
 
 /// A conservative bound on the rounding error of the watertight test's `t` (Pharr, Jakob and
@@ -311,18 +353,28 @@ impl<'a> CpuTraverser<'a> {
 
     /// The closest hit in `(t_min, t_max]`.
     pub fn closest(&self, ray: &Ray) -> Option<Hit> {
-        self.trace(ray, false, &mut TraversalCounts::default())
+        self.closest_flags(ray, TraceFlags::NONE)
     }
 
     /// Whether anything is hit in `(t_min, t_max]` (stops at the first hit found).
     pub fn any(&self, ray: &Ray) -> bool {
-        self.trace(ray, true, &mut TraversalCounts::default()).is_some()
+        self.any_flags(ray, TraceFlags::NONE)
+    }
+
+    /// [`CpuTraverser::closest`] with per-ray flags (the WGSL's `trace_closest_flags`).
+    pub fn closest_flags(&self, ray: &Ray, flags: TraceFlags) -> Option<Hit> {
+        self.trace(ray, false, flags, &mut TraversalCounts::default())
+    }
+
+    /// [`CpuTraverser::any`] with per-ray flags (the WGSL's `trace_any_flags`).
+    pub fn any_flags(&self, ray: &Ray, flags: TraceFlags) -> bool {
+        self.trace(ray, true, flags, &mut TraversalCounts::default()).is_some()
     }
 
     /// [`CpuTraverser::closest`] (`any_hit` false) or [`CpuTraverser::any`], adding what the
     /// traversal touched to `counts`.
     pub fn counted(&self, ray: &Ray, any_hit: bool, counts: &mut TraversalCounts) -> Option<Hit> {
-        self.trace(ray, any_hit, counts)
+        self.trace(ray, any_hit, TraceFlags::NONE, counts)
     }
 
     /// [`CpuTraverser::closest`] for many rays, in parallel.
@@ -335,7 +387,7 @@ impl<'a> CpuTraverser<'a> {
         rays.par_iter().map(|r| self.any(r)).collect()
     }
 
-    fn trace(&self, ray: &Ray, any_hit: bool, counts: &mut TraversalCounts) -> Option<Hit> {
+    fn trace(&self, ray: &Ray, any_hit: bool, flags: TraceFlags, counts: &mut TraversalCounts) -> Option<Hit> {
         let a = self.accel;
         if !ray_is_valid(ray) {
             return None;
@@ -356,7 +408,7 @@ impl<'a> CpuTraverser<'a> {
                         continue;
                     }
                     counts.instances += 1;
-                    if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit, counts) {
+                    if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit, flags, counts) {
                         t_far = h.t;
                         best = Some(h);
                         if any_hit {
@@ -381,7 +433,7 @@ impl<'a> CpuTraverser<'a> {
     }
 
     /// The closest hit in `[ray.t_min, t_far]` within one instance.
-    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, mut t_far: f32, any_hit: bool, counts: &mut TraversalCounts) -> Option<Hit> {
+    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, mut t_far: f32, any_hit: bool, flags: TraceFlags, counts: &mut TraversalCounts) -> Option<Hit> {
         let a = self.accel;
         let o = transform_point(&inst.world_to_object, ray.origin);
         let d = transform_vector(&inst.world_to_object, ray.dir);
@@ -399,6 +451,9 @@ impl<'a> CpuTraverser<'a> {
                     let Some(tri) = a.triangles.get(k as usize) else { break };
                     counts.triangles += 1;
                     if let Some((t, u, v, front_face)) = wt.intersect(tri, ray.t_min, t_far) {
+                        if flags.culls_back_faces() && back_facing(&wt, tri) {
+                            continue;
+                        }
                         t_far = t;
                         best = Some(if inst.instance_id == MERGED_INSTANCE {
                             Hit { t, instance_id: tri.instance, prim: tri.prim, u, v, front_face: front_face != (tri.flags & TRI_MIRRORED != 0) }

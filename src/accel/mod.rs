@@ -16,6 +16,8 @@
 //!   layout and numerics are tested before any GPU runs.
 //! - [`reference`]: the brute-force f64 ray caster that tests use as ground truth for both GPU
 //!   back-ends, with each hit's distance to the nearest edge to classify disagreements.
+//! - [`reference_render`]: the ray-traced channels (visibility, shadow mask, AO, mirror rays)
+//!   per pixel from that caster, each ray built as the layers' shaders build it.
 //!
 //! The remaining modules (back-end selection, the acceleration-structure cache behind a
 //! graph's `Accel` node, batch tracing through a back-end) are the GPU side and document
@@ -29,4 +31,5 @@ pub mod cpu_traverse;
 pub mod gpu_build;
 pub mod layout;
 pub mod reference;
+pub mod reference_render;
 pub mod refit;

@@ -13,6 +13,12 @@
 //! coordinate of the ray origin, the hit point and the triangle's world vertices). An f32 ulp is
 //! about `1.2e-7` in these units, so a disagreement with an f32 traversal at `edge_dist` of a
 //! few 1e-7 is rounding, not a bug.
+//!
+//! [`Reference::closest_with_margin`] and [`Reference::any_with_margin`] go further: with the
+//! answer they return its *margin*, the smallest relative perturbation of the ray (in the same
+//! normalised units) that could change it: a triangle's edge, the ray's ends `t_min` and
+//! `t_max`, or a second surface at nearly the same depth within that distance. An f32
+//! traversal may disagree with the reference only where the margin is a few ulps.
 
 use super::bvh::{instance_transform, mesh_triangle, triangle_status, TriangleStatus};
 use super::cpu_traverse::{ray_is_valid, Ray};
@@ -161,6 +167,77 @@ impl Reference {
         let t = n.dot(tri.v[0] - o) / denom;
         Some(edge_distance(&tri.v, o, o + t * d))
     }
+}
+
+impl Reference {
+    /// [`Reference::closest`] and its margin (module docs): the least of the hit triangle's
+    /// [`Reference::signed_margin`] and, for every other triangle, the perturbation that would
+    /// make it hit and in front of the closest hit (the larger of the two needed).
+    pub fn closest_with_margin(&self, ray: &Ray) -> (Option<RefHit>, f64) {
+        let best = self.closest(ray);
+        if !ray_is_valid(ray) {
+            return (None, f64::INFINITY);
+        }
+        let t_best = best.map_or(f64::INFINITY, |h| h.t);
+        let mut margin = f64::INFINITY;
+        for tri in &self.tris {
+            let Some((s, t, scale)) = signed_margin(tri, ray) else { continue };
+            if best.is_some_and(|h| (h.instance_id, h.prim) == (tri.instance_id, tri.prim)) {
+                margin = margin.min(s.abs());
+            } else {
+                let to_front = ((t - t_best) * ray.dir.as_dvec3().length() / scale).max(0.0);
+                margin = margin.min((-s).max(0.0).max(to_front));
+            }
+        }
+        (best, margin)
+    }
+
+    /// [`Reference::any`] and its margin (module docs): how far the most robustly hit triangle
+    /// is from being missed, or, on a miss, how far the nearest triangle is from being hit.
+    pub fn any_with_margin(&self, ray: &Ray) -> (bool, f64) {
+        if !ray_is_valid(ray) {
+            return (false, f64::INFINITY);
+        }
+        let best = self.tris.iter().filter_map(|tri| signed_margin(tri, ray)).map(|(s, ..)| s).fold(f64::NEG_INFINITY, f64::max);
+        (self.any(ray), best.abs())
+    }
+}
+
+/// How robustly `ray` hits or misses `tri`, as `(s, t, scale)`: `t` where the ray's line meets
+/// the triangle's plane, `scale` the coordinate magnitude (module docs), and `s` positive for a
+/// hit (the distance to the nearest edge or to the nearer end of `[t_min, t_max]`, the
+/// smaller) or negative for a miss (the distance outside the triangle or outside the interval,
+/// the larger), normalised by `scale`. `None` when the ray runs parallel to the plane.
+fn signed_margin(tri: &RefTriangle, ray: &Ray) -> Option<(f64, f64, f64)> {
+    let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+    let n = (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0]);
+    let denom = n.dot(d);
+    if denom == 0.0 || !denom.is_finite() {
+        return None;
+    }
+    let t = n.dot(tri.v[0] - o) / denom;
+    let p = o + t * d;
+    let scale = [o, p, tri.v[0], tri.v[1], tri.v[2]].iter().map(|x| x.abs().max_element()).fold(f64::MIN_POSITIVE, f64::max);
+    let edge = edge_distance(&tri.v, o, p);
+    let inside = moller_trumbore(&tri.v, o, d).is_some();
+    let len = d.length();
+    let (t_min, t_max) = (ray.t_min as f64, ray.t_max as f64);
+    let in_range = t > t_min && t <= t_max;
+    let outside_or_inside = if in_range {
+        (t - t_min).min(t_max - t)
+    } else if t <= t_min {
+        t_min - t
+    } else {
+        t - t_max
+    };
+    let range = outside_or_inside * len / scale;
+    let s = match (inside, in_range) {
+        (true, true) => edge.min(range),
+        (true, false) => -range,
+        (false, true) => -edge,
+        (false, false) => -edge.max(range),
+    };
+    Some((s, t, scale))
 }
 
 /// Möller–Trumbore in f64, inclusive on the edges: `(t, u, v, det > 0)` for any `t` (the caller

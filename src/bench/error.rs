@@ -9,12 +9,14 @@
 //! percentile) of the images shown as grey against the reference grey. The slope of log RMSE
 //! against log rays per pixel is fitted per back-end and scheme (-0.5 for white noise).
 //! Also hybrid against full RT ([`run_hybrid`]): both final images of a scene, compared with
-//! full RT as the reference, and both frame times.
+//! full RT as the reference, and both frame times; and shadow maps against ray-traced shadows
+//! ([`run_shadow_maps`]): false-shadow and false-lit rates over the shadow-map bias, normal
+//! offset and resolution.
 
 use super::RunInfo;
 use crate::accel::backend::Backend;
 use crate::error::RuntimeError;
-use crate::graph::compile::compile_with;
+use crate::graph::compile::{compile_with, CompileOptions};
 use crate::graph::desc::ParamValue;
 use crate::graph::Project;
 use crate::runtime::profiler::median;
@@ -122,7 +124,7 @@ pub fn run(
                     let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
                     let mut exec = Executor::new(gpu, plan, &scene)?;
                     let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
-                    ms.extend(frames.iter().map(|f| f.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(f.frame_ms)));
+                    ms.extend(frames.iter().map(|f| pass_ms(f, pass)));
                     let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
                     let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
                     let grey = |v: f64| {
@@ -172,6 +174,11 @@ pub fn run(
     Ok(rows)
 }
 
+/// A pass's GPU milliseconds in a frame (the frame's wall time without timestamp queries).
+fn pass_ms(frame: &crate::runtime::profiler::FrameTimings, pass: usize) -> f64 {
+    frame.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(frame.frame_ms)
+}
+
 /// The sRGB transfer function (AO is shown as a grey on an sRGB display).
 fn linear_to_srgb(x: f64) -> f64 {
     if x <= 0.0031308 {
@@ -206,17 +213,29 @@ fn equal_error(rows: &[ErrorRow], backend: Backend, sampling: &str, target: f64)
     rows.iter().filter(|r| r.backend == backend && r.sampling == sampling && r.rmse <= target).map(|r| (r.rays, r.ao_ms)).min_by_key(|r| r.0)
 }
 
-pub fn csv(info: &RunInfo, rows: &[ErrorRow]) -> String {
+/// A results CSV: the run's comment lines, the header, then one line per row.
+fn csv_file(info: &RunInfo, header: &str, lines: impl Iterator<Item = String>) -> String {
     let mut s = info.csv_comment();
-    s.push_str("backend,sampling,rays,ao_ms,rmse,relmse,bias,variance,flip_mean,flip_p99\n");
-    for r in rows {
-        let _ = writeln!(
-            s,
-            "{},{},{},{:.5},{:.6},{:.6},{:.6},{:.7},{:.5},{:.5}",
-            r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance, r.flip_mean, r.flip_p99
-        );
+    s.push_str(header);
+    s.push('\n');
+    for line in lines {
+        s.push_str(&line);
+        s.push('\n');
     }
     s
+}
+
+pub fn csv(info: &RunInfo, rows: &[ErrorRow]) -> String {
+    csv_file(
+        info,
+        "backend,sampling,rays,ao_ms,rmse,relmse,bias,variance,flip_mean,flip_p99",
+        rows.iter().map(|r| {
+            format!(
+                "{},{},{},{:.5},{:.6},{:.6},{:.6},{:.7},{:.5},{:.5}",
+                r.backend, r.sampling, r.rays, r.ao_ms, r.rmse, r.relmse, r.bias, r.variance, r.flip_mean, r.flip_p99
+            )
+        }),
+    )
 }
 
 pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
@@ -350,16 +369,16 @@ pub fn run_hybrid(gpu: &Gpu, cfg: &ErrorConfig, scenes: &[&str], size: (u32, u32
 }
 
 pub fn hybrid_csv(info: &RunInfo, rows: &[HybridRow]) -> String {
-    let mut s = info.csv_comment();
-    s.push_str("scene,textures,backend,hybrid_ms,full_rt_ms,rmse,differing,flip_mean,flip_p99\n");
-    for r in rows {
-        let _ = writeln!(
-            s,
-            "{},{},{},{:.4},{:.4},{:.4},{:.5},{:.5},{:.5}",
-            r.scene, r.textures, r.backend, r.hybrid_ms, r.full_rt_ms, r.rmse, r.differing, r.flip_mean, r.flip_p99
-        );
-    }
-    s
+    csv_file(
+        info,
+        "scene,textures,backend,hybrid_ms,full_rt_ms,rmse,differing,flip_mean,flip_p99",
+        rows.iter().map(|r| {
+            format!(
+                "{},{},{},{:.4},{:.4},{:.4},{:.5},{:.5},{:.5}",
+                r.scene, r.textures, r.backend, r.hybrid_ms, r.full_rt_ms, r.rmse, r.differing, r.flip_mean, r.flip_p99
+            )
+        }),
+    )
 }
 
 pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
@@ -382,4 +401,265 @@ pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
         );
     }
     s
+}
+
+/// Shadow maps against ray-traced shadows ([`run_shadow_maps`]): the sweep of the raster
+/// graph's shadow-map settings.
+#[derive(Debug, Clone)]
+pub struct ShadowMapSweep {
+    pub scenes: Vec<String>,
+    pub size: (u32, u32),
+    /// Shadow-map sizes (square texels): copies of `layers/shadow_map.ron` with that size.
+    pub resolutions: Vec<u32>,
+    /// The `forward` layer's `shadow_bias` (shadow-map depth units).
+    pub biases: Vec<f64>,
+    /// The `forward` layer's `normal_offset` (shadow-map texels).
+    pub normal_offsets: Vec<f64>,
+}
+
+impl ShadowMapSweep {
+    pub fn full() -> Self {
+        Self {
+            scenes: vec!["default".into(), "atrium".into()],
+            size: (1280, 720),
+            resolutions: vec![512, 1024, 2048, 4096],
+            biases: vec![0.0, 3e-5, 1e-4, 3e-4, 1e-3, 1e-2],
+            normal_offsets: vec![0.0, 0.5, 1.0, 2.0, 4.0],
+        }
+    }
+
+    pub fn quick() -> Self {
+        Self { scenes: vec!["default".into()], size: (128, 72), resolutions: vec![256, 1024], biases: vec![0.0, 1e-4, 1e-2], normal_offsets: vec![0.0, 1.0] }
+    }
+}
+
+/// One shadow-map setting against the ray-traced shadow mask, over the pixels both modes light
+/// or shadow (surfaces facing the light). Rates: `false_shadow` = shadowed by the map among
+/// the pixels the rays light; `false_lit` = lit by the map among those the rays shadow.
+#[derive(Debug, Clone)]
+pub struct ShadowMapRow {
+    pub scene: String,
+    pub resolution: u32,
+    pub bias: f64,
+    pub normal_offset: f64,
+    pub lit_pixels: usize,
+    pub shadowed_pixels: usize,
+    pub false_shadow: f64,
+    pub false_lit: f64,
+    /// GPU ms of the shadow-map pass (median), and of the ray-traced shadow pass it replaces.
+    pub shadow_map_ms: f64,
+    pub rt_shadow_ms: f64,
+}
+
+/// The shadow-map visibility of every pixel of the raster graph (`graph/raster.ron`) with the
+/// hard filter (`pcf` 0, so each answer is lit or shadowed, like a shadow ray's), and the ray-
+/// traced shadow mask of the hybrid graph (`graph/hybrid.ron`, AO and reflections off) as the
+/// truth, at the same camera; both rasterize the same pixels. The map's answer is recovered
+/// from the forward pass's colour with the ambient light off: colour with shadows over colour
+/// without is the visibility (direct light is its only term). Compared: pixels whose surface
+/// faces the light in both (the shadow ray is traced and the unshadowed colour is not black).
+pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, backend: Backend) -> Result<Vec<ShadowMapRow>, RuntimeError> {
+    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
+    let layer_text = read_text(&project.layers_dir.join("shadow_map.ron"))?;
+    let size_decl = "size: Absolute(2048, 2048)";
+    if !layer_text.contains(size_decl) {
+        return Err(RuntimeError::Gpu(format!("layers/shadow_map.ron no longer declares `{size_decl}`: the sweep cannot size its copies")));
+    }
+    let mut rows = Vec::new();
+    for name in &sweep.scenes {
+        let (mut scene, _) = crate::scene::open(name, &crate::scene::LoadOptions { textures: false, ..Default::default() })?;
+        scene.light.ambient = 0.0;
+        scene.point_light = None;
+        // The truth: the ray-traced shadow mask over the rasterized G-buffer.
+        let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+        let text = read_text(&cfg.root.join("graph/hybrid.ron"))?
+            .replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ")
+            .replace("\"reflection\": Layer(", "\"reflection\": Layer(enabled: false, ");
+        let truth_dir = SweepDir::new("truth")?;
+        let truth_graph = truth_dir.0.join("hybrid.ron");
+        std::fs::write(&truth_graph, text).map_err(|source| RuntimeError::Output { path: truth_graph.clone(), source })?;
+        let plan = compile_with(&truth_graph, &project, sweep.size, &options)?;
+        let rt_pass =
+            plan.passes.iter().position(|p| p.name == "shadow/shadow").ok_or_else(|| RuntimeError::Gpu("graph/hybrid.ron has no pass shadow/shadow".into()))?;
+        let resource = |plan: &crate::graph::Plan, name: &str| plan.resource_by_name(name).ok_or_else(|| RuntimeError::Gpu(format!("no resource {name}")));
+        let (shadow_id, geo_id, pos_id) = (resource(&plan, "shadow.shadow")?, resource(&plan, "gbuffer.geo_normal")?, resource(&plan, "gbuffer.position")?);
+        let mut exec = Executor::new(gpu, plan, &scene)?;
+        let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+        let rt_shadow_ms = median(&mut frames.iter().map(|f| pass_ms(f, rt_pass)).collect::<Vec<_>>());
+        let truth = exec.read_texture_f32(gpu, shadow_id)?.2;
+        let geo = exec.read_texture_f32(gpu, geo_id)?.2;
+        let positions = exec.read_texture_f32(gpu, pos_id)?.2;
+        let l = scene.light.direction.normalize();
+        let faces_light: Vec<bool> = geo.iter().zip(&positions).map(|(n, p)| p[3] != 0.0 && Vec3::new(n[0], n[1], n[2]).dot(l) > 0.0).collect();
+        drop(exec);
+
+        for &resolution in &sweep.resolutions {
+            let dir = SweepDir::new(&format!("sm{resolution}"))?;
+            dir.copy_files_of(&project.layers_dir)?;
+            let sized_layer = dir.0.join("shadow_map.ron");
+            std::fs::write(&sized_layer, layer_text.replace(size_decl, &format!("size: Absolute({resolution}, {resolution})")))
+                .map_err(|source| RuntimeError::Output { path: sized_layer, source })?;
+            let sized = Project { layers_dir: dir.0.clone(), shaders_dir: project.shaders_dir.clone() };
+            let raster = cfg.root.join("graph/raster.ron");
+            let render = |shadows: bool, bias: f64, offset: f64| -> Result<(Vec<[f32; 4]>, f64), RuntimeError> {
+                let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+                for (param, value) in [
+                    ("shadows", ParamValue::Bool(shadows)),
+                    ("shadow_bias", ParamValue::Float(bias)),
+                    ("normal_offset", ParamValue::Float(offset)),
+                    ("pcf", ParamValue::Int(0)),
+                ] {
+                    options.params.insert(("forward".into(), param.into()), value);
+                }
+                let plan = compile_with(&raster, &sized, sweep.size, &options)?;
+                let pass = plan
+                    .passes
+                    .iter()
+                    .position(|p| p.name == "shadow_map/shadow_map")
+                    .ok_or_else(|| RuntimeError::Gpu("graph/raster.ron has no pass shadow_map/shadow_map".into()))?;
+                let color = resource(&plan, "forward.color")?;
+                let mut exec = Executor::new(gpu, plan, &scene)?;
+                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+                let ms = median(&mut frames.iter().map(|f| pass_ms(f, pass)).collect::<Vec<_>>());
+                Ok((exec.read_texture_f32(gpu, color)?.2, ms))
+            };
+            let (unshadowed, _) = render(false, 0.0, 0.0)?;
+            let brightness = |c: &[f32; 4]| c[0] as f64 + c[1] as f64 + c[2] as f64;
+            for &normal_offset in &sweep.normal_offsets {
+                for &bias in &sweep.biases {
+                    let (shadowed, shadow_map_ms) = render(true, bias, normal_offset)?;
+                    let (mut lit, mut dark, mut false_shadow, mut false_lit) = (0usize, 0usize, 0usize, 0usize);
+                    for i in 0..truth.len() {
+                        let full = brightness(&unshadowed[i]);
+                        if !faces_light[i] || full <= 1e-3 {
+                            continue;
+                        }
+                        let map_lit = brightness(&shadowed[i]) / full > 0.5;
+                        if truth[i][0] == 1.0 {
+                            lit += 1;
+                            false_shadow += !map_lit as usize;
+                        } else {
+                            dark += 1;
+                            false_lit += map_lit as usize;
+                        }
+                    }
+                    if lit == 0 || dark == 0 {
+                        return Err(RuntimeError::Gpu(format!(
+                            "bench error: {name} has {lit} lit and {dark} shadowed pixels facing the light; both are needed"
+                        )));
+                    }
+                    rows.push(ShadowMapRow {
+                        scene: name.clone(),
+                        resolution,
+                        bias,
+                        normal_offset,
+                        lit_pixels: lit,
+                        shadowed_pixels: dark,
+                        false_shadow: false_shadow as f64 / lit as f64,
+                        false_lit: false_lit as f64 / dark as f64,
+                        shadow_map_ms,
+                        rt_shadow_ms,
+                    });
+                }
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// A scratch directory for the sweep's layer copies, removed on drop.
+struct SweepDir(PathBuf);
+
+impl SweepDir {
+    fn new(name: &str) -> Result<Self, RuntimeError> {
+        let dir = std::env::temp_dir().join(format!("raygraph-shadow-maps-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).map_err(|source| RuntimeError::Output { path: dir.clone(), source })?;
+        Ok(Self(dir))
+    }
+
+    /// Copies the files (not the folders) of `from` into this directory.
+    fn copy_files_of(&self, from: &Path) -> Result<(), RuntimeError> {
+        let entries = std::fs::read_dir(from).map_err(|e| RuntimeError::Gpu(format!("could not read {}: {e}", from.display())))?;
+        for e in entries.flatten() {
+            if e.path().is_file() {
+                let to = self.0.join(e.file_name());
+                std::fs::copy(e.path(), &to).map_err(|source| RuntimeError::Output { path: to, source })?;
+            }
+        }
+        Ok(())
+    }
+}
+
+fn read_text(path: &Path) -> Result<String, RuntimeError> {
+    std::fs::read_to_string(path).map_err(|e| RuntimeError::Gpu(format!("could not read {}: {e}", path.display())))
+}
+
+impl Drop for SweepDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+pub fn shadow_map_csv(info: &RunInfo, rows: &[ShadowMapRow]) -> String {
+    csv_file(
+        info,
+        "scene,resolution,bias,normal_offset,lit_pixels,shadowed_pixels,false_shadow,false_lit,shadow_map_ms,rt_shadow_ms",
+        rows.iter().map(|r| {
+            format!(
+                "{},{},{},{},{},{},{:.5},{:.5},{:.4},{:.4}",
+                r.scene, r.resolution, r.bias, r.normal_offset, r.lit_pixels, r.shadowed_pixels, r.false_shadow, r.false_lit, r.shadow_map_ms, r.rt_shadow_ms
+            )
+        }),
+    )
+}
+
+pub fn shadow_map_markdown(info: &RunInfo, rows: &[ShadowMapRow]) -> String {
+    let mut s = format!("# bench error: shadow maps against ray-traced shadows\n\n{}\n", info.markdown());
+    s.push_str(
+        "The raster graph's shadow map (hard filter, `pcf` 0) against one shadow ray per pixel (the truth), over the pixels facing the light. \
+         False shadow: shadowed by the map among the pixels the rays light; false lit: lit by the map among those the rays shadow.\n\n",
+    );
+    s.push_str("| scene | map size | bias | normal offset | false shadow | false lit | shadow map ms | RT shadow ms |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:.2}% | {:.2}% | {:.3} | {:.3} |",
+            r.scene,
+            r.resolution,
+            r.bias,
+            r.normal_offset,
+            100.0 * r.false_shadow,
+            100.0 * r.false_lit,
+            r.shadow_map_ms,
+            r.rt_shadow_ms
+        );
+    }
+    s
+}
+
+/// `shadow_maps.png`: false-shadow rate against false-lit rate, one line over the biases per
+/// scene, map size and normal offset.
+pub fn shadow_map_plot(dir: &Path, rows: &[ShadowMapRow]) -> Result<Vec<PathBuf>, String> {
+    use super::plot::{LinePlot, Series};
+    let mut series: Vec<Series> = Vec::new();
+    for r in rows {
+        let name = format!("{} {}², offset {}", r.scene, r.resolution, r.normal_offset);
+        let point = (r.false_lit, r.false_shadow);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series { name, points: vec![point] }),
+        }
+    }
+    let path = dir.join("shadow_maps.png");
+    LinePlot {
+        title: "Shadow maps against shadow rays (bias swept along each line)",
+        x_label: "false-lit rate",
+        y_label: "false-shadow rate",
+        log_x: false,
+        log_y: false,
+        x_labels: None,
+    }
+    .write(&path, &series)?;
+    Ok(vec![path])
 }
