@@ -202,10 +202,10 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "organic: RMSE {rmse}, {outliers} outliers");
 }
 
-/// The merged layout built by the GPU builder (PLOC, the executor's choice on a real GPU;
-/// chosen here explicitly, lavapipe being a CPU adapter) draws the picture the CPU-built one
-/// draws (the metric above), is refitted on the GPU when its instance moves, and rebuilt on
-/// the GPU when a mesh changes.
+/// The merged layout built by the GPU builder (PLOC, the executor's choice for rebuilds on a
+/// real GPU; chosen here explicitly, lavapipe being a CPU adapter) draws the picture the
+/// CPU-built one draws (the metric above), is refitted on the GPU when its instance moves, and
+/// rebuilt on the GPU when a mesh changes.
 #[test]
 fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     use raygraph::accel::cache::MergedBuilder;
@@ -240,9 +240,14 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "refitted: RMSE {rmse}, {outliers} outliers");
 
     // An edited mesh: rebuilt, on the GPU again.
+    let (mut rebuilds, first) = render(&organic, MergedBuilder::GpuRebuilds);
     for v in organic.meshes[0].vertices.iter_mut() {
         v.position[1] *= 1.1;
     }
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild, "{r:?}");
+    // GpuRebuilds (the executor's choice on a real GPU): the first build on the CPU, the
+    // rebuild after the edit on the GPU.
+    let r = rebuilds.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    assert!(!first.blas_gpu_built && r.blas_gpu_built, "{first:?} / {r:?}");
 }

@@ -179,7 +179,7 @@ impl Executor {
             log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
             let mut cache = AccelCache::new(device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
             if gpu.info.device_type != wgpu::DeviceType::Cpu {
-                cache.set_merged_builder(MergedBuilder::Gpu);
+                cache.set_merged_builder(MergedBuilder::GpuRebuilds);
             }
             cache
         });
