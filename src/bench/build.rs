@@ -338,6 +338,9 @@ pub struct GpuBuildRow {
     pub depth: u32,
     /// CPU milliseconds of `Blas::build` of the merged mesh (median of 3).
     pub cpu_ms: f64,
+    /// Wall milliseconds of what the cache does for a GPU rebuild after merging the instances:
+    /// the input records, the build and the read-back of the tree (median).
+    pub wall_ms: f64,
     pub gpu_sah: f64,
     pub cpu_sah: f64,
 }
@@ -364,9 +367,12 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
             cpu_ms.push(t.elapsed().as_secs_f64() * 1e3);
         }
         let cpu = merge(&merged, &origin, cpu_blas.unwrap_or_default());
-        let (mut times, mut phases, mut last) = (Vec::new(), vec![Vec::new(); 4], None);
+        let (mut times, mut phases, mut walls, mut last) = (Vec::new(), vec![Vec::new(); 4], Vec::new(), None);
         for _ in 0..builds.max(1) {
-            let b = builder.build(&gpu.device, &gpu.queue, &input).map_err(fail)?;
+            let t = std::time::Instant::now();
+            let b = builder.build(&gpu.device, &gpu.queue, &merged_triangles(&merged, &origin)).map_err(fail)?;
+            b.read_back(&gpu.device, &gpu.queue).map_err(fail)?;
+            walls.push(t.elapsed().as_secs_f64() * 1e3);
             times.extend(b.gpu_ms);
             for (all, ms) in phases.iter_mut().zip(b.phase_ms.into_iter().flatten()) {
                 all.push(ms);
@@ -385,6 +391,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
             rounds: b.rounds,
             depth: b.depth,
             cpu_ms: median(&mut cpu_ms),
+            wall_ms: median(&mut walls),
             gpu_sah: layout_sah_cost(nodes),
             cpu_sah: layout_sah_cost(&cpu.blas_nodes),
         });
@@ -395,20 +402,21 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
 pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = format!("# bench build: merged layout, GPU builder (PLOC) against the CPU binned-SAH build\n\n{}\n", info.markdown());
     s.push_str(
-        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
+        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | wall ms with read-back | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
     );
-    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in rows {
         let phases = r.phase_ms.map(|p| p.map(|ms| format!("{ms:.3}")).join(" / ")).unwrap_or_else(|| "—".into());
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {:.2} | {:.2} | {:.3} |",
+            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {:.1} | {:.2} | {:.2} | {:.3} |",
             r.scene,
             r.triangles,
             opt(r.gpu_ms.map(|m| m.0), 3),
             opt(r.gpu_ms.map(|m| m.1), 3),
             r.rounds,
             r.depth,
+            r.wall_ms,
             r.cpu_ms,
             r.gpu_sah,
             r.cpu_sah,
@@ -420,12 +428,12 @@ pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
 
 pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,cpu_ms,gpu_sah,cpu_sah\n");
+    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,wall_ms,cpu_ms,gpu_sah,cpu_sah\n");
     for r in rows {
         let phase = |p: usize| opt(r.phase_ms.map(|m| m[p]), 4);
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.4},{:.4}",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4}",
             r.scene,
             r.triangles,
             opt(r.gpu_ms.map(|m| m.0), 4),
@@ -436,6 +444,7 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
             phase(3),
             r.rounds,
             r.depth,
+            r.wall_ms,
             r.cpu_ms,
             r.gpu_sah,
             r.cpu_sah
