@@ -20,8 +20,8 @@
 //!   per pixel from that caster, each ray built as the layers' shaders build it.
 //!
 //! The remaining modules (back-end selection, the acceleration-structure cache behind a
-//! graph's `Accel` node, batch tracing through a back-end) are the GPU side and document
-//! themselves.
+//! graph's `Accel` node, the GPU refit and the GPU builder of the merged layout, batch tracing
+//! through a back-end) are the GPU side and document themselves.
 
 pub mod backend;
 pub mod batch;
