@@ -12,7 +12,8 @@
 //   prim_boxes       the leaves' boxes and costs; the centroid bounds (atomics)
 //   morton           30-bit Morton codes of the centroids, padded to a power of two
 //   sort_block       bitonic sort of each block of 4096 keys in workgroup memory
-//   sort_step        one global compare-exchange step (k, j) of the bitonic network
+//   sort_step_pair   two global compare-exchange steps (k, j and j / 2) of the network
+//   sort_step        one global step (k, j), where a stage has an odd number of them
 //   sort_block_merge the steps j < 4096 of stage k in workgroup memory
 //   ploc_init        the first clusters: the leaves in Morton order
 //   ploc_nearest     each cluster's nearest neighbour among the RADIUS on either side
@@ -258,6 +259,37 @@ fn sort_step(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         vals[a] = vb;
         vals[b] = va;
     }
+}
+
+fn sort_exchange(a: u32, b: u32, ascending: bool) {
+    let ka = keys[a];
+    let kb = keys[b];
+    let va = vals[a];
+    let vb = vals[b];
+    if sort_less(kb, vb, ka, va) == ascending {
+        keys[a] = kb;
+        keys[b] = ka;
+        vals[a] = vb;
+        vals[b] = va;
+    }
+}
+
+// Two global steps of stage k at once, j = params.j and j / 2: each invocation owns the four
+// keys a, a + h, a + 2h, a + 3h (h = j / 2), which both steps exchange only among themselves,
+// all in the same direction (they differ in bits below k). Half the dispatches of `sort_step`.
+@compute @workgroup_size(256)
+fn sort_step_pair(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let g = gid.x + gid.y * groups.x * GROUP;
+    let h = params.j / 2u;
+    let a = (g / h) * 4u * h + (g % h);
+    if a + 3u * h >= arrayLength(&keys) {
+        return;
+    }
+    let ascending = (a & params.k) == 0u;
+    sort_exchange(a, a + 2u * h, ascending);
+    sort_exchange(a + h, a + 3u * h, ascending);
+    sort_exchange(a, a + h, ascending);
+    sort_exchange(a + 2u * h, a + 3u * h, ascending);
 }
 
 fn cluster_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {

@@ -132,6 +132,7 @@ pub struct GpuBlasBuilder {
     morton: wgpu::ComputePipeline,
     sort_block: wgpu::ComputePipeline,
     sort_step: wgpu::ComputePipeline,
+    sort_step_pair: wgpu::ComputePipeline,
     sort_block_merge: wgpu::ComputePipeline,
     ploc_init: wgpu::ComputePipeline,
     ploc_nearest: wgpu::ComputePipeline,
@@ -193,6 +194,7 @@ impl GpuBlasBuilder {
             morton: pipeline("morton", &layout0),
             sort_block: pipeline("sort_block", &layout0),
             sort_step: pipeline("sort_step", &layout0),
+            sort_step_pair: pipeline("sort_step_pair", &layout0),
             sort_block_merge: pipeline("sort_block_merge", &layout0),
             ploc_init: pipeline("ploc_init", &layout0),
             ploc_nearest: pipeline("ploc_nearest", &layout0),
@@ -231,15 +233,22 @@ impl GpuBlasBuilder {
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
 
         // Params records: 0 the base, 1 and 2 the rounds of each parity, then the sort's steps.
-        let mut sort_steps: Vec<(u32, u32, bool)> = Vec::new(); // (k, j, in workgroup memory)
+        // (k, j, kind): the global steps of each stage two at a time (an odd one alone), then
+        // the steps below SORT_BLOCK in workgroup memory.
+        let mut sort_steps: Vec<(u32, u32, SortStep)> = Vec::new();
         let mut k = 2 * SORT_BLOCK as u64;
         while k <= padded {
             let mut j = k / 2;
             while j >= SORT_BLOCK as u64 {
-                sort_steps.push((k as u32, j as u32, false));
-                j /= 2;
+                if j >= 2 * SORT_BLOCK as u64 {
+                    sort_steps.push((k as u32, j as u32, SortStep::Pair));
+                    j /= 4;
+                } else {
+                    sort_steps.push((k as u32, j as u32, SortStep::Single));
+                    j /= 2;
+                }
             }
-            sort_steps.push((k as u32, SORT_BLOCK / 2, true));
+            sort_steps.push((k as u32, SORT_BLOCK / 2, SortStep::Block));
             k *= 2;
         }
         let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
@@ -336,13 +345,15 @@ impl GpuBlasBuilder {
             let blocks = padded / SORT_BLOCK as u64;
             let block_groups = (blocks.min(32768) as u32, blocks.div_ceil(32768) as u32);
             pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
-            for (s, &(_, _, local)) in sort_steps.iter().enumerate() {
+            for (s, &(_, _, step)) in sort_steps.iter().enumerate() {
                 pass.set_bind_group(0, &even, &[slot(3 + s as u64)]);
-                if local {
-                    pass.set_pipeline(&self.sort_block_merge);
-                    pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
-                } else {
-                    direct(&mut pass, &self.sort_step, padded / 2);
+                match step {
+                    SortStep::Block => {
+                        pass.set_pipeline(&self.sort_block_merge);
+                        pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
+                    }
+                    SortStep::Single => direct(&mut pass, &self.sort_step, padded / 2),
+                    SortStep::Pair => direct(&mut pass, &self.sort_step_pair, padded / 4),
                 }
             }
         }
@@ -445,6 +456,17 @@ pub fn read_bytes(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buf
     let bytes = slice.get_mapped_range().map_err(|e| GpuBuildError::Device(e.to_string()))?.to_vec();
     staging.unmap();
     Ok(bytes)
+}
+
+/// A dispatch of the bitonic sort after the first blocks.
+#[derive(Debug, Clone, Copy)]
+enum SortStep {
+    /// Steps j and j / 2 of a stage (`sort_step_pair`).
+    Pair,
+    /// Step j alone (`sort_step`).
+    Single,
+    /// The stage's steps below the block size, in workgroup memory (`sort_block_merge`).
+    Block,
 }
 
 /// The parts of a build the timestamps tell apart.
