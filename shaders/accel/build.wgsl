@@ -15,7 +15,8 @@
 //   sort_step_pair   two global compare-exchange steps (k, j and j / 2) of the network
 //   sort_step        one global step (k, j), where a stage has an odd number of them
 //   sort_block_merge the steps j < 4096 of stage k in workgroup memory
-//   ploc_init        the first clusters: the leaves in Morton order
+//   ploc_local       the first rounds within segments of 1024 leaves in Morton order, in
+//                    workgroup memory; the survivors compacted in order
 //   ploc_nearest     each cluster's nearest neighbour among the RADIUS on either side
 //   ploc_merge       mutual nearest neighbours merge into a new node; the survivors move, in
 //                    order, to the other cluster array
@@ -117,6 +118,10 @@ fn prim_boxes(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invo
         node_box[2u * i] = vec4<f32>(b[0], bitcast<f32>(1u));
         node_box[2u * i + 1u] = vec4<f32>(b[1], INTERSECTION_COST * area(b[0], b[1]));
         node_link[i] = vec4<u32>(NONE, NONE, NONE, 1u);
+    }
+    // `ploc_local`'s segments start their look-back afresh.
+    if i < arrayLength(&tile_status) {
+        atomicStore(&tile_status[i], 0u);
     }
     wg_lo[lid] = lo;
     wg_hi[lid] = hi;
@@ -292,18 +297,6 @@ fn sort_step_pair(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     sort_exchange(a + 2u * h, a + 3u * h, ascending);
 }
 
-fn cluster_index(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
-    return gid.x + gid.y * groups.x * GROUP;
-}
-
-@compute @workgroup_size(256)
-fn ploc_init(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = cluster_index(gid, groups);
-    if i < params.n {
-        clusters_in[i] = vals[i];
-    }
-}
-
 fn box_lo(node: u32) -> vec3<f32> {
     return node_box[2u * node].xyz;
 }
@@ -405,6 +398,33 @@ fn workgroup_inclusive_sum(lid: u32, value: u32) -> u32 {
     return wg_sums[lid];
 }
 
+// Decoupled look-back (Merrill and Garland 2016) for one invocation of tile `tile`, whose own
+// count is `total`: publishes it, sums the tiles before it (flag and value in one atomic word,
+// so no other memory ordering is needed; a tile waits only on tiles that took their ticket
+// before it), publishes the inclusive prefix and returns the exclusive one.
+fn tile_prefix(tile: u32, total: u32) -> u32 {
+    if tile == 0u {
+        atomicStore(&tile_status[0], TILE_PREFIX | total);
+        return 0u;
+    }
+    atomicStore(&tile_status[tile], TILE_AGGREGATE | total);
+    var before = 0u;
+    var k = tile - 1u;
+    loop {
+        let status = atomicLoad(&tile_status[k]);
+        if status == 0u {
+            continue;
+        }
+        before += status & TILE_VALUE;
+        if (status & TILE_PREFIX) != 0u || k == 0u {
+            break;
+        }
+        k -= 1u;
+    }
+    atomicStore(&tile_status[tile], TILE_PREFIX | (before + total));
+    return before;
+}
+
 // Mutual nearest neighbours merge into a new node, and the survivors move, in order, to the
 // other cluster array: each workgroup (tile, in the order the tiles start) sums its
 // survivors and finds how many the tiles before it keep by decoupled look-back (Merrill and
@@ -437,25 +457,7 @@ fn ploc_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) gr
     let upto = workgroup_inclusive_sum(lid, keep);
     if lid == 0u {
         let total = wg_sums[GROUP - 1u];
-        var before = 0u;
-        if tile == 0u {
-            atomicStore(&tile_status[0], TILE_PREFIX | total);
-        } else {
-            atomicStore(&tile_status[tile], TILE_AGGREGATE | total);
-            var k = tile - 1u;
-            loop {
-                let status = atomicLoad(&tile_status[k]);
-                if status == 0u {
-                    continue;
-                }
-                before += status & TILE_VALUE;
-                if (status & TILE_PREFIX) != 0u || k == 0u {
-                    break;
-                }
-                k -= 1u;
-            }
-            atomicStore(&tile_status[tile], TILE_PREFIX | (before + total));
-        }
+        let before = tile_prefix(tile, total);
         wg_prefix = before;
         if tile == (count - 1u) / GROUP {
             let next = before + total;
@@ -512,36 +514,18 @@ fn fin_set(i: u32, node: u32, lo: vec3<f32>, hi: vec3<f32>) {
     fin_box[6u * i + 5u] = hi.z;
 }
 
-// The last rounds, from at most `finish` (<= FINISH_CAPACITY) clusters down to one, in one
-// workgroup with one invocation per cluster and the clusters in workgroup memory: the same
-// nearest neighbours (and tie-break), merges and in-order compaction as the rounds above,
-// with barriers instead of dispatches between the steps. Does nothing while there are more
-// clusters.
-@compute @workgroup_size(1024)
-fn ploc_finish(@builtin(local_invocation_index) i: u32) {
-    if i == 0u {
-        fin_aux[0] = atomicLoad(&state[STATE_COUNT]);
-    }
-    var count = workgroupUniformLoad(&fin_aux[0]);
-    if count > min(params.finish, FINISH_CAPACITY) || count <= 1u {
-        return;
-    }
-    // The clusters, wherever the last round left them.
-    let holder = atomicLoad(&state[STATE_HOLDER]);
-    if i < count {
-        var node = clusters_in[i];
-        if holder != params.parity {
-            node = clusters_out[i];
-        }
-        fin_set(i, node, box_lo(node), box_hi(node));
-    }
-    var rounds = 0u;
+// PLOC rounds on the `count` clusters in workgroup memory (one invocation each; call from
+// uniform control flow) until at most `goal` are left: the same nearest neighbours (and
+// tie-break), merges and in-order compaction as the dispatched rounds, with barriers instead
+// of dispatches between the steps. Returns the clusters left and adds the rounds to `rounds`.
+fn shared_rounds(i: u32, count_in: u32, goal: u32, rounds: ptr<function, u32>) -> u32 {
+    var count = count_in;
     loop {
         workgroupBarrier();
-        if count <= 1u {
+        if count <= goal {
             break;
         }
-        rounds++;
+        *rounds += 1u;
         var lo = vec3<f32>(0.0);
         var hi = vec3<f32>(0.0);
         if i < count {
@@ -569,10 +553,8 @@ fn ploc_finish(@builtin(local_invocation_index) i: u32) {
             let mutual = j != i && fin_aux[j] == i;
             node = fin_node[i];
             if mutual && i < j {
-                let other_lo = fin_lo(j);
-                let other_hi = fin_hi(j);
-                lo = min(lo, other_lo);
-                hi = max(hi, other_hi);
+                lo = min(lo, fin_lo(j));
+                hi = max(hi, fin_hi(j));
                 node = make_node(node, fin_node[j], lo, hi);
             }
             keep = select(1u, 0u, mutual && j < i);
@@ -595,6 +577,68 @@ fn ploc_finish(@builtin(local_invocation_index) i: u32) {
         }
         count = workgroupUniformLoad(&fin_aux[FINISH_CAPACITY - 1u]);
     }
+    return count;
+}
+
+// The first rounds, per segment of FINISH_CAPACITY leaves in Morton order (one workgroup
+// each, in the order the segments' tickets say), down to params.k clusters per segment, the
+// neighbours searched within the segment only; then the survivors of all segments go, in
+// order, to clusters_out (decoupled look-back over the segments, as in `ploc_merge`) and the
+// last segment writes their count. Many global rounds become one dispatch.
+@compute @workgroup_size(1024)
+fn ploc_local(@builtin(local_invocation_index) i: u32) {
+    if i == 0u {
+        fin_aux[0] = atomicAdd(&state[STATE_TICKET], 1u);
+    }
+    let segment = workgroupUniformLoad(&fin_aux[0]);
+    let first = segment * FINISH_CAPACITY;
+    if first >= params.n {
+        return;
+    }
+    let count = min(FINISH_CAPACITY, params.n - first);
+    if i < count {
+        let node = vals[first + i];
+        fin_set(i, node, box_lo(node), box_hi(node));
+    }
+    var rounds = 0u;
+    let left = shared_rounds(i, count, params.k, &rounds);
+    if i == 0u {
+        let before = tile_prefix(segment, left);
+        fin_aux[1023] = before;
+        if segment == (params.n - 1u) / FINISH_CAPACITY {
+            atomicStore(&state[STATE_COUNT], before + left);
+            atomicStore(&state[STATE_HOLDER], 1u);
+        }
+    }
+    let before = workgroupUniformLoad(&fin_aux[1023]);
+    if i < left {
+        clusters_out[before + i] = fin_node[i];
+    }
+}
+
+// The last rounds, from at most `finish` (<= FINISH_CAPACITY) clusters down to one, in one
+// workgroup with one invocation per cluster and the clusters in workgroup memory. Does nothing
+// while there are more clusters.
+@compute @workgroup_size(1024)
+fn ploc_finish(@builtin(local_invocation_index) i: u32) {
+    if i == 0u {
+        fin_aux[0] = atomicLoad(&state[STATE_COUNT]);
+    }
+    let count = workgroupUniformLoad(&fin_aux[0]);
+    if count > min(params.finish, FINISH_CAPACITY) || count <= 1u {
+        return;
+    }
+    // The clusters, wherever the last round left them.
+    let holder = atomicLoad(&state[STATE_HOLDER]);
+    if i < count {
+        var node = clusters_in[i];
+        if holder != params.parity {
+            node = clusters_out[i];
+        }
+        fin_set(i, node, box_lo(node), box_hi(node));
+    }
+    var rounds = 0u;
+    shared_rounds(i, count, 1u, &rounds);
     if i == 0u {
         atomicStore(&state[STATE_COUNT], 1u);
         atomicAdd(&state[STATE_ROUNDS], rounds);

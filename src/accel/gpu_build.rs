@@ -3,11 +3,14 @@
 //! layout's one large BLAS.
 //!
 //! The triangles are sorted by the 30-bit Morton code of their box centres (bitonic sort,
-//! blocks of 1024 in workgroup memory). Then each round, every cluster finds its nearest
+//! blocks of 4096 in workgroup memory). The first rounds run within segments of 1024 leaves in
+//! workgroup memory ([`LOCAL_CLUSTERS`]). Then each round, every cluster finds its nearest
 //! neighbour (the smallest box around both) among the [`RADIUS`] clusters on either side in
 //! that order, mutual nearest neighbours merge into a new node, and the survivors are compacted
-//! in order; the round's dispatch sizes come from the previous round on the GPU (indirect
-//! dispatches), so rounds are recorded without reading anything back. Each new node gets its
+//! in order (one dispatch for both: decoupled look-back over the workgroups). Rounds are
+//! dispatched for all clusters and return at once when there is nothing left to do, so they
+//! are recorded without reading anything back; the last [`FINISH_CLUSTERS`] clusters are
+//! merged by one workgroup in workgroup memory. Each new node gets its
 //! SAH cost (the cheaper of a leaf of at most four triangles and its split), so the tree is
 //! collapsed into leaves as it is built. Finally every node walks up to the root to find its
 //! first triangle in depth-first order, and the interior nodes write the traversal's layout
@@ -34,6 +37,10 @@ pub const RADIUS: u32 = 16;
 /// and a dispatch per step would cost more than the work. Also the most the finish holds.
 /// `RAYGRAPH_GPU_BUILD_FINISH` lowers it, for measuring.
 pub const FINISH_CLUSTERS: u32 = 1024;
+/// Clusters each segment of [`FINISH_CLUSTERS`] leaves is reduced to by `ploc_local` (the
+/// first rounds, within the segment, in workgroup memory) before the rounds over all clusters.
+/// `RAYGRAPH_GPU_BUILD_LOCAL` overrides it, for measuring.
+pub const LOCAL_CLUSTERS: u32 = 256;
 /// Most triangles the GPU builder takes (its dispatch sizes and single-workgroup scan).
 pub const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
 
@@ -134,7 +141,7 @@ pub struct GpuBlasBuilder {
     sort_step: wgpu::ComputePipeline,
     sort_step_pair: wgpu::ComputePipeline,
     sort_block_merge: wgpu::ComputePipeline,
-    ploc_init: wgpu::ComputePipeline,
+    ploc_local: wgpu::ComputePipeline,
     ploc_nearest: wgpu::ComputePipeline,
     ploc_merge: wgpu::ComputePipeline,
     ploc_finish: wgpu::ComputePipeline,
@@ -196,7 +203,7 @@ impl GpuBlasBuilder {
             sort_step: pipeline("sort_step", &layout0),
             sort_step_pair: pipeline("sort_step_pair", &layout0),
             sort_block_merge: pipeline("sort_block_merge", &layout0),
-            ploc_init: pipeline("ploc_init", &layout0),
+            ploc_local: pipeline("ploc_local", &layout0),
             ploc_nearest: pipeline("ploc_nearest", &layout0),
             ploc_merge: pipeline("ploc_merge", &layout0),
             ploc_finish: pipeline("ploc_finish", &layout0),
@@ -254,7 +261,8 @@ impl GpuBlasBuilder {
         let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
         let finish = std::env::var("RAYGRAPH_GPU_BUILD_FINISH").ok().and_then(|v| v.parse().ok()).unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS);
         let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
-        put(0, [n32, 0, 0, 0, finish, 0, 0, 0]);
+        let local = std::env::var("RAYGRAPH_GPU_BUILD_LOCAL").ok().and_then(|v| v.parse().ok()).unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS);
+        put(0, [n32, local, 0, 0, finish, 0, 0, 0]);
         put(1, [n32, 0, 0, 0, finish, 0, 0, 0]);
         put(2, [n32, 0, 0, 1, finish, 0, 0, 0]);
         for (s, &(k, j, _)) in sort_steps.iter().enumerate() {
@@ -328,7 +336,8 @@ impl GpuBlasBuilder {
         let mut timer = Timer::new(device, queue);
         // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
         // (each leaves about 83% of them on the atrium) and the finish.
-        let first_rounds = if n32 > finish { ((n as f64 / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 1 } else { 0 };
+        let after_local = n as f64 * local as f64 / FINISH_CLUSTERS as f64;
+        let first_rounds = if after_local > finish as f64 { ((after_local / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 1 } else { 0 };
         let mut rounds = 0u32;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build") });
         let direct = |pass: &mut wgpu::ComputePass, pipeline, invocations: u64| {
@@ -360,7 +369,8 @@ impl GpuBlasBuilder {
         {
             let mut pass = timer.pass(&mut encoder, Phase::Rounds);
             pass.set_bind_group(0, &even, &[slot(0)]);
-            direct(&mut pass, &self.ploc_init, n as u64);
+            pass.set_pipeline(&self.ploc_local);
+            pass.dispatch_workgroups(n.div_ceil(FINISH_CLUSTERS as usize) as u32, 1, 1);
             for _ in 0..first_rounds {
                 self.record_round(&mut pass, rounds, [&even, &odd], slot, (gx, gy));
                 rounds += 1;
