@@ -17,7 +17,7 @@
 //   sort_block_merge the steps j < 4096 of stage k in workgroup memory
 //   ploc_local       the first rounds within segments of 1024 leaves in Morton order, in
 //                    workgroup memory; the survivors compacted in order
-//   ploc_nearest     each cluster's nearest neighbour among the RADIUS on either side
+//   ploc_nearest     each cluster's nearest neighbour among params.radius on either side
 //   ploc_merge       mutual nearest neighbours merge into a new node; the survivors move, in
 //                    order, to the other cluster array
 //   layout_offsets   per node: first triangle in depth-first order, depth, inside a leaf?
@@ -33,6 +33,8 @@ struct Params {
     // Clusters at or below which the rounds stop and `ploc_finish` completes the tree in one
     // workgroup.
     finish: u32,
+    // Neighbours searched on either side (at most RADIUS, the window's margin).
+    radius: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -360,8 +362,8 @@ fn ploc_nearest(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     let hi = win_hi[lid + RADIUS];
     var best = i;
     var best_area = 3.0e38;
-    let first = max(i32(i) - i32(RADIUS), 0);
-    let last = min(i + RADIUS, count - 1u);
+    let first = max(i32(i) - i32(params.radius), 0);
+    let last = min(i + params.radius, count - 1u);
     for (var c = u32(first); c <= last; c++) {
         if c == i {
             continue;
@@ -533,7 +535,7 @@ fn shared_rounds(i: u32, count_in: u32, goal: u32, rounds: ptr<function, u32>) -
             hi = fin_hi(i);
             var best = i;
             var best_area = 3.0e38;
-            for (var c = u32(max(i32(i) - i32(RADIUS), 0)); c <= min(i + RADIUS, count - 1u); c++) {
+            for (var c = u32(max(i32(i) - i32(params.radius), 0)); c <= min(i + params.radius, count - 1u); c++) {
                 if c == i {
                     continue;
                 }

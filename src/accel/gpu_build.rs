@@ -5,7 +5,7 @@
 //! The triangles are sorted by the 30-bit Morton code of their box centres (bitonic sort,
 //! blocks of 4096 in workgroup memory). The first rounds run within segments of 1024 leaves in
 //! workgroup memory ([`LOCAL_CLUSTERS`]). Then each round, every cluster finds its nearest
-//! neighbour (the smallest box around both) among the [`RADIUS`] clusters on either side in
+//! neighbour (the smallest box around both) among the [`SEARCH_RADIUS`] clusters on either side in
 //! that order, mutual nearest neighbours merge into a new node, and the survivors are compacted
 //! in order (one dispatch for both: decoupled look-back over the workgroups). Rounds are
 //! dispatched for all clusters and return at once when there is nothing left to do, so they
@@ -30,8 +30,13 @@ use wgpu::util::DeviceExt;
 
 /// The builder's WGSL.
 pub const BUILD_WGSL: &str = include_str!("../../shaders/accel/build.wgsl");
-/// Neighbours searched on either side of a cluster (the WGSL's `RADIUS`).
+/// Most neighbours searched on either side of a cluster (the WGSL's `RADIUS`, the margin of
+/// the rounds' window in workgroup memory).
 pub const RADIUS: u32 = 16;
+/// Neighbours searched on either side of a cluster (H100, atrium: 8 builds in 0.84 ms with an
+/// SAH cost 1.066x the CPU build's; 16 in 1.03 ms, 1.080x; 4 in 0.76 ms, 1.072x).
+/// `RAYGRAPH_GPU_BUILD_RADIUS` overrides it, for measuring.
+pub const SEARCH_RADIUS: u32 = 8;
 /// Clusters at or below which one workgroup finishes the tree (`ploc_finish`, one invocation
 /// per cluster, the clusters in workgroup memory): the last rounds merge few clusters each,
 /// and a dispatch per step would cost more than the work. Also the most the finish holds.
@@ -262,11 +267,12 @@ impl GpuBlasBuilder {
         let finish = std::env::var("RAYGRAPH_GPU_BUILD_FINISH").ok().and_then(|v| v.parse().ok()).unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS);
         let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
         let local = std::env::var("RAYGRAPH_GPU_BUILD_LOCAL").ok().and_then(|v| v.parse().ok()).unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS);
-        put(0, [n32, local, 0, 0, finish, 0, 0, 0]);
-        put(1, [n32, 0, 0, 0, finish, 0, 0, 0]);
-        put(2, [n32, 0, 0, 1, finish, 0, 0, 0]);
+        let radius = std::env::var("RAYGRAPH_GPU_BUILD_RADIUS").ok().and_then(|v| v.parse().ok()).unwrap_or(SEARCH_RADIUS).clamp(1, RADIUS);
+        put(0, [n32, local, 0, 0, finish, radius, 0, 0]);
+        put(1, [n32, 0, 0, 0, finish, radius, 0, 0]);
+        put(2, [n32, 0, 0, 1, finish, radius, 0, 0]);
         for (s, &(k, j, _)) in sort_steps.iter().enumerate() {
-            put(3 + s, [n32, k, j, 0, finish, 0, 0, 0]);
+            put(3 + s, [n32, k, j, 0, finish, radius, 0, 0]);
         }
         let params = init("gpu build params", &params, wgpu::BufferUsages::UNIFORM);
 
