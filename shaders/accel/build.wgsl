@@ -307,6 +307,14 @@ fn box_hi(node: u32) -> vec3<f32> {
     return node_box[2u * node + 1u].xyz;
 }
 
+// Whether neighbour c of cluster i, whose union with i has area a, beats the best so far.
+// Ties go to the neighbour whose index differs from i in the lowest bits, the same from both
+// sides: equal boxes pair up as (2m, 2m + 1) and halve each round instead of chaining onto
+// the lowest index.
+fn nearer(i: u32, c: u32, a: f32, best: u32, best_area: f32) -> bool {
+    return a < best_area || (a == best_area && (c ^ i) < (best ^ i));
+}
+
 var<workgroup> wg_uniform: u32;
 var<workgroup> wg_prefix: u32;
 
@@ -370,10 +378,7 @@ fn ploc_nearest(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
         }
         let w = c + RADIUS - base;
         let a = area(min(lo, win_lo[w]), max(hi, win_hi[w]));
-        // Ties go to the neighbour whose index differs from i in the lowest bits, the same
-        // from both sides: equal boxes pair up as (2m, 2m + 1) and halve each round instead
-        // of chaining onto the lowest index.
-        if a < best_area || (a == best_area && (c ^ i) < (best ^ i)) {
+        if nearer(i, c, a, best, best_area) {
             best_area = a;
             best = c;
         }
@@ -540,7 +545,7 @@ fn shared_rounds(i: u32, count_in: u32, goal: u32, rounds: ptr<function, u32>) -
                     continue;
                 }
                 let a = area(min(lo, fin_lo(c)), max(hi, fin_hi(c)));
-                if a < best_area || (a == best_area && (c ^ i) < (best ^ i)) {
+                if nearer(i, c, a, best, best_area) {
                     best_area = a;
                     best = c;
                 }

@@ -23,7 +23,7 @@
 //! GPU time of its submissions when the adapter has timestamp queries.
 
 use super::bvh::MAX_TREE_DEPTH;
-use super::bvh::{mesh_triangle, triangle_status, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
+use super::bvh::{classify_mesh_triangle, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
 use super::layout::{GpuBvhNode, GpuTriangle, TriangleOrigin, TRI_MIRRORED};
 use crate::scene::Mesh;
 use wgpu::util::DeviceExt;
@@ -98,9 +98,9 @@ impl GpuBlas {
 pub fn merged_triangles(merged: &Mesh, origin: &[TriangleOrigin]) -> Vec<GpuTriangle> {
     (0..merged.indices.len() / 3)
         .filter_map(|t| {
-            let v = mesh_triangle(merged, t)?;
+            let (v, status) = classify_mesh_triangle(merged, t);
             let o = origin.get(t)?;
-            (triangle_status(&v) == TriangleStatus::Valid).then(|| GpuTriangle {
+            (status == TriangleStatus::Valid).then(|| GpuTriangle {
                 v0: v[0].to_array(),
                 prim: o.prim,
                 v1: v[1].to_array(),
