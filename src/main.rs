@@ -461,6 +461,11 @@ fn run(cli: Cli) -> Result<()> {
             let (rows, skipped) = with_progress(|progress| build_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows, &[]))))?;
             write_results(&out, &files(&rows, &skipped))?;
             write_plots(build_bench::plots(&out, &rows))?;
+            let cpu_builds = build_bench::run_cpu_builds(&cfg, if quick { 2 } else { 9 })?;
+            write_results(
+                &out,
+                &[("cpu_build.csv", build_bench::cpu_build_csv(&info, &cpu_builds)), ("cpu_build.md", build_bench::cpu_build_markdown(&info, &cpu_builds))],
+            )?;
             if cfg.backends.contains(&Backend::Compute) {
                 let refit = build_bench::run_refit(&gpu, &cfg, if quick { 3 } else { 20 })?;
                 write_results(&out, &[("refit.csv", build_bench::refit_csv(&info, &refit)), ("refit.md", build_bench::refit_markdown(&info, &refit))])?;

@@ -76,6 +76,19 @@ fn bench_build_quick_writes_a_complete_table() {
         assert!(r[3].parse::<usize>().unwrap() >= 1, "dispatches: {r:?}");
         assert!(r[5].parse::<f64>().is_ok_and(|x| x > 0.0), "the refit was timed on the GPU: {r:?}");
     }
+    // The CPU build of each merged scene: timed, with the tree's SAH cost and depth.
+    let cpu = std::fs::read_to_string(out.join("cpu_build.csv")).unwrap();
+    let mut lines = cpu.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(lines.next().unwrap(), "scene,triangles,threads,first_ms,median_ms,min_ms,builds,sah,depth");
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.iter().map(|r| (r[0], r[1])).collect::<Vec<_>>(), [("box", "12"), ("organic", "3920")], "{cpu}");
+    for r in &rows {
+        let ms: Vec<f64> = r[3..6].iter().map(|x| x.parse().unwrap()).collect();
+        assert!(ms.iter().all(|&x| x > 0.0) && ms[2] <= ms[1], "build times: {r:?}");
+        assert!(r[7].parse::<f64>().is_ok_and(|x| x.is_finite() && x >= 1.0), "SAH cost: {r:?}");
+        assert!(r[8].parse::<usize>().is_ok_and(|d| d >= 1), "depth: {r:?}");
+    }
+    assert!(std::fs::read_to_string(out.join("cpu_build.md")).unwrap().contains("revision:"));
     let _ = std::fs::remove_dir_all(&out);
 }
 

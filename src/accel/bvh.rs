@@ -26,8 +26,10 @@
 //! A node becomes a leaf when it holds at most `max_leaf_size` (4) primitives and the leaf is no
 //! more expensive than the best split. Nodes of at least [`FINE_BINNING_PRIMS`] primitives use
 //! `bins` (48) bins, smaller nodes at most [`SMALL_NODE_BINS`] (16), and nodes of fewer
-//! primitives than that as many bins as primitives (at least 4): the large nodes near the root
-//! decide most of the tree's cost, and there are few of them. When all centroids coincide, and for every node at depth
+//! primitives than that as many bins as primitives: the large nodes near the root decide most
+//! of the tree's cost, and there are few of them. Nodes of at most [`EXACT_SPLIT_PRIMS`] (8)
+//! primitives, most nodes of a tree, skip the bins and evaluate every object split (primitives
+//! sorted by centroid on each axis). When all centroids coincide, and for every node at depth
 //! [`MEDIAN_FALLBACK_DEPTH`] (24) or deeper, the node is split at the object median of its
 //! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
 //! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
@@ -37,15 +39,17 @@
 //! Subtrees with at least [`BuildConfig::parallel_threshold`] primitives are built with
 //! `rayon::join` and concatenated; smaller ones are built sequentially into one array. Nodes of
 //! more than 16k primitives also bin in parallel, and [`SceneAccel::build`] builds the BLASes of
-//! all meshes in parallel. Each partition pass measures both sides' bounds on the way, so a node
-//! touches its primitives twice (bin, partition).
+//! all meshes in parallel. A node touches its primitives twice (bin, partition): the partition
+//! measures each side's centroid bounds on the way, and each side's box is the union of its
+//! bins' boxes. Work items are 32 bytes (box corners, the id in a spare lane), and the node
+//! array is written once at the end rather than concatenated at every parallel level.
 //!
-//! Measured on the 2-core development machine (optimised build, machine shared with other
-//! work): the atrium's two levels (one BLAS per mesh, 99k distinct triangles, TLAS over 468
-//! instances) in about 60 ms, all 262k instanced triangles baked into one BLAS in about 200 ms.
+//! Measured on the 2-core development machine (`raygraph bench build`, `cpu_build.md`; PERF.md
+//! "Builds"): all 262k instanced triangles of the atrium baked into one BLAS in 68–76 ms
+//! (median of 9, after a first build).
 
 use crate::scene::{Mesh, Scene};
-use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3, Vec3A};
+use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
@@ -139,19 +143,17 @@ impl Aabb {
     }
 }
 
-/// One primitive handed to the builder: its box, the point it is binned by, and an id that
-/// the builder carries into [`Bvh::prim_order`].
+/// One primitive handed to the builder: its box (binned by its centre) and an id that the
+/// builder carries into [`Bvh::prim_order`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuildPrim {
     pub bounds: Aabb,
-    pub centroid: Vec3,
     pub id: u32,
 }
 
 impl BuildPrim {
-    /// A primitive binned by the centre of its box.
     pub fn new(bounds: Aabb, id: u32) -> Self {
-        Self { bounds, centroid: bounds.center(), id }
+        Self { bounds, id }
     }
 }
 
@@ -209,13 +211,15 @@ pub struct Bvh {
 
 impl Bvh {
     /// Builds a tree over `prims`. Primitives whose box is empty or not finite, or whose
-    /// centroid is not finite, are left out (callers filter them first and count them).
+    /// centre is not finite (the box spans more than `f32::MAX`), are left out (callers filter
+    /// them first and count them).
     pub fn build(prims: &[BuildPrim], cfg: &BuildConfig) -> Bvh {
-        let mut work: Vec<Work> = prims
-            .iter()
-            .filter(|p| !p.bounds.is_empty() && p.bounds.is_finite() && p.centroid.is_finite())
-            .map(|p| Work { bounds: Box3A { min: p.bounds.min.into(), max: p.bounds.max.into() }, centroid: p.centroid.into(), id: p.id })
-            .collect();
+        let work: Vec<Work> = prims.iter().filter(|p| Work::usable(&p.bounds)).map(|p| Work::new(&p.bounds, p.id)).collect();
+        Self::build_work(work, cfg)
+    }
+
+    /// [`Self::build`] over primitives already filtered by [`Work::usable`].
+    fn build_work(mut work: Vec<Work>, cfg: &BuildConfig) -> Bvh {
         if work.is_empty() {
             return Bvh::default();
         }
@@ -226,8 +230,8 @@ impl Bvh {
             parallel_threshold: cfg.parallel_threshold.max(2),
         };
         let (bounds, centroids) = union_bounds_par(&work, &cfg);
-        let nodes = build_subtree(&mut work, 0, 0, &cfg, bounds, centroids);
-        Bvh { nodes, prim_order: work.iter().map(|p| p.id).collect() }
+        let nodes = build_subtree(&mut work, 0, 0, &cfg, bounds, centroids).into_nodes();
+        Bvh { nodes, prim_order: work.iter().map(Work::id).collect() }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -307,12 +311,38 @@ impl Bvh {
     }
 }
 
-/// A primitive as the builder works on it: SIMD-friendly copies of a [`BuildPrim`].
+/// A primitive as the builder works on it, in 32 bytes: its box's corners as SIMD vectors,
+/// with the id's bits in the `w` lane of the lower corner. The builder bins by the *doubled*
+/// centroid `min + max` (one addition; the 1/2 is folded into the bin mapping), so every
+/// "centroid" bound below is of doubled centroids.
 #[derive(Debug, Clone, Copy)]
 struct Work {
-    bounds: Box3A,
-    centroid: Vec3A,
-    id: u32,
+    min: Vec4,
+    max: Vec4,
+}
+
+impl Work {
+    fn new(b: &Aabb, id: u32) -> Self {
+        Self { min: b.min.extend(f32::from_bits(id)), max: b.max.extend(0.0) }
+    }
+
+    /// A box the builder can place: not empty, finite, with a finite centre.
+    fn usable(b: &Aabb) -> bool {
+        !b.is_empty() && b.is_finite() && (b.min + b.max).is_finite()
+    }
+
+    fn id(&self) -> u32 {
+        self.min.w.to_bits()
+    }
+
+    fn bounds(&self) -> Box3A {
+        Box3A { min: Vec3A::from_vec4(self.min), max: Vec3A::from_vec4(self.max) }
+    }
+
+    /// `min + max`: twice the centroid.
+    fn centroid(&self) -> Vec3A {
+        Vec3A::from_vec4(self.min + self.max)
+    }
 }
 
 /// [`Aabb`] with 16-byte SIMD vectors, for the builder's inner loops.
@@ -335,11 +365,13 @@ impl Box3A {
     }
 
     fn surface_area(&self) -> f32 {
-        let d = self.max - self.min;
-        if d.x < 0.0 || d.y < 0.0 || d.z < 0.0 {
-            return 0.0;
-        }
-        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+        2.0 * self.half_area()
+    }
+
+    /// Half the surface area, without branches; 0 for an empty box.
+    fn half_area(&self) -> f32 {
+        let d = (self.max - self.min).max(Vec3A::ZERO);
+        d.x * (d.y + d.z) + d.y * d.z
     }
 
     fn to_aabb(self) -> Aabb {
@@ -351,8 +383,8 @@ fn union_bounds(prims: &[Work]) -> (Box3A, Box3A) {
     let mut b = Box3A::EMPTY;
     let mut c = Box3A::EMPTY;
     for p in prims {
-        b = b.union(&p.bounds);
-        c.grow(p.centroid);
+        b = b.union(&p.bounds());
+        c.grow(p.centroid());
     }
     (b, c)
 }
@@ -364,20 +396,85 @@ fn union_bounds_par(prims: &[Work], cfg: &BuildConfig) -> (Box3A, Box3A) {
     prims.par_chunks(cfg.parallel_threshold).map(union_bounds).reduce(|| (Box3A::EMPTY, Box3A::EMPTY), |a, b| (a.0.union(&b.0), a.1.union(&b.1)))
 }
 
+/// A built subtree before its nodes are laid out in one array: the sequentially built parts
+/// keep their node vectors (root at 0, child indices local to the vector), and the parallel
+/// splits above them are written out once, by [`Subtree::into_nodes`], instead of being
+/// concatenated at every level.
+enum Subtree {
+    Nodes(Vec<BvhNode>),
+    Split { bounds: Aabb, children: Box<[Subtree; 2]>, len: usize },
+}
+
+impl Subtree {
+    fn len(&self) -> usize {
+        match self {
+            Subtree::Nodes(nodes) => nodes.len(),
+            Subtree::Split { len, .. } => *len,
+        }
+    }
+
+    /// The root, its child index moved by `shift` (a leaf's primitive range stays).
+    fn root(&self, shift: u32) -> BvhNode {
+        match self {
+            Subtree::Nodes(nodes) => shifted(&nodes[0], shift),
+            Subtree::Split { bounds, .. } => BvhNode { bounds: *bounds, left_or_first: 1 + shift, count: 0 },
+        }
+    }
+
+    /// Writes every node but the root into `dst` (`len - 1` long), in the layout
+    /// `[root, left root, right root, left descendants..., right descendants...]` of each
+    /// split, child indices moved by `shift`.
+    fn write_rest(&self, dst: &mut [BvhNode], shift: u32) {
+        match self {
+            Subtree::Nodes(nodes) => {
+                for (d, n) in dst.iter_mut().zip(&nodes[1..]) {
+                    *d = shifted(n, shift);
+                }
+            }
+            Subtree::Split { children, .. } => {
+                let [l, r] = &**children;
+                let (l_shift, r_shift) = (shift + 2, shift + 1 + l.len() as u32);
+                dst[0] = l.root(l_shift);
+                dst[1] = r.root(r_shift);
+                let (ld, rd) = dst[2..].split_at_mut(l.len() - 1);
+                rayon::join(|| l.write_rest(ld, l_shift), || r.write_rest(rd, r_shift));
+            }
+        }
+    }
+
+    fn into_nodes(self) -> Vec<BvhNode> {
+        if let Subtree::Nodes(nodes) = self {
+            return nodes;
+        }
+        let mut nodes = vec![BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 }; self.len()];
+        nodes[0] = self.root(0);
+        self.write_rest(&mut nodes[1..], 0);
+        nodes
+    }
+}
+
+/// `n` with its child index moved by `shift` if it is an interior node.
+fn shifted(n: &BvhNode, shift: u32) -> BvhNode {
+    if n.is_leaf() {
+        *n
+    } else {
+        BvhNode { left_or_first: n.left_or_first + shift, ..*n }
+    }
+}
+
 /// Builds the subtree over `prims` (which start at `first` in the final primitive order, and
-/// whose boxes and centroids span `bounds` and `centroids`): the returned nodes have the subtree
-/// root at 0 and child indices local to the vector.
-fn build_subtree(prims: &mut [Work], first: u32, depth: usize, cfg: &BuildConfig, bounds: Box3A, centroids: Box3A) -> Vec<BvhNode> {
+/// whose boxes and centroids span `bounds` and `centroids`).
+fn build_subtree(prims: &mut [Work], first: u32, depth: usize, cfg: &BuildConfig, bounds: Box3A, centroids: Box3A) -> Subtree {
     if prims.len() < cfg.parallel_threshold {
         let mut nodes = Vec::with_capacity(prims.len());
         nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
         let mut scratch = Bins::new();
         build_sequential(&mut nodes, 0, prims, first, depth, cfg, (bounds, centroids), &mut scratch);
-        return nodes;
+        return Subtree::Nodes(nodes);
     }
     let mut scratch = Bins::new();
     let Some(sp) = split(prims, &bounds, &centroids, depth, cfg, &mut scratch) else {
-        return vec![BvhNode { bounds: bounds.to_aabb(), left_or_first: first, count: prims.len() as u32 }];
+        return Subtree::Nodes(vec![BvhNode { bounds: bounds.to_aabb(), left_or_first: first, count: prims.len() as u32 }]);
     };
     let mid = sp.mid;
     let (l, r) = prims.split_at_mut(mid);
@@ -385,15 +482,8 @@ fn build_subtree(prims: &mut [Work], first: u32, depth: usize, cfg: &BuildConfig
         || build_subtree(l, first, depth + 1, cfg, sp.left.0, sp.left.1),
         || build_subtree(r, first + mid as u32, depth + 1, cfg, sp.right.0, sp.right.1),
     );
-    // [root, left root, right root, left descendants..., right descendants...]
-    let shift = |n: &BvhNode, by: usize| if n.is_leaf() { *n } else { BvhNode { left_or_first: n.left_or_first + by as u32, ..*n } };
-    let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
-    nodes.push(BvhNode { bounds: bounds.to_aabb(), left_or_first: 1, count: 0 });
-    nodes.push(shift(&ln[0], 2));
-    nodes.push(shift(&rn[0], ln.len() + 1));
-    nodes.extend(ln[1..].iter().map(|n| shift(n, 2)));
-    nodes.extend(rn[1..].iter().map(|n| shift(n, ln.len() + 1)));
-    nodes
+    let len = 1 + ln.len() + rn.len();
+    Subtree::Split { bounds: bounds.to_aabb(), children: Box::new([ln, rn]), len }
 }
 
 /// `span`: the boxes' and the centroids' bounds of `prims`.
@@ -436,6 +526,9 @@ pub const MAX_BINS: usize = 64;
 /// Nodes with at least this many primitives bin them in parallel.
 const PARALLEL_BINNING: usize = 16 * 1024;
 
+/// Runs of at least twice this many primitives bin into two sets of bins.
+const PAIRED_BINNING: usize = 128;
+
 /// Per-axis bin counts and boxes.
 #[derive(Clone, Copy)]
 struct Bins {
@@ -456,13 +549,38 @@ impl Bins {
         }
     }
 
-    fn add(&mut self, prims: &[Work], map: &BinMap) {
-        for p in prims {
-            let b = map.bins_of(p);
-            for axis in 0..3 {
-                let b = b[axis] as usize;
-                self.count[axis][b] += 1;
-                self.bounds[axis][b] = self.bounds[axis][b].union(&p.bounds);
+    fn add_one(&mut self, p: &Work, map: &BinMap) {
+        let b = map.bins_of(p);
+        for axis in 0..3 {
+            let b = b[axis];
+            self.count[axis][b] += 1;
+            self.bounds[axis][b] = self.bounds[axis][b].union(&p.bounds());
+        }
+    }
+
+    /// Adds `prims` to the first `bins` bins. Long runs alternate between two sets of bins:
+    /// neighbouring primitives often fall into the same bin, and one set would chain their
+    /// read-modify-writes.
+    fn add(&mut self, prims: &[Work], map: &BinMap, bins: usize) {
+        if prims.len() < 2 * PAIRED_BINNING {
+            for p in prims {
+                self.add_one(p, map);
+            }
+            return;
+        }
+        let mut other = Bins::new();
+        let pairs = prims.chunks_exact(2);
+        if let [p] = pairs.remainder() {
+            self.add_one(p, map);
+        }
+        for pair in pairs {
+            self.add_one(&pair[0], map);
+            other.add_one(&pair[1], map);
+        }
+        for axis in 0..3 {
+            for b in 0..bins {
+                self.count[axis][b] += other.count[axis][b];
+                self.bounds[axis][b] = self.bounds[axis][b].union(&other.bounds[axis][b]);
             }
         }
     }
@@ -488,6 +606,9 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
     if cfg.method == SplitMethod::Median || depth >= MEDIAN_FALLBACK_DEPTH {
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
     }
+    if n <= EXACT_SPLIT_PRIMS {
+        return exact_split(prims, bounds, centroids, cfg.max_leaf_size);
+    }
     // Small nodes get fewer bins: at most SMALL_NODE_BINS, and as many as primitives (at
     // least 4) is plenty there.
     let bins = if n >= FINE_BINNING_PRIMS { cfg.bins } else { cfg.bins.min(SMALL_NODE_BINS) }.min(n.max(4));
@@ -503,47 +624,46 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
             .par_chunks(PARALLEL_BINNING / 4)
             .map(|c| {
                 let mut b = Bins::new();
-                b.add(c, &map);
+                b.add(c, &map, bins);
                 b
             })
             .reduce(Bins::new, Bins::merge);
         &parallel
     } else {
         scratch.reset(bins);
-        scratch.add(prims, &map);
+        scratch.add(prims, &map, bins);
         scratch
     };
     let node_area = bounds.surface_area();
-    // Best (cost, axis, number of bins on the left).
-    let mut best: Option<(f32, usize, usize)> = None;
-    let mut right_area = [0.0f32; MAX_BINS];
-    let mut right_count = [0u32; MAX_BINS];
+    // Best (cost of the children, axis, number of bins on the left), with half areas: the
+    // traversal term is the same for every split and is added once below.
+    let (mut best_cost, mut best_axis, mut best_plane) = (f32::INFINITY, usize::MAX, 0);
+    let mut right_cost = [0.0f32; MAX_BINS];
+    let total = binned.count[0][..bins].iter().sum::<u32>();
     for axis in (0..3).filter(|&a| maps[a].is_some()) {
         let (count, boxes) = (&binned.count[axis], &binned.bounds[axis]);
-        // Suffix sweep: right_*[i] describes bins i..bins.
+        // Suffix sweep: right_cost[i] = half area * primitives of bins i..bins.
         let (mut acc_box, mut acc_n) = (Box3A::EMPTY, 0u32);
         for i in (1..bins).rev() {
             acc_box = acc_box.union(&boxes[i]);
             acc_n += count[i];
-            right_area[i] = acc_box.surface_area();
-            right_count[i] = acc_n;
+            right_cost[i] = acc_box.half_area() * acc_n as f32;
         }
         let (mut acc_box, mut acc_n) = (Box3A::EMPTY, 0u32);
         for i in 1..bins {
             acc_box = acc_box.union(&boxes[i - 1]);
             acc_n += count[i - 1];
-            if acc_n == 0 || right_count[i] == 0 {
-                continue;
-            }
-            let cost = TRAVERSAL_COST * node_area + INTERSECTION_COST * (acc_box.surface_area() * acc_n as f32 + right_area[i] * right_count[i] as f32);
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, i));
+            let cost = acc_box.half_area() * acc_n as f32 + right_cost[i];
+            // Both sides must hold primitives.
+            if cost < best_cost && acc_n != 0 && acc_n != total {
+                (best_cost, best_axis, best_plane) = (cost, axis, i);
             }
         }
     }
-    let Some((cost, axis, plane)) = best else {
+    if best_axis == usize::MAX {
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
-    };
+    }
+    let (cost, axis, plane) = (TRAVERSAL_COST * node_area + INTERSECTION_COST * 2.0 * best_cost, best_axis, best_plane);
     let leaf_cost = INTERSECTION_COST * node_area * n as f32;
     if n <= cfg.max_leaf_size && leaf_cost <= cost {
         return None;
@@ -551,13 +671,78 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
     if maps[axis].is_none() {
         return Some(median_split(prims, centroids));
     }
-    // The same bins as the binning pass, so each side gets exactly the primitives counted.
-    let sp = partition(prims, |p| (map.bins_of(p)[axis] as usize) < plane);
-    if sp.mid == 0 || sp.mid == n {
+    // The same bins as the binning pass, so each side gets exactly the primitives counted,
+    // and each side's box is the union of its bins' boxes.
+    let (mid, left_centroids, right_centroids) = partition(prims, |p| map.bin_of(p, axis) < plane);
+    if mid == 0 || mid == n {
         // Cannot happen with the same mapping as the binning pass; stay safe anyway.
         return Some(median_split(prims, centroids));
     }
-    Some(sp)
+    let side = |bins: &[Box3A]| bins.iter().fold(Box3A::EMPTY, |a, b| a.union(b));
+    let boxes = &binned.bounds[axis];
+    Some(Split { mid, left: (side(&boxes[..plane]), left_centroids), right: (side(&boxes[plane..bins]), right_centroids) })
+}
+
+/// Nodes of at most this many primitives evaluate the SAH at every boundary between their
+/// primitives sorted by centroid, on each axis, instead of binning: exact, and cheaper than
+/// setting up bins for a handful of primitives (most nodes of a tree are this small).
+pub const EXACT_SPLIT_PRIMS: usize = 8;
+
+/// Stable insertion sort of `order[..keys.len()]` (indices into `keys`) by key.
+fn sorted_order(keys: &[f32], order: &mut [u8; EXACT_SPLIT_PRIMS]) {
+    for i in 0..keys.len() {
+        order[i] = i as u8;
+        let mut j = i;
+        while j > 0 && keys[order[j - 1] as usize] > keys[order[j] as usize] {
+            order.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+}
+
+/// [`split`] for nodes of 2..=[`EXACT_SPLIT_PRIMS`] primitives: every object split on every
+/// axis along which the centroids spread.
+fn exact_split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, max_leaf_size: usize) -> Option<Split> {
+    let n = prims.len();
+    let spread = centroids.max - centroids.min;
+    let (mut best_cost, mut best_axis, mut best_mid) = (f32::INFINITY, usize::MAX, 0);
+    let (mut keys, mut order, mut right_cost) = ([0.0f32; EXACT_SPLIT_PRIMS], [0u8; EXACT_SPLIT_PRIMS], [0.0f32; EXACT_SPLIT_PRIMS]);
+    for axis in (0..3).filter(|&a| spread[a] > 0.0) {
+        for (k, p) in keys.iter_mut().zip(prims.iter()) {
+            *k = p.centroid()[axis];
+        }
+        sorted_order(&keys[..n], &mut order);
+        let mut acc = Box3A::EMPTY;
+        for i in (1..n).rev() {
+            acc = acc.union(&prims[order[i] as usize].bounds());
+            right_cost[i] = acc.half_area() * (n - i) as f32;
+        }
+        let mut acc = Box3A::EMPTY;
+        for i in 1..n {
+            acc = acc.union(&prims[order[i - 1] as usize].bounds());
+            let cost = acc.half_area() * i as f32 + right_cost[i];
+            if cost < best_cost {
+                (best_cost, best_axis, best_mid) = (cost, axis, i);
+            }
+        }
+    }
+    if best_axis == usize::MAX {
+        // All centroids coincide: no plane separates them.
+        return if n <= max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+    }
+    let node_area = bounds.surface_area();
+    let cost = TRAVERSAL_COST * node_area + INTERSECTION_COST * 2.0 * best_cost;
+    if n <= max_leaf_size && INTERSECTION_COST * node_area * n as f32 <= cost {
+        return None;
+    }
+    // The best axis's order again (the same stable sort, so the same sides as evaluated).
+    for (k, p) in keys.iter_mut().zip(prims.iter()) {
+        *k = p.centroid()[best_axis];
+    }
+    sorted_order(&keys[..n], &mut order);
+    let copy: [Work; EXACT_SPLIT_PRIMS] = std::array::from_fn(|i| prims[order[i.min(n - 1)] as usize]);
+    prims.copy_from_slice(&copy[..n]);
+    Some(Split { mid: best_mid, left: union_bounds(&prims[..best_mid]), right: union_bounds(&prims[best_mid..]) })
 }
 
 /// `(lo, bins / extent)` for binning centroids along `axis`, or `None` if they do not spread.
@@ -568,8 +753,10 @@ fn bin_mapping(centroids: &Box3A, axis: usize, bins: usize) -> Option<(f32, f32)
     (extent > 0.0 && scale.is_finite()).then_some((lo, scale))
 }
 
-/// Bin of a primitive's centroid along each axis, `(c - lo) * bins / extent` clamped to
-/// `0..bins`; an axis whose centroids do not spread maps everything to bin 0 (and is not swept).
+/// Bin of a primitive's centroid along each axis, `(c - lo) * bins / extent` truncated and
+/// clamped to `0..bins`; an axis whose centroids do not spread maps everything to bin 0 (and is
+/// not swept). Binning and partitioning use this same mapping, so each side gets exactly the
+/// primitives counted.
 struct BinMap {
     lo: Vec3A,
     scale: Vec3A,
@@ -587,30 +774,36 @@ impl BinMap {
 
     /// All three axes with one SIMD expression; the mask (`bins <= MAX_BINS`, a power of two)
     /// only spares the bounds checks where the index is used.
-    fn bins_of(&self, p: &Work) -> glam::UVec3 {
-        ((p.centroid - self.lo) * self.scale).min(self.last).max(Vec3A::ZERO).as_uvec3() & glam::UVec3::splat(MAX_BINS as u32 - 1)
+    fn bins_of(&self, p: &Work) -> [usize; 3] {
+        let b = ((p.centroid() - self.lo) * self.scale).min(self.last).max(Vec3A::ZERO).as_uvec3() & glam::UVec3::splat(MAX_BINS as u32 - 1);
+        [b.x as usize, b.y as usize, b.z as usize]
+    }
+
+    /// One axis (the partition's), bit for bit that lane of [`Self::bins_of`].
+    fn bin_of(&self, p: &Work, axis: usize) -> usize {
+        let b = ((p.centroid()[axis] - self.lo[axis]) * self.scale[axis]).min(self.last.x).max(0.0) as u32;
+        (b & (MAX_BINS as u32 - 1)) as usize
     }
 }
 
-/// Moves the primitives for which `left` holds to the front, measuring both sides on the way.
-fn partition(prims: &mut [Work], left: impl Fn(&Work) -> bool) -> Split {
-    let (mut lb, mut lc, mut rb, mut rc) = (Box3A::EMPTY, Box3A::EMPTY, Box3A::EMPTY, Box3A::EMPTY);
+/// Moves the primitives for which `left` holds to the front, measuring both sides' centroid
+/// bounds on the way: `(number on the left, left centroids, right centroids)`.
+fn partition(prims: &mut [Work], left: impl Fn(&Work) -> bool) -> (usize, Box3A, Box3A) {
+    let (mut lc, mut rc) = (Box3A::EMPTY, Box3A::EMPTY);
     let mut i = 0;
     let mut j = prims.len();
     while i < j {
         let p = prims[i];
         if left(&p) {
-            lb = lb.union(&p.bounds);
-            lc.grow(p.centroid);
+            lc.grow(p.centroid());
             i += 1;
         } else {
-            rb = rb.union(&p.bounds);
-            rc.grow(p.centroid);
+            rc.grow(p.centroid());
             j -= 1;
             prims.swap(i, j);
         }
     }
-    Split { mid: i, left: (lb, lc), right: (rb, rc) }
+    (i, lc, rc)
 }
 
 fn median_split(prims: &mut [Work], centroids: &Box3A) -> Split {
@@ -623,7 +816,7 @@ fn median_split(prims: &mut [Work], centroids: &Box3A) -> Split {
         2
     };
     let mid = prims.len() / 2;
-    prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    prims.select_nth_unstable_by(mid, |a, b| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
     Split { mid, left: union_bounds(&prims[..mid]), right: union_bounds(&prims[mid..]) }
 }
 
@@ -744,23 +937,29 @@ pub struct Blas {
 impl Blas {
     pub fn build(mesh: &Mesh, cfg: &BuildConfig) -> Blas {
         let tris = mesh.triangle_count();
-        let classify = |t: usize| {
+        // The builder's work items straight from the triangles; the rare dropped ones are
+        // classified again below to count them by reason.
+        let work_item = |t: usize| {
             let (v, status) = classify_mesh_triangle(mesh, t);
-            (status, BuildPrim::new(Aabb::from_points(&v), t as u32))
+            let b = Aabb::from_points(&v);
+            (status == TriangleStatus::Valid && Work::usable(&b)).then(|| Work::new(&b, t as u32))
         };
-        let classified: Vec<(TriangleStatus, BuildPrim)> =
-            if tris >= cfg.parallel_threshold { (0..tris).into_par_iter().map(classify).collect() } else { (0..tris).map(classify).collect() };
+        let work: Vec<Work> =
+            if tris >= cfg.parallel_threshold { (0..tris).into_par_iter().filter_map(work_item).collect() } else { (0..tris).filter_map(work_item).collect() };
         let mut blas = Blas { triangle_count: tris, ..Default::default() };
-        let mut prims = Vec::with_capacity(tris);
-        for (status, prim) in classified {
-            match status {
-                TriangleStatus::Valid => prims.push(prim),
-                TriangleStatus::Degenerate => blas.dropped_degenerate += 1,
-                TriangleStatus::NonFinite => blas.dropped_non_finite += 1,
-                TriangleStatus::BadIndex => blas.dropped_bad_index += 1,
+        if work.len() < tris {
+            for t in 0..tris {
+                let (v, status) = classify_mesh_triangle(mesh, t);
+                match status {
+                    // A box whose centre overflows f32 cannot be placed: no area in f32 either.
+                    TriangleStatus::Valid => blas.dropped_degenerate += u32::from(!Work::usable(&Aabb::from_points(&v))),
+                    TriangleStatus::Degenerate => blas.dropped_degenerate += 1,
+                    TriangleStatus::NonFinite => blas.dropped_non_finite += 1,
+                    TriangleStatus::BadIndex => blas.dropped_bad_index += 1,
+                }
             }
         }
-        blas.bvh = Bvh::build(&prims, cfg);
+        blas.bvh = Bvh::build_work(work, cfg);
         blas
     }
 

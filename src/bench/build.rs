@@ -452,3 +452,77 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     }
     s
 }
+
+/// The CPU binned-SAH build of each scene's instances merged into one BLAS (what
+/// `Accel(merge: true)` rebuilds on a change): `Blas::build` from the merged mesh, triangle
+/// classification included.
+#[derive(Debug, Clone)]
+pub struct CpuBuildRow {
+    pub scene: String,
+    pub triangles: usize,
+    /// rayon's worker threads.
+    pub threads: usize,
+    /// The first build in the process (fresh memory: page faults included).
+    pub first_ms: f64,
+    /// Median and minimum of the builds after it.
+    pub median_ms: f64,
+    pub min_ms: f64,
+    pub builds: u32,
+    pub sah: f64,
+    pub depth: usize,
+}
+
+pub fn run_cpu_builds(cfg: &BuildBenchConfig, builds: u32) -> Result<Vec<CpuBuildRow>, RuntimeError> {
+    use crate::accel::bvh::{Blas, BuildConfig};
+    use crate::accel::layout::merge_instances;
+    let mut rows = Vec::new();
+    for name in &cfg.scenes {
+        let (scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
+        let (merged, _) = merge_instances(&scene);
+        let mut times = Vec::new();
+        let mut last = Blas::default();
+        for _ in 0..=builds.max(1) {
+            let t = std::time::Instant::now();
+            last = Blas::build(&merged, &BuildConfig::default());
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        let first_ms = times.remove(0);
+        let min_ms = times.iter().copied().fold(f64::INFINITY, f64::min);
+        rows.push(CpuBuildRow {
+            scene: name.clone(),
+            triangles: merged.triangle_count(),
+            threads: rayon::current_num_threads(),
+            first_ms,
+            median_ms: median(&mut times),
+            min_ms,
+            builds: builds.max(1),
+            sah: last.bvh.sah_cost() as f64,
+            depth: last.bvh.depth(),
+        });
+    }
+    Ok(rows)
+}
+
+pub fn cpu_build_markdown(info: &RunInfo, rows: &[CpuBuildRow]) -> String {
+    let mut s = format!("# bench build: CPU binned-SAH build of the merged scene (one BLAS)\n\n{}\n", info.markdown());
+    s.push_str("| scene | triangles | threads | first build ms | median ms | min ms | builds | SAH cost | depth |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.1} | {:.1} | {:.1} | {} | {:.3} | {} |",
+            r.scene, r.triangles, r.threads, r.first_ms, r.median_ms, r.min_ms, r.builds, r.sah, r.depth
+        );
+    }
+    s
+}
+
+pub fn cpu_build_csv(info: &RunInfo, rows: &[CpuBuildRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,triangles,threads,first_ms,median_ms,min_ms,builds,sah,depth\n");
+    for r in rows {
+        let _ =
+            writeln!(s, "{},{},{},{:.3},{:.3},{:.3},{},{:.4},{}", r.scene, r.triangles, r.threads, r.first_ms, r.median_ms, r.min_ms, r.builds, r.sah, r.depth);
+    }
+    s
+}
