@@ -14,3 +14,4 @@ pub mod runtime;
 pub mod scene;
 pub mod soak;
 pub mod util;
+pub mod viewer;

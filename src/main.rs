@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use raygraph::accel::backend::Backend;
 use raygraph::bench::rays::RaysConfig;
-use raygraph::graph::{self, Project};
+use raygraph::graph::{self, Mode, Project};
 use raygraph::runtime::{exec::write_png, profiler::pass_table, Executor, Gpu};
 use raygraph::scene::{self, track::Track, LoadOptions};
 use std::path::{Path, PathBuf};
@@ -92,6 +92,43 @@ enum Command {
     Bench {
         #[command(subcommand)]
         command: BenchCommand,
+    },
+    /// The live viewer: a window with the running graph, the per-pass profiler overlay, the
+    /// parameters panel and hot reload of graph, layer and WGSL files.
+    View {
+        /// A built-in scene or a glTF file.
+        #[arg(default_value = "default")]
+        scene: String,
+        /// A graph file (default: the --mode's).
+        #[arg(long)]
+        graph: Option<PathBuf>,
+        #[arg(long, default_value = "hybrid")]
+        mode: Mode,
+        #[arg(long)]
+        backend: Option<Backend>,
+        /// Render size; the window opens at this size.
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// A named camera preset of the scene.
+        #[arg(long)]
+        camera: Option<String>,
+        /// Seed of the generated atrium.
+        #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
+        seed: u64,
+        /// Stop after this many frames.
+        #[arg(long)]
+        frames: Option<u64>,
+        /// Write the window (frame and overlay) to this PNG after the last frame (needs --frames).
+        #[arg(long, requires = "frames")]
+        screenshot: Option<PathBuf>,
+        /// A RON file of timed actions (see `raygraph::viewer::script`).
+        #[arg(long)]
+        script: Option<PathBuf>,
+        /// Print every frame's number.
+        #[arg(long)]
+        verbose: bool,
     },
 }
 
@@ -249,24 +286,6 @@ fn write_results(dir: &Path, files: &[(&str, String)]) -> Result<()> {
     }
     println!("wrote {}", files.iter().map(|(n, _)| dir.join(n).display().to_string()).collect::<Vec<_>>().join(", "));
     Ok(())
-}
-
-/// The paper's three rendering modes.
-#[derive(Clone, Copy, clap::ValueEnum)]
-enum Mode {
-    Raster,
-    Hybrid,
-    FullRt,
-}
-
-impl Mode {
-    fn graph(self) -> &'static str {
-        match self {
-            Mode::Raster => "graph/raster.ron",
-            Mode::Hybrid => "graph/hybrid.ron",
-            Mode::FullRt => "graph/full_rt.ron",
-        }
-    }
 }
 
 /// Where the camera is.
@@ -563,6 +582,12 @@ fn run(cli: Cli) -> Result<()> {
             let rows = with_progress(|progress| depth_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(depth_bench::plots(&out, &rows))?;
+        }
+        Command::View { scene, graph, mode, backend, width, height, camera, seed, frames, screenshot, script, verbose } => {
+            anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
+            let opts =
+                raygraph::viewer::ViewerOptions { scene, graph, mode, backend, size: (width, height), camera, seed, frames, screenshot, script, verbose };
+            raygraph::viewer::run(opts).map_err(anyhow::Error::msg)?;
         }
         Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);

@@ -4,6 +4,15 @@
 use std::io::Write;
 use std::path::Path;
 
+/// The sRGB transfer function, linear [0, 1] to display-encoded [0, 1].
+pub fn linear_to_srgb(x: f64) -> f64 {
+    if x <= 0.0031308 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 /// Writes `bytes` to a temporary file beside `path`, syncs it and renames it over `path`: a
 /// reader sees either the old file or the whole new one, and a failed write leaves nothing.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

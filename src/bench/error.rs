@@ -22,6 +22,7 @@ use crate::graph::Project;
 use crate::runtime::profiler::median;
 use crate::runtime::{Executor, Gpu};
 use crate::scene::{builtin, Camera, Instance, Scene};
+use crate::util::linear_to_srgb;
 use glam::{Mat4, Vec3};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -177,15 +178,6 @@ pub fn run(
 /// A pass's GPU milliseconds in a frame (the frame's wall time without timestamp queries).
 fn pass_ms(frame: &crate::runtime::profiler::FrameTimings, pass: usize) -> f64 {
     frame.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(frame.frame_ms)
-}
-
-/// The sRGB transfer function (AO is shown as a grey on an sRGB display).
-fn linear_to_srgb(x: f64) -> f64 {
-    if x <= 0.0031308 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
 }
 
 /// Least-squares slope of log RMSE against log rays per pixel, per back-end and scheme.

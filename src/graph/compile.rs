@@ -303,11 +303,14 @@ pub struct CompileOptions {
     /// Parameter values that override the graph file's, as `("node", "param") -> value`
     /// (benches, the viewer); checked like the file's own.
     pub params: BTreeMap<(String, String), ParamValue>,
+    /// Layer nodes switched on (`true`) or off (`false`) over the graph file's `enabled`
+    /// (the viewer's effect switches).
+    pub enabled: BTreeMap<String, bool>,
 }
 
 impl Default for CompileOptions {
     fn default() -> Self {
-        Self { reuse: true, includes: reflect::IncludeAliases::new(), backend: Backend::Compute, params: BTreeMap::new() }
+        Self { reuse: true, includes: reflect::IncludeAliases::new(), backend: Backend::Compute, params: BTreeMap::new(), enabled: BTreeMap::new() }
     }
 }
 
@@ -330,7 +333,19 @@ pub const TRACE_INCLUDE: &str = "trace/trace.wgsl";
 pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32), options: &CompileOptions) -> Result<Plan, GraphError> {
     // Phase 1: parse.
     let gsrc = read_file(graph_file, None)?;
-    let graph: GraphDesc = parse_ron(&gsrc, "graph")?;
+    let mut graph: GraphDesc = parse_ron(&gsrc, "graph")?;
+    for (node, on) in &options.enabled {
+        match graph.nodes.get_mut(node) {
+            Some(NodeDesc::Layer(l)) => l.enabled = *on,
+            _ => {
+                return Err(GraphError::new(
+                    ErrorKind::UnknownLayer,
+                    Location::file_start(graph_file),
+                    format!("a switch names node `{node}`, which is not a layer node of the graph"),
+                ))
+            }
+        }
+    }
 
     // Phase 2: resolve layers and parameters.
     let mut nodes = resolve_layers(&graph, &gsrc, project)?;
@@ -623,6 +638,19 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
         }
         let layer_src = read_file(&path, None)?;
         let layer: LayerDesc = parse_ron(&layer_src, "layer")?;
+        for (pname, decl) in &layer.params {
+            if let ParamDecl::Enum { default, values } = decl {
+                if !values.contains(default) {
+                    let loc = layer_src.locate(&["params", &SourceText::quoted(pname)]);
+                    return Err(GraphError::new(
+                        ErrorKind::ParamOutOfRange,
+                        loc,
+                        format!("enum parameter `{pname}`: its default `{default}` is not one of its values"),
+                    )
+                    .help(format!("use one of: {}", values.join(", "))));
+                }
+            }
+        }
         let mut params: BTreeMap<String, (ParamDecl, ParamValue)> = layer.params.iter().map(|(k, d)| (k.clone(), (d.clone(), d.default_value()))).collect();
         for (pname, value) in &ln.params {
             let loc = gsrc.locate(&["nodes", &node_anchor, "params", &SourceText::quoted(pname)]);
@@ -692,6 +720,13 @@ pub fn check_param(decl: &ParamDecl, value: ParamValue) -> Result<ParamValue, Pa
             Ok(value)
         }
         (ParamDecl::Bool { .. }, ParamValue::Bool(_)) => Ok(value),
+        (ParamDecl::Enum { values, .. }, ParamValue::Int(v)) => {
+            if v < 0 || v as usize >= values.len() {
+                let choices: Vec<String> = values.iter().enumerate().map(|(i, n)| format!("{i} ({n})")).collect();
+                return Err((ErrorKind::ParamOutOfRange, format!("{v} is not one of the choices"), format!("use the index of one of: {}", choices.join(", "))));
+            }
+            Ok(value)
+        }
         _ => Err(wrong()),
     }
 }
@@ -1080,13 +1115,13 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
                     let ok = matches!(
                         (decl, m.scalar, m.components),
                         (ParamDecl::Float { .. }, Some(naga::ScalarKind::Float), 1)
-                            | (ParamDecl::Int { .. }, Some(naga::ScalarKind::Sint | naga::ScalarKind::Uint), 1)
+                            | (ParamDecl::Int { .. } | ParamDecl::Enum { .. }, Some(naga::ScalarKind::Sint | naga::ScalarKind::Uint), 1)
                             | (ParamDecl::Bool { .. }, Some(naga::ScalarKind::Uint), 1)
                     );
                     if !ok {
                         let want = match decl {
                             ParamDecl::Float { .. } => "f32",
-                            ParamDecl::Int { .. } => "i32 or u32",
+                            ParamDecl::Int { .. } | ParamDecl::Enum { .. } => "i32 or u32",
                             ParamDecl::Bool { .. } => "u32",
                         };
                         return Ok(Some(format!("member `{}` of type {want} (parameter `{}` is a {})", m.name, m.name, decl.type_name())));

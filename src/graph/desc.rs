@@ -263,9 +263,25 @@ impl Format {
 /// uniform struct named `params` whose members are matched by name.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 pub enum ParamDecl {
-    Float { default: f64, min: f64, max: f64 },
-    Int { default: i64, min: i64, max: i64 },
-    Bool { default: bool },
+    Float {
+        default: f64,
+        min: f64,
+        max: f64,
+    },
+    Int {
+        default: i64,
+        min: i64,
+        max: i64,
+    },
+    Bool {
+        default: bool,
+    },
+    /// One of named choices; the shader sees the chosen one's index (i32 or u32), and a graph
+    /// file sets it by index.
+    Enum {
+        default: String,
+        values: Vec<String>,
+    },
 }
 
 impl ParamDecl {
@@ -274,14 +290,18 @@ impl ParamDecl {
             ParamDecl::Float { .. } => "float",
             ParamDecl::Int { .. } => "int",
             ParamDecl::Bool { .. } => "bool",
+            ParamDecl::Enum { .. } => "enum",
         }
     }
 
+    /// The default value; an enum whose default is not one of its values (a layer file error
+    /// the compiler reports) defaults to its first.
     pub fn default_value(&self) -> ParamValue {
-        match *self {
-            ParamDecl::Float { default, .. } => ParamValue::Float(default),
-            ParamDecl::Int { default, .. } => ParamValue::Int(default),
-            ParamDecl::Bool { default } => ParamValue::Bool(default),
+        match self {
+            ParamDecl::Float { default, .. } => ParamValue::Float(*default),
+            ParamDecl::Int { default, .. } => ParamValue::Int(*default),
+            ParamDecl::Bool { default } => ParamValue::Bool(*default),
+            ParamDecl::Enum { default, values } => ParamValue::Int(values.iter().position(|v| v == default).unwrap_or(0) as i64),
         }
     }
 }

@@ -9,3 +9,32 @@ pub mod dot;
 pub mod reflect;
 
 pub use compile::{compile, Plan, Project};
+
+/// The paper's three rendering modes, each a built-in graph file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Mode {
+    Raster,
+    Hybrid,
+    FullRt,
+}
+
+impl Mode {
+    pub const ALL: [Mode; 3] = [Mode::Raster, Mode::Hybrid, Mode::FullRt];
+
+    /// The mode's graph file, relative to the project root.
+    pub fn graph(self) -> &'static str {
+        match self {
+            Mode::Raster => "graph/raster.ron",
+            Mode::Hybrid => "graph/hybrid.ron",
+            Mode::FullRt => "graph/full_rt.ron",
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Mode::Raster => "raster",
+            Mode::Hybrid => "hybrid",
+            Mode::FullRt => "full RT",
+        }
+    }
+}

@@ -12,6 +12,7 @@ use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl
 use crate::graph::reflect::BindingKind;
 use crate::scene::gpu::{GpuScene, SceneContent, SceneTextures};
 use crate::scene::{Camera, Scene};
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 enum Pipeline {
@@ -32,6 +33,27 @@ struct PassRuntime {
     colors: Vec<ResourceId>,
     depth: Option<ResourceId>,
     groups: [u32; 3],
+    /// The pass's `params` uniform buffer and the members written into it (see
+    /// [`Executor::set_param`]).
+    params: Option<(wgpu::Buffer, u64, Vec<crate::graph::reflect::UniformMember>)>,
+}
+
+/// The bytes of a `params` uniform of `size` bytes: each member named after a parameter gets
+/// that parameter's value in the member's type.
+fn encode_params(params: &BTreeMap<String, (ParamDecl, ParamValue)>, members: &[crate::graph::reflect::UniformMember], size: u64) -> Vec<u8> {
+    let mut bytes = vec![0u8; (size as usize).max(16)];
+    for m in members {
+        let Some((decl, value)) = params.get(&m.name) else { continue };
+        let word: [u8; 4] = match (decl, *value, m.scalar) {
+            (_, ParamValue::Float(v), _) => (v as f32).to_le_bytes(),
+            (_, ParamValue::Int(v), Some(naga::ScalarKind::Uint)) => (v as u32).to_le_bytes(),
+            (_, ParamValue::Int(v), _) => (v as i32).to_le_bytes(),
+            (_, ParamValue::Bool(v), _) => (v as u32).to_le_bytes(),
+        };
+        let o = m.offset as usize;
+        bytes[o..o + 4].copy_from_slice(&word);
+    }
+    bytes
 }
 
 enum Physical {
@@ -264,6 +286,7 @@ impl Executor {
                 colors: Vec::new(),
                 depth: None,
                 groups: [0; 3],
+                params: None,
             });
         }
         let visibility = if pass.kind.is_compute() { wgpu::ShaderStages::COMPUTE } else { wgpu::ShaderStages::VERTEX_FRAGMENT };
@@ -275,6 +298,7 @@ impl Executor {
         let mut view_arrays: Vec<((u32, u32), Vec<wgpu::TextureView>)> = Vec::new();
         let mut buffers: Vec<((u32, u32), wgpu::Buffer)> = Vec::new();
         let mut params_buffer: Option<((u32, u32), wgpu::Buffer)> = None;
+        let mut params_members = None;
         for b in &shader.bindings {
             let ty = match &b.kind {
                 BindingKind::SampledTexture { arrayed, kind, .. } => {
@@ -355,25 +379,14 @@ impl Executor {
                 builtins::DEBUG_COUNTERS => buffers.push(((b.group, b.binding), self.debug_counters.clone())),
                 builtins::PARAMS => {
                     let BindingKind::Uniform { size, members, .. } = &b.kind else { unreachable!() };
-                    let mut bytes = vec![0u8; (*size as usize).max(16)];
-                    for m in members {
-                        let Some((decl, value)) = pass.params.get(&m.name) else { continue };
-                        let word: [u8; 4] = match (decl, value, m.scalar) {
-                            (ParamDecl::Float { .. }, ParamValue::Float(v), _) => (*v as f32).to_le_bytes(),
-                            (_, ParamValue::Int(v), Some(naga::ScalarKind::Uint)) => (*v as u32).to_le_bytes(),
-                            (_, ParamValue::Int(v), _) => (*v as i32).to_le_bytes(),
-                            (_, ParamValue::Bool(v), _) => (*v as u32).to_le_bytes(),
-                            (_, ParamValue::Float(v), _) => (*v as f32).to_le_bytes(),
-                        };
-                        let o = m.offset as usize;
-                        bytes[o..o + 4].copy_from_slice(&word);
-                    }
+                    let bytes = encode_params(&pass.params, members, *size as u64);
+                    params_members = Some((*size as u64, members.clone()));
                     let buf = wgpu::util::DeviceExt::create_buffer_init(
                         device,
                         &wgpu::util::BufferInitDescriptor {
                             label: Some(&format!("{} params", pass.name)),
                             contents: &bytes,
-                            usage: wgpu::BufferUsages::UNIFORM,
+                            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                         },
                     );
                     params_buffer = Some(((b.group, b.binding), buf));
@@ -524,7 +537,8 @@ impl Executor {
                 (Pipeline::Render(p), [0, 0, 0])
             }
         };
-        Ok(PassRuntime { pipeline, bind_groups, accel_layout, accel_group: None, colors, depth, groups })
+        let params = params_buffer.as_ref().zip(params_members).map(|((_, buf), (size, members))| (buf.clone(), size, members));
+        Ok(PassRuntime { pipeline, bind_groups, accel_layout, accel_group: None, colors, depth, groups, params })
     }
 
     fn is_depth(&self, r: ResourceId) -> bool {
@@ -723,6 +737,42 @@ impl Executor {
     /// The acceleration-structure cache, to change how it builds (before the first frame).
     pub fn accel_mut(&mut self) -> Option<&mut AccelCache> {
         self.accel.as_mut()
+    }
+
+    /// Changes parameter `name` of node `node` in the running plan: the value is checked against
+    /// its declaration and written into the `params` uniform of every pass of the node, ready
+    /// for the next frame. `Ok(false)`: the parameter is read when an executor is made (the
+    /// `Accel` node's settings), so the plan must be compiled again with the value.
+    pub fn set_param(&mut self, gpu: &Gpu, node: &str, name: &str, value: ParamValue) -> Result<bool, String> {
+        let mut found = false;
+        for (i, pass) in self.plan.passes.iter_mut().enumerate() {
+            if pass.node != node {
+                continue;
+            }
+            let Some((decl, current)) = pass.params.get_mut(name) else { continue };
+            *current =
+                crate::graph::compile::check_param(decl, value).map_err(|(_, msg, help)| format!("parameter `{name}` of node `{node}`: {msg} ({help})"))?;
+            found = true;
+            if pass.kind == PassKind::AccelBuild {
+                return Ok(false);
+            }
+            if let Some((buf, size, members)) = &self.passes[i].params {
+                gpu.queue.write_buffer(buf, 0, &encode_params(&pass.params, members, *size));
+            }
+        }
+        if found {
+            Ok(true)
+        } else {
+            Err(format!("node `{node}` has no kept pass with a parameter `{name}`"))
+        }
+    }
+
+    /// The texture a kept texture resource lives in (shared with the resources of its slot).
+    pub fn texture(&self, r: ResourceId) -> Option<&wgpu::Texture> {
+        match self.plan.resources.get(r)?.slot.and_then(|s| self.slots.get(s))? {
+            Physical::Texture(t) => Some(t),
+            _ => None,
+        }
     }
 
     /// Reads back the graph output as tightly packed RGBA8 rows.

@@ -61,7 +61,16 @@ impl Gpu {
 
     /// [`Gpu::new`] with the traversal back-end forced (`--backend`); `None` selects one.
     pub fn with_backend(requested: Option<Backend>) -> Result<Self, RuntimeError> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        Self::open(requested, None)
+    }
+
+    /// [`Gpu::with_backend`] for presenting to windows of `display` (the viewer passes winit's
+    /// display handle; Vulkan does not need it, other wgpu back-ends may).
+    pub fn open(requested: Option<Backend>, display: Option<Box<dyn wgpu::wgt::WgpuHasDisplayHandle>>) -> Result<Self, RuntimeError> {
+        let mut desc = match display {
+            Some(display) => wgpu::InstanceDescriptor::new_with_display_handle_from_env(display),
+            None => wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
+        };
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::VULKAN;
         }

@@ -1,0 +1,557 @@
+//! The viewer's window: winit event loop, wgpu surface, egui-winit input and egui-wgpu
+//! drawing; each redraw runs the script's due steps, hot reload, the camera, one frame of the
+//! graph, the viewport's texture and the overlay, and applies what the overlay asked for.
+
+use super::camera::{FlyCamera, Motion, TrackState, RECORD_FPS};
+use super::display::{format_of, Display, Mapping};
+use super::script::{Action, Script};
+use super::session::{Reload, Session};
+use super::ui::{self, Frame, UiState, View};
+use crate::accel::backend::Backend;
+use crate::graph::Mode;
+use crate::runtime::Gpu;
+use crate::scene::track::Track;
+use crate::scene::{Camera, LoadOptions};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+/// `raygraph view` arguments.
+#[derive(Debug, Clone)]
+pub struct ViewerOptions {
+    pub scene: String,
+    /// A graph file; `None` uses the mode's.
+    pub graph: Option<PathBuf>,
+    pub mode: Mode,
+    pub backend: Option<Backend>,
+    /// Render size (the window starts at this size; the image is scaled to the window).
+    pub size: (u32, u32),
+    pub camera: Option<String>,
+    pub seed: u64,
+    /// Stop after this many frames.
+    pub frames: Option<u64>,
+    /// Screenshot written after the last frame (`--frames`).
+    pub screenshot: Option<PathBuf>,
+    pub script: Option<PathBuf>,
+    /// Print each frame's number and every reload to stdout.
+    pub verbose: bool,
+}
+
+/// Opens the window and runs until it is closed, the script quits or `--frames` is reached.
+pub fn run(opts: ViewerOptions) -> Result<(), String> {
+    let script = opts.script.as_deref().map(Script::load).transpose()?;
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
+    let gpu = Gpu::open(opts.backend, Some(Box::new(event_loop.owned_display_handle()))).map_err(|e| e.to_string())?;
+    println!("adapter: {}", gpu.describe());
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
+    let (scene, _) = crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed }).map_err(|e| e.to_string())?;
+    let camera = match &opts.camera {
+        Some(name) => scene.preset(name)?,
+        None => scene.camera,
+    };
+    let radius = {
+        let b = scene.bounds();
+        (b.max - b.min).length() * 0.5
+    };
+    let mode = opts.graph.is_none().then_some(opts.mode);
+    let backend = gpu.selection.backend;
+    let session = Session::new(&gpu, &root, graph_file, mode, backend, opts.size, scene)?;
+    println!("graph: {} ({} passes), back-end {}", session.graph_file.display(), session.plan().map_or(0, |p| p.passes.len()), session.backend());
+    let mut app = App {
+        fly: FlyCamera::from_camera(&camera, radius),
+        opts,
+        script,
+        gpu,
+        session,
+        window: None,
+        motion: Motion::default(),
+        looking: None,
+        track: TrackState::Idle,
+        view: View::Output,
+        mapping: None,
+        ui_state: UiState::default(),
+        last_frame: Instant::now(),
+        result: Ok(()),
+        exit: false,
+    };
+    event_loop.run_app(&mut app).map_err(|e| format!("window event loop: {e}"))?;
+    app.result
+}
+
+struct WindowState {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    egui_ctx: egui::Context,
+    egui_state: egui_winit::State,
+    renderer: egui_wgpu::Renderer,
+    display: Display,
+    display_id: egui::TextureId,
+}
+
+struct App {
+    opts: ViewerOptions,
+    script: Option<Script>,
+    gpu: Gpu,
+    session: Session,
+    window: Option<WindowState>,
+    fly: FlyCamera,
+    motion: Motion,
+    /// Last cursor position while the right button is held.
+    looking: Option<(f64, f64)>,
+    track: TrackState,
+    view: View,
+    /// The mapping of the shown resource (range taken when it was selected).
+    mapping: Option<Mapping>,
+    ui_state: UiState,
+    last_frame: Instant,
+    result: Result<(), String>,
+    exit: bool,
+}
+
+impl App {
+    fn open_window(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, String> {
+        let (w, h) = self.opts.size;
+        let attrs = Window::default_attributes().with_title("raygraph").with_inner_size(winit::dpi::PhysicalSize::new(w, h));
+        let window = Arc::new(event_loop.create_window(attrs).map_err(|e| format!("cannot open a window: {e}"))?);
+        let surface = self.gpu.instance.create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
+        let caps = surface.get_capabilities(&self.gpu.adapter);
+        let format = egui_wgpu::preferred_framebuffer_format(&caps.formats).map_err(|e| format!("the window has no usable format: {e}"))?;
+        let size = window.inner_size();
+        let automated = self.opts.frames.is_some() || self.script.is_some();
+        let mut config =
+            surface.get_default_config(&self.gpu.adapter, size.width.max(1), size.height.max(1)).ok_or("the adapter cannot present to this window")?;
+        config.format = format;
+        config.present_mode = if automated { wgpu::PresentMode::AutoNoVsync } else { wgpu::PresentMode::AutoVsync };
+        surface.configure(&self.gpu.device, &config);
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(self.gpu.device.limits().max_texture_dimension_2d as usize),
+        );
+        let mut renderer = egui_wgpu::Renderer::new(&self.gpu.device, format, egui_wgpu::RendererOptions::default());
+        let shader =
+            std::fs::read_to_string(self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
+        let display = Display::new(&self.gpu, self.opts.size, &shader);
+        let display_id = renderer.register_native_texture(&self.gpu.device, &display.view, wgpu::FilterMode::Linear);
+        Ok(WindowState { window, surface, config, egui_ctx, egui_state, renderer, display, display_id })
+    }
+
+    fn log(&mut self, line: String) {
+        println!("{line}");
+        self.ui_state.status = line;
+    }
+
+    /// Applies one action (from the overlay or the script).
+    fn apply(&mut self, action: Action) {
+        let gpu = &self.gpu;
+        let result: Result<(), String> = match action {
+            Action::Mode(m) => self.session.set_mode(gpu, m.into()).map(|n| {
+                self.view = View::Output;
+                println!("mode: {} ({n} passes)", Mode::from(m).label());
+            }),
+            Action::Backend(name) => name.parse::<Backend>().and_then(|b| {
+                if !gpu.backends.contains(&b) {
+                    return Err(format!("this adapter cannot run the {b} back-end"));
+                }
+                self.session.set_backend(gpu, b).map(|n| println!("back-end: {b} ({n} passes)"))
+            }),
+            Action::Param { node, name, value } => self.session.set_param(gpu, &node, &name, value).map(|_| println!("parameter {node}.{name} = {value:?}")),
+            Action::Enable { node, on } => self.session.set_enabled(gpu, &node, on).map(|_| println!("node {node}: {}", if on { "on" } else { "off" })),
+            Action::SelectPass(pass) => match self.session.plan().and_then(|p| ui::pass_texture(p, &pass)) {
+                Some(resource) => {
+                    self.select(Some(pass.clone()), resource.clone());
+                    println!("showing {resource} (pass {pass})");
+                    Ok(())
+                }
+                None => Err(format!("no kept pass `{pass}` writing a texture")),
+            },
+            Action::SelectResource(resource) => {
+                // Keep the pass selected when the resource is one it writes.
+                let pass = match &self.view {
+                    View::Resource { pass, .. } => pass.clone(),
+                    View::Output => None,
+                };
+                self.select(pass, resource.clone());
+                println!("showing {resource}");
+                Ok(())
+            }
+            Action::ShowOutput => {
+                self.view = View::Output;
+                self.mapping = None;
+                Ok(())
+            }
+            Action::Preset(name) => self.session.scene.preset(&name).map(|c| {
+                let speed = self.fly.speed;
+                self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+            }),
+            Action::Camera { position, target } => {
+                let c = Camera { position: position.into(), target: target.into(), ..self.fly.camera() };
+                let speed = self.fly.speed;
+                self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+                Ok(())
+            }
+            Action::Screenshot(path) => self.screenshot(&path),
+            Action::Overlay(on) => {
+                self.ui_state.visible = on;
+                Ok(())
+            }
+            Action::Record => {
+                let mut track = Track::new(RECORD_FPS);
+                track.record(0.0, &self.fly.camera());
+                self.track = TrackState::Recording { track, seconds: 0.0 };
+                Ok(())
+            }
+            Action::SaveTrack(path) => match std::mem::take(&mut self.track) {
+                TrackState::Recording { track, .. } => {
+                    track.save(&path).map(|_| println!("track saved to {} ({} keys)", path.display(), track.keys.len())).map_err(|e| e.to_string())
+                }
+                other => {
+                    self.track = other;
+                    Err("not recording".into())
+                }
+            },
+            Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
+            Action::Quit => {
+                self.exit = true;
+                Ok(())
+            }
+        };
+        if let Err(e) = result {
+            self.log(format!("error: {e}"));
+        }
+    }
+
+    fn select(&mut self, pass: Option<String>, resource: String) {
+        self.view = View::Resource { pass, resource };
+        self.mapping = None;
+    }
+
+    /// Renders the overlay again into an offscreen texture of the window's size and format,
+    /// reads it back and writes it as PNG, with the overlay's text beside it.
+    fn screenshot(&mut self, path: &std::path::Path) -> Result<(), String> {
+        let ws = self.window.as_mut().ok_or("no window")?;
+        let gpu = &self.gpu;
+        let (w, h) = (ws.config.width, ws.config.height);
+        let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("viewer screenshot"),
+            size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: ws.config.format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let frame = Frame {
+            session: &self.session,
+            gpu,
+            view: &self.view,
+            presets: &self.session.scene.presets.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(),
+            recording: matches!(self.track, TrackState::Recording { .. }),
+            playing: matches!(self.track, TrackState::Playing { .. }),
+        };
+        let text = ui::overlay_text(&frame);
+        let raw = ws.egui_state.take_egui_input(&ws.window);
+        let display_id = ws.display_id;
+        let mut state = std::mem::take(&mut self.ui_state);
+        let out = ws.egui_ctx.run_ui(raw, |root| {
+            viewport(root, display_id, self.opts.size);
+            let ctx = root.ctx().clone();
+            ui::draw(&ctx, &frame, &mut state);
+        });
+        self.ui_state = state;
+        draw_egui(gpu, ws, &out, &target.create_view(&Default::default()));
+        let rgba = read_rgba(gpu, &target, ws.config.format)?;
+        let img = image::RgbaImage::from_raw(w, h, rgba).ok_or("screenshot size")?;
+        crate::runtime::exec::write_png(path, &img).map_err(|e| e.to_string())?;
+        let mut txt = path.as_os_str().to_owned();
+        txt.push(".overlay.txt");
+        crate::util::write_atomic(std::path::Path::new(&txt), text.as_bytes()).map_err(|e| format!("{}: {e}", PathBuf::from(txt).display()))?;
+        println!("screenshot: {}", path.display());
+        Ok(())
+    }
+
+    fn redraw(&mut self) {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
+        self.last_frame = now;
+        let frame_no = self.session.frame_index;
+        if let Some(script) = &self.script {
+            let due: Vec<Action> = script.due(frame_no).cloned().collect();
+            for a in due {
+                self.apply(a);
+            }
+        }
+        match self.session.poll_reload(&self.gpu, Duration::from_millis(200)) {
+            Some(Reload::Reloaded { passes }) => {
+                self.mapping = None;
+                self.log(format!("reloaded {} ({passes} passes)", self.session.graph_file.display()));
+            }
+            Some(Reload::Failed(e)) => self.log(format!("reload failed, the last good graph keeps running: {e}")),
+            None => {}
+        }
+        // Camera.
+        let camera = match &mut self.track {
+            TrackState::Playing { track, seconds } => {
+                *seconds += dt;
+                let c = track.camera_at(*seconds, &self.fly.camera());
+                if *seconds > track.duration() {
+                    self.track = TrackState::Idle;
+                }
+                c
+            }
+            TrackState::Recording { track, seconds } => {
+                self.fly.advance(&self.motion, dt);
+                *seconds += dt;
+                if *seconds - track.duration() >= 1.0 / RECORD_FPS {
+                    track.record(*seconds, &self.fly.camera());
+                }
+                self.fly.camera()
+            }
+            TrackState::Idle => {
+                self.fly.advance(&self.motion, dt);
+                self.fly.camera()
+            }
+        };
+        if let Err(e) = self.session.render(&self.gpu, &camera) {
+            if self.session.error.as_deref() != Some(e.as_str()) {
+                self.log(format!("frame failed: {e}"));
+            }
+            self.session.error = Some(e);
+        }
+        if self.opts.verbose {
+            println!("frame {frame_no}");
+        }
+        self.draw_window();
+        if self.opts.frames.is_some_and(|n| self.session.frame_index >= n) {
+            if let Some(path) = self.opts.screenshot.clone() {
+                if let Err(e) = self.screenshot(&path) {
+                    self.result = Err(format!("screenshot: {e}"));
+                }
+            }
+            self.exit = true;
+        }
+    }
+
+    fn draw_window(&mut self) {
+        let Some(ws) = self.window.as_mut() else { return };
+        let gpu = &self.gpu;
+        // The viewport's texture.
+        if let Some(exec) = self.session.exec() {
+            let (r, mapping) = match &self.view {
+                View::Output => {
+                    let r = exec.plan().output;
+                    (Some(r), format_of(exec, r).map(Mapping::identity))
+                }
+                View::Resource { resource, .. } => {
+                    let r = exec.plan().resource_by_name(resource).filter(|&r| exec.plan().is_kept(r));
+                    if self.mapping.is_none() {
+                        self.mapping = r.and_then(|r| {
+                            let format = format_of(exec, r)?;
+                            exec.read_texture_f32(gpu, r).ok().map(|(_, _, texels)| Mapping::auto_range(format, &texels))
+                        });
+                    }
+                    (r, self.mapping)
+                }
+            };
+            match (r, mapping) {
+                (Some(r), Some(m)) => {
+                    if let Err(e) = ws.display.show(gpu, exec, r, &m) {
+                        self.ui_state.status = format!("cannot show the texture: {e}");
+                    }
+                }
+                _ => self.ui_state.status = "the selected texture is not in the running plan".into(),
+            }
+        }
+        let surface_texture = match ws.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            _ => {
+                ws.surface.configure(&gpu.device, &ws.config);
+                return;
+            }
+        };
+        let presets: Vec<String> = self.session.scene.presets.iter().map(|(n, _)| n.clone()).collect();
+        let frame = Frame {
+            session: &self.session,
+            gpu,
+            view: &self.view,
+            presets: &presets,
+            recording: matches!(self.track, TrackState::Recording { .. }),
+            playing: matches!(self.track, TrackState::Playing { .. }),
+        };
+        let raw = ws.egui_state.take_egui_input(&ws.window);
+        let display_id = ws.display_id;
+        let mut actions = Vec::new();
+        let ui_state = &mut self.ui_state;
+        let out = ws.egui_ctx.run_ui(raw, |root| {
+            viewport(root, display_id, self.opts.size);
+            let ctx = root.ctx().clone();
+            actions = ui::draw(&ctx, &frame, ui_state);
+        });
+        ws.egui_state.handle_platform_output(&ws.window, out.platform_output.clone());
+        let view = surface_texture.texture.create_view(&Default::default());
+        draw_egui(gpu, ws, &out, &view);
+        gpu.queue.present(surface_texture);
+        for a in actions {
+            self.apply(a);
+        }
+    }
+}
+
+/// The viewport: the display texture scaled to fit the window, behind the overlay.
+fn viewport(ui: &mut egui::Ui, id: egui::TextureId, size: (u32, u32)) {
+    egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| {
+        let avail = ui.available_size();
+        let aspect = size.0 as f32 / size.1 as f32;
+        let fit = if avail.x / avail.y > aspect { egui::vec2(avail.y * aspect, avail.y) } else { egui::vec2(avail.x, avail.x / aspect) };
+        ui.centered_and_justified(|ui| ui.add(egui::Image::new(egui::load::SizedTexture::new(id, fit))));
+    });
+}
+
+fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &egui::FullOutput, target: &wgpu::TextureView) {
+    let jobs = ws.egui_ctx.tessellate(out.shapes.clone(), out.pixels_per_point);
+    let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [ws.config.width, ws.config.height], pixels_per_point: out.pixels_per_point };
+    for (id, deltas) in &out.textures_delta.set {
+        for delta in deltas {
+            ws.renderer.update_texture(&gpu.device, &gpu.queue, *id, delta);
+        }
+    }
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer overlay") });
+    let extra = ws.renderer.update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &screen);
+    {
+        let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("viewer overlay"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.05, g: 0.05, b: 0.06, a: 1.0 }), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        ws.renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+    }
+    gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
+    for id in &out.textures_delta.free {
+        ws.renderer.free_texture(id);
+    }
+}
+
+/// Reads a whole texture of a 4-byte RGBA or BGRA format back as RGBA8 rows.
+fn read_rgba(gpu: &Gpu, texture: &wgpu::Texture, format: wgpu::TextureFormat) -> Result<Vec<u8>, String> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = (w * 4).div_ceil(256) * 256;
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("viewer screenshot"),
+        size: row as u64 * h as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: None } },
+        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let view = crate::runtime::profiler::map_read(&gpu.device, buffer.slice(..)).map_err(|e| e.to_string())?;
+    let bgra = matches!(format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb);
+    let mut out = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h as usize {
+        for px in view[y * row as usize..y * row as usize + w as usize * 4].chunks_exact(4) {
+            out.extend_from_slice(&if bgra { [px[2], px[1], px[0], 255] } else { [px[0], px[1], px[2], 255] });
+        }
+    }
+    Ok(out)
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        match self.open_window(event_loop) {
+            Ok(ws) => {
+                ws.window.request_redraw();
+                self.window = Some(ws);
+            }
+            Err(e) => {
+                self.result = Err(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(ws) = self.window.as_mut() else { return };
+        let consumed = ws.egui_state.on_window_event(&ws.window, &event).consumed;
+        match event {
+            WindowEvent::CloseRequested => self.exit = true,
+            WindowEvent::Resized(size) => {
+                ws.config.width = size.width.max(1);
+                ws.config.height = size.height.max(1);
+                ws.surface.configure(&self.gpu.device, &ws.config);
+            }
+            WindowEvent::RedrawRequested => {
+                self.redraw();
+                if let Some(ws) = &self.window {
+                    ws.window.request_redraw();
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } if !consumed => {
+                let down = event.state == ElementState::Pressed;
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    let m = &mut self.motion;
+                    match code {
+                        KeyCode::KeyW => m.forward = down,
+                        KeyCode::KeyS => m.back = down,
+                        KeyCode::KeyA => m.left = down,
+                        KeyCode::KeyD => m.right = down,
+                        KeyCode::KeyE => m.up = down,
+                        KeyCode::KeyQ => m.down = down,
+                        KeyCode::ShiftLeft | KeyCode::ShiftRight => m.fast = down,
+                        KeyCode::F1 if down => self.ui_state.visible = !self.ui_state.visible,
+                        KeyCode::Escape if down => self.exit = true,
+                        _ => {}
+                    }
+                }
+            }
+            WindowEvent::MouseInput { state, button: MouseButton::Right, .. } => {
+                self.looking = (state == ElementState::Pressed).then_some((f64::NAN, f64::NAN))
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some((x, y)) = self.looking {
+                    if x.is_finite() {
+                        self.fly.look((position.x - x) as f32, (position.y - y) as f32);
+                    }
+                    self.looking = Some((position.x, position.y));
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } if !consumed => {
+                let notches = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                self.fly.scale_speed(notches);
+            }
+            _ => {}
+        }
+        if self.exit {
+            event_loop.exit();
+        }
+    }
+}

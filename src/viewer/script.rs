@@ -1,0 +1,116 @@
+//! `raygraph view --script FILE`: timed actions for automated runs, a RON list of steps, each
+//! done at the start of a frame (frame 0 is the first frame drawn):
+//!
+//! ```ron
+//! Script(steps: [
+//!     (frame: 2, action: Mode(FullRt)),
+//!     (frame: 4, action: Param(node: "ao", name: "rays", value: 2)),
+//!     (frame: 5, action: Enable(node: "reflection", on: false)),
+//!     (frame: 6, action: SelectPass("ao/ao")),
+//!     (frame: 8, action: Screenshot("ao.png")),
+//!     (frame: 9, action: Quit),
+//! ])
+//! ```
+//!
+//! Relative paths are taken from the current directory.
+
+use crate::graph::desc::ParamValue;
+use crate::graph::Mode;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Script")]
+pub struct Script {
+    pub steps: Vec<Step>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Step {
+    pub frame: u64,
+    pub action: Action,
+}
+
+/// What the UI can do, as a script step.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub enum Action {
+    /// Switch to a built-in mode's graph.
+    Mode(ScriptMode),
+    /// Switch the traversal back-end (`compute`, `ray-query`).
+    Backend(String),
+    /// Set a parameter of a layer node.
+    Param {
+        node: String,
+        name: String,
+        value: ParamValue,
+    },
+    /// Switch a layer node (an effect) on or off.
+    Enable {
+        node: String,
+        on: bool,
+    },
+    /// Show the first texture a pass writes in the viewport (as clicking it in the overlay).
+    SelectPass(String),
+    /// Show a texture resource by name (`gbuffer.normal`).
+    SelectResource(String),
+    /// Show the graph's output again.
+    ShowOutput,
+    /// Move the camera to a preset of the scene.
+    Preset(String),
+    /// Place the camera.
+    Camera {
+        position: (f32, f32, f32),
+        target: (f32, f32, f32),
+    },
+    /// Write the window (frame and overlay) to a PNG, and what the overlay lists beside it
+    /// (`FILE.overlay.txt`).
+    Screenshot(PathBuf),
+    /// Show or hide the overlay.
+    Overlay(bool),
+    /// Start recording a camera track (a key every 1/30 s of the fly camera).
+    Record,
+    /// Stop recording and save the track (RON, as `bench track` reads).
+    SaveTrack(PathBuf),
+    /// Play a track file.
+    PlayTrack(PathBuf),
+    Quit,
+}
+
+/// [`Mode`] as written in scripts.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+pub enum ScriptMode {
+    Raster,
+    Hybrid,
+    FullRt,
+}
+
+impl From<ScriptMode> for Mode {
+    fn from(m: ScriptMode) -> Mode {
+        match m {
+            ScriptMode::Raster => Mode::Raster,
+            ScriptMode::Hybrid => Mode::Hybrid,
+            ScriptMode::FullRt => Mode::FullRt,
+        }
+    }
+}
+
+impl Script {
+    /// Reads a script; errors name the file and, for syntax errors, the line and column.
+    pub fn load(path: &Path) -> Result<Script, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read the script: {e}", path.display()))?;
+        let mut script: Script =
+            ron::from_str(&text).map_err(|e| format!("{}:{}:{}: invalid script: {}", path.display(), e.position.line, e.position.col, e.code))?;
+        script.steps.sort_by_key(|s| s.frame);
+        Ok(script)
+    }
+
+    /// The steps due at `frame`.
+    pub fn due(&self, frame: u64) -> impl Iterator<Item = &Action> {
+        self.steps.iter().filter(move |s| s.frame == frame).map(|s| &s.action)
+    }
+
+    pub fn last_frame(&self) -> Option<u64> {
+        self.steps.last().map(|s| s.frame)
+    }
+}

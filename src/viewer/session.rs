@@ -1,0 +1,276 @@
+//! The viewer's running graph, without any window: which graph file and back-end, the
+//! parameter values and effect switches set from the UI, the executor of the last plan that
+//! compiled, hot reload (the graph file, every layer file and every WGSL file are watched; a
+//! change compiles a new plan, and an error keeps the last good one running), and a rolling
+//! window of frame timings for the profiler overlay.
+
+use crate::accel::backend::Backend;
+use crate::graph::compile::{compile_with, CompileOptions, Plan};
+use crate::graph::desc::{NodeDesc, ParamDecl, ParamValue};
+use crate::graph::{Mode, Project};
+use crate::runtime::profiler::FrameTimings;
+use crate::runtime::report::Report;
+use crate::runtime::{Executor, Gpu};
+use crate::scene::{Camera, Scene};
+use std::collections::{BTreeMap, VecDeque};
+use std::path::{Path, PathBuf};
+use std::time::{Instant, SystemTime};
+
+/// Frames kept for the overlay's statistics.
+pub const STATS_WINDOW: usize = 120;
+
+/// A layer node of the graph file, for the parameters panel: its parameters as declared (with
+/// the values in effect) and whether it is switched on.
+#[derive(Debug, Clone)]
+pub struct NodeControls {
+    pub node: String,
+    pub layer: String,
+    pub enabled: bool,
+    pub params: Vec<(String, ParamDecl, ParamValue)>,
+}
+
+/// Every file a compile of the graph reads, with its modification time.
+#[derive(Debug, Default, PartialEq)]
+struct Snapshot(BTreeMap<PathBuf, Option<SystemTime>>);
+
+impl Snapshot {
+    fn take(graph_file: &Path, project: &Project) -> Self {
+        let mut files = BTreeMap::new();
+        let mtime = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+        files.insert(graph_file.to_path_buf(), mtime(graph_file));
+        let mut stack = vec![project.layers_dir.clone(), project.shaders_dir.clone()];
+        while let Some(dir) = stack.pop() {
+            let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+            for e in entries.flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "wgsl")) {
+                    files.insert(p.clone(), mtime(&p));
+                }
+            }
+        }
+        Snapshot(files)
+    }
+}
+
+/// What happened when the files changed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Reload {
+    /// A new plan runs.
+    Reloaded { passes: usize },
+    /// The change does not compile; the last good plan keeps running.
+    Failed(String),
+}
+
+pub struct Session {
+    pub root: PathBuf,
+    pub graph_file: PathBuf,
+    pub mode: Option<Mode>,
+    pub project: Project,
+    pub options: CompileOptions,
+    pub size: (u32, u32),
+    pub scene: Scene,
+    exec: Option<Executor>,
+    /// The last compile or frame error (file:line where it has one), shown until a compile
+    /// succeeds.
+    pub error: Option<String>,
+    snapshot: Snapshot,
+    last_poll: Instant,
+    /// Recent frames of the current plan (cleared when the plan changes).
+    pub frames: VecDeque<FrameTimings>,
+    pub frame_index: u64,
+    /// Plans compiled since start (1 after the first).
+    pub generation: u64,
+}
+
+impl Session {
+    /// Compiles the graph and instantiates it; an error here is fatal (there is no good plan
+    /// to fall back to).
+    pub fn new(gpu: &Gpu, root: &Path, graph_file: PathBuf, mode: Option<Mode>, backend: Backend, size: (u32, u32), scene: Scene) -> Result<Self, String> {
+        let project = Project::beside_graph(&graph_file);
+        let mut options = gpu.compile_options_for(backend);
+        options.backend = backend;
+        let mut s = Self {
+            root: root.to_path_buf(),
+            snapshot: Snapshot::take(&graph_file, &project),
+            graph_file,
+            mode,
+            project,
+            options,
+            size,
+            scene,
+            exec: None,
+            error: None,
+            last_poll: Instant::now(),
+            frames: VecDeque::new(),
+            frame_index: 0,
+            generation: 0,
+        };
+        s.recompile(gpu).map_err(|e| e.to_string())?;
+        Ok(s)
+    }
+
+    pub fn exec(&self) -> Option<&Executor> {
+        self.exec.as_ref()
+    }
+
+    pub fn plan(&self) -> Option<&Plan> {
+        self.exec.as_ref().map(|e| e.plan())
+    }
+
+    pub fn backend(&self) -> Backend {
+        self.options.backend
+    }
+
+    /// Compiles the graph with the current options and replaces the executor; on error the
+    /// previous executor stays and the error is kept for the overlay.
+    pub fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
+        let result = compile_with(&self.graph_file, &self.project, self.size, &self.options)
+            .map_err(|e| e.to_string())
+            .and_then(|plan| Executor::new(gpu, plan, &self.scene).map_err(|e| e.to_string()));
+        match result {
+            Ok(exec) => {
+                let passes = exec.plan().passes.len();
+                self.exec = Some(exec);
+                self.error = None;
+                self.frames.clear();
+                self.generation += 1;
+                Ok(passes)
+            }
+            Err(e) => {
+                self.error = Some(e.clone());
+                Err(e)
+            }
+        }
+    }
+
+    /// Checks the watched files (at most every `interval`) and compiles again if any changed.
+    pub fn poll_reload(&mut self, gpu: &Gpu, interval: std::time::Duration) -> Option<Reload> {
+        if self.last_poll.elapsed() < interval {
+            return None;
+        }
+        self.last_poll = Instant::now();
+        let now = Snapshot::take(&self.graph_file, &self.project);
+        if now == self.snapshot {
+            return None;
+        }
+        self.snapshot = now;
+        Some(match self.recompile(gpu) {
+            Ok(passes) => Reload::Reloaded { passes },
+            Err(e) => Reload::Failed(e),
+        })
+    }
+
+    /// Switches to one of the built-in modes' graphs.
+    pub fn set_mode(&mut self, gpu: &Gpu, mode: Mode) -> Result<usize, String> {
+        self.switch_graph(gpu, self.root.join(mode.graph()), Some(mode))
+    }
+
+    fn switch_graph(&mut self, gpu: &Gpu, graph_file: PathBuf, mode: Option<Mode>) -> Result<usize, String> {
+        let previous = (
+            std::mem::replace(&mut self.graph_file, graph_file),
+            self.mode,
+            self.project.clone(),
+            std::mem::take(&mut self.options.params),
+            std::mem::take(&mut self.options.enabled),
+        );
+        self.mode = mode;
+        self.project = Project::beside_graph(&self.graph_file);
+        match self.recompile(gpu) {
+            Ok(n) => {
+                self.snapshot = Snapshot::take(&self.graph_file, &self.project);
+                Ok(n)
+            }
+            Err(e) => {
+                (self.graph_file, self.mode, self.project, self.options.params, self.options.enabled) = previous;
+                Err(e)
+            }
+        }
+    }
+
+    /// Switches the traversal back-end (the same graph compiled for it).
+    pub fn set_backend(&mut self, gpu: &Gpu, backend: Backend) -> Result<usize, String> {
+        let previous = self.options.backend;
+        self.options.backend = backend;
+        self.recompile(gpu).inspect_err(|_| self.options.backend = previous)
+    }
+
+    /// Sets a parameter: in place where the executor can, else by compiling again. Kept for
+    /// later compiles (hot reload, mode switches keep it only for the same graph).
+    pub fn set_param(&mut self, gpu: &Gpu, node: &str, name: &str, value: ParamValue) -> Result<(), String> {
+        let in_place = match self.exec.as_mut() {
+            Some(exec) => exec.set_param(gpu, node, name, value)?,
+            None => false,
+        };
+        let previous = self.options.params.insert((node.to_string(), name.to_string()), value);
+        if !in_place {
+            if let Err(e) = self.recompile(gpu) {
+                match previous {
+                    Some(v) => self.options.params.insert((node.to_string(), name.to_string()), v),
+                    None => self.options.params.remove(&(node.to_string(), name.to_string())),
+                };
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Switches an effect (a layer node) on or off: a new plan without (or with) its passes.
+    pub fn set_enabled(&mut self, gpu: &Gpu, node: &str, on: bool) -> Result<(), String> {
+        let previous = self.options.enabled.insert(node.to_string(), on);
+        self.recompile(gpu).map(|_| ()).inspect_err(|_| {
+            match previous {
+                Some(v) => self.options.enabled.insert(node.to_string(), v),
+                None => self.options.enabled.remove(node),
+            };
+        })
+    }
+
+    /// The graph file's layer nodes with their parameter declarations and values in effect
+    /// (read from the files, so switched-off nodes are listed too).
+    pub fn controls(&self) -> Vec<NodeControls> {
+        let Ok(graph) = crate::graph::compile::parse_graph(&self.graph_file) else { return Vec::new() };
+        let mut out = Vec::new();
+        for (node, desc) in &graph.nodes {
+            let NodeDesc::Layer(l) = desc else { continue };
+            let Ok(layer) = crate::graph::compile::parse_layer(&self.project.layers_dir.join(format!("{}.ron", l.layer))) else { continue };
+            let enabled = self.options.enabled.get(node).copied().unwrap_or(l.enabled);
+            let params = layer
+                .params
+                .iter()
+                .map(|(name, decl)| {
+                    let value =
+                        self.options.params.get(&(node.clone(), name.clone())).or_else(|| l.params.get(name)).copied().unwrap_or_else(|| decl.default_value());
+                    (name.clone(), decl.clone(), value)
+                })
+                .collect();
+            out.push(NodeControls { node: node.clone(), layer: l.layer.clone(), enabled, params });
+        }
+        out
+    }
+
+    /// Renders a frame with the current plan and keeps its timings.
+    pub fn render(&mut self, gpu: &Gpu, camera: &Camera) -> Result<&FrameTimings, String> {
+        let exec = self.exec.as_mut().ok_or("no plan")?;
+        let t = exec.render(gpu, camera, &self.scene).map_err(|e| e.to_string())?;
+        self.frame_index += 1;
+        if self.frames.len() == STATS_WINDOW {
+            self.frames.pop_front();
+        }
+        self.frames.push_back(t);
+        Ok(self.frames.back().expect("just pushed"))
+    }
+
+    /// Per-pass statistics over the rolling window (mean, median, min, max of GPU and CPU
+    /// ms, rays per pixel, GigaRays/s).
+    pub fn report(&self) -> Option<Report> {
+        let plan = self.plan()?;
+        if self.frames.is_empty() {
+            return None;
+        }
+        let names: Vec<(String, &'static str)> = plan.passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+        let frames: Vec<FrameTimings> = self.frames.iter().cloned().collect();
+        Some(Report::new(&names, self.size.0 as u64 * self.size.1 as u64, &frames))
+    }
+}

@@ -1,0 +1,404 @@
+//! The egui overlay: mode, back-end, camera and track controls; the parameters panel made from
+//! the layer files' declarations; the profiler (per-pass GPU and CPU ms over a rolling
+//! window, rays per pixel and GigaRays/s, acceleration-structure builds, transient memory,
+//! adapter and back-end, a frame-time history); the compiled graph drawn as a graph; and the
+//! last error. Everything the user does comes back as [`Action`]s, the same ones a script
+//! runs.
+
+use super::script::{Action, ScriptMode};
+use super::session::Session;
+use crate::graph::compile::{fmt_bytes, Plan};
+use crate::graph::desc::{ParamDecl, ParamValue, ResourceDecl};
+use crate::graph::Mode;
+use crate::runtime::Gpu;
+use egui::{Color32, RichText};
+use std::fmt::Write;
+
+/// What the viewport shows.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum View {
+    #[default]
+    Output,
+    /// A texture of the plan: (pass that writes it, resource name).
+    Resource { pass: Option<String>, resource: String },
+}
+
+/// State of the overlay's own widgets.
+#[derive(Debug)]
+pub struct UiState {
+    pub visible: bool,
+    pub track_path: String,
+    pub status: String,
+}
+
+impl Default for UiState {
+    fn default() -> Self {
+        Self { visible: true, track_path: "track.ron".into(), status: String::new() }
+    }
+}
+
+/// Everything the overlay shows about the current frame.
+pub struct Frame<'a> {
+    pub session: &'a Session,
+    pub gpu: &'a Gpu,
+    pub view: &'a View,
+    pub presets: &'a [String],
+    pub recording: bool,
+    pub playing: bool,
+}
+
+fn script_mode(m: Mode) -> ScriptMode {
+    match m {
+        Mode::Raster => ScriptMode::Raster,
+        Mode::Hybrid => ScriptMode::Hybrid,
+        Mode::FullRt => ScriptMode::FullRt,
+    }
+}
+
+/// The first texture a pass writes (what clicking it shows).
+pub fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
+    let p = plan.passes.iter().find(|p| p.name == pass)?;
+    p.writes.iter().map(|(_, r)| &plan.resources[*r]).find(|r| matches!(r.decl, ResourceDecl::Texture(_))).map(|r| r.name.clone())
+}
+
+/// One line per pass of the profiler: name, kind, GPU ms (mean / median / min / max), CPU ms,
+/// rays per pixel, GigaRays/s.
+pub fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
+    let Some(report) = f.session.report() else { return Vec::new() };
+    report
+        .passes
+        .iter()
+        .map(|p| {
+            let mut s = String::new();
+            match &p.gpu_ms {
+                Some(g) => {
+                    let _ = write!(s, "GPU {:.3} ms (mean {:.3}, min {:.3}, max {:.3})", g.median, g.mean, g.min, g.max);
+                }
+                None => s.push_str("GPU n/a"),
+            }
+            if let Some(c) = &p.cpu_ms {
+                let _ = write!(s, "  CPU {:.3} ms", c.median);
+            }
+            if let Some(r) = p.rays_per_pixel {
+                let _ = write!(s, "  {r:.2} rays/px");
+            }
+            if let Some(g) = p.grays_per_s {
+                let _ = write!(s, "  {g:.3} GR/s");
+            }
+            (p.name.clone(), s, p.gpu_ms.as_ref().map(|g| g.median))
+        })
+        .collect()
+}
+
+/// The overlay as text (written beside screenshots, so an automated run can check what the
+/// overlay showed).
+pub fn overlay_text(f: &Frame) -> String {
+    let mut s = String::new();
+    let session = f.session;
+    let _ = writeln!(s, "adapter: {}", f.gpu.describe());
+    let _ = writeln!(s, "back-end: {}", session.backend());
+    let _ = writeln!(s, "graph: {}", session.graph_file.display());
+    let _ = writeln!(s, "mode: {}", session.mode.map(|m| m.label()).unwrap_or("custom graph"));
+    let _ = writeln!(
+        s,
+        "view: {}",
+        match f.view {
+            View::Output => "output".to_string(),
+            View::Resource { resource, .. } => resource.clone(),
+        }
+    );
+    let _ = writeln!(s, "frame: {}", session.frame_index);
+    if let Some(plan) = session.plan() {
+        let _ = writeln!(s, "passes:");
+        for (name, line, _) in pass_rows(f) {
+            let _ = writeln!(s, "  {name}: {line}");
+        }
+        let _ = writeln!(s, "culled: {}", if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") });
+        let off: Vec<String> = session.controls().into_iter().filter(|c| !c.enabled).map(|c| c.node).collect();
+        let _ = writeln!(s, "switched off: {}", if off.is_empty() { "none".into() } else { off.join(", ") });
+        let _ = writeln!(s, "transient memory: {} with reuse, {} without", fmt_bytes(plan.bytes_with_reuse()), fmt_bytes(plan.bytes_without_reuse()));
+    }
+    if let Some(a) = session.frames.back().and_then(|t| t.accel.as_ref()) {
+        let _ = writeln!(s, "acceleration structures this frame: {}", a.describe());
+    }
+    if let Some(e) = &session.error {
+        let _ = writeln!(s, "error: {e}");
+    }
+    s
+}
+
+/// Draws the overlay; returns what the user asked for.
+pub fn draw(ctx: &egui::Context, f: &Frame, state: &mut UiState) -> Vec<Action> {
+    let mut actions = Vec::new();
+    if !state.visible {
+        return actions;
+    }
+    controls_window(ctx, f, state, &mut actions);
+    profiler_window(ctx, f, &mut actions);
+    parameters_window(ctx, f, &mut actions);
+    graph_window(ctx, f, &mut actions);
+    if let Some(e) = &f.session.error {
+        egui::Window::new("Error").anchor(egui::Align2::LEFT_BOTTOM, [12.0, -12.0]).default_width(620.0).show(ctx, |ui| {
+            ui.label(RichText::new(e).color(Color32::from_rgb(255, 110, 110)).monospace());
+            ui.label("The last graph that compiled keeps running; saving a fixed file reloads it.");
+        });
+    }
+    actions
+}
+
+fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions: &mut Vec<Action>) {
+    egui::Window::new("raygraph").default_pos([16.0, 16.0]).show(ctx, |ui| {
+        ui.horizontal(|ui| {
+            ui.label("mode");
+            for m in Mode::ALL {
+                if ui.selectable_label(f.session.mode == Some(m), m.label()).clicked() && f.session.mode != Some(m) {
+                    actions.push(Action::Mode(script_mode(m)));
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("back-end");
+            for b in &f.gpu.backends {
+                if ui.selectable_label(f.session.backend() == *b, b.to_string()).clicked() && f.session.backend() != *b {
+                    actions.push(Action::Backend(b.to_string()));
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("camera");
+            for p in f.presets {
+                if ui.button(p).clicked() {
+                    actions.push(Action::Preset(p.clone()));
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("track");
+            ui.text_edit_singleline(&mut state.track_path);
+        });
+        ui.horizontal(|ui| {
+            if f.recording {
+                if ui.button("stop and save").clicked() {
+                    actions.push(Action::SaveTrack(state.track_path.clone().into()));
+                }
+            } else if ui.button("record").clicked() {
+                actions.push(Action::Record);
+            }
+            if ui.add_enabled(!f.playing && !f.recording, egui::Button::new("play")).clicked() {
+                actions.push(Action::PlayTrack(state.track_path.clone().into()));
+            }
+            if ui.button("screenshot").clicked() {
+                actions.push(Action::Screenshot(format!("raygraph-{}.png", f.session.frame_index).into()));
+            }
+        });
+        ui.label("WASD fly, Q/E down/up, Shift fast, right mouse button look, wheel speed, F1 overlay");
+        if !state.status.is_empty() {
+            ui.label(&state.status);
+        }
+    });
+}
+
+fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
+    let session = f.session;
+    egui::Window::new("Profiler").default_pos([16.0, 210.0]).show(ctx, |ui| {
+        ui.label(format!("{}", f.gpu.describe()));
+        ui.label(format!(
+            "back-end {}  |  {}",
+            session.backend(),
+            session.graph_file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
+        ));
+        let rows = pass_rows(f);
+        let max = rows.iter().filter_map(|r| r.2).fold(0.0f64, f64::max).max(1e-9);
+        let total: f64 = rows.iter().filter_map(|r| r.2).sum();
+        let wall = session.frames.back().map(|t| t.frame_ms).unwrap_or(0.0);
+        ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames.len()));
+        let selected = match f.view {
+            View::Resource { pass, .. } => pass.clone(),
+            View::Output => None,
+        };
+        let report = session.report();
+        egui::Grid::new("passes").striped(true).show(ui, |ui| {
+            for h in ["pass (click: show its output)", "GPU ms", "median", "mean", "min", "max", "CPU ms", "rays/px", "GR/s"] {
+                ui.label(RichText::new(h).small());
+            }
+            ui.end_row();
+            let cell = |ui: &mut egui::Ui, v: Option<f64>, digits: usize| {
+                ui.label(RichText::new(v.map(|v| format!("{v:.digits$}")).unwrap_or_default()).monospace().size(11.0))
+            };
+            for (i, (name, _, gpu)) in rows.iter().enumerate() {
+                if ui.selectable_label(selected.as_deref() == Some(name), name).clicked() {
+                    actions.push(Action::SelectPass(name.clone()));
+                }
+                let frac = (gpu.unwrap_or(0.0) / max) as f32;
+                let (rect, _) = ui.allocate_exact_size(egui::vec2(90.0, 10.0), egui::Sense::hover());
+                ui.painter().rect_filled(egui::Rect::from_min_size(rect.min, egui::vec2(90.0 * frac, 10.0)), 2.0, Color32::from_rgb(90, 170, 255));
+                let p = report.as_ref().and_then(|r| r.passes.get(i));
+                let g = p.and_then(|p| p.gpu_ms.as_ref());
+                cell(ui, g.map(|g| g.median), 3);
+                cell(ui, g.map(|g| g.mean), 3);
+                cell(ui, g.map(|g| g.min), 3);
+                cell(ui, g.map(|g| g.max), 3);
+                cell(ui, p.and_then(|p| p.cpu_ms.as_ref()).map(|c| c.median), 3);
+                cell(ui, p.and_then(|p| p.rays_per_pixel), 2);
+                cell(ui, p.and_then(|p| p.grays_per_s), 3);
+                ui.end_row();
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            if ui.selectable_label(matches!(f.view, View::Output), "output").clicked() {
+                actions.push(Action::ShowOutput);
+            }
+            // Every texture the selected pass writes (a G-buffer pass has several).
+            let Some(plan) = session.plan() else { return };
+            let Some(pass) = selected.as_ref().and_then(|s| plan.passes.iter().find(|p| &p.name == s)) else { return };
+            for (_, r) in &pass.writes {
+                let res = &plan.resources[*r];
+                if matches!(res.decl, ResourceDecl::Texture(_)) {
+                    let shown = matches!(f.view, View::Resource { resource, .. } if *resource == res.name);
+                    if ui.selectable_label(shown, &res.name).clicked() {
+                        actions.push(Action::SelectResource(res.name.clone()));
+                    }
+                }
+            }
+        });
+        if let Some(plan) = session.plan() {
+            ui.label(format!("culled: {}", if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") }));
+            ui.label(format!("transient memory: {} with reuse ({} without)", fmt_bytes(plan.bytes_with_reuse()), fmt_bytes(plan.bytes_without_reuse())));
+        }
+        let builds = session.frames.back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
+        ui.label(format!("acceleration structures this frame: {builds}"));
+        // Frame-time history: GPU total per frame over the window.
+        let history: Vec<f64> = session.frames.iter().map(|t| t.gpu_ms.as_ref().map(|g| g.iter().sum()).unwrap_or(t.frame_ms)).collect();
+        let peak = history.iter().copied().fold(1e-9f64, f64::max);
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(360.0, 50.0), egui::Sense::hover());
+        ui.painter().rect_filled(rect, 2.0, Color32::from_black_alpha(120));
+        let n = super::session::STATS_WINDOW as f32;
+        let points: Vec<egui::Pos2> = history
+            .iter()
+            .enumerate()
+            .map(|(i, ms)| egui::pos2(rect.left() + rect.width() * i as f32 / n, rect.bottom() - rect.height() * (*ms / peak) as f32))
+            .collect();
+        ui.painter().add(egui::Shape::line(points, egui::Stroke::new(1.5, Color32::from_rgb(120, 220, 120))));
+        ui.label(format!("frame GPU time, last {} frames (peak {peak:.2} ms)", history.len()));
+    });
+}
+
+fn parameters_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
+    egui::Window::new("Parameters").anchor(egui::Align2::RIGHT_TOP, [-12.0, 12.0]).default_width(300.0).show(ctx, |ui| {
+        egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
+            for c in f.session.controls() {
+                let mut on = c.enabled;
+                if ui.checkbox(&mut on, RichText::new(format!("{} ({})", c.node, c.layer)).strong()).changed() {
+                    actions.push(Action::Enable { node: c.node.clone(), on });
+                }
+                if !c.enabled {
+                    continue;
+                }
+                for (name, decl, value) in &c.params {
+                    let set = |v: ParamValue| Action::Param { node: c.node.clone(), name: name.clone(), value: v };
+                    ui.horizontal(|ui| {
+                        ui.add_space(16.0);
+                        match (decl, *value) {
+                            (ParamDecl::Float { min, max, .. }, ParamValue::Float(v)) => {
+                                let mut x = v;
+                                let r = ui.add(egui::Slider::new(&mut x, *min..=*max).text(name).logarithmic(*max > 100.0 * min.abs().max(1.0)));
+                                if r.changed() {
+                                    actions.push(set(ParamValue::Float(x)));
+                                }
+                            }
+                            (ParamDecl::Int { min, max, .. }, ParamValue::Int(v)) => {
+                                let mut x = v;
+                                let r = ui.add(egui::Slider::new(&mut x, *min..=*max).text(name).logarithmic(*max > 1000 * min.abs().max(1)));
+                                if r.changed() {
+                                    actions.push(set(ParamValue::Int(x)));
+                                }
+                            }
+                            (ParamDecl::Bool { .. }, ParamValue::Bool(v)) => {
+                                let mut x = v;
+                                if ui.checkbox(&mut x, name).changed() {
+                                    actions.push(set(ParamValue::Bool(x)));
+                                }
+                            }
+                            (ParamDecl::Enum { values, .. }, ParamValue::Int(v)) => {
+                                let mut x = v as usize;
+                                egui::ComboBox::from_label(name).selected_text(values.get(x).cloned().unwrap_or_default()).show_ui(ui, |ui| {
+                                    for (i, label) in values.iter().enumerate() {
+                                        ui.selectable_value(&mut x, i, label);
+                                    }
+                                });
+                                if x as i64 != v {
+                                    actions.push(set(ParamValue::Int(x as i64)));
+                                }
+                            }
+                            _ => {
+                                ui.label(format!("{name}: {value:?}"));
+                            }
+                        }
+                    });
+                }
+            }
+        });
+    });
+}
+
+/// Passes as boxes in columns by dependency depth, an arrow per resource a pass reads from
+/// another; culled passes listed under them.
+fn graph_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
+    let Some(plan) = f.session.plan() else { return };
+    egui::Window::new("Graph").anchor(egui::Align2::RIGHT_BOTTOM, [-12.0, -12.0]).default_open(false).show(ctx, |ui| {
+        let producer = |r: usize| plan.passes.iter().position(|p| p.writes.iter().any(|(_, w)| *w == r));
+        let mut depth = vec![0usize; plan.passes.len()];
+        for (i, p) in plan.passes.iter().enumerate() {
+            depth[i] = p.reads.iter().filter_map(|(_, r)| producer(*r)).filter(|&j| j < i).map(|j| depth[j] + 1).max().unwrap_or(0);
+        }
+        let columns = depth.iter().max().map_or(1, |d| d + 1);
+        let (box_w, box_h, gap_x, gap_y) = (150.0, 34.0, 40.0, 14.0);
+        let mut rows = vec![0usize; columns];
+        let slots: Vec<(usize, usize)> = depth
+            .iter()
+            .map(|&d| {
+                rows[d] += 1;
+                (d, rows[d] - 1)
+            })
+            .collect();
+        let height = rows.iter().max().copied().unwrap_or(1) as f32 * (box_h + gap_y);
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(columns as f32 * (box_w + gap_x), height), egui::Sense::hover());
+        let at = |i: usize| {
+            let (c, r) = slots[i];
+            egui::Rect::from_min_size(rect.min + egui::vec2(c as f32 * (box_w + gap_x), r as f32 * (box_h + gap_y)), egui::vec2(box_w, box_h))
+        };
+        let painter = ui.painter();
+        for (i, p) in plan.passes.iter().enumerate() {
+            for (_, r) in &p.reads {
+                if let Some(j) = producer(*r).filter(|&j| j != i) {
+                    let (a, b) = (at(j).right_center(), at(i).left_center());
+                    painter.arrow(a, b - a, egui::Stroke::new(1.0, Color32::GRAY));
+                    painter.text(
+                        a + (b - a) * 0.5,
+                        egui::Align2::CENTER_BOTTOM,
+                        &plan.resources[*r].name,
+                        egui::FontId::proportional(9.0),
+                        Color32::LIGHT_GRAY,
+                    );
+                }
+            }
+        }
+        for (i, p) in plan.passes.iter().enumerate() {
+            let r = at(i);
+            let resp = ui.interact(r, ui.scope_id().with(("pass", i)), egui::Sense::click());
+            painter.rect_filled(r, 4.0, if resp.hovered() { Color32::from_rgb(60, 90, 140) } else { Color32::from_rgb(40, 60, 95) });
+            painter.text(r.center(), egui::Align2::CENTER_CENTER, format!("{}\n{}", p.name, p.kind.name()), egui::FontId::proportional(11.0), Color32::WHITE);
+            if resp.clicked() {
+                actions.push(Action::SelectPass(p.name.clone()));
+            }
+        }
+        ui.label(format!(
+            "{} passes, {} resources ({} allocated in {} slots); culled: {}",
+            plan.passes.len(),
+            plan.resources.len(),
+            plan.resources.iter().filter(|r| r.slot.is_some()).count(),
+            plan.slots.len(),
+            if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") }
+        ));
+    });
+}
