@@ -265,13 +265,13 @@ impl App {
         let raw = ws.egui_state.take_egui_input(&ws.window);
         let display_id = ws.display_id;
         let mut state = std::mem::take(&mut self.ui_state);
-        let out = ws.egui_ctx.run_ui(raw, |root| {
+        let mut out = ws.egui_ctx.run_ui(raw, |root| {
             viewport(root, display_id, self.opts.size);
             let ctx = root.ctx().clone();
             ui::draw(&ctx, &frame, &mut state);
         });
         self.ui_state = state;
-        draw_egui(gpu, ws, &out, &target.create_view(&Default::default()));
+        draw_egui(gpu, ws, &mut out, &target.create_view(&Default::default()));
         let rgba = read_rgba(gpu, &target, ws.config.format)?;
         let img = image::RgbaImage::from_raw(w, h, rgba).ok_or("screenshot size")?;
         crate::runtime::exec::write_png(path, &img).map_err(|e| e.to_string())?;
@@ -394,14 +394,14 @@ impl App {
         let display_id = ws.display_id;
         let mut actions = Vec::new();
         let ui_state = &mut self.ui_state;
-        let out = ws.egui_ctx.run_ui(raw, |root| {
+        let mut out = ws.egui_ctx.run_ui(raw, |root| {
             viewport(root, display_id, self.opts.size);
             let ctx = root.ctx().clone();
             actions = ui::draw(&ctx, &frame, ui_state);
         });
-        ws.egui_state.handle_platform_output(&ws.window, out.platform_output.clone());
+        ws.egui_state.handle_platform_output(&ws.window, std::mem::take(&mut out.platform_output));
         let view = surface_texture.texture.create_view(&Default::default());
-        draw_egui(gpu, ws, &out, &view);
+        draw_egui(gpu, ws, &mut out, &view);
         gpu.queue.present(surface_texture);
         for a in actions {
             self.apply(a);
@@ -419,12 +419,13 @@ fn viewport(ui: &mut egui::Ui, id: egui::TextureId, size: (u32, u32)) {
     });
 }
 
-fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &egui::FullOutput, target: &wgpu::TextureView) {
-    let jobs = ws.egui_ctx.tessellate(out.shapes.clone(), out.pixels_per_point);
+/// Draws an egui frame into `target`, applying (and so consuming) its texture changes.
+fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &mut egui::FullOutput, target: &wgpu::TextureView) {
+    let jobs = ws.egui_ctx.tessellate(std::mem::take(&mut out.shapes), out.pixels_per_point);
     let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [ws.config.width, ws.config.height], pixels_per_point: out.pixels_per_point };
-    for (id, deltas) in &out.textures_delta.set {
-        for delta in deltas {
-            ws.renderer.update_texture(&gpu.device, &gpu.queue, *id, delta);
+    for (id, deltas) in std::mem::take(&mut out.textures_delta.set) {
+        for delta in &deltas {
+            ws.renderer.update_texture(&gpu.device, &gpu.queue, id, delta);
         }
     }
     let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer overlay") });
@@ -446,8 +447,8 @@ fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &egui::FullOutput, target: &w
         ws.renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
     }
     gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
-    for id in &out.textures_delta.free {
-        ws.renderer.free_texture(id);
+    for id in std::mem::take(&mut out.textures_delta.free) {
+        ws.renderer.free_texture(&id);
     }
 }
 

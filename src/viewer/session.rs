@@ -126,7 +126,10 @@ impl Session {
     /// Compiles the graph with the current options and replaces the executor; on error the
     /// previous executor stays and the error is kept for the overlay.
     pub fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
-        let result = compile_with(&self.graph_file, &self.project, self.size, &self.options)
+        // Values set on a node that is now switched off wait until it is on again.
+        let mut options = self.options.clone();
+        options.params.retain(|(node, _), _| options.enabled.get(node) != Some(&false));
+        let result = compile_with(&self.graph_file, &self.project, self.size, &options)
             .map_err(|e| e.to_string())
             .and_then(|plan| Executor::new(gpu, plan, &self.scene).map_err(|e| e.to_string()));
         match result {

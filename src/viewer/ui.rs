@@ -114,7 +114,19 @@ pub fn overlay_text(f: &Frame) -> String {
             let _ = writeln!(s, "  {name}: {line}");
         }
         let _ = writeln!(s, "culled: {}", if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") });
-        let off: Vec<String> = session.controls().into_iter().filter(|c| !c.enabled).map(|c| c.node).collect();
+        let controls = session.controls();
+        let _ = writeln!(s, "parameters:");
+        for c in controls.iter().filter(|c| c.enabled) {
+            for (name, _, value) in &c.params {
+                let v = match value {
+                    ParamValue::Float(x) => format!("{x}"),
+                    ParamValue::Int(x) => format!("{x}"),
+                    ParamValue::Bool(x) => format!("{x}"),
+                };
+                let _ = writeln!(s, "  {}.{name} = {v}", c.node);
+            }
+        }
+        let off: Vec<String> = controls.into_iter().filter(|c| !c.enabled).map(|c| c.node).collect();
         let _ = writeln!(s, "switched off: {}", if off.is_empty() { "none".into() } else { off.join(", ") });
         let _ = writeln!(s, "transient memory: {} with reuse, {} without", fmt_bytes(plan.bytes_with_reuse()), fmt_bytes(plan.bytes_without_reuse()));
     }
@@ -201,7 +213,7 @@ fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions:
 fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
     let session = f.session;
     egui::Window::new("Profiler").default_pos([16.0, 210.0]).show(ctx, |ui| {
-        ui.label(format!("{}", f.gpu.describe()));
+        ui.label(f.gpu.describe());
         ui.label(format!(
             "back-end {}  |  {}",
             session.backend(),

@@ -1,0 +1,237 @@
+//! `raygraph view` under Xvfb on lavapipe (CI installs `xvfb`; without `Xvfb` these tests fail
+//! rather than skip): a script that switches the mode, changes a parameter, switches an
+//! effect off and clicks a pass, checked through its screenshots and the overlay's text; and a
+//! WGSL file broken and fixed while the viewer runs.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::{channel, Receiver};
+use std::time::{Duration, Instant};
+
+/// A virtual X server for one test, stopped on drop.
+struct XServer {
+    process: Child,
+    display: String,
+}
+
+impl XServer {
+    fn start() -> XServer {
+        let mut process = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| panic!("Xvfb is needed for the viewer tests (apt-get install xvfb; .ci/install-vulkan.sh does): {e}"));
+        let mut line = String::new();
+        BufReader::new(process.stdout.take().unwrap()).read_line(&mut line).unwrap();
+        let n: u32 = line.trim().parse().unwrap_or_else(|_| panic!("Xvfb did not report its display: {line:?}"));
+        XServer { process, display: format!(":{n}") }
+    }
+
+    /// `raygraph view ARGS` on this display, run from the repository.
+    fn viewer(&self, args: &[&str]) -> Command {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_raygraph"));
+        c.current_dir(common::repo()).env("DISPLAY", &self.display).env_remove("WAYLAND_DISPLAY").arg("view").args(args);
+        c
+    }
+}
+
+impl Drop for XServer {
+    fn drop(&mut self) {
+        let _ = self.process.kill();
+        let _ = self.process.wait();
+    }
+}
+
+/// Runs `c` to its end (killed after `secs`), returning its status and output.
+fn run_with_timeout(mut c: Command, secs: u64) -> (bool, String) {
+    let mut child = c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let rx = lines(&mut child);
+    let err_rx = read_lines(child.stderr.take().unwrap());
+    let deadline = Instant::now() + Duration::from_secs(secs);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break Some(status);
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    std::thread::sleep(Duration::from_millis(200));
+    let out: Vec<String> = rx.try_iter().chain(err_rx.try_iter()).collect();
+    let log = out.join("\n");
+    assert!(status.is_some(), "the viewer did not finish within {secs} s:\n{log}");
+    (status.is_some_and(|s| s.success()), log)
+}
+
+fn load(path: &Path) -> image::RgbaImage {
+    image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgba8()
+}
+
+/// Mean absolute difference of two same-sized images, in 8-bit units.
+fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    a.pixels().zip(b.pixels()).map(|(p, q)| (0..3).map(|c| (p[c] as f64 - q[c] as f64).abs()).sum::<f64>() / 3.0).sum::<f64>() / (a.width() * a.height()) as f64
+}
+
+#[test]
+fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
+    let x = XServer::start();
+    let dir = common::gltf_doc::temp_dir("viewer-script");
+    let shot = |name: &str| dir.join(name).display().to_string();
+    let script = dir.join("script.ron");
+    std::fs::write(
+        &script,
+        format!(
+            r#"Script(steps: [
+                (frame: 2, action: Screenshot("{overlay}")),
+                (frame: 3, action: Overlay(false)),
+                (frame: 4, action: Screenshot("{raster}")),
+                (frame: 5, action: Mode(FullRt)),
+                (frame: 7, action: Screenshot("{full_rt}")),
+                (frame: 8, action: Param(node: "ao", name: "rays", value: 3)),
+                (frame: 9, action: SelectPass("ao/ao")),
+                (frame: 11, action: Screenshot("{ao}")),
+                (frame: 12, action: Overlay(true)),
+                (frame: 13, action: Screenshot("{ao_overlay}")),
+                (frame: 14, action: Enable(node: "ao", on: false)),
+                (frame: 16, action: Screenshot("{ao_off}")),
+                (frame: 17, action: Quit),
+            ])"#,
+            overlay = shot("overlay.png"),
+            raster = shot("raster.png"),
+            full_rt = shot("full_rt.png"),
+            ao = shot("ao.png"),
+            ao_overlay = shot("ao_overlay.png"),
+            ao_off = shot("ao_off.png"),
+        ),
+    )
+    .unwrap();
+    let (ok, log) =
+        run_with_timeout(x.viewer(&["default", "--mode", "raster", "--width", "320", "--height", "180", "--script", script.to_str().unwrap()]), 600);
+    assert!(ok, "{log}");
+    assert!(!log.contains("error:"), "no step failed: {log}");
+
+    // The overlay lists the running plan's passes with their timings, the adapter and back-end.
+    let text = |name: &str| std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
+    let raster = text("overlay");
+    for needle in ["mode: raster", "passes:", "shadow_map/", "forward/", "tonemap/tonemap: GPU", "adapter: ", "back-end: "] {
+        assert!(raster.contains(needle), "overlay of the raster graph lacks `{needle}`:\n{raster}");
+    }
+    // Overlay drawn over the frame: the screenshot with it differs from the one without.
+    let (with, without) = (load(&dir.join("overlay.png")), load(&dir.join("raster.png")));
+    assert!(mean_abs_diff(&with, &without) > 5.0, "the overlay is drawn");
+
+    // The image changes with the mode (overlay hidden in both).
+    let full_rt = load(&dir.join("full_rt.png"));
+    let d = mean_abs_diff(&without, &full_rt);
+    assert!(d > 2.0, "raster and full RT frames differ (mean |diff| {d:.2})");
+
+    // The parameter reached the running graph, the clicked pass's texture is shown.
+    let ao = text("ao_overlay");
+    for needle in ["mode: full RT", "view: ao.ao", "ao.rays = 3", "ao/ao: GPU", "gbuffer/primary: GPU", "rays/px"] {
+        assert!(ao.contains(needle), "overlay after the script's steps lacks `{needle}`:\n{ao}");
+    }
+    // AO is one value per pixel: the inspector shows it grey, unlike the shaded frame.
+    let img = load(&dir.join("ao.png"));
+    let grey = img.pixels().filter(|p| p[0].abs_diff(p[1]) <= 2 && p[1].abs_diff(p[2]) <= 2).count() as f64 / (img.width() * img.height()) as f64;
+    assert!(grey > 0.95, "the AO texture is shown as grey ({:.1}% grey pixels)", grey * 100.0);
+    assert!(mean_abs_diff(&img, &full_rt) > 5.0, "the viewport shows the AO texture, not the output");
+
+    // Switching the effect off culls its passes.
+    let off = text("ao_off");
+    assert!(off.contains("switched off: ao") && !off.contains("ao/ao:"), "AO switched off:\n{off}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Lines the child prints on stdout, as they come.
+fn lines(child: &mut Child) -> Receiver<String> {
+    read_lines(child.stdout.take().unwrap())
+}
+
+fn read_lines(stream: impl std::io::Read + Send + 'static) -> Receiver<String> {
+    let (tx, rx) = channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stream).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+/// Reads lines until one satisfies `want` (within 180 s); returns it.
+fn wait_for(rx: &Receiver<String>, seen: &mut Vec<String>, what: &str, want: impl Fn(&str) -> bool) -> String {
+    let deadline = Instant::now() + Duration::from_secs(180);
+    while let Some(left) = deadline.checked_duration_since(Instant::now()) {
+        match rx.recv_timeout(left) {
+            Ok(line) => {
+                seen.push(line.clone());
+                if want(&line) {
+                    return line;
+                }
+            }
+            Err(_) => break,
+        }
+    }
+    panic!("waited for {what}; the viewer printed:\n{}", seen.join("\n"));
+}
+
+fn frame_number(line: &str) -> Option<u64> {
+    line.strip_prefix("frame ")?.parse().ok()
+}
+
+struct KillOnDrop(Child);
+
+impl Drop for KillOnDrop {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn a_broken_shader_keeps_the_last_good_graph_running_until_it_is_fixed() {
+    let x = XServer::start();
+    let dir = common::gltf_doc::temp_dir("viewer-reload");
+    for d in ["graph", "layers", "shaders"] {
+        common::copy_dir(&common::repo().join(d), &dir.join(d));
+    }
+    let shader: PathBuf = dir.join("shaders/tonemap/tonemap.wgsl");
+    let good = std::fs::read_to_string(&shader).unwrap();
+    let graph = dir.join("graph/hybrid.ron");
+    let mut child = x
+        .viewer(&["default", "--graph", graph.to_str().unwrap(), "--width", "160", "--height", "90", "--frames", "100000", "--verbose"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let rx = lines(&mut child);
+    let child = KillOnDrop(child);
+    let mut seen = Vec::new();
+    wait_for(&rx, &mut seen, "the first frames", |l| frame_number(l).is_some_and(|n| n >= 3));
+
+    // Break the file: an error naming the file and line, and frames go on.
+    let broken_line = good.lines().count() + 2;
+    std::fs::write(&shader, format!("{good}\n fn broken( {{\n")).unwrap();
+    let error = wait_for(&rx, &mut seen, "the reload error", |l| l.starts_with("reload failed"));
+    let location = format!("tonemap.wgsl:{broken_line}:");
+    assert!(error.contains(&location), "the error names {location}: {error}");
+    let at_error = seen.iter().rev().find_map(|l| frame_number(l)).unwrap_or(0);
+    wait_for(&rx, &mut seen, "frames after the error", |l| frame_number(l).is_some_and(|n| n >= at_error + 5));
+
+    // Fix it: the graph is compiled again and keeps rendering.
+    std::fs::write(&shader, &good).unwrap();
+    wait_for(&rx, &mut seen, "the reload after the fix", |l| l.starts_with("reloaded"));
+    let at_fix = seen.iter().rev().find_map(|l| frame_number(l)).unwrap_or(0);
+    wait_for(&rx, &mut seen, "frames after the fix", |l| frame_number(l).is_some_and(|n| n >= at_fix + 3));
+    drop(child);
+    let _ = std::fs::remove_dir_all(&dir);
+}
