@@ -102,7 +102,13 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
                 (frame: 13, action: Screenshot("{ao_overlay}")),
                 (frame: 14, action: Enable(node: "ao", on: false)),
                 (frame: 16, action: Screenshot("{ao_off}")),
-                (frame: 17, action: Quit),
+                (frame: 17, action: Backend("compute")),
+                (frame: 18, action: Record),
+                (frame: 19, action: Camera(position: (0.0, 2.0, 6.0), target: (0.0, 0.5, 0.0))),
+                (frame: 21, action: SaveTrack("{track}")),
+                (frame: 22, action: PlayTrack("{track}")),
+                (frame: 24, action: Screenshot("{compute}")),
+                (frame: 25, action: Quit),
             ])"#,
             overlay = shot("overlay.png"),
             raster = shot("raster.png"),
@@ -110,6 +116,8 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
             ao = shot("ao.png"),
             ao_overlay = shot("ao_overlay.png"),
             ao_off = shot("ao_off.png"),
+            track = shot("track.ron"),
+            compute = shot("compute.png"),
         ),
     )
     .unwrap();
@@ -147,6 +155,13 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
     // Switching the effect off culls its passes.
     let off = text("ao_off");
     assert!(off.contains("switched off: ao") && !off.contains("ao/ao:"), "AO switched off:\n{off}");
+
+    // The back-end switch, and a recorded track that loads and plays.
+    let compute = text("compute");
+    assert!(compute.contains("back-end: compute") && compute.contains("gbuffer/primary: GPU"), "after the back-end switch:\n{compute}");
+    let track = raygraph::scene::track::Track::load(&dir.join("track.ron")).unwrap();
+    assert!(track.keys.len() >= 2, "recorded keys: {}", track.keys.len());
+    assert!(log.contains("track saved to"), "{log}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
