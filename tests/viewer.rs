@@ -146,6 +146,10 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
     for needle in ["mode: full RT", "view: ao.ao", "ao.rays = 3", "ao/ao: GPU", "gbuffer/primary: GPU", "rays/px"] {
         assert!(ao.contains(needle), "overlay after the script's steps lacks `{needle}`:\n{ao}");
     }
+    // The running AO pass traces at most 3 rays per pixel now (8 before).
+    let ao_line = ao.lines().find(|l| l.trim_start().starts_with("ao/ao:")).unwrap();
+    let per_px: f64 = ao_line.split_whitespace().collect::<Vec<_>>().windows(2).find(|w| w[1] == "rays/px").map(|w| w[0].parse().unwrap()).unwrap();
+    assert!(per_px > 0.0 && per_px <= 3.0, "AO rays per pixel after setting 3 rays: {ao_line}");
     // AO is one value per pixel: the inspector shows it grey, unlike the shaded frame.
     let img = load(&dir.join("ao.png"));
     let grey = img.pixels().filter(|p| p[0].abs_diff(p[1]) <= 2 && p[1].abs_diff(p[2]) <= 2).count() as f64 / (img.width() * img.height()) as f64;

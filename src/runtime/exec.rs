@@ -741,8 +741,9 @@ impl Executor {
 
     /// Changes parameter `name` of node `node` in the running plan: the value is checked against
     /// its declaration and written into the `params` uniform of every pass of the node, ready
-    /// for the next frame. `Ok(false)`: the parameter is read when an executor is made (the
-    /// `Accel` node's settings), so the plan must be compiled again with the value.
+    /// for the next frame. `Ok(false)`: the plan must be compiled again with the value, because
+    /// the parameter is read when an executor is made (the `Accel` node's settings) or no kept
+    /// pass has it (the node's passes are culled; the compiler checks the name then).
     pub fn set_param(&mut self, gpu: &Gpu, node: &str, name: &str, value: ParamValue) -> Result<bool, String> {
         let mut found = false;
         for (i, pass) in self.plan.passes.iter_mut().enumerate() {
@@ -760,11 +761,7 @@ impl Executor {
                 gpu.queue.write_buffer(buf, 0, &encode_params(&pass.params, members, *size));
             }
         }
-        if found {
-            Ok(true)
-        } else {
-            Err(format!("node `{node}` has no kept pass with a parameter `{name}`"))
-        }
+        Ok(found)
     }
 
     /// The texture a kept texture resource lives in (shared with the resources of its slot).

@@ -207,6 +207,8 @@ impl Session {
             None => false,
         };
         let previous = self.options.params.insert((node.to_string(), name.to_string()), value);
+        // The timings from before the change describe another workload.
+        self.frames.clear();
         if !in_place {
             if let Err(e) = self.recompile(gpu) {
                 match previous {
