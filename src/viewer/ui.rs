@@ -379,30 +379,37 @@ fn graph_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
             let (c, r) = slots[i];
             egui::Rect::from_min_size(rect.min + egui::vec2(c as f32 * (box_w + gap_x), r as f32 * (box_h + gap_y)), egui::vec2(box_w, box_h))
         };
+        let responses: Vec<egui::Response> =
+            (0..plan.passes.len()).map(|i| ui.interact(at(i), ui.scope_id().with(("pass", i)), egui::Sense::click())).collect();
+        let hovered = responses.iter().position(|r| r.hovered());
         let painter = ui.painter();
+        // One arrow per resource a pass reads from another pass; the hovered pass's edges are
+        // highlighted and named.
         for (i, p) in plan.passes.iter().enumerate() {
             for (_, r) in &p.reads {
                 if let Some(j) = producer(*r).filter(|&j| j != i) {
                     let (a, b) = (at(j).right_center(), at(i).left_center());
-                    painter.arrow(a, b - a, egui::Stroke::new(1.0, Color32::GRAY));
-                    painter.text(
-                        a + (b - a) * 0.5,
-                        egui::Align2::CENTER_BOTTOM,
-                        &plan.resources[*r].name,
-                        egui::FontId::proportional(9.0),
-                        Color32::LIGHT_GRAY,
-                    );
+                    let lit = hovered == Some(i) || hovered == Some(j);
+                    let color = if lit { Color32::from_rgb(255, 200, 90) } else { Color32::GRAY };
+                    painter.arrow(a, b - a, egui::Stroke::new(if lit { 2.0 } else { 1.0 }, color));
+                    if lit {
+                        painter.text(a + (b - a) * 0.5, egui::Align2::CENTER_BOTTOM, &plan.resources[*r].name, egui::FontId::proportional(10.0), color);
+                    }
                 }
             }
         }
-        for (i, p) in plan.passes.iter().enumerate() {
+        for (i, (p, resp)) in plan.passes.iter().zip(&responses).enumerate() {
             let r = at(i);
-            let resp = ui.interact(r, ui.scope_id().with(("pass", i)), egui::Sense::click());
             painter.rect_filled(r, 4.0, if resp.hovered() { Color32::from_rgb(60, 90, 140) } else { Color32::from_rgb(40, 60, 95) });
             painter.text(r.center(), egui::Align2::CENTER_CENTER, format!("{}\n{}", p.name, p.kind.name()), egui::FontId::proportional(11.0), Color32::WHITE);
             if resp.clicked() {
                 actions.push(Action::SelectPass(p.name.clone()));
             }
+        }
+        if let Some(i) = hovered {
+            let names = |list: &[(String, usize)]| list.iter().map(|(_, r)| plan.resources[*r].name.clone()).collect::<Vec<_>>().join(", ");
+            let p = &plan.passes[i];
+            responses[i].clone().on_hover_text(format!("{} ({})\nreads: {}\nwrites: {}", p.name, p.shader.path.display(), names(&p.reads), names(&p.writes)));
         }
         ui.label(format!(
             "{} passes, {} resources ({} allocated in {} slots); culled: {}",
