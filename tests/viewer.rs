@@ -25,8 +25,11 @@ impl XServer {
             .stderr(Stdio::null())
             .spawn()
             .unwrap_or_else(|e| panic!("Xvfb is needed for the viewer tests (apt-get install xvfb; .ci/install-vulkan.sh does): {e}"));
+        let mut out = BufReader::new(process.stdout.take().unwrap());
         let mut line = String::new();
-        BufReader::new(process.stdout.take().unwrap()).read_line(&mut line).unwrap();
+        out.read_line(&mut line).unwrap();
+        // Keep reading, so that a later write of Xvfb's never meets a closed pipe.
+        std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
         let n: u32 = line.trim().parse().unwrap_or_else(|_| panic!("Xvfb did not report its display: {line:?}"));
         XServer { process, display: format!(":{n}") }
     }
@@ -46,8 +49,9 @@ impl Drop for XServer {
     }
 }
 
-/// Runs `c` to its end (killed after `secs`), returning its status and output.
-fn run_with_timeout(mut c: Command, secs: u64) -> (bool, String) {
+/// Runs `c` to its end (killed after `secs`), returning its status, its stdout lines and all
+/// of its output as one text.
+fn run_with_timeout(mut c: Command, secs: u64) -> (bool, Vec<String>, String) {
     let mut child = c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     let rx = lines(&mut child);
     let err_rx = read_lines(child.stderr.take().unwrap());
@@ -63,11 +67,11 @@ fn run_with_timeout(mut c: Command, secs: u64) -> (bool, String) {
         }
         std::thread::sleep(Duration::from_millis(50));
     };
-    std::thread::sleep(Duration::from_millis(200));
-    let out: Vec<String> = rx.try_iter().chain(err_rx.try_iter()).collect();
-    let log = out.join("\n");
+    // The readers end when the pipes close with the process.
+    let out: Vec<String> = rx.iter().collect();
+    let log = format!("{}\n{}", out.join("\n"), err_rx.iter().collect::<Vec<_>>().join("\n"));
     assert!(status.is_some(), "the viewer did not finish within {secs} s:\n{log}");
-    (status.is_some_and(|s| s.success()), log)
+    (status.is_some_and(|s| s.success()), out, log)
 }
 
 fn load(path: &Path) -> image::RgbaImage {
@@ -121,10 +125,10 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
         ),
     )
     .unwrap();
-    let (ok, log) =
+    let (ok, out, log) =
         run_with_timeout(x.viewer(&["default", "--mode", "raster", "--width", "320", "--height", "180", "--script", script.to_str().unwrap()]), 600);
     assert!(ok, "{log}");
-    assert!(!log.contains("error:"), "no step failed: {log}");
+    assert!(!out.iter().any(|l| l.starts_with("error:")), "no step failed: {log}");
 
     // The overlay lists the running plan's passes with their timings, the adapter and back-end.
     let text = |name: &str| std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
@@ -239,7 +243,7 @@ fn a_broken_shader_keeps_the_last_good_graph_running_until_it_is_fixed() {
 
     // Break the file: an error naming the file and line, and frames go on.
     let broken_line = good.lines().count() + 2;
-    std::fs::write(&shader, format!("{good}\n fn broken( {{\n")).unwrap();
+    raygraph::util::write_atomic(&shader, format!("{good}\n fn broken( {{\n").as_bytes()).unwrap();
     let error = wait_for(&rx, &mut seen, "the reload error", |l| l.starts_with("reload failed"));
     let location = format!("tonemap.wgsl:{broken_line}:");
     assert!(error.contains(&location), "the error names {location}: {error}");
@@ -247,7 +251,7 @@ fn a_broken_shader_keeps_the_last_good_graph_running_until_it_is_fixed() {
     wait_for(&rx, &mut seen, "frames after the error", |l| frame_number(l).is_some_and(|n| n >= at_error + 5));
 
     // Fix it: the graph is compiled again and keeps rendering.
-    std::fs::write(&shader, &good).unwrap();
+    raygraph::util::write_atomic(&shader, good.as_bytes()).unwrap();
     wait_for(&rx, &mut seen, "the reload after the fix", |l| l.starts_with("reloaded"));
     let at_fix = seen.iter().rev().find_map(|l| frame_number(l)).unwrap_or(0);
     wait_for(&rx, &mut seen, "frames after the fix", |l| frame_number(l).is_some_and(|n| n >= at_fix + 3));

@@ -745,23 +745,30 @@ impl Executor {
     /// the parameter is read when an executor is made (the `Accel` node's settings) or no kept
     /// pass has it (the node's passes are culled; the compiler checks the name then).
     pub fn set_param(&mut self, gpu: &Gpu, node: &str, name: &str, value: ParamValue) -> Result<bool, String> {
+        // Checked on every pass first, so that nothing is written when a compile is needed.
         let mut found = false;
+        for pass in self.plan.passes.iter().filter(|p| p.node == node) {
+            let Some((decl, _)) = pass.params.get(name) else { continue };
+            crate::graph::compile::check_param(decl, value).map_err(|(_, msg, help)| format!("parameter `{name}` of node `{node}`: {msg} ({help})"))?;
+            if pass.kind == PassKind::AccelBuild {
+                return Ok(false);
+            }
+            found = true;
+        }
+        if !found {
+            return Ok(false);
+        }
         for (i, pass) in self.plan.passes.iter_mut().enumerate() {
             if pass.node != node {
                 continue;
             }
             let Some((decl, current)) = pass.params.get_mut(name) else { continue };
-            *current =
-                crate::graph::compile::check_param(decl, value).map_err(|(_, msg, help)| format!("parameter `{name}` of node `{node}`: {msg} ({help})"))?;
-            found = true;
-            if pass.kind == PassKind::AccelBuild {
-                return Ok(false);
-            }
+            *current = crate::graph::compile::check_param(decl, value).map_err(|(_, msg, _)| msg)?;
             if let Some((buf, size, members)) = &self.passes[i].params {
                 gpu.queue.write_buffer(buf, 0, &encode_params(&pass.params, members, *size));
             }
         }
-        Ok(found)
+        Ok(true)
     }
 
     /// The texture a kept texture resource lives in (shared with the resources of its slot).

@@ -76,6 +76,7 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
         view: View::Output,
         mapping: None,
         ui_state: UiState::default(),
+        redraws: 0,
         last_frame: Instant::now(),
         result: Ok(()),
         exit: false,
@@ -110,6 +111,9 @@ struct App {
     /// The mapping of the shown resource (range taken when it was selected).
     mapping: Option<Mapping>,
     ui_state: UiState,
+    /// Redraws so far: script steps and `--frames` count these (a frame that fails still
+    /// counts, so an automated run always ends).
+    redraws: u64,
     last_frame: Instant,
     result: Result<(), String>,
     exit: bool,
@@ -122,7 +126,13 @@ impl App {
         let window = Arc::new(event_loop.create_window(attrs).map_err(|e| format!("cannot open a window: {e}"))?);
         let surface = self.gpu.instance.create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
         let caps = surface.get_capabilities(&self.gpu.adapter);
-        let format = egui_wgpu::preferred_framebuffer_format(&caps.formats).map_err(|e| format!("the window has no usable format: {e}"))?;
+        // egui draws into an 8-bit gamma-space target; screenshots read these two back.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| matches!(f, wgpu::TextureFormat::Rgba8Unorm | wgpu::TextureFormat::Bgra8Unorm))
+            .ok_or_else(|| format!("the window offers no Rgba8Unorm or Bgra8Unorm format (only {:?})", caps.formats))?;
         let size = window.inner_size();
         let automated = self.opts.frames.is_some() || self.script.is_some();
         let mut config =
@@ -213,7 +223,11 @@ impl App {
                 Ok(())
             }
             Action::SaveTrack(path) => match std::mem::take(&mut self.track) {
-                TrackState::Recording { track, .. } => {
+                TrackState::Recording { mut track, seconds } => {
+                    // The camera where recording stopped is the last key.
+                    if seconds > track.duration() {
+                        track.record(seconds, &self.fly.camera());
+                    }
                     track.save(&path).map(|_| println!("track saved to {} ({} keys)", path.display(), track.keys.len())).map_err(|e| e.to_string())
                 }
                 other => {
@@ -286,7 +300,8 @@ impl App {
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
         self.last_frame = now;
-        let frame_no = self.session.frame_index;
+        let frame_no = self.redraws;
+        self.redraws += 1;
         if let Some(script) = &self.script {
             let due: Vec<Action> = script.due(frame_no).cloned().collect();
             for a in due {
@@ -307,6 +322,9 @@ impl App {
                 *seconds += dt;
                 let c = track.camera_at(*seconds, &self.fly.camera());
                 if *seconds > track.duration() {
+                    // Fly on from where the track ends.
+                    let speed = self.fly.speed;
+                    self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
                     self.track = TrackState::Idle;
                 }
                 c
@@ -334,7 +352,7 @@ impl App {
             println!("frame {frame_no}");
         }
         self.draw_window();
-        if self.opts.frames.is_some_and(|n| self.session.frame_index >= n) {
+        if self.opts.frames.is_some_and(|n| self.redraws >= n) {
             if let Some(path) = self.opts.screenshot.clone() {
                 if let Err(e) = self.screenshot(&path) {
                     self.result = Err(format!("screenshot: {e}"));
@@ -513,7 +531,10 @@ impl ApplicationHandler for App {
                     ws.window.request_redraw();
                 }
             }
-            WindowEvent::KeyboardInput { event, .. } if !consumed => {
+            WindowEvent::Focused(false) => self.motion = Motion::default(),
+            // Releases always count, so that a key held while the overlay takes the focus
+            // does not stick.
+            WindowEvent::KeyboardInput { event, .. } if !consumed || event.state == ElementState::Released => {
                 let down = event.state == ElementState::Pressed;
                 if let PhysicalKey::Code(code) = event.physical_key {
                     let m = &mut self.motion;

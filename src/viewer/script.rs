@@ -109,8 +109,4 @@ impl Script {
     pub fn due(&self, frame: u64) -> impl Iterator<Item = &Action> {
         self.steps.iter().filter(move |s| s.frame == frame).map(|s| &s.action)
     }
-
-    pub fn last_frame(&self) -> Option<u64> {
-        self.steps.last().map(|s| s.frame)
-    }
 }

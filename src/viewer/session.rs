@@ -82,6 +82,8 @@ pub struct Session {
     pub frame_index: u64,
     /// Plans compiled since start (1 after the first).
     pub generation: u64,
+    /// Transient memory of the current graph with resource reuse (the viewer runs it without).
+    pub reuse_bytes: Option<u64>,
 }
 
 impl Session {
@@ -106,6 +108,7 @@ impl Session {
             frames: VecDeque::new(),
             frame_index: 0,
             generation: 0,
+            reuse_bytes: None,
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
@@ -124,11 +127,20 @@ impl Session {
     }
 
     /// Compiles the graph with the current options and replaces the executor; on error the
-    /// previous executor stays and the error is kept for the overlay.
+    /// previous executor stays. The viewer allocates every resource on its own (no reuse), so
+    /// that any texture can be inspected after the frame; `reuse_bytes` is what the same plan
+    /// takes with reuse.
     pub fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
-        // Values set on a node that is now switched off wait until it is on again.
         let mut options = self.options.clone();
-        options.params.retain(|(node, _), _| options.enabled.get(node) != Some(&false));
+        // Overrides of nodes or parameters the files no longer have (or that are switched
+        // off) wait until they are there again, rather than failing every compile.
+        let controls = self.controls();
+        if !controls.is_empty() {
+            options.enabled.retain(|node, _| controls.iter().any(|c| &c.node == node));
+            options.params.retain(|(node, param), _| controls.iter().any(|c| &c.node == node && c.enabled && c.params.iter().any(|(p, ..)| p == param)));
+        }
+        self.reuse_bytes = compile_with(&self.graph_file, &self.project, self.size, &options).ok().map(|p| p.bytes_with_reuse());
+        options.reuse = false;
         let result = compile_with(&self.graph_file, &self.project, self.size, &options)
             .map_err(|e| e.to_string())
             .and_then(|plan| Executor::new(gpu, plan, &self.scene).map_err(|e| e.to_string()));
@@ -141,10 +153,7 @@ impl Session {
                 self.generation += 1;
                 Ok(passes)
             }
-            Err(e) => {
-                self.error = Some(e.clone());
-                Err(e)
-            }
+            Err(e) => Err(e),
         }
     }
 
@@ -161,7 +170,11 @@ impl Session {
         self.snapshot = now;
         Some(match self.recompile(gpu) {
             Ok(passes) => Reload::Reloaded { passes },
-            Err(e) => Reload::Failed(e),
+            Err(e) => {
+                // Shown until a compile succeeds.
+                self.error = Some(e.clone());
+                Reload::Failed(e)
+            }
         })
     }
 

@@ -128,7 +128,7 @@ pub fn overlay_text(f: &Frame) -> String {
         }
         let off: Vec<String> = controls.into_iter().filter(|c| !c.enabled).map(|c| c.node).collect();
         let _ = writeln!(s, "switched off: {}", if off.is_empty() { "none".into() } else { off.join(", ") });
-        let _ = writeln!(s, "transient memory: {} with reuse, {} without", fmt_bytes(plan.bytes_with_reuse()), fmt_bytes(plan.bytes_without_reuse()));
+        let _ = writeln!(s, "transient memory: {}", memory(session, plan));
     }
     if let Some(a) = session.frames.back().and_then(|t| t.accel.as_ref()) {
         let _ = writeln!(s, "acceleration structures this frame: {}", a.describe());
@@ -137,6 +137,13 @@ pub fn overlay_text(f: &Frame) -> String {
         let _ = writeln!(s, "error: {e}");
     }
     s
+}
+
+/// The plan's transient memory: the viewer allocates each resource on its own so that any
+/// texture can be inspected after the frame.
+fn memory(session: &Session, plan: &Plan) -> String {
+    let with = session.reuse_bytes.map(fmt_bytes).unwrap_or_else(|| "?".into());
+    format!("{with} with reuse, {} without (the viewer's allocation)", fmt_bytes(plan.bytes_without_reuse()))
 }
 
 /// Draws the overlay; returns what the user asked for.
@@ -275,7 +282,7 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
         });
         if let Some(plan) = session.plan() {
             ui.label(format!("culled: {}", if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") }));
-            ui.label(format!("transient memory: {} with reuse ({} without)", fmt_bytes(plan.bytes_with_reuse()), fmt_bytes(plan.bytes_without_reuse())));
+            ui.label(format!("transient memory: {}", memory(session, plan)));
         }
         let builds = session.frames.back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
         ui.label(format!("acceleration structures this frame: {builds}"));
@@ -320,7 +327,9 @@ fn parameters_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) 
                             }
                             (ParamDecl::Int { min, max, .. }, ParamValue::Int(v)) => {
                                 let mut x = v;
-                                let r = ui.add(egui::Slider::new(&mut x, *min..=*max).text(name).logarithmic(*max > 1000 * min.abs().max(1)));
+                                let r = ui.add(
+                                    egui::Slider::new(&mut x, *min..=*max).text(name).logarithmic(*max > min.saturating_abs().max(1).saturating_mul(1000)),
+                                );
                                 if r.changed() {
                                     actions.push(set(ParamValue::Int(x)));
                                 }
@@ -333,11 +342,12 @@ fn parameters_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) 
                             }
                             (ParamDecl::Enum { values, .. }, ParamValue::Int(v)) => {
                                 let mut x = v as usize;
-                                egui::ComboBox::from_label(name).selected_text(values.get(x).cloned().unwrap_or_default()).show_ui(ui, |ui| {
+                                egui::ComboBox::from_id_salt((&c.node, name)).selected_text(values.get(x).cloned().unwrap_or_default()).show_ui(ui, |ui| {
                                     for (i, label) in values.iter().enumerate() {
                                         ui.selectable_value(&mut x, i, label);
                                     }
                                 });
+                                ui.label(name);
                                 if x as i64 != v {
                                     actions.push(set(ParamValue::Int(x as i64)));
                                 }
