@@ -838,29 +838,7 @@ impl Executor {
         let Physical::Texture(texture) = &self.slots[self.plan.resources[r].slot.ok_or_else(|| RuntimeError::Gpu("resource is not allocated".into()))?] else {
             return Err(RuntimeError::Gpu("resource is not a texture".into()));
         };
-        let row = w * t.format.bytes_per_texel() as u32;
-        let padded = row.div_ceil(256) * 256;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("texture readback"),
-            size: padded as u64 * h as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.copy_texture_to_buffer(
-            texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
-            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        );
-        gpu.queue.submit([encoder.finish()]);
-        let data = map_read(&gpu.device, buf.slice(..))?;
-        let mut bytes = Vec::with_capacity((row * h) as usize);
-        for y in 0..h as usize {
-            bytes.extend_from_slice(&data[y * padded as usize..y * padded as usize + row as usize]);
-        }
-        drop(data);
-        buf.unmap();
-        Ok((w, h, t.format, bytes))
+        Ok((w, h, t.format, read_texture(gpu, texture, t.format.bytes_per_texel() as u32)?))
     }
 
     /// Reads the `debug_counters` buffer (shaders may count events into it).
@@ -885,6 +863,35 @@ impl Executor {
 
 /// Writes an image as PNG atomically (temporary file, then rename): a failed write never
 /// leaves a truncated file behind.
+/// Reads back the whole of `texture` (`texel_bytes` bytes per texel; it needs `COPY_SRC`) as
+/// tightly packed rows.
+pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = w * texel_bytes;
+    let padded = row.div_ceil(256) * 256;
+    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("texture readback"),
+        size: padded as u64 * h as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
+        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let data = map_read(&gpu.device, buf.slice(..))?;
+    let mut bytes = Vec::with_capacity((row * h) as usize);
+    for y in 0..h as usize {
+        bytes.extend_from_slice(&data[y * padded as usize..y * padded as usize + row as usize]);
+    }
+    drop(data);
+    buf.unmap();
+    Ok(bytes)
+}
+
 pub fn write_png(path: &std::path::Path, img: &image::RgbaImage) -> Result<(), RuntimeError> {
     let mut png = Vec::new();
     img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)

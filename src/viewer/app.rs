@@ -267,24 +267,9 @@ impl App {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
-        let frame = Frame {
-            session: &self.session,
-            gpu,
-            view: &self.view,
-            presets: &self.session.scene.presets.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(),
-            recording: matches!(self.track, TrackState::Recording { .. }),
-            playing: matches!(self.track, TrackState::Playing { .. }),
-        };
+        let frame = overlay_frame(&self.session, gpu, &self.view, &self.track);
         let text = ui::overlay_text(&frame);
-        let raw = ws.egui_state.take_egui_input(&ws.window);
-        let display_id = ws.display_id;
-        let mut state = std::mem::take(&mut self.ui_state);
-        let mut out = ws.egui_ctx.run_ui(raw, |root| {
-            viewport(root, display_id, self.opts.size);
-            let ctx = root.ctx().clone();
-            ui::draw(&ctx, &frame, &mut state);
-        });
-        self.ui_state = state;
+        let (mut out, _) = run_overlay(ws, &frame, &mut self.ui_state, self.opts.size);
         draw_egui(gpu, ws, &mut out, &target.create_view(&Default::default()));
         let rgba = read_rgba(gpu, &target, ws.config.format)?;
         let img = image::RgbaImage::from_raw(w, h, rgba).ok_or("screenshot size")?;
@@ -399,24 +384,8 @@ impl App {
                 return;
             }
         };
-        let presets: Vec<String> = self.session.scene.presets.iter().map(|(n, _)| n.clone()).collect();
-        let frame = Frame {
-            session: &self.session,
-            gpu,
-            view: &self.view,
-            presets: &presets,
-            recording: matches!(self.track, TrackState::Recording { .. }),
-            playing: matches!(self.track, TrackState::Playing { .. }),
-        };
-        let raw = ws.egui_state.take_egui_input(&ws.window);
-        let display_id = ws.display_id;
-        let mut actions = Vec::new();
-        let ui_state = &mut self.ui_state;
-        let mut out = ws.egui_ctx.run_ui(raw, |root| {
-            viewport(root, display_id, self.opts.size);
-            let ctx = root.ctx().clone();
-            actions = ui::draw(&ctx, &frame, ui_state);
-        });
+        let frame = overlay_frame(&self.session, gpu, &self.view, &self.track);
+        let (mut out, actions) = run_overlay(ws, &frame, &mut self.ui_state, self.opts.size);
         ws.egui_state.handle_platform_output(&ws.window, std::mem::take(&mut out.platform_output));
         let view = surface_texture.texture.create_view(&Default::default());
         draw_egui(gpu, ws, &mut out, &view);
@@ -425,6 +394,31 @@ impl App {
             self.apply(a);
         }
     }
+}
+
+/// What the overlay shows this frame.
+fn overlay_frame<'a>(session: &'a Session, gpu: &'a Gpu, view: &'a View, track: &TrackState) -> Frame<'a> {
+    Frame {
+        session,
+        gpu,
+        view,
+        presets: &session.scene.presets,
+        recording: matches!(track, TrackState::Recording { .. }),
+        playing: matches!(track, TrackState::Playing { .. }),
+    }
+}
+
+/// Lays out one egui frame: the viewport and the overlay; returns it with the overlay's actions.
+fn run_overlay(ws: &mut WindowState, frame: &Frame, state: &mut UiState, size: (u32, u32)) -> (egui::FullOutput, Vec<Action>) {
+    let raw = ws.egui_state.take_egui_input(&ws.window);
+    let display_id = ws.display_id;
+    let mut actions = Vec::new();
+    let out = ws.egui_ctx.run_ui(raw, |root| {
+        viewport(root, display_id, size);
+        let ctx = root.ctx().clone();
+        actions = ui::draw(&ctx, frame, state);
+    });
+    (out, actions)
 }
 
 /// The viewport: the display texture scaled to fit the window, behind the overlay.
@@ -470,32 +464,17 @@ fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &mut egui::FullOutput, target
     }
 }
 
-/// Reads a whole texture of a 4-byte RGBA or BGRA format back as RGBA8 rows.
+/// Reads a whole texture of a 4-byte RGBA or BGRA format back as opaque RGBA8 rows.
 fn read_rgba(gpu: &Gpu, texture: &wgpu::Texture, format: wgpu::TextureFormat) -> Result<Vec<u8>, String> {
-    let (w, h) = (texture.width(), texture.height());
-    let row = (w * 4).div_ceil(256) * 256;
-    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("viewer screenshot"),
-        size: row as u64 * h as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: None } },
-        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-    );
-    gpu.queue.submit([encoder.finish()]);
-    let view = crate::runtime::profiler::map_read(&gpu.device, buffer.slice(..)).map_err(|e| e.to_string())?;
+    let mut bytes = crate::runtime::exec::read_texture(gpu, texture, 4).map_err(|e| e.to_string())?;
     let bgra = matches!(format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb);
-    let mut out = Vec::with_capacity((w * h * 4) as usize);
-    for y in 0..h as usize {
-        for px in view[y * row as usize..y * row as usize + w as usize * 4].chunks_exact(4) {
-            out.extend_from_slice(&if bgra { [px[2], px[1], px[0], 255] } else { [px[0], px[1], px[2], 255] });
+    for px in bytes.chunks_exact_mut(4) {
+        if bgra {
+            px.swap(0, 2);
         }
+        px[3] = 255;
     }
-    Ok(out)
+    Ok(bytes)
 }
 
 impl ApplicationHandler for App {

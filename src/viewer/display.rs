@@ -52,7 +52,7 @@ impl Mapping {
         if !t.iter().all(|v| v.is_finite()) {
             return [255, 0, 255, 255];
         }
-        let v: Vec<f32> = (0..4).map(|c| (t[c] * self.scale[c] + self.bias[c]).clamp(0.0, 1.0)).collect();
+        let v: [f32; 4] = std::array::from_fn(|c| (t[c] * self.scale[c] + self.bias[c]).clamp(0.0, 1.0));
         let rgb = match self.channels {
             1 => [v[0]; 3],
             2 => [v[0], v[1], 0.0],

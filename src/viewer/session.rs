@@ -84,6 +84,10 @@ pub struct Session {
     pub generation: u64,
     /// Transient memory of the current graph with resource reuse (the viewer runs it without).
     pub reuse_bytes: Option<u64>,
+    /// Per-pass statistics over the rolling window (mean, median, min, max of GPU and CPU ms,
+    /// rays per pixel, GigaRays/s), updated by every frame.
+    pub report: Option<Report>,
+    controls: Vec<NodeControls>,
 }
 
 impl Session {
@@ -109,6 +113,8 @@ impl Session {
             frame_index: 0,
             generation: 0,
             reuse_bytes: None,
+            report: None,
+            controls: Vec::new(),
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
@@ -134,7 +140,8 @@ impl Session {
         let mut options = self.options.clone();
         // Overrides of nodes or parameters the files no longer have (or that are switched
         // off) wait until they are there again, rather than failing every compile.
-        let controls = self.controls();
+        self.refresh_controls();
+        let controls = &self.controls;
         if !controls.is_empty() {
             options.enabled.retain(|node, _| controls.iter().any(|c| &c.node == node));
             options.params.retain(|(node, param), _| controls.iter().any(|c| &c.node == node && c.enabled && c.params.iter().any(|(p, ..)| p == param)));
@@ -149,7 +156,7 @@ impl Session {
                 let passes = exec.plan().passes.len();
                 self.exec = Some(exec);
                 self.error = None;
-                self.frames.clear();
+                self.clear_frames();
                 self.generation += 1;
                 Ok(passes)
             }
@@ -200,6 +207,7 @@ impl Session {
             }
             Err(e) => {
                 (self.graph_file, self.mode, self.project, self.options.params, self.options.enabled) = previous;
+                self.refresh_controls();
                 Err(e)
             }
         }
@@ -221,15 +229,19 @@ impl Session {
         };
         let previous = self.options.params.insert((node.to_string(), name.to_string()), value);
         // The timings from before the change describe another workload.
-        self.frames.clear();
-        if !in_place {
-            if let Err(e) = self.recompile(gpu) {
-                match previous {
-                    Some(v) => self.options.params.insert((node.to_string(), name.to_string()), v),
-                    None => self.options.params.remove(&(node.to_string(), name.to_string())),
-                };
-                return Err(e);
+        self.clear_frames();
+        if in_place {
+            let param = self.controls.iter_mut().filter(|c| c.node == node).flat_map(|c| c.params.iter_mut()).find(|(p, ..)| p == name);
+            if let Some((_, _, v)) = param {
+                *v = value;
             }
+        } else if let Err(e) = self.recompile(gpu) {
+            match previous {
+                Some(v) => self.options.params.insert((node.to_string(), name.to_string()), v),
+                None => self.options.params.remove(&(node.to_string(), name.to_string())),
+            };
+            self.refresh_controls();
+            return Err(e);
         }
         Ok(())
     }
@@ -242,12 +254,23 @@ impl Session {
                 Some(v) => self.options.enabled.insert(node.to_string(), v),
                 None => self.options.enabled.remove(node),
             };
+            self.refresh_controls();
         })
     }
 
     /// The graph file's layer nodes with their parameter declarations and values in effect
-    /// (read from the files, so switched-off nodes are listed too).
-    pub fn controls(&self) -> Vec<NodeControls> {
+    /// (read from the files, so switched-off nodes are listed too), as of the last compile or
+    /// parameter change.
+    pub fn controls(&self) -> &[NodeControls] {
+        &self.controls
+    }
+
+    /// Reads the graph and layer files again for [`Self::controls`].
+    fn refresh_controls(&mut self) {
+        self.controls = self.read_controls();
+    }
+
+    fn read_controls(&self) -> Vec<NodeControls> {
         let Ok(graph) = crate::graph::compile::parse_graph(&self.graph_file) else { return Vec::new() };
         let mut out = Vec::new();
         for (node, desc) in &graph.nodes {
@@ -268,8 +291,8 @@ impl Session {
         out
     }
 
-    /// Renders a frame with the current plan and keeps its timings.
-    pub fn render(&mut self, gpu: &Gpu, camera: &Camera) -> Result<&FrameTimings, String> {
+    /// Renders a frame with the current plan, keeps its timings and updates [`Self::report`].
+    pub fn render(&mut self, gpu: &Gpu, camera: &Camera) -> Result<(), String> {
         let exec = self.exec.as_mut().ok_or("no plan")?;
         let t = exec.render(gpu, camera, &self.scene).map_err(|e| e.to_string())?;
         self.frame_index += 1;
@@ -277,18 +300,14 @@ impl Session {
             self.frames.pop_front();
         }
         self.frames.push_back(t);
-        Ok(self.frames.back().expect("just pushed"))
+        let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+        self.report = Some(Report::new(&names, self.size.0 as u64 * self.size.1 as u64, self.frames.make_contiguous()));
+        Ok(())
     }
 
-    /// Per-pass statistics over the rolling window (mean, median, min, max of GPU and CPU
-    /// ms, rays per pixel, GigaRays/s).
-    pub fn report(&self) -> Option<Report> {
-        let plan = self.plan()?;
-        if self.frames.is_empty() {
-            return None;
-        }
-        let names: Vec<(String, &'static str)> = plan.passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
-        let frames: Vec<FrameTimings> = self.frames.iter().cloned().collect();
-        Some(Report::new(&names, self.size.0 as u64 * self.size.1 as u64, &frames))
+    /// Forgets the frames of another plan or workload.
+    fn clear_frames(&mut self) {
+        self.frames.clear();
+        self.report = None;
     }
 }

@@ -42,7 +42,7 @@ pub struct Frame<'a> {
     pub session: &'a Session,
     pub gpu: &'a Gpu,
     pub view: &'a View,
-    pub presets: &'a [String],
+    pub presets: &'a [(String, crate::scene::Camera)],
     pub recording: bool,
     pub playing: bool,
 }
@@ -64,7 +64,7 @@ pub fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
 /// One line per pass of the profiler: name, kind, GPU ms (mean / median / min / max), CPU ms,
 /// rays per pixel, GigaRays/s.
 pub fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
-    let Some(report) = f.session.report() else { return Vec::new() };
+    let Some(report) = &f.session.report else { return Vec::new() };
     report
         .passes
         .iter()
@@ -126,7 +126,7 @@ pub fn overlay_text(f: &Frame) -> String {
                 let _ = writeln!(s, "  {}.{name} = {v}", c.node);
             }
         }
-        let off: Vec<String> = controls.into_iter().filter(|c| !c.enabled).map(|c| c.node).collect();
+        let off: Vec<&str> = controls.iter().filter(|c| !c.enabled).map(|c| c.node.as_str()).collect();
         let _ = writeln!(s, "switched off: {}", if off.is_empty() { "none".into() } else { off.join(", ") });
         let _ = writeln!(s, "transient memory: {}", memory(session, plan));
     }
@@ -185,7 +185,7 @@ fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions:
         });
         ui.horizontal(|ui| {
             ui.label("camera");
-            for p in f.presets {
+            for (p, _) in f.presets {
                 if ui.button(p).clicked() {
                     actions.push(Action::Preset(p.clone()));
                 }
@@ -235,7 +235,7 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
             View::Resource { pass, .. } => pass.clone(),
             View::Output => None,
         };
-        let report = session.report();
+        let report = &session.report;
         egui::Grid::new("passes").striped(true).show(ui, |ui| {
             for h in ["pass (click: show its output)", "GPU ms", "median", "mean", "min", "max", "CPU ms", "rays/px", "GR/s"] {
                 ui.label(RichText::new(h).small());
