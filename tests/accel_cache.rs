@@ -101,7 +101,7 @@ fn graphs_that_do_not_trace_build_nothing() {
 /// between the two back-ends (the same rays from the same G-buffer: only hits exactly at
 /// edges and vertices may differ).
 #[test]
-fn the_ao_graph_draws_the_same_picture_on_both_back_ends() {
+fn the_ao_graph_draws_the_same_picture_on_every_back_end() {
     let gpu = gpu();
     let graph = common::repo().join("graph/ao.ron");
     let scene = default_scene();
@@ -113,12 +113,15 @@ fn the_ao_graph_draws_the_same_picture_on_both_back_ends() {
         rays.push(t.rays.unwrap());
         images.push(exec.read_output(&gpu).unwrap());
     }
+    // Every back-end against `compute` (Backend::ALL[1]).
     let (a, b) = (&images[0], &images[1]);
-    let (rmse, outliers) = difference(a, b);
-    println!("ray-query vs compute: RMSE {rmse:.3}, {outliers} outlier pixels; rays {:?} / {:?}", rays[0], rays[1]);
-    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
-    assert_eq!(rays[0].traced(), rays[1].traced(), "the same rays on both back-ends");
-    assert!(rays[0].any > 0 && rays[0].hits > 0 && rays[0].invalid == 0);
+    for (k, backend) in Backend::ALL.iter().enumerate().filter(|(_, b)| **b != Backend::Compute) {
+        let (rmse, outliers) = difference(&images[k], b);
+        println!("{backend} vs compute: RMSE {rmse:.3}, {outliers} outlier pixels; rays {:?} / {:?}", rays[k], rays[1]);
+        assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "{backend}: RMSE {rmse}, {outliers} outliers");
+        assert_eq!(rays[k].traced(), rays[1].traced(), "{backend}: the same rays as on compute");
+        assert!(rays[k].any > 0 && rays[k].hits > 0 && rays[k].invalid == 0);
+    }
     // The effects are there: shadowed and occluded pixels exist.
     let distinct: std::collections::HashSet<[u8; 4]> = a.pixels().map(|p| p.0).collect();
     assert!(distinct.len() > 100);

@@ -24,6 +24,7 @@ fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
     println!("adapter: {}", gpu.describe());
     assert!(gpu.backends.contains(&Backend::RayQuery), "lavapipe >= 24.1 has ray queries; CI must test both back-ends");
+    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
     gpu
 }
 
@@ -275,7 +276,7 @@ fn no_ray_escapes_the_closed_organic_mesh_from_inside() {
         }
     }
     let rays: Vec<GpuRay> = targets.iter().map(|t| GpuRay { origin: inside.into(), t_min: 0.0, dir: (*t - inside).normalize().into(), t_max: 1e30 }).collect();
-    for backend in [Backend::Compute, Backend::RayQuery] {
+    for backend in Backend::ALL {
         let tracer = BatchTracer::new(&gpu, backend, &s, &shaders()).unwrap();
         let (hits, _) = tracer.closest(&gpu, &rays).unwrap();
         let escaped: Vec<usize> = hits.iter().enumerate().filter(|(_, h)| h.is_none()).map(|(i, _)| i).collect();
@@ -296,7 +297,7 @@ fn no_ray_escapes_the_closed_organic_mesh_from_inside() {
             // vertex shared by several triangles through (measured: 34 of 1,962 vertex rays,
             // none of the 11,760 edge-midpoint rays). Assert exactly that much: no escape at an
             // edge, and vertex escapes stay a small minority.
-            Backend::RayQuery => {
+            Backend::RayQuery | Backend::RtPipeline => {
                 let at_edges = escaped.iter().filter(|i| **i >= m.vertices.len()).count();
                 assert_eq!(at_edges, 0, "{backend}: rays aimed at edge midpoints escaped");
                 assert!(escaped.len() * 20 <= m.vertices.len(), "{backend}: {} of {} vertex rays escaped", escaped.len(), m.vertices.len());

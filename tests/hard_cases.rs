@@ -22,12 +22,17 @@ use raygraph::scene::{builtin, Instance, Mesh, Scene, Vertex};
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
     assert!(gpu.backends.contains(&Backend::RayQuery), "lavapipe >= 24.1 has ray queries; CI must test both back-ends");
+    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
     gpu
 }
 
 /// The back-ends and layouts every case runs on.
-const VARIANTS: [(&str, Backend, bool); 3] =
-    [("compute", Backend::Compute, false), ("compute-merged", Backend::Compute, true), ("ray-query", Backend::RayQuery, false)];
+const VARIANTS: [(&str, Backend, bool); 4] = [
+    ("compute", Backend::Compute, false),
+    ("compute-merged", Backend::Compute, true),
+    ("ray-query", Backend::RayQuery, false),
+    ("rt-pipeline", Backend::RtPipeline, false),
+];
 
 fn tracers(gpu: &Gpu, scene: &Scene) -> Vec<(&'static str, BatchTracer)> {
     VARIANTS
@@ -359,7 +364,7 @@ fn axis_parallel_rays_starting_on_a_box_face_hit_the_opposite_face() {
         // The driver's own triangle test (ray-query) is not required to hit along a face's
         // edge lines: starts on a face's edges and corners are judged on `compute` only, and
         // counted for ray-query.
-        let driver = name == "ray-query";
+        let driver = name == "ray-query" || name == "rt-pipeline";
         let edge_misses = rays.iter().zip(&hits).zip(&inward).zip(&on_edge).filter(|(((_, h), &inn), &e)| e && inn && h.is_none()).count();
         for (((r, h), &inn), &edge) in rays.iter().zip(&hits).zip(&inward).zip(&on_edge) {
             if driver && edge {

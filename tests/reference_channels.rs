@@ -166,6 +166,7 @@ fn xyz(v: [f32; 4]) -> Vec3 {
 fn every_ray_traced_channel_matches_the_f64_reference_per_pixel() {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
     assert!(gpu.backends.contains(&Backend::RayQuery), "lavapipe >= 24.1 has ray queries; CI must test both back-ends");
+    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
     let p = common::TempProject::with_repo_files();
     p.write("layers/test_mirror_ids.ron", MIRROR_LAYER);
     p.write("shaders/test/mirror_ids.wgsl", MIRROR_SHADER);
@@ -191,7 +192,12 @@ fn every_ray_traced_channel_matches_the_f64_reference_per_pixel() {
     let graphs = |name: &str, g: &str| (p.write(&format!("graph/{name}.ron"), g), p.write(&format!("graph/{name}_mirror.ron"), &mirror_graph_of(g)));
     let merged = graphs("merged", &full_rt);
     let two = graphs("two_level", &two_level(&full_rt));
-    let variants = [("compute, merged", Backend::Compute, &merged), ("compute, two levels", Backend::Compute, &two), ("ray-query", Backend::RayQuery, &two)];
+    let variants = [
+        ("compute, merged", Backend::Compute, &merged),
+        ("compute, two levels", Backend::Compute, &two),
+        ("ray-query", Backend::RayQuery, &two),
+        ("rt-pipeline", Backend::RtPipeline, &two),
+    ];
     for scene in scenes() {
         let renderer = ReferenceRenderer::new(&scene);
         let settings = AoSettings { rays: AO_RAYS, range: range_scale * (0.5 * scene.bounds().diagonal()).max(1e-6), sampling: 1, seed: 0 };

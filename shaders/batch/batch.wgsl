@@ -7,7 +7,8 @@ struct BatchParams {
     count: u32,
     mode: u32,
     flags: u32,
-    _pad1: u32,
+    // Invocations per row of the dispatch (rays are numbered row by row).
+    row: u32,
 }
 
 struct BatchResult {
@@ -26,8 +27,8 @@ struct BatchResult {
 @group(0) @binding(2) var<storage, read_write> batch_results: array<BatchResult>;
 
 @compute @workgroup_size(64)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = id.x + id.y * groups.x * 64u;
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x + id.y * batch.row;
     if i >= batch.count {
         return;
     }

@@ -1,7 +1,10 @@
 //! The traversal back-ends and their selection at start-up, as in the paper: `ray-query`
 //! (wgpu's EXPERIMENTAL_RAY_QUERY: the driver's BLAS/TLAS, hardware traversal where there is
 //! any) where the adapter supports it, else `compute` (the project's own BVH traversed in a
-//! WGSL compute shader, which runs everywhere). `--backend` overrides the choice.
+//! WGSL compute shader, which runs everywhere). The third, `rt-pipeline` (the ray-tracing
+//! pipeline with a shader binding table through wgpu-hal, [`crate::accel::rt_pipeline`]), runs
+//! where the adapter has EXPERIMENTAL_RAY_TRACING_PIPELINES and is chosen only with
+//! `--backend rt-pipeline`: see [`select`] for the measurements behind the order.
 
 use std::fmt;
 use std::str::FromStr;
@@ -10,15 +13,17 @@ use std::str::FromStr;
 pub enum Backend {
     RayQuery,
     Compute,
+    RtPipeline,
 }
 
 impl Backend {
-    pub const ALL: [Backend; 2] = [Backend::RayQuery, Backend::Compute];
+    pub const ALL: [Backend; 3] = [Backend::RayQuery, Backend::Compute, Backend::RtPipeline];
 
     pub fn name(self) -> &'static str {
         match self {
             Backend::RayQuery => "ray-query",
             Backend::Compute => "compute",
+            Backend::RtPipeline => "rt-pipeline",
         }
     }
 
@@ -27,6 +32,7 @@ impl Backend {
         match self {
             Backend::RayQuery => "trace/ray_query.wgsl",
             Backend::Compute => "trace/compute.wgsl",
+            Backend::RtPipeline => "trace/rt_pipeline.wgsl",
         }
     }
 
@@ -35,6 +41,13 @@ impl Backend {
         match self {
             Backend::RayQuery => wgpu::Features::EXPERIMENTAL_RAY_QUERY,
             Backend::Compute => wgpu::Features::empty(),
+            // The closest-hit shader reads the primitive index (SPIR-V PrimitiveId, which naga
+            // declares under the Geometry capability that PRIMITIVE_INDEX enables); textures the
+            // hal-recorded trace writes are cleared once through wgpu (CLEAR_TEXTURE), see
+            // `RtPass::transition`.
+            Backend::RtPipeline => {
+                wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES.union(wgpu::Features::PRIMITIVE_INDEX).union(wgpu::Features::CLEAR_TEXTURE)
+            }
         }
     }
 }
@@ -51,7 +64,8 @@ impl FromStr for Backend {
         match s {
             "ray-query" | "rayquery" | "ray_query" => Ok(Backend::RayQuery),
             "compute" => Ok(Backend::Compute),
-            other => Err(format!("unknown back-end `{other}`; the back-ends are: ray-query, compute")),
+            "rt-pipeline" | "rt_pipeline" | "rtpipeline" => Ok(Backend::RtPipeline),
+            other => Err(format!("unknown back-end `{other}`; the back-ends are: ray-query, compute, rt-pipeline")),
         }
     }
 }

@@ -6,6 +6,7 @@
 use super::backend::Backend;
 use super::cache::{AccelCache, AccelSettings, BuildReport, RayStats};
 use super::cpu_traverse::TraceFlags;
+use super::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::{GraphError, Location, RuntimeError};
 use crate::graph::compile::CompileOptions;
 use crate::graph::reflect;
@@ -51,14 +52,38 @@ struct RawResult {
 /// A back-end with a scene's acceleration structure built, ready to trace batches.
 pub struct BatchTracer {
     cache: AccelCache,
-    pipeline: wgpu::ComputePipeline,
-    layout0: wgpu::BindGroupLayout,
-    accel_group: wgpu::BindGroup,
+    tracer: Tracer,
     timer: Option<crate::runtime::profiler::GpuTimer>,
     /// What building the scene's acceleration structure did.
     pub build: BuildReport,
     /// Wall milliseconds of the build, from the start of the update until the GPU finished it.
     pub build_wall_ms: f64,
+}
+
+/// How the batch is traced.
+enum Tracer {
+    /// A compute pipeline (`compute`, `ray-query`).
+    Compute { pipeline: wgpu::ComputePipeline, layout0: wgpu::BindGroupLayout, accel_group: wgpu::BindGroup },
+    /// The rt-pipeline back-end's ray-tracing pipeline; the batch's buffers are bound per
+    /// batch ([`RtPass::set_group`]).
+    RayTracing(std::sync::Mutex<RtPass>),
+}
+
+/// Group 0 of `batch.wgsl` for the rt-pipeline back-end.
+fn rt_group0(params: &wgpu::Buffer, rays: &wgpu::Buffer, results: &wgpu::Buffer) -> Vec<RtBinding> {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+    let storage =
+        |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
+    let buffer = |b: &wgpu::Buffer, uses| RtResource::Buffer { buffer: b.clone(), offset: 0, size: None, uses, initialize: false };
+    vec![
+        RtBinding {
+            group: 0,
+            entry: entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+            resource: buffer(params, wgpu::BufferUses::UNIFORM),
+        },
+        RtBinding { group: 0, entry: entry(1, storage(true)), resource: buffer(rays, wgpu::BufferUses::STORAGE_READ_ONLY) },
+        RtBinding { group: 0, entry: entry(2, storage(false)), resource: buffer(results, wgpu::BufferUses::STORAGE_READ_WRITE) },
+    ]
 }
 
 /// Workgroup size of `batch.wgsl`.
@@ -91,6 +116,36 @@ impl BatchTracer {
         let build_wall_ms = start.elapsed().as_secs_f64() * 1e3;
 
         let scope = gpu.scopes();
+        let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(device, &gpu.queue, 1));
+        if let Some(module) = &info.ray_tracing {
+            let placeholder =
+                |usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch placeholder"), size: 64, usage, mapped_at_creation: false });
+            let group0 =
+                rt_group0(&placeholder(wgpu::BufferUsages::UNIFORM), &placeholder(wgpu::BufferUsages::STORAGE), &placeholder(wgpu::BufferUsages::STORAGE));
+            let accel = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).map(|b| {
+                let ty = match &b.kind {
+                    reflect::BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
+                    reflect::BindingKind::Storage { read_only, .. } => wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: *read_only },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    other => unreachable!("trace modules bind buffers and acceleration structures, not {other:?}"),
+                };
+                RtBinding {
+                    group: b.group,
+                    entry: wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None },
+                    resource: RtResource::Accel(b.name.clone()),
+                }
+            });
+            let mut pass =
+                RtPass::new(device, &gpu.queue, "batch", module, "cs_main", group0.into_iter().chain(accel).collect(), crate::graph::builtins::ACCEL_GROUP)?;
+            let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
+            let (stats, offset, size) = cache.stats_window(0);
+            pass.bind_accel(built, stats, offset, size)?;
+            scope.finish(gpu, "creating the batch tracer")?;
+            return Ok(Self { cache, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });
+        }
         let storage =
             |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
@@ -137,8 +192,7 @@ impl BatchTracer {
             cache: None,
         });
         scope.finish(gpu, "creating the batch tracer")?;
-        let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(device, &gpu.queue, 1));
-        Ok(Self { cache, pipeline, layout0, accel_group, timer, build, build_wall_ms })
+        Ok(Self { cache, tracer: Tracer::Compute { pipeline, layout0, accel_group }, timer, build, build_wall_ms })
     }
 
     /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.
@@ -179,7 +233,9 @@ impl BatchTracer {
     fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32, flags: TraceFlags) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
         let device = &gpu.device;
         let n = rays.len().max(1);
-        let params: [u32; 4] = [rays.len() as u32, mode, flags.0, 0];
+        let groups = (n as u32).div_ceil(GROUP);
+        let (gx, gy) = if groups <= 65_535 { (groups, 1) } else { (65_535, groups.div_ceil(65_535)) };
+        let params: [u32; 4] = [rays.len() as u32, mode, flags.0, gx * GROUP];
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("batch params"),
             contents: bytemuck::bytes_of(&params),
@@ -195,7 +251,7 @@ impl BatchTracer {
         let results = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("batch results"),
             size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
@@ -204,9 +260,33 @@ impl BatchTracer {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let mut command_buffers = Vec::new();
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.cache.clear_stats(&mut encoder);
+        let (pipeline, layout0, accel_group) = match &self.tracer {
+            Tracer::Compute { pipeline, layout0, accel_group } => (pipeline, layout0, accel_group),
+            Tracer::RayTracing(rt) => {
+                let mut rt = rt.lock().map_err(|_| RuntimeError::Gpu("the batch tracer's pipeline is poisoned".into()))?;
+                rt.set_group(0, rt_group0(&uniform, &ray_buf, &results))?;
+                // A new buffer every batch: written through wgpu once so that wgpu counts it
+                // initialized (see RtPass::transition).
+                encoder.clear_buffer(&results, 0, None);
+                rt.transition(&mut encoder, self.cache.stats_window(0).0);
+                if let Some(t) = &self.timer {
+                    drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("batch begin"), timestamp_writes: t.begin_writes(0) }));
+                }
+                command_buffers.push(encoder.finish());
+                command_buffers.push(rt.record([gx * GROUP, gy, 1])?);
+                encoder = device.create_command_encoder(&Default::default());
+                if let Some(t) = &self.timer {
+                    drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("batch end"), timestamp_writes: t.end_writes(0) }));
+                }
+                return self.finish_run(gpu, command_buffers, encoder, &results, &readback, size, rays.len());
+            }
+        };
         let bg0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("batch"),
-            layout: &self.layout0,
+            layout: layout0,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: ray_buf.as_entire_binding() },
@@ -215,30 +295,43 @@ impl BatchTracer {
         });
         let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &[] });
         let empty = device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &empty_layout, entries: &[] });
-        let groups = (n as u32).div_ceil(GROUP);
-        let (gx, gy) = if groups <= 65_535 { (groups, 1) } else { (65_535, groups.div_ceil(65_535)) };
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.cache.clear_stats(&mut encoder);
         {
             let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("batch"),
                 timestamp_writes: self.timer.as_ref().and_then(|t| t.compute_writes(0)),
             });
-            cp.set_pipeline(&self.pipeline);
+            cp.set_pipeline(pipeline);
             cp.set_bind_group(0, &bg0, &[]);
             cp.set_bind_group(1, &empty, &[]);
-            cp.set_bind_group(2, &self.accel_group, &[]);
+            cp.set_bind_group(2, accel_group, &[]);
             cp.dispatch_workgroups(gx, gy, 1);
         }
-        encoder.copy_buffer_to_buffer(&results, 0, &readback, 0, size);
+        self.finish_run(gpu, command_buffers, encoder, &results, &readback, size, rays.len())
+    }
+
+    /// Copies the results and counters out, submits, waits and reads them back.
+    #[allow(clippy::too_many_arguments)]
+    fn finish_run(
+        &self,
+        gpu: &Gpu,
+        mut command_buffers: Vec<wgpu::CommandBuffer>,
+        mut encoder: wgpu::CommandEncoder,
+        results: &wgpu::Buffer,
+        readback: &wgpu::Buffer,
+        size: u64,
+        count: usize,
+    ) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
+        let device = &gpu.device;
+        encoder.copy_buffer_to_buffer(results, 0, readback, 0, size);
         self.cache.copy_stats(&mut encoder);
         if let Some(t) = &self.timer {
             t.resolve(&mut encoder, 1);
         }
-        gpu.queue.submit([encoder.finish()]);
+        command_buffers.push(encoder.finish());
+        gpu.queue.submit(command_buffers);
         gpu.wait()?;
         let data = map_read(device, readback.slice(..))?;
-        let out: Vec<RawResult> = bytemuck::cast_slice::<u8, RawResult>(&data)[..rays.len()].to_vec();
+        let out: Vec<RawResult> = bytemuck::cast_slice::<u8, RawResult>(&data)[..count].to_vec();
         drop(data);
         readback.unmap();
         let stats = self.cache.read_stats(device)?[0];

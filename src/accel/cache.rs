@@ -170,6 +170,7 @@ enum State {
     Empty,
     Compute(ComputeState),
     RayQuery(RayQueryState),
+    RtPipeline(super::rt_pipeline::RtAccel),
 }
 
 /// How an `Accel` node organises the scene (the node's `dedup` and `merge` settings).
@@ -363,6 +364,7 @@ impl AccelCache {
             Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, meshes_hash, refit, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &mut report)?,
+            Backend::RtPipeline => self.update_rt_pipeline(device, queue, scene, &units, &changed, &mut report)?,
         }
         self.units = units;
         self.instances = instances;
@@ -666,6 +668,46 @@ impl AccelCache {
         report.tlas = TlasWork::Rebuild;
         self.state = State::RayQuery(RayQueryState { blases, tlas, capacity });
         Ok(())
+    }
+
+    /// The rt-pipeline back-end: new BLAS for the changed units, then TLAS and the geometry
+    /// arrays again (built through wgpu-hal and submitted before the frame's commands; see
+    /// [`super::rt_pipeline`]). Bind groups follow through [`AccelCache::generation`].
+    fn update_rt_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        units: &[UnitKey],
+        changed: &[usize],
+        report: &mut BuildReport,
+    ) -> Result<(), RuntimeError> {
+        let mut rt = match std::mem::replace(&mut self.state, State::Empty) {
+            State::RtPipeline(r) => r,
+            _ => super::rt_pipeline::RtAccel::new(device),
+        };
+        let unit_meshes: Vec<usize> = units.iter().map(|u| u.mesh).collect();
+        let dedup = self.dedup;
+        let unit_of = |i: usize| if dedup { scene.instances[i].mesh } else { i };
+        let result = rt.update(queue, scene, &unit_meshes, &unit_of, changed);
+        self.generation += 1;
+        self.state = State::RtPipeline(rt);
+        result?;
+        report.tlas = TlasWork::Rebuild;
+        Ok(())
+    }
+
+    /// The rt-pipeline back-end's acceleration structures, once built.
+    pub fn rt_accel(&self) -> Option<&super::rt_pipeline::RtAccel> {
+        match &self.state {
+            State::RtPipeline(r) => Some(r),
+            _ => None,
+        }
+    }
+
+    /// The buffer of ray counters and the byte range of trace pass number `window`'s counters.
+    pub fn stats_window(&self, window: u32) -> (&wgpu::Buffer, u64, u64) {
+        (&self.stats, self.stats_stride * window.min(self.stats_windows - 1) as u64, (STAT_SLOTS * 4) as u64)
     }
 
     /// The GPU object a trace-module binding (`accel_*`) refers to; `accel_stats` is the

@@ -33,3 +33,4 @@ pub mod layout;
 pub mod reference;
 pub mod reference_render;
 pub mod refit;
+pub mod rt_pipeline;

@@ -925,7 +925,10 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
     match pass.kind {
         PassKind::AccelBuild => {}
         PassKind::Compute | PassKind::Trace => {
-            if !stage_ok(&entry, naga::ShaderStage::Compute) {
+            // The rt-pipeline back-end's trace module makes a trace pass's compute entry point
+            // a ray-generation shader (reflect::compute_to_ray_generation).
+            let ray_generation = pass.kind == PassKind::Trace && stage_ok(&entry, naga::ShaderStage::RayGeneration);
+            if !stage_ok(&entry, naga::ShaderStage::Compute) && !ray_generation {
                 return Err(mismatch(
                     format!("the shader has no compute entry point `{entry}`"),
                     file_loc,

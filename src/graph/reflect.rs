@@ -201,12 +201,69 @@ pub struct ShaderInfo {
     pub source: ShaderSource,
     pub bindings: Vec<ShaderBinding>,
     pub entry_points: Vec<EntryPointInfo>,
+    /// The validated IR of a module with ray-tracing pipeline stages (a trace pass compiled for
+    /// the `rt-pipeline` back-end), whose compute entry points were made ray-generation
+    /// shaders ([`compute_to_ray_generation`]); wgpu-hal compiles every stage from it.
+    pub ray_tracing: Option<RayTracingModule>,
+}
+
+/// A module's IR and validation result, shared by the passes that use the file.
+#[derive(Clone)]
+pub struct RayTracingModule {
+    pub module: std::sync::Arc<naga::Module>,
+    pub info: std::sync::Arc<naga::valid::ModuleInfo>,
+}
+
+impl std::fmt::Debug for RayTracingModule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let stages: Vec<String> = self.module.entry_points.iter().map(|e| format!("{} {:?}", e.name, e.stage)).collect();
+        f.debug_struct("RayTracingModule").field("entry_points", &stages).finish()
+    }
+}
+
+/// Whether `stage` belongs to a ray-tracing pipeline.
+pub fn is_ray_tracing_stage(stage: naga::ShaderStage) -> bool {
+    matches!(stage, naga::ShaderStage::RayGeneration | naga::ShaderStage::Miss | naga::ShaderStage::ClosestHit | naga::ShaderStage::AnyHit)
+}
+
+/// Makes every compute entry point of `module` a ray-generation entry point: the stage changes,
+/// and `@builtin(global_invocation_id)` becomes `@builtin(ray_invocation_id)` (the same
+/// `vec3<u32>`: the launch grid is the pass's dispatch in invocations, one per pixel). This is
+/// how a trace pass written as a compute shader runs unchanged as the ray-generation shader of
+/// the `rt-pipeline` back-end. Any other compute built-in (workgroup ids, local ids, workgroup
+/// counts) has no ray-generation equivalent and is an error naming it.
+pub fn compute_to_ray_generation(module: &mut naga::Module) -> Result<(), String> {
+    for ep in module.entry_points.iter_mut().filter(|e| e.stage == naga::ShaderStage::Compute) {
+        for arg in &mut ep.function.arguments {
+            match &mut arg.binding {
+                Some(naga::Binding::BuiltIn(b @ naga::BuiltIn::GlobalInvocationId)) => *b = naga::BuiltIn::RayInvocationId,
+                Some(naga::Binding::BuiltIn(other)) => return Err(format!(
+                    "entry point `{}` reads @builtin({other:?}), which a ray-generation shader does not have; a trace pass may read only global_invocation_id",
+                    ep.name
+                )),
+                None if matches!(module.types[arg.ty].inner, naga::TypeInner::Struct { .. }) => {
+                    return Err(format!("entry point `{}` takes its built-ins in a struct; a trace pass takes global_invocation_id as an argument", ep.name))
+                }
+                _ => {}
+            }
+        }
+        ep.stage = naga::ShaderStage::RayGeneration;
+        ep.workgroup_size = [0; 3];
+        ep.workgroup_size_overrides = None;
+    }
+    Ok(())
 }
 
 impl ShaderInfo {
     /// The interface of a pass without a shader (an acceleration-structure build).
     pub fn none() -> Self {
-        ShaderInfo { path: PathBuf::new(), source: ShaderSource { text: String::new(), segments: Vec::new() }, bindings: Vec::new(), entry_points: Vec::new() }
+        ShaderInfo {
+            path: PathBuf::new(),
+            source: ShaderSource { text: String::new(), segments: Vec::new() },
+            bindings: Vec::new(),
+            entry_points: Vec::new(),
+            ray_tracing: None,
+        }
     }
 
     pub fn entry(&self, name: &str) -> Option<&EntryPointInfo> {
@@ -226,7 +283,7 @@ pub fn reflect(path: &Path, shader_root: &Path, referenced_from: &Location) -> R
 /// [`reflect`] with include substitutions.
 pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<ShaderInfo, GraphError> {
     let source = ShaderSource::load(path, shader_root, referenced_from, aliases)?;
-    let module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
+    let mut module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
         let offset = e.labels().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
         let labels: Vec<String> = e.labels().map(|(_, l)| l.to_string()).filter(|l| !l.is_empty()).collect();
         let mut err = GraphError::new(
@@ -238,8 +295,21 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
         err = err.note(referenced_from.clone(), "shader used by this pass");
         err
     })?;
+    // Compute entry points as written (their workgroup sizes size the dispatch), before a
+    // ray-tracing module's are made ray-generation shaders.
+    let compute_sizes: Vec<(String, [u32; 3])> =
+        module.entry_points.iter().filter(|e| e.stage == naga::ShaderStage::Compute).map(|e| (e.name.clone(), e.workgroup_size)).collect();
+    let ray_tracing = module.entry_points.iter().any(|e| is_ray_tracing_stage(e.stage));
+    if ray_tracing {
+        compute_to_ray_generation(&mut module).map_err(|message| {
+            GraphError::new(ErrorKind::ShaderInvalid, Location::file_start(path), message)
+                .note(referenced_from.clone(), "shader used by this pass")
+                .help("the rt-pipeline back-end runs a trace pass's compute entry point as a ray-generation shader")
+        })?;
+    }
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
-    if let Err(e) = validator.validate(&module) {
+    let validated = validator.validate(&module);
+    if let Err(e) = &validated {
         let offset = e.spans().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
         let mut chain = e.as_inner().to_string();
         let mut inner: Option<&dyn std::error::Error> = std::error::Error::source(e.as_inner());
@@ -337,8 +407,13 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
             _ => {}
         }
         locations.sort_unstable();
-        entry_points.push(EntryPointInfo { name: ep.name.clone(), stage: ep.stage, workgroup_size: ep.workgroup_size, locations });
+        let workgroup_size = compute_sizes.iter().find(|(n, _)| *n == ep.name).map(|(_, s)| *s).unwrap_or(ep.workgroup_size);
+        entry_points.push(EntryPointInfo { name: ep.name.clone(), stage: ep.stage, workgroup_size, locations });
     }
+    let ray_tracing = match (ray_tracing, validated) {
+        (true, Ok(info)) => Some(RayTracingModule { module: std::sync::Arc::new(module), info: std::sync::Arc::new(info) }),
+        _ => None,
+    };
 
-    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points })
+    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points, ray_tracing })
 }

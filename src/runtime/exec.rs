@@ -5,6 +5,7 @@ use super::gpu::Gpu;
 use super::profiler::{map_read, FrameTimings, GpuTimer};
 use super::uniforms::FrameUniforms;
 use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
+use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::{ErrorKind, GraphError, RuntimeError};
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
@@ -20,6 +21,9 @@ enum Pipeline {
     Render(wgpu::RenderPipeline),
     /// The `Accel` node's build: the cache's update, recorded at the start of the frame.
     AccelBuild,
+    /// A trace pass on the `rt-pipeline` back-end: a ray-tracing pipeline recorded through
+    /// wgpu-hal into a command buffer of its own (`crate::accel::rt_pipeline`).
+    RayTracing(Box<RtPass>),
 }
 
 struct PassRuntime {
@@ -54,6 +58,42 @@ fn encode_params(params: &BTreeMap<String, (ParamDecl, ParamValue)>, members: &[
         bytes[o..o + 4].copy_from_slice(&word);
     }
     bytes
+}
+
+/// The `linear_sampler` built-in.
+fn linear_sampler() -> wgpu::SamplerDescriptor<'static> {
+    wgpu::SamplerDescriptor {
+        label: Some("linear"),
+        address_mode_u: wgpu::AddressMode::Repeat,
+        address_mode_v: wgpu::AddressMode::Repeat,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    }
+}
+
+/// The `nearest_sampler` built-in.
+fn nearest_sampler() -> wgpu::SamplerDescriptor<'static> {
+    wgpu::SamplerDescriptor { label: Some("nearest"), ..Default::default() }
+}
+
+/// The state a binding's resource is in while a pass uses it (the rt-pipeline back-end's
+/// explicit transitions).
+fn texture_uses(kind: &BindingKind) -> wgpu::TextureUses {
+    match kind {
+        BindingKind::StorageTexture { access, .. } if access.contains(naga::StorageAccess::LOAD) => wgpu::TextureUses::STORAGE_READ_WRITE,
+        BindingKind::StorageTexture { .. } => wgpu::TextureUses::STORAGE_WRITE_ONLY,
+        _ => wgpu::TextureUses::RESOURCE,
+    }
+}
+
+fn buffer_uses(kind: &BindingKind) -> wgpu::BufferUses {
+    match kind {
+        BindingKind::Uniform { .. } => wgpu::BufferUses::UNIFORM,
+        BindingKind::Storage { read_only: true, .. } => wgpu::BufferUses::STORAGE_READ_ONLY,
+        _ => wgpu::BufferUses::STORAGE_READ_WRITE,
+    }
 }
 
 enum Physical {
@@ -126,7 +166,9 @@ impl Executor {
                     }
                     // Every texture can be read back (tests, the viewer's pass inspector).
                     usage |= wgpu::TextureUsages::COPY_SRC;
-                    if s.constant.is_some() {
+                    // The rt-pipeline back-end clears what its traces write once through wgpu
+                    // (RtPass::transition).
+                    if s.constant.is_some() || (s.usage.storage && plan.backend == crate::accel::backend::Backend::RtPipeline) {
                         usage |= wgpu::TextureUsages::COPY_DST;
                     }
                     Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
@@ -182,16 +224,8 @@ impl Executor {
             log::info!("scene not uploaded: no pass of the graph uses it");
             None
         };
-        let linear = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("linear"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            ..Default::default()
-        });
-        let nearest = device.create_sampler(&wgpu::SamplerDescriptor { label: Some("nearest"), ..Default::default() });
+        let linear = device.create_sampler(&linear_sampler());
+        let nearest = device.create_sampler(&nearest_sampler());
 
         let accel = plan.passes.iter().find(|p| p.kind == PassKind::AccelBuild).map(|p| {
             let settings = AccelSettings {
@@ -263,6 +297,13 @@ impl Executor {
     fn texture_view(&self, r: ResourceId) -> wgpu::TextureView {
         match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
             Physical::Texture(t) => t.create_view(&wgpu::TextureViewDescriptor::default()),
+            Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
+        }
+    }
+
+    fn slot_texture(&self, r: ResourceId) -> &wgpu::Texture {
+        match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
+            Physical::Texture(t) => t,
             Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
         }
     }
@@ -406,6 +447,9 @@ impl Executor {
                 _ => {}
             }
         }
+        if pass.kind == PassKind::Trace && self.plan.backend == crate::accel::backend::Backend::RtPipeline {
+            return self.build_rt_pass(gpu, pass, &layout_entries, params_buffer, params_members);
+        }
         // One bind group per @group the shader uses (group 1 holds the scene's texture binding
         // array, which may not share a group with uniform buffers).
         let group_count = shader.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
@@ -541,6 +585,94 @@ impl Executor {
         Ok(PassRuntime { pipeline, bind_groups, accel_layout, accel_group: None, colors, depth, groups, params })
     }
 
+    /// A trace pass on the rt-pipeline back-end: the same bindings as the compute pass would
+    /// have, bound through hal bind groups of a ray-tracing pipeline.
+    fn build_rt_pass(
+        &self,
+        gpu: &Gpu,
+        pass: &PlannedPass,
+        layout_entries: &[(u32, wgpu::BindGroupLayoutEntry)],
+        params_buffer: Option<((u32, u32), wgpu::Buffer)>,
+        params_members: Option<(u64, Vec<crate::graph::reflect::UniformMember>)>,
+    ) -> Result<PassRuntime, RuntimeError> {
+        let shader = &pass.shader;
+        let module = shader
+            .ray_tracing
+            .as_ref()
+            .ok_or_else(|| RuntimeError::Gpu(format!("pass {}: the shader was not compiled with the rt-pipeline trace module", pass.name)))?;
+        let resource_of = |name: &str| pass.reads.iter().chain(&pass.writes).find(|(l, _)| l == name).map(|(_, r)| *r);
+        let mut bindings = Vec::new();
+        for b in &shader.bindings {
+            let Some(entry) = layout_entries.iter().find(|(g, e)| *g == b.group && e.binding == b.binding).map(|(_, e)| *e) else { continue };
+            let buffer =
+                |buffer: &wgpu::Buffer| RtResource::Buffer { buffer: buffer.clone(), offset: 0, size: None, uses: buffer_uses(&b.kind), initialize: false };
+            let resource = if let Some(r) = resource_of(&b.name) {
+                match &self.plan.resources[r].decl {
+                    ResourceDecl::Texture(_) => {
+                        RtResource::Texture { texture: self.slot_texture(r).clone(), view: self.texture_view(r), uses: texture_uses(&b.kind) }
+                    }
+                    ResourceDecl::Buffer(_) => RtResource::Buffer {
+                        buffer: self.buffer(r).clone(),
+                        offset: 0,
+                        size: None,
+                        uses: buffer_uses(&b.kind),
+                        initialize: pass.writes.iter().any(|(_, w)| *w == r),
+                    },
+                    ResourceDecl::Accel => continue,
+                }
+            } else if b.group == builtins::ACCEL_GROUP {
+                RtResource::Accel(b.name.clone())
+            } else {
+                match b.name.as_str() {
+                    builtins::FRAME => buffer(&self.frame_uniforms),
+                    builtins::DEBUG_COUNTERS => buffer(&self.debug_counters),
+                    builtins::PARAMS => buffer(&params_buffer.as_ref().expect("made for the params binding").1),
+                    builtins::SCENE_INSTANCES => buffer(self.scene_part(|s| s.instances.as_ref())?),
+                    builtins::SCENE_MATERIALS => buffer(self.scene_part(|s| s.materials.as_ref())?),
+                    builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices.as_ref())?),
+                    builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices.as_ref())?),
+                    builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes.as_ref())?),
+                    builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+                        SceneTextures::Array { texture, view } => {
+                            RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
+                        }
+                        SceneTextures::Separate { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
+                    },
+                    builtins::LINEAR_SAMPLER => RtResource::Sampler(linear_sampler()),
+                    builtins::NEAREST_SAMPLER => RtResource::Sampler(nearest_sampler()),
+                    other => return Err(RuntimeError::Gpu(format!("pass {}: binding `{other}` has no resource", pass.name))),
+                }
+            };
+            bindings.push(RtBinding { group: b.group, entry, resource });
+        }
+        let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, bindings, builtins::ACCEL_GROUP)?;
+        let wg = shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
+        // The launch grid: one ray-generation invocation per invocation of the compute dispatch.
+        let launch = match pass.dispatch {
+            Dispatch::Groups(x, y, z) => [x * wg[0].max(1), y * wg[1].max(1), z * wg[2].max(1)],
+            Dispatch::PerPixel => {
+                let extent = pass
+                    .writes
+                    .iter()
+                    .find(|(_, r)| matches!(self.plan.resources[*r].decl, ResourceDecl::Texture(_)))
+                    .map(|(_, r)| self.plan.resources[*r].extent)
+                    .unwrap_or(self.plan.frame_size);
+                [extent.0, extent.1, 1]
+            }
+        };
+        let params = params_buffer.as_ref().zip(params_members).map(|((_, buf), (size, members))| (buf.clone(), size, members));
+        Ok(PassRuntime {
+            pipeline: Pipeline::RayTracing(Box::new(rt)),
+            bind_groups: Vec::new(),
+            accel_layout: None,
+            accel_group: None,
+            colors: Vec::new(),
+            depth: None,
+            groups: launch,
+            params,
+        })
+    }
+
     fn is_depth(&self, r: ResourceId) -> bool {
         matches!(&self.plan.resources[r].decl, ResourceDecl::Texture(t) if t.format.is_depth())
     }
@@ -589,6 +721,9 @@ impl Executor {
         gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&self.frame_uniforms(camera, scene)));
         let scope = gpu.scopes();
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        // Command buffers before `encoder`'s, in submission order (rt-pipeline passes record
+        // into command buffers of their own).
+        let mut command_buffers = Vec::new();
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
         // The acceleration structure first: every trace pass depends on it.
         let accel_report = self.update_accel(gpu, &mut encoder, scene)?;
@@ -600,6 +735,21 @@ impl Executor {
                 Pipeline::AccelBuild => {
                     cpu_ms.push(accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
                     continue;
+                }
+                Pipeline::RayTracing(rt) => {
+                    let cache = self.accel.as_ref().ok_or_else(|| RuntimeError::Gpu(format!("pass {} traces rays without an Accel node", planned.name)))?;
+                    rt.transition(&mut encoder, cache.stats_window(0).0);
+                    if let Some(t) = &self.timer {
+                        drop(
+                            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace begin"), timestamp_writes: t.begin_writes(i as u32) }),
+                        );
+                    }
+                    let next = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+                    command_buffers.push(std::mem::replace(&mut encoder, next).finish());
+                    command_buffers.push(rt.record(pass.groups)?);
+                    if let Some(t) = &self.timer {
+                        drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace end"), timestamp_writes: t.end_writes(i as u32) }));
+                    }
                 }
                 Pipeline::Compute(pipeline) => {
                     let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -668,7 +818,8 @@ impl Executor {
         if let Some(cache) = &self.accel {
             cache.copy_stats(&mut encoder);
         }
-        gpu.queue.submit([encoder.finish()]);
+        command_buffers.push(encoder.finish());
+        gpu.queue.submit(command_buffers);
         scope.finish(gpu, "recording the frame")?;
         gpu.wait()?;
         let gpu_ms = match &self.timer {
@@ -714,7 +865,14 @@ impl Executor {
         if cache.generation() != self.accel_generation {
             self.accel_generation = cache.generation();
             let cache = self.accel.as_ref().expect("checked above");
-            for (window, pass) in self.passes.iter_mut().filter(|p| p.accel_layout.is_some()).enumerate() {
+            let trace_passes = self.passes.iter_mut().filter(|p| p.accel_layout.is_some() || matches!(p.pipeline, Pipeline::RayTracing(_)));
+            for (window, pass) in trace_passes.enumerate() {
+                if let Pipeline::RayTracing(rt) = &mut pass.pipeline {
+                    let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
+                    let (stats, offset, size) = cache.stats_window(window as u32);
+                    rt.bind_accel(built, stats, offset, size)?;
+                    continue;
+                }
                 let Some((layout, entries, names)) = &pass.accel_layout else { continue };
                 let mut bg_entries = Vec::new();
                 for (e, name) in entries.iter().zip(names) {

@@ -107,13 +107,17 @@ impl Gpu {
                 adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
         }
         let selection = backend::select(adapter.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
-        let ray_query = adapter.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+        let ray_features = adapter.features() & (wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES);
         let mut experimental_features = wgpu::ExperimentalFeatures::disabled();
-        if ray_query {
-            required_features |= wgpu::Features::EXPERIMENTAL_RAY_QUERY;
+        if !ray_features.is_empty() {
+            required_features |= ray_features;
+            if ray_features.contains(wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES) {
+                required_features |= adapter.features() & (wgpu::Features::PRIMITIVE_INDEX | wgpu::Features::CLEAR_TEXTURE);
+            }
             required_limits = required_limits.using_acceleration_structure_values(adapter.limits());
-            // SAFETY: ray queries are an experimental wgpu feature; raygraph checks every
-            // ray it traces (no NaN/Inf or zero directions, ordered t range) before tracing.
+            // SAFETY: ray queries and ray-tracing pipelines are experimental wgpu features;
+            // raygraph checks every ray it traces (no NaN/Inf or zero directions, ordered t
+            // range) before tracing.
             experimental_features = unsafe { wgpu::ExperimentalFeatures::enabled() };
         }
         let backends: Vec<Backend> = Backend::ALL.into_iter().filter(|b| adapter.features().contains(b.features())).collect();
@@ -225,8 +229,10 @@ impl Gpu {
 
 /// The error scopes of [`Gpu::scopes`] (dropped unfinished, they are popped and forgotten).
 pub struct GpuScopes {
-    oom: wgpu::ErrorScopeGuard,
+    // Fields drop in declaration order and scopes must be popped in reverse order of their
+    // push: the validation scope, pushed last, comes first.
     validation: wgpu::ErrorScopeGuard,
+    oom: wgpu::ErrorScopeGuard,
 }
 
 impl GpuScopes {

@@ -1,0 +1,1090 @@
+//! Back-end `rt-pipeline`: the ray-tracing pipeline with a shader binding table (DXR's model,
+//! Vulkan's `VK_KHR_ray_tracing_pipeline`), reached through wgpu-hal because wgpu 30 has no
+//! public API for it. Every unsafe call of the project into wgpu-hal and Vulkan is in this
+//! module, each block with its `// SAFETY:` argument.
+//!
+//! What it owns:
+//! - [`RtAccel`]: the acceleration structures, built through wgpu-hal: a BLAS per mesh (opaque
+//!   triangles; triangles the other back-ends leave out become degenerate, so primitive indices
+//!   stay the mesh's own), a TLAS whose instances carry the scene instance index as custom data
+//!   and hit group 0 (the opaque hit group), and the object-space positions and indices the
+//!   closest-hit shader reads to compute barycentrics (naga's hit shaders have no hit
+//!   attributes).
+//! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
+//!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
+//!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, bind groups made through
+//!   wgpu-hal over the same wgpu textures and buffers a compute pass would bind, and the shader
+//!   binding table (ray generation, miss, hit group records at the device's alignments).
+//!
+//! Synchronization with wgpu. wgpu forbids mixing its encoding API with raw recording in one
+//! command encoder, so hal work is recorded into command encoders of its own that the caller
+//! submits in order between wgpu's (`Queue::submit` of several command buffers executes them
+//! in order on one queue). wgpu does not see what those command buffers touch, so the contract
+//! is explicit:
+//! 1. before a trace, the caller's wgpu encoder calls [`RtPass::transition`]: wgpu moves every
+//!    texture and buffer the pass binds into the state (and Vulkan image layout) the hal bind
+//!    groups were made for, and records that state in its tracker;
+//! 2. the hal command buffer starts with a memory barrier from all earlier commands' writes to
+//!    the ray-tracing stages' reads and writes, and ends with one from the ray-tracing stages'
+//!    writes to every later command, so wgpu's next barrier (whose source stages never include
+//!    the ray-tracing stages) is not relied on;
+//! 3. the hal command buffer changes no image layout, so wgpu's tracker stays true.
+//!
+//! Acceleration-structure builds are recorded the same way and submitted at once, before the
+//! frame that uses them. Objects made through wgpu-hal are destroyed in `Drop` after the device
+//! is idle.
+
+use crate::error::RuntimeError;
+use crate::scene::Scene;
+use std::num::NonZeroU64;
+use wgpu::hal;
+use wgpu::hal::{CommandEncoder as _, Device as _};
+
+type Vk = hal::api::Vulkan;
+type HalDevice = hal::vulkan::Device;
+type HalBuffer = hal::vulkan::Buffer;
+type HalAccel = hal::vulkan::AccelerationStructure;
+
+/// Every ray-tracing stage, the visibility of every binding of a ray-tracing pipeline.
+const RT_STAGES: wgpu::ShaderStages =
+    wgpu::ShaderStages::RAY_GENERATION.union(wgpu::ShaderStages::MISS).union(wgpu::ShaderStages::CLOSEST_HIT).union(wgpu::ShaderStages::ANY_HIT);
+
+fn hal_error(what: &str, e: impl std::fmt::Display) -> RuntimeError {
+    RuntimeError::Gpu(format!("rt-pipeline back-end: {what}: {e}"))
+}
+
+/// Runs `f` with the wgpu device's Vulkan hal device.
+fn with_hal<R>(device: &wgpu::Device, f: impl FnOnce(&HalDevice) -> Result<R, RuntimeError>) -> Result<R, RuntimeError> {
+    // SAFETY: the guard lives only for `f`; objects made through it are destroyed through it
+    // (see `HalObjects::drop`) before the wgpu device, whose clone each owner keeps.
+    let guard = unsafe { device.as_hal::<Vk>() };
+    match guard {
+        Some(d) => f(&d),
+        None => Err(RuntimeError::Gpu("the rt-pipeline back-end needs wgpu's Vulkan back-end".into())),
+    }
+}
+
+/// Records hal commands into a command encoder of their own (see the module docs), each
+/// block of commands between the two memory barriers.
+fn record_raw(
+    device: &wgpu::Device,
+    label: &str,
+    f: impl FnOnce(&HalDevice, &mut hal::vulkan::CommandEncoder) -> Result<(), RuntimeError>,
+) -> Result<wgpu::CommandBuffer, RuntimeError> {
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+    with_hal(device, |hal_device| {
+        // SAFETY: the encoder is used only through hal inside this call (wgpu's API is never
+        // called on it before `finish`), and the callback does not end the command buffer.
+        unsafe {
+            encoder.as_hal_mut::<Vk, _, _>(|raw| {
+                let raw = raw.ok_or_else(|| RuntimeError::Gpu("the rt-pipeline back-end needs wgpu's Vulkan back-end".into()))?;
+                memory_barrier(hal_device, raw, vk_all_commands(), vk_rt_and_build());
+                f(hal_device, raw)?;
+                memory_barrier(hal_device, raw, vk_rt_and_build(), vk_all_commands());
+                Ok(())
+            })
+        }
+    })?;
+    Ok(encoder.finish())
+}
+
+fn vk_all_commands() -> ash::vk::PipelineStageFlags {
+    ash::vk::PipelineStageFlags::ALL_COMMANDS
+}
+
+fn vk_rt_and_build() -> ash::vk::PipelineStageFlags {
+    ash::vk::PipelineStageFlags::RAY_TRACING_SHADER_KHR | ash::vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR | ash::vk::PipelineStageFlags::TRANSFER
+}
+
+/// A global memory barrier: every write of `src` stages visible to every access of `dst`.
+fn memory_barrier(device: &HalDevice, encoder: &mut hal::vulkan::CommandEncoder, src: ash::vk::PipelineStageFlags, dst: ash::vk::PipelineStageFlags) {
+    let barrier = ash::vk::MemoryBarrier::default()
+        .src_access_mask(ash::vk::AccessFlags::MEMORY_WRITE)
+        .dst_access_mask(ash::vk::AccessFlags::MEMORY_READ | ash::vk::AccessFlags::MEMORY_WRITE);
+    // SAFETY: the command buffer is the encoder's open one (inside `as_hal_mut`), outside any
+    // render pass; a global memory barrier names no resource and changes no layout.
+    unsafe {
+        device.raw_device().cmd_pipeline_barrier(encoder.raw_handle(), src, dst, ash::vk::DependencyFlags::empty(), &[barrier], &[], &[]);
+    }
+}
+
+/// The device's ray-tracing alignments (Vulkan properties).
+#[derive(Debug, Clone, Copy)]
+struct Alignments {
+    handle_size: u64,
+    handle_alignment: u64,
+    base_alignment: u64,
+    scratch_alignment: u64,
+}
+
+fn alignments(device: &HalDevice) -> Alignments {
+    let mut rt = ash::vk::PhysicalDeviceRayTracingPipelinePropertiesKHR::default();
+    let mut accel = ash::vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
+    let mut props = ash::vk::PhysicalDeviceProperties2::default().push_next(&mut rt).push_next(&mut accel);
+    // SAFETY: a query of the physical device the hal device was opened on, into structures
+    // that outlive the call.
+    unsafe { device.shared_instance().raw_instance().get_physical_device_properties2(device.raw_physical_device(), &mut props) };
+    Alignments {
+        handle_size: rt.shader_group_handle_size.max(1) as u64,
+        handle_alignment: rt.shader_group_handle_alignment.max(1) as u64,
+        base_alignment: rt.shader_group_base_alignment.max(1) as u64,
+        scratch_alignment: accel.min_acceleration_structure_scratch_offset_alignment.max(1) as u64,
+    }
+}
+
+/// Objects made through wgpu-hal, destroyed (after the device is idle) when dropped.
+#[derive(Default)]
+struct HalObjects {
+    buffers: Vec<HalBuffer>,
+    accels: Vec<HalAccel>,
+    bind_groups: Vec<hal::vulkan::BindGroup>,
+    bind_group_layouts: Vec<hal::vulkan::BindGroupLayout>,
+    pipeline_layouts: Vec<hal::vulkan::PipelineLayout>,
+    shader_modules: Vec<hal::vulkan::ShaderModule>,
+    pipelines: Vec<hal::vulkan::RayTracingPipeline>,
+    samplers: Vec<hal::vulkan::Sampler>,
+    texture_views: Vec<hal::vulkan::TextureView>,
+}
+
+impl HalObjects {
+    fn is_empty(&self) -> bool {
+        self.buffers.is_empty()
+            && self.accels.is_empty()
+            && self.bind_groups.is_empty()
+            && self.bind_group_layouts.is_empty()
+            && self.pipeline_layouts.is_empty()
+            && self.shader_modules.is_empty()
+            && self.pipelines.is_empty()
+            && self.samplers.is_empty()
+            && self.texture_views.is_empty()
+    }
+
+    /// Destroys every object once the GPU has finished all submitted work.
+    fn destroy(&mut self, device: &wgpu::Device) {
+        if self.is_empty() {
+            return;
+        }
+        // Command buffers that use these objects were submitted before this point.
+        let _ = device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) });
+        let _ = with_hal(device, |d| {
+            // SAFETY: every object was made by this device and the GPU is idle (above); each
+            // is destroyed once (drained) and nothing refers to it afterwards.
+            unsafe {
+                for p in self.pipelines.drain(..) {
+                    d.destroy_ray_tracing_pipeline(p);
+                }
+                for g in self.bind_groups.drain(..) {
+                    d.destroy_bind_group(g);
+                }
+                for l in self.pipeline_layouts.drain(..) {
+                    d.destroy_pipeline_layout(l);
+                }
+                for l in self.bind_group_layouts.drain(..) {
+                    d.destroy_bind_group_layout(l);
+                }
+                for m in self.shader_modules.drain(..) {
+                    d.destroy_shader_module(m);
+                }
+                for s in self.samplers.drain(..) {
+                    d.destroy_sampler(s);
+                }
+                for v in self.texture_views.drain(..) {
+                    d.destroy_texture_view(v);
+                }
+                for a in self.accels.drain(..) {
+                    d.destroy_acceleration_structure(a);
+                }
+                for b in self.buffers.drain(..) {
+                    d.destroy_buffer(b);
+                }
+            }
+            Ok(())
+        });
+    }
+}
+
+/// A buffer made through wgpu-hal in device memory, filled from `data` by a copy recorded
+/// into `encoder` from a host-visible staging buffer (kept in `staging` until the device is
+/// idle).
+fn device_buffer(
+    d: &HalDevice,
+    encoder: &mut hal::vulkan::CommandEncoder,
+    staging: &mut HalObjects,
+    label: &str,
+    data: &[u8],
+    usage: wgpu::BufferUses,
+) -> Result<HalBuffer, RuntimeError> {
+    let size = (data.len() as u64).max(16).next_multiple_of(4);
+    // SAFETY: plain buffer creation and a mapped write of `data.len()` bytes into a buffer of
+    // at least that size; the copy is recorded into the open encoder, and the staging buffer
+    // stays alive until the device is idle (`staging` is destroyed after a wait).
+    unsafe {
+        let stage = d
+            .create_buffer(&hal::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUses::MAP_WRITE | wgpu::BufferUses::COPY_SRC,
+                memory_flags: hal::MemoryFlags::PREFER_COHERENT,
+            })
+            .map_err(|e| hal_error(label, e))?;
+        let mapping = d.map_buffer(&stage, 0..size).map_err(|e| hal_error(label, e))?;
+        std::ptr::copy_nonoverlapping(data.as_ptr(), mapping.ptr.as_ptr(), data.len());
+        if !mapping.is_coherent {
+            d.flush_mapped_ranges(&stage, std::iter::once(0..size));
+        }
+        d.unmap_buffer(&stage);
+        let buffer = d
+            .create_buffer(&hal::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: usage | wgpu::BufferUses::COPY_DST,
+                memory_flags: hal::MemoryFlags::empty(),
+            })
+            .map_err(|e| hal_error(label, e))?;
+        encoder.copy_buffer_to_buffer(
+            &stage,
+            &buffer,
+            std::iter::once(hal::BufferCopy { src_offset: 0, dst_offset: 0, size: NonZeroU64::new(size).expect("size >= 16") }),
+        );
+        staging.buffers.push(stage);
+        Ok(buffer)
+    }
+}
+
+/// The acceleration structures of a scene, built through wgpu-hal (see the module docs): a
+/// BLAS per unit (mesh, or instance without de-duplication) rebuilt only when its unit
+/// changed, and a TLAS and the closest-hit shader's geometry arrays made again on every change.
+pub struct RtAccel {
+    device: wgpu::Device,
+    /// Per unit; `None` for a unit without a valid triangle (its instances are left out).
+    blases: Vec<Option<HalAccel>>,
+    tlas: Option<HalAccel>,
+    /// The positions, indices and per-instance first triangles (`accel_positions`,
+    /// `accel_indices`, `accel_first_triangle`).
+    geometry: Vec<HalBuffer>,
+    /// Instances in the TLAS (those whose unit has a BLAS and whose transform is finite).
+    pub instance_count: usize,
+}
+
+/// A mesh's triangles for the BLAS: the mesh's own indices, a triangle the other back-ends
+/// leave out (degenerate, non-finite, bad index) as three copies of index 0; positions with
+/// non-finite coordinates zeroed. `None` without a valid triangle.
+fn mesh_geometry(mesh: &crate::scene::Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
+    use super::bvh::{classify_mesh_triangle, TriangleStatus};
+    let tris = mesh.triangle_count();
+    let mut indices = Vec::with_capacity(tris * 3);
+    let mut valid = 0;
+    for t in 0..tris {
+        if classify_mesh_triangle(mesh, t).1 == TriangleStatus::Valid {
+            indices.extend_from_slice(&mesh.indices[3 * t..3 * t + 3]);
+            valid += 1;
+        } else {
+            indices.extend_from_slice(&[0, 0, 0]);
+        }
+    }
+    if valid == 0 {
+        return None;
+    }
+    let positions = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
+    Some((positions, indices))
+}
+
+impl RtAccel {
+    /// No acceleration structure yet (the first [`RtAccel::update`] builds every unit).
+    pub fn new(device: &wgpu::Device) -> Self {
+        Self { device: device.clone(), blases: Vec::new(), tlas: None, geometry: Vec::new(), instance_count: 0 }
+    }
+
+    /// Brings the structures up to date with `scene`: units (`unit_meshes[u]` is unit `u`'s
+    /// mesh) listed in `changed` get a new BLAS, the TLAS and the geometry arrays are made
+    /// again. The build is submitted on `queue` before this returns; what it replaced is
+    /// destroyed once the device is idle. Returns the number of BLAS built.
+    pub fn update(
+        &mut self,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        unit_meshes: &[usize],
+        unit_of_instance: &dyn Fn(usize) -> usize,
+        changed: &[usize],
+    ) -> Result<usize, RuntimeError> {
+        const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
+        if scene.instances.len() > MAX_CUSTOM_DATA {
+            return Err(RuntimeError::Gpu(format!(
+                "scene `{}` has {} instances; the rt-pipeline back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
+                scene.name,
+                scene.instances.len()
+            )));
+        }
+        let device = self.device.clone();
+        // Every unit's triangles packed into one position and one index array (indices
+        // already offset to the packed positions): the BLAS builds read them, and so does the
+        // closest-hit shader.
+        let mut positions: Vec<[f32; 3]> = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        // Per unit: (first triangle, triangle count).
+        let mut spans: Vec<Option<(u32, u32)>> = Vec::with_capacity(unit_meshes.len());
+        for &mesh in unit_meshes {
+            let Some((p, i)) = scene.meshes.get(mesh).and_then(mesh_geometry) else {
+                spans.push(None);
+                continue;
+            };
+            let base = positions.len() as u32;
+            spans.push(Some(((indices.len() / 3) as u32, (i.len() / 3) as u32)));
+            positions.extend_from_slice(&p);
+            indices.extend(i.iter().map(|&x| x + base));
+        }
+        let first_triangles: Vec<u32> =
+            (0..scene.instances.len()).map(|i| spans.get(unit_of_instance(i)).copied().flatten().map(|s| s.0).unwrap_or(0)).collect();
+
+        let mut retired = HalObjects::default();
+        let mut fresh = HalObjects::default();
+        let mut blases = std::mem::take(&mut self.blases);
+        blases.resize_with(unit_meshes.len(), || None);
+        let mut rebuild: Vec<usize> = changed.iter().copied().filter(|&u| u < unit_meshes.len()).collect();
+        // A unit with geometry but no BLAS (an earlier failed update) is built too.
+        rebuild.extend((0..unit_meshes.len()).filter(|&u| blases[u].is_none() && spans[u].is_some() && !changed.contains(&u)));
+        let mut instance_count = 0;
+        let mut new_tlas = None;
+        let commands = record_raw(&device, "rt-pipeline acceleration structures", |d, enc| {
+            let align = alignments(d);
+            let geometry_use = wgpu::BufferUses::BOTTOM_LEVEL_ACCELERATION_STRUCTURE_INPUT | wgpu::BufferUses::STORAGE_READ_ONLY;
+            fresh.buffers.push(device_buffer(d, enc, &mut retired, "rt positions", bytemuck::cast_slice(&positions), geometry_use)?);
+            fresh.buffers.push(device_buffer(d, enc, &mut retired, "rt indices", bytemuck::cast_slice(&indices), geometry_use)?);
+            fresh.buffers.push(device_buffer(
+                d,
+                enc,
+                &mut retired,
+                "rt first triangles",
+                bytemuck::cast_slice(&first_triangles),
+                wgpu::BufferUses::STORAGE_READ_ONLY,
+            )?);
+            // The copies above land before the builds read them.
+            memory_barrier(d, enc, vk_all_commands(), vk_rt_and_build());
+            let (pos_buf, idx_buf) = (&fresh.buffers[0], &fresh.buffers[1]);
+            let flags = hal::AccelerationStructureBuildFlags::PREFER_FAST_TRACE;
+            let entries: Vec<(usize, hal::AccelerationStructureEntries<HalBuffer>)> = rebuild
+                .iter()
+                .filter_map(|&u| {
+                    let (first_triangle, count) = spans[u]?;
+                    Some((
+                        u,
+                        hal::AccelerationStructureEntries::Triangles(vec![hal::AccelerationStructureTriangles {
+                            vertex_buffer: Some(pos_buf),
+                            vertex_format: wgpu::VertexFormat::Float32x3,
+                            first_vertex: 0,
+                            vertex_count: positions.len() as u32,
+                            vertex_stride: 12,
+                            indices: Some(hal::AccelerationStructureTriangleIndices {
+                                format: wgpu::IndexFormat::Uint32,
+                                buffer: Some(idx_buf),
+                                offset: first_triangle * 12,
+                                count: count * 3,
+                            }),
+                            transform: None,
+                            flags: hal::AccelerationStructureGeometryFlags::OPAQUE,
+                        }]),
+                    ))
+                })
+                .collect();
+            // Units rebuilt without geometry lose their BLAS.
+            for &u in &rebuild {
+                if spans[u].is_none() {
+                    if let Some(old) = blases[u].take() {
+                        retired.accels.push(old);
+                    }
+                }
+            }
+            let mut made = Vec::new();
+            let mut scratch_offsets = Vec::new();
+            let mut scratch_size = 0u64;
+            for (_, e) in &entries {
+                // SAFETY: a size query and the creation of an acceleration structure over
+                // buffers made above; nothing is recorded yet.
+                let sizes = unsafe { d.get_acceleration_structure_build_sizes(&hal::GetAccelerationStructureBuildSizesDescriptor { entries: e, flags }) };
+                let accel = unsafe {
+                    d.create_acceleration_structure(&hal::AccelerationStructureDescriptor {
+                        label: Some("rt blas"),
+                        size: sizes.acceleration_structure_size,
+                        format: hal::AccelerationStructureFormat::BottomLevel,
+                        allow_compaction: false,
+                    })
+                }
+                .map_err(|e| hal_error("creating a BLAS", e))?;
+                made.push(accel);
+                scratch_offsets.push(scratch_size);
+                scratch_size = (scratch_size + sizes.build_scratch_size).next_multiple_of(align.scratch_alignment);
+            }
+            if !entries.is_empty() {
+                // SAFETY: a device-local scratch buffer for the builds below.
+                let scratch = unsafe {
+                    d.create_buffer(&hal::BufferDescriptor {
+                        label: Some("rt blas scratch"),
+                        size: scratch_size.max(align.scratch_alignment),
+                        usage: wgpu::BufferUses::ACCELERATION_STRUCTURE_SCRATCH,
+                        memory_flags: hal::MemoryFlags::empty(),
+                    })
+                }
+                .map_err(|e| hal_error("creating BLAS scratch memory", e))?;
+                let descriptors: Vec<hal::BuildAccelerationStructureDescriptor<HalBuffer, HalAccel>> = entries
+                    .iter()
+                    .zip(&made)
+                    .zip(&scratch_offsets)
+                    .map(|(((_, e), a), &offset)| hal::BuildAccelerationStructureDescriptor {
+                        entries: e,
+                        mode: hal::AccelerationStructureBuildMode::Build,
+                        flags,
+                        source_acceleration_structure: None,
+                        destination_acceleration_structure: a,
+                        scratch_buffer: &scratch,
+                        scratch_buffer_offset: offset,
+                    })
+                    .collect();
+                // SAFETY: each BLAS is written once, each with its own scratch range; the
+                // inputs were copied before the barrier above.
+                unsafe { enc.build_acceleration_structures(descriptors.len() as u32, descriptors.into_iter()) };
+                retired.buffers.push(scratch);
+            }
+            for ((u, _), accel) in entries.iter().zip(made) {
+                if let Some(old) = blases[*u].replace(accel) {
+                    retired.accels.push(old);
+                }
+            }
+            // The TLAS: one instance per scene instance whose unit has a BLAS and whose
+            // transform is finite.
+            let mut instance_bytes = Vec::new();
+            for (i, inst) in scene.instances.iter().enumerate() {
+                let Some(Some(blas)) = blases.get(unit_of_instance(i)) else { continue };
+                if super::bvh::instance_transform(&inst.transform).is_none() {
+                    continue;
+                }
+                let m = inst.transform;
+                let rows = [0, 1, 2].map(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], m.w_axis[r]]);
+                // SAFETY: the address of a BLAS made by this device and alive.
+                let blas_address = unsafe { d.get_acceleration_structure_device_address(blas) };
+                instance_bytes.extend(d.tlas_instance_to_bytes(hal::TlasInstance {
+                    transform: bytemuck::cast(rows),
+                    custom_data: i as u32,
+                    mask: 0xff,
+                    blas_address,
+                    // Hit group 0, the opaque hit group: every material is traced as opaque
+                    // geometry, as on the other back-ends (ARCHITECTURE.md, "Ray tracing").
+                    pipeline_intersection_data_offset: 0,
+                }));
+                instance_count += 1;
+            }
+            let instance_buffer =
+                device_buffer(d, enc, &mut retired, "rt instances", &instance_bytes, wgpu::BufferUses::TOP_LEVEL_ACCELERATION_STRUCTURE_INPUT)?;
+            // The BLAS builds and the instance copy before the TLAS build.
+            memory_barrier(d, enc, vk_rt_and_build(), vk_rt_and_build());
+            let tlas_entries = hal::AccelerationStructureEntries::Instances(hal::AccelerationStructureInstances {
+                buffer: Some(&instance_buffer),
+                offset: 0,
+                count: instance_count as u32,
+            });
+            // SAFETY: as for the BLAS: a size query, the creation, and one build with its own
+            // scratch buffer, recorded after the barrier that orders it after the BLAS builds.
+            unsafe {
+                let sizes = d.get_acceleration_structure_build_sizes(&hal::GetAccelerationStructureBuildSizesDescriptor { entries: &tlas_entries, flags });
+                let tlas = d
+                    .create_acceleration_structure(&hal::AccelerationStructureDescriptor {
+                        label: Some("rt tlas"),
+                        size: sizes.acceleration_structure_size,
+                        format: hal::AccelerationStructureFormat::TopLevel,
+                        allow_compaction: false,
+                    })
+                    .map_err(|e| hal_error("creating the TLAS", e))?;
+                let scratch = d
+                    .create_buffer(&hal::BufferDescriptor {
+                        label: Some("rt tlas scratch"),
+                        size: sizes.build_scratch_size.max(align.scratch_alignment),
+                        usage: wgpu::BufferUses::ACCELERATION_STRUCTURE_SCRATCH,
+                        memory_flags: hal::MemoryFlags::empty(),
+                    })
+                    .map_err(|e| hal_error("creating TLAS scratch memory", e))?;
+                enc.build_acceleration_structures(
+                    1,
+                    std::iter::once(hal::BuildAccelerationStructureDescriptor {
+                        entries: &tlas_entries,
+                        mode: hal::AccelerationStructureBuildMode::Build,
+                        flags,
+                        source_acceleration_structure: None,
+                        destination_acceleration_structure: &tlas,
+                        scratch_buffer: &scratch,
+                        scratch_buffer_offset: 0,
+                    }),
+                );
+                new_tlas = Some(tlas);
+                retired.buffers.push(scratch);
+            }
+            retired.buffers.push(instance_buffer);
+            Ok(())
+        });
+        let built = rebuild.iter().filter(|&&u| spans[u].is_some()).count();
+        match commands {
+            Ok(commands) => {
+                queue.submit([commands]);
+                retired.accels.extend(self.tlas.take());
+                retired.buffers.append(&mut self.geometry);
+                self.tlas = new_tlas;
+                self.geometry = fresh.buffers.drain(..).collect();
+                self.blases = blases;
+                self.instance_count = instance_count;
+                retired.destroy(&device);
+                Ok(built)
+            }
+            Err(e) => {
+                // Nothing was submitted: what was made is dropped and every BLAS is built again
+                // next time.
+                fresh.accels.extend(new_tlas);
+                fresh.accels.extend(blases.into_iter().flatten());
+                fresh.destroy(&device);
+                retired.destroy(&device);
+                Err(e)
+            }
+        }
+    }
+
+    fn tlas(&self) -> Option<&HalAccel> {
+        self.tlas.as_ref()
+    }
+}
+
+impl Drop for RtAccel {
+    fn drop(&mut self) {
+        let mut all = HalObjects { buffers: std::mem::take(&mut self.geometry), ..Default::default() };
+        all.accels.extend(self.tlas.take());
+        all.accels.extend(self.blases.drain(..).flatten());
+        all.destroy(&self.device);
+    }
+}
+
+/// What a binding of a trace pass is bound to (the executor's and the batch tracer's wgpu
+/// objects, bound through hal bind groups).
+#[derive(Clone)]
+pub enum RtResource {
+    /// `initialize`: a buffer the pass writes that wgpu has never seen written (see
+    /// [`RtPass::transition`]).
+    Buffer {
+        buffer: wgpu::Buffer,
+        offset: u64,
+        size: Option<NonZeroU64>,
+        uses: wgpu::BufferUses,
+        initialize: bool,
+    },
+    Texture {
+        texture: wgpu::Texture,
+        view: wgpu::TextureView,
+        uses: wgpu::TextureUses,
+    },
+    /// A binding array of sampled textures (the scene's).
+    Textures(Vec<(wgpu::Texture, wgpu::TextureView)>),
+    Sampler(wgpu::SamplerDescriptor<'static>),
+    /// A binding of the trace module (`accel_*`), bound by [`RtPass::bind_accel`].
+    Accel(String),
+}
+
+/// One binding of a trace pass: its layout entry (visibility is replaced by the ray-tracing
+/// stages) and what it is bound to.
+#[derive(Clone)]
+pub struct RtBinding {
+    pub group: u32,
+    pub entry: wgpu::BindGroupLayoutEntry,
+    pub resource: RtResource,
+}
+
+/// A trace pass as a ray-tracing pipeline (see the module docs).
+pub struct RtPass {
+    device: wgpu::Device,
+    label: String,
+    objects: HalObjects,
+    /// Per group: index into `objects.bind_group_layouts`, and of its bind group (`None` until
+    /// bound).
+    groups: Vec<(usize, Option<usize>)>,
+    pipeline_layout: usize,
+    pipeline: usize,
+    sbt: usize,
+    /// (offset, stride) of the ray-generation, miss and hit-group records.
+    regions: [(u64, u64); 3],
+    bindings: Vec<RtBinding>,
+    accel_group: u32,
+    /// The accel bind group's objects (replaced by every `bind_accel`).
+    accel_objects: HalObjects,
+    /// Whether the written resources were cleared through wgpu (first `transition`).
+    initialized: std::sync::atomic::AtomicBool,
+}
+
+impl RtPass {
+    /// Makes the ray-tracing pipeline of a trace pass: `module` holds the pass's entry point
+    /// `entry` as a ray-generation shader and the trace module's miss and closest-hit shaders;
+    /// `bindings` lists every binding of every group (`accel_group` is bound later by
+    /// [`RtPass::bind_accel`]). The shader binding table is built here and uploaded on `queue`.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        label: &str,
+        module: &crate::graph::reflect::RayTracingModule,
+        entry: &str,
+        bindings: Vec<RtBinding>,
+        accel_group: u32,
+    ) -> Result<Self, RuntimeError> {
+        let stage_name = |stage: naga::ShaderStage| {
+            module
+                .module
+                .entry_points
+                .iter()
+                .find(|e| e.stage == stage)
+                .map(|e| e.name.clone())
+                .ok_or_else(|| RuntimeError::Gpu(format!("pass {label}: the rt-pipeline trace module has no {stage:?} entry point")))
+        };
+        let miss = stage_name(naga::ShaderStage::Miss)?;
+        let closest = stage_name(naga::ShaderStage::ClosestHit)?;
+        if !module.module.entry_points.iter().any(|e| e.name == entry && e.stage == naga::ShaderStage::RayGeneration) {
+            return Err(RuntimeError::Gpu(format!("pass {label}: `{entry}` is not a ray-generation entry point")));
+        }
+        let group_count = bindings.iter().map(|b| b.group + 1).max().unwrap_or(0).max(accel_group + 1);
+        let mut objects = HalObjects::default();
+        let mut groups = Vec::new();
+        let mut pipeline_layout = 0;
+        let mut pipeline = 0;
+        let mut sbt = 0;
+        let mut regions = [(0, 0); 3];
+        let mut staging = HalObjects::default();
+        let made = record_raw(device, "rt-pipeline shader binding table", |d, enc| {
+            for g in 0..group_count {
+                let entries: Vec<wgpu::BindGroupLayoutEntry> =
+                    bindings.iter().filter(|b| b.group == g).map(|b| wgpu::BindGroupLayoutEntry { visibility: RT_STAGES, ..b.entry }).collect();
+                // SAFETY: a layout from plain entries.
+                let layout = unsafe {
+                    d.create_bind_group_layout(&hal::BindGroupLayoutDescriptor {
+                        label: Some(label),
+                        flags: hal::BindGroupLayoutFlags::empty(),
+                        entries: &entries,
+                    })
+                }
+                .map_err(|e| hal_error("creating a bind group layout", e))?;
+                objects.bind_group_layouts.push(layout);
+                groups.push((objects.bind_group_layouts.len() - 1, None));
+            }
+            let layout_refs: Vec<Option<&hal::vulkan::BindGroupLayout>> = objects.bind_group_layouts.iter().map(Some).collect();
+            // SAFETY: a pipeline layout over the layouts just made.
+            let layout = unsafe {
+                d.create_pipeline_layout(&hal::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    flags: hal::PipelineLayoutFlags::empty(),
+                    bind_group_layouts: &layout_refs,
+                    immediate_size: 0,
+                })
+            }
+            .map_err(|e| hal_error("creating the pipeline layout", e))?;
+            objects.pipeline_layouts.push(layout);
+            pipeline_layout = objects.pipeline_layouts.len() - 1;
+            // SAFETY: the module is naga IR validated by the compiler
+            // (graph::reflect::reflect_with); runtime checks are wgpu's defaults but loop
+            // bounding, as for every other shader (runtime::gpu::shader_checks).
+            let shader = unsafe {
+                d.create_shader_module(
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::shader_checks() },
+                    hal::ShaderInput::Naga(hal::NagaShader {
+                        module: std::borrow::Cow::Owned((*module.module).clone()),
+                        info: (*module.info).clone(),
+                        debug_source: None,
+                    }),
+                )
+            }
+            .map_err(|e| hal_error("compiling the shaders", e))?;
+            objects.shader_modules.push(shader);
+            let constants = Default::default();
+            let stage = |entry_point| hal::ProgrammableStage {
+                module: objects.shader_modules.last().expect("pushed above"),
+                entry_point,
+                constants: &constants,
+                zero_initialize_workgroup_memory: true,
+            };
+            let hit_groups = [hal::RayObjectIntersectionState { closest_hit: stage(&closest), any_hit: None }];
+            // SAFETY: stages of a module made above, a layout made above; recursion depth 1:
+            // hit and miss shaders trace no rays.
+            let p = unsafe {
+                d.create_ray_tracing_pipeline(&hal::RayTracingPipelineDescriptor {
+                    label: Some(label),
+                    layout: &objects.pipeline_layouts[pipeline_layout],
+                    ray_generation: stage(entry),
+                    miss: stage(&miss),
+                    intersection: &hit_groups,
+                    max_recursion_depth: 1,
+                    cache: None,
+                })
+            }
+            .map_err(|e| hal_error("creating the ray-tracing pipeline", e))?;
+            objects.pipelines.push(p);
+            pipeline = objects.pipelines.len() - 1;
+            // The shader binding table: group 0 ray generation, 1 miss, 2 the opaque hit group.
+            let align = alignments(d);
+            // SAFETY: the pipeline was made above with three groups.
+            let handles = unsafe { d.get_raytracing_pipeline_group_data(&objects.pipelines[pipeline], 0..3) }
+                .map_err(|e| hal_error("reading shader group handles", e))?;
+            let handle = handles.len() as u64 / 3;
+            if handle != align.handle_size {
+                return Err(RuntimeError::Gpu(format!(
+                    "rt-pipeline back-end: shader group handles of {handle} bytes, the device reports {}",
+                    align.handle_size
+                )));
+            }
+            let stride = handle.next_multiple_of(align.handle_alignment);
+            let region = stride.next_multiple_of(align.base_alignment);
+            let mut table = vec![0u8; (3 * region) as usize];
+            for g in 0..3 {
+                let src = &handles[(g as u64 * handle) as usize..((g as u64 + 1) * handle) as usize];
+                table[(g * region) as usize..(g * region + handle) as usize].copy_from_slice(src);
+            }
+            regions = [(0, stride), (region, stride), (2 * region, stride)];
+            objects.buffers.push(device_buffer(d, enc, &mut staging, "rt shader binding table", &table, wgpu::BufferUses::RAY_TRACING_PIPELINE_SHADER_DATA)?);
+            sbt = objects.buffers.len() - 1;
+            Ok(())
+        });
+        let commands = match made {
+            Ok(c) => c,
+            Err(e) => {
+                objects.destroy(device);
+                staging.destroy(device);
+                return Err(e);
+            }
+        };
+        queue.submit([commands]);
+        staging.destroy(device);
+        let mut pass = Self {
+            device: device.clone(),
+            label: label.to_string(),
+            objects,
+            groups,
+            pipeline_layout,
+            pipeline,
+            sbt,
+            regions,
+            bindings,
+            accel_group,
+            accel_objects: HalObjects::default(),
+            initialized: std::sync::atomic::AtomicBool::new(false),
+        };
+        for g in 0..group_count {
+            if g != accel_group {
+                let (bg, extra) = pass.make_group(g, None)?;
+                pass.objects.bind_groups.push(bg);
+                pass.objects.samplers.extend(extra.samplers);
+                pass.objects.texture_views.extend(extra.texture_views);
+                pass.groups[g as usize].1 = Some(pass.objects.bind_groups.len() - 1);
+            }
+        }
+        Ok(pass)
+    }
+
+    /// A hal bind group for group `g`; `accel` binds the trace module's bindings. Returns the
+    /// group and the objects made for it (texture views, samplers), which live as long as it.
+    fn make_group(&self, g: u32, accel: Option<(&RtAccel, &wgpu::Buffer, u64, u64)>) -> Result<(hal::vulkan::BindGroup, HalObjects), RuntimeError> {
+        let bindings: Vec<&RtBinding> = self.bindings.iter().filter(|b| b.group == g).collect();
+        // The Vulkan handles of the wgpu objects, one guard at a time (wgpu-core forbids
+        // holding two of its hal guards at once).
+        let raw_buffer = |buffer: &wgpu::Buffer| -> Result<ash::vk::Buffer, RuntimeError> {
+            // SAFETY: only the handle is read; the wgpu buffer outlives the bind group (kept in
+            // `self.bindings`, or the cache's counters owned by the caller).
+            unsafe { buffer.as_hal::<Vk>().map(|b| b.raw_handle()) }.ok_or_else(|| hal_error("binding", "not a Vulkan buffer"))
+        };
+        let raw_image = |texture: &wgpu::Texture| -> Result<ash::vk::Image, RuntimeError> {
+            // SAFETY: as above, for the texture's image.
+            unsafe { texture.as_hal::<Vk>().map(|t| t.raw_handle()) }.ok_or_else(|| hal_error("binding", "not a Vulkan texture"))
+        };
+        let mut images: Vec<(ash::vk::Image, wgpu::Texture, wgpu::TextureViewDimension, wgpu::TextureUses)> = Vec::new();
+        let mut buffers: Vec<ash::vk::Buffer> = Vec::new();
+        for b in &bindings {
+            match &b.resource {
+                RtResource::Texture { texture, uses, .. } => {
+                    let dimension = match b.entry.ty {
+                        wgpu::BindingType::Texture { view_dimension, .. } | wgpu::BindingType::StorageTexture { view_dimension, .. } => view_dimension,
+                        _ => wgpu::TextureViewDimension::D2,
+                    };
+                    images.push((raw_image(texture)?, texture.clone(), dimension, *uses));
+                }
+                RtResource::Textures(list) => {
+                    for (t, _) in list {
+                        images.push((raw_image(t)?, t.clone(), wgpu::TextureViewDimension::D2, wgpu::TextureUses::RESOURCE));
+                    }
+                }
+                RtResource::Buffer { buffer, .. } => buffers.push(raw_buffer(buffer)?),
+                RtResource::Accel(name) if name == "accel_stats" => {
+                    let (_, stats, _, _) = accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
+                    buffers.push(raw_buffer(stats)?);
+                }
+                RtResource::Sampler(_) | RtResource::Accel(_) => {}
+            }
+        }
+        with_hal(&self.device, |d| {
+            let mut extra = HalObjects::default();
+            let made = (|| -> Result<hal::vulkan::BindGroup, RuntimeError> {
+                for (image, texture, dimension, uses) in &images {
+                    let size = texture.size();
+                    // SAFETY: `image` is the wgpu texture's, described as wgpu made it; the hal
+                    // texture neither owns the image nor its memory (a no-op drop callback,
+                    // external memory) and is dropped once the view is made. The view is ours
+                    // and destroyed with the bind group (`HalObjects`).
+                    let view = unsafe {
+                        let hal_texture = d.texture_from_raw(
+                            *image,
+                            &hal::TextureDescriptor {
+                                label: None,
+                                size,
+                                mip_level_count: texture.mip_level_count(),
+                                sample_count: texture.sample_count(),
+                                dimension: texture.dimension(),
+                                format: texture.format(),
+                                usage: *uses,
+                                memory_flags: hal::MemoryFlags::empty(),
+                                view_formats: Vec::new(),
+                            },
+                            Some(Box::new(|| {})),
+                            hal::vulkan::TextureMemory::External,
+                        );
+                        d.create_texture_view(
+                            &hal_texture,
+                            &hal::TextureViewDescriptor {
+                                label: Some(&self.label),
+                                format: texture.format(),
+                                dimension: *dimension,
+                                usage: *uses,
+                                range: wgpu::ImageSubresourceRange::default(),
+                            },
+                        )
+                    }
+                    .map_err(|e| hal_error("creating a texture view", e))?;
+                    extra.texture_views.push(view);
+                }
+                // SAFETY: handles of live wgpu buffers, not owned by the hal objects (which are
+                // dropped, never destroyed, after the bind group is made).
+                let hal_wgpu_buffers: Vec<HalBuffer> = buffers.iter().map(|&b| unsafe { HalBuffer::from_raw(b) }).collect();
+                for b in &bindings {
+                    if let RtResource::Sampler(desc) = &b.resource {
+                        // SAFETY: a sampler from a plain descriptor, destroyed with the group.
+                        let sampler = unsafe {
+                            d.create_sampler(&hal::SamplerDescriptor {
+                                label: desc.label,
+                                address_modes: [desc.address_mode_u, desc.address_mode_v, desc.address_mode_w],
+                                mag_filter: desc.mag_filter,
+                                min_filter: desc.min_filter,
+                                mipmap_filter: desc.mipmap_filter,
+                                lod_clamp: desc.lod_min_clamp..desc.lod_max_clamp,
+                                compare: desc.compare,
+                                anisotropy_clamp: desc.anisotropy_clamp,
+                                border_color: desc.border_color,
+                            })
+                        }
+                        .map_err(|e| hal_error("creating a sampler", e))?;
+                        extra.samplers.push(sampler);
+                    }
+                }
+                let mut hal_buffers = Vec::new();
+                let mut hal_textures = Vec::new();
+                let mut hal_accels = Vec::new();
+                let mut entries = Vec::new();
+                let (mut vi, mut bi, mut si) = (0, 0, 0);
+                for b in &bindings {
+                    let (resource_index, count) = match &b.resource {
+                        RtResource::Texture { uses, .. } => {
+                            hal_textures.push(hal::TextureBinding { view: &extra.texture_views[vi], usage: *uses });
+                            vi += 1;
+                            (hal_textures.len() - 1, 1)
+                        }
+                        RtResource::Textures(list) => {
+                            let start = hal_textures.len();
+                            for _ in list {
+                                hal_textures.push(hal::TextureBinding { view: &extra.texture_views[vi], usage: wgpu::TextureUses::RESOURCE });
+                                vi += 1;
+                            }
+                            (start, list.len())
+                        }
+                        RtResource::Buffer { offset, size, .. } => {
+                            // Offset and size as the executor binds the same buffer for a compute pass.
+                            hal_buffers.push(hal::BufferBinding::new_unchecked(&hal_wgpu_buffers[bi], *offset, *size));
+                            bi += 1;
+                            (hal_buffers.len() - 1, 1)
+                        }
+                        RtResource::Sampler(_) => {
+                            si += 1;
+                            (si - 1, 1)
+                        }
+                        RtResource::Accel(name) => {
+                            let (rt, _, offset, size) =
+                                accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
+                            match name.as_str() {
+                                "accel_tlas" => {
+                                    hal_accels.push(rt.tlas().ok_or_else(|| hal_error("binding", "the TLAS is not built"))?);
+                                    (hal_accels.len() - 1, 1)
+                                }
+                                "accel_stats" => {
+                                    hal_buffers.push(hal::BufferBinding::new_unchecked(&hal_wgpu_buffers[bi], offset, NonZeroU64::new(size)));
+                                    bi += 1;
+                                    (hal_buffers.len() - 1, 1)
+                                }
+                                "accel_positions" | "accel_indices" | "accel_first_triangle" => {
+                                    let i = match name.as_str() {
+                                        "accel_positions" => 0,
+                                        "accel_indices" => 1,
+                                        _ => 2,
+                                    };
+                                    let buffer = rt.geometry.get(i).ok_or_else(|| hal_error("binding", "the geometry arrays are not built"))?;
+                                    hal_buffers.push(hal::BufferBinding::new_unchecked(buffer, 0, None));
+                                    (hal_buffers.len() - 1, 1)
+                                }
+                                other => return Err(RuntimeError::Gpu(format!("the rt-pipeline back-end has no binding `{other}`"))),
+                            }
+                        }
+                    };
+                    entries.push(hal::BindGroupEntry { binding: b.entry.binding, resource_index: resource_index as u32, count: count as u32 });
+                }
+                let sampler_refs: Vec<&hal::vulkan::Sampler> = extra.samplers.iter().collect();
+                // SAFETY: every resource outlives the bind group (wgpu objects kept in
+                // `self.bindings` or by the caller, views and samplers in `extra`, the
+                // acceleration structures in the caller's `RtAccel`), and every entry matches
+                // its layout entry (same list, same order).
+                unsafe {
+                    d.create_bind_group(&hal::BindGroupDescriptor {
+                        label: Some(&self.label),
+                        layout: &self.objects.bind_group_layouts[self.groups[g as usize].0],
+                        buffers: &hal_buffers,
+                        samplers: &sampler_refs,
+                        textures: &hal_textures,
+                        entries: &entries,
+                        acceleration_structures: &hal_accels,
+                        external_textures: &[],
+                    })
+                }
+                .map_err(|e| hal_error("creating a bind group", e))
+            })();
+            match made {
+                Ok(bg) => Ok((bg, extra)),
+                Err(e) => {
+                    // SAFETY: objects made above for a bind group that was not made.
+                    unsafe {
+                        for v in extra.texture_views.drain(..) {
+                            d.destroy_texture_view(v);
+                        }
+                        for s in extra.samplers.drain(..) {
+                            d.destroy_sampler(s);
+                        }
+                    }
+                    Err(e)
+                }
+            }
+        })
+    }
+
+    /// Binds group `g` (not the trace module's) to other resources of the same layout: the
+    /// batch tracer's ray and result buffers change with every batch. The old bind group is
+    /// destroyed once the device is idle.
+    pub fn set_group(&mut self, g: u32, bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
+        if g == self.accel_group || g as usize >= self.groups.len() {
+            return Err(RuntimeError::Gpu(format!("pass {}: group {g} cannot be rebound", self.label)));
+        }
+        self.bindings.retain(|b| b.group != g);
+        self.bindings.extend(bindings.into_iter().map(|b| RtBinding { group: g, ..b }));
+        let (bg, extra) = self.make_group(g, None)?;
+        let mut old = HalObjects::default();
+        if let Some(i) = self.groups[g as usize].1 {
+            old.bind_groups.push(std::mem::replace(&mut self.objects.bind_groups[i], bg));
+        } else {
+            self.objects.bind_groups.push(bg);
+            self.groups[g as usize].1 = Some(self.objects.bind_groups.len() - 1);
+        }
+        // The old group's views and samplers stay until the pass is dropped (a batch rebinds
+        // only buffers, which make none).
+        self.objects.samplers.extend(extra.samplers);
+        self.objects.texture_views.extend(extra.texture_views);
+        old.destroy(&self.device);
+        Ok(())
+    }
+
+    /// Binds the trace module's group to `accel` and counter window `stats[offset..offset+size]`
+    /// (again whenever the cache replaces its acceleration structures).
+    pub fn bind_accel(&mut self, accel: &RtAccel, stats: &wgpu::Buffer, offset: u64, size: u64) -> Result<(), RuntimeError> {
+        let (bg, mut extra) = self.make_group(self.accel_group, Some((accel, stats, offset, size)))?;
+        self.accel_objects.destroy(&self.device);
+        extra.bind_groups.push(bg);
+        self.accel_objects = extra;
+        self.groups[self.accel_group as usize].1 = Some(usize::MAX);
+        Ok(())
+    }
+
+    /// Puts every texture and buffer the pass binds into the state its bind groups were made
+    /// for (step 1 of the module docs). The trace module's acceleration-structure buffers are
+    /// hal's own and need none.
+    ///
+    /// wgpu zero-fills a texture or buffer before its first use if it never saw it written,
+    /// and it does not see what hal commands write: the first call therefore clears every
+    /// texture and marked buffer the pass writes through wgpu, so that wgpu counts them as
+    /// initialized and never clears the trace's results later.
+    pub fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
+        if !self.initialized.swap(true, std::sync::atomic::Ordering::Relaxed) {
+            for b in &self.bindings {
+                match &b.resource {
+                    RtResource::Texture { texture, uses, .. }
+                        if uses.intersects(wgpu::TextureUses::STORAGE_WRITE_ONLY | wgpu::TextureUses::STORAGE_READ_WRITE) =>
+                    {
+                        encoder.clear_texture(texture, &wgpu::ImageSubresourceRange::default())
+                    }
+                    RtResource::Buffer { buffer, initialize: true, .. } => encoder.clear_buffer(buffer, 0, None),
+                    _ => {}
+                }
+            }
+        }
+        let mut buffers: Vec<wgpu::BufferTransition<&wgpu::Buffer>> =
+            vec![wgpu::BufferTransition { buffer: stats, state: wgpu::BufferUses::STORAGE_READ_WRITE }];
+        let mut textures: Vec<wgpu::TextureTransition<&wgpu::Texture>> = Vec::new();
+        for b in &self.bindings {
+            match &b.resource {
+                RtResource::Buffer { buffer, uses, .. } => buffers.push(wgpu::BufferTransition { buffer, state: *uses }),
+                RtResource::Texture { texture, uses, .. } => textures.push(wgpu::TextureTransition { texture, selector: None, state: *uses }),
+                RtResource::Textures(list) => {
+                    textures.extend(list.iter().map(|(t, _)| wgpu::TextureTransition { texture: t, selector: None, state: wgpu::TextureUses::RESOURCE }))
+                }
+                RtResource::Sampler(_) | RtResource::Accel(_) => {}
+            }
+        }
+        encoder.transition_resources(buffers.into_iter(), textures.into_iter());
+    }
+
+    /// The trace: `launch` ray-generation invocations, in a command buffer of its own (submit
+    /// it after a wgpu command buffer that called [`RtPass::transition`]).
+    pub fn record(&self, launch: [u32; 3]) -> Result<wgpu::CommandBuffer, RuntimeError> {
+        if self.groups.iter().any(|(_, g)| g.is_none()) {
+            return Err(RuntimeError::Gpu(format!("pass {}: the acceleration structure is not bound", self.label)));
+        }
+        record_raw(&self.device, &self.label, |_, enc| {
+            let accel_group = self.accel_objects.bind_groups.last();
+            let sbt = &self.objects.buffers[self.sbt];
+            let data = |(offset, stride): (u64, u64)| hal::PipelineGroupData { buffer: sbt, offset, stride, count: 1 };
+            // SAFETY: the pipeline, layout and bind groups were made by this device for each
+            // other and are alive (owned by `self`, the accel group's resources by the caller's
+            // `RtAccel`); the SBT regions lie inside the table at the device's alignments.
+            unsafe {
+                enc.begin_ray_tracing_pass(&hal::RayTracingPassDescriptor { label: Some(&self.label) });
+                enc.set_ray_tracing_pipeline(&self.objects.pipelines[self.pipeline]);
+                let layout = &self.objects.pipeline_layouts[self.pipeline_layout];
+                for (g, (_, bg)) in self.groups.iter().enumerate() {
+                    let group = match bg {
+                        Some(usize::MAX) => accel_group.expect("bound by bind_accel"),
+                        Some(i) => &self.objects.bind_groups[*i],
+                        None => unreachable!("checked above"),
+                    };
+                    enc.set_bind_group(layout, g as u32, group, &[]);
+                }
+                enc.trace_rays(launch, data(self.regions[0]), data(self.regions[1]), data(self.regions[2]));
+                enc.end_ray_tracing_pass();
+            }
+            Ok(())
+        })
+    }
+}
+
+impl Drop for RtPass {
+    fn drop(&mut self) {
+        self.accel_objects.destroy(&self.device);
+        self.objects.destroy(&self.device);
+    }
+}
