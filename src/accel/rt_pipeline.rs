@@ -595,6 +595,7 @@ pub struct RtBinding {
 /// A trace pass as a ray-tracing pipeline (see the module docs).
 pub struct RtPass {
     device: wgpu::Device,
+    queue: wgpu::Queue,
     label: String,
     objects: HalObjects,
     /// Per group: index into `objects.bind_group_layouts`, and of its bind group (`None` until
@@ -753,6 +754,7 @@ impl RtPass {
         staging.destroy(device);
         let mut pass = Self {
             device: device.clone(),
+            queue: queue.clone(),
             label: label.to_string(),
             objects,
             groups,
@@ -1015,10 +1017,11 @@ impl RtPass {
     /// for (step 1 of the module docs). The trace module's acceleration-structure buffers are
     /// hal's own and need none.
     ///
-    /// wgpu zero-fills a texture or buffer before its first use if it never saw it written,
-    /// and it does not see what hal commands write: the first call therefore clears every
-    /// texture and marked buffer the pass writes through wgpu, so that wgpu counts them as
-    /// initialized and never clears the trace's results later.
+    /// wgpu zero-fills a texture or buffer before its first read if it never saw it written,
+    /// and it does not see what hal commands write: without more, the first frame's trace
+    /// results were zeroed before the next pass read them (tests/rt_pipeline.rs). The first
+    /// call therefore writes zeros through wgpu into every texture (a queue write: wgpu does
+    /// not count a `clear_texture` as initializing) and marked buffer the pass writes.
     pub fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
         if !self.initialized.swap(true, std::sync::atomic::Ordering::Relaxed) {
             for b in &self.bindings {
@@ -1026,7 +1029,16 @@ impl RtPass {
                     RtResource::Texture { texture, uses, .. }
                         if uses.intersects(wgpu::TextureUses::STORAGE_WRITE_ONLY | wgpu::TextureUses::STORAGE_READ_WRITE) =>
                     {
-                        encoder.clear_texture(texture, &wgpu::ImageSubresourceRange::default())
+                        // A queue write is what wgpu certainly counts as initializing (a
+                        // `clear_texture` is not).
+                        let texel = texture.format().block_copy_size(None).unwrap_or(4);
+                        let zeros = vec![0u8; (texture.width() * texture.height() * texel) as usize];
+                        self.queue.write_texture(
+                            wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+                            &zeros,
+                            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(texture.width() * texel), rows_per_image: Some(texture.height()) },
+                            wgpu::Extent3d { width: texture.width(), height: texture.height(), depth_or_array_layers: 1 },
+                        );
                     }
                     RtResource::Buffer { buffer, initialize: true, .. } => encoder.clear_buffer(buffer, 0, None),
                     _ => {}

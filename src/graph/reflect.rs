@@ -237,10 +237,12 @@ pub fn compute_to_ray_generation(module: &mut naga::Module) -> Result<(), String
         for arg in &mut ep.function.arguments {
             match &mut arg.binding {
                 Some(naga::Binding::BuiltIn(b @ naga::BuiltIn::GlobalInvocationId)) => *b = naga::BuiltIn::RayInvocationId,
-                Some(naga::Binding::BuiltIn(other)) => return Err(format!(
+                Some(naga::Binding::BuiltIn(other)) => {
+                    return Err(format!(
                     "entry point `{}` reads @builtin({other:?}), which a ray-generation shader does not have; a trace pass may read only global_invocation_id",
                     ep.name
-                )),
+                ))
+                }
                 None if matches!(module.types[arg.ty].inner, naga::TypeInner::Struct { .. }) => {
                     return Err(format!("entry point `{}` takes its built-ins in a struct; a trace pass takes global_invocation_id as an argument", ep.name))
                 }

@@ -112,7 +112,7 @@ impl Gpu {
         if !ray_features.is_empty() {
             required_features |= ray_features;
             if ray_features.contains(wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES) {
-                required_features |= adapter.features() & (wgpu::Features::PRIMITIVE_INDEX | wgpu::Features::CLEAR_TEXTURE);
+                required_features |= adapter.features() & wgpu::Features::PRIMITIVE_INDEX;
             }
             required_limits = required_limits.using_acceleration_structure_values(adapter.limits());
             // SAFETY: ray queries and ray-tracing pipelines are experimental wgpu features;
