@@ -31,8 +31,8 @@ enum Command {
         /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
         #[arg(long, default_value = "default")]
         scene: String,
-        /// Traversal back-end: ray-query or compute (default: ray-query where the adapter
-        /// supports it, else compute).
+        /// Traversal back-end: ray-query, compute or rt-pipeline (default: ray-query where the
+        /// adapter supports it, else compute; rt-pipeline only when asked for).
         #[arg(long)]
         backend: Option<Backend>,
         #[command(flatten)]

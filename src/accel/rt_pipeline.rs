@@ -401,6 +401,8 @@ impl RtAccel {
                 // SAFETY: a size query and the creation of an acceleration structure over
                 // buffers made above; nothing is recorded yet.
                 let sizes = unsafe { d.get_acceleration_structure_build_sizes(&hal::GetAccelerationStructureBuildSizesDescriptor { entries: e, flags }) };
+                // SAFETY: a new acceleration structure of the size just queried; it is built
+                // below and destroyed through `HalObjects` or `RtAccel::drop`.
                 let accel = unsafe {
                     d.create_acceleration_structure(&hal::AccelerationStructureDescriptor {
                         label: Some("rt blas"),
