@@ -196,7 +196,8 @@ fn every_ray_traced_channel_matches_the_f64_reference_per_pixel() {
         ("compute, merged", Backend::Compute, &merged),
         ("compute, two levels", Backend::Compute, &two),
         ("ray-query", Backend::RayQuery, &two),
-        ("rt-pipeline", Backend::RtPipeline, &two),
+        ("rt-pipeline, merged", Backend::RtPipeline, &merged),
+        ("rt-pipeline, two levels", Backend::RtPipeline, &two),
     ];
     for scene in scenes() {
         let renderer = ReferenceRenderer::new(&scene);

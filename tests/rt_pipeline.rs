@@ -92,29 +92,41 @@ fn the_first_and_later_frames_match_compute_in_hybrid_and_full_rt() {
     }
 }
 
-/// A moved instance rebuilds the TLAS and binds it again: the picture follows the scene as
-/// compute's does, frame after frame, in one executor.
+/// Moved instances: the acceleration structure is built again and bound again, and the
+/// picture follows the scene as compute's does, frame after frame, in one executor. Two levels
+/// (`Accel()`: a new TLAS, no BLAS) and the merged layout (`Accel(merge: true)`, the hybrid
+/// graph's: one BLAS over the world-space triangles, rebuilt).
 #[test]
 fn a_moving_instance_is_followed_frame_by_frame() {
     let gpu = gpu();
-    let mut scene = default_scene();
-    let mut compute = executor(&gpu, "graph/hybrid.ron", Backend::Compute, &scene);
-    let mut rt = executor(&gpu, "graph/hybrid.ron", Backend::RtPipeline, &scene);
-    let first = rt.render(&gpu, &scene.camera, &scene).unwrap();
-    assert_eq!(first.accel.unwrap().blas_built, scene.meshes.len(), "the first frame builds every BLAS");
-    let mut outputs = Vec::new();
-    for step in 0..3 {
-        scene.instances[0].transform = glam::Mat4::from_translation(glam::vec3(0.3 * (step + 1) as f32, 0.0, 0.0)) * scene.instances[0].transform;
-        compute.render(&gpu, &scene.camera, &scene).unwrap();
-        let t = rt.render(&gpu, &scene.camera, &scene).unwrap();
-        let accel = t.accel.unwrap();
-        assert_eq!(accel.blas_built, 0, "step {step}: only an instance moved, no BLAS is built");
-        let (a, b) = (compute.read_output(&gpu).unwrap(), rt.read_output(&gpu).unwrap());
-        let (rmse, outliers) = difference(&a, &b);
-        assert!(rmse <= 1.0 && outliers * 1000 <= (SIZE.0 * SIZE.1) as usize, "step {step}: RMSE {rmse}, {outliers} outliers against compute");
-        outputs.push(b);
+    let p = common::TempProject::with_repo_files();
+    let hybrid = std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap();
+    assert!(hybrid.contains("Accel(merge: true)"), "graph/hybrid.ron changed: update the test");
+    p.write("graph/two_level.ron", &hybrid.replace("Accel(merge: true)", "Accel()"));
+    for (graph, merged) in [(p.root.join("graph/two_level.ron"), false), (common::repo().join("graph/hybrid.ron"), true)] {
+        let mut scene = default_scene();
+        let open = |backend| {
+            let plan = compile_with(&graph, &Project::beside_graph(&graph), SIZE, &gpu.compile_options_for(backend)).unwrap();
+            Executor::new(&gpu, plan, &scene).unwrap()
+        };
+        let (mut compute, mut rt) = (open(Backend::Compute), open(Backend::RtPipeline));
+        let first = rt.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+        assert_eq!(first.blas_built, if merged { 1 } else { scene.meshes.len() }, "the first frame builds every BLAS");
+        let mut outputs = Vec::new();
+        for step in 0..3 {
+            scene.instances[0].transform = glam::Mat4::from_translation(glam::vec3(0.3 * (step + 1) as f32, 0.0, 0.0)) * scene.instances[0].transform;
+            compute.render(&gpu, &scene.camera, &scene).unwrap();
+            let accel = rt.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+            let expected = if merged { 1 } else { 0 };
+            assert_eq!(accel.blas_built, expected, "{} step {step}: an instance moved", graph.display());
+            let (a, b) = (compute.read_output(&gpu).unwrap(), rt.read_output(&gpu).unwrap());
+            let (rmse, outliers) = difference(&a, &b);
+            println!("{} step {step}: RMSE {rmse:.3}, {outliers} outliers against compute", graph.display());
+            assert!(rmse <= 1.0 && outliers * 1000 <= (SIZE.0 * SIZE.1) as usize, "{} step {step}: RMSE {rmse}, {outliers} outliers", graph.display());
+            outputs.push(b);
+        }
+        assert!(outputs.windows(2).all(|w| w[0] != w[1]), "the picture changes as the instance moves");
     }
-    assert!(outputs.windows(2).all(|w| w[0] != w[1]), "the picture changes as the instance moves");
 }
 
 /// Executors made and dropped, scenes changed and graphs compiled again: every hal object is

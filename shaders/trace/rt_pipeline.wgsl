@@ -13,7 +13,10 @@
 // naga's hit shaders have no hit-attribute variable, so the closest-hit shader computes the
 // barycentrics from the object-space ray and the triangle's vertices (accel_positions,
 // accel_indices), which it finds through the instance's first triangle
-// (accel_first_triangle[instance]) and the primitive index.
+// (accel_first_triangle[instance]) and the primitive index. With `Accel(merge: true)` the TLAS
+// holds one identity instance (custom data ACCEL_MERGED) over every instance's world-space
+// triangles; accel_owners[primitive] names each triangle's instance and primitive (bit 31: a
+// mirrored instance, whose triangles are stored wound back).
 enable wgpu_ray_tracing_pipeline;
 enable primitive_index;
 //#include "trace/common.wgsl"
@@ -23,6 +26,9 @@ enable primitive_index;
 @group(2) @binding(2) var<storage, read> accel_positions: array<f32>;
 @group(2) @binding(3) var<storage, read> accel_indices: array<u32>;
 @group(2) @binding(4) var<storage, read> accel_first_triangle: array<u32>;
+@group(2) @binding(5) var<storage, read> accel_owners: array<vec2<u32>>;
+
+const ACCEL_MERGED: u32 = 0xffffffu;
 
 const TRACE_FLAG_FORCE_OPAQUE: u32 = 1u;
 const TRACE_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 4u;
@@ -101,7 +107,18 @@ fn trace_closest_hit_shader(
     @builtin(object_ray_origin) origin: vec3<f32>,
     @builtin(object_ray_direction) dir: vec3<f32>,
 ) {
-    let tri = accel_first_triangle[instance] + primitive;
+    var tri = primitive;
+    var scene_instance = instance;
+    var scene_primitive = primitive;
+    var mirrored = false;
+    if instance == ACCEL_MERGED {
+        let owner = accel_owners[primitive];
+        scene_instance = owner.x;
+        scene_primitive = owner.y & 0x7fffffffu;
+        mirrored = (owner.y >> 31u) != 0u;
+    } else {
+        tri = accel_first_triangle[instance] + primitive;
+    }
     let v0 = trace_vertex(accel_indices[3u * tri]);
     let v1 = trace_vertex(accel_indices[3u * tri + 1u]);
     let v2 = trace_vertex(accel_indices[3u * tri + 2u]);
@@ -113,6 +130,10 @@ fn trace_closest_hit_shader(
     let inv_det = 1.0 / dot(e1, p);
     let s = origin - v0;
     let q = cross(s, e1);
-    let b = clamp(vec2<f32>(dot(s, p), dot(dir, q)) * inv_det, vec2<f32>(0.0), vec2<f32>(1.0));
-    trace_incoming = TracePayload(t, instance, primitive, select(0u, 1u, hit_kind == TRACE_HIT_KIND_FRONT_FACING), b);
+    var b = clamp(vec2<f32>(dot(s, p), dot(dir, q)) * inv_det, vec2<f32>(0.0), vec2<f32>(1.0));
+    if mirrored {
+        // Stored as (v0, v2, v1): the weights of the mesh's own second and third vertices.
+        b = b.yx;
+    }
+    trace_incoming = TracePayload(t, scene_instance, scene_primitive, select(0u, 1u, hit_kind == TRACE_HIT_KIND_FRONT_FACING), b);
 }

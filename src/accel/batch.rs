@@ -96,7 +96,7 @@ impl BatchTracer {
     }
 
     /// [`BatchTracer::new`] with the `Accel` node's settings (de-duplication off: one BLAS per
-    /// instance; merge: one BVH over all instances, `compute` only).
+    /// instance; merge: one BVH over all instances, `compute` and `rt-pipeline`).
     pub fn with_settings(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path, settings: AccelSettings) -> Result<Self, RuntimeError> {
         if !gpu.backends.contains(&backend) {
             return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info.name)));

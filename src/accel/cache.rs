@@ -178,8 +178,9 @@ enum State {
 pub struct AccelSettings {
     /// One BLAS per mesh, shared by its instances (off: one per instance).
     pub dedup: bool,
-    /// `compute` back-end: one BVH over all instances in world space (see
-    /// [`crate::accel::layout::merge_instances`]).
+    /// `compute` and `rt-pipeline` back-ends: one BVH over all instances in world space (see
+    /// [`crate::accel::layout::merge_instances`]; `rt-pipeline` builds it as one BLAS under a
+    /// one-instance TLAS).
     pub merge: bool,
 }
 
@@ -192,7 +193,7 @@ impl Default for AccelSettings {
 impl AccelSettings {
     /// Whether `backend` builds the merged layout.
     pub fn merges(&self, backend: Backend) -> bool {
-        self.merge && backend == Backend::Compute
+        self.merge && matches!(backend, Backend::Compute | Backend::RtPipeline)
     }
 
     pub fn describe(&self, backend: Backend) -> String {
@@ -689,7 +690,7 @@ impl AccelCache {
         let unit_meshes: Vec<usize> = units.iter().map(|u| u.mesh).collect();
         let dedup = self.dedup;
         let unit_of = |i: usize| if dedup { scene.instances[i].mesh } else { i };
-        let result = rt.update(queue, scene, &unit_meshes, &unit_of, changed);
+        let result = rt.update(queue, scene, &unit_meshes, &unit_of, changed, self.merge);
         self.generation += 1;
         self.state = State::RtPipeline(rt);
         result?;

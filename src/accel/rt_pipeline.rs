@@ -259,8 +259,8 @@ pub struct RtAccel {
     /// Per unit; `None` for a unit without a valid triangle (its instances are left out).
     blases: Vec<Option<HalAccel>>,
     tlas: Option<HalAccel>,
-    /// The positions, indices and per-instance first triangles (`accel_positions`,
-    /// `accel_indices`, `accel_first_triangle`).
+    /// The positions, indices, per-instance first triangles and the merged layout's triangle
+    /// owners (`accel_positions`, `accel_indices`, `accel_first_triangle`, `accel_owners`).
     geometry: Vec<HalBuffer>,
     /// Instances in the TLAS (those whose unit has a BLAS and whose transform is finite).
     pub instance_count: usize,
@@ -289,6 +289,10 @@ fn mesh_geometry(mesh: &crate::scene::Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)>
     Some((positions, indices))
 }
 
+/// The custom data of the merged layout's one instance (`MERGED_INSTANCE` in
+/// `shaders/trace/rt_pipeline.wgsl`).
+const MERGED_INSTANCE: u32 = 0xFF_FFFF;
+
 impl RtAccel {
     /// No acceleration structure yet (the first [`RtAccel::update`] builds every unit).
     pub fn new(device: &wgpu::Device) -> Self {
@@ -306,8 +310,10 @@ impl RtAccel {
         unit_meshes: &[usize],
         unit_of_instance: &dyn Fn(usize) -> usize,
         changed: &[usize],
+        merged: bool,
     ) -> Result<usize, RuntimeError> {
-        const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
+        // Custom data has 24 bits, and the largest value marks the merged layout's instance.
+        const MAX_CUSTOM_DATA: usize = MERGED_INSTANCE as usize - 1;
         if scene.instances.len() > MAX_CUSTOM_DATA {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}` has {} instances; the rt-pipeline back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
@@ -323,18 +329,45 @@ impl RtAccel {
         let mut indices: Vec<u32> = Vec::new();
         // Per unit: (first triangle, triangle count).
         let mut spans: Vec<Option<(u32, u32)>> = Vec::with_capacity(unit_meshes.len());
-        for &mesh in unit_meshes {
-            let Some((p, i)) = scene.meshes.get(mesh).and_then(mesh_geometry) else {
-                spans.push(None);
-                continue;
-            };
-            let base = positions.len() as u32;
-            spans.push(Some(((indices.len() / 3) as u32, (i.len() / 3) as u32)));
-            positions.extend_from_slice(&p);
-            indices.extend(i.iter().map(|&x| x + base));
+        // The merged layout: each merged triangle's instance and primitive (bit 31: mirrored).
+        let mut owners: Vec<[u32; 2]> = Vec::new();
+        if merged {
+            // One unit: every instance's triangles in world space (`layout::merge_instances`),
+            // mirrored instances' triangles wound back so that facing stays the object-space
+            // facing the other layouts report and cull by.
+            let (mesh, origin) = super::layout::merge_instances(scene);
+            match mesh_geometry(&mesh) {
+                Some((p, mut i)) => {
+                    for (t, o) in origin.iter().enumerate() {
+                        if o.mirrored {
+                            i.swap(3 * t + 1, 3 * t + 2);
+                        }
+                    }
+                    spans.push(Some((0, (i.len() / 3) as u32)));
+                    owners = origin.iter().map(|o| [o.instance, o.prim | (o.mirrored as u32) << 31]).collect();
+                    positions = p;
+                    indices = i;
+                }
+                None => spans.push(None),
+            }
+        } else {
+            for &mesh in unit_meshes {
+                let Some((p, i)) = scene.meshes.get(mesh).and_then(mesh_geometry) else {
+                    spans.push(None);
+                    continue;
+                };
+                let base = positions.len() as u32;
+                spans.push(Some(((indices.len() / 3) as u32, (i.len() / 3) as u32)));
+                positions.extend_from_slice(&p);
+                indices.extend(i.iter().map(|&x| x + base));
+            }
         }
-        let first_triangles: Vec<u32> =
-            (0..scene.instances.len()).map(|i| spans.get(unit_of_instance(i)).copied().flatten().map(|s| s.0).unwrap_or(0)).collect();
+        spans.resize(unit_meshes.len(), None);
+        let first_triangles: Vec<u32> = if merged {
+            Vec::new()
+        } else {
+            (0..scene.instances.len()).map(|i| spans.get(unit_of_instance(i)).copied().flatten().map(|s| s.0).unwrap_or(0)).collect()
+        };
 
         let mut retired = HalObjects::default();
         let mut fresh = HalObjects::default();
@@ -358,6 +391,7 @@ impl RtAccel {
                 bytemuck::cast_slice(&first_triangles),
                 wgpu::BufferUses::STORAGE_READ_ONLY,
             )?);
+            fresh.buffers.push(device_buffer(d, enc, &mut retired, "rt triangle owners", bytemuck::cast_slice(&owners), wgpu::BufferUses::STORAGE_READ_ONLY)?);
             // The copies above land before the builds read them.
             memory_barrier(d, enc, vk_all_commands(), vk_rt_and_build());
             let (pos_buf, idx_buf) = (&fresh.buffers[0], &fresh.buffers[1]);
@@ -454,7 +488,19 @@ impl RtAccel {
             // The TLAS: one instance per scene instance whose unit has a BLAS and whose
             // transform is finite.
             let mut instance_bytes = Vec::new();
-            for (i, inst) in scene.instances.iter().enumerate() {
+            if let (true, Some(Some(blas))) = (merged, blases.first()) {
+                // SAFETY: the address of a BLAS made by this device and alive.
+                let blas_address = unsafe { d.get_acceleration_structure_device_address(blas) };
+                instance_bytes.extend(d.tlas_instance_to_bytes(hal::TlasInstance {
+                    transform: [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+                    custom_data: MERGED_INSTANCE,
+                    mask: 0xff,
+                    blas_address,
+                    pipeline_intersection_data_offset: 0,
+                }));
+                instance_count += 1;
+            }
+            for (i, inst) in scene.instances.iter().enumerate().filter(|_| !merged) {
                 let Some(Some(blas)) = blases.get(unit_of_instance(i)) else { continue };
                 if super::bvh::instance_transform(&inst.transform).is_none() {
                     continue;
@@ -926,11 +972,12 @@ impl RtPass {
                                     bi += 1;
                                     (hal_buffers.len() - 1, 1)
                                 }
-                                "accel_positions" | "accel_indices" | "accel_first_triangle" => {
+                                "accel_positions" | "accel_indices" | "accel_first_triangle" | "accel_owners" => {
                                     let i = match name.as_str() {
                                         "accel_positions" => 0,
                                         "accel_indices" => 1,
-                                        _ => 2,
+                                        "accel_first_triangle" => 2,
+                                        _ => 3,
                                     };
                                     let buffer = rt.geometry.get(i).ok_or_else(|| hal_error("binding", "the geometry arrays are not built"))?;
                                     hal_buffers.push(hal::BufferBinding::new_unchecked(buffer, 0, None));
