@@ -79,6 +79,12 @@ pub struct Selection {
 
 /// Picks the back-end for an adapter with `features`: the requested one if the adapter can run
 /// it (an error naming what is missing if not), else `ray-query` where supported, else `compute`.
+///
+/// `rt-pipeline` is never picked unasked. Measured on the H100 (BENCHMARKS.md, "Three
+/// back-ends"; ray-tracing pipelines, no ray queries, no ray-tracing cores): the driver's
+/// pipeline traces the paper's Table 3 workloads 1.6x (box) to 5.4x (all-miss rays) slower than
+/// `compute`, on every test. Where ray queries exist they reach the same driver traversal
+/// without a pipeline, shader binding table or separate command buffers, so they come first.
 pub fn select(features: wgpu::Features, requested: Option<Backend>) -> Result<Selection, String> {
     let supports = |b: Backend| features.contains(b.features());
     match requested {
