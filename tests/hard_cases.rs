@@ -154,14 +154,15 @@ fn a_closed_perturbed_mesh_hit_from_inside_at_vertices_and_edges_never_lets_a_ra
         let escapes = counts.iter().filter(|&&c| c == 0).count();
         let not_once = counts.iter().filter(|&&c| c != 1).count();
         println!("{name}: {} rays at vertices and edge midpoints from inside: {escapes} escapes, {not_once} not crossing exactly once", rays.len());
-        if name.starts_with("compute") {
-            // The project's own traversal: watertight, no exceptions.
+        if name != "rt-pipeline-merged" {
+            // Watertight here: the project's traversal always, the driver's on the instance's
+            // object-space triangles.
             assert_eq!(escapes, 0, "{name}: rays escaped the closed mesh");
             assert_eq!(not_once, 0, "{name}: rays from inside a star-shaped closed mesh cross it exactly once (an odd count)");
         } else {
             // A driver's intersector is not required to be watertight at a vertex shared by
-            // several triangles (ACCURACY.md): measured on lavapipe, 7 of the 1,569 vertex rays
-            // of the merged layout's world-space triangles get through, none at an edge.
+            // several triangles (ACCURACY.md): on the merged layout's world-space triangles,
+            // 7 of the 1,569 vertex rays get through on lavapipe, none at an edge.
             let at_vertex = |k: usize| k % targets.len() < world.len();
             let bad: Vec<usize> = (0..counts.len()).filter(|&k| counts[k] != 1).collect();
             assert!(bad.iter().all(|&k| at_vertex(k)), "{name}: a ray aimed at an edge midpoint did not cross the mesh exactly once");

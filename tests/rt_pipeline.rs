@@ -10,12 +10,16 @@
 mod common;
 
 use raygraph::accel::backend::Backend;
+use raygraph::accel::rt_pipeline::live_hal_objects;
 use raygraph::graph::compile::{compile_with, Project};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::default_scene;
 use raygraph::scene::Scene;
 
 const SIZE: (u32, u32) = (96, 64);
+
+/// The tests of this file run one at a time: `live_hal_objects` counts the whole process.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
@@ -64,6 +68,7 @@ fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, usize) {
 /// off by more than 24; every channel non-zero somewhere (nothing zero-filled).
 #[test]
 fn the_first_and_later_frames_match_compute_in_hybrid_and_full_rt() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let gpu = gpu();
     let scene = default_scene();
     for (graph, names) in [
@@ -98,6 +103,7 @@ fn the_first_and_later_frames_match_compute_in_hybrid_and_full_rt() {
 /// graph's: one BLAS over the world-space triangles, rebuilt).
 #[test]
 fn a_moving_instance_is_followed_frame_by_frame() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let gpu = gpu();
     let p = common::TempProject::with_repo_files();
     let hybrid = std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap();
@@ -129,18 +135,41 @@ fn a_moving_instance_is_followed_frame_by_frame() {
     }
 }
 
-/// Executors made and dropped, scenes changed and graphs compiled again: every hal object is
-/// destroyed (the validation layer reports any left when the device goes), and a new
-/// executor draws what the first drew.
+/// Executors made, changed and dropped leave no object made through wgpu-hal behind
+/// (`rt_pipeline::live_hal_objects` back where it was; in CI the validation layer also reports
+/// any Vulkan object left when the device goes): two levels with a mesh and its instances
+/// removed between frames (fewer BLAS), the merged layout, a graph compiled again, and a batch
+/// tracer; and a new executor draws what the first drew.
 #[test]
 fn executors_come_and_go_without_leaks() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let gpu = gpu();
-    let scene = default_scene();
+    let before = live_hal_objects();
+    let p = common::TempProject::with_repo_files();
+    let ao = std::fs::read_to_string(common::repo().join("graph/ao.ron")).unwrap();
+    p.write("graph/ao_two_level.ron", &ao.replace("Accel(merge: true)", "Accel()"));
+    let two_level = p.root.join("graph/ao_two_level.ron");
     let mut first = None;
-    for _ in 0..3 {
-        let mut rt = executor(&gpu, "graph/ao.ron", Backend::RtPipeline, &scene);
+    for round in 0..3 {
+        let mut scene = default_scene();
+        let graph = if round == 1 { common::repo().join("graph/ao.ron") } else { two_level.clone() };
+        let plan = compile_with(&graph, &Project::beside_graph(&graph), SIZE, &gpu.compile_options_for(Backend::RtPipeline)).unwrap();
+        let mut rt = Executor::new(&gpu, plan, &scene).unwrap();
         rt.render(&gpu, &scene.camera, &scene).unwrap();
         let image = rt.read_output(&gpu).unwrap();
         assert!(first.get_or_insert_with(|| image.clone()) == &image, "a new executor draws another picture");
+        // The last mesh and its instances go: one BLAS fewer.
+        let last = scene.meshes.len() - 1;
+        scene.instances.retain(|i| i.mesh != last);
+        scene.meshes.pop();
+        let t = rt.render(&gpu, &scene.camera, &scene).unwrap();
+        assert!(t.rays.unwrap().traced() > 0);
+        assert!(live_hal_objects() > before, "the executor holds hal objects");
     }
+    let tracer = raygraph::accel::batch::BatchTracer::new(&gpu, Backend::RtPipeline, &default_scene(), &common::repo().join("shaders")).unwrap();
+    let (hits, _) =
+        tracer.closest(&gpu, &[raygraph::accel::batch::GpuRay { origin: [0.0, 50.0, 0.0], t_min: 0.0, dir: [0.0, -1.0, 0.0], t_max: 1e30 }]).unwrap();
+    assert_eq!(hits.len(), 1);
+    drop(tracer);
+    assert_eq!(live_hal_objects(), before, "objects made through wgpu-hal were left behind");
 }

@@ -42,12 +42,8 @@ impl Backend {
             Backend::RayQuery => wgpu::Features::EXPERIMENTAL_RAY_QUERY,
             Backend::Compute => wgpu::Features::empty(),
             // The closest-hit shader reads the primitive index (SPIR-V PrimitiveId, which naga
-            // declares under the Geometry capability that PRIMITIVE_INDEX enables); textures the
-            // hal-recorded trace writes are cleared once through wgpu (CLEAR_TEXTURE), see
-            // `RtPass::transition`.
-            Backend::RtPipeline => {
-                wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES.union(wgpu::Features::PRIMITIVE_INDEX).union(wgpu::Features::CLEAR_TEXTURE)
-            }
+            // declares under the Geometry capability that PRIMITIVE_INDEX enables).
+            Backend::RtPipeline => wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES.union(wgpu::Features::PRIMITIVE_INDEX),
         }
     }
 }

@@ -692,8 +692,14 @@ impl AccelCache {
         let unit_of = |i: usize| if dedup { scene.instances[i].mesh } else { i };
         let result = rt.update(queue, scene, &unit_meshes, &unit_of, changed, self.merge);
         self.generation += 1;
+        // After a failure the structures are gone (RtAccel::update) and the cache starts over:
+        // the next update finds it empty and builds everything.
+        let built = result?;
         self.state = State::RtPipeline(rt);
-        result?;
+        // What was built: units without a valid triangle have no BLAS.
+        self.total_blas_builds = self.total_blas_builds + built - report.blas_built;
+        report.blas_built = built;
+        report.blas_reused = units.len() - changed.len().min(units.len());
         report.tlas = TlasWork::Rebuild;
         Ok(())
     }

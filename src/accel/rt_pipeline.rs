@@ -49,6 +49,26 @@ type HalAccel = hal::vulkan::AccelerationStructure;
 const RT_STAGES: wgpu::ShaderStages =
     wgpu::ShaderStages::RAY_GENERATION.union(wgpu::ShaderStages::MISS).union(wgpu::ShaderStages::CLOSEST_HIT).union(wgpu::ShaderStages::ANY_HIT);
 
+/// Objects this module has made through wgpu-hal and not yet destroyed (tests check that it
+/// returns to where it was once everything is dropped).
+static LIVE_OBJECTS: std::sync::atomic::AtomicIsize = std::sync::atomic::AtomicIsize::new(0);
+
+/// The number of objects made through wgpu-hal by this back-end and still alive.
+pub fn live_hal_objects() -> isize {
+    LIVE_OBJECTS.load(std::sync::atomic::Ordering::SeqCst)
+}
+
+/// Counts an object just made (see [`live_hal_objects`]).
+fn count_made<T>(object: T) -> T {
+    LIVE_OBJECTS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    object
+}
+
+/// Counts `n` objects destroyed.
+fn destroyed(n: usize) {
+    LIVE_OBJECTS.fetch_sub(n as isize, std::sync::atomic::Ordering::SeqCst);
+}
+
 fn hal_error(what: &str, e: impl std::fmt::Display) -> RuntimeError {
     RuntimeError::Gpu(format!("rt-pipeline back-end: {what}: {e}"))
 }
@@ -164,9 +184,26 @@ impl HalObjects {
         if self.is_empty() {
             return;
         }
-        // Command buffers that use these objects were submitted before this point.
-        let _ = device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) });
+        // Command buffers that use these objects were submitted before this point. If the
+        // device cannot be waited for (lost, or the wait timed out), the objects are left
+        // rather than destroyed while the GPU may still use them.
+        let waited = device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) });
+        if let Err(e) = waited {
+            log::warn!("rt-pipeline back-end: the device could not be waited for ({e}); its objects are left to the driver");
+            *self = HalObjects::default();
+            return;
+        }
+        let count = self.buffers.len()
+            + self.accels.len()
+            + self.bind_groups.len()
+            + self.bind_group_layouts.len()
+            + self.pipeline_layouts.len()
+            + self.shader_modules.len()
+            + self.pipelines.len()
+            + self.samplers.len()
+            + self.texture_views.len();
         let _ = with_hal(device, |d| {
+            destroyed(count);
             // SAFETY: every object was made by this device and the GPU is idle (above); each
             // is destroyed once (drained) and nothing refers to it afterwards.
             unsafe {
@@ -214,10 +251,39 @@ fn device_buffer(
     data: &[u8],
     usage: wgpu::BufferUses,
 ) -> Result<HalBuffer, RuntimeError> {
+    let buffer = empty_device_buffer(d, label, data.len() as u64, usage)?;
+    if let Err(e) = upload(d, encoder, staging, label, &buffer, data) {
+        staging.buffers.push(buffer);
+        return Err(e);
+    }
+    Ok(buffer)
+}
+
+/// A device-memory buffer of at least `size` bytes (16, in whole words) that copies can fill.
+fn empty_device_buffer(d: &HalDevice, label: &str, size: u64, usage: wgpu::BufferUses) -> Result<HalBuffer, RuntimeError> {
+    let size = size.max(16).next_multiple_of(4);
+    // SAFETY: plain buffer creation; the caller destroys it through `HalObjects`.
+    unsafe {
+        d.create_buffer(&hal::BufferDescriptor { label: Some(label), size, usage: usage | wgpu::BufferUses::COPY_DST, memory_flags: hal::MemoryFlags::empty() })
+    }
+    .map(count_made)
+    .map_err(|e| hal_error(label, e))
+}
+
+/// Records a copy of `data` into the start of `buffer` (at least `data.len()` bytes, made with
+/// COPY_DST) from a host-visible staging buffer, kept in `staging` until the device is idle.
+fn upload(
+    d: &HalDevice,
+    encoder: &mut hal::vulkan::CommandEncoder,
+    staging: &mut HalObjects,
+    label: &str,
+    buffer: &HalBuffer,
+    data: &[u8],
+) -> Result<(), RuntimeError> {
     let size = (data.len() as u64).max(16).next_multiple_of(4);
-    // SAFETY: plain buffer creation and a mapped write of `data.len()` bytes into a buffer of
-    // at least that size; the copy is recorded into the open encoder, and the staging buffer
-    // stays alive until the device is idle (`staging` is destroyed after a wait).
+    // SAFETY: a host-visible buffer of `size` >= data.len() bytes, mapped, written and unmapped
+    // here; the copy is recorded into the open encoder and the staging buffer stays alive until
+    // the device is idle (`staging` is destroyed after a wait).
     unsafe {
         let stage = d
             .create_buffer(&hal::BufferDescriptor {
@@ -226,29 +292,28 @@ fn device_buffer(
                 usage: wgpu::BufferUses::MAP_WRITE | wgpu::BufferUses::COPY_SRC,
                 memory_flags: hal::MemoryFlags::PREFER_COHERENT,
             })
+            .map(count_made)
             .map_err(|e| hal_error(label, e))?;
-        let mapping = d.map_buffer(&stage, 0..size).map_err(|e| hal_error(label, e))?;
+        let mapping = match d.map_buffer(&stage, 0..size) {
+            Ok(m) => m,
+            Err(e) => {
+                staging.buffers.push(stage);
+                return Err(hal_error(label, e));
+            }
+        };
         std::ptr::copy_nonoverlapping(data.as_ptr(), mapping.ptr.as_ptr(), data.len());
         if !mapping.is_coherent {
             d.flush_mapped_ranges(&stage, std::iter::once(0..size));
         }
         d.unmap_buffer(&stage);
-        let buffer = d
-            .create_buffer(&hal::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: usage | wgpu::BufferUses::COPY_DST,
-                memory_flags: hal::MemoryFlags::empty(),
-            })
-            .map_err(|e| hal_error(label, e))?;
         encoder.copy_buffer_to_buffer(
             &stage,
-            &buffer,
+            buffer,
             std::iter::once(hal::BufferCopy { src_offset: 0, dst_offset: 0, size: NonZeroU64::new(size).expect("size >= 16") }),
         );
         staging.buffers.push(stage);
-        Ok(buffer)
     }
+    Ok(())
 }
 
 /// The acceleration structures of a scene, built through wgpu-hal (see the module docs): a
@@ -372,6 +437,10 @@ impl RtAccel {
         let mut retired = HalObjects::default();
         let mut fresh = HalObjects::default();
         let mut blases = std::mem::take(&mut self.blases);
+        // Units gone (meshes or instances removed): their BLAS are retired with the rest.
+        if blases.len() > unit_meshes.len() {
+            retired.accels.extend(blases.drain(unit_meshes.len()..).flatten());
+        }
         blases.resize_with(unit_meshes.len(), || None);
         let mut rebuild: Vec<usize> = changed.iter().copied().filter(|&u| u < unit_meshes.len()).collect();
         // A unit with geometry but no BLAS (an earlier failed update) is built too.
@@ -445,6 +514,7 @@ impl RtAccel {
                         allow_compaction: false,
                     })
                 }
+                .map(count_made)
                 .map_err(|e| hal_error("creating a BLAS", e))?;
                 made.push(accel);
                 scratch_offsets.push(scratch_size);
@@ -460,6 +530,7 @@ impl RtAccel {
                         memory_flags: hal::MemoryFlags::empty(),
                     })
                 }
+                .map(count_made)
                 .map_err(|e| hal_error("creating BLAS scratch memory", e))?;
                 let descriptors: Vec<hal::BuildAccelerationStructureDescriptor<HalBuffer, HalAccel>> = entries
                     .iter()
@@ -540,6 +611,7 @@ impl RtAccel {
                         format: hal::AccelerationStructureFormat::TopLevel,
                         allow_compaction: false,
                     })
+                    .map(count_made)
                     .map_err(|e| hal_error("creating the TLAS", e))?;
                 let scratch = d
                     .create_buffer(&hal::BufferDescriptor {
@@ -548,6 +620,7 @@ impl RtAccel {
                         usage: wgpu::BufferUses::ACCELERATION_STRUCTURE_SCRATCH,
                         memory_flags: hal::MemoryFlags::empty(),
                     })
+                    .map(count_made)
                     .map_err(|e| hal_error("creating TLAS scratch memory", e))?;
                 enc.build_acceleration_structures(
                     1,
@@ -581,10 +654,14 @@ impl RtAccel {
                 Ok(built)
             }
             Err(e) => {
-                // Nothing was submitted: what was made is dropped and every BLAS is built again
-                // next time.
+                // Nothing was submitted. The old TLAS may refer to BLAS replaced above, so
+                // everything goes, old and new: with no TLAS, binding fails ("not built") until
+                // an update succeeds, and the next update builds every unit.
                 fresh.accels.extend(new_tlas);
                 fresh.accels.extend(blases.into_iter().flatten());
+                fresh.accels.extend(self.tlas.take());
+                fresh.buffers.append(&mut self.geometry);
+                self.instance_count = 0;
                 fresh.destroy(&device);
                 retired.destroy(&device);
                 Err(e)
@@ -710,6 +787,7 @@ impl RtPass {
                         entries: &entries,
                     })
                 }
+                .map(count_made)
                 .map_err(|e| hal_error("creating a bind group layout", e))?;
                 objects.bind_group_layouts.push(layout);
                 groups.push((objects.bind_group_layouts.len() - 1, None));
@@ -724,6 +802,7 @@ impl RtPass {
                     immediate_size: 0,
                 })
             }
+            .map(count_made)
             .map_err(|e| hal_error("creating the pipeline layout", e))?;
             objects.pipeline_layouts.push(layout);
             pipeline_layout = objects.pipeline_layouts.len() - 1;
@@ -740,6 +819,7 @@ impl RtPass {
                     }),
                 )
             }
+            .map(count_made)
             .map_err(|e| hal_error("compiling the shaders", e))?;
             objects.shader_modules.push(shader);
             let constants = Default::default();
@@ -763,6 +843,7 @@ impl RtPass {
                     cache: None,
                 })
             }
+            .map(count_made)
             .map_err(|e| hal_error("creating the ray-tracing pipeline", e))?;
             objects.pipelines.push(p);
             pipeline = objects.pipelines.len() - 1;
@@ -780,14 +861,27 @@ impl RtPass {
             }
             let stride = handle.next_multiple_of(align.handle_alignment);
             let region = stride.next_multiple_of(align.base_alignment);
-            let mut table = vec![0u8; (3 * region) as usize];
+            // Each region's device address must be a multiple of the base alignment, which the
+            // buffer's own address need not be: the table starts at the first such address.
+            let label = "rt shader binding table";
+            let table_buffer = empty_device_buffer(d, label, 3 * region + align.base_alignment, wgpu::BufferUses::RAY_TRACING_PIPELINE_SHADER_DATA)?;
+            // SAFETY: the address of a buffer made above with SHADER_DEVICE_ADDRESS usage
+            // (hal adds it for shader data), through the extension hal enabled for ray tracing.
+            let address = unsafe {
+                ash::khr::buffer_device_address::Device::new(d.shared_instance().raw_instance(), d.raw_device())
+                    .get_buffer_device_address(&ash::vk::BufferDeviceAddressInfo::default().buffer(table_buffer.raw_handle()))
+            };
+            let start = address.next_multiple_of(align.base_alignment) - address;
+            let mut table = vec![0u8; (start + 3 * region) as usize];
             for g in 0..3 {
                 let src = &handles[(g as u64 * handle) as usize..((g as u64 + 1) * handle) as usize];
-                table[(g * region) as usize..(g * region + handle) as usize].copy_from_slice(src);
+                let at = (start + g * region) as usize;
+                table[at..at + handle as usize].copy_from_slice(src);
             }
-            regions = [(0, stride), (region, stride), (2 * region, stride)];
-            objects.buffers.push(device_buffer(d, enc, &mut staging, "rt shader binding table", &table, wgpu::BufferUses::RAY_TRACING_PIPELINE_SHADER_DATA)?);
+            regions = [(start, stride), (start + region, stride), (start + 2 * region, stride)];
+            objects.buffers.push(table_buffer);
             sbt = objects.buffers.len() - 1;
+            upload(d, enc, &mut staging, label, &objects.buffers[sbt], &table)?;
             Ok(())
         });
         let commands = match made {
@@ -903,6 +997,7 @@ impl RtPass {
                             },
                         )
                     }
+                    .map(count_made)
                     .map_err(|e| hal_error("creating a texture view", e))?;
                     extra.texture_views.push(view);
                 }
@@ -925,6 +1020,7 @@ impl RtPass {
                                 border_color: desc.border_color,
                             })
                         }
+                        .map(count_made)
                         .map_err(|e| hal_error("creating a sampler", e))?;
                         extra.samplers.push(sampler);
                     }
@@ -1006,11 +1102,13 @@ impl RtPass {
                         external_textures: &[],
                     })
                 }
+                .map(count_made)
                 .map_err(|e| hal_error("creating a bind group", e))
             })();
             match made {
                 Ok(bg) => Ok((bg, extra)),
                 Err(e) => {
+                    destroyed(extra.texture_views.len() + extra.samplers.len());
                     // SAFETY: objects made above for a bind group that was not made.
                     unsafe {
                         for v in extra.texture_views.drain(..) {
@@ -1069,8 +1167,9 @@ impl RtPass {
     /// wgpu zero-fills a texture or buffer before its first read if it never saw it written,
     /// and it does not see what hal commands write: without more, the first frame's trace
     /// results were zeroed before the next pass read them (tests/rt_pipeline.rs). The first
-    /// call therefore writes zeros through wgpu into every texture (a queue write: wgpu does
-    /// not count a `clear_texture` as initializing) and marked buffer the pass writes.
+    /// call therefore writes zeros through the queue (before the frame's commands, and not a
+    /// `clear_texture`, which wgpu does not count as initializing) into every texture and
+    /// marked buffer the pass writes.
     pub fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
         if !self.initialized.swap(true, std::sync::atomic::Ordering::Relaxed) {
             for b in &self.bindings {
@@ -1089,7 +1188,7 @@ impl RtPass {
                             wgpu::Extent3d { width: texture.width(), height: texture.height(), depth_or_array_layers: 1 },
                         );
                     }
-                    RtResource::Buffer { buffer, initialize: true, .. } => encoder.clear_buffer(buffer, 0, None),
+                    RtResource::Buffer { buffer, initialize: true, .. } => self.queue.write_buffer(buffer, 0, &vec![0u8; buffer.size() as usize]),
                     _ => {}
                 }
             }

@@ -186,7 +186,11 @@ impl Executor {
                 ResourceDecl::Buffer(b) => Physical::Buffer(device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(&slot_label(&plan, i)),
                     size: b.size.max(4),
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    // The rt-pipeline back-end zeroes what its traces write once through the
+                    // queue (RtPass::transition).
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC
+                        | if plan.backend == crate::accel::backend::Backend::RtPipeline { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() },
                     mapped_at_creation: false,
                 })),
             })
@@ -863,7 +867,7 @@ impl Executor {
             drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel end"), timestamp_writes: t.end_writes(index) }));
         }
         if cache.generation() != self.accel_generation {
-            self.accel_generation = cache.generation();
+            let generation = cache.generation();
             let cache = self.accel.as_ref().expect("checked above");
             let trace_passes = self.passes.iter_mut().filter(|p| p.accel_layout.is_some() || matches!(p.pipeline, Pipeline::RayTracing(_)));
             for (window, pass) in trace_passes.enumerate() {
@@ -883,6 +887,9 @@ impl Executor {
                 }
                 pass.accel_group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));
             }
+            // Only once every pass is bound to the new objects: a failure above rebinds them
+            // all next frame.
+            self.accel_generation = generation;
         }
         Ok(Some((report, ms)))
     }
