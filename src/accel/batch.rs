@@ -111,7 +111,8 @@ impl BatchTracer {
         let mut cache = AccelCache::new(device, backend, settings, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
         let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
-        gpu.queue.submit([encoder.finish()]);
+        // The rt-pipeline back-end's build comes as a command buffer of its own.
+        gpu.queue.submit([encoder.finish()].into_iter().chain(cache.take_pending()));
         gpu.wait()?;
         let build_wall_ms = start.elapsed().as_secs_f64() * 1e3;
 

@@ -226,6 +226,8 @@ pub struct AccelCache {
     /// Who builds the merged layout's BLAS on a rebuild, and the GPU builder once made.
     merged_builder: MergedBuilder,
     gpu_builder: Option<GpuBlasBuilder>,
+    /// The rt-pipeline back-end's build command buffer, until taken ([`AccelCache::take_pending`]).
+    pending: Option<wgpu::CommandBuffer>,
 }
 
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).
@@ -282,6 +284,7 @@ impl AccelCache {
             total_blas_builds: 0,
             merged_builder: MergedBuilder::Cpu,
             gpu_builder: None,
+            pending: None,
         }
     }
 
@@ -365,7 +368,7 @@ impl AccelCache {
             Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, meshes_hash, refit, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &mut report)?,
-            Backend::RtPipeline => self.update_rt_pipeline(device, queue, scene, &units, &changed, &mut report)?,
+            Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
         }
         self.units = units;
         self.instances = instances;
@@ -672,12 +675,13 @@ impl AccelCache {
     }
 
     /// The rt-pipeline back-end: new BLAS for the changed units, then TLAS and the geometry
-    /// arrays again (built through wgpu-hal and submitted before the frame's commands; see
-    /// [`super::rt_pipeline`]). Bind groups follow through [`AccelCache::generation`].
+    /// arrays again (recorded through wgpu-hal into a command buffer the caller submits,
+    /// [`AccelCache::take_pending`]; see [`super::rt_pipeline`]). Bind groups follow through
+    /// [`AccelCache::generation`].
     fn update_rt_pipeline(
         &mut self,
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
+
         scene: &Scene,
         units: &[UnitKey],
         changed: &[usize],
@@ -690,11 +694,12 @@ impl AccelCache {
         let unit_meshes: Vec<usize> = units.iter().map(|u| u.mesh).collect();
         let dedup = self.dedup;
         let unit_of = |i: usize| if dedup { scene.instances[i].mesh } else { i };
-        let result = rt.update(queue, scene, &unit_meshes, &unit_of, changed, self.merge);
+        let result = rt.update(scene, &unit_meshes, &unit_of, changed, self.merge);
         self.generation += 1;
         // After a failure the structures are gone (RtAccel::update) and the cache starts over:
         // the next update finds it empty and builds everything.
-        let built = result?;
+        let (built, commands) = result?;
+        self.pending = Some(commands);
         self.state = State::RtPipeline(rt);
         // What was built: units without a valid triangle have no BLAS.
         self.total_blas_builds = self.total_blas_builds + built - report.blas_built;
@@ -702,6 +707,13 @@ impl AccelCache {
         report.blas_reused = units.len() - changed.len().min(units.len());
         report.tlas = TlasWork::Rebuild;
         Ok(())
+    }
+
+    /// The rt-pipeline back-end's build of the last update, recorded through wgpu-hal in a
+    /// command buffer of its own: submit it after the update's encoder and before anything
+    /// that traces (the executor does, between the `Accel` node's timestamps).
+    pub fn take_pending(&mut self) -> Option<wgpu::CommandBuffer> {
+        self.pending.take()
     }
 
     /// The rt-pipeline back-end's acceleration structures, once built.

@@ -329,6 +329,10 @@ pub struct RtAccel {
     geometry: Vec<HalBuffer>,
     /// Instances in the TLAS (those whose unit has a BLAS and whose transform is finite).
     pub instance_count: usize,
+    /// What the last update replaced, and its staging and scratch memory: destroyed at the
+    /// next update or on drop, once the device is idle (the build's command buffer is
+    /// submitted by the caller, with the frame).
+    retired: HalObjects,
 }
 
 /// A mesh's triangles for the BLAS: the mesh's own indices, a triangle the other back-ends
@@ -361,22 +365,23 @@ const MERGED_INSTANCE: u32 = 0xFF_FFFF;
 impl RtAccel {
     /// No acceleration structure yet (the first [`RtAccel::update`] builds every unit).
     pub fn new(device: &wgpu::Device) -> Self {
-        Self { device: device.clone(), blases: Vec::new(), tlas: None, geometry: Vec::new(), instance_count: 0 }
+        Self { device: device.clone(), blases: Vec::new(), tlas: None, geometry: Vec::new(), instance_count: 0, retired: HalObjects::default() }
     }
 
     /// Brings the structures up to date with `scene`: units (`unit_meshes[u]` is unit `u`'s
     /// mesh) listed in `changed` get a new BLAS, the TLAS and the geometry arrays are made
-    /// again. The build is submitted on `queue` before this returns; what it replaced is
-    /// destroyed once the device is idle. Returns the number of BLAS built.
+    /// again. Returns the number of BLAS built and the build's command buffer, which the caller
+    /// submits before any command buffer that traces (the executor between the `Accel` node's
+    /// timestamps); what the build replaced is destroyed at the next update, once the device
+    /// is idle.
     pub fn update(
         &mut self,
-        queue: &wgpu::Queue,
         scene: &Scene,
         unit_meshes: &[usize],
         unit_of_instance: &dyn Fn(usize) -> usize,
         changed: &[usize],
         merged: bool,
-    ) -> Result<usize, RuntimeError> {
+    ) -> Result<(usize, wgpu::CommandBuffer), RuntimeError> {
         // Custom data has 24 bits, and the largest value marks the merged layout's instance.
         const MAX_CUSTOM_DATA: usize = MERGED_INSTANCE as usize - 1;
         if scene.instances.len() > MAX_CUSTOM_DATA {
@@ -387,6 +392,9 @@ impl RtAccel {
             )));
         }
         let device = self.device.clone();
+        // The previous build has run: the frames that used what it replaced were waited for.
+        let mut previous = std::mem::take(&mut self.retired);
+        previous.destroy(&device);
         // Every unit's triangles packed into one position and one index array (indices
         // already offset to the packed positions): the BLAS builds read them, and so does the
         // closest-hit shader.
@@ -643,15 +651,14 @@ impl RtAccel {
         let built = rebuild.iter().filter(|&&u| spans[u].is_some()).count();
         match commands {
             Ok(commands) => {
-                queue.submit([commands]);
                 retired.accels.extend(self.tlas.take());
                 retired.buffers.append(&mut self.geometry);
                 self.tlas = new_tlas;
                 self.geometry = fresh.buffers.drain(..).collect();
                 self.blases = blases;
                 self.instance_count = instance_count;
-                retired.destroy(&device);
-                Ok(built)
+                self.retired = retired;
+                Ok((built, commands))
             }
             Err(e) => {
                 // Nothing was submitted. The old TLAS may refer to BLAS replaced above, so
@@ -676,7 +683,8 @@ impl RtAccel {
 
 impl Drop for RtAccel {
     fn drop(&mut self) {
-        let mut all = HalObjects { buffers: std::mem::take(&mut self.geometry), ..Default::default() };
+        let mut all = std::mem::take(&mut self.retired);
+        all.buffers.append(&mut self.geometry);
         all.accels.extend(self.tlas.take());
         all.accels.extend(self.blases.drain(..).flatten());
         all.destroy(&self.device);

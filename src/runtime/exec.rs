@@ -730,7 +730,7 @@ impl Executor {
         let mut command_buffers = Vec::new();
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
         // The acceleration structure first: every trace pass depends on it.
-        let accel_report = self.update_accel(gpu, &mut encoder, scene)?;
+        let accel_report = self.update_accel(gpu, &mut encoder, &mut command_buffers, scene)?;
         let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> =
             self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
         for (i, (pass, planned)) in self.passes.iter().zip(&self.plan.passes).enumerate() {
@@ -852,6 +852,7 @@ impl Executor {
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
+        command_buffers: &mut Vec<wgpu::CommandBuffer>,
         scene: &Scene,
     ) -> Result<Option<(crate::accel::cache::BuildReport, f64)>, RuntimeError> {
         let Some(cache) = self.accel.as_mut() else { return Ok(None) };
@@ -863,6 +864,13 @@ impl Executor {
         let t0 = Instant::now();
         let report = cache.update(&gpu.device, &gpu.queue, encoder, scene)?;
         let ms = t0.elapsed().as_secs_f64() * 1e3;
+        // The rt-pipeline back-end's build, recorded through wgpu-hal: submitted between the
+        // node's timestamps, before every trace.
+        if let Some(build) = cache.take_pending() {
+            let next = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+            command_buffers.push(std::mem::replace(encoder, next).finish());
+            command_buffers.push(build);
+        }
         if let Some(t) = &self.timer {
             drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel end"), timestamp_writes: t.end_writes(index) }));
         }
