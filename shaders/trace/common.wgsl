@@ -72,6 +72,16 @@ fn trace_ray_is_valid(ray: Ray) -> bool {
     return trace_finite3(ray.origin) && dir_ok && t_ok;
 }
 
+// The flagless entry points; each back-end module defines trace_closest_flags and
+// trace_any_flags.
+fn trace_closest(ray: Ray) -> Hit {
+    return trace_closest_flags(ray, TRACE_FLAGS_NONE);
+}
+
+fn trace_any(ray: Ray) -> bool {
+    return trace_any_flags(ray, TRACE_FLAGS_NONE);
+}
+
 fn trace_flush_stats() {
     if trace_count_closest != 0u { atomicAdd(&accel_stats[STAT_CLOSEST_RAYS], trace_count_closest); }
     if trace_count_any != 0u { atomicAdd(&accel_stats[STAT_ANY_RAYS], trace_count_any); }

@@ -403,10 +403,6 @@ fn trace_impl(ray: Ray, any_hit: bool, cull: bool) -> TraceResult {
     return TraceResult(result, hit_anything);
 }
 
-fn trace_closest(ray: Ray) -> Hit {
-    return trace_closest_flags(ray, TRACE_FLAGS_NONE);
-}
-
 fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
@@ -418,10 +414,6 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
         trace_count_hits++;
     }
     return r.hit;
-}
-
-fn trace_any(ray: Ray) -> bool {
-    return trace_any_flags(ray, TRACE_FLAGS_NONE);
 }
 
 fn trace_any_flags(ray: Ray, flags: u32) -> bool {

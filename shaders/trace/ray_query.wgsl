@@ -12,10 +12,6 @@ enable wgpu_ray_query;
 const TRACE_FLAG_FORCE_OPAQUE: u32 = 1u;
 const TRACE_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 4u;
 
-fn trace_closest(ray: Ray) -> Hit {
-    return trace_closest_flags(ray, TRACE_FLAGS_NONE);
-}
-
 fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
@@ -32,10 +28,6 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     }
     trace_count_hits++;
     return Hit(x.t, x.instance_custom_data, x.primitive_index, x.barycentrics, x.front_face);
-}
-
-fn trace_any(ray: Ray) -> bool {
-    return trace_any_flags(ray, TRACE_FLAGS_NONE);
 }
 
 fn trace_any_flags(ray: Ray, flags: u32) -> bool {

@@ -47,10 +47,6 @@ struct TracePayload {
 var<ray_payload> trace_payload: TracePayload;
 var<incoming_ray_payload> trace_incoming: TracePayload;
 
-fn trace_closest(ray: Ray) -> Hit {
-    return trace_closest_flags(ray, TRACE_FLAGS_NONE);
-}
-
 fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     if !trace_ray_is_valid(ray) {
         trace_count_invalid++;
@@ -66,10 +62,6 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     }
     trace_count_hits++;
     return Hit(p.t, p.instance, p.primitive, p.bary, p.front_face != 0u);
-}
-
-fn trace_any(ray: Ray) -> bool {
-    return trace_any_flags(ray, TRACE_FLAGS_NONE);
 }
 
 fn trace_any_flags(ray: Ray, flags: u32) -> bool {

@@ -812,11 +812,11 @@ fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     })
 }
 
-/// A wgpu BLAS over a mesh's triangles. Triangles the compute back-end leaves out (degenerate,
-/// non-finite, bad index) become (0, 0, 0) here, so primitive indices stay the mesh's own;
-/// non-finite positions are zeroed. `None` if no triangle is valid.
-fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
-    use wgpu::util::DeviceExt;
+/// A mesh's triangles as the driver's back-ends (`ray-query`, `rt-pipeline`) build them: the
+/// mesh's own indices, a triangle the compute back-end leaves out (degenerate, non-finite, bad
+/// index) as (0, 0, 0), so primitive indices stay the mesh's own; non-finite positions zeroed.
+/// `None` if no triangle is valid.
+pub(super) fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
     let tris = mesh.triangle_count();
     let mut indices = Vec::with_capacity(tris * 3);
     let mut valid = 0;
@@ -831,7 +831,14 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
     if valid == 0 {
         return None;
     }
-    let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
+    let positions = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
+    Some((positions, indices))
+}
+
+/// A wgpu BLAS over a mesh's triangles ([`driver_triangles`]). `None` if no triangle is valid.
+fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
+    use wgpu::util::DeviceExt;
+    let (positions, indices) = driver_triangles(mesh)?;
     let usage = wgpu::BufferUsages::BLAS_INPUT;
     let vertices =
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas vertices"), contents: bytemuck::cast_slice(&positions), usage });

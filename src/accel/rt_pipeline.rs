@@ -167,21 +167,22 @@ struct HalObjects {
 }
 
 impl HalObjects {
-    fn is_empty(&self) -> bool {
-        self.buffers.is_empty()
-            && self.accels.is_empty()
-            && self.bind_groups.is_empty()
-            && self.bind_group_layouts.is_empty()
-            && self.pipeline_layouts.is_empty()
-            && self.shader_modules.is_empty()
-            && self.pipelines.is_empty()
-            && self.samplers.is_empty()
-            && self.texture_views.is_empty()
+    fn len(&self) -> usize {
+        self.buffers.len()
+            + self.accels.len()
+            + self.bind_groups.len()
+            + self.bind_group_layouts.len()
+            + self.pipeline_layouts.len()
+            + self.shader_modules.len()
+            + self.pipelines.len()
+            + self.samplers.len()
+            + self.texture_views.len()
     }
 
     /// Destroys every object once the GPU has finished all submitted work.
     fn destroy(&mut self, device: &wgpu::Device) {
-        if self.is_empty() {
+        let count = self.len();
+        if count == 0 {
             return;
         }
         // Command buffers that use these objects were submitted before this point. If the
@@ -193,15 +194,6 @@ impl HalObjects {
             *self = HalObjects::default();
             return;
         }
-        let count = self.buffers.len()
-            + self.accels.len()
-            + self.bind_groups.len()
-            + self.bind_group_layouts.len()
-            + self.pipeline_layouts.len()
-            + self.shader_modules.len()
-            + self.pipelines.len()
-            + self.samplers.len()
-            + self.texture_views.len();
         let _ = with_hal(device, |d| {
             destroyed(count);
             // SAFETY: every object was made by this device and the GPU is idle (above); each
@@ -335,29 +327,6 @@ pub struct RtAccel {
     retired: HalObjects,
 }
 
-/// A mesh's triangles for the BLAS: the mesh's own indices, a triangle the other back-ends
-/// leave out (degenerate, non-finite, bad index) as three copies of index 0; positions with
-/// non-finite coordinates zeroed. `None` without a valid triangle.
-fn mesh_geometry(mesh: &crate::scene::Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
-    use super::bvh::{classify_mesh_triangle, TriangleStatus};
-    let tris = mesh.triangle_count();
-    let mut indices = Vec::with_capacity(tris * 3);
-    let mut valid = 0;
-    for t in 0..tris {
-        if classify_mesh_triangle(mesh, t).1 == TriangleStatus::Valid {
-            indices.extend_from_slice(&mesh.indices[3 * t..3 * t + 3]);
-            valid += 1;
-        } else {
-            indices.extend_from_slice(&[0, 0, 0]);
-        }
-    }
-    if valid == 0 {
-        return None;
-    }
-    let positions = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
-    Some((positions, indices))
-}
-
 /// The custom data of the merged layout's one instance (`MERGED_INSTANCE` in
 /// `shaders/trace/rt_pipeline.wgsl`).
 const MERGED_INSTANCE: u32 = 0xFF_FFFF;
@@ -409,7 +378,7 @@ impl RtAccel {
             // mirrored instances' triangles wound back so that facing stays the object-space
             // facing the other layouts report and cull by.
             let (mesh, origin) = super::layout::merge_instances(scene);
-            match mesh_geometry(&mesh) {
+            match super::cache::driver_triangles(&mesh) {
                 Some((p, mut i)) => {
                     for (t, o) in origin.iter().enumerate() {
                         if o.mirrored {
@@ -425,7 +394,7 @@ impl RtAccel {
             }
         } else {
             for &mesh in unit_meshes {
-                let Some((p, i)) = scene.meshes.get(mesh).and_then(mesh_geometry) else {
+                let Some((p, i)) = scene.meshes.get(mesh).and_then(super::cache::driver_triangles) else {
                     spans.push(None);
                     continue;
                 };

@@ -518,12 +518,7 @@ impl Executor {
                 let groups = match pass.dispatch {
                     Dispatch::Groups(x, y, z) => [x, y, z],
                     Dispatch::PerPixel => {
-                        let extent = pass
-                            .writes
-                            .iter()
-                            .find(|(_, r)| matches!(self.plan.resources[*r].decl, ResourceDecl::Texture(_)))
-                            .map(|(_, r)| self.plan.resources[*r].extent)
-                            .unwrap_or(self.plan.frame_size);
+                        let extent = self.per_pixel_extent(pass);
                         let wg = pass.shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
                         [extent.0.div_ceil(wg[0].max(1)), extent.1.div_ceil(wg[1].max(1)), 1]
                     }
@@ -655,12 +650,7 @@ impl Executor {
         let launch = match pass.dispatch {
             Dispatch::Groups(x, y, z) => [x * wg[0].max(1), y * wg[1].max(1), z * wg[2].max(1)],
             Dispatch::PerPixel => {
-                let extent = pass
-                    .writes
-                    .iter()
-                    .find(|(_, r)| matches!(self.plan.resources[*r].decl, ResourceDecl::Texture(_)))
-                    .map(|(_, r)| self.plan.resources[*r].extent)
-                    .unwrap_or(self.plan.frame_size);
+                let extent = self.per_pixel_extent(pass);
                 [extent.0, extent.1, 1]
             }
         };
@@ -675,6 +665,15 @@ impl Executor {
             groups: launch,
             params,
         })
+    }
+
+    /// The pixels a `PerPixel` pass covers: its first written texture, else the frame.
+    fn per_pixel_extent(&self, pass: &PlannedPass) -> (u32, u32) {
+        pass.writes
+            .iter()
+            .find(|(_, r)| matches!(self.plan.resources[*r].decl, ResourceDecl::Texture(_)))
+            .map(|(_, r)| self.plan.resources[*r].extent)
+            .unwrap_or(self.plan.frame_size)
     }
 
     fn is_depth(&self, r: ResourceId) -> bool {
