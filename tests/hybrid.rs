@@ -33,6 +33,7 @@ fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) ->
         presets: vec![("test".into(), camera)],
         light: Light { direction: light_dir.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 },
         point_light: None,
+        lights: Vec::new(),
     };
     for (mesh, material, transform) in parts {
         s.instances.push(Instance { mesh: s.meshes.len(), material: s.materials.len(), transform });

@@ -26,6 +26,11 @@ struct Material {
     metallic_roughness_texture: u32,
     normal_texture: u32,
     emissive_texture: u32,
+    // 0: no occlusion texture (occlusion 1).
+    occlusion_texture: u32,
+    occlusion_strength: f32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 // Geometry for shading hits (`scene_vertices`, `scene_indices`, `scene_meshes`): a vertex is

@@ -60,6 +60,10 @@ pub struct MaterialUniforms {
     pub metallic_roughness_texture: u32,
     pub normal_texture: u32,
     pub emissive_texture: u32,
+    /// Layer of the occlusion texture (0: none, occlusion 1).
+    pub occlusion_texture: u32,
+    pub occlusion_strength: f32,
+    pub _pad: [u32; 2],
 }
 
 pub const MATERIAL_DOUBLE_SIDED: u32 = 1;

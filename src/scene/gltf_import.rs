@@ -382,8 +382,18 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
         return Err(SceneError::Empty { path: path.to_path_buf() });
     }
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
-    let mut scene =
-        Scene { name, meshes, materials, instances, textures, camera: Camera::default(), presets: Vec::new(), light: Light::default(), point_light: None };
+    let mut scene = Scene {
+        name,
+        meshes,
+        materials,
+        instances,
+        textures,
+        camera: Camera::default(),
+        presets: Vec::new(),
+        light: Light::default(),
+        point_light: None,
+        lights: Vec::new(),
+    };
     scene.camera = Camera::framing(scene.bounds());
     scene.presets = Camera::presets_for(scene.bounds());
     Ok((scene, report))

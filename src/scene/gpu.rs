@@ -150,7 +150,8 @@ impl GpuScene {
                     let (alpha_flag, cutoff) = match m.alpha_mode {
                         AlphaMode::Opaque => (0, 0.0),
                         AlphaMode::Mask(c) => (MATERIAL_ALPHA_MASK, c),
-                        AlphaMode::Blend => (MATERIAL_ALPHA_BLEND, 0.0),
+                        // BLEND is a cutout at 0.5 for visibility and shadows in every mode.
+                        AlphaMode::Blend => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, 0.5),
                     };
                     MaterialUniforms {
                         base_color: m.base_color,
@@ -164,6 +165,9 @@ impl GpuScene {
                         metallic_roughness_texture: layer(m.metallic_roughness_texture),
                         normal_texture: layer(m.normal_texture),
                         emissive_texture: layer(m.emissive_texture),
+                        occlusion_texture: layer(m.occlusion_texture),
+                        occlusion_strength: m.occlusion_strength,
+                        _pad: [0; 2],
                     }
                 })
                 .collect();

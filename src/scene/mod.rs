@@ -64,8 +64,12 @@ pub struct Material {
     pub metallic_roughness_texture: Option<usize>,
     pub normal_texture: Option<usize>,
     pub normal_scale: f32,
+    /// Emitted radiance (glTF `emissiveFactor` times `KHR_materials_emissive_strength`).
     pub emissive: [f32; 3],
     pub emissive_texture: Option<usize>,
+    /// Ambient-occlusion texture (its red channel), and how much of it applies.
+    pub occlusion_texture: Option<usize>,
+    pub occlusion_strength: f32,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
 }
@@ -84,6 +88,8 @@ impl Material {
             normal_scale: 1.0,
             emissive: [0.0; 3],
             emissive_texture: None,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
         }
@@ -131,6 +137,41 @@ pub struct Scene {
     pub light: Light,
     /// An optional point light (besides the directional `light`).
     pub point_light: Option<PointLight>,
+    /// The file's own lights (glTF `KHR_lights_punctual`), in world space. Empty: the scene is
+    /// lit by `light` (and `point_light`); see [`Scene::effective_lights`].
+    pub lights: Vec<PunctualLight>,
+}
+
+/// What kind of punctual light, with the parameters only that kind has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LightKind {
+    Directional,
+    /// `range`: distance at which the light's influence ends (`None`: infinite).
+    Point {
+        range: Option<f32>,
+    },
+    /// Cone angles in radians from the axis (glTF `innerConeAngle`, `outerConeAngle`).
+    Spot {
+        range: Option<f32>,
+        inner_cone: f32,
+        outer_cone: f32,
+    },
+}
+
+/// A light of the file (`KHR_lights_punctual`) or the scene's default sun, in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PunctualLight {
+    pub name: String,
+    pub kind: LightKind,
+    /// World-space position (unused for directional lights).
+    pub position: Vec3,
+    /// Unit world-space direction the light shines in (from the light towards the scene; for
+    /// directional and spot lights).
+    pub direction: Vec3,
+    /// Linear RGB colour.
+    pub color: Vec3,
+    /// glTF units: lux for directional lights, candela for point and spot lights.
+    pub intensity: f32,
 }
 
 /// A point light with inverse-square falloff.
@@ -213,7 +254,35 @@ impl Scene {
             m.metallic_roughness_texture = None;
             m.normal_texture = None;
             m.emissive_texture = None;
+            m.occlusion_texture = None;
         }
+    }
+
+    /// The lights that light the scene: the file's own lights, or, when it has none, the
+    /// default sun (`light`) and the optional `point_light`.
+    pub fn effective_lights(&self) -> Vec<PunctualLight> {
+        if !self.lights.is_empty() {
+            return self.lights.clone();
+        }
+        let mut out = vec![PunctualLight {
+            name: "sun".into(),
+            kind: LightKind::Directional,
+            position: Vec3::ZERO,
+            direction: -self.light.direction,
+            color: self.light.color,
+            intensity: self.light.intensity,
+        }];
+        if let Some(p) = self.point_light {
+            out.push(PunctualLight {
+                name: "point".into(),
+                kind: LightKind::Point { range: None },
+                position: p.position,
+                direction: Vec3::NEG_Y,
+                color: p.color,
+                intensity: p.intensity,
+            });
+        }
+        out
     }
 
     /// Triangles over all instances (a mesh placed twice counts twice).
