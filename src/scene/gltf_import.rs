@@ -699,6 +699,7 @@ mod notes {
     use super::{image_name, material_name, material_slots, ImportReport, TextureSlot, SUPPORTED_EXTENSIONS};
     use gltf::json::Value;
     use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    use std::collections::{BTreeMap, BTreeSet};
 
     pub(super) fn collect(doc: &gltf::Document, raw: &Value, report: &mut ImportReport) {
         for ext in doc.extensions_used() {
@@ -790,11 +791,18 @@ mod notes {
     }
 
     fn meshes(doc: &gltf::Document, report: &mut ImportReport) {
-        let (mut colours, mut morphs) = (Vec::new(), Vec::new());
+        let (mut colours, mut morphs, mut uv_sets) = (Vec::new(), Vec::new(), BTreeMap::<u32, Vec<String>>::new());
         for mesh in doc.meshes() {
             let name = mesh.name().map(|n| format!("`{n}`")).unwrap_or_else(|| mesh.index().to_string());
             if mesh.primitives().any(|p| p.attributes().any(|(s, _)| matches!(s, gltf::Semantic::Colors(_)))) {
                 colours.push(name.clone());
+            }
+            let sets: BTreeSet<u32> = mesh
+                .primitives()
+                .flat_map(|p| p.attributes().filter_map(|(s, _)| if let gltf::Semantic::TexCoords(n @ 1..) = s { Some(n) } else { None }))
+                .collect();
+            for n in sets {
+                uv_sets.entry(n).or_default().push(name.clone());
             }
             if mesh.primitives().any(|p| p.morph_targets().next().is_some()) {
                 morphs.push(name);
@@ -802,6 +810,9 @@ mod notes {
         }
         if !colours.is_empty() {
             report.ignored_features.push(format!("vertex colours (COLOR_n) on mesh {}", colours.join(", ")));
+        }
+        for (n, meshes) in uv_sets {
+            report.ignored_features.push(format!("attribute TEXCOORD_{n} on mesh {} (only TEXCOORD_0 is read)", meshes.join(", ")));
         }
         if !morphs.is_empty() {
             report.ignored_features.push(format!("morph targets on mesh {} (the base shape is drawn)", morphs.join(", ")));
