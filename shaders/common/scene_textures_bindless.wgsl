@@ -18,3 +18,13 @@ fn scene_texture_log2_size(layer: u32) -> f32 {
     let d = vec2<f32>(textureDimensions(scene_textures[layer]));
     return 0.5 * log2(d.x * d.y);
 }
+
+// Level 0 of a texture: its size in texels, and one texel (no filtering; the alpha test reads
+// texels by hand, common/alpha_read.wgsl).
+fn scene_texture_size0(layer: u32) -> vec2<u32> {
+    return textureDimensions(scene_textures[layer], 0);
+}
+
+fn scene_texel0(layer: u32, texel: vec2<u32>) -> vec4<f32> {
+    return textureLoad(scene_textures[layer], texel, 0);
+}
