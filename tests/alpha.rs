@@ -16,8 +16,8 @@
 //!
 //! Every back-end lavapipe has and both layouts, with both texture paths (binding array and
 //! the 256x256 texture array of `RAYGRAPH_NO_BINDLESS`); the f64 reference and the CPU
-//! traversal give the same counts; the raster G-buffer covers exactly the pixels the primary
-//! rays hit, both equal to the analytic classification of each camera ray.
+//! traversal give the same counts; the raster G-buffer and the forward pass cover exactly the
+//! pixels the primary rays hit, all equal to the analytic classification of each camera ray.
 
 mod common;
 
@@ -349,40 +349,82 @@ fn gbuffer_surfaces(gpu: &Gpu, path: &std::path::Path, options: CompileOptions, 
         .collect()
 }
 
-/// The raster G-buffer (hybrid graph) and the primary rays' G-buffer (full ray-tracing graph)
-/// on `backend` cover the same pixels, the analytic answer for each camera ray.
-fn gbuffers_match(backend: Backend) {
-    let mut gpu = gpu();
-    assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
+/// The scene with the camera of the graph tests, the analytic answer per pixel, and a project
+/// with the shipped graphs plus full_rt with a two-level `Accel` (it ships merged).
+fn graph_setup() -> (Scene, Vec<Surface>, common::TempProject) {
     let mut scene = scene();
     scene.camera = camera();
     let want: Vec<Surface> = ReferenceRenderer::camera_rays(&scene.camera, IMAGE).iter().map(|r| classify(r.origin, r.dir)).collect();
-    let count = |s: &[Surface], f: fn(&Surface) -> bool| s.iter().filter(|x| f(x)).count();
-    println!(
-        "analytic: {} quad, {} plane, {} miss",
-        count(&want, |s| matches!(s, Surface::Quad(_))),
-        count(&want, |s| matches!(s, Surface::Plane(_))),
-        count(&want, |s| *s == Surface::Miss)
-    );
-    // The shipped graphs, and full_rt with a two-level `Accel` (it ships merged).
+    let count = |f: fn(&Surface) -> bool| want.iter().filter(|x| f(x)).count();
+    let counts = (count(|s| matches!(s, Surface::Quad(_))), count(|s| matches!(s, Surface::Plane(_))), count(|s| *s == Surface::Miss));
+    assert_eq!(counts, (1024, 1312, 2272), "analytic (quad, plane, miss) pixels");
     let p = common::TempProject::with_repo_files();
     let full_rt = std::fs::read_to_string(common::repo().join("graph/full_rt.ron")).unwrap();
     let two_level = full_rt.replace("Accel(merge: true)", "Accel()");
     assert_ne!(two_level, full_rt, "graph/full_rt.ron no longer merges: update the test");
-    let hybrid = p.write("graph/hybrid.ron", &std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap());
-    let (merged, two_level) = (p.write("graph/full_rt.ron", &full_rt), p.write("graph/full_rt_two_level.ron", &two_level));
+    p.write("graph/full_rt.ron", &full_rt);
+    p.write("graph/full_rt_two_level.ron", &two_level);
+    for g in ["hybrid", "raster"] {
+        p.write(&format!("graph/{g}.ron"), &std::fs::read_to_string(common::repo().join(format!("graph/{g}.ron"))).unwrap());
+    }
+    (scene, want, p)
+}
+
+/// The raster G-buffer (deferred pass of the hybrid graph) shows, pixel for pixel, the
+/// analytic answer for each camera ray, with both texture paths.
+#[test]
+fn raster_gbuffer_cuts_out_the_checker() {
+    let mut gpu = gpu();
+    let (scene, want, p) = graph_setup();
     for bindless in [true, false] {
         gpu.texture_binding_arrays = bindless;
-        let paths = if bindless { "binding array" } else { "texture array" };
-        let raster = gbuffer_surfaces(&gpu, &hybrid, gpu.compile_options_for(Backend::Compute), &scene);
-        assert_same(&format!("raster G-buffer, {paths}"), &raster, &want);
-        let merged_graph = merged.clone();
-        for merged in [true, false] {
-            if merged && backend == Backend::RayQuery {
-                continue;
-            }
-            let traced = gbuffer_surfaces(&gpu, if merged { &merged_graph } else { &two_level }, gpu.compile_options_for(backend), &scene);
-            assert_same(&format!("primary-ray G-buffer {backend} (merged {merged}), {paths}"), &traced, &raster);
+        let raster = gbuffer_surfaces(&gpu, &p.root.join("graph/hybrid.ron"), gpu.compile_options_for(Backend::Compute), &scene);
+        assert_same(&format!("raster G-buffer, binding array {bindless}"), &raster, &want);
+        // The forward pass (raster graph), from its depth buffer: the cleared value where
+        // nothing was drawn; the quads' and the planes' depths are two values (both are
+        // perpendicular to the view axis), the quads' the one farther from the cleared value.
+        let path = p.root.join("graph/raster.ron");
+        let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
+        let mut exec = Executor::new(&gpu, compile_with(&path, &Project::beside_graph(&path), IMAGE, &options).unwrap(), &scene).unwrap();
+        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        let depth: Vec<f32> = exec.read_texture_f32(&gpu, exec.plan().resource_by_name("forward/depth").unwrap()).unwrap().2.iter().map(|d| d[0]).collect();
+        let kind = |s: &Surface| match s {
+            Surface::Quad(_) => 0,
+            Surface::Plane(_) => 1,
+            Surface::Miss => 2,
+        };
+        let cleared = depth[want.iter().position(|s| *s == Surface::Miss).unwrap()];
+        let (quad, plane) = (depth[want.iter().position(|s| kind(s) == 0).unwrap()], depth[want.iter().position(|s| kind(s) == 1).unwrap()]);
+        assert!((quad - cleared).abs() > (plane - cleared).abs(), "the quads are in front of the planes");
+        let forward: Vec<u8> = depth
+            .iter()
+            .map(|&d| {
+                if d == cleared {
+                    2
+                } else if (d - quad).abs() < (d - plane).abs() {
+                    0
+                } else {
+                    1
+                }
+            })
+            .collect();
+        assert_same(&format!("forward pass, binding array {bindless}"), &forward, &want.iter().map(kind).collect::<Vec<u8>>());
+    }
+}
+
+/// The primary rays' G-buffer (full ray-tracing graph) on `backend`, both layouts where it has
+/// two, both texture paths: the analytic answer per pixel, so the raster G-buffer's coverage
+/// ([`raster_gbuffer_cuts_out_the_checker`]) pixel for pixel.
+fn gbuffers_match(backend: Backend) {
+    let mut gpu = gpu();
+    assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
+    let (scene, want, p) = graph_setup();
+    let graphs: &[&str] = if backend == Backend::RayQuery { &["full_rt_two_level"] } else { &["full_rt", "full_rt_two_level"] };
+    for bindless in [true, false] {
+        gpu.texture_binding_arrays = bindless;
+        for graph in graphs {
+            let traced = gbuffer_surfaces(&gpu, &p.root.join(format!("graph/{graph}.ron")), gpu.compile_options_for(backend), &scene);
+            assert_same(&format!("primary-ray G-buffer {backend} ({graph}), binding array {bindless}"), &traced, &want);
         }
     }
 }
