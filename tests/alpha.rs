@@ -485,3 +485,27 @@ fn ray_query_gbuffers_agree_with_the_raster_gbuffer() {
 fn rt_pipeline_gbuffers_agree_with_the_raster_gbuffer() {
     gbuffers_match(Backend::RtPipeline);
 }
+
+/// A trace pass that reads no texture itself (the shadow pass) binds the alpha test's data
+/// through the back-end's module on every back-end and texture path: `scene_textures` in group
+/// 1 (so the plan loads the scene's textures) and `accel_alpha` in group 2.
+#[test]
+fn every_trace_module_binds_the_alpha_data() {
+    use raygraph::graph::builtins::SceneUsage;
+    use raygraph::graph::reflect::{reflect_with, BindingKind};
+    let shaders = common::repo().join("shaders");
+    let shadow = shaders.join("rt/shadow.wgsl");
+    for backend in Backend::ALL {
+        for bindless in [false, true] {
+            let options = CompileOptions { includes: raygraph::runtime::gpu::include_aliases(bindless), backend, ..Default::default() };
+            let info = reflect_with(&shadow, &shaders, &raygraph::error::Location::file_start(&shadow), &options.all_includes()).unwrap();
+            let find = |name: &str| info.bindings.iter().find(|b| b.name == name);
+            let textures = find("scene_textures").unwrap_or_else(|| panic!("{backend}: no scene_textures"));
+            assert_eq!((textures.group, textures.kind == BindingKind::TextureBindingArray), (1, bindless), "{backend}");
+            assert_eq!(find("accel_alpha").map(|b| b.group), Some(2), "{backend}: accel_alpha");
+            let mut usage = SceneUsage::default();
+            info.bindings.iter().for_each(|b| usage.add_binding(b));
+            assert!(usage.textures && usage.texture_binding_array == bindless, "{backend}");
+        }
+    }
+}
