@@ -22,6 +22,7 @@
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/lighting.wgsl"
+//#include "common/material_inputs.wgsl"
 
 struct Params {
     shadow_bias: f32,
@@ -52,6 +53,9 @@ struct VertexOut {
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) instance: u32,
     @location(3) world_pos: vec3<f32>,
+    // Object-space position: its derivatives give the face normal and the normal map's frame
+    // without the rounding of large world coordinates, as in deferred/deferred.wgsl.
+    @location(4) local: vec3<f32>,
 }
 
 @vertex
@@ -69,6 +73,7 @@ fn vs_main(
     out.uv = uv;
     out.instance = instance;
     out.world_pos = world.xyz;
+    out.local = position;
     return out;
 }
 
@@ -153,38 +158,56 @@ fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, d
     return shadow_visibility(slot, sc, slope, bias, size);
 }
 
+// Material inputs and facing are read as the raster G-buffer reads them
+// (deferred/deferred.wgsl, common/material_inputs.wgsl): both sides drawn, back faces of
+// single-sided materials discarded, those of double-sided ones with reversed normals.
 @fragment
-fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    let material = scene_materials[scene_instances[in.instance].material];
+fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    let inst = scene_instances[in.instance];
+    let material = scene_materials[inst.material];
+    let front = raster_front_face(front_facing, inst.model);
+    if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
+        discard;
+    }
+    // Derivatives before any non-uniform branch (world-space differentials of the object-space
+    // position: the normal map's frame, the face normal and the shadow maps' receiver plane).
+    let dp1 = (inst.model * vec4<f32>(dpdx(in.local), 0.0)).xyz;
+    let dp2 = (inst.model * vec4<f32>(dpdy(in.local), 0.0)).xyz;
+    let duv1 = dpdx(in.uv);
+    let duv2 = dpdy(in.uv);
+    let face = cross(dpdx(in.local), dpdy(in.local));
     let base = sample_scene_texture(material.base_texture, in.uv);
     let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
     let emission = sample_scene_texture(material.emissive_texture, in.uv).rgb;
     let occlusion = sample_scene_texture(material.occlusion_texture, in.uv).r;
-    let n = normalize(in.world_normal);
-    // Derivatives in uniform control flow. The geometric normal (from the interpolated
-    // position) decides the shadow offset direction, so smooth shading normals do not push
-    // points into neighbouring geometry.
-    let dpx = dpdx(in.world_pos);
-    let dpy = dpdy(in.world_pos);
-    var ng = cross(dpy, dpx);
-    ng = select(n, normalize(ng) * sign(dot(ng, n)), dot(ng, ng) > 0.0);
+    let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
+    var n = normalize(in.world_normal);
+    if material.normal_texture != 0u {
+        n = apply_normal_map(n, dp1, dp2, duv1, duv2, map, material.normal_scale);
+    }
+    let side = select(-1.0, 1.0, front);
+    // The geometric normal decides the shadow offset direction, so smooth shading normals do
+    // not push points into neighbouring geometry.
+    var ng = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
+    if dot(ng, normalize(in.world_normal) * side) < 0.0 {
+        ng = -ng;
+    }
 
     var s: ShadingPoint;
     s.position = in.world_pos;
-    s.normal = n;
+    s.normal = n * side;
     s.view = normalize(frame.camera_pos.xyz - in.world_pos);
     s.albedo = material.base_color.rgb * base.rgb;
     s.metallic = material.metallic * mr.b;
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
-    s.occlusion = 1.0 + material.occlusion_strength * (occlusion - 1.0);
+    s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
     s.emissive = material.emissive * emission;
     var direct = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {
         let light = scene_lights[i];
-        let ls = light_sample(light, in.world_pos);
-        var radiance = light_radiance(s, ls);
+        var radiance = light_radiance(s, light_sample(light, in.world_pos));
         if params.shadows != 0u && light.shadow_map >= 0 && any(radiance > vec3<f32>(0.0)) {
-            radiance *= light_visibility(light, in.world_pos, ng, dpx, dpy);
+            radiance *= light_visibility(light, in.world_pos, ng, dp1, dp2);
         }
         direct += radiance;
     }

@@ -67,7 +67,7 @@ fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
     sp.albedo = s.albedo;
     sp.metallic = s.metallic;
     sp.roughness = s.roughness;
-    sp.occlusion = 1.0;
+    sp.occlusion = s.occlusion;
     sp.emissive = s.emissive;
     var direct = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {

@@ -108,6 +108,8 @@ pub struct PlannedPass {
     pub reads: Vec<(String, ResourceId)>,
     pub writes: Vec<(String, ResourceId)>,
     pub dispatch: Dispatch,
+    /// `SceneRaster`: whether the pipeline culls back faces (`PassDesc::cull_back_faces`).
+    pub cull_back_faces: bool,
     /// Parameter values after graph overrides.
     pub params: BTreeMap<String, (ParamDecl, ParamValue)>,
     pub location: Location,
@@ -523,6 +525,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             reads: p.reads.clone(),
             writes: p.writes.clone(),
             dispatch: pass.dispatch,
+            cull_back_faces: pass.cull_back_faces,
             params: node.params.clone(),
             location: p.location.clone(),
         });
@@ -685,6 +688,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             reads: Vec::new(),
             writes: vec!["tlas".into()],
             dispatch: Dispatch::default(),
+            cull_back_faces: true,
         }],
     };
     let params = BTreeMap::from([

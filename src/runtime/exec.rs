@@ -563,7 +563,10 @@ impl Executor {
                         compilation_options: Default::default(),
                         buffers: if scene_raster { &vertex_buffers } else { &[] },
                     },
-                    primitive: wgpu::PrimitiveState { cull_mode: if scene_raster { Some(wgpu::Face::Back) } else { None }, ..Default::default() },
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: if scene_raster && pass.cull_back_faces { Some(wgpu::Face::Back) } else { None },
+                        ..Default::default()
+                    },
                     depth_stencil: depth.map(|_| wgpu::DepthStencilState {
                         format: wgpu::TextureFormat::Depth32Float,
                         depth_write_enabled: Some(true),
