@@ -23,6 +23,7 @@
 //#include "common/scene_textures.wgsl"
 //#include "common/lighting.wgsl"
 //#include "common/material_inputs.wgsl"
+//#include "common/alpha.wgsl"
 
 struct Params {
     shadow_bias: f32,
@@ -33,7 +34,6 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 @group(0) @binding(3) var linear_sampler: sampler;
 @group(0) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(5) var<uniform> params: Params;
@@ -167,6 +167,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @locatio
     let material = scene_materials[inst.material];
     let front = raster_front_face(front_facing, inst.model);
     if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
+        discard;
+    }
+    if !material_alpha_visible(inst.material, in.uv) {
         discard;
     }
     // Derivatives before any non-uniform branch (world-space differentials of the object-space
