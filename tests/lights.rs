@@ -4,7 +4,8 @@
 //! (full inside the inner angle, 0 outside the outer), a directional light (I cos(theta)), two
 //! lights adding up, each light's own shadow (ray-traced for every light; shadow maps for
 //! directional and spot lights in raster, point lights unshadowed there), a scene without
-//! lights of its own lit as before, and emission with every light off.
+//! lights of its own lit as before, a glTF file's own lights, emission with every light off, and
+//! the occlusion texture scaling the ambient term.
 //!
 //! The expected radiance is the shading model of `lighting.wgsl` evaluated on the CPU: Lambert +
 //! GGX per unit irradiance times the closed-form irradiance, plus (raster) the sky's Fresnel
@@ -522,5 +523,41 @@ fn a_gltf_files_punctual_lights_match_the_closed_forms() {
         let (worst, checked) = check_direct(&frame, &written, |_| Some(vec![true; 2]), &format!("{mode:?}/{backend}/glTF"));
         println!("{mode:?} {backend}: the file's lights within {worst:.2e} of the closed form at {checked} pixels");
         assert!(checked > 900);
+    }
+}
+
+/// The material's occlusion scales the ambient term in every mode: with every light off and
+/// AO off, a floor's radiance is ambient x sky(up) x albedo x occlusion plus the sky's Fresnel
+/// reflection, where occlusion = 1 + strength x (texel red - 1): 1 without a texture, 0.5 with a
+/// black texture at strength 0.5.
+#[test]
+fn the_occlusion_texture_scales_the_ambient_term_in_every_mode() {
+    let gpu = gpu();
+    let ambient = 0.35;
+    for (occlusion, with_texture) in [(1.0f32, false), (0.5, true)] {
+        let mut s = scene(vec![directional(Vec3::NEG_Y, 0.0)], vec![]);
+        s.light.ambient = ambient;
+        if with_texture {
+            s.textures.push(raygraph::scene::TextureImage { name: "black".into(), width: 1, height: 1, rgba: vec![0, 0, 0, 255] });
+            s.materials[0].occlusion_texture = Some(0);
+            s.materials[0].occlusion_strength = 0.5;
+        }
+        for (mode, backend) in configurations(&gpu).into_iter().filter(|(_, b)| *b == Backend::Compute) {
+            let (_p, graph_file) = graph(mode);
+            let mut exec = executor(&gpu, &graph_file, backend, &s);
+            exec.render(&gpu, &s.camera, &s).unwrap();
+            let color = channel(&gpu, &exec, if mode == Mode::Raster { "forward.color" } else { "resolve.hdr" });
+            let mut checked = 0;
+            for (i, p) in floor_points().into_iter().enumerate() {
+                let Some(p) = p else { continue };
+                let want = ambient * sky(Vec3::Y) * ALBEDO * occlusion + sky_reflection(p);
+                for c in 0..3 {
+                    assert!(close(color[i][c], want[c]), "{mode:?}: occlusion {occlusion}: pixel {i}: {:?} against {want:?}", color[i]);
+                }
+                checked += 1;
+            }
+            println!("{mode:?}: occlusion {occlusion}: {checked} floor pixels match");
+            assert!(checked > 900);
+        }
     }
 }
