@@ -252,6 +252,26 @@ fn check_direct(frame: &Frame, lights: &[PunctualLight], visible: impl Fn(Vec3) 
     (worst, checked)
 }
 
+/// Renders `s` and checks the final HDR colour of every floor pixel (raster: the forward pass's,
+/// else the resolve's) against `want`.
+fn check_floor_color(gpu: &Gpu, mode: Mode, backend: Backend, s: &Scene, want: impl Fn(Vec3) -> Vec3, what: &str) {
+    let (_p, graph_file) = graph(mode);
+    let mut exec = executor(gpu, &graph_file, backend, s);
+    exec.render(gpu, &s.camera, s).unwrap();
+    let color = channel(gpu, &exec, if mode == Mode::Raster { "forward.color" } else { "resolve.hdr" });
+    let mut checked = 0;
+    for (i, p) in floor_points().into_iter().enumerate() {
+        let Some(p) = p else { continue };
+        let want = want(p);
+        for c in 0..3 {
+            assert!(close(color[i][c], want[c]), "{mode:?}/{backend}: {what}: pixel {i}: {:?} against {want:?}", color[i]);
+        }
+        checked += 1;
+    }
+    println!("{mode:?}/{backend}: {what}: {checked} floor pixels match");
+    assert!(checked > 900, "{mode:?}/{backend}: the floor fills the view");
+}
+
 /// The unshadowed closed forms: point light (with and without range), spot cone, directional,
 /// and two lights adding up, in every mode and on every back-end.
 #[test]
@@ -433,20 +453,7 @@ fn emissive_surfaces_glow_with_every_light_off() {
     let mut s = scene(dark.clone(), vec![]);
     s.materials[0] = glowing.clone();
     for (mode, backend) in configurations(&gpu) {
-        let (_p, graph_file) = graph(mode);
-        let mut exec = executor(&gpu, &graph_file, backend, &s);
-        exec.render(&gpu, &s.camera, &s).unwrap();
-        let color = channel(&gpu, &exec, if mode == Mode::Raster { "forward.color" } else { "resolve.hdr" });
-        let mut checked = 0;
-        for (i, p) in floor_points().into_iter().enumerate() {
-            let Some(p) = p else { continue };
-            let want = Vec3::from(emissive) + sky_reflection(p);
-            for c in 0..3 {
-                assert!(close(color[i][c], want[c]), "{mode:?}/{backend}: pixel {i}: {:?} against {want:?}", color[i]);
-            }
-            checked += 1;
-        }
-        assert!(checked > 900);
+        check_floor_color(&gpu, mode, backend, &s, |p| Vec3::from(emissive) + sky_reflection(p), "emission");
     }
 
     // A mirror floor in front of an emissive wall standing in z = -3, facing +z.
@@ -543,21 +550,8 @@ fn the_occlusion_texture_scales_the_ambient_term_in_every_mode() {
             s.materials[0].occlusion_strength = 0.5;
         }
         for (mode, backend) in configurations(&gpu).into_iter().filter(|(_, b)| *b == Backend::Compute) {
-            let (_p, graph_file) = graph(mode);
-            let mut exec = executor(&gpu, &graph_file, backend, &s);
-            exec.render(&gpu, &s.camera, &s).unwrap();
-            let color = channel(&gpu, &exec, if mode == Mode::Raster { "forward.color" } else { "resolve.hdr" });
-            let mut checked = 0;
-            for (i, p) in floor_points().into_iter().enumerate() {
-                let Some(p) = p else { continue };
-                let want = ambient * sky(Vec3::Y) * ALBEDO * occlusion + sky_reflection(p);
-                for c in 0..3 {
-                    assert!(close(color[i][c], want[c]), "{mode:?}: occlusion {occlusion}: pixel {i}: {:?} against {want:?}", color[i]);
-                }
-                checked += 1;
-            }
-            println!("{mode:?}: occlusion {occlusion}: {checked} floor pixels match");
-            assert!(checked > 900);
+            let want = |p: Vec3| ambient * sky(Vec3::Y) * ALBEDO * occlusion + sky_reflection(p);
+            check_floor_color(&gpu, mode, backend, &s, want, &format!("occlusion {occlusion}"));
         }
     }
 }
