@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod gltf_doc;
+pub mod material_scene;
 
 use raygraph::graph::{compile, Plan, Project};
 use std::path::{Path, PathBuf};

@@ -1,0 +1,87 @@
+//! The three modes agree where their techniques do not differ: with shadows (raster: the
+//! shadow map's switch, `forward.shadows: false`; hybrid and full RT: the `shadow` node),
+//! ambient occlusion and reflections switched off, raster, hybrid and full RT shade the same
+//! G-buffer inputs with the same lights and one shading function, so their final images agree
+//! within a stated ꟻLIP mean (whole image, silhouettes and sky included, default viewing
+//! conditions of `nv_flip`) on both real assets and on the procedural metallic-roughness scene.
+
+mod common;
+
+use common::material_scene::metallic_roughness_scene;
+use raygraph::accel::backend::Backend;
+use raygraph::graph::compile::{compile_with, CompileOptions};
+use raygraph::graph::desc::ParamValue;
+use raygraph::graph::Project;
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::Scene;
+
+fn gpu() -> Gpu {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
+    println!("adapter: {}", gpu.describe());
+    gpu
+}
+
+/// The final image of `graph` with every technique-specific effect switched off.
+fn render_without_effects(gpu: &Gpu, graph: &str, scene: &Scene, size: (u32, u32)) -> image::RgbaImage {
+    let mut options: CompileOptions = gpu.compile_options_for(Backend::Compute);
+    if graph.ends_with("raster.ron") {
+        options.params.insert(("forward".into(), "shadows".into()), ParamValue::Bool(false));
+    } else {
+        for node in ["shadow", "ao", "reflection"] {
+            options.enabled.insert(node.into(), false);
+        }
+    }
+    let path = common::repo().join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.read_output(gpu).unwrap()
+}
+
+fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> f32 {
+    let rgb = |img: &image::RgbaImage| img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
+    let (w, h) = reference.dimensions();
+    let map = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(reference)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(test)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&map).mean()
+}
+
+/// ꟻLIP means of hybrid against raster, full RT against hybrid and full RT against raster.
+fn check(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), limits: [f32; 3]) {
+    let [raster, hybrid, full_rt] = ["graph/raster.ron", "graph/hybrid.ron", "graph/full_rt.ron"].map(|g| render_without_effects(gpu, g, scene, size));
+    let pairs = [("raster / hybrid", &raster, &hybrid), ("hybrid / full RT", &hybrid, &full_rt), ("raster / full RT", &raster, &full_rt)];
+    let mut failures = Vec::new();
+    for ((name, a, b), limit) in pairs.into_iter().zip(limits) {
+        let mean = flip_mean(a, b);
+        println!("{what} ({}x{}): {name}: FLIP mean {mean:.4} (limit {limit})", size.0, size.1);
+        if mean > limit {
+            failures.push(format!("{name}: FLIP mean {mean:.4} > {limit}"));
+        }
+    }
+    assert!(failures.is_empty(), "{what}: the modes differ with effects off:\n{}", failures.join("\n"));
+}
+
+fn open(rel: &str) -> Scene {
+    raygraph::scene::open(common::repo().join(rel).to_str().unwrap(), &Default::default()).unwrap().0
+}
+
+#[test]
+fn damaged_helmet_looks_the_same_in_every_mode_with_effects_off() {
+    let gpu = gpu();
+    check(&gpu, "DamagedHelmet", &open("assets/gltf/DamagedHelmet/DamagedHelmet.glb"), (128, 96), [0.05, 0.05, 0.05]);
+}
+
+#[test]
+fn pine_looks_the_same_in_every_mode_with_effects_off() {
+    let gpu = gpu();
+    check(&gpu, "smallpine", &open("assets/gltf/smallpine/scene.gltf"), (128, 96), [0.05, 0.05, 0.05]);
+}
+
+#[test]
+fn metallic_roughness_scene_looks_the_same_in_every_mode_with_effects_off() {
+    let gpu = gpu();
+    check(&gpu, "metallic-roughness scene", &metallic_roughness_scene().0, (128, 96), [0.05, 0.05, 0.05]);
+}
