@@ -8,34 +8,15 @@
 mod common;
 
 use common::material_scene::metallic_roughness_scene;
+use common::modes::render_without_effects;
 use raygraph::accel::backend::Backend;
-use raygraph::graph::compile::{compile_with, CompileOptions};
-use raygraph::graph::desc::ParamValue;
-use raygraph::graph::Project;
-use raygraph::runtime::{Executor, Gpu};
+use raygraph::runtime::Gpu;
 use raygraph::scene::Scene;
 
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
     println!("adapter: {}", gpu.describe());
     gpu
-}
-
-/// The final image of `graph` with every technique-specific effect switched off.
-fn render_without_effects(gpu: &Gpu, graph: &str, scene: &Scene, size: (u32, u32)) -> image::RgbaImage {
-    let mut options: CompileOptions = gpu.compile_options_for(Backend::Compute);
-    if graph.ends_with("raster.ron") {
-        options.params.insert(("forward".into(), "shadows".into()), ParamValue::Bool(false));
-    } else {
-        for node in ["shadow", "ao", "reflection"] {
-            options.enabled.insert(node.into(), false);
-        }
-    }
-    let path = common::repo().join(graph);
-    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
-    exec.read_output(gpu).unwrap()
 }
 
 fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> f32 {
@@ -51,7 +32,8 @@ fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> f32 {
 
 /// ꟻLIP means of hybrid against raster, full RT against hybrid and full RT against raster.
 fn check(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), limits: [f32; 3]) {
-    let [raster, hybrid, full_rt] = ["graph/raster.ron", "graph/hybrid.ron", "graph/full_rt.ron"].map(|g| render_without_effects(gpu, g, scene, size));
+    let [raster, hybrid, full_rt] = ["graph/raster.ron", "graph/hybrid.ron", "graph/full_rt.ron"]
+        .map(|g| render_without_effects(gpu, g, Backend::Compute, scene, size).read_output(gpu).unwrap());
     let pairs = [("raster / hybrid", &raster, &hybrid), ("hybrid / full RT", &hybrid, &full_rt), ("raster / full RT", &raster, &full_rt)];
     let mut failures = Vec::new();
     for ((name, a, b), limit) in pairs.into_iter().zip(limits) {

@@ -14,11 +14,10 @@
 mod common;
 
 use common::material_scene::{metallic_roughness_scene, EMISSIVE_TEXEL, MR_TEXEL, OCCLUSION_RED};
+use common::modes::render_without_effects;
 use glam::Vec3;
 use raygraph::accel::backend::Backend;
-use raygraph::graph::compile::compile_with;
-use raygraph::graph::Project;
-use raygraph::runtime::{Executor, Gpu};
+use raygraph::runtime::Gpu;
 use raygraph::scene::{Camera, Scene};
 
 fn gpu() -> Gpu {
@@ -43,14 +42,7 @@ impl GBuffer {
 
 /// The G-buffer `graph` (hybrid or full RT, effects switched off) writes for `scene`.
 fn gbuffer(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene, size: (u32, u32)) -> GBuffer {
-    let mut options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
-    for node in ["shadow", "ao", "reflection"] {
-        options.enabled.insert(node.into(), false);
-    }
-    let path = common::repo().join(graph);
-    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    let exec = render_without_effects(gpu, graph, backend, scene, size);
     let channels = CHANNELS
         .iter()
         .map(|c| {

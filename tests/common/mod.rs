@@ -4,6 +4,7 @@
 
 pub mod gltf_doc;
 pub mod material_scene;
+pub mod modes;
 
 use raygraph::graph::{compile, Plan, Project};
 use std::path::{Path, PathBuf};
