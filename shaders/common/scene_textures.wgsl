@@ -1,8 +1,9 @@
 // Scene textures as one `texture_2d_array<f32>` (every texture resampled to 256x256 with a
-// mip chain): works on every adapter. Declare `var scene_textures: SceneTextures;` and
-// `var linear_sampler: sampler;`, then call `sample_scene_texture(layer, uv)`.
+// mip chain): works on every adapter. `scene_textures` is declared by the included
+// common/scene_textures_texels.wgsl; declare `var linear_sampler: sampler;`, then call
+// `sample_scene_texture(layer, uv)`.
 // Devices with texture binding arrays get common/scene_textures_bindless.wgsl instead.
-alias SceneTextures = texture_2d_array<f32>;
+//#include "common/scene_textures_texels.wgsl"
 
 fn sample_scene_texture(layer: u32, uv: vec2<f32>) -> vec4<f32> {
     return textureSample(scene_textures, linear_sampler, uv, layer);

@@ -2,7 +2,7 @@ enable wgpu_binding_array;
 // Scene textures as a binding array (each texture at its own size with its own mip chain),
 // used where the device has texture binding arrays with non-uniform indexing. Same interface
 // as common/scene_textures.wgsl, which it replaces through an include substitution.
-alias SceneTextures = binding_array<texture_2d<f32>>;
+//#include "common/scene_textures_texels.wgsl"
 
 fn sample_scene_texture(layer: u32, uv: vec2<f32>) -> vec4<f32> {
     return textureSample(scene_textures[layer], linear_sampler, uv);

@@ -8,12 +8,12 @@
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/material_inputs.wgsl"
+//#include "common/alpha.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
 @group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(3) var linear_sampler: sampler;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -60,6 +60,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer 
     let material = scene_materials[inst.material];
     let front = raster_front_face(front_facing, inst.model);
     if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
+        discard;
+    }
+    if !material_alpha_visible(inst.material, in.uv) {
         discard;
     }
     // Derivatives before any non-uniform branch. Object-space ones, transformed, keep their

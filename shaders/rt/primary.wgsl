@@ -24,7 +24,6 @@
 @group(0) @binding(10) var albedo: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(11) var material: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(12) var emissive: texture_storage_2d<rgba16float, write>;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 
 // How many culled back faces a primary ray passes before it gives up (a miss).
 const MAX_CULLED: u32 = 16u;

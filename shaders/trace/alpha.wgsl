@@ -1,0 +1,39 @@
+// The trace side of the alpha test, included by every back-end module (trace/compute.wgsl,
+// trace/ray_query.wgsl, trace/rt_pipeline.wgsl); passes declare nothing for it.
+//
+//   trace_alpha_visible(instance, primitive, bary) -> bool
+//     `instance`: the scene instance (Scene::instances index); `primitive`: the triangle's
+//     index within its mesh; `bary`: barycentric weights of the triangle's vertices 1 and 2.
+//     True when the hit is kept: the instance's material is not alpha-tested, or
+//     base_color.a x the base texture's level-0 bilinear alpha (repeat wrap) at the
+//     interpolated TEXCOORD_0 is >= the material's cutoff (BLEND: 0.5). Same arithmetic as
+//     the raster side (common/alpha.wgsl) and the CPU references (src/accel/alpha.rs).
+//
+// Bindings (bound by the executor and the batch tracer by name, like the other accel_*):
+//   @group(2) @binding(15) accel_alpha: array<vec4<u32>>, the AccelCache's alpha buffer
+//     (AccelCache::alpha_buffer(), also AccelCache::binding("accel_alpha", _)), one buffer for
+//     every back-end:
+//     - word [instance]: (uv_base, texture layer, bitcast<u32>(base_color.a),
+//       bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an instance whose material is
+//       not alpha-tested (nothing else is read then);
+//     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 as f32 bits,
+//       (u0, v0, u1, v1) and (u2, v2, 0, 0). Only meshes of alpha-tested instances have uvs.
+//   @group(1) @binding(0) scene_textures, declared by common/scene_textures_texels.wgsl
+//     (either variant, which common/scene_textures.wgsl includes), so a trace pass that
+//     reads textures itself shares the declaration.
+//#include "common/alpha_read.wgsl"
+
+@group(2) @binding(15) var<storage, read> accel_alpha: array<vec4<u32>>;
+
+const TRACE_ALPHA_OPAQUE: u32 = 0xffffffffu;
+
+fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
+    let rec = accel_alpha[instance];
+    if rec.x == TRACE_ALPHA_OPAQUE {
+        return true;
+    }
+    let a = bitcast<vec4<f32>>(accel_alpha[rec.x + 2u * primitive]);
+    let b = bitcast<vec4<f32>>(accel_alpha[rec.x + 2u * primitive + 1u]);
+    let uv = a.xy * (1.0 - bary.x - bary.y) + a.zw * bary.x + b.xy * bary.y;
+    return alpha_kept(rec.y, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv);
+}
