@@ -8,9 +8,13 @@
 //! the built-in scenes' textures are at most 256² anyway). Too many layers, or buffers larger
 //! than the device allows, are an error with the numbers, never a panic.
 
-use super::{AlphaMode, Scene};
+use super::{AlphaMode, LightKind, PunctualLight, Scene};
 use crate::graph::builtins::SceneUsage;
-use crate::runtime::uniforms::{InstanceUniforms, MaterialUniforms, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED};
+use crate::runtime::uniforms::{
+    InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
+    MATERIAL_DOUBLE_SIDED, SHADOW_MAP_SLOTS,
+};
+use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 /// One indexed draw per instance.
@@ -59,6 +63,9 @@ pub struct GpuScene {
     /// Per mesh: first index, base vertex, index count (`scene_meshes`).
     pub meshes: Option<wgpu::Buffer>,
     pub textures: Option<SceneTextures>,
+    /// `Scene::effective_lights()` as [`LightUniforms`] (`scene_lights`), rewritten every frame
+    /// by [`GpuScene::write_lights`].
+    pub lights: Option<wgpu::Buffer>,
     pub draws: Vec<Draw>,
     /// What was uploaded.
     pub usage: SceneUsage,
@@ -86,8 +93,18 @@ impl GpuScene {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let mut bytes = 0u64;
-        let mut out =
-            GpuScene { vertices: None, indices: None, instances: None, materials: None, meshes: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
+        let mut out = GpuScene {
+            vertices: None,
+            indices: None,
+            instances: None,
+            materials: None,
+            meshes: None,
+            textures: None,
+            lights: None,
+            draws: Vec::new(),
+            usage,
+            bytes: 0,
+        };
 
         if usage.geometry || usage.geometry_storage {
             let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
@@ -172,6 +189,11 @@ impl GpuScene {
                 })
                 .collect();
             out.materials = Some(storage_records(device, scene, "material", materials, &mut bytes)?);
+        }
+
+        if usage.lights {
+            let records = vec![LightUniforms::default(); scene.effective_lights().len()];
+            out.lights = Some(storage_records(device, scene, "light", records, &mut bytes)?);
         }
 
         if usage.textures {
@@ -393,6 +415,93 @@ impl GpuScene {
     }
 }
 
+impl GpuScene {
+    /// Rewrites the light records. Returns false if there is no light buffer or its size no
+    /// longer matches.
+    pub fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
+        let Some(buffer) = &self.lights else { return false };
+        let bytes: &[u8] = bytemuck::cast_slice(records);
+        if records.is_empty() || bytes.len() as u64 != buffer.size() {
+            return false;
+        }
+        queue.write_buffer(buffer, 0, bytes);
+        true
+    }
+}
+
+/// The GPU form of a scene's lights: one record per light and the view-projection of each
+/// raster shadow-map slot in use.
+#[derive(Debug, Clone, Default)]
+pub struct LightRecords {
+    pub records: Vec<LightUniforms>,
+    pub shadow_view_proj: Vec<Mat4>,
+    /// Lights without a shadow map in raster mode: point lights, and directional or spot
+    /// lights beyond the [`SHADOW_MAP_SLOTS`] first.
+    pub unshadowed_in_raster: usize,
+}
+
+/// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first
+/// [`SHADOW_MAP_SLOTS`] directional and spot lights get a shadow-map slot: directional, an
+/// orthographic projection along the light over the scene's sphere; spot, a perspective
+/// projection over its outer cone from its position to the far side of the sphere (or its
+/// range). Point lights get none.
+pub fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
+    let mut out = LightRecords::default();
+    for light in lights {
+        let direction = light.direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+        let (kind, range, cos_inner, cos_outer) = match light.kind {
+            LightKind::Directional => (LIGHT_DIRECTIONAL, None, 1.0, 1.0),
+            LightKind::Point { range } => (LIGHT_POINT, range, -1.0, -1.0),
+            LightKind::Spot { range, inner_cone, outer_cone } => (LIGHT_SPOT, range, inner_cone.cos(), outer_cone.cos()),
+        };
+        let shadow = (out.shadow_view_proj.len() < SHADOW_MAP_SLOTS).then(|| shadow_projection(light, direction, center, radius)).flatten();
+        let (shadow_map, shadow_depth_range) = match shadow {
+            Some((view_proj, depth_range)) => {
+                out.shadow_view_proj.push(view_proj);
+                (out.shadow_view_proj.len() as i32 - 1, depth_range)
+            }
+            None => {
+                out.unshadowed_in_raster += 1;
+                (-1, 0.0)
+            }
+        };
+        out.records.push(LightUniforms {
+            position: light.position.into(),
+            kind,
+            direction: direction.into(),
+            range: range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
+            radiance: (light.color * light.intensity).into(),
+            cos_inner,
+            cos_outer,
+            shadow_map,
+            shadow_depth_range,
+            _pad: 0,
+        });
+    }
+    out
+}
+
+/// A shadow map's view-projection and the world length of its depth range, for a light that
+/// has one.
+fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radius: f32) -> Option<(Mat4, f32)> {
+    let up = if direction.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    match light.kind {
+        LightKind::Directional => {
+            let view = Mat4::look_at_rh(center - direction * radius * 2.0, center, up);
+            Some((Mat4::orthographic_rh(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5) * view, radius * 3.0))
+        }
+        LightKind::Spot { range, outer_cone, .. } => {
+            let distance = (center - light.position).length();
+            let far = (distance + radius).min(range.unwrap_or(f32::INFINITY)).max(radius * 1e-3);
+            let near = (distance - radius).max(far * 1e-3);
+            let fov = (2.0 * outer_cone).clamp(1f32.to_radians(), 170f32.to_radians());
+            let view = Mat4::look_at_rh(light.position, light.position + direction, up);
+            Some((Mat4::perspective_rh(fov, 1.0, near, far) * view, far - near))
+        }
+        LightKind::Point { .. } => None,
+    }
+}
+
 /// What an upload depends on, split in two: everything but the instance transforms
 /// ([`SceneContent::structure`]: a change re-uploads the scene) and the transforms alone (a
 /// change rewrites the instance records in place). Meshes and materials are hashed by content;
@@ -422,6 +531,8 @@ impl SceneContent {
         structure = hash_words(structure, format!("{:?}", scene.materials).as_bytes());
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
+        // The light buffer's size (its records are rewritten every frame).
+        structure = hash_words(structure, &(scene.effective_lights().len() as u64).to_le_bytes());
         let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
         Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)) }
     }
