@@ -600,7 +600,10 @@ fn run(cli: Cli) -> Result<()> {
             if plan.passes.iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }
-            let (scene, _report) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage.textures, seed: view.seed })?;
+            let (scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage.textures, seed: view.seed })?;
+            for note in import.notes() {
+                log::warn!("{scene_spec}: {note}"); // once per run; repairs and fallbacks were logged by the import
+            }
             let camera = match (&view.camera, &view.track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
                 (None, Some(path)) => Track::load(path)?.camera_at_frame(view.track_frame, &scene.camera),

@@ -1,9 +1,13 @@
 //! Writes a [`Scene`] as a binary glTF (`.glb`): one buffer, one glTF mesh per raygraph mesh,
-//! one node per instance (with its matrix), PBR materials and PNG-embedded textures. The file
-//! is written to a temporary name and renamed, so a failure never leaves a partial file.
+//! one node per instance (with its matrix), PBR materials with all five texture slots
+//! (emission above 1 through `KHR_materials_emissive_strength`), PNG-embedded textures, the
+//! file's lights (`KHR_lights_punctual`) and the camera presets as perspective cameras (the
+//! first is the default view on import). The file is written to a temporary name and renamed,
+//! so a failure never leaves a partial file.
 
 use super::gltf_import::SceneError;
-use super::{AlphaMode, Scene};
+use super::{AlphaMode, Camera, LightKind, Material, PunctualLight, Scene};
+use glam::{Mat3, Quat, Vec3};
 use gltf::json;
 use json::validation::Checked::Valid;
 use json::validation::USize64;
@@ -118,10 +122,26 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
                 extensions: None,
                 extras: Default::default(),
             }),
+            occlusion_texture: m.occlusion_texture.map(|i| json::material::OcclusionTexture {
+                index: textures[i],
+                strength: json::material::StrengthFactor(m.occlusion_strength),
+                tex_coord: 0,
+                extensions: None,
+                extras: Default::default(),
+            }),
             emissive_texture: info(m.emissive_texture),
-            emissive_factor: json::material::EmissiveFactor(m.emissive),
+            emissive_factor: json::material::EmissiveFactor(emissive_factor(m).0),
+            extensions: emissive_factor(m).1.map(|strength| json::extensions::material::Material {
+                emissive_strength: Some(json::extensions::material::EmissiveStrength {
+                    emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
+                }),
+                ..Default::default()
+            }),
             ..Default::default()
         }));
+    }
+    if scene.materials.iter().any(|m| emissive_factor(m).1.is_some()) {
+        root.extensions_used.push("KHR_materials_emissive_strength".into());
     }
 
     // Meshes. The material goes with the primitive, so a mesh used with several materials
@@ -178,6 +198,18 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             ..Default::default()
         }));
     }
+    for (name, camera) in &scene.presets {
+        nodes.push(camera_node(&mut root, name, camera));
+    }
+    if !scene.lights.is_empty() {
+        for (i, light) in scene.lights.iter().enumerate() {
+            nodes.push(light_node(&mut root, i, light));
+        }
+        let lights = scene.lights.iter().map(light_json).collect();
+        root.extensions =
+            Some(json::extensions::root::Root { khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights }), ..Default::default() });
+        root.extensions_used.push("KHR_lights_punctual".into());
+    }
     let s = root.push(json::Scene { name: Some(scene.name.clone()), nodes, extensions: None, extras: Default::default() });
     root.scene = Some(s);
     while w.bin.len() % 4 != 0 {
@@ -192,6 +224,82 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
         json: Cow::Owned(json_string.into_bytes()),
     };
     glb.to_vec().map_err(|e| e.to_string())
+}
+
+/// glTF's emissiveFactor (at most 1) and, where the emission is brighter, the
+/// `KHR_materials_emissive_strength` that multiplies it back.
+fn emissive_factor(m: &Material) -> ([f32; 3], Option<f32>) {
+    let max = m.emissive.iter().fold(0.0f32, |a, b| a.max(*b));
+    if max > 1.0 {
+        (m.emissive.map(|c| c / max), Some(max))
+    } else {
+        (m.emissive, None)
+    }
+}
+
+/// A node whose local -Z is `forward` and whose +Y is `up` (made orthogonal to it).
+fn oriented_node(name: &str, position: Vec3, forward: Vec3, up: Vec3) -> json::Node {
+    let forward = forward.normalize_or(Vec3::NEG_Z);
+    let right = forward.cross(up).try_normalize().unwrap_or_else(|| forward.any_orthonormal_vector());
+    let up = right.cross(forward);
+    let rotation = Quat::from_mat3(&Mat3::from_cols(right, up, -forward)).normalize();
+    json::Node {
+        name: Some(name.to_string()),
+        translation: Some(position.to_array()),
+        rotation: Some(json::scene::UnitQuaternion(rotation.to_array())),
+        ..Default::default()
+    }
+}
+
+/// A camera preset as a perspective camera on its own node.
+fn camera_node(root: &mut json::Root, name: &str, c: &Camera) -> json::Index<json::Node> {
+    let camera = root.push(json::Camera {
+        name: Some(name.to_string()),
+        orthographic: None,
+        perspective: Some(json::camera::Perspective {
+            aspect_ratio: None,
+            yfov: c.fov_y,
+            zfar: Some(c.far),
+            znear: c.near,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        type_: Valid(json::camera::Type::Perspective),
+        extensions: None,
+        extras: Default::default(),
+    });
+    let node = json::Node { camera: Some(camera), ..oriented_node(name, c.position, c.target - c.position, c.up) };
+    root.push(node)
+}
+
+fn light_json(l: &PunctualLight) -> json::extensions::scene::khr_lights_punctual::Light {
+    use json::extensions::scene::khr_lights_punctual::{Light, Spot, Type};
+    let (type_, range, spot) = match l.kind {
+        LightKind::Directional => (Type::Directional, None, None),
+        LightKind::Point { range } => (Type::Point, range, None),
+        LightKind::Spot { range, inner_cone, outer_cone } => (Type::Spot, range, Some(Spot { inner_cone_angle: inner_cone, outer_cone_angle: outer_cone })),
+    };
+    Light {
+        color: l.color.to_array(),
+        extensions: None,
+        extras: Default::default(),
+        intensity: l.intensity,
+        name: Some(l.name.clone()),
+        range,
+        spot,
+        type_: Valid(type_),
+    }
+}
+
+/// The node of light `index`: at its position, shining along its local -Z.
+fn light_node(root: &mut json::Root, index: usize, l: &PunctualLight) -> json::Index<json::Node> {
+    let up = if l.direction.cross(Vec3::Y).length_squared() > 1e-6 { Vec3::Y } else { Vec3::Z };
+    let extensions = json::extensions::scene::Node {
+        khr_lights_punctual: Some(json::extensions::scene::khr_lights_punctual::KhrLightsPunctual { light: json::Index::new(index as u32) }),
+        ..Default::default()
+    };
+    let node = json::Node { extensions: Some(extensions), ..oriented_node(&l.name, l.position, l.direction, up) };
+    root.push(node)
 }
 
 /// Writes the scene to `path` as GLB, atomically.

@@ -1,10 +1,14 @@
 //! glTF 2.0 import (`.gltf` with external or embedded buffers, `.glb`): node hierarchy with
-//! transforms, meshes and primitives, PBR metallic-roughness materials and images. Bad input
-//! becomes a [`SceneError`] naming the file, or a counted warning where loading can go on.
+//! transforms, meshes and primitives, PBR metallic-roughness materials with all five texture
+//! slots (a per-slot fallback where an image cannot be loaded), `KHR_materials_emissive_strength`,
+//! `KHR_lights_punctual` lights and perspective cameras (camera presets). Bad input becomes a
+//! [`SceneError`] naming the file, or a counted warning where loading can go on; what the file
+//! uses that raygraph approximates or ignores is listed in the [`ImportReport`].
 
-use super::{AlphaMode, Camera, Instance, Light, Material, Mesh, Scene, TextureImage, Vertex};
+use super::{AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, TextureImage, Vertex};
 use glam::{Mat4, Vec3};
-use std::collections::HashMap;
+use gltf::json::Value;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, thiserror::Error)]
@@ -17,10 +21,59 @@ pub enum SceneError {
     Primitive { path: PathBuf, mesh: String, primitive: usize, message: String },
     #[error("{path}: the file has no scene and no nodes to draw")]
     Empty { path: PathBuf },
+    #[error("{path}: the file requires {extensions}, which raygraph does not support\n  help: raygraph reads {supported}; export the file without the required extension (for example without mesh or texture compression)")]
+    UnsupportedRequired { path: PathBuf, extensions: String, supported: String },
     #[error("unknown scene `{0}`; built-in scenes are: {1}\n  help: give a built-in scene name or a .gltf/.glb path")]
     UnknownScene(String, String),
     #[error("could not write {path}: {message}")]
     Write { path: PathBuf, message: String },
+}
+
+/// The glTF extensions raygraph reads (everything else in `extensionsUsed` is listed as
+/// ignored, and a file that requires anything else is refused).
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
+
+/// The five texture slots of a glTF material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureSlot {
+    BaseColor,
+    MetallicRoughness,
+    Normal,
+    Occlusion,
+    Emissive,
+}
+
+impl TextureSlot {
+    pub fn name(self) -> &'static str {
+        match self {
+            TextureSlot::BaseColor => "base colour",
+            TextureSlot::MetallicRoughness => "metallic-roughness",
+            TextureSlot::Normal => "normal",
+            TextureSlot::Occlusion => "occlusion",
+            TextureSlot::Emissive => "emissive",
+        }
+    }
+
+    /// What stands in for the slot's texture when its image cannot be loaded.
+    pub fn fallback(self) -> &'static str {
+        match self {
+            TextureSlot::BaseColor => "the magenta checker (a visible marker)",
+            TextureSlot::MetallicRoughness => "no texture (the metallic and roughness factors alone)",
+            TextureSlot::Normal => "no normal map (the flat normal)",
+            TextureSlot::Occlusion => "no occlusion texture (occlusion 1)",
+            TextureSlot::Emissive => "no emission (emissive 0)",
+        }
+    }
+}
+
+/// A material texture slot whose image could not be loaded and that took its fallback.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureFallback {
+    pub material: String,
+    pub slot: TextureSlot,
+    pub image: String,
+    /// Why the image could not be loaded.
+    pub reason: String,
 }
 
 /// What import noticed but could work around.
@@ -33,10 +86,20 @@ pub struct ImportReport {
     pub degenerate_triangles: usize,
     /// Primitives skipped because their mode is not triangles.
     pub skipped_primitives: usize,
-    /// Images that failed to load and were replaced by the fallback texture.
+    /// Distinct images that failed to load (each slot using one takes its fallback).
     pub missing_images: usize,
-    /// glTF features in the file that raygraph does not use.
+    /// Every material slot that took its fallback, with the image and the reason.
+    pub texture_fallbacks: Vec<TextureFallback>,
+    /// Distinct images the materials' five texture slots use (`None` for built-in scenes).
+    pub images_used: Option<usize>,
+    /// What the file uses that raygraph draws differently (per material, camera, image).
+    pub approximated: Vec<String>,
+    /// What the file uses that raygraph does not read (per extension, material, mesh, ...).
     pub ignored_features: Vec<String>,
+    /// Cameras of the file that became camera presets.
+    pub file_cameras: usize,
+    /// A `default` material was added for primitives that name none.
+    pub default_material: bool,
     /// Texture references not loaded because the active graph samples no textures.
     pub textures_not_loaded: usize,
 }
@@ -46,6 +109,13 @@ impl ImportReport {
         log::warn!("{w}");
         self.warnings.push(w);
     }
+
+    /// The approximated and ignored features, one line each (`render` prints them once; the
+    /// repairs and fallbacks are logged as warnings while loading).
+    pub fn notes(&self) -> Vec<String> {
+        let approximated = self.approximated.iter().map(|a| format!("approximated: {a}"));
+        approximated.chain(self.ignored_features.iter().map(|i| format!("ignored: {i}"))).collect()
+    }
 }
 
 /// A magenta/black checker that marks a texture that could not be loaded.
@@ -53,19 +123,28 @@ pub fn fallback_texture(name: &str) -> TextureImage {
     super::builtin::checker(&format!("missing: {name}"), 64, 8, [255, 0, 255], [0, 0, 0])
 }
 
-/// Loads a glTF or GLB file.
-/// `gltf::Gltf::from_slice` with one check first: gltf-json 1.4's validator reads the accessor
-/// a primitive's `POSITION` names without a bounds check, so a file naming a missing accessor
-/// would panic inside it instead of failing validation.
-fn parse_and_validate(bytes: &[u8]) -> Result<gltf::Gltf, String> {
+/// `gltf::Gltf::from_slice` with two checks first: every extension the file requires is one
+/// raygraph reads (an error naming them otherwise); and every accessor a primitive names
+/// exists (gltf-json 1.4's validator reads the accessor a primitive's `POSITION` names without
+/// a bounds check, so a file naming a missing accessor would panic inside it).
+fn parse_and_validate(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, SceneError> {
     use gltf::json::validation::Validate;
-    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| e.to_string())?;
+    let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| parse_err(e.to_string()))?;
     let root = gltf.document.as_json();
+    let unsupported: Vec<&str> = root.extensions_required.iter().map(String::as_str).filter(|e| !SUPPORTED_EXTENSIONS.contains(e)).collect();
+    if !unsupported.is_empty() {
+        return Err(SceneError::UnsupportedRequired {
+            path: path.to_path_buf(),
+            extensions: unsupported.join(", "),
+            supported: SUPPORTED_EXTENSIONS.join(", "),
+        });
+    }
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
             for (semantic, accessor) in &primitive.attributes {
                 if accessor.value() >= root.accessors.len() {
-                    return Err(format!(
+                    return Err(parse_err(format!(
                         "meshes[{m}].primitives[{p}].attributes: {} names accessor {}, but the file has {} accessors",
                         match semantic {
                             gltf::json::validation::Checked::Valid(s) => s.to_string(),
@@ -73,7 +152,7 @@ fn parse_and_validate(bytes: &[u8]) -> Result<gltf::Gltf, String> {
                         },
                         accessor.value(),
                         root.accessors.len()
-                    ));
+                    )));
                 }
             }
         }
@@ -81,7 +160,7 @@ fn parse_and_validate(bytes: &[u8]) -> Result<gltf::Gltf, String> {
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, error| errors.push((path(), error)));
     if !errors.is_empty() {
-        return Err(gltf::Error::Validation(errors).to_string());
+        return Err(parse_err(gltf::Error::Validation(errors).to_string()));
     }
     Ok(gltf)
 }
@@ -120,14 +199,113 @@ fn check_accessor_types(prim: &gltf::Primitive) -> Result<(), String> {
     Ok(())
 }
 
+/// Loads a glTF or GLB file.
 pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
     let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
     let bytes = std::fs::read(path).map_err(|e| parse_err(e.to_string()))?;
-    let gltf = parse_and_validate(&bytes).map_err(parse_err)?;
+    let gltf = parse_and_validate(path, &bytes)?;
+    let raw = raw_json(&bytes);
     let base = path.parent().unwrap_or(Path::new("."));
     let mut report = ImportReport::default();
+    let buffers = load_buffers(path, base, &gltf)?;
+    notes::collect(&gltf.document, &raw, &mut report);
 
-    // Buffers, each checked so the error names it.
+    let mut loader = TextureLoader {
+        path,
+        doc: &gltf.document,
+        base,
+        buffers: &buffers,
+        load: options.textures,
+        textures: Vec::new(),
+        loaded: HashMap::new(),
+        checker: HashMap::new(),
+    };
+    let mut materials: Vec<Material> = gltf.document.materials().map(|m| loader.material(&m, &mut report)).collect();
+    report.images_used = Some(images_used(&gltf.document));
+    let textures = std::mem::take(&mut loader.textures);
+    let mut default_material = None; // added for the first primitive without a material
+
+    // Meshes: one raygraph mesh per glTF primitive.
+    let mut meshes: Vec<Mesh> = Vec::new();
+    let mut primitives_of_mesh: Vec<Vec<(usize, usize)>> = Vec::new(); // (mesh, material)
+    for mesh in gltf.document.meshes() {
+        let mut prims = Vec::new();
+        let mesh_name = mesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {}", mesh.index()));
+        for prim in mesh.primitives() {
+            let mode = prim.mode();
+            if !matches!(mode, gltf::mesh::Mode::Triangles | gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan) {
+                report.skipped_primitives += 1;
+                report.warn(format!("{}: mesh `{mesh_name}` primitive {}: mode {:?} is not triangles; skipped", path.display(), prim.index(), prim.mode()));
+                continue;
+            }
+            let prim_err = |message: String| SceneError::Primitive { path: path.to_path_buf(), mesh: mesh_name.clone(), primitive: prim.index(), message };
+            let material = match prim.material().index() {
+                Some(m) => m,
+                None => *default_material.get_or_insert_with(|| {
+                    report.default_material = true;
+                    materials.push(Material::diffuse("default", [0.8, 0.8, 0.8, 1.0], None));
+                    materials.len() - 1
+                }),
+            };
+            let (m, non_finite) = primitive_mesh(&prim, &buffers, materials[material].normal_texture.is_some()).map_err(prim_err)?;
+            report.non_finite_triangles += non_finite;
+            report.degenerate_triangles += count_degenerate(&m.vertices, &m.indices);
+            meshes.push(Mesh { name: format!("{mesh_name}/{}", prim.index()), ..m });
+            prims.push((meshes.len() - 1, material));
+        }
+        primitives_of_mesh.push(prims);
+    }
+    if report.non_finite_triangles > 0 {
+        report.warn(format!("{}: dropped {} triangles with NaN or infinite positions", path.display(), report.non_finite_triangles));
+    }
+    if report.degenerate_triangles > 0 {
+        report.warn(format!("{}: {} zero-area triangles (left out of acceleration structures)", path.display(), report.degenerate_triangles));
+    }
+
+    let placed = walk_nodes(path, &gltf.document, &primitives_of_mesh, &mut report)?;
+    if placed.instances.is_empty() && meshes.is_empty() {
+        return Err(SceneError::Empty { path: path.to_path_buf() });
+    }
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let mut scene = Scene {
+        name,
+        meshes,
+        materials,
+        instances: placed.instances,
+        textures,
+        camera: Camera::default(),
+        presets: Vec::new(),
+        light: super::Light::default(),
+        point_light: None,
+        lights: placed.lights,
+    };
+    let bounds = scene.bounds();
+    scene.presets = file_cameras(path, &placed.cameras, bounds, &mut report);
+    report.file_cameras = scene.presets.len();
+    if scene.presets.is_empty() {
+        scene.presets = Camera::presets_for(bounds);
+        scene.camera = Camera::framing(bounds);
+    } else {
+        scene.camera = scene.presets[0].1;
+    }
+    Ok((scene, report))
+}
+
+/// The file's JSON as a tree (for extensions the `gltf` crate drops); `Null` if unreadable
+/// (the typed parse has succeeded by then, so this does not happen for a valid file).
+fn raw_json(bytes: &[u8]) -> Value {
+    let json: Option<Value> = if bytes.starts_with(b"glTF") {
+        gltf::binary::Glb::from_slice(bytes).ok().and_then(|glb| gltf::json::deserialize::from_slice(&glb.json).ok())
+    } else {
+        gltf::json::deserialize::from_slice(bytes).ok()
+    };
+    json.unwrap_or(Value::Null)
+}
+
+/// Every buffer, each checked so the error names it, then every buffer view and accessor
+/// checked to lie inside them before anything reads through them.
+fn load_buffers(path: &Path, base: &Path, gltf: &gltf::Gltf) -> Result<Vec<gltf::buffer::Data>, SceneError> {
+    let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
     let mut blob = gltf.blob.clone();
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
@@ -157,7 +335,6 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
         }
         buffers.push(data);
     }
-    // Buffer views must lie inside their buffers before anything reads through them.
     for view in gltf.document.views() {
         let len = buffers[view.buffer().index()].len();
         if view.offset() + view.length() > len {
@@ -179,190 +356,249 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
             }
         }
     }
+    Ok(buffers)
+}
 
-    for ext in gltf.document.extensions_used() {
-        report.ignored_features.push(format!("extension {ext}"));
-    }
-    if gltf.document.animations().next().is_some() {
-        report.ignored_features.push("animations".into());
-    }
-    if gltf.document.skins().next().is_some() {
-        report.ignored_features.push("skins".into());
-    }
-    if gltf.document.cameras().next().is_some() {
-        report.ignored_features.push("cameras (raygraph uses its own)".into());
-    }
-
-    // Images are loaded only when a material references them.
-    let mut textures: Vec<TextureImage> = Vec::new();
-    let mut texture_of_image: HashMap<usize, usize> = HashMap::new();
-    let mut texture_index = |tex: gltf::Texture, report: &mut ImportReport, textures: &mut Vec<TextureImage>| -> usize {
-        let image = tex.source();
-        if let Some(t) = texture_of_image.get(&image.index()) {
-            return *t;
-        }
-        // glTF requires a uri or a bufferView with a mimeType; `Image::source` unwraps them.
-        let usable = gltf.document.as_json().images.get(image.index()).is_some_and(|j| j.uri.is_some() || j.buffer_view.is_some() && j.mime_type.is_some());
-        if !usable {
-            let name = image.name().map(str::to_string).unwrap_or_else(|| format!("image {}", image.index()));
-            report.missing_images += 1;
-            report.warn(format!("{}: image `{name}` has neither a uri nor a bufferView with a mimeType; using the fallback texture", path.display()));
-            textures.push(fallback_texture(&name));
-            texture_of_image.insert(image.index(), textures.len() - 1);
-            return textures.len() - 1;
-        }
-        let name = image.name().map(str::to_string).unwrap_or_else(|| match image.source() {
-            gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => uri.to_string(),
-            _ => format!("image {}", image.index()),
-        });
-        let img = match gltf::image::Data::from_source(image.source(), Some(base), &buffers) {
-            Ok(data) => to_rgba8(&name, &data).unwrap_or_else(|why| {
-                report.missing_images += 1;
-                report.warn(format!("{}: image `{name}` has {why}; using the fallback texture", path.display()));
-                fallback_texture(&name)
-            }),
-            Err(e) => {
-                report.missing_images += 1;
-                report.warn(format!("{}: image `{name}` cannot be loaded ({e}); using the fallback texture", path.display()));
-                fallback_texture(&name)
+/// One triangle primitive as a mesh (unnamed), and how many triangles were dropped for
+/// non-finite positions. Normals are generated where missing, tangents where a normal map
+/// needs them and the file has none.
+fn primitive_mesh(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], normal_mapped: bool) -> Result<(Mesh, usize), String> {
+    check_accessor_types(prim)?;
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(|| "has no POSITION attribute".to_string())?.collect();
+    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
+    let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
+    let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let indices = triangle_list(prim.mode(), indices);
+    for (what, len) in [("NORMAL", normals.as_ref().map(Vec::len)), ("TEXCOORD_0", uvs.as_ref().map(Vec::len)), ("TANGENT", tangents.as_ref().map(Vec::len))] {
+        if let Some(len) = len {
+            if len != positions.len() {
+                return Err(format!("{what} has {len} elements but POSITION has {}", positions.len()));
             }
-        };
-        textures.push(img);
-        texture_of_image.insert(image.index(), textures.len() - 1);
-        textures.len() - 1
-    };
-
-    let mut materials: Vec<Material> = Vec::new();
-    let mut texture_index = |tex: gltf::Texture, report: &mut ImportReport, textures: &mut Vec<TextureImage>| -> Option<usize> {
-        if options.textures {
-            Some(texture_index(tex, report, textures))
-        } else {
-            report.textures_not_loaded += 1;
-            None
         }
+    }
+    if indices.len() % 3 != 0 {
+        return Err(format!("{} indices is not a multiple of 3", indices.len()));
+    }
+    if let Some((i, bad)) = indices.iter().enumerate().find(|(_, v)| **v as usize >= positions.len()) {
+        return Err(format!("index {bad} (at position {i}) is out of range: the primitive has {} vertices", positions.len()));
+    }
+    // Drop triangles with non-finite positions.
+    let finite = |v: u32| positions[v as usize].iter().all(|c| c.is_finite());
+    let mut kept = Vec::with_capacity(indices.len());
+    let mut dropped = 0;
+    for tri in indices.chunks_exact(3) {
+        if tri.iter().all(|v| finite(*v)) {
+            kept.extend_from_slice(tri);
+        } else {
+            dropped += 1;
+        }
+    }
+    let mut vertices: Vec<Vertex> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| Vertex {
+            position: if p.iter().all(|c| c.is_finite()) { *p } else { [0.0; 3] },
+            normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0, 0.0, 0.0]),
+            uv: uvs.as_ref().map(|u| u[i]).unwrap_or([0.0, 0.0]),
+        })
+        .collect();
+    if normals.is_none() {
+        generate_normals(&mut vertices, &kept);
+    }
+    for v in vertices.iter_mut() {
+        let n = Vec3::from(v.normal);
+        v.normal = if n.is_finite() && n.length_squared() > 1e-20 { n.normalize().into() } else { [0.0, 1.0, 0.0] };
+        if !v.uv.iter().all(|c| c.is_finite()) {
+            v.uv = [0.0, 0.0];
+        }
+    }
+    let tangents = match tangents {
+        Some(t) => Some(t),
+        None if normal_mapped => Some(generate_tangents(&vertices, &kept)),
+        None => None,
     };
-    for m in gltf.document.materials() {
+    Ok((Mesh { name: String::new(), vertices, indices: kept, tangents }, dropped))
+}
+
+/// Loads each image once and fills material texture slots, with the slot's fallback where an
+/// image cannot be loaded (see [`TextureSlot::fallback`]).
+struct TextureLoader<'a> {
+    path: &'a Path,
+    doc: &'a gltf::Document,
+    base: &'a Path,
+    buffers: &'a [gltf::buffer::Data],
+    /// Whether to load textures at all (the active graph samples some).
+    load: bool,
+    textures: Vec<TextureImage>,
+    /// Per image: its texture, or why it could not be loaded.
+    loaded: HashMap<usize, Result<usize, String>>,
+    /// Per image that could not be loaded: its magenta checker (made for base-colour slots).
+    checker: HashMap<usize, usize>,
+}
+
+impl TextureLoader<'_> {
+    fn material(&mut self, m: &gltf::Material, report: &mut ImportReport) -> Material {
+        let name = material_name(m);
         let pbr = m.pbr_metallic_roughness();
         let mut mat = Material::diffuse(m.name().unwrap_or("material"), pbr.base_color_factor(), None);
-        mat.texture = pbr.base_color_texture().and_then(|t| texture_index(t.texture(), &mut report, &mut textures));
+        mat.texture = pbr.base_color_texture().and_then(|t| self.slot(&name, TextureSlot::BaseColor, t.texture(), report));
         mat.metallic = pbr.metallic_factor();
         mat.roughness = pbr.roughness_factor();
-        mat.metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| texture_index(t.texture(), &mut report, &mut textures));
+        mat.metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| self.slot(&name, TextureSlot::MetallicRoughness, t.texture(), report));
         if let Some(n) = m.normal_texture() {
             mat.normal_scale = n.scale();
-            mat.normal_texture = texture_index(n.texture(), &mut report, &mut textures);
+            mat.normal_texture = self.slot(&name, TextureSlot::Normal, n.texture(), report);
         }
-        mat.emissive = m.emissive_factor();
-        mat.emissive_texture = m.emissive_texture().and_then(|t| texture_index(t.texture(), &mut report, &mut textures));
+        if let Some(o) = m.occlusion_texture() {
+            mat.occlusion_strength = o.strength();
+            mat.occlusion_texture = self.slot(&name, TextureSlot::Occlusion, o.texture(), report);
+        }
+        let strength = m.emissive_strength().unwrap_or(1.0);
+        mat.emissive = m.emissive_factor().map(|c| c * strength);
+        if let Some(t) = m.emissive_texture() {
+            let before = report.texture_fallbacks.len();
+            mat.emissive_texture = self.slot(&name, TextureSlot::Emissive, t.texture(), report);
+            if report.texture_fallbacks.len() > before {
+                mat.emissive = [0.0; 3];
+            }
+        }
         mat.alpha_mode = match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
         mat.double_sided = m.double_sided();
-        materials.push(mat);
+        mat
     }
-    let default_material = materials.len();
-    materials.push(Material::diffuse("default", [0.8, 0.8, 0.8, 1.0], None));
 
-    // Meshes: one raygraph mesh per glTF primitive.
-    let mut meshes: Vec<Mesh> = Vec::new();
-    let mut primitives_of_mesh: Vec<Vec<(usize, usize)>> = Vec::new(); // (mesh, material)
-    for mesh in gltf.document.meshes() {
-        let mut prims = Vec::new();
-        let mesh_name = mesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {}", mesh.index()));
-        for prim in mesh.primitives() {
-            let mode = prim.mode();
-            if !matches!(mode, gltf::mesh::Mode::Triangles | gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan) {
-                report.skipped_primitives += 1;
-                report.warn(format!("{}: mesh `{mesh_name}` primitive {}: mode {:?} is not triangles; skipped", path.display(), prim.index(), prim.mode()));
-                continue;
-            }
-            let prim_err = |message: String| SceneError::Primitive { path: path.to_path_buf(), mesh: mesh_name.clone(), primitive: prim.index(), message };
-            check_accessor_types(&prim).map_err(prim_err)?;
-            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-            let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(|| prim_err("has no POSITION attribute".into()))?.collect();
-            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
-            let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
-            let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..positions.len() as u32).collect(),
-            };
-            let indices = triangle_list(mode, indices);
-            for (what, len) in
-                [("NORMAL", normals.as_ref().map(Vec::len)), ("TEXCOORD_0", uvs.as_ref().map(Vec::len)), ("TANGENT", tangents.as_ref().map(Vec::len))]
-            {
-                if let Some(len) = len {
-                    if len != positions.len() {
-                        return Err(prim_err(format!("{what} has {len} elements but POSITION has {}", positions.len())));
-                    }
-                }
-            }
-            if indices.len() % 3 != 0 {
-                return Err(prim_err(format!("{} indices is not a multiple of 3", indices.len())));
-            }
-            if let Some((i, bad)) = indices.iter().enumerate().find(|(_, v)| **v as usize >= positions.len()) {
-                return Err(prim_err(format!("index {bad} (at position {i}) is out of range: the primitive has {} vertices", positions.len())));
-            }
-            // Drop triangles with non-finite positions.
-            let finite = |v: u32| positions[v as usize].iter().all(|c| c.is_finite());
-            let mut kept = Vec::with_capacity(indices.len());
-            for tri in indices.chunks_exact(3) {
-                if tri.iter().all(|v| finite(*v)) {
-                    kept.extend_from_slice(tri);
-                } else {
-                    report.non_finite_triangles += 1;
-                }
-            }
-            let mut vertices: Vec<Vertex> = positions
-                .iter()
-                .enumerate()
-                .map(|(i, p)| Vertex {
-                    position: if p.iter().all(|c| c.is_finite()) { *p } else { [0.0; 3] },
-                    normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0, 0.0, 0.0]),
-                    uv: uvs.as_ref().map(|u| u[i]).unwrap_or([0.0, 0.0]),
-                })
-                .collect();
-            if normals.is_none() {
-                generate_normals(&mut vertices, &kept);
-            }
-            for v in vertices.iter_mut() {
-                let n = Vec3::from(v.normal);
-                v.normal = if n.is_finite() && n.length_squared() > 1e-20 { n.normalize().into() } else { [0.0, 1.0, 0.0] };
-                if !v.uv.iter().all(|c| c.is_finite()) {
-                    v.uv = [0.0, 0.0];
-                }
-            }
-            report.degenerate_triangles += count_degenerate(&vertices, &kept);
-            let material = prim.material().index().unwrap_or(default_material);
-            let tangents = match tangents {
-                Some(t) => Some(t),
-                None if materials[material].normal_texture.is_some() => Some(generate_tangents(&vertices, &kept)),
-                None => None,
-            };
-            meshes.push(Mesh { name: format!("{mesh_name}/{}", prim.index()), vertices, indices: kept, tangents });
-            prims.push((meshes.len() - 1, material));
+    /// The texture for one slot: the image's, the magenta checker for a base-colour slot
+    /// whose image cannot be loaded, or `None` (other slots then, or textures not loaded).
+    fn slot(&mut self, material: &str, slot: TextureSlot, tex: gltf::Texture, report: &mut ImportReport) -> Option<usize> {
+        if !self.load {
+            report.textures_not_loaded += 1;
+            return None;
         }
-        primitives_of_mesh.push(prims);
-    }
-    if report.non_finite_triangles > 0 {
-        report.warn(format!("{}: dropped {} triangles with NaN or infinite positions", path.display(), report.non_finite_triangles));
-    }
-    if report.degenerate_triangles > 0 {
-        report.warn(format!("{}: {} zero-area triangles (left out of acceleration structures)", path.display(), report.degenerate_triangles));
+        let image = tex.source();
+        let reason = match self.image(&image, report) {
+            Ok(t) => return Some(t),
+            Err(reason) => reason,
+        };
+        let name = image_name(self.doc, &image);
+        report.warn(format!("{}: material {material} {} texture: image `{name}` {reason}; fallback: {}", self.path.display(), slot.name(), slot.fallback()));
+        report.texture_fallbacks.push(TextureFallback { material: material.to_string(), slot, image: name.clone(), reason });
+        if slot != TextureSlot::BaseColor {
+            return None;
+        }
+        let textures = &mut self.textures;
+        Some(*self.checker.entry(image.index()).or_insert_with(|| {
+            textures.push(fallback_texture(&name));
+            textures.len() - 1
+        }))
     }
 
-    // Instances from the node hierarchy; one mesh under several nodes stays shared.
+    /// The texture of `image`, loaded the first time; or why it cannot be loaded.
+    fn image(&mut self, image: &gltf::Image, report: &mut ImportReport) -> Result<usize, String> {
+        if let Some(r) = self.loaded.get(&image.index()) {
+            return r.clone();
+        }
+        let name = image_name(self.doc, image);
+        // glTF requires a uri or a bufferView with a mimeType; `Image::source` unwraps them.
+        let json = self.doc.as_json().images.get(image.index());
+        let result = if !json.is_some_and(|j| j.uri.is_some() || j.buffer_view.is_some() && j.mime_type.is_some()) {
+            Err("has neither a uri nor a bufferView with a mimeType".to_string())
+        } else {
+            match gltf::image::Data::from_source(image.source(), Some(self.base), self.buffers) {
+                Ok(data) => to_rgba8(&name, &data).map_err(|why| format!("has {why}")),
+                Err(e) => Err(format!("cannot be loaded ({e})")),
+            }
+        };
+        let result = result.map(|img| {
+            self.textures.push(img);
+            self.textures.len() - 1
+        });
+        if result.is_err() {
+            report.missing_images += 1;
+        }
+        self.loaded.insert(image.index(), result.clone());
+        result
+    }
+}
+
+/// A material as messages name it: "`name`" or "3" (its index).
+fn material_name(m: &gltf::Material) -> String {
+    match (m.name(), m.index()) {
+        (Some(n), _) => format!("`{n}`"),
+        (None, Some(i)) => i.to_string(),
+        (None, None) => "default".into(),
+    }
+}
+
+/// An image as messages name it: its name, its file, or "image N".
+fn image_name(doc: &gltf::Document, image: &gltf::Image) -> String {
+    image.name().map(str::to_string).unwrap_or_else(|| match doc.as_json().images.get(image.index()).and_then(|j| j.uri.as_deref()) {
+        Some(uri) if !uri.starts_with("data:") => uri.to_string(),
+        _ => format!("image {}", image.index()),
+    })
+}
+
+/// The texture infos of a material's five slots, with the slot each fills.
+fn material_slots<'a>(m: &gltf::Material<'a>) -> Vec<(TextureSlot, gltf::Texture<'a>, u32)> {
+    let pbr = m.pbr_metallic_roughness();
+    let mut out = Vec::new();
+    if let Some(t) = pbr.base_color_texture() {
+        out.push((TextureSlot::BaseColor, t.texture(), t.tex_coord()));
+    }
+    if let Some(t) = pbr.metallic_roughness_texture() {
+        out.push((TextureSlot::MetallicRoughness, t.texture(), t.tex_coord()));
+    }
+    if let Some(t) = m.normal_texture() {
+        out.push((TextureSlot::Normal, t.texture(), t.tex_coord()));
+    }
+    if let Some(t) = m.occlusion_texture() {
+        out.push((TextureSlot::Occlusion, t.texture(), t.tex_coord()));
+    }
+    if let Some(t) = m.emissive_texture() {
+        out.push((TextureSlot::Emissive, t.texture(), t.tex_coord()));
+    }
+    out
+}
+
+/// Distinct images the materials' texture slots use.
+fn images_used(doc: &gltf::Document) -> usize {
+    doc.materials().flat_map(|m| material_slots(&m).into_iter().map(|(_, t, _)| t.source().index())).collect::<BTreeSet<_>>().len()
+}
+
+/// What the node hierarchy places: mesh instances, lights, and cameras (with their node's
+/// world transform), the last two in the order of their nodes in the file.
+struct Placed<'a> {
+    instances: Vec<Instance>,
+    lights: Vec<PunctualLight>,
+    cameras: Vec<(gltf::Node<'a>, gltf::Camera<'a>, Mat4)>,
+}
+
+/// Walks the default scene (or the first, or every node when there are no scenes).
+fn walk_nodes<'a>(
+    path: &Path,
+    doc: &'a gltf::Document,
+    primitives_of_mesh: &[Vec<(usize, usize)>],
+    report: &mut ImportReport,
+) -> Result<Placed<'a>, SceneError> {
     let mut instances = Vec::new();
-    let roots: Vec<gltf::Node> = match gltf.document.default_scene().or_else(|| gltf.document.scenes().next()) {
+    let mut lights = Vec::new();
+    let mut cameras = Vec::new();
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(s) => s.nodes().collect(),
-        None => gltf.document.nodes().collect(),
+        None => doc.nodes().collect(),
     };
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = roots.into_iter().map(|n| (n, Mat4::IDENTITY, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
-            return Err(parse_err("node hierarchy deeper than 256 levels (a cycle?)".into()));
+            return Err(SceneError::Parse { path: path.to_path_buf(), message: "node hierarchy deeper than 256 levels (a cycle?)".into() });
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if !world.is_finite() {
@@ -374,29 +610,214 @@ pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportR
                 instances.push(Instance { mesh: *m, material: *mat, transform: world });
             }
         }
+        if let Some(light) = node.light() {
+            lights.push((node.index(), punctual_light(&node, &light, world)));
+        }
+        if let Some(camera) = node.camera() {
+            cameras.push((node.clone(), camera, world));
+        }
         for child in node.children() {
             stack.push((child, world, depth + 1));
         }
     }
-    if instances.is_empty() && meshes.is_empty() {
-        return Err(SceneError::Empty { path: path.to_path_buf() });
-    }
-    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
-    let mut scene = Scene {
-        name,
-        meshes,
-        materials,
-        instances,
-        textures,
-        camera: Camera::default(),
-        presets: Vec::new(),
-        light: Light::default(),
-        point_light: None,
-        lights: Vec::new(),
+    lights.sort_by_key(|(n, _)| *n);
+    cameras.sort_by_key(|(n, _, _)| n.index());
+    Ok(Placed { instances, lights: lights.into_iter().map(|(_, l)| l).collect(), cameras })
+}
+
+/// A `KHR_lights_punctual` light in world space: at the node's origin, shining along its -Z.
+fn punctual_light(node: &gltf::Node, light: &gltf::khr_lights_punctual::Light, world: Mat4) -> PunctualLight {
+    use gltf::khr_lights_punctual::Kind;
+    let kind = match light.kind() {
+        Kind::Directional => LightKind::Directional,
+        Kind::Point => LightKind::Point { range: light.range() },
+        Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+            LightKind::Spot { range: light.range(), inner_cone: inner_cone_angle, outer_cone: outer_cone_angle }
+        }
     };
-    scene.camera = Camera::framing(scene.bounds());
-    scene.presets = Camera::presets_for(scene.bounds());
-    Ok((scene, report))
+    let name = light.name().or(node.name()).map(str::to_string).unwrap_or_else(|| format!("light{}", light.index()));
+    PunctualLight {
+        name,
+        kind,
+        position: world.transform_point3(Vec3::ZERO),
+        direction: world.transform_vector3(Vec3::NEG_Z).normalize_or(Vec3::NEG_Z),
+        color: Vec3::from(light.color()),
+        intensity: light.intensity(),
+    }
+}
+
+/// The file's perspective cameras as named presets (camera name, node name or `camera{N}`,
+/// made unique), in world space. Orthographic cameras and ones with unusable numbers are
+/// skipped (and listed).
+fn file_cameras(path: &Path, cameras: &[(gltf::Node, gltf::Camera, Mat4)], bounds: Bounds, report: &mut ImportReport) -> Vec<(String, Camera)> {
+    let mut presets: Vec<(String, Camera)> = Vec::new();
+    for (node, camera, world) in cameras {
+        let base = camera.name().or(node.name()).map(str::to_string).unwrap_or_else(|| format!("camera{}", camera.index()));
+        let p = match camera.projection() {
+            gltf::camera::Projection::Perspective(p) => p,
+            gltf::camera::Projection::Orthographic(_) => {
+                report.ignored_features.push(format!("orthographic camera `{base}` (skipped: raygraph cameras are perspective)"));
+                continue;
+            }
+        };
+        let (fov_y, near) = (p.yfov(), p.znear());
+        let position = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+        let up = world.transform_vector3(Vec3::Y);
+        let up = (up - forward * forward.dot(up)).normalize_or_zero();
+        let radius = 0.5 * bounds.diagonal();
+        let to_center = if bounds.is_empty() { 1.0 } else { position.distance(bounds.center()) };
+        let far = p.zfar().unwrap_or(2.0 * (to_center + radius)).max(near * 2.0);
+        let usable = fov_y.is_finite() && fov_y > 0.0 && fov_y < std::f32::consts::PI && near.is_finite() && near > 0.0 && far.is_finite() && far > near;
+        if !usable || forward == Vec3::ZERO || up == Vec3::ZERO {
+            report.warn(format!("{}: camera `{base}` has an unusable yfov, znear, zfar or transform; skipped", path.display()));
+            continue;
+        }
+        if p.zfar().is_none() {
+            report
+                .approximated
+                .push(format!("camera `{base}`: infinite far plane drawn with a far plane at {far:.3} (twice the distance to the scene's far side)"));
+        }
+        if let Some(a) = p.aspect_ratio() {
+            report.ignored_features.push(format!("camera `{base}`: aspectRatio {a} (the output size decides the aspect ratio)"));
+        }
+        let mut name = base.clone();
+        let mut n = 2;
+        while presets.iter().any(|(p, _)| *p == name) {
+            name = format!("{base}-{n}");
+            n += 1;
+        }
+        let target = position + forward * to_center.max(near);
+        presets.push((name, Camera { position, target, up, fov_y, near, far }));
+    }
+    presets
+}
+
+/// What a file uses that raygraph approximates or ignores, per extension, material, texture,
+/// mesh and document, as lines of [`ImportReport::approximated`] and `ignored_features`.
+mod notes {
+    use super::{image_name, material_name, material_slots, ImportReport, TextureSlot, SUPPORTED_EXTENSIONS};
+    use gltf::json::Value;
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    use std::collections::{BTreeMap, BTreeSet};
+
+    pub(super) fn collect(doc: &gltf::Document, raw: &Value, report: &mut ImportReport) {
+        for ext in doc.extensions_used() {
+            if !SUPPORTED_EXTENSIONS.contains(&ext) {
+                report.ignored_features.push(format!("extension {ext} (not read)"));
+            }
+        }
+        for m in doc.materials() {
+            material(&m, raw, report);
+        }
+        samplers(doc, report);
+        meshes(doc, report);
+        let count = |n: usize, what: &str, why: &str| (n > 0).then(|| format!("{n} {what}{} ({why})", if n == 1 { "" } else { "s" }));
+        report.ignored_features.extend(
+            [
+                count(doc.animations().count(), "animation", "the scene is drawn as it is posed"),
+                count(doc.skins().count(), "skin", "skinned meshes are drawn in their bind pose"),
+                count(doc.scenes().count().saturating_sub(1), "scene besides the default", "only the default scene is drawn"),
+            ]
+            .into_iter()
+            .flatten(),
+        );
+    }
+
+    /// The JSON of `slot`'s texture info in material `m`.
+    fn slot_json<'v>(m: &'v Value, slot: TextureSlot) -> &'v Value {
+        match slot {
+            TextureSlot::BaseColor => &m["pbrMetallicRoughness"]["baseColorTexture"],
+            TextureSlot::MetallicRoughness => &m["pbrMetallicRoughness"]["metallicRoughnessTexture"],
+            TextureSlot::Normal => &m["normalTexture"],
+            TextureSlot::Occlusion => &m["occlusionTexture"],
+            TextureSlot::Emissive => &m["emissiveTexture"],
+        }
+    }
+
+    fn extension_names(v: &Value) -> Vec<&str> {
+        v["extensions"].as_object().map(|o| o.keys().map(String::as_str).collect()).unwrap_or_default()
+    }
+
+    fn material(m: &gltf::Material, raw: &Value, report: &mut ImportReport) {
+        let name = material_name(m);
+        let json = m.index().map(|i| &raw["materials"][i]).unwrap_or(&Value::Null);
+        if m.alpha_mode() == gltf::material::AlphaMode::Blend {
+            report.approximated.push(format!("material {name}: alphaMode BLEND drawn as a cutout at alpha 0.5 for visibility and shadows (not blended)"));
+        }
+        for ext in extension_names(json).into_iter().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
+            report.ignored_features.push(format!("material {name}: {ext}"));
+        }
+        for (slot, _, tex_coord) in material_slots(m) {
+            if tex_coord != 0 {
+                report.ignored_features.push(format!("material {name} {} texture: texCoord {tex_coord} (TEXCOORD_0 is read instead)", slot.name()));
+            }
+            for ext in extension_names(slot_json(json, slot)) {
+                report.ignored_features.push(format!("material {name} {} texture: {ext}", slot.name()));
+            }
+        }
+    }
+
+    /// Sampler settings other than the one raygraph samples every texture with.
+    fn samplers(doc: &gltf::Document, report: &mut ImportReport) {
+        let mut used: Vec<gltf::Texture> = doc.materials().flat_map(|m| material_slots(&m).into_iter().map(|(_, t, _)| t)).collect();
+        used.sort_by_key(|t| t.index());
+        used.dedup_by_key(|t| t.index());
+        for t in used {
+            let s = t.sampler();
+            let mut differs = Vec::new();
+            for (axis, mode) in [("wrapS", s.wrap_s()), ("wrapT", s.wrap_t())] {
+                match mode {
+                    WrappingMode::Repeat => {}
+                    WrappingMode::ClampToEdge => differs.push(format!("{axis} CLAMP_TO_EDGE")),
+                    WrappingMode::MirroredRepeat => differs.push(format!("{axis} MIRRORED_REPEAT")),
+                }
+            }
+            if s.mag_filter() == Some(MagFilter::Nearest) {
+                differs.push("magFilter NEAREST".into());
+            }
+            if let Some(f) = s.min_filter().filter(|f| *f != MinFilter::LinearMipmapLinear) {
+                differs.push(format!("minFilter {f:?}"));
+            }
+            if !differs.is_empty() {
+                report.ignored_features.push(format!(
+                    "texture {} (`{}`) sampler: {} (every texture is sampled with repeat wrapping and linear mipmapped filtering)",
+                    t.index(),
+                    image_name(doc, &t.source()),
+                    differs.join(", ")
+                ));
+            }
+        }
+    }
+
+    fn meshes(doc: &gltf::Document, report: &mut ImportReport) {
+        let (mut colours, mut morphs, mut uv_sets) = (Vec::new(), Vec::new(), BTreeMap::<u32, Vec<String>>::new());
+        for mesh in doc.meshes() {
+            let name = mesh.name().map(|n| format!("`{n}`")).unwrap_or_else(|| mesh.index().to_string());
+            if mesh.primitives().any(|p| p.attributes().any(|(s, _)| matches!(s, gltf::Semantic::Colors(_)))) {
+                colours.push(name.clone());
+            }
+            let sets: BTreeSet<u32> = mesh
+                .primitives()
+                .flat_map(|p| p.attributes().filter_map(|(s, _)| if let gltf::Semantic::TexCoords(n @ 1..) = s { Some(n) } else { None }))
+                .collect();
+            for n in sets {
+                uv_sets.entry(n).or_default().push(name.clone());
+            }
+            if mesh.primitives().any(|p| p.morph_targets().next().is_some()) {
+                morphs.push(name);
+            }
+        }
+        if !colours.is_empty() {
+            report.ignored_features.push(format!("vertex colours (COLOR_n) on mesh {}", colours.join(", ")));
+        }
+        for (n, meshes) in uv_sets {
+            report.ignored_features.push(format!("attribute TEXCOORD_{n} on mesh {} (only TEXCOORD_0 is read)", meshes.join(", ")));
+        }
+        if !morphs.is_empty() {
+            report.ignored_features.push(format!("morph targets on mesh {} (the base shape is drawn)", morphs.join(", ")));
+        }
+    }
 }
 
 /// Strips and fans as a triangle list (counter-clockwise kept: every other strip triangle

@@ -1,7 +1,8 @@
-//! `raygraph scene info`: counts, bounds and what the file uses that raygraph ignores.
+//! `raygraph scene info`: counts, bounds, lights, cameras, and for a glTF file every repair,
+//! texture fallback and feature that raygraph approximates or ignores.
 
 use super::gltf_import::ImportReport;
-use super::Scene;
+use super::{AlphaMode, LightKind, Scene};
 use std::fmt::Write;
 
 pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
@@ -12,8 +13,10 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     let _ = writeln!(s, "triangles   {} (over instances; {} in unique meshes)", scene.triangle_count(), unique);
     let _ = writeln!(s, "meshes      {}", scene.meshes.len());
     let _ = writeln!(s, "instances   {}", scene.instances.len());
-    let _ = writeln!(s, "materials   {}", scene.materials.len());
-    let _ = writeln!(s, "textures    {}", scene.textures.len());
+    let default = if report.is_some_and(|r| r.default_material) { " (with `default`, for primitives that name none)" } else { "" };
+    let _ = writeln!(s, "materials   {}{default}", scene.materials.len());
+    let _ = writeln!(s, "alpha       {}", alpha_modes(scene));
+    let _ = writeln!(s, "textures    {}", textures(scene, report));
     if b.is_empty() {
         let _ = writeln!(s, "bounds      empty");
     } else {
@@ -32,13 +35,27 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     if let Some((row, tris, meshes, textures)) = paper_row(&scene.name) {
         let _ = writeln!(s, "paper       Table 1 `{row}`: {tris} triangles, {meshes} meshes, {textures} textures");
     }
+    let _ = writeln!(s, "lights      {}", lights(scene));
     let presets: Vec<&str> = scene.presets.iter().map(|(n, _)| n.as_str()).collect();
-    let _ = writeln!(s, "cameras     {}", if presets.is_empty() { "none".to_string() } else { presets.join(", ") });
+    let presets = if presets.is_empty() { "none".to_string() } else { presets.join(", ") };
+    match report.map_or(0, |r| r.file_cameras) {
+        0 => _ = writeln!(s, "cameras     {presets}"),
+        n => _ = writeln!(s, "cameras     {n} from the file: {presets} (the first is the default view)"),
+    }
     if let Some(r) = report {
-        let _ = writeln!(s, "ignored     {}", if r.ignored_features.is_empty() { "nothing".to_string() } else { r.ignored_features.join(", ") });
+        list(
+            &mut s,
+            "fallbacks",
+            &r.texture_fallbacks
+                .iter()
+                .map(|f| format!("material {} {} texture: image `{}` {}; {}", f.material, f.slot.name(), f.image, f.reason, f.slot.fallback()))
+                .collect::<Vec<_>>(),
+        );
+        list(&mut s, "approximated", &r.approximated);
+        list(&mut s, "ignored", &r.ignored_features);
         let _ = writeln!(
             s,
-            "repairs     {} NaN/Inf triangles dropped, {} zero-area triangles, {} non-triangle primitives skipped, {} images replaced",
+            "repairs     {} NaN/Inf triangles dropped, {} zero-area triangles, {} non-triangle primitives skipped, {} images replaced by fallbacks",
             r.non_finite_triangles, r.degenerate_triangles, r.skipped_primitives, r.missing_images
         );
         if r.textures_not_loaded > 0 {
@@ -46,6 +63,56 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
         }
     }
     s
+}
+
+/// `label  nothing`, or `label  N` and one indented line per item.
+fn list(s: &mut String, label: &str, items: &[String]) {
+    if items.is_empty() {
+        let _ = writeln!(s, "{label:<11} nothing");
+    } else {
+        let _ = writeln!(s, "{label:<11} {}", items.len());
+        for i in items {
+            let _ = writeln!(s, "  {i}");
+        }
+    }
+}
+
+fn alpha_modes(scene: &Scene) -> String {
+    let count = |f: fn(&AlphaMode) -> bool| scene.materials.iter().filter(|m| f(&m.alpha_mode)).count();
+    let (opaque, mask, blend) = (count(|a| *a == AlphaMode::Opaque), count(|a| matches!(a, AlphaMode::Mask(_))), count(|a| *a == AlphaMode::Blend));
+    format!("{opaque} opaque, {mask} mask, {blend} blend (materials; MASK is a cutout at its alphaCutoff, BLEND a cutout at alpha 0.5)")
+}
+
+/// The number of images the materials use; for a file, with how many loaded and how many
+/// took their slots' fallbacks.
+fn textures(scene: &Scene, report: Option<&ImportReport>) -> String {
+    match report.and_then(|r| r.images_used.map(|used| (used, r))) {
+        Some((used, r)) if r.missing_images > 0 => {
+            format!("{used} (images the materials use: {} loaded, {} missing; see fallbacks)", used - r.missing_images, r.missing_images)
+        }
+        Some((used, _)) => format!("{used} (images the materials use)"),
+        None => scene.textures.len().to_string(),
+    }
+}
+
+fn lights(scene: &Scene) -> String {
+    if scene.lights.is_empty() {
+        let point = if scene.point_light.is_some() { " and the built-in point light" } else { "" };
+        return format!("none in the scene: the default sun{point}");
+    }
+    let each: Vec<String> = scene
+        .lights
+        .iter()
+        .map(|l| {
+            let kind = match l.kind {
+                LightKind::Directional => "directional",
+                LightKind::Point { .. } => "point",
+                LightKind::Spot { .. } => "spot",
+            };
+            format!("{} ({kind})", l.name)
+        })
+        .collect();
+    format!("{} from the file: {}", scene.lights.len(), each.join(", "))
 }
 
 /// The row of the paper's Table 1 a built-in scene stands in for.

@@ -38,7 +38,12 @@ pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), 
     let looks_like_file = path.extension().is_some() || spec.contains('/') || path.exists();
     let (mut scene, report) = if let (false, Some(scene)) = (looks_like_file, builtin(spec, options.seed)) {
         let mut report = ImportReport::default();
-        let referenced = scene.materials.iter().flat_map(|m| [m.texture, m.metallic_roughness_texture, m.normal_texture, m.emissive_texture]).flatten().count();
+        let referenced = scene
+            .materials
+            .iter()
+            .flat_map(|m| [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture])
+            .flatten()
+            .count();
         if !options.textures {
             report.textures_not_loaded = referenced;
         }
