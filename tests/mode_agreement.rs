@@ -4,6 +4,10 @@
 //! G-buffer inputs with the same lights and one shading function, so their final images agree
 //! within a stated ꟻLIP mean (whole image, silhouettes and sky included, default viewing
 //! conditions of `nv_flip`) on both real assets and on the procedural metallic-roughness scene.
+//! What is left between them: raster and hybrid share the rasterized inputs (they differ by
+//! the resolve's rounding through the G-buffer formats); full RT picks texture levels by ray
+//! cones instead of derivatives, and edges by ray hits instead of coverage. Each limit is three
+//! times its measured mean.
 
 mod common;
 
@@ -53,17 +57,21 @@ fn open(rel: &str) -> Scene {
 #[test]
 fn damaged_helmet_looks_the_same_in_every_mode_with_effects_off() {
     let gpu = gpu();
-    check(&gpu, "DamagedHelmet", &open("assets/gltf/DamagedHelmet/DamagedHelmet.glb"), (128, 96), [0.05, 0.05, 0.05]);
+    // Measured: 0.0014, 0.0034, 0.0035 (lavapipe); limits 3x that, rounded up.
+    check(&gpu, "DamagedHelmet", &open("assets/gltf/DamagedHelmet/DamagedHelmet.glb"), (128, 96), [0.005, 0.011, 0.011]);
 }
 
 #[test]
 fn pine_looks_the_same_in_every_mode_with_effects_off() {
     let gpu = gpu();
-    check(&gpu, "smallpine", &open("assets/gltf/smallpine/scene.gltf"), (128, 96), [0.05, 0.05, 0.05]);
+    // Measured: 0.0010, 0.0026, 0.0027 (lavapipe); limits 3x that, rounded up.
+    check(&gpu, "smallpine", &open("assets/gltf/smallpine/scene.gltf"), (128, 96), [0.003, 0.008, 0.009]);
 }
 
 #[test]
 fn metallic_roughness_scene_looks_the_same_in_every_mode_with_effects_off() {
     let gpu = gpu();
-    check(&gpu, "metallic-roughness scene", &metallic_roughness_scene().0, (128, 96), [0.05, 0.05, 0.05]);
+    // Measured: 0.0082, 0.0054, 0.0107 (lavapipe: the far, minified ground carries most of it);
+    // limits 3x that, rounded up.
+    check(&gpu, "metallic-roughness scene", &metallic_roughness_scene().0, (128, 96), [0.025, 0.017, 0.033]);
 }
