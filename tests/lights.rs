@@ -419,8 +419,9 @@ fn a_scene_without_lights_is_lit_by_the_default_sun() {
 }
 
 /// Emission with every light off (one directional light of intensity 0, no ambient light): the
-/// floor's radiance is its emissive factor plus the sky's Fresnel reflection, in raster; and a
-/// mirror floor's reflection rays (hybrid, every back-end) return an emissive wall's emission.
+/// floor's radiance is its emissive factor plus the sky's Fresnel reflection, in every mode and
+/// on every back-end; and a mirror floor's reflection rays (hybrid, every back-end) return an
+/// emissive wall's emission.
 #[test]
 fn emissive_surfaces_glow_with_every_light_off() {
     let gpu = gpu();
@@ -430,20 +431,22 @@ fn emissive_surfaces_glow_with_every_light_off() {
     glowing.emissive = emissive;
     let mut s = scene(dark.clone(), vec![]);
     s.materials[0] = glowing.clone();
-    let (_p, graph_file) = graph(Mode::Raster);
-    let mut exec = executor(&gpu, &graph_file, Backend::Compute, &s);
-    exec.render(&gpu, &s.camera, &s).unwrap();
-    let color = channel(&gpu, &exec, "forward.color");
-    let mut checked = 0;
-    for (i, p) in floor_points().into_iter().enumerate() {
-        let Some(p) = p else { continue };
-        let want = Vec3::from(emissive) + sky_reflection(p);
-        for c in 0..3 {
-            assert!(close(color[i][c], want[c]), "raster: pixel {i}: {:?} against {want:?}", color[i]);
+    for (mode, backend) in configurations(&gpu) {
+        let (_p, graph_file) = graph(mode);
+        let mut exec = executor(&gpu, &graph_file, backend, &s);
+        exec.render(&gpu, &s.camera, &s).unwrap();
+        let color = channel(&gpu, &exec, if mode == Mode::Raster { "forward.color" } else { "resolve.hdr" });
+        let mut checked = 0;
+        for (i, p) in floor_points().into_iter().enumerate() {
+            let Some(p) = p else { continue };
+            let want = Vec3::from(emissive) + sky_reflection(p);
+            for c in 0..3 {
+                assert!(close(color[i][c], want[c]), "{mode:?}/{backend}: pixel {i}: {:?} against {want:?}", color[i]);
+            }
+            checked += 1;
         }
-        checked += 1;
+        assert!(checked > 900);
     }
-    assert!(checked > 900);
 
     // A mirror floor in front of an emissive wall standing in z = -3, facing +z.
     let mirror = Material { metallic: 1.0, roughness: 0.0, ..Material::diffuse("mirror", [1.0; 4], None) };
@@ -476,5 +479,48 @@ fn emissive_surfaces_glow_with_every_light_off() {
         }
         println!("{backend}: {seen} mirror pixels reflect the emissive wall");
         assert!(seen > 100, "{backend}: the mirror shows the wall");
+    }
+}
+
+/// A glTF file's own `KHR_lights_punctual` lights light the scene: a floor (two triangles, the
+/// material of `grey()`) under a point light at (0, 2, 0) and a spot light at (0.5, 3, 0.5)
+/// turned to shine straight down, in a GLB written here; the direct light in raster and hybrid
+/// matches the closed forms of the lights as written into the file.
+#[test]
+fn a_gltf_files_punctual_lights_match_the_closed_forms() {
+    use common::gltf_doc::{temp_dir, Doc};
+    use serde_json::json;
+    let gpu = gpu();
+    let mut d = Doc::new();
+    let p = d.positions(&[[-8.0, 0.0, -8.0], [-8.0, 0.0, 8.0], [8.0, 0.0, 8.0], [8.0, 0.0, -8.0]]);
+    let n = d.floats(&[0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0], "VEC3", 4);
+    let i = d.indices_u16(&[0, 1, 2, 0, 2, 3]);
+    let mesh = d.mesh(&[("POSITION", p), ("NORMAL", n)], Some(i), Some(0), None);
+    d.material(json!({"pbrMetallicRoughness": {"baseColorFactor": [ALBEDO, ALBEDO, ALBEDO, 1.0], "metallicFactor": 0.0, "roughnessFactor": ROUGHNESS}}));
+    d.node(json!({"mesh": mesh}), true);
+    d.json["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    d.json["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"type": "point", "intensity": 8.0},
+        {"type": "spot", "intensity": 30.0, "spot": {"innerConeAngle": 15f32.to_radians(), "outerConeAngle": 25f32.to_radians()}}
+    ]}});
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    d.node(json!({"translation": [0.0, 2.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}}), true);
+    // -90 degrees about +x: the light's -z becomes -y.
+    d.node(json!({"translation": [0.5, 3.0, 0.5], "rotation": [-s, 0.0, 0.0, s], "extensions": {"KHR_lights_punctual": {"light": 1}}}), true);
+    let dir = temp_dir("lights");
+    let path = d.write_glb(&dir, "lights");
+    let (mut scene, _) = raygraph::scene::open(path.to_str().unwrap(), &raygraph::scene::LoadOptions::default()).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(scene.lights.len(), 2, "the file's two lights");
+    scene.camera = camera();
+    scene.light.ambient = 0.0;
+    let written = [point(Vec3::new(0.0, 2.0, 0.0), 8.0, None), spot(Vec3::new(0.5, 3.0, 0.5), Vec3::new(0.5, 0.0, 0.5), 30.0, 15.0, 25.0)];
+    for (mode, backend) in [(Mode::Raster, Backend::Compute), (Mode::Hybrid, Backend::Compute)] {
+        let (_p, graph) = graph(mode);
+        let mut exec = executor(&gpu, &graph, backend, &scene);
+        let frame = render(&gpu, &mut exec, mode, &scene);
+        let (worst, checked) = check_direct(&frame, &written, |_| Some(vec![true; 2]), &format!("{mode:?}/{backend}/glTF"));
+        println!("{mode:?} {backend}: the file's lights within {worst:.2e} of the closed form at {checked} pixels");
+        assert!(checked > 900);
     }
 }

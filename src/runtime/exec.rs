@@ -710,7 +710,7 @@ impl Executor {
             if lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() && !self.warned_unshadowed {
                 self.warned_unshadowed = true;
                 eprintln!(
-                    "warning: {} of the scene's {} lights have no shadow map in raster mode (point lights, and directional or spot lights after the first {SHADOW_MAP_SLOTS}): they light the scene unshadowed",
+                    "warning: lights without a shadow map in raster mode: {} of {} (point lights, and directional or spot lights after the first {SHADOW_MAP_SLOTS}); they light the scene unshadowed",
                     lights.unshadowed_in_raster,
                     lights.records.len()
                 );
