@@ -404,3 +404,31 @@ fn damaged_helmet_reports_five_textures_and_imports_every_slot() {
     assert!(r.texture_fallbacks.is_empty() && r.approximated.is_empty() && r.ignored_features.is_empty(), "{r:?}");
     says(&text, &["textures    5 (images the materials use)\n", "fallbacks   nothing", "approximated nothing", "ignored     nothing"]);
 }
+
+/// `render` of the pine over two frames logs each fallback and each approximated or ignored
+/// feature once, and a file's camera is a `--camera` preset.
+#[test]
+fn render_prints_the_notes_once_and_takes_a_files_camera() {
+    let dir = temp_dir("render-notes");
+    let render = |scene: &str, extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_raygraph"))
+            .current_dir(common::repo())
+            .args(["render", "--scene", scene, "--width", "32", "--height", "24", "--frames", "2", "--out"])
+            .arg(dir.join("out.png"))
+            .args(extra)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        stderr
+    };
+    let stderr = render("assets/gltf/smallpine/scene.gltf", &[]);
+    println!("{stderr}");
+    for once in ["M_TreeAtlas_normal.png", "approximated: material `M_TreeAtlas`: alphaMode BLEND", "ignored: attribute TEXCOORD_1"] {
+        assert_eq!(stderr.matches(once).count(), 1, "`{once}` once in\n{stderr}");
+    }
+    let cams = cameras_document().write_glb(&dir, "cams");
+    let stderr = render(cams.to_str().unwrap(), &["--camera", "side"]);
+    assert_eq!(stderr.matches("orthographic camera `plan`").count(), 1, "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

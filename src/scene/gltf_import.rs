@@ -725,7 +725,7 @@ mod notes {
     }
 
     /// The JSON of `slot`'s texture info in material `m`.
-    fn slot_json<'v>(m: &'v Value, slot: TextureSlot) -> &'v Value {
+    fn slot_json(m: &Value, slot: TextureSlot) -> &Value {
         match slot {
             TextureSlot::BaseColor => &m["pbrMetallicRoughness"]["baseColorTexture"],
             TextureSlot::MetallicRoughness => &m["pbrMetallicRoughness"]["metallicRoughnessTexture"],
