@@ -300,6 +300,20 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
 }
 
 #[test]
+fn a_16_bit_image_is_read_as_8_bit_and_says_so() {
+    let dir = temp_dir("deep-image");
+    let img = image::ImageBuffer::<image::Rgba<u16>, _>::from_pixel(2, 2, image::Rgba([0x8040, 0xffff, 0, 0xffff]));
+    img.save(dir.join("deep.png")).unwrap();
+    let mut d = triangle_with(json!({}));
+    let t = d.texture_uri("deep.png");
+    d.json["materials"][0] = json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": t}}});
+    let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(&s.textures[0].rgba[0..4], &[0x80, 0xff, 0, 0xff], "the high byte of each channel");
+    assert_eq!(r.approximated, ["image `deep.png`: 16-bit channels read as 8-bit"]);
+}
+
+#[test]
 fn a_required_extension_raygraph_cannot_read_is_an_error_naming_it() {
     let dir = temp_dir("required");
     let mut d = triangle_with(json!({}));
