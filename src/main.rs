@@ -307,8 +307,9 @@ struct ViewArgs {
 
 #[derive(Subcommand)]
 enum SceneCommand {
-    /// Print triangles, meshes, instances, materials, textures, bounds, camera presets and what
-    /// the file uses that raygraph ignores.
+    /// Print triangles, meshes, instances, materials, alpha modes, textures, bounds, lights,
+    /// camera presets, texture fallbacks and what the file uses that raygraph approximates or
+    /// ignores.
     Info {
         /// A built-in scene name or a .gltf/.glb file.
         scene: String,

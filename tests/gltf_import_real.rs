@@ -300,6 +300,20 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
 }
 
 #[test]
+fn a_16_bit_image_is_read_as_8_bit_and_says_so() {
+    let dir = temp_dir("deep-image");
+    let img = image::ImageBuffer::<image::Rgba<u16>, _>::from_pixel(2, 2, image::Rgba([0x8040, 0xffff, 0, 0xffff]));
+    img.save(dir.join("deep.png")).unwrap();
+    let mut d = triangle_with(json!({}));
+    let t = d.texture_uri("deep.png");
+    d.json["materials"][0] = json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": t}}});
+    let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(&s.textures[0].rgba[0..4], &[0x80, 0xff, 0, 0xff], "the high byte of each channel");
+    assert_eq!(r.approximated, ["image `deep.png`: 16-bit channels read as 8-bit"]);
+}
+
+#[test]
 fn a_required_extension_raygraph_cannot_read_is_an_error_naming_it() {
     let dir = temp_dir("required");
     let mut d = triangle_with(json!({}));
@@ -403,4 +417,32 @@ fn damaged_helmet_reports_five_textures_and_imports_every_slot() {
     assert_eq!((m.emissive, m.occlusion_strength), ([1.0; 3], 1.0));
     assert!(r.texture_fallbacks.is_empty() && r.approximated.is_empty() && r.ignored_features.is_empty(), "{r:?}");
     says(&text, &["textures    5 (images the materials use)\n", "fallbacks   nothing", "approximated nothing", "ignored     nothing"]);
+}
+
+/// `render` of the pine over two frames logs each fallback and each approximated or ignored
+/// feature once, and a file's camera is a `--camera` preset.
+#[test]
+fn render_prints_the_notes_once_and_takes_a_files_camera() {
+    let dir = temp_dir("render-notes");
+    let render = |scene: &str, extra: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_raygraph"))
+            .current_dir(common::repo())
+            .args(["render", "--scene", scene, "--width", "32", "--height", "24", "--frames", "2", "--out"])
+            .arg(dir.join("out.png"))
+            .args(extra)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{stderr}");
+        stderr
+    };
+    let stderr = render("assets/gltf/smallpine/scene.gltf", &[]);
+    println!("{stderr}");
+    for once in ["M_TreeAtlas_normal.png", "approximated: material `M_TreeAtlas`: alphaMode BLEND", "ignored: attribute TEXCOORD_1"] {
+        assert_eq!(stderr.matches(once).count(), 1, "`{once}` once in\n{stderr}");
+    }
+    let cams = cameras_document().write_glb(&dir, "cams");
+    let stderr = render(cams.to_str().unwrap(), &["--camera", "side"]);
+    assert_eq!(stderr.matches("orthographic camera `plan`").count(), 1, "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -8,7 +8,7 @@
 // rasterizer's derivatives give the same frame), back faces (the ray hit the clockwise side)
 // with reversed normals; only the texture level differs (ray cone against derivatives).
 // Needs the main shader to declare `scene_instances`, `scene_materials`, `scene_meshes`,
-// `scene_indices`, `scene_vertices`, `scene_textures`, `linear_sampler`, and to include
+// `scene_indices`, `scene_vertices`, `linear_sampler`, and to include
 // common/scene.wgsl, common/scene_textures.wgsl and trace/trace.wgsl.
 //#include "common/material_inputs.wgsl"
 

@@ -513,7 +513,13 @@ impl TextureLoader<'_> {
             Err("has neither a uri nor a bufferView with a mimeType".to_string())
         } else {
             match gltf::image::Data::from_source(image.source(), Some(self.base), self.buffers) {
-                Ok(data) => to_rgba8(&name, &data).map_err(|why| format!("has {why}")),
+                Ok(data) => {
+                    use gltf::image::Format as F;
+                    if matches!(data.format, F::R16 | F::R16G16 | F::R16G16B16 | F::R16G16B16A16) {
+                        report.approximated.push(format!("image `{name}`: 16-bit channels read as 8-bit"));
+                    }
+                    to_rgba8(&name, &data).map_err(|why| format!("has {why}"))
+                }
                 Err(e) => Err(format!("cannot be loaded ({e})")),
             }
         };
@@ -725,7 +731,7 @@ mod notes {
     }
 
     /// The JSON of `slot`'s texture info in material `m`.
-    fn slot_json<'v>(m: &'v Value, slot: TextureSlot) -> &'v Value {
+    fn slot_json(m: &Value, slot: TextureSlot) -> &Value {
         match slot {
             TextureSlot::BaseColor => &m["pbrMetallicRoughness"]["baseColorTexture"],
             TextureSlot::MetallicRoughness => &m["pbrMetallicRoughness"]["metallicRoughnessTexture"],
