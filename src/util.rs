@@ -13,6 +13,16 @@ pub fn linear_to_srgb(x: f64) -> f64 {
     }
 }
 
+/// The inverse of [`linear_to_srgb`]: an 8-bit sRGB-encoded value to linear [0, 1].
+pub fn srgb_to_linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// Writes `bytes` to a temporary file beside `path`, syncs it and renames it over `path`: a
 /// reader sees either the old file or the whole new one, and a failed write leaves nothing.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

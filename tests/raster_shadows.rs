@@ -58,7 +58,7 @@ Graph(
         "shadow_map": Layer(layer: "shadow_map"),
         "forward": Layer(
             layer: "forward",
-            inputs: {{"shadow_map": "shadow_map.depth"}},
+            inputs: {{"shadow_map": "shadow_map.depth", "shadow_map_1": "shadow_map.depth_1", "shadow_map_2": "shadow_map.depth_2", "shadow_map_3": "shadow_map.depth_3"}},
             params: {{"shadows": {shadows}}},
         ),
         "tonemap": Layer(

@@ -1,8 +1,65 @@
-// Simplified PBR shared by the resolve pass and hit shading: Lambert diffuse plus GGX
-// specular (Trowbridge-Reitz distribution, Smith-Schlick visibility, Schlick Fresnel), one
-// directional light, one optional point light, and a sky for ambient light and missed rays.
+// The one shading model of every mode (forward raster, the hybrid/full-RT resolve, reflection
+// hits): Lambert diffuse plus GGX specular (Trowbridge-Reitz distribution, Smith-Schlick
+// visibility, Schlick Fresnel) per light, a sky for ambient light (scaled by AO and the
+// material's occlusion), missed rays and the specular reflection of surfaces no reflection ray
+// leaves, and emission. Each mode supplies only the visibility
+// of each light (shadow maps or shadow rays) and the AO.
+//
+// Lights are records of `scene_lights` (`frame.light_count` of them; src/scene/gpu.rs):
+// directional, point and spot, with glTF KHR_lights_punctual's range window
+// clamp(1 - (d/range)^4, 0, 1)^2 / d^2 and cone falloff
+// clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1)^2. Intensities are a linear
+// radiance scale: a white Lambert surface facing a directional light of intensity 1 (or a point
+// light of intensity 1 at distance 1) has radiance 1.
+// Needs the main shader to declare `frame` (common/frame.wgsl).
 
 const PI: f32 = 3.14159265359;
+
+const LIGHT_DIRECTIONAL: u32 = 0u;
+const LIGHT_POINT: u32 = 1u;
+const LIGHT_SPOT: u32 = 2u;
+
+// Mirrors LightUniforms in src/runtime/uniforms.rs.
+struct Light {
+    position: vec3<f32>,
+    kind: u32,
+    // the way the light shines (from the light towards the scene)
+    direction: vec3<f32>,
+    // 0: infinite
+    range: f32,
+    // colour x intensity
+    radiance: vec3<f32>,
+    cos_inner: f32,
+    cos_outer: f32,
+    // raster shadow-map slot (frame.shadow_view_proj), -1: none
+    shadow_map: i32,
+    // world length of the shadow map's depth range
+    shadow_depth_range: f32,
+    _pad: u32,
+}
+
+// Light arriving at a point: unit direction towards the light, irradiance at normal incidence,
+// and the distance a shadow ray may travel (3e38 for directional lights).
+struct LightSample {
+    l: vec3<f32>,
+    e: vec3<f32>,
+    distance: f32,
+}
+
+// What every mode knows about a shaded point.
+struct ShadingPoint {
+    position: vec3<f32>,
+    // shading normal
+    normal: vec3<f32>,
+    // unit direction towards the viewer
+    view: vec3<f32>,
+    albedo: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    // material occlusion (1: none); scales the ambient term only
+    occlusion: f32,
+    emissive: vec3<f32>,
+}
 
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
     return mix(vec3<f32>(0.35, 0.3, 0.25), vec3<f32>(0.6, 0.75, 1.0), 0.5 + 0.5 * dir.y);
@@ -14,6 +71,34 @@ fn fresnel_schlick(cos_theta: f32, f0: vec3<f32>) -> vec3<f32> {
 
 fn specular_f0(albedo: vec3<f32>, metallic: f32) -> vec3<f32> {
     return mix(vec3<f32>(0.04), albedo, metallic);
+}
+
+fn light_sample(light: Light, p: vec3<f32>) -> LightSample {
+    var s: LightSample;
+    if light.kind == LIGHT_DIRECTIONAL {
+        s.l = -light.direction;
+        s.e = light.radiance;
+        s.distance = 3.0e38;
+        return s;
+    }
+    let to_light = light.position - p;
+    let d2 = max(dot(to_light, to_light), 1e-8);
+    let d = sqrt(d2);
+    s.l = to_light / d;
+    s.distance = d;
+    var falloff = 1.0 / d2;
+    if light.range > 0.0 {
+        let x = d / light.range;
+        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+        falloff *= window * window;
+    }
+    if light.kind == LIGHT_SPOT {
+        let scale = 1.0 / max(light.cos_inner - light.cos_outer, 0.001);
+        let cone = clamp((dot(light.direction, -s.l) - light.cos_outer) * scale, 0.0, 1.0);
+        falloff *= cone * cone;
+    }
+    s.e = light.radiance * falloff;
+    return s;
 }
 
 // Outgoing radiance towards `v` from light arriving from `l` with irradiance `e` (normal
@@ -37,4 +122,31 @@ fn brdf_light(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, e: vec3<f32>, albedo: ve
     // Lights are given as irradiance; scale so a white Lambert surface facing a light of
     // intensity 1 reflects 1/pi * pi = 1 (keeps the raster and ray-traced modes comparable).
     return (diffuse + specular) * e * n_l * PI;
+}
+
+// Unshadowed radiance towards the viewer from one light with sample `ls`.
+fn light_radiance(s: ShadingPoint, ls: LightSample) -> vec3<f32> {
+    if all(ls.e == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    return brdf_light(s.normal, s.view, ls.l, ls.e, s.albedo, s.metallic, s.roughness);
+}
+
+// Specular reflection of `incoming` radiance arriving along the mirror direction (a
+// ray-traced reflection, or `sky_reflection`), weighted by the Fresnel term.
+fn reflected_radiance(s: ShadingPoint, incoming: vec3<f32>) -> vec3<f32> {
+    return fresnel_schlick(dot(s.normal, s.view), specular_f0(s.albedo, s.metallic)) * incoming;
+}
+
+// What a mirror shows without occluders: the sky along the mirror direction. Modes that trace
+// no reflection ray there reflect this.
+fn sky_reflection(s: ShadingPoint) -> vec3<f32> {
+    return sky_color(reflect(-s.view, s.normal));
+}
+
+// The whole shaded colour: sky ambient (x AO x material occlusion, diffuse part only), the
+// direct light the mode summed over the lights with their visibility, and emission.
+fn surface_radiance(s: ShadingPoint, direct: vec3<f32>, ao: f32) -> vec3<f32> {
+    let ambient = frame.ambient * sky_color(s.normal) * s.albedo * (1.0 - s.metallic) * ao * s.occlusion;
+    return ambient + direct + s.emissive;
 }

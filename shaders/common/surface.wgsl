@@ -3,9 +3,14 @@
 // (`surface_at_cone`, Akenine-Möller et al., "Texture Level of Detail Strategies for Real-Time
 // Ray Tracing", Ray Tracing Gems ch. 20; width 0 samples level 0): compute shaders have no
 // derivatives.
+// Every material input is read as the raster G-buffer (deferred/deferred.wgsl) reads it, through
+// common/material_inputs.wgsl: normal maps in the tangent frame of the triangle's edges (the
+// rasterizer's derivatives give the same frame), back faces (the ray hit the clockwise side)
+// with reversed normals; only the texture level differs (ray cone against derivatives).
 // Needs the main shader to declare `scene_instances`, `scene_materials`, `scene_meshes`,
-// `scene_indices`, `scene_vertices`, `scene_textures`, `linear_sampler`, and to include
+// `scene_indices`, `scene_vertices`, `linear_sampler`, and to include
 // common/scene.wgsl, common/scene_textures.wgsl and trace/trace.wgsl.
+//#include "common/material_inputs.wgsl"
 
 struct Surface {
     position: vec3<f32>,
@@ -17,6 +22,8 @@ struct Surface {
     metallic: f32,
     roughness: f32,
     emissive: vec3<f32>,
+    // Material occlusion (occlusion texture and strength; 1 without one).
+    occlusion: f32,
 }
 
 fn scene_vertex(i: u32) -> SceneVertex {
@@ -38,36 +45,41 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let local = pa * w.x + pb * w.y + pc * w.z;
     let n_obj = vec3<f32>(a.nx, a.ny, a.nz) * w.x + vec3<f32>(b.nx, b.ny, b.nz) * w.y + vec3<f32>(c.nx, c.ny, c.nz) * w.z;
     let uv = vec2<f32>(a.u, a.v) * w.x + vec2<f32>(b.u, b.v) * w.y + vec2<f32>(c.u, c.v) * w.z;
-    var geo = normalize((inst.normal_matrix * vec4<f32>(cross(pb - pa, pc - pa), 0.0)).xyz);
-    if dot(geo, ray.dir) > 0.0 {
-        geo = -geo;
-    }
-    var n = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
-    if dot(n, geo) < 0.0 {
-        n = -n;
-    }
     let material = scene_materials[inst.material];
     // Mip level in uv units: half the log2 of uv area over world area, plus log2 of the cone's
     // footprint across the surface; each texture adds log2 of its size.
+    let geo_front = normalize((inst.normal_matrix * vec4<f32>(cross(pb - pa, pc - pa), 0.0)).xyz);
+    let dp1 = (inst.model * vec4<f32>(pb - pa, 0.0)).xyz;
+    let dp2 = (inst.model * vec4<f32>(pc - pa, 0.0)).xyz;
+    let duv1 = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
+    let duv2 = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
     var lod_uv = -1.0e9;
     if cone_width > 0.0 {
-        let world_area = length(cross((inst.model * vec4<f32>(pb - pa, 0.0)).xyz, (inst.model * vec4<f32>(pc - pa, 0.0)).xyz));
-        let ea = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
-        let eb = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
-        let uv_area = abs(ea.x * eb.y - ea.y * eb.x);
-        let cosine = abs(dot(geo, normalize(ray.dir)));
+        let world_area = length(cross(dp1, dp2));
+        let uv_area = abs(duv1.x * duv2.y - duv1.y * duv2.x);
+        let cosine = abs(dot(geo_front, normalize(ray.dir)));
         if world_area > 0.0 && uv_area > 0.0 && cosine > 0.0 {
             lod_uv = 0.5 * log2(uv_area / world_area) + log2(cone_width / cosine);
         }
     }
-    let lod = vec3<f32>(
-        max(lod_uv + scene_texture_log2_size(material.base_texture), 0.0),
-        max(lod_uv + scene_texture_log2_size(material.metallic_roughness_texture), 0.0),
-        max(lod_uv + scene_texture_log2_size(material.emissive_texture), 0.0),
-    );
-    let base = sample_scene_texture_level(material.base_texture, uv, lod.x);
-    let mr = sample_scene_texture_level(material.metallic_roughness_texture, uv, lod.y);
-    let emissive = material.emissive * sample_scene_texture_level(material.emissive_texture, uv, lod.z).rgb;
+    let base = sample_scene_texture_level(material.base_texture, uv, cone_level(lod_uv, material.base_texture));
+    let mr = sample_scene_texture_level(material.metallic_roughness_texture, uv, cone_level(lod_uv, material.metallic_roughness_texture));
+    let emissive = material.emissive * sample_scene_texture_level(material.emissive_texture, uv, cone_level(lod_uv, material.emissive_texture)).rgb;
+    let occlusion = sample_scene_texture_level(material.occlusion_texture, uv, cone_level(lod_uv, material.occlusion_texture)).r;
+    // The normal map bends the front side's normal; a back face reverses the result. The face
+    // normal is oriented by the ray's side of the vertex normal, as the rasterizer orients it.
+    let n_front = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
+    var n = n_front;
+    if material.normal_texture != 0u {
+        let map = sample_scene_texture_level(material.normal_texture, uv, cone_level(lod_uv, material.normal_texture)).rgb;
+        n = apply_normal_map(n_front, dp1, dp2, duv1, duv2, map, material.normal_scale);
+    }
+    let side = select(-1.0, 1.0, hit.front_face);
+    n = n * side;
+    var geo = geo_front;
+    if dot(geo, n_front * side) < 0.0 {
+        geo = -geo;
+    }
     var s: Surface;
     s.position = (inst.model * vec4<f32>(local, 1.0)).xyz;
     s.normal = n;
@@ -76,5 +88,11 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.metallic = material.metallic * mr.b;
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = emissive;
+    s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
     return s;
+}
+
+// The mip level of a texture for a footprint of 2^lod_uv in uv units (level 0 at least).
+fn cone_level(lod_uv: f32, layer: u32) -> f32 {
+    return max(lod_uv + scene_texture_log2_size(layer), 0.0);
 }

@@ -1,9 +1,13 @@
-// G-buffer: world position, shading normal (normal-mapped through a cotangent frame from
-// screen-space derivatives, so meshes need no tangents), geometric normal (from derivatives of
-// the object-space position, transformed), albedo and material. Normals face the camera.
+// G-buffer: world position, shading normal (normal-mapped, common/material_inputs.wgsl, with
+// the tangent frame from screen-space derivatives), geometric normal (from derivatives of the
+// object-space position, transformed), albedo, material, emission and occlusion. Normals face
+// the camera. The pass draws both sides of every triangle (`cull_back_faces: false`): back
+// faces of single-sided materials are discarded here, those of double-sided ones (glTF
+// `doubleSided`) get reversed normals, as primary rays do (rt/primary.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
+//#include "common/material_inputs.wgsl"
 //#include "common/alpha.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -47,47 +51,45 @@ struct GBuffer {
     @location(2) geo_normal: vec4<f32>,
     @location(3) albedo: vec4<f32>,
     @location(4) material: vec4<f32>,
-}
-
-// Perturbs n by a tangent-space normal map sample (Schüler, "Normal Mapping Without
-// Precomputed Tangents", 2013).
-fn perturb(n: vec3<f32>, p: vec3<f32>, uv: vec2<f32>, map: vec3<f32>, scale: f32) -> vec3<f32> {
-    let dp1 = dpdx(p);
-    let dp2 = dpdy(p);
-    let duv1 = dpdx(uv);
-    let duv2 = dpdy(uv);
-    let dp2perp = cross(dp2, n);
-    let dp1perp = cross(n, dp1);
-    let t = dp2perp * duv1.x + dp1perp * duv2.x;
-    let b = dp2perp * duv1.y + dp1perp * duv2.y;
-    let invmax = inverseSqrt(max(max(dot(t, t), dot(b, b)), 1e-20));
-    let m = map * 2.0 - vec3<f32>(1.0);
-    let local = vec3<f32>(m.xy * scale, m.z);
-    return normalize(t * invmax * local.x + b * invmax * local.y + n * local.z);
+    @location(5) emissive: vec4<f32>,
 }
 
 @fragment
-fn fs_main(in: VertexOut) -> GBuffer {
-    if !material_alpha_visible(scene_instances[in.instance].material, in.uv) {
+fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
+    let inst = scene_instances[in.instance];
+    let material = scene_materials[inst.material];
+    let front = raster_front_face(front_facing, inst.model);
+    if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
         discard;
     }
-    let material = scene_materials[scene_instances[in.instance].material];
+    if !material_alpha_visible(inst.material, in.uv) {
+        discard;
+    }
+    // Derivatives before any non-uniform branch. Object-space ones, transformed, keep their
+    // precision far from the origin.
+    let dp1 = (inst.model * vec4<f32>(dpdx(in.local), 0.0)).xyz;
+    let dp2 = (inst.model * vec4<f32>(dpdy(in.local), 0.0)).xyz;
+    let duv1 = dpdx(in.uv);
+    let duv2 = dpdy(in.uv);
+    let face = cross(dpdx(in.local), dpdy(in.local));
     let base = sample_scene_texture(material.base_texture, in.uv);
     let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
     let emissive = material.emissive * sample_scene_texture(material.emissive_texture, in.uv).rgb;
-    let inst = scene_instances[in.instance];
-    // Back faces are culled, so every fragment shows the side its vertex normals point to: the
-    // face normal is oriented by them, not by a test against positions (which lose precision
-    // far from the origin) nor by the sign of the derivatives (which flips in quads that
-    // straddle the horizon).
+    let occlusion = material_occlusion(sample_scene_texture(material.occlusion_texture, in.uv).r, material.occlusion_strength);
+    let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
+    // The normal map bends the front side's normal; a back face (double-sided) reverses the
+    // result. The face normal is oriented by the viewer-side vertex normal, not by a test
+    // against positions (which lose precision far from the origin) nor by the sign of the
+    // derivatives (which flips in quads that straddle the horizon).
     var n = normalize(in.normal);
-    var geo = normalize((inst.normal_matrix * vec4<f32>(cross(dpdx(in.local), dpdy(in.local)), 0.0)).xyz);
-    if dot(geo, n) < 0.0 {
-        geo = -geo;
-    }
     if material.normal_texture != 0u {
-        let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
-        n = perturb(n, in.world, in.uv, map, material.normal_scale);
+        n = apply_normal_map(n, dp1, dp2, duv1, duv2, map, material.normal_scale);
+    }
+    let side = select(-1.0, 1.0, front);
+    n = n * side;
+    var geo = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
+    if dot(geo, normalize(in.normal) * side) < 0.0 {
+        geo = -geo;
     }
     var out: GBuffer;
     out.position = vec4<f32>(in.world, 1.0);
@@ -96,5 +98,6 @@ fn fs_main(in: VertexOut) -> GBuffer {
     out.albedo = vec4<f32>(material.base_color.rgb * base.rgb, 1.0);
     let e = dot(emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
     out.material = vec4<f32>(material.metallic * mr.b, clamp(material.roughness * mr.g, 0.02, 1.0), min(e / 16.0, 1.0), 1.0);
+    out.emissive = vec4<f32>(emissive, occlusion);
     return out;
 }

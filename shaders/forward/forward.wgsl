@@ -1,22 +1,28 @@
-// Forward shading of the scene's meshes: textured Lambert under one directional light plus
-// a hemisphere ambient term. Writes linear HDR colour; alpha 1 marks geometry.
+// Forward shading of the scene's meshes with the shading model of every mode
+// (common/lighting.wgsl: every light of `scene_lights`, sky ambient x material occlusion,
+// the sky's specular reflection, emission; base colour, metallic-roughness, emissive and occlusion textures). Writes linear
+// HDR colour; alpha 1 marks geometry.
 //
-// The directional light's direct term is multiplied by a shadow-map visibility (the
-// `shadow_map` layer's depth, drawn through `frame.light_view_proj`):
+// A light with a shadow-map slot (`Light::shadow_map`, the first four directional or spot
+// lights) has its direct term multiplied by a shadow-map visibility (the `shadow_map` layer's
+// depth textures, drawn through `frame.shadow_view_proj[slot]`); other lights are unshadowed:
 // - the receiver point is moved along its geometric normal by `normal_offset` shadow-map
-//   texels (world offset = normal_offset x the world size of one texel, derived from the
-//   map's resolution and the light projection, so it follows the scene's size);
+//   texels (world offset = normal_offset x the world size of one texel at the receiver,
+//   derived from the map's resolution and the light projection, so it follows the scene's size);
 // - receiver-plane depth bias: the depth the receiver's own plane would have at each PCF tap
-//   comes from screen-space derivatives of its shadow-map coordinates, so wide kernels do not
-//   self-shadow tilted surfaces;
-// - `shadow_bias` (shadow-map depth units, 0 = the light's near plane .. 1 = its far plane)
-//   is subtracted from the receiver depth before each comparison;
+//   comes from the screen-space derivatives of the world position carried through the light's
+//   projection, so wide kernels do not self-shadow tilted surfaces;
+// - `shadow_bias` (a fraction of the light's depth range: for the orthographic map of a
+//   directional light, shadow-map depth units, 0 = near plane .. 1 = far plane) moves the
+//   receiver towards the light before each comparison;
 // - `pcf` is the filter radius in texels: (2 pcf + 1)^2 `textureLoad` comparisons, averaged
 //   (0 = one hard comparison);
-// - `shadows` off: fully lit, the shadow map is not read.
+// - `shadows` off: fully lit, the shadow maps are not read.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
+//#include "common/lighting.wgsl"
+//#include "common/material_inputs.wgsl"
 //#include "common/alpha.wgsl"
 
 struct Params {
@@ -32,6 +38,10 @@ struct Params {
 @group(0) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(5) var<uniform> params: Params;
 @group(0) @binding(6) var shadow_map: texture_depth_2d;
+@group(0) @binding(7) var shadow_map_1: texture_depth_2d;
+@group(0) @binding(8) var shadow_map_2: texture_depth_2d;
+@group(0) @binding(9) var shadow_map_3: texture_depth_2d;
+@group(0) @binding(10) var<storage, read> scene_lights: array<Light>;
 
 // Largest receiver depth slope (shadow-map depth per texel) the plane bias extrapolates with:
 // surfaces almost parallel to the light get no more (their direct term is ~0 anyway).
@@ -43,6 +53,9 @@ struct VertexOut {
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) instance: u32,
     @location(3) world_pos: vec3<f32>,
+    // Object-space position: its derivatives give the face normal and the normal map's frame
+    // without the rounding of large world coordinates, as in deferred/deferred.wgsl.
+    @location(4) local: vec3<f32>,
 }
 
 @vertex
@@ -60,28 +73,43 @@ fn vs_main(
     out.uv = uv;
     out.instance = instance;
     out.world_pos = world.xyz;
+    out.local = position;
     return out;
 }
 
-// World size of one shadow-map texel: the light projection maps 2 NDC units onto the map's
-// width; the length of its first row is NDC units per world unit.
-fn shadow_texel_world(size: vec2<u32>) -> f32 {
-    let m = frame.light_view_proj;
-    let ndc_per_world = length(vec3<f32>(m[0].x, m[1].x, m[2].x));
-    return 2.0 / (ndc_per_world * f32(size.x));
+// Depth of shadow-map slot `slot` at texel t.
+fn shadow_depth(slot: i32, t: vec2<i32>) -> f32 {
+    switch slot {
+        case 1: {
+            return textureLoad(shadow_map_1, t, 0);
+        }
+        case 2: {
+            return textureLoad(shadow_map_2, t, 0);
+        }
+        case 3: {
+            return textureLoad(shadow_map_3, t, 0);
+        }
+        default: {
+            return textureLoad(shadow_map, t, 0);
+        }
+    }
 }
 
-// Shadow-map coordinates of a world point: xy in texels, z depth (0..1).
-fn shadow_coord(p: vec3<f32>, size: vec2<u32>) -> vec3<f32> {
-    let c = frame.light_view_proj * vec4<f32>(p, 1.0);
+// Shadow-map coordinates (xy texels, z depth 0..1) of the clip-space point c, and their
+// differential for the clip-space differential dc.
+fn shadow_coord(c: vec4<f32>, size: vec2<f32>) -> vec3<f32> {
     let ndc = c.xyz / c.w;
-    let uv = ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5);
-    return vec3<f32>(uv * vec2<f32>(size), ndc.z);
+    return vec3<f32>((ndc.xy * vec2<f32>(0.5, -0.5) + vec2<f32>(0.5)) * size, ndc.z);
 }
 
-// Fraction of the PCF taps that see the light, at shadow coordinates `sc` with receiver
-// depth slope `slope` (depth per texel in x and y).
-fn shadow_visibility(sc: vec3<f32>, slope: vec2<f32>, size: vec2<u32>) -> f32 {
+fn shadow_coord_delta(c: vec4<f32>, dc: vec4<f32>, size: vec2<f32>) -> vec3<f32> {
+    let d = (dc.xyz - c.xyz / c.w * dc.w) / c.w;
+    return vec3<f32>(d.xy * vec2<f32>(0.5, -0.5) * size, d.z);
+}
+
+// Fraction of the PCF taps of slot `slot` that see the light, at shadow coordinates `sc` with
+// receiver depth slope `slope` (depth per texel in x and y) and depth bias `bias`.
+fn shadow_visibility(slot: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
     let isize = vec2<i32>(size);
     if sc.z >= 1.0 || any(sc.xy < vec2<f32>(0.0)) || any(sc.xy >= vec2<f32>(size)) {
         return 1.0;
@@ -93,52 +121,98 @@ fn shadow_visibility(sc: vec3<f32>, slope: vec2<f32>, size: vec2<u32>) -> f32 {
         for (var dx = -r; dx <= r; dx++) {
             let t = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), isize - vec2<i32>(1));
             // The receiver plane's depth at the tap's centre.
-            let receiver = sc.z + dot(slope, vec2<f32>(t) + vec2<f32>(0.5) - sc.xy) - params.shadow_bias;
-            lit += select(0.0, 1.0, receiver <= textureLoad(shadow_map, t, 0));
+            let receiver = sc.z + dot(slope, vec2<f32>(t) + vec2<f32>(0.5) - sc.xy) - bias;
+            lit += select(0.0, 1.0, receiver <= shadow_depth(slot, t));
         }
     }
     let taps = f32((2 * r + 1) * (2 * r + 1));
     return lit / taps;
 }
 
+// Visibility of `light` (which has a shadow-map slot) at world point p with geometric normal ng
+// and screen-space position differentials dpx, dpy.
+fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, dpy: vec3<f32>) -> f32 {
+    let slot = light.shadow_map;
+    let m = frame.shadow_view_proj[slot];
+    let size = textureDimensions(shadow_map);
+    let fsize = vec2<f32>(size);
+    // World size of one texel at p: the projection maps 2 NDC units onto the map's width; the
+    // length of the matrix's first row is clip units per world unit (divided by w in NDC).
+    let c0 = m * vec4<f32>(p, 1.0);
+    let texel_world = 2.0 * c0.w / (length(vec3<f32>(m[0].x, m[1].x, m[2].x)) * fsize.x);
+    let q = p + ng * (params.normal_offset * texel_world);
+    let c = m * vec4<f32>(q, 1.0);
+    let sc = shadow_coord(c, fsize);
+    let dsx = shadow_coord_delta(c, m * vec4<f32>(dpx, 0.0), fsize);
+    let dsy = shadow_coord_delta(c, m * vec4<f32>(dpy, 0.0), fsize);
+    // Receiver-plane depth slope: solve [dsx.xy dsy.xy]^T g = (dsx.z, dsy.z).
+    let det = dsx.x * dsy.y - dsx.y * dsy.x;
+    var slope = vec2<f32>(0.0);
+    if abs(det) > 1e-12 {
+        slope = vec2<f32>(dsy.y * dsx.z - dsx.y * dsy.z, dsx.x * dsy.z - dsy.x * dsx.z) / det;
+        slope = clamp(slope, vec2<f32>(-MAX_DEPTH_SLOPE), vec2<f32>(MAX_DEPTH_SLOPE));
+    }
+    // The bias as a world distance towards the light, carried into depth.
+    let towards = light_sample(light, q).l * (params.shadow_bias * light.shadow_depth_range);
+    let bias = sc.z - shadow_coord(m * vec4<f32>(q + towards, 1.0), fsize).z;
+    return shadow_visibility(slot, sc, slope, bias, size);
+}
+
+// Material inputs and facing are read as the raster G-buffer reads them
+// (deferred/deferred.wgsl, common/material_inputs.wgsl): both sides drawn, back faces of
+// single-sided materials discarded, those of double-sided ones with reversed normals.
 @fragment
-fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    if !material_alpha_visible(scene_instances[in.instance].material, in.uv) {
+fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
+    let inst = scene_instances[in.instance];
+    let material = scene_materials[inst.material];
+    let front = raster_front_face(front_facing, inst.model);
+    if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
         discard;
     }
-    let material = scene_materials[scene_instances[in.instance].material];
-    let tex = sample_scene_texture(material.base_texture, in.uv);
-    let albedo = material.base_color.rgb * tex.rgb;
-    let n = normalize(in.world_normal);
-    let l = frame.light_dir.xyz;
-
-    // Shadow-map coordinates and their screen derivatives, in uniform control flow. The
-    // geometric normal (from the interpolated position) decides the offset direction, so
-    // smooth shading normals do not push points into neighbouring geometry.
-    let size = textureDimensions(shadow_map);
-    let dpx = dpdx(in.world_pos);
-    let dpy = dpdy(in.world_pos);
-    var ng = cross(dpy, dpx);
-    ng = select(n, normalize(ng) * sign(dot(ng, n)), dot(ng, ng) > 0.0);
-    let sc = shadow_coord(in.world_pos + ng * (params.normal_offset * shadow_texel_world(size)), size);
-    let dsx = dpdx(sc);
-    let dsy = dpdy(sc);
-
-    let ndl = dot(n, l);
-    var visibility = 1.0;
-    if params.shadows != 0u && ndl > 0.0 {
-        // Receiver-plane depth slope: solve [dsx.xy dsy.xy]^T g = (dsx.z, dsy.z).
-        let det = dsx.x * dsy.y - dsx.y * dsy.x;
-        var slope = vec2<f32>(0.0);
-        if abs(det) > 1e-12 {
-            slope = vec2<f32>(dsy.y * dsx.z - dsx.y * dsy.z, dsx.x * dsy.z - dsy.x * dsx.z) / det;
-            slope = clamp(slope, vec2<f32>(-MAX_DEPTH_SLOPE), vec2<f32>(MAX_DEPTH_SLOPE));
-        }
-        visibility = shadow_visibility(sc, slope, size);
+    if !material_alpha_visible(inst.material, in.uv) {
+        discard;
+    }
+    // Derivatives before any non-uniform branch (world-space differentials of the object-space
+    // position: the normal map's frame, the face normal and the shadow maps' receiver plane).
+    let dp1 = (inst.model * vec4<f32>(dpdx(in.local), 0.0)).xyz;
+    let dp2 = (inst.model * vec4<f32>(dpdy(in.local), 0.0)).xyz;
+    let duv1 = dpdx(in.uv);
+    let duv2 = dpdy(in.uv);
+    let face = cross(dpdx(in.local), dpdy(in.local));
+    let base = sample_scene_texture(material.base_texture, in.uv);
+    let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
+    let emission = sample_scene_texture(material.emissive_texture, in.uv).rgb;
+    let occlusion = sample_scene_texture(material.occlusion_texture, in.uv).r;
+    let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
+    var n = normalize(in.world_normal);
+    if material.normal_texture != 0u {
+        n = apply_normal_map(n, dp1, dp2, duv1, duv2, map, material.normal_scale);
+    }
+    let side = select(-1.0, 1.0, front);
+    // The geometric normal decides the shadow offset direction, so smooth shading normals do
+    // not push points into neighbouring geometry.
+    var ng = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
+    if dot(ng, normalize(in.world_normal) * side) < 0.0 {
+        ng = -ng;
     }
 
-    let direct = max(ndl, 0.0) * visibility * frame.light_dir.w * frame.light_color.rgb;
-    let sky = mix(vec3<f32>(0.35, 0.3, 0.25), vec3<f32>(0.6, 0.75, 1.0), 0.5 + 0.5 * n.y);
-    let ambient = frame.light_color.a * sky;
-    return vec4<f32>(albedo * (direct + ambient), 1.0);
+    var s: ShadingPoint;
+    s.position = in.world_pos;
+    s.normal = n * side;
+    s.view = normalize(frame.camera_pos.xyz - in.world_pos);
+    s.albedo = material.base_color.rgb * base.rgb;
+    s.metallic = material.metallic * mr.b;
+    s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
+    s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
+    s.emissive = material.emissive * emission;
+    var direct = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i++) {
+        let light = scene_lights[i];
+        var radiance = light_radiance(s, light_sample(light, in.world_pos));
+        if params.shadows != 0u && light.shadow_map >= 0 && any(radiance > vec3<f32>(0.0)) {
+            radiance *= light_visibility(light, in.world_pos, ng, dp1, dp2);
+        }
+        direct += radiance;
+    }
+    return vec4<f32>(surface_radiance(s, direct, 1.0) + reflected_radiance(s, sky_reflection(s)), 1.0);
 }

@@ -1,7 +1,9 @@
 // Primary rays through pixel centres (the rasterizer's sample positions), closest hit, the
-// G-buffer channels of the Deferred layer from the hit (no normal maps: compute shaders have
-// no derivatives for them). Textures are sampled at the mip level of the pixel's ray cone (its
-// spread: the angle between neighbouring pixels' rays), as the rasterizer's derivatives pick.
+// G-buffer channels of the Deferred layer from the hit, every material input read as the
+// rasterizer reads it (common/surface.wgsl). Textures are sampled at the mip level of the
+// pixel's ray cone (its spread: the angle between neighbouring pixels' rays), as the
+// rasterizer's derivatives pick. Back faces of single-sided materials are culled, as the
+// rasterizer culls them: the ray goes on past them.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
@@ -21,6 +23,28 @@
 @group(0) @binding(9) var geo_normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var albedo: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(11) var material: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(12) var emissive: texture_storage_2d<rgba16float, write>;
+
+// How many culled back faces a primary ray passes before it gives up (a miss).
+const MAX_CULLED: u32 = 16u;
+
+// The closest hit that is not a back face of a single-sided material.
+fn closest_visible(ray_in: Ray) -> Hit {
+    var ray = ray_in;
+    var hit = trace_closest(ray);
+    for (var i = 0u; i < MAX_CULLED && hit.instance != NO_HIT && !hit.front_face; i++) {
+        if (scene_materials[scene_instances[hit.instance].material].flags & MATERIAL_DOUBLE_SIDED) != 0u {
+            break;
+        }
+        // Past the culled triangle: 64 ulps of its distance.
+        ray.t_min = bitcast<f32>(bitcast<u32>(hit.t) + 64u);
+        hit = trace_closest(ray);
+    }
+    if hit.instance != NO_HIT && !hit.front_face && (scene_materials[scene_instances[hit.instance].material].flags & MATERIAL_DOUBLE_SIDED) == 0u {
+        hit.instance = NO_HIT;
+    }
+    return hit;
+}
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -29,13 +53,14 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(id.xy), 3.0e38);
-    let hit = trace_closest(ray);
+    let hit = closest_visible(ray);
     if hit.instance == NO_HIT {
         textureStore(position, id.xy, vec4<f32>(0.0));
         textureStore(normal, id.xy, vec4<f32>(0.0));
         textureStore(geo_normal, id.xy, vec4<f32>(0.0));
         textureStore(albedo, id.xy, vec4<f32>(0.0));
         textureStore(material, id.xy, vec4<f32>(0.0));
+        textureStore(emissive, id.xy, vec4<f32>(0.0));
     } else {
         let s = surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t);
         textureStore(position, id.xy, vec4<f32>(s.position, 1.0));
@@ -44,6 +69,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(albedo, id.xy, vec4<f32>(s.albedo, 1.0));
         let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
         textureStore(material, id.xy, vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0));
+        textureStore(emissive, id.xy, vec4<f32>(s.emissive, s.occlusion));
     }
     trace_flush_stats();
 }

@@ -1,8 +1,8 @@
 // Reflections: closest-hit rays along the mirror direction (glossy: a cosine-power lobe whose
-// width follows the roughness), hit points shaded with the same BRDF as the resolve pass and a
-// shadow ray to the directional light; further bounces weighted by the Fresnel term. Hit
-// textures are sampled at the mip level of the pixel's ray cone, grown along the whole path
-// (camera to the first surface, then every bounce; surfaces taken as flat).
+// width follows the roughness), hit points shaded with the model of every mode
+// (common/lighting.wgsl) and a shadow ray to every light; further bounces weighted by the
+// Fresnel term. Hit textures are sampled at the mip level of the pixel's ray cone, grown along
+// the whole path (camera to the first surface, then every bounce; surfaces taken as flat).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
@@ -12,6 +12,7 @@
 //#include "common/lighting.wgsl"
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
+//#include "common/shadow_ray.wgsl"
 
 struct Params {
     bounces: u32,
@@ -33,6 +34,7 @@ struct Params {
 @group(0) @binding(10) var geo_normal: texture_2d<f32>;
 @group(0) @binding(11) var material: texture_2d<f32>;
 @group(0) @binding(12) var reflection: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(13) var<storage, read> scene_lights: array<Light>;
 
 // A direction around the mirror direction r: exact for roughness 0, a cosine-power lobe
 // (exponent 2/roughness^4 - 2, the Blinn-Phong equivalent of GGX) otherwise.
@@ -53,23 +55,26 @@ fn glossy_direction(r: vec3<f32>, roughness: f32, u: vec2<f32>) -> vec3<f32> {
     return normalize(t * (sin_t * cos(phi)) + bt * (sin_t * sin(phi)) + r * cos_t);
 }
 
-// Direct light and sky ambient at a hit, seen from direction v.
+// A hit shaded with the model of every mode (common/lighting.wgsl): every light with its own
+// shadow ray, sky ambient, emission; seen from direction v.
 fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
     let origin = offset_ray_origin(s.position, s.geo_normal);
-    let l = frame.light_dir.xyz;
-    var color = s.emissive + frame.light_color.a * sky_color(s.normal) * s.albedo * (1.0 - s.metallic);
-    if dot(s.geo_normal, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, 3.0e38)) {
-        color += brdf_light(s.normal, v, l, frame.light_color.rgb * frame.light_dir.w, s.albedo, s.metallic, s.roughness);
-    }
-    if frame.point_light.w > 0.0 {
-        let to_light = frame.point_light.xyz - origin;
-        let d = length(to_light);
-        let pl = to_light / d;
-        if dot(s.geo_normal, pl) > 0.0 && !trace_any(Ray(origin, 0.0, pl, d * 0.9999)) {
-            color += brdf_light(s.normal, v, pl, frame.point_color.rgb * frame.point_light.w / (d * d), s.albedo, s.metallic, s.roughness);
+    var sp: ShadingPoint;
+    sp.position = s.position;
+    sp.normal = s.normal;
+    sp.view = v;
+    sp.albedo = s.albedo;
+    sp.metallic = s.metallic;
+    sp.roughness = s.roughness;
+    sp.occlusion = s.occlusion;
+    sp.emissive = s.emissive;
+    var direct = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i++) {
+        if light_visible(scene_lights[i], origin, s.geo_normal) {
+            direct += light_radiance(sp, light_sample(scene_lights[i], s.position));
         }
     }
-    return color;
+    return surface_radiance(sp, direct, 1.0);
 }
 
 @compute @workgroup_size(8, 8)

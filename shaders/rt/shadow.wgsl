@@ -1,12 +1,22 @@
-// Hard shadows: any-hit rays from the offset G-buffer position to each light.
+// Hard shadows: from the offset G-buffer position one any-hit ray to every light (to its
+// position for point and spot lights, stopping just short of it; along the light for
+// directional ones), where the surface faces the light and the light reaches it. Writes the
+// shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four.
 //#include "common/frame.wgsl"
 //#include "common/ray_offset.wgsl"
+//#include "common/lighting.wgsl"
 //#include "trace/trace.wgsl"
+//#include "common/shadow_ray.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var position: texture_2d<f32>;
 @group(0) @binding(2) var geo_normal: texture_2d<f32>;
-@group(0) @binding(3) var shadow: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(3) var normal: texture_2d<f32>;
+@group(0) @binding(4) var albedo: texture_2d<f32>;
+@group(0) @binding(5) var material: texture_2d<f32>;
+@group(0) @binding(6) var<storage, read> scene_lights: array<Light>;
+@group(0) @binding(7) var shadow: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(8) var direct: texture_storage_2d<rgba16float, write>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -17,25 +27,31 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = textureLoad(position, id.xy, 0);
     if p.w == 0.0 {
         textureStore(shadow, id.xy, vec4<f32>(1.0));
+        textureStore(direct, id.xy, vec4<f32>(0.0));
         return;
     }
-    let n = normalize(textureLoad(geo_normal, id.xy, 0).xyz);
-    let origin = offset_ray_origin(p.xyz, n);
-    var sun = 0.0;
-    let l = frame.light_dir.xyz;
-    if dot(n, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, 3.0e38)) {
-        sun = 1.0;
-    }
-    var point = 0.0;
-    if frame.point_light.w > 0.0 {
-        let to_light = frame.point_light.xyz - origin;
-        let dist = length(to_light);
-        let dir = to_light / dist;
-        // Stop just short of the light: nothing behind it can shadow.
-        if dot(n, dir) > 0.0 && !trace_any(Ray(origin, 0.0, dir, dist * 0.9999)) {
-            point = 1.0;
+    let geo = normalize(textureLoad(geo_normal, id.xy, 0).xyz);
+    let m = textureLoad(material, id.xy, 0);
+    var s: ShadingPoint;
+    s.position = p.xyz;
+    s.normal = normalize(textureLoad(normal, id.xy, 0).xyz);
+    s.view = normalize(frame.camera_pos.xyz - p.xyz);
+    s.albedo = textureLoad(albedo, id.xy, 0).rgb;
+    s.metallic = m.r;
+    s.roughness = m.g;
+    let origin = offset_ray_origin(p.xyz, geo);
+    var mask = vec4<f32>(0.0);
+    var radiance = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i++) {
+        if light_visible(scene_lights[i], origin, geo) {
+            radiance += light_radiance(s, light_sample(scene_lights[i], p.xyz));
+            if i < 4u {
+                mask[i] = 1.0;
+            }
         }
     }
-    textureStore(shadow, id.xy, vec4<f32>(sun, point, 0.0, 1.0));
+    textureStore(shadow, id.xy, mask);
+    // a = 1: the direct light was computed here (the resolve's fallback has a = 0).
+    textureStore(direct, id.xy, vec4<f32>(radiance, 1.0));
     trace_flush_stats();
 }

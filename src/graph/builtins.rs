@@ -14,6 +14,9 @@ pub const SCENE_MATERIALS: &str = "scene_materials";
 pub const SCENE_VERTICES: &str = "scene_vertices";
 pub const SCENE_INDICES: &str = "scene_indices";
 pub const SCENE_MESHES: &str = "scene_meshes";
+/// The lights (`array<Light>`, `shaders/common/lighting.wgsl`): `Scene::effective_lights()`,
+/// `frame.light_count` of them, rewritten every frame.
+pub const SCENE_LIGHTS: &str = "scene_lights";
 /// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
 /// uniform buffers).
 pub const SCENE_TEXTURES_GROUP: u32 = 1;
@@ -48,6 +51,7 @@ pub fn is_builtin(name: &str) -> bool {
             | SCENE_VERTICES
             | SCENE_INDICES
             | SCENE_MESHES
+            | SCENE_LIGHTS
             | LINEAR_SAMPLER
             | NEAREST_SAMPLER
     )
@@ -68,11 +72,13 @@ pub struct SceneUsage {
     pub texture_binding_array: bool,
     /// `scene_vertices`, `scene_indices`, `scene_meshes` (geometry read in shaders).
     pub geometry_storage: bool,
+    /// `scene_lights`.
+    pub lights: bool,
 }
 
 impl SceneUsage {
     pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage
+        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights
     }
 
     /// Adds what a binding needs.
@@ -80,6 +86,7 @@ impl SceneUsage {
         match b.name.as_str() {
             SCENE_INSTANCES => self.instances = true,
             SCENE_MATERIALS => self.materials = true,
+            SCENE_LIGHTS => self.lights = true,
             SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES => self.geometry_storage = true,
             SCENE_TEXTURES => {
                 self.textures = true;
@@ -97,6 +104,7 @@ impl SceneUsage {
             (self.instances, "instances"),
             (self.materials, "materials"),
             (self.textures, "textures"),
+            (self.lights, "lights"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

@@ -108,6 +108,8 @@ pub struct PlannedPass {
     pub reads: Vec<(String, ResourceId)>,
     pub writes: Vec<(String, ResourceId)>,
     pub dispatch: Dispatch,
+    /// `SceneRaster`: whether the pipeline culls back faces (`PassDesc::cull_back_faces`).
+    pub cull_back_faces: bool,
     /// Parameter values after graph overrides.
     pub params: BTreeMap<String, (ParamDecl, ParamValue)>,
     pub location: Location,
@@ -523,6 +525,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             reads: p.reads.clone(),
             writes: p.writes.clone(),
             dispatch: pass.dispatch,
+            cull_back_faces: pass.cull_back_faces,
             params: node.params.clone(),
             location: p.location.clone(),
         });
@@ -685,6 +688,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             reads: Vec::new(),
             writes: vec!["tlas".into()],
             dispatch: Dispatch::default(),
+            cull_back_faces: true,
         }],
     };
     let params = BTreeMap::from([
@@ -1091,6 +1095,7 @@ fn check_builtin(node: &ResolvedNode, b: &reflect::ShaderBinding) -> Result<Opti
         }
         builtins::SCENE_INSTANCES => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Instance>".into()),
         builtins::SCENE_MATERIALS => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Material>".into()),
+        builtins::SCENE_LIGHTS => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> array<Light>".into()),
         builtins::SCENE_VERTICES | builtins::SCENE_INDICES | builtins::SCENE_MESHES => {
             (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read> (declared in common/scene.wgsl)".into())
         }

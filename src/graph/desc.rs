@@ -330,6 +330,10 @@ pub struct PassDesc {
     pub writes: Vec<String>,
     #[serde(default)]
     pub dispatch: Dispatch,
+    /// `SceneRaster` only: cull back faces (the default). `false` draws both sides, and the
+    /// fragment shader decides per material from `@builtin(front_facing)` (glTF `doubleSided`).
+    #[serde(default = "enabled_default")]
+    pub cull_back_faces: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]

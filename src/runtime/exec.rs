@@ -3,7 +3,7 @@
 
 use super::gpu::Gpu;
 use super::profiler::{map_read, FrameTimings, GpuTimer};
-use super::uniforms::FrameUniforms;
+use super::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
 use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
 use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::{ErrorKind, GraphError, RuntimeError};
@@ -11,7 +11,7 @@ use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
-use crate::scene::gpu::{GpuScene, SceneContent, SceneTextures};
+use crate::scene::gpu::{light_records, GpuScene, SceneContent, SceneTextures};
 use crate::scene::{Camera, Scene};
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -129,6 +129,8 @@ pub struct Executor {
     /// What the uploaded scene was made from (see [`Executor::sync_scene`]).
     scene_content: SceneContent,
     samplers: (wgpu::Sampler, wgpu::Sampler),
+    /// Whether the warning about lights without a raster shadow map was printed.
+    warned_unshadowed: bool,
 }
 
 impl Executor {
@@ -257,6 +259,7 @@ impl Executor {
             scene_sphere: (glam::Vec3::ZERO, 1.0),
             scene_content: if plan_uploads { SceneContent::of(scene) } else { SceneContent::default() },
             samplers: (linear, nearest),
+            warned_unshadowed: false,
         };
         exec.passes = exec.build_passes(gpu)?;
         if gpu.timestamps {
@@ -441,6 +444,7 @@ impl Executor {
                 builtins::SCENE_VERTICES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.vertices.as_ref())?.clone())),
                 builtins::SCENE_INDICES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.indices.as_ref())?.clone())),
                 builtins::SCENE_MESHES => buffers.push(((b.group, b.binding), self.scene_part(|s| s.meshes.as_ref())?.clone())),
+                builtins::SCENE_LIGHTS => buffers.push(((b.group, b.binding), self.scene_part(|s| s.lights.as_ref())?.clone())),
                 builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
                     SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => views.push(((b.group, b.binding), view.clone())),
                     SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => {
@@ -559,7 +563,10 @@ impl Executor {
                         compilation_options: Default::default(),
                         buffers: if scene_raster { &vertex_buffers } else { &[] },
                     },
-                    primitive: wgpu::PrimitiveState { cull_mode: if scene_raster { Some(wgpu::Face::Back) } else { None }, ..Default::default() },
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: if scene_raster && pass.cull_back_faces { Some(wgpu::Face::Back) } else { None },
+                        ..Default::default()
+                    },
                     depth_stencil: depth.map(|_| wgpu::DepthStencilState {
                         format: wgpu::TextureFormat::Depth32Float,
                         depth_write_enabled: Some(true),
@@ -631,6 +638,7 @@ impl Executor {
                     builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices.as_ref())?),
                     builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices.as_ref())?),
                     builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes.as_ref())?),
+                    builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights.as_ref())?),
                     builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
                         SceneTextures::Array { texture, view } => {
                             RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
@@ -680,33 +688,46 @@ impl Executor {
         matches!(&self.plan.resources[r].decl, ResourceDecl::Texture(t) if t.format.is_depth())
     }
 
-    fn frame_uniforms(&self, camera: &Camera, scene: &Scene) -> FrameUniforms {
+    /// Whether a kept pass draws a shadow map (a `SceneRaster` pass that writes only depth).
+    fn draws_shadow_maps(&self) -> bool {
+        self.plan.passes.iter().any(|p| p.kind == PassKind::SceneRaster && p.writes.iter().all(|(_, r)| self.is_depth(*r)))
+    }
+
+    /// The frame uniforms; writes the scene's light records when the plan reads them.
+    fn frame_uniforms(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameUniforms, RuntimeError> {
         let (w, h) = self.plan.frame_size;
         let vp = camera.view_proj(w as f32 / h as f32);
-        let l = &scene.light;
         let (center, radius) = self.scene_sphere;
-        let dir = l.direction.normalize();
-        let up = if dir.y.abs() > 0.99 { glam::Vec3::Z } else { glam::Vec3::Y };
-        let light_view = glam::Mat4::look_at_rh(center + dir * radius * 2.0, center, up);
-        let light_proj = glam::Mat4::orthographic_rh(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5);
-        let (pl, pc) = match scene.point_light {
-            Some(p) => (p.position.extend(p.intensity), p.color.extend(1.0)),
-            None => (glam::Vec4::ZERO, glam::Vec4::ZERO),
-        };
-        FrameUniforms {
+        let lights = light_records(&scene.effective_lights(), center, radius);
+        let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
+        for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
+            *slot = m.to_cols_array_2d();
+        }
+        if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights.is_some()) {
+            if !uploaded.write_lights(&gpu.queue, &lights.records) {
+                return Err(RuntimeError::Gpu("the light buffer does not match the scene's lights".into()));
+            }
+            if lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() && !self.warned_unshadowed {
+                self.warned_unshadowed = true;
+                eprintln!(
+                    "warning: lights without a shadow map in raster mode: {} of {} (point lights, and directional or spot lights after the first {SHADOW_MAP_SLOTS}); they light the scene unshadowed",
+                    lights.unshadowed_in_raster,
+                    lights.records.len()
+                );
+            }
+        }
+        Ok(FrameUniforms {
             view_proj: vp.to_cols_array_2d(),
             inv_view_proj: vp.inverse().to_cols_array_2d(),
             camera_pos: camera.position.extend(1.0).into(),
-            light_dir: dir.extend(l.intensity).into(),
-            light_color: l.color.extend(l.ambient).into(),
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
-            light_view_proj: (light_proj * light_view).to_cols_array_2d(),
-            point_light: pl.into(),
-            point_color: pc.into(),
             scene_sphere: center.extend(radius).into(),
+            shadow_view_proj,
+            ambient: scene.light.ambient,
+            light_count: lights.records.len() as u32,
+            shadow_count: lights.shadow_view_proj.len() as u32,
             frame_index: self.frame_index,
-            _pad: [0; 3],
-        }
+        })
     }
 
     /// Records and submits one frame; waits for it and returns its pass timings.
@@ -721,7 +742,8 @@ impl Executor {
         // Every frame: the scene may have changed since the last one.
         let b = scene.bounds();
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
-        gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&self.frame_uniforms(camera, scene)));
+        let uniforms = self.frame_uniforms(gpu, camera, scene)?;
+        gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
         let scope = gpu.scopes();
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         // Command buffers before `encoder`'s, in submission order (rt-pipeline passes record

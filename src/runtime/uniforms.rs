@@ -2,6 +2,9 @@
 
 use bytemuck::{Pod, Zeroable};
 
+/// Shadow-map slots of the raster mode (`shadow_map` layer: one 2048² depth texture each).
+pub const SHADOW_MAP_SLOTS: usize = 4;
+
 /// Mirrors `struct Frame` in `shaders/common/frame.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -10,22 +13,50 @@ pub struct FrameUniforms {
     pub inv_view_proj: [[f32; 4]; 4],
     /// xyz camera position, w unused.
     pub camera_pos: [f32; 4],
-    /// xyz unit direction towards the light, w intensity.
-    pub light_dir: [f32; 4],
-    /// rgb light colour, a ambient intensity.
-    pub light_color: [f32; 4],
     /// width, height, 1/width, 1/height.
     pub resolution: [f32; 4],
-    /// Orthographic view-projection of the directional light, covering the scene (shadow maps).
-    pub light_view_proj: [[f32; 4]; 4],
-    /// xyz position, w intensity (0: no point light).
-    pub point_light: [f32; 4],
-    /// rgb colour, a unused.
-    pub point_color: [f32; 4],
     /// xyz scene bounds centre, w half diagonal (ray lengths and offsets scale with it).
     pub scene_sphere: [f32; 4],
+    /// View-projection of each raster shadow-map slot (see [`LightUniforms::shadow_map`]).
+    pub shadow_view_proj: [[[f32; 4]; 4]; SHADOW_MAP_SLOTS],
+    /// Intensity of the sky's ambient light (`Scene::light.ambient`).
+    pub ambient: f32,
+    /// Number of records in `scene_lights`.
+    pub light_count: u32,
+    /// Number of shadow-map slots in use.
+    pub shadow_count: u32,
     pub frame_index: u32,
-    pub _pad: [u32; 3],
+}
+
+/// Light kinds of [`LightUniforms::kind`].
+pub const LIGHT_DIRECTIONAL: u32 = 0;
+pub const LIGHT_POINT: u32 = 1;
+pub const LIGHT_SPOT: u32 = 2;
+
+/// Mirrors `struct Light` in `shaders/common/lighting.wgsl`: one record of `scene_lights`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightUniforms {
+    /// World position (point and spot lights).
+    pub position: [f32; 3],
+    /// [`LIGHT_DIRECTIONAL`], [`LIGHT_POINT`] or [`LIGHT_SPOT`].
+    pub kind: u32,
+    /// Unit direction the light shines in (from the light towards the scene).
+    pub direction: [f32; 3],
+    /// Distance where the light's influence ends; 0: infinite.
+    pub range: f32,
+    /// Linear colour times intensity (glTF lux or candela, used as a linear scale).
+    pub radiance: [f32; 3],
+    /// Cosine of the spot cone's inner angle (full intensity inside).
+    pub cos_inner: f32,
+    /// Cosine of the spot cone's outer angle (no light outside).
+    pub cos_outer: f32,
+    /// Raster shadow-map slot (index into `Frame::shadow_view_proj`), -1: none.
+    pub shadow_map: i32,
+    /// World length of the shadow map's depth range (far - near), so a depth bias given as a
+    /// fraction of it is a world distance.
+    pub shadow_depth_range: f32,
+    pub _pad: u32,
 }
 
 /// Mirrors `struct Instance` in `shaders/common/scene.wgsl`.

@@ -8,9 +8,13 @@
 //! the built-in scenes' textures are at most 256² anyway). Too many layers, or buffers larger
 //! than the device allows, are an error with the numbers, never a panic.
 
-use super::{AlphaMode, Scene};
+use super::{AlphaMode, LightKind, PunctualLight, Scene};
 use crate::graph::builtins::SceneUsage;
-use crate::runtime::uniforms::{InstanceUniforms, MaterialUniforms, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED};
+use crate::runtime::uniforms::{
+    InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
+    MATERIAL_DOUBLE_SIDED, SHADOW_MAP_SLOTS,
+};
+use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 /// One indexed draw per instance.
@@ -59,6 +63,9 @@ pub struct GpuScene {
     /// Per mesh: first index, base vertex, index count (`scene_meshes`).
     pub meshes: Option<wgpu::Buffer>,
     pub textures: Option<SceneTextures>,
+    /// `Scene::effective_lights()` as [`LightUniforms`] (`scene_lights`), rewritten every frame
+    /// by [`GpuScene::write_lights`].
+    pub lights: Option<wgpu::Buffer>,
     pub draws: Vec<Draw>,
     /// What was uploaded.
     pub usage: SceneUsage,
@@ -86,8 +93,18 @@ impl GpuScene {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
         };
         let mut bytes = 0u64;
-        let mut out =
-            GpuScene { vertices: None, indices: None, instances: None, materials: None, meshes: None, textures: None, draws: Vec::new(), usage, bytes: 0 };
+        let mut out = GpuScene {
+            vertices: None,
+            indices: None,
+            instances: None,
+            materials: None,
+            meshes: None,
+            textures: None,
+            lights: None,
+            draws: Vec::new(),
+            usage,
+            bytes: 0,
+        };
 
         if usage.geometry || usage.geometry_storage {
             let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
@@ -174,9 +191,16 @@ impl GpuScene {
             out.materials = Some(storage_records(device, scene, "material", materials, &mut bytes)?);
         }
 
+        if usage.lights {
+            let records = vec![LightUniforms::default(); scene.effective_lights().len()];
+            out.lights = Some(storage_records(device, scene, "light", records, &mut bytes)?);
+        }
+
         if usage.textures {
             let count = scene.textures.len() as u32 + 1;
             let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures.iter().map(to_image));
+            // Element 0 (white) is colour; the scene's textures follow at index + 1.
+            let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
             out.textures = Some(if usage.texture_binding_array {
                 let allowed = limits.max_binding_array_elements_per_shader_stage;
                 check(scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
@@ -189,8 +213,9 @@ impl GpuScene {
                         img
                     };
                     let mips = img.width().max(img.height()).ilog2() + 1;
-                    let texture = create_texture(device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips);
-                    bytes += upload_mips(queue, &texture, 0, img);
+                    let encoding = if data[i] { TexelEncoding::Data } else { TexelEncoding::Colour };
+                    let texture = create_texture(device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips, encoding.format());
+                    bytes += upload_mips(queue, &texture, 0, img, encoding);
                     views.push(texture.create_view(&wgpu::TextureViewDescriptor::default()));
                     textures.push(texture);
                 }
@@ -203,14 +228,15 @@ impl GpuScene {
                     limits.max_texture_array_layers as u64,
                     "use fewer textures",
                 )?;
-                let texture = create_texture(device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS);
+                let texture = create_texture(device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS, TexelEncoding::Colour.format());
                 for (layer, img) in images.enumerate() {
+                    let encoding = if data[layer] { TexelEncoding::DataInSrgb } else { TexelEncoding::Colour };
                     let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) {
                         img
                     } else {
                         image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle)
                     };
-                    bytes += upload_mips(queue, &texture, layer as u32, img);
+                    bytes += upload_mips(queue, &texture, layer as u32, img, encoding);
                 }
                 let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
                 SceneTextures::Array { texture, view }
@@ -255,63 +281,108 @@ fn to_image(img: &super::TextureImage) -> image::RgbaImage {
     }
 }
 
-fn create_texture(device: &wgpu::Device, label: &str, width: u32, height: u32, layers: u32, mips: u32) -> wgpu::Texture {
+/// Which textures hold data rather than colour: those that only normal, metallic-roughness or
+/// occlusion slots use (glTF stores them linearly). A texture a base-colour or emissive slot
+/// also uses stays colour.
+fn data_textures(scene: &Scene) -> Vec<bool> {
+    let n = scene.textures.len();
+    let (mut colour, mut data) = (vec![false; n], vec![false; n]);
+    for m in &scene.materials {
+        for t in [m.texture, m.emissive_texture].into_iter().flatten().filter(|t| *t < n) {
+            colour[t] = true;
+        }
+        for t in [m.normal_texture, m.metallic_roughness_texture, m.occlusion_texture].into_iter().flatten().filter(|t| *t < n) {
+            data[t] = true;
+        }
+    }
+    (0..n).map(|t| data[t] && !colour[t]).collect()
+}
+
+/// How a texture's bytes are stored and filtered.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum TexelEncoding {
+    /// sRGB colour: decoded by the sampler, mips averaged in linear light.
+    Colour,
+    /// Linear data in an `Rgba8Unorm` texture: read as stored, mips averaged as stored.
+    Data,
+    /// Linear data in the sRGB texture array of the fallback path (one format for every layer):
+    /// mips averaged as stored, then each byte re-encoded so that the sampler's sRGB decode gives
+    /// the stored value back (within 0.0045: sRGB steps are coarser near 1).
+    DataInSrgb,
+}
+
+impl TexelEncoding {
+    fn format(self) -> wgpu::TextureFormat {
+        match self {
+            Self::Data => wgpu::TextureFormat::Rgba8Unorm,
+            Self::Colour | Self::DataInSrgb => wgpu::TextureFormat::Rgba8UnormSrgb,
+        }
+    }
+}
+
+fn create_texture(device: &wgpu::Device, label: &str, width: u32, height: u32, layers: u32, mips: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width, height, depth_or_array_layers: layers },
         mip_level_count: mips,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        format,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }
 
-/// Writes `base` and its mip chain (box-filtered in linear space) into `layer`; returns bytes.
-fn upload_mips(queue: &wgpu::Queue, texture: &wgpu::Texture, layer: u32, base: image::RgbaImage) -> u64 {
+/// Writes `base` and its mip chain (box-filtered in linear light for colour, as stored for
+/// data) into `layer`; returns bytes.
+fn upload_mips(queue: &wgpu::Queue, texture: &wgpu::Texture, layer: u32, base: image::RgbaImage, encoding: TexelEncoding) -> u64 {
     let mut level = base;
     let mut bytes = 0;
     for mip in 0..texture.mip_level_count() {
         if mip > 0 {
-            level = downsample_srgb(&level);
+            level = downsample(&level, encoding == TexelEncoding::Colour);
         }
-        bytes += level.as_raw().len() as u64;
+        let stored = if encoding == TexelEncoding::DataInSrgb { encode_data_as_srgb(&level) } else { level.clone() };
+        bytes += stored.as_raw().len() as u64;
         queue.write_texture(
             wgpu::TexelCopyTextureInfo { texture, mip_level: mip, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
-            level.as_raw(),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(level.width() * 4), rows_per_image: Some(level.height()) },
-            wgpu::Extent3d { width: level.width(), height: level.height(), depth_or_array_layers: 1 },
+            stored.as_raw(),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(stored.width() * 4), rows_per_image: Some(stored.height()) },
+            wgpu::Extent3d { width: stored.width(), height: stored.height(), depth_or_array_layers: 1 },
         );
     }
     bytes
 }
 
-/// Halves an sRGB image with a 2x2 box filter in linear space.
-fn downsample_srgb(img: &image::RgbaImage) -> image::RgbaImage {
-    fn to_linear(c: u8) -> f32 {
-        let c = c as f32 / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
+fn linear_to_srgb(l: f32) -> u8 {
+    (crate::util::linear_to_srgb(l as f64).clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
+/// The rgb bytes of linear data re-encoded as sRGB (alpha is never decoded).
+fn encode_data_as_srgb(img: &image::RgbaImage) -> image::RgbaImage {
+    let mut out = img.clone();
+    for p in out.pixels_mut() {
+        for c in 0..3 {
+            p[c] = linear_to_srgb(p[c] as f32 / 255.0);
         }
     }
-    fn to_srgb(l: f32) -> u8 {
-        let c = if l <= 0.0031308 { l * 12.92 } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
-        (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-    }
+    out
+}
+
+/// Halves an image with a 2x2 box filter: rgb in linear light if `srgb`, else as stored.
+fn downsample(img: &image::RgbaImage, srgb: bool) -> image::RgbaImage {
     let (w, h) = ((img.width() / 2).max(1), (img.height() / 2).max(1));
     image::RgbaImage::from_fn(w, h, |x, y| {
         let mut acc = [0f32; 4];
         for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
             let p = img.get_pixel((2 * x + dx).min(img.width() - 1), (2 * y + dy).min(img.height() - 1));
             for c in 0..3 {
-                acc[c] += to_linear(p[c]);
+                acc[c] += if srgb { crate::util::srgb_to_linear(p[c]) } else { p[c] as f32 };
             }
             acc[3] += p[3] as f32;
         }
-        image::Rgba([to_srgb(acc[0] / 4.0), to_srgb(acc[1] / 4.0), to_srgb(acc[2] / 4.0), (acc[3] / 4.0 + 0.5) as u8])
+        let rgb = |a: f32| if srgb { linear_to_srgb(a / 4.0) } else { (a / 4.0 + 0.5) as u8 };
+        image::Rgba([rgb(acc[0]), rgb(acc[1]), rgb(acc[2]), (acc[3] / 4.0 + 0.5) as u8])
     })
 }
 
@@ -344,6 +415,93 @@ impl GpuScene {
     }
 }
 
+impl GpuScene {
+    /// Rewrites the light records. Returns false if there is no light buffer or its size no
+    /// longer matches.
+    pub fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
+        let Some(buffer) = &self.lights else { return false };
+        let bytes: &[u8] = bytemuck::cast_slice(records);
+        if records.is_empty() || bytes.len() as u64 != buffer.size() {
+            return false;
+        }
+        queue.write_buffer(buffer, 0, bytes);
+        true
+    }
+}
+
+/// The GPU form of a scene's lights: one record per light and the view-projection of each
+/// raster shadow-map slot in use.
+#[derive(Debug, Clone, Default)]
+pub struct LightRecords {
+    pub records: Vec<LightUniforms>,
+    pub shadow_view_proj: Vec<Mat4>,
+    /// Lights without a shadow map in raster mode: point lights, and directional or spot
+    /// lights beyond the [`SHADOW_MAP_SLOTS`] first.
+    pub unshadowed_in_raster: usize,
+}
+
+/// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first
+/// [`SHADOW_MAP_SLOTS`] directional and spot lights get a shadow-map slot: directional, an
+/// orthographic projection along the light over the scene's sphere; spot, a perspective
+/// projection over its outer cone from its position to the far side of the sphere (or its
+/// range). Point lights get none.
+pub fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
+    let mut out = LightRecords::default();
+    for light in lights {
+        let direction = light.direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+        let (kind, range, cos_inner, cos_outer) = match light.kind {
+            LightKind::Directional => (LIGHT_DIRECTIONAL, None, 1.0, 1.0),
+            LightKind::Point { range } => (LIGHT_POINT, range, -1.0, -1.0),
+            LightKind::Spot { range, inner_cone, outer_cone } => (LIGHT_SPOT, range, inner_cone.cos(), outer_cone.cos()),
+        };
+        let shadow = (out.shadow_view_proj.len() < SHADOW_MAP_SLOTS).then(|| shadow_projection(light, direction, center, radius)).flatten();
+        let (shadow_map, shadow_depth_range) = match shadow {
+            Some((view_proj, depth_range)) => {
+                out.shadow_view_proj.push(view_proj);
+                (out.shadow_view_proj.len() as i32 - 1, depth_range)
+            }
+            None => {
+                out.unshadowed_in_raster += 1;
+                (-1, 0.0)
+            }
+        };
+        out.records.push(LightUniforms {
+            position: light.position.into(),
+            kind,
+            direction: direction.into(),
+            range: range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
+            radiance: (light.color * light.intensity).into(),
+            cos_inner,
+            cos_outer,
+            shadow_map,
+            shadow_depth_range,
+            _pad: 0,
+        });
+    }
+    out
+}
+
+/// A shadow map's view-projection and the world length of its depth range, for a light that
+/// has one.
+fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radius: f32) -> Option<(Mat4, f32)> {
+    let up = if direction.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    match light.kind {
+        LightKind::Directional => {
+            let view = Mat4::look_at_rh(center - direction * radius * 2.0, center, up);
+            Some((Mat4::orthographic_rh(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5) * view, radius * 3.0))
+        }
+        LightKind::Spot { range, outer_cone, .. } => {
+            let distance = (center - light.position).length();
+            let far = (distance + radius).min(range.unwrap_or(f32::INFINITY)).max(radius * 1e-3);
+            let near = (distance - radius).max(far * 1e-3);
+            let fov = (2.0 * outer_cone).clamp(1f32.to_radians(), 170f32.to_radians());
+            let view = Mat4::look_at_rh(light.position, light.position + direction, up);
+            Some((Mat4::perspective_rh(fov, 1.0, near, far) * view, far - near))
+        }
+        LightKind::Point { .. } => None,
+    }
+}
+
 /// What an upload depends on, split in two: everything but the instance transforms
 /// ([`SceneContent::structure`]: a change re-uploads the scene) and the transforms alone (a
 /// change rewrites the instance records in place). Meshes and materials are hashed by content;
@@ -373,6 +531,8 @@ impl SceneContent {
         structure = hash_words(structure, format!("{:?}", scene.materials).as_bytes());
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
+        // The light buffer's size (its records are rewritten every frame).
+        structure = hash_words(structure, &(scene.effective_lights().len() as u64).to_le_bytes());
         let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
         Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)) }
     }

@@ -3,6 +3,8 @@
 #![allow(dead_code)]
 
 pub mod gltf_doc;
+pub mod material_scene;
+pub mod modes;
 
 use raygraph::graph::{compile, Plan, Project};
 use std::path::{Path, PathBuf};

@@ -1,0 +1,28 @@
+//! The three modes' graphs rendered with every technique-specific effect switched off
+//! (tests/real_assets.rs, tests/mode_agreement.rs).
+
+use raygraph::accel::backend::Backend;
+use raygraph::graph::compile::compile_with;
+use raygraph::graph::desc::ParamValue;
+use raygraph::graph::Project;
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::Scene;
+
+/// One frame of the repository's `graph` (`graph/raster.ron`: the shadow map's switch
+/// `forward.shadows` off; the others: the `shadow`, `ao` and `reflection` nodes off), without
+/// texture reuse so that every channel can be read back.
+pub fn render_without_effects(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene, size: (u32, u32)) -> Executor {
+    let mut options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+    if graph.ends_with("raster.ron") {
+        options.params.insert(("forward".into(), "shadows".into()), ParamValue::Bool(false));
+    } else {
+        for node in ["shadow", "ao", "reflection"] {
+            options.enabled.insert(node.into(), false);
+        }
+    }
+    let path = super::repo().join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec
+}
