@@ -142,8 +142,7 @@ impl BatchTracer {
             let mut pass =
                 RtPass::new(device, &gpu.queue, "batch", module, "cs_main", group0.into_iter().chain(accel).collect(), crate::graph::builtins::ACCEL_GROUP)?;
             let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-            let (stats, offset, size) = cache.stats_window(0);
-            pass.bind_accel(built, stats, offset, size)?;
+            pass.bind_accel(built, &super::rt_pipeline::cache_buffers(&cache, 0))?;
             scope.finish(gpu, "creating the batch tracer")?;
             return Ok(Self { cache, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });
         }
