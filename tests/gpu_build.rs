@@ -183,7 +183,7 @@ fn an_organic_mesh_and_a_box_build_on_the_gpu() {
         mesh.vertices.push(Vertex { position: p, ..Default::default() });
     }
     mesh.indices = vec![0, 1, 2, 0, 1, 3, 0, 0, 1, 0, 1, 9];
-    let origin: Vec<_> = (0..4).map(|p| raygraph::accel::layout::TriangleOrigin { instance: 0, prim: p, mirrored: false }).collect();
+    let origin: Vec<_> = (0..4).map(|p| raygraph::accel::layout::TriangleOrigin { instance: 0, prim: p, mirrored: false, alpha: false }).collect();
     let input = merged_triangles(&mesh, &origin);
     assert_eq!(input.len(), 1, "NaN, degenerate and out-of-range triangles are left out");
 }

@@ -4,8 +4,8 @@
 // level-0 bilinear alpha at `uv` is below the cutoff; the same read as the ray tracers', so
 // every mode cuts the same texels. Usable from depth-only passes:
 //   if !material_alpha_visible(material, uv) { discard; }
-// Needs common/scene.wgsl and common/scene_textures.wgsl included, `scene_materials` and
-// `scene_textures` declared by the pass.
+// Needs common/scene.wgsl included and `scene_materials` declared by the pass
+// (`scene_textures` comes with the include).
 //#include "common/alpha_read.wgsl"
 
 fn material_alpha_visible(material: u32, uv: vec2<f32>) -> bool {

@@ -3,7 +3,7 @@
 // a scene texture at mip level 0, bilinear, repeat wrap, read texel by texel (textureLoad: no
 // sampler, and the CPU references in src/accel/alpha.rs do the same arithmetic). A texel is
 // kept when base_color.a x that alpha >= the cutoff.
-// Needs common/scene_textures.wgsl (either variant) and `scene_textures` declared.
+//#include "common/scene_textures_texels.wgsl"
 
 // Level-0 bilinear alpha of `layer` at `uv`, repeat wrap.
 fn scene_alpha_level0(layer: u32, uv: vec2<f32>) -> f32 {

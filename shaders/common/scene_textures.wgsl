@@ -1,8 +1,9 @@
 // Scene textures as one `texture_2d_array<f32>` (every texture resampled to 256x256 with a
-// mip chain): works on every adapter. Declare `var scene_textures: SceneTextures;` and
-// `var linear_sampler: sampler;`, then call `sample_scene_texture(layer, uv)`.
+// mip chain): works on every adapter. `scene_textures` is declared by the included
+// common/scene_textures_texels.wgsl; declare `var linear_sampler: sampler;`, then call
+// `sample_scene_texture(layer, uv)`.
 // Devices with texture binding arrays get common/scene_textures_bindless.wgsl instead.
-alias SceneTextures = texture_2d_array<f32>;
+//#include "common/scene_textures_texels.wgsl"
 
 fn sample_scene_texture(layer: u32, uv: vec2<f32>) -> vec4<f32> {
     return textureSample(scene_textures, linear_sampler, uv, layer);
@@ -17,14 +18,4 @@ fn sample_scene_texture_level(layer: u32, uv: vec2<f32>, lod: f32) -> vec4<f32> 
 fn scene_texture_log2_size(layer: u32) -> f32 {
     let d = vec2<f32>(textureDimensions(scene_textures));
     return 0.5 * log2(d.x * d.y);
-}
-
-// Level 0 of a layer: its size in texels, and one texel (no filtering; the alpha test reads
-// texels by hand, common/alpha_read.wgsl).
-fn scene_texture_size0(layer: u32) -> vec2<u32> {
-    return textureDimensions(scene_textures, 0);
-}
-
-fn scene_texel0(layer: u32, texel: vec2<u32>) -> vec4<f32> {
-    return textureLoad(scene_textures, texel, layer, 0);
 }

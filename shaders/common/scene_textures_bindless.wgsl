@@ -2,7 +2,7 @@ enable wgpu_binding_array;
 // Scene textures as a binding array (each texture at its own size with its own mip chain),
 // used where the device has texture binding arrays with non-uniform indexing. Same interface
 // as common/scene_textures.wgsl, which it replaces through an include substitution.
-alias SceneTextures = binding_array<texture_2d<f32>>;
+//#include "common/scene_textures_texels.wgsl"
 
 fn sample_scene_texture(layer: u32, uv: vec2<f32>) -> vec4<f32> {
     return textureSample(scene_textures[layer], linear_sampler, uv);
@@ -17,14 +17,4 @@ fn sample_scene_texture_level(layer: u32, uv: vec2<f32>, lod: f32) -> vec4<f32> 
 fn scene_texture_log2_size(layer: u32) -> f32 {
     let d = vec2<f32>(textureDimensions(scene_textures[layer]));
     return 0.5 * log2(d.x * d.y);
-}
-
-// Level 0 of a texture: its size in texels, and one texel (no filtering; the alpha test reads
-// texels by hand, common/alpha_read.wgsl).
-fn scene_texture_size0(layer: u32) -> vec2<u32> {
-    return textureDimensions(scene_textures[layer], 0);
-}
-
-fn scene_texel0(layer: u32, texel: vec2<u32>) -> vec4<f32> {
-    return textureLoad(scene_textures[layer], texel, 0);
 }

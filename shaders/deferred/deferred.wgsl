@@ -4,12 +4,12 @@
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
+//#include "common/alpha.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
 @group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(3) var linear_sampler: sampler;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -68,6 +68,9 @@ fn perturb(n: vec3<f32>, p: vec3<f32>, uv: vec2<f32>, map: vec3<f32>, scale: f32
 
 @fragment
 fn fs_main(in: VertexOut) -> GBuffer {
+    if !material_alpha_visible(scene_instances[in.instance].material, in.uv) {
+        discard;
+    }
     let material = scene_materials[scene_instances[in.instance].material];
     let base = sample_scene_texture(material.base_texture, in.uv);
     let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);

@@ -17,6 +17,7 @@
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
+//#include "common/alpha.wgsl"
 
 struct Params {
     shadow_bias: f32,
@@ -27,7 +28,6 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 @group(0) @binding(3) var linear_sampler: sampler;
 @group(0) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(5) var<uniform> params: Params;
@@ -103,6 +103,9 @@ fn shadow_visibility(sc: vec3<f32>, slope: vec2<f32>, size: vec2<u32>) -> f32 {
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    if !material_alpha_visible(scene_instances[in.instance].material, in.uv) {
+        discard;
+    }
     let material = scene_materials[scene_instances[in.instance].material];
     let tex = sample_scene_texture(material.base_texture, in.uv);
     let albedo = material.base_color.rgb * tex.rgb;

@@ -21,7 +21,6 @@
 @group(0) @binding(9) var geo_normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var albedo: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(11) var material: texture_storage_2d<rgba8unorm, write>;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {

@@ -33,7 +33,6 @@ struct Params {
 @group(0) @binding(10) var geo_normal: texture_2d<f32>;
 @group(0) @binding(11) var material: texture_2d<f32>;
 @group(0) @binding(12) var reflection: texture_storage_2d<rgba16float, write>;
-@group(1) @binding(0) var scene_textures: SceneTextures;
 
 // A direction around the mirror direction r: exact for roughness 0, a cosine-power lobe
 // (exponent 2/roughness^4 - 2, the Blinn-Phong equivalent of GGX) otherwise.

@@ -18,12 +18,11 @@
 //       not alpha-tested (nothing else is read then);
 //     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 as f32 bits,
 //       (u0, v0, u1, v1) and (u2, v2, 0, 0). Only meshes of alpha-tested instances have uvs.
-//   @group(1) @binding(0) scene_textures (common/scene_textures.wgsl, either variant), declared
-//     here: a trace pass does not declare it itself.
-//#include "common/scene_textures.wgsl"
+//   @group(1) @binding(0) scene_textures, declared by common/scene_textures_texels.wgsl
+//     (either variant, which common/scene_textures.wgsl includes), so a trace pass that
+//     reads textures itself shares the declaration.
 //#include "common/alpha_read.wgsl"
 
-@group(1) @binding(0) var scene_textures: SceneTextures;
 @group(2) @binding(15) var<storage, read> accel_alpha: array<vec4<u32>>;
 
 const TRACE_ALPHA_OPAQUE: u32 = 0xffffffffu;

@@ -12,7 +12,11 @@
 // Back-face culling (TRACE_CULL_BACK_FACES) is a per-ray value tested only when a triangle
 // test has accepted a hit (trace_back_facing), so rays without it pay one untaken branch per
 // accepted hit and nothing per node or triangle.
+// Alpha test (trace/alpha.wgsl): also only on an accepted hit, when the instance's flags
+// (two-level) or the triangle's (merged layout) say it is alpha-tested; both words come with
+// what the traversal already loads, so opaque geometry pays one untaken branch per accepted hit.
 //#include "trace/common.wgsl"
+//#include "trace/alpha.wgsl"
 
 struct AccelNode {
     min: vec3<f32>,
@@ -26,17 +30,20 @@ struct AccelTriangle {
     v0: vec3<f32>,
     prim: u32,
     v1: vec3<f32>,
-    // Merged layout only (instance_id == MERGED_INSTANCE): the triangle's scene instance, and
-    // bit 0 set where that instance's transform mirrors.
+    // Merged layout only (instance_id == MERGED_INSTANCE): the triangle's scene instance;
+    // `flags` bit 0 set where that instance's transform mirrors, TRI_ALPHA where it is
+    // alpha-tested.
     instance: u32,
     v2: vec3<f32>,
     flags: u32,
 }
 
 const MERGED_INSTANCE: u32 = 0xfffffffeu;
+const TRI_ALPHA: u32 = 2u;
+const INSTANCE_ALPHA: u32 = 1u;
 
 // What the traversal reads of an instance (112 bytes in the buffer: the rows of the 3x4
-// world-to-object and object-to-world matrices, then blas_root, instance_id, mask, padding).
+// world-to-object and object-to-world matrices, then blas_root, instance_id, mask, flags).
 struct AccelInstance {
     w2o0: vec4<f32>,
     w2o1: vec4<f32>,
@@ -44,6 +51,8 @@ struct AccelInstance {
     blas_root: u32,
     instance_id: u32,
     mask: u32,
+    // INSTANCE_ALPHA: the instance is alpha-tested (two-level layout).
+    flags: u32,
 }
 
 // Every array is read in whole 16-byte words: the driver does not merge the loads of a
@@ -61,7 +70,7 @@ fn trace_tlas_node(i: u32) -> AccelNode {
 
 fn trace_instance(i: u32) -> AccelInstance {
     let ids = bitcast<vec4<u32>>(accel_instances[7u * i + 6u]);
-    return AccelInstance(accel_instances[7u * i], accel_instances[7u * i + 1u], accel_instances[7u * i + 2u], ids.x, ids.y, ids.z);
+    return AccelInstance(accel_instances[7u * i], accel_instances[7u * i + 1u], accel_instances[7u * i + 2u], ids.x, ids.y, ids.z, ids.w);
 }
 
 fn trace_blas_node(i: u32) -> AccelNode {
@@ -274,8 +283,10 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
 
 // Traverses one BLAS on top of the TLAS entries already on `trace_stack`. Returns the index of the closest (or, for any-hit, the first) triangle hit, NO_HIT if none;
 // `best` carries t and barycentrics in and out; `sp` is back where it was on return.
-// `cull`: back faces are passed through (TRACE_CULL_BACK_FACES).
-fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, cull: bool, sp: ptr<function, u32>) -> u32 {
+// `cull`: back faces are passed through (TRACE_CULL_BACK_FACES). `alpha_instance`: the scene
+// instance if the whole instance is alpha-tested, else NO_HIT (merged triangles carry TRI_ALPHA
+// and their instance themselves); hits the alpha test rejects are passed through.
+fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, cull: bool, alpha_instance: u32, sp: ptr<function, u32>) -> u32 {
     let base = *sp;
     var desc = trace_descriptor(trace_blas_node(root));
     var found = NO_HIT;
@@ -287,6 +298,11 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                 let tri = trace_tri(i);
                 let h = trace_triangle(r, tri, t_min, (*best).t);
                 if h.t >= 0.0 && !(cull && trace_back_facing(r, tri)) {
+                    let tri_alpha = (tri.flags & TRI_ALPHA) != 0u;
+                    if (alpha_instance != NO_HIT || tri_alpha)
+                        && !trace_alpha_visible(select(alpha_instance, tri.instance, tri_alpha), tri.prim, vec2<f32>(h.u, h.v)) {
+                        continue;
+                    }
                     *best = h;
                     found = i;
                     if any_hit {
@@ -372,7 +388,8 @@ fn trace_impl(ray: Ray, any_hit: bool, cull: bool) -> TraceResult {
                     d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
                     r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
                 }
-                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, cull, &sp);
+                let alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, cull, alpha_instance, &sp);
                 if tri != NO_HIT {
                     hit_anything = true;
                     if any_hit {

@@ -1,15 +1,20 @@
 // Back-end `ray-query`: wgpu's EXPERIMENTAL_RAY_QUERY (a BLAS per mesh, a TLAS of instances
 // whose custom data is the scene instance index). Shadow and AO rays set
-// TERMINATE_ON_FIRST_HIT, the paper's shadow-ray flag. Geometry is built opaque. The trace
-// interface's TRACE_CULL_BACK_FACES is the driver's RAY_FLAG_CULL_BACK_FACING (facing decided
-// in object space, as the compute back-end does).
+// TERMINATE_ON_FIRST_HIT, the paper's shadow-ray flag. The trace interface's
+// TRACE_CULL_BACK_FACES is the driver's RAY_FLAG_CULL_BACK_FACING (facing decided in object
+// space, as the compute back-end does).
+// Alpha test: meshes used by an alpha-tested instance are built without the OPAQUE geometry
+// flag (src/accel/cache.rs), every other mesh opaque, so only their hits come back as
+// candidates; the candidate loop confirms those trace_alpha_visible keeps (it keeps opaque
+// instances' hits at once, a mesh may be used by both kinds). With TERMINATE_ON_FIRST_HIT the
+// first confirmed (visible) hit ends an any-hit ray.
 enable wgpu_ray_query;
 //#include "trace/common.wgsl"
+//#include "trace/alpha.wgsl"
 
 @group(2) @binding(0) var accel_tlas: acceleration_structure;
 @group(2) @binding(1) var<storage, read_write> accel_stats: array<atomic<u32>>;
 
-const TRACE_FLAG_FORCE_OPAQUE: u32 = 1u;
 const TRACE_FLAG_TERMINATE_ON_FIRST_HIT: u32 = 4u;
 
 fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
@@ -19,9 +24,16 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     }
     trace_count_closest++;
     var rq: ray_query;
-    let ray_flags = TRACE_FLAG_FORCE_OPAQUE | (flags & TRACE_CULL_BACK_FACES);
+    let ray_flags = flags & TRACE_CULL_BACK_FACES;
     rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
-    rayQueryProceed(&rq);
+    // The candidate loop (naga takes a ray query only as a local variable, so it is written
+    // out in both entry points): confirm the candidates the alpha test keeps.
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if trace_alpha_visible(c.instance_custom_data, c.primitive_index, c.barycentrics) {
+            rayQueryConfirmIntersection(&rq);
+        }
+    }
     let x = rayQueryGetCommittedIntersection(&rq);
     if x.kind == RAY_QUERY_INTERSECTION_NONE {
         return trace_miss();
@@ -37,9 +49,16 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
     }
     trace_count_any++;
     var rq: ray_query;
-    let ray_flags = TRACE_FLAG_FORCE_OPAQUE | TRACE_FLAG_TERMINATE_ON_FIRST_HIT | (flags & TRACE_CULL_BACK_FACES);
+    let ray_flags = TRACE_FLAG_TERMINATE_ON_FIRST_HIT | (flags & TRACE_CULL_BACK_FACES);
     rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
-    rayQueryProceed(&rq);
+    // The candidate loop (naga takes a ray query only as a local variable, so it is written
+    // out in both entry points): confirm the candidates the alpha test keeps.
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if trace_alpha_visible(c.instance_custom_data, c.primitive_index, c.barycentrics) {
+            rayQueryConfirmIntersection(&rq);
+        }
+    }
     let hit = rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE;
     if hit {
         trace_count_hits++;

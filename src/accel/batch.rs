@@ -1,7 +1,8 @@
 //! Tracing a list of rays through a back-end outside any graph: the harness that tests compare
 //! with the f64 reference, and that benches use for raw traversal throughput. It compiles
 //! `shaders/batch/batch.wgsl` with the back-end's trace module, exactly as a graph's trace pass
-//! would be.
+//! would be. The trace module's alpha test reads the scene's textures (`scene_textures`, group
+//! 1), which the tracer uploads when the module declares them.
 
 use super::backend::Backend;
 use super::cache::{AccelCache, AccelSettings, BuildReport, RayStats};
@@ -52,6 +53,8 @@ struct RawResult {
 /// A back-end with a scene's acceleration structure built, ready to trace batches.
 pub struct BatchTracer {
     cache: AccelCache,
+    /// The scene's textures, when the trace module binds them (kept alive for the bind groups).
+    _textures: Option<crate::scene::gpu::GpuScene>,
     tracer: Tracer,
     timer: Option<crate::runtime::profiler::GpuTimer>,
     /// What building the scene's acceleration structure did.
@@ -63,7 +66,7 @@ pub struct BatchTracer {
 /// How the batch is traced.
 enum Tracer {
     /// A compute pipeline (`compute`, `ray-query`).
-    Compute { pipeline: wgpu::ComputePipeline, layout0: wgpu::BindGroupLayout, accel_group: wgpu::BindGroup },
+    Compute { pipeline: wgpu::ComputePipeline, layout0: wgpu::BindGroupLayout, texture_group: wgpu::BindGroup, accel_group: wgpu::BindGroup },
     /// The rt-pipeline back-end's ray-tracing pipeline; the batch's buffers are bound per
     /// batch ([`RtPass::set_group`]).
     RayTracing(std::sync::Mutex<RtPass>),
@@ -84,6 +87,33 @@ fn rt_group0(params: &wgpu::Buffer, rays: &wgpu::Buffer, results: &wgpu::Buffer)
         RtBinding { group: 0, entry: entry(1, storage(true)), resource: buffer(rays, wgpu::BufferUses::STORAGE_READ_ONLY) },
         RtBinding { group: 0, entry: entry(2, storage(false)), resource: buffer(results, wgpu::BufferUses::STORAGE_READ_WRITE) },
     ]
+}
+
+/// The scene's textures for the trace module's `scene_textures` (group 1), if it declares it:
+/// the upload, the layout entry and the resource.
+fn scene_textures(
+    gpu: &Gpu,
+    scene: &Scene,
+    info: &reflect::ShaderInfo,
+) -> Result<Option<(crate::scene::gpu::GpuScene, wgpu::BindGroupLayoutEntry, RtResource)>, RuntimeError> {
+    use crate::scene::gpu::{GpuScene, SceneTextures};
+    let Some(b) = info.bindings.iter().find(|b| b.name == crate::graph::builtins::SCENE_TEXTURES) else { return Ok(None) };
+    let array = b.kind == reflect::BindingKind::TextureBindingArray;
+    let usage = crate::graph::builtins::SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
+    let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, scene, usage)?;
+    let textures = uploaded.textures.as_ref().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
+    let ty = wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+        view_dimension: if array { wgpu::TextureViewDimension::D2 } else { wgpu::TextureViewDimension::D2Array },
+        multisampled: false,
+    };
+    let count = if array { std::num::NonZeroU32::new(textures.count()) } else { None };
+    let entry = wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count };
+    let resource = match textures {
+        SceneTextures::Array { texture, view } => RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE },
+        SceneTextures::Separate { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
+    };
+    Ok(Some((uploaded, entry, resource)))
 }
 
 /// Workgroup size of `batch.wgsl`.
@@ -118,6 +148,7 @@ impl BatchTracer {
 
         let scope = gpu.scopes();
         let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(device, &gpu.queue, 1));
+        let textures = scene_textures(gpu, scene, &info)?;
         if let Some(module) = &info.ray_tracing {
             let placeholder =
                 |usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch placeholder"), size: 64, usage, mapped_at_creation: false });
@@ -139,12 +170,18 @@ impl BatchTracer {
                     resource: RtResource::Accel(b.name.clone()),
                 }
             });
-            let mut pass =
-                RtPass::new(device, &gpu.queue, "batch", module, "cs_main", group0.into_iter().chain(accel).collect(), crate::graph::builtins::ACCEL_GROUP)?;
+            let texture_binding = textures.as_ref().map(|(_, entry, resource)| RtBinding {
+                group: crate::graph::builtins::SCENE_TEXTURES_GROUP,
+                entry: *entry,
+                resource: resource.clone(),
+            });
+            let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
+            let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", bindings, crate::graph::builtins::ACCEL_GROUP)?;
             let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
             pass.bind_accel(built, &super::rt_pipeline::cache_buffers(&cache, 0))?;
             scope.finish(gpu, "creating the batch tracer")?;
-            return Ok(Self { cache, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });
+            let _textures = textures.map(|t| t.0);
+            return Ok(Self { cache, _textures, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });
         }
         let storage =
             |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
@@ -157,7 +194,23 @@ impl BatchTracer {
                 entry(2, storage(false)),
             ],
         });
-        let empty = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch empty"), entries: &[] });
+        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("batch textures"),
+            entries: textures.as_ref().map(|t| std::slice::from_ref(&t.1)).unwrap_or_default(),
+        });
+        let texture_views: Vec<&wgpu::TextureView> = match textures.as_ref().map(|t| &t.2) {
+            Some(RtResource::Textures(list)) => list.iter().map(|(_, v)| v).collect(),
+            Some(RtResource::Texture { view, .. }) => vec![view],
+            _ => Vec::new(),
+        };
+        let texture_entries: Vec<wgpu::BindGroupEntry> = match (textures.as_ref(), texture_views.as_slice()) {
+            (Some((_, e, RtResource::Textures(_))), views) => {
+                vec![wgpu::BindGroupEntry { binding: e.binding, resource: wgpu::BindingResource::TextureViewArray(views) }]
+            }
+            (Some((_, e, _)), [view]) => vec![wgpu::BindGroupEntry { binding: e.binding, resource: wgpu::BindingResource::TextureView(view) }],
+            _ => Vec::new(),
+        };
+        let texture_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch textures"), layout: &layout1, entries: &texture_entries });
         let accel_bindings: Vec<&reflect::ShaderBinding> = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).collect();
         let accel_entries: Vec<wgpu::BindGroupLayoutEntry> = accel_bindings
             .iter()
@@ -179,7 +232,7 @@ impl BatchTracer {
         let accel_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch accel"), layout: &layout2, entries: &bg_entries });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("batch"),
-            bind_group_layouts: &[Some(&layout0), Some(&empty), Some(&layout2)],
+            bind_group_layouts: &[Some(&layout0), Some(&layout1), Some(&layout2)],
             immediate_size: 0,
         });
         let module = gpu.shader_module("batch.wgsl", &info.source.text);
@@ -192,7 +245,14 @@ impl BatchTracer {
             cache: None,
         });
         scope.finish(gpu, "creating the batch tracer")?;
-        Ok(Self { cache, tracer: Tracer::Compute { pipeline, layout0, accel_group }, timer, build, build_wall_ms })
+        Ok(Self {
+            cache,
+            _textures: textures.map(|t| t.0),
+            tracer: Tracer::Compute { pipeline, layout0, texture_group, accel_group },
+            timer,
+            build,
+            build_wall_ms,
+        })
     }
 
     /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.
@@ -263,8 +323,8 @@ impl BatchTracer {
         let mut command_buffers = Vec::new();
         let mut encoder = device.create_command_encoder(&Default::default());
         self.cache.clear_stats(&mut encoder);
-        let (pipeline, layout0, accel_group) = match &self.tracer {
-            Tracer::Compute { pipeline, layout0, accel_group } => (pipeline, layout0, accel_group),
+        let (pipeline, layout0, texture_group, accel_group) = match &self.tracer {
+            Tracer::Compute { pipeline, layout0, texture_group, accel_group } => (pipeline, layout0, texture_group, accel_group),
             Tracer::RayTracing(rt) => {
                 let mut rt = rt.lock().map_err(|_| RuntimeError::Gpu("the batch tracer's pipeline is poisoned".into()))?;
                 rt.set_group(0, rt_group0(&uniform, &ray_buf, &results))?;
@@ -293,8 +353,6 @@ impl BatchTracer {
                 wgpu::BindGroupEntry { binding: 2, resource: results.as_entire_binding() },
             ],
         });
-        let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &[] });
-        let empty = device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &empty_layout, entries: &[] });
         {
             let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("batch"),
@@ -302,7 +360,7 @@ impl BatchTracer {
             });
             cp.set_pipeline(pipeline);
             cp.set_bind_group(0, &bg0, &[]);
-            cp.set_bind_group(1, &empty, &[]);
+            cp.set_bind_group(1, texture_group, &[]);
             cp.set_bind_group(2, accel_group, &[]);
             cp.dispatch_workgroups(gx, gy, 1);
         }

@@ -10,7 +10,10 @@
 //!
 //! Each update returns a [`BuildReport`]: what was built and its CPU time (GPU time comes from
 //! the `Accel` pass's timestamps). The cache also owns the `accel_stats` ray counters that the
-//! trace module adds to.
+//! trace module adds to, and the `accel_alpha` buffer of the alpha test
+//! ([`crate::accel::alpha::gpu_words`], rewritten when it changes; whether an instance is
+//! alpha-tested is part of the keys: it sets the compute layouts' flags and the driver
+//! back-ends' opaque geometry flag).
 
 use super::backend::Backend;
 use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas, TriangleStatus};
@@ -132,8 +135,8 @@ pub fn mesh_hash(mesh: &Mesh) -> u64 {
     hash_words(hash_words(1, bytemuck::cast_slice(&positions)), bytemuck::cast_slice(&mesh.indices))
 }
 
-fn instance_hash(inst: &crate::scene::Instance) -> u64 {
-    hash_words(inst.mesh as u64, bytemuck::cast_slice(&inst.transform.to_cols_array()))
+fn instance_hash(inst: &crate::scene::Instance, alpha_tested: bool) -> u64 {
+    hash_words(inst.mesh as u64 | (alpha_tested as u64) << 63, bytemuck::cast_slice(&inst.transform.to_cols_array()))
 }
 
 /// One BLAS unit: a mesh (de-duplication on) or an instance (off).
@@ -228,6 +231,9 @@ pub struct AccelCache {
     gpu_builder: Option<GpuBlasBuilder>,
     /// The rt-pipeline back-end's build command buffer, until taken ([`AccelCache::take_pending`]).
     pending: Option<wgpu::CommandBuffer>,
+    /// `accel_alpha` and the words last written to it.
+    alpha: wgpu::Buffer,
+    alpha_words: Vec<[u32; 4]>,
 }
 
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).
@@ -285,7 +291,39 @@ impl AccelCache {
             merged_builder: MergedBuilder::Cpu,
             gpu_builder: None,
             pending: None,
+            alpha: storage(device, "accel alpha", 16),
+            alpha_words: Vec::new(),
         }
+    }
+
+    /// The `accel_alpha` buffer (`shaders/trace/alpha.wgsl`), for every back-end.
+    pub fn alpha_buffer(&self) -> &wgpu::Buffer {
+        &self.alpha
+    }
+
+    /// Rewrites `accel_alpha` if the scene's alpha data changed (a new buffer, and a new
+    /// generation, when it outgrows the old one).
+    fn update_alpha(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<(), RuntimeError> {
+        let words = super::alpha::gpu_words(scene);
+        if words == self.alpha_words {
+            return Ok(());
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&words);
+        let max = device.limits().max_storage_buffer_binding_size;
+        if bytes.len() as u64 > max {
+            return Err(RuntimeError::Gpu(format!(
+                "scene `{}`: the alpha test's uv data takes {} bytes in one storage binding, the device allows {max}\n  help: use fewer alpha-tested meshes",
+                scene.name,
+                bytes.len()
+            )));
+        }
+        if bytes.len() as u64 > self.alpha.size() {
+            self.alpha = storage(device, "accel alpha", (bytes.len() as u64).next_power_of_two());
+            self.generation += 1;
+        }
+        queue.write_buffer(&self.alpha, 0, bytes);
+        self.alpha_words = words;
+        Ok(())
     }
 
     /// Chooses who builds the merged layout's BLAS (the executor picks
@@ -326,15 +364,25 @@ impl AccelCache {
         scene: &Scene,
     ) -> Result<BuildReport, RuntimeError> {
         let start = Instant::now();
+        self.update_alpha(device, queue, scene)?;
+        // Whether a unit holds alpha-tested geometry is part of its key (the driver back-ends
+        // build it non-opaque; the merged layout's triangles carry the flag).
+        let tested_meshes = super::alpha::tested_meshes(scene);
+        let tested: Vec<bool> = (0..scene.instances.len()).map(|i| super::alpha::instance_tested(scene, i)).collect();
         let mesh_hashes: Vec<u64> = scene.meshes.par_iter().map(mesh_hash).collect();
-        let instances: Vec<u64> = scene.instances.iter().map(instance_hash).collect();
+        let instances: Vec<u64> = scene.instances.iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
         let units: Vec<UnitKey> = if self.merge {
             // One unit, the whole scene: any change rebuilds it.
             vec![UnitKey { mesh: 0, hash: hash_words(hash_words(2, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&instances)) }]
         } else if self.dedup {
-            mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash }).collect()
+            mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash: hash ^ tested_meshes[mesh] as u64 }).collect()
         } else {
-            scene.instances.iter().map(|i| UnitKey { mesh: i.mesh, hash: mesh_hashes.get(i.mesh).copied().unwrap_or(0) }).collect()
+            scene
+                .instances
+                .iter()
+                .zip(&tested)
+                .map(|(i, &t)| UnitKey { mesh: i.mesh, hash: mesh_hashes.get(i.mesh).copied().unwrap_or(0) ^ t as u64 })
+                .collect()
         };
         if let Some(bad) = scene.instances.iter().position(|i| i.mesh >= scene.meshes.len()) {
             return Err(RuntimeError::Gpu(format!(
@@ -355,7 +403,11 @@ impl AccelCache {
             return Ok(report);
         }
         // The merged layout when only instances moved: a GPU refit, no build.
-        let meshes_hash = hash_words(hash_words(3, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&self.instance_meshes_of(scene)));
+        let tested_words: Vec<u64> = tested.iter().map(|&t| t as u64).collect();
+        let meshes_hash = hash_words(
+            hash_words(hash_words(3, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
+            bytemuck::cast_slice(&tested_words),
+        );
         let refit = match &self.state {
             State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
             _ => false,
@@ -367,7 +419,7 @@ impl AccelCache {
         match self.backend {
             Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, meshes_hash, refit, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
-            Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &mut report)?,
+            Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &mut report)?,
             Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
         }
         self.units = units;
@@ -603,6 +655,7 @@ impl AccelCache {
         scene: &Scene,
         units: &[UnitKey],
         changed: &[usize],
+        tested: &[bool],
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
@@ -623,8 +676,12 @@ impl AccelCache {
         };
         blases.truncate(units.len());
         blases.resize_with(units.len(), || None);
+        // A unit is non-opaque when an alpha-tested instance uses it (de-duplication on: any
+        // instance of the mesh).
+        let tested_meshes = super::alpha::tested_meshes(scene);
         for &u in changed {
-            blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u);
+            let alpha = if self.dedup { tested_meshes[units[u].mesh] } else { tested[u] };
+            blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u, !alpha);
         }
         let needed = (scene.instances.len() as u32).max(1);
         let (mut tlas, capacity) = match old_tlas {
@@ -746,6 +803,7 @@ impl AccelCache {
             (State::Compute(c), "accel_blas_nodes") => Some(c.buffers[2].as_entire_binding()),
             (State::Compute(c), "accel_triangles") => Some(c.buffers[3].as_entire_binding()),
             (State::RayQuery(r), "accel_tlas") => Some(r.tlas.as_binding()),
+            (_, "accel_alpha") => Some(self.alpha.as_entire_binding()),
             _ => None,
         }
     }
@@ -835,8 +893,9 @@ pub(super) fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)>
     Some((positions, indices))
 }
 
-/// A wgpu BLAS over a mesh's triangles ([`driver_triangles`]). `None` if no triangle is valid.
-fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
+/// A wgpu BLAS over a mesh's triangles ([`driver_triangles`]), opaque or not (alpha-tested:
+/// its hits come to the shader's candidate loop). `None` if no triangle is valid.
+fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Option<RqBlas> {
     use wgpu::util::DeviceExt;
     let (positions, indices) = driver_triangles(mesh)?;
     let usage = wgpu::BufferUsages::BLAS_INPUT;
@@ -849,7 +908,7 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize) -> Option<RqBlas> {
         vertex_count: positions.len() as u32,
         index_format: Some(wgpu::IndexFormat::Uint32),
         index_count: Some(indices.len() as u32),
-        flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+        flags: if opaque { wgpu::AccelerationStructureGeometryFlags::OPAQUE } else { wgpu::AccelerationStructureGeometryFlags::empty() },
     };
     let blas = device.create_blas(
         &wgpu::CreateBlasDescriptor {

@@ -35,10 +35,14 @@
 //! 8. With [`TraceFlags::CULL_BACK_FACES`], a hit the triangle test accepted is dropped when
 //!    it is on the triangle's back face ([`back_facing`], the WGSL's `trace_back_facing`), and
 //!    the traversal goes on as if the triangle were not there.
+//! 9. A hit accepted so far on an alpha-tested triangle (the instance's [`INSTANCE_ALPHA`], or
+//!    in a merged layout the triangle's [`TRI_ALPHA`]) runs the alpha test
+//!    ([`crate::accel::alpha::visible`], given the scene with [`CpuTraverser::with_scene`]); a
+//!    rejected hit is dropped the same way. Without a scene no alpha test runs.
 //!
 //! Everything is plain f32 arithmetic in a fixed order, with no fused multiply-add.
 
-use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, MERGED_INSTANCE, TRAVERSAL_STACK_SIZE, TRI_MIRRORED};
+use super::layout::{GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, INSTANCE_ALPHA, MERGED_INSTANCE, TRAVERSAL_STACK_SIZE, TRI_ALPHA, TRI_MIRRORED};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -344,11 +348,18 @@ impl TraversalCounts {
 #[derive(Debug, Clone, Copy)]
 pub struct CpuTraverser<'a> {
     pub accel: &'a GpuAccel,
+    /// The scene `accel` was built from, for the alpha test (none: no alpha test).
+    pub scene: Option<&'a crate::scene::Scene>,
 }
 
 impl<'a> CpuTraverser<'a> {
     pub fn new(accel: &'a GpuAccel) -> Self {
-        Self { accel }
+        Self { accel, scene: None }
+    }
+
+    /// A traverser that runs the alpha test of `scene`'s alpha-tested instances.
+    pub fn with_scene(accel: &'a GpuAccel, scene: &'a crate::scene::Scene) -> Self {
+        Self { accel, scene: Some(scene) }
     }
 
     /// The closest hit in `(t_min, t_max]`.
@@ -454,12 +465,19 @@ impl<'a> CpuTraverser<'a> {
                         if flags.culls_back_faces() && back_facing(&wt, tri) {
                             continue;
                         }
-                        t_far = t;
-                        best = Some(if inst.instance_id == MERGED_INSTANCE {
+                        let hit = if inst.instance_id == MERGED_INSTANCE {
                             Hit { t, instance_id: tri.instance, prim: tri.prim, u, v, front_face: front_face != (tri.flags & TRI_MIRRORED != 0) }
                         } else {
                             Hit { t, instance_id: inst.instance_id, prim: tri.prim, u, v, front_face }
-                        });
+                        };
+                        let tested = inst.flags & INSTANCE_ALPHA != 0 || tri.flags & TRI_ALPHA != 0;
+                        if let Some(scene) = self.scene.filter(|_| tested) {
+                            if !super::alpha::visible(scene, hit.instance_id as usize, hit.prim as usize, [u as f64, v as f64]) {
+                                continue;
+                            }
+                        }
+                        t_far = t;
+                        best = Some(hit);
                         if any_hit {
                             return best;
                         }

@@ -24,7 +24,7 @@
 
 use super::bvh::MAX_TREE_DEPTH;
 use super::bvh::{classify_mesh_triangle, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
-use super::layout::{GpuBvhNode, GpuTriangle, TriangleOrigin, TRI_MIRRORED};
+use super::layout::{merged_flags, GpuBvhNode, GpuTriangle, TriangleOrigin};
 use crate::scene::Mesh;
 use wgpu::util::DeviceExt;
 
@@ -106,7 +106,7 @@ pub fn merged_triangles(merged: &Mesh, origin: &[TriangleOrigin]) -> Vec<GpuTria
                 v1: v[1].to_array(),
                 instance: o.instance,
                 v2: v[2].to_array(),
-                flags: if o.mirrored { TRI_MIRRORED } else { 0 },
+                flags: merged_flags(o),
             })
         })
         .collect()

@@ -78,7 +78,8 @@ pub struct GpuBvhNode {
 
 /// An object-space triangle, 48 bytes, in BLAS leaf order. `prim` is the triangle's index in
 /// its mesh (index / 3). In a merged BLAS ([`merge`]) `instance` is the scene instance the
-/// triangle came from and `flags` holds [`TRI_MIRRORED`]; both are 0 otherwise.
+/// triangle came from and `flags` holds [`TRI_MIRRORED`] and [`TRI_ALPHA`]; both are 0
+/// otherwise.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuTriangle {
@@ -94,13 +95,26 @@ pub struct GpuTriangle {
 /// so a hit's `front_face` (defined in object space) is the opposite of the world-space winding.
 pub const TRI_MIRRORED: u32 = 1;
 
+/// `GpuTriangle::flags` bit (merged layout): the triangle's instance is alpha-tested
+/// ([`crate::accel::alpha`]), so an accepted hit runs the alpha test.
+pub const TRI_ALPHA: u32 = 2;
+
+/// `GpuInstance::flags` bit (two-level layout): the instance is alpha-tested, so an accepted
+/// hit on its BLAS runs the alpha test.
+pub const INSTANCE_ALPHA: u32 = 1;
+
+/// A merged triangle's flags.
+pub fn merged_flags(o: &TriangleOrigin) -> u32 {
+    (if o.mirrored { TRI_MIRRORED } else { 0 }) | if o.alpha { TRI_ALPHA } else { 0 }
+}
+
 /// `GpuInstance::instance_id` of the one instance over a merged BLAS: the hit's instance is
 /// the triangle's `instance`.
 pub const MERGED_INSTANCE: u32 = 0xFFFF_FFFE;
 
 /// An instance, 112 bytes. Matrices are row-major 3x4 (see the module docs). `blas_root` is the
 /// absolute index of its BLAS's root in `blas_nodes`; `instance_id` its index in
-/// `Scene::instances`.
+/// `Scene::instances`; `flags` holds [`INSTANCE_ALPHA`].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuInstance {
@@ -109,7 +123,7 @@ pub struct GpuInstance {
     pub blas_root: u32,
     pub instance_id: u32,
     pub mask: u32,
-    pub _pad: u32,
+    pub flags: u32,
 }
 
 /// The flattened two-level BVH. Every array has at least one element.
@@ -194,7 +208,13 @@ pub fn affine_rows(a: &DAffine3) -> [[f32; 4]; 3] {
 
 /// Flattens `accel` (built from `scene`) into the GPU layout.
 pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
-    flatten_meshes(&scene.meshes, accel)
+    let mut out = flatten_meshes(&scene.meshes, accel);
+    for inst in &mut out.instances {
+        if inst.instance_id != NO_INSTANCE && super::alpha::instance_tested(scene, inst.instance_id as usize) {
+            inst.flags = INSTANCE_ALPHA;
+        }
+    }
+    out
 }
 
 /// [`flatten`] with the meshes the BLASes were built from.
@@ -237,7 +257,7 @@ fn flatten_meshes(meshes: &[Mesh], accel: &SceneAccel) -> GpuAccel {
                     blas_root: root,
                     instance_id: i as u32,
                     mask: INSTANCE_MASK_ALL,
-                    _pad: 0,
+                    flags: 0,
                 }),
                 // Unreachable for an accel built from `scene`; keep the slot as padding.
                 _ => {
@@ -280,7 +300,7 @@ fn padding_instance(out: &mut GpuAccel, empty_blas_nodes: &mut Vec<usize>) -> Gp
         }
     };
     let identity = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
-    GpuInstance { world_to_object: identity, object_to_world: identity, blas_root: root, instance_id: NO_INSTANCE, mask: 0, _pad: 0 }
+    GpuInstance { world_to_object: identity, object_to_world: identity, blas_root: root, instance_id: NO_INSTANCE, mask: 0, flags: 0 }
 }
 
 /// Where a triangle of a merged mesh came from.
@@ -289,6 +309,8 @@ pub struct TriangleOrigin {
     pub instance: u32,
     pub prim: u32,
     pub mirrored: bool,
+    /// The instance is alpha-tested ([`TRI_ALPHA`]).
+    pub alpha: bool,
 }
 
 /// All instances' triangles in world space as one mesh: the merged layout of a static scene,
@@ -307,10 +329,11 @@ pub fn merge_instances(scene: &Scene) -> (Mesh, Vec<TriangleOrigin>) {
             crate::scene::Vertex { position: p.as_vec3().to_array(), ..*v }
         }));
         let mirrored = xf.matrix3.determinant() < 0.0;
+        let alpha = super::alpha::instance_tested(scene, i);
         for (t, tri) in src.indices.chunks_exact(3).enumerate() {
             let in_range = tri.iter().all(|&k| (k as usize) < src.vertices.len());
             mesh.indices.extend(tri.iter().map(|&k| if in_range { u32::try_from(base + k as u64).unwrap_or(u32::MAX) } else { u32::MAX }));
-            origin.push(TriangleOrigin { instance: i as u32, prim: t as u32, mirrored });
+            origin.push(TriangleOrigin { instance: i as u32, prim: t as u32, mirrored, alpha });
         }
     }
     (mesh, origin)
@@ -330,7 +353,7 @@ pub fn merged_accel(blas_nodes: Vec<GpuBvhNode>, triangles: Vec<GpuTriangle>) ->
             blas_root: 0,
             instance_id: MERGED_INSTANCE,
             mask: INSTANCE_MASK_ALL,
-            _pad: 0,
+            flags: 0,
         }],
         blas_nodes,
         triangles,
@@ -360,7 +383,7 @@ pub fn merge(merged: &Mesh, origin: &[TriangleOrigin], blas: Blas) -> GpuAccel {
         if let Some(o) = origin.get(tri.prim as usize) {
             tri.prim = o.prim;
             tri.instance = o.instance;
-            tri.flags = if o.mirrored { TRI_MIRRORED } else { 0 };
+            tri.flags = merged_flags(o);
         }
     }
     out

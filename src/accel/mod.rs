@@ -16,6 +16,8 @@
 //!   layout and numerics are tested before any GPU runs.
 //! - [`reference`]: the brute-force f64 ray caster that tests use as ground truth for both GPU
 //!   back-ends, with each hit's distance to the nearest edge to classify disagreements.
+//! - [`alpha`]: which instances are alpha-tested, the trace module's `accel_alpha` data, and the
+//!   alpha test on the CPU (level-0 bilinear texel read) for both CPU traversals.
 //! - [`reference_render`]: the ray-traced channels (visibility, shadow mask, AO, mirror rays)
 //!   per pixel from that caster, each ray built as the layers' shaders build it.
 //!
@@ -23,6 +25,7 @@
 //! graph's `Accel` node, the GPU refit and the GPU builder of the merged layout, batch tracing
 //! through a back-end) are the GPU side and document themselves.
 
+pub mod alpha;
 pub mod backend;
 pub mod batch;
 pub mod bvh;

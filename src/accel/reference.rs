@@ -19,6 +19,12 @@
 //! normalised units) that could change it: a triangle's edge, the ray's ends `t_min` and
 //! `t_max`, or a second surface at nearly the same depth within that distance. An f32
 //! traversal may disagree with the reference only where the margin is a few ulps.
+//!
+//! Alpha-tested instances ([`crate::accel::alpha`]) run the same alpha test on every
+//! candidate hit (f64 barycentrics and bilinear arithmetic): a rejected hit does not exist. In
+//! the margins, a hit whose `base_color.a` x texture alpha lies within [`ALPHA_BAND`] of the
+//! cutoff counts as on an edge (margin 0: the f32 traversals' interpolated uv may land on
+//! either side); any other alpha decision does not limit the margin.
 
 use super::bvh::{instance_transform, mesh_triangle, triangle_status, TriangleStatus};
 use super::cpu_traverse::{ray_is_valid, Ray};
@@ -50,13 +56,21 @@ struct RefTriangle {
     instance_id: u32,
     prim: u32,
     mirrored: bool,
+    /// Whether the triangle's instance is alpha-tested.
+    alpha: bool,
 }
+
+/// Alpha values within this of the cutoff are on an alpha edge for the margins (module docs):
+/// a quarter of an 8-bit texel step.
+pub const ALPHA_BAND: f64 = 1.0 / 1024.0;
 
 /// All usable triangles of a scene in world space, f64.
 #[derive(Debug, Clone, Default)]
 pub struct Reference {
     tris: Vec<RefTriangle>,
     by_id: HashMap<(u32, u32), usize>,
+    /// The scene, kept only if it has alpha-tested instances (their test reads it).
+    alpha_scene: Option<std::sync::Arc<Scene>>,
 }
 
 impl Reference {
@@ -65,16 +79,30 @@ impl Reference {
         for (i, inst) in scene.instances.iter().enumerate() {
             let (Some(xf), Some(mesh)) = (instance_transform(&inst.transform), scene.meshes.get(inst.mesh)) else { continue };
             let mirrored = xf.matrix3.determinant() < 0.0;
+            let alpha = super::alpha::instance_tested(scene, i);
             for t in 0..mesh.triangle_count() {
                 let Some(v) = mesh_triangle(mesh, t) else { continue };
                 if triangle_status(&v) != TriangleStatus::Valid {
                     continue;
                 }
-                tris.push(RefTriangle { v: v.map(|p| xf.transform_point3(p.as_dvec3())), instance_id: i as u32, prim: t as u32, mirrored });
+                tris.push(RefTriangle { v: v.map(|p| xf.transform_point3(p.as_dvec3())), instance_id: i as u32, prim: t as u32, mirrored, alpha });
             }
         }
         let by_id = tris.iter().enumerate().map(|(k, t)| ((t.instance_id, t.prim), k)).collect();
-        Self { tris, by_id }
+        let alpha_scene = tris.iter().any(|t| t.alpha).then(|| std::sync::Arc::new(scene.clone()));
+        Self { tris, by_id, alpha_scene }
+    }
+
+    /// `base_color.a` x texture alpha minus the cutoff at barycentrics (u, v) of `tri` (>= 0:
+    /// kept); `None` for a triangle that is not alpha-tested.
+    fn alpha_excess(&self, tri: &RefTriangle, u: f64, v: f64) -> Option<f64> {
+        let scene = self.alpha_scene.as_deref().filter(|_| tri.alpha)?;
+        super::alpha::excess(scene, tri.instance_id as usize, tri.prim as usize, [u, v])
+    }
+
+    /// Whether a geometric hit at (u, v) on `tri` survives the alpha test.
+    fn keeps(&self, tri: &RefTriangle, u: f64, v: f64) -> bool {
+        self.alpha_excess(tri, u, v).is_none_or(|e| e >= 0.0)
     }
 
     /// Number of triangles (over all instances).
@@ -93,7 +121,7 @@ impl Reference {
         let mut best: Option<(f64, f64, f64, bool, usize)> = None;
         for (k, tri) in self.tris.iter().enumerate() {
             if let Some((t, u, v, front)) = moller_trumbore(&tri.v, o, d) {
-                if t > t_min && t <= t_max && best.is_none_or(|b| t < b.0) {
+                if t > t_min && t <= t_max && best.is_none_or(|b| t < b.0) && self.keeps(tri, u, v) {
                     best = Some((t, u, v, front, k));
                 }
             }
@@ -118,7 +146,7 @@ impl Reference {
         }
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let (t_min, t_max) = (ray.t_min as f64, ray.t_max as f64);
-        self.tris.iter().any(|tri| moller_trumbore(&tri.v, o, d).is_some_and(|(t, ..)| t > t_min && t <= t_max))
+        self.tris.iter().any(|tri| moller_trumbore(&tri.v, o, d).is_some_and(|(t, u, v, _)| t > t_min && t <= t_max && self.keeps(tri, u, v)))
     }
 
     pub fn closest_many(&self, rays: &[Ray]) -> Vec<Option<RefHit>> {
@@ -140,7 +168,7 @@ impl Reference {
         let tri = &self.tris[*self.by_id.get(&(instance_id, prim))?];
         let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
         let (t, u, v, front) = moller_trumbore(&tri.v, o, d)?;
-        (t > ray.t_min as f64 && t <= ray.t_max as f64).then(|| RefHit {
+        (t > ray.t_min as f64 && t <= ray.t_max as f64 && self.keeps(tri, u, v)).then(|| RefHit {
             t,
             instance_id,
             prim,
@@ -181,7 +209,7 @@ impl Reference {
         let t_best = best.map_or(f64::INFINITY, |h| h.t);
         let mut margin = f64::INFINITY;
         for tri in &self.tris {
-            let Some((s, t, scale)) = signed_margin(tri, ray) else { continue };
+            let Some((s, t, scale)) = self.signed_margin(tri, ray) else { continue };
             if best.is_some_and(|h| (h.instance_id, h.prim) == (tri.instance_id, tri.prim)) {
                 margin = margin.min(s.abs());
             } else {
@@ -192,13 +220,25 @@ impl Reference {
         (best, margin)
     }
 
+    /// [`signed_margin`] with the alpha test (module docs): a geometric hit that the test
+    /// rejects is a miss that only a change of alpha decision could turn into a hit.
+    fn signed_margin(&self, tri: &RefTriangle, ray: &Ray) -> Option<(f64, f64, f64)> {
+        let (s, t, scale) = signed_margin(tri, ray)?;
+        let excess = moller_trumbore(&tri.v, ray.origin.as_dvec3(), ray.dir.as_dvec3()).and_then(|(_, u, v, _)| self.alpha_excess(tri, u, v));
+        Some(match excess {
+            Some(e) if e.abs() < ALPHA_BAND => (0.0, t, scale),
+            Some(e) if e < 0.0 && s > 0.0 => (f64::NEG_INFINITY, t, scale),
+            _ => (s, t, scale),
+        })
+    }
+
     /// [`Reference::any`] and its margin (module docs): how far the most robustly hit triangle
     /// is from being missed, or, on a miss, how far the nearest triangle is from being hit.
     pub fn any_with_margin(&self, ray: &Ray) -> (bool, f64) {
         if !ray_is_valid(ray) {
             return (false, f64::INFINITY);
         }
-        let best = self.tris.iter().filter_map(|tri| signed_margin(tri, ray)).map(|(s, ..)| s).fold(f64::NEG_INFINITY, f64::max);
+        let best = self.tris.iter().filter_map(|tri| self.signed_margin(tri, ray)).map(|(s, ..)| s).fold(f64::NEG_INFINITY, f64::max);
         (self.any(ray), best.abs())
     }
 }

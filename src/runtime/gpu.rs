@@ -253,6 +253,7 @@ pub fn include_aliases(texture_binding_arrays: bool) -> crate::graph::reflect::I
     let mut a = crate::graph::reflect::IncludeAliases::new();
     if texture_binding_arrays {
         a.insert("common/scene_textures.wgsl".into(), "common/scene_textures_bindless.wgsl".into());
+        a.insert("common/scene_textures_texels.wgsl".into(), "common/scene_textures_texels_bindless.wgsl".into());
     }
     a
 }
