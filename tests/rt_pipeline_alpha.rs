@@ -56,12 +56,16 @@ fn alpha_scene() -> Scene {
         Instance { mesh: 0, material: 0, transform: at(0.0) },
         Instance { mesh: 0, material: 0, transform: at(3.0) * glam::Mat4::from_scale(glam::Vec3::new(-1.0, 1.0, 1.0)) },
         Instance { mesh: 0, material: 1, transform: at(4.0) },
-        Instance { mesh: 1, material: 1, transform: glam::Mat4::from_scale_rotation_translation(glam::Vec3::new(8.0, 3.0, 1.0), glam::Quat::IDENTITY, glam::Vec3::new(-1.0, -1.0, -1.0)) },
+        Instance {
+            mesh: 1,
+            material: 1,
+            transform: glam::Mat4::from_scale_rotation_translation(glam::Vec3::new(8.0, 3.0, 1.0), glam::Quat::IDENTITY, glam::Vec3::new(-1.0, -1.0, -1.0)),
+        },
     ];
     scene
 }
 
-/// One ray per texel centre of each quad instance (0..3), from z = +1 down to the quads (and
+/// One ray per texel of each quad instance (0..3), from z = +1 down to the quads (and
 /// through a cut-out texel to the backdrop), with the instance it must hit; and the shadow
 /// ray back up from the backdrop through the same point, which must be blocked exactly there.
 fn rays() -> (Vec<GpuRay>, Vec<GpuRay>, Vec<u32>) {
@@ -69,8 +73,10 @@ fn rays() -> (Vec<GpuRay>, Vec<GpuRay>, Vec<u32>) {
     for instance in 0..3u32 {
         for row in 0..CELLS {
             for column in 0..CELLS {
-                // The texel centre in uv, its point on the unit square, then in the world.
-                let (u, v) = ((column as f32 + 0.5) / CELLS as f32, (row as f32 + 0.5) / CELLS as f32);
+                // A tenth of a texel left of the texel centre in uv (off the quad's diagonal, the
+                // edge its two triangles share; the bilinear alpha there is 0.9 or 0.1), its
+                // point on the unit square, then in the world.
+                let (u, v) = ((column as f32 + 0.4) / CELLS as f32, (row as f32 + 0.5) / CELLS as f32);
                 let (x, y) = (u, 1.0 - v);
                 let wx = match instance {
                     0 => x,
@@ -172,7 +178,12 @@ fn alpha_quads_cut_out_the_same_texels_on_rt_pipeline_as_on_compute() {
             let (blocked, any_stats) = tracer.any(&gpu, &up).unwrap();
             let instances: Vec<u32> = hits.iter().map(|h| h.map_or(u32::MAX, |h| h.instance)).collect();
             let quad_hits = instances.iter().filter(|&&i| i < 3).count();
-            println!("{backend:?} {settings:?}: {quad_hits} of {} rays hit a quad, {} of {} shadow rays blocked", down.len(), blocked.iter().filter(|&&b| b).count(), up.len());
+            println!(
+                "{backend:?} {settings:?}: {quad_hits} of {} rays hit a quad, {} of {} shadow rays blocked",
+                down.len(),
+                blocked.iter().filter(|&&b| b).count(),
+                up.len()
+            );
             assert_eq!(instances, expected, "{backend:?} {settings:?}: the instance each ray hits");
             // Half the texels of each alpha-tested quad are opaque, and all of the opaque one.
             assert_eq!(quad_hits, 32 + 32 + 64, "{backend:?} {settings:?}");
@@ -185,7 +196,10 @@ fn alpha_quads_cut_out_the_same_texels_on_rt_pipeline_as_on_compute() {
         for (k, (c, r)) in results[0].iter().zip(&results[1]).enumerate() {
             let (c, r) = (c.unwrap(), r.unwrap());
             assert_eq!((c.instance, c.primitive, c.front_face), (r.instance, r.primitive, r.front_face), "{settings:?} ray {k}");
-            assert!((c.t - r.t).abs() < 1e-5 && (c.bary[0] - r.bary[0]).abs() < 1e-4 && (c.bary[1] - r.bary[1]).abs() < 1e-4, "{settings:?} ray {k}: {c:?} against {r:?}");
+            assert!(
+                (c.t - r.t).abs() < 1e-5 && (c.bary[0] - r.bary[0]).abs() < 1e-4 && (c.bary[1] - r.bary[1]).abs() < 1e-4,
+                "{settings:?} ray {k}: {c:?} against {r:?}"
+            );
         }
     }
     assert_eq!(live_hal_objects(), start, "hal objects left after the tracers were dropped");

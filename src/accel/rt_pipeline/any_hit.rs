@@ -62,9 +62,6 @@ pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entr
     };
     let pipeline = naga::back::spv::PipelineOptions { shader_stage: naga::ShaderStage::AnyHit, entry_point: entry.to_string() };
     let words = naga::back::spv::write_vec(module, info, &options, Some(&pipeline)).map_err(|e| format!("writing `{entry}` as SPIR-V: {e}"))?;
-    if let Ok(path) = std::env::var("RAYGRAPH_DUMP_ANY_HIT") {
-        let _ = std::fs::write(path, words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>());
-    }
     patch(&words).map_err(|e| format!("patching `{entry}`: {e}"))
 }
 
