@@ -4,17 +4,19 @@
 //! module, each block with its `// SAFETY:` argument.
 //!
 //! What it owns:
-//! - [`RtAccel`]: the acceleration structures, built through wgpu-hal: a BLAS per mesh (opaque
-//!   triangles; triangles the other back-ends leave out become degenerate, so primitive indices
-//!   stay the mesh's own), a TLAS whose instances carry the scene instance index as custom data
-//!   and hit group 0 (the opaque hit group), and the object-space positions and indices the
-//!   closest-hit shader reads to compute barycentrics (naga's hit shaders have no hit
-//!   attributes).
+//! - [`RtAccel`]: the acceleration structures, built through wgpu-hal: a BLAS per mesh
+//!   (triangles the other back-ends leave out become degenerate, so primitive indices stay the
+//!   mesh's own; built OPAQUE unless an alpha-tested instance uses it), a TLAS whose instances
+//!   carry the scene instance index as custom data and hit group 0 (opaque instances forced
+//!   opaque), and the object-space positions and indices the closest-hit shader reads to
+//!   compute barycentrics (naga's closest-hit stage has no hit attributes).
 //! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
 //!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
-//!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, bind groups made through
-//!   wgpu-hal over the same wgpu textures and buffers a compute pass would bind, and the shader
-//!   binding table (ray generation, miss, hit group records at the device's alignments).
+//!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, its any-hit shader as patched
+//!   SPIR-V ([`any_hit`]: the alpha test, which only non-opaque geometry reaches), bind groups
+//!   made through wgpu-hal over the same wgpu textures and buffers a compute pass would bind,
+//!   and the shader binding table (ray generation, miss, hit group records at the device's
+//!   alignments).
 //!
 //! Synchronization with wgpu. wgpu forbids mixing its encoding API with raw recording in one
 //! command encoder, so hal work is recorded into command encoders of its own that the caller
@@ -806,8 +808,8 @@ pub struct RtPass {
 
 impl RtPass {
     /// Makes the ray-tracing pipeline of a trace pass: `module` holds the pass's entry point
-    /// `entry` as a ray-generation shader and the trace module's miss and closest-hit shaders;
-    /// `bindings` lists every binding of every group (`accel_group` is bound later by
+    /// `entry` as a ray-generation shader and the trace module's miss, closest-hit and any-hit
+    /// shaders; `bindings` lists every binding of every group (`accel_group` is bound later by
     /// [`RtPass::bind_accel`]). The shader binding table is built here and uploaded on `queue`.
     pub fn new(
         device: &wgpu::Device,
@@ -923,7 +925,7 @@ impl RtPass {
             .map_err(|e| hal_error("creating the ray-tracing pipeline", e))?;
             objects.pipelines.push(p);
             pipeline = objects.pipelines.len() - 1;
-            // The shader binding table: group 0 ray generation, 1 miss, 2 the opaque hit group.
+            // The shader binding table: group 0 ray generation, 1 miss, 2 the hit group.
             let align = alignments(d);
             // SAFETY: the pipeline was made above with three groups.
             let handles = unsafe { d.get_raytracing_pipeline_group_data(&objects.pipelines[pipeline], 0..3) }
