@@ -14,6 +14,13 @@
 //! by a few ulps. Each ray is then traced in f64, and every answer carries its margin
 //! ([`Classified`]): a GPU answer may differ from the reference's only where the margin is of
 //! that order.
+//!
+//! Alpha-tested geometry: the reference runs the same alpha test, and a hit whose alpha
+//! (`base_color.a` x the texture's level-0 bilinear alpha) is within
+//! [`crate::accel::reference::ALPHA_BAND`] of the cutoff has margin 0, so a pixel on an alpha
+//! edge may go either way; every other alpha decision leaves the margin geometric. The GPU
+//! reads the texture-array fallback's resampled texels, which move alpha edges by a fraction
+//! of a source texel: compare those renders on scenes whose pixels keep clear of alpha edges.
 
 use super::cpu_traverse::{offset_ray_origin, Ray};
 use super::reference::{RefHit, Reference};
