@@ -12,7 +12,8 @@
 //! hit the quad, 896 the plane and 896 nothing; the opaque quad takes 1024, 640 and 640. Shadow
 //! rays straight up from the plane's grid points: 256 of 1152 shadowed (opaque: 512). AO rays
 //! (range 2, straight up and tilted 4 degrees four ways) from the plane under the centres of the
-//! 32 cells over it: every ray under an opaque cell is occluded, none under a hole.
+//! 32 cells over it: every ray under an opaque cell is occluded, none under a hole. Two quads
+//! stacked with complementary checkers stop every ray (an any-hit ray goes on past a hole).
 //!
 //! Every back-end lavapipe has and both layouts, with both texture paths (binding array and
 //! the 256x256 texture array of `RAYGRAPH_NO_BINDLESS`); the f64 reference and the CPU
@@ -227,6 +228,34 @@ fn gpu() -> Gpu {
     gpu
 }
 
+/// Two alpha-tested quads 0.5 apart with complementary checkers (the upper one's texture
+/// inverted): every ray through [-1, 1]² hits exactly one of them, so an any-hit ray whose
+/// first candidate is a hole must go on to the other quad.
+fn stacked_scene() -> Scene {
+    let mut s = scene();
+    let mut inverted = checker_alpha();
+    for a in inverted.rgba.iter_mut().skip(3).step_by(4) {
+        *a = 255 - *a;
+    }
+    s.textures.push(inverted);
+    s.materials.push(Material { alpha_mode: AlphaMode::Mask(0.5), ..Material::diffuse("inverted", [1.0; 4], Some(1)) });
+    s.instances = vec![
+        Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },
+        Instance { mesh: 0, material: s.materials.len() - 1, transform: Mat4::from_translation(Vec3::new(0.0, 0.0, 0.5)) },
+    ];
+    s
+}
+
+/// For [`stacked_scene`]: rays down through the quads and up from below, and the instance each
+/// downward ray hits (the upper quad 1 where the lower one has a hole).
+fn stacked_rays() -> (Vec<Ray>, Vec<Ray>, Vec<Option<u32>>) {
+    let inside: Vec<(f32, f32)> = grid().filter(|(x, y)| x.abs() < 1.0 && y.abs() < 1.0).collect();
+    let down = inside.iter().map(|&(x, y)| Ray::with_interval(Vec3::new(x, y, 5.0), Vec3::NEG_Z, 0.0, 3.0e38)).collect();
+    let up = inside.iter().map(|&(x, y)| Ray::with_interval(Vec3::new(x, y, -1.0), Vec3::Z, 0.0, 3.0e38)).collect();
+    let hit = inside.iter().map(|&(x, y)| Some(if opaque_cell(x as f64, y as f64) { 0 } else { 1 })).collect();
+    (down, up, hit)
+}
+
 /// Primary, shadow and AO rays through `backend` (both layouts where it has two, both texture
 /// paths) against the analytic answer.
 fn batch_matches_the_analytic_answer(backend: Backend) {
@@ -234,6 +263,8 @@ fn batch_matches_the_analytic_answer(backend: Backend) {
     assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
     let scene = scene();
     let (primary, shadow, ao) = expected();
+    let stacked = stacked_scene();
+    let (down, up, stacked_hits) = stacked_rays();
     let layouts: &[bool] = if backend == Backend::RayQuery { &[false] } else { &[false, true] };
     for bindless in [true, false] {
         gpu.texture_binding_arrays = bindless;
@@ -246,6 +277,11 @@ fn batch_matches_the_analytic_answer(backend: Backend) {
             assert_same(&format!("{what}, primary rays"), &got, &primary);
             assert_same(&format!("{what}, shadow rays"), &t.any(&gpu, &gpu_rays(&shadow_rays())).unwrap().0, &shadow);
             assert_same(&format!("{what}, AO rays"), &t.any(&gpu, &gpu_rays(&ao_rays())).unwrap().0, &ao);
+
+            let t = BatchTracer::with_settings(&gpu, backend, &stacked, &common::repo().join("shaders"), AccelSettings { dedup: true, merge }).unwrap();
+            let got: Vec<Option<u32>> = t.closest(&gpu, &gpu_rays(&down)).unwrap().0.iter().map(|h| h.map(|h| h.instance)).collect();
+            assert_same(&format!("{what}, stacked quads, closest"), &got, &stacked_hits);
+            assert_same(&format!("{what}, stacked quads, any from below"), &t.any(&gpu, &gpu_rays(&up)).unwrap().0, &vec![true; up.len()]);
         }
     }
 }
@@ -274,6 +310,12 @@ fn cpu_references_cut_out_the_checker() {
     assert_same("f64 reference, primary rays", &got, &primary);
     assert_same("f64 reference, shadow rays", &reference.any_many(&shadow_rays()), &shadow);
     assert_same("f64 reference, AO rays", &reference.any_many(&ao_rays()), &ao);
+    let (down, up, stacked_hits) = stacked_rays();
+    assert_eq!(stacked_hits.iter().filter(|h| **h == Some(1)).count(), 512, "analytic: half the rays pass the lower quad's holes");
+    let stacked = Reference::new(&stacked_scene());
+    let got: Vec<Option<u32>> = stacked.closest_many(&down).iter().map(|h| h.map(|h| h.instance_id)).collect();
+    assert_same("f64 reference, stacked quads", &got, &stacked_hits);
+    assert!(stacked.any_many(&up).iter().all(|&h| h), "f64 reference: every ray from below is stopped");
     // Every ray crosses the quads' plane clear of an alpha edge: the bilinear alpha there is
     // well away from 0.5 (the smallest distance is 0.03, at cell corners).
     let texture = checker_alpha();
@@ -442,4 +484,28 @@ fn ray_query_gbuffers_agree_with_the_raster_gbuffer() {
 #[test]
 fn rt_pipeline_gbuffers_agree_with_the_raster_gbuffer() {
     gbuffers_match(Backend::RtPipeline);
+}
+
+/// A trace pass that reads no texture itself (the shadow pass) binds the alpha test's data
+/// through the back-end's module on every back-end and texture path: `scene_textures` in group
+/// 1 (so the plan loads the scene's textures) and `accel_alpha` in group 2.
+#[test]
+fn every_trace_module_binds_the_alpha_data() {
+    use raygraph::graph::builtins::SceneUsage;
+    use raygraph::graph::reflect::{reflect_with, BindingKind};
+    let shaders = common::repo().join("shaders");
+    let shadow = shaders.join("rt/shadow.wgsl");
+    for backend in Backend::ALL {
+        for bindless in [false, true] {
+            let options = CompileOptions { includes: raygraph::runtime::gpu::include_aliases(bindless), backend, ..Default::default() };
+            let info = reflect_with(&shadow, &shaders, &raygraph::error::Location::file_start(&shadow), &options.all_includes()).unwrap();
+            let find = |name: &str| info.bindings.iter().find(|b| b.name == name);
+            let textures = find("scene_textures").unwrap_or_else(|| panic!("{backend}: no scene_textures"));
+            assert_eq!((textures.group, textures.kind == BindingKind::TextureBindingArray), (1, bindless), "{backend}");
+            assert_eq!(find("accel_alpha").map(|b| b.group), Some(2), "{backend}: accel_alpha");
+            let mut usage = SceneUsage::default();
+            info.bindings.iter().for_each(|b| usage.add_binding(b));
+            assert!(usage.textures && usage.texture_binding_array == bindless, "{backend}");
+        }
+    }
 }
