@@ -178,8 +178,7 @@ impl BatchTracer {
             let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
             let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", bindings, crate::graph::builtins::ACCEL_GROUP)?;
             let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-            let (stats, offset, size) = cache.stats_window(0);
-            pass.bind_accel(built, stats, offset, size)?;
+            pass.bind_accel(built, &super::rt_pipeline::cache_buffers(&cache, 0))?;
             scope.finish(gpu, "creating the batch tracer")?;
             let _textures = textures.map(|t| t.0);
             return Ok(Self { cache, _textures, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });

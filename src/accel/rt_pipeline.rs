@@ -4,17 +4,19 @@
 //! module, each block with its `// SAFETY:` argument.
 //!
 //! What it owns:
-//! - [`RtAccel`]: the acceleration structures, built through wgpu-hal: a BLAS per mesh (opaque
-//!   triangles; triangles the other back-ends leave out become degenerate, so primitive indices
-//!   stay the mesh's own), a TLAS whose instances carry the scene instance index as custom data
-//!   and hit group 0 (the opaque hit group), and the object-space positions and indices the
-//!   closest-hit shader reads to compute barycentrics (naga's hit shaders have no hit
-//!   attributes).
+//! - [`RtAccel`]: the acceleration structures, built through wgpu-hal: a BLAS per mesh
+//!   (triangles the other back-ends leave out become degenerate, so primitive indices stay the
+//!   mesh's own; built OPAQUE unless an alpha-tested instance uses it), a TLAS whose instances
+//!   carry the scene instance index as custom data and hit group 0 (opaque instances forced
+//!   opaque), and the object-space positions and indices the closest-hit shader reads to
+//!   compute barycentrics (naga's closest-hit stage has no hit attributes).
 //! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
 //!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
-//!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, bind groups made through
-//!   wgpu-hal over the same wgpu textures and buffers a compute pass would bind, and the shader
-//!   binding table (ray generation, miss, hit group records at the device's alignments).
+//!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, its any-hit shader as patched
+//!   SPIR-V ([`any_hit`]: the alpha test, which only non-opaque geometry reaches), bind groups
+//!   made through wgpu-hal over the same wgpu textures and buffers a compute pass would bind,
+//!   and the shader binding table (ray generation, miss, hit group records at the device's
+//!   alignments).
 //!
 //! Synchronization with wgpu. wgpu forbids mixing its encoding API with raw recording in one
 //! command encoder, so hal work is recorded into command encoders of its own that the caller
@@ -33,6 +35,10 @@
 //! Acceleration-structure builds are recorded the same way and submitted at once, before the
 //! frame that uses them. Objects made through wgpu-hal are destroyed in `Drop` after the device
 //! is idle.
+
+mod any_hit;
+
+pub use any_hit::{any_hit_spirv, binding_map as any_hit_binding_map};
 
 use crate::error::RuntimeError;
 use crate::scene::Scene;
@@ -315,6 +321,8 @@ pub struct RtAccel {
     device: wgpu::Device,
     /// Per unit; `None` for a unit without a valid triangle (its instances are left out).
     blases: Vec<Option<HalAccel>>,
+    /// Per unit, the (triangle count, opaque) of each geometry its BLAS was built with.
+    blas_kinds: Vec<Option<Vec<(u32, bool)>>>,
     tlas: Option<HalAccel>,
     /// The positions, indices, per-instance first triangles and the merged layout's triangle
     /// owners (`accel_positions`, `accel_indices`, `accel_first_triangle`, `accel_owners`).
@@ -331,10 +339,118 @@ pub struct RtAccel {
 /// `shaders/trace/rt_pipeline.wgsl`).
 const MERGED_INSTANCE: u32 = 0xFF_FFFF;
 
+/// One geometry of a BLAS: a range of the packed triangles, opaque or alpha-tested.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Geometry {
+    first: u32,
+    count: u32,
+    opaque: bool,
+}
+
+/// Every unit's triangles packed into one position and one index array (indices already
+/// offset to the packed positions), which the BLAS builds read and so do the hit shaders.
+struct Packed {
+    positions: Vec<[f32; 3]>,
+    indices: Vec<u32>,
+    /// Per unit, its BLAS's geometries (`None`: no valid triangle, no BLAS).
+    spans: Vec<Option<Vec<Geometry>>>,
+    /// The merged layout: each merged triangle's instance and primitive (bit 31: mirrored).
+    owners: Vec<[u32; 2]>,
+    /// `accel_first_triangle`: per scene instance its unit's first triangle; merged, per
+    /// geometry of the one BLAS its first triangle.
+    first_triangles: Vec<u32>,
+}
+
+/// Whether scene instance `i`'s material is alpha-tested (MASK, or BLEND as a cutout).
+fn alpha_tested(scene: &Scene, i: usize) -> bool {
+    let material = scene.instances.get(i).and_then(|inst| scene.materials.get(inst.material));
+    material.is_some_and(|m| m.alpha_mode != crate::scene::AlphaMode::Opaque)
+}
+
+/// Packs the scene's triangles (see [`Packed`]). Two levels: a unit's one geometry is
+/// alpha-tested when any instance of it is (its opaque instances are forced opaque in the
+/// TLAS). Merged: opaque triangles first, then alpha-tested ones, as two geometries.
+fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -> usize, merged: bool) -> Packed {
+    let mut packed = Packed { positions: Vec::new(), indices: Vec::new(), spans: Vec::new(), owners: Vec::new(), first_triangles: Vec::new() };
+    if merged {
+        // One unit: every instance's triangles in world space (`layout::merge_instances`),
+        // mirrored instances' triangles wound back so that facing stays the object-space
+        // facing the other layouts report and cull by.
+        let (mesh, origin) = super::layout::merge_instances(scene);
+        let Some((p, i)) = super::cache::driver_triangles(&mesh) else {
+            packed.spans.push(None);
+            packed.spans.resize(unit_meshes.len(), None);
+            return packed;
+        };
+        let alpha: Vec<bool> = (0..scene.instances.len()).map(|i| alpha_tested(scene, i)).collect();
+        let mut geometries = Vec::new();
+        for opaque in [true, false] {
+            let first = (packed.indices.len() / 3) as u32;
+            for (t, o) in origin.iter().enumerate().filter(|(_, o)| alpha[o.instance as usize] != opaque) {
+                let tri = &i[3 * t..3 * t + 3];
+                packed.indices.extend(if o.mirrored { [tri[0], tri[2], tri[1]] } else { [tri[0], tri[1], tri[2]] });
+                packed.owners.push([o.instance, o.prim | (o.mirrored as u32) << 31]);
+            }
+            let count = (packed.indices.len() / 3) as u32 - first;
+            if count > 0 {
+                geometries.push(Geometry { first, count, opaque });
+                packed.first_triangles.push(first);
+            }
+        }
+        packed.positions = p;
+        packed.spans.push(Some(geometries));
+    } else {
+        let mut unit_alpha = vec![false; unit_meshes.len()];
+        for i in (0..scene.instances.len()).filter(|&i| alpha_tested(scene, i)) {
+            if let Some(a) = unit_alpha.get_mut(unit_of_instance(i)) {
+                *a = true;
+            }
+        }
+        for (u, &mesh) in unit_meshes.iter().enumerate() {
+            let Some((p, i)) = scene.meshes.get(mesh).and_then(super::cache::driver_triangles) else {
+                packed.spans.push(None);
+                continue;
+            };
+            let base = packed.positions.len() as u32;
+            let geometry = Geometry { first: (packed.indices.len() / 3) as u32, count: (i.len() / 3) as u32, opaque: !unit_alpha[u] };
+            packed.spans.push(Some(vec![geometry]));
+            packed.positions.extend_from_slice(&p);
+            packed.indices.extend(i.iter().map(|&x| x + base));
+        }
+        packed.first_triangles =
+            (0..scene.instances.len()).map(|i| packed.spans.get(unit_of_instance(i)).and_then(|s| s.as_ref()).map_or(0, |g| g[0].first)).collect();
+    }
+    packed.spans.resize(unit_meshes.len(), None);
+    packed
+}
+
+/// VkGeometryInstanceFlagBitsKHR: FORCE_OPAQUE.
+const INSTANCE_FORCE_OPAQUE: u8 = 0x4;
+
+/// A TLAS instance (VkAccelerationStructureInstanceKHR) of hit group 0, the one hit group,
+/// every ray mask bit, and FORCE_OPAQUE when `force_opaque`; hal's `TlasInstance` has no
+/// instance flags, so they are set in the bytes it writes (the top byte of the word at 52).
+fn tlas_instance(d: &HalDevice, transform: [f32; 12], custom_data: u32, blas_address: u64, force_opaque: bool) -> Vec<u8> {
+    let mut bytes = d.tlas_instance_to_bytes(hal::TlasInstance { transform, custom_data, mask: 0xff, blas_address, pipeline_intersection_data_offset: 0 });
+    debug_assert_eq!(bytes.len(), 64, "VkAccelerationStructureInstanceKHR is 64 bytes");
+    if force_opaque {
+        bytes[55] |= INSTANCE_FORCE_OPAQUE;
+    }
+    bytes
+}
+
 impl RtAccel {
     /// No acceleration structure yet (the first [`RtAccel::update`] builds every unit).
     pub fn new(device: &wgpu::Device) -> Self {
-        Self { device: device.clone(), blases: Vec::new(), tlas: None, geometry: Vec::new(), instance_count: 0, retired: HalObjects::default() }
+        Self {
+            device: device.clone(),
+            blases: Vec::new(),
+            blas_kinds: Vec::new(),
+            tlas: None,
+            geometry: Vec::new(),
+            instance_count: 0,
+            retired: HalObjects::default(),
+        }
     }
 
     /// Brings the structures up to date with `scene`: units (`unit_meshes[u]` is unit `u`'s
@@ -364,53 +480,7 @@ impl RtAccel {
         // The previous build has run: the frames that used what it replaced were waited for.
         let mut previous = std::mem::take(&mut self.retired);
         previous.destroy(&device);
-        // Every unit's triangles packed into one position and one index array (indices
-        // already offset to the packed positions): the BLAS builds read them, and so does the
-        // closest-hit shader.
-        let mut positions: Vec<[f32; 3]> = Vec::new();
-        let mut indices: Vec<u32> = Vec::new();
-        // Per unit: (first triangle, triangle count).
-        let mut spans: Vec<Option<(u32, u32)>> = Vec::with_capacity(unit_meshes.len());
-        // The merged layout: each merged triangle's instance and primitive (bit 31: mirrored).
-        let mut owners: Vec<[u32; 2]> = Vec::new();
-        if merged {
-            // One unit: every instance's triangles in world space (`layout::merge_instances`),
-            // mirrored instances' triangles wound back so that facing stays the object-space
-            // facing the other layouts report and cull by.
-            let (mesh, origin) = super::layout::merge_instances(scene);
-            match super::cache::driver_triangles(&mesh) {
-                Some((p, mut i)) => {
-                    for (t, o) in origin.iter().enumerate() {
-                        if o.mirrored {
-                            i.swap(3 * t + 1, 3 * t + 2);
-                        }
-                    }
-                    spans.push(Some((0, (i.len() / 3) as u32)));
-                    owners = origin.iter().map(|o| [o.instance, o.prim | (o.mirrored as u32) << 31]).collect();
-                    positions = p;
-                    indices = i;
-                }
-                None => spans.push(None),
-            }
-        } else {
-            for &mesh in unit_meshes {
-                let Some((p, i)) = scene.meshes.get(mesh).and_then(super::cache::driver_triangles) else {
-                    spans.push(None);
-                    continue;
-                };
-                let base = positions.len() as u32;
-                spans.push(Some(((indices.len() / 3) as u32, (i.len() / 3) as u32)));
-                positions.extend_from_slice(&p);
-                indices.extend(i.iter().map(|&x| x + base));
-            }
-        }
-        spans.resize(unit_meshes.len(), None);
-        let first_triangles: Vec<u32> = if merged {
-            Vec::new()
-        } else {
-            (0..scene.instances.len()).map(|i| spans.get(unit_of_instance(i)).copied().flatten().map(|s| s.0).unwrap_or(0)).collect()
-        };
-
+        let Packed { positions, indices, spans, owners, first_triangles } = pack(scene, unit_meshes, unit_of_instance, merged);
         let mut retired = HalObjects::default();
         let mut fresh = HalObjects::default();
         let mut blases = std::mem::take(&mut self.blases);
@@ -420,8 +490,14 @@ impl RtAccel {
         }
         blases.resize_with(unit_meshes.len(), || None);
         let mut rebuild: Vec<usize> = changed.iter().copied().filter(|&u| u < unit_meshes.len()).collect();
-        // A unit with geometry but no BLAS (an earlier failed update) is built too.
-        rebuild.extend((0..unit_meshes.len()).filter(|&u| blases[u].is_none() && spans[u].is_some() && !changed.contains(&u)));
+        // A unit with geometry but no BLAS (an earlier failed update) is built too, and so is
+        // one whose geometries changed opacity (an instance's material changed alpha mode).
+        let kinds = |g: &Option<Vec<Geometry>>| g.as_ref().map(|g| g.iter().map(|g| (g.count, g.opaque)).collect::<Vec<_>>());
+        let mut blas_kinds = std::mem::take(&mut self.blas_kinds);
+        blas_kinds.resize(unit_meshes.len(), None);
+        rebuild.extend(
+            (0..unit_meshes.len()).filter(|&u| (blases[u].is_none() || blas_kinds[u] != kinds(&spans[u])) && spans[u].is_some() && !changed.contains(&u)),
+        );
         let mut instance_count = 0;
         let mut new_tlas = None;
         let commands = record_raw(&device, "rt-pipeline acceleration structures", |d, enc| {
@@ -445,25 +521,23 @@ impl RtAccel {
             let entries: Vec<(usize, hal::AccelerationStructureEntries<HalBuffer>)> = rebuild
                 .iter()
                 .filter_map(|&u| {
-                    let (first_triangle, count) = spans[u]?;
-                    Some((
-                        u,
-                        hal::AccelerationStructureEntries::Triangles(vec![hal::AccelerationStructureTriangles {
-                            vertex_buffer: Some(pos_buf),
-                            vertex_format: wgpu::VertexFormat::Float32x3,
-                            first_vertex: 0,
-                            vertex_count: positions.len() as u32,
-                            vertex_stride: 12,
-                            indices: Some(hal::AccelerationStructureTriangleIndices {
-                                format: wgpu::IndexFormat::Uint32,
-                                buffer: Some(idx_buf),
-                                offset: first_triangle * 12,
-                                count: count * 3,
-                            }),
-                            transform: None,
-                            flags: hal::AccelerationStructureGeometryFlags::OPAQUE,
-                        }]),
-                    ))
+                    // Alpha-tested geometry is built without OPAQUE: the any-hit shader runs on it.
+                    let geometry = |g: &Geometry| hal::AccelerationStructureTriangles {
+                        vertex_buffer: Some(pos_buf),
+                        vertex_format: wgpu::VertexFormat::Float32x3,
+                        first_vertex: 0,
+                        vertex_count: positions.len() as u32,
+                        vertex_stride: 12,
+                        indices: Some(hal::AccelerationStructureTriangleIndices {
+                            format: wgpu::IndexFormat::Uint32,
+                            buffer: Some(idx_buf),
+                            offset: g.first * 12,
+                            count: g.count * 3,
+                        }),
+                        transform: None,
+                        flags: if g.opaque { hal::AccelerationStructureGeometryFlags::OPAQUE } else { hal::AccelerationStructureGeometryFlags::empty() },
+                    };
+                    Some((u, hal::AccelerationStructureEntries::Triangles(spans[u].as_ref()?.iter().map(geometry).collect())))
                 })
                 .collect();
             // Units rebuilt without geometry lose their BLAS.
@@ -532,6 +606,7 @@ impl RtAccel {
                 if let Some(old) = blases[*u].replace(accel) {
                     retired.accels.push(old);
                 }
+                blas_kinds[*u] = kinds(&spans[*u]);
             }
             // The TLAS: one instance per scene instance whose unit has a BLAS and whose
             // transform is finite.
@@ -539,13 +614,9 @@ impl RtAccel {
             if let (true, Some(Some(blas))) = (merged, blases.first()) {
                 // SAFETY: the address of a BLAS made by this device and alive.
                 let blas_address = unsafe { d.get_acceleration_structure_device_address(blas) };
-                instance_bytes.extend(d.tlas_instance_to_bytes(hal::TlasInstance {
-                    transform: [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0],
-                    custom_data: MERGED_INSTANCE,
-                    mask: 0xff,
-                    blas_address,
-                    pipeline_intersection_data_offset: 0,
-                }));
+                let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+                // Opacity per geometry (opaque and alpha-tested triangles apart).
+                instance_bytes.extend(tlas_instance(d, identity, MERGED_INSTANCE, blas_address, false));
                 instance_count += 1;
             }
             for (i, inst) in scene.instances.iter().enumerate().filter(|_| !merged) {
@@ -557,15 +628,9 @@ impl RtAccel {
                 let rows = [0, 1, 2].map(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], m.w_axis[r]]);
                 // SAFETY: the address of a BLAS made by this device and alive.
                 let blas_address = unsafe { d.get_acceleration_structure_device_address(blas) };
-                instance_bytes.extend(d.tlas_instance_to_bytes(hal::TlasInstance {
-                    transform: bytemuck::cast(rows),
-                    custom_data: i as u32,
-                    mask: 0xff,
-                    blas_address,
-                    // Hit group 0, the opaque hit group: every material is traced as opaque
-                    // geometry, as on the other back-ends (ARCHITECTURE.md, "Ray tracing").
-                    pipeline_intersection_data_offset: 0,
-                }));
+                // An opaque instance of a BLAS that alpha-tested instances share is forced
+                // opaque: the any-hit shader runs only for alpha-tested instances.
+                instance_bytes.extend(tlas_instance(d, bytemuck::cast(rows), i as u32, blas_address, !alpha_tested(scene, i)));
                 instance_count += 1;
             }
             let instance_buffer =
@@ -625,6 +690,7 @@ impl RtAccel {
                 self.tlas = new_tlas;
                 self.geometry = fresh.buffers.drain(..).collect();
                 self.blases = blases;
+                self.blas_kinds = blas_kinds;
                 self.instance_count = instance_count;
                 self.retired = retired;
                 Ok((built, commands))
@@ -644,6 +710,15 @@ impl RtAccel {
             }
         }
     }
+
+    /// The number of BLAS geometries built without the OPAQUE flag (alpha-tested triangles,
+    /// the only ones the any-hit shader runs on); 0 for an opaque scene.
+    pub fn non_opaque_geometries(&self) -> usize {
+        self.blases.iter().zip(&self.blas_kinds).filter(|(b, _)| b.is_some()).flat_map(|(_, k)| k.iter().flatten()).filter(|(_, opaque)| !opaque).count()
+    }
+
+    /// The trace module's bindings [`RtPass::bind_accel`] takes from the `RtAccel` itself.
+    const OWN_BINDINGS: [&'static str; 5] = ["accel_tlas", "accel_positions", "accel_indices", "accel_first_triangle", "accel_owners"];
 
     fn tlas(&self) -> Option<&HalAccel> {
         self.tlas.as_ref()
@@ -694,6 +769,19 @@ pub struct RtBinding {
     pub resource: RtResource,
 }
 
+/// The trace module's bindings that the acceleration-structure cache holds in wgpu buffers
+/// (`accel_stats`'s counter window, `accel_alpha`; [`crate::accel::cache::AccelCache::binding`]):
+/// by name, the buffer, offset and size, or `None`.
+pub type AccelBuffers<'a> = dyn Fn(&str) -> Option<(wgpu::Buffer, u64, Option<NonZeroU64>)> + 'a;
+
+/// The [`AccelBuffers`] of `cache` for trace pass number `window` (its counter window).
+pub fn cache_buffers(cache: &super::cache::AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<NonZeroU64>)> + '_ {
+    move |name| match cache.binding(name, window)? {
+        wgpu::BindingResource::Buffer(b) => Some((b.buffer.clone(), b.offset, b.size)),
+        _ => None,
+    }
+}
+
 /// A trace pass as a ray-tracing pipeline (see the module docs).
 pub struct RtPass {
     device: wgpu::Device,
@@ -712,14 +800,16 @@ pub struct RtPass {
     accel_group: u32,
     /// The accel bind group's objects (replaced by every `bind_accel`).
     accel_objects: HalObjects,
+    /// The cache's wgpu buffers the accel bind group refers to.
+    accel_buffers: Vec<wgpu::Buffer>,
     /// Whether the written resources were cleared through wgpu (first `transition`).
     initialized: std::sync::atomic::AtomicBool,
 }
 
 impl RtPass {
     /// Makes the ray-tracing pipeline of a trace pass: `module` holds the pass's entry point
-    /// `entry` as a ray-generation shader and the trace module's miss and closest-hit shaders;
-    /// `bindings` lists every binding of every group (`accel_group` is bound later by
+    /// `entry` as a ray-generation shader and the trace module's miss, closest-hit and any-hit
+    /// shaders; `bindings` lists every binding of every group (`accel_group` is bound later by
     /// [`RtPass::bind_accel`]). The shader binding table is built here and uploaded on `queue`.
     pub fn new(
         device: &wgpu::Device,
@@ -741,6 +831,7 @@ impl RtPass {
         };
         let miss = stage_name(naga::ShaderStage::Miss)?;
         let closest = stage_name(naga::ShaderStage::ClosestHit)?;
+        let any_hit = stage_name(naga::ShaderStage::AnyHit)?;
         if !module.module.entry_points.iter().any(|e| e.name == entry && e.stage == naga::ShaderStage::RayGeneration) {
             return Err(RuntimeError::Gpu(format!("pass {label}: `{entry}` is not a ray-generation entry point")));
         }
@@ -752,17 +843,17 @@ impl RtPass {
         let mut sbt = 0;
         let mut regions = [(0, 0); 3];
         let mut staging = HalObjects::default();
+        // Per group, its layout's entries in order (the any-hit module's bindings follow them).
+        let layout_entries: Vec<Vec<wgpu::BindGroupLayoutEntry>> = (0..group_count)
+            .map(|g| bindings.iter().filter(|b| b.group == g).map(|b| wgpu::BindGroupLayoutEntry { visibility: RT_STAGES, ..b.entry }).collect())
+            .collect();
+        let any_hit_words = any_hit::any_hit_spirv(&module.module, &module.info, &any_hit, any_hit::binding_map(&layout_entries))
+            .map_err(|e| RuntimeError::Gpu(format!("pass {label}: the any-hit shader: {e}")))?;
         let made = record_raw(device, "rt-pipeline shader binding table", |d, enc| {
-            for g in 0..group_count {
-                let entries: Vec<wgpu::BindGroupLayoutEntry> =
-                    bindings.iter().filter(|b| b.group == g).map(|b| wgpu::BindGroupLayoutEntry { visibility: RT_STAGES, ..b.entry }).collect();
+            for entries in &layout_entries {
                 // SAFETY: a layout from plain entries.
                 let layout = unsafe {
-                    d.create_bind_group_layout(&hal::BindGroupLayoutDescriptor {
-                        label: Some(label),
-                        flags: hal::BindGroupLayoutFlags::empty(),
-                        entries: &entries,
-                    })
+                    d.create_bind_group_layout(&hal::BindGroupLayoutDescriptor { label: Some(label), flags: hal::BindGroupLayoutFlags::empty(), entries })
                 }
                 .map(count_made)
                 .map_err(|e| hal_error("creating a bind group layout", e))?;
@@ -799,22 +890,32 @@ impl RtPass {
             .map(count_made)
             .map_err(|e| hal_error("compiling the shaders", e))?;
             objects.shader_modules.push(shader);
+            // SAFETY: SPIR-V written by naga from the same validated module, with the
+            // pipeline layout's bindings, and patched (any_hit.rs); the validation layer checks
+            // it when the pipeline is made.
+            let any_hit_shader = unsafe {
+                d.create_shader_module(
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::shader_checks() },
+                    hal::ShaderInput::SpirV(&any_hit_words),
+                )
+            }
+            .map(count_made)
+            .map_err(|e| hal_error("compiling the any-hit shader", e))?;
+            objects.shader_modules.push(any_hit_shader);
             let constants = Default::default();
-            let stage = |entry_point| hal::ProgrammableStage {
-                module: objects.shader_modules.last().expect("pushed above"),
-                entry_point,
-                constants: &constants,
-                zero_initialize_workgroup_memory: true,
-            };
-            let hit_groups = [hal::RayObjectIntersectionState { closest_hit: stage(&closest), any_hit: None }];
+            let stage = |module, entry_point| hal::ProgrammableStage { module, entry_point, constants: &constants, zero_initialize_workgroup_memory: true };
+            let (naga_stages, spirv_stage) = (&objects.shader_modules[0], &objects.shader_modules[1]);
+            // One hit group for every instance: the any-hit shader runs only on non-opaque
+            // geometry (alpha-tested instances, RtAccel::update), so opaque hits never reach it.
+            let hit_groups = [hal::RayObjectIntersectionState { closest_hit: stage(naga_stages, &closest), any_hit: Some(stage(spirv_stage, &any_hit)) }];
             // SAFETY: stages of a module made above, a layout made above; recursion depth 1:
             // hit and miss shaders trace no rays.
             let p = unsafe {
                 d.create_ray_tracing_pipeline(&hal::RayTracingPipelineDescriptor {
                     label: Some(label),
                     layout: &objects.pipeline_layouts[pipeline_layout],
-                    ray_generation: stage(entry),
-                    miss: stage(&miss),
+                    ray_generation: stage(naga_stages, entry),
+                    miss: stage(naga_stages, &miss),
                     intersection: &hit_groups,
                     max_recursion_depth: 1,
                     cache: None,
@@ -824,7 +925,7 @@ impl RtPass {
             .map_err(|e| hal_error("creating the ray-tracing pipeline", e))?;
             objects.pipelines.push(p);
             pipeline = objects.pipelines.len() - 1;
-            // The shader binding table: group 0 ray generation, 1 miss, 2 the opaque hit group.
+            // The shader binding table: group 0 ray generation, 1 miss, 2 the hit group.
             let align = alignments(d);
             // SAFETY: the pipeline was made above with three groups.
             let handles = unsafe { d.get_raytracing_pipeline_group_data(&objects.pipelines[pipeline], 0..3) }
@@ -884,6 +985,7 @@ impl RtPass {
             bindings,
             accel_group,
             accel_objects: HalObjects::default(),
+            accel_buffers: Vec::new(),
             initialized: std::sync::atomic::AtomicBool::new(false),
         };
         for g in 0..group_count {
@@ -900,7 +1002,7 @@ impl RtPass {
 
     /// A hal bind group for group `g`; `accel` binds the trace module's bindings. Returns the
     /// group and the objects made for it (texture views, samplers), which live as long as it.
-    fn make_group(&self, g: u32, accel: Option<(&RtAccel, &wgpu::Buffer, u64, u64)>) -> Result<(hal::vulkan::BindGroup, HalObjects), RuntimeError> {
+    fn make_group(&self, g: u32, accel: Option<(&RtAccel, &AccelBuffers)>) -> Result<(hal::vulkan::BindGroup, HalObjects), RuntimeError> {
         let bindings: Vec<&RtBinding> = self.bindings.iter().filter(|b| b.group == g).collect();
         // The Vulkan handles of the wgpu objects, one guard at a time (wgpu-core forbids
         // holding two of its hal guards at once).
@@ -930,9 +1032,10 @@ impl RtPass {
                     }
                 }
                 RtResource::Buffer { buffer, .. } => buffers.push(raw_buffer(buffer)?),
-                RtResource::Accel(name) if name == "accel_stats" => {
-                    let (_, stats, _, _) = accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
-                    buffers.push(raw_buffer(stats)?);
+                RtResource::Accel(name) if !RtAccel::OWN_BINDINGS.contains(&name.as_str()) => {
+                    let (_, cache) = accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
+                    let (buffer, _, _) = cache(name).ok_or_else(|| RuntimeError::Gpu(format!("the rt-pipeline back-end has no binding `{name}`")))?;
+                    buffers.push(raw_buffer(&buffer)?);
                 }
                 RtResource::Sampler(_) | RtResource::Accel(_) => {}
             }
@@ -1033,17 +1136,11 @@ impl RtPass {
                             (si - 1, 1)
                         }
                         RtResource::Accel(name) => {
-                            let (rt, _, offset, size) =
-                                accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
+                            let (rt, cache) = accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
                             match name.as_str() {
                                 "accel_tlas" => {
                                     hal_accels.push(rt.tlas().ok_or_else(|| hal_error("binding", "the TLAS is not built"))?);
                                     (hal_accels.len() - 1, 1)
-                                }
-                                "accel_stats" => {
-                                    hal_buffers.push(hal::BufferBinding::new_unchecked(&hal_wgpu_buffers[bi], offset, NonZeroU64::new(size)));
-                                    bi += 1;
-                                    (hal_buffers.len() - 1, 1)
                                 }
                                 "accel_positions" | "accel_indices" | "accel_first_triangle" | "accel_owners" => {
                                     let i = match name.as_str() {
@@ -1056,7 +1153,13 @@ impl RtPass {
                                     hal_buffers.push(hal::BufferBinding::new_unchecked(buffer, 0, None));
                                     (hal_buffers.len() - 1, 1)
                                 }
-                                other => return Err(RuntimeError::Gpu(format!("the rt-pipeline back-end has no binding `{other}`"))),
+                                // The cache's buffers (counters, alpha records), found above.
+                                other => {
+                                    let (_, offset, size) = cache(other).expect("found when the handles were read");
+                                    hal_buffers.push(hal::BufferBinding::new_unchecked(&hal_wgpu_buffers[bi], offset, size));
+                                    bi += 1;
+                                    (hal_buffers.len() - 1, 1)
+                                }
                             }
                         }
                     };
@@ -1126,11 +1229,14 @@ impl RtPass {
         Ok(())
     }
 
-    /// Binds the trace module's group to `accel` and counter window `stats[offset..offset+size]`
+    /// Binds the trace module's group to `accel` and to the cache's buffers `cache` names
     /// (again whenever the cache replaces its acceleration structures).
-    pub fn bind_accel(&mut self, accel: &RtAccel, stats: &wgpu::Buffer, offset: u64, size: u64) -> Result<(), RuntimeError> {
-        let (bg, mut extra) = self.make_group(self.accel_group, Some((accel, stats, offset, size)))?;
+    pub fn bind_accel(&mut self, accel: &RtAccel, cache: &AccelBuffers) -> Result<(), RuntimeError> {
+        let (bg, mut extra) = self.make_group(self.accel_group, Some((accel, cache)))?;
         self.accel_objects.destroy(&self.device);
+        // The cache's buffers stay alive as long as the bind group that names them.
+        self.accel_buffers =
+            self.bindings.iter().filter_map(|b| if let RtResource::Accel(n) = &b.resource { cache(n) } else { None }).map(|(b, _, _)| b).collect();
         extra.bind_groups.push(bg);
         self.accel_objects = extra;
         self.groups[self.accel_group as usize].1 = Some(usize::MAX);

@@ -902,8 +902,7 @@ impl Executor {
             for (window, pass) in trace_passes.enumerate() {
                 if let Pipeline::RayTracing(rt) = &mut pass.pipeline {
                     let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-                    let (stats, offset, size) = cache.stats_window(window as u32);
-                    rt.bind_accel(built, stats, offset, size)?;
+                    rt.bind_accel(built, &crate::accel::rt_pipeline::cache_buffers(cache, window as u32))?;
                     continue;
                 }
                 let Some((layout, entries, names)) = &pass.accel_layout else { continue };
