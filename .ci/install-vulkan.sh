@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Vulkan loader, Mesa's lavapipe (>= 24.1, with VK_KHR_ray_query), the Khronos
-# validation layer and Xvfb (the viewer's tests open a window on a virtual X server) on Debian 12. The backports suite is added by copying the machine's own
+# validation layer, SPIRV-Tools (spirv-val checks the patched any-hit SPIR-V) and Xvfb (the viewer's tests open a window on a virtual X server) on Debian 12. The backports suite is added by copying the machine's own
 # first Debian source entry.
 set -euo pipefail
 SUDO=""
@@ -24,7 +24,11 @@ have_xvfb() {
     command -v Xvfb >/dev/null
 }
 
-if have_lavapipe && dpkg-query -W libvulkan1 >/dev/null 2>&1 && have_validation && have_xvfb; then
+have_spirv_val() {
+    command -v spirv-val >/dev/null
+}
+
+if have_lavapipe && dpkg-query -W libvulkan1 >/dev/null 2>&1 && have_validation && have_xvfb && have_spirv_val; then
     echo "lavapipe $(dpkg-query -W -f='${Version}' mesa-vulkan-drivers) already installed"
     exit 0
 fi
@@ -42,5 +46,5 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers libvulkan1 >/dev/null
-$SUDO apt-get install -y -qq vulkan-validationlayers xvfb >/dev/null
+$SUDO apt-get install -y -qq vulkan-validationlayers xvfb spirv-tools >/dev/null
 echo "installed lavapipe $(dpkg-query -W -f='${Version}' mesa-vulkan-drivers), validation layers $(dpkg-query -W -f='${Version}' vulkan-validationlayers)"

@@ -140,10 +140,13 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
     let (with, without) = (load(&dir.join("overlay.png")), load(&dir.join("raster.png")));
     assert!(mean_abs_diff(&with, &without) > 5.0, "the overlay is drawn");
 
-    // The image changes with the mode (overlay hidden in both).
+    // The image changes with the mode (overlay hidden in both). The modes share one shading
+    // model and one reading of the materials, so they differ only where their techniques do
+    // (shadow maps against ray-traced shadows, AO, reflections): measured 1.35 on lavapipe
+    // (8-bit mean |diff|); a frame the switch did not reach differs by 0.
     let full_rt = load(&dir.join("full_rt.png"));
     let d = mean_abs_diff(&without, &full_rt);
-    assert!(d > 2.0, "raster and full RT frames differ (mean |diff| {d:.2})");
+    assert!(d > 0.5, "raster and full RT frames differ (mean |diff| {d:.2})");
 
     // The parameter reached the running graph, the clicked pass's texture is shown.
     let ao = text("ao_overlay");

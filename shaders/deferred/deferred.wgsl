@@ -8,7 +8,7 @@
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/material_inputs.wgsl"
-//#include "common/alpha.wgsl"
+//#include "common/raster_visibility.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -59,10 +59,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer 
     let inst = scene_instances[in.instance];
     let material = scene_materials[inst.material];
     let front = raster_front_face(front_facing, inst.model);
-    if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
-        discard;
-    }
-    if !material_alpha_visible(inst.material, in.uv) {
+    if !raster_fragment_kept(inst, front_facing, in.uv) {
         discard;
     }
     // Derivatives before any non-uniform branch. Object-space ones, transformed, keep their

@@ -23,7 +23,7 @@
 //#include "common/scene_textures.wgsl"
 //#include "common/lighting.wgsl"
 //#include "common/material_inputs.wgsl"
-//#include "common/alpha.wgsl"
+//#include "common/raster_visibility.wgsl"
 
 struct Params {
     shadow_bias: f32,
@@ -166,10 +166,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @locatio
     let inst = scene_instances[in.instance];
     let material = scene_materials[inst.material];
     let front = raster_front_face(front_facing, inst.model);
-    if !front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
-        discard;
-    }
-    if !material_alpha_visible(inst.material, in.uv) {
+    if !raster_fragment_kept(inst, front_facing, in.uv) {
         discard;
     }
     // Derivatives before any non-uniform branch (world-space differentials of the object-space
