@@ -707,7 +707,7 @@ impl Executor {
             if !uploaded.write_lights(&gpu.queue, &lights.records) {
                 return Err(RuntimeError::Gpu("the light buffer does not match the scene's lights".into()));
             }
-            if lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() && !self.warned_unshadowed {
+            if !self.warned_unshadowed && lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() {
                 self.warned_unshadowed = true;
                 eprintln!(
                     "warning: lights without a shadow map in raster mode: {} of {} (point lights, and directional or spot lights after the first {SHADOW_MAP_SLOTS}); they light the scene unshadowed",

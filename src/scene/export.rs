@@ -101,6 +101,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             AlphaMode::Mask(c) => (json::material::AlphaMode::Mask, Some(json::material::AlphaCutoff(c))),
             AlphaMode::Blend => (json::material::AlphaMode::Blend, None),
         };
+        let (emissive, emissive_strength) = emissive_factor(m);
         materials.push(root.push(json::Material {
             name: Some(m.name.clone()),
             alpha_mode: Valid(alpha_mode),
@@ -130,8 +131,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
                 extras: Default::default(),
             }),
             emissive_texture: info(m.emissive_texture),
-            emissive_factor: json::material::EmissiveFactor(emissive_factor(m).0),
-            extensions: emissive_factor(m).1.map(|strength| json::extensions::material::Material {
+            emissive_factor: json::material::EmissiveFactor(emissive),
+            extensions: emissive_strength.map(|strength| json::extensions::material::Material {
                 emissive_strength: Some(json::extensions::material::EmissiveStrength {
                     emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
                 }),

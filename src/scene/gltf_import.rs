@@ -446,25 +446,27 @@ impl TextureLoader<'_> {
         let name = material_name(m);
         let pbr = m.pbr_metallic_roughness();
         let mut mat = Material::diffuse(m.name().unwrap_or("material"), pbr.base_color_factor(), None);
-        mat.texture = pbr.base_color_texture().and_then(|t| self.slot(&name, TextureSlot::BaseColor, t.texture(), report));
         mat.metallic = pbr.metallic_factor();
         mat.roughness = pbr.roughness_factor();
-        mat.metallic_roughness_texture = pbr.metallic_roughness_texture().and_then(|t| self.slot(&name, TextureSlot::MetallicRoughness, t.texture(), report));
-        if let Some(n) = m.normal_texture() {
-            mat.normal_scale = n.scale();
-            mat.normal_texture = self.slot(&name, TextureSlot::Normal, n.texture(), report);
-        }
-        if let Some(o) = m.occlusion_texture() {
-            mat.occlusion_strength = o.strength();
-            mat.occlusion_texture = self.slot(&name, TextureSlot::Occlusion, o.texture(), report);
-        }
+        mat.normal_scale = m.normal_texture().map_or(mat.normal_scale, |n| n.scale());
+        mat.occlusion_strength = m.occlusion_texture().map_or(mat.occlusion_strength, |o| o.strength());
         let strength = m.emissive_strength().unwrap_or(1.0);
         mat.emissive = m.emissive_factor().map(|c| c * strength);
-        if let Some(t) = m.emissive_texture() {
-            let before = report.texture_fallbacks.len();
-            mat.emissive_texture = self.slot(&name, TextureSlot::Emissive, t.texture(), report);
-            if report.texture_fallbacks.len() > before {
-                mat.emissive = [0.0; 3];
+        for (slot, texture, _) in material_slots(m) {
+            let fallbacks = report.texture_fallbacks.len();
+            let t = self.slot(&name, slot, texture, report);
+            match slot {
+                TextureSlot::BaseColor => mat.texture = t,
+                TextureSlot::MetallicRoughness => mat.metallic_roughness_texture = t,
+                TextureSlot::Normal => mat.normal_texture = t,
+                TextureSlot::Occlusion => mat.occlusion_texture = t,
+                TextureSlot::Emissive => {
+                    mat.emissive_texture = t;
+                    // An emissive image that cannot be loaded means no emission at all.
+                    if report.texture_fallbacks.len() > fallbacks {
+                        mat.emissive = [0.0; 3];
+                    }
+                }
             }
         }
         mat.alpha_mode = match m.alpha_mode() {

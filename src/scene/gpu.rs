@@ -192,7 +192,7 @@ impl GpuScene {
         }
 
         if usage.lights {
-            let records = vec![LightUniforms::default(); scene.effective_lights().len()];
+            let records = vec![LightUniforms::default(); scene.effective_light_count()];
             out.lights = Some(storage_records(device, scene, "light", records, &mut bytes)?);
         }
 
@@ -532,7 +532,7 @@ impl SceneContent {
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
         // The light buffer's size (its records are rewritten every frame).
-        structure = hash_words(structure, &(scene.effective_lights().len() as u64).to_le_bytes());
+        structure = hash_words(structure, &(scene.effective_light_count() as u64).to_le_bytes());
         let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
         Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)) }
     }

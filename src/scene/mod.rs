@@ -258,6 +258,15 @@ impl Scene {
         }
     }
 
+    /// How many lights [`Scene::effective_lights`] returns (without building them).
+    pub fn effective_light_count(&self) -> usize {
+        if self.lights.is_empty() {
+            1 + usize::from(self.point_light.is_some())
+        } else {
+            self.lights.len()
+        }
+    }
+
     /// The lights that light the scene: the file's own lights, or, when it has none, the
     /// default sun (`light`) and the optional `point_light`.
     pub fn effective_lights(&self) -> Vec<PunctualLight> {
