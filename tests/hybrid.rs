@@ -7,19 +7,15 @@
 
 mod common;
 
+use common::{channel, gpu};
+
 use glam::{Mat4, Vec3};
 use raygraph::accel::backend::Backend;
 use raygraph::graph::compile::compile_with;
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::{plane, sphere};
-use raygraph::scene::{Camera, Instance, Light, Material, Mesh, Scene};
-
-fn gpu() -> Gpu {
-    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    println!("adapter: {}", gpu.describe());
-    gpu
-}
+use raygraph::scene::{Camera, Light, Material, Mesh, Scene};
 
 /// A scene of (mesh, material, transform) parts.
 fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) -> Scene {
@@ -35,11 +31,7 @@ fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) ->
         point_light: None,
         lights: Vec::new(),
     };
-    for (mesh, material, transform) in parts {
-        s.instances.push(Instance { mesh: s.meshes.len(), material: s.materials.len(), transform });
-        s.meshes.push(mesh);
-        s.materials.push(material);
-    }
+    common::add_parts(&mut s, parts);
     s
 }
 
@@ -67,11 +59,6 @@ fn run(gpu: &Gpu, graph: &std::path::Path, backend: Backend, scene: &Scene, size
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
     let t = exec.render(gpu, &scene.camera, scene).unwrap();
     (exec, t)
-}
-
-fn channel(gpu: &Gpu, exec: &Executor, name: &str) -> Vec<[f32; 4]> {
-    let r = exec.plan().resource_by_name(name).unwrap_or_else(|| panic!("no resource {name}"));
-    exec.read_texture_f32(gpu, r).unwrap().2
 }
 
 /// AO on closed-form configurations: the mean over all pixels against the analytic value.

@@ -13,23 +13,19 @@
 
 mod common;
 
+use common::{channel, gpu};
+
 use glam::{Mat4, Quat, Vec3};
 use raygraph::accel::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions};
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::{plane, sphere};
-use raygraph::scene::{Camera, Instance, Light, LightKind, Material, Mesh, PunctualLight, Scene};
+use raygraph::scene::{Camera, Light, LightKind, Material, Mesh, PunctualLight, Scene};
 
 const SIZE: (u32, u32) = (48, 40);
 const ALBEDO: f32 = 0.7;
 const ROUGHNESS: f32 = 0.8;
-
-fn gpu() -> Gpu {
-    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    println!("adapter: {}", gpu.describe());
-    gpu
-}
 
 fn grey() -> Material {
     Material { roughness: ROUGHNESS, ..Material::diffuse("grey", [ALBEDO, ALBEDO, ALBEDO, 1.0], None) }
@@ -53,11 +49,7 @@ fn scene(lights: Vec<PunctualLight>, extra: Vec<(Mesh, Material, Mat4)>) -> Scen
         point_light: None,
         lights,
     };
-    for (mesh, material, transform) in std::iter::once((plane("floor", 16.0, 1.0), grey(), Mat4::IDENTITY)).chain(extra) {
-        s.instances.push(Instance { mesh: s.meshes.len(), material: s.materials.len(), transform });
-        s.meshes.push(mesh);
-        s.materials.push(material);
-    }
+    common::add_parts(&mut s, std::iter::once((plane("floor", 16.0, 1.0), grey(), Mat4::IDENTITY)).chain(extra));
     s
 }
 
@@ -198,11 +190,6 @@ fn executor(gpu: &Gpu, graph: &std::path::Path, backend: Backend, scene: &Scene)
     let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
     let plan = compile_with(graph, &Project::beside_graph(graph), SIZE, &options).unwrap();
     Executor::new(gpu, plan, scene).unwrap()
-}
-
-fn channel(gpu: &Gpu, exec: &Executor, name: &str) -> Vec<[f32; 4]> {
-    let r = exec.plan().resource_by_name(name).unwrap_or_else(|| panic!("no resource {name}"));
-    exec.read_texture_f32(gpu, r).unwrap().2
 }
 
 /// What a mode computed at each pixel: the direct light alone (ray-traced modes: rt_shadow's

@@ -11,17 +11,13 @@
 
 mod common;
 
+use common::{gpu, open};
+
 use common::material_scene::metallic_roughness_scene;
 use common::modes::render_without_effects;
 use raygraph::accel::backend::Backend;
 use raygraph::runtime::Gpu;
 use raygraph::scene::Scene;
-
-fn gpu() -> Gpu {
-    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    println!("adapter: {}", gpu.describe());
-    gpu
-}
 
 fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> f32 {
     let rgb = |img: &image::RgbaImage| img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
@@ -48,10 +44,6 @@ fn check(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), limits: [f32; 3
         }
     }
     assert!(failures.is_empty(), "{what}: the modes differ with effects off:\n{}", failures.join("\n"));
-}
-
-fn open(rel: &str) -> Scene {
-    raygraph::scene::open(common::repo().join(rel).to_str().unwrap(), &Default::default()).unwrap().0
 }
 
 #[test]

@@ -16,6 +16,8 @@
 
 mod common;
 
+use common::gpu;
+
 use glam::{Mat4, Vec3};
 use raygraph::graph::{compile, Project};
 use raygraph::runtime::{Executor, Gpu};
@@ -33,12 +35,6 @@ const DARKENED_SUM: i32 = 3;
 const EDGE_MARGIN_PX: f64 = 3.0;
 /// Half the width of the floor plane.
 const FLOOR_HALF: f32 = 4.0;
-
-fn gpu() -> Gpu {
-    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    println!("adapter: {}", gpu.describe());
-    gpu
-}
 
 /// A temporary project with the repository's layers and shaders and the Rasterization graph
 /// written with `shadows` set on the forward node (every other parameter at its default).

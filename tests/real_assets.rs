@@ -13,18 +13,14 @@
 
 mod common;
 
+use common::{gpu, open};
+
 use common::material_scene::{metallic_roughness_scene, EMISSIVE_TEXEL, MR_TEXEL, OCCLUSION_RED};
 use common::modes::render_without_effects;
 use glam::Vec3;
 use raygraph::accel::backend::Backend;
 use raygraph::runtime::Gpu;
 use raygraph::scene::{Camera, Scene};
-
-fn gpu() -> Gpu {
-    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    println!("adapter: {}", gpu.describe());
-    gpu
-}
 
 const CHANNELS: [&str; 6] = ["position", "normal", "geo_normal", "albedo", "material", "emissive"];
 
@@ -159,10 +155,6 @@ fn check_agreement(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), backe
     }
     assert!(failures.is_empty(), "{what}: hybrid and full-RT G-buffers differ:\n{}", failures.join("\n"));
     (raster, traced)
-}
-
-fn open(rel: &str) -> Scene {
-    raygraph::scene::open(common::repo().join(rel).to_str().unwrap(), &Default::default()).unwrap().0
 }
 
 /// Tolerances on the real assets. Geometry is the same triangles: positions and face normals

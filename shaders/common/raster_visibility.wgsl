@@ -1,7 +1,10 @@
 // Which rasterized fragments of the scene are kept, the same visibility the rays have: back
 // faces of single-sided materials (glTF doubleSided false) and texels the alpha test cuts are
-// discarded. Both sides of every triangle are drawn, so facing is decided here.
-// Needs common/scene.wgsl and `scene_materials`, like common/alpha.wgsl.
+// discarded. Both sides of every triangle are drawn, so facing is decided here; so are the
+// surface inputs a kept fragment shades with, read alike by the G-buffer
+// (deferred/deferred.wgsl) and forward shading (forward/forward.wgsl).
+// Needs common/scene.wgsl and `scene_materials`, like common/alpha.wgsl, and
+// common/scene_textures.wgsl.
 //#include "common/material_inputs.wgsl"
 //#include "common/alpha.wgsl"
 
@@ -11,4 +14,61 @@ fn raster_fragment_kept(inst: Instance, front_facing: bool, uv: vec2<f32>) -> bo
         return false;
     }
     return material_alpha_visible(inst.material, uv);
+}
+
+// The material and geometry of a kept fragment. Normals face the viewer.
+struct RasterSurface {
+    // Shading normal (normal-mapped) and geometric (face) normal, world space.
+    normal: vec3<f32>,
+    geo_normal: vec3<f32>,
+    // World-space screen differentials of the position (the shadow maps' receiver plane).
+    dp1: vec3<f32>,
+    dp2: vec3<f32>,
+    albedo: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    emissive: vec3<f32>,
+    occlusion: f32,
+}
+
+// Surface inputs of a fragment of instance `inst` at object-space position `local`, with
+// texture coordinates `uv` and interpolated world-space vertex normal `vertex_normal`. Takes
+// derivatives: call in uniform control flow (before any non-uniform branch).
+fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2<f32>, vertex_normal: vec3<f32>) -> RasterSurface {
+    let material = scene_materials[inst.material];
+    // Object-space derivatives, transformed, keep their precision far from the origin.
+    let dp1 = (inst.model * vec4<f32>(dpdx(local), 0.0)).xyz;
+    let dp2 = (inst.model * vec4<f32>(dpdy(local), 0.0)).xyz;
+    let duv1 = dpdx(uv);
+    let duv2 = dpdy(uv);
+    let face = cross(dpdx(local), dpdy(local));
+    let base = sample_scene_texture(material.base_texture, uv);
+    let mr = sample_scene_texture(material.metallic_roughness_texture, uv);
+    let emission = sample_scene_texture(material.emissive_texture, uv).rgb;
+    let occlusion = sample_scene_texture(material.occlusion_texture, uv).r;
+    let map = sample_scene_texture(material.normal_texture, uv).rgb;
+    // The normal map bends the front side's normal; a back face (double-sided) reverses the
+    // result. The face normal is oriented by the viewer-side vertex normal, not by a test
+    // against positions (which lose precision far from the origin) nor by the sign of the
+    // derivatives (which flips in quads that straddle the horizon).
+    var n = normalize(vertex_normal);
+    if material.normal_texture != 0u {
+        n = apply_normal_map(n, dp1, dp2, duv1, duv2, map, material.normal_scale);
+    }
+    let side = select(-1.0, 1.0, raster_front_face(front_facing, inst.model));
+    var geo = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
+    if dot(geo, normalize(vertex_normal) * side) < 0.0 {
+        geo = -geo;
+    }
+    var s: RasterSurface;
+    s.normal = n * side;
+    s.geo_normal = geo;
+    s.dp1 = dp1;
+    s.dp2 = dp2;
+    s.albedo = material.base_color.rgb * base.rgb;
+    s.metallic = material.metallic * mr.b;
+    s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
+    s.emissive = material.emissive * emission;
+    s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
+    return s;
 }

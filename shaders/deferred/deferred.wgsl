@@ -57,44 +57,17 @@ struct GBuffer {
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
     let inst = scene_instances[in.instance];
-    let material = scene_materials[inst.material];
-    let front = raster_front_face(front_facing, inst.model);
     if !raster_fragment_kept(inst, front_facing, in.uv) {
         discard;
     }
-    // Derivatives before any non-uniform branch. Object-space ones, transformed, keep their
-    // precision far from the origin.
-    let dp1 = (inst.model * vec4<f32>(dpdx(in.local), 0.0)).xyz;
-    let dp2 = (inst.model * vec4<f32>(dpdy(in.local), 0.0)).xyz;
-    let duv1 = dpdx(in.uv);
-    let duv2 = dpdy(in.uv);
-    let face = cross(dpdx(in.local), dpdy(in.local));
-    let base = sample_scene_texture(material.base_texture, in.uv);
-    let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
-    let emissive = material.emissive * sample_scene_texture(material.emissive_texture, in.uv).rgb;
-    let occlusion = material_occlusion(sample_scene_texture(material.occlusion_texture, in.uv).r, material.occlusion_strength);
-    let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
-    // The normal map bends the front side's normal; a back face (double-sided) reverses the
-    // result. The face normal is oriented by the viewer-side vertex normal, not by a test
-    // against positions (which lose precision far from the origin) nor by the sign of the
-    // derivatives (which flips in quads that straddle the horizon).
-    var n = normalize(in.normal);
-    if material.normal_texture != 0u {
-        n = apply_normal_map(n, dp1, dp2, duv1, duv2, map, material.normal_scale);
-    }
-    let side = select(-1.0, 1.0, front);
-    n = n * side;
-    var geo = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
-    if dot(geo, normalize(in.normal) * side) < 0.0 {
-        geo = -geo;
-    }
+    let s = raster_surface(inst, front_facing, in.local, in.uv, in.normal);
     var out: GBuffer;
     out.position = vec4<f32>(in.world, 1.0);
-    out.normal = vec4<f32>(n, 0.0);
-    out.geo_normal = vec4<f32>(geo, 0.0);
-    out.albedo = vec4<f32>(material.base_color.rgb * base.rgb, 1.0);
-    let e = dot(emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
-    out.material = vec4<f32>(material.metallic * mr.b, clamp(material.roughness * mr.g, 0.02, 1.0), min(e / 16.0, 1.0), 1.0);
-    out.emissive = vec4<f32>(emissive, occlusion);
+    out.normal = vec4<f32>(s.normal, 0.0);
+    out.geo_normal = vec4<f32>(s.geo_normal, 0.0);
+    out.albedo = vec4<f32>(s.albedo, 1.0);
+    let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
+    out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0);
+    out.emissive = vec4<f32>(s.emissive, s.occlusion);
     return out;
 }

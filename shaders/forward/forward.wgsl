@@ -164,50 +164,29 @@ fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, d
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
     let inst = scene_instances[in.instance];
-    let material = scene_materials[inst.material];
-    let front = raster_front_face(front_facing, inst.model);
     if !raster_fragment_kept(inst, front_facing, in.uv) {
         discard;
     }
-    // Derivatives before any non-uniform branch (world-space differentials of the object-space
-    // position: the normal map's frame, the face normal and the shadow maps' receiver plane).
-    let dp1 = (inst.model * vec4<f32>(dpdx(in.local), 0.0)).xyz;
-    let dp2 = (inst.model * vec4<f32>(dpdy(in.local), 0.0)).xyz;
-    let duv1 = dpdx(in.uv);
-    let duv2 = dpdy(in.uv);
-    let face = cross(dpdx(in.local), dpdy(in.local));
-    let base = sample_scene_texture(material.base_texture, in.uv);
-    let mr = sample_scene_texture(material.metallic_roughness_texture, in.uv);
-    let emission = sample_scene_texture(material.emissive_texture, in.uv).rgb;
-    let occlusion = sample_scene_texture(material.occlusion_texture, in.uv).r;
-    let map = sample_scene_texture(material.normal_texture, in.uv).rgb;
-    var n = normalize(in.world_normal);
-    if material.normal_texture != 0u {
-        n = apply_normal_map(n, dp1, dp2, duv1, duv2, map, material.normal_scale);
-    }
-    let side = select(-1.0, 1.0, front);
-    // The geometric normal decides the shadow offset direction, so smooth shading normals do
-    // not push points into neighbouring geometry.
-    var ng = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
-    if dot(ng, normalize(in.world_normal) * side) < 0.0 {
-        ng = -ng;
-    }
+    // Before any non-uniform branch (it takes derivatives: the normal map's frame, the face
+    // normal and the shadow maps' receiver plane). The geometric normal decides the shadow
+    // offset direction, so smooth shading normals do not push points into neighbouring geometry.
+    let r = raster_surface(inst, front_facing, in.local, in.uv, in.world_normal);
 
     var s: ShadingPoint;
     s.position = in.world_pos;
-    s.normal = n * side;
+    s.normal = r.normal;
     s.view = normalize(frame.camera_pos.xyz - in.world_pos);
-    s.albedo = material.base_color.rgb * base.rgb;
-    s.metallic = material.metallic * mr.b;
-    s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
-    s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
-    s.emissive = material.emissive * emission;
+    s.albedo = r.albedo;
+    s.metallic = r.metallic;
+    s.roughness = r.roughness;
+    s.occlusion = r.occlusion;
+    s.emissive = r.emissive;
     var direct = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {
         let light = scene_lights[i];
         var radiance = light_radiance(s, light_sample(light, in.world_pos));
         if params.shadows != 0u && light.shadow_map >= 0 && any(radiance > vec3<f32>(0.0)) {
-            radiance *= light_visibility(light, in.world_pos, ng, dp1, dp2);
+            radiance *= light_visibility(light, in.world_pos, r.geo_normal, r.dp1, r.dp2);
         }
         direct += radiance;
     }

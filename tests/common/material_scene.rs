@@ -5,7 +5,7 @@
 
 use glam::{Mat4, Quat, Vec3};
 use raygraph::scene::builtin::{cube, plane, sphere};
-use raygraph::scene::{Camera, Instance, Light, Material, Mesh, Scene, TextureImage};
+use raygraph::scene::{Camera, Light, Material, Mesh, Scene, TextureImage};
 
 /// An RGBA8 texture of `size`² texels from a function of the texel centre's uv.
 fn texture(name: &str, size: u32, f: impl Fn(f32, f32) -> [u8; 4]) -> TextureImage {
@@ -110,11 +110,7 @@ pub fn metallic_roughness_scene() -> (Scene, Vec<(&'static str, Vec3)>) {
         point_light: None,
         lights: Vec::new(),
     };
-    for (mesh, material, transform) in parts {
-        scene.instances.push(Instance { mesh: scene.meshes.len(), material: scene.materials.len(), transform });
-        scene.meshes.push(mesh);
-        scene.materials.push(material);
-    }
+    super::add_parts(&mut scene, parts);
     let probes = vec![
         ("mr", Vec3::new(-1.5, 0.01, 0.8)),
         ("emissive", Vec3::new(0.0, 0.01, 0.8)),

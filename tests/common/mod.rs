@@ -6,7 +6,10 @@ pub mod gltf_doc;
 pub mod material_scene;
 pub mod modes;
 
+use glam::Mat4;
 use raygraph::graph::{compile, Plan, Project};
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::{Instance, Material, Mesh, Scene};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -16,6 +19,33 @@ pub fn repo() -> PathBuf {
 
 pub fn fixtures() -> PathBuf {
     repo().join("tests/fixtures")
+}
+
+/// The adapter the GPU tests run on (lavapipe in CI), printed.
+pub fn gpu() -> Gpu {
+    let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
+    println!("adapter: {}", gpu.describe());
+    gpu
+}
+
+/// A scene file of the repository (path relative to its root), opened with default options.
+pub fn open(rel: &str) -> Scene {
+    raygraph::scene::open(repo().join(rel).to_str().unwrap(), &Default::default()).unwrap().0
+}
+
+/// Adds each (mesh, material, transform) to `scene` as a new mesh, material and instance.
+pub fn add_parts(scene: &mut Scene, parts: impl IntoIterator<Item = (Mesh, Material, Mat4)>) {
+    for (mesh, material, transform) in parts {
+        scene.instances.push(Instance { mesh: scene.meshes.len(), material: scene.materials.len(), transform });
+        scene.meshes.push(mesh);
+        scene.materials.push(material);
+    }
+}
+
+/// The texels of the graph resource `name` after a frame (the plan compiled without reuse).
+pub fn channel(gpu: &Gpu, exec: &Executor, name: &str) -> Vec<[f32; 4]> {
+    let r = exec.plan().resource_by_name(name).unwrap_or_else(|| panic!("no resource {name}"));
+    exec.read_texture_f32(gpu, r).unwrap().2
 }
 
 /// A directory with `graph/`, `layers/` and `shaders/`, seeded with the fixture layers and
