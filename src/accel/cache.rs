@@ -296,11 +296,6 @@ impl AccelCache {
         }
     }
 
-    /// The `accel_alpha` buffer (`shaders/trace/alpha.wgsl`), for every back-end.
-    pub fn alpha_buffer(&self) -> &wgpu::Buffer {
-        &self.alpha
-    }
-
     /// Rewrites `accel_alpha` if the scene's alpha data changed (a new buffer, and a new
     /// generation, when it outgrows the old one).
     fn update_alpha(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<(), RuntimeError> {
@@ -419,7 +414,7 @@ impl AccelCache {
         match self.backend {
             Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, meshes_hash, refit, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
-            Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &mut report)?,
+            Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &tested_meshes, &mut report)?,
             Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
         }
         self.units = units;
@@ -648,6 +643,7 @@ impl AccelCache {
         bytes
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn update_ray_query(
         &mut self,
         device: &wgpu::Device,
@@ -656,6 +652,7 @@ impl AccelCache {
         units: &[UnitKey],
         changed: &[usize],
         tested: &[bool],
+        tested_meshes: &[bool],
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
@@ -678,7 +675,6 @@ impl AccelCache {
         blases.resize_with(units.len(), || None);
         // A unit is non-opaque when an alpha-tested instance uses it (de-duplication on: any
         // instance of the mesh).
-        let tested_meshes = super::alpha::tested_meshes(scene);
         for &u in changed {
             let alpha = if self.dedup { tested_meshes[units[u].mesh] } else { tested[u] };
             blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u, !alpha);

@@ -40,6 +40,7 @@ mod any_hit;
 
 pub use any_hit::{any_hit_spirv, binding_map as any_hit_binding_map};
 
+use super::alpha::instance_tested as alpha_tested;
 use crate::error::RuntimeError;
 use crate::scene::Scene;
 use std::num::NonZeroU64;
@@ -359,12 +360,6 @@ struct Packed {
     /// `accel_first_triangle`: per scene instance its unit's first triangle; merged, per
     /// geometry of the one BLAS its first triangle.
     first_triangles: Vec<u32>,
-}
-
-/// Whether scene instance `i`'s material is alpha-tested (MASK, or BLEND as a cutout).
-fn alpha_tested(scene: &Scene, i: usize) -> bool {
-    let material = scene.instances.get(i).and_then(|inst| scene.materials.get(inst.material));
-    material.is_some_and(|m| m.alpha_mode != crate::scene::AlphaMode::Opaque)
 }
 
 /// Packs the scene's triangles (see [`Packed`]). Two levels: a unit's one geometry is
@@ -717,8 +712,15 @@ impl RtAccel {
         self.blases.iter().zip(&self.blas_kinds).filter(|(b, _)| b.is_some()).flat_map(|(_, k)| k.iter().flatten()).filter(|(_, opaque)| !opaque).count()
     }
 
-    /// The trace module's bindings [`RtPass::bind_accel`] takes from the `RtAccel` itself.
-    const OWN_BINDINGS: [&'static str; 5] = ["accel_tlas", "accel_positions", "accel_indices", "accel_first_triangle", "accel_owners"];
+    /// The trace module's bindings of [`RtAccel::geometry`], in its order; with `accel_tlas`,
+    /// the bindings [`RtPass::bind_accel`] takes from the `RtAccel` itself.
+    const GEOMETRY_BINDINGS: [&'static str; 4] = ["accel_positions", "accel_indices", "accel_first_triangle", "accel_owners"];
+
+    /// Whether [`RtPass::bind_accel`] takes binding `name` from the `RtAccel` itself (not from
+    /// the cache's buffers).
+    fn owns_binding(name: &str) -> bool {
+        name == "accel_tlas" || Self::GEOMETRY_BINDINGS.contains(&name)
+    }
 
     fn tlas(&self) -> Option<&HalAccel> {
         self.tlas.as_ref()
@@ -1032,7 +1034,7 @@ impl RtPass {
                     }
                 }
                 RtResource::Buffer { buffer, .. } => buffers.push(raw_buffer(buffer)?),
-                RtResource::Accel(name) if !RtAccel::OWN_BINDINGS.contains(&name.as_str()) => {
+                RtResource::Accel(name) if !RtAccel::owns_binding(name) => {
                     let (_, cache) = accel.ok_or_else(|| hal_error("binding", "the trace module's group needs the acceleration structure"))?;
                     let (buffer, _, _) = cache(name).ok_or_else(|| RuntimeError::Gpu(format!("the rt-pipeline back-end has no binding `{name}`")))?;
                     buffers.push(raw_buffer(&buffer)?);
@@ -1142,22 +1144,20 @@ impl RtPass {
                                     hal_accels.push(rt.tlas().ok_or_else(|| hal_error("binding", "the TLAS is not built"))?);
                                     (hal_accels.len() - 1, 1)
                                 }
-                                "accel_positions" | "accel_indices" | "accel_first_triangle" | "accel_owners" => {
-                                    let i = match name.as_str() {
-                                        "accel_positions" => 0,
-                                        "accel_indices" => 1,
-                                        "accel_first_triangle" => 2,
-                                        _ => 3,
-                                    };
-                                    let buffer = rt.geometry.get(i).ok_or_else(|| hal_error("binding", "the geometry arrays are not built"))?;
-                                    hal_buffers.push(hal::BufferBinding::new_unchecked(buffer, 0, None));
-                                    (hal_buffers.len() - 1, 1)
-                                }
-                                // The cache's buffers (counters, alpha records), found above.
                                 other => {
-                                    let (_, offset, size) = cache(other).expect("found when the handles were read");
-                                    hal_buffers.push(hal::BufferBinding::new_unchecked(&hal_wgpu_buffers[bi], offset, size));
-                                    bi += 1;
+                                    let buffer = match RtAccel::GEOMETRY_BINDINGS.iter().position(|n| *n == other) {
+                                        Some(i) => {
+                                            let buffer = rt.geometry.get(i).ok_or_else(|| hal_error("binding", "the geometry arrays are not built"))?;
+                                            hal::BufferBinding::new_unchecked(buffer, 0, None)
+                                        }
+                                        // The cache's buffers (counters, alpha records), found above.
+                                        None => {
+                                            let (_, offset, size) = cache(other).expect("found when the handles were read");
+                                            bi += 1;
+                                            hal::BufferBinding::new_unchecked(&hal_wgpu_buffers[bi - 1], offset, size)
+                                        }
+                                    };
+                                    hal_buffers.push(buffer);
                                     (hal_buffers.len() - 1, 1)
                                 }
                             }
