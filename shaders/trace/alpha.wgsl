@@ -11,7 +11,7 @@
 //
 // Bindings (bound by the executor and the batch tracer by name, like the other accel_*):
 //   @group(2) @binding(15) accel_alpha: array<vec4<u32>>, the AccelCache's alpha buffer
-//     (AccelCache::alpha_buffer(), also AccelCache::binding("accel_alpha", _)), one buffer for
+//     (AccelCache::binding("accel_alpha", _)), one buffer for
 //     every back-end:
 //     - word [instance]: (uv_base, texture layer, bitcast<u32>(base_color.a),
 //       bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an instance whose material is
