@@ -19,6 +19,10 @@
 //! the 256x256 texture array of `RAYGRAPH_NO_BINDLESS`); the f64 reference and the CPU
 //! traversal give the same counts; the raster G-buffer and the forward pass cover exactly the
 //! pixels the primary rays hit, all equal to the analytic classification of each camera ray.
+//!
+//! Also what the graphs specialise: one executor whose scene gains alpha-tested materials
+//! compiles the test into its traversal and raster pipelines; and the raster pipelines' culling
+//! (single-sided, double-sided, mirroring transforms) shows the sides the primary rays see.
 
 mod common;
 
@@ -374,8 +378,17 @@ const IMAGE: (u32, u32) = (96, 48);
 
 /// Per pixel, the surface the G-buffer's position shows.
 fn gbuffer_surfaces(gpu: &Gpu, path: &std::path::Path, options: CompileOptions, scene: &Scene) -> Vec<Surface> {
+    let mut exec = gbuffer_executor(gpu, path, options, scene);
+    rendered_surfaces(gpu, &mut exec, scene)
+}
+
+fn gbuffer_executor(gpu: &Gpu, path: &std::path::Path, options: CompileOptions, scene: &Scene) -> Executor {
     let plan = compile_with(path, &Project::beside_graph(path), IMAGE, &CompileOptions { reuse: false, ..options }).unwrap();
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    Executor::new(gpu, plan, scene).unwrap()
+}
+
+/// Renders `scene` with `exec` and classifies the G-buffer's position per pixel.
+fn rendered_surfaces(gpu: &Gpu, exec: &mut Executor, scene: &Scene) -> Vec<Surface> {
     exec.render(gpu, &scene.camera, scene).unwrap();
     let r = exec.plan().resource_by_name("gbuffer.position").unwrap();
     let pos = exec.read_texture_f32(gpu, r).unwrap().2;
@@ -506,6 +519,100 @@ fn every_trace_module_binds_the_alpha_data() {
             let mut usage = SceneUsage::default();
             info.bindings.iter().for_each(|b| usage.add_binding(b));
             assert!(usage.textures && usage.texture_binding_array == bindless, "{backend}");
+        }
+    }
+}
+
+/// One executor per graph, first given the scene with every material opaque (no alpha-tested
+/// instance: the traversal is compiled without the test and every draw takes the raster
+/// pipeline without it), then the checker scene: the next frame must cut the checker out, on
+/// the raster G-buffer and on `compute`'s primary rays, both layouts. The opaque frame shows
+/// every quad in view whole: more pixels than its checker, and the raster and the traced
+/// G-buffers agree pixel for pixel. On the two-level layout only the quads' BLAS is rebuilt
+/// (its mesh became alpha-tested), and the planes' must be kept: the frame after the change
+/// still shows every plane pixel.
+#[test]
+fn an_executor_compiles_the_alpha_test_in_when_its_scene_gains_alpha() {
+    let gpu = gpu();
+    let (scene, want, p) = graph_setup();
+    let mut opaque = scene.clone();
+    for m in &mut opaque.materials {
+        m.alpha_mode = AlphaMode::Opaque;
+    }
+    let quad_pixels = |s: &[Surface]| (0..QUADS).map(|i| s.iter().filter(|x| **x == Surface::Quad(i)).count()).collect::<Vec<_>>();
+    let want_quads = quad_pixels(&want);
+    let mut opaque_frames = Vec::new();
+    for graph in ["hybrid", "full_rt", "full_rt_two_level"] {
+        let path = p.root.join(format!("graph/{graph}.ron"));
+        let mut exec = gbuffer_executor(&gpu, &path, gpu.compile_options_for(Backend::Compute), &opaque);
+        let first = rendered_surfaces(&gpu, &mut exec, &opaque);
+        let quads = quad_pixels(&first);
+        // Quads 0 and 1 (MASK, BLEND) are the ones in view.
+        for i in 0..QUADS {
+            let more = if want_quads[i] > 0 { quads[i] > want_quads[i] } else { quads[i] == 0 };
+            assert!(more, "{graph}, opaque frame: quad {i} covers {} pixels, its checker {}", quads[i], want_quads[i]);
+        }
+        assert!(want_quads[0] > 0 && want_quads[1] > 0, "the camera sees quads 0 and 1");
+        opaque_frames.push(first);
+        let second = rendered_surfaces(&gpu, &mut exec, &scene);
+        assert_same(&format!("{graph}, frame after the materials became alpha-tested"), &second, &want);
+    }
+    assert_same("traced against raster G-buffer, opaque frame", &opaque_frames[1], &opaque_frames[0]);
+    assert_same("two-level against raster G-buffer, opaque frame", &opaque_frames[2], &opaque_frames[0]);
+}
+
+/// Two unit quads ([-1, 1]² at z = 0, facing +z), at x = 0 and x = 3, the second mirrored by
+/// its transform (x -> -x about its centre: same place, reversed winding, same front side).
+fn facing_scene(double_sided: bool) -> Scene {
+    let mut s = builtin::default_scene();
+    s.name = "facing".into();
+    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0)];
+    s.textures.clear();
+    s.materials = vec![Material { double_sided, ..Material::diffuse("quad", [0.8, 0.8, 0.8, 1.0], None) }];
+    let mirrored = Mat4::from_translation(Vec3::new(SPACING, 0.0, 0.0)) * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: mirrored }];
+    s.lights.clear();
+    s
+}
+
+/// The raster G-buffer culls the back faces of single-sided materials in the rasterizer (for
+/// a mirroring transform, the faces whose winding it reverses), and draws double-sided ones on
+/// both sides: from in front, both quads; from behind, none when single-sided, both when
+/// double-sided. The same pixels as the primary rays (`compute`, full RT graph) and as the
+/// analytic answer: a pixel shows quad i where its camera ray crosses z = 0 within quad i
+/// (the camera's pixel centres fall on odd multiples of 1/32 there, never on an edge).
+#[test]
+fn raster_culling_shows_the_sides_the_rays_see() {
+    let gpu = gpu();
+    let (_, _, p) = graph_setup();
+    for double_sided in [false, true] {
+        for behind in [false, true] {
+            let mut scene = facing_scene(double_sided);
+            scene.camera = camera();
+            if behind {
+                scene.camera.position.z = -scene.camera.position.z;
+            }
+            let want: Vec<Surface> = ReferenceRenderer::camera_rays(&scene.camera, IMAGE)
+                .iter()
+                .map(|r| {
+                    let (o, d) = (r.origin.as_dvec3(), r.dir.as_dvec3());
+                    let q = o + d * (-o.z / d.z);
+                    let i = ((q.x / SPACING as f64) + 0.5).floor().clamp(0.0, 1.0) as usize;
+                    let visible = double_sided || !behind;
+                    if visible && (q.x - SPACING as f64 * i as f64).abs() < 1.0 && q.y.abs() < 1.0 {
+                        Surface::Quad(i)
+                    } else {
+                        Surface::Miss
+                    }
+                })
+                .collect();
+            let shown = want.iter().filter(|s| **s != Surface::Miss).count();
+            assert_eq!(shown, if double_sided || !behind { 2 * 32 * 32 } else { 0 }, "analytic pixels of the two quads");
+            let what = format!("{} quads seen from {}", if double_sided { "double-sided" } else { "single-sided" }, if behind { "behind" } else { "in front" });
+            for graph in ["hybrid", "full_rt"] {
+                let got = gbuffer_surfaces(&gpu, &p.root.join(format!("graph/{graph}.ron")), gpu.compile_options_for(Backend::Compute), &scene);
+                assert_same(&format!("{what}, {graph} G-buffer"), &got, &want);
+            }
         }
     }
 }

@@ -6,9 +6,18 @@
 //   if !material_alpha_visible(material, uv) { discard; }
 // Needs common/scene.wgsl included and `scene_materials` declared by the pass
 // (`scene_textures` comes with the include).
+//
+// RASTER_ALPHA_TEST is a pipeline constant: the executor draws the instances of opaque
+// materials with a pipeline where it is false (src/runtime/raster.rs), so their fragment stage
+// has no discard and keeps early depth testing.
 //#include "common/alpha_read.wgsl"
 
+override RASTER_ALPHA_TEST: bool = true;
+
 fn material_alpha_visible(material: u32, uv: vec2<f32>) -> bool {
+    if !RASTER_ALPHA_TEST {
+        return true;
+    }
     let m = scene_materials[material];
     if (m.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;

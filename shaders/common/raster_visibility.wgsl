@@ -1,18 +1,15 @@
-// Which rasterized fragments of the scene are kept, the same visibility the rays have: back
-// faces of single-sided materials (glTF doubleSided false) and texels the alpha test cuts are
-// discarded. Both sides of every triangle are drawn, so facing is decided here; so are the
-// surface inputs a kept fragment shades with, read alike by the G-buffer
-// (deferred/deferred.wgsl) and forward shading (forward/forward.wgsl).
+// Which rasterized fragments of the scene are kept, the same visibility the rays have: texels
+// the alpha test cuts are discarded (common/alpha.wgsl). Back faces of single-sided materials
+// (glTF doubleSided false) never reach the fragment stage: the executor culls them in the
+// rasterizer (`cull_back_faces`, src/runtime/raster.rs). Also the surface inputs a kept fragment
+// shades with, read alike by the G-buffer (deferred/deferred.wgsl) and forward shading
+// (forward/forward.wgsl).
 // Needs common/scene.wgsl and `scene_materials`, like common/alpha.wgsl, and
 // common/scene_textures.wgsl.
 //#include "common/material_inputs.wgsl"
 //#include "common/alpha.wgsl"
 
-fn raster_fragment_kept(inst: Instance, front_facing: bool, uv: vec2<f32>) -> bool {
-    let material = scene_materials[inst.material];
-    if !raster_front_face(front_facing, inst.model) && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u {
-        return false;
-    }
+fn raster_fragment_kept(inst: Instance, uv: vec2<f32>) -> bool {
     return material_alpha_visible(inst.material, uv);
 }
 

@@ -1,9 +1,9 @@
 // G-buffer: world position, shading normal (normal-mapped, common/material_inputs.wgsl, with
 // the tangent frame from screen-space derivatives), geometric normal (from derivatives of the
 // object-space position, transformed), albedo, material, emission and occlusion. Normals face
-// the camera. The pass draws both sides of every triangle (`cull_back_faces: false`): back
-// faces of single-sided materials are discarded here, those of double-sided ones (glTF
-// `doubleSided`) get reversed normals, as primary rays do (rt/primary.wgsl).
+// the camera. The rasterizer culls back faces of single-sided materials (`cull_back_faces`);
+// those of double-sided ones (glTF `doubleSided`) get reversed normals, as primary rays do
+// (rt/primary.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
@@ -57,7 +57,7 @@ struct GBuffer {
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
     let inst = scene_instances[in.instance];
-    if !raster_fragment_kept(inst, front_facing, in.uv) {
+    if !raster_fragment_kept(inst, in.uv) {
         discard;
     }
     let s = raster_surface(inst, front_facing, in.local, in.uv, in.normal);

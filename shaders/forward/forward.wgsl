@@ -159,12 +159,12 @@ fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, d
 }
 
 // Material inputs and facing are read as the raster G-buffer reads them
-// (deferred/deferred.wgsl, common/material_inputs.wgsl): both sides drawn, back faces of
-// single-sided materials discarded, those of double-sided ones with reversed normals.
+// (deferred/deferred.wgsl, common/material_inputs.wgsl): back faces of single-sided materials
+// culled, those of double-sided ones with reversed normals.
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
     let inst = scene_instances[in.instance];
-    if !raster_fragment_kept(inst, front_facing, in.uv) {
+    if !raster_fragment_kept(inst, in.uv) {
         discard;
     }
     // Before any non-uniform branch (it takes derivatives: the normal map's frame, the face

@@ -1,7 +1,8 @@
 // Depth of the scene from one light, for shadow maps: every instance through the
 // view-projection of a shadow-map slot (`frame.shadow_view_proj`). One vertex entry point per
-// slot (`vs_slot0` .. `vs_slot3`, one pass each in layers/shadow_map.ron); a slot no light uses
-// draws nothing (every vertex is clipped). Alpha-tested materials drop the texels the alpha
+// slot (`vs_slot0` .. `vs_slot3`, one pass each in layers/shadow_map.ron); the pass of a
+// slot no light uses is not recorded (`shadow_slot`), and would draw nothing (every vertex is
+// clipped). Alpha-tested materials drop the texels the alpha
 // test cuts (common/alpha.wgsl, the test of every mode). The pass writes only its depth
 // attachment, so the fragment stage has no colour outputs.
 //#include "common/frame.wgsl"

@@ -21,7 +21,13 @@
 //   @group(1) @binding(0) scene_textures, declared by common/scene_textures_texels.wgsl
 //     (either variant, which common/scene_textures.wgsl includes), so a trace pass that
 //     reads textures itself shares the declaration.
+//
+// TRACE_ALPHA_TEST is a pipeline constant: the executor sets it false for a scene without
+// alpha-tested instances (src/runtime/exec.rs, `trace_constants`), and the compute traversal
+// then has no alpha branch at all. Back-ends and callers that do not set it keep the test.
 //#include "common/alpha_read.wgsl"
+
+override TRACE_ALPHA_TEST: bool = true;
 
 @group(2) @binding(15) var<storage, read> accel_alpha: array<vec4<u32>>;
 

@@ -299,7 +299,7 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                 let h = trace_triangle(r, tri, t_min, (*best).t);
                 if h.t >= 0.0 && !(cull && trace_back_facing(r, tri)) {
                     let tri_alpha = (tri.flags & TRI_ALPHA) != 0u;
-                    if (alpha_instance != NO_HIT || tri_alpha)
+                    if TRACE_ALPHA_TEST && (alpha_instance != NO_HIT || tri_alpha)
                         && !trace_alpha_visible(select(alpha_instance, tri.instance, tri_alpha), tri.prim, vec2<f32>(h.u, h.v)) {
                         continue;
                     }

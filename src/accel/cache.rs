@@ -440,21 +440,21 @@ impl AccelCache {
             State::Compute(c) => Some(c),
             _ => None,
         };
-        // Instances moved, nothing else: refit the TLAS in place.
-        if let Some(mut c) = old.filter(|_| changed.is_empty() && same_instance_set) {
-            let refitted = c.accel.as_mut().is_some_and(|a| a.refit_instances(scene).is_ok());
-            if let Some(accel) = c.accel.as_ref().filter(|_| refitted) {
-                report.tlas = TlasWork::Refit;
-                let flat = flatten(scene, accel);
-                report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
-                self.state = State::Compute(c);
-                return Ok(());
+        // Instances moved, nothing else: refit the TLAS in place. (Any other change keeps
+        // `old`: its BLASes of unchanged units are reused below.)
+        let old = match old {
+            Some(mut c) if changed.is_empty() && same_instance_set => {
+                let refitted = c.accel.as_mut().is_some_and(|a| a.refit_instances(scene).is_ok());
+                if let Some(accel) = c.accel.as_ref().filter(|_| refitted) {
+                    report.tlas = TlasWork::Refit;
+                    let flat = flatten(scene, accel);
+                    report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
+                    self.state = State::Compute(c);
+                    return Ok(());
+                }
+                Some(c)
             }
-            self.state = State::Compute(c);
-        }
-        let old = match std::mem::replace(&mut self.state, State::Empty) {
-            State::Compute(c) => Some(c),
-            _ => None,
+            old => old,
         };
         let t0 = Instant::now();
         let built: Vec<(usize, Blas)> = changed.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();

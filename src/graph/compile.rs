@@ -110,6 +110,8 @@ pub struct PlannedPass {
     pub dispatch: Dispatch,
     /// `SceneRaster`: whether the pipeline culls back faces (`PassDesc::cull_back_faces`).
     pub cull_back_faces: bool,
+    /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
+    pub shadow_slot: Option<u32>,
     /// Parameter values after graph overrides.
     pub params: BTreeMap<String, (ParamDecl, ParamValue)>,
     pub location: Location,
@@ -526,6 +528,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             writes: p.writes.clone(),
             dispatch: pass.dispatch,
             cull_back_faces: pass.cull_back_faces,
+            shadow_slot: pass.shadow_slot,
             params: node.params.clone(),
             location: p.location.clone(),
         });
@@ -689,6 +692,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             writes: vec!["tlas".into()],
             dispatch: Dispatch::default(),
             cull_back_faces: true,
+            shadow_slot: None,
         }],
     };
     let params = BTreeMap::from([
@@ -901,6 +905,14 @@ fn collect_passes(nodes: &[ResolvedNode], _resources: &[PlannedResource], produc
                 }
                 producer_loc.insert(*r, (location.clone(), pass.name.clone()));
                 producers.insert(*r, passes.len());
+            }
+            if pass.shadow_slot.is_some() && pass.kind != PassKind::SceneRaster {
+                return Err(GraphError::new(
+                    ErrorKind::Unsupported,
+                    location,
+                    format!("pass `{}` has a `shadow_slot` but is not a SceneRaster pass", pass.name),
+                )
+                .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
             }
             passes.push(PassNode { node: ni, index: pi, reads, writes, location });
         }

@@ -330,10 +330,16 @@ pub struct PassDesc {
     pub writes: Vec<String>,
     #[serde(default)]
     pub dispatch: Dispatch,
-    /// `SceneRaster` only: cull back faces (the default). `false` draws both sides, and the
-    /// fragment shader decides per material from `@builtin(front_facing)` (glTF `doubleSided`).
+    /// `SceneRaster` only: the rasterizer culls the back faces of single-sided materials (the
+    /// default; glTF `doubleSided` materials are drawn on both sides, and mirroring instance
+    /// transforms are accounted for). `false` draws both sides of every material.
     #[serde(default = "enabled_default")]
     pub cull_back_faces: bool,
+    /// `SceneRaster` only: the pass draws raster shadow-map slot N. In a frame where no light
+    /// has that slot, the pass is not recorded (its texture keeps what it had; no shader reads
+    /// a slot no light has) and its row reads 0 ms.
+    #[serde(default)]
+    pub shadow_slot: Option<u32>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]

@@ -201,6 +201,8 @@ pub struct ShaderInfo {
     pub source: ShaderSource,
     pub bindings: Vec<ShaderBinding>,
     pub entry_points: Vec<EntryPointInfo>,
+    /// Names of the module's pipeline-overridable constants (WGSL `override`).
+    pub overrides: Vec<String>,
     /// The validated IR of a module with ray-tracing pipeline stages (a trace pass compiled for
     /// the `rt-pipeline` back-end), whose compute entry points were made ray-generation
     /// shaders ([`compute_to_ray_generation`]); wgpu-hal compiles every stage from it.
@@ -257,6 +259,11 @@ pub fn compute_to_ray_generation(module: &mut naga::Module) -> Result<(), String
 }
 
 impl ShaderInfo {
+    /// Whether the module declares the pipeline-overridable constant `name`.
+    pub fn has_override(&self, name: &str) -> bool {
+        self.overrides.iter().any(|o| o == name)
+    }
+
     /// The interface of a pass without a shader (an acceleration-structure build).
     pub fn none() -> Self {
         ShaderInfo {
@@ -264,6 +271,7 @@ impl ShaderInfo {
             source: ShaderSource { text: String::new(), segments: Vec::new() },
             bindings: Vec::new(),
             entry_points: Vec::new(),
+            overrides: Vec::new(),
             ray_tracing: None,
         }
     }
@@ -412,10 +420,11 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
         let workgroup_size = compute_sizes.iter().find(|(n, _)| *n == ep.name).map(|(_, s)| *s).unwrap_or(ep.workgroup_size);
         entry_points.push(EntryPointInfo { name: ep.name.clone(), stage: ep.stage, workgroup_size, locations });
     }
+    let overrides = module.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect();
     let ray_tracing = match (ray_tracing, validated) {
         (true, Ok(info)) => Some(RayTracingModule { module: std::sync::Arc::new(module), info: std::sync::Arc::new(info) }),
         _ => None,
     };
 
-    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points, ray_tracing })
+    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points, overrides, ray_tracing })
 }

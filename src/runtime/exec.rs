@@ -3,6 +3,7 @@
 
 use super::gpu::Gpu;
 use super::profiler::{map_read, FrameTimings, GpuTimer};
+use super::raster::{DrawClass, InstanceClass, RenderSpec, ScenePipelines};
 use super::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
 use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
 use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
@@ -18,7 +19,10 @@ use std::time::Instant;
 
 enum Pipeline {
     Compute(wgpu::ComputePipeline),
+    /// A fullscreen pass.
     Render(wgpu::RenderPipeline),
+    /// A `SceneRaster` pass: one variant per draw class (`super::raster`).
+    Scene(ScenePipelines),
     /// The `Accel` node's build: the cache's update, recorded at the start of the frame.
     AccelBuild,
     /// A trace pass on the `rt-pipeline` back-end: a ray-tracing pipeline recorded through
@@ -130,6 +134,10 @@ pub struct Executor {
     scene_content: SceneContent,
     samplers: (wgpu::Sampler, wgpu::Sampler),
     /// Whether the warning about lights without a raster shadow map was printed.
+    /// Whether the scene has alpha-tested instances: the value of the trace modules' pipeline
+    /// constant TRACE_ALPHA_TEST (see [`trace_constants`]); the passes are built again when it
+    /// changes.
+    trace_alpha_test: bool,
     warned_unshadowed: bool,
 }
 
@@ -260,6 +268,7 @@ impl Executor {
             scene_content: if plan_uploads { SceneContent::of(scene) } else { SceneContent::default() },
             samplers: (linear, nearest),
             warned_unshadowed: false,
+            trace_alpha_test: scene_has_alpha_test(scene),
         };
         exec.passes = exec.build_passes(gpu)?;
         if gpu.timestamps {
@@ -281,6 +290,12 @@ impl Executor {
     /// other change (meshes, materials, textures, instances added or removed) uploads the scene
     /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
     fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        let alpha_test = scene_has_alpha_test(scene);
+        if alpha_test != self.trace_alpha_test {
+            self.trace_alpha_test = alpha_test;
+            self.passes = self.build_passes(gpu)?;
+            self.accel_generation = u64::MAX;
+        }
         let Some(uploaded) = &self.scene else { return Ok(()) };
         let content = SceneContent::of(scene);
         if content == self.scene_content {
@@ -511,12 +526,13 @@ impl Executor {
         let (pipeline, groups) = match pass.kind {
             PassKind::AccelBuild => unreachable!("returned above"),
             PassKind::Compute | PassKind::Trace => {
+                let constants = trace_constants(pass, self.trace_alpha_test);
                 let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some(&pass.name),
                     layout: Some(&layout),
                     module: &module,
                     entry_point: Some(&pass.entry),
-                    compilation_options: Default::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
                     cache: None,
                 });
                 let groups = match pass.dispatch {
@@ -539,52 +555,23 @@ impl Executor {
                         ResourceDecl::Buffer(_) | ResourceDecl::Accel => None,
                     })
                     .collect();
-                let attributes = [
-                    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 },
-                    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 12, shader_location: 1 },
-                    wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x2, offset: 24, shader_location: 2 },
-                ];
-                let used: Vec<wgpu::VertexAttribute> = {
-                    let locs = pass.shader.entry(&pass.vertex_entry).map(|e| e.locations.clone()).unwrap_or_default();
-                    attributes.iter().filter(|a| locs.contains(&a.shader_location)).copied().collect()
-                };
-                let vertex_buffers = [Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &used,
-                })];
                 let scene_raster = pass.kind == PassKind::SceneRaster;
-                let p = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&pass.name),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some(&pass.vertex_entry),
-                        compilation_options: Default::default(),
-                        buffers: if scene_raster { &vertex_buffers } else { &[] },
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        cull_mode: if scene_raster && pass.cull_back_faces { Some(wgpu::Face::Back) } else { None },
-                        ..Default::default()
-                    },
-                    depth_stencil: depth.map(|_| wgpu::DepthStencilState {
-                        format: wgpu::TextureFormat::Depth32Float,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Less),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(&pass.entry),
-                        compilation_options: Default::default(),
-                        targets: &targets,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                });
-                (Pipeline::Render(p), [0, 0, 0])
+                let spec = RenderSpec {
+                    label: pass.name.clone(),
+                    layout,
+                    module,
+                    vertex_entry: pass.vertex_entry.clone(),
+                    fragment_entry: pass.entry.clone(),
+                    targets,
+                    scene_attributes: scene_raster.then(|| scene_vertex_attributes(pass)),
+                    depth: depth.is_some(),
+                    alpha_switch: shader.has_override(super::raster::ALPHA_TEST_CONSTANT),
+                };
+                if scene_raster {
+                    (Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces)), [0, 0, 0])
+                } else {
+                    (Pipeline::Render(spec.create(device, DrawClass::FULLSCREEN)), [0, 0, 0])
+                }
             }
         };
         let params = params_buffer.as_ref().zip(params_members).map(|((_, buf), (size, members))| (buf.clone(), size, members));
@@ -676,6 +663,75 @@ impl Executor {
     }
 
     /// The pixels a `PerPixel` pass covers: its first written texture, else the frame.
+    /// Records a fullscreen or scene raster pass: a scene pass draws every instance with the
+    /// pipeline variant of its draw class, the variants in their fixed order.
+    #[allow(clippy::too_many_arguments)]
+    fn record_raster(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        index: usize,
+        pass: &PassRuntime,
+        planned: &PlannedPass,
+        color_views: &[wgpu::TextureView],
+        depth_view: Option<&wgpu::TextureView>,
+        instance_classes: &[InstanceClass],
+    ) -> Result<(), RuntimeError> {
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
+            .iter()
+            .map(|v| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })
+            })
+            .collect();
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(&planned.name),
+            color_attachments: &attachments,
+            depth_stencil_attachment: depth_view.map(|v| wgpu::RenderPassDepthStencilAttachment {
+                view: v,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: self.timer.as_ref().and_then(|t| t.render_writes(index as u32)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for (g, bg) in pass.bind_groups.iter().enumerate() {
+            rp.set_bind_group(g as u32, bg, &[]);
+        }
+        let pipelines = match &pass.pipeline {
+            Pipeline::Render(pipeline) => {
+                rp.set_pipeline(pipeline);
+                rp.draw(0..3, 0..1);
+                return Ok(());
+            }
+            Pipeline::Scene(pipelines) => pipelines,
+            _ => unreachable!("record_raster is called for raster passes"),
+        };
+        let (Some(scene), Some(vertices), Some(indices)) =
+            (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok())
+        else {
+            return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", planned.name)));
+        };
+        rp.set_vertex_buffer(0, vertices.slice(..));
+        rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        let classes = pipelines.classes(instance_classes);
+        for (class, pipeline) in pipelines.variants() {
+            let mut draws = scene.draws.iter().filter(|d| classes.get(d.instance as usize) == Some(&class)).peekable();
+            if draws.peek().is_none() {
+                continue;
+            }
+            rp.set_pipeline(pipeline);
+            for d in draws {
+                rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
+            }
+        }
+        Ok(())
+    }
+
     fn per_pixel_extent(&self, pass: &PlannedPass) -> (u32, u32) {
         pass.writes
             .iter()
@@ -752,10 +808,25 @@ impl Executor {
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
         // The acceleration structure first: every trace pass depends on it.
         let accel_report = self.update_accel(gpu, &mut encoder, &mut command_buffers, scene)?;
+        let instance_classes = InstanceClass::of_scene(scene);
+        for pass in &mut self.passes {
+            if let Pipeline::Scene(pipelines) = &mut pass.pipeline {
+                pipelines.prepare(&gpu.device, &pipelines.classes(&instance_classes));
+            }
+        }
         let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> =
             self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
         for (i, (pass, planned)) in self.passes.iter().zip(&self.plan.passes).enumerate() {
             let t0 = Instant::now();
+            if planned.shadow_slot.is_some_and(|slot| slot >= uniforms.shadow_count) {
+                // A shadow map no light uses this frame: not drawn; an empty pass keeps the
+                // timestamp pair (0 ms).
+                if let Some(t) = &self.timer {
+                    drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&planned.name), timestamp_writes: t.compute_writes(i as u32) }));
+                }
+                cpu_ms.push(0.0);
+                continue;
+            }
             match &pass.pipeline {
                 Pipeline::AccelBuild => {
                     cpu_ms.push(accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
@@ -790,49 +861,9 @@ impl Executor {
                     }
                     cp.dispatch_workgroups(pass.groups[0], pass.groups[1], pass.groups[2]);
                 }
-                Pipeline::Render(pipeline) => {
+                Pipeline::Render(_) | Pipeline::Scene(_) => {
                     let (color_views, depth_view) = &views[i];
-                    let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
-                        .iter()
-                        .map(|v| {
-                            Some(wgpu::RenderPassColorAttachment {
-                                view: v,
-                                depth_slice: None,
-                                resolve_target: None,
-                                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
-                            })
-                        })
-                        .collect();
-                    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some(&planned.name),
-                        color_attachments: &attachments,
-                        depth_stencil_attachment: depth_view.as_ref().map(|v| wgpu::RenderPassDepthStencilAttachment {
-                            view: v,
-                            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                            stencil_ops: None,
-                        }),
-                        timestamp_writes: self.timer.as_ref().and_then(|t| t.render_writes(i as u32)),
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                    rp.set_pipeline(pipeline);
-                    for (g, bg) in pass.bind_groups.iter().enumerate() {
-                        rp.set_bind_group(g as u32, bg, &[]);
-                    }
-                    if planned.kind == PassKind::SceneRaster {
-                        let (Some(scene), Some(vertices), Some(indices)) =
-                            (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok())
-                        else {
-                            return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", planned.name)));
-                        };
-                        rp.set_vertex_buffer(0, vertices.slice(..));
-                        rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-                        for d in &scene.draws {
-                            rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
-                        }
-                    } else {
-                        rp.draw(0..3, 0..1);
-                    }
+                    self.record_raster(&mut encoder, i, pass, planned, color_views, depth_view.as_ref(), &instance_classes)?;
                 }
             }
             cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
@@ -1090,4 +1121,35 @@ pub fn write_png(path: &std::path::Path, img: &image::RgbaImage) -> Result<(), R
     img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .map_err(|e| RuntimeError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
     crate::util::write_atomic(path, &png).map_err(|source| RuntimeError::Output { path: path.to_path_buf(), source })
+}
+
+/// The scene vertex attributes (position, normal, uv) that `pass`'s vertex stage reads.
+fn scene_vertex_attributes(pass: &PlannedPass) -> Vec<wgpu::VertexAttribute> {
+    let attributes = [
+        wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 },
+        wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 12, shader_location: 1 },
+        wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x2, offset: 24, shader_location: 2 },
+    ];
+    let locations = pass.shader.entry(&pass.vertex_entry).map(|e| e.locations.clone()).unwrap_or_default();
+    attributes.iter().filter(|a| locations.contains(&a.shader_location)).copied().collect()
+}
+
+/// The trace module's pipeline constant that compiles the alpha test into the traversal
+/// (`shaders/trace/alpha.wgsl`).
+pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
+
+/// Whether any instance of `scene` is alpha-tested.
+fn scene_has_alpha_test(scene: &Scene) -> bool {
+    (0..scene.instances.len()).any(|i| crate::accel::alpha::instance_tested(scene, i))
+}
+
+/// Pipeline constants of a compute or trace pass: a trace pass whose module declares
+/// [`TRACE_ALPHA_CONSTANT`] gets the alpha test only when the scene has alpha-tested geometry,
+/// so a scene without any runs a traversal with no trace of the test.
+fn trace_constants(pass: &PlannedPass, alpha_test: bool) -> Vec<(&'static str, f64)> {
+    if pass.kind == PassKind::Trace && pass.shader.has_override(TRACE_ALPHA_CONSTANT) {
+        vec![(TRACE_ALPHA_CONSTANT, if alpha_test { 1.0 } else { 0.0 })]
+    } else {
+        Vec::new()
+    }
 }

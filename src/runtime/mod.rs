@@ -4,6 +4,7 @@
 pub mod exec;
 pub mod gpu;
 pub mod profiler;
+pub mod raster;
 pub mod report;
 pub mod uniforms;
 

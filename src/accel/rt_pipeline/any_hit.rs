@@ -60,8 +60,12 @@ pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entr
         fake_missing_bindings: false,
         ..Default::default()
     };
+    // The trace module's pipeline constants (TRACE_ALPHA_TEST) keep their defaults here: the
+    // any-hit shader is the alpha test.
+    let (module, info) = naga::back::pipeline_constants::process_overrides(module, info, None, &Default::default())
+        .map_err(|e| format!("resolving the pipeline constants of `{entry}`: {e}"))?;
     let pipeline = naga::back::spv::PipelineOptions { shader_stage: naga::ShaderStage::AnyHit, entry_point: entry.to_string() };
-    let words = naga::back::spv::write_vec(module, info, &options, Some(&pipeline)).map_err(|e| format!("writing `{entry}` as SPIR-V: {e}"))?;
+    let words = naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| format!("writing `{entry}` as SPIR-V: {e}"))?;
     patch(&words).map_err(|e| format!("patching `{entry}`: {e}"))
 }
 

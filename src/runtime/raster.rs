@@ -1,0 +1,203 @@
+//! Render pipelines of `Fullscreen` and `SceneRaster` passes, and the draw classes of a scene
+//! pass: each instance is drawn with a pipeline variant chosen from its material and transform.
+//!
+//! - Culling: with the layer's `cull_back_faces` (the default), the rasterizer culls the back
+//!   faces of single-sided materials: `Back` for an instance whose transform keeps handedness,
+//!   `Front` for one that mirrors it (its triangles' winding turns on screen; `front_facing` in
+//!   the shader stays that of the pipeline, as `raster_front_face` expects). Double-sided
+//!   materials (glTF `doubleSided`) are drawn on both sides.
+//! - Alpha test: a shader that declares the pipeline constant [`ALPHA_TEST_CONSTANT`]
+//!   (`shaders/common/alpha.wgsl`) gets it false for the instances of opaque materials, so
+//!   their fragment stage has no discard and keeps early depth testing; only alpha-tested
+//!   materials pay for the test.
+//!
+//! Variants are created the first time a class is drawn.
+
+use crate::scene::Scene;
+
+/// The pipeline constant that switches the raster alpha test (WGSL `override`).
+pub const ALPHA_TEST_CONSTANT: &str = "RASTER_ALPHA_TEST";
+
+/// What the rasterizer culls for a draw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Cull {
+    None,
+    Back,
+    Front,
+}
+
+impl Cull {
+    fn face(self) -> Option<wgpu::Face> {
+        match self {
+            Cull::None => None,
+            Cull::Back => Some(wgpu::Face::Back),
+            Cull::Front => Some(wgpu::Face::Front),
+        }
+    }
+}
+
+/// The pipeline variant an instance is drawn with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct DrawClass {
+    pub cull: Cull,
+    pub alpha_test: bool,
+}
+
+impl DrawClass {
+    /// A fullscreen pass's one pipeline: nothing culled, the shader as written.
+    pub const FULLSCREEN: DrawClass = DrawClass { cull: Cull::None, alpha_test: true };
+}
+
+/// What decides an instance's draw class, whatever the pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InstanceClass {
+    pub double_sided: bool,
+    pub mirrored: bool,
+    pub alpha_tested: bool,
+}
+
+impl InstanceClass {
+    /// One per scene instance, in order.
+    pub fn of_scene(scene: &Scene) -> Vec<InstanceClass> {
+        (0..scene.instances.len())
+            .map(|i| {
+                let inst = &scene.instances[i];
+                let double_sided = scene.materials.get(inst.material).is_some_and(|m| m.double_sided);
+                InstanceClass {
+                    double_sided,
+                    mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
+                    alpha_tested: crate::accel::alpha::instance_tested(scene, i),
+                }
+            })
+            .collect()
+    }
+
+    /// The class of this instance in a pass that culls back faces (`cull_back_faces`) or not,
+    /// whose shader can switch the alpha test off (`alpha_switch`) or not.
+    pub fn draw_class(self, cull_back_faces: bool, alpha_switch: bool) -> DrawClass {
+        let cull = match (cull_back_faces && !self.double_sided, self.mirrored) {
+            (false, _) => Cull::None,
+            (true, false) => Cull::Back,
+            (true, true) => Cull::Front,
+        };
+        DrawClass { cull, alpha_test: self.alpha_tested || !alpha_switch }
+    }
+}
+
+/// Everything a render pipeline of a pass is made from, but the variant.
+pub struct RenderSpec {
+    pub label: String,
+    pub layout: wgpu::PipelineLayout,
+    pub module: wgpu::ShaderModule,
+    pub vertex_entry: String,
+    pub fragment_entry: String,
+    pub targets: Vec<Option<wgpu::ColorTargetState>>,
+    /// Vertex attributes the vertex stage reads from the scene's vertex buffer; `None` for a
+    /// fullscreen pass (no vertex buffer).
+    pub scene_attributes: Option<Vec<wgpu::VertexAttribute>>,
+    pub depth: bool,
+    /// The shader declares [`ALPHA_TEST_CONSTANT`].
+    pub alpha_switch: bool,
+}
+
+impl RenderSpec {
+    /// The pipeline of one variant.
+    pub fn create(&self, device: &wgpu::Device, class: DrawClass) -> wgpu::RenderPipeline {
+        let constants: Vec<(&str, f64)> = if self.alpha_switch { vec![(ALPHA_TEST_CONSTANT, if class.alpha_test { 1.0 } else { 0.0 })] } else { Vec::new() };
+        let compilation_options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+        let vertex_buffers: Vec<Option<wgpu::VertexBufferLayout>> = self
+            .scene_attributes
+            .iter()
+            .map(|attributes| {
+                Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes,
+                })
+            })
+            .collect();
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&self.label),
+            layout: Some(&self.layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(&self.vertex_entry),
+                compilation_options: compilation_options.clone(),
+                buffers: &vertex_buffers,
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: class.cull.face(), ..Default::default() },
+            depth_stencil: self.depth.then_some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState { module: &self.module, entry_point: Some(&self.fragment_entry), compilation_options, targets: &self.targets }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// The pipeline variants of a `SceneRaster` pass, made as draw classes appear.
+pub struct ScenePipelines {
+    spec: RenderSpec,
+    cull_back_faces: bool,
+    variants: Vec<(DrawClass, wgpu::RenderPipeline)>,
+}
+
+impl ScenePipelines {
+    pub fn new(spec: RenderSpec, cull_back_faces: bool) -> Self {
+        Self { spec, cull_back_faces, variants: Vec::new() }
+    }
+
+    /// The class of each instance in this pass.
+    pub fn classes(&self, instances: &[InstanceClass]) -> Vec<DrawClass> {
+        instances.iter().map(|c| c.draw_class(self.cull_back_faces, self.spec.alpha_switch)).collect()
+    }
+
+    /// Creates the variants of `classes` that do not exist yet.
+    pub fn prepare(&mut self, device: &wgpu::Device, classes: &[DrawClass]) {
+        for &class in classes {
+            if !self.variants.iter().any(|(c, _)| *c == class) {
+                let pipeline = self.spec.create(device, class);
+                self.variants.push((class, pipeline));
+            }
+        }
+    }
+
+    /// The variants made so far, in a fixed order (opaque before alpha-tested, so that the
+    /// cheap draws fill the depth buffer first).
+    pub fn variants(&self) -> impl Iterator<Item = (DrawClass, &wgpu::RenderPipeline)> {
+        let mut order: Vec<&(DrawClass, wgpu::RenderPipeline)> = self.variants.iter().collect();
+        order.sort_by_key(|(c, _)| (c.alpha_test, c.cull));
+        order.into_iter().map(|(c, p)| (*c, p))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn class(double_sided: bool, mirrored: bool, alpha_tested: bool) -> InstanceClass {
+        InstanceClass { double_sided, mirrored, alpha_tested }
+    }
+
+    #[test]
+    fn single_sided_instances_are_culled_by_handedness() {
+        assert_eq!(class(false, false, false).draw_class(true, true), DrawClass { cull: Cull::Back, alpha_test: false });
+        assert_eq!(class(false, true, false).draw_class(true, true), DrawClass { cull: Cull::Front, alpha_test: false });
+        assert_eq!(class(true, true, false).draw_class(true, true).cull, Cull::None);
+        assert_eq!(class(false, false, false).draw_class(false, true).cull, Cull::None);
+    }
+
+    #[test]
+    fn only_alpha_tested_materials_keep_the_test_where_the_shader_can_switch_it() {
+        assert!(class(false, false, true).draw_class(true, true).alpha_test);
+        assert!(!class(false, false, false).draw_class(true, true).alpha_test);
+        // A shader without the constant always runs what it has.
+        assert!(class(false, false, false).draw_class(true, false).alpha_test);
+    }
+}
