@@ -5,8 +5,9 @@
 use super::builtins;
 use super::desc::*;
 use super::reflect::{self, BindingKind, ShaderInfo};
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::error::{ErrorKind, GraphError, Location};
+use crate::scene::gpu::SceneUsage;
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::Direction;
 use std::collections::{BTreeMap, HashMap};
@@ -127,7 +128,7 @@ pub struct Plan {
     pub slots: Vec<Slot>,
     pub output: ResourceId,
     /// Which parts of the scene the kept passes draw or read.
-    pub scene_usage: builtins::SceneUsage,
+    pub scene_usage: SceneUsage,
     /// The back-end trace passes were compiled for.
     pub backend: Backend,
 }
@@ -488,7 +489,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let mut planned: Vec<PlannedPass> = Vec::new();
     let mut first: HashMap<ResourceId, usize> = HashMap::new();
     let mut last: HashMap<ResourceId, usize> = HashMap::new();
-    let mut scene_usage = builtins::SceneUsage::default();
+    let mut scene_usage = SceneUsage::default();
     for (order, &pi) in schedule.iter().enumerate() {
         let p = &passes[pi];
         let node = &nodes[p.node];

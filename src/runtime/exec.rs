@@ -2,17 +2,18 @@
 //! reflection, and records every pass of a frame with a timestamp pair around it.
 
 use super::gpu::Gpu;
-use super::profiler::{map_read, FrameTimings, GpuTimer};
-use super::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
+use super::profiler::{FrameTimings, GpuTimer};
 use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
 use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::{ErrorKind, GraphError, RuntimeError};
+use crate::gpu_util::{compute_pipeline, map_read, readback_buffer, storage_buffer};
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
 use crate::scene::gpu::{light_records, GpuScene, SceneContent, SceneTextures};
 use crate::scene::{Camera, Scene};
+use crate::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -139,7 +140,7 @@ impl Executor {
         self.scene.as_ref()
     }
 
-    /// A part of the uploaded scene; the plan's [`SceneUsage`](builtins::SceneUsage) decides
+    /// A part of the uploaded scene; the plan's [`SceneUsage`](crate::scene::gpu::SceneUsage) decides
     /// what was uploaded, so a missing part is an internal inconsistency reported as an error.
     fn scene_part<T>(&self, part: impl Fn(&GpuScene) -> Option<&T>) -> Result<&T, RuntimeError> {
         self.scene.as_ref().and_then(part).ok_or_else(|| RuntimeError::Gpu("a pass binds a part of the scene that the plan did not upload".into()))
@@ -170,7 +171,7 @@ impl Executor {
                     usage |= wgpu::TextureUsages::COPY_SRC;
                     // The rt-pipeline back-end clears what its traces write once through wgpu
                     // (RtPass::transition).
-                    if s.constant.is_some() || (s.usage.storage && plan.backend == crate::accel::backend::Backend::RtPipeline) {
+                    if s.constant.is_some() || (s.usage.storage && plan.backend == crate::backend::Backend::RtPipeline) {
                         usage |= wgpu::TextureUsages::COPY_DST;
                     }
                     Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
@@ -192,7 +193,7 @@ impl Executor {
                     // queue (RtPass::transition).
                     usage: wgpu::BufferUsages::STORAGE
                         | wgpu::BufferUsages::COPY_SRC
-                        | if plan.backend == crate::accel::backend::Backend::RtPipeline { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() },
+                        | if plan.backend == crate::backend::Backend::RtPipeline { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() },
                     mapped_at_creation: false,
                 })),
             })
@@ -215,12 +216,7 @@ impl Executor {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let debug_counters = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("debug counters"),
-            size: builtins::DEBUG_COUNTER_COUNT as u64 * 4,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let debug_counters = storage_buffer(device, "debug counters", builtins::DEBUG_COUNTER_COUNT as u64 * 4);
         let plan_uploads = plan.scene_usage.any();
         let scene_gpu = if plan_uploads {
             let s = GpuScene::upload(device, &gpu.queue, scene, plan.scene_usage)?;
@@ -455,7 +451,7 @@ impl Executor {
                 _ => {}
             }
         }
-        if pass.kind == PassKind::Trace && self.plan.backend == crate::accel::backend::Backend::RtPipeline {
+        if pass.kind == PassKind::Trace && self.plan.backend == crate::backend::Backend::RtPipeline {
             return self.build_rt_pass(gpu, pass, &layout_entries, params_buffer, params_members);
         }
         // One bind group per @group the shader uses (group 1 holds the scene's texture binding
@@ -511,14 +507,7 @@ impl Executor {
         let (pipeline, groups) = match pass.kind {
             PassKind::AccelBuild => unreachable!("returned above"),
             PassKind::Compute | PassKind::Trace => {
-                let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&pass.name),
-                    layout: Some(&layout),
-                    module: &module,
-                    entry_point: Some(&pass.entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                });
+                let p = compute_pipeline(device, &pass.name, &layout, &module, &pass.entry);
                 let groups = match pass.dispatch {
                     Dispatch::Groups(x, y, z) => [x, y, z],
                     Dispatch::PerPixel => {
@@ -902,7 +891,7 @@ impl Executor {
             for (window, pass) in trace_passes.enumerate() {
                 if let Pipeline::RayTracing(rt) = &mut pass.pipeline {
                     let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-                    rt.bind_accel(built, &crate::accel::rt_pipeline::cache_buffers(cache, window as u32))?;
+                    rt.bind_accel(built, &crate::accel::cache::cache_buffers(cache, window as u32))?;
                     continue;
                 }
                 let Some((layout, entries, names)) = &pass.accel_layout else { continue };
@@ -1037,12 +1026,7 @@ impl Executor {
     /// Reads the `debug_counters` buffer (shaders may count events into it).
     pub fn read_debug_counters(&self, gpu: &Gpu) -> Result<Vec<u32>, RuntimeError> {
         let size = builtins::DEBUG_COUNTER_COUNT as u64 * 4;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("counter readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let buf = readback_buffer(&gpu.device, "counter readback", size);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.debug_counters, 0, &buf, 0, size);
         gpu.queue.submit([encoder.finish()]);
@@ -1062,12 +1046,7 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Res
     let (w, h) = (texture.width(), texture.height());
     let row = w * texel_bytes;
     let padded = row.div_ceil(256) * 256;
-    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("texture readback"),
-        size: padded as u64 * h as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let buf = readback_buffer(&gpu.device, "texture readback", padded as u64 * h as u64);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),

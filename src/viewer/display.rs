@@ -3,6 +3,7 @@
 //! Colour textures are copied and mapped on the GPU (`shaders/viewer/visualize.wgsl`: a scale
 //! and bias per channel); depth textures are read back and mapped on the CPU.
 
+use crate::gpu_util::compute_pipeline;
 use crate::graph::compile::ResourceId;
 use crate::graph::desc::{Format, ResourceDecl};
 use crate::runtime::{Executor, Gpu};
@@ -145,14 +146,7 @@ impl Display {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("viewer visualize"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, "viewer visualize", &pipeline_layout, &module, "cs_main");
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewer visualize"),
             size: UNIFORM_BYTES,
