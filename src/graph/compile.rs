@@ -970,7 +970,7 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                     "add a `@fragment` function or set `entry:` in the pass",
                 ));
             }
-            let colors: Vec<&(String, ResourceId)> = p.writes.iter().filter(|(_, r)| !is_depth(&resources[*r])).collect();
+            let colors: Vec<&(String, ResourceId)> = p.writes.iter().filter(|(_, r)| !resources[*r].decl.is_depth_texture()).collect();
             let outs = &info.entry(&entry).map(|e| e.locations.clone()).unwrap_or_default();
             let expected: Vec<u32> = (0..colors.len() as u32).collect();
             if *outs != expected {
@@ -985,7 +985,7 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                     "make the fragment outputs @location(0..n) match the order of `writes`",
                 ));
             }
-            if p.writes.iter().filter(|(_, r)| is_depth(&resources[*r])).count() > 1 {
+            if p.writes.iter().filter(|(_, r)| resources[*r].decl.is_depth_texture()).count() > 1 {
                 return Err(mismatch("the pass writes more than one depth texture".into(), file_loc, "write at most one Depth32Float texture"));
             }
             if pass.kind == PassKind::SceneRaster {
@@ -1078,10 +1078,6 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
         }
     }
     Ok(())
-}
-
-fn is_depth(r: &PlannedResource) -> bool {
-    matches!(&r.decl, ResourceDecl::Texture(t) if t.format.is_depth())
 }
 
 /// Checks a built-in binding's type; `Err` for a hard error, `Ok(Some(expected))` for a mismatch.

@@ -674,7 +674,7 @@ impl Executor {
     }
 
     fn is_depth(&self, r: ResourceId) -> bool {
-        matches!(&self.plan.resources[r].decl, ResourceDecl::Texture(t) if t.format.is_depth())
+        self.plan.resources[r].decl.is_depth_texture()
     }
 
     /// Whether a kept pass draws a shadow map (a `SceneRaster` pass that writes only depth).
@@ -979,20 +979,12 @@ impl Executor {
     /// 0, alpha 1); float, half and 8-bit unorm formats.
     pub fn read_texture_f32(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, Vec<[f32; 4]>), RuntimeError> {
         let (w, h, format, data) = self.read_texture_bytes(gpu, r)?;
-        use crate::graph::desc::Format as F;
-        let (channels, kind) = match format {
-            F::R8Unorm => (1, 0),
-            F::Rg8Unorm => (2, 0),
-            F::Rgba8Unorm | F::Rgba8UnormSrgb => (4, 0),
-            F::R16Float => (1, 1),
-            F::Rg16Float => (2, 1),
-            F::Rgba16Float => (4, 1),
-            F::R32Float | F::Depth32Float => (1, 2),
-            F::Rg32Float => (2, 2),
-            F::Rgba32Float => (4, 2),
-            F::R32Uint | F::Rgba32Uint => return Err(RuntimeError::Gpu(format!("{format:?} is not a float format"))),
-        };
-        let size = [1usize, 2, 4][kind];
+        use crate::graph::desc::TexelKind;
+        if format.is_uint() {
+            return Err(RuntimeError::Gpu(format!("{format:?} is not a float format")));
+        }
+        let (channels, kind) = format.texel_layout();
+        let size = kind.bytes();
         let texel = channels * size;
         let texels = data
             .chunks_exact(texel)
@@ -1000,9 +992,9 @@ impl Executor {
                 let mut v = [0.0, 0.0, 0.0, 1.0];
                 for (c, b) in t.chunks_exact(size).enumerate() {
                     v[c] = match kind {
-                        0 => b[0] as f32 / 255.0,
-                        1 => crate::graph::desc::f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
-                        _ => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+                        TexelKind::Unorm8 => b[0] as f32 / 255.0,
+                        TexelKind::Float16 => crate::graph::desc::f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
+                        TexelKind::Float32 | TexelKind::Uint32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
                     };
                 }
                 v
