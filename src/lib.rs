@@ -4,12 +4,12 @@
 //!
 //! - [`util`]: atomic file writes, sRGB conversion, the content hash of plain data.
 //! - [`uniforms`]: `#[repr(C)]` mirrors of the uniform and record structs shared with WGSL.
-//! - [`backend`]: the traversal back-ends (`compute`, `ray-query`, `rt-pipeline`) and their selection.
+//! - [`backend`]: the traversal back-ends (`compute`, `ray-query`, `rt-pipeline`), selection.
 //! - [`scene`]: the CPU scene, its loaders and exporter, and its GPU upload.
 //! - [`error`]: located diagnostics of graph files and the runtime's errors.
 //! - [`gpu_util`]: small wgpu helpers (compute pipelines, read-back buffers, mapped reads).
 //! - [`graph`]: graph and layer files, shader reflection, the compiler (no GPU).
-//! - [`accel`]: acceleration structures: CPU BVH and traversal, the f64 reference, the GPU cache and back-ends.
+//! - [`accel`]: BVHs, the CPU traversal, the f64 reference, the GPU cache and back-ends.
 //! - [`runtime`]: the wgpu device, the plan executor, pass timing and batch tracing.
 //! - [`bench`]: the experiments behind the paper's tables and figures.
 //! - [`soak`]: the long-running stability check.

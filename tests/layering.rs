@@ -245,8 +245,8 @@ impl Crate {
     }
 }
 
-/// `path` as written in a file of module `module` (inside inline modules `inline`), made
-/// absolute; `None` for a path that does not start in this crate.
+/// `path` as written in `file` where the module is `module` (the file's own, or an inline
+/// module's inside it), made absolute; `None` for a path that does not start in this crate.
 fn absolute(crate_: &Crate, file: &str, module: &[String], path: &[String]) -> Option<Vec<String>> {
     let root = if file == "main.rs" { "raygraph" } else { "crate" };
     let (first, rest) = path.split_first()?;
@@ -270,9 +270,17 @@ fn absolute(crate_: &Crate, file: &str, module: &[String], path: &[String]) -> O
     (file != "main.rs" && crate_.modules.contains_key(&child)).then(|| module.iter().chain(path).cloned().collect())
 }
 
-/// The `use` declarations of a file: (line, is `pub`, paths), and the token ranges they cover.
-fn use_declarations(toks: &[(Tok, usize)]) -> (Vec<(usize, bool, Vec<Vec<String>>)>, Vec<std::ops::Range<usize>>) {
-    let (mut uses, mut ranges) = (Vec::new(), Vec::new());
+/// A `use` declaration: its line, whether it is `pub`, its paths and the tokens it covers.
+struct UseDecl {
+    line: usize,
+    is_pub: bool,
+    paths: Vec<Vec<String>>,
+    tokens: std::ops::Range<usize>,
+}
+
+/// The `use` declarations of a file.
+fn use_declarations(toks: &[(Tok, usize)]) -> Vec<UseDecl> {
+    let mut uses = Vec::new();
     for i in 0..toks.len() {
         if toks[i].0 != Tok::Ident("use".into()) || (i > 0 && toks[i - 1].0 == Tok::Path) {
             continue;
@@ -281,10 +289,9 @@ fn use_declarations(toks: &[(Tok, usize)]) -> (Vec<(usize, bool, Vec<Vec<String>
         let is_pub = (i >= 1 && toks[i - 1].0 == Tok::Ident("pub".into()))
             || (i >= 1 && toks[i - 1].0 == Tok::Punct(')') && toks[..i].iter().rev().take(6).any(|t| t.0 == Tok::Ident("pub".into())));
         let body: Vec<Tok> = toks[i + 1..end].iter().map(|t| t.0.clone()).collect();
-        uses.push((toks[i].1, is_pub, use_paths(&body)));
-        ranges.push(i..end);
+        uses.push(UseDecl { line: toks[i].1, is_pub, paths: use_paths(&body), tokens: i..end });
     }
-    (uses, ranges)
+    uses
 }
 
 /// The module path at every token: the file's module plus the inline `mod name { .. }` blocks
@@ -351,8 +358,8 @@ fn edges(files: &[(String, String)]) -> Vec<Edge> {
     let parsed: Vec<_> = files.iter().map(|(f, s)| (f, tokens(s))).collect();
     for (file, toks) in &parsed {
         let is_root = file.ends_with("mod.rs") || file.as_str() == "lib.rs";
-        for (_, _, paths) in use_declarations(toks).0.into_iter().filter(|u| u.1 && is_root) {
-            for p in paths {
+        for decl in use_declarations(toks).into_iter().filter(|u| u.is_pub && is_root) {
+            for p in decl.paths {
                 if let (Some(abs), Some(name)) = (absolute(&crate_, file, &module_of(file), &p), p.last()) {
                     crate_.reexports.insert((module_of(file), name.clone()), abs);
                 }
@@ -363,10 +370,11 @@ fn edges(files: &[(String, String)]) -> Vec<Edge> {
     for (file, toks) in &parsed {
         let is_root = file.ends_with("mod.rs") || file.as_str() == "lib.rs";
         let at = modules_at(toks, &module_of(file));
-        let (uses, ranges) = use_declarations(toks);
+        let uses = use_declarations(toks);
+        let ranges: Vec<std::ops::Range<usize>> = uses.iter().map(|u| u.tokens.clone()).collect();
         let mut found: Vec<(usize, Vec<String>, bool, usize)> = Vec::new();
-        for (r, (line, is_pub, paths)) in ranges.iter().zip(uses) {
-            found.extend(paths.into_iter().map(|p| (line, p, is_pub && is_root, r.start)));
+        for u in uses {
+            found.extend(u.paths.into_iter().map(|p| (u.line, p, u.is_pub && is_root, u.tokens.start)));
         }
         found.extend(inline_paths(toks, &ranges).into_iter().map(|(i, p)| (toks[i].1, p, false, i)));
         for (line, path, reexport, tok) in found {

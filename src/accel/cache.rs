@@ -841,8 +841,9 @@ fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     })
 }
 
-/// A wgpu BLAS over a mesh's triangles ([`super::bvh::driver_triangles`]), opaque or not (alpha-tested:
-/// its hits come to the shader's candidate loop). `None` if no triangle is valid.
+/// A wgpu BLAS over a mesh's triangles ([`super::bvh::driver_triangles`]), opaque or not
+/// (alpha-tested: its hits come to the shader's candidate loop). `None` if no triangle is
+/// valid.
 fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Option<RqBlas> {
     use wgpu::util::DeviceExt;
     let (positions, indices) = super::bvh::driver_triangles(mesh)?;

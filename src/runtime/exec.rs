@@ -140,8 +140,8 @@ impl Executor {
         self.scene.as_ref()
     }
 
-    /// A part of the uploaded scene; the plan's [`SceneUsage`](crate::scene::gpu::SceneUsage) decides
-    /// what was uploaded, so a missing part is an internal inconsistency reported as an error.
+    /// A part of the uploaded scene; the plan's [`crate::scene::gpu::SceneUsage`] decides what
+    /// was uploaded, so a missing part is an internal inconsistency reported as an error.
     fn scene_part<T>(&self, part: impl Fn(&GpuScene) -> Option<&T>) -> Result<&T, RuntimeError> {
         self.scene.as_ref().and_then(part).ok_or_else(|| RuntimeError::Gpu("a pass binds a part of the scene that the plan did not upload".into()))
     }
