@@ -80,7 +80,7 @@ fn table_errors(layers: &Layers) -> Vec<String> {
 }
 
 /// A token of Rust source without comments and literals: an identifier, `::`, or one
-/// punctuation character; with its line.
+/// punctuation character ([`tokens`] pairs each with its line).
 #[derive(Debug, Clone, PartialEq)]
 enum Tok {
     Ident(String),
