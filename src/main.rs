@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use raygraph::accel::backend::Backend;
+use raygraph::backend::Backend;
 use raygraph::bench::rays::RaysConfig;
 use raygraph::graph::{self, Mode, Project};
 use raygraph::runtime::{exec::write_png, profiler::pass_table, Executor, Gpu};

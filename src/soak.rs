@@ -19,7 +19,7 @@
 //! (wgpu's registry report), a resident set within `rss_tolerance_mib` of it, and a finite HDR
 //! image.
 
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::error::RuntimeError;
 use crate::graph::compile::{compile_with, Project};
 use crate::runtime::{Executor, Gpu};

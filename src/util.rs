@@ -1,5 +1,6 @@
-//! Small helpers: atomic writes shared by every writer of user-visible files, and the
-//! deterministic random numbers of benches and tests.
+//! Small helpers: atomic writes shared by every writer of user-visible files, sRGB
+//! conversion, the deterministic random numbers of benches and tests, and the content hash of
+//! plain data.
 
 use std::io::Write;
 use std::path::Path;
@@ -69,4 +70,20 @@ impl SplitMix64 {
             }
         }
     }
+}
+
+/// A fast 64-bit hash of plain data (not cryptographic; a change detector): the content hashes
+/// of the acceleration-structure cache and of the scene-change detection
+/// ([`crate::scene::gpu::SceneContent`]).
+pub fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
+    let mut h = seed ^ 0x9E37_79B9_7F4A_7C15 ^ bytes.len() as u64;
+    let mut chunks = bytes.chunks_exact(8);
+    for c in &mut chunks {
+        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
+        h = (h ^ w).wrapping_mul(0xFF51_AFD7_ED55_8CCD).rotate_left(29);
+    }
+    for &b in chunks.remainder() {
+        h = (h ^ b as u64).wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    }
+    h ^ (h >> 33)
 }

@@ -6,8 +6,8 @@
 mod common;
 
 use glam::{Mat4, Vec3};
-use raygraph::accel::backend::Backend;
 use raygraph::accel::cache::TlasWork;
+use raygraph::backend::Backend;
 use raygraph::graph::compile::compile_with;
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};

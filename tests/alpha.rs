@@ -28,16 +28,16 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use raygraph::accel::alpha;
-use raygraph::accel::backend::Backend;
-use raygraph::accel::batch::{BatchTracer, GpuRay};
 use raygraph::accel::bvh::AccelOptions;
 use raygraph::accel::cache::AccelSettings;
 use raygraph::accel::cpu_traverse::{CpuTraverser, Ray};
 use raygraph::accel::layout::{merge, merge_instances, GpuAccel, TRI_ALPHA};
 use raygraph::accel::reference::Reference;
 use raygraph::accel::reference_render::ReferenceRenderer;
+use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions};
 use raygraph::graph::Project;
+use raygraph::runtime::batch::{BatchTracer, GpuRay};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::{builtin, AlphaMode, Camera, Instance, Material, Mesh, Scene, TextureImage, Vertex};
 
@@ -504,8 +504,8 @@ fn rt_pipeline_gbuffers_agree_with_the_raster_gbuffer() {
 /// 1 (so the plan loads the scene's textures) and `accel_alpha` in group 2.
 #[test]
 fn every_trace_module_binds_the_alpha_data() {
-    use raygraph::graph::builtins::SceneUsage;
     use raygraph::graph::reflect::{reflect_with, BindingKind};
+    use raygraph::scene::gpu::SceneUsage;
     let shaders = common::repo().join("shaders");
     let shadow = shaders.join("rt/shadow.wgsl");
     for backend in Backend::ALL {

@@ -10,10 +10,10 @@
 mod common;
 
 use glam::{DVec3, Vec3};
-use raygraph::accel::backend::Backend;
-use raygraph::accel::batch::{BatchTracer, GpuRay};
 use raygraph::accel::cpu_traverse::Ray;
 use raygraph::accel::reference::Reference;
+use raygraph::backend::Backend;
+use raygraph::runtime::batch::{BatchTracer, GpuRay};
 use raygraph::runtime::Gpu;
 use raygraph::scene::{open, LoadOptions, Scene};
 

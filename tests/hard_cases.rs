@@ -11,11 +11,11 @@
 mod common;
 
 use glam::{Mat4, Quat, Vec3};
-use raygraph::accel::backend::Backend;
-use raygraph::accel::batch::{BatchHit, BatchTracer, GpuRay};
 use raygraph::accel::cache::AccelSettings;
 use raygraph::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceFlags};
 use raygraph::accel::layout::GpuAccel;
+use raygraph::backend::Backend;
+use raygraph::runtime::batch::{BatchHit, BatchTracer, GpuRay};
 use raygraph::runtime::Gpu;
 use raygraph::scene::{builtin, Instance, Mesh, Scene, Vertex};
 

@@ -10,7 +10,7 @@ mod common;
 use common::{channel, gpu};
 
 use glam::{Mat4, Vec3};
-use raygraph::accel::backend::Backend;
+use raygraph::backend::Backend;
 use raygraph::graph::compile::compile_with;
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};

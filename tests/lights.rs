@@ -16,7 +16,7 @@ mod common;
 use common::{channel, gpu};
 
 use glam::{Mat4, Quat, Vec3};
-use raygraph::accel::backend::Backend;
+use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions};
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};
@@ -142,7 +142,7 @@ fn sky_reflection(p: Vec3) -> Vec3 {
 /// World points of the floor seen through each pixel's centre (None: the ray misses it).
 fn floor_points() -> Vec<Option<Vec3>> {
     let c = camera();
-    raygraph::bench::camera_ray_dirs(&c, SIZE, 1)
+    c.ray_dirs(SIZE, 1)
         .into_iter()
         .map(|d| {
             let t = -c.position.y / d.y;

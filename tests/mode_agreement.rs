@@ -15,7 +15,7 @@ use common::{gpu, open};
 
 use common::material_scene::metallic_roughness_scene;
 use common::modes::render_without_effects;
-use raygraph::accel::backend::Backend;
+use raygraph::backend::Backend;
 use raygraph::runtime::Gpu;
 use raygraph::scene::Scene;
 

@@ -18,7 +18,7 @@ use common::{gpu, open};
 use common::material_scene::{metallic_roughness_scene, EMISSIVE_TEXEL, MR_TEXEL, OCCLUSION_RED};
 use common::modes::render_without_effects;
 use glam::Vec3;
-use raygraph::accel::backend::Backend;
+use raygraph::backend::Backend;
 use raygraph::runtime::Gpu;
 use raygraph::scene::{Camera, Scene};
 

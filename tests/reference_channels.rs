@@ -21,8 +21,8 @@
 mod common;
 
 use glam::{Mat4, Quat, Vec3};
-use raygraph::accel::backend::Backend;
 use raygraph::accel::reference_render::{AoSettings, ReferenceRenderer, SurfacePoint};
+use raygraph::backend::Backend;
 use raygraph::graph::compile::compile_with;
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};

@@ -9,8 +9,8 @@
 
 mod common;
 
-use raygraph::accel::backend::Backend;
 use raygraph::accel::rt_pipeline::live_hal_objects;
+use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, Project};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::default_scene;
@@ -177,9 +177,9 @@ fn executors_come_and_go_without_leaks() {
         assert!(t.rays.unwrap().traced() > 0);
         assert!(live_hal_objects() > before, "the executor holds hal objects");
     }
-    let tracer = raygraph::accel::batch::BatchTracer::new(&gpu, Backend::RtPipeline, &default_scene(), &common::repo().join("shaders")).unwrap();
+    let tracer = raygraph::runtime::batch::BatchTracer::new(&gpu, Backend::RtPipeline, &default_scene(), &common::repo().join("shaders")).unwrap();
     let (hits, _) =
-        tracer.closest(&gpu, &[raygraph::accel::batch::GpuRay { origin: [0.0, 50.0, 0.0], t_min: 0.0, dir: [0.0, -1.0, 0.0], t_max: 1e30 }]).unwrap();
+        tracer.closest(&gpu, &[raygraph::runtime::batch::GpuRay { origin: [0.0, 50.0, 0.0], t_min: 0.0, dir: [0.0, -1.0, 0.0], t_max: 1e30 }]).unwrap();
     assert_eq!(hits.len(), 1);
     drop(tracer);
     assert_eq!(live_hal_objects(), before, "objects made through wgpu-hal were left behind");

@@ -7,11 +7,11 @@
 
 mod common;
 
-use raygraph::accel::backend::Backend;
-use raygraph::accel::batch::{BatchTracer, GpuRay};
 use raygraph::accel::cache::AccelSettings;
 use raygraph::accel::rt_pipeline::{any_hit_binding_map, any_hit_spirv, live_hal_objects};
+use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions, Project};
+use raygraph::runtime::batch::{BatchTracer, GpuRay};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::{AlphaMode, Instance, Material, Mesh, Scene, TextureImage, Vertex};
 

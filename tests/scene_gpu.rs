@@ -142,7 +142,7 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     let mut scene: Scene = builtin::default_scene();
     let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4] };
     scene.textures = vec![tiny; limit as usize + 5];
-    let usage = raygraph::graph::builtins::SceneUsage { textures: true, ..Default::default() };
+    let usage = raygraph::scene::gpu::SceneUsage { textures: true, ..Default::default() };
     let err = match GpuScene::upload(&gpu.device, &gpu.queue, &scene, usage) {
         Ok(_) => panic!("{} texture layers uploaded with a limit of {limit}", limit + 6),
         Err(e) => e.to_string(),

@@ -1,5 +1,5 @@
 // Traces a buffer of rays through the trace interface and writes one result per ray: the
-// back-end test harness (src/accel/batch.rs). `mode` 0: closest hit, 1: any hit; `flags`: the
+// back-end test harness (src/runtime/batch.rs). `mode` 0: closest hit, 1: any hit; `flags`: the
 // trace interface's per-ray flags for every ray.
 //#include "trace/trace.wgsl"
 

@@ -1,4 +1,4 @@
-// Per-frame uniforms, bound as `frame`. Mirrors FrameUniforms in src/runtime/uniforms.rs.
+// Per-frame uniforms, bound as `frame`. Mirrors FrameUniforms in src/uniforms.rs.
 // The lights themselves are records of `scene_lights` (common/lighting.wgsl).
 struct Frame {
     view_proj: mat4x4<f32>,

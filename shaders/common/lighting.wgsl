@@ -19,7 +19,7 @@ const LIGHT_DIRECTIONAL: u32 = 0u;
 const LIGHT_POINT: u32 = 1u;
 const LIGHT_SPOT: u32 = 2u;
 
-// Mirrors LightUniforms in src/runtime/uniforms.rs.
+// Mirrors LightUniforms in src/uniforms.rs.
 struct Light {
     position: vec3<f32>,
     kind: u32,

@@ -1,5 +1,5 @@
 // Scene records. `Instance` (bound as `scene_instances`) mirrors InstanceUniforms and
-// `Material` (bound as `scene_materials`) mirrors MaterialUniforms in src/runtime/uniforms.rs.
+// `Material` (bound as `scene_materials`) mirrors MaterialUniforms in src/uniforms.rs.
 // Texture fields are layers of `scene_textures` (0 = white; `normal_texture` 0 = none).
 struct Instance {
     model: mat4x4<f32>,

@@ -1185,3 +1185,26 @@ impl SceneAccel {
         d
     }
 }
+
+/// A mesh's triangles as the driver's back-ends (`ray-query`, `rt-pipeline`) build them: the
+/// mesh's own indices, a triangle the compute back-end leaves out (degenerate, non-finite, bad
+/// index) as (0, 0, 0), so primitive indices stay the mesh's own; non-finite positions zeroed.
+/// `None` if no triangle is valid.
+pub fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
+    let tris = mesh.triangle_count();
+    let mut indices = Vec::with_capacity(tris * 3);
+    let mut valid = 0;
+    for t in 0..tris {
+        if classify_mesh_triangle(mesh, t).1 == TriangleStatus::Valid {
+            indices.extend_from_slice(&mesh.indices[3 * t..3 * t + 3]);
+            valid += 1;
+        } else {
+            indices.extend_from_slice(&[0, 0, 0]);
+        }
+    }
+    if valid == 0 {
+        return None;
+    }
+    let positions = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
+    Some((positions, indices))
+}

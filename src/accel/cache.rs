@@ -15,14 +15,15 @@
 //! alpha-tested is part of the keys: it sets the compute layouts' flags and the driver
 //! back-ends' opaque geometry flag).
 
-use super::backend::Backend;
-use super::bvh::{classify_mesh_triangle, instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas, TriangleStatus};
+use super::bvh::{instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas};
 use super::gpu_build::{layout_sah_cost, merged_triangles, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
 use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel, TriangleOrigin};
 use super::refit::MergedRefit;
+use crate::backend::Backend;
 use crate::error::RuntimeError;
-use crate::runtime::profiler::map_read;
+use crate::gpu_util::{map_read, storage_with_readback};
 use crate::scene::{Mesh, Scene};
+use crate::util::hash_words;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -112,21 +113,6 @@ impl BuildReport {
         };
         format!("{} BLAS built{refit}, {} reused, {tlas}, {:.2} ms CPU", self.blas_built, self.blas_reused, self.cpu_ms)
     }
-}
-
-/// A fast 64-bit hash of plain data (not cryptographic; a change detector). Also what the
-/// executor's scene-change detection ([`crate::scene::gpu::SceneContent`]) uses.
-pub fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
-    let mut h = seed ^ 0x9E37_79B9_7F4A_7C15 ^ bytes.len() as u64;
-    let mut chunks = bytes.chunks_exact(8);
-    for c in &mut chunks {
-        let w = u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
-        h = (h ^ w).wrapping_mul(0xFF51_AFD7_ED55_8CCD).rotate_left(29);
-    }
-    for &b in chunks.remainder() {
-        h = (h ^ b as u64).wrapping_mul(0xC4CE_B9FE_1A85_EC53);
-    }
-    h ^ (h >> 33)
 }
 
 /// Content hash of what an acceleration structure sees of a mesh: positions and indices.
@@ -262,18 +248,7 @@ impl AccelCache {
         let stats_windows = trace_passes.max(1);
         let stats_stride = (device.limits().min_storage_buffer_offset_alignment as u64).max((STAT_SLOTS * 4) as u64);
         let size = stats_stride * stats_windows as u64;
-        let stats = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accel stats"),
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let stats_readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accel stats readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let (stats, stats_readback) = storage_with_readback(device, "accel stats", size);
         Self {
             backend,
             dedup: settings.dedup,
@@ -866,34 +841,12 @@ fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     })
 }
 
-/// A mesh's triangles as the driver's back-ends (`ray-query`, `rt-pipeline`) build them: the
-/// mesh's own indices, a triangle the compute back-end leaves out (degenerate, non-finite, bad
-/// index) as (0, 0, 0), so primitive indices stay the mesh's own; non-finite positions zeroed.
-/// `None` if no triangle is valid.
-pub(super) fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
-    let tris = mesh.triangle_count();
-    let mut indices = Vec::with_capacity(tris * 3);
-    let mut valid = 0;
-    for t in 0..tris {
-        if classify_mesh_triangle(mesh, t).1 == TriangleStatus::Valid {
-            indices.extend_from_slice(&mesh.indices[3 * t..3 * t + 3]);
-            valid += 1;
-        } else {
-            indices.extend_from_slice(&[0, 0, 0]);
-        }
-    }
-    if valid == 0 {
-        return None;
-    }
-    let positions = mesh.vertices.iter().map(|v| if v.position.iter().all(|c| c.is_finite()) { v.position } else { [0.0; 3] }).collect();
-    Some((positions, indices))
-}
-
-/// A wgpu BLAS over a mesh's triangles ([`driver_triangles`]), opaque or not (alpha-tested:
-/// its hits come to the shader's candidate loop). `None` if no triangle is valid.
+/// A wgpu BLAS over a mesh's triangles ([`super::bvh::driver_triangles`]), opaque or not
+/// (alpha-tested: its hits come to the shader's candidate loop). `None` if no triangle is
+/// valid.
 fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Option<RqBlas> {
     use wgpu::util::DeviceExt;
-    let (positions, indices) = driver_triangles(mesh)?;
+    let (positions, indices) = super::bvh::driver_triangles(mesh)?;
     let usage = wgpu::BufferUsages::BLAS_INPUT;
     let vertices =
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("blas vertices"), contents: bytemuck::cast_slice(&positions), usage });
@@ -915,4 +868,14 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Opt
         wgpu::BlasGeometrySizeDescriptors::Triangles { descriptors: vec![size.clone()] },
     );
     Some(RqBlas { blas, vertices, indices: index_buf, size })
+}
+
+/// The trace module's bindings that `cache` holds in wgpu buffers for trace pass number
+/// `window` (its counter window; [`AccelCache::binding`]) as the `rt-pipeline` back-end takes
+/// them ([`super::rt_pipeline::AccelBuffers`]).
+pub fn cache_buffers(cache: &AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<std::num::NonZeroU64>)> + '_ {
+    move |name| match cache.binding(name, window)? {
+        wgpu::BindingResource::Buffer(b) => Some((b.buffer.clone(), b.offset, b.size)),
+        _ => None,
+    }
 }

@@ -404,100 +404,98 @@ impl<'a> CpuTraverser<'a> {
             return None;
         }
         let slab = SlabRay::new(ray.origin, ray.dir);
-        let mut t_far = ray.t_max;
-        let mut best: Option<Hit> = None;
-        let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
-        let mut sp = 0usize;
-        slab_test(a.tlas_nodes.first()?, &slab, ray.t_min, t_far)?;
-        let mut node = 0u32;
-        while let Some(n) = a.tlas_nodes.get(node as usize) {
-            if n.count > 0 {
-                counts.leaves += 1;
-                for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
-                    let Some(inst) = a.instances.get(k as usize) else { break };
-                    if inst.mask == 0 {
-                        continue;
-                    }
-                    counts.instances += 1;
-                    if let Some(h) = self.trace_instance(inst, ray, t_far, any_hit, flags, counts) {
-                        t_far = h.t;
-                        best = Some(h);
-                        if any_hit {
-                            return best;
-                        }
-                    }
-                }
-            } else if let Some(next) = {
-                counts.interior += 1;
-                visit_children(&a.tlas_nodes, n, &slab, ray.t_min, t_far, &mut stack, &mut sp)
-            } {
-                node = next;
-                continue;
+        traverse(&a.tlas_nodes, 0, &slab, (ray.t_min, ray.t_max), any_hit, counts, |k, t_far, counts| {
+            let inst = a.instances.get(k as usize)?;
+            if inst.mask == 0 {
+                return Some(None);
             }
-            if sp == 0 {
-                break;
-            }
-            sp -= 1;
-            node = stack[sp];
-        }
-        best
+            counts.instances += 1;
+            Some(self.trace_instance(inst, ray, t_far, any_hit, flags, counts))
+        })
     }
 
     /// The closest hit in `[ray.t_min, t_far]` within one instance.
-    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, mut t_far: f32, any_hit: bool, flags: TraceFlags, counts: &mut TraversalCounts) -> Option<Hit> {
+    fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, t_far: f32, any_hit: bool, flags: TraceFlags, counts: &mut TraversalCounts) -> Option<Hit> {
         let a = self.accel;
         let o = transform_point(&inst.world_to_object, ray.origin);
         let d = transform_vector(&inst.world_to_object, ray.dir);
         let wt = WatertightRay::new(o, d)?;
         let slab = SlabRay::new(o, d);
-        let mut best: Option<Hit> = None;
-        let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
-        let mut sp = 0usize;
-        let mut node = inst.blas_root;
-        slab_test(a.blas_nodes.get(node as usize)?, &slab, ray.t_min, t_far)?;
-        while let Some(n) = a.blas_nodes.get(node as usize) {
-            if n.count > 0 {
-                counts.leaves += 1;
-                for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
-                    let Some(tri) = a.triangles.get(k as usize) else { break };
-                    counts.triangles += 1;
-                    if let Some((t, u, v, front_face)) = wt.intersect(tri, ray.t_min, t_far) {
-                        if flags.culls_back_faces() && back_facing(&wt, tri) {
-                            continue;
-                        }
-                        let hit = if inst.instance_id == MERGED_INSTANCE {
-                            Hit { t, instance_id: tri.instance, prim: tri.prim, u, v, front_face: front_face != (tri.flags & TRI_MIRRORED != 0) }
-                        } else {
-                            Hit { t, instance_id: inst.instance_id, prim: tri.prim, u, v, front_face }
-                        };
-                        let tested = inst.flags & INSTANCE_ALPHA != 0 || tri.flags & TRI_ALPHA != 0;
-                        if let Some(scene) = self.scene.filter(|_| tested) {
-                            if !super::alpha::visible(scene, hit.instance_id as usize, hit.prim as usize, [u as f64, v as f64]) {
-                                continue;
-                            }
-                        }
-                        t_far = t;
-                        best = Some(hit);
-                        if any_hit {
-                            return best;
-                        }
+        traverse(&a.blas_nodes, inst.blas_root, &slab, (ray.t_min, t_far), any_hit, counts, |k, t_far, counts| {
+            let tri = a.triangles.get(k as usize)?;
+            counts.triangles += 1;
+            Some(self.triangle_hit(inst, tri, &wt, (ray.t_min, t_far), flags))
+        })
+    }
+
+    /// The hit of one triangle of `inst` in `(t_min, t_far]`, if the watertight test accepts it
+    /// and neither back-face culling nor the alpha test drops it.
+    fn triangle_hit(&self, inst: &GpuInstance, tri: &GpuTriangle, wt: &WatertightRay, (t_min, t_far): (f32, f32), flags: TraceFlags) -> Option<Hit> {
+        let (t, u, v, front_face) = wt.intersect(tri, t_min, t_far)?;
+        if flags.culls_back_faces() && back_facing(wt, tri) {
+            return None;
+        }
+        let hit = if inst.instance_id == MERGED_INSTANCE {
+            Hit { t, instance_id: tri.instance, prim: tri.prim, u, v, front_face: front_face != (tri.flags & TRI_MIRRORED != 0) }
+        } else {
+            Hit { t, instance_id: inst.instance_id, prim: tri.prim, u, v, front_face }
+        };
+        let tested = inst.flags & INSTANCE_ALPHA != 0 || tri.flags & TRI_ALPHA != 0;
+        if let Some(scene) = self.scene.filter(|_| tested) {
+            if !super::alpha::visible(scene, hit.instance_id as usize, hit.prim as usize, [u as f64, v as f64]) {
+                return None;
+            }
+        }
+        Some(hit)
+    }
+}
+
+/// The stack traversal both levels share (steps 3-4 of the module docs): from `root`, whose
+/// box must pass the slab test, to every leaf in nearer-first order. `leaf(k, t_far, counts)`
+/// tests primitive `k` of a leaf against the current closest `t_far`: `None` when there is no
+/// such primitive (the rest of the leaf is skipped), `Some(None)` for no hit, `Some(Some(hit))`
+/// for a hit, which becomes the closest (and the answer at once with `any_hit`).
+fn traverse(
+    nodes: &[GpuBvhNode],
+    root: u32,
+    slab: &SlabRay,
+    (t_min, mut t_far): (f32, f32),
+    any_hit: bool,
+    counts: &mut TraversalCounts,
+    mut leaf: impl FnMut(u32, f32, &mut TraversalCounts) -> Option<Option<Hit>>,
+) -> Option<Hit> {
+    slab_test(nodes.get(root as usize)?, slab, t_min, t_far)?;
+    let mut best: Option<Hit> = None;
+    let mut stack = [0u32; TRAVERSAL_STACK_SIZE];
+    let mut sp = 0usize;
+    let mut node = root;
+    while let Some(n) = nodes.get(node as usize) {
+        if n.count > 0 {
+            counts.leaves += 1;
+            for k in n.left_or_first..n.left_or_first.saturating_add(n.count) {
+                let Some(found) = leaf(k, t_far, counts) else { break };
+                if let Some(h) = found {
+                    t_far = h.t;
+                    best = Some(h);
+                    if any_hit {
+                        return best;
                     }
                 }
-            } else if let Some(next) = {
-                counts.interior += 1;
-                visit_children(&a.blas_nodes, n, &slab, ray.t_min, t_far, &mut stack, &mut sp)
-            } {
-                node = next;
-                continue;
             }
-            if sp == 0 {
-                break;
-            }
-            sp -= 1;
-            node = stack[sp];
+        } else if let Some(next) = {
+            counts.interior += 1;
+            visit_children(nodes, n, slab, t_min, t_far, &mut stack, &mut sp)
+        } {
+            node = next;
+            continue;
         }
-        best
+        if sp == 0 {
+            break;
+        }
+        sp -= 1;
+        node = stack[sp];
     }
+    best
 }
 
 /// Tests both children of interior node `n`; returns the child to visit next (the nearer, left

@@ -25,6 +25,7 @@
 use super::bvh::MAX_TREE_DEPTH;
 use super::bvh::{classify_mesh_triangle, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
 use super::layout::{merged_flags, GpuBvhNode, GpuTriangle, TriangleOrigin};
+use crate::gpu_util::{compute_pipeline, readback_buffer};
 use crate::scene::Mesh;
 use wgpu::util::DeviceExt;
 
@@ -191,16 +192,7 @@ impl GpuBlasBuilder {
             bind_group_layouts: &[Some(&group0)],
             immediate_size: 0,
         });
-        let pipeline = |name: &str, layout: &wgpu::PipelineLayout| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(name),
-                layout: Some(layout),
-                module: &module,
-                entry_point: Some(name),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |name: &str, layout: &wgpu::PipelineLayout| compute_pipeline(device, name, layout, &module, name);
         Ok(Self {
             prim_boxes: pipeline("prim_boxes", &layout0),
             morton: pipeline("morton", &layout0),
@@ -453,12 +445,7 @@ fn read_u32s(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer, 
 
 /// Copies `size` bytes of `buffer` at `offset` back to the CPU.
 pub fn read_bytes(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer, offset: u64, size: u64) -> Result<Vec<u8>, GpuBuildError> {
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("gpu build readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let staging = readback_buffer(device, "gpu build readback", size);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build readback") });
     encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, size);
     queue.submit([encoder.finish()]);

@@ -21,13 +21,11 @@
 //! - [`reference_render`]: the ray-traced channels (visibility, shadow mask, AO, mirror rays)
 //!   per pixel from that caster, each ray built as the layers' shaders build it.
 //!
-//! The remaining modules (back-end selection, the acceleration-structure cache behind a
-//! graph's `Accel` node, the GPU refit and the GPU builder of the merged layout, batch tracing
-//! through a back-end) are the GPU side and document themselves.
+//! The remaining modules (the acceleration-structure cache behind a graph's `Accel` node, the
+//! `rt-pipeline` back-end, the GPU refit and the GPU builder of the merged layout) are the GPU
+//! side and document themselves.
 
 pub mod alpha;
-pub mod backend;
-pub mod batch;
 pub mod bvh;
 pub mod cache;
 pub mod cpu_traverse;

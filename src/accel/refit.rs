@@ -6,6 +6,7 @@
 
 use super::bvh::instance_transform;
 use super::layout::{affine_rows, GpuAccel, GpuBvhNode, NO_PRIM};
+use crate::gpu_util::compute_pipeline;
 use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
@@ -183,14 +184,7 @@ impl MergedRefit {
         });
         let pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("refit"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("refit_treelets"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, "refit", &pipeline_layout, &module, "refit_treelets");
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("refit"),
             layout: &layout,

@@ -372,7 +372,7 @@ fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -
         // mirrored instances' triangles wound back so that facing stays the object-space
         // facing the other layouts report and cull by.
         let (mesh, origin) = super::layout::merge_instances(scene);
-        let Some((p, i)) = super::cache::driver_triangles(&mesh) else {
+        let Some((p, i)) = super::bvh::driver_triangles(&mesh) else {
             packed.spans.push(None);
             packed.spans.resize(unit_meshes.len(), None);
             return packed;
@@ -402,7 +402,7 @@ fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -
             }
         }
         for (u, &mesh) in unit_meshes.iter().enumerate() {
-            let Some((p, i)) = scene.meshes.get(mesh).and_then(super::cache::driver_triangles) else {
+            let Some((p, i)) = scene.meshes.get(mesh).and_then(super::bvh::driver_triangles) else {
                 packed.spans.push(None);
                 continue;
             };
@@ -772,17 +772,9 @@ pub struct RtBinding {
 }
 
 /// The trace module's bindings that the acceleration-structure cache holds in wgpu buffers
-/// (`accel_stats`'s counter window, `accel_alpha`; [`crate::accel::cache::AccelCache::binding`]):
+/// (`accel_stats`'s counter window, `accel_alpha`; [`crate::accel::cache::cache_buffers`]):
 /// by name, the buffer, offset and size, or `None`.
 pub type AccelBuffers<'a> = dyn Fn(&str) -> Option<(wgpu::Buffer, u64, Option<NonZeroU64>)> + 'a;
-
-/// The [`AccelBuffers`] of `cache` for trace pass number `window` (its counter window).
-pub fn cache_buffers(cache: &super::cache::AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<NonZeroU64>)> + '_ {
-    move |name| match cache.binding(name, window)? {
-        wgpu::BindingResource::Buffer(b) => Some((b.buffer.clone(), b.offset, b.size)),
-        _ => None,
-    }
-}
 
 /// A trace pass as a ray-tracing pipeline (see the module docs).
 pub struct RtPass {
@@ -878,10 +870,10 @@ impl RtPass {
             pipeline_layout = objects.pipeline_layouts.len() - 1;
             // SAFETY: the module is naga IR validated by the compiler
             // (graph::reflect::reflect_with); runtime checks are wgpu's defaults but loop
-            // bounding, as for every other shader (runtime::gpu::shader_checks).
+            // bounding, as for every other shader (gpu_util::shader_checks).
             let shader = unsafe {
                 d.create_shader_module(
-                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::shader_checks() },
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::gpu_util::shader_checks() },
                     hal::ShaderInput::Naga(hal::NagaShader {
                         module: std::borrow::Cow::Owned((*module.module).clone()),
                         info: (*module.info).clone(),
@@ -897,7 +889,7 @@ impl RtPass {
             // it when the pipeline is made.
             let any_hit_shader = unsafe {
                 d.create_shader_module(
-                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::shader_checks() },
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::gpu_util::shader_checks() },
                     hal::ShaderInput::SpirV(&any_hit_words),
                 )
             }

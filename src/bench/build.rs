@@ -6,9 +6,9 @@
 //! trace speed. Copies beyond a triangle budget are skipped and listed.
 
 use super::RunInfo;
-use crate::accel::backend::Backend;
-use crate::accel::batch::{BatchTracer, GpuRay};
+use crate::backend::Backend;
 use crate::error::RuntimeError;
+use crate::runtime::batch::{BatchTracer, GpuRay};
 use crate::runtime::profiler::median;
 use crate::runtime::Gpu;
 use crate::scene::duplicate::duplicate;
@@ -65,7 +65,7 @@ pub struct BuildRow {
 /// Camera rays through a `w`×`h` grid from the scene's default camera.
 fn camera_rays(scene: &Scene, size: (u32, u32)) -> Vec<GpuRay> {
     let origin = scene.camera.position.into();
-    super::camera_ray_dirs(&scene.camera, size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
+    scene.camera.ray_dirs(size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
 }
 
 /// `on_rows` sees the rows finished so far after each one (to keep the results folder current).

@@ -4,7 +4,7 @@
 //! pixel and GigaRays/s from its own counters and GPU time.
 
 use super::RunInfo;
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::graph::compile::compile_with;
 use crate::graph::desc::ParamValue;
 use crate::graph::Project;

@@ -14,7 +14,7 @@
 //! offset and resolution.
 
 use super::RunInfo;
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::error::RuntimeError;
 use crate::graph::compile::{compile_with, CompileOptions};
 use crate::graph::desc::ParamValue;

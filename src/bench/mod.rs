@@ -13,20 +13,6 @@ pub mod track;
 
 use std::path::{Path, PathBuf};
 
-/// Directions of `camera`'s rays through the centres of every `stride`-th pixel of a `w`×`h`
-/// image in each direction, row by row.
-pub fn camera_ray_dirs(camera: &crate::scene::Camera, (w, h): (u32, u32), stride: u32) -> Vec<glam::Vec3> {
-    let inv = camera.view_proj(w as f32 / h as f32).inverse();
-    let mut dirs = Vec::with_capacity(((w / stride.max(1) + 1) * (h / stride.max(1) + 1)) as usize);
-    for y in (0..h).step_by(stride.max(1) as usize) {
-        for x in (0..w).step_by(stride.max(1) as usize) {
-            let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
-            dirs.push((inv.project_point3(ndc.extend(1.0)) - camera.position).normalize());
-        }
-    }
-    dirs
-}
-
 /// The header every results file starts with.
 #[derive(Debug, Clone)]
 pub struct RunInfo {

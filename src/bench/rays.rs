@@ -7,7 +7,7 @@
 //! the raster graph's frame rate on the same view.
 
 use super::RunInfo;
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::graph::compile::{compile_with, CompileOptions};
 use crate::graph::desc::ParamValue;
 use crate::graph::Project;

@@ -34,7 +34,7 @@ pub struct RooflineRow {
 }
 
 fn camera_rays(camera: &Camera, size: (u32, u32), stride: u32) -> Vec<Ray> {
-    super::camera_ray_dirs(camera, size, stride).into_iter().map(|d| Ray::new(camera.position, d)).collect()
+    camera.ray_dirs(size, stride).into_iter().map(|d| Ray::new(camera.position, d)).collect()
 }
 
 /// The merged layout of `scene`, as `Accel(merge: true)` builds it.

@@ -3,7 +3,7 @@
 //! on every back-end; per frame: GPU milliseconds, FPS, rays and GigaRays/s.
 
 use super::RunInfo;
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::graph::compile::compile_with;
 use crate::graph::Project;
 use crate::runtime::{Executor, Gpu};

@@ -1,7 +1,8 @@
 //! Bindings every pass may use without declaring them: frame uniforms, layer parameters,
 //! the debug counters and the scene's resources. Their names are reserved.
 
-use crate::runtime::uniforms::FrameUniforms;
+use crate::scene::gpu::SceneUsage;
+use crate::uniforms::FrameUniforms;
 
 pub const FRAME: &str = "frame";
 pub const PARAMS: &str = "params";
@@ -57,30 +58,7 @@ pub fn is_builtin(name: &str) -> bool {
     )
 }
 
-/// Which parts of the scene the kept passes of a plan use; only these are uploaded.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct SceneUsage {
-    /// Vertex and index buffers (a `SceneRaster` pass draws the meshes).
-    pub geometry: bool,
-    /// `scene_instances`.
-    pub instances: bool,
-    /// `scene_materials`.
-    pub materials: bool,
-    /// `scene_textures` (images are then decoded and uploaded).
-    pub textures: bool,
-    /// `scene_textures` is a binding array (one texture per element) rather than a texture array.
-    pub texture_binding_array: bool,
-    /// `scene_vertices`, `scene_indices`, `scene_meshes` (geometry read in shaders).
-    pub geometry_storage: bool,
-    /// `scene_lights`.
-    pub lights: bool,
-}
-
 impl SceneUsage {
-    pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights
-    }
-
     /// Adds what a binding needs.
     pub fn add_binding(&mut self, b: &crate::graph::reflect::ShaderBinding) {
         match b.name.as_str() {
@@ -93,26 +71,6 @@ impl SceneUsage {
                 self.texture_binding_array |= b.kind == crate::graph::reflect::BindingKind::TextureBindingArray;
             }
             _ => {}
-        }
-    }
-
-    /// A short list for reports, e.g. `geometry, instances, textures`.
-    pub fn describe(&self) -> String {
-        let parts: Vec<&str> = [
-            (self.geometry, "geometry"),
-            (self.geometry_storage, "geometry for shading hits"),
-            (self.instances, "instances"),
-            (self.materials, "materials"),
-            (self.textures, "textures"),
-            (self.lights, "lights"),
-        ]
-        .into_iter()
-        .filter_map(|(on, name)| on.then_some(name))
-        .collect();
-        if parts.is_empty() {
-            "nothing (no pass reads the scene)".into()
-        } else {
-            parts.join(", ")
         }
     }
 }

@@ -5,8 +5,9 @@
 use super::builtins;
 use super::desc::*;
 use super::reflect::{self, BindingKind, ShaderInfo};
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::error::{ErrorKind, GraphError, Location};
+use crate::scene::gpu::SceneUsage;
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::Direction;
 use std::collections::{BTreeMap, HashMap};
@@ -129,7 +130,7 @@ pub struct Plan {
     pub slots: Vec<Slot>,
     pub output: ResourceId,
     /// Which parts of the scene the kept passes draw or read.
-    pub scene_usage: builtins::SceneUsage,
+    pub scene_usage: SceneUsage,
     /// The back-end trace passes were compiled for.
     pub backend: Backend,
 }
@@ -490,7 +491,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let mut planned: Vec<PlannedPass> = Vec::new();
     let mut first: HashMap<ResourceId, usize> = HashMap::new();
     let mut last: HashMap<ResourceId, usize> = HashMap::new();
-    let mut scene_usage = builtins::SceneUsage::default();
+    let mut scene_usage = SceneUsage::default();
     for (order, &pi) in schedule.iter().enumerate() {
         let p = &passes[pi];
         let node = &nodes[p.node];
@@ -981,7 +982,7 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                     "add a `@fragment` function or set `entry:` in the pass",
                 ));
             }
-            let colors: Vec<&(String, ResourceId)> = p.writes.iter().filter(|(_, r)| !is_depth(&resources[*r])).collect();
+            let colors: Vec<&(String, ResourceId)> = p.writes.iter().filter(|(_, r)| !resources[*r].decl.is_depth_texture()).collect();
             let outs = &info.entry(&entry).map(|e| e.locations.clone()).unwrap_or_default();
             let expected: Vec<u32> = (0..colors.len() as u32).collect();
             if *outs != expected {
@@ -996,7 +997,7 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
                     "make the fragment outputs @location(0..n) match the order of `writes`",
                 ));
             }
-            if p.writes.iter().filter(|(_, r)| is_depth(&resources[*r])).count() > 1 {
+            if p.writes.iter().filter(|(_, r)| resources[*r].decl.is_depth_texture()).count() > 1 {
                 return Err(mismatch("the pass writes more than one depth texture".into(), file_loc, "write at most one Depth32Float texture"));
             }
             if pass.kind == PassKind::SceneRaster {
@@ -1089,10 +1090,6 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
         }
     }
     Ok(())
-}
-
-fn is_depth(r: &PlannedResource) -> bool {
-    matches!(&r.decl, ResourceDecl::Texture(t) if t.format.is_depth())
 }
 
 /// Checks a built-in binding's type; `Err` for a hard error, `Ok(Some(expected))` for a mismatch.

@@ -106,6 +106,13 @@ pub enum ResourceDecl {
     Accel,
 }
 
+impl ResourceDecl {
+    /// Whether this is a depth texture (a pass's depth attachment rather than a colour one).
+    pub fn is_depth_texture(&self) -> bool {
+        matches!(self, ResourceDecl::Texture(t) if t.format.is_depth())
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureDecl {
@@ -218,43 +225,66 @@ impl Format {
         !matches!(self, Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rgba32Uint | Format::Depth32Float)
     }
 
+    /// The channels of a texel and how each is stored (depth: one f32).
+    pub fn texel_layout(self) -> (usize, TexelKind) {
+        use TexelKind::*;
+        match self {
+            Format::R8Unorm => (1, Unorm8),
+            Format::Rg8Unorm => (2, Unorm8),
+            Format::Rgba8Unorm | Format::Rgba8UnormSrgb => (4, Unorm8),
+            Format::R16Float => (1, Float16),
+            Format::Rg16Float => (2, Float16),
+            Format::Rgba16Float => (4, Float16),
+            Format::R32Float | Format::Depth32Float => (1, Float32),
+            Format::Rg32Float => (2, Float32),
+            Format::Rgba32Float => (4, Float32),
+            Format::R32Uint => (1, Uint32),
+            Format::Rgba32Uint => (4, Uint32),
+        }
+    }
+
     /// One texel holding `v` (the channels the format has), for constant textures; `None` for
     /// depth, which cannot be written from the CPU.
     pub fn encode_texel(self, v: [f32; 4]) -> Option<Vec<u8>> {
+        if self.is_depth() {
+            return None;
+        }
         let unorm = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-        let (channels, kind) = match self {
-            Format::R8Unorm => (1, 0),
-            Format::Rg8Unorm => (2, 0),
-            Format::Rgba8Unorm | Format::Rgba8UnormSrgb => (4, 0),
-            Format::R16Float => (1, 1),
-            Format::Rg16Float => (2, 1),
-            Format::Rgba16Float => (4, 1),
-            Format::R32Float => (1, 2),
-            Format::Rg32Float => (2, 2),
-            Format::Rgba32Float => (4, 2),
-            Format::R32Uint => (1, 3),
-            Format::Rgba32Uint => (4, 3),
-            Format::Depth32Float => return None,
-        };
+        let (channels, kind) = self.texel_layout();
         let mut out = Vec::new();
         for &x in &v[..channels] {
             match kind {
-                0 => out.push(unorm(x)),
-                1 => out.extend_from_slice(&f32_to_f16(x).to_le_bytes()),
-                2 => out.extend_from_slice(&x.to_le_bytes()),
-                _ => out.extend_from_slice(&(x.max(0.0) as u32).to_le_bytes()),
+                TexelKind::Unorm8 => out.push(unorm(x)),
+                TexelKind::Float16 => out.extend_from_slice(&f32_to_f16(x).to_le_bytes()),
+                TexelKind::Float32 => out.extend_from_slice(&x.to_le_bytes()),
+                TexelKind::Uint32 => out.extend_from_slice(&(x.max(0.0) as u32).to_le_bytes()),
             }
         }
         Some(out)
     }
 
     pub fn bytes_per_texel(self) -> u64 {
+        let (channels, kind) = self.texel_layout();
+        (channels * kind.bytes()) as u64
+    }
+}
+
+/// How each channel of a texel is stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexelKind {
+    Unorm8,
+    Float16,
+    Float32,
+    Uint32,
+}
+
+impl TexelKind {
+    /// Bytes per channel.
+    pub fn bytes(self) -> usize {
         match self {
-            Format::R8Unorm => 1,
-            Format::Rg8Unorm | Format::R16Float => 2,
-            Format::Rgba8Unorm | Format::Rgba8UnormSrgb | Format::Rg16Float | Format::R32Float | Format::R32Uint | Format::Depth32Float => 4,
-            Format::Rgba16Float | Format::Rg32Float => 8,
-            Format::Rgba32Float | Format::Rgba32Uint => 16,
+            TexelKind::Unorm8 => 1,
+            TexelKind::Float16 => 2,
+            TexelKind::Float32 | TexelKind::Uint32 => 4,
         }
     }
 }

@@ -2,18 +2,19 @@
 //! reflection, and records every pass of a frame with a timestamp pair around it.
 
 use super::gpu::Gpu;
-use super::profiler::{map_read, FrameTimings, GpuTimer};
+use super::profiler::{FrameTimings, GpuTimer};
 use super::raster::{DrawClass, InstanceClass, RenderSpec, ScenePipelines};
-use super::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
 use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
 use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::{ErrorKind, GraphError, RuntimeError};
+use crate::gpu_util::{compute_pipeline_with, map_read, readback_buffer, storage_buffer};
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::{Dispatch, ParamDecl, ParamValue, PassKind, ResourceDecl};
 use crate::graph::reflect::BindingKind;
 use crate::scene::gpu::{light_records, GpuScene, SceneContent, SceneTextures};
 use crate::scene::{Camera, Scene};
+use crate::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -147,8 +148,8 @@ impl Executor {
         self.scene.as_ref()
     }
 
-    /// A part of the uploaded scene; the plan's [`SceneUsage`](builtins::SceneUsage) decides
-    /// what was uploaded, so a missing part is an internal inconsistency reported as an error.
+    /// A part of the uploaded scene; the plan's [`crate::scene::gpu::SceneUsage`] decides what
+    /// was uploaded, so a missing part is an internal inconsistency reported as an error.
     fn scene_part<T>(&self, part: impl Fn(&GpuScene) -> Option<&T>) -> Result<&T, RuntimeError> {
         self.scene.as_ref().and_then(part).ok_or_else(|| RuntimeError::Gpu("a pass binds a part of the scene that the plan did not upload".into()))
     }
@@ -178,7 +179,7 @@ impl Executor {
                     usage |= wgpu::TextureUsages::COPY_SRC;
                     // The rt-pipeline back-end clears what its traces write once through wgpu
                     // (RtPass::transition).
-                    if s.constant.is_some() || (s.usage.storage && plan.backend == crate::accel::backend::Backend::RtPipeline) {
+                    if s.constant.is_some() || (s.usage.storage && plan.backend == crate::backend::Backend::RtPipeline) {
                         usage |= wgpu::TextureUsages::COPY_DST;
                     }
                     Physical::Texture(device.create_texture(&wgpu::TextureDescriptor {
@@ -200,7 +201,7 @@ impl Executor {
                     // queue (RtPass::transition).
                     usage: wgpu::BufferUsages::STORAGE
                         | wgpu::BufferUsages::COPY_SRC
-                        | if plan.backend == crate::accel::backend::Backend::RtPipeline { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() },
+                        | if plan.backend == crate::backend::Backend::RtPipeline { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() },
                     mapped_at_creation: false,
                 })),
             })
@@ -223,12 +224,7 @@ impl Executor {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let debug_counters = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("debug counters"),
-            size: builtins::DEBUG_COUNTER_COUNT as u64 * 4,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let debug_counters = storage_buffer(device, "debug counters", builtins::DEBUG_COUNTER_COUNT as u64 * 4);
         let plan_uploads = plan.scene_usage.any();
         let scene_gpu = if plan_uploads {
             let s = GpuScene::upload(device, &gpu.queue, scene, plan.scene_usage)?;
@@ -470,7 +466,7 @@ impl Executor {
                 _ => {}
             }
         }
-        if pass.kind == PassKind::Trace && self.plan.backend == crate::accel::backend::Backend::RtPipeline {
+        if pass.kind == PassKind::Trace && self.plan.backend == crate::backend::Backend::RtPipeline {
             return self.build_rt_pass(gpu, pass, &layout_entries, params_buffer, params_members);
         }
         // One bind group per @group the shader uses (group 1 holds the scene's texture binding
@@ -527,14 +523,7 @@ impl Executor {
             PassKind::AccelBuild => unreachable!("returned above"),
             PassKind::Compute | PassKind::Trace => {
                 let constants = trace_constants(pass, self.trace_alpha_test);
-                let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&pass.name),
-                    layout: Some(&layout),
-                    module: &module,
-                    entry_point: Some(&pass.entry),
-                    compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-                    cache: None,
-                });
+                let p = compute_pipeline_with(device, &pass.name, &layout, &module, &pass.entry, &constants);
                 let groups = match pass.dispatch {
                     Dispatch::Groups(x, y, z) => [x, y, z],
                     Dispatch::PerPixel => {
@@ -741,7 +730,7 @@ impl Executor {
     }
 
     fn is_depth(&self, r: ResourceId) -> bool {
-        matches!(&self.plan.resources[r].decl, ResourceDecl::Texture(t) if t.format.is_depth())
+        self.plan.resources[r].decl.is_depth_texture()
     }
 
     /// Whether a kept pass draws a shadow map (a `SceneRaster` pass that writes only depth).
@@ -933,7 +922,7 @@ impl Executor {
             for (window, pass) in trace_passes.enumerate() {
                 if let Pipeline::RayTracing(rt) = &mut pass.pipeline {
                     let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-                    rt.bind_accel(built, &crate::accel::rt_pipeline::cache_buffers(cache, window as u32))?;
+                    rt.bind_accel(built, &crate::accel::cache::cache_buffers(cache, window as u32))?;
                     continue;
                 }
                 let Some((layout, entries, names)) = &pass.accel_layout else { continue };
@@ -1021,20 +1010,12 @@ impl Executor {
     /// 0, alpha 1); float, half and 8-bit unorm formats.
     pub fn read_texture_f32(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, Vec<[f32; 4]>), RuntimeError> {
         let (w, h, format, data) = self.read_texture_bytes(gpu, r)?;
-        use crate::graph::desc::Format as F;
-        let (channels, kind) = match format {
-            F::R8Unorm => (1, 0),
-            F::Rg8Unorm => (2, 0),
-            F::Rgba8Unorm | F::Rgba8UnormSrgb => (4, 0),
-            F::R16Float => (1, 1),
-            F::Rg16Float => (2, 1),
-            F::Rgba16Float => (4, 1),
-            F::R32Float | F::Depth32Float => (1, 2),
-            F::Rg32Float => (2, 2),
-            F::Rgba32Float => (4, 2),
-            F::R32Uint | F::Rgba32Uint => return Err(RuntimeError::Gpu(format!("{format:?} is not a float format"))),
-        };
-        let size = [1usize, 2, 4][kind];
+        use crate::graph::desc::TexelKind;
+        if format.is_uint() {
+            return Err(RuntimeError::Gpu(format!("{format:?} is not a float format")));
+        }
+        let (channels, kind) = format.texel_layout();
+        let size = kind.bytes();
         let texel = channels * size;
         let texels = data
             .chunks_exact(texel)
@@ -1042,9 +1023,9 @@ impl Executor {
                 let mut v = [0.0, 0.0, 0.0, 1.0];
                 for (c, b) in t.chunks_exact(size).enumerate() {
                     v[c] = match kind {
-                        0 => b[0] as f32 / 255.0,
-                        1 => crate::graph::desc::f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
-                        _ => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+                        TexelKind::Unorm8 => b[0] as f32 / 255.0,
+                        TexelKind::Float16 => crate::graph::desc::f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
+                        TexelKind::Float32 | TexelKind::Uint32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
                     };
                 }
                 v
@@ -1068,12 +1049,7 @@ impl Executor {
     /// Reads the `debug_counters` buffer (shaders may count events into it).
     pub fn read_debug_counters(&self, gpu: &Gpu) -> Result<Vec<u32>, RuntimeError> {
         let size = builtins::DEBUG_COUNTER_COUNT as u64 * 4;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("counter readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let buf = readback_buffer(&gpu.device, "counter readback", size);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.debug_counters, 0, &buf, 0, size);
         gpu.queue.submit([encoder.finish()]);
@@ -1093,12 +1069,7 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Res
     let (w, h) = (texture.width(), texture.height());
     let row = w * texel_bytes;
     let padded = row.div_ceil(256) * 256;
-    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("texture readback"),
-        size: padded as u64 * h as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let buf = readback_buffer(&gpu.device, "texture readback", padded as u64 * h as u64);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),

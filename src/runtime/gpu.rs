@@ -1,8 +1,9 @@
 //! The GPU context: instance, adapter and device, with the optional features the runtime
 //! uses (timestamp queries) requested only where the adapter has them.
 
-use crate::accel::backend::{self, Backend, Selection};
+use crate::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
+use crate::gpu_util::shader_checks;
 use std::sync::{Arc, Mutex};
 
 pub struct Gpu {
@@ -267,14 +268,4 @@ pub fn all_include_variants() -> Vec<crate::graph::reflect::IncludeAliases> {
         }
     }
     out
-}
-
-/// Runtime checks compiled into every shader: all of wgpu's but naga's loop bounding, a
-/// 64-bit counter decremented and tested on every loop iteration so that a driver cannot
-/// treat an endless loop as unreachable. It costs the BVH traversal 6-9% on an H100 (PERF.md)
-/// and guards nothing a terminating loop needs; `RAYGRAPH_SHADER_CHECKS=all` keeps it.
-pub fn shader_checks() -> wgpu::ShaderRuntimeChecks {
-    let mut checks = wgpu::ShaderRuntimeChecks::checked();
-    checks.force_loop_bounding = std::env::var("RAYGRAPH_SHADER_CHECKS").is_ok_and(|v| v == "all");
-    checks
 }

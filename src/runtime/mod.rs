@@ -1,12 +1,13 @@
 //! The GPU runtime: device context ([`gpu`]), plan executor ([`exec`]), pass timing
-//! ([`profiler`]) and the uniform structs shared with WGSL ([`uniforms`]).
+//! ([`profiler`]), per-pass statistics ([`report`]) and rays traced outside any graph
+//! ([`batch`]).
 
+pub mod batch;
 pub mod exec;
 pub mod gpu;
 pub mod profiler;
 pub mod raster;
 pub mod report;
-pub mod uniforms;
 
 pub use exec::Executor;
 pub use gpu::Gpu;

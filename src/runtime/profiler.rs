@@ -2,6 +2,7 @@
 //! has timestamp queries), CPU time of recording each pass, and medians over frames.
 
 use crate::error::RuntimeError;
+use crate::gpu_util::{map_read, readback_buffer};
 
 /// Timestamp queries for up to `capacity` passes per frame.
 pub struct GpuTimer {
@@ -23,12 +24,7 @@ impl GpuTimer {
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamp readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = readback_buffer(device, "timestamp readback", size);
         Self { query_set, resolve, readback, capacity: capacity.max(1), period_ns: queue.get_timestamp_period() }
     }
 
@@ -90,22 +86,6 @@ impl GpuTimer {
         drop(data);
         self.readback.unmap();
         Ok(ms)
-    }
-}
-
-/// Maps a buffer slice for reading and waits for it.
-pub fn map_read<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) })
-        .map_err(|e| RuntimeError::Gpu(e.to_string()))?;
-    match rx.recv() {
-        Ok(Ok(())) => slice.get_mapped_range().map_err(|e| RuntimeError::Gpu(format!("buffer map failed: {e}"))),
-        Ok(Err(e)) => Err(RuntimeError::Gpu(format!("buffer map failed: {e}"))),
-        Err(_) => Err(RuntimeError::Gpu("buffer map callback was dropped".into())),
     }
 }
 

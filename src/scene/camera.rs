@@ -20,6 +20,20 @@ impl Default for Camera {
 }
 
 impl Camera {
+    /// Directions of the rays through the centres of every `stride`-th pixel of a `w`×`h`
+    /// image in each direction, row by row.
+    pub fn ray_dirs(&self, (w, h): (u32, u32), stride: u32) -> Vec<Vec3> {
+        let inv = self.view_proj(w as f32 / h as f32).inverse();
+        let mut dirs = Vec::with_capacity(((w / stride.max(1) + 1) * (h / stride.max(1) + 1)) as usize);
+        for y in (0..h).step_by(stride.max(1) as usize) {
+            for x in (0..w).step_by(stride.max(1) as usize) {
+                let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
+                dirs.push((inv.project_point3(ndc.extend(1.0)) - self.position).normalize());
+            }
+        }
+        dirs
+    }
+
     /// A camera at `position` looking at `target`, y up, `fov_y_deg` vertical field of view.
     pub fn look(position: Vec3, target: Vec3, fov_y_deg: f32, near: f32, far: f32) -> Self {
         Self { position, target, up: Vec3::Y, fov_y: fov_y_deg.to_radians(), near, far }

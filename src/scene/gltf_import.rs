@@ -29,6 +29,20 @@ pub enum SceneError {
     Write { path: PathBuf, message: String },
 }
 
+/// What to load. Textures are decoded only when a pass of the active graph samples them.
+#[derive(Debug, Clone, Copy)]
+pub struct LoadOptions {
+    pub textures: bool,
+    /// Seed of the generated `atrium`.
+    pub seed: u64,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self { textures: true, seed: super::procedural::ATRIUM_DEFAULT_SEED }
+    }
+}
+
 /// The glTF extensions raygraph reads (everything else in `extensionsUsed` is listed as
 /// ignored, and a file that requires anything else is refused).
 pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
@@ -200,7 +214,7 @@ fn check_accessor_types(prim: &gltf::Primitive) -> Result<(), String> {
 }
 
 /// Loads a glTF or GLB file.
-pub fn load(path: &Path, options: &super::LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
+pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
     let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
     let bytes = std::fs::read(path).map_err(|e| parse_err(e.to_string()))?;
     let gltf = parse_and_validate(path, &bytes)?;

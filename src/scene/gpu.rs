@@ -9,8 +9,7 @@
 //! than the device allows, are an error with the numbers, never a panic.
 
 use super::{AlphaMode, LightKind, PunctualLight, Scene};
-use crate::graph::builtins::SceneUsage;
-use crate::runtime::uniforms::{
+use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
     MATERIAL_DOUBLE_SIDED, SHADOW_MAP_SLOTS,
 };
@@ -51,6 +50,51 @@ impl SceneTextures {
         match self {
             SceneTextures::Array { texture, .. } => texture.depth_or_array_layers(),
             SceneTextures::Separate { views, .. } => views.len() as u32,
+        }
+    }
+}
+
+/// Which parts of the scene the kept passes of a plan use; only these are uploaded.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SceneUsage {
+    /// Vertex and index buffers (a `SceneRaster` pass draws the meshes).
+    pub geometry: bool,
+    /// `scene_instances`.
+    pub instances: bool,
+    /// `scene_materials`.
+    pub materials: bool,
+    /// `scene_textures` (images are then decoded and uploaded).
+    pub textures: bool,
+    /// `scene_textures` is a binding array (one texture per element) rather than a texture array.
+    pub texture_binding_array: bool,
+    /// `scene_vertices`, `scene_indices`, `scene_meshes` (geometry read in shaders).
+    pub geometry_storage: bool,
+    /// `scene_lights`.
+    pub lights: bool,
+}
+
+impl SceneUsage {
+    pub fn any(&self) -> bool {
+        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights
+    }
+
+    /// A short list for reports, e.g. `geometry, instances, textures`.
+    pub fn describe(&self) -> String {
+        let parts: Vec<&str> = [
+            (self.geometry, "geometry"),
+            (self.geometry_storage, "geometry for shading hits"),
+            (self.instances, "instances"),
+            (self.materials, "materials"),
+            (self.textures, "textures"),
+            (self.lights, "lights"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect();
+        if parts.is_empty() {
+            "nothing (no pass reads the scene)".into()
+        } else {
+            parts.join(", ")
         }
     }
 }
@@ -515,7 +559,7 @@ pub struct SceneContent {
 
 impl SceneContent {
     pub fn of(scene: &Scene) -> Self {
-        use crate::accel::cache::hash_words;
+        use crate::util::hash_words;
         use rayon::prelude::*;
         let meshes: Vec<u64> = scene
             .meshes

@@ -1,23 +1,9 @@
 //! Opening a scene by name or path: the built-in scenes (`default`, `box`, `organic`,
 //! `atrium`) or a glTF/GLB file, with only the parts the active graph needs.
 
-use super::gltf_import::{self, ImportReport, SceneError};
+use super::gltf_import::{self, ImportReport, LoadOptions, SceneError};
 use super::{builtin, procedural, Scene};
 use std::path::Path;
-
-/// What to load. Textures are decoded only when a pass of the active graph samples them.
-#[derive(Debug, Clone, Copy)]
-pub struct LoadOptions {
-    pub textures: bool,
-    /// Seed of the generated `atrium`.
-    pub seed: u64,
-}
-
-impl Default for LoadOptions {
-    fn default() -> Self {
-        Self { textures: true, seed: procedural::ATRIUM_DEFAULT_SEED }
-    }
-}
 
 /// Names of the built-in scenes.
 pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium"];

@@ -16,8 +16,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 pub use camera::Camera;
-pub use gltf_import::{ImportReport, SceneError};
-pub use load::{open, LoadOptions};
+pub use gltf_import::{ImportReport, LoadOptions, SceneError};
+pub use load::open;
 
 /// Vertex layout shared by every mesh: `@location(0)` position, `(1)` normal, `(2)` uv.
 #[repr(C)]

@@ -7,7 +7,7 @@ use super::display::{format_of, Display, Mapping};
 use super::script::{Action, Script};
 use super::session::{Reload, Session};
 use super::ui::{self, Frame, UiState, View};
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::graph::Mode;
 use crate::runtime::Gpu;
 use crate::scene::track::Track;

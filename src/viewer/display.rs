@@ -3,6 +3,7 @@
 //! Colour textures are copied and mapped on the GPU (`shaders/viewer/visualize.wgsl`: a scale
 //! and bias per channel); depth textures are read back and mapped on the CPU.
 
+use crate::gpu_util::compute_pipeline;
 use crate::graph::compile::ResourceId;
 use crate::graph::desc::{Format, ResourceDecl};
 use crate::runtime::{Executor, Gpu};
@@ -22,7 +23,7 @@ impl Mapping {
     /// Values shown as they are (the graph's output: display-encoded unless it is an sRGB
     /// format, whose texels read back linear).
     pub fn identity(format: Format) -> Self {
-        Self { scale: [1.0; 4], bias: [0.0; 4], channels: channels(format), encode_srgb: format == Format::Rgba8UnormSrgb }
+        Self { scale: [1.0; 4], bias: [0.0; 4], channels: format.texel_layout().0 as u32, encode_srgb: format == Format::Rgba8UnormSrgb }
     }
 
     /// Each channel's finite range over `texels` stretched to [0, 1] (a constant channel maps
@@ -38,7 +39,7 @@ impl Mapping {
                 }
             }
         }
-        let mut m = Self { scale: [1.0; 4], bias: [0.0; 4], channels: channels(format), encode_srgb: false };
+        let mut m = Self { scale: [1.0; 4], bias: [0.0; 4], channels: format.texel_layout().0 as u32, encode_srgb: false };
         for c in 0..4 {
             if lo[c].is_finite() && hi[c] > lo[c] {
                 m.scale[c] = 1.0 / (hi[c] - lo[c]);
@@ -60,14 +61,6 @@ impl Mapping {
         };
         let enc = |x: f32| if self.encode_srgb { crate::util::linear_to_srgb(x as f64) as f32 } else { x };
         [(enc(rgb[0]) * 255.0).round() as u8, (enc(rgb[1]) * 255.0).round() as u8, (enc(rgb[2]) * 255.0).round() as u8, 255]
-    }
-}
-
-fn channels(format: Format) -> u32 {
-    match format {
-        Format::R8Unorm | Format::R16Float | Format::R32Float | Format::Depth32Float | Format::R32Uint => 1,
-        Format::Rg8Unorm | Format::Rg16Float | Format::Rg32Float => 2,
-        _ => 4,
     }
 }
 
@@ -145,14 +138,7 @@ impl Display {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("viewer visualize"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, "viewer visualize", &pipeline_layout, &module, "cs_main");
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("viewer visualize"),
             size: UNIFORM_BYTES,

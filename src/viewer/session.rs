@@ -4,7 +4,7 @@
 //! change compiles a new plan, and an error keeps the last good one running), and a rolling
 //! window of frame timings for the profiler overlay.
 
-use crate::accel::backend::Backend;
+use crate::backend::Backend;
 use crate::graph::compile::{compile_with, CompileOptions, Plan};
 use crate::graph::desc::{NodeDesc, ParamDecl, ParamValue};
 use crate::graph::{Mode, Project};

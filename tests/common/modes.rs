@@ -1,7 +1,7 @@
 //! The three modes' graphs rendered with every technique-specific effect switched off
 //! (tests/real_assets.rs, tests/mode_agreement.rs).
 
-use raygraph::accel::backend::Backend;
+use raygraph::backend::Backend;
 use raygraph::graph::compile::compile_with;
 use raygraph::graph::desc::ParamValue;
 use raygraph::graph::Project;

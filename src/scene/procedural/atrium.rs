@@ -17,7 +17,7 @@
 //! Long-side elements are modelled for the south side (courtyard towards +z) and turned by
 //! half a turn about y for the north side; no instance transform mirrors.
 
-use super::{
+use super::common::{
     arc_xy, circle, fbm3, jitter, material, rect_profile, rgb, tex_blocks, tex_diamonds, tex_marble, tex_noise, tex_stripes, tex_tiles, tex_wood, MeshBuilder,
     Rgb, Rng,
 };

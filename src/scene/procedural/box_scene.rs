@@ -1,15 +1,15 @@
 //! The "box" scene: one unit cube (12 triangles) with a wooden-crate base-colour texture and a
 //! roughness map, a camera looking at it from above-front-right, and a directional light.
 
-use super::{image, material, tex_roughness, MeshBuilder, Rng, TileNoise};
+use super::common::{image, material, tex_roughness, MeshBuilder, Rng, TileNoise};
 use crate::scene::{Camera, Instance, Light, Scene};
 use glam::{Mat4, Vec3};
 
 /// A crate face: a frame of boards around diagonal-braced planks.
 fn crate_texture(rng: &mut Rng) -> crate::scene::TextureImage {
     let noise = TileNoise::new(rng, 4, 3);
-    let light = super::rgb(196, 150, 96);
-    let dark = super::rgb(112, 74, 40);
+    let light = super::common::rgb(196, 150, 96);
+    let dark = super::common::rgb(112, 74, 40);
     image("box_crate", 256, |u, v| {
         let frame = !(0.1..=0.9).contains(&u) || !(0.1..=0.9).contains(&v);
         let brace = (u - v).abs() < 0.07 && !frame;

@@ -7,7 +7,7 @@
 //! triangles, and all triangles wind counter-clockwise seen from outside; the displacement is
 //! along the radius and stays positive, so the surface never folds over itself.
 
-use super::{fbm3, image, material, rgb, tex_roughness, Rng, TileNoise};
+use super::common::{fbm3, image, material, rgb, tex_roughness, Rng, TileNoise};
 use crate::scene::{Camera, Instance, Light, Mesh, Scene, Vertex};
 use glam::{Mat4, Vec2, Vec3};
 use std::collections::HashMap;

@@ -4,15 +4,15 @@
 //! would be. The trace module's alpha test reads the scene's textures (`scene_textures`, group
 //! 1), which the tracer uploads when the module declares them.
 
-use super::backend::Backend;
-use super::cache::{AccelCache, AccelSettings, BuildReport, RayStats};
-use super::cpu_traverse::TraceFlags;
-use super::rt_pipeline::{RtBinding, RtPass, RtResource};
+use crate::accel::cache::{AccelCache, AccelSettings, BuildReport, RayStats};
+use crate::accel::cpu_traverse::TraceFlags;
+use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
+use crate::backend::Backend;
 use crate::error::{GraphError, Location, RuntimeError};
+use crate::gpu_util::{compute_pipeline, map_read, storage_with_readback};
 use crate::graph::compile::CompileOptions;
 use crate::graph::reflect;
 use crate::runtime::gpu::include_aliases;
-use crate::runtime::profiler::map_read;
 use crate::runtime::Gpu;
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
@@ -99,7 +99,7 @@ fn scene_textures(
     use crate::scene::gpu::{GpuScene, SceneTextures};
     let Some(b) = info.bindings.iter().find(|b| b.name == crate::graph::builtins::SCENE_TEXTURES) else { return Ok(None) };
     let array = b.kind == reflect::BindingKind::TextureBindingArray;
-    let usage = crate::graph::builtins::SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
+    let usage = crate::scene::gpu::SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
     let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, scene, usage)?;
     let textures = uploaded.textures.as_ref().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
     let ty = wgpu::BindingType::Texture {
@@ -178,7 +178,7 @@ impl BatchTracer {
             let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
             let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", bindings, crate::graph::builtins::ACCEL_GROUP)?;
             let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-            pass.bind_accel(built, &super::rt_pipeline::cache_buffers(&cache, 0))?;
+            pass.bind_accel(built, &crate::accel::cache::cache_buffers(&cache, 0))?;
             scope.finish(gpu, "creating the batch tracer")?;
             let _textures = textures.map(|t| t.0);
             return Ok(Self { cache, _textures, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });
@@ -236,14 +236,7 @@ impl BatchTracer {
             immediate_size: 0,
         });
         let module = gpu.shader_module("batch.wgsl", &info.source.text);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("batch"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, "batch", &pipeline_layout, &module, "cs_main");
         scope.finish(gpu, "creating the batch tracer")?;
         Ok(Self {
             cache,
@@ -308,18 +301,7 @@ impl BatchTracer {
             usage: wgpu::BufferUsages::STORAGE,
         });
         let size = (n * std::mem::size_of::<RawResult>()) as u64;
-        let results = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("batch results"),
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("batch readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let (results, readback) = storage_with_readback(device, "batch results", size);
         let mut command_buffers = Vec::new();
         let mut encoder = device.create_command_encoder(&Default::default());
         self.cache.clear_stats(&mut encoder);

@@ -1,0 +1,80 @@
+//! Small wgpu helpers shared by the accelerator, the runtime and the viewer: the runtime
+//! checks compiled into every shader, compute pipelines, storage buffers with their read-back
+//! buffers, and waiting for a mapped read.
+
+use crate::error::RuntimeError;
+
+/// Runtime checks compiled into every shader: all of wgpu's but naga's loop bounding, a
+/// 64-bit counter decremented and tested on every loop iteration so that a driver cannot
+/// treat an endless loop as unreachable. It costs the BVH traversal 6-9% on an H100 (PERF.md)
+/// and guards nothing a terminating loop needs; `RAYGRAPH_SHADER_CHECKS=all` keeps it.
+pub fn shader_checks() -> wgpu::ShaderRuntimeChecks {
+    let mut checks = wgpu::ShaderRuntimeChecks::checked();
+    checks.force_loop_bounding = std::env::var("RAYGRAPH_SHADER_CHECKS").is_ok_and(|v| v == "all");
+    checks
+}
+
+/// A compute pipeline running `entry` of `module` with an explicit layout.
+pub fn compute_pipeline(device: &wgpu::Device, label: &str, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+    compute_pipeline_with(device, label, layout, module, entry, &[])
+}
+
+/// [`compute_pipeline`] with values for the module's pipeline-overridable constants.
+pub fn compute_pipeline_with(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+        cache: None,
+    })
+}
+
+/// A storage buffer that shaders write, that can be cleared and copied out.
+pub fn storage_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// A buffer to copy GPU data into and map for reading.
+pub fn readback_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// A [`storage_buffer`] and a [`readback_buffer`] of the same size (labelled `LABEL readback`).
+pub fn storage_with_readback(device: &wgpu::Device, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+    (storage_buffer(device, label, size), readback_buffer(device, &format!("{label} readback"), size))
+}
+
+/// Maps a buffer slice for reading and waits for it.
+pub fn map_read<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) })
+        .map_err(|e| RuntimeError::Gpu(e.to_string()))?;
+    match rx.recv() {
+        Ok(Ok(())) => slice.get_mapped_range().map_err(|e| RuntimeError::Gpu(format!("buffer map failed: {e}"))),
+        Ok(Err(e)) => Err(RuntimeError::Gpu(format!("buffer map failed: {e}"))),
+        Err(_) => Err(RuntimeError::Gpu("buffer map callback was dropped".into())),
+    }
+}
