@@ -235,7 +235,10 @@ impl BatchTracer {
             bind_group_layouts: &[Some(&layout0), Some(&layout1), Some(&layout2)],
             immediate_size: 0,
         });
-        let module = gpu.shader_module("batch.wgsl", &info.source.text);
+        // The batch tracer is part of the program (tests, benches), not of a project: its loops are
+        // the traversal's and its own ray loop, all of which end; loop bounding would cost the
+        // traversal 5-9% (`ShaderOrigin::BuiltInTraversal`).
+        let module = gpu.shader_module("batch.wgsl", &info.source.text, crate::runtime::gpu::ShaderOrigin::BuiltInTraversal);
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("batch"),
             layout: Some(&pipeline_layout),

@@ -877,11 +877,11 @@ impl RtPass {
             objects.pipeline_layouts.push(layout);
             pipeline_layout = objects.pipeline_layouts.len() - 1;
             // SAFETY: the module is naga IR validated by the compiler
-            // (graph::reflect::reflect_with); runtime checks are wgpu's defaults but loop
-            // bounding, as for every other shader (runtime::gpu::shader_checks).
+            // (graph::reflect::reflect_with); every runtime check, loop bounding included: a
+            // trace pass's module holds its layer's own code (runtime::gpu::ShaderOrigin).
             let shader = unsafe {
                 d.create_shader_module(
-                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::shader_checks() },
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::ShaderOrigin::Project.checks() },
                     hal::ShaderInput::Naga(hal::NagaShader {
                         module: std::borrow::Cow::Owned((*module.module).clone()),
                         info: (*module.info).clone(),
@@ -897,7 +897,7 @@ impl RtPass {
             // it when the pipeline is made.
             let any_hit_shader = unsafe {
                 d.create_shader_module(
-                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::shader_checks() },
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::runtime::gpu::ShaderOrigin::Project.checks() },
                     hal::ShaderInput::SpirV(&any_hit_words),
                 )
             }

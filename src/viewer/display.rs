@@ -108,7 +108,7 @@ impl Display {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        let module = gpu.shader_module("viewer visualize", shader_source);
+        let module = gpu.shader_module("viewer visualize", shader_source, crate::runtime::gpu::ShaderOrigin::Project);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("viewer visualize"),
             entries: &[
