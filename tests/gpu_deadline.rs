@@ -16,55 +16,6 @@ const DEADLINE: Duration = Duration::from_secs(2);
 /// loaded 2-core machine, far below a hang.
 const WALL_LIMIT: Duration = Duration::from_secs(30);
 
-/// A fog layer whose loop waits for a negative density, which a parameter declared with
-/// `min: 0.0` never gives: naga accepts it, and no compiler can prove it never ends.
-const FOG_LAYER: &str = r#"Layer(
-    outputs: { "hdr": Texture(format: Rgba16Float) },
-    params: { "density": Float(default: 1.0, min: 0.0, max: 8.0) },
-    passes: [
-        Pass(name: "fog", kind: Compute, shader: "fog/fog.wgsl", writes: ["hdr"]),
-    ],
-)
-"#;
-
-const FOG_WGSL: &str = r#"struct Params {
-    density: f32,
-}
-
-@group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var hdr: texture_storage_2d<rgba16float, write>;
-
-@compute @workgroup_size(8, 8)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
-    var fog = params.density;
-    loop {
-        if fog < 0.0 {
-            break;
-        }
-        fog = fog * 0.5 + params.density;
-    }
-    textureStore(hdr, id.xy, vec4<f32>(fog, fog, fog, 1.0));
-}
-"#;
-
-const FOG_GRAPH: &str = r#"Graph(
-    output: "tonemap.color",
-    nodes: {
-        "fog": Layer(layer: "fog"),
-        "tonemap": Layer(layer: "tonemap", inputs: {"hdr": "fog.hdr"}),
-    },
-)
-"#;
-
-/// A copy of the project with the fog layer, and its graph file.
-fn fog_project() -> (common::TempProject, std::path::PathBuf) {
-    let p = common::TempProject::with_repo_files();
-    p.write("layers/fog.ron", FOG_LAYER);
-    p.write("shaders/fog/fog.wgsl", FOG_WGSL);
-    let graph = p.write("graph/fog.ron", FOG_GRAPH);
-    (p, graph)
-}
-
 fn assert_names_the_fog_pass(message: &str) {
     assert!(message.contains("the GPU ran past its deadline of 2 s"), "{message}");
     assert!(message.contains("`fog/fog`") && message.contains("fog.ron") && message.contains("fog.wgsl"), "the pass and its files: {message}");
@@ -73,14 +24,14 @@ fn assert_names_the_fog_pass(message: &str) {
 
 #[test]
 fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
-    let (project, graph) = fog_project();
+    let (project, graph) = common::endless_fog::project();
     let mut gpu = common::gpu();
     gpu.gpu_timeout = DEADLINE;
     let plan = compile::compile_with(&graph, &project.project(), (16, 16), &gpu.compile_options()).unwrap();
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     let start = Instant::now();
-    let err = exec.render(&gpu, &scene.camera, &scene).err().expect("a frame that never ends must fail");
+    let Err(err) = exec.render(&gpu, &scene.camera, &scene) else { panic!("a frame that never ends must fail") };
     let waited = start.elapsed();
     println!("{err}\n(after {waited:?})");
     assert!(matches!(err, RuntimeError::GpuTimeout { .. }), "{err:?}");
@@ -89,7 +40,7 @@ fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
     assert!(gpu.timed_out());
     // The device is still busy: every later frame fails at once with the same error.
     let start = Instant::now();
-    let again = exec.render(&gpu, &scene.camera, &scene).err().expect("the device is still busy");
+    let Err(again) = exec.render(&gpu, &scene.camera, &scene) else { panic!("the device is still busy") };
     assert!(start.elapsed() < Duration::from_secs(1), "{:?}", start.elapsed());
     assert_eq!(again.to_string(), err.to_string());
     // Releasing objects the stuck work uses can block in the driver: the run ends here.
@@ -99,7 +50,7 @@ fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
 
 #[test]
 fn render_with_a_shader_that_never_ends_exits_with_status_1_and_writes_nothing() {
-    let (project, graph) = fog_project();
+    let (project, graph) = common::endless_fog::project();
     let out_png = project.root.join("fog.png");
     let report = project.root.join("report");
     let start = Instant::now();
