@@ -128,6 +128,8 @@ pub enum RuntimeError {
     DeviceLost { adapter: String, reason: String },
     #[error("the GPU ran out of memory ({adapter}) {what}: {message}\n  help: nothing was written; use a smaller frame (--width, --height) or scene")]
     OutOfMemory { adapter: String, what: String, message: String },
+    #[error("the GPU ran past its deadline of {seconds} s (--gpu-timeout) on {work}\n  help: nothing was written; look for a loop that never ends in these passes' shaders, or raise --gpu-timeout if the frame is only slow")]
+    GpuTimeout { seconds: f64, work: String },
     #[error("could not write {path}: {source}")]
     Output { path: PathBuf, source: std::io::Error },
     #[error("could not encode image {path}: {message}")]

@@ -4,14 +4,33 @@
 
 use crate::error::RuntimeError;
 
-/// Runtime checks compiled into every shader: all of wgpu's but naga's loop bounding, a
-/// 64-bit counter decremented and tested on every loop iteration so that a driver cannot
-/// treat an endless loop as unreachable. It costs the BVH traversal 6-9% on an H100 (PERF.md)
-/// and guards nothing a terminating loop needs; `RAYGRAPH_SHADER_CHECKS=all` keeps it.
-pub fn shader_checks() -> wgpu::ShaderRuntimeChecks {
-    let mut checks = wgpu::ShaderRuntimeChecks::checked();
-    checks.force_loop_bounding = std::env::var("RAYGRAPH_SHADER_CHECKS").is_ok_and(|v| v == "all");
-    checks
+/// Where a shader module's source comes from, which decides its runtime checks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShaderOrigin {
+    /// A file of a project that is not a trace pass: every layer pass's shader, and anything
+    /// else read from a shaders directory a user can edit. All of wgpu's runtime checks,
+    /// naga's loop bounding included.
+    Project,
+    /// A trace pass's module: its layer's code together with raygraph's traversal
+    /// (`shaders/trace/`). Loop bounding, a 64-bit counter decremented and tested on every loop
+    /// iteration so that a driver cannot treat an endless loop as unreachable, costs the BVH
+    /// traversal 5-9% on an H100 (PERF.md, step 3), and is compiled per module, not per loop: these
+    /// modules go without it. The executor's frame deadline (`Gpu::gpu_timeout`) still ends a
+    /// frame whose trace pass loops forever.
+    TracePass,
+    /// One of raygraph's own traversal kernels, a fixed part of the program rather than of a
+    /// project (the batch tracer of tests and benches): no loop bounding, as for trace passes.
+    BuiltInTraversal,
+}
+
+impl ShaderOrigin {
+    /// All of wgpu's runtime checks; loop bounding only for [`ShaderOrigin::Project`], unless
+    /// `RAYGRAPH_SHADER_CHECKS=all` asks for it everywhere.
+    pub fn checks(self) -> wgpu::ShaderRuntimeChecks {
+        let mut checks = wgpu::ShaderRuntimeChecks::checked();
+        checks.force_loop_bounding = self == ShaderOrigin::Project || std::env::var("RAYGRAPH_SHADER_CHECKS").is_ok_and(|v| v == "all");
+        checks
+    }
 }
 
 /// A compute pipeline running `entry` of `module` with an explicit layout.

@@ -36,6 +36,8 @@ enum Command {
         #[arg(long)]
         backend: Option<Backend>,
         #[command(flatten)]
+        deadline: Deadline,
+        #[command(flatten)]
         view: ViewArgs,
         #[arg(long, default_value_t = 1280)]
         width: u32,
@@ -87,6 +89,8 @@ enum Command {
         rss_tolerance: f64,
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
     },
     /// The experiments.
     Bench {
@@ -106,6 +110,8 @@ enum Command {
         mode: Mode,
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
         /// Render size; the window opens at this size.
         #[arg(long, default_value_t = 1280)]
         width: u32,
@@ -158,6 +164,8 @@ enum BenchCommand {
         /// Only this back-end (default: every back-end the adapter has).
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
         /// Results folder.
         #[arg(long, default_value = "bench-results/rays")]
         out: PathBuf,
@@ -177,6 +185,8 @@ enum BenchCommand {
         max_triangles: Option<usize>,
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
         #[arg(long, default_value = "bench-results/build")]
         out: PathBuf,
     },
@@ -195,6 +205,8 @@ enum BenchCommand {
         height: Option<u32>,
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
         #[arg(long, default_value = "bench-results/track")]
         out: PathBuf,
     },
@@ -206,6 +218,8 @@ enum BenchCommand {
         quick: bool,
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
         #[arg(long, default_value = "bench-results/error")]
         out: PathBuf,
     },
@@ -235,6 +249,8 @@ enum BenchCommand {
         height: Option<u32>,
         #[arg(long)]
         backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
         #[arg(long, default_value = "bench-results/depth")]
         out: PathBuf,
     },
@@ -286,6 +302,41 @@ fn write_results(dir: &Path, files: &[(&str, String)]) -> Result<()> {
     }
     println!("wrote {}", files.iter().map(|(n, _)| dir.join(n).display().to_string()).collect::<Vec<_>>().join(", "));
     Ok(())
+}
+
+/// The GPU deadline of a command that renders.
+#[derive(clap::Args)]
+struct Deadline {
+    /// Seconds one GPU submission may run; past it the run ends with an error naming the
+    /// frame's passes, and nothing is written [default: 10, 120 on a software adapter such as
+    /// lavapipe].
+    #[arg(long, value_name = "SECONDS")]
+    gpu_timeout: Option<f64>,
+}
+
+impl Deadline {
+    /// The deadline asked for (`None`: the adapter's default).
+    fn duration(&self) -> Result<Option<std::time::Duration>> {
+        let Some(seconds) = self.gpu_timeout else { return Ok(None) };
+        let d = std::time::Duration::try_from_secs_f64(seconds).ok().filter(|d| !d.is_zero());
+        d.map(Some).with_context(|| format!("--gpu-timeout {seconds}: give a positive number of seconds"))
+    }
+
+    /// Opens the GPU with `backend` forced (or selected) and this deadline.
+    fn open_gpu(&self, backend: Option<Backend>) -> Result<Gpu> {
+        let timeout = self.duration()?;
+        let mut gpu = Gpu::with_backend(backend)?;
+        gpu.gpu_timeout = timeout.unwrap_or(gpu.gpu_timeout);
+        gpu.on_gpu_timeout = Some(exit_after_gpu_timeout);
+        Ok(gpu)
+    }
+}
+
+/// Ends the process after a GPU timeout: the error, exit status 1, and nothing released on
+/// the way out (releasing GPU objects the stuck work uses can block in the driver).
+fn exit_after_gpu_timeout(e: &raygraph::error::RuntimeError) {
+    eprintln!("{e}");
+    std::process::exit(1);
 }
 
 /// Where the camera is.
@@ -415,9 +466,9 @@ fn run(cli: Cli) -> Result<()> {
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
-        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend } => {
+        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend, deadline } => {
             use raygraph::soak::{self, SoakConfig};
-            let gpu = Gpu::with_backend(backend)?;
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let mut cfg = SoakConfig::new(Path::new("."), frames, cycle, (width, height));
             cfg.scene = scene;
@@ -440,8 +491,8 @@ fn run(cli: Cli) -> Result<()> {
             }
             println!("ok: memory and live GPU objects flat over {} checks", report.checks.len());
         }
-        Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, primary_rays, backend, out } } => {
-            let gpu = Gpu::with_backend(backend)?;
+        Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, primary_rays, backend, deadline, out } } => {
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = match backend {
                 Some(b) => vec![b],
@@ -463,9 +514,9 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;
         }
-        Command::Bench { command: BenchCommand::Build { quick, scenes, max_factor, max_triangles, backend, out } } => {
+        Command::Bench { command: BenchCommand::Build { quick, scenes, max_factor, max_triangles, backend, deadline, out } } => {
             use raygraph::bench::build::{self as build_bench, BuildBenchConfig};
-            let gpu = Gpu::with_backend(backend)?;
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
             let root = PathBuf::from(".");
@@ -496,9 +547,9 @@ fn run(cli: Cli) -> Result<()> {
                 )?;
             }
         }
-        Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, out } } => {
+        Command::Bench { command: BenchCommand::Track { quick, scene, track, width, height, backend, deadline, out } } => {
             use raygraph::bench::track::{self as track_bench, TrackConfig};
-            let gpu = Gpu::with_backend(backend)?;
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let (w, h) = if quick { (48, 27) } else { (2560, 1440) };
             let cfg = TrackConfig {
@@ -515,9 +566,9 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(track_bench::plots(&out, &rows))?;
         }
-        Command::Bench { command: BenchCommand::Error { quick, backend, out } } => {
+        Command::Bench { command: BenchCommand::Error { quick, backend, deadline, out } } => {
             use raygraph::bench::error::{self as error_bench, ErrorConfig};
-            let gpu = Gpu::with_backend(backend)?;
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
             let root = PathBuf::from(".");
@@ -565,9 +616,9 @@ fn run(cli: Cli) -> Result<()> {
             }
             write_results(&out, &[("roofline.csv", roofline::csv(&rows)), ("roofline.md", roofline::markdown(&rows, bandwidth, stride))])?;
         }
-        Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, out } } => {
+        Command::Bench { command: BenchCommand::Depth { quick, scene, width, height, backend, deadline, out } } => {
             use raygraph::bench::depth::{self as depth_bench, DepthConfig};
-            let gpu = Gpu::with_backend(backend)?;
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let (w, h, max_bounces, frames) = if quick { (48, 27, 3, 1) } else { (2560, 1440, 8, 5) };
             let cfg = DepthConfig {
@@ -584,18 +635,30 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(depth_bench::plots(&out, &rows))?;
         }
-        Command::View { scene, graph, mode, backend, width, height, camera, seed, frames, screenshot, script, verbose } => {
+        Command::View { scene, graph, mode, backend, deadline, width, height, camera, seed, frames, screenshot, script, verbose } => {
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
-            let opts =
-                raygraph::viewer::ViewerOptions { scene, graph, mode, backend, size: (width, height), camera, seed, frames, screenshot, script, verbose };
+            let opts = raygraph::viewer::ViewerOptions {
+                scene,
+                graph,
+                mode,
+                backend,
+                gpu_timeout: deadline.duration()?,
+                size: (width, height),
+                camera,
+                seed,
+                frames,
+                screenshot,
+                script,
+                verbose,
+            };
             raygraph::viewer::run(opts).map_err(anyhow::Error::msg)?;
         }
-        Command::Render { graph, mode, scene: scene_spec, backend, view, width, height, out, frames, report, layers, shaders } => {
+        Command::Render { graph, mode, scene: scene_spec, backend, deadline, view, width, height, out, frames, report, layers, shaders } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let project = project_for(&graph_file, layers, shaders);
             graph::compile(&graph_file, &project, (width, height))?; // report graph errors before opening a device
-            let gpu = Gpu::with_backend(backend)?;
+            let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &gpu.compile_options())?;
             if plan.passes.iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {

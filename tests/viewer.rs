@@ -261,3 +261,18 @@ fn a_broken_shader_keeps_the_last_good_graph_running_until_it_is_fixed() {
     drop(child);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A layer whose shader never ends: the frame runs past the GPU deadline, and the viewer ends
+/// with the error naming the pass (status 1) instead of hanging.
+#[test]
+fn a_shader_that_never_ends_stops_the_viewer_with_the_deadline_error() {
+    let x = XServer::start();
+    let (_project, graph) = common::endless_fog::project();
+    let start = Instant::now();
+    let args = ["default", "--graph", graph.to_str().unwrap(), "--width", "32", "--height", "32", "--frames", "20", "--gpu-timeout", "2"];
+    let (ok, _, log) = run_with_timeout(x.viewer(&args), 60);
+    println!("{log}\n(after {:?})", start.elapsed());
+    assert!(!ok, "a frame past the deadline must fail the viewer:\n{log}");
+    assert!(log.contains("the GPU ran past its deadline of 2 s") && log.contains("`fog/fog`"), "{log}");
+    assert!(!log.contains("panicked"), "{log}");
+}

@@ -869,11 +869,11 @@ impl RtPass {
             objects.pipeline_layouts.push(layout);
             pipeline_layout = objects.pipeline_layouts.len() - 1;
             // SAFETY: the module is naga IR validated by the compiler
-            // (graph::reflect::reflect_with); runtime checks are wgpu's defaults but loop
-            // bounding, as for every other shader (gpu_util::shader_checks).
+            // (graph::reflect::reflect_with); the runtime checks of a trace pass
+            // (gpu_util::ShaderOrigin::TracePass).
             let shader = unsafe {
                 d.create_shader_module(
-                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::gpu_util::shader_checks() },
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::gpu_util::ShaderOrigin::TracePass.checks() },
                     hal::ShaderInput::Naga(hal::NagaShader {
                         module: std::borrow::Cow::Owned((*module.module).clone()),
                         info: (*module.info).clone(),
@@ -889,7 +889,7 @@ impl RtPass {
             // it when the pipeline is made.
             let any_hit_shader = unsafe {
                 d.create_shader_module(
-                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::gpu_util::shader_checks() },
+                    &hal::ShaderModuleDescriptor { label: Some(label), runtime_checks: crate::gpu_util::ShaderOrigin::TracePass.checks() },
                     hal::ShaderInput::SpirV(&any_hit_words),
                 )
             }

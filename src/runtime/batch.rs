@@ -235,7 +235,9 @@ impl BatchTracer {
             bind_group_layouts: &[Some(&layout0), Some(&layout1), Some(&layout2)],
             immediate_size: 0,
         });
-        let module = gpu.shader_module("batch.wgsl", &info.source.text);
+        // The batch tracer is part of the program (tests, benches), not of a project: its loops are
+        // the traversal's and its own ray loop, all of which end (`ShaderOrigin::BuiltInTraversal`).
+        let module = gpu.shader_module("batch.wgsl", &info.source.text, crate::gpu_util::ShaderOrigin::BuiltInTraversal);
         let pipeline = compute_pipeline(device, "batch", &pipeline_layout, &module, "cs_main");
         scope.finish(gpu, "creating the batch tracer")?;
         Ok(Self {

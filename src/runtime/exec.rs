@@ -515,7 +515,10 @@ impl Executor {
         let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
         let layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(&pass.name), bind_group_layouts: &layout_refs, immediate_size: 0 });
-        let module = gpu.shader_module(&shader.path.display().to_string(), &shader.source.text);
+        // A layer's shader: a project file, with every runtime check (`ShaderOrigin::Project`),
+        // but a trace pass's module, built on the project's traversal (`ShaderOrigin::TracePass`).
+        let origin = if pass.kind == PassKind::Trace { crate::gpu_util::ShaderOrigin::TracePass } else { crate::gpu_util::ShaderOrigin::Project };
+        let module = gpu.shader_module(&shader.path.display().to_string(), &shader.source.text, origin);
 
         let colors: Vec<ResourceId> = pass.writes.iter().map(|(_, r)| *r).filter(|r| !self.is_depth(*r)).collect();
         let depth = pass.writes.iter().map(|(_, r)| *r).find(|r| self.is_depth(*r));
@@ -866,7 +869,12 @@ impl Executor {
         command_buffers.push(encoder.finish());
         gpu.queue.submit(command_buffers);
         scope.finish(gpu, "recording the frame")?;
-        gpu.wait()?;
+        if let Err(e) = gpu.wait_for(|| self.frame_work()) {
+            // The frame's views may still be in use by work past the GPU deadline: releasing
+            // them can block in the driver.
+            std::mem::forget(views);
+            return Err(e);
+        }
         let gpu_ms = match &self.timer {
             Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),
             None => None,
@@ -884,6 +892,23 @@ impl Executor {
         }
         self.frame_index += 1;
         Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3, rays, pass_rays, accel: accel_report.map(|(r, _)| r) })
+    }
+
+    /// The work one frame submits, for the GPU deadline's error: its passes in submission
+    /// order with their layer and WGSL files. They are submitted together, so any of them may
+    /// be the one that did not end.
+    fn frame_work(&self) -> String {
+        let passes: Vec<String> = self
+            .plan
+            .passes
+            .iter()
+            .filter(|p| p.kind != PassKind::AccelBuild)
+            .map(|p| format!("`{}` ({}, {})", p.name, p.location.file.display(), p.shader.path.display()))
+            .collect();
+        match passes.as_slice() {
+            [one] => format!("frame {}, pass {one}", self.frame_index),
+            _ => format!("frame {}: one of its passes did not end; they were submitted together: {}", self.frame_index, passes.join(", ")),
+        }
     }
 
     /// Runs the `Accel` node: clears the ray counters, updates the cache between a pair of

@@ -1,10 +1,26 @@
 //! The GPU context: instance, adapter and device, with the optional features the runtime
-//! uses (timestamp queries) requested only where the adapter has them.
+//! uses (timestamp queries) requested only where the adapter has them, the GPU deadline every
+//! wait runs under, and the runtime checks of each shader module by its origin.
 
 use crate::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
-use crate::gpu_util::shader_checks;
+use crate::gpu_util::ShaderOrigin;
 use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+/// How long one submission may run before the run ends with [`RuntimeError::GpuTimeout`].
+pub const DEFAULT_GPU_TIMEOUT: Duration = Duration::from_secs(10);
+/// The default on a software adapter (lavapipe), which runs a frame a hundred times slower.
+pub const DEFAULT_CPU_ADAPTER_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// The default GPU deadline of `info`'s adapter.
+pub fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
+    if info.device_type == wgpu::DeviceType::Cpu {
+        DEFAULT_CPU_ADAPTER_TIMEOUT
+    } else {
+        DEFAULT_GPU_TIMEOUT
+    }
+}
 
 pub struct Gpu {
     /// Kept for [`wgpu::Instance::generate_report`] (live object counts).
@@ -27,12 +43,23 @@ pub struct Gpu {
     /// Test hook (`RAYGRAPH_INJECT_DEVICE_LOSS=N`): the device is destroyed, a real loss as far
     /// as wgpu and the driver are concerned, when frame N of an executor starts.
     pub inject_device_loss_at: Option<u32>,
+    /// The GPU deadline: the longest a wait for submitted work may take (`--gpu-timeout`;
+    /// [`default_gpu_timeout`]). A wait that runs past it fails with
+    /// [`RuntimeError::GpuTimeout`], and so does every later [`Gpu::check`].
+    pub gpu_timeout: Duration,
+    /// Called with the error of a wait that ran past the deadline, before it is returned.
+    /// Releasing a GPU object after that can block in the driver (lavapipe waits for the stuck
+    /// work), so a program that only reports the error and stops ends the process here; the
+    /// command line does. Without it the caller must not drop its GPU objects (leak them).
+    pub on_gpu_timeout: Option<fn(&RuntimeError)>,
 }
 
 #[derive(Debug, Default)]
 struct Faults {
     lost: Option<String>,
     uncaptured: Option<String>,
+    /// A wait that ran past the deadline: (seconds, the work it waited for).
+    timed_out: Option<(f64, String)>,
 }
 
 /// Features that scene texture binding arrays need.
@@ -41,16 +68,17 @@ const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgp
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
 impl Gpu {
-    /// Compiles a WGSL module with the runtime checks of [`shader_checks`].
-    pub fn shader_module(&self, label: &str, wgsl: &str) -> wgpu::ShaderModule {
+    /// Compiles a WGSL module with the runtime checks its origin gets ([`ShaderOrigin::checks`]).
+    pub fn shader_module(&self, label: &str, wgsl: &str, origin: ShaderOrigin) -> wgpu::ShaderModule {
         let desc = wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(wgsl.into()) };
-        let checks = shader_checks();
+        let checks = origin.checks();
         if checks.force_loop_bounding {
             return self.device.create_shader_module(desc);
         }
-        // SAFETY: only naga's loop bounding is dropped (see `shader_checks`): every loop in the
-        // project's shaders ends (traversal loops pop a finite stack, ray loops count to a
-        // parameter); bounds checks and the rest stay.
+        // SAFETY: only naga's loop bounding is dropped, and only for modules built on the
+        // project's traversal (`ShaderOrigin::TracePass`, `ShaderOrigin::BuiltInTraversal`):
+        // traversal loops pop a finite stack; a layer's own endless loop is ended by the frame
+        // deadline. Bounds checks and the rest stay.
         unsafe { self.device.create_shader_module_trusted(desc, checks) }
     }
 
@@ -165,7 +193,22 @@ impl Gpu {
             }
         );
         log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
-        Ok(Self { instance, adapter, device, queue, info, timestamps, texture_binding_arrays, selection, backends, faults, inject_device_loss_at })
+        let gpu_timeout = default_gpu_timeout(&info);
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            info,
+            timestamps,
+            texture_binding_arrays,
+            selection,
+            backends,
+            faults,
+            inject_device_loss_at,
+            gpu_timeout,
+            on_gpu_timeout: None,
+        })
     }
 
     /// Compiler options for this device and its selected back-end.
@@ -190,14 +233,41 @@ impl Gpu {
 
     /// Waits for all submitted work; device loss becomes an error, never a hang.
     pub fn wait(&self) -> Result<(), RuntimeError> {
-        let waited = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(std::time::Duration::from_secs(120)) });
+        self.wait_for(|| "the submitted work".into())
+    }
+
+    /// Waits for all submitted work for at most [`Gpu::gpu_timeout`]; past it, the error
+    /// names the work as `work()` describes it ("frame 3: passes ..."). The device stays busy
+    /// after a timeout: end the run without releasing GPU objects ([`Gpu::on_gpu_timeout`]).
+    pub fn wait_for(&self, work: impl FnOnce() -> String) -> Result<(), RuntimeError> {
+        let waited = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(self.gpu_timeout) });
+        if let Err(wgpu::PollError::Timeout) = waited {
+            let (seconds, work) = (self.gpu_timeout.as_secs_f64(), work());
+            if let Ok(mut f) = self.faults.lock() {
+                f.timed_out.get_or_insert((seconds, work.clone()));
+            }
+            let error = RuntimeError::GpuTimeout { seconds, work };
+            if let Some(hook) = self.on_gpu_timeout {
+                hook(&error);
+            }
+            return Err(error);
+        }
         self.check()?;
         waited.map(|_| ()).map_err(|e| RuntimeError::Gpu(e.to_string()))
     }
 
-    /// Reports a lost device, then an error wgpu raised outside every error scope (once).
+    /// Whether a wait ran past the GPU deadline (the device is still busy with that work).
+    pub fn timed_out(&self) -> bool {
+        self.faults.lock().is_ok_and(|f| f.timed_out.is_some())
+    }
+
+    /// Reports a wait past the deadline, a lost device, then an error wgpu raised outside
+    /// every error scope (once).
     pub fn check(&self) -> Result<(), RuntimeError> {
         let Ok(mut f) = self.faults.lock() else { return Ok(()) };
+        if let Some((seconds, work)) = &f.timed_out {
+            return Err(RuntimeError::GpuTimeout { seconds: *seconds, work: work.clone() });
+        }
         if let Some(reason) = &f.lost {
             return Err(RuntimeError::DeviceLost { adapter: self.info.name.clone(), reason: reason.clone() });
         }
@@ -224,6 +294,18 @@ impl Gpu {
                 RuntimeError::OutOfMemory { adapter: self.info.name.clone(), what: format!("while {context}"), message: source.to_string() }
             }
             e => RuntimeError::Gpu(format!("{context} failed: {e}")),
+        }
+    }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        // wgpu's queue waits for the queue to go idle when it is dropped, and the device's
+        // destruction joins the driver's threads: after a timeout both would wait for the
+        // stuck work forever. Their last references are leaked instead; the run is ending.
+        if self.timed_out() {
+            std::mem::forget(self.queue.clone());
+            std::mem::forget(self.device.clone());
         }
     }
 }

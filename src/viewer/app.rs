@@ -29,6 +29,8 @@ pub struct ViewerOptions {
     pub graph: Option<PathBuf>,
     pub mode: Mode,
     pub backend: Option<Backend>,
+    /// The GPU deadline of a frame ([`Gpu::gpu_timeout`]; `None`: the adapter's default).
+    pub gpu_timeout: Option<Duration>,
     /// Render size (the window starts at this size; the image is scaled to the window).
     pub size: (u32, u32),
     pub camera: Option<String>,
@@ -46,7 +48,8 @@ pub struct ViewerOptions {
 pub fn run(opts: ViewerOptions) -> Result<(), String> {
     let script = opts.script.as_deref().map(Script::load).transpose()?;
     let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
-    let gpu = Gpu::open(opts.backend, Some(Box::new(event_loop.owned_display_handle()))).map_err(|e| e.to_string())?;
+    let mut gpu = Gpu::open(opts.backend, Some(Box::new(event_loop.owned_display_handle()))).map_err(|e| e.to_string())?;
+    gpu.gpu_timeout = opts.gpu_timeout.unwrap_or(gpu.gpu_timeout);
     println!("adapter: {}", gpu.describe());
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
@@ -82,6 +85,13 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
         exit: false,
     };
     event_loop.run_app(&mut app).map_err(|e| format!("window event loop: {e}"))?;
+    if app.gpu.timed_out() {
+        // The GPU is still busy with a frame past its deadline: releasing the session's GPU
+        // objects could block in the driver, and the process is about to end.
+        let result = app.result.clone();
+        std::mem::forget(app);
+        return result;
+    }
     app.result
 }
 
@@ -281,6 +291,17 @@ impl App {
         Ok(())
     }
 
+    /// A frame ran past the GPU deadline and the GPU is still busy with it: the window is
+    /// drawn on the same queue, so nothing can be drawn any more. The viewer ends with the
+    /// error (the overlay's error line, printed by `raygraph view`); the window's surface is
+    /// leaked, since releasing it waits for the device to go idle.
+    fn stop_after_gpu_timeout(&mut self) {
+        let error = self.session.error.clone().unwrap_or_else(|| "a frame ran past the GPU deadline".into());
+        self.result = Err(error);
+        self.exit = true;
+        std::mem::forget(self.window.take());
+    }
+
     fn redraw(&mut self) {
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f32().min(0.25);
@@ -332,6 +353,10 @@ impl App {
                 self.log(format!("frame failed: {e}"));
             }
             self.session.error = Some(e);
+        }
+        if self.gpu.timed_out() {
+            self.stop_after_gpu_timeout();
+            return;
         }
         if self.opts.verbose {
             println!("frame {frame_no}");

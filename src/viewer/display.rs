@@ -101,7 +101,7 @@ impl Display {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        let module = gpu.shader_module("viewer visualize", shader_source);
+        let module = gpu.shader_module("viewer visualize", shader_source, crate::gpu_util::ShaderOrigin::Project);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("viewer visualize"),
             entries: &[

@@ -41,7 +41,7 @@ pub fn binding_map(layouts: &[Vec<wgpu::BindGroupLayoutEntry>]) -> naga::back::s
 
 /// The any-hit entry point `entry` of `module` as patched SPIR-V (see the module docs).
 pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entry: &str, binding_map: naga::back::spv::BindingMap) -> Result<Vec<u32>, String> {
-    let checks = crate::gpu_util::shader_checks();
+    let checks = crate::gpu_util::ShaderOrigin::TracePass.checks();
     let restrict = naga::proc::BoundsCheckPolicy::Restrict;
     let options = naga::back::spv::Options {
         // SPIR-V 1.4, the least VK_KHR_ray_tracing_pipeline takes (it requires VK_KHR_spirv_1_4).
