@@ -509,7 +509,9 @@ fn run(cli: Cli) -> Result<()> {
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
-            let files = |rows: &[_]| [("rays.csv", raygraph::bench::rays::csv(&info, rows)), ("rays.md", raygraph::bench::rays::markdown(&info, rows))];
+            // The markdown first: a run interrupted between the two writes leaves the CSV (what
+            // scripts read) at most one row behind it, never ahead.
+            let files = |rows: &[_]| [("rays.md", raygraph::bench::rays::markdown(&info, rows)), ("rays.csv", raygraph::bench::rays::csv(&info, rows))];
             let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;

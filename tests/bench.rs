@@ -191,7 +191,11 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
         assert_eq!(r.split(',').count(), columns, "a whole row: {r}");
     }
     let md = std::fs::read_to_string(out.join("rays.md")).unwrap();
-    assert_eq!(md.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| test") && !l.starts_with("| ---")).count(), rows.len(), "{md}");
+    // The two files are written one after the other (each atomically), the markdown first: an
+    // interrupt between the two writes leaves the markdown one row ahead. (Seen when the CSV was
+    // written first: the signal landed between the writes, CSV 2 rows, markdown 1.)
+    let md_rows = md.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| test") && !l.starts_with("| ---")).count();
+    assert!(md_rows == rows.len() || md_rows == rows.len() + 1, "markdown rows {md_rows}, CSV rows {}: {md}", rows.len());
     println!("interrupted after {} rows: {:?}", rows.len(), std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name()).collect::<Vec<_>>());
     let _ = std::fs::remove_dir_all(&out);
 }
