@@ -77,24 +77,6 @@ fn vs_main(
     return out;
 }
 
-// Depth of shadow-map slot `slot` at texel t.
-fn shadow_depth(slot: i32, t: vec2<i32>) -> f32 {
-    switch slot {
-        case 1: {
-            return textureLoad(shadow_map_1, t, 0);
-        }
-        case 2: {
-            return textureLoad(shadow_map_2, t, 0);
-        }
-        case 3: {
-            return textureLoad(shadow_map_3, t, 0);
-        }
-        default: {
-            return textureLoad(shadow_map, t, 0);
-        }
-    }
-}
-
 // Shadow-map coordinates (xy texels, z depth 0..1) of the clip-space point c, and their
 // differential for the clip-space differential dc.
 fn shadow_coord(c: vec4<f32>, size: vec2<f32>) -> vec3<f32> {
@@ -107,9 +89,9 @@ fn shadow_coord_delta(c: vec4<f32>, dc: vec4<f32>, size: vec2<f32>) -> vec3<f32>
     return vec3<f32>(d.xy * vec2<f32>(0.5, -0.5) * size, d.z);
 }
 
-// Fraction of the PCF taps of slot `slot` that see the light, at shadow coordinates `sc` with
-// receiver depth slope `slope` (depth per texel in x and y) and depth bias `bias`.
-fn shadow_visibility(slot: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
+// Fraction of the PCF taps of shadow map `map` that see the light, at shadow coordinates `sc`
+// with receiver depth slope `slope` (depth per texel in x and y) and depth bias `bias`.
+fn shadow_pcf(map: texture_depth_2d, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
     let isize = vec2<i32>(size);
     if sc.z >= 1.0 || any(sc.xy < vec2<f32>(0.0)) || any(sc.xy >= vec2<f32>(size)) {
         return 1.0;
@@ -122,11 +104,29 @@ fn shadow_visibility(slot: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size
             let t = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), isize - vec2<i32>(1));
             // The receiver plane's depth at the tap's centre.
             let receiver = sc.z + dot(slope, vec2<f32>(t) + vec2<f32>(0.5) - sc.xy) - bias;
-            lit += select(0.0, 1.0, receiver <= shadow_depth(slot, t));
+            lit += select(0.0, 1.0, receiver <= textureLoad(map, t, 0));
         }
     }
     let taps = f32((2 * r + 1) * (2 * r + 1));
     return lit / taps;
+}
+
+// shadow_pcf on shadow-map slot `slot`, chosen once, outside the taps' loop.
+fn shadow_visibility(slot: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
+    switch slot {
+        case 1: {
+            return shadow_pcf(shadow_map_1, sc, slope, bias, size);
+        }
+        case 2: {
+            return shadow_pcf(shadow_map_2, sc, slope, bias, size);
+        }
+        case 3: {
+            return shadow_pcf(shadow_map_3, sc, slope, bias, size);
+        }
+        default: {
+            return shadow_pcf(shadow_map, sc, slope, bias, size);
+        }
+    }
 }
 
 // Visibility of `light` (which has a shadow-map slot) at world point p with geometric normal ng
