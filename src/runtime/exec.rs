@@ -656,7 +656,8 @@ impl Executor {
 
     /// The pixels a `PerPixel` pass covers: its first written texture, else the frame.
     /// Records a fullscreen or scene raster pass: a scene pass draws every instance with the
-    /// pipeline variant of its draw class, the variants in their fixed order.
+    /// pipeline variant of its draw class, the variants in their fixed order, each class's draws
+    /// in `draw_order` (front to back).
     #[allow(clippy::too_many_arguments)]
     fn record_raster(
         &self,
@@ -667,6 +668,7 @@ impl Executor {
         color_views: &[wgpu::TextureView],
         depth_view: Option<&wgpu::TextureView>,
         instance_classes: &[InstanceClass],
+        draw_order: &[usize],
     ) -> Result<(), RuntimeError> {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
             .iter()
@@ -712,7 +714,7 @@ impl Executor {
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let classes = pipelines.classes(instance_classes);
         for (class, pipeline) in pipelines.variants() {
-            let mut draws = scene.draws.iter().filter(|d| classes.get(d.instance as usize) == Some(&class)).peekable();
+            let mut draws = draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&class)).peekable();
             if draws.peek().is_none() {
                 continue;
             }
@@ -801,6 +803,7 @@ impl Executor {
         // The acceleration structure first: every trace pass depends on it.
         let accel_report = self.update_accel(gpu, &mut encoder, &mut command_buffers, scene)?;
         let instance_classes = InstanceClass::of_scene(scene);
+        let draw_order = self.scene.as_ref().map(|s| super::raster::front_to_back(&s.draws, scene, camera.position)).unwrap_or_default();
         for pass in &mut self.passes {
             if let Pipeline::Scene(pipelines) = &mut pass.pipeline {
                 pipelines.prepare(&gpu.device, &pipelines.classes(&instance_classes));
@@ -855,7 +858,7 @@ impl Executor {
                 }
                 Pipeline::Render(_) | Pipeline::Scene(_) => {
                     let (color_views, depth_view) = &views[i];
-                    self.record_raster(&mut encoder, i, pass, planned, color_views, depth_view.as_ref(), &instance_classes)?;
+                    self.record_raster(&mut encoder, i, pass, planned, color_views, depth_view.as_ref(), &instance_classes, &draw_order)?;
                 }
             }
             cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);

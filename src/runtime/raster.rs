@@ -11,8 +11,11 @@
 //!   their fragment stage has no discard and keeps early depth testing; only alpha-tested
 //!   materials pay for the test.
 //!
-//! Variants are created the first time a class is drawn.
+//! Variants are created the first time a class is drawn. Within a class, draws go front to back
+//! (by the distance from the camera to the centre of each instance's bounds), so that early
+//! depth testing spares the fragments behind.
 
+use crate::scene::gpu::Draw;
 use crate::scene::Scene;
 
 /// The pipeline constant that switches the raster alpha test (WGSL `override`).
@@ -82,6 +85,18 @@ impl InstanceClass {
         };
         DrawClass { cull, alpha_test: self.alpha_tested || !alpha_switch }
     }
+}
+
+/// The order in which `draws` are recorded: nearest first (to `eye`, by the world-space centre
+/// of each instance's mesh bounds); draws of instances `scene` does not have go last.
+pub fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usize> {
+    let distance = |d: &Draw| {
+        scene.instances.get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye))
+    };
+    let keys: Vec<f32> = draws.iter().map(distance).collect();
+    let mut order: Vec<usize> = (0..draws.len()).collect();
+    order.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
+    order
 }
 
 /// Everything a render pipeline of a pass is made from, but the variant.
@@ -183,6 +198,20 @@ mod tests {
 
     fn class(double_sided: bool, mirrored: bool, alpha_tested: bool) -> InstanceClass {
         InstanceClass { double_sided, mirrored, alpha_tested }
+    }
+
+    #[test]
+    fn draws_go_nearest_first() {
+        let mut scene = crate::scene::builtin::default_scene();
+        let mesh = scene.instances[0].mesh;
+        scene.instances = [5.0f32, -1.0, 2.0]
+            .iter()
+            .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })
+            .collect();
+        let draws: Vec<Draw> = (0..4).map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO }).collect();
+        // Instance 3 does not exist: last.
+        assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, 10.0)), vec![0, 2, 1, 3]);
+        assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, -10.0)), vec![1, 2, 0, 3]);
     }
 
     #[test]

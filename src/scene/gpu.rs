@@ -22,6 +22,8 @@ pub struct Draw {
     pub indices: std::ops::Range<u32>,
     pub base_vertex: i32,
     pub instance: u32,
+    /// Centre of the mesh's bounds, object space (for ordering draws by distance).
+    pub local_center: Vec3,
 }
 
 /// The scene does not fit the device.
@@ -170,11 +172,17 @@ impl GpuScene {
                 indices.extend_from_slice(&mesh.indices);
                 ranges.push((first_index..indices.len() as u32, base_vertex));
             }
+            let centers: Vec<Vec3> = scene.meshes.iter().map(|m| m.bounds()).map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
             out.draws = scene
                 .instances
                 .iter()
                 .enumerate()
-                .map(|(i, inst)| Draw { indices: ranges[inst.mesh].0.clone(), base_vertex: ranges[inst.mesh].1, instance: i as u32 })
+                .map(|(i, inst)| Draw {
+                    indices: ranges[inst.mesh].0.clone(),
+                    base_vertex: ranges[inst.mesh].1,
+                    instance: i as u32,
+                    local_center: centers[inst.mesh],
+                })
                 .collect();
             // wgpu buffers may not be empty.
             if vertices.is_empty() {
