@@ -72,22 +72,34 @@ fn unknown_node_output() {
     expect(p.compile("g3.ron", &g), ErrorKind::UnknownOutput, "graph/g3.ron", line_of(&g, "out.rgb"));
 }
 
+/// A graph of `invert` nodes, each `(name, the node it reads)`, with `out` reading `tail`.
+fn invert_loop(links: &[(&str, &str)], tail: &str) -> String {
+    let nodes: String = links.iter().map(|(n, from)| format!("        \"{n}\": Layer(layer: \"invert\", inputs: {{\"src\": \"{from}.dst\"}}),\n")).collect();
+    format!(
+        "Graph(\n    output: \"out.color\",\n    nodes: {{\n{nodes}        \"out\": Layer(layer: \"to8\", inputs: {{\"src\": \"{tail}.dst\"}}),\n    }},\n)\n"
+    )
+}
+
 #[test]
 fn cycle() {
     let p = TempProject::new();
-    let g = r#"Graph(
-    output: "out.color",
-    nodes: {
-        "a": Layer(layer: "invert", inputs: {"src": "b.dst"}),
-        "b": Layer(layer: "invert", inputs: {"src": "a.dst"}),
-        "out": Layer(layer: "to8", inputs: {"src": "b.dst"}),
-    },
-)
-"#;
-    let e = p.compile("g.ron", g).expect_err("cycle");
+    let g = invert_loop(&[("a", "b"), ("b", "a")], "b");
+    let e = p.compile("g.ron", &g).expect_err("cycle");
     assert_eq!(e.kind, ErrorKind::Cycle, "{e}");
     assert!(e.location.file.ends_with("graph/g.ron"));
-    assert!([line_of(g, r#""a": Layer"#), line_of(g, r#""b": Layer"#)].contains(&e.location.line), "points at a node of the cycle: {e}");
+    let text = e.to_string();
+    assert!(text.contains("cycle: a -> b -> a") || text.contains("cycle: b -> a -> b"), "names the whole path: {text}");
+    let first = if text.contains("cycle: a ->") { r#""a": Layer"# } else { r#""b": Layer"# };
+    assert_eq!(e.location.line, line_of(&g, first), "points at the path's first node: {text}");
+
+    // A longer loop through three nodes, with a node outside it.
+    let g = invert_loop(&[("a", "c"), ("b", "a"), ("c", "b")], "c");
+    let e = p.compile("g3.ron", &g).expect_err("cycle of three");
+    assert_eq!(e.kind, ErrorKind::Cycle, "{e}");
+    let text = e.to_string();
+    let paths = ["a -> b -> c -> a", "b -> c -> a -> b", "c -> a -> b -> c"];
+    assert!(paths.iter().any(|p| text.contains(&format!("cycle: {p}"))), "names the whole path: {text}");
+    assert!(!text.contains("-> out") && !text.contains("cycle: out"), "the path holds only the loop's nodes: {text}");
 }
 
 #[test]

@@ -407,17 +407,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             }
         }
     }
-    let topo = petgraph::algo::toposort(&g, None).map_err(|cycle| {
-        let (loc, what) = match g[cycle.node_id()] {
-            Vertex::Pass(p) => (gsrc.locate(&["nodes", &SourceText::quoted(&nodes[passes[p].node].name)]), nodes[passes[p].node].name.clone()),
-            Vertex::Resource(r) => {
-                let node = resources[r].name.split(['.', '/']).next().unwrap_or_default().to_string();
-                (gsrc.locate(&["nodes", &SourceText::quoted(&node)]), node)
-            }
-        };
-        GraphError::new(ErrorKind::Cycle, loc, format!("the graph has a cycle through node `{what}`"))
-            .help("a node's inputs must not depend on its own outputs; break the loop by removing one connection")
-    })?;
+    let topo = petgraph::algo::toposort(&g, None).map_err(|cycle| cycle_error(&g, cycle.node_id(), &gsrc, &nodes, &passes, &resources))?;
     let (output_node, output_name) = split_ref(&graph.output);
     let output_loc = gsrc.locate(&["output", &SourceText::quoted(&graph.output)]);
     let output = nodes
@@ -579,6 +569,61 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
 
     // Phase 10: the plan.
     Ok(Plan { graph_file: graph_file.to_path_buf(), frame_size, passes: planned, culled, resources, slots, output, scene_usage, backend: options.backend })
+}
+
+/// The cycle through `start` as graph node names, `a -> b -> a`, pointing at the first node.
+fn cycle_error(
+    g: &DiGraph<Vertex, ()>,
+    start: NodeIndex,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    passes: &[PassNode],
+    resources: &[PlannedResource],
+) -> GraphError {
+    let node_of = |v: NodeIndex| match g[v] {
+        Vertex::Pass(p) => nodes[passes[p].node].name.clone(),
+        Vertex::Resource(r) => resources[r].name.split(['.', '/']).next().unwrap_or_default().to_string(),
+    };
+    let mut names: Vec<String> = Vec::new();
+    for v in shortest_cycle(g, start) {
+        let name = node_of(v);
+        if names.last() != Some(&name) {
+            names.push(name);
+        }
+    }
+    if names.len() > 1 && names.first() == names.last() {
+        names.pop();
+    }
+    let first = names.first().cloned().unwrap_or_else(|| node_of(start));
+    let path: Vec<&str> = names.iter().chain(std::iter::once(&first)).map(|s| s.as_str()).collect();
+    let loc = gsrc.locate(&["nodes", &SourceText::quoted(&first)]);
+    GraphError::new(ErrorKind::Cycle, loc, format!("the graph has a cycle: {}", path.join(" -> ")))
+        .help("a node's inputs must not depend on its own outputs; break the loop by removing one connection")
+}
+
+/// The vertices of a shortest cycle through `start` (breadth-first), `start` first and not repeated.
+fn shortest_cycle(g: &DiGraph<Vertex, ()>, start: NodeIndex) -> Vec<NodeIndex> {
+    let mut parent: HashMap<NodeIndex, NodeIndex> = HashMap::new();
+    let mut queue = std::collections::VecDeque::from([start]);
+    while let Some(v) = queue.pop_front() {
+        for w in g.neighbors_directed(v, Direction::Outgoing) {
+            if w == start {
+                let mut path = vec![v];
+                let mut at = v;
+                while let Some(&p) = parent.get(&at) {
+                    path.push(p);
+                    at = p;
+                }
+                path.reverse();
+                return path;
+            }
+            if let std::collections::hash_map::Entry::Vacant(e) = parent.entry(w) {
+                e.insert(v);
+                queue.push_back(w);
+            }
+        }
+    }
+    vec![start]
 }
 
 fn same_shape(a: &ResourceDecl, b: &ResourceDecl) -> bool {
