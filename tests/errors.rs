@@ -154,9 +154,11 @@ fn parameter_out_of_range() {
 fn parameter_of_wrong_type() {
     let p = TempProject::new();
     let g = GOOD.replace(r#""value": 0.5"#, r#""value": true"#);
-    expect(p.compile("g.ron", &g), ErrorKind::ParamType, "graph/g.ron", line_of(&g, r#""value": true"#));
+    let e = expect(p.compile("g.ron", &g), ErrorKind::ParamType, "graph/g.ron", line_of(&g, r#""value": true"#));
+    assert!(e.message.contains("expected float, found bool (`true`)"), "the value as the file writes it: {e}");
     let g = GOOD.replace(r#"params: {"value": 0.5}"#, r#"params: {"counter": 2.5}"#);
-    expect(p.compile("g2.ron", &g), ErrorKind::ParamType, "graph/g2.ron", line_of(&g, "2.5"));
+    let e = expect(p.compile("g2.ron", &g), ErrorKind::ParamType, "graph/g2.ron", line_of(&g, "2.5"));
+    assert!(e.message.contains("expected int, found float (`2.5`)"), "{e}");
 }
 
 #[test]
@@ -164,6 +166,15 @@ fn unknown_parameter() {
     let p = TempProject::new();
     let g = GOOD.replace(r#""value": 0.5"#, r#""valeu": 0.5"#);
     expect(p.compile("g.ron", &g), ErrorKind::UnknownParam, "graph/g.ron", line_of(&g, "valeu"));
+}
+
+#[test]
+fn graph_output_of_the_wrong_format_is_written_as_in_the_layer_file() {
+    let p = TempProject::new();
+    let g = GOOD.replace(r#"output: "out.color""#, r#"output: "fill.color""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::Unsupported, "graph/g.ron", line_of(&g, r#"output: "fill.color""#));
+    assert!(e.message.contains("graph output `fill.color` is `Texture(format: Rgba16Float)`"), "{e}");
+    assert!(!e.message.contains("TextureDecl") && !e.message.contains("size:"), "no Rust debug output, no default fields: {e}");
 }
 
 #[test]
@@ -210,6 +221,7 @@ fn shader_binding_mismatch() {
     let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to8x""#);
     let e = expect(p.compile("g2.ron", &g), ErrorKind::BindingMismatch, "layers/to8x.ron", line_of(&layer, "name: \"convert\""));
     assert_eq!(e.notes[0].0.line, line_of(&wgsl, "var extra"), "{e}");
+    assert!(e.message.contains("shader binding `extra` (texture_2d<f32>) is not a resource"), "the type as WGSL writes it: {e}");
 
     // A declared resource the shader does not bind.
     let layer = std::fs::read_to_string(p.root.join("layers/to8.ron"))
@@ -235,6 +247,8 @@ fn wgsl_that_fails_to_validate() {
     p.write("layers/to8b.ron", &layer);
     let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to8b""#);
     let e = expect(p.compile("g.ron", &g), ErrorKind::ShaderInvalid, "shaders/test/to8_bad.wgsl", line_of(&wgsl, "let bad"));
+    assert!(e.message.starts_with("WGSL does not validate:"), "a type error is not a syntax error: {e}");
+    assert!(e.message.contains("`vec4<f32>`") && e.message.contains("`vec3<f32>`"), "types as WGSL writes them: {e}");
     assert!(e.notes.iter().any(|(l, _)| l.file.ends_with("layers/to8b.ron")), "names the layer file: {e}");
 
     // Syntax error in WGSL.
@@ -248,6 +262,7 @@ fn wgsl_that_fails_to_validate() {
     let e = p.compile("g2.ron", &g).expect_err("bad WGSL");
     assert_eq!(e.kind, ErrorKind::ShaderInvalid, "{e}");
     assert!(e.location.file.ends_with("shaders/test/to8_syntax.wgsl"), "{e}");
+    assert!(e.message.starts_with("WGSL does not parse:"), "{e}");
     let l = line_of(&wgsl, "let size");
     assert!(e.location.line == l || e.location.line == l + 1, "{e}");
 
@@ -260,6 +275,7 @@ fn wgsl_that_fails_to_validate() {
     let e = p.compile("g3.ron", &g).expect_err("invalid WGSL");
     assert_eq!(e.kind, ErrorKind::ShaderInvalid, "{e}");
     assert!(e.location.file.ends_with("shaders/test/uniform_atomic.wgsl"), "{e}");
+    assert!(e.message.starts_with("WGSL does not validate:"), "{e}");
     assert_eq!(e.location.line, 1, "{e}");
 }
 

@@ -177,7 +177,7 @@ impl Plan {
         let _ = writeln!(s, "resources:");
         for r in &self.resources {
             let what = match &r.decl {
-                ResourceDecl::Texture(t) => format!("{:?} {}x{}", t.format, r.extent.0, r.extent.1),
+                ResourceDecl::Texture(t) => format!("{} {}x{}", t.format, r.extent.0, r.extent.1),
                 ResourceDecl::Buffer(b) => format!("buffer {} B", b.size),
                 ResourceDecl::Accel => "acceleration structure".to_string(),
             };
@@ -426,7 +426,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             return Err(GraphError::new(
                 ErrorKind::Unsupported,
                 output_loc,
-                format!("graph output `{}` is {other:?}; the output must be an Rgba8Unorm or Rgba8UnormSrgb texture", graph.output),
+                format!("graph output `{}` is `{other}`; the output must be an Rgba8Unorm or Rgba8UnormSrgb texture", graph.output),
             )
             .help("add a tone-map layer that writes an Rgba8UnormSrgb texture and make it the output"))
         }
@@ -753,7 +753,7 @@ type ParamProblem = (ErrorKind, String, String);
 /// Checks a value against its declaration; ints are accepted where floats are expected.
 pub fn check_param(decl: &ParamDecl, value: ParamValue) -> Result<ParamValue, ParamProblem> {
     let wrong = || {
-        (ErrorKind::ParamType, format!("expected {}, found {} ({value:?})", decl.type_name(), value.type_name()), format!("write a {} value", decl.type_name()))
+        (ErrorKind::ParamType, format!("expected {}, found {} (`{value}`)", decl.type_name(), value.type_name()), format!("write a {} value", decl.type_name()))
     };
     match (decl, value) {
         (ParamDecl::Float { min, max, .. }, ParamValue::Float(_) | ParamValue::Int(_)) => {
@@ -900,7 +900,7 @@ fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNod
 
 fn describe_decl(d: &ResourceDecl) -> String {
     match d {
-        ResourceDecl::Texture(t) => format!("a {:?} texture", t.format),
+        ResourceDecl::Texture(t) => format!("a {} texture", t.format),
         ResourceDecl::Buffer(b) => format!("a buffer of {} bytes", b.size),
         ResourceDecl::Accel => "an acceleration structure".into(),
     }
@@ -1033,10 +1033,14 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
             if *outs != expected {
                 return Err(mismatch(
                     format!(
-                        "the pass writes {} colour attachment(s) ({}), but `{entry}` writes @location {:?}",
+                        "the pass writes {} colour attachment(s) ({}), but `{entry}` writes {}",
                         colors.len(),
                         colors.iter().map(|(l, _)| l.as_str()).collect::<Vec<_>>().join(", "),
-                        outs
+                        if outs.is_empty() {
+                            "no @location".to_string()
+                        } else {
+                            outs.iter().map(|l| format!("@location({l})")).collect::<Vec<_>>().join(", ")
+                        }
                     ),
                     file_loc,
                     "make the fragment outputs @location(0..n) match the order of `writes`",
@@ -1093,7 +1097,7 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
             } else {
                 match &resources[*r].decl {
                     ResourceDecl::Texture(t) => match t.format.to_storage() {
-                        None => Some(format!("nothing: {:?} cannot be a storage texture", t.format)),
+                        None => Some(format!("nothing: {} cannot be a storage texture", t.format)),
                         Some(fmt) => match &b.kind {
                             BindingKind::StorageTexture { format, access } if *format == fmt && access.contains(naga::StorageAccess::STORE) => None,
                             _ => Some(BindingKind::StorageTexture { format: fmt, access: naga::StorageAccess::STORE }.describe()),

@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::fmt;
 
 /// A frame: layer instances connected by named outputs, and the output to present.
 #[derive(Debug, Clone, Deserialize)]
@@ -81,6 +82,26 @@ impl ParamValue {
     }
 }
 
+/// A value as the graph file writes it: `true`, `3`, `0.5`.
+impl fmt::Display for ParamValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ParamValue::Bool(b) => write!(f, "{b}"),
+            ParamValue::Int(i) => write!(f, "{i}"),
+            ParamValue::Float(x) => write_float(f, x),
+        }
+    }
+}
+
+/// A float with a decimal point, as RON needs it to read a float back (`1.0`, not `1`).
+fn write_float(f: &mut fmt::Formatter<'_>, x: f64) -> fmt::Result {
+    if x.is_finite() && x.fract() == 0.0 {
+        write!(f, "{x:.1}")
+    } else {
+        write!(f, "{x}")
+    }
+}
+
 /// A reusable sub-graph of passes with typed inputs, outputs and parameters.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Layer")]
@@ -104,6 +125,33 @@ pub enum ResourceDecl {
     /// The scene's acceleration structure (produced by an `Accel` node, read by trace passes
     /// through the back-end's trace module).
     Accel,
+}
+
+/// A declaration as a layer file writes it: `Texture(format: Rgba16Float)`, `Buffer(size: 64)`, `Accel`.
+impl fmt::Display for ResourceDecl {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ResourceDecl::Texture(t) => {
+                write!(f, "Texture(format: {}", t.format)?;
+                if t.size != SizeDecl::default() {
+                    write!(f, ", size: {}", t.size)?;
+                }
+                if let Some((r, g, b, a)) = t.fallback {
+                    write!(f, ", fallback: Some((")?;
+                    for (i, c) in [r, g, b, a].into_iter().enumerate() {
+                        if i > 0 {
+                            write!(f, ", ")?;
+                        }
+                        write_float(f, c.into())?;
+                    }
+                    write!(f, "))")?;
+                }
+                write!(f, ")")
+            }
+            ResourceDecl::Buffer(b) => write!(f, "Buffer(size: {})", b.size),
+            ResourceDecl::Accel => write!(f, "Accel"),
+        }
+    }
 }
 
 impl ResourceDecl {
@@ -146,6 +194,20 @@ impl Default for SizeDecl {
     }
 }
 
+/// `Relative(0.5)` or `Absolute(64, 64)`, as a layer file writes it.
+impl fmt::Display for SizeDecl {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            SizeDecl::Relative(s) => {
+                write!(f, "Relative(")?;
+                write_float(f, s.into())?;
+                write!(f, ")")
+            }
+            SizeDecl::Absolute(w, h) => write!(f, "Absolute({w}, {h})"),
+        }
+    }
+}
+
 impl SizeDecl {
     pub fn resolve(&self, frame: (u32, u32)) -> (u32, u32) {
         match *self {
@@ -171,6 +233,14 @@ pub enum Format {
     R32Uint,
     Rgba32Uint,
     Depth32Float,
+}
+
+/// The format's name as layer files write it (`Rgba16Float`).
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // The variant names are the file spelling (serde reads them unchanged).
+        fmt::Debug::fmt(self, f)
+    }
 }
 
 impl Format {

@@ -3,6 +3,7 @@
 //! layouts are built from this, never written by hand per pass.
 
 use crate::error::{ErrorKind, GraphError, Location};
+use naga::common::wgsl::{address_space_str, ToWgsl, TypeContext};
 use std::path::{Path, PathBuf};
 
 /// Include substitutions chosen by the device and back-end: `//#include "a.wgsl"` reads the
@@ -142,17 +143,40 @@ impl BindingKind {
     pub fn describe(&self) -> String {
         match self {
             BindingKind::SampledTexture { dim, arrayed, kind } => {
-                format!("texture_{:?}{}<{:?}>", dim, if *arrayed { "_array" } else { "" }, kind).to_lowercase()
+                format!("texture_{}{}<{}>", dim.to_wgsl(), if *arrayed { "_array" } else { "" }, sample_type_name(*kind))
             }
             BindingKind::DepthTexture => "texture_depth_2d".into(),
             BindingKind::TextureBindingArray => "binding_array<texture_2d<f32>>".into(),
             BindingKind::AccelerationStructure => "acceleration_structure".into(),
-            BindingKind::StorageTexture { format, access } => format!("texture_storage_2d<{format:?}, {}>", access_name(*access)).to_lowercase(),
+            BindingKind::StorageTexture { format, access } => format!("texture_storage_2d<{}, {}>", format.to_wgsl(), access_name(*access)),
             BindingKind::Sampler { comparison } => if *comparison { "sampler_comparison" } else { "sampler" }.into(),
             BindingKind::Uniform { type_name, .. } => format!("var<uniform> {}", type_name.clone().unwrap_or_default()),
             BindingKind::Storage { read_only, .. } => if *read_only { "var<storage, read>" } else { "var<storage, read_write>" }.into(),
             BindingKind::Other(s) => s.clone(),
         }
+    }
+}
+
+/// The WGSL sample type of a texture (`texture_2d<f32>`).
+fn sample_type_name(kind: naga::ScalarKind) -> &'static str {
+    match kind {
+        naga::ScalarKind::Sint => "i32",
+        naga::ScalarKind::Uint => "u32",
+        naga::ScalarKind::Bool => "bool",
+        _ => "f32",
+    }
+}
+
+/// A global variable's declaration as WGSL writes it: `var<private> x: array<u32, 4>`, `var x: sampler`.
+fn global_type_name(module: &naga::Module, space: naga::AddressSpace, inner: &naga::TypeInner) -> String {
+    let mut ty = String::new();
+    if module.to_ctx().write_type_inner(inner, &mut ty).is_err() {
+        ty = "an unknown type".into();
+    }
+    match address_space_str(space) {
+        (Some(space), Some(access)) => format!("var<{space}, {access}> {ty}"),
+        (Some(space), None) => format!("var<{space}> {ty}"),
+        _ => format!("var {ty}"),
     }
 }
 
@@ -285,6 +309,14 @@ impl ShaderInfo {
     }
 }
 
+/// Whether a front-end error is one of syntax (tokens, literals, comments) rather than of
+/// names or types, which naga's front end also reports while lowering.
+fn is_syntax_error(message: &str) -> bool {
+    (message.starts_with("expected ") && message.contains(", found \""))
+        || message.starts_with("unterminated")
+        || message.starts_with("invalid numeric literal")
+}
+
 /// Parses, validates and reflects a WGSL file (includes as written).
 pub fn reflect(path: &Path, shader_root: &Path, referenced_from: &Location) -> Result<ShaderInfo, GraphError> {
     reflect_with(path, shader_root, referenced_from, &IncludeAliases::new())
@@ -299,7 +331,12 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
         let mut err = GraphError::new(
             ErrorKind::ShaderInvalid,
             source.locate(offset),
-            format!("WGSL does not parse: {}{}", e.message(), if labels.is_empty() { String::new() } else { format!(" ({})", labels.join("; ")) }),
+            format!(
+                "WGSL does not {}: {}{}",
+                if is_syntax_error(e.message()) { "parse" } else { "validate" },
+                e.message(),
+                if labels.is_empty() { String::new() } else { format!(" ({})", labels.join("; ")) }
+            ),
         )
         .help("fix the WGSL at this line");
         err = err.note(referenced_from.clone(), "shader used by this pass");
@@ -345,7 +382,7 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
                 naga::ImageClass::Sampled { kind, .. } => BindingKind::SampledTexture { dim: *dim, arrayed: *arrayed, kind: *kind },
                 naga::ImageClass::Depth { .. } => BindingKind::DepthTexture,
                 naga::ImageClass::Storage { format, access } => BindingKind::StorageTexture { format: *format, access: *access },
-                other => BindingKind::Other(format!("{other:?}")),
+                _ => BindingKind::Other(global_type_name(&module, var.space, &ty.inner)),
             },
             (naga::AddressSpace::Handle, naga::TypeInner::Sampler { comparison }) => BindingKind::Sampler { comparison: *comparison },
             (naga::AddressSpace::Handle, naga::TypeInner::AccelerationStructure { .. }) => BindingKind::AccelerationStructure,
@@ -382,7 +419,7 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
                     other => other.size(module.to_ctx()),
                 },
             },
-            (space, inner) => BindingKind::Other(format!("{space:?} {inner:?}")),
+            (space, inner) => BindingKind::Other(global_type_name(&module, *space, inner)),
         };
         bindings.push(ShaderBinding { name, group: rb.group, binding: rb.binding, kind, location });
     }
