@@ -123,6 +123,21 @@ fn read_with_no_producer() {
 }
 
 #[test]
+fn every_unconnected_input_is_reported_at_once() {
+    let p = TempProject::new();
+    // Two nodes without their `src`: `inv` (added) and `out` (its connection removed).
+    let g = GOOD.replace(r#", inputs: {"src": "fill.color"}"#, "").replace(r#"        "out":"#, "        \"inv\": Layer(layer: \"invert\"),\n        \"out\":");
+    let g = g.as_str();
+    let e = expect(p.compile("g.ron", g), ErrorKind::NoProducer, "graph/g.ron", line_of(g, r#""inv": Layer"#));
+    assert!(e.message.starts_with("2 inputs are not connected"), "{e}");
+    assert!(e.message.contains("input `src` of node `inv` (layer `invert`)"), "{e}");
+    assert_eq!(e.notes.len(), 1, "one note per further input: {e}");
+    let (loc, text) = &e.notes[0];
+    assert_eq!(loc.line, line_of(g, r#""out": Layer"#), "{e}");
+    assert_eq!(text, "input `src` of node `out` (layer `to8`)", "{e}");
+}
+
+#[test]
 fn two_producers() {
     let p = TempProject::new();
     let layer = r#"Layer(

@@ -806,6 +806,7 @@ fn declare_resources(nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedReso
 }
 
 fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedResource>) -> Result<(), GraphError> {
+    let mut unconnected: Vec<Unconnected> = Vec::new();
     for ni in 0..nodes.len() {
         let name = nodes[ni].name.clone();
         let NodeDesc::Layer(ln) = &graph.nodes[&name] else { continue };
@@ -860,13 +861,13 @@ fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNod
                 }
             }
             let Some(source) = ln.inputs.get(&input) else {
-                let loc = gsrc.locate(&["nodes", &node_anchor]);
-                return Err(GraphError::new(
-                    ErrorKind::NoProducer,
-                    loc,
-                    format!("input `{input}` of node `{name}` (layer `{}`) is not connected: nothing produces it", nodes[ni].layer_name),
-                )
-                .help(format!("add `inputs: {{\"{input}\": \"node.output\"}}` to node `{name}`")));
+                unconnected.push(Unconnected {
+                    location: gsrc.locate(&["nodes", &node_anchor]),
+                    input,
+                    node: name.clone(),
+                    layer: nodes[ni].layer_name.clone(),
+                });
+                continue;
             };
             let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(&input), &SourceText::quoted(source)]);
             let (src_node, src_out) = split_ref(source);
@@ -895,7 +896,39 @@ fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNod
             nodes[ni].locals.insert(input.clone(), rid);
         }
     }
-    Ok(())
+    match unconnected_error(&unconnected) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// A layer input that the graph leaves unconnected and that has no fallback.
+struct Unconnected {
+    location: Location,
+    input: String,
+    node: String,
+    layer: String,
+}
+
+/// One error for every unconnected input: the first at the error's place, the others as notes.
+fn unconnected_error(all: &[Unconnected]) -> Option<GraphError> {
+    let first = all.first()?;
+    let what = |u: &Unconnected| format!("input `{}` of node `{}` (layer `{}`)", u.input, u.node, u.layer);
+    if all.len() == 1 {
+        return Some(
+            GraphError::new(ErrorKind::NoProducer, first.location.clone(), format!("{} is not connected: nothing produces it", what(first)))
+                .help(format!("add `inputs: {{\"{}\": \"node.output\"}}` to node `{}`", first.input, first.node)),
+        );
+    }
+    let mut e = GraphError::new(
+        ErrorKind::NoProducer,
+        first.location.clone(),
+        format!("{} inputs are not connected (nothing produces them): {} and the {} noted below", all.len(), what(first), all.len() - 1),
+    );
+    for u in &all[1..] {
+        e = e.note(u.location.clone(), what(u));
+    }
+    Some(e.help("connect each of them in its node's `inputs: {\"input\": \"node.output\"}`"))
 }
 
 fn describe_decl(d: &ResourceDecl) -> String {
