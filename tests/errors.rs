@@ -81,6 +81,19 @@ fn invert_loop(links: &[(&str, &str)], tail: &str) -> String {
 }
 
 #[test]
+fn names_in_comments_do_not_move_the_error() {
+    let p = TempProject::new();
+    let comments = "nodes: {\n        // \"out\": Layer(layer: \"to_eight\"), \"src\": \"fill.colour\" /* \"fill\" */\n        /* \"out\": Layer(layer:\n           /* nested */ \"to_eight\"), \"fill.colour\" */";
+    let g = GOOD.replace(r#"layer: "to8""#, r#"layer: "to_eight""#).replace("nodes: {", comments);
+    expect(p.compile("g.ron", &g), ErrorKind::UnknownLayer, "graph/g.ron", line_of(&g, r#""out": Layer(layer: "to_eight", inputs"#));
+    let g = GOOD.replace(r#""src": "fill.color""#, r#""src": "fill.colour""#).replace("nodes: {", comments);
+    expect(p.compile("g2.ron", &g), ErrorKind::UnknownOutput, "graph/g2.ron", line_of(&g, r#"{"src": "fill.colour"}"#));
+    // A string holding `//` is not a comment.
+    let g = GOOD.replace(r#""fill": Layer"#, "\"a//b\": Layer(layer: \"fill\",\n            params: {\"value\": 1.5}),\n        \"fill\": Layer");
+    expect(p.compile("g3.ron", &g), ErrorKind::ParamOutOfRange, "graph/g3.ron", line_of(&g, r#""value": 1.5"#));
+}
+
+#[test]
 fn cycle() {
     let p = TempProject::new();
     let g = invert_loop(&[("a", "b"), ("b", "a")], "b");

@@ -218,6 +218,8 @@ pub fn fmt_bytes(b: u64) -> String {
 struct SourceText {
     path: PathBuf,
     text: String,
+    /// `text` with its comments blanked (same byte offsets): what `locate` searches.
+    code: String,
 }
 
 impl SourceText {
@@ -227,7 +229,7 @@ impl SourceText {
         let mut pos = 0usize;
         let mut found = 0usize;
         for a in anchors {
-            if let Some(p) = self.text[pos..].find(a) {
+            if let Some(p) = self.code[pos..].find(a) {
                 found = pos + p;
                 pos = found + a.len();
             }
@@ -240,9 +242,58 @@ impl SourceText {
     }
 }
 
+/// `text` with every `//` and `/* */` comment (nested ones too, as RON allows) made spaces,
+/// byte for byte, so that a name in a comment is never where an error points; string contents
+/// are kept.
+fn blank_comments(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let mut out = bytes.to_vec();
+    let (mut i, mut in_string, mut depth) = (0usize, false, 0usize);
+    while i < bytes.len() {
+        let pair = (bytes[i], bytes.get(i + 1).copied().unwrap_or(0));
+        let width = if depth > 0 {
+            match pair {
+                (b'*', b'/') => depth -= 1,
+                (b'/', b'*') => depth += 1,
+                _ => {}
+            }
+            let width = if matches!(pair, (b'*', b'/') | (b'/', b'*')) { 2 } else { 1 };
+            out[i..i + width].iter_mut().filter(|b| **b != b'\n').for_each(|b| *b = b' ');
+            width
+        } else if in_string {
+            in_string = bytes[i] != b'"';
+            if bytes[i] == b'\\' {
+                2
+            } else {
+                1
+            }
+        } else {
+            match pair {
+                (b'/', b'/') => {
+                    let end = text[i..].find('\n').map_or(bytes.len(), |e| i + e);
+                    out[i..end].fill(b' ');
+                    end - i
+                }
+                (b'/', b'*') => {
+                    depth = 1;
+                    out[i..i + 2].fill(b' ');
+                    2
+                }
+                _ => {
+                    in_string = bytes[i] == b'"';
+                    1
+                }
+            }
+        };
+        i += width;
+    }
+    // Whole characters were replaced, each byte by an ASCII space: still UTF-8.
+    String::from_utf8(out).unwrap_or_else(|_| text.to_string())
+}
+
 fn read_file(path: &Path, from: Option<Location>) -> Result<SourceText, GraphError> {
     match std::fs::read_to_string(path) {
-        Ok(text) => Ok(SourceText { path: path.to_path_buf(), text }),
+        Ok(text) => Ok(SourceText { path: path.to_path_buf(), code: blank_comments(&text), text }),
         Err(e) => Err(GraphError::new(ErrorKind::Io, from.unwrap_or_else(|| Location::file_start(path)), format!("cannot read {}: {e}", path.display()))),
     }
 }
