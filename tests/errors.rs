@@ -308,6 +308,14 @@ fn wgsl_that_fails_to_validate() {
 }
 
 #[test]
+fn a_trace_entry_point_with_a_compute_only_builtin_names_it_as_wgsl_does() {
+    let wgsl = "@compute @workgroup_size(8, 8) fn cs_main(@builtin(local_invocation_id) l: vec3<u32>) {}\n";
+    let mut module = naga::front::wgsl::parse_str(wgsl).expect("valid WGSL");
+    let message = raygraph::graph::reflect::compute_to_ray_generation(&mut module).expect_err("local ids have no ray-generation equivalent");
+    assert!(message.starts_with("entry point `cs_main` reads @builtin(local_invocation_id), which a ray-generation shader does not have"), "{message}");
+}
+
+#[test]
 fn missing_graph_file_is_an_io_error() {
     let p = TempProject::new();
     let e = raygraph::graph::compile(&p.root.join("graph/none.ron"), &p.project(), (8, 8)).expect_err("missing");

@@ -3,7 +3,7 @@
 //! layouts are built from this, never written by hand per pass.
 
 use crate::error::{ErrorKind, GraphError, Location};
-use naga::common::wgsl::{address_space_str, ToWgsl, TypeContext};
+use naga::common::wgsl::{address_space_str, ToWgsl, TryToWgsl, TypeContext};
 use std::path::{Path, PathBuf};
 
 /// Include substitutions chosen by the device and back-end: `//#include "a.wgsl"` reads the
@@ -265,9 +265,10 @@ pub fn compute_to_ray_generation(module: &mut naga::Module) -> Result<(), String
                 Some(naga::Binding::BuiltIn(b @ naga::BuiltIn::GlobalInvocationId)) => *b = naga::BuiltIn::RayInvocationId,
                 Some(naga::Binding::BuiltIn(other)) => {
                     return Err(format!(
-                    "entry point `{}` reads @builtin({other:?}), which a ray-generation shader does not have; a trace pass may read only global_invocation_id",
-                    ep.name
-                ))
+                        "entry point `{}` reads @builtin({}), which a ray-generation shader does not have; a trace pass may read only global_invocation_id",
+                        ep.name,
+                        other.try_to_wgsl().unwrap_or("an unnamed built-in")
+                    ))
                 }
                 None if matches!(module.types[arg.ty].inner, naga::TypeInner::Struct { .. }) => {
                     return Err(format!("entry point `{}` takes its built-ins in a struct; a trace pass takes global_invocation_id as an argument", ep.name))
