@@ -90,8 +90,9 @@ impl InstanceClass {
 /// The order in which `draws` are recorded: nearest first (to `eye`, by the world-space centre
 /// of each instance's mesh bounds); draws of instances `scene` does not have go last.
 pub fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usize> {
-    let distance =
-        |d: &Draw| scene.instances.get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye));
+    let distance = |d: &Draw| {
+        scene.instances.get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye))
+    };
     let keys: Vec<f32> = draws.iter().map(distance).collect();
     let mut order: Vec<usize> = (0..draws.len()).collect();
     order.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
