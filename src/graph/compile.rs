@@ -24,7 +24,8 @@ pub struct Project {
 }
 
 impl Project {
-    /// The layout of this repository: `graph/`, `layers/` and `shaders/` side by side.
+    /// The layout of this repository: `graph/`, `layers/` and `shaders/` side by side. A file
+    /// missing there is read from the built-in copy ([`super::files`]).
     pub fn beside_graph(graph_file: &Path) -> Self {
         let root = graph_file.parent().and_then(|p| p.parent()).unwrap_or(Path::new("."));
         let root = if root.as_os_str().is_empty() { Path::new(".") } else { root };
@@ -243,8 +244,8 @@ impl SourceText {
 }
 
 fn read_file(path: &Path, from: Option<Location>) -> Result<SourceText, GraphError> {
-    match std::fs::read_to_string(path) {
-        Ok(text) => Ok(SourceText { path: path.to_path_buf(), text }),
+    match super::files::read(path) {
+        Ok(f) => Ok(SourceText { path: f.path, text: f.text }),
         Err(e) => Err(GraphError::new(ErrorKind::Io, from.unwrap_or_else(|| Location::file_start(path)), format!("cannot read {}: {e}", path.display()))),
     }
 }
@@ -640,12 +641,9 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
         };
         let node_anchor = SourceText::quoted(name);
         let path = project.layers_dir.join(format!("{}.ron", ln.layer));
-        if !path.is_file() {
+        if !super::files::exists(&path) {
             let loc = gsrc.locate(&["nodes", &node_anchor, &SourceText::quoted(&ln.layer)]);
-            let mut known: Vec<String> = std::fs::read_dir(&project.layers_dir)
-                .map(|d| d.filter_map(|e| e.ok()).filter_map(|e| e.path().file_stem().map(|s| s.to_string_lossy().into_owned())).collect())
-                .unwrap_or_default();
-            known.sort();
+            let known = super::files::ron_stems(&project.layers_dir);
             return Err(GraphError::new(ErrorKind::UnknownLayer, loc, format!("unknown layer `{}`: there is no file {}", ln.layer, path.display()))
                 .help(format!("use one of the layers in {}: {}", project.layers_dir.display(), known.join(", "))));
         }
