@@ -511,7 +511,13 @@ fn run(cli: Cli) -> Result<()> {
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
             // The markdown first: a run interrupted between the two writes leaves the CSV (what
             // scripts read) at most one row behind it, never ahead.
-            let files = |rows: &[_]| [("rays.md", raygraph::bench::rays::markdown(&info, rows)), ("rays.csv", raygraph::bench::rays::csv(&info, rows))];
+            let files = |rows: &[_]| {
+                [
+                    ("rays.md", raygraph::bench::rays::markdown(&info, rows)),
+                    ("rays_passes.csv", raygraph::bench::rays::passes_csv(&info, rows)),
+                    ("rays.csv", raygraph::bench::rays::csv(&info, rows)),
+                ]
+            };
             let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;

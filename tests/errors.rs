@@ -52,6 +52,19 @@ fn syntax_error_in_layer_file() {
     expect(p.compile("g.ron", &g), ErrorKind::Syntax, "layers/broken.ron", 3);
 }
 
+/// Two `Accel` nodes: refused at the second, naming both (one cache per graph).
+#[test]
+fn two_accel_nodes() {
+    let p = TempProject::new();
+    let g = GOOD.replace(
+        r#""fill": Layer(layer: "fill", params: {"value": 0.5}),"#,
+        "\"fill\": Layer(layer: \"fill\", params: {\"value\": 0.5}),\n        \"accel_a\": Accel(),\n        \"accel_b\": Accel(merge: true),",
+    );
+    let e = expect(p.compile("g.ron", &g), ErrorKind::Unsupported, "graph/g.ron", line_of(&g, r#""accel_b""#));
+    let text = e.to_string();
+    assert!(text.contains("2 Accel nodes") && text.contains("`accel_a`") && text.contains("`accel_b`"), "{text}");
+}
+
 #[test]
 fn unknown_layer() {
     let p = TempProject::new();

@@ -78,9 +78,20 @@ pub struct RaysRow {
     pub hit_fraction: f64,
     /// The raster graph's frame rate on the same view (scene rows).
     pub rfps: Option<f64>,
+    /// Median GPU milliseconds of each pass of the measured graph, in schedule order.
+    pub passes: Vec<(String, f64)>,
 }
 
-/// Median GPU milliseconds of a frame (all passes) and median rays per frame.
+/// What one measurement gives: the frame's median GPU ms, median rays and hits per frame, and
+/// each pass's median GPU ms.
+struct Measured {
+    gpu_ms: f64,
+    rays: u64,
+    hits: u64,
+    passes: Vec<(String, f64)>,
+}
+
+/// Median GPU milliseconds of a frame (all passes) and of each pass, median rays per frame.
 fn measure(
     gpu: &Gpu,
     graph: &Path,
@@ -89,17 +100,28 @@ fn measure(
     scene: &Scene,
     camera: &Camera,
     cfg: &RaysConfig,
-) -> Result<(f64, u64, u64), crate::error::RuntimeError> {
+) -> Result<Measured, crate::error::RuntimeError> {
     let plan = compile_with(graph, project, cfg.size, options)?;
     let mut exec = Executor::new(gpu, plan, scene)?;
     let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *camera)?;
     let mut gpu_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
     let mut rays: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.traced()).unwrap_or(0) as f64).collect();
     let mut hits: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.hits).unwrap_or(0) as f64).collect();
-    Ok((median(&mut gpu_ms), median(&mut rays) as u64, median(&mut hits) as u64))
+    let passes = exec
+        .plan()
+        .passes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut ms: Vec<f64> = frames.iter().filter_map(|f| f.gpu_ms.as_ref().and_then(|g| g.get(i).copied())).collect();
+            (p.name.clone(), if ms.is_empty() { f64::NAN } else { median(&mut ms) })
+        })
+        .collect();
+    Ok(Measured { gpu_ms: median(&mut gpu_ms), rays: median(&mut rays) as u64, hits: median(&mut hits) as u64, passes })
 }
 
-fn row(test: &str, backend: Backend, cfg: &RaysConfig, (ms, rays, hits): (f64, u64, u64), rfps: Option<f64>) -> RaysRow {
+fn row(test: &str, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option<f64>) -> RaysRow {
+    let Measured { gpu_ms: ms, rays, hits, passes } = m;
     let pixels = cfg.size.0 as f64 * cfg.size.1 as f64;
     RaysRow {
         test: test.into(),
@@ -111,6 +133,7 @@ fn row(test: &str, backend: Backend, cfg: &RaysConfig, (ms, rays, hits): (f64, u
         grays_per_s: rays as f64 / (ms * 1e-3) / 1e9,
         hit_fraction: if rays > 0 { hits as f64 / rays as f64 } else { 0.0 },
         rfps,
+        passes,
     }
 }
 
@@ -146,7 +169,7 @@ pub fn run(
     let mut last_scene = None;
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: true, ..Default::default() })?;
-        let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, &scene.camera, cfg)?.0;
+        let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, &scene.camera, cfg)?.gpu_ms;
         done += 1;
         progress(done, total, &format!("{name}: raster"));
         for &backend in &cfg.backends {
@@ -175,6 +198,19 @@ pub fn run(
         }
     }
     Ok(rows)
+}
+
+/// Every row's passes as CSV: test, back-end, pass, median GPU ms (with the run header as `#`
+/// comments), to see where a row's time goes.
+pub fn passes_csv(info: &RunInfo, rows: &[RaysRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("test,backend,pass,gpu_ms\n");
+    for r in rows {
+        for (pass, ms) in &r.passes {
+            let _ = writeln!(s, "{},{},{},{:.4}", r.test, r.backend, pass, ms);
+        }
+    }
+    s
 }
 
 /// The table as CSV (with the run header as `#` comments).

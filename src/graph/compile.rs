@@ -24,7 +24,8 @@ pub struct Project {
 }
 
 impl Project {
-    /// The layout of this repository: `graph/`, `layers/` and `shaders/` side by side.
+    /// The layout of this repository: `graph/`, `layers/` and `shaders/` side by side. A file
+    /// missing there is read from the built-in copy ([`super::files`]).
     pub fn beside_graph(graph_file: &Path) -> Self {
         let root = graph_file.parent().and_then(|p| p.parent()).unwrap_or(Path::new("."));
         let root = if root.as_os_str().is_empty() { Path::new(".") } else { root };
@@ -113,6 +114,8 @@ pub struct PlannedPass {
     pub cull_back_faces: bool,
     /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
     pub shadow_slot: Option<u32>,
+    /// `AccelBuild`: the settings of its `Accel` node.
+    pub accel: Option<AccelNode>,
     /// Parameter values after graph overrides.
     pub params: BTreeMap<String, (ParamDecl, ParamValue)>,
     pub location: Location,
@@ -292,8 +295,8 @@ fn blank_comments(text: &str) -> String {
 }
 
 fn read_file(path: &Path, from: Option<Location>) -> Result<SourceText, GraphError> {
-    match std::fs::read_to_string(path) {
-        Ok(text) => Ok(SourceText { path: path.to_path_buf(), code: blank_comments(&text), text }),
+    match super::files::read(path) {
+        Ok(f) => Ok(SourceText { path: f.path, code: blank_comments(&f.text), text: f.text }),
         Err(e) => Err(GraphError::new(ErrorKind::Io, from.unwrap_or_else(|| Location::file_start(path)), format!("cannot read {}: {e}", path.display()))),
     }
 }
@@ -325,6 +328,8 @@ struct ResolvedNode {
     params: BTreeMap<String, (ParamDecl, ParamValue)>,
     /// local name -> resource id (filled in phase 3)
     locals: HashMap<String, ResourceId>,
+    /// An `Accel` node's settings.
+    accel: Option<AccelNode>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -571,6 +576,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
             dispatch: pass.dispatch,
             cull_back_faces: pass.cull_back_faces,
             shadow_slot: pass.shadow_slot,
+            accel: node.accel.clone(),
             params: node.params.clone(),
             location: p.location.clone(),
         });
@@ -718,6 +724,7 @@ fn unknown_output(reference: &str, loc: Location, nodes: &[ResolvedNode]) -> Gra
 }
 
 fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Result<Vec<ResolvedNode>, GraphError> {
+    check_one_accel(graph, gsrc)?;
     let mut out = Vec::new();
     for (name, node) in &graph.nodes {
         let ln = match node {
@@ -730,12 +737,9 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
         };
         let node_anchor = SourceText::quoted(name);
         let path = project.layers_dir.join(format!("{}.ron", ln.layer));
-        if !path.is_file() {
+        if !super::files::exists(&path) {
             let loc = gsrc.locate(&["nodes", &node_anchor, &SourceText::quoted(&ln.layer)]);
-            let mut known: Vec<String> = std::fs::read_dir(&project.layers_dir)
-                .map(|d| d.filter_map(|e| e.ok()).filter_map(|e| e.path().file_stem().map(|s| s.to_string_lossy().into_owned())).collect())
-                .unwrap_or_default();
-            known.sort();
+            let known = super::files::ron_stems(&project.layers_dir);
             return Err(GraphError::new(ErrorKind::UnknownLayer, loc, format!("unknown layer `{}`: there is no file {}", ln.layer, path.display()))
                 .help(format!("use one of the layers in {}: {}", project.layers_dir.display(), known.join(", "))));
         }
@@ -766,13 +770,31 @@ fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Re
                 .map_err(|(kind, msg, help)| GraphError::new(kind, loc.clone(), format!("parameter `{pname}` of node `{name}`: {msg}")).help(help))?;
             params.insert(pname.clone(), (decl.clone(), value));
         }
-        out.push(ResolvedNode { name: name.clone(), layer_name: ln.layer.clone(), layer, layer_src, params, locals: HashMap::new() });
+        out.push(ResolvedNode { name: name.clone(), layer_name: ln.layer.clone(), layer, layer_src, params, locals: HashMap::new(), accel: None });
     }
     Ok(out)
 }
 
-/// The built-in acceleration-structure node: one `AccelBuild` pass writing `tlas`, with the
-/// node's settings as parameters (the runtime reads `dedup` and `merge`).
+/// A graph has at most one `Accel` node: the runtime keeps one acceleration-structure cache per
+/// graph (one scene, one set of ray counters), so a second node's settings would be dropped.
+fn check_one_accel(graph: &GraphDesc, gsrc: &SourceText) -> Result<(), GraphError> {
+    let accels: Vec<&String> = graph.nodes.iter().filter(|(_, n)| matches!(n, NodeDesc::Accel(_))).map(|(name, _)| name).collect();
+    if accels.len() < 2 {
+        return Ok(());
+    }
+    let at = |name: &str| gsrc.locate(&["nodes", &SourceText::quoted(name)]);
+    let names: Vec<String> = accels.iter().map(|n| format!("`{n}`")).collect();
+    Err(GraphError::new(
+        ErrorKind::Unsupported,
+        at(accels[1]),
+        format!("the graph has {} Accel nodes ({}); a graph has one acceleration structure", accels.len(), names.join(", ")),
+    )
+    .note(at(accels[0]), format!("the first Accel node, `{}`", accels[0]))
+    .help(format!("connect every trace layer's `tlas` input to `{}` and remove the other Accel nodes", accels[0])))
+}
+
+/// The built-in acceleration-structure node: one `AccelBuild` pass writing `tlas`; its typed
+/// settings travel to the runtime in `PlannedPass::accel`.
 fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode {
     let layer = LayerDesc {
         inputs: BTreeMap::new(),
@@ -792,11 +814,15 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             shadow_slot: None,
         }],
     };
-    let params = BTreeMap::from([
-        ("dedup".to_string(), (ParamDecl::Bool { default: true }, ParamValue::Bool(accel.dedup))),
-        ("merge".to_string(), (ParamDecl::Bool { default: false }, ParamValue::Bool(accel.merge))),
-    ]);
-    ResolvedNode { name: name.to_string(), layer_name: "Accel".into(), layer, layer_src: gsrc.clone(), params, locals: HashMap::new() }
+    ResolvedNode {
+        name: name.to_string(),
+        layer_name: "Accel".into(),
+        layer,
+        layer_src: gsrc.clone(),
+        params: BTreeMap::new(),
+        locals: HashMap::new(),
+        accel: Some(accel.clone()),
+    }
 }
 
 type ParamProblem = (ErrorKind, String, String);

@@ -1,11 +1,13 @@
 //! The render graph: file formats ([`desc`]), shader reflection ([`reflect`]), the compiler
-//! ([`compile`]) that turns a graph file into a [`compile::Plan`], and Graphviz output ([`dot`]).
+//! ([`compile`]) that turns a graph file into a [`compile::Plan`], Graphviz output ([`dot`]),
+//! and the built-in project files read when the disk has none ([`files`]).
 //! Nothing here touches the GPU; [`crate::runtime`] executes plans.
 
 pub mod builtins;
 pub mod compile;
 pub mod desc;
 pub mod dot;
+pub mod files;
 pub mod reflect;
 
 pub use compile::{compile, Plan, Project};
@@ -21,7 +23,7 @@ pub enum Mode {
 impl Mode {
     pub const ALL: [Mode; 3] = [Mode::Raster, Mode::Hybrid, Mode::FullRt];
 
-    /// The mode's graph file, relative to the project root.
+    /// The mode's graph file, relative to the project root (built in, see [`files`]).
     pub fn graph(self) -> &'static str {
         match self {
             Mode::Raster => "graph/raster.ron",

@@ -58,12 +58,13 @@ impl ShaderSource {
             return Ok(());
         }
         seen.push(path.to_path_buf());
-        let text = std::fs::read_to_string(path).map_err(|e| {
+        let file = super::files::read(path).map_err(|e| {
             GraphError::new(ErrorKind::Io, from.clone(), format!("cannot read shader {}: {e}", path.display()))
                 .help("check the shader path; it is relative to the shaders/ directory")
         })?;
+        let text = file.text;
         let start = self.text.len();
-        self.segments.push((path.to_path_buf(), start));
+        self.segments.push((file.path.clone(), start));
         let mut body = String::with_capacity(text.len());
         for line in text.split_inclusive('\n') {
             let directive = line.trim();
@@ -84,7 +85,7 @@ impl ShaderSource {
             if let Some(rest) = line.trim().strip_prefix("//#include") {
                 let rel = rest.trim().trim_matches('"');
                 let rel = aliases.get(rel).map(String::as_str).unwrap_or(rel);
-                let loc = Location::new(path, line_no as u32 + 1, 1);
+                let loc = Location::new(&file.path, line_no as u32 + 1, 1);
                 self.append(&root.join(rel), root, &loc, aliases, seen, enables)?;
             }
         }

@@ -24,7 +24,7 @@ enum Pipeline {
     Render(wgpu::RenderPipeline),
     /// A `SceneRaster` pass: one variant per draw class (`super::raster`).
     Scene(ScenePipelines),
-    /// The `Accel` node's build: the cache's update, recorded at the start of the frame.
+    /// The `Accel` node's build: the cache's update, recorded at the node's place in the schedule.
     AccelBuild,
     /// A trace pass on the `rt-pipeline` back-end: a ray-tracing pipeline recorded through
     /// wgpu-hal into a command buffer of its own (`crate::accel::rt_pipeline`).
@@ -238,10 +238,7 @@ impl Executor {
         let nearest = device.create_sampler(&nearest_sampler());
 
         let accel = plan.passes.iter().find(|p| p.kind == PassKind::AccelBuild).map(|p| {
-            let settings = AccelSettings {
-                dedup: !matches!(p.params.get("dedup"), Some((_, ParamValue::Bool(false)))),
-                merge: matches!(p.params.get("merge"), Some((_, ParamValue::Bool(true)))),
-            };
+            let settings = AccelSettings { dedup: p.accel.as_ref().is_none_or(|a| a.dedup), merge: p.accel.as_ref().is_some_and(|a| a.merge) };
             log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
             let mut cache = AccelCache::new(device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
             if gpu.info.device_type != wgpu::DeviceType::Cpu {
@@ -800,8 +797,9 @@ impl Executor {
         // into command buffers of their own).
         let mut command_buffers = Vec::new();
         let mut cpu_ms = Vec::with_capacity(self.passes.len());
-        // The acceleration structure first: every trace pass depends on it.
-        let accel_report = self.update_accel(gpu, &mut encoder, &mut command_buffers, scene)?;
+        // The acceleration structure is updated where the schedule puts its `Accel` node
+        // (before every trace pass, which all read it), between that pass's timestamps.
+        let mut accel_report = None;
         let instance_classes = InstanceClass::of_scene(scene);
         let draw_order = self.scene.as_ref().map(|s| super::raster::front_to_back(&s.draws, scene, camera.position)).unwrap_or_default();
         for pass in &mut self.passes {
@@ -811,8 +809,14 @@ impl Executor {
         }
         let views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)> =
             self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
-        for (i, (pass, planned)) in self.passes.iter().zip(&self.plan.passes).enumerate() {
+        for i in 0..self.passes.len() {
             let t0 = Instant::now();
+            if matches!(self.passes[i].pipeline, Pipeline::AccelBuild) {
+                accel_report = self.update_accel(gpu, &mut encoder, &mut command_buffers, scene)?;
+                cpu_ms.push(accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
+                continue;
+            }
+            let (pass, planned) = (&self.passes[i], &self.plan.passes[i]);
             if planned.shadow_slot.is_some_and(|slot| slot >= uniforms.shadow_count) {
                 // A shadow map no light uses this frame: not drawn; an empty pass keeps the
                 // timestamp pair (0 ms).
@@ -823,10 +827,7 @@ impl Executor {
                 continue;
             }
             match &pass.pipeline {
-                Pipeline::AccelBuild => {
-                    cpu_ms.push(accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
-                    continue;
-                }
+                Pipeline::AccelBuild => unreachable!("recorded above"),
                 Pipeline::RayTracing(rt) => {
                     let cache = self.accel.as_ref().ok_or_else(|| RuntimeError::Gpu(format!("pass {} traces rays without an Accel node", planned.name)))?;
                     rt.transition(&mut encoder, cache.stats_window(0).0);

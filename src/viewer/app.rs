@@ -161,8 +161,8 @@ impl App {
         );
         let mut renderer = egui_wgpu::Renderer::new(&self.gpu.device, format, egui_wgpu::RendererOptions::default());
         let shader =
-            std::fs::read_to_string(self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
-        let display = Display::new(&self.gpu, self.opts.size, &shader);
+            crate::graph::files::read(&self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
+        let display = Display::new(&self.gpu, self.opts.size, &shader.text);
         let display_id = renderer.register_native_texture(&self.gpu.device, &display.view, wgpu::FilterMode::Linear);
         Ok(WindowState { window, surface, config, egui_ctx, egui_state, renderer, display, display_id })
     }
