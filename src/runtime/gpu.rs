@@ -155,6 +155,7 @@ impl Gpu {
             required_features,
             required_limits,
             experimental_features,
+            memory_hints: memory_hints_from_env(),
             ..Default::default()
         }))
         .map_err(|e| RuntimeError::Device { adapter: info.name.clone(), message: e.to_string() })?;
@@ -350,4 +351,28 @@ pub fn all_include_variants() -> Vec<crate::graph::reflect::IncludeAliases> {
         }
     }
     out
+}
+
+/// wgpu's device-memory placement policy, `RAYGRAPH_MEMORY_HINTS`, for measuring how placement
+/// moves GPU timings: `performance` (wgpu's default), `memory`, or `MIN-MAX` in MiB (the range of
+/// sub-allocation block sizes; resources larger than a block get memory of their own). An
+/// unreadable value keeps the default, with a warning.
+fn memory_hints_from_env() -> wgpu::MemoryHints {
+    let Ok(value) = std::env::var("RAYGRAPH_MEMORY_HINTS") else { return wgpu::MemoryHints::Performance };
+    let block_range = || {
+        let (min, max) = value.split_once('-')?;
+        let (min, max): (u64, u64) = (min.trim().parse().ok()?, max.trim().parse().ok()?);
+        (min >= 1 && min <= max).then(|| (min << 20)..(max << 20))
+    };
+    match value.trim() {
+        "performance" => wgpu::MemoryHints::Performance,
+        "memory" => wgpu::MemoryHints::MemoryUsage,
+        _ => match block_range() {
+            Some(range) => wgpu::MemoryHints::Manual { suballocated_device_memory_block_size: range },
+            None => {
+                log::warn!("RAYGRAPH_MEMORY_HINTS={value}: expected `performance`, `memory` or MIN-MAX in MiB; using `performance`");
+                wgpu::MemoryHints::Performance
+            }
+        },
+    }
 }
