@@ -3,9 +3,10 @@
 //!
 //! This file holds the [`Executor`] and the order of its steps; each pass kind's build and
 //! record code lives in a file of its own ([`compute`], [`fullscreen`], [`scene_raster`],
-//! [`trace`], [`accel_build`]), beside what they share: the slots ([`slots`]), the bindings
-//! from reflection ([`bindings`]), the `params` uniforms ([`params`]), the scene and frame
-//! uniforms ([`scene_state`]) and reading textures back ([`readback`]).
+//! [`trace`], [`accel_build`], [`rust`]), beside what they share: the slots ([`slots`]), the
+//! bindings from reflection ([`bindings`]), the raster kinds' render pass ([`render_pass`]), the
+//! `params` uniforms ([`params`]), the scene and frame uniforms ([`scene_state`]) and reading
+//! textures back ([`readback`]).
 
 mod accel_build;
 mod bindings;
@@ -14,6 +15,7 @@ mod fullscreen;
 mod params;
 mod readback;
 mod render_pass;
+mod rust;
 mod scene_raster;
 mod scene_state;
 mod slots;
@@ -25,6 +27,7 @@ pub use trace::TRACE_ALPHA_CONSTANT;
 use super::gpu::Gpu;
 use super::profiler::{FrameTimings, GpuTimer};
 use super::raster::{InstanceClass, ScenePipelines};
+use super::rust_pass::{RustPass, RustPassIo, RustPasses};
 use crate::accel::cache::{AccelCache, BuildReport, RayStats};
 use crate::accel::rt_pipeline::RtPass;
 use crate::error::RuntimeError;
@@ -46,6 +49,11 @@ enum Pipeline {
     /// A trace pass on the `rt-pipeline` back-end: a ray-tracing pipeline recorded through
     /// wgpu-hal into a command buffer of its own (`crate::accel::rt_pipeline`).
     RayTracing(Box<RtPass>),
+    /// A `Rust` pass: the instance of the registered pass, and what it works on.
+    Rust {
+        pass: Box<dyn RustPass>,
+        io: Box<RustPassIo>,
+    },
 }
 
 /// The layout of a trace module's bind group, its entries and the binding names they have.
@@ -105,6 +113,8 @@ pub struct Executor {
     /// changes.
     trace_alpha_test: bool,
     warned_unshadowed: bool,
+    /// The Rust passes layer files may name (`PassKind::Rust`).
+    rust_passes: RustPasses,
 }
 
 /// One frame while it is recorded.
@@ -138,8 +148,15 @@ impl Executor {
     }
 
     /// Allocates the plan's resources and builds its pipelines. The scene is uploaded only if
-    /// the plan uses it.
+    /// the plan uses it. A plan with a `Rust` pass needs [`Executor::with_rust_passes`].
     pub fn new(gpu: &Gpu, plan: Plan, scene: &Scene) -> Result<Self, RuntimeError> {
+        Self::with_rust_passes(gpu, plan, scene, RustPasses::new())
+    }
+
+    /// [`Executor::new`] for a plan whose layer files may name the Rust passes of
+    /// `rust_passes` (`kind: Rust`, the registered name in `entry`); one that names another is
+    /// an error naming its layer file and pass.
+    pub fn with_rust_passes(gpu: &Gpu, plan: Plan, scene: &Scene, rust_passes: RustPasses) -> Result<Self, RuntimeError> {
         let scope = gpu.scopes();
         let slots = Self::allocate_slots(gpu, &plan)?;
         let (frame_uniforms, debug_counters) = Self::builtin_buffers(&gpu.device);
@@ -163,6 +180,7 @@ impl Executor {
             samplers,
             warned_unshadowed: false,
             trace_alpha_test: Self::scene_has_alpha_test(scene),
+            rust_passes,
         };
         exec.passes = exec.build_passes(gpu)?;
         if gpu.timestamps {
@@ -182,8 +200,10 @@ impl Executor {
 
     /// One pass's GPU objects: its bindings from reflection, then its kind's pipeline.
     fn build_pass(&self, gpu: &Gpu, pass: &PlannedPass) -> Result<PassRuntime, RuntimeError> {
-        if pass.kind == PassKind::AccelBuild {
-            return Ok(Self::accel_build_pass());
+        match pass.kind {
+            PassKind::AccelBuild => return Ok(Self::accel_build_pass()),
+            PassKind::Rust => return self.build_rust_pass(gpu, pass),
+            _ => {}
         }
         let bindings = self.reflect_bindings(gpu, pass)?;
         if pass.kind == PassKind::Trace && self.plan.backend == crate::backend::Backend::RtPipeline {
@@ -191,7 +211,7 @@ impl Executor {
         }
         let layout = self.create_bind_groups(gpu, pass, &bindings);
         match pass.kind {
-            PassKind::AccelBuild => unreachable!("returned above"),
+            PassKind::AccelBuild | PassKind::Rust => unreachable!("returned above"),
             PassKind::Compute | PassKind::Trace => Ok(self.build_compute_pass(gpu, pass, layout, bindings)),
             PassKind::Fullscreen => Ok(self.build_fullscreen_pass(gpu, pass, layout, bindings)),
             PassKind::SceneRaster => Ok(self.build_scene_raster_pass(gpu, pass, layout, bindings)),
@@ -252,13 +272,18 @@ impl Executor {
             frame.cpu_ms.push(frame.accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
             return Ok(());
         }
+        if matches!(self.passes[i].pipeline, Pipeline::Rust { .. }) {
+            self.record_rust_pass(gpu, &mut frame.encoder, i)?;
+            frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            return Ok(());
+        }
         if self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
             self.record_unused_shadow_map(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);
             return Ok(());
         }
         match &self.passes[i].pipeline {
-            Pipeline::AccelBuild => unreachable!("recorded above"),
+            Pipeline::AccelBuild | Pipeline::Rust { .. } => unreachable!("recorded above"),
             Pipeline::RayTracing(rt) => self.record_rt_pass(gpu, frame, i, rt)?,
             Pipeline::Compute(pipeline) => self.record_compute_pass(&mut frame.encoder, i, pipeline),
             Pipeline::Render(pipeline) => self.record_fullscreen_pass(&mut frame.encoder, i, pipeline, &inputs.views[i]),
@@ -310,7 +335,10 @@ impl Executor {
             .passes
             .iter()
             .filter(|p| p.kind != PassKind::AccelBuild)
-            .map(|p| format!("`{}` ({}, {})", p.name, p.location.file.display(), p.shader.path.display()))
+            .map(|p| match p.kind {
+                PassKind::Rust => format!("`{}` ({}, Rust pass `{}`)", p.name, p.location.file.display(), p.entry),
+                _ => format!("`{}` ({}, {})", p.name, p.location.file.display(), p.shader.path.display()),
+            })
             .collect();
         match passes.as_slice() {
             [one] => format!("frame {}, pass {one}", self.frame_index),

@@ -7,7 +7,7 @@ use crate::error::RuntimeError;
 use crate::gpu_util::storage_buffer;
 use crate::graph::builtins;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId, Slot};
-use crate::graph::desc::{ResourceDecl, TextureDecl};
+use crate::graph::desc::{PassKind, ResourceDecl, TextureDecl};
 use crate::runtime::gpu::Gpu;
 use crate::uniforms::FrameUniforms;
 
@@ -19,10 +19,17 @@ fn slot_label(plan: &Plan, i: usize) -> String {
     format!("slot {i}: {}, {}", names.join(" + "), crate::graph::compile::fmt_bytes(slot.bytes))
 }
 
+/// Whether a `Rust` pass reads or writes a resource of slot `s`: Rust code may use it in any
+/// way its format allows.
+fn used_by_rust_pass(plan: &Plan, s: &Slot) -> bool {
+    let rust_passes = plan.passes.iter().filter(|p| p.kind == PassKind::Rust);
+    rust_passes.flat_map(|p| p.reads.iter().chain(&p.writes)).any(|(_, r)| s.members.contains(r))
+}
+
 /// The usages of a texture slot: those of its resources, read back by anyone (tests, the
 /// viewer's pass inspector), written by copies where it is constant or traced into by the
-/// rt-pipeline back-end.
-fn texture_usage(plan: &Plan, s: &Slot) -> wgpu::TextureUsages {
+/// rt-pipeline back-end; every usage its format allows where a Rust pass uses it.
+fn texture_usage(plan: &Plan, s: &Slot, format: wgpu::TextureFormat, features: wgpu::Features) -> wgpu::TextureUsages {
     let mut usage = wgpu::TextureUsages::empty();
     if s.usage.sampled {
         usage |= wgpu::TextureUsages::TEXTURE_BINDING;
@@ -40,6 +47,14 @@ fn texture_usage(plan: &Plan, s: &Slot) -> wgpu::TextureUsages {
     if s.constant.is_some() || (s.usage.storage && plan.backend == crate::backend::Backend::RtPipeline) {
         usage |= wgpu::TextureUsages::COPY_DST;
     }
+    if used_by_rust_pass(plan, s) {
+        let any = wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::RENDER_ATTACHMENT;
+        usage |= any & format.guaranteed_format_features(features).allowed_usages;
+    }
     usage
 }
 
@@ -52,7 +67,7 @@ fn create_slot_texture(device: &wgpu::Device, plan: &Plan, i: usize, t: &Texture
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: t.format.to_wgpu(),
-        usage: texture_usage(plan, s),
+        usage: texture_usage(plan, s, t.format.to_wgpu(), device.features()),
         view_formats: &[],
     })
 }
@@ -62,10 +77,14 @@ fn create_slot_buffer(device: &wgpu::Device, plan: &Plan, i: usize, size: u64) -
         label: Some(&slot_label(plan, i)),
         size: size.max(4),
         // The rt-pipeline back-end zeroes what its traces write once through the
-        // queue (RtPass::transition).
+        // queue (RtPass::transition); a Rust pass may copy into its buffers.
         usage: wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC
-            | if plan.backend == crate::backend::Backend::RtPipeline { wgpu::BufferUsages::COPY_DST } else { wgpu::BufferUsages::empty() },
+            | if plan.backend == crate::backend::Backend::RtPipeline || used_by_rust_pass(plan, &plan.slots[i]) {
+                wgpu::BufferUsages::COPY_DST
+            } else {
+                wgpu::BufferUsages::empty()
+            },
         mapped_at_creation: false,
     })
 }
