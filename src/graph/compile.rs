@@ -515,7 +515,9 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     for p in &passes {
         let node = &nodes[p.node];
         let pass = &node.layer.passes[p.index];
-        if pass.kind == PassKind::AccelBuild {
+        // Passes without a shader: the `Accel` node's build, and Rust passes (their resources
+        // are the ones the layer file declares).
+        if matches!(pass.kind, PassKind::AccelBuild | PassKind::Rust) {
             shaders.push(Arc::new(ShaderInfo::none()));
             continue;
         }
@@ -695,6 +697,8 @@ fn same_shape(a: &ResourceDecl, b: &ResourceDecl) -> bool {
 fn entry_name(pass: &PassDesc) -> String {
     pass.entry.clone().unwrap_or_else(|| match pass.kind {
         PassKind::Compute | PassKind::Trace => "cs_main".into(),
+        // A Rust pass has no default: the executor reports one that names none.
+        PassKind::Rust => String::new(),
         _ => "fs_main".into(),
     })
 }
@@ -1095,7 +1099,7 @@ fn check_interface(node: &ResolvedNode, pass: &PassDesc, p: &PassNode, info: &Sh
     let accel_reads = p.reads.iter().filter(|(_, r)| resources[*r].decl == ResourceDecl::Accel).count();
     let binds_trace = info.bindings.iter().any(|b| builtins::is_accel_binding(&b.name));
     match pass.kind {
-        PassKind::AccelBuild => {}
+        PassKind::AccelBuild | PassKind::Rust => {}
         PassKind::Compute | PassKind::Trace => {
             // The rt-pipeline back-end's trace module makes a trace pass's compute entry point
             // a ray-generation shader (reflect::compute_to_ray_generation).

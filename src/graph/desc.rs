@@ -412,10 +412,12 @@ impl ParamDecl {
 pub struct PassDesc {
     pub name: String,
     pub kind: PassKind,
-    /// WGSL file, relative to the `shaders/` directory beside the layers directory.
+    /// WGSL file, relative to the `shaders/` directory beside the layers directory (none for
+    /// `Rust` passes).
     #[serde(default)]
     pub shader: String,
-    /// Entry point: the compute entry for `Compute`, the fragment entry for render passes.
+    /// Entry point: the compute entry for `Compute`, the fragment entry for render passes; for
+    /// `Rust`, the name the pass is registered under.
     #[serde(default)]
     pub entry: Option<String>,
     /// Vertex entry of render passes (default `vs_main`).
@@ -456,6 +458,10 @@ pub enum PassKind {
     /// The acceleration-structure build of an `Accel` node (no shader; not for layer files).
     #[serde(skip)]
     AccelBuild,
+    /// GPU work recorded by Rust code (`crate::runtime::RustPass`): no shader; `entry` names
+    /// the pass as the program registered it, and the resources it binds are the ones the
+    /// layer file declares and lists in `reads` and `writes`.
+    Rust,
 }
 
 impl PassKind {
@@ -466,6 +472,7 @@ impl PassKind {
             PassKind::SceneRaster => "scene_raster",
             PassKind::Trace => "trace",
             PassKind::AccelBuild => "accel_build",
+            PassKind::Rust => "rust",
         }
     }
 

@@ -1,6 +1,6 @@
 //! The GPU runtime: device context ([`gpu`]), plan executor ([`exec`]), pass timing
-//! ([`profiler`]), per-pass statistics ([`report`]) and rays traced outside any graph
-//! ([`batch`]).
+//! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`])
+//! and rays traced outside any graph ([`batch`]).
 
 pub mod batch;
 pub mod exec;
@@ -8,6 +8,8 @@ pub mod gpu;
 pub mod profiler;
 pub mod raster;
 pub mod report;
+pub mod rust_pass;
 
 pub use exec::Executor;
 pub use gpu::Gpu;
+pub use rust_pass::{RustPass, RustPassError, RustPassIo, RustPassTexture, RustPasses};

@@ -1,0 +1,348 @@
+//! The executor: allocates a plan's slots, builds pipelines and bind groups from shader
+//! reflection, and records every pass of a frame with a timestamp pair around it.
+//!
+//! This file holds the [`Executor`] and the order of its steps; each pass kind's build and
+//! record code lives in a file of its own ([`compute`], [`fullscreen`], [`scene_raster`],
+//! [`trace`], [`accel_build`], [`rust`]), beside what they share: the slots ([`slots`]), the
+//! bindings from reflection ([`bindings`]), the raster kinds' render pass ([`render_pass`]), the
+//! `params` uniforms ([`params`]), the scene and frame uniforms ([`scene_state`]) and reading
+//! textures back ([`readback`]).
+
+mod accel_build;
+mod bindings;
+mod compute;
+mod fullscreen;
+mod params;
+mod readback;
+mod render_pass;
+mod rust;
+mod scene_raster;
+mod scene_state;
+mod slots;
+mod trace;
+
+pub use readback::{read_texture, write_png};
+pub use trace::TRACE_ALPHA_CONSTANT;
+
+use super::gpu::Gpu;
+use super::profiler::{FrameTimings, GpuTimer};
+use super::raster::{InstanceClass, ScenePipelines};
+use super::rust_pass::{RustPass, RustPassIo, RustPasses};
+use crate::accel::cache::{AccelCache, BuildReport, RayStats};
+use crate::accel::rt_pipeline::RtPass;
+use crate::error::RuntimeError;
+use crate::graph::compile::{Plan, PlannedPass, ResourceId};
+use crate::graph::desc::PassKind;
+use crate::graph::reflect::UniformMember;
+use crate::scene::gpu::{GpuScene, SceneContent};
+use crate::scene::{Camera, Scene};
+use std::time::Instant;
+
+enum Pipeline {
+    Compute(wgpu::ComputePipeline),
+    /// A fullscreen pass.
+    Render(wgpu::RenderPipeline),
+    /// A `SceneRaster` pass: one variant per draw class (`super::raster`).
+    Scene(ScenePipelines),
+    /// The `Accel` node's build: the cache's update, recorded at the node's place in the schedule.
+    AccelBuild,
+    /// A trace pass on the `rt-pipeline` back-end: a ray-tracing pipeline recorded through
+    /// wgpu-hal into a command buffer of its own (`crate::accel::rt_pipeline`).
+    RayTracing(Box<RtPass>),
+    /// A `Rust` pass: the instance of the registered pass, and what it works on.
+    Rust {
+        pass: Box<dyn RustPass>,
+        io: Box<RustPassIo>,
+    },
+}
+
+/// The layout of a trace module's bind group, its entries and the binding names they have.
+type AccelLayout = (wgpu::BindGroupLayout, Vec<wgpu::BindGroupLayoutEntry>, Vec<String>);
+
+struct PassRuntime {
+    pipeline: Pipeline,
+    /// One per `@group`, in order; the trace module's group is in `accel_group`.
+    bind_groups: Vec<wgpu::BindGroup>,
+    /// Trace passes: the layout of the trace module's bind group, and the group itself (made
+    /// again whenever the cache replaces its GPU objects).
+    accel_layout: Option<AccelLayout>,
+    accel_group: Option<wgpu::BindGroup>,
+    colors: Vec<ResourceId>,
+    depth: Option<ResourceId>,
+    groups: [u32; 3],
+    /// The pass's `params` uniform buffer and the members written into it (see
+    /// [`Executor::set_param`]).
+    params: Option<(wgpu::Buffer, u64, Vec<UniformMember>)>,
+}
+
+impl PassRuntime {
+    /// A pass of `pipeline` with no bindings, attachments or dispatch size of its own.
+    fn bare(pipeline: Pipeline) -> Self {
+        Self { pipeline, bind_groups: Vec::new(), accel_layout: None, accel_group: None, colors: Vec::new(), depth: None, groups: [0; 3], params: None }
+    }
+}
+
+enum Physical {
+    Texture(wgpu::Texture),
+    Buffer(wgpu::Buffer),
+    /// An acceleration structure: owned by the [`AccelCache`], not by a slot.
+    Accel,
+}
+
+/// A plan instantiated on a device, ready to render frames.
+pub struct Executor {
+    plan: Plan,
+    slots: Vec<Physical>,
+    passes: Vec<PassRuntime>,
+    frame_uniforms: wgpu::Buffer,
+    debug_counters: wgpu::Buffer,
+    scene: Option<GpuScene>,
+    timer: Option<GpuTimer>,
+    frame_index: u32,
+    /// The acceleration-structure cache (graphs whose kept passes trace rays).
+    accel: Option<AccelCache>,
+    accel_generation: u64,
+    /// Bounding sphere of the scene (centre, radius) this frame.
+    scene_sphere: (glam::Vec3, f32),
+    /// What the uploaded scene was made from (see [`Executor::sync_scene`]).
+    scene_content: SceneContent,
+    samplers: (wgpu::Sampler, wgpu::Sampler),
+    /// Whether the warning about lights without a raster shadow map was printed.
+    /// Whether the scene has alpha-tested instances: the value of the trace modules' pipeline
+    /// constant TRACE_ALPHA_TEST (see [`trace`]); the passes are built again when it
+    /// changes.
+    trace_alpha_test: bool,
+    warned_unshadowed: bool,
+    /// The Rust passes layer files may name (`PassKind::Rust`).
+    rust_passes: RustPasses,
+}
+
+/// One frame while it is recorded.
+struct FrameRecording {
+    encoder: wgpu::CommandEncoder,
+    /// Command buffers before `encoder`'s, in submission order (rt-pipeline passes record
+    /// into command buffers of their own).
+    command_buffers: Vec<wgpu::CommandBuffer>,
+    /// CPU milliseconds of recording each pass.
+    cpu_ms: Vec<f64>,
+    /// The `Accel` node's build report and its CPU milliseconds.
+    accel_report: Option<(BuildReport, f64)>,
+}
+
+/// What the passes of one frame record with, beside the executor.
+struct FrameInputs<'a> {
+    scene: &'a Scene,
+    /// Shadow maps lights use this frame; passes of the other slots are not drawn.
+    shadow_count: u32,
+    instance_classes: Vec<InstanceClass>,
+    /// The order of the scene's draws (front to back).
+    draw_order: Vec<usize>,
+    /// Per pass: its colour attachments' views and its depth attachment's.
+    views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)>,
+}
+
+impl Executor {
+    /// The scene as uploaded (None when no kept pass reads it).
+    pub fn uploaded_scene(&self) -> Option<&GpuScene> {
+        self.scene.as_ref()
+    }
+
+    /// Allocates the plan's resources and builds its pipelines. The scene is uploaded only if
+    /// the plan uses it. A plan with a `Rust` pass needs [`Executor::with_rust_passes`].
+    pub fn new(gpu: &Gpu, plan: Plan, scene: &Scene) -> Result<Self, RuntimeError> {
+        Self::with_rust_passes(gpu, plan, scene, RustPasses::new())
+    }
+
+    /// [`Executor::new`] for a plan whose layer files may name the Rust passes of
+    /// `rust_passes` (`kind: Rust`, the registered name in `entry`); one that names another is
+    /// an error naming its layer file and pass.
+    pub fn with_rust_passes(gpu: &Gpu, plan: Plan, scene: &Scene, rust_passes: RustPasses) -> Result<Self, RuntimeError> {
+        let scope = gpu.scopes();
+        let slots = Self::allocate_slots(gpu, &plan)?;
+        let (frame_uniforms, debug_counters) = Self::builtin_buffers(&gpu.device);
+        let scene_gpu = Self::upload_scene(gpu, &plan, scene)?;
+        let samplers = Self::samplers(&gpu.device);
+        let accel = Self::accel_cache(gpu, &plan);
+        let scene_content = if scene_gpu.is_some() { SceneContent::of(scene) } else { SceneContent::default() };
+        let mut exec = Self {
+            plan,
+            slots,
+            passes: Vec::new(),
+            frame_uniforms,
+            debug_counters,
+            scene: scene_gpu,
+            timer: None,
+            frame_index: 0,
+            accel,
+            accel_generation: u64::MAX,
+            scene_sphere: (glam::Vec3::ZERO, 1.0),
+            scene_content,
+            samplers,
+            warned_unshadowed: false,
+            trace_alpha_test: Self::scene_has_alpha_test(scene),
+            rust_passes,
+        };
+        exec.passes = exec.build_passes(gpu)?;
+        if gpu.timestamps {
+            exec.timer = Some(GpuTimer::new(&gpu.device, &gpu.queue, exec.plan.passes.len() as u32));
+        }
+        scope.finish(gpu, "creating the graph's GPU objects")?;
+        Ok(exec)
+    }
+
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    fn build_passes(&self, gpu: &Gpu) -> Result<Vec<PassRuntime>, RuntimeError> {
+        self.plan.passes.iter().map(|pass| self.build_pass(gpu, pass)).collect()
+    }
+
+    /// One pass's GPU objects: its bindings from reflection, then its kind's pipeline.
+    fn build_pass(&self, gpu: &Gpu, pass: &PlannedPass) -> Result<PassRuntime, RuntimeError> {
+        match pass.kind {
+            PassKind::AccelBuild => return Ok(Self::accel_build_pass()),
+            PassKind::Rust => return self.build_rust_pass(gpu, pass),
+            _ => {}
+        }
+        let bindings = self.reflect_bindings(gpu, pass)?;
+        if pass.kind == PassKind::Trace && self.plan.backend == crate::backend::Backend::RtPipeline {
+            return self.build_rt_pass(gpu, pass, bindings);
+        }
+        let layout = self.create_bind_groups(gpu, pass, &bindings);
+        match pass.kind {
+            PassKind::AccelBuild | PassKind::Rust => unreachable!("returned above"),
+            PassKind::Compute | PassKind::Trace => Ok(self.build_compute_pass(gpu, pass, layout, bindings)),
+            PassKind::Fullscreen => Ok(self.build_fullscreen_pass(gpu, pass, layout, bindings)),
+            PassKind::SceneRaster => Ok(self.build_scene_raster_pass(gpu, pass, layout, bindings)),
+        }
+    }
+
+    /// Records and submits one frame; waits for it and returns its pass timings.
+    pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
+        let start = Instant::now();
+        self.begin_frame(gpu, scene)?;
+        let uniforms = self.frame_uniforms(gpu, camera, scene)?;
+        gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let scope = gpu.scopes();
+        let mut frame = FrameRecording {
+            encoder: gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") }),
+            command_buffers: Vec::new(),
+            cpu_ms: Vec::with_capacity(self.passes.len()),
+            accel_report: None,
+        };
+        let inputs = self.frame_inputs(gpu, camera, scene, uniforms.shadow_count);
+        for i in 0..self.passes.len() {
+            self.record_pass(gpu, &mut frame, &inputs, i)?;
+        }
+        let FrameInputs { views, .. } = inputs;
+        let FrameRecording { encoder, command_buffers, cpu_ms, accel_report } = frame;
+        self.submit(gpu, encoder, command_buffers);
+        scope.finish(gpu, "recording the frame")?;
+        if let Err(e) = gpu.wait_for(|| self.frame_work()) {
+            // The frame's views may still be in use by work past the GPU deadline: releasing
+            // them can block in the driver.
+            std::mem::forget(views);
+            return Err(e);
+        }
+        let timings = self.frame_timings(gpu, start, cpu_ms, accel_report)?;
+        self.frame_index += 1;
+        Ok(timings)
+    }
+
+    /// What the frame's passes record with: the scene's draw classes and order (the scene
+    /// pipelines made for classes that appeared), and every pass's attachment views.
+    fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, shadow_count: u32) -> FrameInputs<'a> {
+        let instance_classes = InstanceClass::of_scene(scene);
+        let draw_order = self.scene.as_ref().map(|s| super::raster::front_to_back(&s.draws, scene, camera.position)).unwrap_or_default();
+        for pass in &mut self.passes {
+            if let Pipeline::Scene(pipelines) = &mut pass.pipeline {
+                pipelines.prepare(&gpu.device, &pipelines.classes(&instance_classes));
+            }
+        }
+        let views = self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
+        FrameInputs { scene, shadow_count, instance_classes, draw_order, views }
+    }
+
+    /// Records pass `i` of the frame, and its CPU milliseconds.
+    fn record_pass(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs, i: usize) -> Result<(), RuntimeError> {
+        let t0 = Instant::now();
+        if matches!(self.passes[i].pipeline, Pipeline::AccelBuild) {
+            frame.accel_report = self.update_accel(gpu, &mut frame.encoder, &mut frame.command_buffers, inputs.scene)?;
+            frame.cpu_ms.push(frame.accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
+            return Ok(());
+        }
+        if matches!(self.passes[i].pipeline, Pipeline::Rust { .. }) {
+            self.record_rust_pass(gpu, &mut frame.encoder, i)?;
+            frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            return Ok(());
+        }
+        if self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
+            self.record_unused_shadow_map(&mut frame.encoder, i);
+            frame.cpu_ms.push(0.0);
+            return Ok(());
+        }
+        match &self.passes[i].pipeline {
+            Pipeline::AccelBuild | Pipeline::Rust { .. } => unreachable!("recorded above"),
+            Pipeline::RayTracing(rt) => self.record_rt_pass(gpu, frame, i, rt)?,
+            Pipeline::Compute(pipeline) => self.record_compute_pass(&mut frame.encoder, i, pipeline),
+            Pipeline::Render(pipeline) => self.record_fullscreen_pass(&mut frame.encoder, i, pipeline, &inputs.views[i]),
+            Pipeline::Scene(pipelines) => self.record_scene_raster_pass(&mut frame.encoder, i, pipelines, inputs)?,
+        }
+        frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        Ok(())
+    }
+
+    /// Resolves the timestamps, copies the ray counters and submits the frame's command
+    /// buffers.
+    fn submit(&self, gpu: &Gpu, mut encoder: wgpu::CommandEncoder, mut command_buffers: Vec<wgpu::CommandBuffer>) {
+        if let Some(timer) = &self.timer {
+            timer.resolve(&mut encoder, self.passes.len() as u32);
+        }
+        if let Some(cache) = &self.accel {
+            cache.copy_stats(&mut encoder);
+        }
+        command_buffers.push(encoder.finish());
+        gpu.queue.submit(command_buffers);
+    }
+
+    /// The finished frame's timings: GPU milliseconds per pass, CPU milliseconds, and the ray
+    /// counters (one window per trace pass, in schedule order).
+    fn frame_timings(&self, gpu: &Gpu, start: Instant, cpu_ms: Vec<f64>, accel_report: Option<(BuildReport, f64)>) -> Result<FrameTimings, RuntimeError> {
+        let gpu_ms = match &self.timer {
+            Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),
+            None => None,
+        };
+        let mut pass_rays = vec![None; self.plan.passes.len()];
+        let mut rays = None;
+        if let Some(cache) = &self.accel {
+            let windows = cache.read_stats(&gpu.device)?;
+            let trace_passes = self.plan.passes.iter().enumerate().filter(|(_, p)| p.kind == PassKind::Trace).map(|(i, _)| i);
+            for (i, stats) in trace_passes.zip(&windows) {
+                pass_rays[i] = Some(*stats);
+            }
+            rays = Some(windows.iter().fold(RayStats::default(), |a, b| a.add(b)));
+        }
+        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3, rays, pass_rays, accel: accel_report.map(|(r, _)| r) })
+    }
+
+    /// The work one frame submits, for the GPU deadline's error: its passes in submission
+    /// order with their layer and WGSL files. They are submitted together, so any of them may
+    /// be the one that did not end.
+    fn frame_work(&self) -> String {
+        let passes: Vec<String> = self
+            .plan
+            .passes
+            .iter()
+            .filter(|p| p.kind != PassKind::AccelBuild)
+            .map(|p| match p.kind {
+                PassKind::Rust => format!("`{}` ({}, Rust pass `{}`)", p.name, p.location.file.display(), p.entry),
+                _ => format!("`{}` ({}, {})", p.name, p.location.file.display(), p.shader.path.display()),
+            })
+            .collect();
+        match passes.as_slice() {
+            [one] => format!("frame {}, pass {one}", self.frame_index),
+            _ => format!("frame {}: one of its passes did not end; they were submitted together: {}", self.frame_index, passes.join(", ")),
+        }
+    }
+}

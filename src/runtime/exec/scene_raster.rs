@@ -1,0 +1,66 @@
+//! `SceneRaster` passes: the scene's meshes drawn with one pipeline variant per draw class
+//! (`crate::runtime::raster`), front to back; a shadow-map pass of a slot no light uses this
+//! frame, recorded as an empty pass that keeps its timestamps.
+
+use super::bindings::{PassBindings, PassLayout};
+use super::{Executor, FrameInputs, PassRuntime, Pipeline};
+use crate::error::RuntimeError;
+use crate::graph::compile::PlannedPass;
+use crate::graph::desc::PassKind;
+use crate::runtime::gpu::Gpu;
+use crate::runtime::raster::ScenePipelines;
+
+impl Executor {
+    pub(super) fn build_scene_raster_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
+        self.build_render_pass(gpu, pass, layout, bindings, |spec| Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces)))
+    }
+
+    /// Records scene raster pass `i`: every instance drawn with the pipeline variant of its
+    /// draw class, the variants in their fixed order, each class's draws in the frame's draw
+    /// order (front to back).
+    pub(super) fn record_scene_raster_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        i: usize,
+        pipelines: &ScenePipelines,
+        inputs: &FrameInputs,
+    ) -> Result<(), RuntimeError> {
+        let mut rp = self.begin_render_pass(encoder, i, &inputs.views[i]);
+        let (Some(scene), Some(vertices), Some(indices)) =
+            (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok())
+        else {
+            return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", self.plan.passes[i].name)));
+        };
+        rp.set_vertex_buffer(0, vertices.slice(..));
+        rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        let classes = pipelines.classes(&inputs.instance_classes);
+        for (class, pipeline) in pipelines.variants() {
+            let mut draws =
+                inputs.draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&class)).peekable();
+            if draws.peek().is_none() {
+                continue;
+            }
+            rp.set_pipeline(pipeline);
+            for d in draws {
+                rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
+            }
+        }
+        Ok(())
+    }
+
+    /// A shadow map no light uses this frame: not drawn; an empty pass keeps the timestamp
+    /// pair (0 ms).
+    pub(super) fn record_unused_shadow_map(&self, encoder: &mut wgpu::CommandEncoder, i: usize) {
+        if let Some(t) = &self.timer {
+            drop(
+                encoder
+                    .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&self.plan.passes[i].name), timestamp_writes: t.compute_writes(i as u32) }),
+            );
+        }
+    }
+
+    /// Whether a kept pass draws a shadow map (a `SceneRaster` pass that writes only depth).
+    pub(super) fn draws_shadow_maps(&self) -> bool {
+        self.plan.passes.iter().any(|p| p.kind == PassKind::SceneRaster && p.writes.iter().all(|(_, r)| self.is_depth(*r)))
+    }
+}

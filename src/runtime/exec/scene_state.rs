@@ -1,0 +1,112 @@
+//! The scene on the device and the frame uniforms: the upload of the parts a plan reads, the
+//! changes followed from frame to frame (passes rebuilt when the upload is replaced), the
+//! scene's bounding sphere and light records written every frame.
+
+use super::Executor;
+use crate::error::RuntimeError;
+use crate::graph::compile::Plan;
+use crate::runtime::gpu::Gpu;
+use crate::scene::gpu::{light_records, GpuScene, SceneContent};
+use crate::scene::{Camera, Scene};
+use crate::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
+
+impl Executor {
+    /// The parts of `scene` that `plan` reads, uploaded; `None` when it reads none.
+    pub(super) fn upload_scene(gpu: &Gpu, plan: &Plan, scene: &Scene) -> Result<Option<GpuScene>, RuntimeError> {
+        if !plan.scene_usage.any() {
+            log::info!("scene not uploaded: no pass of the graph uses it");
+            return Ok(None);
+        }
+        let s = GpuScene::upload(&gpu.device, &gpu.queue, scene, plan.scene_usage)?;
+        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes);
+        Ok(Some(s))
+    }
+
+    /// A part of the uploaded scene; the plan's [`crate::scene::gpu::SceneUsage`] decides what
+    /// was uploaded, so a missing part is an internal inconsistency reported as an error.
+    pub(super) fn scene_part<T>(&self, part: impl Fn(&GpuScene) -> Option<&T>) -> Result<&T, RuntimeError> {
+        self.scene.as_ref().and_then(part).ok_or_else(|| RuntimeError::Gpu("a pass binds a part of the scene that the plan did not upload".into()))
+    }
+
+    /// Before a frame is recorded: the injected device loss (`RAYGRAPH_INJECT_DEVICE_LOSS`), the
+    /// device's state, the scene's changes and its bounding sphere.
+    pub(super) fn begin_frame(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        if gpu.inject_device_loss_at == Some(self.frame_index) {
+            log::warn!("RAYGRAPH_INJECT_DEVICE_LOSS: destroying the device at frame {}", self.frame_index);
+            gpu.device.destroy();
+        }
+        gpu.check()?;
+        self.sync_scene(gpu, scene)?;
+        // Every frame: the scene may have changed since the last one.
+        let b = scene.bounds();
+        self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
+        Ok(())
+    }
+
+    /// Keeps the uploaded scene equal to `scene`: moved instances are rewritten in place; any
+    /// other change (meshes, materials, textures, instances added or removed) uploads the scene
+    /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
+    pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        let alpha_test = Self::scene_has_alpha_test(scene);
+        if alpha_test != self.trace_alpha_test {
+            self.trace_alpha_test = alpha_test;
+            self.passes = self.build_passes(gpu)?;
+            self.accel_generation = u64::MAX;
+        }
+        let Some(uploaded) = &self.scene else { return Ok(()) };
+        let content = SceneContent::of(scene);
+        if content == self.scene_content {
+            return Ok(());
+        }
+        if content.structure == self.scene_content.structure && uploaded.write_instances(&gpu.queue, scene) {
+            self.scene_content = content;
+            return Ok(());
+        }
+        let scope = gpu.scopes();
+        self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
+        self.passes = self.build_passes(gpu)?;
+        // The new passes have no accel bind group yet: make the next update re-create them.
+        self.accel_generation = u64::MAX;
+        scope.finish(gpu, "uploading the changed scene")?;
+        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
+        self.scene_content = content;
+        Ok(())
+    }
+
+    /// The frame uniforms; writes the scene's light records when the plan reads them.
+    pub(super) fn frame_uniforms(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameUniforms, RuntimeError> {
+        let (w, h) = self.plan.frame_size;
+        let vp = camera.view_proj(w as f32 / h as f32);
+        let (center, radius) = self.scene_sphere;
+        let lights = light_records(&scene.effective_lights(), center, radius);
+        let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
+        for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
+            *slot = m.to_cols_array_2d();
+        }
+        if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights.is_some()) {
+            if !uploaded.write_lights(&gpu.queue, &lights.records) {
+                return Err(RuntimeError::Gpu("the light buffer does not match the scene's lights".into()));
+            }
+            if !self.warned_unshadowed && lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() {
+                self.warned_unshadowed = true;
+                eprintln!(
+                    "warning: lights without a shadow map in raster mode: {} of {} (point lights, and directional or spot lights after the first {SHADOW_MAP_SLOTS}); they light the scene unshadowed",
+                    lights.unshadowed_in_raster,
+                    lights.records.len()
+                );
+            }
+        }
+        Ok(FrameUniforms {
+            view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
+            camera_pos: camera.position.extend(1.0).into(),
+            resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            scene_sphere: center.extend(radius).into(),
+            shadow_view_proj,
+            ambient: scene.light.ambient,
+            light_count: lights.records.len() as u32,
+            shadow_count: lights.shadow_view_proj.len() as u32,
+            frame_index: self.frame_index,
+        })
+    }
+}

@@ -1,0 +1,170 @@
+//! `Trace` passes: the trace modules' alpha-test pipeline constant, the trace module's bind
+//! group (re-made whenever the acceleration-structure cache replaces its GPU objects), and on
+//! the `rt-pipeline` back-end the ray-tracing pipeline (`crate::accel::rt_pipeline`), built
+//! from the same bindings and recorded into a command buffer of its own. On the other
+//! back-ends a trace pass is a compute dispatch ([`super::compute`]).
+
+use super::bindings::{linear_sampler, nearest_sampler, resource_of, PassBindings};
+use super::{Executor, FrameRecording, PassRuntime, Pipeline};
+use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
+use crate::error::RuntimeError;
+use crate::graph::builtins;
+use crate::graph::compile::PlannedPass;
+use crate::graph::desc::{Dispatch, PassKind, ResourceDecl};
+use crate::graph::reflect::{BindingKind, ShaderBinding};
+use crate::runtime::gpu::Gpu;
+use crate::scene::gpu::SceneTextures;
+use crate::scene::Scene;
+
+/// The trace module's pipeline constant that compiles the alpha test into the traversal
+/// (`shaders/trace/alpha.wgsl`).
+pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
+
+/// Pipeline constants of a compute or trace pass: a trace pass whose module declares
+/// [`TRACE_ALPHA_CONSTANT`] gets the alpha test only when the scene has alpha-tested geometry,
+/// so a scene without any runs a traversal with no trace of the test.
+pub(super) fn trace_constants(pass: &PlannedPass, alpha_test: bool) -> Vec<(&'static str, f64)> {
+    if pass.kind == PassKind::Trace && pass.shader.has_override(TRACE_ALPHA_CONSTANT) {
+        vec![(TRACE_ALPHA_CONSTANT, if alpha_test { 1.0 } else { 0.0 })]
+    } else {
+        Vec::new()
+    }
+}
+
+/// The state a binding's resource is in while a pass uses it (the rt-pipeline back-end's
+/// explicit transitions).
+fn texture_uses(kind: &BindingKind) -> wgpu::TextureUses {
+    match kind {
+        BindingKind::StorageTexture { access, .. } if access.contains(naga::StorageAccess::LOAD) => wgpu::TextureUses::STORAGE_READ_WRITE,
+        BindingKind::StorageTexture { .. } => wgpu::TextureUses::STORAGE_WRITE_ONLY,
+        _ => wgpu::TextureUses::RESOURCE,
+    }
+}
+
+fn buffer_uses(kind: &BindingKind) -> wgpu::BufferUses {
+    match kind {
+        BindingKind::Uniform { .. } => wgpu::BufferUses::UNIFORM,
+        BindingKind::Storage { read_only: true, .. } => wgpu::BufferUses::STORAGE_READ_ONLY,
+        _ => wgpu::BufferUses::STORAGE_READ_WRITE,
+    }
+}
+
+impl Executor {
+    /// Whether any instance of `scene` is alpha-tested.
+    pub(super) fn scene_has_alpha_test(scene: &Scene) -> bool {
+        (0..scene.instances.len()).any(|i| crate::accel::alpha::instance_tested(scene, i))
+    }
+
+    /// A trace pass on the rt-pipeline back-end: the same bindings as the compute pass would
+    /// have, bound through hal bind groups of a ray-tracing pipeline.
+    pub(super) fn build_rt_pass(&self, gpu: &Gpu, pass: &PlannedPass, bindings: PassBindings) -> Result<PassRuntime, RuntimeError> {
+        let shader = &pass.shader;
+        let module = shader
+            .ray_tracing
+            .as_ref()
+            .ok_or_else(|| RuntimeError::Gpu(format!("pass {}: the shader was not compiled with the rt-pipeline trace module", pass.name)))?;
+        let mut rt_bindings = Vec::new();
+        for b in &shader.bindings {
+            let Some(entry) = bindings.layout_entries.iter().find(|(g, e)| *g == b.group && e.binding == b.binding).map(|(_, e)| *e) else { continue };
+            let Some(resource) = self.rt_resource(pass, b, &bindings)? else { continue };
+            rt_bindings.push(RtBinding { group: b.group, entry, resource });
+        }
+        let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, rt_bindings, builtins::ACCEL_GROUP)?;
+        let wg = shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
+        // The launch grid: one ray-generation invocation per invocation of the compute dispatch.
+        let launch = match pass.dispatch {
+            Dispatch::Groups(x, y, z) => [x * wg[0].max(1), y * wg[1].max(1), z * wg[2].max(1)],
+            Dispatch::PerPixel => {
+                let extent = self.per_pixel_extent(pass);
+                [extent.0, extent.1, 1]
+            }
+        };
+        Ok(PassRuntime { groups: launch, params: bindings.params(), ..PassRuntime::bare(Pipeline::RayTracing(Box::new(rt))) })
+    }
+
+    /// The resource of binding `b` of an rt-pipeline trace pass; `None` for a declared
+    /// acceleration structure (bound through the trace module's group).
+    fn rt_resource(&self, pass: &PlannedPass, b: &ShaderBinding, bindings: &PassBindings) -> Result<Option<RtResource>, RuntimeError> {
+        let buffer =
+            |buffer: &wgpu::Buffer| RtResource::Buffer { buffer: buffer.clone(), offset: 0, size: None, uses: buffer_uses(&b.kind), initialize: false };
+        if let Some(r) = resource_of(pass, &b.name) {
+            return Ok(match &self.plan.resources[r].decl {
+                ResourceDecl::Texture(_) => {
+                    Some(RtResource::Texture { texture: self.slot_texture(r).clone(), view: self.texture_view(r), uses: texture_uses(&b.kind) })
+                }
+                ResourceDecl::Buffer(_) => Some(RtResource::Buffer {
+                    buffer: self.buffer(r).clone(),
+                    offset: 0,
+                    size: None,
+                    uses: buffer_uses(&b.kind),
+                    initialize: pass.writes.iter().any(|(_, w)| *w == r),
+                }),
+                ResourceDecl::Accel => None,
+            });
+        }
+        if b.group == builtins::ACCEL_GROUP {
+            return Ok(Some(RtResource::Accel(b.name.clone())));
+        }
+        Ok(Some(match b.name.as_str() {
+            builtins::FRAME => buffer(&self.frame_uniforms),
+            builtins::DEBUG_COUNTERS => buffer(&self.debug_counters),
+            builtins::PARAMS => buffer(&bindings.params_buffer.as_ref().expect("made for the params binding").1),
+            builtins::SCENE_INSTANCES => buffer(self.scene_part(|s| s.instances.as_ref())?),
+            builtins::SCENE_MATERIALS => buffer(self.scene_part(|s| s.materials.as_ref())?),
+            builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices.as_ref())?),
+            builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices.as_ref())?),
+            builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes.as_ref())?),
+            builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights.as_ref())?),
+            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+                SceneTextures::Array { texture, view } => {
+                    RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
+                }
+                SceneTextures::Separate { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
+            },
+            builtins::LINEAR_SAMPLER => RtResource::Sampler(linear_sampler()),
+            builtins::NEAREST_SAMPLER => RtResource::Sampler(nearest_sampler()),
+            other => return Err(RuntimeError::Gpu(format!("pass {}: binding `{other}` has no resource", pass.name))),
+        }))
+    }
+
+    /// Records rt-pipeline trace pass `i`: its resources' transitions, then its own command
+    /// buffer between the pass's timestamps.
+    pub(super) fn record_rt_pass(&self, gpu: &Gpu, frame: &mut FrameRecording, i: usize, rt: &RtPass) -> Result<(), RuntimeError> {
+        let (pass, planned) = (&self.passes[i], &self.plan.passes[i]);
+        let cache = self.accel.as_ref().ok_or_else(|| RuntimeError::Gpu(format!("pass {} traces rays without an Accel node", planned.name)))?;
+        rt.transition(&mut frame.encoder, cache.stats_window(0).0);
+        if let Some(t) = &self.timer {
+            drop(frame.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace begin"), timestamp_writes: t.begin_writes(i as u32) }));
+        }
+        let next = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        frame.command_buffers.push(std::mem::replace(&mut frame.encoder, next).finish());
+        frame.command_buffers.push(rt.record(pass.groups)?);
+        if let Some(t) = &self.timer {
+            drop(frame.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace end"), timestamp_writes: t.end_writes(i as u32) }));
+        }
+        Ok(())
+    }
+
+    /// Binds every trace pass to the cache's current GPU objects: the trace module's group of
+    /// a compute dispatch, the acceleration structure and buffers of a ray-tracing pipeline.
+    pub(super) fn bind_trace_passes_to_accel(&mut self, gpu: &Gpu) -> Result<(), RuntimeError> {
+        let Some(cache) = self.accel.as_ref() else { return Ok(()) };
+        let trace_passes = self.passes.iter_mut().filter(|p| p.accel_layout.is_some() || matches!(p.pipeline, Pipeline::RayTracing(_)));
+        for (window, pass) in trace_passes.enumerate() {
+            if let Pipeline::RayTracing(rt) = &mut pass.pipeline {
+                let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
+                rt.bind_accel(built, &crate::accel::cache::cache_buffers(cache, window as u32))?;
+                continue;
+            }
+            let Some((layout, entries, names)) = &pass.accel_layout else { continue };
+            let mut bg_entries = Vec::new();
+            for (e, name) in entries.iter().zip(names) {
+                let resource =
+                    cache.binding(name, window as u32).ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
+                bg_entries.push(wgpu::BindGroupEntry { binding: e.binding, resource });
+            }
+            pass.accel_group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));
+        }
+        Ok(())
+    }
+}
