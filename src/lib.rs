@@ -11,21 +11,31 @@
 //! - [`graph`]: graph and layer files, shader reflection, the compiler (no GPU).
 //! - [`accel`]: BVHs, the CPU traversal, the f64 reference, the GPU cache and back-ends.
 //! - [`runtime`]: the wgpu device, the plan executor, pass timing and batch tracing.
-//! - [`bench`]: the experiments behind the paper's tables and figures.
-//! - [`soak`]: the long-running stability check.
-//! - [`fuzz`]: the user-file entry points shared by the fuzz targets and their tests.
-//! - [`viewer`]: the interactive window with hot reload.
+//!
+//! With the `cli` feature (on by default), the modules behind the `raygraph` command too; they
+//! are not part of the embedding API (`default-features = false` leaves them out):
+//!
+//! - `bench`: the experiments behind the paper's tables and figures.
+//! - `soak`: the long-running stability check.
+//! - `fuzz`: the user-file entry points shared by the fuzz targets and their tests.
+//! - `viewer`: the interactive window with hot reload.
+
+#![warn(missing_docs)]
 
 pub mod accel;
 pub mod backend;
+#[cfg(feature = "cli")]
 pub mod bench;
 pub mod error;
+#[cfg(feature = "cli")]
 pub mod fuzz;
 pub mod gpu_util;
 pub mod graph;
 pub mod runtime;
 pub mod scene;
+#[cfg(feature = "cli")]
 pub mod soak;
 pub mod uniforms;
 pub mod util;
+#[cfg(feature = "cli")]
 pub mod viewer;

@@ -13,7 +13,8 @@ pub mod reflect;
 pub use compile::{compile, Plan, Project};
 
 /// The paper's three rendering modes, each a built-in graph file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Mode {
     Raster,
     Hybrid,
