@@ -3,7 +3,7 @@
 //! and the built-in project files read when the disk has none ([`files`]).
 //! Nothing here touches the GPU; [`crate::runtime`] executes plans.
 
-pub mod builtins;
+pub(crate) mod builtins;
 pub mod compile;
 pub mod desc;
 pub mod dot;

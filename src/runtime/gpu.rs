@@ -22,12 +22,19 @@ pub fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
     }
 }
 
+/// The wgpu device raygraph renders with, and what it found out about it: open one with
+/// [`Gpu::new`], or wrap a device of the program's own with [`Gpu::from_wgpu`].
 pub struct Gpu {
-    /// Kept for [`wgpu::Instance::generate_report`] (live object counts).
+    /// The instance (surfaces are made from it; [`wgpu::Instance::generate_report`] counts
+    /// live objects).
     pub instance: wgpu::Instance,
+    /// The adapter the device is on.
     pub adapter: wgpu::Adapter,
+    /// The device.
     pub device: wgpu::Device,
+    /// The device's queue.
     pub queue: wgpu::Queue,
+    /// The adapter's name, type, back-end and driver.
     pub info: wgpu::AdapterInfo,
     /// Timestamp queries at pass boundaries are available.
     pub timestamps: bool,
