@@ -160,7 +160,8 @@ impl WindowRenderer {
         // The graph's output holds display-encoded (sRGB) values: the blit writes them through
         // a view without the sRGB conversion.
         let size = window.inner_size();
-        let mut config = surface.get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1)).context("the adapter cannot present to this window")?;
+        let mut config =
+            surface.get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1)).context("the adapter cannot present to this window")?;
         config.view_formats = vec![config.format.remove_srgb_suffix()];
         surface.configure(&gpu.device, &config);
         let blit = blit_pipeline(&gpu.device, config.format.remove_srgb_suffix());
@@ -196,7 +197,8 @@ impl WindowRenderer {
             }
         };
         let output = self.frame.exec.texture(self.frame.exec.plan().output).context("the graph's output is not a texture")?;
-        let target = surface_texture.texture.create_view(&wgpu::TextureViewDescriptor { format: Some(self.config.format.remove_srgb_suffix()), ..Default::default() });
+        let target =
+            surface_texture.texture.create_view(&wgpu::TextureViewDescriptor { format: Some(self.config.format.remove_srgb_suffix()), ..Default::default() });
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });
         encoder.copy_texture_to_texture(output.as_image_copy(), self.frame.copy.as_image_copy(), self.frame.copy.size());
         {

@@ -16,12 +16,16 @@ pub use compile::{compile, Plan, Project};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Mode {
+    /// Rasterization: forward shading with shadow maps (`graph/raster.ron`).
     Raster,
+    /// A rasterized G-buffer, then ray-traced shadows, AO and reflections (`graph/hybrid.ron`).
     Hybrid,
+    /// Full ray tracing: the G-buffer from primary rays as well (`graph/full_rt.ron`).
     FullRt,
 }
 
 impl Mode {
+    /// The three modes, in the paper's order.
     pub const ALL: [Mode; 3] = [Mode::Raster, Mode::Hybrid, Mode::FullRt];
 
     /// The mode's graph file, relative to the project root (built in, see [`files`]).
@@ -33,6 +37,7 @@ impl Mode {
         }
     }
 
+    /// The mode's name in reports (`raster`, `hybrid`, `full RT`).
     pub fn label(self) -> &'static str {
         match self {
             Mode::Raster => "raster",

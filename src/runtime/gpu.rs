@@ -35,7 +35,7 @@ pub struct Gpu {
     /// The device's queue.
     pub queue: wgpu::Queue,
     /// The adapter's name, type, back-end and driver.
-    pub info: wgpu::AdapterInfo,
+    pub(crate) info: wgpu::AdapterInfo,
     /// Timestamp queries at pass boundaries are available.
     pub timestamps: bool,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
