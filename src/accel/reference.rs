@@ -205,7 +205,7 @@ impl Reference {
 
 impl Reference {
     /// [`Reference::closest`] and its margin (module docs): the least of the hit triangle's
-    /// [`Reference::signed_margin`] and, for every other triangle, the perturbation that would
+    /// `Reference::signed_margin` and, for every other triangle, the perturbation that would
     /// make it hit and in front of the closest hit (the larger of the two needed).
     pub fn closest_with_margin(&self, ray: &Ray) -> (Option<RefHit>, f64) {
         let best = self.closest(ray);

@@ -13,7 +13,7 @@
 //! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
 //!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
 //!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, its any-hit shader as patched
-//!   SPIR-V ([`any_hit`]: the alpha test, which only non-opaque geometry reaches), bind groups
+//!   SPIR-V (`any_hit`: the alpha test, which only non-opaque geometry reaches), bind groups
 //!   made through wgpu-hal over the same wgpu textures and buffers a compute pass would bind,
 //!   and the shader binding table (ray generation, miss, hit group records at the device's
 //!   alignments).

@@ -1,5 +1,5 @@
 //! The render graph: file formats ([`desc`]), shader reflection ([`reflect`]), the compiler
-//! ([`compile`]) that turns a graph file into a [`compile::Plan`], Graphviz output ([`dot`]),
+//! ([`compile`](mod@compile)) that turns a graph file into a [`compile::Plan`], Graphviz output ([`dot`]),
 //! and the built-in project files read when the disk has none ([`files`]).
 //! Nothing here touches the GPU; [`crate::runtime`] executes plans.
 

@@ -82,7 +82,7 @@ fn bindless_allowed(features: wgpu::Features, limits: &wgpu::Limits) -> bool {
 
 impl Gpu {
     /// Compiles a WGSL module with the runtime checks its origin gets ([`ShaderOrigin::checks`]).
-    pub fn shader_module(&self, label: &str, wgsl: &str, origin: ShaderOrigin) -> wgpu::ShaderModule {
+    pub(crate) fn shader_module(&self, label: &str, wgsl: &str, origin: ShaderOrigin) -> wgpu::ShaderModule {
         let desc = wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(wgsl.into()) };
         let checks = origin.checks();
         if checks.force_loop_bounding {

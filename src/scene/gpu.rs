@@ -134,7 +134,7 @@ pub struct GpuScene {
     pub meshes: Option<wgpu::Buffer>,
     /// The material textures.
     pub textures: Option<SceneTextures>,
-    /// `Scene::effective_lights()` as [`LightUniforms`] (`scene_lights`), rewritten every frame
+    /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
     /// by [`GpuScene::write_lights`].
     pub lights: Option<wgpu::Buffer>,
     /// One draw per instance, for raster passes.
@@ -516,12 +516,12 @@ pub struct LightRecords {
     /// The view-projection of each shadow-map slot in use.
     pub(crate) shadow_view_proj: Vec<Mat4>,
     /// Lights without a shadow map in raster mode: point lights, and directional or spot
-    /// lights beyond the [`SHADOW_MAP_SLOTS`] first.
+    /// lights beyond the `SHADOW_MAP_SLOTS` first.
     pub unshadowed_in_raster: usize,
 }
 
 /// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first
-/// [`SHADOW_MAP_SLOTS`] directional and spot lights get a shadow-map slot: directional, an
+/// `SHADOW_MAP_SLOTS` directional and spot lights get a shadow-map slot: directional, an
 /// orthographic projection along the light over the scene's sphere; spot, a perspective
 /// projection over its outer cone from its position to the far side of the sphere (or its
 /// range). Point lights get none.
@@ -583,7 +583,7 @@ fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radiu
 }
 
 /// What an upload depends on, split in two: everything but the instance transforms
-/// ([`SceneContent::structure`]: a change re-uploads the scene) and the transforms alone (a
+/// (`SceneContent::structure`: a change re-uploads the scene) and the transforms alone (a
 /// change rewrites the instance records in place). Meshes and materials are hashed by content;
 /// a texture by its size and the address of its pixels (a replaced image is seen, pixels
 /// edited in place are not).
