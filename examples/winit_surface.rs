@@ -4,9 +4,10 @@
 //! output into the window's surface texture with a small blit pass, and presents. A resize
 //! compiles the graph again at the new size.
 //!
-//! `cargo run --example winit_surface -- [raster|hybrid|full-rt] [--frames N]` (`--frames`:
-//! present N frames, then exit). Runs from any directory: the graph, layers and shaders are
-//! built into the library.
+//! `cargo run --example winit_surface -- [raster|hybrid|full-rt] [--frames N] [--resize WxH]`
+//! (`--frames`: present N frames, then exit; `--resize`: after the first frame, ask for a new
+//! window size, and present the last frames at it). Runs from any directory: the graph, layers
+//! and shaders are built into the library.
 
 use anyhow::{bail, Context};
 use raygraph::graph::{self, Mode, Project};
@@ -28,25 +29,32 @@ fn main() -> anyhow::Result<()> {
 
 /// Opens the window and renders until it is closed or `--frames` are presented; `args` are the
 /// command line's, without the program name (arguments it does not know are ignored, so that
-/// a test harness's own flags pass through). Returns the number of frames presented.
-pub fn run(args: impl Iterator<Item = String>) -> anyhow::Result<u64> {
+/// a test harness's own flags pass through). Returns the number of frames presented and the
+/// size of the last one.
+pub fn run(args: impl Iterator<Item = String>) -> anyhow::Result<(u64, (u32, u32))> {
     let mut app = App { options: Options::parse(args)?, window: None, presented: 0, result: Ok(()) };
     EventLoop::new().context("cannot open a window")?.run_app(&mut app).context("window event loop")?;
     app.result?;
-    println!("presented {} frames ({} graph)", app.presented, app.options.mode.label());
-    Ok(app.presented)
+    let size = app.window.as_ref().map_or((0, 0), |w| (w.config.width, w.config.height));
+    println!("presented {} frames at {}x{} ({} graph)", app.presented, size.0, size.1, app.options.mode.label());
+    Ok((app.presented, size))
 }
+
+/// Frames presented while waiting for a `--resize` before giving up.
+const RESIZE_PATIENCE: u64 = 500;
 
 /// The command line.
 struct Options {
     mode: Mode,
     /// Exit after presenting this many frames.
     frames: Option<u64>,
+    /// The window size to ask for after the first frame.
+    resize: Option<(u32, u32)>,
 }
 
 impl Options {
     fn parse(mut args: impl Iterator<Item = String>) -> anyhow::Result<Options> {
-        let mut options = Options { mode: Mode::Raster, frames: None };
+        let mut options = Options { mode: Mode::Raster, frames: None, resize: None };
         while let Some(arg) = args.next() {
             match arg.as_str() {
                 "raster" => options.mode = Mode::Raster,
@@ -55,6 +63,11 @@ impl Options {
                 "--frames" => {
                     let n = args.next().context("--frames needs a number")?;
                     options.frames = Some(n.parse().with_context(|| format!("--frames {n}: not a number"))?);
+                }
+                "--resize" => {
+                    let size = args.next().context("--resize needs a size, WxH")?;
+                    let parsed = size.split_once('x').and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)));
+                    options.resize = Some(parsed.with_context(|| format!("--resize {size}: not WxH"))?);
                 }
                 other if other.starts_with('-') => {}
                 other => bail!("unknown mode `{other}`: use raster, hybrid or full-rt"),
@@ -101,13 +114,24 @@ impl ApplicationHandler for App {
                 Ok(())
             }
             WindowEvent::Resized(size) => w.resize(size),
-            WindowEvent::RedrawRequested => w.draw().map(|presented| {
+            WindowEvent::RedrawRequested => w.draw().and_then(|presented| {
                 self.presented += u64::from(presented);
-                if self.options.frames.is_some_and(|n| self.presented >= n) {
+                let size = (w.config.width, w.config.height);
+                let resize_pending = self.options.resize.is_some_and(|wanted| wanted != size);
+                if self.presented == 1 {
+                    if let Some((width, height)) = self.options.resize {
+                        let _ = w.window.request_inner_size(PhysicalSize::new(width, height));
+                    }
+                }
+                if resize_pending && self.presented > RESIZE_PATIENCE {
+                    bail!("the window stayed at {}x{}: the resize to {:?} never came", size.0, size.1, self.options.resize);
+                }
+                if self.options.frames.is_some_and(|n| self.presented >= n) && !resize_pending {
                     event_loop.exit();
                 } else {
                     w.window.request_redraw();
                 }
+                Ok(())
             }),
             _ => Ok(()),
         };
