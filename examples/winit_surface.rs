@@ -211,15 +211,22 @@ impl WindowRenderer {
     /// Renders a frame and presents it; `false` when the surface had no texture to give (it
     /// is configured again and the next redraw presents).
     fn draw(&mut self) -> anyhow::Result<bool> {
-        let gpu = &self.gpu;
-        self.frame.exec.render(gpu, &self.scene.camera, &self.scene)?;
         let surface_texture = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             _ => {
-                self.surface.configure(&gpu.device, &self.config);
+                // Outdated or lost: the window may have changed size before its `Resized`
+                // event came, so configure at the size it has now.
+                let size = self.window.inner_size();
+                if (size.width.max(1), size.height.max(1)) == (self.config.width, self.config.height) {
+                    self.surface.configure(&self.gpu.device, &self.config);
+                } else {
+                    self.resize(size)?;
+                }
                 return Ok(false);
             }
         };
+        let gpu = &self.gpu;
+        self.frame.exec.render(gpu, &self.scene.camera, &self.scene)?;
         let output = self.frame.exec.texture(self.frame.exec.plan().output).context("the graph's output is not a texture")?;
         let target =
             surface_texture.texture.create_view(&wgpu::TextureViewDescriptor { format: Some(self.config.format.remove_srgb_suffix()), ..Default::default() });
