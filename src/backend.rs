@@ -76,9 +76,9 @@ impl FromStr for Backend {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Selection {
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// Why it was chosen, for reports.
-    pub(crate) reason: String,
+    pub reason: String,
 }
 
 /// Picks the back-end for an adapter with `features`: the requested one if the adapter can run
