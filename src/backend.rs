@@ -9,17 +9,23 @@
 use std::fmt;
 use std::str::FromStr;
 
+/// A traversal back-end: how trace passes find their rays' hits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Backend {
+    /// Inline ray queries against driver acceleration structures (`EXPERIMENTAL_RAY_QUERY`).
     RayQuery,
+    /// raygraph's own BVH walked in a compute shader: runs on every adapter.
     Compute,
+    /// Ray-tracing pipelines with hit shaders (`EXPERIMENTAL_RAY_TRACING_PIPELINES`, Vulkan).
     RtPipeline,
 }
 
 impl Backend {
+    /// Every back-end.
     pub const ALL: [Backend; 3] = [Backend::RayQuery, Backend::Compute, Backend::RtPipeline];
 
-    pub fn name(self) -> &'static str {
+    /// The name the command line and graph files use (`ray-query`, `compute`, `rt-pipeline`).
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Backend::RayQuery => "ray-query",
             Backend::Compute => "compute",
@@ -69,7 +75,9 @@ impl FromStr for Backend {
 /// The back-end in use and why it was chosen.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Selection {
+    /// The back-end.
     pub backend: Backend,
+    /// Why it was chosen, for reports.
     pub reason: String,
 }
 

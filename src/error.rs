@@ -7,13 +7,17 @@ use std::path::{Path, PathBuf};
 /// A position in a source file (1-based line and column).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Location {
+    /// The file, as the user named it (or `<built-in>/...` for a built-in file).
     pub file: PathBuf,
+    /// Line, from 1.
     pub line: u32,
+    /// Column in characters, from 1.
     pub col: u32,
 }
 
 impl Location {
-    pub fn new(file: impl Into<PathBuf>, line: u32, col: u32) -> Self {
+    /// A location from its parts.
+    pub(crate) fn new(file: impl Into<PathBuf>, line: u32, col: u32) -> Self {
         Self { file: file.into(), line, col }
     }
 
@@ -75,8 +79,11 @@ pub enum ErrorKind {
 /// An error located in a graph, layer or shader file.
 #[derive(Debug, Clone)]
 pub struct GraphError {
+    /// The class of the error.
     pub kind: ErrorKind,
+    /// Where it is.
     pub location: Location,
+    /// What is wrong, one sentence.
     pub message: String,
     /// What to change to fix it.
     pub help: Option<String>,
@@ -85,16 +92,19 @@ pub struct GraphError {
 }
 
 impl GraphError {
-    pub fn new(kind: ErrorKind, location: Location, message: impl Into<String>) -> Self {
+    /// An error without help or notes (add them with [`GraphError::help`] and [`GraphError::note`]).
+    pub(crate) fn new(kind: ErrorKind, location: Location, message: impl Into<String>) -> Self {
         Self { kind, location, message: message.into(), help: None, notes: Vec::new() }
     }
 
-    pub fn help(mut self, help: impl Into<String>) -> Self {
+    /// Adds what to change to fix it.
+    pub(crate) fn help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(help.into());
         self
     }
 
-    pub fn note(mut self, location: Location, text: impl Into<String>) -> Self {
+    /// Adds another place involved, with what it is.
+    pub(crate) fn note(mut self, location: Location, text: impl Into<String>) -> Self {
         self.notes.push((location, text.into()));
         self
     }
@@ -118,28 +128,72 @@ impl std::error::Error for GraphError {}
 /// Errors of the GPU runtime (device creation, execution, output).
 #[derive(Debug, thiserror::Error)]
 pub enum RuntimeError {
+    /// No adapter: wgpu found no device (its message).
     #[error("no Vulkan adapter found: {0}\n  help: install a Vulkan driver (on a machine without a GPU: Mesa's lavapipe, see README.md)")]
     NoAdapter(String),
+    /// The adapter refused the device raygraph asked for.
     #[error("could not create the GPU device on {adapter}: {message}")]
-    Device { adapter: String, message: String },
+    Device {
+        /// The adapter's name.
+        adapter: String,
+        /// wgpu's reason.
+        message: String,
+    },
+    /// A GPU operation failed (wgpu's message).
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// The device was lost during the run.
     #[error("the GPU device was lost ({adapter}): {reason}\n  help: nothing was written; a driver reset or a GPU fault ends the run, start it again")]
-    DeviceLost { adapter: String, reason: String },
+    DeviceLost {
+        /// The adapter's name.
+        adapter: String,
+        /// Why, as the driver or wgpu said.
+        reason: String,
+    },
+    /// An allocation failed.
     #[error("the GPU ran out of memory ({adapter}) {what}: {message}\n  help: nothing was written; use a smaller frame (--width, --height) or scene")]
-    OutOfMemory { adapter: String, what: String, message: String },
+    OutOfMemory {
+        /// The adapter's name.
+        adapter: String,
+        /// The work that allocated ("while building the executor").
+        what: String,
+        /// wgpu's message.
+        message: String,
+    },
+    /// A wait ran past the GPU deadline ([`crate::runtime::Gpu::gpu_timeout`]).
     #[error("the GPU ran past its deadline of {seconds} s (--gpu-timeout) on {work}\n  help: nothing was written; look for a loop that never ends in these passes' shaders, or raise --gpu-timeout if the frame is only slow")]
-    GpuTimeout { seconds: f64, work: String },
+    GpuTimeout {
+        /// The deadline, in seconds.
+        seconds: f64,
+        /// The work waited for (a frame and its passes).
+        work: String,
+    },
+    /// An output file could not be written.
     #[error("could not write {path}: {source}")]
-    Output { path: PathBuf, source: std::io::Error },
+    Output {
+        /// The file.
+        path: PathBuf,
+        /// The error of the write.
+        source: std::io::Error,
+    },
+    /// An image could not be encoded.
     #[error("could not encode image {path}: {message}")]
-    Encode { path: PathBuf, message: String },
+    Encode {
+        /// The file it was for.
+        path: PathBuf,
+        /// The encoder's message.
+        message: String,
+    },
+    /// An error in a graph, layer or shader file.
     #[error(transparent)]
     Graph(#[from] GraphError),
+    /// The scene exceeds what the device can bind.
     #[error(transparent)]
     SceneLimit(#[from] crate::scene::gpu::SceneLimitError),
+    /// The scene could not be opened.
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),
+    /// A camera track could not be read or written.
     #[error(transparent)]
     Track(#[from] crate::scene::track::TrackError),
 }

@@ -30,10 +30,14 @@ use std::path::{Path, PathBuf};
 /// What a soak run does.
 #[derive(Debug, Clone)]
 pub struct SoakConfig {
+    /// Built-in scene name or glTF path.
     pub scene: String,
-    pub frames: u32,
-    pub cycle: u32,
-    pub size: (u32, u32),
+    /// Frames to run.
+    pub(crate) frames: u32,
+    /// Frames per cycle (at least 16).
+    pub(crate) cycle: u32,
+    /// Frame size.
+    pub(crate) size: (u32, u32),
     /// Folder holding `graph/`, `layers/` and `shaders/` (copied before the run).
     pub root: PathBuf,
     /// The graph that runs at every check, and the one swapped in for part of each cycle
@@ -43,10 +47,12 @@ pub struct SoakConfig {
     pub broken_shader: PathBuf,
     /// Allowed growth of the resident set over the first check, in MiB.
     pub rss_tolerance_mib: f64,
+    /// The traversal back-end (`None`: selected).
     pub backend: Option<Backend>,
 }
 
 impl SoakConfig {
+    /// The default soak of `frames` frames in cycles of `cycle`, on a copy of `root`.
     pub fn new(root: &Path, frames: u32, cycle: u32, size: (u32, u32)) -> Self {
         Self {
             scene: "default".into(),
@@ -65,19 +71,29 @@ impl SoakConfig {
 /// Live wgpu objects (kept by the application), from the registry report.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct LiveObjects {
-    pub buffers: usize,
-    pub textures: usize,
-    pub texture_views: usize,
-    pub samplers: usize,
-    pub bind_groups: usize,
-    pub bind_group_layouts: usize,
-    pub compute_pipelines: usize,
-    pub render_pipelines: usize,
-    pub shader_modules: usize,
+    /// Buffers.
+    pub(crate) buffers: usize,
+    /// Textures.
+    pub(crate) textures: usize,
+    /// Texture views.
+    pub(crate) texture_views: usize,
+    /// Samplers.
+    pub(crate) samplers: usize,
+    /// Bind groups.
+    pub(crate) bind_groups: usize,
+    /// Bind group layouts.
+    pub(crate) bind_group_layouts: usize,
+    /// Compute pipelines.
+    pub(crate) compute_pipelines: usize,
+    /// Render pipelines.
+    pub(crate) render_pipelines: usize,
+    /// Shader modules.
+    pub(crate) shader_modules: usize,
 }
 
 impl LiveObjects {
-    pub fn of(gpu: &Gpu) -> Option<Self> {
+    /// The counts of `gpu`'s instance (`None` where wgpu has no report).
+    pub(crate) fn of(gpu: &Gpu) -> Option<Self> {
         let report = gpu.instance.generate_report()?;
         let hub = report.hub_report();
         Some(Self {
@@ -93,6 +109,7 @@ impl LiveObjects {
         })
     }
 
+    /// One line for the report.
     pub fn describe(&self) -> String {
         format!(
             "{} buffers, {} textures, {} views, {} samplers, {} bind groups, {} layouts, {}+{} pipelines, {} shader modules",
@@ -112,27 +129,40 @@ impl LiveObjects {
 /// One end-of-cycle check.
 #[derive(Debug, Clone)]
 pub struct Check {
+    /// The frame of the check.
     pub frame: u32,
+    /// Resident set, MiB.
     pub rss_mib: f64,
+    /// Live wgpu objects.
     pub live: Option<LiveObjects>,
     /// Every texel of the HDR image is finite.
     pub finite: bool,
+    /// Seconds since the start.
     pub seconds: f64,
 }
 
 /// Counts of what happened, and what failed.
 #[derive(Debug, Clone, Default)]
 pub struct SoakReport {
+    /// The end-of-cycle checks.
     pub checks: Vec<Check>,
+    /// Frames rendered.
     pub frames: u32,
+    /// Frames with moved instances.
     pub moved_frames: u32,
+    /// Meshes added.
     pub meshes_added: u32,
+    /// Meshes removed.
     pub meshes_removed: u32,
+    /// Graph swaps.
     pub graph_swaps: u32,
+    /// Shader breakages seen as errors.
     pub shader_errors: u32,
+    /// Shader fixes picked up.
     pub shader_fixes: u32,
     /// The first shader error seen, as the user would read it.
     pub shader_error_example: Option<String>,
+    /// What failed, one line each (empty: the soak passed).
     pub failures: Vec<String>,
 }
 

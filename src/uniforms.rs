@@ -9,8 +9,10 @@ pub const SHADOW_MAP_SLOTS: usize = 4;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    pub inv_view_proj: [[f32; 4]; 4],
+    /// World to clip space.
+    pub(crate) view_proj: [[f32; 4]; 4],
+    /// Clip to world space.
+    pub(crate) inv_view_proj: [[f32; 4]; 4],
     /// xyz camera position, w unused.
     pub camera_pos: [f32; 4],
     /// width, height, 1/width, 1/height.
@@ -25,13 +27,16 @@ pub struct FrameUniforms {
     pub light_count: u32,
     /// Number of shadow-map slots in use.
     pub shadow_count: u32,
-    pub frame_index: u32,
+    /// Frame counter (seeds the per-frame sample sequences).
+    pub(crate) frame_index: u32,
 }
 
 /// Light kinds of [`LightUniforms::kind`].
 pub const LIGHT_DIRECTIONAL: u32 = 0;
-pub const LIGHT_POINT: u32 = 1;
-pub const LIGHT_SPOT: u32 = 2;
+/// A point light (position, range).
+pub(crate) const LIGHT_POINT: u32 = 1;
+/// A spot light (position, direction, cones).
+pub(crate) const LIGHT_SPOT: u32 = 2;
 
 /// Mirrors `struct Light` in `shaders/common/lighting.wgsl`: one record of `scene_lights`.
 #[repr(C)]
@@ -56,21 +61,24 @@ pub struct LightUniforms {
     /// World length of the shadow map's depth range (far - near), so a depth bias given as a
     /// fraction of it is a world distance.
     pub shadow_depth_range: f32,
-    pub _pad: u32,
+    /// Padding to the WGSL struct's size.
+    pub(crate) _pad: u32,
 }
 
 /// Mirrors `struct Instance` in `shaders/common/scene.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct InstanceUniforms {
-    pub model: [[f32; 4]; 4],
+    /// Object to world space.
+    pub(crate) model: [[f32; 4]; 4],
     /// Inverse-transpose of the model matrix (for normals).
     pub normal_matrix: [[f32; 4]; 4],
     /// Index into `scene_materials`.
     pub material: u32,
     /// Index of the mesh in the scene.
     pub mesh: u32,
-    pub _pad: [u32; 2],
+    /// Padding to the WGSL struct's size.
+    pub(crate) _pad: [u32; 2],
 }
 
 /// Mirrors `struct Material` in `shaders/common/scene.wgsl`. Texture fields are layers of
@@ -78,25 +86,39 @@ pub struct InstanceUniforms {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct MaterialUniforms {
-    pub base_color: [f32; 4],
-    pub emissive: [f32; 3],
-    pub metallic: f32,
-    pub roughness: f32,
-    pub normal_scale: f32,
+    /// Linear base colour and alpha.
+    pub(crate) base_color: [f32; 4],
+    /// Linear emitted radiance (factor times strength).
+    pub(crate) emissive: [f32; 3],
+    /// Metalness, 0..1.
+    pub(crate) metallic: f32,
+    /// Perceptual roughness, 0..1.
+    pub(crate) roughness: f32,
+    /// Scale of the normal map's xy.
+    pub(crate) normal_scale: f32,
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`].
     pub flags: u32,
-    pub base_texture: u32,
-    pub metallic_roughness_texture: u32,
-    pub normal_texture: u32,
-    pub emissive_texture: u32,
+    /// Layer of the base colour texture.
+    pub(crate) base_texture: u32,
+    /// Layer of the metallic-roughness texture (glTF: roughness in g, metalness in b).
+    pub(crate) metallic_roughness_texture: u32,
+    /// Layer of the normal map (0: none).
+    pub(crate) normal_texture: u32,
+    /// Layer of the emissive texture.
+    pub(crate) emissive_texture: u32,
     /// Layer of the occlusion texture (0: none, occlusion 1).
     pub occlusion_texture: u32,
-    pub occlusion_strength: f32,
-    pub _pad: [u32; 2],
+    /// How much the occlusion texture darkens ambient light, 0..1.
+    pub(crate) occlusion_strength: f32,
+    /// Padding to the WGSL struct's size.
+    pub(crate) _pad: [u32; 2],
 }
 
-pub const MATERIAL_DOUBLE_SIDED: u32 = 1;
-pub const MATERIAL_ALPHA_MASK: u32 = 2;
-pub const MATERIAL_ALPHA_BLEND: u32 = 4;
+/// Material flag: both faces are lit and never culled.
+pub(crate) const MATERIAL_DOUBLE_SIDED: u32 = 1;
+/// Material flag: alpha-tested against `alpha_cutoff`.
+pub(crate) const MATERIAL_ALPHA_MASK: u32 = 2;
+/// Material flag: alpha-blended (glTF `BLEND`).
+pub(crate) const MATERIAL_ALPHA_BLEND: u32 = 4;

@@ -11,41 +11,14 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::{channel, Receiver};
 use std::time::{Duration, Instant};
 
-/// A virtual X server for one test, stopped on drop.
-struct XServer {
-    process: Child,
-    display: String,
-}
+use common::xvfb::XServer;
 
 impl XServer {
-    fn start() -> XServer {
-        let mut process = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap_or_else(|e| panic!("Xvfb is needed for the viewer tests (apt-get install xvfb; .ci/install-vulkan.sh does): {e}"));
-        let mut out = BufReader::new(process.stdout.take().unwrap());
-        let mut line = String::new();
-        out.read_line(&mut line).unwrap();
-        // Keep reading, so that a later write of Xvfb's never meets a closed pipe.
-        std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
-        let n: u32 = line.trim().parse().unwrap_or_else(|_| panic!("Xvfb did not report its display: {line:?}"));
-        XServer { process, display: format!(":{n}") }
-    }
-
     /// `raygraph view ARGS` on this display, run from the repository.
     fn viewer(&self, args: &[&str]) -> Command {
         let mut c = Command::new(env!("CARGO_BIN_EXE_raygraph"));
         c.current_dir(common::repo()).env("DISPLAY", &self.display).env_remove("WAYLAND_DISPLAY").arg("view").args(args);
         c
-    }
-}
-
-impl Drop for XServer {
-    fn drop(&mut self) {
-        let _ = self.process.kill();
-        let _ = self.process.wait();
     }
 }
 

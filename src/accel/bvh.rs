@@ -77,8 +77,10 @@ pub const MAX_TREE_DEPTH: usize = 64;
 /// An axis-aligned box. The empty box has `min = +inf`, `max = -inf`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
-    pub min: Vec3,
-    pub max: Vec3,
+    /// The smallest corner.
+    pub(crate) min: Vec3,
+    /// The largest corner.
+    pub(crate) max: Vec3,
 }
 
 impl Default for Aabb {
@@ -88,8 +90,10 @@ impl Default for Aabb {
 }
 
 impl Aabb {
+    /// The empty box: growing it by a point gives that point.
     pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
 
+    /// The box from `min` to `max`.
     pub fn new(min: Vec3, max: Vec3) -> Self {
         Self { min, max }
     }
@@ -111,19 +115,23 @@ impl Aabb {
         !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
     }
 
+    /// Whether both corners are finite.
     pub fn is_finite(&self) -> bool {
         self.min.is_finite() && self.max.is_finite()
     }
 
-    pub fn grow(&mut self, p: Vec3) {
+    /// Grows the box to contain `p`.
+    pub(crate) fn grow(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
 
-    pub fn union(&self, o: &Aabb) -> Aabb {
+    /// The box containing both.
+    pub(crate) fn union(&self, o: &Aabb) -> Aabb {
         Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
+    /// The centre point.
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
     }
@@ -147,11 +155,14 @@ impl Aabb {
 /// builder carries into [`Bvh::prim_order`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuildPrim {
+    /// The primitive's box.
     pub bounds: Aabb,
-    pub id: u32,
+    /// The id the builder carries into [`Bvh::prim_order`].
+    pub(crate) id: u32,
 }
 
 impl BuildPrim {
+    /// A primitive from its box and id.
     pub fn new(bounds: Aabb, id: u32) -> Self {
         Self { bounds, id }
     }
@@ -169,6 +180,7 @@ pub enum SplitMethod {
 /// Builder settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildConfig {
+    /// How nodes are split.
     pub method: SplitMethod,
     /// SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives (clamped to
     /// 2..=[`MAX_BINS`]); smaller nodes use at most [`SMALL_NODE_BINS`] of them.
@@ -190,12 +202,16 @@ impl Default for BuildConfig {
 /// leaf of `count` primitives from `left_or_first` in [`Bvh::prim_order`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BvhNode {
+    /// The node's box.
     pub bounds: Aabb,
+    /// Interior: index of the left child (the right one follows); leaf: first entry in [`Bvh::prim_order`].
     pub left_or_first: u32,
+    /// Primitives of a leaf; 0 for an interior node.
     pub count: u32,
 }
 
 impl BvhNode {
+    /// Whether the node is a leaf.
     pub fn is_leaf(&self) -> bool {
         self.count > 0
     }
@@ -205,7 +221,9 @@ impl BvhNode {
 /// the primitives in leaf order.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
+    /// The nodes, root first.
     pub nodes: Vec<BvhNode>,
+    /// Primitive ids in leaf order.
     pub prim_order: Vec<u32>,
 }
 
@@ -234,7 +252,8 @@ impl Bvh {
         Bvh { nodes, prim_order: work.iter().map(Work::id).collect() }
     }
 
-    pub fn is_empty(&self) -> bool {
+    /// Whether the tree has no nodes (no usable primitives).
+    pub(crate) fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
 
@@ -827,6 +846,7 @@ fn median_split(prims: &mut [Work], centroids: &Box3A) -> Split {
 /// Why a triangle is or is not in a BLAS.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TriangleStatus {
+    /// The triangle is in the BLAS.
     Valid,
     /// An index is out of range of the vertex array.
     BadIndex,
@@ -911,14 +931,35 @@ pub fn instance_world_bounds(b: &Aabb, xf: &DAffine3) -> Aabb {
 /// Errors of refitting an acceleration structure whose inputs changed too much.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum AccelError {
+    /// The scene's instance count differs from the structure's.
     #[error("the scene has {found} instances but the acceleration structure was built for {expected}; rebuild it")]
-    InstanceCountChanged { expected: usize, found: usize },
+    InstanceCountChanged {
+        /// Instances when built.
+        expected: usize,
+        /// Instances now.
+        found: usize,
+    },
+    /// An instance changed its mesh or its usability.
     #[error("instance {0} changed its mesh or became (un)usable; rebuild instead of refitting")]
     InstanceChanged(usize),
+    /// The scene's mesh count differs from the structure's.
     #[error("the scene has {found} meshes but the acceleration structure was built for {expected}; rebuild it")]
-    MeshCountChanged { expected: usize, found: usize },
+    MeshCountChanged {
+        /// Meshes when built.
+        expected: usize,
+        /// Meshes now.
+        found: usize,
+    },
+    /// A mesh's triangle count differs from its BLAS's.
     #[error("mesh {mesh} has {found} triangles but its BLAS was built for {expected}; rebuild it")]
-    MeshChanged { mesh: usize, expected: usize, found: usize },
+    MeshChanged {
+        /// The mesh's index.
+        mesh: usize,
+        /// Triangles when built.
+        expected: usize,
+        /// Triangles now.
+        found: usize,
+    },
 }
 
 /// A bottom-level BVH over one mesh's triangles in object space. Primitive ids in
@@ -926,15 +967,20 @@ pub enum AccelError {
 /// degenerate, non-finite or have a bad index are left out and counted.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Blas {
+    /// The tree; primitive ids are triangle indices.
     pub bvh: Bvh,
     /// Triangles in the mesh when built (`indices.len() / 3`).
     pub triangle_count: usize,
+    /// Zero-area triangles left out.
     pub dropped_degenerate: u32,
+    /// Triangles with a non-finite vertex left out.
     pub dropped_non_finite: u32,
+    /// Triangles with an index out of range left out.
     pub dropped_bad_index: u32,
 }
 
 impl Blas {
+    /// Builds the BLAS of `mesh`'s triangles.
     pub fn build(mesh: &Mesh, cfg: &BuildConfig) -> Blas {
         let tris = mesh.triangle_count();
         // The builder's work items straight from the triangles; the rare dropped ones are
@@ -968,11 +1014,13 @@ impl Blas {
         self.dropped_degenerate + self.dropped_non_finite + self.dropped_bad_index
     }
 
-    pub fn is_empty(&self) -> bool {
+    /// Whether no triangle is in the tree.
+    pub(crate) fn is_empty(&self) -> bool {
         self.bvh.is_empty()
     }
 
-    pub fn bounds(&self) -> Aabb {
+    /// The object-space box of the tree.
+    pub(crate) fn bounds(&self) -> Aabb {
         self.bvh.bounds()
     }
 
@@ -992,9 +1040,11 @@ impl Blas {
 /// instances that cannot be hit (bad mesh index, unusable transform, empty BLAS) are left out.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Tlas {
+    /// The tree; primitive ids are instance indices.
     pub bvh: Bvh,
     /// World-space box of every scene instance ([`Aabb::EMPTY`] for one left out).
     pub instance_bounds: Vec<Aabb>,
+    /// Instances left out.
     pub dropped_instances: u32,
 }
 
@@ -1031,6 +1081,7 @@ impl Tlas {
 pub struct AccelOptions {
     /// One BLAS per mesh, shared by its instances (true, the default), or one per instance.
     pub dedup: bool,
+    /// The builder's settings.
     pub build: BuildConfig,
 }
 
@@ -1052,13 +1103,16 @@ pub struct SceneAccel {
     pub instance_blas: Vec<Option<u32>>,
     /// Per scene instance: its affine transform, when usable.
     pub instance_transforms: Vec<Option<DAffine3>>,
+    /// The top level over the instances.
     pub tlas: Tlas,
-    pub dedup: bool,
+    /// Whether BLASes are shared per mesh ([`AccelOptions::dedup`]).
+    pub(crate) dedup: bool,
     /// Wall time of [`SceneAccel::build`].
     pub build_time: Duration,
 }
 
 impl SceneAccel {
+    /// Builds both levels for `scene`.
     pub fn build(scene: &Scene, opts: &AccelOptions) -> SceneAccel {
         let start = Instant::now();
         let mesh_blases: Vec<Blas> = scene.meshes.par_iter().map(|m| Blas::build(m, &opts.build)).collect();

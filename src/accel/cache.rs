@@ -33,23 +33,29 @@ pub const STAT_SLOTS: usize = 4;
 /// Ray counts of one frame, read from the GPU counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RayStats {
+    /// Closest-hit rays traced.
     pub closest: u64,
+    /// Any-hit (shadow, AO) rays traced.
     pub any: u64,
     /// Rays with NaN/Inf, a zero direction or a bad t range: counted and not traced.
     pub invalid: u64,
+    /// Rays that hit something.
     pub hits: u64,
 }
 
 impl RayStats {
+    /// Rays traced (closest and any).
     pub fn traced(&self) -> u64 {
         self.closest + self.any
     }
 
+    /// Rays traced that hit nothing.
     pub fn misses(&self) -> u64 {
         self.traced() - self.hits.min(self.traced())
     }
 
-    pub fn add(&self, o: &RayStats) -> RayStats {
+    /// The sum of both counts.
+    pub(crate) fn add(&self, o: &RayStats) -> RayStats {
         RayStats { closest: self.closest + o.closest, any: self.any + o.any, invalid: self.invalid + o.invalid, hits: self.hits + o.hits }
     }
 }
@@ -57,17 +63,23 @@ impl RayStats {
 /// What happened to the top level in an update.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum TlasWork {
+    /// Nothing to do: the top level is as it was.
     #[default]
     None,
+    /// Boxes refitted to moved instances.
     Refit,
+    /// Built again.
     Rebuild,
 }
 
 /// The work of one [`AccelCache::update`].
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BuildReport {
+    /// BLASes built this update.
     pub blas_built: usize,
+    /// BLASes kept from earlier updates.
     pub blas_reused: usize,
+    /// What happened to the top level.
     pub tlas: TlasWork,
     /// CPU time of the update (hashing, CPU builds, flattening, recording), milliseconds.
     pub cpu_ms: f64,
@@ -78,23 +90,28 @@ pub struct BuildReport {
     /// CPU milliseconds of the BLAS and TLAS builds (compute back-end; the ray-query back-end
     /// builds on the GPU inside the `Accel` pass's timestamps).
     pub blas_ms: f64,
-    pub tlas_ms: f64,
+    /// CPU milliseconds of the TLAS build.
+    pub(crate) tlas_ms: f64,
     /// SAH cost of the built BVHs, triangle-weighted over the BLASes, and of the TLAS (compute).
     pub blas_sah: Option<f64>,
-    pub tlas_sah: Option<f64>,
+    /// SAH cost of the TLAS.
+    pub(crate) tlas_sah: Option<f64>,
     /// The merged BLAS was refitted on the GPU (inside the `Accel` pass's timestamps).
     pub blas_refit: bool,
     /// The merged BLAS was built on the GPU ([`crate::accel::gpu_build`]); `blas_ms` is then
     /// the wall time until its arrays were in place, `blas_gpu_ms` the build's GPU time.
     pub blas_gpu_built: bool,
-    pub blas_gpu_ms: Option<f64>,
+    /// GPU milliseconds of the merged BLAS's GPU build.
+    pub(crate) blas_gpu_ms: Option<f64>,
 }
 
 impl BuildReport {
+    /// Whether anything was built or refitted.
     pub fn built_anything(&self) -> bool {
         self.blas_built > 0 || self.blas_refit || self.tlas != TlasWork::None
     }
 
+    /// One line for reports.
     pub fn describe(&self) -> String {
         if !self.built_anything() {
             return format!("no build ({} BLAS cached)", self.blas_count);
@@ -185,7 +202,8 @@ impl AccelSettings {
         self.merge && matches!(backend, Backend::Compute | Backend::RtPipeline)
     }
 
-    pub fn describe(&self, backend: Backend) -> String {
+    /// One line for reports of what the settings do on `backend`.
+    pub(crate) fn describe(&self, backend: Backend) -> String {
         if self.merges(backend) {
             "all instances merged into one BVH".into()
         } else {
@@ -304,7 +322,8 @@ impl AccelCache {
         self.merged_builder = builder;
     }
 
-    pub fn backend(&self) -> Backend {
+    /// The back-end the cache builds for.
+    pub(crate) fn backend(&self) -> Backend {
         self.backend
     }
 
@@ -320,7 +339,8 @@ impl AccelCache {
         scene.instances.iter().map(|i| i.mesh as u64).collect()
     }
 
-    pub fn generation(&self) -> u64 {
+    /// Changes whenever the GPU objects trace passes bind are replaced: bind groups made before must be made again.
+    pub(crate) fn generation(&self) -> u64 {
         self.generation
     }
 

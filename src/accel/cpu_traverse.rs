@@ -62,9 +62,13 @@ pub const T_FAR_SCALE: f32 = 1.000_000_5;
 /// A ray: hits are reported for `t_min < t <= t_max`, at `origin + t * dir`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray {
+    /// World-space origin.
     pub origin: Vec3,
+    /// World-space direction.
     pub dir: Vec3,
+    /// Hits are beyond this distance.
     pub t_min: f32,
+    /// Hits are at most this far.
     pub t_max: f32,
 }
 
@@ -74,6 +78,7 @@ impl Ray {
         Self { origin, dir, t_min: 0.0, t_max: f32::INFINITY }
     }
 
+    /// A ray over `(t_min, t_max]`.
     pub fn with_interval(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Self {
         Self { origin, dir, t_min, t_max }
     }
@@ -84,11 +89,17 @@ impl Ray {
 /// from the ray origin (decided in object space).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
+    /// Distance along the ray, in units of `dir`.
     pub t: f32,
+    /// The scene instance hit.
     pub instance_id: u32,
+    /// The triangle's index in its mesh.
     pub prim: u32,
+    /// Barycentric weight of `v1`.
     pub u: f32,
+    /// Barycentric weight of `v2`.
     pub v: f32,
+    /// Whether the front face was hit.
     pub front_face: bool,
 }
 
@@ -98,12 +109,14 @@ pub struct Hit {
 pub struct TraceFlags(pub u32);
 
 impl TraceFlags {
+    /// No flags.
     pub const NONE: TraceFlags = TraceFlags(0);
     /// Back faces (clockwise seen from the ray origin in object space, [`Hit::front_face`]
     /// false) are not hit. The WGSL's `TRACE_CULL_BACK_FACES`, equal to the ray-query flag
     /// `RAY_FLAG_CULL_BACK_FACING`.
     pub const CULL_BACK_FACES: TraceFlags = TraceFlags(16);
 
+    /// Whether [`TraceFlags::CULL_BACK_FACES`] is set.
     pub fn culls_back_faces(self) -> bool {
         self.0 & Self::CULL_BACK_FACES.0 != 0
     }
@@ -131,13 +144,17 @@ pub fn safe_reciprocal(d: Vec3) -> Vec3 {
 /// of the hard-case suite). The WGSL's `TraceRay::{inv_dir, c_min, c_max}`.
 #[derive(Debug, Clone, Copy)]
 pub struct SlabRay {
-    pub inv: Vec3,
-    pub c_min: Vec3,
-    pub c_max: Vec3,
+    /// The reciprocal direction.
+    pub(crate) inv: Vec3,
+    /// `-o * inv`, moved outwards, for the min planes.
+    pub(crate) c_min: Vec3,
+    /// `-o * inv`, moved outwards, for the max planes.
+    pub(crate) c_max: Vec3,
 }
 
 impl SlabRay {
-    pub fn new(o: Vec3, d: Vec3) -> Self {
+    /// The slab form of the ray from `o` along `d`.
+    pub(crate) fn new(o: Vec3, d: Vec3) -> Self {
         let inv = safe_reciprocal(d);
         let oi = -o * inv;
         let slack = oi.abs() * SLAB_SLACK;
@@ -195,17 +212,23 @@ pub fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
 /// A ray prepared for the watertight ray-triangle test in one space (object space here).
 #[derive(Debug, Clone, Copy)]
 pub struct WatertightRay {
-    pub org: Vec3,
-    pub dir: Vec3,
+    /// Origin.
+    pub(crate) org: Vec3,
+    /// Direction.
+    pub(crate) dir: Vec3,
     /// The axis of the largest `|dir|` component, and the two others (swapped when
     /// `dir[kz] < 0` to keep the winding).
     pub kx: usize,
-    pub ky: usize,
-    pub kz: usize,
+    /// The second axis.
+    pub(crate) ky: usize,
+    /// The third axis.
+    pub(crate) kz: usize,
     /// Shear `dir[kx] / dir[kz]`, `dir[ky] / dir[kz]` and scale `1 / dir[kz]`.
     pub sx: f32,
-    pub sy: f32,
-    pub sz: f32,
+    /// Shear `dir[ky] / dir[kz]`.
+    pub(crate) sy: f32,
+    /// Scale `1 / dir[kz]`.
+    pub(crate) sz: f32,
 }
 
 impl WatertightRay {
@@ -331,6 +354,7 @@ pub struct TraversalCounts {
 }
 
 impl TraversalCounts {
+    /// Adds `o`'s counts.
     pub fn add(&mut self, o: &TraversalCounts) {
         self.interior += o.interior;
         self.leaves += o.leaves;
@@ -347,12 +371,14 @@ impl TraversalCounts {
 /// Traverses a [`GpuAccel`] on the CPU.
 #[derive(Debug, Clone, Copy)]
 pub struct CpuTraverser<'a> {
-    pub accel: &'a GpuAccel,
+    /// The structure traversed.
+    pub(crate) accel: &'a GpuAccel,
     /// The scene `accel` was built from, for the alpha test (none: no alpha test).
     pub scene: Option<&'a crate::scene::Scene>,
 }
 
 impl<'a> CpuTraverser<'a> {
+    /// A traverser of `accel` without an alpha test.
     pub fn new(accel: &'a GpuAccel) -> Self {
         Self { accel, scene: None }
     }

@@ -58,10 +58,13 @@ const PARAMS_STRIDE: u64 = 256;
 /// Why a GPU build did not produce a tree.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuBuildError {
+    /// The triangle count is out of the builder's range.
     #[error("the GPU builder takes 1 to {MAX_GPU_BUILD_TRIANGLES} triangles, not {0}")]
     Size(usize),
+    /// The tree is deeper than the traversal stack.
     #[error("the GPU-built tree is {0} levels deep, past the traversal stack's {MAX_TREE_DEPTH}")]
     TooDeep(u32),
+    /// The device failed the build.
     #[error("the GPU build did not finish: {0}")]
     Device(String),
 }
@@ -72,7 +75,9 @@ pub struct GpuBlas {
     pub nodes: wgpu::Buffer,
     /// The `n` triangles in leaf order.
     pub triangles: wgpu::Buffer,
+    /// Nodes in `nodes`.
     pub node_count: u32,
+    /// Triangles in `triangles`.
     pub triangle_count: u32,
     /// Depth of the deepest leaf (root = 0).
     pub depth: u32,

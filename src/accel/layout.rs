@@ -70,9 +70,13 @@ pub const TRAVERSAL_STACK_SIZE: usize = MAX_TREE_DEPTH;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuBvhNode {
+    /// The box's smallest corner.
     pub min: [f32; 3],
+    /// Interior: index of the left child; leaf: the first triangle or instance.
     pub left_or_first: u32,
+    /// The box's largest corner.
     pub max: [f32; 3],
+    /// Triangles or instances of a leaf; 0 for an interior node.
     pub count: u32,
 }
 
@@ -83,11 +87,17 @@ pub struct GpuBvhNode {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuTriangle {
+    /// First vertex.
     pub v0: [f32; 3],
+    /// The triangle's index in its mesh.
     pub prim: u32,
+    /// Second vertex.
     pub v1: [f32; 3],
+    /// The scene instance of a merged triangle (0 otherwise).
     pub instance: u32,
+    /// Third vertex.
     pub v2: [f32; 3],
+    /// [`TRI_MIRRORED`] and [`TRI_ALPHA`] of a merged triangle (0 otherwise).
     pub flags: u32,
 }
 
@@ -118,20 +128,30 @@ pub const MERGED_INSTANCE: u32 = 0xFFFF_FFFE;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuInstance {
+    /// World to object space, row-major 3x4.
     pub world_to_object: [[f32; 4]; 3],
+    /// Object to world space, row-major 3x4.
     pub object_to_world: [[f32; 4]; 3],
+    /// Absolute index of the BLAS root in `blas_nodes`.
     pub blas_root: u32,
+    /// Index in `Scene::instances`.
     pub instance_id: u32,
+    /// Visibility mask.
     pub mask: u32,
+    /// [`INSTANCE_ALPHA`] where the instance is alpha-tested.
     pub flags: u32,
 }
 
 /// The flattened two-level BVH. Every array has at least one element.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct GpuAccel {
+    /// Every BLAS's nodes, one tree after another.
     pub blas_nodes: Vec<GpuBvhNode>,
+    /// Every BLAS's triangles, in leaf order.
     pub triangles: Vec<GpuTriangle>,
+    /// The TLAS's nodes.
     pub tlas_nodes: Vec<GpuBvhNode>,
+    /// The instances the TLAS leaves index.
     pub instances: Vec<GpuInstance>,
     /// Root of each BLAS in `blas_nodes`: per mesh with de-duplication (the default), per scene
     /// instance without. Host-side bookkeeping (empty for a scene without meshes), not a binding.
@@ -306,8 +326,11 @@ fn padding_instance(out: &mut GpuAccel, empty_blas_nodes: &mut Vec<usize>) -> Gp
 /// Where a triangle of a merged mesh came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TriangleOrigin {
+    /// The scene instance.
     pub instance: u32,
+    /// The triangle's index in the instance's mesh.
     pub prim: u32,
+    /// The instance's transform mirrors (the winding flips).
     pub mirrored: bool,
     /// The instance is alpha-tested ([`TRI_ALPHA`]).
     pub alpha: bool,

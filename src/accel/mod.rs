@@ -14,7 +14,7 @@
 //! - [`cpu_traverse`]: an f32 traversal of [`layout::GpuAccel`] that does what the WGSL does
 //!   (robust slab test, nearer-first stack traversal, watertight ray-triangle test), so the
 //!   layout and numerics are tested before any GPU runs.
-//! - [`reference`]: the brute-force f64 ray caster that tests use as ground truth for both GPU
+//! - [`reference`](mod@reference): the brute-force f64 ray caster that tests use as ground truth for both GPU
 //!   back-ends, with each hit's distance to the nearest edge to classify disagreements.
 //! - [`alpha`]: which instances are alpha-tested, the trace module's `accel_alpha` data, and the
 //!   alpha test on the CPU (level-0 bilinear texel read) for both CPU traversals.

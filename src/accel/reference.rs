@@ -36,8 +36,11 @@ use std::collections::HashMap;
 /// A reference hit; the fields mean the same as [`crate::accel::cpu_traverse::Hit`]'s.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefHit {
+    /// Distance along the ray.
     pub t: f64,
+    /// The scene instance hit.
     pub instance_id: u32,
+    /// The triangle's index in its mesh.
     pub prim: u32,
     /// Barycentric weight of `v1`.
     pub u: f64,
@@ -74,6 +77,7 @@ pub struct Reference {
 }
 
 impl Reference {
+    /// The reference of `scene`: its triangles in world space, in f64.
     pub fn new(scene: &Scene) -> Self {
         let mut tris = Vec::new();
         for (i, inst) in scene.instances.iter().enumerate() {
@@ -149,10 +153,12 @@ impl Reference {
         self.tris.iter().any(|tri| moller_trumbore(&tri.v, o, d).is_some_and(|(t, u, v, _)| t > t_min && t <= t_max && self.keeps(tri, u, v)))
     }
 
+    /// [`Reference::closest`] of each ray, in parallel.
     pub fn closest_many(&self, rays: &[Ray]) -> Vec<Option<RefHit>> {
         rays.par_iter().map(|r| self.closest(r)).collect()
     }
 
+    /// [`Reference::any`] of each ray, in parallel.
     pub fn any_many(&self, rays: &[Ray]) -> Vec<bool> {
         rays.par_iter().map(|r| self.any(r)).collect()
     }
@@ -199,7 +205,7 @@ impl Reference {
 
 impl Reference {
     /// [`Reference::closest`] and its margin (module docs): the least of the hit triangle's
-    /// [`Reference::signed_margin`] and, for every other triangle, the perturbation that would
+    /// `Reference::signed_margin` and, for every other triangle, the perturbation that would
     /// make it hit and in front of the closest hit (the larger of the two needed).
     pub fn closest_with_margin(&self, ray: &Ray) -> (Option<RefHit>, f64) {
         let best = self.closest(ray);

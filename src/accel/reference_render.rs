@@ -32,7 +32,9 @@ use rayon::prelude::*;
 /// over coordinate magnitude, [`crate::accel::reference`]'s units) that could change it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Classified<T> {
+    /// The answer.
     pub value: T,
+    /// The smallest relative perturbation of the ray that could change it.
     pub margin: f64,
 }
 
@@ -40,8 +42,11 @@ pub struct Classified<T> {
 /// the camera) and the shading normal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfacePoint {
+    /// World-space position.
     pub position: Vec3,
+    /// Geometric normal, facing the camera.
     pub geo_normal: Vec3,
+    /// Shading normal.
     pub normal: Vec3,
 }
 
@@ -50,7 +55,9 @@ pub struct SurfacePoint {
 /// ray (margin infinite), as the shader does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowPixel {
+    /// Lit by the directional light.
     pub sun: Classified<bool>,
+    /// Lit by the point light (`None` without one).
     pub point: Option<Classified<bool>>,
 }
 
@@ -58,19 +65,24 @@ pub struct ShadowPixel {
 /// final one (`range + range_scale * scene radius`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AoSettings {
+    /// Rays per pixel.
     pub rays: u32,
+    /// Ray length, world units.
     pub range: f32,
     /// 0: white noise (PCG per ray), 1: R2 rotated per pixel.
     pub sampling: u32,
+    /// Seed of the sample sequence.
     pub seed: u32,
 }
 
 /// The f64 reference renderer of one scene.
 pub struct ReferenceRenderer {
+    /// The f64 caster.
     pub reference: Reference,
 }
 
 impl ReferenceRenderer {
+    /// The renderer of `scene`.
     pub fn new(scene: &Scene) -> Self {
         Self { reference: Reference::new(scene) }
     }

@@ -23,8 +23,11 @@ pub const TREELET_NODES: usize = 512;
 /// count)` per treelet, the subtree treelets first and the top one (if any) last.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TreeletPlan {
+    /// Node indices by treelet, then by level from the deepest.
     pub nodes: Vec<u32>,
+    /// `(first, count)` per level into `nodes`.
     pub levels: Vec<[u32; 2]>,
+    /// `(first level, level count)` per treelet.
     pub treelets: Vec<[u32; 2]>,
     /// Whether the last treelet is the top part (refitted after all the others).
     pub has_top: bool,

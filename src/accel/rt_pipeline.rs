@@ -13,7 +13,7 @@
 //! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
 //!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
 //!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, its any-hit shader as patched
-//!   SPIR-V ([`any_hit`]: the alpha test, which only non-opaque geometry reaches), bind groups
+//!   SPIR-V (`any_hit`: the alpha test, which only non-opaque geometry reaches), bind groups
 //!   made through wgpu-hal over the same wgpu textures and buffers a compute pass would bind,
 //!   and the shader binding table (ray generation, miss, hit group records at the device's
 //!   alignments).
@@ -744,19 +744,29 @@ pub enum RtResource {
     /// `initialize`: a buffer the pass writes that wgpu has never seen written (see
     /// [`RtPass::transition`]).
     Buffer {
+        /// The buffer.
         buffer: wgpu::Buffer,
+        /// Byte offset of the binding.
         offset: u64,
+        /// Bytes bound (`None`: to the end).
         size: Option<NonZeroU64>,
+        /// How the pass uses it.
         uses: wgpu::BufferUses,
+        /// The pass writes it and wgpu has never seen it written.
         initialize: bool,
     },
+    /// A storage or sampled texture.
     Texture {
+        /// The texture.
         texture: wgpu::Texture,
+        /// The view bound.
         view: wgpu::TextureView,
+        /// How the pass uses it.
         uses: wgpu::TextureUses,
     },
     /// A binding array of sampled textures (the scene's).
     Textures(Vec<(wgpu::Texture, wgpu::TextureView)>),
+    /// A sampler, made by the pass.
     Sampler(wgpu::SamplerDescriptor<'static>),
     /// A binding of the trace module (`accel_*`), bound by [`RtPass::bind_accel`].
     Accel(String),
@@ -766,9 +776,12 @@ pub enum RtResource {
 /// stages) and what it is bound to.
 #[derive(Clone)]
 pub struct RtBinding {
-    pub group: u32,
-    pub entry: wgpu::BindGroupLayoutEntry,
-    pub resource: RtResource,
+    /// The bind group.
+    pub(crate) group: u32,
+    /// The layout entry.
+    pub(crate) entry: wgpu::BindGroupLayoutEntry,
+    /// What it is bound to.
+    pub(crate) resource: RtResource,
 }
 
 /// The trace module's bindings that the acceleration-structure cache holds in wgpu buffers

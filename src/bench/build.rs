@@ -16,19 +16,25 @@ use crate::scene::{LoadOptions, Scene};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+/// Settings of `raygraph bench build` (Figure 9).
 #[derive(Debug, Clone)]
 pub struct BuildBenchConfig {
+    /// Built-in scene names or glTF paths.
     pub scenes: Vec<String>,
+    /// The largest N of the N×N×N copies.
     pub max_factor: u32,
     /// Duplications with more triangles than this are skipped.
     pub max_triangles: usize,
     /// Camera rays traced through each build (a grid of this size).
     pub rays: (u32, u32),
+    /// The back-ends measured.
     pub backends: Vec<Backend>,
-    pub root: PathBuf,
+    /// Where `graph/`, `layers/` and `shaders/` are.
+    pub(crate) root: PathBuf,
 }
 
 impl BuildBenchConfig {
+    /// The settings of the published figure.
     pub fn paper(root: &Path, backends: Vec<Backend>) -> Self {
         Self {
             scenes: vec!["box".into(), "organic".into(), "atrium".into()],
@@ -40,26 +46,38 @@ impl BuildBenchConfig {
         }
     }
 
+    /// A small run for tests.
     pub fn quick(root: &Path, backends: Vec<Backend>) -> Self {
         Self { scenes: vec!["box".into(), "organic".into()], max_factor: 2, max_triangles: 100_000, rays: (32, 32), backends, root: root.to_path_buf() }
     }
 }
 
+/// One scene at one duplication on one back-end.
 #[derive(Debug, Clone)]
 pub struct BuildRow {
-    pub scene: String,
-    pub factor: u32,
-    pub triangles: usize,
-    pub backend: Backend,
-    pub blas_ms: Option<f64>,
-    pub tlas_ms: Option<f64>,
+    /// The scene.
+    pub(crate) scene: String,
+    /// N of the N×N×N copies.
+    pub(crate) factor: u32,
+    /// Triangles of all copies.
+    pub(crate) triangles: usize,
+    /// The back-end.
+    pub(crate) backend: Backend,
+    /// Milliseconds of the BLAS builds.
+    pub(crate) blas_ms: Option<f64>,
+    /// Milliseconds of the TLAS build.
+    pub(crate) tlas_ms: Option<f64>,
     /// Until the structure was usable on the GPU (CPU build, flattening and upload; or the GPU
     /// build), milliseconds.
     pub total_ms: f64,
-    pub blas_sah: Option<f64>,
-    pub tlas_sah: Option<f64>,
-    pub trace_ms: Option<f64>,
-    pub mrays_per_s: Option<f64>,
+    /// SAH cost of the BLASes.
+    pub(crate) blas_sah: Option<f64>,
+    /// SAH cost of the TLAS.
+    pub(crate) tlas_sah: Option<f64>,
+    /// GPU milliseconds of tracing the camera rays.
+    pub(crate) trace_ms: Option<f64>,
+    /// Millions of rays per second of that trace.
+    pub(crate) mrays_per_s: Option<f64>,
 }
 
 /// Camera rays through a `w`×`h` grid from the scene's default camera.
@@ -133,6 +151,7 @@ fn opt(v: Option<f64>, decimals: usize) -> String {
     v.map(|x| format!("{x:.decimals$}")).unwrap_or_default()
 }
 
+/// The rows as CSV, with the run's header.
 pub fn csv(info: &RunInfo, rows: &[BuildRow]) -> String {
     let mut s = info.csv_comment();
     s.push_str("scene,factor,triangles,backend,blas_ms,tlas_ms,total_ms,blas_sah,tlas_sah,trace_ms,mrays_per_s\n");
@@ -156,6 +175,7 @@ pub fn csv(info: &RunInfo, rows: &[BuildRow]) -> String {
     s
 }
 
+/// The rows as a markdown table with the duplications skipped, with the run's header.
 pub fn markdown(info: &RunInfo, rows: &[BuildRow], skipped: &[String]) -> String {
     let mut s = format!("# bench build\n\n{}\n", info.markdown());
     s.push_str("| scene | N | triangles | back-end | BLAS ms | TLAS ms | total ms | BLAS SAH | TLAS SAH | trace ms | Mrays/s |\n");
@@ -218,11 +238,14 @@ pub fn plots(dir: &Path, rows: &[BuildRow]) -> Result<Vec<PathBuf>, String> {
 /// once, then every instance moved a little before each of `frames` frames.
 #[derive(Debug, Clone)]
 pub struct RefitRow {
-    pub scene: String,
-    pub triangles: usize,
+    /// The scene.
+    pub(crate) scene: String,
+    /// Triangles of the merged layout.
+    pub(crate) triangles: usize,
     /// Tree levels, and the refit's dispatches (large levels one each, runs of small ones one).
     pub levels: usize,
-    pub dispatches: usize,
+    /// Dispatches of the refit.
+    pub(crate) dispatches: usize,
     /// CPU milliseconds of the first build (merge and binned-SAH build).
     pub rebuild_ms: f64,
     /// GPU milliseconds of the `Accel` pass on the refitted frames (median, min).
@@ -231,6 +254,7 @@ pub struct RefitRow {
     pub refit_cpu_ms: f64,
 }
 
+/// The refit against the rebuild of every scene of `cfg`, over `frames` moved frames.
 pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<RefitRow>, RuntimeError> {
     use crate::graph::compile::{compile_with, Project};
     use crate::graph::desc::PassKind;
@@ -283,6 +307,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
     Ok(rows)
 }
 
+/// The rows as a markdown table, with the run's header.
 pub fn refit_markdown(info: &RunInfo, rows: &[RefitRow]) -> String {
     let mut s = format!("# bench build: merged layout, GPU refit against CPU rebuild\n\n{}\n", info.markdown());
     s.push_str("| scene | triangles | tree levels | dispatches | CPU rebuild ms | GPU refit ms (median) | GPU refit ms (min) | CPU ms per refit frame |\n");
@@ -304,6 +329,7 @@ pub fn refit_markdown(info: &RunInfo, rows: &[RefitRow]) -> String {
     s
 }
 
+/// The rows as CSV, with the run's header.
 pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
     let mut s = info.csv_comment();
     s.push_str("scene,triangles,levels,dispatches,rebuild_ms,refit_gpu_ms_median,refit_gpu_ms_min,refit_cpu_ms\n");
@@ -329,22 +355,30 @@ pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
 /// rounds and depth, and both trees' SAH cost.
 #[derive(Debug, Clone)]
 pub struct GpuBuildRow {
-    pub scene: String,
-    pub triangles: usize,
-    pub gpu_ms: Option<(f64, f64)>,
+    /// The scene.
+    pub(crate) scene: String,
+    /// Triangles of the merged layout.
+    pub(crate) triangles: usize,
+    /// GPU milliseconds of the build (median, min).
+    pub(crate) gpu_ms: Option<(f64, f64)>,
     /// Median GPU milliseconds of each [`crate::accel::gpu_build::Phase`].
     pub phase_ms: Option<[f64; 4]>,
-    pub rounds: u32,
-    pub depth: u32,
+    /// Nearest-neighbour rounds of the build.
+    pub(crate) rounds: u32,
+    /// Depth of the deepest leaf.
+    pub(crate) depth: u32,
     /// CPU milliseconds of `Blas::build` of the merged mesh (median of 3).
     pub cpu_ms: f64,
     /// Wall milliseconds of what the cache does for a GPU rebuild after merging the instances:
     /// the input records, the build and the read-back of the tree (median).
     pub wall_ms: f64,
-    pub gpu_sah: f64,
-    pub cpu_sah: f64,
+    /// SAH cost of the GPU-built tree.
+    pub(crate) gpu_sah: f64,
+    /// SAH cost of the CPU-built tree.
+    pub(crate) cpu_sah: f64,
 }
 
+/// `builds` GPU builds of every scene of `cfg`'s merged layout.
 pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<Vec<GpuBuildRow>, RuntimeError> {
     use crate::accel::bvh::{Blas, BuildConfig};
     use crate::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlasBuilder};
@@ -399,6 +433,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
     Ok(rows)
 }
 
+/// The rows as a markdown table, with the run's header.
 pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = format!("# bench build: merged layout, GPU builder (PLOC) against the CPU binned-SAH build\n\n{}\n", info.markdown());
     s.push_str(
@@ -426,6 +461,7 @@ pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     s
 }
 
+/// The rows as CSV, with the run's header.
 pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = info.csv_comment();
     s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,wall_ms,cpu_ms,gpu_sah,cpu_sah\n");
@@ -458,20 +494,27 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
 /// classification included.
 #[derive(Debug, Clone)]
 pub struct CpuBuildRow {
-    pub scene: String,
-    pub triangles: usize,
+    /// The scene.
+    pub(crate) scene: String,
+    /// Triangles of the merged mesh.
+    pub(crate) triangles: usize,
     /// rayon's worker threads.
     pub threads: usize,
     /// The first build in the process (fresh memory: page faults included).
     pub first_ms: f64,
     /// Median and minimum of the builds after it.
     pub median_ms: f64,
-    pub min_ms: f64,
-    pub builds: u32,
-    pub sah: f64,
-    pub depth: usize,
+    /// Minimum milliseconds of the builds after the first.
+    pub(crate) min_ms: f64,
+    /// Builds timed.
+    pub(crate) builds: u32,
+    /// SAH cost of the tree.
+    pub(crate) sah: f64,
+    /// Depth of the deepest leaf.
+    pub(crate) depth: usize,
 }
 
+/// `builds` CPU builds of every scene of `cfg`'s merged mesh.
 pub fn run_cpu_builds(cfg: &BuildBenchConfig, builds: u32) -> Result<Vec<CpuBuildRow>, RuntimeError> {
     use crate::accel::bvh::{Blas, BuildConfig};
     use crate::accel::layout::merge_instances;
@@ -503,6 +546,7 @@ pub fn run_cpu_builds(cfg: &BuildBenchConfig, builds: u32) -> Result<Vec<CpuBuil
     Ok(rows)
 }
 
+/// The rows as a markdown table, with the run's header.
 pub fn cpu_build_markdown(info: &RunInfo, rows: &[CpuBuildRow]) -> String {
     let mut s = format!("# bench build: CPU binned-SAH build of the merged scene (one BLAS)\n\n{}\n", info.markdown());
     s.push_str("| scene | triangles | threads | first build ms | median ms | min ms | builds | SAH cost | depth |\n");
@@ -517,6 +561,7 @@ pub fn cpu_build_markdown(info: &RunInfo, rows: &[CpuBuildRow]) -> String {
     s
 }
 
+/// The rows as CSV, with the run's header.
 pub fn cpu_build_csv(info: &RunInfo, rows: &[CpuBuildRow]) -> String {
     let mut s = info.csv_comment();
     s.push_str("scene,triangles,threads,first_ms,median_ms,min_ms,builds,sah,depth\n");

@@ -14,24 +14,38 @@ use crate::scene::LoadOptions;
 use std::fmt::Write;
 use std::path::PathBuf;
 
+/// Settings of `raygraph bench depth` (reflection bounces against rays/s).
 #[derive(Debug, Clone)]
 pub struct DepthConfig {
+    /// Built-in scene name or glTF path.
     pub scene: String,
+    /// Frame size.
     pub size: (u32, u32),
+    /// The most reflection bounces measured.
     pub max_bounces: i64,
+    /// Timed frames per measurement.
     pub frames: u32,
+    /// The back-ends measured.
     pub backends: Vec<Backend>,
+    /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
 }
 
+/// One bounce count on one back-end.
 #[derive(Debug, Clone)]
 pub struct DepthRow {
-    pub backend: Backend,
-    pub bounces: i64,
-    pub reflection_ms: f64,
-    pub rays_per_pixel: f64,
-    pub grays_per_s: f64,
-    pub frame_ms: f64,
+    /// The back-end.
+    pub(crate) backend: Backend,
+    /// Reflection bounces.
+    pub(crate) bounces: i64,
+    /// GPU milliseconds of the reflection pass.
+    pub(crate) reflection_ms: f64,
+    /// Reflection rays per pixel.
+    pub(crate) rays_per_pixel: f64,
+    /// GigaRays per second of the reflection pass.
+    pub(crate) grays_per_s: f64,
+    /// GPU milliseconds of the frame.
+    pub(crate) frame_ms: f64,
 }
 
 /// `on_rows` sees the rows finished so far after each one (to keep the results folder current).
@@ -79,6 +93,7 @@ pub fn run(
     Ok(rows)
 }
 
+/// The rows as CSV, with the run's header.
 pub fn csv(info: &RunInfo, rows: &[DepthRow]) -> String {
     let mut s = info.csv_comment();
     s.push_str("backend,bounces,reflection_ms,rays_per_pixel,grays_per_s,frame_ms\n");
@@ -88,6 +103,7 @@ pub fn csv(info: &RunInfo, rows: &[DepthRow]) -> String {
     s
 }
 
+/// The rows as a markdown table, with the run's header.
 pub fn markdown(info: &RunInfo, rows: &[DepthRow]) -> String {
     let mut s = format!("# bench depth\n\n{}\n", info.markdown());
     s.push_str("| back-end | bounces | reflection ms | reflection rays/pixel | GigaRays/s | frame ms |\n| --- | ---: | ---: | ---: | ---: | ---: |\n");

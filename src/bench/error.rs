@@ -29,48 +29,67 @@ use std::path::{Path, PathBuf};
 
 /// Ceiling height and AO ray length: the reference unoccluded fraction is `(H / R)^2`.
 pub const CEILING: f32 = 0.5;
-pub const RANGE: f32 = 1.0;
+/// AO ray length of the closed-form scene.
+pub(crate) const RANGE: f32 = 1.0;
 
 /// The sampling schemes of `layers/rt_ao.ron` (its `sampling` parameter).
 pub const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
 
+/// Settings of `raygraph bench error`.
 #[derive(Debug, Clone)]
 pub struct ErrorConfig {
+    /// Frame size.
     pub size: (u32, u32),
     /// Rays per pixel run: 1, 2, 4, ... up to this.
     pub max_rays: i64,
-    pub seeds: u32,
+    /// Seeds per ray count.
+    pub(crate) seeds: u32,
     /// Untimed frames before the timed ones of every seed (the GPU's clocks rise under load).
     pub warmup: u32,
-    pub frames: u32,
+    /// Timed frames per seed.
+    pub(crate) frames: u32,
+    /// The back-ends measured.
     pub backends: Vec<Backend>,
-    pub root: PathBuf,
+    /// Where `graph/`, `layers/` and `shaders/` are.
+    pub(crate) root: PathBuf,
 }
 
 impl ErrorConfig {
+    /// The settings of the published tables.
     pub fn full(root: &Path, backends: Vec<Backend>) -> Self {
         Self { size: (256, 256), max_rays: 256, seeds: 8, warmup: 20, frames: 10, backends, root: root.to_path_buf() }
     }
 
+    /// A small run for tests.
     pub fn quick(root: &Path, backends: Vec<Backend>) -> Self {
         Self { size: (32, 32), max_rays: 64, seeds: 4, warmup: 1, frames: 1, backends, root: root.to_path_buf() }
     }
 }
 
+/// One ray count of one sampling scheme on one back-end, over all seeds.
 #[derive(Debug, Clone)]
 pub struct ErrorRow {
-    pub backend: Backend,
-    pub sampling: &'static str,
-    pub rays: i64,
-    pub ao_ms: f64,
-    pub rmse: f64,
-    pub relmse: f64,
-    pub bias: f64,
-    pub variance: f64,
+    /// The back-end.
+    pub(crate) backend: Backend,
+    /// The sampling scheme ([`SCHEMES`]).
+    pub(crate) sampling: &'static str,
+    /// AO rays per pixel.
+    pub(crate) rays: i64,
+    /// GPU milliseconds of the AO pass.
+    pub(crate) ao_ms: f64,
+    /// Root mean square error against the closed form.
+    pub(crate) rmse: f64,
+    /// Relative mean square error.
+    pub(crate) relmse: f64,
+    /// Mean error (bias).
+    pub(crate) bias: f64,
+    /// Variance over seeds.
+    pub(crate) variance: f64,
     /// FLIP (NVIDIA's perceptual difference, `nv-flip`) of the AO images shown as grey against
     /// the reference grey: mean and 99th percentile over all pixels of all seeds.
     pub flip_mean: f64,
-    pub flip_p99: f64,
+    /// 99th percentile of FLIP.
+    pub(crate) flip_p99: f64,
 }
 
 /// The floor, the ceiling (a floor turned over, facing down) and a camera between them looking
@@ -217,6 +236,7 @@ fn csv_file(info: &RunInfo, header: &str, lines: impl Iterator<Item = String>) -
     s
 }
 
+/// The rows as CSV, with the run's header.
 pub fn csv(info: &RunInfo, rows: &[ErrorRow]) -> String {
     csv_file(
         info,
@@ -230,6 +250,7 @@ pub fn csv(info: &RunInfo, rows: &[ErrorRow]) -> String {
     )
 }
 
+/// The rows as markdown tables (fitted slopes, equal-error and equal-time tables), with the run's header.
 pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
     let mut s = format!("# bench error: ambient occlusion against the closed form\n\n{}\n", info.markdown());
     let _ = writeln!(
@@ -301,20 +322,28 @@ pub fn plots(dir: &Path, rows: &[ErrorRow]) -> Result<Vec<PathBuf>, String> {
 /// GPU frame times.
 #[derive(Debug, Clone)]
 pub struct HybridRow {
-    pub backend: Backend,
-    pub scene: String,
+    /// The back-end.
+    pub(crate) backend: Backend,
+    /// The scene.
+    pub(crate) scene: String,
     /// With the scene's textures, or with every material's constant colour only.
     pub textures: bool,
-    pub hybrid_ms: f64,
-    pub full_rt_ms: f64,
+    /// GPU milliseconds of a hybrid frame.
+    pub(crate) hybrid_ms: f64,
+    /// GPU milliseconds of a full-RT frame.
+    pub(crate) full_rt_ms: f64,
     /// Over the 8-bit RGB output: RMSE (in 8-bit units), the fraction of pixels with a channel
     /// differing by more than 8, and FLIP (mean, 99th percentile).
     pub rmse: f64,
-    pub differing: f64,
-    pub flip_mean: f64,
-    pub flip_p99: f64,
+    /// Fraction of pixels with a channel differing by more than 8.
+    pub(crate) differing: f64,
+    /// Mean FLIP.
+    pub(crate) flip_mean: f64,
+    /// 99th percentile of FLIP.
+    pub(crate) flip_p99: f64,
 }
 
+/// Hybrid against full RT on `scenes` at `size`, on every back-end of `cfg`.
 pub fn run_hybrid(gpu: &Gpu, cfg: &ErrorConfig, scenes: &[&str], size: (u32, u32)) -> Result<Vec<HybridRow>, RuntimeError> {
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let mut rows = Vec::new();
@@ -360,6 +389,7 @@ pub fn run_hybrid(gpu: &Gpu, cfg: &ErrorConfig, scenes: &[&str], size: (u32, u32
     Ok(rows)
 }
 
+/// The rows as CSV, with the run's header.
 pub fn hybrid_csv(info: &RunInfo, rows: &[HybridRow]) -> String {
     csv_file(
         info,
@@ -373,6 +403,7 @@ pub fn hybrid_csv(info: &RunInfo, rows: &[HybridRow]) -> String {
     )
 }
 
+/// The rows as a markdown table, with the run's header.
 pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
     let mut s = format!("# bench error: hybrid against full ray tracing\n\n{}\n", info.markdown());
     s.push_str("Full RT's image is the reference; RMSE in 8-bit units over RGB; differing: pixels with a channel more than 8 apart.\n\n");
@@ -399,7 +430,9 @@ pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
 /// graph's shadow-map settings.
 #[derive(Debug, Clone)]
 pub struct ShadowMapSweep {
-    pub scenes: Vec<String>,
+    /// The scenes.
+    pub(crate) scenes: Vec<String>,
+    /// Frame size.
     pub size: (u32, u32),
     /// Shadow-map sizes (square texels): copies of `layers/shadow_map.ron` with that size.
     pub resolutions: Vec<u32>,
@@ -410,6 +443,7 @@ pub struct ShadowMapSweep {
 }
 
 impl ShadowMapSweep {
+    /// The sweep of the published tables.
     pub fn full() -> Self {
         Self {
             scenes: vec!["default".into(), "atrium".into()],
@@ -420,6 +454,7 @@ impl ShadowMapSweep {
         }
     }
 
+    /// A small sweep for tests.
     pub fn quick() -> Self {
         Self { scenes: vec!["default".into()], size: (128, 72), resolutions: vec![256, 1024], biases: vec![0.0, 1e-4, 1e-2], normal_offsets: vec![0.0, 1.0] }
     }
@@ -430,17 +465,26 @@ impl ShadowMapSweep {
 /// the pixels the rays light; `false_lit` = lit by the map among those the rays shadow.
 #[derive(Debug, Clone)]
 pub struct ShadowMapRow {
-    pub scene: String,
-    pub resolution: u32,
-    pub bias: f64,
-    pub normal_offset: f64,
-    pub lit_pixels: usize,
-    pub shadowed_pixels: usize,
-    pub false_shadow: f64,
-    pub false_lit: f64,
+    /// The scene.
+    pub(crate) scene: String,
+    /// Shadow-map size, texels.
+    pub(crate) resolution: u32,
+    /// The `shadow_bias`.
+    pub(crate) bias: f64,
+    /// The `normal_offset`.
+    pub(crate) normal_offset: f64,
+    /// Pixels the rays light.
+    pub(crate) lit_pixels: usize,
+    /// Pixels the rays shadow.
+    pub(crate) shadowed_pixels: usize,
+    /// Shadowed by the map among the pixels the rays light.
+    pub(crate) false_shadow: f64,
+    /// Lit by the map among the pixels the rays shadow.
+    pub(crate) false_lit: f64,
     /// GPU ms of the shadow-map pass (median), and of the ray-traced shadow pass it replaces.
     pub shadow_map_ms: f64,
-    pub rt_shadow_ms: f64,
+    /// GPU milliseconds of the ray-traced shadow pass.
+    pub(crate) rt_shadow_ms: f64,
 }
 
 /// The shadow-map visibility of every pixel of the raster graph (`graph/raster.ron`) with the
@@ -593,6 +637,7 @@ impl Drop for SweepDir {
     }
 }
 
+/// The rows as CSV, with the run's header.
 pub fn shadow_map_csv(info: &RunInfo, rows: &[ShadowMapRow]) -> String {
     csv_file(
         info,
@@ -606,6 +651,7 @@ pub fn shadow_map_csv(info: &RunInfo, rows: &[ShadowMapRow]) -> String {
     )
 }
 
+/// The rows as a markdown table, with the run's header.
 pub fn shadow_map_markdown(info: &RunInfo, rows: &[ShadowMapRow]) -> String {
     let mut s = format!("# bench error: shadow maps against ray-traced shadows\n\n{}\n", info.markdown());
     s.push_str(

@@ -16,15 +16,22 @@ use std::path::{Path, PathBuf};
 /// The header every results file starts with.
 #[derive(Debug, Clone)]
 pub struct RunInfo {
-    pub command: String,
-    pub adapter: String,
-    pub width: u32,
-    pub height: u32,
-    pub revision: String,
-    pub date: String,
+    /// The command line that produced the results.
+    pub(crate) command: String,
+    /// The adapter ([`crate::runtime::Gpu::describe`]).
+    pub(crate) adapter: String,
+    /// Frame width.
+    pub(crate) width: u32,
+    /// Frame height.
+    pub(crate) height: u32,
+    /// The git revision the binary was built from.
+    pub(crate) revision: String,
+    /// When the run started.
+    pub(crate) date: String,
 }
 
 impl RunInfo {
+    /// The header of a run of `command` on `gpu` at `size`.
     pub fn new(command: &str, gpu: &crate::runtime::Gpu, size: (u32, u32)) -> Self {
         let revision = env!("RAYGRAPH_REVISION").to_string();
         let date = std::process::Command::new("date")

@@ -19,18 +19,26 @@ fn init_font() {
 
 /// One named series of (x, y) points.
 pub struct Series {
-    pub name: String,
-    pub points: Vec<(f64, f64)>,
+    /// The name in the legend.
+    pub(crate) name: String,
+    /// The points, in x order.
+    pub(crate) points: Vec<(f64, f64)>,
 }
 
 /// A line plot with points; `x_labels` names integer x positions (categorical axes).
 pub struct LinePlot<'a> {
-    pub title: &'a str,
-    pub x_label: &'a str,
-    pub y_label: &'a str,
-    pub log_x: bool,
-    pub log_y: bool,
-    pub x_labels: Option<&'a [String]>,
+    /// The plot's title.
+    pub(crate) title: &'a str,
+    /// The x axis's label.
+    pub(crate) x_label: &'a str,
+    /// The y axis's label.
+    pub(crate) y_label: &'a str,
+    /// A logarithmic x axis.
+    pub(crate) log_x: bool,
+    /// A logarithmic y axis.
+    pub(crate) log_y: bool,
+    /// Names of the integer x positions, for a categorical axis.
+    pub(crate) x_labels: Option<&'a [String]>,
 }
 
 const SIZE: (u32, u32) = (900, 560);

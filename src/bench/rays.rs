@@ -17,18 +17,23 @@ use crate::scene::{Camera, LoadOptions, Scene};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+/// Settings of `raygraph bench rays` (Table 3).
 #[derive(Debug, Clone)]
 pub struct RaysConfig {
     /// Built-in scene names or glTF paths.
     pub scenes: Vec<String>,
+    /// Frame size.
     pub size: (u32, u32),
     /// Timed frames per measurement (after `warmup` frames).
     pub frames: u32,
-    pub warmup: u32,
+    /// Untimed frames before each measurement.
+    pub(crate) warmup: u32,
+    /// AO rays per pixel.
     pub ao_rays: i64,
     /// Primary rays per pixel of the Miss and Stress tests.
     pub primary_rays: i64,
-    pub backends: Vec<Backend>,
+    /// The back-ends measured.
+    pub(crate) backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
 }
@@ -68,12 +73,18 @@ impl RaysConfig {
 pub struct RaysRow {
     /// Scene name, `Miss` or `Stress`.
     pub test: String,
-    pub backend: Backend,
-    pub fps: f64,
-    pub gpu_ms: f64,
-    pub rays_per_frame: u64,
-    pub rays_per_pixel: f64,
-    pub grays_per_s: f64,
+    /// The back-end.
+    pub(crate) backend: Backend,
+    /// Frames per second.
+    pub(crate) fps: f64,
+    /// GPU milliseconds per frame.
+    pub(crate) gpu_ms: f64,
+    /// Rays traced per frame.
+    pub(crate) rays_per_frame: u64,
+    /// Rays per pixel.
+    pub(crate) rays_per_pixel: f64,
+    /// GigaRays per second.
+    pub(crate) grays_per_s: f64,
     /// Fraction of rays that hit.
     pub hit_fraction: f64,
     /// The raster graph's frame rate on the same view (scene rows).

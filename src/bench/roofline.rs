@@ -21,12 +21,17 @@ use std::fmt::Write;
 /// The H100's aggregate L1 bandwidth: 132 SMs x 128 bytes per clock x 1.98 GHz.
 pub const H100_L1_BYTES_PER_S: f64 = 132.0 * 128.0 * 1.98e9;
 
+/// One test's bytes per ray.
 #[derive(Debug, Clone)]
 pub struct RooflineRow {
-    pub test: String,
-    pub rays: u64,
-    pub per_ray: [f64; 4],
-    pub bytes_per_ray: f64,
+    /// The test's name.
+    pub(crate) test: String,
+    /// Rays counted.
+    pub(crate) rays: u64,
+    /// Interior nodes, leaves, triangles and instances visited per ray.
+    pub(crate) per_ray: [f64; 4],
+    /// Bytes loaded per ray.
+    pub(crate) bytes_per_ray: f64,
     /// Load-bound ceiling at the given bandwidth, GigaRays/s.
     pub ceiling: f64,
     /// From a `bench rays` CSV, if given: achieved GigaRays/s.
@@ -124,6 +129,7 @@ pub fn with_achieved(rows: &mut [RooflineRow], rays_csv: &str) {
     }
 }
 
+/// The rows as a markdown table, at `bandwidth` bytes/s, for rays sampled every `stride` pixels.
 pub fn markdown(rows: &[RooflineRow], bandwidth: f64, stride: u32) -> String {
     let mut s = String::from("# bench roofline: bytes per ray of the compute back-end\n\n");
     let _ = writeln!(
@@ -145,6 +151,7 @@ pub fn markdown(rows: &[RooflineRow], bandwidth: f64, stride: u32) -> String {
     s
 }
 
+/// The rows as CSV.
 pub fn csv(rows: &[RooflineRow]) -> String {
     let mut s = String::from("test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays\n");
     for r in rows {

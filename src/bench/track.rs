@@ -12,29 +12,44 @@ use crate::scene::LoadOptions;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
+/// Settings of `raygraph bench track` (Figures 10 and 11).
 #[derive(Debug, Clone)]
 pub struct TrackConfig {
+    /// Built-in scene name or glTF path.
     pub scene: String,
+    /// The camera track played.
     pub track: PathBuf,
+    /// Frame size.
     pub size: (u32, u32),
     /// Play every `stride`-th frame of the track.
     pub stride: u32,
+    /// The back-ends measured (trace modes).
     pub backends: Vec<Backend>,
+    /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
 }
 
+/// One frame of one mode.
 #[derive(Debug, Clone)]
 pub struct TrackRow {
-    pub mode: &'static str,
-    pub backend: Option<Backend>,
-    pub frame: u32,
-    pub gpu_ms: f64,
-    pub fps: f64,
-    pub rays: u64,
-    pub grays_per_s: f64,
+    /// The mode's name.
+    pub(crate) mode: &'static str,
+    /// The back-end (`None` for raster).
+    pub(crate) backend: Option<Backend>,
+    /// Frame index in the track.
+    pub(crate) frame: u32,
+    /// GPU milliseconds.
+    pub(crate) gpu_ms: f64,
+    /// Frames per second.
+    pub(crate) fps: f64,
+    /// Rays traced.
+    pub(crate) rays: u64,
+    /// GigaRays per second.
+    pub(crate) grays_per_s: f64,
 }
 
-pub const MODES: [(&str, &str); 3] = [("raster", "graph/raster.ron"), ("hybrid", "graph/hybrid.ron"), ("full-rt", "graph/full_rt.ron")];
+/// The modes played: name and graph file.
+pub(crate) const MODES: [(&str, &str); 3] = [("raster", "graph/raster.ron"), ("hybrid", "graph/hybrid.ron"), ("full-rt", "graph/full_rt.ron")];
 
 /// `on_rows` sees the rows finished so far after each mode (to keep the results folder current).
 pub fn run(
@@ -70,6 +85,7 @@ pub fn run(
     Ok(rows)
 }
 
+/// The rows as CSV, with the run's header.
 pub fn csv(info: &RunInfo, rows: &[TrackRow]) -> String {
     let mut s = info.csv_comment();
     s.push_str("mode,backend,frame,gpu_ms,fps,rays,grays_per_s\n");

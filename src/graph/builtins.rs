@@ -4,25 +4,25 @@
 use crate::scene::gpu::SceneUsage;
 use crate::uniforms::FrameUniforms;
 
-pub const FRAME: &str = "frame";
-pub const PARAMS: &str = "params";
-pub const DEBUG_COUNTERS: &str = "debug_counters";
-pub const SCENE_INSTANCES: &str = "scene_instances";
-pub const SCENE_TEXTURES: &str = "scene_textures";
-pub const SCENE_MATERIALS: &str = "scene_materials";
+pub(crate) const FRAME: &str = "frame";
+pub(crate) const PARAMS: &str = "params";
+pub(crate) const DEBUG_COUNTERS: &str = "debug_counters";
+pub(crate) const SCENE_INSTANCES: &str = "scene_instances";
+pub(crate) const SCENE_TEXTURES: &str = "scene_textures";
+pub(crate) const SCENE_MATERIALS: &str = "scene_materials";
 /// Every mesh's vertices (`array<SceneVertex>`), indices (`array<u32>`) and ranges
 /// (`array<MeshRecord>`): what a trace pass reads to shade a hit.
 pub const SCENE_VERTICES: &str = "scene_vertices";
-pub const SCENE_INDICES: &str = "scene_indices";
-pub const SCENE_MESHES: &str = "scene_meshes";
+pub(crate) const SCENE_INDICES: &str = "scene_indices";
+pub(crate) const SCENE_MESHES: &str = "scene_meshes";
 /// The lights (`array<Light>`, `shaders/common/lighting.wgsl`): `Scene::effective_lights()`,
 /// `frame.light_count` of them, rewritten every frame.
 pub const SCENE_LIGHTS: &str = "scene_lights";
 /// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
 /// uniform buffers).
 pub const SCENE_TEXTURES_GROUP: u32 = 1;
-pub const LINEAR_SAMPLER: &str = "linear_sampler";
-pub const NEAREST_SAMPLER: &str = "nearest_sampler";
+pub(crate) const LINEAR_SAMPLER: &str = "linear_sampler";
+pub(crate) const NEAREST_SAMPLER: &str = "nearest_sampler";
 
 /// The bind group of the trace module's bindings (`accel_*`, declared by the back-end's
 /// `trace/*.wgsl`, never by a pass's own shader).
@@ -36,11 +36,11 @@ pub fn is_accel_binding(name: &str) -> bool {
 /// Number of u32 counters in the `debug_counters` buffer.
 pub const DEBUG_COUNTER_COUNT: u32 = 16;
 
-pub fn frame_uniform_size() -> u32 {
+pub(crate) fn frame_uniform_size() -> u32 {
     std::mem::size_of::<FrameUniforms>() as u32
 }
 
-pub fn is_builtin(name: &str) -> bool {
+pub(crate) fn is_builtin(name: &str) -> bool {
     matches!(
         name,
         FRAME

@@ -11,7 +11,8 @@ use std::fmt;
 pub struct GraphDesc {
     /// The resource presented as the frame's image, as `"node.output"`.
     pub output: String,
-    pub nodes: BTreeMap<String, NodeDesc>,
+    /// The graph's nodes by name.
+    pub(crate) nodes: BTreeMap<String, NodeDesc>,
 }
 
 /// A node of a graph file.
@@ -42,6 +43,7 @@ impl Default for AccelNode {
     }
 }
 
+/// A node that instantiates a layer file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LayerNode {
@@ -67,13 +69,17 @@ fn enabled_default() -> bool {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(untagged)]
 pub enum ParamValue {
+    /// `true` or `false`.
     Bool(bool),
+    /// An integer (also an enum parameter's index).
     Int(i64),
+    /// A float.
     Float(f64),
 }
 
 impl ParamValue {
-    pub fn type_name(&self) -> &'static str {
+    /// `bool`, `int` or `float`, for messages.
+    pub(crate) fn type_name(&self) -> &'static str {
         match self {
             ParamValue::Bool(_) => "bool",
             ParamValue::Int(_) => "int",
@@ -106,21 +112,28 @@ fn write_float(f: &mut fmt::Formatter<'_>, x: f64) -> fmt::Result {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Layer")]
 pub struct LayerDesc {
+    /// Resources the layer reads from other nodes.
     #[serde(default)]
-    pub inputs: BTreeMap<String, ResourceDecl>,
+    pub(crate) inputs: BTreeMap<String, ResourceDecl>,
+    /// Resources the layer gives other nodes.
     #[serde(default)]
-    pub outputs: BTreeMap<String, ResourceDecl>,
+    pub(crate) outputs: BTreeMap<String, ResourceDecl>,
     /// Resources private to the layer, written by one of its passes and read by another.
     #[serde(default)]
     pub transients: BTreeMap<String, ResourceDecl>,
+    /// Parameters a graph file may set.
     #[serde(default)]
-    pub params: BTreeMap<String, ParamDecl>,
-    pub passes: Vec<PassDesc>,
+    pub(crate) params: BTreeMap<String, ParamDecl>,
+    /// The layer's passes, in order.
+    pub(crate) passes: Vec<PassDesc>,
 }
 
+/// A declared resource: a texture, a buffer, or the acceleration structure.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 pub enum ResourceDecl {
+    /// A texture.
     Texture(TextureDecl),
+    /// A storage buffer.
     Buffer(BufferDecl),
     /// The scene's acceleration structure (produced by an `Accel` node, read by trace passes
     /// through the back-end's trace module).
@@ -161,18 +174,22 @@ impl ResourceDecl {
     }
 }
 
+/// A declared texture.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureDecl {
-    pub format: Format,
+    /// The texel format.
+    pub(crate) format: Format,
+    /// The size, relative to the frame by default.
     #[serde(default)]
-    pub size: SizeDecl,
+    pub(crate) size: SizeDecl,
     /// For a layer input: the value it reads (a 1x1 texture) when its producer is switched
     /// off or it is not connected. Inputs without one must be connected.
     #[serde(default)]
     pub fallback: Option<(f32, f32, f32, f32)>,
 }
 
+/// A declared storage buffer.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BufferDecl {
@@ -185,6 +202,7 @@ pub struct BufferDecl {
 pub enum SizeDecl {
     /// A fraction of the frame size (1.0 = full resolution).
     Relative(f32),
+    /// A size in texels.
     Absolute(u32, u32),
 }
 
@@ -209,7 +227,8 @@ impl fmt::Display for SizeDecl {
 }
 
 impl SizeDecl {
-    pub fn resolve(&self, frame: (u32, u32)) -> (u32, u32) {
+    /// The size in texels for a frame of `frame` pixels (at least 1x1).
+    pub(crate) fn resolve(&self, frame: (u32, u32)) -> (u32, u32) {
         match *self {
             SizeDecl::Relative(s) => (((frame.0 as f32 * s).round() as u32).max(1), ((frame.1 as f32 * s).round() as u32).max(1)),
             SizeDecl::Absolute(w, h) => (w.max(1), h.max(1)),
@@ -220,18 +239,31 @@ impl SizeDecl {
 /// Texture formats a layer may declare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 pub enum Format {
+    /// One 8-bit normalized channel.
     R8Unorm,
+    /// Two 8-bit normalized channels.
     Rg8Unorm,
+    /// Four 8-bit normalized channels.
     Rgba8Unorm,
+    /// Four 8-bit normalized channels, sRGB-encoded colour.
     Rgba8UnormSrgb,
+    /// One 16-bit float channel.
     R16Float,
+    /// Two 16-bit float channels.
     Rg16Float,
+    /// Four 16-bit float channels.
     Rgba16Float,
+    /// One 32-bit float channel.
     R32Float,
+    /// Two 32-bit float channels.
     Rg32Float,
+    /// Four 32-bit float channels.
     Rgba32Float,
+    /// One 32-bit unsigned integer channel.
     R32Uint,
+    /// Four 32-bit unsigned integer channels.
     Rgba32Uint,
+    /// 32-bit float depth.
     Depth32Float,
 }
 
@@ -244,7 +276,8 @@ impl fmt::Display for Format {
 }
 
 impl Format {
-    pub fn to_wgpu(self) -> wgpu::TextureFormat {
+    /// The wgpu format.
+    pub(crate) fn to_wgpu(self) -> wgpu::TextureFormat {
         use wgpu::TextureFormat as T;
         match self {
             Format::R8Unorm => T::R8Unorm,
@@ -282,11 +315,13 @@ impl Format {
         })
     }
 
-    pub fn is_depth(self) -> bool {
+    /// Whether it is the depth format.
+    pub(crate) fn is_depth(self) -> bool {
         matches!(self, Format::Depth32Float)
     }
 
-    pub fn is_uint(self) -> bool {
+    /// Whether its channels are unsigned integers.
+    pub(crate) fn is_uint(self) -> bool {
         matches!(self, Format::R32Uint | Format::Rgba32Uint)
     }
 
@@ -333,7 +368,8 @@ impl Format {
         Some(out)
     }
 
-    pub fn bytes_per_texel(self) -> u64 {
+    /// Bytes of one texel.
+    pub(crate) fn bytes_per_texel(self) -> u64 {
         let (channels, kind) = self.texel_layout();
         (channels * kind.bytes()) as u64
     }
@@ -342,9 +378,13 @@ impl Format {
 /// How each channel of a texel is stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TexelKind {
+    /// 8-bit normalized.
     Unorm8,
+    /// 16-bit float.
     Float16,
+    /// 32-bit float.
     Float32,
+    /// 32-bit unsigned integer.
     Uint32,
 }
 
@@ -363,29 +403,42 @@ impl TexelKind {
 /// uniform struct named `params` whose members are matched by name.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 pub enum ParamDecl {
+    /// A float parameter.
     Float {
+        /// The value without an override.
         default: f64,
+        /// The smallest value allowed.
         min: f64,
+        /// The largest value allowed.
         max: f64,
     },
+    /// An integer parameter.
     Int {
+        /// The value without an override.
         default: i64,
+        /// The smallest value allowed.
         min: i64,
+        /// The largest value allowed.
         max: i64,
     },
+    /// A switch.
     Bool {
+        /// The value without an override.
         default: bool,
     },
     /// One of named choices; the shader sees the chosen one's index (i32 or u32), and a graph
     /// file sets it by index.
     Enum {
+        /// The chosen value's name without an override.
         default: String,
+        /// The names of the choices, in index order.
         values: Vec<String>,
     },
 }
 
 impl ParamDecl {
-    pub fn type_name(&self) -> &'static str {
+    /// `float`, `int`, `bool` or `enum`, for messages.
+    pub(crate) fn type_name(&self) -> &'static str {
         match self {
             ParamDecl::Float { .. } => "float",
             ParamDecl::Int { .. } => "int",
@@ -410,8 +463,10 @@ impl ParamDecl {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Pass")]
 pub struct PassDesc {
-    pub name: String,
-    pub kind: PassKind,
+    /// The pass's name, unique in its layer.
+    pub(crate) name: String,
+    /// What kind of GPU work it is.
+    pub(crate) kind: PassKind,
     /// WGSL file, relative to the `shaders/` directory beside the layers directory (none for
     /// `Rust` passes).
     #[serde(default)]
@@ -430,8 +485,9 @@ pub struct PassDesc {
     /// render passes, in fragment output order; a depth texture becomes the depth attachment).
     #[serde(default)]
     pub writes: Vec<String>,
+    /// How many workgroups a compute pass dispatches.
     #[serde(default)]
-    pub dispatch: Dispatch,
+    pub(crate) dispatch: Dispatch,
     /// `SceneRaster` only: the rasterizer culls the back faces of single-sided materials (the
     /// default; glTF `doubleSided` materials are drawn on both sides, and mirroring instance
     /// transforms are accounted for). `false` draws both sides of every material.
@@ -444,6 +500,7 @@ pub struct PassDesc {
     pub shadow_slot: Option<u32>,
 }
 
+/// The kind of GPU work of a pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 pub enum PassKind {
     /// A compute shader dispatch.
@@ -465,6 +522,7 @@ pub enum PassKind {
 }
 
 impl PassKind {
+    /// The kind's name in pass tables (`compute`, `scene_raster`, ...).
     pub fn name(self) -> &'static str {
         match self {
             PassKind::Compute => "compute",

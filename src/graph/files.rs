@@ -17,7 +17,8 @@ pub const BUILTIN_PREFIX: &str = "<built-in>";
 pub struct FileText {
     /// The disk path, or `<built-in>/<relative path>` for an embedded copy.
     pub path: PathBuf,
-    pub text: String,
+    /// The file's text.
+    pub(crate) text: String,
 }
 
 /// The built-in text of a relative path such as `layers/forward.ron`.

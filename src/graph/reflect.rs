@@ -18,6 +18,7 @@ const ENABLE_SEGMENT: &str = "<enable directives>";
 /// after the main file, so the main file's line numbers stay as written.
 #[derive(Debug, Clone)]
 pub struct ShaderSource {
+    /// The assembled WGSL.
     pub text: String,
     /// (file, byte offset where its text starts in `text`)
     segments: Vec<(PathBuf, usize)>,
@@ -104,7 +105,8 @@ impl ShaderSource {
         self.segments.iter().map(|(p, _)| p.as_path()).filter(|p| *p != Path::new(ENABLE_SEGMENT))
     }
 
-    pub fn main_file(&self) -> &Path {
+    /// The main file (the one the text was assembled for).
+    pub(crate) fn main_file(&self) -> &Path {
         self.files().next().unwrap_or(Path::new(""))
     }
 }
@@ -112,36 +114,56 @@ impl ShaderSource {
 /// What a global binding is, as far as a bind group layout cares.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BindingKind {
+    /// A sampled texture (`texture_2d<f32>`, `texture_2d_array<u32>`, ...).
     SampledTexture {
+        /// Its dimension.
         dim: naga::ImageDimension,
+        /// Whether it is an array texture.
         arrayed: bool,
+        /// The sample type.
         kind: naga::ScalarKind,
     },
     /// `binding_array<texture_2d<f32>>` (unsized): one texture per element.
     TextureBindingArray,
+    /// A ray-query acceleration structure.
     AccelerationStructure,
+    /// `texture_depth_2d`.
     DepthTexture,
+    /// A storage texture.
     StorageTexture {
+        /// Its texel format.
         format: naga::StorageFormat,
+        /// Read, write or both.
         access: naga::StorageAccess,
     },
+    /// A sampler.
     Sampler {
+        /// A comparison sampler (`sampler_comparison`).
         comparison: bool,
     },
+    /// A uniform buffer.
     Uniform {
+        /// The struct's size in bytes.
         size: u32,
+        /// The struct's scalar and vector members (the `params` struct is matched by them).
         members: Vec<UniformMember>,
+        /// The struct's WGSL name.
         type_name: Option<String>,
     },
+    /// A storage buffer.
     Storage {
+        /// `var<storage, read>`.
         read_only: bool,
+        /// The smallest size a bound buffer may have, in bytes.
         min_size: u32,
     },
+    /// Anything else, as WGSL writes its declaration.
     Other(String),
 }
 
 impl BindingKind {
-    pub fn describe(&self) -> String {
+    /// The binding's type as WGSL writes it, for messages.
+    pub(crate) fn describe(&self) -> String {
         match self {
             BindingKind::SampledTexture { dim, arrayed, kind } => {
                 format!("texture_{}{}<{}>", dim.to_wgsl(), if *arrayed { "_array" } else { "" }, sample_type_name(*kind))
@@ -181,7 +203,8 @@ fn global_type_name(module: &naga::Module, space: naga::AddressSpace, inner: &na
     }
 }
 
-pub fn access_name(access: naga::StorageAccess) -> &'static str {
+/// The WGSL access mode of a storage binding (`read`, `write`, `read_write`).
+pub(crate) fn access_name(access: naga::StorageAccess) -> &'static str {
     let r = access.contains(naga::StorageAccess::LOAD);
     let w = access.contains(naga::StorageAccess::STORE);
     match (r, w) {
@@ -191,11 +214,15 @@ pub fn access_name(access: naga::StorageAccess) -> &'static str {
     }
 }
 
+/// A member of a uniform struct.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UniformMember {
-    pub name: String,
-    pub offset: u32,
-    pub scalar: Option<naga::ScalarKind>,
+    /// The member's name.
+    pub(crate) name: String,
+    /// Byte offset in the struct.
+    pub(crate) offset: u32,
+    /// Its scalar type (`None` for matrices, arrays and structs).
+    pub(crate) scalar: Option<naga::ScalarKind>,
     /// Number of scalar components (1 for scalars, N for vecN); 0 for anything else.
     pub components: u32,
 }
@@ -203,18 +230,27 @@ pub struct UniformMember {
 /// One `@group(g) @binding(b) var name` of a shader.
 #[derive(Debug, Clone)]
 pub struct ShaderBinding {
+    /// The variable's name.
     pub name: String,
+    /// `@group`.
     pub group: u32,
+    /// `@binding`.
     pub binding: u32,
+    /// What it binds.
     pub kind: BindingKind,
+    /// Where it is declared.
     pub location: Location,
 }
 
+/// An entry point of a shader.
 #[derive(Debug, Clone)]
 pub struct EntryPointInfo {
-    pub name: String,
-    pub stage: naga::ShaderStage,
-    pub workgroup_size: [u32; 3],
+    /// The function's name.
+    pub(crate) name: String,
+    /// Its stage.
+    pub(crate) stage: naga::ShaderStage,
+    /// `@workgroup_size` (compute; 0s otherwise).
+    pub(crate) workgroup_size: [u32; 3],
     /// Vertex input locations (vertex stage) or colour output locations (fragment stage).
     pub locations: Vec<u32>,
 }
@@ -222,9 +258,13 @@ pub struct EntryPointInfo {
 /// The reflected interface of one WGSL file.
 #[derive(Debug, Clone)]
 pub struct ShaderInfo {
-    pub path: PathBuf,
+    /// The file reflected.
+    pub(crate) path: PathBuf,
+    /// Its assembled text.
     pub source: ShaderSource,
+    /// The global bindings.
     pub bindings: Vec<ShaderBinding>,
+    /// The entry points.
     pub entry_points: Vec<EntryPointInfo>,
     /// Names of the module's pipeline-overridable constants (WGSL `override`).
     pub overrides: Vec<String>,
@@ -237,7 +277,9 @@ pub struct ShaderInfo {
 /// A module's IR and validation result, shared by the passes that use the file.
 #[derive(Clone)]
 pub struct RayTracingModule {
+    /// The IR.
     pub module: std::sync::Arc<naga::Module>,
+    /// naga's validation of it.
     pub info: std::sync::Arc<naga::valid::ModuleInfo>,
 }
 
@@ -302,10 +344,12 @@ impl ShaderInfo {
         }
     }
 
-    pub fn entry(&self, name: &str) -> Option<&EntryPointInfo> {
+    /// The entry point called `name`.
+    pub(crate) fn entry(&self, name: &str) -> Option<&EntryPointInfo> {
         self.entry_points.iter().find(|e| e.name == name)
     }
 
+    /// The binding of the variable called `name`.
     pub fn binding(&self, name: &str) -> Option<&ShaderBinding> {
         self.bindings.iter().find(|b| b.name == name)
     }

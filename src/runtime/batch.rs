@@ -23,19 +23,28 @@ use wgpu::util::DeviceExt;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
 pub struct GpuRay {
+    /// World-space origin.
     pub origin: [f32; 3],
+    /// The closest distance a hit may be at.
     pub t_min: f32,
+    /// World-space direction (not necessarily unit length).
     pub dir: [f32; 3],
+    /// The farthest distance a hit may be at.
     pub t_max: f32,
 }
 
 /// One result of a batch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BatchHit {
+    /// Distance to the hit along the ray, in units of `dir`.
     pub t: f32,
+    /// Index of the instance hit.
     pub instance: u32,
+    /// Index of the triangle in the instance's mesh.
     pub primitive: u32,
+    /// Barycentric coordinates (u, v) of the hit in its triangle.
     pub bary: [f32; 2],
+    /// Whether the ray hit the triangle's front face.
     pub front_face: bool,
 }
 

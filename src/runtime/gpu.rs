@@ -22,13 +22,20 @@ pub fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
     }
 }
 
+/// The wgpu device raygraph renders with, and what it found out about it: open one with
+/// [`Gpu::new`], or wrap a device of the program's own with [`Gpu::from_wgpu`].
 pub struct Gpu {
-    /// Kept for [`wgpu::Instance::generate_report`] (live object counts).
+    /// The instance (surfaces are made from it; [`wgpu::Instance::generate_report`] counts
+    /// live objects).
     pub instance: wgpu::Instance,
+    /// The adapter the device is on.
     pub adapter: wgpu::Adapter,
+    /// The device.
     pub device: wgpu::Device,
+    /// The device's queue.
     pub queue: wgpu::Queue,
-    pub info: wgpu::AdapterInfo,
+    /// The adapter's name, type, back-end and driver.
+    pub(crate) info: wgpu::AdapterInfo,
     /// Timestamp queries at pass boundaries are available.
     pub timestamps: bool,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
@@ -67,9 +74,15 @@ const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgp
 /// Most scene textures in a binding array.
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
+/// Whether scene textures are bound as a binding array on a device with `features` and
+/// `limits` (never with `RAYGRAPH_NO_BINDLESS` set).
+fn bindless_allowed(features: wgpu::Features, limits: &wgpu::Limits) -> bool {
+    features.contains(BINDLESS) && limits.max_binding_array_elements_per_shader_stage >= 256 && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none()
+}
+
 impl Gpu {
     /// Compiles a WGSL module with the runtime checks its origin gets ([`ShaderOrigin::checks`]).
-    pub fn shader_module(&self, label: &str, wgsl: &str, origin: ShaderOrigin) -> wgpu::ShaderModule {
+    pub(crate) fn shader_module(&self, label: &str, wgsl: &str, origin: ShaderOrigin) -> wgpu::ShaderModule {
         let desc = wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(wgsl.into()) };
         let checks = origin.checks();
         if checks.force_loop_bounding {
@@ -106,10 +119,23 @@ impl Gpu {
         let instance = wgpu::Instance::new(desc);
         let adapter =
             pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None)).map_err(|e| RuntimeError::NoAdapter(e.to_string()))?;
-        let info = adapter.get_info();
-        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let (device, queue) = pollster::block_on(adapter.request_device(&Self::device_descriptor(&adapter)))
+            .map_err(|e| RuntimeError::Device { adapter: adapter.get_info().name, message: e.to_string() })?;
+        Self::from_wgpu(instance, adapter, device, queue, requested)
+    }
+
+    /// What raygraph asks of a device on `adapter`: timestamp queries, texture binding arrays
+    /// and the ray-tracing features where the adapter has them, and the adapter's own limits
+    /// where WebGPU's defaults are too low (G-buffer attachments, storage buffers and
+    /// textures per stage, buffer sizes, workgroup memory). A program that opens its own
+    /// device requests it with this descriptor and hands it to [`Gpu::from_wgpu`].
+    ///
+    /// Where the adapter has ray queries or ray-tracing pipelines, the descriptor enables
+    /// wgpu's experimental features: raygraph checks every ray it traces (no NaN/Inf or zero
+    /// directions, ordered t range); the program's own use of those features is its own.
+    pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
         let mut required_features = wgpu::Features::empty();
-        if timestamps {
+        if adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
         let mut required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
@@ -127,15 +153,11 @@ impl Gpu {
         required_limits.max_compute_workgroup_storage_size = adapter.limits().max_compute_workgroup_storage_size;
         required_limits.max_compute_invocations_per_workgroup = adapter.limits().max_compute_invocations_per_workgroup;
         required_limits.max_compute_workgroup_size_x = adapter.limits().max_compute_workgroup_size_x;
-        let texture_binding_arrays = adapter.features().contains(BINDLESS)
-            && adapter.limits().max_binding_array_elements_per_shader_stage >= 256
-            && std::env::var_os("RAYGRAPH_NO_BINDLESS").is_none();
-        if texture_binding_arrays {
+        if bindless_allowed(adapter.features(), &adapter.limits()) {
             required_features |= BINDLESS;
             required_limits.max_binding_array_elements_per_shader_stage =
                 adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
         }
-        let selection = backend::select(adapter.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
         let ray_features = adapter.features() & (wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES);
         let mut experimental_features = wgpu::ExperimentalFeatures::disabled();
         if !ray_features.is_empty() {
@@ -149,16 +171,37 @@ impl Gpu {
             // range) before tracing.
             experimental_features = unsafe { wgpu::ExperimentalFeatures::enabled() };
         }
-        let backends: Vec<Backend> = Backend::ALL.into_iter().filter(|b| adapter.features().contains(b.features())).collect();
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        wgpu::DeviceDescriptor {
             label: Some("raygraph"),
             required_features,
             required_limits,
             experimental_features,
             memory_hints: memory_hints_from_env(),
             ..Default::default()
-        }))
-        .map_err(|e| RuntimeError::Device { adapter: info.name.clone(), message: e.to_string() })?;
+        }
+    }
+
+    /// A `Gpu` over a device the program opened itself (best with
+    /// [`Gpu::device_descriptor`]), for rendering into its own windows and surfaces. What
+    /// raygraph uses is read from the device: timestamps and texture binding arrays where it
+    /// has their features, the back-ends its features allow (`requested` forces one; `None`
+    /// selects one). A device with lower limits than the descriptor's fails on the first
+    /// graph that needs more, with the validation error.
+    ///
+    /// raygraph installs its device-lost and uncaptured-error callbacks on `device` (they
+    /// replace the program's): [`Gpu::check`] reports what they record.
+    pub fn from_wgpu(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        requested: Option<Backend>,
+    ) -> Result<Self, RuntimeError> {
+        let info = adapter.get_info();
+        let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let texture_binding_arrays = bindless_allowed(device.features(), &device.limits());
+        let selection = backend::select(device.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
+        let backends: Vec<Backend> = Backend::ALL.into_iter().filter(|b| device.features().contains(b.features())).collect();
         let faults = Arc::new(Mutex::new(Faults::default()));
         let on_lost = faults.clone();
         device.set_device_lost_callback(move |reason, message| {

@@ -6,7 +6,7 @@ pub mod batch;
 pub mod exec;
 pub mod gpu;
 pub mod profiler;
-pub mod raster;
+pub(crate) mod raster;
 pub mod report;
 pub mod rust_pass;
 

@@ -14,7 +14,8 @@ pub struct GpuTimer {
 }
 
 impl GpuTimer {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, capacity: u32) -> Self {
+    /// Timestamp queries for up to `capacity` passes.
+    pub(crate) fn new(device: &wgpu::Device, queue: &wgpu::Queue, capacity: u32) -> Self {
         let count = capacity.max(1) * 2;
         let query_set = device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass timestamps"), ty: wgpu::QueryType::Timestamp, count });
         let size = count as u64 * 8;
@@ -28,7 +29,8 @@ impl GpuTimer {
         Self { query_set, resolve, readback, capacity: capacity.max(1), period_ns: queue.get_timestamp_period() }
     }
 
-    pub fn compute_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    /// The timestamp writes around compute pass `pass` (`None` past the capacity).
+    pub(crate) fn compute_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
             beginning_of_pass_write_index: Some(pass * 2),
@@ -55,7 +57,8 @@ impl GpuTimer {
         })
     }
 
-    pub fn render_writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    /// The timestamp writes around render pass `pass` (`None` past the capacity).
+    pub(crate) fn render_writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         (pass < self.capacity).then(|| wgpu::RenderPassTimestampWrites {
             query_set: &self.query_set,
             beginning_of_pass_write_index: Some(pass * 2),
@@ -106,6 +109,7 @@ pub struct FrameTimings {
     pub accel: Option<crate::accel::cache::BuildReport>,
 }
 
+/// The median of `values` (sorts them; NaN for none).
 pub fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
         return f64::NAN;

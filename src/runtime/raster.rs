@@ -42,8 +42,8 @@ impl Cull {
 /// The pipeline variant an instance is drawn with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DrawClass {
-    pub cull: Cull,
-    pub alpha_test: bool,
+    pub(crate) cull: Cull,
+    pub(crate) alpha_test: bool,
 }
 
 impl DrawClass {
@@ -54,9 +54,9 @@ impl DrawClass {
 /// What decides an instance's draw class, whatever the pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct InstanceClass {
-    pub double_sided: bool,
-    pub mirrored: bool,
-    pub alpha_tested: bool,
+    pub(crate) double_sided: bool,
+    pub(crate) mirrored: bool,
+    pub(crate) alpha_tested: bool,
 }
 
 impl InstanceClass {
@@ -100,16 +100,16 @@ pub fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usiz
 
 /// Everything a render pipeline of a pass is made from, but the variant.
 pub struct RenderSpec {
-    pub label: String,
-    pub layout: wgpu::PipelineLayout,
-    pub module: wgpu::ShaderModule,
-    pub vertex_entry: String,
-    pub fragment_entry: String,
-    pub targets: Vec<Option<wgpu::ColorTargetState>>,
+    pub(crate) label: String,
+    pub(crate) layout: wgpu::PipelineLayout,
+    pub(crate) module: wgpu::ShaderModule,
+    pub(crate) vertex_entry: String,
+    pub(crate) fragment_entry: String,
+    pub(crate) targets: Vec<Option<wgpu::ColorTargetState>>,
     /// Vertex attributes the vertex stage reads from the scene's vertex buffer; `None` for a
     /// fullscreen pass (no vertex buffer).
     pub scene_attributes: Option<Vec<wgpu::VertexAttribute>>,
-    pub depth: bool,
+    pub(crate) depth: bool,
     /// The shader declares [`ALPHA_TEST_CONSTANT`].
     pub alpha_switch: bool,
 }
@@ -163,7 +163,7 @@ pub struct ScenePipelines {
 }
 
 impl ScenePipelines {
-    pub fn new(spec: RenderSpec, cull_back_faces: bool) -> Self {
+    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool) -> Self {
         Self { spec, cull_back_faces, variants: Vec::new() }
     }
 

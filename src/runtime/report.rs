@@ -15,9 +15,13 @@ use super::profiler::{median, FrameTimings};
 /// Mean, median, minimum and maximum of the finite values of a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Summary {
+    /// The arithmetic mean.
     pub mean: f64,
+    /// The median.
     pub median: f64,
+    /// The smallest value.
     pub min: f64,
+    /// The largest value.
     pub max: f64,
     /// Values used (the finite ones).
     pub n: usize,
@@ -40,7 +44,9 @@ impl Summary {
 /// One pass over all frames.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassStats {
+    /// The pass's name, `layer/pass`.
     pub name: String,
+    /// The pass's kind ([`crate::graph::desc::PassKind::name`]).
     pub kind: &'static str,
     /// GPU milliseconds, over the frames that have a timestamp for this pass (`None` without
     /// timestamp queries).
@@ -61,6 +67,7 @@ pub struct PassStats {
 /// Chrome trace shows each frame).
 #[derive(Debug, Clone)]
 pub struct Report {
+    /// One entry per pass, in plan order.
     pub passes: Vec<PassStats>,
     /// Pixels per frame.
     pub pixels: u64,
@@ -70,7 +77,8 @@ pub struct Report {
     pub cpu_total_ms: Option<Summary>,
     /// Frame wall time (`FrameTimings::frame_ms`).
     pub frame_ms: Option<Summary>,
-    pub frames: Vec<FrameTimings>,
+    /// The frames the statistics are of.
+    pub(crate) frames: Vec<FrameTimings>,
 }
 
 /// CSV column names, in order.
@@ -93,6 +101,7 @@ pub const CSV_COLUMNS: [&str; 14] = [
 
 /// Track ids of the Chrome trace (process id 1).
 pub const TRACE_GPU_TID: u32 = 1;
+/// Track id of the CPU recording times in the Chrome trace.
 pub const TRACE_CPU_TID: u32 = 2;
 
 impl Report {

@@ -2,14 +2,20 @@
 
 use glam::{Mat4, Vec3};
 
+/// A perspective camera looking from `position` at `target`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// World-space eye position.
     pub position: Vec3,
+    /// World-space point looked at.
     pub target: Vec3,
+    /// World-space up direction.
     pub up: Vec3,
     /// Vertical field of view in radians.
     pub fov_y: f32,
+    /// Near clip distance.
     pub near: f32,
+    /// Far clip distance.
     pub far: f32,
 }
 
@@ -69,14 +75,17 @@ impl Camera {
         }
     }
 
+    /// World to view space.
     pub fn view(&self) -> Mat4 {
         Mat4::look_at_rh(self.position, self.target, self.up)
     }
 
-    pub fn projection(&self, aspect: f32) -> Mat4 {
+    /// View to clip space for a viewport of `aspect` (width / height).
+    pub(crate) fn projection(&self, aspect: f32) -> Mat4 {
         Mat4::perspective_rh(self.fov_y, aspect, self.near, self.far)
     }
 
+    /// World to clip space (`projection * view`).
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
     }

@@ -11,27 +11,74 @@ use gltf::json::Value;
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
+/// Why a scene could not be opened or written.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The file is not glTF 2.0 that parses.
     #[error("{path}: not a readable glTF file: {message}\n  help: give a .gltf or .glb file (glTF 2.0)")]
-    Parse { path: PathBuf, message: String },
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+    /// A buffer the file names cannot be loaded.
     #[error("{path}: buffer {buffer} ({uri}) cannot be loaded: {message}\n  help: put the buffer file next to the .gltf or fix its uri")]
-    Buffer { path: PathBuf, buffer: usize, uri: String, message: String },
+    Buffer {
+        /// The file.
+        path: PathBuf,
+        /// The buffer's index.
+        buffer: usize,
+        /// Its uri.
+        uri: String,
+        /// Why it cannot be loaded.
+        message: String,
+    },
+    /// A mesh primitive cannot be read.
     #[error("{path}: mesh `{mesh}` primitive {primitive}: {message}")]
-    Primitive { path: PathBuf, mesh: String, primitive: usize, message: String },
+    Primitive {
+        /// The file.
+        path: PathBuf,
+        /// The mesh's name.
+        mesh: String,
+        /// The primitive's index in the mesh.
+        primitive: usize,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The file has nothing to draw.
     #[error("{path}: the file has no scene and no nodes to draw")]
-    Empty { path: PathBuf },
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file requires extensions raygraph does not read.
     #[error("{path}: the file requires {extensions}, which raygraph does not support\n  help: raygraph reads {supported}; export the file without the required extension (for example without mesh or texture compression)")]
-    UnsupportedRequired { path: PathBuf, extensions: String, supported: String },
+    UnsupportedRequired {
+        /// The file.
+        path: PathBuf,
+        /// The required extensions raygraph lacks.
+        extensions: String,
+        /// The extensions it reads ([`SUPPORTED_EXTENSIONS`]).
+        supported: String,
+    },
+    /// Neither a built-in scene nor a glTF path: the name, and the built-in names.
     #[error("unknown scene `{0}`; built-in scenes are: {1}\n  help: give a built-in scene name or a .gltf/.glb path")]
     UnknownScene(String, String),
+    /// An exported file could not be written.
     #[error("could not write {path}: {message}")]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
 }
 
 /// What to load. Textures are decoded only when a pass of the active graph samples them.
 #[derive(Debug, Clone, Copy)]
 pub struct LoadOptions {
+    /// Decode the material textures (`false`: materials keep their factors only).
     pub textures: bool,
     /// Seed of the generated `atrium`.
     pub seed: u64,
@@ -50,14 +97,20 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_material
 /// The five texture slots of a glTF material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TextureSlot {
+    /// The base colour texture (sRGB).
     BaseColor,
+    /// The metallic-roughness texture.
     MetallicRoughness,
+    /// The tangent-space normal map.
     Normal,
+    /// The ambient-occlusion texture.
     Occlusion,
+    /// The emissive texture (sRGB).
     Emissive,
 }
 
 impl TextureSlot {
+    /// The slot's name in reports.
     pub fn name(self) -> &'static str {
         match self {
             TextureSlot::BaseColor => "base colour",
@@ -83,8 +136,11 @@ impl TextureSlot {
 /// A material texture slot whose image could not be loaded and that took its fallback.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextureFallback {
+    /// The material's name.
     pub material: String,
+    /// The slot.
     pub slot: TextureSlot,
+    /// The image's name or uri.
     pub image: String,
     /// Why the image could not be loaded.
     pub reason: String,
@@ -93,6 +149,7 @@ pub struct TextureFallback {
 /// What import noticed but could work around.
 #[derive(Debug, Clone, Default)]
 pub struct ImportReport {
+    /// Everything noticed, one line each, for the user.
     pub warnings: Vec<String>,
     /// Triangles dropped because a vertex position was NaN or infinite.
     pub non_finite_triangles: usize,

@@ -19,9 +19,12 @@ use wgpu::util::DeviceExt;
 /// One indexed draw per instance.
 #[derive(Debug, Clone)]
 pub struct Draw {
-    pub indices: std::ops::Range<u32>,
-    pub base_vertex: i32,
-    pub instance: u32,
+    /// The instance's mesh in the index buffer.
+    pub(crate) indices: std::ops::Range<u32>,
+    /// Added to each index: the mesh's first vertex.
+    pub(crate) base_vertex: i32,
+    /// The instance's index (`instance_index` in the shader).
+    pub(crate) instance: u32,
     /// Centre of the mesh's bounds, object space (for ordering draws by distance).
     pub local_center: Vec3,
 }
@@ -30,20 +33,35 @@ pub struct Draw {
 #[derive(Debug, thiserror::Error)]
 #[error("scene `{scene}` does not fit the GPU: {what} needs {needed}, the device allows {allowed}\n  help: {help}")]
 pub struct SceneLimitError {
-    pub scene: String,
-    pub what: String,
-    pub needed: u64,
-    pub allowed: u64,
-    pub help: String,
+    /// The scene's name.
+    pub(crate) scene: String,
+    /// What is too large.
+    pub(crate) what: String,
+    /// How much of it the scene needs.
+    pub(crate) needed: u64,
+    /// How much the device allows.
+    pub(crate) allowed: u64,
+    /// What to change.
+    pub(crate) help: String,
 }
 
 /// The scene's textures as the graph's shaders bind them.
 pub enum SceneTextures {
     /// One `texture_2d_array` of 256² layers (layer 0 white).
-    Array { texture: wgpu::Texture, view: wgpu::TextureView },
+    Array {
+        /// The array texture.
+        texture: wgpu::Texture,
+        /// Its view.
+        view: wgpu::TextureView,
+    },
     /// One texture per element of a `binding_array<texture_2d<f32>>` (element 0 white), each
     /// at its own size with its own mip chain.
-    Separate { textures: Vec<wgpu::Texture>, views: Vec<wgpu::TextureView> },
+    Separate {
+        /// The textures.
+        textures: Vec<wgpu::Texture>,
+        /// One view of each.
+        views: Vec<wgpu::TextureView>,
+    },
 }
 
 impl SceneTextures {
@@ -76,6 +94,7 @@ pub struct SceneUsage {
 }
 
 impl SceneUsage {
+    /// Whether any pass reads the scene.
     pub fn any(&self) -> bool {
         self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights
     }
@@ -101,18 +120,25 @@ impl SceneUsage {
     }
 }
 
+/// A scene on the GPU: the parts a plan reads ([`SceneUsage`]), uploaded.
 pub struct GpuScene {
+    /// Every mesh's vertices, one after another.
     pub vertices: Option<wgpu::Buffer>,
-    pub indices: Option<wgpu::Buffer>,
+    /// Every mesh's indices, one after another.
+    pub(crate) indices: Option<wgpu::Buffer>,
+    /// Instance records (`scene_instances`).
     pub instances: Option<wgpu::Buffer>,
+    /// Material records (`scene_materials`).
     pub materials: Option<wgpu::Buffer>,
     /// Per mesh: first index, base vertex, index count (`scene_meshes`).
     pub meshes: Option<wgpu::Buffer>,
+    /// The material textures.
     pub textures: Option<SceneTextures>,
-    /// `Scene::effective_lights()` as [`LightUniforms`] (`scene_lights`), rewritten every frame
+    /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
     /// by [`GpuScene::write_lights`].
     pub lights: Option<wgpu::Buffer>,
-    pub draws: Vec<Draw>,
+    /// One draw per instance, for raster passes.
+    pub(crate) draws: Vec<Draw>,
     /// What was uploaded.
     pub usage: SceneUsage,
     /// Bytes uploaded.
@@ -485,15 +511,17 @@ impl GpuScene {
 /// raster shadow-map slot in use.
 #[derive(Debug, Clone, Default)]
 pub struct LightRecords {
-    pub records: Vec<LightUniforms>,
-    pub shadow_view_proj: Vec<Mat4>,
+    /// One record per light.
+    pub(crate) records: Vec<LightUniforms>,
+    /// The view-projection of each shadow-map slot in use.
+    pub(crate) shadow_view_proj: Vec<Mat4>,
     /// Lights without a shadow map in raster mode: point lights, and directional or spot
-    /// lights beyond the [`SHADOW_MAP_SLOTS`] first.
+    /// lights beyond the `SHADOW_MAP_SLOTS` first.
     pub unshadowed_in_raster: usize,
 }
 
 /// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first
-/// [`SHADOW_MAP_SLOTS`] directional and spot lights get a shadow-map slot: directional, an
+/// `SHADOW_MAP_SLOTS` directional and spot lights get a shadow-map slot: directional, an
 /// orthographic projection along the light over the scene's sphere; spot, a perspective
 /// projection over its outer cone from its position to the far side of the sphere (or its
 /// range). Point lights get none.
@@ -555,18 +583,21 @@ fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radiu
 }
 
 /// What an upload depends on, split in two: everything but the instance transforms
-/// ([`SceneContent::structure`]: a change re-uploads the scene) and the transforms alone (a
+/// (`SceneContent::structure`: a change re-uploads the scene) and the transforms alone (a
 /// change rewrites the instance records in place). Meshes and materials are hashed by content;
 /// a texture by its size and the address of its pixels (a replaced image is seen, pixels
 /// edited in place are not).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct SceneContent {
-    pub structure: u64,
-    pub transforms: u64,
+    /// The hash of everything but the instance transforms.
+    pub(crate) structure: u64,
+    /// The hash of the instance transforms.
+    pub(crate) transforms: u64,
 }
 
 impl SceneContent {
-    pub fn of(scene: &Scene) -> Self {
+    /// The hashes of `scene`.
+    pub(crate) fn of(scene: &Scene) -> Self {
         use crate::util::hash_words;
         use rayon::prelude::*;
         let meshes: Vec<u64> = scene

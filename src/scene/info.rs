@@ -5,6 +5,7 @@ use super::gltf_import::ImportReport;
 use super::{AlphaMode, LightKind, Scene};
 use std::fmt::Write;
 
+/// The `scene info` report of `scene` (with what its import repaired, approximated or ignored).
 pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     let mut s = String::new();
     let b = scene.bounds();

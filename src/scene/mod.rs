@@ -23,21 +23,29 @@ pub use load::open;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct Vertex {
+    /// Object-space position.
     pub position: [f32; 3],
+    /// Object-space unit normal.
     pub normal: [f32; 3],
+    /// Texture coordinates.
     pub uv: [f32; 2],
 }
 
+/// A triangle mesh in object space.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
+    /// The mesh's name (from the file, or made up for generated meshes).
     pub name: String,
+    /// The vertices.
     pub vertices: Vec<Vertex>,
+    /// Three indices into `vertices` per triangle, counter-clockwise front faces.
     pub indices: Vec<u32>,
     /// Per-vertex tangents (xyz, w = handedness), present where a normal map needs them.
     pub tangents: Option<Vec<[f32; 4]>>,
 }
 
 impl Mesh {
+    /// The number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
@@ -46,31 +54,45 @@ impl Mesh {
 /// How a material's alpha is interpreted (glTF `alphaMode`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum AlphaMode {
+    /// Every texel is opaque.
     #[default]
     Opaque,
+    /// Alpha-tested: texels with alpha below the cutoff are not there.
     Mask(f32),
+    /// Blended by alpha.
     Blend,
 }
 
 /// A PBR metallic-roughness material. Texture fields index [`Scene::textures`].
 #[derive(Debug, Clone)]
 pub struct Material {
+    /// The material's name.
     pub name: String,
+    /// Linear base colour and alpha (times `texture`).
     pub base_color: [f32; 4],
     /// Base-colour texture.
     pub texture: Option<usize>,
+    /// Metalness, 0..1 (times the metallic-roughness texture's blue channel).
     pub metallic: f32,
+    /// Perceptual roughness, 0..1 (times its green channel).
     pub roughness: f32,
+    /// Metallic-roughness texture.
     pub metallic_roughness_texture: Option<usize>,
+    /// Tangent-space normal map.
     pub normal_texture: Option<usize>,
+    /// Scale of the normal map's xy.
     pub normal_scale: f32,
     /// Emitted radiance (glTF `emissiveFactor` times `KHR_materials_emissive_strength`).
     pub emissive: [f32; 3],
+    /// Emissive texture (sRGB, times `emissive`).
     pub emissive_texture: Option<usize>,
     /// Ambient-occlusion texture (its red channel), and how much of it applies.
     pub occlusion_texture: Option<usize>,
+    /// How much of the occlusion texture applies, 0..1.
     pub occlusion_strength: f32,
+    /// How alpha is interpreted.
     pub alpha_mode: AlphaMode,
+    /// Both faces are lit and neither is culled.
     pub double_sided: bool,
 }
 
@@ -99,17 +121,24 @@ impl Material {
 /// One placement of a mesh.
 #[derive(Debug, Clone)]
 pub struct Instance {
+    /// Index into [`Scene::meshes`].
     pub mesh: usize,
+    /// Index into [`Scene::materials`].
     pub material: usize,
+    /// Object to world space.
     pub transform: Mat4,
 }
 
 /// An RGBA8 sRGB image.
 #[derive(Debug, Clone)]
 pub struct TextureImage {
+    /// The image's name (from the file, or made up).
     pub name: String,
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// `width * height` RGBA8 texels, row by row.
     pub rgba: Vec<u8>,
 }
 
@@ -118,22 +147,32 @@ pub struct TextureImage {
 pub struct Light {
     /// Unit direction from surfaces towards the light.
     pub direction: Vec3,
+    /// Linear RGB colour.
     pub color: Vec3,
+    /// Radiance scale of the colour.
     pub intensity: f32,
+    /// Intensity of the sky's ambient light.
     pub ambient: f32,
 }
 
+/// A scene on the CPU: meshes, materials, instances, textures, cameras and lights.
 #[derive(Debug, Clone)]
 pub struct Scene {
+    /// The scene's name (built-in name or file stem).
     pub name: String,
+    /// The meshes instances place.
     pub meshes: Vec<Mesh>,
+    /// The materials instances use.
     pub materials: Vec<Material>,
+    /// Placements of meshes with a material.
     pub instances: Vec<Instance>,
+    /// Images that materials index.
     pub textures: Vec<TextureImage>,
     /// The default view.
     pub camera: Camera,
     /// Named static views (the paper's static-camera tests); the first is `camera`.
     pub presets: Vec<(String, Camera)>,
+    /// The default sun and sky, lighting scenes without lights of their own.
     pub light: Light,
     /// An optional point light (besides the directional `light`).
     pub point_light: Option<PointLight>,
@@ -145,15 +184,20 @@ pub struct Scene {
 /// What kind of punctual light, with the parameters only that kind has.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum LightKind {
+    /// Lights the whole scene from one direction.
     Directional,
     /// `range`: distance at which the light's influence ends (`None`: infinite).
     Point {
+        /// Distance at which the light's influence ends (`None`: infinite).
         range: Option<f32>,
     },
     /// Cone angles in radians from the axis (glTF `innerConeAngle`, `outerConeAngle`).
     Spot {
+        /// Distance at which the light's influence ends (`None`: infinite).
         range: Option<f32>,
+        /// Angle from the axis inside which the light is at full intensity.
         inner_cone: f32,
+        /// Angle from the axis outside which there is no light.
         outer_cone: f32,
     },
 }
@@ -161,7 +205,9 @@ pub enum LightKind {
 /// A light of the file (`KHR_lights_punctual`) or the scene's default sun, in world space.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PunctualLight {
+    /// The light's name in the file.
     pub name: String,
+    /// Its kind and the parameters of that kind.
     pub kind: LightKind,
     /// World-space position (unused for directional lights).
     pub position: Vec3,
@@ -177,7 +223,9 @@ pub struct PunctualLight {
 /// A point light with inverse-square falloff.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointLight {
+    /// World-space position.
     pub position: Vec3,
+    /// Linear RGB colour.
     pub color: Vec3,
     /// Radiant intensity: irradiance at 1 unit, facing the light.
     pub intensity: f32,
@@ -192,30 +240,38 @@ impl Default for Light {
 /// Axis-aligned bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bounds {
+    /// The smallest corner.
     pub min: Vec3,
+    /// The largest corner.
     pub max: Vec3,
 }
 
 impl Bounds {
-    pub const EMPTY: Bounds = Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+    /// Bounds of nothing: growing them by a point gives that point.
+    pub(crate) const EMPTY: Bounds = Bounds { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
 
-    pub fn is_empty(&self) -> bool {
+    /// Whether no point was added.
+    pub(crate) fn is_empty(&self) -> bool {
         self.min.x > self.max.x
     }
 
-    pub fn grow(&mut self, p: Vec3) {
+    /// Grows the bounds to contain `p`.
+    pub(crate) fn grow(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
 
-    pub fn union(&self, o: &Bounds) -> Bounds {
+    /// Bounds containing both.
+    pub(crate) fn union(&self, o: &Bounds) -> Bounds {
         Bounds { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
+    /// The centre point.
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
     }
 
+    /// The length of the diagonal (0 when empty).
     pub fn diagonal(&self) -> f32 {
         if self.is_empty() {
             0.0

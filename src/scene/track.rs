@@ -11,16 +11,45 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+/// Why a camera track could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum TrackError {
+    /// The file cannot be read.
     #[error("{path}: cannot read the camera track: {message}")]
-    Read { path: PathBuf, message: String },
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The system's message.
+        message: String,
+    },
+    /// The file is not a track in RON.
     #[error("{path}:{line}:{col}: not a camera track: {message}\n  help: a track is `Track(fps: 30.0, keys: [Key(time: 0.0, position: (x, y, z), target: (x, y, z), fov_y_deg: 50.0), ...])`")]
-    Syntax { path: PathBuf, line: usize, col: usize, message: String },
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// Line of the error, from 1.
+        line: usize,
+        /// Column of the error, from 1.
+        col: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The track parses but cannot be played (no keys, times out of order, ...).
     #[error("{path}: {message}")]
-    Invalid { path: PathBuf, message: String },
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// The track could not be saved.
     #[error("could not write {path}: {message}")]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
 }
 
 /// One key-frame.
@@ -28,7 +57,9 @@ pub enum TrackError {
 pub struct Key {
     /// Seconds from the start of the track.
     pub time: f32,
+    /// World-space camera position.
     pub position: (f32, f32, f32),
+    /// World-space point the camera looks at.
     pub target: (f32, f32, f32),
     /// Vertical field of view in degrees.
     pub fov_y_deg: f32,
@@ -39,6 +70,7 @@ pub struct Key {
 pub struct Track {
     /// Playback rate: frame `i` is shown at `i / fps` seconds.
     pub fps: f32,
+    /// The key-frames, in time order.
     pub keys: Vec<Key>,
 }
 
@@ -47,7 +79,8 @@ fn v(t: (f32, f32, f32)) -> Vec3 {
 }
 
 impl Key {
-    pub fn from_camera(time: f32, c: &Camera) -> Self {
+    /// A key-frame at `time` holding the camera `c`.
+    pub(crate) fn from_camera(time: f32, c: &Camera) -> Self {
         Key { time, position: c.position.into(), target: c.target.into(), fov_y_deg: c.fov_y.to_degrees() }
     }
 }

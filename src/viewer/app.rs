@@ -24,21 +24,27 @@ use winit::window::{Window, WindowId};
 /// `raygraph view` arguments.
 #[derive(Debug, Clone)]
 pub struct ViewerOptions {
+    /// Built-in scene name or glTF path.
     pub scene: String,
     /// A graph file; `None` uses the mode's.
     pub graph: Option<PathBuf>,
+    /// The built-in mode (used without `graph`).
     pub mode: Mode,
+    /// The traversal back-end (`None`: selected).
     pub backend: Option<Backend>,
     /// The GPU deadline of a frame ([`Gpu::gpu_timeout`]; `None`: the adapter's default).
     pub gpu_timeout: Option<Duration>,
     /// Render size (the window starts at this size; the image is scaled to the window).
     pub size: (u32, u32),
+    /// A camera preset of the scene to start from.
     pub camera: Option<String>,
+    /// Seed of the generated `atrium`.
     pub seed: u64,
     /// Stop after this many frames.
     pub frames: Option<u64>,
     /// Screenshot written after the last frame (`--frames`).
     pub screenshot: Option<PathBuf>,
+    /// A script of timed actions ([`crate::viewer::script`]).
     pub script: Option<PathBuf>,
     /// Print each frame's number and every reload to stdout.
     pub verbose: bool,

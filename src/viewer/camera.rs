@@ -8,26 +8,26 @@ use glam::Vec3;
 /// Keys held this frame.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Motion {
-    pub forward: bool,
-    pub back: bool,
-    pub left: bool,
-    pub right: bool,
-    pub up: bool,
-    pub down: bool,
-    pub fast: bool,
+    pub(crate) forward: bool,
+    pub(crate) back: bool,
+    pub(crate) left: bool,
+    pub(crate) right: bool,
+    pub(crate) up: bool,
+    pub(crate) down: bool,
+    pub(crate) fast: bool,
 }
 
 /// A camera as position, yaw and pitch (radians; yaw 0 looks down -z), moved by [`Motion`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlyCamera {
-    pub position: Vec3,
-    pub yaw: f32,
-    pub pitch: f32,
+    pub(crate) position: Vec3,
+    pub(crate) yaw: f32,
+    pub(crate) pitch: f32,
     /// Units per second.
     pub speed: f32,
-    pub fov_y: f32,
-    pub near: f32,
-    pub far: f32,
+    pub(crate) fov_y: f32,
+    pub(crate) near: f32,
+    pub(crate) far: f32,
 }
 
 impl FlyCamera {
@@ -46,13 +46,13 @@ impl FlyCamera {
         }
     }
 
-    pub fn forward(&self) -> Vec3 {
+    pub(crate) fn forward(&self) -> Vec3 {
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
         Vec3::new(sy * cp, sp, -cy * cp)
     }
 
-    pub fn camera(&self) -> Camera {
+    pub(crate) fn camera(&self) -> Camera {
         Camera { position: self.position, target: self.position + self.forward(), up: Vec3::Y, fov_y: self.fov_y, near: self.near, far: self.far }
     }
 
@@ -86,12 +86,23 @@ impl FlyCamera {
 /// Recording or playing a camera track.
 #[derive(Debug, Default)]
 pub enum TrackState {
+    /// Neither.
     #[default]
     Idle,
-    /// Keys recorded so far and the seconds since recording started.
-    Recording { track: Track, seconds: f32 },
-    /// A track played from `seconds`.
-    Playing { track: Track, seconds: f32 },
+    /// Recording.
+    Recording {
+        /// The keys recorded so far.
+        track: Track,
+        /// Seconds since recording started.
+        seconds: f32,
+    },
+    /// Playing.
+    Playing {
+        /// The track played.
+        track: Track,
+        /// Where in the track, seconds.
+        seconds: f32,
+    },
 }
 
 /// Keys per second while recording.

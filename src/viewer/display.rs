@@ -11,8 +11,8 @@ use crate::runtime::{Executor, Gpu};
 /// How a texture's values become display colours.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Mapping {
-    pub scale: [f32; 4],
-    pub bias: [f32; 4],
+    pub(crate) scale: [f32; 4],
+    pub(crate) bias: [f32; 4],
     /// Channels of the format (1: grey, 2: red/green, 3-4: colour).
     pub channels: u32,
     /// The values are linear and get sRGB-encoded for display.
@@ -74,9 +74,9 @@ pub fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
 
 /// The display texture, its egui id and the GPU mapping pass.
 pub struct Display {
-    pub size: (u32, u32),
-    pub texture: wgpu::Texture,
-    pub view: wgpu::TextureView,
+    pub(crate) size: (u32, u32),
+    pub(crate) texture: wgpu::Texture,
+    pub(crate) view: wgpu::TextureView,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
@@ -88,7 +88,7 @@ pub struct Display {
 const UNIFORM_BYTES: u64 = 48;
 
 impl Display {
-    pub fn new(gpu: &Gpu, size: (u32, u32), shader_source: &str) -> Self {
+    pub(crate) fn new(gpu: &Gpu, size: (u32, u32), shader_source: &str) -> Self {
         let device = &gpu.device;
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("viewer display"),

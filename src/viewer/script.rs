@@ -19,17 +19,22 @@ use crate::graph::Mode;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+/// Timed actions, as a RON file writes them.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Script")]
 pub struct Script {
-    pub steps: Vec<Step>,
+    /// The steps, in frame order.
+    pub(crate) steps: Vec<Step>,
 }
 
+/// One action at one frame.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Step {
-    pub frame: u64,
-    pub action: Action,
+pub(crate) struct Step {
+    /// The frame (redraw count) it runs at.
+    pub(crate) frame: u64,
+    /// What it does.
+    pub(crate) action: Action,
 }
 
 /// What the UI can do, as a script step.
@@ -41,13 +46,18 @@ pub enum Action {
     Backend(String),
     /// Set a parameter of a layer node.
     Param {
+        /// The node.
         node: String,
+        /// The parameter.
         name: String,
+        /// Its new value.
         value: ParamValue,
     },
     /// Switch a layer node (an effect) on or off.
     Enable {
+        /// The node.
         node: String,
+        /// On or off.
         on: bool,
     },
     /// Show the first texture a pass writes in the viewport (as clicking it in the overlay).
@@ -60,7 +70,9 @@ pub enum Action {
     Preset(String),
     /// Place the camera.
     Camera {
+        /// Eye position.
         position: (f32, f32, f32),
+        /// Point looked at.
         target: (f32, f32, f32),
     },
     /// Write the window (frame and overlay) to a PNG, and what the overlay lists beside it
@@ -74,14 +86,18 @@ pub enum Action {
     SaveTrack(PathBuf),
     /// Play a track file.
     PlayTrack(PathBuf),
+    /// Close the window.
     Quit,
 }
 
 /// [`Mode`] as written in scripts.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 pub enum ScriptMode {
+    /// [`Mode::Raster`].
     Raster,
+    /// [`Mode::Hybrid`].
     Hybrid,
+    /// [`Mode::FullRt`].
     FullRt,
 }
 

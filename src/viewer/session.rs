@@ -23,10 +23,10 @@ pub const STATS_WINDOW: usize = 120;
 /// the values in effect) and whether it is switched on.
 #[derive(Debug, Clone)]
 pub struct NodeControls {
-    pub node: String,
-    pub layer: String,
-    pub enabled: bool,
-    pub params: Vec<(String, ParamDecl, ParamValue)>,
+    pub(crate) node: String,
+    pub(crate) layer: String,
+    pub(crate) enabled: bool,
+    pub(crate) params: Vec<(String, ParamDecl, ParamValue)>,
 }
 
 /// Every file a compile of the graph reads, with its modification time.
@@ -58,19 +58,22 @@ impl Snapshot {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Reload {
     /// A new plan runs.
-    Reloaded { passes: usize },
+    Reloaded {
+        /// The new plan's passes.
+        passes: usize,
+    },
     /// The change does not compile; the last good plan keeps running.
     Failed(String),
 }
 
-pub struct Session {
-    pub root: PathBuf,
-    pub graph_file: PathBuf,
-    pub mode: Option<Mode>,
-    pub project: Project,
-    pub options: CompileOptions,
-    pub size: (u32, u32),
-    pub scene: Scene,
+pub(crate) struct Session {
+    pub(crate) root: PathBuf,
+    pub(crate) graph_file: PathBuf,
+    pub(crate) mode: Option<Mode>,
+    pub(crate) project: Project,
+    pub(crate) options: CompileOptions,
+    pub(crate) size: (u32, u32),
+    pub(crate) scene: Scene,
     exec: Option<Executor>,
     /// The last compile or frame error (file:line where it has one), shown until a compile
     /// succeeds.
@@ -79,7 +82,7 @@ pub struct Session {
     last_poll: Instant,
     /// Recent frames of the current plan (cleared when the plan changes).
     pub frames: VecDeque<FrameTimings>,
-    pub frame_index: u64,
+    pub(crate) frame_index: u64,
     /// Plans compiled since start (1 after the first).
     pub generation: u64,
     /// Transient memory of the current graph with resource reuse (the viewer runs it without).
@@ -120,15 +123,15 @@ impl Session {
         Ok(s)
     }
 
-    pub fn exec(&self) -> Option<&Executor> {
+    pub(crate) fn exec(&self) -> Option<&Executor> {
         self.exec.as_ref()
     }
 
-    pub fn plan(&self) -> Option<&Plan> {
+    pub(crate) fn plan(&self) -> Option<&Plan> {
         self.exec.as_ref().map(|e| e.plan())
     }
 
-    pub fn backend(&self) -> Backend {
+    pub(crate) fn backend(&self) -> Backend {
         self.options.backend
     }
 

@@ -17,18 +17,24 @@ use std::fmt::Write;
 /// What the viewport shows.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub enum View {
+    /// The graph's output.
     #[default]
     Output,
-    /// A texture of the plan: (pass that writes it, resource name).
-    Resource { pass: Option<String>, resource: String },
+    /// A texture of the plan.
+    Resource {
+        /// The pass that writes it, when one was selected.
+        pass: Option<String>,
+        /// The resource's name.
+        resource: String,
+    },
 }
 
 /// State of the overlay's own widgets.
 #[derive(Debug)]
 pub struct UiState {
-    pub visible: bool,
-    pub track_path: String,
-    pub status: String,
+    pub(crate) visible: bool,
+    pub(crate) track_path: String,
+    pub(crate) status: String,
 }
 
 impl Default for UiState {
@@ -39,12 +45,12 @@ impl Default for UiState {
 
 /// Everything the overlay shows about the current frame.
 pub struct Frame<'a> {
-    pub session: &'a Session,
-    pub gpu: &'a Gpu,
-    pub view: &'a View,
-    pub presets: &'a [(String, crate::scene::Camera)],
-    pub recording: bool,
-    pub playing: bool,
+    pub(crate) session: &'a Session,
+    pub(crate) gpu: &'a Gpu,
+    pub(crate) view: &'a View,
+    pub(crate) presets: &'a [(String, crate::scene::Camera)],
+    pub(crate) recording: bool,
+    pub(crate) playing: bool,
 }
 
 fn script_mode(m: Mode) -> ScriptMode {

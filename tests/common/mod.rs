@@ -6,6 +6,7 @@ pub mod endless_fog;
 pub mod gltf_doc;
 pub mod material_scene;
 pub mod modes;
+pub mod xvfb;
 
 use glam::Mat4;
 use raygraph::graph::{compile, Plan, Project};

@@ -3,7 +3,7 @@
 //! mesh ([`organic`], 3,920 triangles) and a Sponza-like courtyard ([`atrium`], about
 //! 262,500 triangles in 103 meshes with 69 textures).
 //!
-//! This file owns the scene registry ([`by_name`], [`NAMES`]); [`common`] the machinery the
+//! This file owns the scene registry ([`by_name`], [`NAMES`]); `common` the machinery the
 //! scenes share. Every generator is a pure function of its arguments: the same call gives the
 //! same bytes.
 
