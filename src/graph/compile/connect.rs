@@ -2,13 +2,16 @@
 //! size, every layer input joined to the output that produces it (or to a constant fallback
 //! texture), and the errors of inputs left unconnected, unknown or of the wrong format.
 
-use super::plan::{PlannedResource, Usage};
+use super::plan::{PlannedResource, ResourceId, Usage};
 use super::resolve::ResolvedNode;
 use super::source::SourceText;
 use crate::error::{ErrorKind, GraphError, Location};
 use crate::graph::desc::*;
 
-pub(super) fn declare_resources(nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedResource>, frame: (u32, u32)) {
+/// Every layer output (`node.output`) and transient (`node/transient`) as a resource, its
+/// texture size resolved for the frame; each node's `locals` name them.
+pub(super) fn declare_resources(nodes: &mut [ResolvedNode], frame: (u32, u32)) -> Vec<PlannedResource> {
+    let mut resources = Vec::new();
     for node in nodes.iter_mut() {
         let decls: Vec<(String, String, ResourceDecl)> = node
             .layer
@@ -26,96 +29,40 @@ pub(super) fn declare_resources(nodes: &mut [ResolvedNode], resources: &mut Vec<
             resources.push(PlannedResource { name, decl, extent, usage: Usage::default(), first_use: 0, last_use: 0, slot: None, constant: None });
         }
     }
+    resources
 }
 
+/// Joins every layer input to the output the graph connects it to (or to a constant texture of
+/// its fallback value); all inputs left unconnected are reported in one error.
 pub(super) fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [ResolvedNode], resources: &mut Vec<PlannedResource>) -> Result<(), GraphError> {
     let mut unconnected: Vec<Unconnected> = Vec::new();
     for ni in 0..nodes.len() {
-        let name = nodes[ni].name.clone();
-        let NodeDesc::Layer(ln) = &graph.nodes[&name] else { continue };
-        let node_anchor = SourceText::quoted(&name);
-        for input in ln.inputs.keys() {
-            if !nodes[ni].layer.inputs.contains_key(input) {
-                let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(input)]);
-                let names: Vec<&str> = nodes[ni].layer.inputs.keys().map(|s| s.as_str()).collect();
-                return Err(GraphError::new(ErrorKind::UnknownOutput, loc, format!("layer `{}` has no input `{input}`", nodes[ni].layer_name))
-                    .help(format!("its inputs are: {}", if names.is_empty() { "none".into() } else { names.join(", ") })));
-            }
-        }
+        let NodeDesc::Layer(ln) = &graph.nodes[&nodes[ni].name] else { continue };
+        check_known_inputs(gsrc, &nodes[ni], ln)?;
         let inputs: Vec<(String, ResourceDecl)> = nodes[ni].layer.inputs.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
         for (input, decl) in inputs {
-            let fallback = match &decl {
-                ResourceDecl::Texture(t) => t.fallback,
-                _ => None,
-            };
-            let disabled_source = ln.inputs.get(&input).and_then(|source| {
+            let source = ln.inputs.get(&input);
+            let disabled_source = source.and_then(|source| {
                 let (src_node, _) = split_ref(source);
                 matches!(graph.nodes.get(src_node), Some(NodeDesc::Layer(l)) if !l.enabled).then(|| src_node.to_string())
             });
-            if ln.inputs.get(&input).is_none() || disabled_source.is_some() {
-                if let (Some(value), ResourceDecl::Texture(t)) = (fallback, &decl) {
-                    // A constant 1x1 texture holding the fallback value.
-                    let mut t = t.clone();
-                    t.size = SizeDecl::Absolute(1, 1);
+            if source.is_none() || disabled_source.is_some() {
+                if let Some(constant) = fallback_texture(&nodes[ni].name, &input, &decl) {
                     nodes[ni].locals.insert(input.clone(), resources.len());
-                    resources.push(PlannedResource {
-                        name: format!("{name}/{input} (fallback)"),
-                        decl: ResourceDecl::Texture(t),
-                        extent: (1, 1),
-                        usage: Usage::default(),
-                        first_use: 0,
-                        last_use: 0,
-                        slot: None,
-                        constant: Some([value.0, value.1, value.2, value.3]),
-                    });
+                    resources.push(constant);
                     continue;
                 }
                 if let Some(src) = disabled_source {
-                    let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(&input)]);
-                    return Err(GraphError::new(
-                        ErrorKind::NoProducer,
-                        loc,
-                        format!(
-                            "input `{input}` of node `{name}` comes from node `{src}`, which is switched off, and layer `{}` declares no fallback for it",
-                            nodes[ni].layer_name
-                        ),
-                    )
-                    .help(format!("switch `{src}` on, or give the input a `fallback: Some((r, g, b, a))` in the layer file")));
+                    return Err(switched_off_source(gsrc, &nodes[ni], &input, &src));
                 }
             }
-            let Some(source) = ln.inputs.get(&input) else {
-                unconnected.push(Unconnected {
-                    location: gsrc.locate(&["nodes", &node_anchor]),
-                    input,
-                    node: name.clone(),
-                    layer: nodes[ni].layer_name.clone(),
-                });
+            let Some(source) = source else {
+                let node = &nodes[ni];
+                let location = gsrc.locate(&["nodes", &SourceText::quoted(&node.name)]);
+                unconnected.push(Unconnected { location, input, node: node.name.clone(), layer: node.layer_name.clone() });
                 continue;
             };
-            let loc = gsrc.locate(&["nodes", &node_anchor, "inputs", &SourceText::quoted(&input), &SourceText::quoted(source)]);
-            let (src_node, src_out) = split_ref(source);
-            let rid = nodes
-                .iter()
-                .find(|n| n.name == src_node)
-                .and_then(|n| n.layer.outputs.get(src_out).and(n.locals.get(src_out)))
-                .copied()
-                .ok_or_else(|| unknown_output(source, loc.clone(), nodes))?;
-            let produced = &resources[rid].decl;
-            let compatible = match (&decl, produced) {
-                (ResourceDecl::Texture(a), ResourceDecl::Texture(b)) => a.format == b.format,
-                (ResourceDecl::Buffer(a), ResourceDecl::Buffer(b)) => a.size <= b.size,
-                (ResourceDecl::Accel, ResourceDecl::Accel) => true,
-                _ => false,
-            };
-            if !compatible {
-                return Err(GraphError::new(
-                    ErrorKind::FormatMismatch,
-                    loc,
-                    format!("input `{input}` of node `{name}` expects {}, but `{source}` is {}", describe_decl(&decl), describe_decl(produced)),
-                )
-                .note(nodes[ni].layer_src.locate(&["inputs", &SourceText::quoted(&input)]), "the input is declared here")
-                .help("connect an output of the expected format, or insert a conversion layer"));
-            }
+            let rid = source_resource(gsrc, nodes, ni, (&input, &decl), source, resources)?;
             nodes[ni].locals.insert(input.clone(), rid);
         }
     }
@@ -123,6 +70,87 @@ pub(super) fn connect_inputs(graph: &GraphDesc, gsrc: &SourceText, nodes: &mut [
         Some(e) => Err(e),
         None => Ok(()),
     }
+}
+
+/// Every input the graph connects for a node is one its layer declares.
+fn check_known_inputs(gsrc: &SourceText, node: &ResolvedNode, ln: &LayerNode) -> Result<(), GraphError> {
+    for input in ln.inputs.keys() {
+        if !node.layer.inputs.contains_key(input) {
+            let loc = gsrc.locate(&["nodes", &SourceText::quoted(&node.name), "inputs", &SourceText::quoted(input)]);
+            let names: Vec<&str> = node.layer.inputs.keys().map(|s| s.as_str()).collect();
+            return Err(GraphError::new(ErrorKind::UnknownOutput, loc, format!("layer `{}` has no input `{input}`", node.layer_name))
+                .help(format!("its inputs are: {}", if names.is_empty() { "none".into() } else { names.join(", ") })));
+        }
+    }
+    Ok(())
+}
+
+/// A constant 1x1 texture holding an input's fallback value, if the layer declares one.
+fn fallback_texture(node: &str, input: &str, decl: &ResourceDecl) -> Option<PlannedResource> {
+    let ResourceDecl::Texture(t) = decl else { return None };
+    let value = t.fallback?;
+    let mut t = t.clone();
+    t.size = SizeDecl::Absolute(1, 1);
+    Some(PlannedResource {
+        name: format!("{node}/{input} (fallback)"),
+        decl: ResourceDecl::Texture(t),
+        extent: (1, 1),
+        usage: Usage::default(),
+        first_use: 0,
+        last_use: 0,
+        slot: None,
+        constant: Some([value.0, value.1, value.2, value.3]),
+    })
+}
+
+/// The error of an input connected to a switched-off node and without a fallback.
+fn switched_off_source(gsrc: &SourceText, node: &ResolvedNode, input: &str, src: &str) -> GraphError {
+    let name = &node.name;
+    let loc = gsrc.locate(&["nodes", &SourceText::quoted(name), "inputs", &SourceText::quoted(input)]);
+    GraphError::new(
+        ErrorKind::NoProducer,
+        loc,
+        format!("input `{input}` of node `{name}` comes from node `{src}`, which is switched off, and layer `{}` declares no fallback for it", node.layer_name),
+    )
+    .help(format!("switch `{src}` on, or give the input a `fallback: Some((r, g, b, a))` in the layer file"))
+}
+
+/// The resource that `source` (`"node.output"`) names for input `(name, declaration)` of node
+/// `ni`, checked to be of the input's format.
+fn source_resource(
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    ni: usize,
+    (input, decl): (&str, &ResourceDecl),
+    source: &str,
+    resources: &[PlannedResource],
+) -> Result<ResourceId, GraphError> {
+    let name = &nodes[ni].name;
+    let loc = gsrc.locate(&["nodes", &SourceText::quoted(name), "inputs", &SourceText::quoted(input), &SourceText::quoted(source)]);
+    let rid = output_resource(nodes, source).ok_or_else(|| unknown_output(source, loc.clone(), nodes))?;
+    let produced = &resources[rid].decl;
+    let compatible = match (decl, produced) {
+        (ResourceDecl::Texture(a), ResourceDecl::Texture(b)) => a.format == b.format,
+        (ResourceDecl::Buffer(a), ResourceDecl::Buffer(b)) => a.size <= b.size,
+        (ResourceDecl::Accel, ResourceDecl::Accel) => true,
+        _ => false,
+    };
+    if !compatible {
+        return Err(GraphError::new(
+            ErrorKind::FormatMismatch,
+            loc,
+            format!("input `{input}` of node `{name}` expects {}, but `{source}` is {}", describe_decl(decl), describe_decl(produced)),
+        )
+        .note(nodes[ni].layer_src.locate(&["inputs", &SourceText::quoted(input)]), "the input is declared here")
+        .help("connect an output of the expected format, or insert a conversion layer"));
+    }
+    Ok(rid)
+}
+
+/// The resource of an output reference `"node.output"`, if the node has that output.
+pub(super) fn output_resource(nodes: &[ResolvedNode], reference: &str) -> Option<ResourceId> {
+    let (node, output) = split_ref(reference);
+    nodes.iter().find(|n| n.name == node).and_then(|n| n.layer.outputs.get(output).and(n.locals.get(output))).copied()
 }
 
 /// A layer input that the graph leaves unconnected and that has no fallback.
@@ -162,7 +190,7 @@ fn describe_decl(d: &ResourceDecl) -> String {
     }
 }
 
-pub(super) fn split_ref(s: &str) -> (&str, &str) {
+fn split_ref(s: &str) -> (&str, &str) {
     s.split_once('.').unwrap_or((s, ""))
 }
 

@@ -5,9 +5,10 @@
 use super::options::Project;
 use super::plan::ResourceId;
 use super::source::{parse_ron, read_file, SourceText};
-use crate::error::{ErrorKind, GraphError};
+use crate::error::{ErrorKind, GraphError, Location};
 use crate::graph::desc::*;
 use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
 
 pub(super) struct ResolvedNode {
     pub(super) name: String,
@@ -21,8 +22,26 @@ pub(super) struct ResolvedNode {
     pub(super) accel: Option<AccelNode>,
 }
 
+/// Switches layer nodes on or off as the options say (`CompileOptions::enabled`).
+pub(super) fn apply_switches(graph: &mut GraphDesc, enabled: &BTreeMap<String, bool>, graph_file: &Path) -> Result<(), GraphError> {
+    for (node, on) in enabled {
+        match graph.nodes.get_mut(node) {
+            Some(NodeDesc::Layer(l)) => l.enabled = *on,
+            _ => {
+                return Err(GraphError::new(
+                    ErrorKind::UnknownLayer,
+                    Location::file_start(graph_file),
+                    format!("a switch names node `{node}`, which is not a layer node of the graph"),
+                ))
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Each node's layer file read and checked, and its parameters set from the graph file; an
+/// `Accel` node becomes its built-in layer. Switched-off nodes are left out.
 pub(super) fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Result<Vec<ResolvedNode>, GraphError> {
-    check_one_accel(graph, gsrc)?;
     let mut out = Vec::new();
     for (name, node) in &graph.nodes {
         let ln = match node {
@@ -75,7 +94,7 @@ pub(super) fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Pro
 
 /// A graph has at most one `Accel` node: the runtime keeps one acceleration-structure cache per
 /// graph (one scene, one set of ray counters), so a second node's settings would be dropped.
-fn check_one_accel(graph: &GraphDesc, gsrc: &SourceText) -> Result<(), GraphError> {
+pub(super) fn check_one_accel(graph: &GraphDesc, gsrc: &SourceText) -> Result<(), GraphError> {
     let accels: Vec<&String> = graph.nodes.iter().filter(|(_, n)| matches!(n, NodeDesc::Accel(_))).map(|(name, _)| name).collect();
     if accels.len() < 2 {
         return Ok(());
@@ -121,6 +140,34 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
         locals: HashMap::new(),
         accel: Some(accel.clone()),
     }
+}
+
+/// Sets the parameter values the options override (`CompileOptions::params`), checked like the
+/// graph file's own.
+pub(super) fn apply_param_overrides(
+    nodes: &mut [ResolvedNode],
+    overrides: &BTreeMap<(String, String), ParamValue>,
+    graph_file: &Path,
+) -> Result<(), GraphError> {
+    for ((node, param), value) in overrides {
+        let loc = Location::file_start(graph_file);
+        let n = nodes.iter_mut().find(|n| &n.name == node).ok_or_else(|| {
+            GraphError::new(
+                ErrorKind::UnknownLayer,
+                loc.clone(),
+                format!("a parameter override names node `{node}`, which the graph does not have (or has switched off)"),
+            )
+        })?;
+        let decl = n
+            .params
+            .get(param)
+            .map(|(d, _)| d.clone())
+            .ok_or_else(|| GraphError::new(ErrorKind::UnknownParam, loc.clone(), format!("node `{node}` has no parameter `{param}`")))?;
+        let checked = check_param(&decl, *value)
+            .map_err(|(kind, msg, help)| GraphError::new(kind, loc.clone(), format!("override of `{node}.{param}`: {msg}")).help(help))?;
+        n.params.insert(param.clone(), (decl, checked));
+    }
+    Ok(())
 }
 
 type ParamProblem = (ErrorKind, String, String);

@@ -2,6 +2,7 @@
 //! the petgraph graph of pass and resource vertices, cycles reported as their path of nodes,
 //! and the culling and topological order of the passes.
 
+use super::connect::{output_resource, unknown_output};
 use super::plan::{PlannedResource, ResourceId};
 use super::resolve::ResolvedNode;
 use super::source::SourceText;
@@ -11,12 +12,15 @@ use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::Direction;
 use std::collections::HashMap;
 
+/// A vertex of the petgraph graph: a pass or a resource (indices).
 #[derive(Debug, Clone, Copy)]
-pub(super) enum Vertex {
+enum Vertex {
     Pass(usize),
     Resource(ResourceId),
 }
 
+/// A pass of a resolved node: its node and index in the layer's passes, its reads and writes as
+/// `(local name, resource)`, and where the layer file declares it.
 pub(super) struct PassNode {
     pub(super) node: usize,
     pub(super) index: usize,
@@ -25,12 +29,14 @@ pub(super) struct PassNode {
     pub(super) location: Location,
 }
 
-pub(super) fn collect_passes(
-    nodes: &[ResolvedNode],
-    _resources: &[PlannedResource],
-    producers: &mut HashMap<ResourceId, usize>,
-) -> Result<Vec<PassNode>, GraphError> {
+/// Which pass writes each resource (an index into the passes).
+pub(super) type Producers = HashMap<ResourceId, usize>;
+
+/// Every pass of every node with its reads and writes looked up in the node's `locals`, and
+/// the pass that writes each resource (at most one).
+pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, Producers), GraphError> {
     let mut passes = Vec::new();
+    let mut producers = Producers::new();
     let mut producer_loc: HashMap<ResourceId, (Location, String)> = HashMap::new();
     for (ni, node) in nodes.iter().enumerate() {
         for (pi, pass) in node.layer.passes.iter().enumerate() {
@@ -86,11 +92,129 @@ pub(super) fn collect_passes(
             passes.push(PassNode { node: ni, index: pi, reads, writes, location });
         }
     }
-    Ok(passes)
+    Ok((passes, producers))
+}
+
+/// The passes that reach the graph output, in execution order, and the graph's output.
+pub(super) struct Schedule {
+    /// Indices of the kept passes in a topological order.
+    pub(super) kept: Vec<usize>,
+    /// Names (`node/pass`) of the passes whose outputs never reach the graph output.
+    pub(super) culled: Vec<String>,
+    pub(super) output: ResourceId,
+}
+
+/// Checks that every read has a producer, that there is no cycle and that the output exists
+/// and is presentable; then culls the passes that do not reach the output and orders the rest.
+pub(super) fn schedule(
+    graph: &GraphDesc,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    passes: &[PassNode],
+    resources: &[PlannedResource],
+    producers: &Producers,
+) -> Result<Schedule, GraphError> {
+    let pg = PassGraph::new(passes, resources.len());
+    check_producers(nodes, passes, resources, producers)?;
+    let topo = petgraph::algo::toposort(&pg.g, None).map_err(|cycle| cycle_error(&pg.g, cycle.node_id(), gsrc, nodes, passes, resources))?;
+    let output = graph_output(graph, gsrc, nodes, resources, producers)?;
+    let reaches = pg.reaching(output);
+    let kept: Vec<usize> = topo
+        .iter()
+        .filter_map(|v| match pg.g[*v] {
+            Vertex::Pass(p) if reaches[v.index()] => Some(p),
+            _ => None,
+        })
+        .collect();
+    let culled: Vec<String> = (0..passes.len()).filter(|p| !reaches[pg.pass_vertex[*p].index()]).map(|p| pass_name(nodes, &passes[p])).collect();
+    Ok(Schedule { kept, culled, output })
+}
+
+/// The petgraph graph: an edge from each resource to the passes reading it, and from each pass
+/// to the resources it writes.
+struct PassGraph {
+    g: DiGraph<Vertex, ()>,
+    res_vertex: Vec<NodeIndex>,
+    pass_vertex: Vec<NodeIndex>,
+}
+
+impl PassGraph {
+    fn new(passes: &[PassNode], resource_count: usize) -> Self {
+        let mut g: DiGraph<Vertex, ()> = DiGraph::new();
+        let res_vertex: Vec<NodeIndex> = (0..resource_count).map(|r| g.add_node(Vertex::Resource(r))).collect();
+        let pass_vertex: Vec<NodeIndex> = (0..passes.len()).map(|p| g.add_node(Vertex::Pass(p))).collect();
+        for (pi, p) in passes.iter().enumerate() {
+            for (_, r) in &p.reads {
+                g.add_edge(res_vertex[*r], pass_vertex[pi], ());
+            }
+            for (_, r) in &p.writes {
+                g.add_edge(pass_vertex[pi], res_vertex[*r], ());
+            }
+        }
+        Self { g, res_vertex, pass_vertex }
+    }
+
+    /// For each vertex (by index), whether resource `output` can be reached from it.
+    fn reaching(&self, output: ResourceId) -> Vec<bool> {
+        let mut reaches = vec![false; self.g.node_count()];
+        let mut stack = vec![self.res_vertex[output]];
+        while let Some(v) = stack.pop() {
+            if std::mem::replace(&mut reaches[v.index()], true) {
+                continue;
+            }
+            stack.extend(self.g.neighbors_directed(v, Direction::Incoming));
+        }
+        reaches
+    }
+}
+
+/// Every read has a producer or is a constant (fallback) texture.
+fn check_producers(nodes: &[ResolvedNode], passes: &[PassNode], resources: &[PlannedResource], producers: &Producers) -> Result<(), GraphError> {
+    for p in passes {
+        for (local, r) in &p.reads {
+            if !producers.contains_key(r) && resources[*r].constant.is_none() {
+                let node = &nodes[p.node];
+                let pass = &node.layer.passes[p.index];
+                return Err(GraphError::new(
+                    ErrorKind::NoProducer,
+                    p.location.clone(),
+                    format!("pass `{}` of layer `{}` reads `{local}` ({}), but no pass writes it", pass.name, node.layer_name, resources[*r].name),
+                )
+                .help(format!("add `{local}` to the `writes` of a pass that produces it, or remove it from `reads`")));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The resource the graph names as its output: an output of a node, written by a pass, and an
+/// Rgba8Unorm or Rgba8UnormSrgb texture.
+fn graph_output(
+    graph: &GraphDesc,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    resources: &[PlannedResource],
+    producers: &Producers,
+) -> Result<ResourceId, GraphError> {
+    let output_loc = gsrc.locate(&["output", &SourceText::quoted(&graph.output)]);
+    let output = output_resource(nodes, &graph.output).ok_or_else(|| unknown_output(&graph.output, output_loc.clone(), nodes))?;
+    if !producers.contains_key(&output) {
+        return Err(GraphError::new(ErrorKind::NoProducer, output_loc, format!("graph output `{}` is never written", graph.output))
+            .help("write the output in one of the layer's passes"));
+    }
+    match &resources[output].decl {
+        ResourceDecl::Texture(t) if matches!(t.format, Format::Rgba8Unorm | Format::Rgba8UnormSrgb) => Ok(output),
+        other => Err(GraphError::new(
+            ErrorKind::Unsupported,
+            output_loc,
+            format!("graph output `{}` is `{other}`; the output must be an Rgba8Unorm or Rgba8UnormSrgb texture", graph.output),
+        )
+        .help("add a tone-map layer that writes an Rgba8UnormSrgb texture and make it the output")),
+    }
 }
 
 /// The cycle through `start` as graph node names, `a -> b -> a`, pointing at the first node.
-pub(super) fn cycle_error(
+fn cycle_error(
     g: &DiGraph<Vertex, ()>,
     start: NodeIndex,
     gsrc: &SourceText,
@@ -144,6 +268,7 @@ fn shortest_cycle(g: &DiGraph<Vertex, ()>, start: NodeIndex) -> Vec<NodeIndex> {
     vec![start]
 }
 
+/// `"node/pass"`.
 pub(super) fn pass_name(nodes: &[ResolvedNode], p: &PassNode) -> String {
     format!("{}/{}", nodes[p.node].name, nodes[p.node].layer.passes[p.index].name)
 }
