@@ -21,10 +21,11 @@ mod resolve;
 mod schedule;
 mod source;
 
-pub use options::{CompileOptions, Project, TRACE_INCLUDE};
+pub use options::{CompileOptions, Project};
 pub use plan::{fmt_bytes, Plan, PlannedPass, PlannedResource, ResourceId, Slot, Usage};
-pub use resolve::check_param;
-pub use source::{parse_graph, parse_layer};
+pub(crate) use resolve::check_param;
+pub(crate) use source::parse_graph;
+pub use source::parse_layer;
 
 use crate::error::GraphError;
 use crate::graph::desc::GraphDesc;

@@ -64,4 +64,4 @@ impl CompileOptions {
 }
 
 /// The include every trace pass uses; the back-end substitutes its module for it.
-pub const TRACE_INCLUDE: &str = "trace/trace.wgsl";
+const TRACE_INCLUDE: &str = "trace/trace.wgsl";

@@ -8,7 +8,7 @@ use crate::graph::desc::*;
 use crate::graph::reflect::ShaderInfo;
 use crate::scene::gpu::SceneUsage;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 pub type ResourceId = usize;
@@ -99,24 +99,71 @@ pub struct PlannedPass {
     pub location: Location,
 }
 
-/// The executable result of compiling a graph for one frame size.
+/// The executable result of compiling a graph for one frame size. Code outside the crate
+/// reads it through the accessors below.
 #[derive(Debug, Clone)]
 pub struct Plan {
-    pub graph_file: PathBuf,
-    pub frame_size: (u32, u32),
-    pub passes: Vec<PlannedPass>,
+    pub(crate) graph_file: PathBuf,
+    pub(crate) frame_size: (u32, u32),
+    pub(crate) passes: Vec<PlannedPass>,
     /// Names of passes whose outputs never reach the graph output.
-    pub culled: Vec<String>,
-    pub resources: Vec<PlannedResource>,
-    pub slots: Vec<Slot>,
-    pub output: ResourceId,
+    pub(crate) culled: Vec<String>,
+    pub(crate) resources: Vec<PlannedResource>,
+    pub(crate) slots: Vec<Slot>,
+    pub(crate) output: ResourceId,
     /// Which parts of the scene the kept passes draw or read.
-    pub scene_usage: SceneUsage,
+    pub(crate) scene_usage: SceneUsage,
     /// The back-end trace passes were compiled for.
-    pub backend: Backend,
+    pub(crate) backend: Backend,
 }
 
 impl Plan {
+    /// The graph file the plan was compiled from.
+    pub fn graph_file(&self) -> &Path {
+        &self.graph_file
+    }
+
+    /// The frame size (width, height) the plan's texture sizes are resolved for.
+    pub fn frame_size(&self) -> (u32, u32) {
+        self.frame_size
+    }
+
+    /// The kept passes, in execution order.
+    pub fn passes(&self) -> &[PlannedPass] {
+        &self.passes
+    }
+
+    /// Names (`node/pass`) of the passes whose outputs never reach the graph output.
+    pub fn culled(&self) -> &[String] {
+        &self.culled
+    }
+
+    /// Every resource of the graph, kept or not; a [`ResourceId`] indexes it.
+    pub fn resources(&self) -> &[PlannedResource] {
+        &self.resources
+    }
+
+    /// The physical allocations, each shared by the resources listed in its `members`.
+    pub fn slots(&self) -> &[Slot] {
+        &self.slots
+    }
+
+    /// The resource the graph presents (its `output`).
+    pub fn output(&self) -> ResourceId {
+        self.output
+    }
+
+    /// Which parts of the scene the kept passes draw or read; only these are uploaded.
+    pub fn scene_usage(&self) -> SceneUsage {
+        self.scene_usage
+    }
+
+    /// The back-end trace passes were compiled for.
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// Whether resource `r` is used by a kept pass (and so has a slot).
     pub fn is_kept(&self, r: ResourceId) -> bool {
         self.resources[r].slot.is_some()
     }
@@ -131,6 +178,7 @@ impl Plan {
         self.slots.iter().map(|s| s.bytes).sum()
     }
 
+    /// The resource named `name` (`"node.output"`, `"node/transient"`).
     pub fn resource_by_name(&self, name: &str) -> Option<ResourceId> {
         self.resources.iter().position(|r| r.name == name)
     }

@@ -173,7 +173,7 @@ pub(super) fn apply_param_overrides(
 type ParamProblem = (ErrorKind, String, String);
 
 /// Checks a value against its declaration; ints are accepted where floats are expected.
-pub fn check_param(decl: &ParamDecl, value: ParamValue) -> Result<ParamValue, ParamProblem> {
+pub(crate) fn check_param(decl: &ParamDecl, value: ParamValue) -> Result<ParamValue, ParamProblem> {
     let wrong = || {
         (ErrorKind::ParamType, format!("expected {}, found {} (`{value}`)", decl.type_name(), value.type_name()), format!("write a {} value", decl.type_name()))
     };
