@@ -34,7 +34,7 @@ fn render(mode: Mode) -> anyhow::Result<image::RgbaImage> {
     let gpu = Gpu::new()?;
     let graph_file = Path::new(mode.graph());
     let plan = graph::compile::compile_with(graph_file, &Project::beside_graph(graph_file), SIZE, &gpu.compile_options())?;
-    let options = LoadOptions { textures: plan.scene_usage.textures, ..LoadOptions::default() };
+    let options = LoadOptions { textures: plan.scene_usage().textures, ..LoadOptions::default() };
     let (scene, _report) = raygraph::scene::open("default", &options)?;
     let mut exec = Executor::new(&gpu, plan, &scene)?;
     exec.render(&gpu, &scene.camera, &scene)?;

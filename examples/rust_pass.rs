@@ -186,7 +186,7 @@ fn main() -> anyhow::Result<()> {
     let _ = std::fs::remove_dir_all(&dir);
     let (image, timings, exec) = rendered?;
     image.save(&out).with_context(|| format!("cannot write {}", out.display()))?;
-    let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+    let names: Vec<(String, &'static str)> = exec.plan().passes().iter().map(|p| (p.name.clone(), p.kind.name())).collect();
     println!("{}", raygraph::runtime::profiler::pass_table(&names, &[timings], (SIZE.0 * SIZE.1) as u64));
     println!("wrote {} ({}x{})", out.display(), image.width(), image.height());
     Ok(())

@@ -190,7 +190,7 @@ impl WindowRenderer {
         surface.configure(&gpu.device, &config);
         let blit = blit_pipeline(&gpu.device, config.format.remove_srgb_suffix());
 
-        let textures = graph_plan(&gpu, mode, (config.width, config.height))?.scene_usage.textures;
+        let textures = graph_plan(&gpu, mode, (config.width, config.height))?.scene_usage().textures;
         let (scene, _report) = raygraph::scene::open("default", &LoadOptions { textures, ..LoadOptions::default() })?;
         let frame = Frame::new(&gpu, mode, &scene, &blit, (config.width, config.height))?;
         Ok(WindowRenderer { window, surface, config, gpu, mode, scene, frame, blit })
@@ -227,7 +227,7 @@ impl WindowRenderer {
         };
         let gpu = &self.gpu;
         self.frame.exec.render(gpu, &self.scene.camera, &self.scene)?;
-        let output = self.frame.exec.texture(self.frame.exec.plan().output).context("the graph's output is not a texture")?;
+        let output = self.frame.exec.texture(self.frame.exec.plan().output()).context("the graph's output is not a texture")?;
         let target =
             surface_texture.texture.create_view(&wgpu::TextureViewDescriptor { format: Some(self.config.format.remove_srgb_suffix()), ..Default::default() });
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });

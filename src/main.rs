@@ -669,10 +669,10 @@ fn run(cli: Cli) -> Result<()> {
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &gpu.compile_options())?;
-            if plan.passes.iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
+            if plan.passes().iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }
-            let (scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage.textures, seed: view.seed })?;
+            let (scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed })?;
             for note in import.notes() {
                 log::warn!("{scene_spec}: {note}"); // once per run; repairs and fallbacks were logged by the import
             }
@@ -689,7 +689,7 @@ fn run(cli: Cli) -> Result<()> {
             }
             let img = exec.read_output(&gpu)?;
             write_png(&out, &img)?;
-            let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+            let names: Vec<(String, &'static str)> = exec.plan().passes().iter().map(|p| (p.name.clone(), p.kind.name())).collect();
             println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name);
             print!("{}", pass_table(&names, &timings, width as u64 * height as u64));
             if let Some(dir) = &report {
@@ -698,7 +698,7 @@ fn run(cli: Cli) -> Result<()> {
                     println!("wrote {}", p.display());
                 }
             }
-            println!("culled passes: {}", if exec.plan().culled.is_empty() { "none".into() } else { exec.plan().culled.join(", ") });
+            println!("culled passes: {}", if exec.plan().culled().is_empty() { "none".into() } else { exec.plan().culled().join(", ") });
             if let Some(accel) = timings.first().and_then(|t| t.accel.as_ref()) {
                 println!("acceleration structures, first timed frame: {}", accel.describe());
             }

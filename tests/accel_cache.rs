@@ -90,7 +90,7 @@ fn graphs_that_do_not_trace_build_nothing() {
     )"#;
     let graph = p.write("graph/unused_rt.ron", text);
     let plan = compile_with(&graph, &Project::beside_graph(&graph), (16, 16), &gpu.compile_options()).unwrap();
-    assert!(plan.culled.iter().any(|c| c == "accel/build") && plan.culled.iter().any(|c| c == "rt/ao"), "culled: {:?}", plan.culled);
+    assert!(plan.culled().iter().any(|c| c == "accel/build") && plan.culled().iter().any(|c| c == "rt/ao"), "culled: {:?}", plan.culled());
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     assert!(exec.accel().is_none());

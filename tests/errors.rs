@@ -33,7 +33,7 @@ const GOOD: &str = r#"Graph(
 fn the_baseline_graph_compiles() {
     let p = TempProject::new();
     let plan = p.compile("good.ron", GOOD).expect("baseline compiles");
-    assert_eq!(plan.passes.len(), 2);
+    assert_eq!(plan.passes().len(), 2);
 }
 
 #[test]

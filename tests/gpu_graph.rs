@@ -27,12 +27,12 @@ fn chain_project() -> (std::path::PathBuf, Project) {
 fn culled_pass_is_neither_allocated_nor_executed() {
     let (file, project) = chain_project();
     let plan = compile(&file, &project, (W, H)).unwrap();
-    assert_eq!(plan.culled, vec!["unused/fill".to_string()]);
-    assert!(plan.passes.iter().all(|p| p.node != "unused"));
+    assert_eq!(plan.culled(), vec!["unused/fill".to_string()]);
+    assert!(plan.passes().iter().all(|p| p.node != "unused"));
     let unused = plan.resource_by_name("unused.color").unwrap();
     assert!(!plan.is_kept(unused), "the culled pass's output must not be allocated");
-    assert!(plan.slots.iter().all(|s| !s.members.contains(&unused)));
-    assert!(!plan.scene_usage.any(), "a graph that reads no scene data uploads no scene");
+    assert!(plan.slots().iter().all(|s| !s.members.contains(&unused)));
+    assert!(!plan.scene_usage().any(), "a graph that reads no scene data uploads no scene");
 
     let gpu = gpu();
     let scene = default_scene();
@@ -55,9 +55,9 @@ fn texture_reuse_saves_memory_and_renders_the_same_image() {
     assert_eq!(reused.bytes_without_reuse(), separate.bytes_with_reuse());
     let fill = reused.resource_by_name("fill.color").unwrap();
     let b = reused.resource_by_name("b.dst").unwrap();
-    assert_eq!(reused.resources[fill].slot, reused.resources[b].slot, "fill.color (passes 0..1) and b.dst (2..3) share a slot");
+    assert_eq!(reused.resources()[fill].slot, reused.resources()[b].slot, "fill.color (passes 0..1) and b.dst (2..3) share a slot");
     let a = reused.resource_by_name("a.dst").unwrap();
-    assert_ne!(reused.resources[a].slot, reused.resources[fill].slot, "overlapping lifetimes never share");
+    assert_ne!(reused.resources()[a].slot, reused.resources()[fill].slot, "overlapping lifetimes never share");
 
     let gpu = gpu();
     let scene = default_scene();
@@ -86,7 +86,7 @@ fn texture_reuse_saves_memory_and_renders_the_same_image() {
 fn every_pass_gets_a_gpu_timestamp_when_the_adapter_has_them() {
     let (file, project) = chain_project();
     let plan = compile(&file, &project, (W, H)).unwrap();
-    let n = plan.passes.len();
+    let n = plan.passes().len();
     let gpu = gpu();
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
@@ -111,7 +111,7 @@ fn a_fullscreen_pass_draws_what_the_compute_pass_writes() {
     let mut images = Vec::new();
     for graph in [file, fs_graph] {
         let plan = compile(&graph, &Project::beside_graph(&graph), (W, H)).unwrap();
-        let kinds: Vec<_> = plan.passes.iter().filter(|p| p.node == "out").map(|p| p.kind).collect();
+        let kinds: Vec<_> = plan.passes().iter().filter(|p| p.node == "out").map(|p| p.kind).collect();
         println!("{}: out pass {kinds:?}", graph.display());
         let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
         exec.render(&gpu, &scene.camera, &scene).unwrap();

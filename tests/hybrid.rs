@@ -285,7 +285,7 @@ fn ray_counters_count_hits_and_misses_exactly() {
     let (w, h) = (40u32, 30u32);
     for backend in Backend::ALL {
         let (exec, timings) = run(&gpu, &graph, backend, &s, (w, h));
-        let primary = exec.plan().passes.iter().position(|p| p.name == "gbuffer/primary").unwrap();
+        let primary = exec.plan().passes().iter().position(|p| p.name == "gbuffer/primary").unwrap();
         let stats = timings.pass_rays[primary].unwrap();
         println!("{backend}: {stats:?}");
         assert_eq!(stats.closest, (w * h) as u64);
@@ -426,9 +426,9 @@ fn a_switched_off_effect_is_culled_and_reads_its_fallback() {
     let text = std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap().replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ");
     let (_p, graph) = project(&text);
     let plan = compile_with(&graph, &Project::beside_graph(&graph), (32, 24), &gpu.compile_options()).unwrap();
-    assert!(plan.passes.iter().all(|p| !p.name.starts_with("ao/")), "no AO pass");
+    assert!(plan.passes().iter().all(|p| !p.name.starts_with("ao/")), "no AO pass");
     assert!(plan.resource_by_name("ao.ao").is_none(), "no AO texture");
-    assert!(plan.resource_by_name("resolve/ao (fallback)").is_some_and(|r| plan.resources[r].extent == (1, 1)));
+    assert!(plan.resource_by_name("resolve/ao (fallback)").is_some_and(|r| plan.resources()[r].extent == (1, 1)));
     let s = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &s).unwrap();
     let t = exec.render(&gpu, &s.camera, &s).unwrap();

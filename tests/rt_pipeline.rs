@@ -38,7 +38,7 @@ fn channels(gpu: &Gpu, exec: &Executor, names: &[&str]) -> Vec<(String, Vec<[f32
     names
         .iter()
         .map(|name| {
-            let r = exec.plan().resources.iter().position(|r| r.name == *name).unwrap_or_else(|| panic!("no resource {name}"));
+            let r = exec.plan().resources().iter().position(|r| r.name == *name).unwrap_or_else(|| panic!("no resource {name}"));
             (name.to_string(), exec.read_texture_f32(gpu, r).unwrap().2)
         })
         .collect()
@@ -118,7 +118,7 @@ fn a_moving_instance_is_followed_frame_by_frame() {
         let (mut compute, mut rt) = (open(Backend::Compute), open(Backend::RtPipeline));
         let first = rt.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
         assert_eq!(first.blas_built, if merged { 1 } else { scene.meshes.len() }, "the first frame builds every BLAS");
-        let accel_pass = rt.plan().passes.iter().position(|p| p.kind == raygraph::graph::desc::PassKind::AccelBuild).unwrap();
+        let accel_pass = rt.plan().passes().iter().position(|p| p.kind == raygraph::graph::desc::PassKind::AccelBuild).unwrap();
         let mut outputs = Vec::new();
         let mut build_ms = Vec::new();
         for step in 0..3 {

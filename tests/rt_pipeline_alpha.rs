@@ -116,7 +116,7 @@ fn the_any_hit_shader_is_valid_spirv() {
             let graph = common::repo().join(graph);
             let options = CompileOptions { includes: raygraph::runtime::gpu::include_aliases(bindless), backend: Backend::RtPipeline, ..Default::default() };
             let plan = compile_with(&graph, &Project::beside_graph(&graph), (64, 48), &options).unwrap();
-            for pass in plan.passes.iter().filter(|p| p.shader.ray_tracing.is_some()) {
+            for pass in plan.passes().iter().filter(|p| p.shader.ray_tracing.is_some()) {
                 let module = pass.shader.ray_tracing.as_ref().unwrap();
                 // The pass's bindings in hal's numbering: each group's entries in order, the
                 // texture binding array of 64 (any count makes the same instructions).

@@ -32,7 +32,7 @@ fn the_rust_pass_inverts_what_the_wgsl_pass_drew() {
     }
 
     // The Rust pass is a pass like the others: a row in the pass table, a timestamp pair.
-    let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+    let names: Vec<(String, &'static str)> = exec.plan().passes().iter().map(|p| (p.name.clone(), p.kind.name())).collect();
     assert_eq!(names, vec![("gradient/gradient".to_string(), "compute"), ("invert/invert".to_string(), "rust")]);
     let table = raygraph::runtime::profiler::pass_table(&names, std::slice::from_ref(&timings), 1);
     assert!(table.contains("invert/invert") && table.contains("rust"), "{table}");

@@ -37,7 +37,7 @@ fn a_written_gltf_renders_through_the_raster_graph() {
 
     let graph = common::repo().join("graph/raster.ron");
     let plan = compile(&graph, &Project::beside_graph(&graph), (96, 64)).unwrap();
-    let (mut scene, _) = gltf_import::load(&path, &LoadOptions { textures: plan.scene_usage.textures, ..Default::default() }).unwrap();
+    let (mut scene, _) = gltf_import::load(&path, &LoadOptions { textures: plan.scene_usage().textures, ..Default::default() }).unwrap();
     scene.light.direction = Vec3::Z; // light from the camera's side
     let camera = Camera::look(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 50.0, 0.1, 100.0);
     let gpu = gpu();
@@ -89,8 +89,8 @@ fn only_what_the_graph_reads_is_uploaded() {
     p.write("layers/flat.ron", FLAT_LAYER);
     p.write("shaders/test/flat.wgsl", FLAT_WGSL);
     let plan = p.compile("flat.ron", r#"Graph(output: "flat.color", nodes: {"flat": Layer(layer: "flat")})"#).unwrap();
-    assert!(plan.scene_usage.geometry && plan.scene_usage.instances);
-    assert!(!plan.scene_usage.textures && !plan.scene_usage.materials, "{:?}", plan.scene_usage);
+    assert!(plan.scene_usage().geometry && plan.scene_usage().instances);
+    assert!(!plan.scene_usage().textures && !plan.scene_usage().materials, "{:?}", plan.scene_usage());
     let gpu = gpu();
     let scene = builtin::default_scene();
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
@@ -101,7 +101,7 @@ fn only_what_the_graph_reads_is_uploaded() {
     // The raster graph samples textures: they are uploaded with their mip chain.
     let graph = common::repo().join("graph/raster.ron");
     let plan = compile(&graph, &Project::beside_graph(&graph), (32, 32)).unwrap();
-    assert!(plan.scene_usage.textures && plan.scene_usage.materials);
+    assert!(plan.scene_usage().textures && plan.scene_usage().materials);
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
     let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures.as_ref() else {
         panic!("the default options bind a texture array")

@@ -1,0 +1,243 @@
+//! The compiler's result: [`Plan`] (kept passes in execution order, culled passes, resources,
+//! slots), its parts [`PlannedPass`], [`PlannedResource`], [`Slot`] and [`Usage`], and the
+//! human-readable report of a plan.
+
+use crate::backend::Backend;
+use crate::error::Location;
+use crate::graph::desc::*;
+use crate::graph::reflect::ShaderInfo;
+use crate::scene::gpu::SceneUsage;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+pub type ResourceId = usize;
+
+/// A resource of the compiled graph.
+#[derive(Debug, Clone)]
+pub struct PlannedResource {
+    /// `"node.output"` for layer outputs, `"node/name"` for transients.
+    pub name: String,
+    pub decl: ResourceDecl,
+    /// Resolved texture size (textures only).
+    pub extent: (u32, u32),
+    pub usage: Usage,
+    /// Index into [`Plan::passes`] of the pass that writes it (kept resources only).
+    pub first_use: usize,
+    pub last_use: usize,
+    /// Physical allocation (kept resources only).
+    pub slot: Option<usize>,
+    /// A constant texture (an unconnected input's fallback value): filled once, never written.
+    pub constant: Option<[f32; 4]>,
+}
+
+impl PlannedResource {
+    pub fn bytes(&self) -> u64 {
+        match &self.decl {
+            ResourceDecl::Texture(t) => self.extent.0 as u64 * self.extent.1 as u64 * t.format.bytes_per_texel(),
+            ResourceDecl::Buffer(b) => b.size,
+            // Owned by the acceleration-structure cache, not a transient of the frame.
+            ResourceDecl::Accel => 0,
+        }
+    }
+}
+
+/// How a resource is used over the frame (decides wgpu usage flags).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Usage {
+    pub sampled: bool,
+    pub storage: bool,
+    pub attachment: bool,
+    pub copy_src: bool,
+}
+
+impl Usage {
+    pub(super) fn union(self, o: Usage) -> Usage {
+        Usage {
+            sampled: self.sampled || o.sampled,
+            storage: self.storage || o.storage,
+            attachment: self.attachment || o.attachment,
+            copy_src: self.copy_src || o.copy_src,
+        }
+    }
+}
+
+/// A physical texture or buffer shared by resources whose lifetimes do not overlap.
+#[derive(Debug, Clone)]
+pub struct Slot {
+    pub decl: ResourceDecl,
+    pub extent: (u32, u32),
+    pub usage: Usage,
+    pub bytes: u64,
+    pub members: Vec<ResourceId>,
+    /// A constant (fallback) texture's value, written once when the slot is created.
+    pub constant: Option<[f32; 4]>,
+}
+
+/// A kept pass, in execution order.
+#[derive(Debug, Clone)]
+pub struct PlannedPass {
+    /// `"node/pass"`.
+    pub name: String,
+    pub node: String,
+    pub kind: PassKind,
+    pub shader: Arc<ShaderInfo>,
+    pub entry: String,
+    pub vertex_entry: String,
+    /// (name the shader binds it by, resource)
+    pub reads: Vec<(String, ResourceId)>,
+    pub writes: Vec<(String, ResourceId)>,
+    pub dispatch: Dispatch,
+    /// `SceneRaster`: whether the pipeline culls back faces (`PassDesc::cull_back_faces`).
+    pub cull_back_faces: bool,
+    /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
+    pub shadow_slot: Option<u32>,
+    /// `AccelBuild`: the settings of its `Accel` node.
+    pub accel: Option<AccelNode>,
+    /// Parameter values after graph overrides.
+    pub params: BTreeMap<String, (ParamDecl, ParamValue)>,
+    pub location: Location,
+}
+
+/// The executable result of compiling a graph for one frame size. Code outside the crate
+/// reads it through the accessors below.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub(crate) graph_file: PathBuf,
+    pub(crate) frame_size: (u32, u32),
+    pub(crate) passes: Vec<PlannedPass>,
+    /// Names of passes whose outputs never reach the graph output.
+    pub(crate) culled: Vec<String>,
+    pub(crate) resources: Vec<PlannedResource>,
+    pub(crate) slots: Vec<Slot>,
+    pub(crate) output: ResourceId,
+    /// Which parts of the scene the kept passes draw or read.
+    pub(crate) scene_usage: SceneUsage,
+    /// The back-end trace passes were compiled for.
+    pub(crate) backend: Backend,
+}
+
+impl Plan {
+    /// The graph file the plan was compiled from.
+    pub fn graph_file(&self) -> &Path {
+        &self.graph_file
+    }
+
+    /// The frame size (width, height) the plan's texture sizes are resolved for.
+    pub fn frame_size(&self) -> (u32, u32) {
+        self.frame_size
+    }
+
+    /// The kept passes, in execution order.
+    pub fn passes(&self) -> &[PlannedPass] {
+        &self.passes
+    }
+
+    /// Names (`node/pass`) of the passes whose outputs never reach the graph output.
+    pub fn culled(&self) -> &[String] {
+        &self.culled
+    }
+
+    /// Every resource of the graph, kept or not; a [`ResourceId`] indexes it.
+    pub fn resources(&self) -> &[PlannedResource] {
+        &self.resources
+    }
+
+    /// The physical allocations, each shared by the resources listed in its `members`.
+    pub fn slots(&self) -> &[Slot] {
+        &self.slots
+    }
+
+    /// The resource the graph presents (its `output`).
+    pub fn output(&self) -> ResourceId {
+        self.output
+    }
+
+    /// Which parts of the scene the kept passes draw or read; only these are uploaded.
+    pub fn scene_usage(&self) -> SceneUsage {
+        self.scene_usage
+    }
+
+    /// The back-end trace passes were compiled for.
+    pub fn backend(&self) -> Backend {
+        self.backend
+    }
+
+    /// Whether resource `r` is used by a kept pass (and so has a slot).
+    pub fn is_kept(&self, r: ResourceId) -> bool {
+        self.resources[r].slot.is_some()
+    }
+
+    /// Bytes of transient memory if every kept resource had its own allocation.
+    pub fn bytes_without_reuse(&self) -> u64 {
+        self.resources.iter().filter(|r| r.slot.is_some()).map(|r| r.bytes()).sum()
+    }
+
+    /// Bytes actually allocated, with reuse of non-overlapping identical resources.
+    pub fn bytes_with_reuse(&self) -> u64 {
+        self.slots.iter().map(|s| s.bytes).sum()
+    }
+
+    /// The resource named `name` (`"node.output"`, `"node/transient"`).
+    pub fn resource_by_name(&self, name: &str) -> Option<ResourceId> {
+        self.resources.iter().position(|r| r.name == name)
+    }
+
+    /// A human-readable report of the plan.
+    pub fn report(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "graph {} at {}x{}", self.graph_file.display(), self.frame_size.0, self.frame_size.1);
+        let _ = writeln!(s, "passes kept ({}), in execution order:", self.passes.len());
+        for (i, p) in self.passes.iter().enumerate() {
+            let reads: Vec<&str> = p.reads.iter().map(|(_, r)| self.resources[*r].name.as_str()).collect();
+            let writes: Vec<&str> = p.writes.iter().map(|(_, r)| self.resources[*r].name.as_str()).collect();
+            let _ = writeln!(
+                s,
+                "  {i:>2}. {:<28} {:<12} {}  reads [{}] writes [{}]",
+                p.name,
+                p.kind.name(),
+                p.shader.path.display(),
+                reads.join(", "),
+                writes.join(", ")
+            );
+        }
+        let _ = writeln!(s, "passes culled ({}): {}", self.culled.len(), if self.culled.is_empty() { "none".to_string() } else { self.culled.join(", ") });
+        let _ = writeln!(s, "resources:");
+        for r in &self.resources {
+            let what = match &r.decl {
+                ResourceDecl::Texture(t) => format!("{} {}x{}", t.format, r.extent.0, r.extent.1),
+                ResourceDecl::Buffer(b) => format!("buffer {} B", b.size),
+                ResourceDecl::Accel => "acceleration structure".to_string(),
+            };
+            match r.slot {
+                Some(slot) => {
+                    let _ = writeln!(s, "  {:<28} {:<26} live passes {}..={}  slot {}", r.name, what, r.first_use, r.last_use, slot);
+                }
+                None => {
+                    let _ = writeln!(s, "  {:<28} {:<26} not allocated (unused)", r.name, what);
+                }
+            }
+        }
+        let _ = writeln!(
+            s,
+            "transient memory: {} with reuse, {} without ({} slots for {} resources)",
+            fmt_bytes(self.bytes_with_reuse()),
+            fmt_bytes(self.bytes_without_reuse()),
+            self.slots.len(),
+            self.resources.iter().filter(|r| r.slot.is_some()).count()
+        );
+        let _ = writeln!(s, "scene on GPU: {}", self.scene_usage.describe());
+        s
+    }
+}
+
+pub fn fmt_bytes(b: u64) -> String {
+    if b >= 1 << 20 {
+        format!("{:.2} MiB", b as f64 / (1u64 << 20) as f64)
+    } else if b >= 1 << 10 {
+        format!("{:.1} KiB", b as f64 / 1024.0)
+    } else {
+        format!("{b} B")
+    }
+}

@@ -1,0 +1,274 @@
+//! Passes and their order: each pass's reads and writes looked up (one producer per resource),
+//! the petgraph graph of pass and resource vertices, cycles reported as their path of nodes,
+//! and the culling and topological order of the passes.
+
+use super::connect::{output_resource, unknown_output};
+use super::plan::{PlannedResource, ResourceId};
+use super::resolve::ResolvedNode;
+use super::source::SourceText;
+use crate::error::{ErrorKind, GraphError, Location};
+use crate::graph::desc::*;
+use petgraph::graph::{DiGraph, NodeIndex};
+use petgraph::Direction;
+use std::collections::HashMap;
+
+/// A vertex of the petgraph graph: a pass or a resource (indices).
+#[derive(Debug, Clone, Copy)]
+enum Vertex {
+    Pass(usize),
+    Resource(ResourceId),
+}
+
+/// A pass of a resolved node: its node and index in the layer's passes, its reads and writes as
+/// `(local name, resource)`, and where the layer file declares it.
+pub(super) struct PassNode {
+    pub(super) node: usize,
+    pub(super) index: usize,
+    pub(super) reads: Vec<(String, ResourceId)>,
+    pub(super) writes: Vec<(String, ResourceId)>,
+    pub(super) location: Location,
+}
+
+/// Which pass writes each resource (an index into the passes).
+pub(super) type Producers = HashMap<ResourceId, usize>;
+
+/// Every pass of every node with its reads and writes looked up in the node's `locals`, and
+/// the pass that writes each resource (at most one).
+pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, Producers), GraphError> {
+    let mut passes = Vec::new();
+    let mut producers = Producers::new();
+    let mut producer_loc: HashMap<ResourceId, (Location, String)> = HashMap::new();
+    for (ni, node) in nodes.iter().enumerate() {
+        for (pi, pass) in node.layer.passes.iter().enumerate() {
+            let location = node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name)]);
+            let lookup = |local: &String, what: &str| -> Result<(String, ResourceId), GraphError> {
+                node.locals.get(local).map(|r| (local.clone(), *r)).ok_or_else(|| {
+                    let mut names: Vec<&str> =
+                        node.layer.inputs.keys().chain(node.layer.outputs.keys()).chain(node.layer.transients.keys()).map(|s| s.as_str()).collect();
+                    names.sort();
+                    GraphError::new(
+                        ErrorKind::UnknownOutput,
+                        node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name), what, &SourceText::quoted(local)]),
+                        format!("pass `{}` {what} `{local}`, which layer `{}` does not declare", pass.name, node.layer_name),
+                    )
+                    .help(format!("declare it under inputs, outputs or transients; declared: {}", names.join(", ")))
+                })
+            };
+            let reads = pass.reads.iter().map(|l| lookup(l, "reads")).collect::<Result<Vec<_>, _>>()?;
+            let writes = pass.writes.iter().map(|l| lookup(l, "writes")).collect::<Result<Vec<_>, _>>()?;
+            for (local, r) in &writes {
+                if node.layer.inputs.contains_key(local) {
+                    return Err(GraphError::new(
+                        ErrorKind::TwoProducers,
+                        location.clone(),
+                        format!("pass `{}` writes `{local}`, an input of layer `{}` that another node produces", pass.name, node.layer_name),
+                    )
+                    .help("write a new output instead of the input"));
+                }
+                if let Some((first_loc, first_pass)) = producer_loc.get(r) {
+                    return Err(GraphError::new(
+                        ErrorKind::TwoProducers,
+                        location.clone(),
+                        format!("`{local}` is written by two passes: `{first_pass}` and `{}`", pass.name),
+                    )
+                    .note(first_loc.clone(), "first producer")
+                    .help("give each pass its own output, or merge the passes"));
+                }
+                if reads.iter().any(|(_, rr)| rr == r) {
+                    return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("pass `{}` both reads and writes `{local}`", pass.name))
+                        .help("write into a separate resource (ping-pong) instead"));
+                }
+                producer_loc.insert(*r, (location.clone(), pass.name.clone()));
+                producers.insert(*r, passes.len());
+            }
+            if pass.shadow_slot.is_some() && pass.kind != PassKind::SceneRaster {
+                return Err(GraphError::new(
+                    ErrorKind::Unsupported,
+                    location,
+                    format!("pass `{}` has a `shadow_slot` but is not a SceneRaster pass", pass.name),
+                )
+                .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
+            }
+            passes.push(PassNode { node: ni, index: pi, reads, writes, location });
+        }
+    }
+    Ok((passes, producers))
+}
+
+/// The passes that reach the graph output, in execution order, and the graph's output.
+pub(super) struct Schedule {
+    /// Indices of the kept passes in a topological order.
+    pub(super) kept: Vec<usize>,
+    /// Names (`node/pass`) of the passes whose outputs never reach the graph output.
+    pub(super) culled: Vec<String>,
+    pub(super) output: ResourceId,
+}
+
+/// Checks that every read has a producer, that there is no cycle and that the output exists
+/// and is presentable; then culls the passes that do not reach the output and orders the rest.
+pub(super) fn schedule(
+    graph: &GraphDesc,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    passes: &[PassNode],
+    resources: &[PlannedResource],
+    producers: &Producers,
+) -> Result<Schedule, GraphError> {
+    let pg = PassGraph::new(passes, resources.len());
+    check_producers(nodes, passes, resources, producers)?;
+    let topo = petgraph::algo::toposort(&pg.g, None).map_err(|cycle| cycle_error(&pg.g, cycle.node_id(), gsrc, nodes, passes, resources))?;
+    let output = graph_output(graph, gsrc, nodes, resources, producers)?;
+    let reaches = pg.reaching(output);
+    let kept: Vec<usize> = topo
+        .iter()
+        .filter_map(|v| match pg.g[*v] {
+            Vertex::Pass(p) if reaches[v.index()] => Some(p),
+            _ => None,
+        })
+        .collect();
+    let culled: Vec<String> = (0..passes.len()).filter(|p| !reaches[pg.pass_vertex[*p].index()]).map(|p| pass_name(nodes, &passes[p])).collect();
+    Ok(Schedule { kept, culled, output })
+}
+
+/// The petgraph graph: an edge from each resource to the passes reading it, and from each pass
+/// to the resources it writes.
+struct PassGraph {
+    g: DiGraph<Vertex, ()>,
+    res_vertex: Vec<NodeIndex>,
+    pass_vertex: Vec<NodeIndex>,
+}
+
+impl PassGraph {
+    fn new(passes: &[PassNode], resource_count: usize) -> Self {
+        let mut g: DiGraph<Vertex, ()> = DiGraph::new();
+        let res_vertex: Vec<NodeIndex> = (0..resource_count).map(|r| g.add_node(Vertex::Resource(r))).collect();
+        let pass_vertex: Vec<NodeIndex> = (0..passes.len()).map(|p| g.add_node(Vertex::Pass(p))).collect();
+        for (pi, p) in passes.iter().enumerate() {
+            for (_, r) in &p.reads {
+                g.add_edge(res_vertex[*r], pass_vertex[pi], ());
+            }
+            for (_, r) in &p.writes {
+                g.add_edge(pass_vertex[pi], res_vertex[*r], ());
+            }
+        }
+        Self { g, res_vertex, pass_vertex }
+    }
+
+    /// For each vertex (by index), whether resource `output` can be reached from it.
+    fn reaching(&self, output: ResourceId) -> Vec<bool> {
+        let mut reaches = vec![false; self.g.node_count()];
+        let mut stack = vec![self.res_vertex[output]];
+        while let Some(v) = stack.pop() {
+            if std::mem::replace(&mut reaches[v.index()], true) {
+                continue;
+            }
+            stack.extend(self.g.neighbors_directed(v, Direction::Incoming));
+        }
+        reaches
+    }
+}
+
+/// Every read has a producer or is a constant (fallback) texture.
+fn check_producers(nodes: &[ResolvedNode], passes: &[PassNode], resources: &[PlannedResource], producers: &Producers) -> Result<(), GraphError> {
+    for p in passes {
+        for (local, r) in &p.reads {
+            if !producers.contains_key(r) && resources[*r].constant.is_none() {
+                let node = &nodes[p.node];
+                let pass = &node.layer.passes[p.index];
+                return Err(GraphError::new(
+                    ErrorKind::NoProducer,
+                    p.location.clone(),
+                    format!("pass `{}` of layer `{}` reads `{local}` ({}), but no pass writes it", pass.name, node.layer_name, resources[*r].name),
+                )
+                .help(format!("add `{local}` to the `writes` of a pass that produces it, or remove it from `reads`")));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The resource the graph names as its output: an output of a node, written by a pass, and an
+/// Rgba8Unorm or Rgba8UnormSrgb texture.
+fn graph_output(
+    graph: &GraphDesc,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    resources: &[PlannedResource],
+    producers: &Producers,
+) -> Result<ResourceId, GraphError> {
+    let output_loc = gsrc.locate(&["output", &SourceText::quoted(&graph.output)]);
+    let output = output_resource(nodes, &graph.output).ok_or_else(|| unknown_output(&graph.output, output_loc.clone(), nodes))?;
+    if !producers.contains_key(&output) {
+        return Err(GraphError::new(ErrorKind::NoProducer, output_loc, format!("graph output `{}` is never written", graph.output))
+            .help("write the output in one of the layer's passes"));
+    }
+    match &resources[output].decl {
+        ResourceDecl::Texture(t) if matches!(t.format, Format::Rgba8Unorm | Format::Rgba8UnormSrgb) => Ok(output),
+        other => Err(GraphError::new(
+            ErrorKind::Unsupported,
+            output_loc,
+            format!("graph output `{}` is `{other}`; the output must be an Rgba8Unorm or Rgba8UnormSrgb texture", graph.output),
+        )
+        .help("add a tone-map layer that writes an Rgba8UnormSrgb texture and make it the output")),
+    }
+}
+
+/// The cycle through `start` as graph node names, `a -> b -> a`, pointing at the first node.
+fn cycle_error(
+    g: &DiGraph<Vertex, ()>,
+    start: NodeIndex,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    passes: &[PassNode],
+    resources: &[PlannedResource],
+) -> GraphError {
+    let node_of = |v: NodeIndex| match g[v] {
+        Vertex::Pass(p) => nodes[passes[p].node].name.clone(),
+        Vertex::Resource(r) => resources[r].name.split(['.', '/']).next().unwrap_or_default().to_string(),
+    };
+    let mut names: Vec<String> = Vec::new();
+    for v in shortest_cycle(g, start) {
+        let name = node_of(v);
+        if names.last() != Some(&name) {
+            names.push(name);
+        }
+    }
+    if names.len() > 1 && names.first() == names.last() {
+        names.pop();
+    }
+    let first = names.first().cloned().unwrap_or_else(|| node_of(start));
+    let path: Vec<&str> = names.iter().chain(std::iter::once(&first)).map(|s| s.as_str()).collect();
+    let loc = gsrc.locate(&["nodes", &SourceText::quoted(&first)]);
+    GraphError::new(ErrorKind::Cycle, loc, format!("the graph has a cycle: {}", path.join(" -> ")))
+        .help("a node's inputs must not depend on its own outputs; break the loop by removing one connection")
+}
+
+/// The vertices of a shortest cycle through `start` (breadth-first), `start` first and not repeated.
+fn shortest_cycle(g: &DiGraph<Vertex, ()>, start: NodeIndex) -> Vec<NodeIndex> {
+    let mut parent: HashMap<NodeIndex, NodeIndex> = HashMap::new();
+    let mut queue = std::collections::VecDeque::from([start]);
+    while let Some(v) = queue.pop_front() {
+        for w in g.neighbors_directed(v, Direction::Outgoing) {
+            if w == start {
+                let mut path = vec![v];
+                let mut at = v;
+                while let Some(&p) = parent.get(&at) {
+                    path.push(p);
+                    at = p;
+                }
+                path.reverse();
+                return path;
+            }
+            if let std::collections::hash_map::Entry::Vacant(e) = parent.entry(w) {
+                e.insert(v);
+                queue.push_back(w);
+            }
+        }
+    }
+    vec![start]
+}
+
+/// `"node/pass"`.
+pub(super) fn pass_name(nodes: &[ResolvedNode], p: &PassNode) -> String {
+    format!("{}/{}", nodes[p.node].name, nodes[p.node].layer.passes[p.index].name)
+}
