@@ -35,7 +35,9 @@ pub trait RustPass: Send {
 /// A declared texture of a Rust pass: the texture and the format the layer file declares.
 #[derive(Debug, Clone)]
 pub struct RustPassTexture {
+    /// The texture (every usage its format allows).
     pub texture: wgpu::Texture,
+    /// Its format as the layer file declares it.
     pub format: Format,
 }
 
@@ -95,6 +97,7 @@ pub struct RustPasses {
 }
 
 impl RustPasses {
+    /// An empty registry.
     pub fn new() -> Self {
         Self::default()
     }

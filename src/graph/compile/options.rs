@@ -19,7 +19,7 @@ pub struct Project {
 
 impl Project {
     /// The layout of this repository: `graph/`, `layers/` and `shaders/` side by side. A file
-    /// missing there is read from the built-in copy ([`super::files`]).
+    /// missing there is read from the built-in copy ([`crate::graph::files`]).
     pub fn beside_graph(graph_file: &Path) -> Self {
         let root = graph_file.parent().and_then(|p| p.parent()).unwrap_or(Path::new("."));
         let root = if root.as_os_str().is_empty() { Path::new(".") } else { root };

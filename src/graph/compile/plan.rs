@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// Index of a resource in [`Plan::resources`].
 pub type ResourceId = usize;
 
 /// A resource of the compiled graph.
@@ -18,12 +19,16 @@ pub type ResourceId = usize;
 pub struct PlannedResource {
     /// `"node.output"` for layer outputs, `"node/name"` for transients.
     pub name: String,
+    /// What it is: a texture with its format and size rule, a buffer, or the acceleration
+    /// structure.
     pub decl: ResourceDecl,
     /// Resolved texture size (textures only).
     pub extent: (u32, u32),
+    /// How the frame uses it.
     pub usage: Usage,
     /// Index into [`Plan::passes`] of the pass that writes it (kept resources only).
     pub first_use: usize,
+    /// Index into [`Plan::passes`] of the last pass that reads it (kept resources only).
     pub last_use: usize,
     /// Physical allocation (kept resources only).
     pub slot: Option<usize>,
@@ -32,6 +37,7 @@ pub struct PlannedResource {
 }
 
 impl PlannedResource {
+    /// Bytes of GPU memory it needs (0 for the acceleration structure, which its cache owns).
     pub fn bytes(&self) -> u64 {
         match &self.decl {
             ResourceDecl::Texture(t) => self.extent.0 as u64 * self.extent.1 as u64 * t.format.bytes_per_texel(),
@@ -45,9 +51,13 @@ impl PlannedResource {
 /// How a resource is used over the frame (decides wgpu usage flags).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Usage {
+    /// Read through a sampled texture binding.
     pub sampled: bool,
+    /// Bound as a storage texture or buffer.
     pub storage: bool,
+    /// A render pass's colour or depth attachment.
     pub attachment: bool,
+    /// Copied out (the graph's output).
     pub copy_src: bool,
 }
 
@@ -65,10 +75,15 @@ impl Usage {
 /// A physical texture or buffer shared by resources whose lifetimes do not overlap.
 #[derive(Debug, Clone)]
 pub struct Slot {
+    /// The declaration every member shares (format or size).
     pub decl: ResourceDecl,
+    /// Texture size.
     pub extent: (u32, u32),
+    /// The union of its members' usages.
     pub usage: Usage,
+    /// Bytes of GPU memory.
     pub bytes: u64,
+    /// The resources that live in it, one after the other.
     pub members: Vec<ResourceId>,
     /// A constant (fallback) texture's value, written once when the slot is created.
     pub constant: Option<[f32; 4]>,
@@ -79,14 +94,21 @@ pub struct Slot {
 pub struct PlannedPass {
     /// `"node/pass"`.
     pub name: String,
+    /// The graph node it belongs to.
     pub node: String,
+    /// What kind of GPU work it is.
     pub kind: PassKind,
+    /// The reflected shader (empty for passes without one).
     pub shader: Arc<ShaderInfo>,
+    /// Entry point: compute or fragment entry; a Rust pass's registered name.
     pub entry: String,
+    /// Vertex entry of render passes.
     pub vertex_entry: String,
     /// (name the shader binds it by, resource)
     pub reads: Vec<(String, ResourceId)>,
+    /// (name the shader writes it by, resource)
     pub writes: Vec<(String, ResourceId)>,
+    /// How a compute or trace pass's workgroups cover the frame.
     pub dispatch: Dispatch,
     /// `SceneRaster`: whether the pipeline culls back faces (`PassDesc::cull_back_faces`).
     pub cull_back_faces: bool,
@@ -96,6 +118,7 @@ pub struct PlannedPass {
     pub accel: Option<AccelNode>,
     /// Parameter values after graph overrides.
     pub params: BTreeMap<String, (ParamDecl, ParamValue)>,
+    /// Where the pass is declared (its layer file).
     pub location: Location,
 }
 
@@ -232,6 +255,7 @@ impl Plan {
     }
 }
 
+/// `b` bytes as B, KiB or MiB with two decimals (the plan report and the pass table).
 pub fn fmt_bytes(b: u64) -> String {
     if b >= 1 << 20 {
         format!("{:.2} MiB", b as f64 / (1u64 << 20) as f64)

@@ -2,11 +2,11 @@
 //! reflection, and records every pass of a frame with a timestamp pair around it.
 //!
 //! This file holds the [`Executor`] and the order of its steps; each pass kind's build and
-//! record code lives in a file of its own ([`compute`], [`fullscreen`], [`scene_raster`],
-//! [`trace`], [`accel_build`], [`rust`]), beside what they share: the slots ([`slots`]), the
-//! bindings from reflection ([`bindings`]), the raster kinds' render pass ([`render_pass`]), the
-//! `params` uniforms ([`params`]), the scene and frame uniforms ([`scene_state`]) and reading
-//! textures back ([`readback`]).
+//! record code lives in a file of its own (`compute`, `fullscreen`, `scene_raster`,
+//! `trace`, `accel_build`, `rust`), beside what they share: the slots (`slots`), the
+//! bindings from reflection (`bindings`), the raster kinds' render pass (`render_pass`), the
+//! `params` uniforms (`params`), the scene and frame uniforms (`scene_state`) and reading
+//! textures back (`readback`).
 
 mod accel_build;
 mod bindings;
@@ -190,6 +190,7 @@ impl Executor {
         Ok(exec)
     }
 
+    /// The plan the executor runs.
     pub fn plan(&self) -> &Plan {
         &self.plan
     }
