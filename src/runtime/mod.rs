@@ -8,6 +8,7 @@ pub mod gpu;
 pub mod profiler;
 pub mod raster;
 pub mod report;
+pub mod warm_up;
 
 pub use exec::Executor;
 pub use gpu::Gpu;
