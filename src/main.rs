@@ -46,7 +46,7 @@ enum Command {
         /// Output PNG.
         #[arg(long, default_value = "out.png")]
         out: PathBuf,
-        /// Frames to time (after one warm-up frame); the table shows medians.
+        /// Frames to time (after untimed frames until the frame time settles); the table shows medians.
         #[arg(long, default_value_t = 10)]
         frames: u32,
         /// Also write the per-pass statistics (mean, median, min, max) as CSV, markdown and a
@@ -682,7 +682,8 @@ fn run(cli: Cli) -> Result<()> {
                 (None, None) => scene.camera,
             };
             let mut exec = Executor::new(&gpu, plan, &scene)?;
-            exec.render(&gpu, &camera, &scene)?; // warm-up: pipeline compilation, first use
+            // Warm-up: pipeline compilation, first use, and the GPU's clocks back up.
+            raygraph::runtime::warm_up::WarmUp::for_gpu(&gpu, 1).run(&gpu, &mut exec, &scene, &camera)?;
             let mut timings = Vec::new();
             for _ in 0..frames.max(1) {
                 timings.push(exec.render(&gpu, &camera, &scene)?);

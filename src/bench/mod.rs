@@ -63,7 +63,8 @@ pub fn results_dir(dir: &Path) -> std::io::Result<PathBuf> {
     Ok(dir.to_path_buf())
 }
 
-/// Renders `warmup` untimed frames, then `frames` timed ones with the camera `camera_at(i)`.
+/// Renders untimed frames until the frame time has settled (at least `warmup`; see
+/// [`crate::runtime::warm_up`]), then `frames` timed ones with the camera `camera_at(i)`.
 pub fn timed_frames(
     gpu: &crate::runtime::Gpu,
     exec: &mut crate::runtime::Executor,
@@ -72,13 +73,11 @@ pub fn timed_frames(
     frames: u32,
     camera_at: impl Fn(u32) -> crate::scene::Camera,
 ) -> Result<Vec<crate::runtime::profiler::FrameTimings>, crate::error::RuntimeError> {
-    for _ in 0..warmup {
-        exec.render(gpu, &camera_at(0), scene)?;
-    }
+    crate::runtime::warm_up::WarmUp::for_gpu(gpu, warmup).run(gpu, exec, scene, &camera_at(0))?;
     (0..frames.max(1)).map(|i| exec.render(gpu, &camera_at(i), scene)).collect()
 }
 
 /// A frame's GPU milliseconds: the sum over its passes (its wall time without timestamps).
 pub fn frame_gpu_ms(f: &crate::runtime::profiler::FrameTimings) -> f64 {
-    f.gpu_ms.as_ref().map(|v| v.iter().sum()).unwrap_or(f.frame_ms)
+    crate::runtime::warm_up::gpu_ms(f)
 }

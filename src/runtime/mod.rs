@@ -1,6 +1,6 @@
 //! The GPU runtime: device context ([`gpu`]), plan executor ([`exec`]), pass timing
-//! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`])
-//! and rays traced outside any graph ([`batch`]).
+//! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`]),
+//! the warm-up before timed frames ([`warm_up`]) and rays traced outside any graph ([`batch`]).
 
 pub mod batch;
 pub mod exec;
@@ -9,6 +9,7 @@ pub mod profiler;
 pub(crate) mod raster;
 pub mod report;
 pub mod rust_pass;
+pub mod warm_up;
 
 pub use exec::Executor;
 pub use gpu::Gpu;
