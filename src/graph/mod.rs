@@ -9,6 +9,7 @@ pub mod desc;
 pub mod dot;
 pub mod files;
 pub mod reflect;
+pub(crate) mod ron_spans;
 
 pub use compile::{compile, Plan, Project};
 
