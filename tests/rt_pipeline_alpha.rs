@@ -23,7 +23,7 @@ const CELLS: u32 = 8;
 
 /// Whether texel (column, row) of the checkerboard is opaque (alpha 255; the others are 0).
 fn opaque_texel(column: u32, row: u32) -> bool {
-    (column + row) % 2 == 0
+    (column + row).is_multiple_of(2)
 }
 
 /// The unit square in z = 0, facing +z, uv = (x, 1 - y): image row 0 at the top (y = 1).

@@ -594,7 +594,7 @@ impl RtAccel {
                     .collect();
                 // SAFETY: each BLAS is written once, each with its own scratch range; the
                 // inputs were copied before the barrier above.
-                unsafe { enc.build_acceleration_structures(descriptors.len() as u32, descriptors.into_iter()) };
+                unsafe { enc.build_acceleration_structures(descriptors.len() as u32, descriptors) };
                 retired.buffers.push(scratch);
             }
             for ((u, _), accel) in entries.iter().zip(made) {
@@ -959,7 +959,7 @@ impl RtPass {
             let start = address.next_multiple_of(align.base_alignment) - address;
             let mut table = vec![0u8; (start + 3 * region) as usize];
             for g in 0..3 {
-                let src = &handles[(g as u64 * handle) as usize..((g as u64 + 1) * handle) as usize];
+                let src = &handles[(g * handle) as usize..((g + 1) * handle) as usize];
                 let at = (start + g * region) as usize;
                 table[at..at + handle as usize].copy_from_slice(src);
             }

@@ -270,7 +270,9 @@ impl BatchTracer {
         let (raw, stats, _) = self.run(gpu, rays, 0, flags)?;
         let hits = raw
             .iter()
-            .map(|r| (r.flags & 1 != 0).then(|| BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 }))
+            .map(|r| {
+                (r.flags & 1 != 0).then_some(BatchHit { t: r.t, instance: r.instance, primitive: r.primitive, bary: r.bary, front_face: r.flags & 2 != 0 })
+            })
             .collect();
         Ok((hits, stats))
     }

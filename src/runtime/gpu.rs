@@ -405,7 +405,7 @@ fn memory_hints_from_env() -> wgpu::MemoryHints {
     let block_range = || {
         let (min, max) = value.split_once('-')?;
         let (min, max): (u64, u64) = (min.trim().parse().ok()?, max.trim().parse().ok()?);
-        (min >= 1 && min <= max).then(|| (min << 20)..(max << 20))
+        (min >= 1 && min <= max).then_some((min << 20)..(max << 20))
     };
     match value.trim() {
         "performance" => wgpu::MemoryHints::Performance,

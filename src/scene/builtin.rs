@@ -74,7 +74,7 @@ pub fn checker(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]) -> Tex
     let mut rgba = Vec::with_capacity((size * size * 4) as usize);
     for y in 0..size {
         for x in 0..size {
-            let c = if ((x * cells / size) + (y * cells / size)) % 2 == 0 { a } else { b };
+            let c = if ((x * cells / size) + (y * cells / size)).is_multiple_of(2) { a } else { b };
             rgba.extend_from_slice(&[c[0], c[1], c[2], 255]);
         }
     }

@@ -26,7 +26,7 @@ impl BinWriter {
         bytes: &[u8],
         target: Option<json::buffer::Target>,
     ) -> json::Index<json::buffer::View> {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
@@ -151,7 +151,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     let mut nodes = Vec::new();
     for inst in &scene.instances {
         let key = (inst.mesh, inst.material);
-        if !gltf_mesh.contains_key(&key) {
+        gltf_mesh.entry(key).or_insert_with(|| {
             let mesh = &scene.meshes[inst.mesh];
             let b = mesh.bounds();
             let bounds = if b.is_empty() { None } else { Some((b.min.to_array(), b.max.to_array())) };
@@ -175,7 +175,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
                 let vt = w.view(&mut root, buffer, bytemuck::cast_slice(t), Some(json::buffer::Target::ArrayBuffer));
                 attributes.insert(Valid(json::mesh::Semantic::Tangents), accessor(&mut root, vt, n, C::F32, T::Vec4, None));
             }
-            let m = root.push(json::Mesh {
+
+            root.push(json::Mesh {
                 name: Some(mesh.name.clone()),
                 primitives: vec![json::mesh::Primitive {
                     attributes,
@@ -189,9 +190,8 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
                 weights: None,
                 extensions: None,
                 extras: Default::default(),
-            });
-            gltf_mesh.insert(key, m);
-        }
+            })
+        });
         let matrix = inst.transform.to_cols_array();
         nodes.push(root.push(json::Node {
             mesh: Some(gltf_mesh[&key]),
@@ -213,7 +213,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     }
     let s = root.push(json::Scene { name: Some(scene.name.clone()), nodes, extensions: None, extras: Default::default() });
     root.scene = Some(s);
-    while w.bin.len() % 4 != 0 {
+    while !w.bin.len().is_multiple_of(4) {
         w.bin.push(0);
     }
     root.buffers[0].byte_length = USize64::from(w.bin.len());

@@ -452,7 +452,7 @@ fn primitive_mesh(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], normal
             }
         }
     }
-    if indices.len() % 3 != 0 {
+    if !indices.len().is_multiple_of(3) {
         return Err(format!("{} indices is not a multiple of 3", indices.len()));
     }
     if let Some((i, bad)) = indices.iter().enumerate().find(|(_, v)| **v as usize >= positions.len()) {

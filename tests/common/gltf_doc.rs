@@ -37,7 +37,7 @@ impl Doc {
 
     /// Appends raw bytes as a buffer view (4-byte aligned).
     pub fn view(&mut self, bytes: &[u8]) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
@@ -165,11 +165,11 @@ impl Doc {
     /// GLB bytes (JSON chunk + BIN chunk).
     pub fn glb_bytes(&self) -> Vec<u8> {
         let mut json = serde_json::to_vec(&self.with_buffer(None)).unwrap();
-        while json.len() % 4 != 0 {
+        while !json.len().is_multiple_of(4) {
             json.push(b' ');
         }
         let mut bin = self.bin.clone();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let total = 12 + 8 + json.len() + 8 + bin.len();
