@@ -158,6 +158,10 @@ enum BenchCommand {
         /// AO rays per pixel of the scene workload.
         #[arg(long)]
         ao_rays: Option<i64>,
+        /// AO ray length of the scene workload, as a fraction of the scene's bounding radius
+        /// [default: 0.05]
+        #[arg(long)]
+        ao_length: Option<f64>,
         /// Primary rays per pixel of the Miss and Stress tests.
         #[arg(long)]
         primary_rays: Option<i64>,
@@ -491,7 +495,7 @@ fn run(cli: Cli) -> Result<()> {
             }
             println!("ok: memory and live GPU objects flat over {} checks", report.checks.len());
         }
-        Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, primary_rays, backend, deadline, out } } => {
+        Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, ao_length, primary_rays, backend, deadline, out } } => {
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = match backend {
@@ -506,6 +510,7 @@ fn run(cli: Cli) -> Result<()> {
             cfg.size = (width.unwrap_or(cfg.size.0), height.unwrap_or(cfg.size.1));
             cfg.frames = frames.unwrap_or(cfg.frames);
             cfg.ao_rays = ao_rays.unwrap_or(cfg.ao_rays);
+            cfg.ao_length = ao_length.unwrap_or(cfg.ao_length);
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
@@ -513,9 +518,9 @@ fn run(cli: Cli) -> Result<()> {
             // scripts read) at most one row behind it, never ahead.
             let files = |rows: &[_]| {
                 [
-                    ("rays.md", raygraph::bench::rays::markdown(&info, rows)),
+                    ("rays.md", raygraph::bench::rays::markdown(&info, &cfg, rows)),
                     ("rays_passes.csv", raygraph::bench::rays::passes_csv(&info, rows)),
-                    ("rays.csv", raygraph::bench::rays::csv(&info, rows)),
+                    ("rays.csv", raygraph::bench::rays::csv(&info, &cfg, rows)),
                 ]
             };
             let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;

@@ -18,24 +18,30 @@ fn bench_rays_quick_writes_a_complete_table() {
     assert_plots(&out);
     let md = std::fs::read_to_string(out.join("rays.md")).unwrap();
     assert!(md.contains("adapter:") && md.contains("revision:") && md.contains("resolution: 48x27"), "{md}");
+    assert!(
+        md.contains("4 AO rays of length 0.05 x the scene's bounding radius") && csv.contains("# Scene workload"),
+        "the definitions are in both files: {md}"
+    );
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert_eq!(header, ["test", "backend", "fps", "gpu_ms", "rays_per_frame", "rays_per_pixel", "grays_per_s", "hit_fraction", "rfps"]);
+    assert_eq!(header, ["test", "backend", "fps", "gpu_ms", "wall_ms", "rays_per_frame", "rays_per_pixel", "grays_per_s", "hit_fraction", "rfps"]);
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // 3 scenes + Miss + Stress, for every back-end lavapipe has.
     assert_eq!(rows.len(), 5 * LAVAPIPE_BACKENDS, "{csv}");
     for r in &rows {
         assert_eq!(r.len(), header.len(), "{r:?}");
-        let rays: u64 = r[4].parse().unwrap();
+        let rays: u64 = r[5].parse().unwrap();
         assert!(rays > 0, "no rays counted: {r:?}");
-        for v in &r[2..8] {
+        for v in &r[2..9] {
             let x: f64 = v.parse().unwrap();
             assert!(x.is_finite() && x >= 0.0, "{r:?}");
         }
+        let (gpu_ms, wall_ms): (f64, f64) = (r[3].parse().unwrap(), r[4].parse().unwrap());
+        assert!(wall_ms > 0.0 && gpu_ms > 0.0, "both times measured: {r:?}");
         match r[0] {
-            "Miss" => assert_eq!(r[7], "0.0000", "every Miss ray misses"),
-            "Stress" => assert_eq!(r[7], "1.0000", "every Stress ray hits"),
-            _ => assert!(r[8].parse::<f64>().unwrap() > 0.0, "RFPS of a scene row"),
+            "Miss" => assert_eq!(r[8], "0.0000", "every Miss ray misses"),
+            "Stress" => assert_eq!(r[8], "1.0000", "every Stress ray hits"),
+            _ => assert!(r[9].parse::<f64>().unwrap() > 0.0, "RFPS of a scene row"),
         }
     }
     let _ = std::fs::remove_dir_all(&out);

@@ -30,6 +30,8 @@ pub struct RaysConfig {
     pub(crate) warmup: u32,
     /// AO rays per pixel.
     pub ao_rays: i64,
+    /// AO ray length as a fraction of the scene's bounding radius (`rt_ao`'s `range_scale`).
+    pub ao_length: f64,
     /// Primary rays per pixel of the Miss and Stress tests.
     pub primary_rays: i64,
     /// The back-ends measured.
@@ -47,6 +49,7 @@ impl RaysConfig {
             frames: 10,
             warmup: 2,
             ao_rays: 64,
+            ao_length: 0.05,
             primary_rays: 64,
             backends,
             root: root.to_path_buf(),
@@ -61,6 +64,7 @@ impl RaysConfig {
             frames: 2,
             warmup: 1,
             ao_rays: 4,
+            ao_length: 0.05,
             primary_rays: 4,
             backends,
             root: root.to_path_buf(),
@@ -77,8 +81,10 @@ pub struct RaysRow {
     pub(crate) backend: Backend,
     /// Frames per second.
     pub(crate) fps: f64,
-    /// GPU milliseconds per frame.
+    /// GPU milliseconds per frame (the sum of the passes' timestamps).
     pub(crate) gpu_ms: f64,
+    /// Wall-clock milliseconds per frame (recording, submission and the wait for the GPU).
+    pub(crate) wall_ms: f64,
     /// Rays traced per frame.
     pub(crate) rays_per_frame: u64,
     /// Rays per pixel.
@@ -97,6 +103,7 @@ pub struct RaysRow {
 /// each pass's median GPU ms.
 struct Measured {
     gpu_ms: f64,
+    wall_ms: f64,
     rays: u64,
     hits: u64,
     passes: Vec<(String, f64)>,
@@ -116,6 +123,7 @@ fn measure(
     let mut exec = Executor::new(gpu, plan, scene)?;
     let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *camera)?;
     let mut gpu_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
+    let mut wall_ms: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
     let mut rays: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.traced()).unwrap_or(0) as f64).collect();
     let mut hits: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.hits).unwrap_or(0) as f64).collect();
     let passes = exec
@@ -128,17 +136,18 @@ fn measure(
             (p.name.clone(), if ms.is_empty() { f64::NAN } else { median(&mut ms) })
         })
         .collect();
-    Ok(Measured { gpu_ms: median(&mut gpu_ms), rays: median(&mut rays) as u64, hits: median(&mut hits) as u64, passes })
+    Ok(Measured { gpu_ms: median(&mut gpu_ms), wall_ms: median(&mut wall_ms), rays: median(&mut rays) as u64, hits: median(&mut hits) as u64, passes })
 }
 
 fn row(test: &str, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option<f64>) -> RaysRow {
-    let Measured { gpu_ms: ms, rays, hits, passes } = m;
+    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes } = m;
     let pixels = cfg.size.0 as f64 * cfg.size.1 as f64;
     RaysRow {
         test: test.into(),
         backend,
         fps: 1000.0 / ms,
         gpu_ms: ms,
+        wall_ms,
         rays_per_frame: rays,
         rays_per_pixel: rays as f64 / pixels,
         grays_per_s: rays as f64 / (ms * 1e-3) / 1e9,
@@ -186,6 +195,7 @@ pub fn run(
         for &backend in &cfg.backends {
             let mut options = gpu.compile_options_for(backend);
             options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
+            options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
             let m = measure(gpu, &workload, &project, &options, &scene, &scene.camera, cfg)?;
             rows.push(row(name, backend, cfg, m, Some(1000.0 / raster_ms)));
             on_rows(&rows);
@@ -224,18 +234,28 @@ pub fn passes_csv(info: &RunInfo, rows: &[RaysRow]) -> String {
     s
 }
 
-/// The table as CSV (with the run header as `#` comments).
-pub fn csv(info: &RunInfo, rows: &[RaysRow]) -> String {
+/// What the workload and the columns are, for the results' headers.
+pub fn definitions(cfg: &RaysConfig) -> String {
+    format!(
+        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss and Stress (`graph/bench_primary.ron`): {} primary rays per pixel. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled.",
+        cfg.ao_rays, cfg.ao_length, cfg.primary_rays
+    )
+}
+
+/// The table as CSV (with the run header and [`definitions`] as `#` comments).
+pub fn csv(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("test,backend,fps,gpu_ms,rays_per_frame,rays_per_pixel,grays_per_s,hit_fraction,rfps\n");
+    let _ = writeln!(s, "# {}", definitions(cfg));
+    s.push_str("test,backend,fps,gpu_ms,wall_ms,rays_per_frame,rays_per_pixel,grays_per_s,hit_fraction,rfps\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{:.4},{:.4},{},{:.3},{:.5},{:.4},{}",
+            "{},{},{:.4},{:.4},{:.4},{},{:.3},{:.5},{:.4},{}",
             r.test,
             r.backend,
             r.fps,
             r.gpu_ms,
+            r.wall_ms,
             r.rays_per_frame,
             r.rays_per_pixel,
             r.grays_per_s,
@@ -247,7 +267,7 @@ pub fn csv(info: &RunInfo, rows: &[RaysRow]) -> String {
 }
 
 /// The table as markdown, with the paper's RTX 2080 Ti figures beside it.
-pub fn markdown(info: &RunInfo, rows: &[RaysRow]) -> String {
+pub fn markdown(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
     let paper = |test: &str| match test {
         "box" => "12.82",
         "organic" => "5.50",
@@ -256,17 +276,18 @@ pub fn markdown(info: &RunInfo, rows: &[RaysRow]) -> String {
         "Stress" => "6.25",
         _ => "",
     };
-    let mut s = format!("# bench rays\n\n{}\n", info.markdown());
-    s.push_str("| test | back-end | FPS | GPU ms | rays/pixel | GigaRays/s | hit fraction | RFPS | paper GR/s (RTX 2080 Ti) |\n");
-    s.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    let mut s = format!("# bench rays\n\n{}\n{}\n\n", info.markdown(), definitions(cfg));
+    s.push_str("| test | back-end | FPS | GPU ms | wall ms | rays/pixel | GigaRays/s | hit fraction | RFPS | paper GR/s (RTX 2080 Ti) |\n");
+    s.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.2} | {:.3} | {:.2} | {:.3} | {:.3} | {} | {} |",
+            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.3} | {:.3} | {} | {} |",
             r.test,
             r.backend,
             r.fps,
             r.gpu_ms,
+            r.wall_ms,
             r.rays_per_pixel,
             r.grays_per_s,
             r.hit_fraction,
