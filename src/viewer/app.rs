@@ -411,6 +411,11 @@ impl App {
         let surface_texture = match ws.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             _ => {
+                // Outdated or lost: the window may have changed size before its `Resized` event
+                // came, so configure at the size it has now (the old size fails validation).
+                let size = ws.window.inner_size();
+                ws.config.width = size.width.max(1);
+                ws.config.height = size.height.max(1);
                 ws.surface.configure(&gpu.device, &ws.config);
                 return;
             }
