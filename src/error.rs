@@ -196,4 +196,8 @@ pub enum RuntimeError {
     /// A camera track could not be read or written.
     #[error(transparent)]
     Track(#[from] crate::scene::track::TrackError),
+    /// A measurement does not meet its test's definition (a Stress view with sky in it, a Miss
+    /// view that hits): the message names the test, scene, camera and what was measured.
+    #[error("{0}")]
+    NotTheTest(String),
 }

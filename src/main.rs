@@ -620,8 +620,12 @@ fn run(cli: Cli) -> Result<()> {
                 rows.push(roofline::scene_workload(&s, stride, ao_rays, bandwidth));
             }
             let (atrium, _) = scene::open(if quick { "organic" } else { "atrium" }, &LoadOptions { textures: false, ..Default::default() })?;
-            let (miss, stress) = raygraph::bench::rays::miss_and_stress_cameras(&atrium);
-            rows.push(roofline::primary_workload("Miss", &atrium, &miss, stride, bandwidth));
+            let miss = raygraph::bench::rays::miss_outside_camera(&atrium);
+            rows.push(roofline::primary_workload("Miss (outside)", &atrium, &miss, stride, bandwidth));
+            if let Ok(inside) = atrium.preset(raygraph::bench::rays::MISS_INSIDE_PRESET) {
+                rows.push(roofline::primary_workload("Miss (inside)", &atrium, &inside, stride, bandwidth));
+            }
+            let stress = atrium.preset(raygraph::bench::rays::STRESS_PRESET).map_err(anyhow::Error::msg)?;
             rows.push(roofline::primary_workload("Stress", &atrium, &stress, stride, bandwidth));
             if let Some(path) = &rays {
                 let text = std::fs::read_to_string(path).with_context(|| format!("could not read {}", path.display()))?;

@@ -24,27 +24,77 @@ fn bench_rays_quick_writes_a_complete_table() {
     );
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert_eq!(header, ["test", "backend", "fps", "gpu_ms", "wall_ms", "rays_per_frame", "rays_per_pixel", "grays_per_s", "hit_fraction", "rfps"]);
+    assert_eq!(
+        header,
+        [
+            "test",
+            "scene",
+            "camera",
+            "backend",
+            "fps",
+            "gpu_ms",
+            "wall_ms",
+            "rays_per_frame",
+            "rays_per_pixel",
+            "grays_per_s",
+            "hit_fraction",
+            "rfps",
+            "rays_per_pixel_by_pass"
+        ]
+    );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    // 3 scenes + Miss + Stress, for every back-end lavapipe has.
-    assert_eq!(rows.len(), 5 * LAVAPIPE_BACKENDS, "{csv}");
+    // 3 scenes + Miss (outside) + Miss (inside) + Stress on the atrium, for every back-end
+    // lavapipe has.
+    assert_eq!(rows.len(), 6 * LAVAPIPE_BACKENDS, "{csv}");
     for r in &rows {
         assert_eq!(r.len(), header.len(), "{r:?}");
-        let rays: u64 = r[5].parse().unwrap();
+        let rays: u64 = r[7].parse().unwrap();
         assert!(rays > 0, "no rays counted: {r:?}");
-        for v in &r[2..9] {
+        for v in &r[4..11] {
             let x: f64 = v.parse().unwrap();
             assert!(x.is_finite() && x >= 0.0, "{r:?}");
         }
-        let (gpu_ms, wall_ms): (f64, f64) = (r[3].parse().unwrap(), r[4].parse().unwrap());
+        let (gpu_ms, wall_ms): (f64, f64) = (r[5].parse().unwrap(), r[6].parse().unwrap());
         assert!(wall_ms > 0.0 && gpu_ms > 0.0, "both times measured: {r:?}");
+        // Rays per pixel by pass add up to the row's rays per pixel.
+        let by_pass: f64 = r[12].split(';').map(|p| p.split_once('=').unwrap().1.parse::<f64>().unwrap()).sum();
+        let per_pixel: f64 = r[8].parse().unwrap();
+        assert!((by_pass - per_pixel).abs() <= 0.01 * per_pixel + 0.02, "{r:?}");
         match r[0] {
-            "Miss" => assert_eq!(r[8], "0.0000", "every Miss ray misses"),
-            "Stress" => assert_eq!(r[8], "1.0000", "every Stress ray hits"),
-            _ => assert!(r[9].parse::<f64>().unwrap() > 0.0, "RFPS of a scene row"),
+            "Miss (outside)" | "Miss (inside)" => assert_eq!((r[1], r[10]), ("atrium", "0.0000"), "every Miss ray misses"),
+            "Stress" => {
+                assert_eq!((r[1], r[2]), ("atrium", "preset `stress`"));
+                assert!(r[10].parse::<f64>().unwrap() >= 0.99, "a Stress view shows no sky: {r:?}");
+            }
+            _ => {
+                assert_eq!((r[0], r[2]), (r[1], "the scene's camera"));
+                assert!(r[11].parse::<f64>().unwrap() > 0.0, "RFPS of a scene row");
+            }
         }
     }
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A glTF file has no `stress` preset: its Stress view is derived (its camera narrowed until it
+/// shows no sky) and the row says so; it has no `miss_inside` preset either, so no Miss (inside).
+#[test]
+fn bench_rays_derives_a_stress_view_for_a_file() {
+    let out = common::gltf_doc::temp_dir("bench-rays-file");
+    let helmet = "assets/gltf/DamagedHelmet/DamagedHelmet.glb";
+    let run = Command::new(env!("CARGO_BIN_EXE_raygraph"))
+        .current_dir(common::repo())
+        .args(["bench", "rays", "--quick", "--backend", "compute", "--scenes", helmet, "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    let csv = std::fs::read_to_string(out.join("rays.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    let rows: Vec<Vec<&str>> = csv.lines().filter(|l| !l.starts_with('#')).skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), [helmet, "Miss (outside)", "Stress"], "{csv}");
+    let stress = &rows[2];
+    assert!(stress[2].starts_with("derived: the scene's camera narrowed to"), "{stress:?}");
+    assert!(stress[10].parse::<f64>().unwrap() >= 0.99, "{stress:?}");
 }
 
 #[test]
@@ -311,7 +361,8 @@ fn bench_roofline_quick_counts_bytes_per_ray() {
         "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays"
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), ["box", "organic", "Miss", "Stress"], "{csv}");
+    // The quick run's last scene is the organic one: no `miss_inside` preset, so no Miss (inside).
+    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), ["box", "organic", "Miss (outside)", "Stress"], "{csv}");
     for r in &rows {
         let v: Vec<f64> = r[1..8].iter().map(|x| x.parse().unwrap()).collect();
         assert!(v[0] > 0.0, "rays counted: {r:?}");

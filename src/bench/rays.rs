@@ -1,10 +1,14 @@
 //! `raygraph bench rays`: the paper's Table 3. For every back-end the adapter has and every
 //! scene: the scene workload (`graph/bench_rays.ron`: primary rays, one shadow ray and N AO
-//! rays per pixel) from the scene's default camera, then the Miss test (M primary rays per
-//! pixel into the empty sky) and the Stress test (M primary rays per pixel that all hit, no
-//! shading: `graph/bench_primary.ron`) on the last scene. FPS from the median GPU time of all
-//! passes per frame; rays per pixel and GigaRays/s from the rays counted on the GPU; RFPS is
-//! the raster graph's frame rate on the same view.
+//! rays of a stated length per pixel) from the scene's default camera; then, on the last scene,
+//! with M jittered primary rays per pixel and no shading (`graph/bench_primary.ron`): Miss
+//! (outside) into the empty sky above the scene's box, Miss (inside) from the scene's
+//! `miss_inside` camera preset (rays that cross the scene and hit nothing; the atrium's looks up
+//! through its open roof), and Stress from its `stress` preset or, for a scene without one, its
+//! camera narrowed until it shows no sky. A Miss row that hits or a Stress row under 99% hits
+//! is an error, not a row. FPS from the median GPU time of all passes per frame, the wall-clock
+//! time beside it; rays per pixel (in all and per trace pass) and GigaRays/s from the rays
+//! counted on the GPU; RFPS is the raster graph's frame rate on the same view.
 
 use super::RunInfo;
 use crate::backend::Backend;
@@ -75,8 +79,13 @@ impl RaysConfig {
 /// One row of the table.
 #[derive(Debug, Clone)]
 pub struct RaysRow {
-    /// Scene name, `Miss` or `Stress`.
+    /// The scene's name for a scene workload row; `Miss (outside)`, `Miss (inside)` or
+    /// `Stress`.
     pub test: String,
+    /// The scene it ran on.
+    pub scene: String,
+    /// The camera: the scene's own, a named preset, or how it was derived.
+    pub camera: String,
     /// The back-end.
     pub(crate) backend: Backend,
     /// Frames per second.
@@ -97,6 +106,8 @@ pub struct RaysRow {
     pub rfps: Option<f64>,
     /// Median GPU milliseconds of each pass of the measured graph, in schedule order.
     pub passes: Vec<(String, f64)>,
+    /// Rays per pixel of each trace pass (by ray type: primary, shadow, AO), schedule order.
+    pub rays_by_pass: Vec<(String, f64)>,
 }
 
 /// What one measurement gives: the frame's median GPU ms, median rays and hits per frame, and
@@ -107,6 +118,8 @@ struct Measured {
     rays: u64,
     hits: u64,
     passes: Vec<(String, f64)>,
+    /// Median rays per frame of each trace pass.
+    pass_rays: Vec<(String, f64)>,
 }
 
 /// Median GPU milliseconds of a frame (all passes) and of each pass, median rays per frame.
@@ -136,14 +149,44 @@ fn measure(
             (p.name.clone(), if ms.is_empty() { f64::NAN } else { median(&mut ms) })
         })
         .collect();
-    Ok(Measured { gpu_ms: median(&mut gpu_ms), wall_ms: median(&mut wall_ms), rays: median(&mut rays) as u64, hits: median(&mut hits) as u64, passes })
+    let pass_rays = trace_pass_rays(exec.plan(), &frames);
+    Ok(Measured {
+        gpu_ms: median(&mut gpu_ms),
+        wall_ms: median(&mut wall_ms),
+        rays: median(&mut rays) as u64,
+        hits: median(&mut hits) as u64,
+        passes,
+        pass_rays,
+    })
 }
 
-fn row(test: &str, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option<f64>) -> RaysRow {
-    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes } = m;
+/// Median rays per frame of each pass that traced any.
+fn trace_pass_rays(plan: &crate::graph::Plan, frames: &[crate::runtime::profiler::FrameTimings]) -> Vec<(String, f64)> {
+    plan.passes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| {
+            let mut rays: Vec<f64> = frames.iter().filter_map(|f| f.pass_rays.get(i).copied().flatten().map(|r| r.traced() as f64)).collect();
+            (!rays.is_empty()).then(|| (p.name.clone(), median(&mut rays)))
+        })
+        .collect()
+}
+
+/// Where and how a row was measured: the scene and the camera's description.
+struct View<'a> {
+    scene: &'a Scene,
+    camera: Camera,
+    described: String,
+}
+
+fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option<f64>) -> RaysRow {
+    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes, pass_rays } = m;
     let pixels = cfg.size.0 as f64 * cfg.size.1 as f64;
     RaysRow {
         test: test.into(),
+        scene: view.scene.name.clone(),
+        camera: view.described.clone(),
+        rays_by_pass: pass_rays.into_iter().map(|(name, rays)| (name, rays / pixels)).collect(),
         backend,
         fps: 1000.0 / ms,
         gpu_ms: ms,
@@ -157,18 +200,113 @@ fn row(test: &str, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option
     }
 }
 
-/// Cameras of the Miss test (straight up into the sky above the scene) and the Stress test
-/// (close above the scene's lowest large surface, looking down at it, narrow field of view).
-pub fn miss_and_stress_cameras(scene: &Scene) -> (Camera, Camera) {
+/// The camera preset a scene names its Stress view with.
+pub const STRESS_PRESET: &str = "stress";
+/// The camera preset a scene names its Miss (inside) view with.
+pub const MISS_INSIDE_PRESET: &str = "miss_inside";
+/// A Stress row must hit with at least this fraction of its rays.
+pub const STRESS_MIN_HITS: f64 = 0.99;
+/// The probe that derives a Stress view: frame size and rays per pixel, the hit fraction it
+/// asks for (above [`STRESS_MIN_HITS`], as the probe sees fewer rays), and how many times the
+/// field of view is halved at most.
+const PROBE_SIZE: (u32, u32) = (64, 36);
+const PROBE_RAYS: i64 = 16;
+const PROBE_MIN_HITS: f64 = 0.999;
+const STRESS_NARROWINGS: i32 = 6;
+
+/// The camera of the Miss (outside) test: above the scene's box, looking straight up.
+pub fn miss_outside_camera(scene: &Scene) -> Camera {
     let b = scene.bounds();
     let (c, r) = (b.center(), 0.5 * b.diagonal().max(1e-3));
-    let miss = Camera {
-        up: glam::Vec3::Z,
-        ..Camera::look(glam::Vec3::new(c.x, b.max.y + r, c.z), glam::Vec3::new(c.x, b.max.y + 3.0 * r, c.z), 60.0, r * 1e-3, r * 10.0)
-    };
-    let floor = glam::Vec3::new(c.x, b.min.y, c.z);
-    let stress = Camera { up: glam::Vec3::Z, ..Camera::look(floor + glam::Vec3::Y * (0.05 * r), floor, 20.0, r * 1e-4, r * 10.0) };
-    (miss, stress)
+    Camera { up: glam::Vec3::Z, ..Camera::look(glam::Vec3::new(c.x, b.max.y + r, c.z), glam::Vec3::new(c.x, b.max.y + 3.0 * r, c.z), 60.0, r * 1e-3, r * 10.0) }
+}
+
+/// The Stress view of `scene`: its `stress` camera preset, or else its own camera with the field
+/// of view halved until a probe (64x36, 16 rays per pixel, `primary`'s graph) hits with 99.9% of
+/// its rays. An error when no narrowing gets there (the scene shows sky behind everything its
+/// camera looks at).
+fn stress_view<'a>(gpu: &Gpu, primary: &Path, project: &Project, scene: &'a Scene) -> Result<View<'a>, crate::error::RuntimeError> {
+    if let Ok(camera) = scene.preset(STRESS_PRESET) {
+        return Ok(View { scene, camera, described: format!("preset `{STRESS_PRESET}`") });
+    }
+    let mut options = gpu.compile_options();
+    options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(PROBE_RAYS));
+    let mut exec = Executor::new(gpu, compile_with(primary, project, PROBE_SIZE, &options)?, scene)?;
+    let mut best = 0.0f64;
+    let mut camera = scene.camera;
+    for k in 0..=STRESS_NARROWINGS {
+        camera = Camera { fov_y: scene.camera.fov_y / 2f32.powi(k), ..scene.camera };
+        let frame = exec.render(gpu, &camera, scene)?;
+        let hits = frame.rays.map_or(0.0, |r| r.hits as f64 / r.traced().max(1) as f64);
+        if hits >= PROBE_MIN_HITS {
+            let described = format!("derived: the scene's camera narrowed to {:.1} deg", camera.fov_y.to_degrees());
+            log::info!("Stress on `{}`: no `{STRESS_PRESET}` camera preset, so {described}", scene.name);
+            return Ok(View { scene, camera, described });
+        }
+        best = best.max(hits);
+    }
+    Err(crate::error::RuntimeError::NotTheTest(format!(
+        "no Stress view on `{}`: it has no `{STRESS_PRESET}` camera preset, and its camera narrowed down to {:.2} deg hits with {:.1}% of its rays at best ({}% needed: a Stress view shows no sky)",
+        scene.name,
+        camera.fov_y.to_degrees(),
+        100.0 * best,
+        100.0 * PROBE_MIN_HITS
+    )))
+}
+
+/// What a Miss or Stress row must measure to be one.
+#[derive(Clone, Copy)]
+enum Expect {
+    /// Every ray misses.
+    NoHits,
+    /// At least [`STRESS_MIN_HITS`] of the rays hit.
+    Hits,
+}
+
+impl Expect {
+    fn check(self, row: &RaysRow) -> Result<(), crate::error::RuntimeError> {
+        let what = match self {
+            Expect::NoHits if row.hit_fraction > 0.0 => "a Miss view must miss with every ray",
+            Expect::Hits if row.hit_fraction < STRESS_MIN_HITS => "a Stress view must hit with 99% of its rays: it shows no sky",
+            _ => return Ok(()),
+        };
+        Err(crate::error::RuntimeError::NotTheTest(format!(
+            "{} on `{}` ({}), {}: {:.4} of the rays hit; {what}",
+            row.test, row.scene, row.camera, row.backend, row.hit_fraction
+        )))
+    }
+}
+
+/// The Miss (outside), Miss (inside) (where the scene has a `miss_inside` preset) and Stress
+/// rows on `scene`, for every back-end; `step` sees the rows after each one.
+fn ray_tests(
+    gpu: &Gpu,
+    cfg: &RaysConfig,
+    project: &Project,
+    primary: &Path,
+    scene: &Scene,
+    rows: &mut Vec<RaysRow>,
+    step: &mut dyn FnMut(&[RaysRow], String),
+) -> Result<(), crate::error::RuntimeError> {
+    let mut views =
+        vec![("Miss (outside)", View { scene, camera: miss_outside_camera(scene), described: "above the scene's box looking up".into() }, Expect::NoHits)];
+    match scene.preset(MISS_INSIDE_PRESET) {
+        Ok(camera) => views.push(("Miss (inside)", View { scene, camera, described: format!("preset `{MISS_INSIDE_PRESET}`") }, Expect::NoHits)),
+        Err(_) => log::info!("no Miss (inside) row: scene `{}` has no `{MISS_INSIDE_PRESET}` camera preset", scene.name),
+    }
+    views.push(("Stress", stress_view(gpu, primary, project, scene)?, Expect::Hits));
+    for &backend in &cfg.backends {
+        let mut options = gpu.compile_options_for(backend);
+        options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(cfg.primary_rays));
+        for (test, view, expect) in &views {
+            let m = measure(gpu, primary, project, &options, scene, &view.camera, cfg)?;
+            let r = row(test, view, backend, cfg, m, None);
+            expect.check(&r)?;
+            rows.push(r);
+            step(rows, format!("{test}: {backend}"));
+        }
+    }
+    Ok(())
 }
 
 /// Runs the table; `progress` is called after every measurement with (done, total, label).
@@ -183,40 +321,32 @@ pub fn run(
     let workload = cfg.root.join("graph/bench_rays.ron");
     let primary = cfg.root.join("graph/bench_primary.ron");
     let raster = cfg.root.join("graph/raster.ron");
-    let total = cfg.scenes.len() * (cfg.backends.len() + 1) + 2 * cfg.backends.len();
+    let total = cfg.scenes.len() * (cfg.backends.len() + 1) + 3 * cfg.backends.len();
     let mut done = 0;
     let mut rows = Vec::new();
+    let mut step = |rows: &[RaysRow], label: String| {
+        on_rows(rows);
+        done += 1;
+        progress(done, total, &label);
+    };
     let mut last_scene = None;
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: true, ..Default::default() })?;
+        let view = View { scene: &scene, camera: scene.camera, described: "the scene's camera".into() };
         let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, &scene.camera, cfg)?.gpu_ms;
-        done += 1;
-        progress(done, total, &format!("{name}: raster"));
+        step(&rows, format!("{name}: raster"));
         for &backend in &cfg.backends {
             let mut options = gpu.compile_options_for(backend);
             options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
             options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
             let m = measure(gpu, &workload, &project, &options, &scene, &scene.camera, cfg)?;
-            rows.push(row(name, backend, cfg, m, Some(1000.0 / raster_ms)));
-            on_rows(&rows);
-            done += 1;
-            progress(done, total, &format!("{name}: {backend}"));
+            rows.push(row(name, &view, backend, cfg, m, Some(1000.0 / raster_ms)));
+            step(&rows, format!("{name}: {backend}"));
         }
         last_scene = Some(scene);
     }
     if let Some(scene) = last_scene {
-        let (miss, stress) = miss_and_stress_cameras(&scene);
-        for &backend in &cfg.backends {
-            let mut options = gpu.compile_options_for(backend);
-            options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(cfg.primary_rays));
-            for (test, camera) in [("Miss", &miss), ("Stress", &stress)] {
-                let m = measure(gpu, &primary, &project, &options, &scene, camera, cfg)?;
-                rows.push(row(test, backend, cfg, m, None));
-                on_rows(&rows);
-                done += 1;
-                progress(done, total, &format!("{test}: {backend}"));
-            }
-        }
+        ray_tests(gpu, cfg, &project, &primary, &scene, &mut rows, &mut step)?;
     }
     Ok(rows)
 }
@@ -237,7 +367,7 @@ pub fn passes_csv(info: &RunInfo, rows: &[RaysRow]) -> String {
 /// What the workload and the columns are, for the results' headers.
 pub fn definitions(cfg: &RaysConfig) -> String {
     format!(
-        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss and Stress (`graph/bench_primary.ron`): {} primary rays per pixel. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled.",
+        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss (outside): rays from above the scene's box pointing away from it; Miss (inside): from the scene's `miss_inside` camera preset, rays that cross the scene and hit nothing; Stress: the scene's `stress` camera preset, or its camera narrowed until it shows no sky; all three (`graph/bench_primary.ron`) with {} jittered primary rays per pixel, on the last scene listed. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled.",
         cfg.ao_rays, cfg.ao_length, cfg.primary_rays
     )
 }
@@ -246,12 +376,15 @@ pub fn definitions(cfg: &RaysConfig) -> String {
 pub fn csv(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
     let mut s = info.csv_comment();
     let _ = writeln!(s, "# {}", definitions(cfg));
-    s.push_str("test,backend,fps,gpu_ms,wall_ms,rays_per_frame,rays_per_pixel,grays_per_s,hit_fraction,rfps\n");
+    s.push_str("test,scene,camera,backend,fps,gpu_ms,wall_ms,rays_per_frame,rays_per_pixel,grays_per_s,hit_fraction,rfps,rays_per_pixel_by_pass\n");
+    let field = |t: &str| t.replace(',', ";");
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{:.4},{:.4},{:.4},{},{:.3},{:.5},{:.4},{}",
-            r.test,
+            "{},{},{},{},{:.4},{:.4},{:.4},{},{:.3},{:.5},{:.4},{},{}",
+            field(&r.test),
+            field(&r.scene),
+            field(&r.camera),
             r.backend,
             r.fps,
             r.gpu_ms,
@@ -260,10 +393,16 @@ pub fn csv(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
             r.rays_per_pixel,
             r.grays_per_s,
             r.hit_fraction,
-            r.rfps.map(|f| format!("{f:.3}")).unwrap_or_default()
+            r.rfps.map(|f| format!("{f:.3}")).unwrap_or_default(),
+            by_pass(r, ";")
         );
     }
     s
+}
+
+/// A row's rays per pixel by trace pass, `pass=value` joined by `sep`.
+fn by_pass(r: &RaysRow, sep: &str) -> String {
+    r.rays_by_pass.iter().map(|(pass, v)| format!("{pass}={v:.2}")).collect::<Vec<_>>().join(sep)
 }
 
 /// The table as markdown, with the paper's RTX 2080 Ti figures beside it.
@@ -272,17 +411,17 @@ pub fn markdown(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
         "box" => "12.82",
         "organic" => "5.50",
         "atrium" => "7.09",
-        "Miss" => "12.52",
+        "Miss (outside)" => "12.52",
         "Stress" => "6.25",
         _ => "",
     };
     let mut s = format!("# bench rays\n\n{}\n{}\n\n", info.markdown(), definitions(cfg));
-    s.push_str("| test | back-end | FPS | GPU ms | wall ms | rays/pixel | GigaRays/s | hit fraction | RFPS | paper GR/s (RTX 2080 Ti) |\n");
-    s.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("| test | back-end | FPS | GPU ms | wall ms | rays/pixel | GigaRays/s | hit fraction | RFPS | paper GR/s (RTX 2080 Ti) | scene | camera | rays/pixel by pass |\n");
+    s.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- | --- |\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.3} | {:.3} | {} | {} |",
+            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.3} | {:.3} | {} | {} | {} | {} | {} |",
             r.test,
             r.backend,
             r.fps,
@@ -292,7 +431,10 @@ pub fn markdown(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
             r.grays_per_s,
             r.hit_fraction,
             r.rfps.map(|f| format!("{f:.1}")).unwrap_or_else(|| "—".into()),
-            paper(&r.test)
+            paper(&r.test),
+            r.scene,
+            r.camera,
+            by_pass(r, ", ")
         );
     }
     s
@@ -313,7 +455,7 @@ pub fn plots(dir: &Path, rows: &[RaysRow]) -> Result<Vec<PathBuf>, String> {
             backends.push(r.backend);
         }
     }
-    let paper = [("box", 12.82), ("organic", 5.50), ("atrium", 7.09), ("Miss", 12.52), ("Stress", 6.25)];
+    let paper = [("box", 12.82), ("organic", 5.50), ("atrium", 7.09), ("Miss (outside)", 12.52), ("Stress", 6.25)];
     let mut series: Vec<Series> = backends
         .iter()
         .map(|b| Series {
@@ -329,4 +471,38 @@ pub fn plots(dir: &Path, rows: &[RaysRow]) -> Result<Vec<PathBuf>, String> {
     LinePlot { title: "GigaRays/s (Table 3)", x_label: "test", y_label: "GigaRays/s", log_x: false, log_y: true, x_labels: Some(&tests) }
         .write(&path, &series)?;
     Ok(vec![path])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hits(test: &str, hit_fraction: f64) -> RaysRow {
+        RaysRow {
+            test: test.into(),
+            scene: "s".into(),
+            camera: "c".into(),
+            backend: Backend::Compute,
+            fps: 1.0,
+            gpu_ms: 1.0,
+            wall_ms: 1.0,
+            rays_per_frame: 100,
+            rays_per_pixel: 1.0,
+            grays_per_s: 1.0,
+            hit_fraction,
+            rfps: None,
+            passes: Vec::new(),
+            rays_by_pass: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_miss_row_that_hits_and_a_stress_row_with_sky_are_errors() {
+        assert!(Expect::NoHits.check(&hits("Miss (inside)", 0.0)).is_ok());
+        let e = Expect::NoHits.check(&hits("Miss (inside)", 0.0001)).unwrap_err().to_string();
+        assert!(e.contains("Miss (inside) on `s` (c)") && e.contains("must miss with every ray"), "{e}");
+        assert!(Expect::Hits.check(&hits("Stress", 0.99)).is_ok());
+        let e = Expect::Hits.check(&hits("Stress", 0.95)).unwrap_err().to_string();
+        assert!(e.contains("0.9500 of the rays hit") && e.contains("shows no sky"), "{e}");
+    }
 }

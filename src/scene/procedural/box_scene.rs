@@ -48,6 +48,8 @@ pub(super) fn build() -> Scene {
             ("corner".into(), Camera { position: Vec3::new(1.6, 1.3, 2.2), target: Vec3::ZERO, up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0 }),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.0, 2.5), Vec3::ZERO, 45.0, 0.05, 50.0)),
             ("close".into(), Camera::look(Vec3::new(0.45, 0.35, 0.9), Vec3::ZERO, 60.0, 0.05, 50.0)),
+            // The Stress view (`bench rays`): one face fills the frame, no sky.
+            ("stress".into(), Camera::look(Vec3::new(0.08, 0.06, 1.1), Vec3::new(0.0, 0.0, 0.5), 40.0, 0.05, 50.0)),
         ],
         light: Light { direction: Vec3::new(-0.45, 0.8, 0.4).normalize(), color: Vec3::new(1.0, 0.97, 0.92), intensity: 3.0, ambient: 0.3 },
         point_light: None,

@@ -198,6 +198,8 @@ pub(super) fn build() -> Scene {
             ),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.1, 3.2), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
             ("profile".into(), Camera::look(Vec3::new(3.2, 0.2, 0.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
+            // The Stress view (`bench rays`): the face fills the frame, no sky.
+            ("stress".into(), Camera::look(Vec3::new(0.0, 0.1, 2.2), Vec3::new(0.0, 0.05, 0.0), 20.0, 0.05, 50.0)),
         ],
         light: Light { direction: Vec3::new(0.5, 0.7, 0.5).normalize(), color: Vec3::new(1.0, 0.97, 0.92), intensity: 3.0, ambient: 0.3 },
         point_light: None,
