@@ -1,4 +1,8 @@
 #!/bin/bash
+# The depth pre-pass on the H100: one release binary built with depth_prepass.patch in .gpu/,
+# and two copies of graph/, layers/ and shaders/ beside it, .gpu/on (as the patch leaves them)
+# and .gpu/off (`depth_prepass: false` in layers/forward.ron and layers/deferred.ron); the
+# binary reads the files on disk first. DEVICE notes: ../../../README.md and BENCHMARKS.md.
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 R=$PWD/.gpu/raygraph; H=$PWD/assets/gltf/DamagedHelmet/DamagedHelmet.glb
 cd .gpu/on && $R bench rays --scenes box --backend compute --frames 5 --out /tmp/warm >/dev/null 2>&1; cd ../..
