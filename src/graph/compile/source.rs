@@ -55,3 +55,43 @@ pub fn parse_layer(path: &Path) -> Result<LayerDesc, GraphError> {
     let src = read_file(path, None)?;
     parse_ron(&src, "layer")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every node of every shipped graph file, and every pass of every shipped layer file, is
+    /// found where its name is written.
+    #[test]
+    fn every_node_and_pass_of_the_shipped_files_is_found_at_its_name() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut checked = 0;
+        for (dir, anchor, what) in [("graph", "nodes", "node"), ("layers", "passes", "pass")] {
+            for entry in std::fs::read_dir(root.join(dir)).unwrap() {
+                let path = entry.unwrap().path();
+                if path.extension().and_then(|e| e.to_str()) != Some("ron") {
+                    continue;
+                }
+                let text = std::fs::read_to_string(&path).unwrap();
+                let names: Vec<String> = if what == "node" {
+                    parse_graph(&path).unwrap_or_else(|e| panic!("{e}")).nodes.keys().cloned().collect()
+                } else {
+                    parse_layer(&path).unwrap_or_else(|e| panic!("{e}")).passes.iter().map(|p| p.name.clone()).collect()
+                };
+                let source = read_file(&path, None).unwrap();
+                for name in names {
+                    let quoted = format!("\"{name}\"");
+                    let offset = source.spans.locate(&[anchor, &quoted]);
+                    assert!(
+                        text[offset..].starts_with(&quoted),
+                        "{}: {what} {name} located at {:?}",
+                        path.display(),
+                        &text[offset..(offset + 40).min(text.len())]
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 40, "only {checked} names checked");
+    }
+}
