@@ -28,9 +28,10 @@ pub struct RaysConfig {
     pub scenes: Vec<String>,
     /// Frame size.
     pub size: (u32, u32),
-    /// Timed frames per measurement (after `warmup` frames).
+    /// Timed frames per measurement (after the warm-up).
     pub frames: u32,
-    /// Untimed frames before each measurement.
+    /// Untimed frames before each measurement at least (the warm-up goes on until the frame
+    /// time settles: [`crate::runtime::warm_up`]).
     pub(crate) warmup: u32,
     /// AO rays per pixel.
     pub ao_rays: i64,
@@ -118,8 +119,8 @@ struct Measured {
     rays: u64,
     hits: u64,
     passes: Vec<(String, f64)>,
-    /// Median rays per frame of each trace pass.
-    pass_rays: Vec<(String, f64)>,
+    /// Rays per pixel of each trace pass.
+    rays_by_pass: Vec<(String, f64)>,
 }
 
 /// Median GPU milliseconds of a frame (all passes) and of each pass, median rays per frame.
@@ -139,37 +140,19 @@ fn measure(
     let mut wall_ms: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
     let mut rays: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.traced()).unwrap_or(0) as f64).collect();
     let mut hits: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.hits).unwrap_or(0) as f64).collect();
-    let passes = exec
-        .plan()
-        .passes
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let mut ms: Vec<f64> = frames.iter().filter_map(|f| f.gpu_ms.as_ref().and_then(|g| g.get(i).copied())).collect();
-            (p.name.clone(), if ms.is_empty() { f64::NAN } else { median(&mut ms) })
-        })
-        .collect();
-    let pass_rays = trace_pass_rays(exec.plan(), &frames);
+    // Per pass: the same medians `render --report` writes.
+    let names: Vec<(String, &'static str)> = exec.plan().passes.iter().map(|p| (p.name.clone(), p.kind.name())).collect();
+    let report = crate::runtime::report::Report::new(&names, cfg.size.0 as u64 * cfg.size.1 as u64, &frames);
+    let passes = report.passes.iter().map(|p| (p.name.clone(), p.gpu_ms.map_or(f64::NAN, |g| g.median))).collect();
+    let rays_by_pass = report.passes.iter().filter_map(|p| Some((p.name.clone(), p.rays_per_pixel?))).collect();
     Ok(Measured {
         gpu_ms: median(&mut gpu_ms),
         wall_ms: median(&mut wall_ms),
         rays: median(&mut rays) as u64,
         hits: median(&mut hits) as u64,
         passes,
-        pass_rays,
+        rays_by_pass,
     })
-}
-
-/// Median rays per frame of each pass that traced any.
-fn trace_pass_rays(plan: &crate::graph::Plan, frames: &[crate::runtime::profiler::FrameTimings]) -> Vec<(String, f64)> {
-    plan.passes
-        .iter()
-        .enumerate()
-        .filter_map(|(i, p)| {
-            let mut rays: Vec<f64> = frames.iter().filter_map(|f| f.pass_rays.get(i).copied().flatten().map(|r| r.traced() as f64)).collect();
-            (!rays.is_empty()).then(|| (p.name.clone(), median(&mut rays)))
-        })
-        .collect()
 }
 
 /// Where and how a row was measured: the scene and the camera's description.
@@ -180,13 +163,13 @@ struct View<'a> {
 }
 
 fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option<f64>) -> RaysRow {
-    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes, pass_rays } = m;
+    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes, rays_by_pass } = m;
     let pixels = cfg.size.0 as f64 * cfg.size.1 as f64;
     RaysRow {
         test: test.into(),
         scene: view.scene.name.clone(),
         camera: view.described.clone(),
-        rays_by_pass: pass_rays.into_iter().map(|(name, rays)| (name, rays / pixels)).collect(),
+        rays_by_pass,
         backend,
         fps: 1000.0 / ms,
         gpu_ms: ms,
