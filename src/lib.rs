@@ -35,6 +35,7 @@ pub mod runtime;
 pub mod scene;
 #[cfg(feature = "cli")]
 pub mod soak;
+pub(crate) mod spirv_words;
 pub(crate) mod uniforms;
 pub mod util;
 #[cfg(feature = "cli")]

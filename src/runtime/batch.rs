@@ -9,7 +9,7 @@ use crate::accel::cpu_traverse::TraceFlags;
 use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::backend::Backend;
 use crate::error::{GraphError, Location, RuntimeError};
-use crate::gpu_util::{compute_pipeline, map_read, storage_with_readback};
+use crate::gpu_util::{map_read, storage_with_readback};
 use crate::graph::compile::CompileOptions;
 use crate::graph::reflect;
 use crate::runtime::gpu::include_aliases;
@@ -195,18 +195,14 @@ impl BatchTracer {
         let storage =
             |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
-        let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("batch"),
-            entries: &[
-                entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
-                entry(1, storage(true)),
-                entry(2, storage(false)),
-            ],
-        });
-        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("batch textures"),
-            entries: textures.as_ref().map(|t| std::slice::from_ref(&t.1)).unwrap_or_default(),
-        });
+        let entries0 = [
+            entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
+            entry(1, storage(true)),
+            entry(2, storage(false)),
+        ];
+        let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch"), entries: &entries0 });
+        let entries1: Vec<wgpu::BindGroupLayoutEntry> = textures.as_ref().map(|t| vec![t.1]).unwrap_or_default();
+        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch textures"), entries: &entries1 });
         let texture_views: Vec<&wgpu::TextureView> = match textures.as_ref().map(|t| &t.2) {
             Some(RtResource::Textures(list)) => list.iter().map(|(_, v)| v).collect(),
             Some(RtResource::Texture { view, .. }) => vec![view],
@@ -246,8 +242,10 @@ impl BatchTracer {
         });
         // The batch tracer is part of the program (tests, benches), not of a project: its loops are
         // the traversal's and its own ray loop, all of which end (`ShaderOrigin::BuiltInTraversal`).
-        let module = gpu.shader_module("batch.wgsl", &info.source.text, crate::gpu_util::ShaderOrigin::BuiltInTraversal);
-        let pipeline = compute_pipeline(device, "batch", &pipeline_layout, &module, "cs_main");
+        let groups = [entries0.to_vec(), entries1, accel_entries];
+        let (module, constants) =
+            gpu.traversal_module("batch.wgsl", &info.source.text, "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
+        let pipeline = crate::gpu_util::compute_pipeline_with(device, "batch", &pipeline_layout, &module, "cs_main", &constants);
         scope.finish(gpu, "creating the batch tracer")?;
         Ok(Self {
             cache,

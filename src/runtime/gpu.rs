@@ -5,6 +5,7 @@
 use crate::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
 use crate::gpu_util::ShaderOrigin;
+use crate::runtime::trace_spirv::TraceSpirv;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -59,6 +60,9 @@ pub struct Gpu {
     /// work), so a program that only reports the error and stops ends the process here; the
     /// command line does. Without it the caller must not drop its GPU objects (leak them).
     pub on_gpu_timeout: Option<fn(&RuntimeError)>,
+    /// How the compute back-end's trace modules are written without their traversal stack's
+    /// clear ([`super::trace_spirv`]); `None` where wgpu compiles them from WGSL.
+    pub(crate) trace_spirv: Option<TraceSpirv>,
 }
 
 #[derive(Debug, Default)]
@@ -93,6 +97,44 @@ impl Gpu {
         // traversal loops pop a finite stack; a layer's own endless loop is ended by the frame
         // deadline. Bounds checks and the rest stay.
         unsafe { self.device.create_shader_module_trusted(desc, checks) }
+    }
+
+    /// Whether trace passes on the compute back-end clear their traversal stack when each
+    /// invocation starts (compiled from WGSL, which zero-initialises it) rather than being
+    /// written without that clear ([`super::trace_spirv`]; not on this device, or
+    /// `RAYGRAPH_CLEARED_STACK=1`).
+    pub fn traversal_stack_cleared(&self) -> bool {
+        self.trace_spirv.is_none()
+    }
+
+    /// Compiles the trace modules of executors and batch tracers made from now on from WGSL,
+    /// their traversal stack cleared per invocation: the reference the modules without the
+    /// clear are tested against.
+    pub fn clear_traversal_stack(&mut self) {
+        self.trace_spirv = None;
+    }
+
+    /// A module built on the compute traversal (a trace pass's, the batch tracer's) for a
+    /// pipeline over bind group layouts `groups`, to be made with pipeline `constants`: written
+    /// without the traversal stack's clear where the device allows it ([`super::trace_spirv`]),
+    /// else compiled from WGSL with `origin`'s checks. Returns the module and the constants
+    /// still to give the pipeline (none where they were resolved into the module).
+    pub(crate) fn traversal_module<'c>(
+        &self,
+        label: &str,
+        wgsl: &str,
+        entry: &str,
+        origin: ShaderOrigin,
+        constants: &[(&'c str, f64)],
+        groups: &[Vec<wgpu::BindGroupLayoutEntry>],
+    ) -> (wgpu::ShaderModule, Vec<(&'c str, f64)>) {
+        if let Some(spirv) = self.trace_spirv.as_ref().filter(|_| TraceSpirv::applies_to(wgsl)) {
+            match spirv.module(&self.device, label, wgsl, entry, constants, groups) {
+                Ok(module) => return (module, Vec::new()),
+                Err(e) => log::warn!("{label}: compiled from WGSL, its traversal stack cleared per invocation ({e})"),
+            }
+        }
+        (self.shader_module(label, wgsl, origin), constants.to_vec())
     }
 
     /// Opens the first Vulkan adapter (set `WGPU_BACKEND` to choose another backend, and
@@ -157,6 +199,11 @@ impl Gpu {
             required_features |= BINDLESS;
             required_limits.max_binding_array_elements_per_shader_stage =
                 adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
+        }
+        // The compute back-end's trace modules without their traversal stack's clear
+        // (`runtime::trace_spirv`), on Vulkan.
+        if adapter.get_info().backend == wgpu::Backend::Vulkan {
+            required_features |= adapter.features() & wgpu::Features::PASSTHROUGH_SHADERS;
         }
         let ray_features = adapter.features() & (wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES);
         let mut experimental_features = wgpu::ExperimentalFeatures::disabled();
@@ -238,6 +285,11 @@ impl Gpu {
         );
         log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
         let gpu_timeout = default_gpu_timeout(&info);
+        let trace_spirv = TraceSpirv::for_device(&device);
+        log::info!(
+            "traversal stack: {}",
+            if trace_spirv.is_some() { "not cleared (trace modules as SPIR-V)" } else { "cleared per invocation (trace modules from WGSL)" }
+        );
         Ok(Self {
             instance,
             adapter,
@@ -252,6 +304,7 @@ impl Gpu {
             inject_device_loss_at,
             gpu_timeout,
             on_gpu_timeout: None,
+            trace_spirv,
         })
     }
 

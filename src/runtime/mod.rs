@@ -9,6 +9,7 @@ pub mod profiler;
 pub(crate) mod raster;
 pub mod report;
 pub mod rust_pass;
+pub(crate) mod trace_spirv;
 pub mod warm_up;
 
 pub use exec::Executor;

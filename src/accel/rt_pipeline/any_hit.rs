@@ -18,26 +18,14 @@
 //! get their layout's count (`wgpu-hal/src/vulkan/device.rs`, `create_bind_group_layout`
 //! and `create_pipeline_layout`).
 
+use crate::spirv_words::{instructions, named, word0};
 use spirv::{Op, StorageClass};
 
 /// The WGSL names of the two stand-ins (shaders/trace/rt_pipeline.wgsl).
 const HIT_ATTRIBUTE: &str = "trace_hit_attribute";
 const IGNORE_MARKER: &str = "trace_ignore_intersection";
 
-/// The descriptor set and binding of every binding of `layouts` (group `g` is `layouts[g]`,
-/// its entries in the order its hal layout was made from), as wgpu-hal maps them.
-pub fn binding_map(layouts: &[Vec<wgpu::BindGroupLayoutEntry>]) -> naga::back::spv::BindingMap {
-    let mut map = naga::back::spv::BindingMap::new();
-    for (group, entries) in layouts.iter().enumerate() {
-        for (index, entry) in entries.iter().enumerate() {
-            map.insert(
-                naga::ResourceBinding { group: group as u32, binding: entry.binding },
-                naga::back::spv::BindingInfo { descriptor_set: group as u32, binding: index as u32, binding_array_size: entry.count.map(|c| c.get()) },
-            );
-        }
-    }
-    map
-}
+pub use crate::spirv_words::binding_map;
 
 /// The any-hit entry point `entry` of `module` as patched SPIR-V (see the module docs).
 pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entry: &str, binding_map: naga::back::spv::BindingMap) -> Result<Vec<u32>, String> {
@@ -69,42 +57,11 @@ pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entr
     patch(&words).map_err(|e| format!("patching `{entry}`: {e}"))
 }
 
-/// One instruction: its opcode and its words (the first included).
-fn instructions(words: &[u32]) -> Result<Vec<(u16, &[u32])>, String> {
-    if words.len() < 5 || words[0] != spirv::MAGIC_NUMBER {
-        return Err("not a SPIR-V module".into());
-    }
-    let mut out = Vec::new();
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        if count == 0 || at + count > words.len() {
-            return Err(format!("a malformed instruction at word {at}"));
-        }
-        out.push((words[at] as u16, &words[at..at + count]));
-        at += count;
-    }
-    Ok(out)
-}
-
-/// The string operand starting at `words[0]` (nul-terminated UTF-8, little-endian words).
-fn string(words: &[u32]) -> String {
-    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
-    String::from_utf8_lossy(&bytes).into_owned()
-}
-
-fn word0(op: Op, count: usize) -> u32 {
-    ((count as u32) << 16) | op as u32
-}
-
 /// Applies the two patches of the module docs to a SPIR-V module naga wrote.
 pub fn patch(words: &[u32]) -> Result<Vec<u32>, String> {
     let list = instructions(words)?;
-    let named = |name: &str| {
-        list.iter().find(|(op, w)| *op == Op::Name as u16 && string(&w[2..]) == name).map(|(_, w)| w[1]).ok_or_else(|| format!("no variable `{name}`"))
-    };
-    let attribute = named(HIT_ATTRIBUTE)?;
-    let marker = named(IGNORE_MARKER)?;
+    let attribute = named(&list, HIT_ATTRIBUTE)?;
+    let marker = named(&list, IGNORE_MARKER)?;
     let mut bound = words[3];
     let mut out: Vec<u32> = words[..5].to_vec();
     let mut ignores = 0;

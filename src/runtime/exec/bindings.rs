@@ -49,6 +49,13 @@ pub(super) struct PassBindings {
 }
 
 impl PassBindings {
+    /// The layout entries of each bind group, group `g` at index `g` (a group with no
+    /// bindings is empty).
+    pub fn layout_groups(&self) -> Vec<Vec<wgpu::BindGroupLayoutEntry>> {
+        let count = self.layout_entries.iter().map(|(g, _)| g + 1).max().unwrap_or(0);
+        (0..count).map(|g| self.layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect()).collect()
+    }
+
     /// The pass's `params` uniform and its members, for [`Executor::set_param`].
     pub fn params(&self) -> Option<(wgpu::Buffer, u64, Vec<UniformMember>)> {
         self.params_buffer.as_ref().zip(self.params_members.clone()).map(|((_, buf), (size, members))| (buf.clone(), size, members))
@@ -202,8 +209,9 @@ impl Executor {
         let mut layouts = Vec::new();
         let mut bind_groups = Vec::new();
         let mut accel_layout = None;
-        for g in 0..group_count {
-            let layout_g: Vec<wgpu::BindGroupLayoutEntry> = bindings.layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect();
+        let mut layout_groups = bindings.layout_groups();
+        layout_groups.resize(group_count as usize, Vec::new());
+        for (g, layout_g) in (0..group_count).zip(layout_groups) {
             let bgl =
                 device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&format!("{} group {g}", pass.name)), entries: &layout_g });
             if pass.kind == PassKind::Trace && g == builtins::ACCEL_GROUP {

@@ -3,17 +3,22 @@
 
 use super::bindings::{shader_module, PassBindings, PassLayout};
 use super::{Executor, PassRuntime, Pipeline};
-use crate::gpu_util::compute_pipeline_with;
+use crate::gpu_util::{compute_pipeline_with, ShaderOrigin};
 use crate::graph::builtins;
 use crate::graph::compile::PlannedPass;
-use crate::graph::desc::Dispatch;
+use crate::graph::desc::{Dispatch, PassKind};
 use crate::runtime::gpu::Gpu;
 
 impl Executor {
     pub(super) fn build_compute_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
-        let module = shader_module(gpu, pass);
-        let (colors, depth) = self.attachments(pass);
         let constants = super::trace::trace_constants(pass, self.trace_alpha_test);
+        let (module, constants) = if pass.kind == PassKind::Trace {
+            let groups = bindings.layout_groups();
+            gpu.traversal_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, &pass.entry, ShaderOrigin::TracePass, &constants, &groups)
+        } else {
+            (shader_module(gpu, pass), constants)
+        };
+        let (colors, depth) = self.attachments(pass);
         let p = compute_pipeline_with(&gpu.device, &pass.name, &layout.layout, &module, &pass.entry, &constants);
         let PassLayout { bind_groups, accel_layout, .. } = layout;
         PassRuntime {
