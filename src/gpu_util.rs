@@ -18,6 +18,12 @@ pub enum ShaderOrigin {
     /// modules go without it. The executor's frame deadline (`Gpu::gpu_timeout`) still ends a
     /// frame whose trace pass loops forever.
     TracePass,
+    /// A layer's shader whose files are all raygraph's built-in copies, byte for byte
+    /// (`ShaderSource::is_builtin`): part of the program, its loops bounded by what it loops
+    /// over (the scene's lights, a PCF radius clamped to 4). No loop bounding: in the fragment
+    /// stage it kept the driver from unrolling the shadow-map filter (PERF.md, step 20). A
+    /// user's edited copy is [`ShaderOrigin::Project`]; the frame deadline covers both.
+    BuiltInLayer,
     /// One of raygraph's own traversal kernels, a fixed part of the program rather than of a
     /// project (the batch tracer of tests and benches): no loop bounding, as for trace passes.
     BuiltInTraversal,

@@ -19,6 +19,9 @@ pub struct FileText {
     pub path: PathBuf,
     /// The file's text.
     pub(crate) text: String,
+    /// The text is the built-in copy's, byte for byte (read from the binary, or a file on
+    /// disk identical to it).
+    pub(crate) builtin: bool,
 }
 
 /// The built-in text of a relative path such as `layers/forward.ron`.
@@ -52,9 +55,12 @@ fn builtin_of(path: &Path) -> Option<(String, &'static str)> {
 /// Reads `path` from disk; when no such file exists, its built-in copy.
 pub fn read(path: &Path) -> std::io::Result<FileText> {
     match std::fs::read_to_string(path) {
-        Ok(text) => Ok(FileText { path: path.to_path_buf(), text }),
+        Ok(text) => {
+            let builtin = builtin_of(path).is_some_and(|(_, copy)| copy == text);
+            Ok(FileText { path: path.to_path_buf(), text, builtin })
+        }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => match builtin_of(path) {
-            Some((name, text)) => Ok(FileText { path: Path::new(BUILTIN_PREFIX).join(name), text: text.to_string() }),
+            Some((name, text)) => Ok(FileText { path: Path::new(BUILTIN_PREFIX).join(name), text: text.to_string(), builtin: true }),
             None => Err(e),
         },
         Err(e) => Err(e),

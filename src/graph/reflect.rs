@@ -22,12 +22,14 @@ pub struct ShaderSource {
     pub text: String,
     /// (file, byte offset where its text starts in `text`)
     segments: Vec<(PathBuf, usize)>,
+    /// Every file of it is raygraph's built-in copy, byte for byte ([`ShaderSource::is_builtin`]).
+    builtin: bool,
 }
 
 impl ShaderSource {
     /// Reads `path`; lines `//#include "rel/path.wgsl"` name files relative to `shader_root`.
     pub fn load(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<Self, GraphError> {
-        let mut src = ShaderSource { text: String::new(), segments: Vec::new() };
+        let mut src = ShaderSource { text: String::new(), segments: Vec::new(), builtin: true };
         let mut included: Vec<PathBuf> = Vec::new();
         let mut enables: Vec<String> = Vec::new();
         src.append(path, shader_root, referenced_from, aliases, &mut included, &mut enables)?;
@@ -63,6 +65,7 @@ impl ShaderSource {
             GraphError::new(ErrorKind::Io, from.clone(), format!("cannot read shader {}: {e}", path.display()))
                 .help("check the shader path; it is relative to the shaders/ directory")
         })?;
+        self.builtin &= file.builtin;
         let text = file.text;
         let start = self.text.len();
         self.segments.push((file.path.clone(), start));
@@ -91,6 +94,13 @@ impl ShaderSource {
             }
         }
         Ok(())
+    }
+
+    /// Whether the main file and every include are raygraph's built-in copies, byte for byte
+    /// (embedded, or files on disk identical to them): part of the program rather than of a
+    /// project a user edits.
+    pub fn is_builtin(&self) -> bool {
+        self.builtin
     }
 
     /// File location of a byte offset in the assembled text.
@@ -336,7 +346,7 @@ impl ShaderInfo {
     pub fn none() -> Self {
         ShaderInfo {
             path: PathBuf::new(),
-            source: ShaderSource { text: String::new(), segments: Vec::new() },
+            source: ShaderSource { text: String::new(), segments: Vec::new(), builtin: false },
             bindings: Vec::new(),
             entry_points: Vec::new(),
             overrides: Vec::new(),
@@ -510,4 +520,35 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
     };
 
     Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points, overrides, ray_tracing })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(root: &Path) -> ShaderSource {
+        let shaders = root.join("shaders");
+        ShaderSource::load(&shaders.join("forward/forward.wgsl"), &shaders, &Location::new(Path::new("test"), 1, 1), &IncludeAliases::new()).unwrap()
+    }
+
+    #[test]
+    fn built_in_only_while_every_file_is_the_built_in_copy() {
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+        // The repository's files on disk are the built-in copies.
+        assert!(load(repo).is_builtin());
+        let dir = std::env::temp_dir().join(format!("raygraph_builtin_{}", std::process::id()));
+        let shaders = dir.join("shaders");
+        // Nothing on disk: the embedded copies.
+        std::fs::create_dir_all(shaders.join("common")).unwrap();
+        assert!(load(&dir).is_builtin());
+        // An include edited on disk makes the module a project's.
+        let lighting = std::fs::read_to_string(repo.join("shaders/common/lighting.wgsl")).unwrap();
+        std::fs::write(shaders.join("common/lighting.wgsl"), format!("{lighting}\n// edited\n")).unwrap();
+        let edited = load(&dir);
+        assert!(!edited.is_builtin());
+        // Byte for byte the same again: built in.
+        std::fs::write(shaders.join("common/lighting.wgsl"), &lighting).unwrap();
+        assert!(load(&dir).is_builtin());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

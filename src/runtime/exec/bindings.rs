@@ -259,10 +259,16 @@ impl Executor {
     }
 }
 
-/// The module of `pass`'s shader. A layer's shader is a project file, with every runtime check
-/// (`ShaderOrigin::Project`), but a trace pass's module, built on the project's traversal
-/// (`ShaderOrigin::TracePass`).
+/// The module of `pass`'s shader, with the runtime checks of where it comes from: a trace
+/// pass's module is built on the project's traversal (`ShaderOrigin::TracePass`); a layer's
+/// shader made only of built-in files is part of the program (`ShaderOrigin::BuiltInLayer`);
+/// anything else is a project file with every check (`ShaderOrigin::Project`).
 pub(super) fn shader_module(gpu: &Gpu, pass: &PlannedPass) -> wgpu::ShaderModule {
-    let origin = if pass.kind == PassKind::Trace { crate::gpu_util::ShaderOrigin::TracePass } else { crate::gpu_util::ShaderOrigin::Project };
+    use crate::gpu_util::ShaderOrigin;
+    let origin = match pass.kind {
+        PassKind::Trace => ShaderOrigin::TracePass,
+        _ if pass.shader.source.is_builtin() => ShaderOrigin::BuiltInLayer,
+        _ => ShaderOrigin::Project,
+    };
     gpu.shader_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, origin)
 }
