@@ -261,6 +261,8 @@ pub enum Format {
     Rgba32Float,
     /// One 32-bit unsigned integer channel.
     R32Uint,
+    /// Two 32-bit unsigned integer channels.
+    Rg32Uint,
     /// Four 32-bit unsigned integer channels.
     Rgba32Uint,
     /// 32-bit float depth.
@@ -291,6 +293,7 @@ impl Format {
             Format::Rg32Float => T::Rg32Float,
             Format::Rgba32Float => T::Rgba32Float,
             Format::R32Uint => T::R32Uint,
+            Format::Rg32Uint => T::Rg32Uint,
             Format::Rgba32Uint => T::Rgba32Uint,
             Format::Depth32Float => T::Depth32Float,
         }
@@ -310,6 +313,7 @@ impl Format {
             Format::Rg32Float => S::Rg32Float,
             Format::Rgba32Float => S::Rgba32Float,
             Format::R32Uint => S::R32Uint,
+            Format::Rg32Uint => S::Rg32Uint,
             Format::Rgba32Uint => S::Rgba32Uint,
             Format::Rgba8UnormSrgb | Format::Depth32Float => return None,
         })
@@ -322,12 +326,12 @@ impl Format {
 
     /// Whether its channels are unsigned integers.
     pub(crate) fn is_uint(self) -> bool {
-        matches!(self, Format::R32Uint | Format::Rgba32Uint)
+        matches!(self, Format::R32Uint | Format::Rg32Uint | Format::Rgba32Uint)
     }
 
     /// Whether a shader may sample it with a filtering sampler.
     pub fn is_filterable(self) -> bool {
-        !matches!(self, Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rgba32Uint | Format::Depth32Float)
+        !matches!(self, Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rg32Uint | Format::Rgba32Uint | Format::Depth32Float)
     }
 
     /// The channels of a texel and how each is stored (depth: one f32).
@@ -344,6 +348,7 @@ impl Format {
             Format::Rg32Float => (2, Float32),
             Format::Rgba32Float => (4, Float32),
             Format::R32Uint => (1, Uint32),
+            Format::Rg32Uint => (2, Uint32),
             Format::Rgba32Uint => (4, Uint32),
         }
     }
