@@ -233,7 +233,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     println!("CPU-built vs GPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
     assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
 
-    // Moved: refitted (the refit plans its treelets from the GPU-built layout).
+    // Moved: refitted (from the builder's parents: the tree never comes back to the CPU).
     organic.instances[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
@@ -249,6 +249,14 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     }
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild, "{r:?}");
+    // Moved after that rebuild: refitted, it draws what a CPU build of the moved scene draws.
+    organic.instances[0].transform = Mat4::from_rotation_x(-0.2) * Mat4::from_translation(Vec3::new(-0.1, 0.05, 0.05)) * organic.instances[0].transform;
+    let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
+    let (fresh, _) = render(&organic, MergedBuilder::Cpu);
+    let (rmse, outliers) = difference(&gpu_exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
+    println!("rebuilt on the GPU, refitted vs CPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
+    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "rebuilt and refitted: RMSE {rmse}, {outliers} outliers");
     // GpuRebuilds (the executor's choice on a real GPU): the first build on the CPU, the
     // rebuild after the edit on the GPU.
     let r = rebuilds.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();

@@ -308,13 +308,13 @@ impl GpuBlasBuilder {
         let parents = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("BLAS parents (GPU-built)"),
             size: nodes * 4,
-            usage: storage,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let leaf_order = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("leaf order (GPU-built)"),
             size: n as u64 * 4,
-            usage: storage,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let buffers = [
