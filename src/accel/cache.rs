@@ -6,7 +6,10 @@
 //!   without de-duplication), then the TLAS;
 //! - instances moved: the TLAS only — refitted in the `compute` back-end when the set of
 //!   instances is the same, rebuilt in `ray-query` (wgpu has no refit);
-//! - identical meshes share one BLAS unless de-duplication is off.
+//! - identical meshes share one BLAS unless de-duplication is off;
+//! - the merged layout rebuilt by the GPU builder stays on the GPU: the traversal binds the
+//!   builder's arrays and the refit works from the parents it writes beside them
+//!   ([`crate::accel::refit::TreeRefit`]); only a few words (depth, SAH cost) come back.
 //!
 //! Each update returns a [`BuildReport`]: what was built and its CPU time (GPU time comes from
 //! the `Accel` pass's timestamps). The cache also owns the `accel_stats` ray counters that the
