@@ -2,7 +2,8 @@
 //! the tree it writes is a valid traversal layout (every triangle in exactly one leaf of at
 //! most four, every box around what it holds, within the traversal stack's depth), its SAH cost
 //! is within the 1.1x of the CPU build's on the atrium, and rays traced through it hit
-//! exactly what they hit through the CPU-built tree.
+//! exactly what they hit through the CPU-built tree; the parents, leaf order and SAH cost it
+//! reports beside the tree (what the cache's GPU refit and report use) match the tree.
 
 use glam::Vec3;
 use raygraph::accel::bvh::{Blas, BuildConfig, MAX_TREE_DEPTH};
@@ -66,6 +67,29 @@ fn check_layout(name: &str, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &
     deepest
 }
 
+/// What the GPU refit reads besides the tree: every used node's parent (+ 1; 0 for the root
+/// and for the unused slots inside leaves), each triangle's index in the input; and the SAH
+/// cost the build reports against the read-back tree's.
+fn check_refit_inputs(gpu: &Gpu, name: &str, built: &GpuBlas, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &[GpuTriangle]) {
+    let parents = read_bytes(&gpu.device, &gpu.queue, &built.parents, 0, nodes.len() as u64 * 4).unwrap();
+    let parents: &[u32] = bytemuck::cast_slice(&parents);
+    let mut expected = vec![0u32; nodes.len()];
+    let mut stack = vec![0usize];
+    while let Some(i) = stack.pop() {
+        if nodes[i].count == 0 {
+            let l = nodes[i].left_or_first as usize;
+            (expected[l], expected[l + 1]) = (i as u32 + 1, i as u32 + 1);
+            stack.extend([l, l + 1]);
+        }
+    }
+    assert!(parents == expected, "{name}: parents");
+    let order = read_bytes(&gpu.device, &gpu.queue, &built.leaf_order, 0, tris.len() as u64 * 4).unwrap();
+    let order: &[u32] = bytemuck::cast_slice(&order);
+    assert!(tris.iter().zip(order).all(|(t, &o)| input.get(o as usize) == Some(t)), "{name}: leaf order");
+    let sah = layout_sah_cost(nodes);
+    assert!((built.sah_cost - sah).abs() <= 1e-4 * sah, "{name}: reported SAH cost {} against {sah}", built.sah_cost);
+}
+
 fn soup(n: usize, seed: u64, spread: f32) -> Vec<GpuTriangle> {
     let mut rng = SplitMix64(seed);
     let mut v = || Vec3::new(rng.f(), rng.f(), rng.f());
@@ -108,6 +132,7 @@ fn small_and_degenerate_inputs_give_valid_trees() {
         let (nodes, tris) = read_back(&gpu, &built);
         let depth = check_layout(name, &nodes, &tris, input);
         assert_eq!(depth as u32, built.depth, "{name}: the reported depth");
+        check_refit_inputs(&gpu, name, &built, &nodes, &tris, input);
         assert!(depth < MAX_TREE_DEPTH, "{name}: depth {depth}");
     }
 }
@@ -135,6 +160,7 @@ fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the
     let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
     let (nodes, tris) = read_back(&gpu, &built);
     check_layout("atrium", &nodes, &tris, &input);
+    check_refit_inputs(&gpu, "atrium", &built, &nodes, &tris, &input);
 
     let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
     let (gpu_sah, cpu_sah) = (layout_sah_cost(&nodes), layout_sah_cost(&cpu.blas_nodes));

@@ -21,7 +21,8 @@
 //   ploc_merge       mutual nearest neighbours merge into a new node; the survivors move, in
 //                    order, to the other cluster array
 //   layout_offsets   per node: first triangle in depth-first order, depth, inside a leaf?
-//   layout_write     the traversal's node pairs and the triangles in leaf order
+//   layout_write     the traversal's node pairs and the triangles in leaf order; per traversal
+//                    node its parent, per triangle its input index (the GPU refit's inputs)
 
 struct Params {
     // Triangles.
@@ -58,6 +59,10 @@ struct Params {
 @group(0) @binding(11) var<storage, read_write> offsets: array<u32>;
 @group(0) @binding(12) var<storage, read_write> out_nodes: array<vec4<f32>>;
 @group(0) @binding(13) var<storage, read_write> out_tris: array<vec4<f32>>;
+// Per traversal node: its parent's index + 1; 0 for the root and for unused slots.
+@group(0) @binding(14) var<storage, read_write> out_parents: array<u32>;
+// Per triangle in leaf order: its index in tris_in.
+@group(0) @binding(15) var<storage, read_write> out_order: array<u32>;
 
 const NONE: u32 = 0xffffffffu;
 const GROUP: u32 = 256u;
@@ -71,13 +76,16 @@ const BOX_PAD_ABS: f32 = 1e-20;
 
 // state: centroid bounds as order-preserving integers (0..2 min, 3..5 max); the clusters left
 // (6); the merge's next tile ticket (7); the next new node (8); the deepest leaf (9); rounds
-// that merged (10); the parity whose input array holds the clusters (11).
+// that merged (10); the parity whose input array holds the clusters (11); the finished root's
+// SAH cost (12) and box area (13), as f32 bits.
 const STATE_COUNT: u32 = 6u;
 const STATE_TICKET: u32 = 7u;
 const STATE_NEXT_NODE: u32 = 8u;
 const STATE_DEPTH: u32 = 9u;
 const STATE_ROUNDS: u32 = 10u;
 const STATE_HOLDER: u32 = 11u;
+const STATE_ROOT_COST: u32 = 12u;
+const STATE_ROOT_AREA: u32 = 13u;
 
 const TILE_AGGREGATE: u32 = 0x40000000u;
 const TILE_PREFIX: u32 = 0x80000000u;
@@ -692,6 +700,7 @@ fn layout_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
         out_tris[3u * offset] = tris_in[3u * x];
         out_tris[3u * offset + 1u] = tris_in[3u * x + 1u];
         out_tris[3u * offset + 2u] = tris_in[3u * x + 2u];
+        out_order[offset] = x;
     }
     if !inside && node_link[x].w != 0u {
         // A leaf of the finished tree: the traversal's stack holds at most its depth.
@@ -713,6 +722,16 @@ fn widen_up(v: vec3<f32>) -> vec3<f32> {
     let b = bitcast<vec3<u32>>(y);
     let up = select(b - vec3<u32>(1u), b + vec3<u32>(1u), y > vec3<f32>(0.0));
     return select(bitcast<vec3<f32>>(up), vec3<f32>(bitcast<f32>(1u)), y == vec3<f32>(0.0));
+}
+
+// Where interior node k (made by a merge, not inside a leaf) lies in the traversal's layout:
+// 0 for the root, else beside its sibling in its parent's pair.
+fn layout_index(k: u32) -> u32 {
+    let parent = node_link[k].z;
+    if parent == NONE {
+        return 0u;
+    }
+    return 1u + 2u * (parent - params.n) + select(0u, 1u, node_link[parent].y == k);
 }
 
 // The traversal's entry for `node`: its widened box, and either its leaf (first triangle,
@@ -738,7 +757,10 @@ fn layout_write(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
         return;
     }
     if t == 0u {
-        write_entry(0u, select(2u * n - 2u, 0u, n == 1u));
+        let root = select(2u * n - 2u, 0u, n == 1u);
+        write_entry(0u, root);
+        atomicStore(&state[STATE_ROOT_COST], bitcast<u32>(node_box[2u * root + 1u].w));
+        atomicStore(&state[STATE_ROOT_AREA], bitcast<u32>(area(box_lo(root), box_hi(root))));
     }
     let k = n + t;
     if k > 2u * n - 2u || is_leaf(k) || (offsets[k] & 0x80000000u) != 0u {
@@ -747,4 +769,7 @@ fn layout_write(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     let link = node_link[k];
     write_entry(1u + 2u * t, link.x);
     write_entry(2u + 2u * t, link.y);
+    let parent = layout_index(k) + 1u;
+    out_parents[1u + 2u * t] = parent;
+    out_parents[2u + 2u * t] = parent;
 }

@@ -7,6 +7,13 @@
 // above them. One workgroup refits one treelet, level by level from its deepest, with a
 // storage barrier between levels (a workgroup sees its own writes after it). The first
 // dispatch refits every subtree treelet, the second the top one.
+//
+// A tree built on the GPU (src/accel/gpu_build.rs) is refitted without a plan, from its
+// parents: `refit_leaves` moves every leaf's triangles, writes the leaf's box and carries it up
+// to the root by atomic max on order-preserving keys of the boxes (per node and axis), stopping
+// once an ancestor already holds a key as large in every word (whoever set it carries it on up);
+// `refit_interior` turns the keys into the interior nodes' boxes and clears them for the next
+// refit. Every cross-workgroup exchange is an atomic on one word, then a dispatch boundary.
 
 struct Params {
     // This dispatch refits treelets[first_treelet + workgroup index].
@@ -119,6 +126,120 @@ fn refit_treelets(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invoca
         storageBarrier();
     }
     if params.writes_root == 1u && lane == 0u {
+        copy_root_to_tlas();
+    }
+}
+
+// The GPU-built tree's refit (no treelet plan): node i's parent index + 1, 0 for the root and
+// for unused slots.
+@group(0) @binding(9) var<storage, read> parents: array<u32>;
+// Triangle i (leaf order) is input triangle leaf_order[i], whose object-space vertices are
+// object_vertices[3 leaf_order[i] + 0..2].
+@group(0) @binding(10) var<storage, read> leaf_order: array<u32>;
+// Per node, six keys: (~key(min.xyz), key(max.xyz)); 0 is below every key (nothing yet).
+@group(0) @binding(11) var<storage, read_write> box_keys: array<atomic<u32>>;
+
+// Order-preserving unsigned key of a float (larger float, larger key).
+fn float_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+fn key_float(k: u32) -> f32 {
+    return bitcast<f32>(select(~k, k & 0x7fffffffu, (k & 0x80000000u) != 0u));
+}
+
+// Whether slot `node` holds a node of the tree (unused slots inside leaves have no parent).
+fn in_tree(node: u32) -> bool {
+    return node == 0u || parents[node] != 0u;
+}
+
+// Moves the triangles first..first + count of a leaf and returns its widened box (lo > hi if it has none).
+fn refit_leaf(first: u32, count: u32) -> array<vec3<f32>, 2> {
+    var lo = vec3<f32>(3.0e38);
+    var hi = vec3<f32>(-3.0e38);
+    for (var i = first; i < first + count; i++) {
+        let t0 = triangles[3u * i];
+        let t1 = triangles[3u * i + 1u];
+        let t2 = triangles[3u * i + 2u];
+        let j = bitcast<u32>(t1.w);
+        let source = 3u * leaf_order[i];
+        let v0 = to_world(j, object_vertices[source].xyz);
+        let v1 = to_world(j, object_vertices[source + 1u].xyz);
+        let v2 = to_world(j, object_vertices[source + 2u].xyz);
+        triangles[3u * i] = vec4<f32>(v0, t0.w);
+        triangles[3u * i + 1u] = vec4<f32>(v1, t1.w);
+        triangles[3u * i + 2u] = vec4<f32>(v2, t2.w);
+        lo = min(lo, min(v0, min(v1, v2)));
+        hi = max(hi, max(v0, max(v1, v2)));
+    }
+    if lo.x <= hi.x {
+        lo = widen_down(lo);
+        hi = widen_up(hi);
+    }
+    return array<vec3<f32>, 2>(lo, hi);
+}
+
+@compute @workgroup_size(256)
+fn refit_leaves(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let node = gid.x + gid.y * groups.x * GROUP;
+    if node >= arrayLength(&parents) || !in_tree(node) {
+        return;
+    }
+    let a = nodes[2u * node];
+    let b = nodes[2u * node + 1u];
+    let count = bitcast<u32>(b.w);
+    if count == 0u {
+        return;
+    }
+    let bounds = refit_leaf(bitcast<u32>(a.w), count);
+    if bounds[0].x > bounds[1].x {
+        return;
+    }
+    nodes[2u * node] = vec4<f32>(bounds[0], a.w);
+    nodes[2u * node + 1u] = vec4<f32>(bounds[1], b.w);
+    var keys: array<u32, 6>;
+    for (var c = 0u; c < 3u; c++) {
+        keys[c] = ~float_key(bounds[0][c]);
+        keys[3u + c] = float_key(bounds[1][c]);
+    }
+    var parent = parents[node];
+    loop {
+        if parent == 0u {
+            break;
+        }
+        let p = parent - 1u;
+        var raised = false;
+        for (var c = 0u; c < 6u; c++) {
+            let before = atomicMax(&box_keys[6u * p + c], keys[c]);
+            raised = raised || before < keys[c];
+        }
+        if !raised {
+            break;
+        }
+        parent = parents[p];
+    }
+}
+
+@compute @workgroup_size(256)
+fn refit_interior(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let node = gid.x + gid.y * groups.x * GROUP;
+    if node >= arrayLength(&parents) || !in_tree(node) {
+        return;
+    }
+    let a = nodes[2u * node];
+    let b = nodes[2u * node + 1u];
+    if bitcast<u32>(b.w) == 0u {
+        var lo: vec3<f32>;
+        var hi: vec3<f32>;
+        for (var c = 0u; c < 3u; c++) {
+            lo[c] = key_float(~atomicExchange(&box_keys[6u * node + c], 0u));
+            hi[c] = key_float(atomicExchange(&box_keys[6u * node + 3u + c], 0u));
+        }
+        nodes[2u * node] = vec4<f32>(lo, a.w);
+        nodes[2u * node + 1u] = vec4<f32>(hi, b.w);
+    }
+    if node == 0u {
         copy_root_to_tlas();
     }
 }

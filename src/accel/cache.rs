@@ -6,7 +6,10 @@
 //!   without de-duplication), then the TLAS;
 //! - instances moved: the TLAS only — refitted in the `compute` back-end when the set of
 //!   instances is the same, rebuilt in `ray-query` (wgpu has no refit);
-//! - identical meshes share one BLAS unless de-duplication is off.
+//! - identical meshes share one BLAS unless de-duplication is off;
+//! - the merged layout rebuilt by the GPU builder stays on the GPU: the traversal binds the
+//!   builder's arrays and the refit works from the parents it writes beside them
+//!   ([`crate::accel::refit::TreeRefit`]); only a few words (depth, SAH cost) come back.
 //!
 //! Each update returns a [`BuildReport`]: what was built and its CPU time (GPU time comes from
 //! the `Accel` pass's timestamps). The cache also owns the `accel_stats` ray counters that the
@@ -16,9 +19,9 @@
 //! back-ends' opaque geometry flag).
 
 use super::bvh::{instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas};
-use super::gpu_build::{layout_sah_cost, merged_triangles, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
-use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel, TriangleOrigin};
-use super::refit::MergedRefit;
+use super::gpu_build::{merged_triangles, GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
+use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel, GpuTriangle, TriangleOrigin};
+use super::refit::{MergedRefit, Refit, TreeRefit, TreeRefitPipelines};
 use crate::backend::Backend;
 use crate::error::RuntimeError;
 use crate::gpu_util::{map_read, storage_with_readback};
@@ -155,7 +158,7 @@ struct ComputeState {
     /// tlas_nodes, instances, blas_nodes, triangles
     buffers: [wgpu::Buffer; 4],
     /// The merged layout's GPU refit, and the hash of the meshes it was built from.
-    refit: Option<(MergedRefit, u64)>,
+    refit: Option<(Refit, u64)>,
 }
 
 struct RqBlas {
@@ -233,6 +236,8 @@ pub struct AccelCache {
     /// Who builds the merged layout's BLAS on a rebuild, and the GPU builder once made.
     merged_builder: MergedBuilder,
     gpu_builder: Option<GpuBlasBuilder>,
+    /// The refit pipelines of GPU-built merged trees, once made.
+    tree_refit: Option<TreeRefitPipelines>,
     /// The rt-pipeline back-end's build command buffer, until taken ([`AccelCache::take_pending`]).
     pending: Option<wgpu::CommandBuffer>,
     /// `accel_alpha` and the words last written to it.
@@ -283,6 +288,7 @@ impl AccelCache {
             total_blas_builds: 0,
             merged_builder: MergedBuilder::Cpu,
             gpu_builder: None,
+            tree_refit: None,
             pending: None,
             alpha: storage(device, "accel alpha", 16),
             alpha_words: Vec::new(),
@@ -518,7 +524,7 @@ impl AccelCache {
             Some(c) => c.buffers,
             None => {
                 self.generation += 1;
-                [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32))
+                new_accel_buffers(device)
             }
         };
         report.bytes_uploaded = self.upload(device, queue, &mut buffers, flat);
@@ -538,14 +544,14 @@ impl AccelCache {
         refit: bool,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
-        let old = match std::mem::replace(&mut self.state, State::Empty) {
+        let mut old = match std::mem::replace(&mut self.state, State::Empty) {
             State::Compute(c) => Some(c),
             _ => None,
         };
         // Only instances moved: refit on the GPU.
-        if let Some(c) = old.as_ref().filter(|_| refit) {
-            if let Some((refit, _)) = &c.refit {
-                refit.record(queue, encoder, scene);
+        if refit {
+            if let Some((refit, _)) = old.as_mut().and_then(|c| c.refit.as_mut()) {
+                refit.record(device, queue, encoder, scene);
                 report.tlas = TlasWork::Refit;
                 report.blas_refit = true;
             }
@@ -556,30 +562,68 @@ impl AccelCache {
         let (mesh, origin) = merge_instances(scene);
         report.tlas = TlasWork::Rebuild;
         let first_build = old.is_none();
-        let flat = match self.build_merged_on_gpu(device, queue, &mesh, &origin, first_build) {
-            Some((flat, gpu_ms)) => {
-                report.blas_gpu_built = true;
-                report.blas_gpu_ms = gpu_ms;
-                report.blas_sah = Some(layout_sah_cost(&flat.blas_nodes));
-                flat
-            }
-            None => {
-                let blas = Blas::build(&mesh, &AccelOptions::default().build);
-                report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
-                merge(&mesh, &origin, blas)
-            }
-        };
+        if let Some((built, input)) = self.build_merged_on_gpu(device, queue, &mesh, &origin, first_build) {
+            report.blas_gpu_built = true;
+            report.blas_gpu_ms = built.gpu_ms;
+            report.blas_sah = Some(built.sah_cost);
+            report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
+            return self.install_gpu_built(device, queue, encoder, scene, old, (built, input), meshes_hash, report);
+        }
+        let blas = Blas::build(&mesh, &AccelOptions::default().build);
+        report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
+        let flat = merge(&mesh, &origin, blas);
         report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
         self.install(device, queue, scene, old, None, &flat, report)?;
         if let State::Compute(c) = &mut self.state {
-            c.refit = MergedRefit::new(device, scene, &flat, &c.buffers).map(|r| (r, meshes_hash));
+            c.refit = MergedRefit::new(device, scene, &flat, &c.buffers).map(|r| (Refit::Planned(r), meshes_hash));
         }
         Ok(())
     }
 
-    /// The merged layout built by the GPU builder and read back (the GPU refit plans its
-    /// treelets from the layout), when [`MergedBuilder::Gpu`] applies; `None` to build on the
-    /// CPU (too few triangles, or a GPU build that failed, which is logged).
+    /// Makes the GPU-built merged tree `built` (from the records `input`) the current state
+    /// without reading it back: the traversal binds the builder's node and triangle buffers
+    /// (a new generation), the one TLAS node and instance are written from the CPU and the
+    /// root's box copied into that node on the GPU (recorded into `encoder`), and the refit
+    /// works from the builder's parents ([`TreeRefit`]).
+    #[allow(clippy::too_many_arguments)]
+    fn install_gpu_built(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+        old: Option<ComputeState>,
+        (built, input): (GpuBlas, Vec<GpuTriangle>),
+        meshes_hash: u64,
+        report: &mut BuildReport,
+    ) -> Result<(), RuntimeError> {
+        let top = merged_accel(Vec::new(), Vec::new());
+        let (nodes, tris) = (built.node_count as usize, built.triangle_count as usize);
+        let arrays = [("BLAS nodes", nodes, 32 * nodes), ("triangles", tris, 48 * tris), ("TLAS nodes", 1, 32), ("instances", 1, 112)];
+        check_arrays(&scene.name, &arrays, device.limits().max_storage_buffer_binding_size)?;
+        let mut buffers = match old {
+            Some(c) => c.buffers,
+            None => new_accel_buffers(device),
+        };
+        let [tlas_nodes, instances, blas_nodes, triangles] = &mut buffers;
+        report.bytes_uploaded = self.write_array(device, queue, tlas_nodes, bytemuck::cast_slice(&top.tlas_nodes))
+            + self.write_array(device, queue, instances, bytemuck::cast_slice(&top.instances))
+            + std::mem::size_of_val(input.as_slice()) as u64;
+        *blas_nodes = built.nodes.clone();
+        *triangles = built.triangles.clone();
+        self.generation += 1;
+        // The TLAS node's box is the root's: min at bytes 0..12, max at 16..28.
+        encoder.copy_buffer_to_buffer(&buffers[2], 0, &buffers[0], 0, 12);
+        encoder.copy_buffer_to_buffer(&buffers[2], 16, &buffers[0], 16, 12);
+        let pipelines = self.tree_refit.get_or_insert_with(|| TreeRefitPipelines::new(device));
+        let refit = TreeRefit::new(pipelines, scene, &built, input, &buffers[0]);
+        self.state = State::Compute(ComputeState { accel: None, buffers, refit: Some((Refit::Tree(refit), meshes_hash)) });
+        Ok(())
+    }
+
+    /// The merged layout built by the GPU builder (left on the GPU) and its input records, when
+    /// [`MergedBuilder::Gpu`] applies; `None` to build on the CPU (too few triangles, or a GPU
+    /// build that failed, which is logged).
     fn build_merged_on_gpu(
         &mut self,
         device: &wgpu::Device,
@@ -587,7 +631,7 @@ impl AccelCache {
         mesh: &Mesh,
         origin: &[TriangleOrigin],
         first_build: bool,
-    ) -> Option<(GpuAccel, Option<f64>)> {
+    ) -> Option<(GpuBlas, Vec<GpuTriangle>)> {
         match self.merged_builder {
             MergedBuilder::Cpu => return None,
             MergedBuilder::GpuRebuilds if first_build => return None,
@@ -608,8 +652,8 @@ impl AccelCache {
             }
         }
         let builder = self.gpu_builder.as_ref()?;
-        match builder.build(device, queue, &tris).and_then(|b| b.read_back(device, queue).map(|(nodes, tris)| (merged_accel(nodes, tris), b.gpu_ms))) {
-            Ok(built) => Some(built),
+        match builder.build(device, queue, &tris) {
+            Ok(built) => Some((built, tris)),
             Err(e) => {
                 log::warn!("accel: the GPU build of the merged layout failed ({e}); building it on the CPU");
                 None
@@ -625,17 +669,19 @@ impl AccelCache {
             bytemuck::cast_slice(&flat.blas_nodes),
             bytemuck::cast_slice(&flat.triangles),
         ];
-        let mut bytes = 0;
-        for (buf, d) in buffers.iter_mut().zip(data) {
-            if (d.len() as u64) > buf.size() {
-                let label = format!("accel buffer of {} bytes", d.len());
-                *buf = storage(device, &label, (d.len() as u64).next_power_of_two());
-                self.generation += 1;
-            }
-            queue.write_buffer(buf, 0, d);
-            bytes += d.len() as u64;
+        buffers.iter_mut().zip(data).map(|(buf, d)| self.write_array(device, queue, buf, d)).sum()
+    }
+
+    /// Writes `data` into `buf`, replacing it by a larger one (a new generation) if it is too
+    /// small; the bytes written.
+    fn write_array(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, buf: &mut wgpu::Buffer, data: &[u8]) -> u64 {
+        if (data.len() as u64) > buf.size() {
+            let label = format!("accel buffer of {} bytes", data.len());
+            *buf = storage(device, &label, (data.len() as u64).next_power_of_two());
+            self.generation += 1;
         }
-        bytes
+        queue.write_buffer(buf, 0, data);
+        data.len() as u64
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -830,19 +876,24 @@ impl AccelCache {
 /// the device's binding size is refused with the numbers.
 pub fn check_fits(scene: &str, flat: &GpuAccel, max_binding: u64) -> Result<(), RuntimeError> {
     let arrays = [
-        ("BLAS nodes", std::mem::size_of_val(flat.blas_nodes.as_slice())),
-        ("triangles", std::mem::size_of_val(flat.triangles.as_slice())),
-        ("TLAS nodes", std::mem::size_of_val(flat.tlas_nodes.as_slice())),
-        ("instances", std::mem::size_of_val(flat.instances.as_slice())),
+        ("BLAS nodes", flat.blas_nodes.len(), std::mem::size_of_val(flat.blas_nodes.as_slice())),
+        ("triangles", flat.triangles.len(), std::mem::size_of_val(flat.triangles.as_slice())),
+        ("TLAS nodes", flat.tlas_nodes.len(), std::mem::size_of_val(flat.tlas_nodes.as_slice())),
+        ("instances", flat.instances.len(), std::mem::size_of_val(flat.instances.as_slice())),
     ];
-    let longest = [flat.blas_nodes.len(), flat.triangles.len(), flat.tlas_nodes.len(), flat.instances.len()].into_iter().max().unwrap_or(0);
+    check_arrays(scene, &arrays, max_binding)
+}
+
+/// [`check_fits`] of arrays given as (name, elements, bytes).
+fn check_arrays(scene: &str, arrays: &[(&str, usize, usize)], max_binding: u64) -> Result<(), RuntimeError> {
+    let longest = arrays.iter().map(|a| a.1).max().unwrap_or(0);
     if longest >= super::layout::MAX_INDEX {
         return Err(RuntimeError::Gpu(format!(
             "scene `{scene}` is too large for the compute back-end: an array of its acceleration structure has {longest} elements, the traversal indexes fewer than {}\n  help: use a smaller scene or duplication factor, or the ray-query back-end",
             super::layout::MAX_INDEX
         )));
     }
-    for (what, bytes) in arrays {
+    for &(what, _, bytes) in arrays {
         if bytes as u64 > max_binding {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{scene}` is too large for the compute back-end: its {what} take {bytes} bytes in one storage binding, the device allows {max_binding}\n  help: use a smaller scene or duplication factor, or the ray-query back-end"
@@ -852,11 +903,17 @@ pub fn check_fits(scene: &str, flat: &GpuAccel, max_binding: u64) -> Result<(), 
     Ok(())
 }
 
+/// The compute back-end's four arrays, empty: tlas nodes, instances, blas nodes, triangles
+/// (the caller starts a new generation).
+fn new_accel_buffers(device: &wgpu::Device) -> [wgpu::Buffer; 4] {
+    [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32))
+}
+
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(32),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
 }

@@ -16,11 +16,14 @@
 //! first triangle in depth-first order, and the interior nodes write the traversal's layout
 //! ([`crate::accel::layout`]: children side by side at `1 + 2 k` for the `k`-th merge, boxes
 //! widened outwards as [`crate::accel::layout::widen_down`] does) and the triangles in leaf
-//! order. Unused node slots (inside leaves) stay zero and are never referenced.
+//! order. Unused node slots (inside leaves) stay zero and are never referenced. Beside them go
+//! what the GPU refit needs ([`crate::accel::refit::TreeRefit`]): each node's parent and each
+//! triangle's input index.
 //!
 //! [`GpuBlasBuilder::build`] submits the work, reads back how many clusters are left after the
-//! recorded rounds (recording more if needed) and the finished tree's depth, and reports the
-//! GPU time of its submissions when the adapter has timestamp queries.
+//! recorded rounds (recording more if needed), the finished tree's depth and its root's SAH
+//! cost (a few words: the tree stays on the GPU, [`GpuBlas::read_back`] copies it when asked),
+//! and reports the GPU time of its submissions when the adapter has timestamp queries.
 
 use super::bvh::MAX_TREE_DEPTH;
 use super::bvh::{classify_mesh_triangle, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
@@ -54,6 +57,8 @@ const GROUP: u32 = 256;
 /// Keys sorted in workgroup memory per block (the WGSL's `SORT_BLOCK`).
 const SORT_BLOCK: u32 = 4096;
 const PARAMS_STRIDE: u64 = 256;
+/// Storage buffers the builder binds (`tris_in` and bindings 2 to 15).
+const STORAGE_BINDINGS: u32 = 15;
 
 /// Why a GPU build did not produce a tree.
 #[derive(Debug, thiserror::Error)]
@@ -75,12 +80,19 @@ pub struct GpuBlas {
     pub nodes: wgpu::Buffer,
     /// The `n` triangles in leaf order.
     pub triangles: wgpu::Buffer,
+    /// Per node: its parent's index + 1; 0 for the root and for unused slots (inside leaves).
+    pub parents: wgpu::Buffer,
+    /// Per triangle in leaf order: its index in the builder's input.
+    pub leaf_order: wgpu::Buffer,
     /// Nodes in `nodes`.
     pub node_count: u32,
     /// Triangles in `triangles`.
     pub triangle_count: u32,
     /// Depth of the deepest leaf (root = 0).
     pub depth: u32,
+    /// SAH cost of the tree ([`layout_sah_cost`]'s weights), from the build's own f32 node
+    /// costs and unwidened boxes: within a few parts in a million of [`layout_sah_cost`].
+    pub sah_cost: f64,
     /// PLOC rounds that merged anything (the recorded rounds after the last one dispatch no
     /// work).
     pub rounds: u32,
@@ -174,10 +186,11 @@ impl GpuBlasBuilder {
         if l.max_compute_workgroup_storage_size < 32768
             || l.max_compute_invocations_per_workgroup < FINISH_CLUSTERS
             || l.max_compute_workgroup_size_x < FINISH_CLUSTERS
+            || l.max_storage_buffers_per_shader_stage < STORAGE_BINDINGS
         {
             return Err(GpuBuildError::Device(format!(
-                "the GPU builder needs workgroups of {FINISH_CLUSTERS} invocations and 32 KiB of workgroup memory; the device has {} and {} bytes",
-                l.max_compute_invocations_per_workgroup, l.max_compute_workgroup_storage_size
+                "the GPU builder needs workgroups of {FINISH_CLUSTERS} invocations, 32 KiB of workgroup memory and {STORAGE_BINDINGS} storage buffers per stage; the device has {}, {} bytes and {}",
+                l.max_compute_invocations_per_workgroup, l.max_compute_workgroup_storage_size, l.max_storage_buffers_per_shader_stage
             )));
         }
         let module =
@@ -190,7 +203,7 @@ impl GpuBlasBuilder {
         };
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
         let mut entries = vec![entry(0, wgpu::BufferBindingType::Uniform, true), entry(1, wgpu::BufferBindingType::Storage { read_only: true }, false)];
-        entries.extend((2..=13).map(|b| entry(b, rw, false)));
+        entries.extend((2..=STORAGE_BINDINGS).map(|b| entry(b, rw, false)));
         let group0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("gpu build"), entries: &entries });
         let layout0 = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("gpu build"),
@@ -292,6 +305,18 @@ impl GpuBlasBuilder {
             usage: out_usage,
             mapped_at_creation: false,
         });
+        let parents = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("BLAS parents (GPU-built)"),
+            size: nodes * 4,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let leaf_order = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("leaf order (GPU-built)"),
+            size: n as u64 * 4,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
         let buffers = [
             scratch("gpu build keys", padded * 4),
             scratch("gpu build values", padded * 4),
@@ -329,6 +354,8 @@ impl GpuBlasBuilder {
                     b(11, offsets),
                     b(12, &out_nodes),
                     b(13, &out_tris),
+                    b(14, &parents),
+                    b(15, &leaf_order),
                 ],
             })
         };
@@ -419,7 +446,21 @@ impl GpuBlasBuilder {
         }
         let phase_ms = timer.phase_ms(device, queue)?;
         let gpu_ms = phase_ms.map(|p| p.iter().sum());
-        Ok(GpuBlas { nodes: out_nodes, triangles: out_tris, node_count: nodes as u32, triangle_count: n32, depth, rounds: state[10], gpu_ms, phase_ms })
+        let (root_cost, root_area) = (f32::from_bits(state[12]) as f64, f32::from_bits(state[13]) as f64);
+        let sah_cost = if root_area > 0.0 { root_cost / root_area } else { INTERSECTION_COST as f64 * n as f64 };
+        Ok(GpuBlas {
+            nodes: out_nodes,
+            triangles: out_tris,
+            parents,
+            leaf_order,
+            node_count: nodes as u32,
+            triangle_count: n32,
+            depth,
+            sah_cost,
+            rounds: state[10],
+            gpu_ms,
+            phase_ms,
+        })
     }
 
     /// The finish: one workgroup, from at most `finish` clusters to the root.

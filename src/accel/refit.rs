@@ -1,13 +1,21 @@
 //! GPU refit of the merged layout (`Accel(merge: true)` on the `compute` back-end): when only
 //! instance transforms change, the triangles are moved to world space again on the GPU and
-//! every node box is recomputed bottom-up (`shaders/accel/refit.wgsl`: the tree cut into
-//! treelets of at most [`TREELET_NODES`] nodes, one workgroup each, then the top part), instead of merging and rebuilding on the CPU. The tree's topology is kept, so its
-//! quality is the one built for the first positions; a structural change rebuilds.
+//! every node box is recomputed bottom-up, instead of merging and rebuilding on the CPU. The
+//! tree's topology is kept, so its quality is the one built for the first positions; a
+//! structural change rebuilds.
+//!
+//! A tree built on the CPU is refitted by [`MergedRefit`] (`shaders/accel/refit.wgsl`'s
+//! `refit_treelets`: the tree cut on the CPU into treelets of at most [`TREELET_NODES`] nodes,
+//! one workgroup each, then the top part). A tree built on the GPU never comes back to the CPU:
+//! [`TreeRefit`] carries every leaf's box up its parents with atomics (`refit_leaves`, then
+//! `refit_interior`), from the parents and leaf order the builder writes. [`Refit`] is either.
 
 use super::bvh::instance_transform;
-use super::layout::{affine_rows, GpuAccel, GpuBvhNode, NO_PRIM};
+use super::gpu_build::GpuBlas;
+use super::layout::{affine_rows, GpuAccel, GpuBvhNode, GpuTriangle, NO_PRIM};
 use crate::gpu_util::compute_pipeline;
 use crate::scene::Scene;
+use rayon::prelude::*;
 use wgpu::util::DeviceExt;
 
 /// The refit kernel (part of the back-end, not of any graph).
@@ -219,10 +227,7 @@ impl MergedRefit {
 
     /// Writes `scene`'s transforms and records the refit of the merged arrays.
     pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
-        let rows: Vec<[[f32; 4]; 3]> = scene.instances.iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
-        if !rows.is_empty() {
-            queue.write_buffer(&self.transforms, 0, bytemuck::cast_slice(&rows));
-        }
+        write_transforms(queue, &self.transforms, scene);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel refit"), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         for (k, &groups) in self.dispatches.iter().enumerate() {
@@ -244,4 +249,176 @@ impl MergedRefit {
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {
     scene.instances.iter().map(|i| scene.meshes.get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
+}
+
+/// The merged layout's GPU refit, for a tree built on the CPU or on the GPU.
+pub enum Refit {
+    /// A CPU-built tree, refitted by the CPU's treelet plan.
+    Planned(MergedRefit),
+    /// A GPU-built tree, refitted from its parents.
+    Tree(TreeRefit),
+}
+
+impl Refit {
+    /// Whether `scene` differs from the merged one only in where its instances are (see
+    /// [`MergedRefit::applies_to`]).
+    pub fn applies_to(&self, scene: &Scene) -> bool {
+        let usable = match self {
+            Refit::Planned(r) => &r.usable,
+            Refit::Tree(r) => &r.usable,
+        };
+        usable_instances(scene) == *usable
+    }
+
+    /// Writes `scene`'s transforms and records the refit of the merged arrays.
+    pub fn record(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
+        match self {
+            Refit::Planned(r) => r.record(queue, encoder, scene),
+            Refit::Tree(r) => r.record(device, queue, encoder, scene),
+        }
+    }
+
+    /// Tree levels.
+    pub fn level_count(&self) -> usize {
+        match self {
+            Refit::Planned(r) => r.level_count(),
+            Refit::Tree(r) => r.depth as usize + 1,
+        }
+    }
+
+    /// Dispatches per refit.
+    pub fn dispatch_count(&self) -> usize {
+        match self {
+            Refit::Planned(r) => r.dispatch_count(),
+            Refit::Tree(_) => 2,
+        }
+    }
+}
+
+/// The pipelines of [`TreeRefit`] (`refit_leaves`, `refit_interior`), made once per device.
+#[derive(Clone)]
+pub struct TreeRefitPipelines {
+    layout: wgpu::BindGroupLayout,
+    leaves: wgpu::ComputePipeline,
+    interior: wgpu::ComputePipeline,
+}
+
+impl TreeRefitPipelines {
+    /// Compiles the refit shader's two entry points for GPU-built trees.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module =
+            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("refit.wgsl"), source: wgpu::ShaderSource::Wgsl(REFIT_WGSL.into()) });
+        let buffer = |binding, read_only| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
+        let entries: Vec<_> = TREE_BINDINGS.iter().map(|&(binding, read_only)| buffer(binding, read_only)).collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("tree refit"), entries: &entries });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tree refit"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let leaves = compute_pipeline(device, "refit leaves", &pipeline_layout, &module, "refit_leaves");
+        let interior = compute_pipeline(device, "refit interior", &pipeline_layout, &module, "refit_interior");
+        Self { layout, leaves, interior }
+    }
+}
+
+/// The bindings of `refit_leaves` and `refit_interior` and whether each is read-only: nodes,
+/// triangles, object vertices, transforms, TLAS nodes, parents, leaf order, box keys.
+const TREE_BINDINGS: [(u32, bool); 8] = [(1, false), (2, false), (3, true), (4, true), (6, false), (9, true), (10, true), (11, false)];
+
+/// The refit of a merged tree built on the GPU: its arrays stay where the builder wrote them
+/// and the traversal binds them; the refit needs the builder's parents and leaf order, and the
+/// input records (scene instance and primitive per input triangle) to find the object-space
+/// vertices, which it uploads at its first refit (a tree that never moves costs none).
+pub struct TreeRefit {
+    pipelines: TreeRefitPipelines,
+    /// nodes, triangles, parents, leaf order (the builder's) and TLAS nodes (the cache's).
+    arrays: [wgpu::Buffer; 5],
+    node_count: u32,
+    depth: u32,
+    input: Vec<GpuTriangle>,
+    usable: Vec<bool>,
+    /// The bind group and transforms buffer, made at the first refit.
+    bound: Option<(wgpu::BindGroup, wgpu::Buffer)>,
+}
+
+impl TreeRefit {
+    /// The refit of `built` (built from `input`, the merged layout of `scene`), whose root the
+    /// refit also writes into `tlas_nodes`.
+    pub fn new(pipelines: &TreeRefitPipelines, scene: &Scene, built: &GpuBlas, input: Vec<GpuTriangle>, tlas_nodes: &wgpu::Buffer) -> Self {
+        Self {
+            pipelines: pipelines.clone(),
+            arrays: [built.nodes.clone(), built.triangles.clone(), built.parents.clone(), built.leaf_order.clone(), tlas_nodes.clone()],
+            node_count: built.node_count,
+            depth: built.depth,
+            input,
+            usable: usable_instances(scene),
+            bound: None,
+        }
+    }
+
+    /// The bind group, with the object-space vertices of `scene`'s meshes in input order.
+    fn bind(&self, device: &wgpu::Device, scene: &Scene) -> (wgpu::BindGroup, wgpu::Buffer) {
+        let object: Vec<[f32; 4]> = self
+            .input
+            .par_iter()
+            .flat_map_iter(|t| {
+                let verts = scene
+                    .instances
+                    .get(t.instance as usize)
+                    .and_then(|i| scene.meshes.get(i.mesh))
+                    .and_then(|m| super::bvh::mesh_triangle(m, t.prim as usize))
+                    .unwrap_or([glam::Vec3::ZERO; 3]);
+                verts.map(|v| v.extend(0.0).to_array())
+            })
+            .collect();
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let object_vertices = init("refit object vertices", bytemuck::cast_slice(&object), storage);
+        let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
+        let box_keys = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("refit box keys"),
+            size: 24 * self.node_count as u64,
+            usage: storage,
+            mapped_at_creation: false,
+        });
+        let [nodes, triangles, parents, leaf_order, tlas_nodes] = &self.arrays;
+        let resources = [nodes, triangles, &object_vertices, &transforms, tlas_nodes, parents, leaf_order, &box_keys];
+        let entries: Vec<_> =
+            TREE_BINDINGS.iter().zip(resources).map(|(&(binding, _), b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("tree refit"), layout: &self.pipelines.layout, entries: &entries });
+        (bind_group, transforms)
+    }
+
+    /// Writes `scene`'s transforms and records the two dispatches (the first refit binds first).
+    pub fn record(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
+        if self.bound.is_none() {
+            self.bound = Some(self.bind(device, scene));
+        }
+        let Some((bind_group, transforms)) = &self.bound else { return };
+        write_transforms(queue, transforms, scene);
+        let groups = (self.node_count as u64).div_ceil(256).max(1);
+        let (x, y) = (groups.min(32768) as u32, groups.div_ceil(32768) as u32);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel refit"), timestamp_writes: None });
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_pipeline(&self.pipelines.leaves);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&self.pipelines.interior);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
+/// Writes `scene`'s object-to-world rows per instance (zero rows where a transform is unusable).
+fn write_transforms(queue: &wgpu::Queue, transforms: &wgpu::Buffer, scene: &Scene) {
+    let rows: Vec<[[f32; 4]; 3]> = scene.instances.iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
+    if !rows.is_empty() {
+        queue.write_buffer(transforms, 0, bytemuck::cast_slice(&rows));
+    }
 }

@@ -369,9 +369,16 @@ pub struct GpuBuildRow {
     pub(crate) depth: u32,
     /// CPU milliseconds of `Blas::build` of the merged mesh (median of 3).
     pub cpu_ms: f64,
-    /// Wall milliseconds of what the cache does for a GPU rebuild after merging the instances:
-    /// the input records, the build and the read-back of the tree (median).
+    /// Wall milliseconds of the input records, the build and a read-back of the whole tree
+    /// after merging the instances (median): what a cache rebuild did before the tree stayed on
+    /// the GPU, and what a caller that needs the tree on the CPU pays.
     pub wall_ms: f64,
+    /// Wall milliseconds of an [`crate::accel::cache::AccelCache`] rebuild of the merged layout
+    /// on the GPU builder, nothing read back but a few words (median): `update` after a mesh
+    /// edit (hashing, merging, input records, build, the TLAS words), then the submission and
+    /// the wait for the GPU. `None` where the cache builds the scene on the CPU (fewer than
+    /// [`crate::accel::cache::GPU_BUILD_MIN_TRIANGLES`] triangles).
+    pub cache_rebuild_ms: Option<f64>,
     /// SAH cost of the GPU-built tree.
     pub(crate) gpu_sah: f64,
     /// SAH cost of the CPU-built tree.
@@ -426,6 +433,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
             depth: b.depth,
             cpu_ms: median(&mut cpu_ms),
             wall_ms: median(&mut walls),
+            cache_rebuild_ms: cache_rebuild_ms(gpu, &scene, builds.max(1))?,
             gpu_sah: layout_sah_cost(nodes),
             cpu_sah: layout_sah_cost(&cpu.blas_nodes),
         });
@@ -433,18 +441,49 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
     Ok(rows)
 }
 
+/// Wall milliseconds of `builds` rebuilds of `scene`'s merged layout by an [`AccelCache`] on
+/// the GPU builder (median; [`GpuBuildRow::cache_rebuild_ms`]), after one update that makes
+/// the pipelines; `None` if the cache builds it on the CPU.
+///
+/// [`AccelCache`]: crate::accel::cache::AccelCache
+fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<f64>, RuntimeError> {
+    use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
+    let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
+    cache.set_merged_builder(MergedBuilder::Gpu);
+    let mut scene = scene.clone();
+    let mut walls = Vec::new();
+    for k in 0..=builds {
+        // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
+        if let Some(v) = scene.meshes.iter_mut().find_map(|m| m.vertices.first_mut()) {
+            v.position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
+        }
+        let t = std::time::Instant::now();
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bench cache rebuild") });
+        let report = cache.update(&gpu.device, &gpu.queue, &mut encoder, &scene)?;
+        gpu.queue.submit([encoder.finish()]);
+        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RuntimeError::Gpu(format!("bench build: cache rebuild: {e}")))?;
+        if !report.blas_gpu_built {
+            return Ok(None);
+        }
+        if k > 0 {
+            walls.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    Ok(Some(median(&mut walls)))
+}
+
 /// The rows as a markdown table, with the run's header.
 pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = format!("# bench build: merged layout, GPU builder (PLOC) against the CPU binned-SAH build\n\n{}\n", info.markdown());
     s.push_str(
-        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | wall ms with read-back | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
+        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | wall ms, build + read-back | cache rebuild wall ms, no read-back | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
     );
-    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in rows {
         let phases = r.phase_ms.map(|p| p.map(|ms| format!("{ms:.3}")).join(" / ")).unwrap_or_else(|| "—".into());
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {:.1} | {:.2} | {:.2} | {:.3} |",
+            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {} | {:.1} | {:.2} | {:.2} | {:.3} |",
             r.scene,
             r.triangles,
             opt(r.gpu_ms.map(|m| m.0), 3),
@@ -452,6 +491,7 @@ pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
             r.rounds,
             r.depth,
             r.wall_ms,
+            opt(r.cache_rebuild_ms, 2),
             r.cpu_ms,
             r.gpu_sah,
             r.cpu_sah,
@@ -464,12 +504,12 @@ pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
 /// The rows as CSV, with the run's header.
 pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,wall_ms,cpu_ms,gpu_sah,cpu_sah\n");
+    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,wall_ms,cache_rebuild_ms,cpu_ms,gpu_sah,cpu_sah\n");
     for r in rows {
         let phase = |p: usize| opt(r.phase_ms.map(|m| m[p]), 4);
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4}",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{},{:.3},{:.4},{:.4}",
             r.scene,
             r.triangles,
             opt(r.gpu_ms.map(|m| m.0), 4),
@@ -481,6 +521,7 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
             r.rounds,
             r.depth,
             r.wall_ms,
+            opt(r.cache_rebuild_ms, 3),
             r.cpu_ms,
             r.gpu_sah,
             r.cpu_sah
