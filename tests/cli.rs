@@ -14,7 +14,7 @@ fn graph_check_prints_the_plan() {
     let out = raygraph().args(["graph", "check", "graph/raster.ron"]).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("forward/draw") && stdout.contains("tonemap/tonemap"), "{stdout}");
+    assert!(stdout.contains("forward/visibility") && stdout.contains("forward/shade") && stdout.contains("tonemap/tonemap"), "{stdout}");
     assert!(stdout.contains("transient memory:"), "{stdout}");
 }
 
@@ -37,7 +37,7 @@ fn graph_dot_writes_graphviz() {
     assert!(out.status.success());
     let dot = String::from_utf8_lossy(&out.stdout);
     assert!(dot.starts_with("digraph"), "{dot}");
-    assert!(dot.contains("forward/draw") && dot.contains("tonemap.color"), "{dot}");
+    assert!(dot.contains("forward/shade") && dot.contains("tonemap.color"), "{dot}");
 }
 
 #[test]
@@ -47,7 +47,7 @@ fn render_writes_a_png_and_prints_the_pass_table() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("adapter:"), "{stdout}");
-    assert!(stdout.contains("GPU ms") && stdout.contains("forward/draw"), "{stdout}");
+    assert!(stdout.contains("GPU ms") && stdout.contains("forward/shade"), "{stdout}");
     let img = image::open(&out_png).unwrap();
     assert_eq!((img.width(), img.height()), (96, 54));
     let _ = std::fs::remove_file(out_png);

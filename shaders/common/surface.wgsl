@@ -9,7 +9,8 @@
 // with reversed normals; only the texture level differs (ray cone against derivatives).
 // Needs the main shader to declare `scene_instances`, `scene_materials`, `scene_meshes`,
 // `scene_indices`, `scene_vertices`, `linear_sampler`, and to include
-// common/scene.wgsl, common/scene_textures.wgsl and trace/trace.wgsl.
+// common/scene.wgsl and common/scene_textures.wgsl.
+//#include "common/ray.wgsl"
 //#include "common/material_inputs.wgsl"
 
 struct Surface {

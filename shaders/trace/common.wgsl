@@ -11,26 +11,7 @@
 // Invalid rays (NaN/Inf origin or direction, zero direction, t_min < 0, t_max < t_min) never
 // reach the traversal: they count as invalid and miss.
 
-struct Ray {
-    origin: vec3<f32>,
-    t_min: f32,
-    dir: vec3<f32>,
-    t_max: f32,
-}
-
-struct Hit {
-    t: f32,
-    // Index of the instance in the scene (Scene::instances), or NO_HIT.
-    instance: u32,
-    // Triangle index within the instance's mesh.
-    primitive: u32,
-    // Barycentric weights of the triangle's second and third vertices.
-    bary: vec2<f32>,
-    // Counter-clockwise seen from the ray origin (in object space).
-    front_face: bool,
-}
-
-const NO_HIT: u32 = 0xffffffffu;
+//#include "common/ray.wgsl"
 
 // Per-ray flags of trace_closest_flags / trace_any_flags.
 const TRACE_FLAGS_NONE: u32 = 0u;

@@ -200,6 +200,9 @@ impl Gpu {
             required_limits.max_binding_array_elements_per_shader_stage =
                 adapter.limits().max_binding_array_elements_per_shader_stage.min(MAX_BINDLESS_TEXTURES);
         }
+        // Forward shading over a visibility buffer (`layers/forward.ron`) needs the triangle of
+        // each fragment.
+        required_features |= adapter.features() & wgpu::Features::PRIMITIVE_INDEX;
         // The compute back-end's trace modules without their traversal stack's clear
         // (`runtime::trace_spirv`), on Vulkan.
         if adapter.get_info().backend == wgpu::Backend::Vulkan {
@@ -209,9 +212,6 @@ impl Gpu {
         let mut experimental_features = wgpu::ExperimentalFeatures::disabled();
         if !ray_features.is_empty() {
             required_features |= ray_features;
-            if ray_features.contains(wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES) {
-                required_features |= adapter.features() & wgpu::Features::PRIMITIVE_INDEX;
-            }
             required_limits = required_limits.using_acceleration_structure_values(adapter.limits());
             // SAFETY: ray queries and ray-tracing pipelines are experimental wgpu features;
             // raygraph checks every ray it traces (no NaN/Inf or zero directions, ordered t
@@ -315,7 +315,24 @@ impl Gpu {
 
     /// Compiler options for this device and `backend`.
     pub fn compile_options_for(&self, backend: Backend) -> crate::graph::compile::CompileOptions {
-        crate::graph::compile::CompileOptions { includes: include_aliases(self.texture_binding_arrays), backend, ..Default::default() }
+        crate::graph::compile::CompileOptions {
+            includes: include_aliases(self.texture_binding_arrays),
+            layers: self.layer_aliases(),
+            backend,
+            ..Default::default()
+        }
+    }
+
+    /// Layers this device runs in another form ([`crate::graph::compile::CompileOptions::layers`]):
+    /// without primitive indices in fragment shaders, forward shading over a visibility buffer
+    /// (`layers/forward.ron`) becomes forward shading in the fragment stage
+    /// (`layers/forward_fragment.ron`).
+    pub fn layer_aliases(&self) -> std::collections::BTreeMap<String, String> {
+        let mut aliases = std::collections::BTreeMap::new();
+        if !self.device.features().contains(wgpu::Features::PRIMITIVE_INDEX) {
+            aliases.insert("forward".to_string(), "forward_fragment".to_string());
+        }
+        aliases
     }
 
     /// `back-end (reason)`, for reports.

@@ -43,7 +43,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let mut graph: GraphDesc = source::parse_ron(&gsrc, "graph")?;
     resolve::apply_switches(&mut graph, &options.enabled, graph_file)?;
     resolve::check_one_accel(&graph, &gsrc)?;
-    let mut nodes = resolve::resolve_layers(&graph, &gsrc, project)?;
+    let mut nodes = resolve::resolve_layers(&graph, &gsrc, project, &options.layers)?;
     resolve::apply_param_overrides(&mut nodes, &options.params, graph_file)?;
 
     let mut resources = connect::declare_resources(&mut nodes, frame_size);

@@ -34,6 +34,10 @@ pub struct CompileOptions {
     pub reuse: bool,
     /// Include substitutions of the device (see [`reflect::IncludeAliases`]).
     pub includes: reflect::IncludeAliases,
+    /// Layer substitutions of the device: a node of layer `k` is compiled from the file of
+    /// layer `v` instead (a layer the device cannot run, replaced by one with the same
+    /// interface that it can: `forward` by `forward_fragment` without primitive indices).
+    pub layers: BTreeMap<String, String>,
     /// The traversal back-end trace passes are compiled for: `trace/trace.wgsl` becomes its
     /// module.
     pub backend: Backend,
@@ -47,7 +51,14 @@ pub struct CompileOptions {
 
 impl Default for CompileOptions {
     fn default() -> Self {
-        Self { reuse: true, includes: reflect::IncludeAliases::new(), backend: Backend::Compute, params: BTreeMap::new(), enabled: BTreeMap::new() }
+        Self {
+            reuse: true,
+            includes: reflect::IncludeAliases::new(),
+            layers: BTreeMap::new(),
+            backend: Backend::Compute,
+            params: BTreeMap::new(),
+            enabled: BTreeMap::new(),
+        }
     }
 }
 

@@ -39,9 +39,15 @@ pub(super) fn apply_switches(graph: &mut GraphDesc, enabled: &BTreeMap<String, b
     Ok(())
 }
 
-/// Each node's layer file read and checked, and its parameters set from the graph file; an
-/// `Accel` node becomes its built-in layer. Switched-off nodes are left out.
-pub(super) fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Project) -> Result<Vec<ResolvedNode>, GraphError> {
+/// Each node's layer file read and checked (a layer the device substitutes, `layers`, read from
+/// its substitute's file), and its parameters set from the graph file; an `Accel` node becomes
+/// its built-in layer. Switched-off nodes are left out.
+pub(super) fn resolve_layers(
+    graph: &GraphDesc,
+    gsrc: &SourceText,
+    project: &Project,
+    layers: &BTreeMap<String, String>,
+) -> Result<Vec<ResolvedNode>, GraphError> {
     let mut out = Vec::new();
     for (name, node) in &graph.nodes {
         let ln = match node {
@@ -53,7 +59,8 @@ pub(super) fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Pro
             }
         };
         let node_anchor = SourceText::quoted(name);
-        let path = project.layers_dir.join(format!("{}.ron", ln.layer));
+        let layer_name = layers.get(&ln.layer).unwrap_or(&ln.layer);
+        let path = project.layers_dir.join(format!("{layer_name}.ron"));
         if !crate::graph::files::exists(&path) {
             let loc = gsrc.locate(&["nodes", &node_anchor, &SourceText::quoted(&ln.layer)]);
             let known = crate::graph::files::ron_stems(&project.layers_dir);
@@ -87,7 +94,7 @@ pub(super) fn resolve_layers(graph: &GraphDesc, gsrc: &SourceText, project: &Pro
                 .map_err(|(kind, msg, help)| GraphError::new(kind, loc.clone(), format!("parameter `{pname}` of node `{name}`: {msg}")).help(help))?;
             params.insert(pname.clone(), (decl.clone(), value));
         }
-        out.push(ResolvedNode { name: name.clone(), layer_name: ln.layer.clone(), layer, layer_src, params, locals: HashMap::new(), accel: None });
+        out.push(ResolvedNode { name: name.clone(), layer_name: layer_name.clone(), layer, layer_src, params, locals: HashMap::new(), accel: None });
     }
     Ok(out)
 }
