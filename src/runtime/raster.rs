@@ -112,6 +112,10 @@ pub struct RenderSpec {
     pub(crate) depth: bool,
     /// The shader declares [`ALPHA_TEST_CONSTANT`].
     pub alpha_switch: bool,
+    /// The fragment stage does nothing but the alpha test: a built-in shader (its files
+    /// raygraph's own, byte for byte) with the alpha switch and no colour targets, such as the
+    /// shadow maps'. Its opaque draw classes get a depth-only pipeline, no fragment stage at all.
+    pub fragment_only_alpha_tests: bool,
 }
 
 impl RenderSpec {
@@ -148,7 +152,12 @@ impl RenderSpec {
                 bias: Default::default(),
             }),
             multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &self.module, entry_point: Some(&self.fragment_entry), compilation_options, targets: &self.targets }),
+            fragment: (!self.fragment_only_alpha_tests || class.alpha_test).then(|| wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(&self.fragment_entry),
+                compilation_options,
+                targets: &self.targets,
+            }),
             multiview_mask: None,
             cache: None,
         })

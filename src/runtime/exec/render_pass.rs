@@ -40,6 +40,7 @@ impl Executor {
             })
             .collect();
         let PassLayout { layout, bind_groups, accel_layout } = layout;
+        let alpha_switch = pass.shader.has_override(crate::runtime::raster::ALPHA_TEST_CONSTANT);
         let spec = RenderSpec {
             label: pass.name.clone(),
             layout,
@@ -49,7 +50,8 @@ impl Executor {
             targets,
             scene_attributes: (pass.kind == PassKind::SceneRaster).then(|| scene_vertex_attributes(pass)),
             depth: depth.is_some(),
-            alpha_switch: pass.shader.has_override(crate::runtime::raster::ALPHA_TEST_CONSTANT),
+            alpha_switch,
+            fragment_only_alpha_tests: alpha_switch && colors.is_empty() && pass.shader.source.is_builtin(),
         };
         PassRuntime { pipeline: pipeline(spec), bind_groups, accel_layout, accel_group: None, colors, depth, groups: [0, 0, 0], params: bindings.params() }
     }
