@@ -10,6 +10,7 @@
 //#include "common/scene_textures.wgsl"
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
+//#include "common/gbuffer_store.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -55,21 +56,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(id.xy), 3.0e38);
     let hit = closest_visible(ray);
     if hit.instance == NO_HIT {
-        textureStore(position, id.xy, vec4<f32>(0.0));
-        textureStore(normal, id.xy, vec4<f32>(0.0));
-        textureStore(geo_normal, id.xy, vec4<f32>(0.0));
-        textureStore(albedo, id.xy, vec4<f32>(0.0));
-        textureStore(material, id.xy, vec4<f32>(0.0));
-        textureStore(emissive, id.xy, vec4<f32>(0.0));
+        store_gbuffer_miss(id.xy);
     } else {
-        let s = surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t);
-        textureStore(position, id.xy, vec4<f32>(s.position, 1.0));
-        textureStore(normal, id.xy, vec4<f32>(s.normal, 0.0));
-        textureStore(geo_normal, id.xy, vec4<f32>(s.geo_normal, 0.0));
-        textureStore(albedo, id.xy, vec4<f32>(s.albedo, 1.0));
-        let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
-        textureStore(material, id.xy, vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0));
-        textureStore(emissive, id.xy, vec4<f32>(s.emissive, s.occlusion));
+        store_gbuffer(id.xy, surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t));
     }
     trace_flush_stats();
 }

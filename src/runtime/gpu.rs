@@ -331,6 +331,7 @@ impl Gpu {
         let mut aliases = std::collections::BTreeMap::new();
         if !self.device.features().contains(wgpu::Features::PRIMITIVE_INDEX) {
             aliases.insert("forward".to_string(), "forward_fragment".to_string());
+            aliases.insert("deferred".to_string(), "deferred_fragment".to_string());
         }
         aliases
     }

@@ -1,14 +1,17 @@
-// The visibility buffer of forward shading in a compute pass (forward/shade.wgsl): per pixel,
-// the instance (plus one; 0 where nothing was drawn) and the triangle the rasterizer kept, with
+// A visibility buffer, shaded in a compute pass (forward/shade.wgsl) or turned into the
+// G-buffer (deferred/gbuffer.wgsl): per pixel,
+// the instance, the side the rasterizer saw and the triangle it kept
+// (common/visibility_buffer.wgsl), with
 // the visibility every mode has (common/raster_visibility.wgsl: the alpha test; back faces of
 // single-sided materials culled in the rasterizer). The fragment stage does nothing else: the
-// shading runs in a compute pass, on every shader core rather than only on those a GPU gives
-// its graphics pipeline.
+// material reads and shading run in a compute pass, on every shader core rather than only on
+// those a GPU gives its graphics pipeline.
 enable primitive_index;
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/raster_visibility.wgsl"
+//#include "common/visibility_buffer.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -36,10 +39,13 @@ fn vs_main(
     return out;
 }
 
+// The texel of common/visibility_buffer.wgsl (the side from `raster_front_face`).
 @fragment
-fn fs_main(in: VertexOut, @builtin(primitive_index) primitive: u32) -> @location(0) vec2<u32> {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+fn fs_main(in: VertexOut, @builtin(primitive_index) primitive: u32, @builtin(front_facing) front_facing: bool) -> @location(0) vec2<u32> {
+    let inst = scene_instances[in.instance];
+    if !raster_fragment_kept(inst, in.uv) {
         discard;
     }
-    return vec2<u32>(in.instance + 1u, primitive);
+    let front = select(0u, VISIBLE_FRONT_FACE, raster_front_face(front_facing, inst.model));
+    return vec2<u32>((in.instance + 1u) | front, primitive);
 }
