@@ -1,9 +1,10 @@
 // The hit a visibility buffer stands for (visibility/visibility.wgsl: the instance and triangle
 // the rasterizer kept at a pixel), rebuilt from the pixel's camera ray, for shading it as a
-// traced hit is shaded (common/surface.wgsl). Needs the main shader to declare
+// traced hit is shaded (common/surface.wgsl). Needs the main shader to declare `frame`,
 // `scene_instances`, `scene_meshes`, `scene_indices`, `scene_vertices` and to include
-// common/scene.wgsl and common/surface.wgsl.
+// common/frame.wgsl, common/scene.wgsl and common/surface.wgsl.
 //#include "common/ray.wgsl"
+//#include "common/camera.wgsl"
 //#include "common/visibility_buffer.wgsl"
 
 // Where `ray` meets the plane of the triangle `seen` names (world space), as a hit: its
@@ -40,3 +41,12 @@ fn visible_hit(ray: Ray, seen: Visible) -> Hit {
     return hit;
 }
 
+
+// The surface pixel `p` shows, where the visibility buffer says it shows one (`seen.drawn`):
+// the camera ray through its centre, met on the triangle `seen` names, read at the pixel's ray
+// cone as primary rays read their hits.
+fn visible_surface(p: vec2<u32>, seen: Visible) -> Surface {
+    let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(p), 3.0e38);
+    let hit = visible_hit(ray, seen);
+    return surface_at_cone(ray, hit, camera_pixel_spread(p) * hit.t);
+}

@@ -39,7 +39,5 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         store_gbuffer_miss(id.xy);
         return;
     }
-    let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(id.xy), 3.0e38);
-    let hit = visible_hit(ray, seen);
-    store_gbuffer(id.xy, surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t));
+    store_gbuffer(id.xy, visible_surface(id.xy, seen));
 }

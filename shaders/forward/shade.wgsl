@@ -53,13 +53,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(color, id.xy, vec4<f32>(0.0));
         return;
     }
-    let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(id.xy), 3.0e38);
-    let hit = visible_hit(ray, seen);
-    let surface = surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t);
+    let surface = visible_surface(id.xy, seen);
     var s: ShadingPoint;
     s.position = surface.position;
     s.normal = surface.normal;
-    s.view = -ray.dir;
+    s.view = normalize(frame.camera_pos.xyz - surface.position);
     s.albedo = surface.albedo;
     s.metallic = surface.metallic;
     s.roughness = surface.roughness;
