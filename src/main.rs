@@ -241,6 +241,25 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/roofline")]
         out: PathBuf,
     },
+    /// The three modes on the same scenes, camera and back-end, with their effects on and off:
+    /// the images, and ꟻLIP mean and RMSE between every pair (ACCURACY.md, "Real assets").
+    Modes {
+        /// Comma-separated scenes (built-in names or glTF files), each optionally `NAME=SCENE`
+        /// to name its images.
+        #[arg(long, default_value = "default")]
+        scenes: String,
+        #[arg(long, default_value_t = 320)]
+        width: u32,
+        #[arg(long, default_value_t = 240)]
+        height: u32,
+        /// The traversal back-end of the hybrid and full-RT modes (default: the start-up choice).
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
+        #[arg(long, default_value = "bench-results/modes")]
+        out: PathBuf,
+    },
     /// Reflection bounces 1..8 against rays/s.
     Depth {
         #[arg(long)]
@@ -651,6 +670,26 @@ fn run(cli: Cli) -> Result<()> {
             let rows = with_progress(|progress| depth_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(depth_bench::plots(&out, &rows))?;
+        }
+        Command::Bench { command: BenchCommand::Modes { scenes, width, height, backend, deadline, out } } => {
+            anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
+            let gpu = deadline.open_gpu(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let backend = backend.unwrap_or(gpu.selection.backend);
+            let mut loaded = Vec::new();
+            for item in scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+                // `NAME=SCENE` names the images; a bare scene is named by its file stem.
+                let (name, spec) = match item.split_once('=') {
+                    Some((name, spec)) => (name.to_string(), spec),
+                    None => (Path::new(item).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| item.to_string()), item),
+                };
+                let (scene, _) = raygraph::scene::open(spec, &Default::default()).with_context(|| format!("cannot open scene {spec}"))?;
+                loaded.push((name, scene));
+            }
+            let dir = raygraph::bench::results_dir(&out).with_context(|| format!("could not create {}", out.display()))?;
+            let rows = raygraph::bench::modes::run(&gpu, Path::new("."), &loaded, backend, (width, height), &dir)?;
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, (width, height));
+            write_results(&out, &[("modes.md", raygraph::bench::modes::markdown(&info, backend, &rows))])?;
         }
         Command::View { scene, graph, mode, backend, deadline, width, height, camera, seed, frames, screenshot, script, verbose } => {
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");

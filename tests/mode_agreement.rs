@@ -16,19 +16,9 @@ use common::{gpu, open};
 use common::material_scene::metallic_roughness_scene;
 use common::modes::render_without_effects;
 use raygraph::backend::Backend;
+use raygraph::bench::modes::flip_mean;
 use raygraph::runtime::Gpu;
 use raygraph::scene::Scene;
-
-fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> f32 {
-    let rgb = |img: &image::RgbaImage| img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
-    let (w, h) = reference.dimensions();
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(reference)),
-        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(test)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&map).mean()
-}
 
 /// ꟻLIP means of hybrid against raster, full RT against hybrid and full RT against raster.
 fn check(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), limits: [f32; 3]) {
