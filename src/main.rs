@@ -89,6 +89,10 @@ enum Command {
         rss_tolerance: f64,
         #[arg(long)]
         backend: Option<Backend>,
+        /// Also write the adapter, the per-check lines and the verdict to this file (rewritten
+        /// after every check, so an interrupted run keeps what it checked).
+        #[arg(long)]
+        log: Option<PathBuf>,
         #[command(flatten)]
         deadline: Deadline,
     },
@@ -470,30 +474,13 @@ fn run(cli: Cli) -> Result<()> {
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
-        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend, deadline } => {
-            use raygraph::soak::{self, SoakConfig};
+        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend, log, deadline } => {
             let gpu = deadline.open_gpu(backend)?;
-            println!("adapter: {}", gpu.describe());
-            let mut cfg = SoakConfig::new(Path::new("."), frames, cycle, (width, height));
+            let mut cfg = raygraph::soak::SoakConfig::new(Path::new("."), frames, cycle, (width, height));
             cfg.scene = scene;
             cfg.rss_tolerance_mib = rss_tolerance;
             cfg.backend = backend;
-            println!("{:>7} {:>9} {:>8} {:>7}  live GPU objects", "frame", "seconds", "RSS MiB", "finite");
-            let report = soak::run(&gpu, &cfg, |c, _| {
-                let live = c.live.map(|l| l.describe()).unwrap_or_else(|| "(no registry report)".into());
-                println!("{:>7} {:>9.1} {:>8.1} {:>7}  {live}", c.frame, c.seconds, c.rss_mib, c.finite);
-            })?;
-            println!(
-                "{} frames: {} with instances moving, {} meshes added and {} removed, {} graph swaps, {} shader errors caught and {} fixed",
-                report.frames, report.moved_frames, report.meshes_added, report.meshes_removed, report.graph_swaps, report.shader_errors, report.shader_fixes
-            );
-            if let Some(e) = &report.shader_error_example {
-                println!("first shader error, as reported:\n{e}");
-            }
-            if !report.failures.is_empty() {
-                anyhow::bail!("soak failed:\n  {}", report.failures.join("\n  "));
-            }
-            println!("ok: memory and live GPU objects flat over {} checks", report.checks.len());
+            run_soak(&gpu, &cfg, log.as_deref())?;
         }
         Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, ao_length, primary_rays, backend, deadline, out } } => {
             let gpu = deadline.open_gpu(backend)?;
@@ -729,6 +716,55 @@ fn run(cli: Cli) -> Result<()> {
             );
             println!("wrote {}", out.display());
         }
+    }
+    Ok(())
+}
+
+/// `raygraph soak`: the run, its lines on stdout and, with `--log`, in the log file.
+fn run_soak(gpu: &Gpu, cfg: &raygraph::soak::SoakConfig, log: Option<&Path>) -> Result<()> {
+    use raygraph::soak::{self, Check};
+    let mut lines = vec![
+        format!("adapter: {}", gpu.describe()),
+        format!("back-end: {}", cfg.backend.unwrap_or(gpu.selection.backend)),
+        cfg.describe(),
+        Check::log_header(),
+    ];
+    let write_log = |lines: &[String]| -> Result<()> {
+        match log {
+            Some(path) => raygraph::util::write_atomic(path, (lines.join("\n") + "\n").as_bytes()).with_context(|| format!("writing {}", path.display())),
+            None => Ok(()),
+        }
+    };
+    lines.iter().for_each(|l| println!("{l}"));
+    let mut log_error = None;
+    let report = soak::run(gpu, cfg, |c, _| {
+        let line = c.log_line();
+        println!("{line}");
+        lines.push(line);
+        if let Err(e) = write_log(&lines) {
+            log_error.get_or_insert(e);
+        }
+    })?;
+    if let Some(e) = log_error {
+        return Err(e);
+    }
+    let mut summary = vec![format!(
+        "{} frames: {} with instances moving, {} meshes added and {} removed, {} graph swaps, {} shader errors caught and {} fixed",
+        report.frames, report.moved_frames, report.meshes_added, report.meshes_removed, report.graph_swaps, report.shader_errors, report.shader_fixes
+    )];
+    if let Some(e) = &report.shader_error_example {
+        summary.push(format!("first shader error, as reported:\n{e}"));
+    }
+    if report.failures.is_empty() {
+        summary.push(format!("ok: memory and live GPU objects flat, image finite, over {} checks", report.checks.len()));
+    } else {
+        summary.push(format!("soak failed:\n  {}", report.failures.join("\n  ")));
+    }
+    summary.iter().for_each(|l| println!("{l}"));
+    lines.extend(summary);
+    write_log(&lines)?;
+    if !report.failures.is_empty() {
+        anyhow::bail!("soak failed: {} failed checks (listed above)", report.failures.len());
     }
     Ok(())
 }

@@ -331,7 +331,10 @@ impl Format {
 
     /// Whether a shader may sample it with a filtering sampler.
     pub fn is_filterable(self) -> bool {
-        !matches!(self, Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rg32Uint | Format::Rgba32Uint | Format::Depth32Float)
+        !matches!(
+            self,
+            Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rg32Uint | Format::Rgba32Uint | Format::Depth32Float
+        )
     }
 
     /// The channels of a texel and how each is stored (depth: one f32).
