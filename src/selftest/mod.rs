@@ -5,7 +5,9 @@
 //! require every one of them on lavapipe.
 //!
 //! Suites: `hard-cases` (`hard_cases`: watertightness, grazing and degenerate geometry,
-//! offsets, culling; each case on every back-end and layout).
+//! offsets, culling; each case on every back-end and layout) and `agreement` (`agreement`:
+//! every back-end against the f64 reference caster on the built-in scenes, the closed `organic`
+//! mesh from inside, invalid rays; on the two-level layout of each back-end).
 
 #[macro_use]
 mod macros {
@@ -30,6 +32,7 @@ mod macros {
     }
 }
 
+pub mod agreement;
 pub mod hard_cases;
 mod target;
 
@@ -91,26 +94,46 @@ pub struct SelftestConfig {
 }
 
 /// The suites' names, in the order they run.
-pub const SUITES: [&str; 1] = ["hard-cases"];
+pub const SUITES: [&str; 2] = ["hard-cases", "agreement"];
+
+/// The variants `suite` runs on: every one for the hard cases, the two-level layout of each
+/// back-end for the agreement.
+pub fn suite_variants(suite: &str) -> impl Iterator<Item = Variant> + '_ {
+    VARIANTS.into_iter().filter(move |v| suite != "agreement" || !v.merge)
+}
 
 /// Runs every suite on every variant `cfg` selects; `on_result` sees each line as it is made.
 pub fn run(gpu: &Gpu, cfg: &SelftestConfig, mut on_result: impl FnMut(&SuiteResult)) -> Vec<SuiteResult> {
+    let selected = |v: &Variant| cfg.backends.is_empty() || cfg.backends.contains(&v.backend);
     let mut results = Vec::new();
-    for variant in VARIANTS.iter().filter(|v| cfg.backends.is_empty() || cfg.backends.contains(&v.backend)) {
-        let target = Target { gpu, variant: *variant, shaders: &cfg.shaders };
-        let result = hard_cases_suite(&target);
+    for variant in suite_variants(SUITES[0]).filter(selected) {
+        let result = hard_cases_suite(&Target { gpu, variant, shaders: &cfg.shaders });
+        on_result(&result);
+        results.push(result);
+    }
+    let targets: Vec<Target> = suite_variants(SUITES[1]).filter(selected).map(|variant| Target { gpu, variant, shaders: &cfg.shaders }).collect();
+    for result in agreement_suite(&targets) {
         on_result(&result);
         results.push(result);
     }
     results
 }
 
+/// A line of `suite` on `target`, passed until something fails, not applicable where the
+/// adapter lacks the back-end.
+fn start(suite: &'static str, target: &Target) -> SuiteResult {
+    let outcome = match target.not_applicable() {
+        Some(why) => Outcome::NotApplicable(why),
+        None => Outcome::Passed,
+    };
+    SuiteResult { suite, variant: target.variant, outcome, notes: Vec::new(), checks: 0, seconds: 0.0 }
+}
+
 /// The hard cases on one target.
 pub fn hard_cases_suite(target: &Target) -> SuiteResult {
-    let start = Instant::now();
-    let mut result = SuiteResult { suite: SUITES[0], variant: target.variant, outcome: Outcome::Passed, notes: Vec::new(), checks: 0, seconds: 0.0 };
-    if let Some(why) = target.not_applicable() {
-        result.outcome = Outcome::NotApplicable(why);
+    let begin = Instant::now();
+    let mut result = start(SUITES[0], target);
+    if result.outcome != Outcome::Passed {
         return result;
     }
     let mut failures = Vec::new();
@@ -120,11 +143,64 @@ pub fn hard_cases_suite(target: &Target) -> SuiteResult {
         }
         result.checks += 1;
     }
-    if !failures.is_empty() {
-        result.outcome = Outcome::Failed(failures.join("; "));
-    }
-    result.seconds = start.elapsed().as_secs_f64();
+    finish(&mut result, failures, begin);
     result
+}
+
+/// Records the failures (if any) and the time taken.
+fn finish(result: &mut SuiteResult, failures: Vec<String>, begin: Instant) {
+    if !failures.is_empty() {
+        let shown: Vec<&str> = failures.iter().take(5).map(String::as_str).collect();
+        let more = if failures.len() > 5 { format!("; and {} more", failures.len() - 5) } else { String::new() };
+        result.outcome = Outcome::Failed(format!("{}{more}", shown.join("; ")));
+        result.notes.extend(failures.iter().map(|f| format!("FAIL {f}")));
+    }
+    result.seconds = begin.elapsed().as_secs_f64();
+}
+
+/// The agreement suite on each target: the reference's answers are made once per scene and
+/// compared with every target's; then the closed-mesh and invalid-ray cases on each.
+pub fn agreement_suite(targets: &[Target]) -> Vec<SuiteResult> {
+    let mut results: Vec<(SuiteResult, Vec<String>, Instant)> = targets.iter().map(|t| (start(SUITES[1], t), Vec::new(), Instant::now())).collect();
+    let runnable = |r: &SuiteResult| r.outcome == Outcome::Passed;
+    if results.iter().any(|(r, _, _)| runnable(r)) {
+        for (name, per_group) in agreement::SCENES {
+            let begin = Instant::now();
+            let reference = agreement::ReferenceScene::new(name, per_group);
+            let seconds = begin.elapsed().as_secs_f64();
+            for ((result, failures, _), target) in results.iter_mut().zip(targets).filter(|((r, _, _), _)| runnable(r)) {
+                result.checks += 1;
+                result.seconds += seconds / targets.len() as f64;
+                let compared = match &reference {
+                    Ok(reference) => target.run_case_with(|t, notes| reference.compare(t, failures, notes), &mut result.notes),
+                    Err(e) => Err(e.clone()),
+                };
+                if let Err(e) = compared {
+                    failures.push(format!("reference comparison on {name}: {e}"));
+                }
+            }
+        }
+    }
+    let cases: [(&str, Case); 2] = [
+        ("closed organic mesh from inside", agreement::no_ray_escapes_the_closed_organic_mesh_from_inside),
+        ("invalid rays", agreement::invalid_rays_are_counted_and_miss_without_a_crash),
+    ];
+    let mut out = Vec::new();
+    for ((mut result, mut failures, begin), target) in results.into_iter().zip(targets) {
+        if runnable(&result) {
+            for (name, case) in cases {
+                result.checks += 1;
+                if let Err(e) = target.run_case(case, &mut result.notes) {
+                    failures.push(format!("{name}: {e}"));
+                }
+            }
+            let reference_seconds = result.seconds;
+            finish(&mut result, failures, begin);
+            result.seconds += reference_seconds;
+        }
+        out.push(result);
+    }
+    out
 }
 
 /// The log of a run: the adapter, the revision, the date, every line, and the verdict.

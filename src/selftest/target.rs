@@ -64,6 +64,11 @@ impl Target<'_> {
 
     /// Runs one case, a panic in it caught and reported as a failure.
     pub fn run_case(&self, case: Case, notes: &mut Vec<String>) -> Result<(), String> {
+        self.run_case_with(case, notes)
+    }
+
+    /// Runs a check given as a closure, a panic in it caught and reported as a failure.
+    pub fn run_case_with(&self, case: impl FnOnce(&Self, &mut Vec<String>) -> Result<(), String>, notes: &mut Vec<String>) -> Result<(), String> {
         match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| case(self, notes))) {
             Ok(result) => result,
             Err(panic) => {
