@@ -7,7 +7,9 @@
 //! Suites: `hard-cases` (`hard_cases`: watertightness, grazing and degenerate geometry,
 //! offsets, culling; each case on every back-end and layout) and `agreement` (`agreement`:
 //! every back-end against the f64 reference caster on the built-in scenes, the closed `organic`
-//! mesh from inside, invalid rays; on the two-level layout of each back-end).
+//! mesh from inside, invalid rays; on the two-level layout of each back-end) and
+//! `reference-channels` (`channels`: every ray-traced channel of the full ray-tracing graph
+//! against the f64 reference renderer, pixel by pixel, on every back-end and layout).
 
 #[macro_use]
 mod macros {
@@ -33,6 +35,7 @@ mod macros {
 }
 
 pub mod agreement;
+pub mod channels;
 pub mod hard_cases;
 mod target;
 
@@ -91,10 +94,12 @@ pub struct SelftestConfig {
     pub shaders: PathBuf,
     /// Only these back-ends (empty: all).
     pub backends: Vec<Backend>,
+    /// Only these suites, by name (empty: all of `SUITES`).
+    pub suites: Vec<String>,
 }
 
 /// The suites' names, in the order they run.
-pub const SUITES: [&str; 2] = ["hard-cases", "agreement"];
+pub const SUITES: [&str; 3] = ["hard-cases", "agreement", "reference-channels"];
 
 /// The variants `suite` runs on: every one for the hard cases, the two-level layout of each
 /// back-end for the agreement.
@@ -105,18 +110,65 @@ pub fn suite_variants(suite: &str) -> impl Iterator<Item = Variant> + '_ {
 /// Runs every suite on every variant `cfg` selects; `on_result` sees each line as it is made.
 pub fn run(gpu: &Gpu, cfg: &SelftestConfig, mut on_result: impl FnMut(&SuiteResult)) -> Vec<SuiteResult> {
     let selected = |v: &Variant| cfg.backends.is_empty() || cfg.backends.contains(&v.backend);
+    let wanted = |suite: &str| cfg.suites.is_empty() || cfg.suites.iter().any(|s| s == suite);
     let mut results = Vec::new();
-    for variant in suite_variants(SUITES[0]).filter(selected) {
+    for variant in suite_variants(SUITES[0]).filter(selected).filter(|_| wanted(SUITES[0])) {
         let result = hard_cases_suite(&Target { gpu, variant, shaders: &cfg.shaders });
         on_result(&result);
         results.push(result);
     }
-    let targets: Vec<Target> = suite_variants(SUITES[1]).filter(selected).map(|variant| Target { gpu, variant, shaders: &cfg.shaders }).collect();
+    let targets: Vec<Target> =
+        suite_variants(SUITES[1]).filter(selected).filter(|_| wanted(SUITES[1])).map(|variant| Target { gpu, variant, shaders: &cfg.shaders }).collect();
     for result in agreement_suite(&targets) {
         on_result(&result);
         results.push(result);
     }
+    let targets: Vec<Target> =
+        suite_variants(SUITES[2]).filter(selected).filter(|_| wanted(SUITES[2])).map(|variant| Target { gpu, variant, shaders: &cfg.shaders }).collect();
+    for result in channels_suite(&targets) {
+        on_result(&result);
+        results.push(result);
+    }
     results
+}
+
+/// The reference-channel suite on each target: the project and the reference's primary
+/// answers are made once per scene and compared with every target's frame.
+pub fn channels_suite(targets: &[Target]) -> Vec<SuiteResult> {
+    let mut results: Vec<(SuiteResult, Vec<String>)> = targets.iter().map(|t| (start(SUITES[2], t), Vec::new())).collect();
+    let runnable = |r: &SuiteResult| r.outcome == Outcome::Passed;
+    let runnable_count = results.iter().filter(|(r, _)| runnable(r)).count();
+    if runnable_count > 0 {
+        let prepared = channels::ChannelProject::new().and_then(|p| Ok((channels::scenes()?, p)));
+        match prepared {
+            Ok((scenes, project)) => {
+                for scene in scenes {
+                    let begin = Instant::now();
+                    let scene = channels::ChannelScene::new(scene, &project);
+                    let shared = begin.elapsed().as_secs_f64() / runnable_count as f64;
+                    for ((result, failures), target) in results.iter_mut().zip(targets).filter(|((r, _), _)| runnable(r)) {
+                        let begin = Instant::now();
+                        result.checks += 1;
+                        result.notes.push(scene.describe());
+                        if let Err(e) = target.run_case_with(|t, notes| scene.compare(&project, t, notes), &mut result.notes) {
+                            failures.push(e);
+                        }
+                        result.seconds += shared + begin.elapsed().as_secs_f64();
+                    }
+                }
+            }
+            Err(e) => results.iter_mut().for_each(|(_, failures)| failures.push(format!("preparing the suite: {e}"))),
+        }
+    }
+    results
+        .into_iter()
+        .map(|(mut result, failures)| {
+            if runnable(&result) {
+                finish(&mut result, failures);
+            }
+            result
+        })
+        .collect()
 }
 
 /// A line of `suite` on `target`, passed until something fails, not applicable where the
@@ -143,34 +195,35 @@ pub fn hard_cases_suite(target: &Target) -> SuiteResult {
         }
         result.checks += 1;
     }
-    finish(&mut result, failures, begin);
+    finish(&mut result, failures);
+    result.seconds = begin.elapsed().as_secs_f64();
     result
 }
 
-/// Records the failures (if any) and the time taken.
-fn finish(result: &mut SuiteResult, failures: Vec<String>, begin: Instant) {
+/// Records the failures (if any).
+fn finish(result: &mut SuiteResult, failures: Vec<String>) {
     if !failures.is_empty() {
         let shown: Vec<&str> = failures.iter().take(5).map(String::as_str).collect();
         let more = if failures.len() > 5 { format!("; and {} more", failures.len() - 5) } else { String::new() };
         result.outcome = Outcome::Failed(format!("{}{more}", shown.join("; ")));
         result.notes.extend(failures.iter().map(|f| format!("FAIL {f}")));
     }
-    result.seconds = begin.elapsed().as_secs_f64();
 }
 
 /// The agreement suite on each target: the reference's answers are made once per scene and
 /// compared with every target's; then the closed-mesh and invalid-ray cases on each.
 pub fn agreement_suite(targets: &[Target]) -> Vec<SuiteResult> {
-    let mut results: Vec<(SuiteResult, Vec<String>, Instant)> = targets.iter().map(|t| (start(SUITES[1], t), Vec::new(), Instant::now())).collect();
+    let mut results: Vec<(SuiteResult, Vec<String>)> = targets.iter().map(|t| (start(SUITES[1], t), Vec::new())).collect();
     let runnable = |r: &SuiteResult| r.outcome == Outcome::Passed;
-    if results.iter().any(|(r, _, _)| runnable(r)) {
+    let runnable_count = results.iter().filter(|(r, _)| runnable(r)).count();
+    if runnable_count > 0 {
         for (name, per_group) in agreement::SCENES {
             let begin = Instant::now();
             let reference = agreement::ReferenceScene::new(name, per_group);
-            let seconds = begin.elapsed().as_secs_f64();
-            for ((result, failures, _), target) in results.iter_mut().zip(targets).filter(|((r, _, _), _)| runnable(r)) {
+            let shared = begin.elapsed().as_secs_f64() / runnable_count as f64;
+            for ((result, failures), target) in results.iter_mut().zip(targets).filter(|((r, _), _)| runnable(r)) {
+                let begin = Instant::now();
                 result.checks += 1;
-                result.seconds += seconds / targets.len() as f64;
                 let compared = match &reference {
                     Ok(reference) => target.run_case_with(|t, notes| reference.compare(t, failures, notes), &mut result.notes),
                     Err(e) => Err(e.clone()),
@@ -178,6 +231,7 @@ pub fn agreement_suite(targets: &[Target]) -> Vec<SuiteResult> {
                 if let Err(e) = compared {
                     failures.push(format!("reference comparison on {name}: {e}"));
                 }
+                result.seconds += shared + begin.elapsed().as_secs_f64();
             }
         }
     }
@@ -186,17 +240,17 @@ pub fn agreement_suite(targets: &[Target]) -> Vec<SuiteResult> {
         ("invalid rays", agreement::invalid_rays_are_counted_and_miss_without_a_crash),
     ];
     let mut out = Vec::new();
-    for ((mut result, mut failures, begin), target) in results.into_iter().zip(targets) {
+    for ((mut result, mut failures), target) in results.into_iter().zip(targets) {
         if runnable(&result) {
+            let begin = Instant::now();
             for (name, case) in cases {
                 result.checks += 1;
                 if let Err(e) = target.run_case(case, &mut result.notes) {
                     failures.push(format!("{name}: {e}"));
                 }
             }
-            let reference_seconds = result.seconds;
-            finish(&mut result, failures, begin);
-            result.seconds += reference_seconds;
+            finish(&mut result, failures);
+            result.seconds += begin.elapsed().as_secs_f64();
         }
         out.push(result);
     }
