@@ -176,3 +176,18 @@ fn selftest_passes_every_suite_on_every_lavapipe_back_end() {
     assert_eq!(log.lines().filter(|l| l.contains(": passed (")).count(), expected, "{log}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The verdict counts not-applicable lines apart from passed ones: a run where only those
+/// remain (every back-end lacking) fails, as does any failure.
+#[test]
+fn selftest_verdict_never_counts_not_applicable_as_passed() {
+    use raygraph::selftest::{verdict, Outcome, SuiteResult, VARIANTS};
+    let line = |outcome: Outcome| SuiteResult { suite: "hard-cases", variant: VARIANTS[2], outcome, notes: Vec::new(), checks: 13, seconds: 1.0 };
+    let not_applicable = line(Outcome::NotApplicable("the adapter has no ray queries (VK_KHR_ray_query)".into()));
+    assert_eq!(not_applicable.line(), "hard-cases on ray-query: not applicable: the adapter has no ray queries (VK_KHR_ray_query)");
+    assert_eq!(verdict(&[not_applicable.clone()]), "selftest failed: 0 passed, 0 failed, 1 not applicable");
+    assert_eq!(verdict(&[line(Outcome::Passed), not_applicable.clone()]), "ok: 1 passed, 0 failed, 1 not applicable");
+    let failed = line(Outcome::Failed("grazing rays: a ray missed".into()));
+    assert_eq!(failed.line(), "hard-cases on ray-query: FAILED: grazing rays: a ray missed");
+    assert_eq!(verdict(&[line(Outcome::Passed), failed]), "selftest failed: 1 passed, 1 failed, 0 not applicable");
+}

@@ -200,8 +200,11 @@ pub fn hard_cases_suite(target: &Target) -> SuiteResult {
     result
 }
 
-/// Records the failures (if any).
-fn finish(result: &mut SuiteResult, failures: Vec<String>) {
+/// Records the failures (if any); a suite in which no case ran fails, it cannot pass.
+fn finish(result: &mut SuiteResult, mut failures: Vec<String>) {
+    if result.checks == 0 {
+        failures.push("no case ran".to_string());
+    }
     if !failures.is_empty() {
         let shown: Vec<&str> = failures.iter().take(5).map(String::as_str).collect();
         let more = if failures.len() > 5 { format!("; and {} more", failures.len() - 5) } else { String::new() };
