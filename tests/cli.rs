@@ -185,7 +185,7 @@ fn selftest_verdict_never_counts_not_applicable_as_passed() {
     let line = |outcome: Outcome| SuiteResult { suite: "hard-cases", variant: VARIANTS[2], outcome, notes: Vec::new(), checks: 13, seconds: 1.0 };
     let not_applicable = line(Outcome::NotApplicable("the adapter has no ray queries (VK_KHR_ray_query)".into()));
     assert_eq!(not_applicable.line(), "hard-cases on ray-query: not applicable: the adapter has no ray queries (VK_KHR_ray_query)");
-    assert_eq!(verdict(&[not_applicable.clone()]), "selftest failed: 0 passed, 0 failed, 1 not applicable");
+    assert_eq!(verdict(std::slice::from_ref(&not_applicable)), "selftest failed: 0 passed, 0 failed, 1 not applicable");
     assert_eq!(verdict(&[line(Outcome::Passed), not_applicable]), "ok: 1 passed, 0 failed, 1 not applicable");
     let failed = line(Outcome::Failed("grazing rays: a ray missed".into()));
     assert_eq!(failed.line(), "hard-cases on ray-query: FAILED: grazing rays: a ray missed");
