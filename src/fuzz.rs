@@ -1,10 +1,14 @@
 //! The file inputs a user can hand to raygraph, as entry points that take raw bytes: each
 //! writes the bytes to a file in a private temporary folder and runs them through the same
 //! path the command line does, so that the fuzz targets (`fuzz/`) and their regression tests
-//! (`tests/fuzz_regressions.rs`) exercise the real parsers, not a copy.
+//! (`tests/reliability.rs`) exercise the real parsers, not a copy.
 //!
 //! Every entry point returns `Ok` or the error a user would see; a panic, a hang or an
 //! unbounded allocation is a bug.
+//!
+//! The targets are driven by `fuzz/run.sh TARGET SECONDS`, which writes the evidence of each
+//! run (target, revision, date, command, run count, duration, corpus size before and after,
+//! coverage, findings) to `results/fuzz/TARGET-<UTC date>.log` (RELIABILITY.md).
 
 use crate::accel::bvh::{AccelOptions, Blas, BuildConfig, SceneAccel};
 use crate::accel::layout::{flatten, merge, merge_instances};

@@ -16,6 +16,7 @@
 //! are not part of the embedding API (`default-features = false` leaves them out):
 //!
 //! - `bench`: the experiments behind the paper's tables and figures.
+//! - `selftest`: the correctness suites on whatever adapter is present.
 //! - `soak`: the long-running stability check.
 //! - `fuzz`: the user-file entry points shared by the fuzz targets and their tests.
 //! - `viewer`: the interactive window with hot reload.
@@ -33,6 +34,8 @@ pub(crate) mod gpu_util;
 pub mod graph;
 pub mod runtime;
 pub mod scene;
+#[cfg(feature = "cli")]
+pub mod selftest;
 #[cfg(feature = "cli")]
 pub mod soak;
 pub(crate) mod spirv_words;

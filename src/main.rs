@@ -89,6 +89,44 @@ enum Command {
         rss_tolerance: f64,
         #[arg(long)]
         backend: Option<Backend>,
+        /// Also write the adapter, the per-check lines and the verdict to this file (rewritten
+        /// after every check, so an interrupted run keeps what it checked).
+        #[arg(long)]
+        log: Option<PathBuf>,
+        #[command(flatten)]
+        deadline: Deadline,
+    },
+    /// The correctness suites on this adapter, at the sizes the test suite uses: hard-cases
+    /// (watertightness, grazing, degenerate and non-finite geometry, offsets, culling: 13 cases
+    /// of up to about 16,000 rays each, on every back-end and layout), agreement (every
+    /// back-end against the f64 reference caster: 1,600 rays on each of box, organic and
+    /// default, 600 on atrium; the closed organic mesh from inside; invalid rays) and
+    /// reference-channels (every ray-traced channel of the full ray-tracing graph against the
+    /// f64 reference renderer at 64x48, 8 AO rays, on default and a small scene, on every
+    /// back-end and layout). One line per suite and back-end: passed, FAILED or not applicable
+    /// (a back-end the adapter lacks); exits non-zero on any failure. On 2-core lavapipe: about
+    /// 10 s for hard-cases, 10 s for agreement, 70 s for reference-channels (most of it the
+    /// CPU reference, which a GPU machine's cores share out); seconds of GPU time on a GPU.
+    Selftest {
+        /// Only this suite: hard-cases, agreement or reference-channels (repeatable; default:
+        /// all).
+        #[arg(long, value_parser = ["hard-cases", "agreement", "reference-channels"])]
+        suite: Vec<String>,
+        /// Only this back-end (repeatable; default: every back-end, those the adapter lacks
+        /// reported as not applicable).
+        #[arg(long)]
+        backend: Vec<Backend>,
+        /// Write the adapter, revision, date, every line and what each case measured to
+        /// DIR/selftest.log.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Also print what each case measured.
+        #[arg(long)]
+        verbose: bool,
+        /// The shaders folder of the hard-cases and agreement tracers (files missing there are the
+        /// built-in copies; reference-channels renders the built-in graph, layers and shaders).
+        #[arg(long, default_value = "shaders")]
+        shaders: PathBuf,
         #[command(flatten)]
         deadline: Deadline,
     },
@@ -489,30 +527,17 @@ fn run(cli: Cli) -> Result<()> {
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
-        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend, deadline } => {
-            use raygraph::soak::{self, SoakConfig};
+        Command::Selftest { suite, backend, out, verbose, shaders, deadline } => {
+            let cfg = raygraph::selftest::SelftestConfig { shaders, backends: backend, suites: suite };
+            run_selftest(&deadline.open_gpu(None)?, &cfg, out.as_deref(), verbose)?
+        }
+        Command::Soak { scene, frames, cycle, width, height, rss_tolerance, backend, log, deadline } => {
             let gpu = deadline.open_gpu(backend)?;
-            println!("adapter: {}", gpu.describe());
-            let mut cfg = SoakConfig::new(Path::new("."), frames, cycle, (width, height));
+            let mut cfg = raygraph::soak::SoakConfig::new(Path::new("."), frames, cycle, (width, height));
             cfg.scene = scene;
             cfg.rss_tolerance_mib = rss_tolerance;
             cfg.backend = backend;
-            println!("{:>7} {:>9} {:>8} {:>7}  live GPU objects", "frame", "seconds", "RSS MiB", "finite");
-            let report = soak::run(&gpu, &cfg, |c, _| {
-                let live = c.live.map(|l| l.describe()).unwrap_or_else(|| "(no registry report)".into());
-                println!("{:>7} {:>9.1} {:>8.1} {:>7}  {live}", c.frame, c.seconds, c.rss_mib, c.finite);
-            })?;
-            println!(
-                "{} frames: {} with instances moving, {} meshes added and {} removed, {} graph swaps, {} shader errors caught and {} fixed",
-                report.frames, report.moved_frames, report.meshes_added, report.meshes_removed, report.graph_swaps, report.shader_errors, report.shader_fixes
-            );
-            if let Some(e) = &report.shader_error_example {
-                println!("first shader error, as reported:\n{e}");
-            }
-            if !report.failures.is_empty() {
-                anyhow::bail!("soak failed:\n  {}", report.failures.join("\n  "));
-            }
-            println!("ok: memory and live GPU objects flat over {} checks", report.checks.len());
+            run_soak(&gpu, &cfg, log.as_deref())?;
         }
         Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, ao_length, primary_rays, backend, deadline, out } } => {
             let gpu = deadline.open_gpu(backend)?;
@@ -770,4 +795,78 @@ fn run(cli: Cli) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `raygraph soak`: the run, its lines on stdout and, with `--log`, in the log file.
+fn run_soak(gpu: &Gpu, cfg: &raygraph::soak::SoakConfig, log: Option<&Path>) -> Result<()> {
+    use raygraph::soak::{self, Check};
+    let mut lines = vec![
+        format!("adapter: {}", gpu.describe()),
+        format!("back-end: {}", cfg.backend.unwrap_or(gpu.selection.backend)),
+        cfg.describe(),
+        Check::log_header(),
+    ];
+    let write_log = |lines: &[String]| -> Result<()> {
+        match log {
+            Some(path) => raygraph::util::write_atomic(path, (lines.join("\n") + "\n").as_bytes()).with_context(|| format!("writing {}", path.display())),
+            None => Ok(()),
+        }
+    };
+    lines.iter().for_each(|l| println!("{l}"));
+    let mut log_error = None;
+    let report = soak::run(gpu, cfg, |c, _| {
+        let line = c.log_line();
+        println!("{line}");
+        lines.push(line);
+        if let Err(e) = write_log(&lines) {
+            log_error.get_or_insert(e);
+        }
+    })?;
+    if let Some(e) = log_error {
+        return Err(e);
+    }
+    let mut summary = vec![format!(
+        "{} frames: {} with instances moving, {} meshes added and {} removed, {} graph swaps, {} shader errors caught and {} fixed",
+        report.frames, report.moved_frames, report.meshes_added, report.meshes_removed, report.graph_swaps, report.shader_errors, report.shader_fixes
+    )];
+    if let Some(e) = &report.shader_error_example {
+        summary.push(format!("first shader error, as reported:\n{e}"));
+    }
+    if report.failures.is_empty() {
+        summary.push(format!("ok: memory and live GPU objects flat, image finite, over {} checks", report.checks.len()));
+    } else {
+        summary.push(format!("soak failed:\n  {}", report.failures.join("\n  ")));
+    }
+    summary.iter().for_each(|l| println!("{l}"));
+    lines.extend(summary);
+    write_log(&lines)?;
+    if !report.failures.is_empty() {
+        anyhow::bail!("soak failed: {} failed checks (listed above)", report.failures.len());
+    }
+    Ok(())
+}
+
+/// `raygraph selftest`: every suite's line on stdout and, with `--out`, in DIR/selftest.log.
+fn run_selftest(gpu: &Gpu, cfg: &raygraph::selftest::SelftestConfig, out: Option<&Path>, verbose: bool) -> Result<()> {
+    use raygraph::selftest;
+    println!("adapter: {}", gpu.describe());
+    let results = selftest::run(gpu, cfg, |r| {
+        println!("{}", r.line());
+        if verbose {
+            r.notes.iter().for_each(|n| println!("    {n}"));
+        }
+    });
+    if let Some(dir) = out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        let path = dir.join("selftest.log");
+        raygraph::util::write_atomic(&path, selftest::log_text(gpu, &results, true).as_bytes()).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    let verdict = selftest::verdict(&results);
+    if verdict.starts_with("ok") {
+        println!("{verdict}");
+        Ok(())
+    } else {
+        anyhow::bail!("{verdict}")
+    }
 }

@@ -18,6 +18,11 @@
 //! the same number of live buffers, textures, views, bind groups, pipelines and shader modules
 //! (wgpu's registry report), a resident set within `rss_tolerance_mib` of it, and a finite HDR
 //! image.
+//!
+//! No check passes without its input: a check made where wgpu gives no registry report, or on a
+//! graph without the HDR resource (`SoakConfig::hdr_resource`), is a failure saying so
+//! (`Check::failures`). Every check also records the GPU memory of wgpu's allocator report
+//! (`GpuMemory`) where the back-end has one; it is reported, not judged.
 
 use crate::backend::Backend;
 use crate::error::RuntimeError;
@@ -49,6 +54,9 @@ pub struct SoakConfig {
     pub rss_tolerance_mib: f64,
     /// The traversal back-end (`None`: selected).
     pub backend: Option<Backend>,
+    /// The HDR resource (`node.output`) whose texels must all be finite at every check; a
+    /// graph without it fails the check.
+    pub hdr_resource: String,
 }
 
 impl SoakConfig {
@@ -64,7 +72,13 @@ impl SoakConfig {
             broken_shader: PathBuf::from("resolve/resolve.wgsl"),
             rss_tolerance_mib: 32.0,
             backend: None,
+            hdr_resource: "resolve.hdr".into(),
         }
+    }
+
+    /// One line for the report: frames, cycle, size and scene.
+    pub fn describe(&self) -> String {
+        format!("{} frames in cycles of {} at {}x{}, scene {}", self.frames, self.cycle, self.size.0, self.size.1, self.scene)
     }
 }
 
@@ -93,7 +107,7 @@ pub struct LiveObjects {
 
 impl LiveObjects {
     /// The counts of `gpu`'s instance (`None` where wgpu has no report).
-    pub(crate) fn of(gpu: &Gpu) -> Option<Self> {
+    pub fn of(gpu: &Gpu) -> Option<Self> {
         let report = gpu.instance.generate_report()?;
         let hub = report.hub_report();
         Some(Self {
@@ -126,6 +140,29 @@ impl LiveObjects {
     }
 }
 
+/// GPU memory from wgpu's allocator report (the device's memory allocator).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GpuMemory {
+    /// Bytes in live allocations.
+    pub allocated: u64,
+    /// Bytes of the memory blocks the allocator holds, used or not.
+    pub reserved: u64,
+}
+
+impl GpuMemory {
+    /// The report of `gpu`'s device (`None` where the back-end has no allocator report).
+    pub fn of(gpu: &Gpu) -> Option<Self> {
+        let report = gpu.device.generate_allocator_report()?;
+        Some(Self { allocated: report.total_allocated_bytes, reserved: report.total_reserved_bytes })
+    }
+
+    /// `allocated/reserved` in MiB, for the report.
+    pub fn describe(&self) -> String {
+        let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
+        format!("{:.1}/{:.1}", mib(self.allocated), mib(self.reserved))
+    }
+}
+
 /// One end-of-cycle check.
 #[derive(Debug, Clone)]
 pub struct Check {
@@ -133,12 +170,64 @@ pub struct Check {
     pub frame: u32,
     /// Resident set, MiB.
     pub rss_mib: f64,
-    /// Live wgpu objects.
+    /// Live wgpu objects (`None`: wgpu gave no registry report, a failure).
     pub live: Option<LiveObjects>,
-    /// Every texel of the HDR image is finite.
-    pub finite: bool,
+    /// Every texel of the HDR image is finite (`None`: the graph has no HDR resource, a
+    /// failure).
+    pub finite: Option<bool>,
+    /// GPU memory from wgpu's allocator report (`None`: the back-end has none; not judged).
+    pub gpu_memory: Option<GpuMemory>,
     /// Seconds since the start.
     pub seconds: f64,
+}
+
+impl Check {
+    /// What this check finds wrong, one line each, given the first check (the reference;
+    /// `None` when this is the first) and the allowed resident-set growth. A missing input (no
+    /// registry report, no HDR image) is a failure, never a pass.
+    pub fn failures(&self, first: Option<&Check>, rss_tolerance_mib: f64, hdr_resource: &str) -> Vec<String> {
+        let mut failures = Vec::new();
+        let frame = self.frame;
+        match (self.live, first.map(|f| f.live)) {
+            (None, _) => failures.push(format!(
+                "frame {frame}: live GPU objects not checked: wgpu gave no registry report (Instance::generate_report), so a leak could not be seen"
+            )),
+            (Some(now), Some(Some(then))) if now != then => {
+                failures.push(format!("frame {frame}: live GPU objects changed: {} (first check: {})", now.describe(), then.describe()))
+            }
+            _ => {}
+        }
+        if let Some(first) = first {
+            if self.rss_mib - first.rss_mib > rss_tolerance_mib {
+                failures.push(format!(
+                    "frame {frame}: resident memory grew by {:.1} MiB (from {:.1} to {:.1} MiB; tolerance {rss_tolerance_mib} MiB)",
+                    self.rss_mib - first.rss_mib,
+                    first.rss_mib,
+                    self.rss_mib
+                ));
+            }
+        }
+        match self.finite {
+            None => failures.push(format!("frame {frame}: the finite-image check has no input: the graph has no HDR resource `{hdr_resource}`")),
+            Some(false) => failures.push(format!("frame {frame}: the HDR image `{hdr_resource}` has a non-finite texel")),
+            Some(true) => {}
+        }
+        failures
+    }
+
+    /// The check as one line of the soak's log: frame, seconds, resident set, finite image,
+    /// GPU memory and live objects.
+    pub fn log_line(&self) -> String {
+        let finite = self.finite.map(|f| f.to_string()).unwrap_or_else(|| "no HDR".into());
+        let memory = self.gpu_memory.map(|m| m.describe()).unwrap_or_else(|| "-".into());
+        let live = self.live.map(|l| l.describe()).unwrap_or_else(|| "(no registry report)".into());
+        format!("{:>7} {:>9.1} {:>8.1} {:>7} {:>15}  {live}", self.frame, self.seconds, self.rss_mib, finite, memory)
+    }
+
+    /// The header of `log_line`'s columns.
+    pub fn log_header() -> String {
+        format!("{:>7} {:>9} {:>8} {:>7} {:>15}  live GPU objects", "frame", "seconds", "RSS MiB", "finite", "GPU MiB al/res")
+    }
 }
 
 /// Counts of what happened, and what failed.
@@ -227,7 +316,6 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
 
     let mut current = 0usize;
     let mut exec = Executor::new(gpu, compile(&graphs[0])?, &scene)?;
-    let hdr = |exec: &Executor| exec.plan().resource_by_name("resolve.hdr");
     let mut report = SoakReport::default();
     let c = cfg.cycle;
     let start = std::time::Instant::now();
@@ -278,34 +366,19 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
         exec.render(gpu, &scene.camera, &scene)?;
         report.frames = f + 1;
         if p == c - 1 {
-            let finite = match hdr(&exec) {
-                Some(r) => exec.read_texture_f32(gpu, r)?.2.iter().all(|t| t.iter().all(|x| x.is_finite())),
-                None => true,
+            let finite = match exec.plan().resource_by_name(&cfg.hdr_resource) {
+                Some(r) => Some(exec.read_texture_f32(gpu, r)?.2.iter().all(|t| t.iter().all(|x| x.is_finite()))),
+                None => None,
             };
-            let check = Check { frame: f + 1, rss_mib: rss_mib(), live: LiveObjects::of(gpu), finite, seconds: start.elapsed().as_secs_f64() };
-            if let Some(first) = report.checks.first() {
-                if check.live != first.live {
-                    report.failures.push(format!(
-                        "frame {}: live GPU objects changed: {} (first check: {})",
-                        check.frame,
-                        check.live.map(|l| l.describe()).unwrap_or_default(),
-                        first.live.map(|l| l.describe()).unwrap_or_default()
-                    ));
-                }
-                if check.rss_mib - first.rss_mib > cfg.rss_tolerance_mib {
-                    report.failures.push(format!(
-                        "frame {}: resident memory grew by {:.1} MiB (from {:.1} to {:.1} MiB; tolerance {} MiB)",
-                        check.frame,
-                        check.rss_mib - first.rss_mib,
-                        first.rss_mib,
-                        check.rss_mib,
-                        cfg.rss_tolerance_mib
-                    ));
-                }
-            }
-            if !check.finite {
-                report.failures.push(format!("frame {}: the HDR image has a non-finite texel", check.frame));
-            }
+            let check = Check {
+                frame: f + 1,
+                rss_mib: rss_mib(),
+                live: LiveObjects::of(gpu),
+                finite,
+                gpu_memory: GpuMemory::of(gpu),
+                seconds: start.elapsed().as_secs_f64(),
+            };
+            report.failures.extend(check.failures(report.checks.first(), cfg.rss_tolerance_mib, &cfg.hdr_resource));
             report.checks.push(check.clone());
             on_check(&check, &report);
         }

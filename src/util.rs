@@ -24,6 +24,17 @@ pub fn srgb_to_linear(c: u8) -> f32 {
     }
 }
 
+/// The current time in UTC as `YYYY-MM-DDTHH:MM:SSZ`, from the system's `date` (empty where it
+/// is missing), for the headers of results and logs.
+pub fn utc_timestamp() -> String {
+    std::process::Command::new("date")
+        .args(["-u", "+%Y-%m-%dT%H:%M:%SZ"])
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default()
+}
+
 /// Writes `bytes` to a temporary file beside `path`, syncs it and renames it over `path`: a
 /// reader sees either the old file or the whole new one, and a failed write leaves nothing.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {

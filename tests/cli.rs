@@ -152,3 +152,42 @@ fn render_takes_a_scene_a_camera_preset_and_a_track() {
     assert!(!dir.join("x.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `raygraph selftest` on lavapipe: every suite passes on every back-end and layout it runs on
+/// (lavapipe has them all: none may be not applicable here), and `--out` keeps the same lines with the
+/// adapter, revision and date.
+#[test]
+fn selftest_passes_every_suite_on_every_lavapipe_back_end() {
+    let dir = std::env::temp_dir().join(format!("raygraph-selftest-{}", std::process::id()));
+    let out = raygraph().arg("selftest").arg("--out").arg(&dir).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    for suite in raygraph::selftest::SUITES {
+        for variant in raygraph::selftest::suite_variants(suite) {
+            let line = stdout.lines().find(|l| l.starts_with(&format!("{suite} on {}: ", variant.name)));
+            let line = line.unwrap_or_else(|| panic!("no line for {suite} on {}: {stdout}", variant.name));
+            assert!(line.ends_with(" s)") && line.contains(": passed ("), "{line}");
+        }
+    }
+    let expected: usize = raygraph::selftest::SUITES.iter().map(|s| raygraph::selftest::suite_variants(s).count()).sum();
+    assert!(stdout.contains(&format!("ok: {expected} passed, 0 failed, 0 not applicable")), "{stdout}");
+    let log = std::fs::read_to_string(dir.join("selftest.log")).unwrap();
+    assert!(log.starts_with("adapter: ") && log.contains("\nrevision: ") && log.contains("\ndate: 20"), "{log}");
+    assert_eq!(log.lines().filter(|l| l.contains(": passed (")).count(), expected, "{log}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The verdict counts not-applicable lines apart from passed ones: a run where only those
+/// remain (every back-end lacking) fails, as does any failure.
+#[test]
+fn selftest_verdict_never_counts_not_applicable_as_passed() {
+    use raygraph::selftest::{verdict, Outcome, SuiteResult, VARIANTS};
+    let line = |outcome: Outcome| SuiteResult { suite: "hard-cases", variant: VARIANTS[2], outcome, notes: Vec::new(), checks: 13, seconds: 1.0 };
+    let not_applicable = line(Outcome::NotApplicable("the adapter has no ray queries (VK_KHR_ray_query)".into()));
+    assert_eq!(not_applicable.line(), "hard-cases on ray-query: not applicable: the adapter has no ray queries (VK_KHR_ray_query)");
+    assert_eq!(verdict(std::slice::from_ref(&not_applicable)), "selftest failed: 0 passed, 0 failed, 1 not applicable");
+    assert_eq!(verdict(&[line(Outcome::Passed), not_applicable]), "ok: 1 passed, 0 failed, 1 not applicable");
+    let failed = line(Outcome::Failed("grazing rays: a ray missed".into()));
+    assert_eq!(failed.line(), "hard-cases on ray-query: FAILED: grazing rays: a ray missed");
+    assert_eq!(verdict(&[line(Outcome::Passed), failed]), "selftest failed: 1 passed, 1 failed, 0 not applicable");
+}

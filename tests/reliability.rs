@@ -60,10 +60,15 @@ fn out_of_gpu_memory_ends_the_run_with_a_message_naming_the_resource_and_no_outp
     assert!(!out_png.exists(), "nothing may be written after running out of memory");
 }
 
-/// The shortened soak: 3 cycles of 100 frames with every kind of change.
-#[test]
-fn the_short_soak_keeps_memory_and_gpu_objects_flat() {
-    let out = raygraph().args(["soak", "--frames", "300", "--cycle", "100", "--width", "32", "--height", "32"]).output().unwrap();
+/// The shortened soak on `backend`: 3 cycles of 100 frames at 32x32 with every kind of change,
+/// its per-check lines kept with `--log`.
+fn short_soak(backend: &str) {
+    let log = temp_png(&format!("soak-{backend}.log"));
+    let out = raygraph()
+        .args(["soak", "--frames", "300", "--cycle", "100", "--width", "32", "--height", "32", "--backend", backend, "--log"])
+        .arg(&log)
+        .output()
+        .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     println!("{stdout}");
@@ -73,7 +78,63 @@ fn the_short_soak_keeps_memory_and_gpu_objects_flat() {
         "{stdout}"
     );
     assert!(stdout.contains("resolve.wgsl:") && stdout.contains("WGSL does not parse"), "the shader error names the file and line: {stdout}");
-    assert!(stdout.contains("ok: memory and live GPU objects flat over 3 checks"), "{stdout}");
+    assert!(stdout.contains("ok: memory and live GPU objects flat, image finite, over 3 checks"), "{stdout}");
+    let logged = std::fs::read_to_string(&log).unwrap();
+    assert!(logged.contains(&format!("back-end: {backend}")) && logged.contains("GPU MiB al/res"), "{logged}");
+    let checks: Vec<&str> = logged.lines().filter(|l| l.trim_start().starts_with(['1', '2', '3']) && l.contains("buffers")).collect();
+    assert_eq!(checks.len(), 3, "one log line per check: {logged}");
+    assert!(logged.ends_with("over 3 checks\n"), "the verdict ends the log: {logged}");
+}
+
+#[test]
+fn the_short_soak_on_compute_keeps_memory_and_gpu_objects_flat() {
+    short_soak("compute");
+}
+
+#[test]
+fn the_short_soak_on_ray_query_keeps_memory_and_gpu_objects_flat() {
+    short_soak("ray-query");
+}
+
+#[test]
+fn the_short_soak_on_rt_pipeline_keeps_memory_and_gpu_objects_flat() {
+    short_soak("rt-pipeline");
+}
+
+/// A soak whose graph has no HDR resource fails the finite-image check (it has nothing to
+/// check) instead of passing it.
+#[test]
+fn a_soak_without_an_hdr_target_fails_its_finite_image_check() {
+    let gpu = common::gpu();
+    let mut cfg = raygraph::soak::SoakConfig::new(&common::repo(), 32, 16, (16, 16));
+    cfg.graphs = [Path::new("graph/raster.ron").into(), Path::new("graph/raster.ron").into()];
+    cfg.broken_shader = Path::new("tonemap/tonemap.wgsl").into();
+    let report = raygraph::soak::run(&gpu, &cfg, |_, _| {}).unwrap();
+    println!("{:#?}", report.failures);
+    assert_eq!(report.checks.len(), 2);
+    assert!(report.checks.iter().all(|c| c.finite.is_none()));
+    let missing = report.failures.iter().filter(|f| f.contains("the finite-image check has no input: the graph has no HDR resource `resolve.hdr`")).count();
+    assert_eq!(missing, 2, "every check fails for the missing HDR image: {:#?}", report.failures);
+}
+
+/// A check made without wgpu's registry report fails the live-object check, and one without an
+/// HDR image fails the finite-image check; with both inputs and nothing changed it passes.
+#[test]
+fn a_soak_check_without_its_inputs_fails() {
+    use raygraph::soak::Check;
+    let first = Check { frame: 100, rss_mib: 100.0, live: None, finite: Some(true), gpu_memory: None, seconds: 1.0 };
+    let failures = first.failures(None, 32.0, "resolve.hdr");
+    assert_eq!(failures.len(), 1, "{failures:?}");
+    assert!(failures[0].contains("live GPU objects not checked: wgpu gave no registry report"), "{failures:?}");
+    let no_hdr = Check { finite: None, ..first.clone() };
+    let failures = no_hdr.failures(Some(&first), 32.0, "resolve.hdr");
+    assert!(failures.iter().any(|f| f.contains("the graph has no HDR resource `resolve.hdr`")), "{failures:?}");
+    let gpu = common::gpu();
+    let live = raygraph::soak::LiveObjects::of(&gpu).expect("wgpu-core has a registry report on Vulkan");
+    let good = Check { live: Some(live), ..first.clone() };
+    assert_eq!(good.failures(Some(&good), 32.0, "resolve.hdr"), Vec::<String>::new());
+    let non_finite = Check { finite: Some(false), ..good.clone() };
+    assert_eq!(non_finite.failures(Some(&good), 32.0, "resolve.hdr").len(), 1);
 }
 
 fn files(dir: &Path) -> Vec<std::path::PathBuf> {

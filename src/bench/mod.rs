@@ -35,12 +35,7 @@ impl RunInfo {
     /// The header of a run of `command` on `gpu` at `size`.
     pub fn new(command: &str, gpu: &crate::runtime::Gpu, size: (u32, u32)) -> Self {
         let revision = env!("RAYGRAPH_REVISION").to_string();
-        let date = std::process::Command::new("date")
-            .args(["-u", "+%Y-%m-%dT%H:%M:%SZ"])
-            .output()
-            .ok()
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-            .unwrap_or_default();
+        let date = crate::util::utc_timestamp();
         RunInfo { command: command.to_string(), adapter: gpu.describe(), width: size.0, height: size.1, revision, date }
     }
 
