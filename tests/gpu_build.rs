@@ -7,8 +7,10 @@
 
 use glam::Vec3;
 use raygraph::accel::bvh::{Blas, BuildConfig, MAX_TREE_DEPTH};
+use raygraph::accel::cache::mesh_hash;
 use raygraph::accel::cpu_traverse::{CpuTraverser, Ray};
 use raygraph::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlas, GpuBlasBuilder};
+use raygraph::accel::gpu_records::GpuRecordMaker;
 use raygraph::accel::layout::{merge, merge_instances, GpuAccel, GpuBvhNode, GpuTriangle};
 use raygraph::runtime::Gpu;
 use raygraph::scene::load::builtin;
@@ -212,4 +214,89 @@ fn an_organic_mesh_and_a_box_build_on_the_gpu() {
     let origin: Vec<_> = (0..4).map(|p| raygraph::accel::layout::TriangleOrigin { instance: 0, prim: p, mirrored: false, alpha: false }).collect();
     let input = merged_triangles(&mesh, &origin);
     assert_eq!(input.len(), 1, "NaN, degenerate and out-of-range triangles are left out");
+}
+
+/// The scene the record tests use: the organic mesh under several transforms (mirrored,
+/// scaled, rotated, one singular and left out) and a small mesh with a NaN vertex, a
+/// degenerate triangle and an out-of-range index.
+fn record_test_scene() -> Scene {
+    use glam::{Mat4, Quat};
+    let mut scene = builtin("organic", 0).unwrap();
+    let base = scene.instances[0].clone();
+    let mut odd = Mesh::default();
+    for p in [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [f32::NAN, 0.0, 0.0], [0.3, 0.7, 1.1]] {
+        odd.vertices.push(Vertex { position: p, ..Default::default() });
+    }
+    odd.indices = vec![0, 1, 2, 0, 1, 3, 0, 0, 1, 0, 1, 9, 1, 2, 4, 2, 2, 2];
+    scene.meshes.push(odd);
+    let odd_mesh = scene.meshes.len() - 1;
+    let transforms = [
+        Mat4::from_scale_rotation_translation(Vec3::new(-1.0, 1.0, 1.0), Quat::from_rotation_y(0.7), Vec3::new(123.456, -7.25, 0.1)),
+        Mat4::from_scale_rotation_translation(Vec3::new(0.37, 2.9, 1.3), Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.2), Vec3::new(-3.3, 1e3, 17.0)),
+        Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0)),
+        Mat4::from_scale_rotation_translation(Vec3::splat(1e-3), Quat::from_rotation_z(0.1), Vec3::new(0.5, 0.5, 0.5)),
+    ];
+    for (k, t) in transforms.into_iter().enumerate() {
+        scene.instances.push(raygraph::scene::Instance { transform: t, ..base.clone() });
+        scene.instances.push(raygraph::scene::Instance { mesh: odd_mesh, transform: t * Mat4::from_translation(Vec3::splat(k as f32)), ..base.clone() });
+    }
+    scene
+}
+
+/// The GPU-made records of `scene` against [`merged_triangles`] of the CPU's merged mesh:
+/// same triangles in the same order with the same scene instance, primitive and flags, and
+/// the same object-space vertices. The world positions agree within 4 f32 epsilons of the
+/// sum of the transform's term magnitudes (|m0 x| + |m1 y| + |m2 z| + |t|): the CPU rounds its
+/// f64 result once; the kernel carries the sum in two f32s, which lavapipe's compiler reduces
+/// to plain f32 arithmetic (four roundings: 1-ulp differences where the terms cancel).
+fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what: &str) -> usize {
+    let hashes: Vec<u64> = scene.meshes.iter().map(mesh_hash).collect();
+    let made = maker.make(&gpu.device, &gpu.queue, scene, &hashes, u32::MAX).unwrap().expect("records");
+    let (merged, origin) = merge_instances(scene);
+    let expected = merged_triangles(&merged, &origin);
+    assert_eq!(made.count as usize, expected.len(), "{what}: record count");
+    let bytes = read_bytes(&gpu.device, &gpu.queue, &made.records, 0, 48 * made.count as u64).unwrap();
+    let records: &[GpuTriangle] = bytemuck::cast_slice(&bytes);
+    let mut identical = 0;
+    for (k, (got, want)) in records.iter().zip(&expected).enumerate() {
+        assert_eq!((got.instance, got.prim, got.flags), (want.instance, want.prim, want.flags), "{what}: record {k}");
+        let inst = &scene.instances[want.instance as usize];
+        let rows = raygraph::accel::layout::affine_rows(&raygraph::accel::bvh::instance_transform(&inst.transform).unwrap());
+        let object = raygraph::accel::bvh::mesh_triangle(&scene.meshes[inst.mesh], want.prim as usize).unwrap();
+        for (c, (g, w)) in [got.v0, got.v1, got.v2].iter().zip([want.v0, want.v1, want.v2]).enumerate() {
+            for r in 0..3 {
+                let terms = (0..3).map(|j| (rows[r][j] * object[c][j]).abs()).sum::<f32>() + rows[r][3].abs();
+                let bound = 4.0 * f32::EPSILON * terms;
+                assert!((g[r] - w[r]).abs() <= bound, "{what}: record {k}, vertex {c}: {g:?} against {w:?} (bound {bound})");
+            }
+            identical += (g.map(f32::to_bits) == w.map(f32::to_bits)) as usize;
+        }
+    }
+    println!("{what}: {identical} of {} world vertices bit-identical to the CPU's", 3 * records.len());
+    let object = read_bytes(&gpu.device, &gpu.queue, &made.object_vertices, 0, 48 * made.count as u64).unwrap();
+    let object: &[[f32; 4]] = bytemuck::cast_slice(&object);
+    for (k, want) in expected.iter().enumerate() {
+        let mesh = &scene.meshes[scene.instances[want.instance as usize].mesh];
+        let verts = raygraph::accel::bvh::mesh_triangle(mesh, want.prim as usize).unwrap();
+        assert_eq!(&object[3 * k..3 * k + 3], &verts.map(|v| v.extend(0.0).to_array()), "{what}: record {k}'s object-space vertices");
+    }
+    made.bytes_uploaded as usize
+}
+
+#[test]
+fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
+    let gpu = gpu();
+    let mut maker = GpuRecordMaker::new(&gpu.device);
+    let mut scene = record_test_scene();
+    let first = check_gpu_records(&gpu, &mut maker, &scene, "first");
+    // One vertex of the small mesh moved: only that mesh is written again.
+    let odd = scene.meshes.len() - 1;
+    scene.meshes[odd].vertices[4].position[2] = 0.0;
+    let edit = check_gpu_records(&gpu, &mut maker, &scene, "after an edit");
+    // 80 bytes per usable instance: the two under the singular transform are left out.
+    let instance_bytes = 80 * (scene.instances.len() - 2);
+    assert_eq!(edit, instance_bytes + 5 * 16 + 18 * 4, "an edit uploads the instances and the edited mesh (first build: {first} bytes)");
+    // A triangle added to the small mesh: the meshes are laid out again.
+    scene.meshes[odd].indices.extend([0, 2, 4]);
+    check_gpu_records(&gpu, &mut maker, &scene, "after a new triangle");
 }

@@ -19,8 +19,9 @@
 //! back-ends' opaque geometry flag).
 
 use super::bvh::{instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas};
-use super::gpu_build::{merged_triangles, GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
-use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel, GpuTriangle, TriangleOrigin};
+use super::gpu_build::{GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
+use super::gpu_records::{GpuRecordMaker, GpuRecords};
+use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel};
 use super::refit::{MergedRefit, Refit, TreeRefit, TreeRefitPipelines};
 use crate::backend::Backend;
 use crate::error::RuntimeError;
@@ -236,6 +237,8 @@ pub struct AccelCache {
     /// Who builds the merged layout's BLAS on a rebuild, and the GPU builder once made.
     merged_builder: MergedBuilder,
     gpu_builder: Option<GpuBlasBuilder>,
+    /// The GPU builder's record maker (and the meshes it keeps on the GPU), once made.
+    record_maker: Option<GpuRecordMaker>,
     /// The refit pipelines of GPU-built merged trees, once made.
     tree_refit: Option<TreeRefitPipelines>,
     /// The rt-pipeline back-end's build command buffer, until taken ([`AccelCache::take_pending`]).
@@ -288,6 +291,7 @@ impl AccelCache {
             total_blas_builds: 0,
             merged_builder: MergedBuilder::Cpu,
             gpu_builder: None,
+            record_maker: None,
             tree_refit: None,
             pending: None,
             alpha: storage(device, "accel alpha", 16),
@@ -413,7 +417,7 @@ impl AccelCache {
         report.blas_reused = units.len() - built;
         self.total_blas_builds += built;
         match self.backend {
-            Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, meshes_hash, refit, &mut report)?,
+            Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, (&mesh_hashes, meshes_hash), refit, &mut report)?,
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &tested_meshes, &mut report)?,
             Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
@@ -540,7 +544,7 @@ impl AccelCache {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         scene: &Scene,
-        meshes_hash: u64,
+        (mesh_hashes, meshes_hash): (&[u64], u64),
         refit: bool,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
@@ -559,16 +563,16 @@ impl AccelCache {
             return Ok(());
         }
         let t0 = Instant::now();
-        let (mesh, origin) = merge_instances(scene);
         report.tlas = TlasWork::Rebuild;
         let first_build = old.is_none();
-        if let Some((built, input)) = self.build_merged_on_gpu(device, queue, &mesh, &origin, first_build) {
+        if let Some((built, records)) = self.build_merged_on_gpu(device, queue, scene, mesh_hashes, first_build) {
             report.blas_gpu_built = true;
             report.blas_gpu_ms = built.gpu_ms;
             report.blas_sah = Some(built.sah_cost);
             report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
-            return self.install_gpu_built(device, queue, encoder, scene, old, (built, input), meshes_hash, report);
+            return self.install_gpu_built(device, queue, encoder, scene, old, (built, records), meshes_hash, report);
         }
+        let (mesh, origin) = merge_instances(scene);
         let blas = Blas::build(&mesh, &AccelOptions::default().build);
         report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
         let flat = merge(&mesh, &origin, blas);
@@ -580,7 +584,7 @@ impl AccelCache {
         Ok(())
     }
 
-    /// Makes the GPU-built merged tree `built` (from the records `input`) the current state
+    /// Makes the GPU-built merged tree `built` (from the records `records`) the current state
     /// without reading it back: the traversal binds the builder's node and triangle buffers
     /// (a new generation), the one TLAS node and instance are written from the CPU and the
     /// root's box copied into that node on the GPU (recorded into `encoder`), and the refit
@@ -593,7 +597,7 @@ impl AccelCache {
         encoder: &mut wgpu::CommandEncoder,
         scene: &Scene,
         old: Option<ComputeState>,
-        (built, input): (GpuBlas, Vec<GpuTriangle>),
+        (built, records): (GpuBlas, GpuRecords),
         meshes_hash: u64,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
@@ -608,7 +612,7 @@ impl AccelCache {
         let [tlas_nodes, instances, blas_nodes, triangles] = &mut buffers;
         report.bytes_uploaded = self.write_array(device, queue, tlas_nodes, bytemuck::cast_slice(&top.tlas_nodes))
             + self.write_array(device, queue, instances, bytemuck::cast_slice(&top.instances))
-            + std::mem::size_of_val(input.as_slice()) as u64;
+            + records.bytes_uploaded;
         *blas_nodes = built.nodes.clone();
         *triangles = built.triangles.clone();
         self.generation += 1;
@@ -616,30 +620,27 @@ impl AccelCache {
         encoder.copy_buffer_to_buffer(&buffers[2], 0, &buffers[0], 0, 12);
         encoder.copy_buffer_to_buffer(&buffers[2], 16, &buffers[0], 16, 12);
         let pipelines = self.tree_refit.get_or_insert_with(|| TreeRefitPipelines::new(device));
-        let refit = TreeRefit::new(pipelines, scene, &built, input, &buffers[0]);
+        let refit = TreeRefit::new(pipelines, scene, &built, &records.object_vertices, &buffers[0]);
         self.state = State::Compute(ComputeState { accel: None, buffers, refit: Some((Refit::Tree(refit), meshes_hash)) });
         Ok(())
     }
 
-    /// The merged layout built by the GPU builder (left on the GPU) and its input records, when
-    /// [`MergedBuilder::Gpu`] applies; `None` to build on the CPU (too few triangles, or a GPU
-    /// build that failed, which is logged).
+    /// The merged layout built by the GPU builder (left on the GPU) from input records made on
+    /// the GPU ([`GpuRecordMaker`]: no CPU work per triangle; `mesh_hashes` say which meshes
+    /// to upload again), when [`MergedBuilder::Gpu`] applies; `None` to build on the CPU (too
+    /// few or too many triangles, or a GPU build that failed, which is logged).
     fn build_merged_on_gpu(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        mesh: &Mesh,
-        origin: &[TriangleOrigin],
+        scene: &Scene,
+        mesh_hashes: &[u64],
         first_build: bool,
-    ) -> Option<(GpuBlas, Vec<GpuTriangle>)> {
+    ) -> Option<(GpuBlas, GpuRecords)> {
         match self.merged_builder {
             MergedBuilder::Cpu => return None,
             MergedBuilder::GpuRebuilds if first_build => return None,
             _ => {}
-        }
-        let tris = merged_triangles(mesh, origin);
-        if tris.len() < GPU_BUILD_MIN_TRIANGLES || tris.len() > MAX_GPU_BUILD_TRIANGLES {
-            return None;
         }
         if self.gpu_builder.is_none() {
             match GpuBlasBuilder::new(device) {
@@ -651,9 +652,20 @@ impl AccelCache {
                 }
             }
         }
+        let max_binding = device.limits().max_storage_buffer_binding_size / 48;
+        let max_slots = (MAX_GPU_BUILD_TRIANGLES as u64).min(max_binding) as u32;
+        let maker = self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
+        let records = match maker.make(device, queue, scene, mesh_hashes, max_slots) {
+            Ok(Some(r)) if (r.count as usize) >= GPU_BUILD_MIN_TRIANGLES => r,
+            Ok(_) => return None,
+            Err(e) => {
+                log::warn!("accel: the GPU records of the merged layout failed ({e}); building it on the CPU");
+                return None;
+            }
+        };
         let builder = self.gpu_builder.as_ref()?;
-        match builder.build(device, queue, &tris) {
-            Ok(built) => Some((built, tris)),
+        match builder.build_records(device, queue, &records.records, records.count as usize) {
+            Ok(built) => Some((built, records)),
             Err(e) => {
                 log::warn!("accel: the GPU build of the merged layout failed ({e}); building it on the CPU");
                 None

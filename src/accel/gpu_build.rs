@@ -230,9 +230,32 @@ impl GpuBlasBuilder {
 
     /// Builds a BLAS over `tris` (every one usable: see [`merged_triangles`]) and waits for it.
     pub fn build(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris: &[GpuTriangle]) -> Result<GpuBlas, GpuBuildError> {
+        if tris.is_empty() || tris.len() > MAX_GPU_BUILD_TRIANGLES {
+            return Err(GpuBuildError::Size(tris.len()));
+        }
+        Self::scoped(device, || {
+            let contents = bytemuck::cast_slice(tris);
+            let tris_in = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("gpu build triangles in"),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            self.build_unscoped(device, queue, &tris_in, tris.len())
+        })
+    }
+
+    /// Builds a BLAS over the first `count` records of `records` (a storage buffer of
+    /// [`GpuTriangle`]s, every one usable: [`crate::accel::gpu_records`] makes them on the
+    /// GPU) and waits for it.
+    pub fn build_records(&self, device: &wgpu::Device, queue: &wgpu::Queue, records: &wgpu::Buffer, count: usize) -> Result<GpuBlas, GpuBuildError> {
+        Self::scoped(device, || self.build_unscoped(device, queue, records, count))
+    }
+
+    /// `build` within error scopes: a device error is the build's error.
+    fn scoped(device: &wgpu::Device, build: impl FnOnce() -> Result<GpuBlas, GpuBuildError>) -> Result<GpuBlas, GpuBuildError> {
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let result = self.build_unscoped(device, queue, tris);
+        let result = build();
         let validation = pollster::block_on(validation.pop());
         if let Some(e) = pollster::block_on(oom.pop()).or(validation) {
             return Err(GpuBuildError::Device(e.to_string()));
@@ -240,8 +263,7 @@ impl GpuBlasBuilder {
         result
     }
 
-    fn build_unscoped(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris: &[GpuTriangle]) -> Result<GpuBlas, GpuBuildError> {
-        let n = tris.len();
+    fn build_unscoped(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris_in: &wgpu::Buffer, n: usize) -> Result<GpuBlas, GpuBuildError> {
         if n == 0 || n > MAX_GPU_BUILD_TRIANGLES {
             return Err(GpuBuildError::Size(n));
         }
@@ -291,7 +313,6 @@ impl GpuBlasBuilder {
         state[6] = n32;
         let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC);
         let (gx, gy) = groups_for(n as u64);
-        let tris_in = init("gpu build triangles in", bytemuck::cast_slice(tris), storage);
         let out_usage = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         let out_nodes = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("BLAS nodes (GPU-built)"),
@@ -341,7 +362,7 @@ impl GpuBlasBuilder {
                         binding: 0,
                         resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &params, offset: 0, size: wgpu::BufferSize::new(32) }),
                     },
-                    b(1, &tris_in),
+                    b(1, tris_in),
                     b(2, keys),
                     b(3, vals),
                     b(4, &state),

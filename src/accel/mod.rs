@@ -30,6 +30,7 @@ pub mod bvh;
 pub mod cache;
 pub mod cpu_traverse;
 pub mod gpu_build;
+pub mod gpu_records;
 pub mod layout;
 pub mod reference;
 pub mod reference_render;

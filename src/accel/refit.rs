@@ -12,10 +12,9 @@
 
 use super::bvh::instance_transform;
 use super::gpu_build::GpuBlas;
-use super::layout::{affine_rows, GpuAccel, GpuBvhNode, GpuTriangle, NO_PRIM};
+use super::layout::{affine_rows, GpuAccel, GpuBvhNode, NO_PRIM};
 use crate::gpu_util::compute_pipeline;
 use crate::scene::Scene;
-use rayon::prelude::*;
 use wgpu::util::DeviceExt;
 
 /// The refit kernel (part of the back-end, not of any graph).
@@ -333,64 +332,58 @@ const TREE_BINDINGS: [(u32, bool); 8] = [(1, false), (2, false), (3, true), (4, 
 
 /// The refit of a merged tree built on the GPU: its arrays stay where the builder wrote them
 /// and the traversal binds them; the refit needs the builder's parents and leaf order, and the
-/// input records (scene instance and primitive per input triangle) to find the object-space
-/// vertices, which it uploads at its first refit (a tree that never moves costs none).
+/// object-space vertices of the builder's input records (made beside them on the GPU,
+/// [`crate::accel::gpu_records`]), bound at its first refit.
 pub struct TreeRefit {
     pipelines: TreeRefitPipelines,
-    /// nodes, triangles, parents, leaf order (the builder's) and TLAS nodes (the cache's).
-    arrays: [wgpu::Buffer; 5],
+    /// nodes, triangles, parents, leaf order (the builder's), TLAS nodes (the cache's) and the
+    /// object-space vertices in input order.
+    arrays: [wgpu::Buffer; 6],
     node_count: u32,
     depth: u32,
-    input: Vec<GpuTriangle>,
     usable: Vec<bool>,
     /// The bind group and transforms buffer, made at the first refit.
     bound: Option<(wgpu::BindGroup, wgpu::Buffer)>,
 }
 
 impl TreeRefit {
-    /// The refit of `built` (built from `input`, the merged layout of `scene`), whose root the
-    /// refit also writes into `tlas_nodes`.
-    pub fn new(pipelines: &TreeRefitPipelines, scene: &Scene, built: &GpuBlas, input: Vec<GpuTriangle>, tlas_nodes: &wgpu::Buffer) -> Self {
+    /// The refit of `built` (the merged layout of `scene`, built from records whose three
+    /// object-space vertices each are `object_vertices`, as `vec4<f32>`), whose root the refit
+    /// also writes into `tlas_nodes`.
+    pub fn new(pipelines: &TreeRefitPipelines, scene: &Scene, built: &GpuBlas, object_vertices: &wgpu::Buffer, tlas_nodes: &wgpu::Buffer) -> Self {
         Self {
             pipelines: pipelines.clone(),
-            arrays: [built.nodes.clone(), built.triangles.clone(), built.parents.clone(), built.leaf_order.clone(), tlas_nodes.clone()],
+            arrays: [
+                built.nodes.clone(),
+                built.triangles.clone(),
+                built.parents.clone(),
+                built.leaf_order.clone(),
+                tlas_nodes.clone(),
+                object_vertices.clone(),
+            ],
             node_count: built.node_count,
             depth: built.depth,
-            input,
             usable: usable_instances(scene),
             bound: None,
         }
     }
 
-    /// The bind group, with the object-space vertices of `scene`'s meshes in input order.
+    /// The bind group and the transforms buffer it binds.
     fn bind(&self, device: &wgpu::Device, scene: &Scene) -> (wgpu::BindGroup, wgpu::Buffer) {
-        let object: Vec<[f32; 4]> = self
-            .input
-            .par_iter()
-            .flat_map_iter(|t| {
-                let verts = scene
-                    .instances
-                    .get(t.instance as usize)
-                    .and_then(|i| scene.meshes.get(i.mesh))
-                    .and_then(|m| super::bvh::mesh_triangle(m, t.prim as usize))
-                    .unwrap_or([glam::Vec3::ZERO; 3]);
-                verts.map(|v| v.extend(0.0).to_array())
-            })
-            .collect();
-        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
-        };
         let storage = wgpu::BufferUsages::STORAGE;
-        let object_vertices = init("refit object vertices", bytemuck::cast_slice(&object), storage);
-        let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
+        let transforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("refit transforms"),
+            contents: &vec![0u8; 48 * scene.instances.len().max(1)],
+            usage: storage | wgpu::BufferUsages::COPY_DST,
+        });
         let box_keys = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("refit box keys"),
             size: 24 * self.node_count as u64,
             usage: storage,
             mapped_at_creation: false,
         });
-        let [nodes, triangles, parents, leaf_order, tlas_nodes] = &self.arrays;
-        let resources = [nodes, triangles, &object_vertices, &transforms, tlas_nodes, parents, leaf_order, &box_keys];
+        let [nodes, triangles, parents, leaf_order, tlas_nodes, object_vertices] = &self.arrays;
+        let resources = [nodes, triangles, object_vertices, &transforms, tlas_nodes, parents, leaf_order, &box_keys];
         let entries: Vec<_> =
             TREE_BINDINGS.iter().zip(resources).map(|(&(binding, _), b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("tree refit"), layout: &self.pipelines.layout, entries: &entries });
