@@ -326,22 +326,36 @@ impl ChannelScene {
         let (shadow, ao) = (read(gpu, &exec, "shadow.shadow")?, read(gpu, &exec, "ao.ao")?);
         let mirror_exec = render(target, &graphs.1, scene)?;
         let mirror = read(gpu, &mirror_exec, "mirror.ids")?;
-        ensure!(read(gpu, &mirror_exec, "gbuffer.position")? == pos, "{variant}: both graphs make the same G-buffer");
+        // The mirror graph's own G-buffer is checked against the reference too, and its mirror
+        // rays start from it: a driver that builds its acceleration structure anew for each
+        // executor may report the other triangle at a shared edge (NVIDIA's, on the H100),
+        // which the reference's margin covers; on lavapipe the two G-buffers are identical.
+        let (mirror_pos, mirror_normal, mirror_geo) =
+            (read(gpu, &mirror_exec, "gbuffer.position")?, read(gpu, &mirror_exec, "gbuffer.normal")?, read(gpu, &mirror_exec, "gbuffer.geo_normal")?);
         let (primary, worst_normal) = self.primary(&pos, &geo);
+        let (mirror_primary, mirror_worst_normal) = self.primary(&mirror_pos, &mirror_geo);
         // Shadow, AO and the mirror ray from the GPU's G-buffer.
-        let surfaces: Vec<Option<SurfacePoint>> = (0..pos.len())
-            .map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]) }))
-            .collect();
+        let (surfaces, mirror_surfaces) = (surface_points(&pos, &geo, &normal), surface_points(&mirror_pos, &mirror_geo, &mirror_normal));
         let (sun, point) = self.shadows(&surfaces, &shadow)?;
         let (ao_rays, ao_mean, ao_pixels) = self.ao(&surfaces, &ao);
-        let mirrored = self.mirror(&surfaces, &mirror);
+        let mirrored = self.mirror(&mirror_surfaces, &mirror);
         let name = &scene.name;
+        let regathered = (0..pos.len()).filter(|&i| pos[i] != mirror_pos[i]).count();
+        notes.push(format!("{name:8} {variant:20} the mirror graph's G-buffer: {regathered} of {} pixels differ from the first graph's", pos.len()));
         let in_shadow = (0..pos.len()).filter(|&i| pos[i][3] != 0.0 && shadow[i][0] == 0.0).count();
         let occluded: f64 = (0..pos.len()).filter(|&i| pos[i][3] != 0.0).map(|i| 1.0 - ao[i][0] as f64).sum::<f64>() * AO_RAYS as f64;
         let mirror_hits = mirror.iter().filter(|m| m[3] != 0.0 && m[0] >= 0.0).count();
         notes.push(format!("{name:8} {variant:20} {in_shadow} pixels in the sun's shadow, {occluded:.0} AO rays occluded, {mirror_hits} mirror rays hit"));
         ensure!(in_shadow > 50 && occluded > 500.0 && mirror_hits > 50, "{name}: the view holds shadows, occlusion and reflected geometry");
-        for (channel, t) in [("primary", &primary), ("sun shadow", &sun), ("point shadow", &point), ("AO rays", &ao_rays), ("mirror", &mirrored)] {
+        let channels = [
+            ("primary", &primary),
+            ("primary (2)", &mirror_primary),
+            ("sun shadow", &sun),
+            ("point shadow", &point),
+            ("AO rays", &ao_rays),
+            ("mirror", &mirrored),
+        ];
+        for (channel, t) in channels {
             notes.push(format!(
                 "{name:8} {variant:20} {channel:12}: {:6} compared, {:3} differ within the margin (largest {:.1e}), {} outside",
                 t.compared, t.excused, t.largest_excused, t.wrong
@@ -353,7 +367,13 @@ impl ChannelScene {
             "{name:8} {variant:20} AO: mean |V - V_ref| {ao_mean:.2e} over {ao_pixels} pixels; geometric normals within {worst_normal:.1e} (1 - cos)"
         ));
         ensure!(ao_pixels > 1000 && ao_mean <= 1e-3, "{name}, {variant}: AO mean difference {ao_mean}");
+        let worst_normal = worst_normal.max(mirror_worst_normal);
         ensure!(worst_normal <= 2e-3, "{name}, {variant}: geometric normal 1 - cos {worst_normal}");
         Ok(())
     }
+}
+
+/// The surface points of a G-buffer's pixels (`None` where it shows no geometry).
+fn surface_points(pos: &[[f32; 4]], geo: &[[f32; 4]], normal: &[[f32; 4]]) -> Vec<Option<SurfacePoint>> {
+    (0..pos.len()).map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]) })).collect()
 }
