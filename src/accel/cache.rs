@@ -87,6 +87,8 @@ pub struct BuildReport {
     pub tlas: TlasWork,
     /// CPU time of the update (hashing, CPU builds, flattening, recording), milliseconds.
     pub cpu_ms: f64,
+    /// CPU milliseconds of the change detection: the content hash of every mesh and instance.
+    pub hash_ms: f64,
     /// Bytes uploaded to GPU buffers this update (compute back-end).
     pub bytes_uploaded: u64,
     /// BLAS count in use.
@@ -397,7 +399,7 @@ impl AccelCache {
         let instances_changed = fresh || instances != self.instances;
         let same_instance_set =
             !fresh && self.instances.len() == instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
-        let mut report = BuildReport { blas_count: units.len(), ..Default::default() };
+        let mut report = BuildReport { blas_count: units.len(), hash_ms: start.elapsed().as_secs_f64() * 1e3, ..Default::default() };
         if changed.is_empty() && !instances_changed {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
             return Ok(report);

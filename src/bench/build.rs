@@ -379,6 +379,11 @@ pub struct GpuBuildRow {
     /// the wait for the GPU. `None` where the cache builds the scene on the CPU (fewer than
     /// [`crate::accel::cache::GPU_BUILD_MIN_TRIANGLES`] triangles).
     pub cache_rebuild_ms: Option<f64>,
+    /// Of that rebuild (medians): the change detection (`BuildReport::hash_ms`, which also
+    /// counts the alpha flags' update before it), the whole `update` call
+    /// (`BuildReport::cpu_ms`, the build's own waits for its few words included), and the
+    /// time until the built arrays were in place (`BuildReport::blas_ms`), milliseconds.
+    pub cache_rebuild_parts: Option<[f64; 3]>,
     /// SAH cost of the GPU-built tree.
     pub(crate) gpu_sah: f64,
     /// SAH cost of the CPU-built tree.
@@ -424,6 +429,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).map_err(fail)?;
         let nodes: &[GpuBvhNode] = bytemuck::cast_slice(&nodes);
         let min = times.iter().copied().fold(f64::INFINITY, f64::min);
+        let rebuild = cache_rebuild_ms(gpu, &scene, builds.max(1))?;
         rows.push(GpuBuildRow {
             scene: name.clone(),
             triangles: input.len(),
@@ -433,7 +439,8 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
             depth: b.depth,
             cpu_ms: median(&mut cpu_ms),
             wall_ms: median(&mut walls),
-            cache_rebuild_ms: cache_rebuild_ms(gpu, &scene, builds.max(1))?,
+            cache_rebuild_ms: rebuild.map(|r| r.0),
+            cache_rebuild_parts: rebuild.map(|r| r.1),
             gpu_sah: layout_sah_cost(nodes),
             cpu_sah: layout_sah_cost(&cpu.blas_nodes),
         });
@@ -446,12 +453,12 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
 /// the pipelines; `None` if the cache builds it on the CPU.
 ///
 /// [`AccelCache`]: crate::accel::cache::AccelCache
-fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<f64>, RuntimeError> {
+fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64, [f64; 3])>, RuntimeError> {
     use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
     let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::Gpu);
     let mut scene = scene.clone();
-    let mut walls = Vec::new();
+    let (mut walls, mut parts) = (Vec::new(), [Vec::new(), Vec::new(), Vec::new()]);
     for k in 0..=builds {
         // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
         if let Some(v) = scene.meshes.iter_mut().find_map(|m| m.vertices.first_mut()) {
@@ -467,23 +474,27 @@ fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<f64>
         }
         if k > 0 {
             walls.push(t.elapsed().as_secs_f64() * 1e3);
+            for (all, ms) in parts.iter_mut().zip([report.hash_ms, report.cpu_ms, report.blas_ms]) {
+                all.push(ms);
+            }
         }
     }
-    Ok(Some(median(&mut walls)))
+    Ok(Some((median(&mut walls), parts.map(|mut p| median(&mut p)))))
 }
 
 /// The rows as a markdown table, with the run's header.
 pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = format!("# bench build: merged layout, GPU builder (PLOC) against the CPU binned-SAH build\n\n{}\n", info.markdown());
     s.push_str(
-        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | wall ms, build + read-back | cache rebuild wall ms, no read-back | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
+        "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | wall ms, build + read-back | cache rebuild wall ms, no read-back | of which hash / update / arrays placed ms | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
     );
-    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in rows {
         let phases = r.phase_ms.map(|p| p.map(|ms| format!("{ms:.3}")).join(" / ")).unwrap_or_else(|| "—".into());
+        let parts = r.cache_rebuild_parts.map(|p| p.map(|ms| format!("{ms:.2}")).join(" / ")).unwrap_or_default();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {} | {:.1} | {:.2} | {:.2} | {:.3} |",
+            "| {} | {} | {} | {} | {phases} | {} | {} | {:.1} | {} | {parts} | {:.1} | {:.2} | {:.2} | {:.3} |",
             r.scene,
             r.triangles,
             opt(r.gpu_ms.map(|m| m.0), 3),
@@ -504,12 +515,12 @@ pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
 /// The rows as CSV, with the run's header.
 pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,wall_ms,cache_rebuild_ms,cpu_ms,gpu_sah,cpu_sah\n");
+    s.push_str("scene,triangles,gpu_ms_median,gpu_ms_min,sort_ms,rounds_ms,finish_ms,layout_ms,rounds,depth,wall_ms,cache_rebuild_ms,rebuild_hash_ms,rebuild_update_ms,rebuild_placed_ms,cpu_ms,gpu_sah,cpu_sah\n");
     for r in rows {
         let phase = |p: usize| opt(r.phase_ms.map(|m| m[p]), 4);
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{},{:.3},{:.4},{:.4}",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{},{},{},{},{:.3},{:.4},{:.4}",
             r.scene,
             r.triangles,
             opt(r.gpu_ms.map(|m| m.0), 4),
@@ -522,6 +533,9 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
             r.depth,
             r.wall_ms,
             opt(r.cache_rebuild_ms, 3),
+            opt(r.cache_rebuild_parts.map(|p| p[0]), 3),
+            opt(r.cache_rebuild_parts.map(|p| p[1]), 3),
+            opt(r.cache_rebuild_parts.map(|p| p[2]), 3),
             r.cpu_ms,
             r.gpu_sah,
             r.cpu_sah
