@@ -211,13 +211,7 @@ fn records_scan(@builtin(local_invocation_index) lid: u32) {
         sum += group_offsets[i];
     }
     scan[lid] = sum;
-    workgroupBarrier();
-    for (var s = 1u; s < GROUP; s *= 2u) {
-        let add = select(0u, scan[max(lid, s) - s], lid >= s);
-        workgroupBarrier();
-        scan[lid] += add;
-        workgroupBarrier();
-    }
+    scan_inclusive(lid);
     var offset = scan[lid] - sum;
     for (var i = first; i < end; i++) {
         let c = group_offsets[i];
@@ -229,12 +223,9 @@ fn records_scan(@builtin(local_invocation_index) lid: u32) {
     }
 }
 
-@compute @workgroup_size(256)
-fn records_write(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let g = group_index(wid, groups);
-    let t = classify(g * GROUP + lid);
-    let keep = u32(t.keep);
-    scan[lid] = keep;
+// `scan` made inclusive prefix sums of itself across the workgroup (Hillis-Steele); called by
+// every invocation, in uniform control flow, after each has written its own entry.
+fn scan_inclusive(lid: u32) {
     workgroupBarrier();
     for (var s = 1u; s < GROUP; s *= 2u) {
         let add = select(0u, scan[max(lid, s) - s], lid >= s);
@@ -242,6 +233,15 @@ fn records_write(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
         scan[lid] += add;
         workgroupBarrier();
     }
+}
+
+@compute @workgroup_size(256)
+fn records_write(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = group_index(wid, groups);
+    let t = classify(g * GROUP + lid);
+    let keep = u32(t.keep);
+    scan[lid] = keep;
+    scan_inclusive(lid);
     if !t.keep {
         return;
     }
