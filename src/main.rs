@@ -31,6 +31,12 @@ enum Command {
         /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
         #[arg(long, default_value = "default")]
         scene: String,
+        /// Copy the scene N×N×N times on a grid (the camera stays the scene's).
+        #[arg(long, default_value_t = 1)]
+        duplicate: u32,
+        /// With --duplicate: give every copy its own meshes.
+        #[arg(long)]
+        no_dedup: bool,
         /// Traversal back-end: ray-query, compute or rt-pipeline (default: ray-query where the
         /// adapter supports it, else compute; rt-pipeline only when asked for).
         #[arg(long)]
@@ -39,6 +45,7 @@ enum Command {
         deadline: Deadline,
         #[command(flatten)]
         view: ViewArgs,
+        /// Frame width in pixels, up to the adapter's largest 2D texture.
         #[arg(long, default_value_t = 1280)]
         width: u32,
         #[arg(long, default_value_t = 720)]
@@ -734,20 +741,51 @@ fn run(cli: Cli) -> Result<()> {
             };
             raygraph::viewer::run(opts).map_err(anyhow::Error::msg)?;
         }
-        Command::Render { graph, mode, scene: scene_spec, backend, deadline, view, width, height, out, frames, report, layers, shaders } => {
+        Command::Render {
+            graph,
+            mode,
+            scene: scene_spec,
+            duplicate,
+            no_dedup,
+            backend,
+            deadline,
+            view,
+            width,
+            height,
+            out,
+            frames,
+            report,
+            layers,
+            shaders,
+        } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
-            anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
+            anyhow::ensure!(width > 0 && height > 0, "--width and --height must be at least 1");
+            anyhow::ensure!(duplicate >= 1, "--duplicate must be at least 1");
             let project = project_for(&graph_file, layers, shaders);
             graph::compile(&graph_file, &project, (width, height))?; // report graph errors before opening a device
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
+            let largest = gpu.device.limits().max_texture_dimension_2d;
+            anyhow::ensure!(
+                width <= largest && height <= largest,
+                "--width {width} --height {height}: this adapter's largest 2D texture is {largest} pixels on a side"
+            );
             let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &gpu.compile_options())?;
             if plan.passes().iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }
-            let (scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed })?;
+            let (mut scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed })?;
             for note in import.notes() {
                 log::warn!("{scene_spec}: {note}"); // once per run; repairs and fallbacks were logged by the import
+            }
+            if duplicate > 1 {
+                scene = raygraph::scene::duplicate::duplicate(&scene, duplicate, !no_dedup);
+                println!(
+                    "scene duplicated {duplicate}x{duplicate}x{duplicate}: {} triangles, {} meshes, {} instances",
+                    scene.triangle_count(),
+                    scene.meshes.len(),
+                    scene.instances.len()
+                );
             }
             let camera = match (&view.camera, &view.track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,

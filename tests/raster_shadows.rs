@@ -22,7 +22,7 @@ use glam::{Mat4, Vec3};
 use raygraph::graph::{compile, Project};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::{default_scene, plane, sphere};
-use raygraph::scene::{Camera, Instance, Light, Material, Scene};
+use raygraph::scene::{Camera, Instance, Light, LightKind, Material, PunctualLight, Scene};
 
 const W: u32 = 320;
 const H: u32 = 240;
@@ -69,6 +69,17 @@ Graph(
             project.write(&format!("graph/shadows_{shadows}.ron"), &text);
         }
         Self { project }
+    }
+
+    /// The same graphs over a `shadow_map` layer that draws both sides of every triangle
+    /// (`cull_closed_back_faces: false`).
+    fn without_closed_culling() -> Self {
+        let graphs = Self::new();
+        let path = graphs.project.root.join("layers/shadow_map.ron");
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("cull_closed_back_faces: true"), "the shipped shadow_map layer culls closed meshes");
+        std::fs::write(&path, text.replace("cull_closed_back_faces: true", "cull_closed_back_faces: false")).unwrap();
+        graphs
     }
 
     fn render(&self, gpu: &Gpu, shadows: bool, scene: &Scene, camera: &Camera) -> image::RgbaImage {
@@ -289,4 +300,41 @@ fn shadows_off_draw_the_floor_fully_lit() {
     assert!(floor > 10_000);
     assert_eq!(off_differs, 0, "with shadows off the sphere still darkens the floor (by up to {worst})");
     assert!(on_shadowed > 500, "with shadows on the sphere should shadow the floor ({on_shadowed} pixels)");
+}
+
+/// (d) Closed meshes' back faces culled in the shadow maps (`cull_closed_back_faces`) change
+/// no pixel: a closed sphere above the floor under the sun, under a spot light above it, and
+/// with a spot light inside it (the sphere then holds the light, is not culled, and shadows
+/// everything around it but the floor lit through nothing: a wrongly culled sphere would let
+/// its light out). The images must be identical, byte for byte: the nearest depth seen from a
+/// light outside a closed mesh is the same triangle's either way.
+#[test]
+fn culling_closed_meshes_in_shadow_maps_changes_no_pixel() {
+    let gpu = gpu();
+    let (culling, both_sides) = (Graphs::new(), Graphs::without_closed_culling());
+    let (centre, radius) = (Vec3::new(0.0, 1.5, 0.0), 1.0f32);
+    let camera = look(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO);
+    let spot = |position: Vec3| PunctualLight {
+        name: "spot".into(),
+        kind: LightKind::Spot { range: None, inner_cone: 0.9, outer_cone: 1.2 },
+        position,
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        intensity: 20.0,
+    };
+    let cases: [(&str, Vec<PunctualLight>); 3] =
+        [("sun", Vec::new()), ("spot above", vec![spot(Vec3::new(0.5, 4.0, 0.0))]), ("spot inside", vec![spot(centre)])];
+    for (name, lights) in cases {
+        let mut s = scene(Some((centre, radius)), Vec3::new(0.3, 1.0, -0.2), camera);
+        s.lights = lights;
+        let a = culling.render(&gpu, true, &s, &camera);
+        let b = both_sides.render(&gpu, true, &s, &camera);
+        let lit = culling.render(&gpu, false, &s, &camera);
+        let differ = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
+        let shadowed =
+            (0..H).flat_map(|y| (0..W).map(move |x| (x, y))).filter(|&(x, y)| (rgb_sum(&a, x, y) as f64) < SHADOWED_RATIO * rgb_sum(&lit, x, y) as f64).count();
+        println!("{name}: {differ} pixels differ with both sides drawn; {shadowed} pixels shadowed");
+        assert!(shadowed > 500, "{name}: the view must show a shadow ({shadowed} pixels)");
+        assert_eq!(differ, 0, "{name}: culling closed meshes changed {differ} pixels");
+    }
 }

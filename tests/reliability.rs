@@ -42,10 +42,13 @@ fn a_lost_device_ends_the_run_with_a_message_and_no_output() {
 
 /// A real allocation failure: the process's address space is capped (`ulimit -v`, 4 GB) and
 /// the hybrid graph at 12000x12000 needs a 2.2 GB position texture among others, which
-/// lavapipe cannot map.
+/// lavapipe cannot map. The message names the resource and the sizes; the output file of an
+/// earlier run is left as it was.
 #[test]
 fn out_of_gpu_memory_ends_the_run_with_a_message_naming_the_resource_and_no_output() {
     let out_png = temp_png("oom.png");
+    let previous = b"the previous run's output".to_vec();
+    std::fs::write(&out_png, &previous).unwrap();
     let cmd = format!(
         "ulimit -v 4000000 && exec {} render --mode hybrid --width 12000 --height 12000 --frames 1 --out {}",
         env!("CARGO_BIN_EXE_raygraph"),
@@ -56,8 +59,50 @@ fn out_of_gpu_memory_ends_the_run_with_a_message_naming_the_resource_and_no_outp
     println!("{stderr}");
     assert!(!out.status.success(), "running out of memory must fail the run");
     assert!(stderr.contains("the GPU ran out of memory") && stderr.contains("gbuffer.position"), "{stderr}");
+    assert!(stderr.contains("MiB of textures and buffers in") && stderr.contains("12000x12000 frame"), "the message names the sizes: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(!out_png.exists(), "nothing may be written after running out of memory");
+    assert_eq!(std::fs::read(&out_png).unwrap(), previous, "the previous output must be left intact");
+    let _ = std::fs::remove_file(&out_png);
+}
+
+/// A scene duplicated until it no longer fits: the atrium 5x5x5 with a mesh per copy needs a
+/// vertex buffer larger than one storage binding may be on lavapipe (128 MiB). The message
+/// names the scene, the buffer and both sizes; an earlier output file is left as it was.
+#[test]
+fn a_duplicated_scene_beyond_the_device_ends_the_run_with_the_sizes_and_no_output() {
+    let out_png = temp_png("duplicated.png");
+    let previous = b"the previous run's output".to_vec();
+    std::fs::write(&out_png, &previous).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_raygraph"))
+        .current_dir(common::repo())
+        .args([
+            "render",
+            "--mode",
+            "hybrid",
+            "--scene",
+            "atrium",
+            "--duplicate",
+            "5",
+            "--no-dedup",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--frames",
+            "1",
+            "--out",
+        ])
+        .arg(&out_png)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("{stderr}");
+    assert!(!out.status.success(), "a scene beyond the device must fail the run");
+    assert!(stderr.contains("scene `atriumx5` does not fit the GPU: the vertex buffer (one storage binding) needs"), "{stderr}");
+    assert!(stderr.contains("MiB (") && stderr.contains("the device allows"), "the message names both sizes: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(std::fs::read(&out_png).unwrap(), previous, "the previous output must be left intact");
+    let _ = std::fs::remove_file(&out_png);
 }
 
 /// The shortened soak on `backend`: 3 cycles of 100 frames at 32x32 with every kind of change,

@@ -501,6 +501,13 @@ pub struct PassDesc {
     /// transforms are accounted for). `false` draws both sides of every material.
     #[serde(default = "enabled_default")]
     pub cull_back_faces: bool,
+    /// `SceneRaster` with a `shadow_slot` only: cull the back faces of instances whose mesh is
+    /// closed and wound outwards (`scene::topology`), opaque and wholly beyond the near plane of
+    /// the slot's light, whatever `cull_back_faces` says. From a light outside a closed mesh the
+    /// nearest surface is always a front face, so a pass that writes the nearest depth is
+    /// unchanged and draws about half the triangles. Default `false`.
+    #[serde(default)]
+    pub cull_closed_back_faces: bool,
     /// `SceneRaster` only: the pass draws raster shadow-map slot N. In a frame where no light
     /// has that slot, the pass is not recorded (its texture keeps what it had; no shader reads
     /// a slot no light has) and its row reads 0 ms.

@@ -6,6 +6,12 @@
 //!   `Front` for one that mirrors it (its triangles' winding turns on screen; `front_facing` in
 //!   the shader stays that of the pipeline, as `raster_front_face` expects). Double-sided
 //!   materials (glTF `doubleSided`) are drawn on both sides.
+//! - Closed meshes in shadow maps: a pass with `cull_closed_back_faces` (a shadow-map slot)
+//!   also culls the back faces of an opaque instance whose mesh is closed and wound outwards
+//!   (`scene::topology`), whatever its material's sidedness, when all of its bounds lie beyond
+//!   the near plane of the slot's light: the light is then outside the mesh, the nearest
+//!   surface it sees is a front face, and the depth written is the same as with both sides
+//!   drawn.
 //! - Alpha test: a shader that declares the pipeline constant [`ALPHA_TEST_CONSTANT`]
 //!   (`shaders/common/alpha.wgsl`) gets it false for the instances of opaque materials, so
 //!   their fragment stage has no discard and keeps early depth testing; only alpha-tested
@@ -52,39 +58,61 @@ impl DrawClass {
 }
 
 /// What decides an instance's draw class, whatever the pass.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InstanceClass {
     pub(crate) double_sided: bool,
     pub(crate) mirrored: bool,
     pub(crate) alpha_tested: bool,
+    /// For an opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`): the
+    /// world-space corners of its bounds.
+    pub(crate) closed_corners: Option<[glam::Vec3; 8]>,
 }
 
 impl InstanceClass {
-    /// One per scene instance, in order.
-    pub fn of_scene(scene: &Scene) -> Vec<InstanceClass> {
+    /// One per scene instance, in order; `draws` (one per instance, from the upload) tell
+    /// which meshes are closed.
+    pub fn of_scene(scene: &Scene, draws: &[Draw]) -> Vec<InstanceClass> {
         (0..scene.instances.len())
             .map(|i| {
                 let inst = &scene.instances[i];
                 let double_sided = scene.materials.get(inst.material).is_some_and(|m| m.double_sided);
+                let alpha_tested = crate::accel::alpha::instance_tested(scene, i);
+                let closed_bounds = draws.get(i).filter(|d| d.instance as usize == i && !alpha_tested).and_then(|d| d.closed_bounds);
                 InstanceClass {
                     double_sided,
                     mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
-                    alpha_tested: crate::accel::alpha::instance_tested(scene, i),
+                    alpha_tested,
+                    closed_corners: closed_bounds.map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
                 }
             })
             .collect()
     }
 
+    /// Whether the instance is closed, opaque and wholly beyond the near plane of the light
+    /// whose view-projection is `light_view_proj` (wgpu's clip depth: beyond the near plane
+    /// is z > 0), so that the light is outside it.
+    pub fn closed_and_beyond_near_plane(&self, light_view_proj: &glam::Mat4) -> bool {
+        self.closed_corners.is_some_and(|corners| corners.iter().all(|c| (*light_view_proj * c.extend(1.0)).z > 0.0))
+    }
+
     /// The class of this instance in a pass that culls back faces (`cull_back_faces`) or not,
-    /// whose shader can switch the alpha test off (`alpha_switch`) or not.
-    pub fn draw_class(self, cull_back_faces: bool, alpha_switch: bool) -> DrawClass {
-        let cull = match (cull_back_faces && !self.double_sided, self.mirrored) {
+    /// whose shader can switch the alpha test off (`alpha_switch`) or not; `cull_closed`: a
+    /// closed mesh seen from outside, culled whatever its material's sidedness.
+    pub fn draw_class(self, cull_back_faces: bool, alpha_switch: bool, cull_closed: bool) -> DrawClass {
+        let cull = match (cull_back_faces && !self.double_sided || cull_closed, self.mirrored) {
             (false, _) => Cull::None,
             (true, false) => Cull::Back,
             (true, true) => Cull::Front,
         };
         DrawClass { cull, alpha_test: self.alpha_tested || !alpha_switch }
     }
+}
+
+/// The eight corners of `b`.
+fn corners(b: &crate::scene::Bounds) -> [glam::Vec3; 8] {
+    std::array::from_fn(|i| {
+        glam::Vec3::new(if i & 1 == 0 { b.min.x } else { b.max.x }, if i & 2 == 0 { b.min.y } else { b.max.y }, if i & 4 == 0 { b.min.z } else { b.max.z })
+    })
 }
 
 /// The order in which `draws` are recorded: nearest first (to `eye`, by the world-space centre
@@ -168,17 +196,25 @@ impl RenderSpec {
 pub struct ScenePipelines {
     spec: RenderSpec,
     cull_back_faces: bool,
+    cull_closed_back_faces: bool,
     variants: Vec<(DrawClass, wgpu::RenderPipeline)>,
 }
 
 impl ScenePipelines {
-    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool) -> Self {
-        Self { spec, cull_back_faces, variants: Vec::new() }
+    /// The pipelines of a pass with its layer's `cull_back_faces` and
+    /// `cull_closed_back_faces`.
+    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool, cull_closed_back_faces: bool) -> Self {
+        Self { spec, cull_back_faces, cull_closed_back_faces, variants: Vec::new() }
     }
 
-    /// The class of each instance in this pass.
-    pub fn classes(&self, instances: &[InstanceClass]) -> Vec<DrawClass> {
-        instances.iter().map(|c| c.draw_class(self.cull_back_faces, self.spec.alpha_switch)).collect()
+    /// The class of each instance in this pass; `light_view_proj` is the view-projection of
+    /// the pass's shadow-map slot, where it has one in use.
+    pub fn classes(&self, instances: &[InstanceClass], light_view_proj: Option<&glam::Mat4>) -> Vec<DrawClass> {
+        let closed_culling = light_view_proj.filter(|_| self.cull_closed_back_faces);
+        instances
+            .iter()
+            .map(|c| c.draw_class(self.cull_back_faces, self.spec.alpha_switch, closed_culling.is_some_and(|vp| c.closed_and_beyond_near_plane(vp))))
+            .collect()
     }
 
     /// Creates the variants of `classes` that do not exist yet.
@@ -205,7 +241,7 @@ mod tests {
     use super::*;
 
     fn class(double_sided: bool, mirrored: bool, alpha_tested: bool) -> InstanceClass {
-        InstanceClass { double_sided, mirrored, alpha_tested }
+        InstanceClass { double_sided, mirrored, alpha_tested, closed_corners: None }
     }
 
     #[test]
@@ -216,7 +252,8 @@ mod tests {
             .iter()
             .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })
             .collect();
-        let draws: Vec<Draw> = (0..4).map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO }).collect();
+        let draws: Vec<Draw> =
+            (0..4).map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO, closed_bounds: None }).collect();
         // Instance 3 does not exist: last.
         assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, 10.0)), vec![0, 2, 1, 3]);
         assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, -10.0)), vec![1, 2, 0, 3]);
@@ -224,17 +261,68 @@ mod tests {
 
     #[test]
     fn single_sided_instances_are_culled_by_handedness() {
-        assert_eq!(class(false, false, false).draw_class(true, true), DrawClass { cull: Cull::Back, alpha_test: false });
-        assert_eq!(class(false, true, false).draw_class(true, true), DrawClass { cull: Cull::Front, alpha_test: false });
-        assert_eq!(class(true, true, false).draw_class(true, true).cull, Cull::None);
-        assert_eq!(class(false, false, false).draw_class(false, true).cull, Cull::None);
+        assert_eq!(class(false, false, false).draw_class(true, true, false), DrawClass { cull: Cull::Back, alpha_test: false });
+        assert_eq!(class(false, true, false).draw_class(true, true, false), DrawClass { cull: Cull::Front, alpha_test: false });
+        assert_eq!(class(true, true, false).draw_class(true, true, false).cull, Cull::None);
+        assert_eq!(class(false, false, false).draw_class(false, true, false).cull, Cull::None);
     }
 
     #[test]
     fn only_alpha_tested_materials_keep_the_test_where_the_shader_can_switch_it() {
-        assert!(class(false, false, true).draw_class(true, true).alpha_test);
-        assert!(!class(false, false, false).draw_class(true, true).alpha_test);
+        assert!(class(false, false, true).draw_class(true, true, false).alpha_test);
+        assert!(!class(false, false, false).draw_class(true, true, false).alpha_test);
         // A shader without the constant always runs what it has.
-        assert!(class(false, false, false).draw_class(true, false).alpha_test);
+        assert!(class(false, false, false).draw_class(true, false, false).alpha_test);
+    }
+
+    /// The view-projection of shadow-map slot 0 for `light` in the scene sphere at the origin
+    /// of radius 4.
+    fn slot_view_proj(light: crate::scene::PunctualLight) -> glam::Mat4 {
+        crate::scene::gpu::light_records(&[light], glam::Vec3::ZERO, 4.0).shadow_view_proj[0]
+    }
+
+    fn light(kind: crate::scene::LightKind, position: glam::Vec3, direction: glam::Vec3) -> crate::scene::PunctualLight {
+        crate::scene::PunctualLight { name: "l".into(), kind, position, direction, color: glam::Vec3::ONE, intensity: 1.0 }
+    }
+
+    /// A unit sphere (closed) at `center` with its draw.
+    fn closed_instance(center: glam::Vec3, alpha_tested: bool, double_sided: bool) -> InstanceClass {
+        let b = crate::scene::Bounds { min: glam::Vec3::splat(-1.0), max: glam::Vec3::ONE };
+        let corners = corners(&b).map(|c| c + center);
+        InstanceClass { double_sided, mirrored: false, alpha_tested, closed_corners: (!alpha_tested).then_some(corners) }
+    }
+
+    #[test]
+    fn closed_meshes_are_culled_only_from_lights_outside_them() {
+        let spot_towards = |position: glam::Vec3, direction: glam::Vec3| {
+            let kind = crate::scene::LightKind::Spot { range: None, inner_cone: 0.3, outer_cone: 0.6 };
+            slot_view_proj(light(kind, position, direction))
+        };
+        let spot = |position: glam::Vec3| spot_towards(position, -position.normalize());
+        let sun = slot_view_proj(light(crate::scene::LightKind::Directional, glam::Vec3::ZERO, glam::Vec3::new(0.3, -1.0, 0.2)));
+        let at_origin = closed_instance(glam::Vec3::ZERO, false, false);
+        let aside = closed_instance(glam::Vec3::new(2.5, 0.0, 0.0), false, false);
+        // A directional light's near plane lies outside the scene's sphere.
+        assert!(at_origin.closed_and_beyond_near_plane(&sun) && aside.closed_and_beyond_near_plane(&sun));
+        // A spot light outside the sphere's bounds, and one inside them.
+        assert!(at_origin.closed_and_beyond_near_plane(&spot(glam::Vec3::new(0.0, 3.0, 0.0))));
+        assert!(!at_origin.closed_and_beyond_near_plane(&spot(glam::Vec3::new(0.0, 0.5, 0.0))));
+        // Inside the corner of the bounds though outside the sphere: still not culled.
+        assert!(!at_origin.closed_and_beyond_near_plane(&spot(glam::Vec3::new(0.9, 0.9, 0.9))));
+        // Outside the bounds, but beside them, so that they straddle the light's near plane.
+        assert!(!aside.closed_and_beyond_near_plane(&spot_towards(glam::Vec3::new(2.5, 1.5, 0.0), glam::Vec3::X)));
+        assert!(aside.closed_and_beyond_near_plane(&spot_towards(glam::Vec3::new(5.0, 0.0, 0.0), -glam::Vec3::X)));
+        // Alpha-tested or open meshes never.
+        assert!(!closed_instance(glam::Vec3::ZERO, true, false).closed_and_beyond_near_plane(&sun));
+        assert!(!class(false, false, false).closed_and_beyond_near_plane(&sun));
+    }
+
+    #[test]
+    fn a_closed_mesh_seen_from_outside_is_culled_whatever_its_sidedness() {
+        let double_sided = closed_instance(glam::Vec3::ZERO, false, true);
+        assert_eq!(double_sided.draw_class(false, true, true).cull, Cull::Back);
+        assert_eq!(double_sided.draw_class(false, true, false).cull, Cull::None);
+        let mirrored = InstanceClass { mirrored: true, ..double_sided };
+        assert_eq!(mirrored.draw_class(false, true, true).cull, Cull::Front);
     }
 }

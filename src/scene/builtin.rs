@@ -48,8 +48,11 @@ pub fn sphere(name: &str, rings: u32, segments: u32) -> Mesh {
     for r in 0..=rings {
         let theta = PI * r as f32 / rings as f32;
         for s in 0..=segments {
-            let phi = 2.0 * PI * s as f32 / segments as f32;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
+            // The seam's two columns and each pole's row at exactly one position, so that the
+            // mesh is closed (`scene::topology`).
+            let phi = 2.0 * PI * (s % segments) as f32 / segments as f32;
+            let ring = if r == 0 || r == rings { 0.0 } else { theta.sin() };
+            let n = Vec3::new(ring * phi.cos(), theta.cos(), -ring * phi.sin());
             vertices.push(Vertex { position: n.into(), normal: n.into(), uv: [s as f32 / segments as f32, r as f32 / rings as f32] });
         }
     }

@@ -8,7 +8,7 @@
 //! the built-in scenes' textures are at most 256² anyway). Too many layers, or buffers larger
 //! than the device allows, are an error with the numbers, never a panic.
 
-use super::{AlphaMode, LightKind, PunctualLight, Scene};
+use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
     MATERIAL_DOUBLE_SIDED, SHADOW_MAP_SLOTS,
@@ -27,11 +27,15 @@ pub struct Draw {
     pub(crate) instance: u32,
     /// Centre of the mesh's bounds, object space (for ordering draws by distance).
     pub local_center: Vec3,
+    /// The mesh's object-space bounds when it is closed and wound outwards
+    /// (`scene::topology`); `None` when it is not, or when the plan does not ask
+    /// (`SceneUsage::closed_meshes`).
+    pub closed_bounds: Option<Bounds>,
 }
 
 /// The scene does not fit the device.
 #[derive(Debug, thiserror::Error)]
-#[error("scene `{scene}` does not fit the GPU: {what} needs {needed}, the device allows {allowed}\n  help: {help}")]
+#[error("scene `{scene}` does not fit the GPU: {what} needs {}, the device allows {}\n  help: {help}", amount(*.needed, *.bytes), amount(*.allowed, *.bytes))]
 pub struct SceneLimitError {
     /// The scene's name.
     pub(crate) scene: String,
@@ -41,8 +45,19 @@ pub struct SceneLimitError {
     pub(crate) needed: u64,
     /// How much the device allows.
     pub(crate) allowed: u64,
+    /// Whether `needed` and `allowed` are bytes (else a count).
+    pub(crate) bytes: bool,
     /// What to change.
     pub(crate) help: String,
+}
+
+/// `n` as a count, or as bytes in MiB with the exact number.
+fn amount(n: u64, bytes: bool) -> String {
+    if bytes {
+        format!("{:.2} MiB ({n} bytes)", n as f64 / (1u64 << 20) as f64)
+    } else {
+        n.to_string()
+    }
 }
 
 /// The scene's textures as the graph's shaders bind them.
@@ -91,6 +106,9 @@ pub struct SceneUsage {
     pub geometry_storage: bool,
     /// `scene_lights`.
     pub lights: bool,
+    /// Which meshes are closed and wound outwards (`scene::topology`), for a pass with
+    /// `cull_closed_back_faces`: found on the CPU at upload, not uploaded.
+    pub closed_meshes: bool,
 }
 
 impl SceneUsage {
@@ -108,6 +126,7 @@ impl SceneUsage {
             (self.materials, "materials"),
             (self.textures, "textures"),
             (self.lights, "lights"),
+            (self.closed_meshes, "closed meshes (found on the CPU)"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))
@@ -150,9 +169,19 @@ pub const TEXTURE_SIZE: u32 = 256;
 /// Mip levels of the texture array (down to 1x1).
 pub const TEXTURE_MIPS: u32 = TEXTURE_SIZE.ilog2() + 1;
 
+/// Bytes `needed` against the device's `allowed`.
 fn check(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str) -> Result<(), SceneLimitError> {
+    check_amount(scene, what, needed, allowed, help, true)
+}
+
+/// A count `needed` against the device's `allowed`.
+fn check_count(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str) -> Result<(), SceneLimitError> {
+    check_amount(scene, what, needed, allowed, help, false)
+}
+
+fn check_amount(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str, bytes: bool) -> Result<(), SceneLimitError> {
     if needed > allowed {
-        return Err(SceneLimitError { scene: scene.name.clone(), what: what.into(), needed, allowed, help: help.into() });
+        return Err(SceneLimitError { scene: scene.name.clone(), what: what.into(), needed, allowed, bytes, help: help.into() });
     }
     Ok(())
 }
@@ -185,7 +214,7 @@ impl GpuScene {
             let help = "use a smaller scene or a lower duplication factor";
             check(scene, "the vertex buffer", vertex_bytes, limits.max_buffer_size, help)?;
             check(scene, "the index buffer", index_count as u64 * 4, limits.max_buffer_size, help)?;
-            check(scene, "the vertex count", vertex_count as u64, i32::MAX as u64, help)?;
+            check_count(scene, "the vertex count", vertex_count as u64, i32::MAX as u64, help)?;
             let mut vertices = Vec::with_capacity(vertex_count.max(1));
             let mut indices = Vec::with_capacity(index_count.max(3));
             let mut ranges = Vec::new();
@@ -198,7 +227,10 @@ impl GpuScene {
                 indices.extend_from_slice(&mesh.indices);
                 ranges.push((first_index..indices.len() as u32, base_vertex));
             }
-            let centers: Vec<Vec3> = scene.meshes.iter().map(|m| m.bounds()).map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
+            let bounds: Vec<Bounds> = scene.meshes.iter().map(|m| m.bounds()).collect();
+            let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
+            let closed: Vec<Option<Bounds>> =
+                scene.meshes.iter().zip(&bounds).map(|(m, b)| (usage.closed_meshes && super::topology::is_closed_outward(m)).then_some(*b)).collect();
             out.draws = scene
                 .instances
                 .iter()
@@ -208,6 +240,7 @@ impl GpuScene {
                     base_vertex: ranges[inst.mesh].1,
                     instance: i as u32,
                     local_center: centers[inst.mesh],
+                    closed_bounds: closed[inst.mesh],
                 })
                 .collect();
             // wgpu buffers may not be empty.
@@ -281,7 +314,7 @@ impl GpuScene {
             let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
             out.textures = Some(if usage.texture_binding_array {
                 let allowed = limits.max_binding_array_elements_per_shader_stage;
-                check(scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
+                check_count(scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
                 let (mut textures, mut views) = (Vec::new(), Vec::new());
                 for (i, img) in images.enumerate() {
                     let max = limits.max_texture_dimension_2d;

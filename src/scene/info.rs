@@ -12,7 +12,8 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     let unique: usize = scene.meshes.iter().map(|m| m.triangle_count()).sum();
     let _ = writeln!(s, "scene       {}", scene.name);
     let _ = writeln!(s, "triangles   {} (over instances; {} in unique meshes)", scene.triangle_count(), unique);
-    let _ = writeln!(s, "meshes      {}", scene.meshes.len());
+    let closed = scene.meshes.iter().filter(|m| super::topology::is_closed_outward(m)).count();
+    let _ = writeln!(s, "meshes      {} ({closed} closed and wound outwards)", scene.meshes.len());
     let _ = writeln!(s, "instances   {}", scene.instances.len());
     let default = if report.is_some_and(|r| r.default_material) { " (with `default`, for primitives that name none)" } else { "" };
     let _ = writeln!(s, "materials   {}{default}", scene.materials.len());

@@ -10,6 +10,7 @@ pub mod gpu;
 pub mod info;
 pub mod load;
 pub mod procedural;
+pub mod topology;
 pub mod track;
 
 use bytemuck::{Pod, Zeroable};

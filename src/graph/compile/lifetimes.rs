@@ -31,6 +31,7 @@ pub(super) fn planned_passes(kept: &[usize], nodes: &[ResolvedNode], passes: &[P
                 writes: p.writes.clone(),
                 dispatch: pass.dispatch,
                 cull_back_faces: pass.cull_back_faces,
+                cull_closed_back_faces: pass.cull_closed_back_faces,
                 shadow_slot: pass.shadow_slot,
                 accel: node.accel.clone(),
                 params: node.params.clone(),
@@ -80,6 +81,7 @@ pub(super) fn scene_usage(planned: &[PlannedPass]) -> SceneUsage {
     let mut usage = SceneUsage::default();
     for pass in planned {
         usage.geometry |= pass.kind == PassKind::SceneRaster;
+        usage.closed_meshes |= pass.cull_closed_back_faces;
         for b in &pass.shader.bindings {
             usage.add_binding(b);
         }

@@ -112,6 +112,9 @@ pub struct PlannedPass {
     pub dispatch: Dispatch,
     /// `SceneRaster`: whether the pipeline culls back faces (`PassDesc::cull_back_faces`).
     pub cull_back_faces: bool,
+    /// `SceneRaster` with a shadow slot: back faces of closed meshes culled where the slot's
+    /// light is outside them (`PassDesc::cull_closed_back_faces`).
+    pub cull_closed_back_faces: bool,
     /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
     pub shadow_slot: Option<u32>,
     /// `AccelBuild`: the settings of its `Accel` node.

@@ -135,6 +135,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             writes: vec!["tlas".into()],
             dispatch: Dispatch::default(),
             cull_back_faces: true,
+            cull_closed_back_faces: false,
             shadow_slot: None,
         }],
     };

@@ -89,6 +89,14 @@ pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, P
                 )
                 .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
             }
+            if pass.cull_closed_back_faces && pass.shadow_slot.is_none() {
+                return Err(GraphError::new(
+                    ErrorKind::Unsupported,
+                    location,
+                    format!("pass `{}` has `cull_closed_back_faces` but no `shadow_slot`", pass.name),
+                )
+                .help("the culling needs the light a shadow map is drawn from: add `shadow_slot`, or set `cull_back_faces` instead".to_string()));
+            }
             passes.push(PassNode { node: ni, index: pi, reads, writes, location });
         }
     }

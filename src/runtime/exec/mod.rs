@@ -26,7 +26,7 @@ pub use trace::TRACE_ALPHA_CONSTANT;
 
 use super::gpu::Gpu;
 use super::profiler::{FrameTimings, GpuTimer};
-use super::raster::{InstanceClass, ScenePipelines};
+use super::raster::{DrawClass, InstanceClass, ScenePipelines};
 use super::rust_pass::{RustPass, RustPassIo, RustPasses};
 use crate::accel::cache::{AccelCache, BuildReport, RayStats};
 use crate::accel::rt_pipeline::RtPass;
@@ -134,7 +134,8 @@ struct FrameInputs<'a> {
     scene: &'a Scene,
     /// Shadow maps lights use this frame; passes of the other slots are not drawn.
     shadow_count: u32,
-    instance_classes: Vec<InstanceClass>,
+    /// Per pass: the draw class of each instance (empty but for `SceneRaster` passes).
+    pass_classes: Vec<Vec<DrawClass>>,
     /// The order of the scene's draws (front to back).
     draw_order: Vec<usize>,
     /// Per pass: its colour attachments' views and its depth attachment's.
@@ -186,7 +187,14 @@ impl Executor {
         if gpu.timestamps {
             exec.timer = Some(GpuTimer::new(&gpu.device, &gpu.queue, exec.plan.passes.len() as u32));
         }
-        scope.finish(gpu, "creating the graph's GPU objects")?;
+        let (w, h) = exec.plan.frame_size;
+        let context = format!(
+            "creating the graph's GPU objects ({} of textures and buffers in {} slots for a {w}x{h} frame, {} of scene data)",
+            crate::graph::compile::fmt_bytes(exec.plan.bytes_with_reuse()),
+            exec.plan.slots.len(),
+            crate::graph::compile::fmt_bytes(exec.scene.as_ref().map_or(0, |s| s.bytes))
+        );
+        scope.finish(gpu, &context)?;
         Ok(exec)
     }
 
@@ -232,7 +240,7 @@ impl Executor {
             cpu_ms: Vec::with_capacity(self.passes.len()),
             accel_report: None,
         };
-        let inputs = self.frame_inputs(gpu, camera, scene, uniforms.shadow_count);
+        let inputs = self.frame_inputs(gpu, camera, scene, &uniforms);
         for i in 0..self.passes.len() {
             self.record_pass(gpu, &mut frame, &inputs, i)?;
         }
@@ -251,18 +259,29 @@ impl Executor {
         Ok(timings)
     }
 
-    /// What the frame's passes record with: the scene's draw classes and order (the scene
-    /// pipelines made for classes that appeared), and every pass's attachment views.
-    fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, shadow_count: u32) -> FrameInputs<'a> {
-        let instance_classes = InstanceClass::of_scene(scene);
-        let draw_order = self.scene.as_ref().map(|s| super::raster::front_to_back(&s.draws, scene, camera.position)).unwrap_or_default();
-        for pass in &mut self.passes {
-            if let Pipeline::Scene(pipelines) = &mut pass.pipeline {
-                pipelines.prepare(&gpu.device, &pipelines.classes(&instance_classes));
-            }
+    /// What the frame's passes record with: the scene's draw classes per pass (a shadow-map
+    /// pass's from its slot's light) and draw order, the scene pipelines made for classes that
+    /// appeared, and every pass's attachment views.
+    fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, uniforms: &crate::uniforms::FrameUniforms) -> FrameInputs<'a> {
+        let draws = self.scene.as_ref().map_or(&[][..], |s| &s.draws[..]);
+        let instance_classes = InstanceClass::of_scene(scene, draws);
+        let draw_order = super::raster::front_to_back(draws, scene, camera.position);
+        let mut pass_classes = Vec::with_capacity(self.passes.len());
+        for (pass, planned) in self.passes.iter_mut().zip(&self.plan.passes) {
+            let Pipeline::Scene(pipelines) = &mut pass.pipeline else {
+                pass_classes.push(Vec::new());
+                continue;
+            };
+            let light_view_proj = planned
+                .shadow_slot
+                .filter(|slot| *slot < uniforms.shadow_count)
+                .map(|slot| glam::Mat4::from_cols_array_2d(&uniforms.shadow_view_proj[slot as usize]));
+            let classes = pipelines.classes(&instance_classes, light_view_proj.as_ref());
+            pipelines.prepare(&gpu.device, &classes);
+            pass_classes.push(classes);
         }
         let views = self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
-        FrameInputs { scene, shadow_count, instance_classes, draw_order, views }
+        FrameInputs { scene, shadow_count: uniforms.shadow_count, pass_classes, draw_order, views }
     }
 
     /// Records pass `i` of the frame, and its CPU milliseconds.

@@ -12,7 +12,9 @@ use crate::runtime::raster::ScenePipelines;
 
 impl Executor {
     pub(super) fn build_scene_raster_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
-        self.build_render_pass(gpu, pass, layout, bindings, |spec| Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces)))
+        self.build_render_pass(gpu, pass, layout, bindings, |spec| {
+            Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces, pass.cull_closed_back_faces))
+        })
     }
 
     /// Records scene raster pass `i`: every instance drawn with the pipeline variant of its
@@ -33,7 +35,7 @@ impl Executor {
         };
         rp.set_vertex_buffer(0, vertices.slice(..));
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        let classes = pipelines.classes(&inputs.instance_classes);
+        let classes = &inputs.pass_classes[i];
         for (class, pipeline) in pipelines.variants() {
             let mut draws =
                 inputs.draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&class)).peekable();
