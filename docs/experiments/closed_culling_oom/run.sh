@@ -29,7 +29,7 @@ for s in box organic atrium; do cmp -s $OUT/r/${s}_culled.png $OUT/r/${s}_both.p
 $R render --mode hybrid --scene atrium --backend compute --width 256 --height 256 --frames 1 --out $OUT/oom/out.png > /dev/null 2>&1
 sha256sum $OUT/oom/out.png > $OUT/oom/before.sha
 nvidia-smi --query-gpu=memory.total,memory.used --format=csv > $OUT/oom/nvidia-smi.txt 2>&1
-/usr/bin/time -v $R render --mode hybrid --scene atrium --backend compute --width 32768 --height 32768 --frames 1 --out $OUT/oom/out.png > $OUT/oom/big.stdout 2> $OUT/oom/big.stderr
+timeout 240 /usr/bin/time -v $R render --mode hybrid --scene atrium --backend compute --width 32768 --height 32768 --frames 1 --out $OUT/oom/out.png > $OUT/oom/big.stdout 2> $OUT/oom/big.stderr
 echo "32768x32768 exit $?"; grep -vE "^\s" $OUT/oom/big.stderr | tail -4; grep -E "Maximum resident|Elapsed" $OUT/oom/big.stderr
 sha256sum -c $OUT/oom/before.sha
 timeout 300 /usr/bin/time -v $R render --mode hybrid --scene atrium --backend compute --duplicate 11 --no-dedup --width 256 --height 256 --frames 1 --out $OUT/oom/out.png > $OUT/oom/dup.stdout 2> $OUT/oom/dup.stderr
