@@ -29,6 +29,12 @@ pub struct FrameUniforms {
     pub shadow_count: u32,
     /// Frame counter (seeds the per-frame sample sequences).
     pub(crate) frame_index: u32,
+    /// 1 when history resources hold the previous frame, 0 on the first frame of an executor
+    /// and on a camera cut (`runtime::exec::history`).
+    pub history_valid: u32,
+    pub(crate) _pad: [u32; 3],
+    /// The previous frame's world to clip space (this frame's on a frame without history).
+    pub(crate) prev_view_proj: [[f32; 4]; 4],
 }
 
 /// Light kinds of [`LightUniforms::kind`].

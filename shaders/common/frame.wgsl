@@ -17,4 +17,9 @@ struct Frame {
     // shadow-map slots in use
     shadow_count: u32,
     frame_index: u32,
+    // 1 when history resources hold the previous frame; 0 on an executor's first frame and on
+    // a camera cut (their contents are then undefined)
+    history_valid: u32,
+    // the previous frame's view_proj (this frame's when history_valid is 0)
+    prev_view_proj: mat4x4<f32>,
 }

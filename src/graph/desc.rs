@@ -121,6 +121,14 @@ pub struct LayerDesc {
     /// Resources private to the layer, written by one of its passes and read by another.
     #[serde(default)]
     pub transients: BTreeMap<String, ResourceDecl>,
+    /// History resources: each name (a resource the layer's passes may read, never write) holds
+    /// the previous frame's contents of the output or transient texture it names, e.g.
+    /// `history: {"ao_previous": "ao"}`. The two textures are allocated apart from every
+    /// transient and swapped by the executor after every frame; on a frame where the history is
+    /// not valid (the first, after a recompile, a resize or a camera cut) `frame.history_valid`
+    /// is 0 and the history's contents are undefined.
+    #[serde(default)]
+    pub history: BTreeMap<String, String>,
     /// Parameters a graph file may set.
     #[serde(default)]
     pub(crate) params: BTreeMap<String, ParamDecl>,

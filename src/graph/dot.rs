@@ -1,5 +1,6 @@
 //! Graphviz output of a compiled plan: passes as boxes, resources as ellipses, culled passes
-//! greyed out. Built with petgraph's `Dot` writer.
+//! greyed out, and an edge labelled `next frame` from each kept resource to its history
+//! resource (`LayerDesc::history`). Built with petgraph's `Dot` writer.
 
 use super::compile::Plan;
 use petgraph::dot::{Config, Dot};
@@ -28,9 +29,22 @@ pub fn to_dot(plan: &Plan) -> String {
             g.add_edge(v, res[*r], "write");
         }
     }
+    for (h, r) in plan.resources.iter().enumerate() {
+        if let (Some(source), true) = (r.history_of, r.slot.is_some()) {
+            g.add_edge(res[source], res[h], "next frame");
+        }
+    }
     for c in &plan.culled {
         g.add_node(format!("[culled] {c}"));
     }
-    let body = format!("{:?}", Dot::with_config(&g, &[Config::EdgeNoLabel]));
+    let body = format!(
+        "{:?}",
+        Dot::with_attr_getters(
+            &g,
+            &[Config::EdgeNoLabel],
+            &|_, e| if *e.weight() == "next frame" { "style=dashed label=\"next frame\"".into() } else { String::new() },
+            &|_, _| String::new()
+        )
+    );
     body.replace("\\\\n", "\\n")
 }

@@ -273,10 +273,12 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
             if ui.selectable_label(matches!(f.view, View::Output), "output").clicked() {
                 actions.push(Action::ShowOutput);
             }
-            // Every texture the selected pass writes (a G-buffer pass has several).
+            // Every texture the selected pass writes (a G-buffer pass has several), and the
+            // history textures it reads.
             let Some(plan) = session.plan() else { return };
             let Some(pass) = selected.as_ref().and_then(|s| plan.passes.iter().find(|p| &p.name == s)) else { return };
-            for (_, r) in &pass.writes {
+            let histories = pass.reads.iter().filter(|(_, r)| plan.resources[*r].history_of.is_some());
+            for (_, r) in pass.writes.iter().chain(histories) {
                 let res = &plan.resources[*r];
                 if matches!(res.decl, ResourceDecl::Texture(_)) {
                     let shown = matches!(f.view, View::Resource { resource, .. } if *resource == res.name);
@@ -370,7 +372,8 @@ fn parameters_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) 
 }
 
 /// Passes as boxes in columns by dependency depth, an arrow per resource a pass reads from
-/// another; culled passes listed under them.
+/// another, a dashed one from the writer of a resource to each pass that reads it as a history
+/// on the next frame; culled passes listed under them.
 fn graph_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
     let Some(plan) = f.session.plan() else { return };
     egui::Window::new("Graph").anchor(egui::Align2::RIGHT_BOTTOM, [-12.0, -12.0]).default_open(false).show(ctx, |ui| {
@@ -412,6 +415,25 @@ fn graph_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
                         painter.text(a + (b - a) * 0.5, egui::Align2::CENTER_BOTTOM, &plan.resources[*r].name, egui::FontId::proportional(10.0), color);
                     }
                 }
+            }
+        }
+        // History reads: from this frame's writer of the kept resource to the reader, dashed.
+        for (i, p) in plan.passes.iter().enumerate() {
+            for (_, r) in &p.reads {
+                let Some(j) = plan.resources[*r].history_of.and_then(producer) else { continue };
+                let (a, b) = (at(j).center_bottom(), at(i).center_bottom());
+                let lit = hovered == Some(i) || hovered == Some(j);
+                let color = if lit { Color32::from_rgb(140, 220, 255) } else { Color32::from_rgb(110, 150, 170) };
+                let below = egui::vec2(0.0, box_h * 0.4 + gap_y * 0.3);
+                let path = [a, a + below, b + below, b];
+                painter.extend(egui::Shape::dashed_line(&path, egui::Stroke::new(if lit { 2.0 } else { 1.0 }, color), 5.0, 3.0));
+                painter.text(
+                    a + below + (b - a) * 0.5,
+                    egui::Align2::CENTER_TOP,
+                    format!("{} (next frame)", plan.resources[*r].name),
+                    egui::FontId::proportional(10.0),
+                    color,
+                );
             }
         }
         for (i, (p, resp)) in plan.passes.iter().zip(&responses).enumerate() {

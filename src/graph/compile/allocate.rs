@@ -1,6 +1,7 @@
 //! Memory for the kept resources: identical resources (same type, format and size) whose
 //! lifetimes do not overlap share one slot (greedy interval packing, in order of first use;
-//! off with `CompileOptions { reuse: false }`); constant textures never share.
+//! off with `CompileOptions { reuse: false }`); constant textures, history resources and the
+//! resources they keep never share.
 
 use super::plan::{PlannedResource, ResourceId, Slot, Usage};
 use crate::graph::desc::*;
@@ -16,6 +17,8 @@ pub(super) fn allocate_slots(resources: &mut [PlannedResource], mut used: Vec<Re
             reuse
                 && res.constant.is_none()
                 && s.constant.is_none()
+                && !res.persistent
+                && s.members.iter().all(|m| !resources[*m].persistent)
                 && same_shape(&s.decl, &res.decl)
                 && s.extent == res.extent
                 && s.members.iter().all(|m| resources[*m].last_use < res.first_use || res.last_use < resources[*m].first_use)

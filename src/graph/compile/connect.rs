@@ -2,7 +2,7 @@
 //! size, every layer input joined to the output that produces it (or to a constant fallback
 //! texture), and the errors of inputs left unconnected, unknown or of the wrong format.
 
-use super::plan::{PlannedResource, ResourceId, Usage};
+use super::plan::{PlannedResource, ResourceId};
 use super::resolve::ResolvedNode;
 use super::source::SourceText;
 use crate::error::{ErrorKind, GraphError, Location};
@@ -26,10 +26,59 @@ pub(super) fn declare_resources(nodes: &mut [ResolvedNode], frame: (u32, u32)) -
                 ResourceDecl::Buffer(_) | ResourceDecl::Accel => (0, 0),
             };
             node.locals.insert(local, resources.len());
-            resources.push(PlannedResource { name, decl, extent, usage: Usage::default(), first_use: 0, last_use: 0, slot: None, constant: None });
+            resources.push(PlannedResource::new(name, decl, extent));
+        }
+        for (history, source) in &node.layer.history {
+            // Checked by `check_history`; an unknown source declares nothing here.
+            let Some(&src) = node.locals.get(source) else { continue };
+            let mut res = PlannedResource::new(format!("{}.{history}", node.name), resources[src].decl.clone(), resources[src].extent);
+            res.history_of = Some(src);
+            node.locals.insert(history.clone(), resources.len());
+            resources.push(res);
         }
     }
     resources
+}
+
+/// Every history declaration names an output or transient texture of its layer, under a name
+/// of its own.
+pub(super) fn check_history(nodes: &[ResolvedNode]) -> Result<(), GraphError> {
+    for node in nodes {
+        for (history, source) in &node.layer.history {
+            let at = node.layer_src.locate(&["history", &SourceText::quoted(history)]);
+            let taken = node.layer.inputs.contains_key(history) || node.layer.outputs.contains_key(history) || node.layer.transients.contains_key(history);
+            if taken {
+                return Err(GraphError::new(
+                    ErrorKind::Syntax,
+                    at,
+                    format!("history `{history}` of layer `{}` has the name of another resource of the layer", node.layer_name),
+                )
+                .help(format!("give the previous frame of `{source}` a name of its own, such as `{source}_previous`")));
+            }
+            match node.layer.outputs.get(source).or_else(|| node.layer.transients.get(source)) {
+                Some(ResourceDecl::Texture(_)) => {}
+                Some(other) => {
+                    return Err(GraphError::new(
+                        ErrorKind::Unsupported,
+                        at,
+                        format!("history `{history}` keeps `{source}`, a {other}: only textures have a history"),
+                    )
+                    .help("keep the previous frame of a texture"))
+                }
+                None => {
+                    let mut names: Vec<&str> = node.layer.outputs.keys().chain(node.layer.transients.keys()).map(|s| s.as_str()).collect();
+                    names.sort();
+                    return Err(GraphError::new(
+                        ErrorKind::UnknownOutput,
+                        at,
+                        format!("history `{history}` keeps `{source}`, which is not an output or transient of layer `{}`", node.layer_name),
+                    )
+                    .help(format!("name one of: {}", names.join(", "))));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Joins every layer input to the output the graph connects it to (or to a constant texture of
@@ -91,16 +140,9 @@ fn fallback_texture(node: &str, input: &str, decl: &ResourceDecl) -> Option<Plan
     let value = t.fallback?;
     let mut t = t.clone();
     t.size = SizeDecl::Absolute(1, 1);
-    Some(PlannedResource {
-        name: format!("{node}/{input} (fallback)"),
-        decl: ResourceDecl::Texture(t),
-        extent: (1, 1),
-        usage: Usage::default(),
-        first_use: 0,
-        last_use: 0,
-        slot: None,
-        constant: Some([value.0, value.1, value.2, value.3]),
-    })
+    let mut res = PlannedResource::new(format!("{node}/{input} (fallback)"), ResourceDecl::Texture(t), (1, 1));
+    res.constant = Some([value.0, value.1, value.2, value.3]);
+    Some(res)
 }
 
 /// The error of an input connected to a switched-off node and without a fallback.

@@ -67,6 +67,17 @@ pub(super) fn set_lifetimes_and_usage(planned: &[PlannedPass], resources: &mut [
     }
     resources[output].usage.copy_src = true;
     last.insert(output, planned.len().saturating_sub(1));
+    // A used history and the resource it keeps trade textures every frame: both live from
+    // frame to frame, with the usages of either.
+    for h in 0..resources.len() {
+        if let (Some(source), true) = (resources[h].history_of, first.contains_key(&h)) {
+            let usage = resources[h].usage.union(resources[source].usage);
+            for r in [h, source] {
+                resources[r].persistent = true;
+                resources[r].usage = usage;
+            }
+        }
+    }
     for (r, res) in resources.iter_mut().enumerate() {
         if let (Some(f), Some(l)) = (first.get(&r), last.get(&r)) {
             res.first_use = *f;

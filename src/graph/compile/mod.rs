@@ -3,7 +3,8 @@
 //! 1. `source`: read and parse the graph file; `resolve`: apply the options' node switches,
 //!    check that there is at most one `Accel` node, read each node's layer file and check its
 //!    parameters and the options' overrides;
-//! 2. `connect`: declare every output and transient, connect every input to its producer;
+//! 2. `connect`: declare every output, transient and history, connect every input to its
+//!    producer;
 //! 3. `schedule`: collect the passes (one producer per resource), find cycles, the output,
 //!    the passes that reach it and their order;
 //! 4. `interface`: reflect every pass's shader and check its interface;
@@ -46,6 +47,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let mut nodes = resolve::resolve_layers(&graph, &gsrc, project, &options.layers)?;
     resolve::apply_param_overrides(&mut nodes, &options.params, graph_file)?;
 
+    connect::check_history(&nodes)?;
     let mut resources = connect::declare_resources(&mut nodes, frame_size);
     connect::connect_inputs(&graph, &gsrc, &mut nodes, &mut resources)?;
 

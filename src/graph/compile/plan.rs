@@ -34,9 +34,19 @@ pub struct PlannedResource {
     pub slot: Option<usize>,
     /// A constant texture (an unconnected input's fallback value): filled once, never written.
     pub constant: Option<[f32; 4]>,
+    /// A history resource (`LayerDesc::history`): the resource whose previous frame it holds.
+    pub history_of: Option<ResourceId>,
+    /// Lives from frame to frame: a used history resource or the resource it is the history
+    /// of. Never shares its slot.
+    pub persistent: bool,
 }
 
 impl PlannedResource {
+    /// A resource not yet used by any pass.
+    pub(crate) fn new(name: String, decl: ResourceDecl, extent: (u32, u32)) -> Self {
+        Self { name, decl, extent, usage: Usage::default(), first_use: 0, last_use: 0, slot: None, constant: None, history_of: None, persistent: false }
+    }
+
     /// Bytes of GPU memory it needs (0 for the acceleration structure, which its cache owns).
     pub fn bytes(&self) -> u64 {
         match &self.decl {
@@ -236,9 +246,14 @@ impl Plan {
                 ResourceDecl::Buffer(b) => format!("buffer {} B", b.size),
                 ResourceDecl::Accel => "acceleration structure".to_string(),
             };
+            let history = match (r.history_of, r.persistent) {
+                (Some(source), _) => format!("  history: the previous frame of {}", self.resources[source].name),
+                (None, true) => "  kept for the next frame".to_string(),
+                (None, false) => String::new(),
+            };
             match r.slot {
                 Some(slot) => {
-                    let _ = writeln!(s, "  {:<28} {:<26} live passes {}..={}  slot {}", r.name, what, r.first_use, r.last_use, slot);
+                    let _ = writeln!(s, "  {:<28} {:<26} live passes {}..={}  slot {}{history}", r.name, what, r.first_use, r.last_use, slot);
                 }
                 None => {
                     let _ = writeln!(s, "  {:<28} {:<26} not allocated (unused)", r.name, what);

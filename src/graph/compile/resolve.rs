@@ -124,6 +124,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
         inputs: BTreeMap::new(),
         outputs: BTreeMap::from([("tlas".to_string(), ResourceDecl::Accel)]),
         transients: BTreeMap::new(),
+        history: BTreeMap::new(),
         params: BTreeMap::new(),
         passes: vec![PassDesc {
             name: "build".into(),

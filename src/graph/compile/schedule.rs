@@ -57,6 +57,14 @@ pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, P
             let reads = pass.reads.iter().map(|l| lookup(l, "reads")).collect::<Result<Vec<_>, _>>()?;
             let writes = pass.writes.iter().map(|l| lookup(l, "writes")).collect::<Result<Vec<_>, _>>()?;
             for (local, r) in &writes {
+                if let Some(source) = node.layer.history.get(local) {
+                    return Err(GraphError::new(
+                        ErrorKind::TwoProducers,
+                        location.clone(),
+                        format!("pass `{}` writes `{local}`, the previous frame of `{source}`, which only the executor writes", pass.name),
+                    )
+                    .help(format!("write `{source}`: it becomes `{local}` on the next frame")));
+                }
                 if node.layer.inputs.contains_key(local) {
                     return Err(GraphError::new(
                         ErrorKind::TwoProducers,
@@ -126,7 +134,7 @@ pub(super) fn schedule(
     check_producers(nodes, passes, resources, producers)?;
     let topo = petgraph::algo::toposort(&pg.g, None).map_err(|cycle| cycle_error(&pg.g, cycle.node_id(), gsrc, nodes, passes, resources))?;
     let output = graph_output(graph, gsrc, nodes, resources, producers)?;
-    let reaches = pg.reaching(output);
+    let reaches = pg.reaching(output, resources);
     let kept: Vec<usize> = topo
         .iter()
         .filter_map(|v| match pg.g[*v] {
@@ -162,8 +170,10 @@ impl PassGraph {
         Self { g, res_vertex, pass_vertex }
     }
 
-    /// For each vertex (by index), whether resource `output` can be reached from it.
-    fn reaching(&self, output: ResourceId) -> Vec<bool> {
+    /// For each vertex (by index), whether resource `output` can be reached from it. A
+    /// history resource is reached through the resource it keeps, written a frame earlier:
+    /// whatever writes that is kept too (an edge for this walk only, not for the order).
+    fn reaching(&self, output: ResourceId, resources: &[PlannedResource]) -> Vec<bool> {
         let mut reaches = vec![false; self.g.node_count()];
         let mut stack = vec![self.res_vertex[output]];
         while let Some(v) = stack.pop() {
@@ -171,6 +181,9 @@ impl PassGraph {
                 continue;
             }
             stack.extend(self.g.neighbors_directed(v, Direction::Incoming));
+            if let Vertex::Resource(r) = self.g[v] {
+                stack.extend(resources[r].history_of.map(|source| self.res_vertex[source]));
+            }
         }
         reaches
     }
@@ -180,7 +193,7 @@ impl PassGraph {
 fn check_producers(nodes: &[ResolvedNode], passes: &[PassNode], resources: &[PlannedResource], producers: &Producers) -> Result<(), GraphError> {
     for p in passes {
         for (local, r) in &p.reads {
-            if !producers.contains_key(r) && resources[*r].constant.is_none() {
+            if !producers.contains_key(r) && resources[*r].constant.is_none() && resources[*r].history_of.is_none() {
                 let node = &nodes[p.node];
                 let pass = &node.layer.passes[p.index];
                 return Err(GraphError::new(

@@ -75,8 +75,9 @@ impl Executor {
         (device.create_sampler(&linear_sampler()), device.create_sampler(&nearest_sampler()))
     }
 
-    /// Layout entries and resources of `pass`'s bindings, from reflection.
-    pub(super) fn reflect_bindings(&self, gpu: &Gpu, pass: &PlannedPass) -> Result<PassBindings, RuntimeError> {
+    /// Layout entries and resources of `pass`'s bindings, from reflection, with the textures of
+    /// history pairs `swapped` or not (`history`).
+    pub(super) fn reflect_bindings(&self, gpu: &Gpu, pass: &PlannedPass, swapped: bool) -> Result<PassBindings, RuntimeError> {
         let visibility = if pass.kind.is_compute() { wgpu::ShaderStages::COMPUTE } else { wgpu::ShaderStages::VERTEX_FRAGMENT };
         let mut out = PassBindings {
             layout_entries: Vec::new(),
@@ -98,7 +99,7 @@ impl Executor {
 
             if let Some(r) = resource_of(pass, &b.name) {
                 match &self.plan.resources[r].decl {
-                    ResourceDecl::Texture(_) => out.views.push(((b.group, b.binding), self.texture_view(r))),
+                    ResourceDecl::Texture(_) => out.views.push(((b.group, b.binding), self.texture_view_at(r, swapped))),
                     ResourceDecl::Buffer(_) => out.buffers.push(((b.group, b.binding), self.buffer(r).clone())),
                     ResourceDecl::Accel => {} // bound through the trace module's group
                 }

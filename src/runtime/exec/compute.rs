@@ -22,14 +22,13 @@ impl Executor {
         let p = compute_pipeline_with(&gpu.device, &pass.name, &layout.layout, &module, &pass.entry, &constants);
         let PassLayout { bind_groups, accel_layout, .. } = layout;
         PassRuntime {
-            pipeline: Pipeline::Compute(p),
             bind_groups,
             accel_layout,
-            accel_group: None,
             colors,
             depth,
             groups: self.workgroups(pass),
             params: bindings.params(),
+            ..PassRuntime::bare(Pipeline::Compute(p))
         }
     }
 
@@ -55,7 +54,7 @@ impl Executor {
             timestamp_writes: self.timer.as_ref().and_then(|t| t.compute_writes(i as u32)),
         });
         cp.set_pipeline(pipeline);
-        for (g, bg) in pass.bind_groups.iter().enumerate() {
+        for (g, bg) in pass.bind_groups(self.history.swapped).iter().enumerate() {
             cp.set_bind_group(g as u32, bg, &[]);
         }
         if let Some(bg) = &pass.accel_group {

@@ -12,6 +12,7 @@ mod accel_build;
 mod bindings;
 mod compute;
 mod fullscreen;
+pub mod history;
 mod params;
 mod readback;
 mod render_pass;
@@ -63,6 +64,9 @@ struct PassRuntime {
     pipeline: Pipeline,
     /// One per `@group`, in order; the trace module's group is in `accel_group`.
     bind_groups: Vec<wgpu::BindGroup>,
+    /// For a pass that binds a texture of a history pair: its groups with the pairs' textures
+    /// exchanged, set on the frames where they are (`history`).
+    history_bind_groups: Option<Vec<wgpu::BindGroup>>,
     /// Trace passes: the layout of the trace module's bind group, and the group itself (made
     /// again whenever the cache replaces its GPU objects).
     accel_layout: Option<AccelLayout>,
@@ -78,7 +82,25 @@ struct PassRuntime {
 impl PassRuntime {
     /// A pass of `pipeline` with no bindings, attachments or dispatch size of its own.
     fn bare(pipeline: Pipeline) -> Self {
-        Self { pipeline, bind_groups: Vec::new(), accel_layout: None, accel_group: None, colors: Vec::new(), depth: None, groups: [0; 3], params: None }
+        Self {
+            pipeline,
+            bind_groups: Vec::new(),
+            history_bind_groups: None,
+            accel_layout: None,
+            accel_group: None,
+            colors: Vec::new(),
+            depth: None,
+            groups: [0; 3],
+            params: None,
+        }
+    }
+
+    /// The bind groups to set on a frame where the history pairs are `swapped` or not.
+    fn bind_groups(&self, swapped: bool) -> &[wgpu::BindGroup] {
+        match (&self.history_bind_groups, swapped) {
+            (Some(groups), true) => groups,
+            _ => &self.bind_groups,
+        }
     }
 }
 
@@ -115,6 +137,8 @@ pub struct Executor {
     warned_unshadowed: bool,
     /// The Rust passes layer files may name (`PassKind::Rust`).
     rust_passes: RustPasses,
+    /// The history pairs, their swap and the history's validity (`history`).
+    history: history::HistoryState,
 }
 
 /// One frame while it is recorded.
@@ -182,7 +206,9 @@ impl Executor {
             warned_unshadowed: false,
             trace_alpha_test: Self::scene_has_alpha_test(scene),
             rust_passes,
+            history: history::HistoryState::default(),
         };
+        exec.history = history::HistoryState::of_plan(&exec.plan);
         exec.passes = exec.build_passes(gpu)?;
         if gpu.timestamps {
             exec.timer = Some(GpuTimer::new(&gpu.device, &gpu.queue, exec.plan.passes.len() as u32));
@@ -203,6 +229,17 @@ impl Executor {
         &self.plan
     }
 
+    /// Marks the next frame as a camera cut: its history is not valid
+    /// (`frame.history_valid` = 0), as after a jump of the camera (`history`).
+    pub fn camera_cut(&mut self) {
+        self.history.cut_requested = true;
+    }
+
+    /// Whether the frame being recorded, or the last one rendered, had a valid history.
+    pub fn history_valid(&self) -> bool {
+        self.history.valid
+    }
+
     fn build_passes(&self, gpu: &Gpu) -> Result<Vec<PassRuntime>, RuntimeError> {
         self.plan.passes.iter().map(|pass| self.build_pass(gpu, pass)).collect()
     }
@@ -214,17 +251,34 @@ impl Executor {
             PassKind::Rust => return self.build_rust_pass(gpu, pass),
             _ => {}
         }
-        let bindings = self.reflect_bindings(gpu, pass)?;
+        let bindings = self.reflect_bindings(gpu, pass, false)?;
         if pass.kind == PassKind::Trace && self.plan.backend == crate::backend::Backend::RtPipeline {
+            if self.binds_history(pass) {
+                return Err(RuntimeError::Gpu(format!(
+                    "pass {} ({}) traces rays on the rt-pipeline back-end and binds a history texture, which that back-end cannot swap yet: read the history in a compute pass, or use the compute or ray-query back-end",
+                    pass.name,
+                    pass.location
+                )));
+            }
             return self.build_rt_pass(gpu, pass, bindings);
         }
+        let history_bind_groups = match self.binds_history(pass) {
+            true => {
+                let mut swapped = self.reflect_bindings(gpu, pass, true)?;
+                // One `params` buffer for both sets, so that `set_param` reaches either.
+                swapped.params_buffer.clone_from(&bindings.params_buffer);
+                Some(self.create_bind_groups(gpu, pass, &swapped).bind_groups)
+            }
+            false => None,
+        };
         let layout = self.create_bind_groups(gpu, pass, &bindings);
-        match pass.kind {
+        let runtime = match pass.kind {
             PassKind::AccelBuild | PassKind::Rust => unreachable!("returned above"),
-            PassKind::Compute | PassKind::Trace => Ok(self.build_compute_pass(gpu, pass, layout, bindings)),
-            PassKind::Fullscreen => Ok(self.build_fullscreen_pass(gpu, pass, layout, bindings)),
-            PassKind::SceneRaster => Ok(self.build_scene_raster_pass(gpu, pass, layout, bindings)),
-        }
+            PassKind::Compute | PassKind::Trace => self.build_compute_pass(gpu, pass, layout, bindings),
+            PassKind::Fullscreen => self.build_fullscreen_pass(gpu, pass, layout, bindings),
+            PassKind::SceneRaster => self.build_scene_raster_pass(gpu, pass, layout, bindings),
+        };
+        Ok(PassRuntime { history_bind_groups, ..runtime })
     }
 
     /// Records and submits one frame; waits for it and returns its pass timings.

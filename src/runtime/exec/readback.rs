@@ -58,7 +58,7 @@ impl Executor {
         let ResourceDecl::Texture(t) = &self.plan.resources[r].decl else {
             return Err(RuntimeError::Gpu(format!("{} is not a texture", self.plan.resources[r].name)));
         };
-        let Physical::Texture(texture) = &self.slots[self.plan.resources[r].slot.ok_or_else(|| RuntimeError::Gpu("resource is not allocated".into()))?] else {
+        let Physical::Texture(texture) = &self.slots[self.slot_of(r).ok_or_else(|| RuntimeError::Gpu("resource is not allocated".into()))?] else {
             return Err(RuntimeError::Gpu("resource is not a texture".into()));
         };
         Ok((w, h, t.format, read_texture(gpu, texture, t.format.bytes_per_texel() as u32)?))

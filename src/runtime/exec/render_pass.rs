@@ -53,7 +53,7 @@ impl Executor {
             alpha_switch,
             fragment_only_alpha_tests: alpha_switch && colors.is_empty() && pass.shader.source.is_builtin(),
         };
-        PassRuntime { pipeline: pipeline(spec), bind_groups, accel_layout, accel_group: None, colors, depth, groups: [0, 0, 0], params: bindings.params() }
+        PassRuntime { bind_groups, accel_layout, colors, depth, params: bindings.params(), ..PassRuntime::bare(pipeline(spec)) }
     }
 
     /// The render pass of raster pass `i` over `views` (its colour attachments and its depth
@@ -88,7 +88,7 @@ impl Executor {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        for (g, bg) in self.passes[i].bind_groups.iter().enumerate() {
+        for (g, bg) in self.passes[i].bind_groups(self.history.swapped).iter().enumerate() {
             rp.set_bind_group(g as u32, bg, &[]);
         }
         rp

@@ -47,7 +47,7 @@ impl Executor {
         };
         for (local, r) in pass.reads.iter().chain(&pass.writes) {
             let resource = &self.plan.resources[*r];
-            match (&resource.decl, resource.slot.and_then(|s| self.slots.get(s))) {
+            match (&resource.decl, self.slot_of(*r).and_then(|s| self.slots.get(s))) {
                 (ResourceDecl::Texture(t), Some(Physical::Texture(texture))) => {
                     io.textures.insert(local.clone(), RustPassTexture { texture: texture.clone(), format: t.format });
                 }

@@ -78,6 +78,9 @@ impl Executor {
         let (w, h) = self.plan.frame_size;
         let vp = camera.view_proj(w as f32 / h as f32);
         let (center, radius) = self.scene_sphere;
+        let previous_vp = self.history.previous.as_ref().map(|(_, m)| *m);
+        self.history.begin_frame(camera, vp, radius);
+        let prev_view_proj = if self.history.valid { previous_vp.unwrap_or(vp) } else { vp };
         let lights = light_records(&scene.effective_lights(), center, radius);
         let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
         for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
@@ -107,6 +110,9 @@ impl Executor {
             light_count: lights.records.len() as u32,
             shadow_count: lights.shadow_view_proj.len() as u32,
             frame_index: self.frame_index,
+            history_valid: self.history.valid as u32,
+            _pad: [0; 3],
+            prev_view_proj: prev_view_proj.to_cols_array_2d(),
         })
     }
 }

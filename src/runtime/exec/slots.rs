@@ -1,6 +1,7 @@
 //! The plan's slots on the device: one texture or buffer per slot (labelled with the resources
 //! it holds), the constant textures' texel, the built-in buffers every pass may bind, and the
-//! texture, view or buffer a kept resource lives in.
+//! texture, view or buffer a kept resource lives in (this frame: the textures of history pairs
+//! trade places, `history`).
 
 use super::{Executor, Physical};
 use crate::error::RuntimeError;
@@ -129,30 +130,55 @@ impl Executor {
         (frame_uniforms, debug_counters)
     }
 
+    /// The slot that holds resource `r` when the history pairs are `swapped` or not
+    /// (`history`).
+    pub(super) fn slot_at(&self, r: ResourceId, swapped: bool) -> Option<usize> {
+        self.plan.resources.get(r)?.slot.map(|s| self.history.map(s, swapped))
+    }
+
+    /// The slot that holds resource `r` this frame (the frame being recorded, or the last one
+    /// rendered).
+    pub(super) fn slot_of(&self, r: ResourceId) -> Option<usize> {
+        self.slot_at(r, self.history.swapped)
+    }
+
+    /// Whether `pass` binds a texture of a history pair (it then has a second set of bind
+    /// groups).
+    pub(super) fn binds_history(&self, pass: &PlannedPass) -> bool {
+        pass.reads.iter().chain(&pass.writes).any(|(_, r)| self.plan.resources[*r].slot.is_some_and(|s| self.history.holds(s)))
+    }
+
+    /// A view of the texture that holds `r` this frame.
     pub(super) fn texture_view(&self, r: ResourceId) -> wgpu::TextureView {
-        match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
+        self.texture_view_at(r, self.history.swapped)
+    }
+
+    /// A view of the texture that holds `r` when the history pairs are `swapped` or not.
+    pub(super) fn texture_view_at(&self, r: ResourceId, swapped: bool) -> wgpu::TextureView {
+        match &self.slots[self.slot_at(r, swapped).expect("kept resource has a slot")] {
             Physical::Texture(t) => t.create_view(&wgpu::TextureViewDescriptor::default()),
             Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
         }
     }
 
     pub(super) fn slot_texture(&self, r: ResourceId) -> &wgpu::Texture {
-        match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
+        match &self.slots[self.slot_of(r).expect("kept resource has a slot")] {
             Physical::Texture(t) => t,
             Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
         }
     }
 
     pub(super) fn buffer(&self, r: ResourceId) -> &wgpu::Buffer {
-        match &self.slots[self.plan.resources[r].slot.expect("kept resource has a slot")] {
+        match &self.slots[self.slot_of(r).expect("kept resource has a slot")] {
             Physical::Buffer(b) => b,
             Physical::Texture(_) | Physical::Accel => unreachable!("buffer resource mapped to a texture slot"),
         }
     }
 
-    /// The texture a kept texture resource lives in (shared with the resources of its slot).
+    /// The texture a kept texture resource lives in this frame (shared with the resources of
+    /// its slot).
     pub fn texture(&self, r: ResourceId) -> Option<&wgpu::Texture> {
-        match self.plan.resources.get(r)?.slot.and_then(|s| self.slots.get(s))? {
+        match self.slot_of(r).and_then(|s| self.slots.get(s))? {
             Physical::Texture(t) => Some(t),
             _ => None,
         }
