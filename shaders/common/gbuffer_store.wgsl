@@ -3,9 +3,10 @@
 // them. Needs the main shader to declare the storage textures `position`, `normal`,
 // `geo_normal`, `albedo`, `material` and `emissive`, and to include common/surface.wgsl.
 
-// Pixel `p` shows surface `s`.
-fn store_gbuffer(p: vec2<u32>, s: Surface) {
-    textureStore(position, p, vec4<f32>(s.position, 1.0));
+// Pixel `p` shows surface `s` of scene instance `instance`: the position's w is the instance
+// + 1 (0 is the sky), which the motion layer reads.
+fn store_gbuffer(p: vec2<u32>, s: Surface, instance: u32) {
+    textureStore(position, p, vec4<f32>(s.position, f32(instance + 1u)));
     textureStore(normal, p, vec4<f32>(s.normal, 0.0));
     textureStore(geo_normal, p, vec4<f32>(s.geo_normal, 0.0));
     textureStore(albedo, p, vec4<f32>(s.albedo, 1.0));

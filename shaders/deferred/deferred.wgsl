@@ -62,7 +62,8 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer 
     }
     let s = raster_surface(inst, front_facing, in.local, in.uv, in.normal);
     var out: GBuffer;
-    out.position = vec4<f32>(in.world, 1.0);
+    // w: the instance + 1 (0 is the sky), as common/gbuffer_store.wgsl writes it.
+    out.position = vec4<f32>(in.world, f32(in.instance + 1u));
     out.normal = vec4<f32>(s.normal, 0.0);
     out.geo_normal = vec4<f32>(s.geo_normal, 0.0);
     out.albedo = vec4<f32>(s.albedo, 1.0);

@@ -39,5 +39,5 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         store_gbuffer_miss(id.xy);
         return;
     }
-    store_gbuffer(id.xy, visible_surface(id.xy, seen));
+    store_gbuffer(id.xy, visible_surface(id.xy, seen), seen.instance);
 }

@@ -11,6 +11,7 @@ struct Params {
     range_scale: f32,
     sampling: u32,
     seed: u32,
+    per_frame: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -34,7 +35,10 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let origin = offset_ray_origin(p.xyz, n);
     let range = params.range + params.range_scale * frame.scene_sphere.w;
     let rotation = pixel_random2(id.xy, params.seed);
-    var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed + 0x9e3779b9u)));
+    // With `per_frame`, every frame draws new samples: R2 goes on along its sequence, white
+    // noise is seeded again.
+    let frame_offset = select(0u, frame.frame_index, params.per_frame != 0u);
+    var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed + 0x9e3779b9u + frame_offset * 0x85ebca6bu)));
     var open = 0u;
     for (var i = 0u; i < params.rays; i++) {
         var u: vec2<f32>;
@@ -44,7 +48,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             state = pcg_hash(state);
             u = vec2<f32>(f32(a >> 8u), f32(state >> 8u)) * (1.0 / 16777216.0);
         } else {
-            u = fract(r2_sample(i) + rotation);
+            u = fract(r2_sample(i + frame_offset * params.rays) + rotation);
         }
         if !trace_any(Ray(origin, 0.0, cosine_hemisphere(n, u), range)) {
             open++;

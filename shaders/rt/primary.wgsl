@@ -58,7 +58,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if hit.instance == NO_HIT {
         store_gbuffer_miss(id.xy);
     } else {
-        store_gbuffer(id.xy, surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t));
+        store_gbuffer(id.xy, surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t), hit.instance);
     }
     trace_flush_stats();
 }

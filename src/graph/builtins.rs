@@ -18,6 +18,10 @@ pub(crate) const SCENE_MESHES: &str = "scene_meshes";
 /// The lights (`array<Light>`, `shaders/common/lighting.wgsl`): `Scene::effective_lights()`,
 /// `frame.light_count` of them, rewritten every frame.
 pub const SCENE_LIGHTS: &str = "scene_lights";
+/// Every instance's model matrix of the previous frame (`array<mat4x4<f32>>`, one per
+/// instance, its current one on a frame without history): what motion vectors are made from.
+/// Rewritten only when it changes.
+pub const SCENE_MOTION: &str = "scene_motion";
 /// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
 /// uniform buffers).
 pub const SCENE_TEXTURES_GROUP: u32 = 1;
@@ -53,6 +57,7 @@ pub(crate) fn is_builtin(name: &str) -> bool {
             | SCENE_INDICES
             | SCENE_MESHES
             | SCENE_LIGHTS
+            | SCENE_MOTION
             | LINEAR_SAMPLER
             | NEAREST_SAMPLER
     )
@@ -65,6 +70,7 @@ impl SceneUsage {
             SCENE_INSTANCES => self.instances = true,
             SCENE_MATERIALS => self.materials = true,
             SCENE_LIGHTS => self.lights = true,
+            SCENE_MOTION => self.motion = true,
             SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES => self.geometry_storage = true,
             SCENE_TEXTURES => {
                 self.textures = true;

@@ -106,6 +106,8 @@ pub struct SceneUsage {
     pub geometry_storage: bool,
     /// `scene_lights`.
     pub lights: bool,
+    /// `scene_motion`: the previous frame's instance transforms.
+    pub motion: bool,
     /// Which meshes are closed and wound outwards (`scene::topology`), for a pass with
     /// `cull_closed_back_faces`: found on the CPU at upload, not uploaded.
     pub closed_meshes: bool,
@@ -114,7 +116,7 @@ pub struct SceneUsage {
 impl SceneUsage {
     /// Whether any pass reads the scene.
     pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights
+        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights || self.motion
     }
 
     /// A short list for reports, e.g. `geometry, instances, textures`.
@@ -126,6 +128,7 @@ impl SceneUsage {
             (self.materials, "materials"),
             (self.textures, "textures"),
             (self.lights, "lights"),
+            (self.motion, "previous transforms"),
             (self.closed_meshes, "closed meshes (found on the CPU)"),
         ]
         .into_iter()
@@ -156,6 +159,9 @@ pub struct GpuScene {
     /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
     /// by [`GpuScene::write_lights`].
     pub lights: Option<wgpu::Buffer>,
+    /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
+    /// [`GpuScene::write_motion`].
+    pub motion: Option<wgpu::Buffer>,
     /// One draw per instance, for raster passes.
     pub(crate) draws: Vec<Draw>,
     /// What was uploaded.
@@ -202,6 +208,7 @@ impl GpuScene {
             meshes: None,
             textures: None,
             lights: None,
+            motion: None,
             draws: Vec::new(),
             usage,
             bytes: 0,
@@ -305,6 +312,11 @@ impl GpuScene {
         if usage.lights {
             let records = vec![LightUniforms::default(); scene.effective_light_count()];
             out.lights = Some(storage_records(device, scene, "light", records, &mut bytes)?);
+        }
+
+        if usage.motion {
+            let records: Vec<[[f32; 4]; 4]> = scene.instances.iter().map(|i| i.transform.to_cols_array_2d()).collect();
+            out.motion = Some(storage_records(device, scene, "previous transform", records, &mut bytes)?);
         }
 
         if usage.textures {
@@ -527,6 +539,19 @@ impl GpuScene {
 }
 
 impl GpuScene {
+    /// Rewrites the previous transforms (`scene_motion`). Returns false if there is no such
+    /// buffer or its size no longer matches.
+    pub fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {
+        let Some(buffer) = &self.motion else { return false };
+        let records: Vec<[[f32; 4]; 4]> = transforms.iter().map(|m| m.to_cols_array_2d()).collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&records);
+        if records.is_empty() || bytes.len() as u64 != buffer.size() {
+            return false;
+        }
+        queue.write_buffer(buffer, 0, bytes);
+        true
+    }
+
     /// Rewrites the light records. Returns false if there is no light buffer or its size no
     /// longer matches.
     pub fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {

@@ -41,74 +41,113 @@ pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, P
     for (ni, node) in nodes.iter().enumerate() {
         for (pi, pass) in node.layer.passes.iter().enumerate() {
             let location = node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name)]);
-            let lookup = |local: &String, what: &str| -> Result<(String, ResourceId), GraphError> {
-                node.locals.get(local).map(|r| (local.clone(), *r)).ok_or_else(|| {
-                    let mut names: Vec<&str> =
-                        node.layer.inputs.keys().chain(node.layer.outputs.keys()).chain(node.layer.transients.keys()).map(|s| s.as_str()).collect();
-                    names.sort();
-                    GraphError::new(
-                        ErrorKind::UnknownOutput,
-                        node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name), what, &SourceText::quoted(local)]),
-                        format!("pass `{}` {what} `{local}`, which layer `{}` does not declare", pass.name, node.layer_name),
-                    )
-                    .help(format!("declare it under inputs, outputs or transients; declared: {}", names.join(", ")))
-                })
-            };
-            let reads = pass.reads.iter().map(|l| lookup(l, "reads")).collect::<Result<Vec<_>, _>>()?;
-            let writes = pass.writes.iter().map(|l| lookup(l, "writes")).collect::<Result<Vec<_>, _>>()?;
-            for (local, r) in &writes {
-                if let Some(source) = node.layer.history.get(local) {
-                    return Err(GraphError::new(
-                        ErrorKind::TwoProducers,
-                        location.clone(),
-                        format!("pass `{}` writes `{local}`, the previous frame of `{source}`, which only the executor writes", pass.name),
-                    )
-                    .help(format!("write `{source}`: it becomes `{local}` on the next frame")));
-                }
-                if node.layer.inputs.contains_key(local) {
-                    return Err(GraphError::new(
-                        ErrorKind::TwoProducers,
-                        location.clone(),
-                        format!("pass `{}` writes `{local}`, an input of layer `{}` that another node produces", pass.name, node.layer_name),
-                    )
-                    .help("write a new output instead of the input"));
-                }
-                if let Some((first_loc, first_pass)) = producer_loc.get(r) {
-                    return Err(GraphError::new(
-                        ErrorKind::TwoProducers,
-                        location.clone(),
-                        format!("`{local}` is written by two passes: `{first_pass}` and `{}`", pass.name),
-                    )
-                    .note(first_loc.clone(), "first producer")
-                    .help("give each pass its own output, or merge the passes"));
-                }
-                if reads.iter().any(|(_, rr)| rr == r) {
-                    return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("pass `{}` both reads and writes `{local}`", pass.name))
-                        .help("write into a separate resource (ping-pong) instead"));
-                }
-                producer_loc.insert(*r, (location.clone(), pass.name.clone()));
-                producers.insert(*r, passes.len());
+            let reads = pass.reads.iter().map(|e| pass_resource(node, pass, e, "reads")).collect::<Result<Vec<_>, _>>()?;
+            let writes = pass.writes.iter().map(|e| pass_resource(node, pass, e, "writes")).collect::<Result<Vec<_>, _>>()?;
+            for w in &writes {
+                check_write(node, pass, &location, w, &reads, &producer_loc)?;
+                producer_loc.insert(w.resource, (location.clone(), pass.name.clone()));
+                producers.insert(w.resource, passes.len());
             }
-            if pass.shadow_slot.is_some() && pass.kind != PassKind::SceneRaster {
-                return Err(GraphError::new(
-                    ErrorKind::Unsupported,
-                    location,
-                    format!("pass `{}` has a `shadow_slot` but is not a SceneRaster pass", pass.name),
-                )
-                .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
-            }
-            if pass.cull_closed_back_faces && pass.shadow_slot.is_none() {
-                return Err(GraphError::new(
-                    ErrorKind::Unsupported,
-                    location,
-                    format!("pass `{}` has `cull_closed_back_faces` but no `shadow_slot`", pass.name),
-                )
-                .help("the culling needs the light a shadow map is drawn from: add `shadow_slot`, or set `cull_back_faces` instead".to_string()));
-            }
-            passes.push(PassNode { node: ni, index: pi, reads, writes, location });
+            check_pass_options(pass, &location)?;
+            let bound = |list: Vec<PassResource>| list.into_iter().map(|a| (a.binding, a.resource)).collect();
+            passes.push(PassNode { node: ni, index: pi, reads: bound(reads), writes: bound(writes), location });
         }
     }
     Ok((passes, producers))
+}
+
+/// One entry of a pass's `reads` or `writes`: `"name"` binds resource `name` under its own
+/// name; `"binding=name"` binds it under another (so that one shader serves passes over
+/// different resources).
+struct PassResource {
+    binding: String,
+    local: String,
+    resource: ResourceId,
+}
+
+fn pass_resource(node: &ResolvedNode, pass: &PassDesc, entry: &str, what: &str) -> Result<PassResource, GraphError> {
+    let (binding, local) = entry.split_once('=').map(|(b, l)| (b.trim(), l.trim())).unwrap_or((entry, entry));
+    node.locals.get(local).map(|r| PassResource { binding: binding.to_string(), local: local.to_string(), resource: *r }).ok_or_else(|| {
+        let mut names: Vec<&str> = node
+            .layer
+            .inputs
+            .keys()
+            .chain(node.layer.outputs.keys())
+            .chain(node.layer.transients.keys())
+            .chain(node.layer.history.keys())
+            .map(|s| s.as_str())
+            .collect();
+        names.sort();
+        GraphError::new(
+            ErrorKind::UnknownOutput,
+            node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name), what, &SourceText::quoted(entry)]),
+            format!("pass `{}` {what} `{local}`, which layer `{}` does not declare", pass.name, node.layer_name),
+        )
+        .help(format!("declare it under inputs, outputs, transients or history; declared: {}", names.join(", ")))
+    })
+}
+
+/// A write is of the layer's own output or transient, by one pass, which does not read it.
+fn check_write(
+    node: &ResolvedNode,
+    pass: &PassDesc,
+    location: &Location,
+    w: &PassResource,
+    reads: &[PassResource],
+    producer_loc: &HashMap<ResourceId, (Location, String)>,
+) -> Result<(), GraphError> {
+    let local = &w.local;
+    if let Some(source) = node.layer.history.get(local) {
+        return Err(GraphError::new(
+            ErrorKind::TwoProducers,
+            location.clone(),
+            format!("pass `{}` writes `{local}`, the previous frame of `{source}`, which only the executor writes", pass.name),
+        )
+        .help(format!("write `{source}`: it becomes `{local}` on the next frame")));
+    }
+    if node.layer.inputs.contains_key(local) {
+        return Err(GraphError::new(
+            ErrorKind::TwoProducers,
+            location.clone(),
+            format!("pass `{}` writes `{local}`, an input of layer `{}` that another node produces", pass.name, node.layer_name),
+        )
+        .help("write a new output instead of the input"));
+    }
+    if let Some((first_loc, first_pass)) = producer_loc.get(&w.resource) {
+        return Err(GraphError::new(
+            ErrorKind::TwoProducers,
+            location.clone(),
+            format!("`{local}` is written by two passes: `{first_pass}` and `{}`", pass.name),
+        )
+        .note(first_loc.clone(), "first producer")
+        .help("give each pass its own output, or merge the passes"));
+    }
+    if reads.iter().any(|r| r.resource == w.resource) {
+        return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("pass `{}` both reads and writes `{local}`", pass.name))
+            .help("write into a separate resource (ping-pong) instead"));
+    }
+    Ok(())
+}
+
+/// `shadow_slot` only on scene raster passes; `cull_closed_back_faces` only with a slot.
+fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphError> {
+    if pass.shadow_slot.is_some() && pass.kind != PassKind::SceneRaster {
+        return Err(GraphError::new(
+            ErrorKind::Unsupported,
+            location.clone(),
+            format!("pass `{}` has a `shadow_slot` but is not a SceneRaster pass", pass.name),
+        )
+        .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
+    }
+    if pass.cull_closed_back_faces && pass.shadow_slot.is_none() {
+        return Err(GraphError::new(
+            ErrorKind::Unsupported,
+            location.clone(),
+            format!("pass `{}` has `cull_closed_back_faces` but no `shadow_slot`", pass.name),
+        )
+        .help("the culling needs the light a shadow map is drawn from: add `shadow_slot`, or set `cull_back_faces` instead".to_string()));
+    }
+    Ok(())
 }
 
 /// The passes that reach the graph output, in execution order, and the graph's output.

@@ -185,6 +185,7 @@ impl Executor {
             builtins::SCENE_INDICES => out.buffers.push((at, self.scene_part(|s| s.indices.as_ref())?.clone())),
             builtins::SCENE_MESHES => out.buffers.push((at, self.scene_part(|s| s.meshes.as_ref())?.clone())),
             builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights.as_ref())?.clone())),
+            builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion.as_ref())?.clone())),
             builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
                 SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => out.views.push((at, view.clone())),
                 SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => out.view_arrays.push((at, v.clone())),

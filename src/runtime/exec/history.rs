@@ -30,6 +30,10 @@ pub(super) struct HistoryState {
     pub(super) cut_requested: bool,
     /// The camera and view-projection of the previous frame.
     pub(super) previous: Option<(Camera, glam::Mat4)>,
+    /// The instance transforms of the previous frame (`scene_motion`).
+    pub(super) transforms: Vec<glam::Mat4>,
+    /// What the `scene_motion` buffer holds.
+    pub(super) motion_written: Vec<glam::Mat4>,
 }
 
 impl HistoryState {

@@ -64,12 +64,31 @@ impl Executor {
         }
         let scope = gpu.scopes();
         self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
+        // The new buffers hold the current transforms: `write_motion` writes the previous ones.
+        self.history.motion_written.clear();
         self.passes = self.build_passes(gpu)?;
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
         scope.finish(gpu, "uploading the changed scene")?;
         log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
         self.scene_content = content;
+        Ok(())
+    }
+
+    /// `scene_motion`, where the plan binds it: each instance's transform of the previous frame
+    /// (its current one on a frame without history, or where the instances changed in number),
+    /// written only when it differs from what the buffer holds.
+    fn write_motion(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion.is_some()) else { return Ok(()) };
+        let current: Vec<glam::Mat4> = scene.instances.iter().map(|i| i.transform).collect();
+        let previous = std::mem::replace(&mut self.history.transforms, current.clone());
+        let motion = if self.history.valid && previous.len() == current.len() { previous } else { current };
+        if motion != self.history.motion_written {
+            if !uploaded.write_motion(&gpu.queue, &motion) {
+                return Err(RuntimeError::Gpu("the previous-transform buffer does not match the scene's instances".into()));
+            }
+            self.history.motion_written = motion;
+        }
         Ok(())
     }
 
@@ -81,6 +100,7 @@ impl Executor {
         let previous_vp = self.history.previous.as_ref().map(|(_, m)| *m);
         self.history.begin_frame(camera, vp, radius);
         let prev_view_proj = if self.history.valid { previous_vp.unwrap_or(vp) } else { vp };
+        self.write_motion(gpu, scene)?;
         let lights = light_records(&scene.effective_lights(), center, radius);
         let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
         for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {

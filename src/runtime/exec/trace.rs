@@ -115,6 +115,7 @@ impl Executor {
             builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices.as_ref())?),
             builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes.as_ref())?),
             builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights.as_ref())?),
+            builtins::SCENE_MOTION => buffer(self.scene_part(|s| s.motion.as_ref())?),
             builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
                 SceneTextures::Array { texture, view } => {
                     RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }

@@ -1,0 +1,44 @@
+// The à-trous steps of layers/atrous.ron: `source` filtered into `result` with taps 1, 2, 4 or
+// 8 pixels apart (one entry point per step; common/atrous.wgsl).
+//#include "common/frame.wgsl"
+//#include "common/atrous.wgsl"
+
+struct Params {
+    sigma_luminance: f32,
+    sigma_normal: f32,
+    sigma_depth: f32,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var source: texture_2d<f32>;
+@group(0) @binding(3) var position: texture_2d<f32>;
+@group(0) @binding(4) var normal: texture_2d<f32>;
+@group(0) @binding(5) var result: texture_storage_2d<rgba16float, write>;
+
+fn filter_pixel(id: vec2<u32>, step: i32) {
+    let size = textureDimensions(result);
+    if id.x < size.x && id.y < size.y {
+        textureStore(result, id, atrous_step(source, vec2<i32>(id), step));
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn step_1(@builtin(global_invocation_id) id: vec3<u32>) {
+    filter_pixel(id.xy, 1);
+}
+
+@compute @workgroup_size(8, 8)
+fn step_2(@builtin(global_invocation_id) id: vec3<u32>) {
+    filter_pixel(id.xy, 2);
+}
+
+@compute @workgroup_size(8, 8)
+fn step_4(@builtin(global_invocation_id) id: vec3<u32>) {
+    filter_pixel(id.xy, 4);
+}
+
+@compute @workgroup_size(8, 8)
+fn step_8(@builtin(global_invocation_id) id: vec3<u32>) {
+    filter_pixel(id.xy, 8);
+}

@@ -1,0 +1,75 @@
+// Temporal accumulation (layers/temporal.ron): reprojected history blended with this frame's
+// signal as a running mean, restarted at disocclusions, optionally clamped to the current
+// neighbourhood's statistics.
+//#include "common/frame.wgsl"
+
+struct Params {
+    max_history: u32,
+    variance_clamp: u32,
+    clamp_sigma: f32,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var signal: texture_2d<f32>;
+@group(0) @binding(3) var motion: texture_2d<f32>;
+@group(0) @binding(4) var accumulated_previous: texture_2d<f32>;
+@group(0) @binding(5) var moments_previous: texture_2d<f32>;
+@group(0) @binding(6) var accumulated: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var moments: texture_storage_2d<rgba32float, write>;
+
+fn luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
+}
+
+// `t` bilinearly at pixel position `at` (pixel centres at +0.5), clamped to the frame.
+fn bilinear(t: texture_2d<f32>, at: vec2<f32>) -> vec4<f32> {
+    let base = at - 0.5;
+    let f = fract(base);
+    let i0 = vec2<i32>(floor(base));
+    let last = vec2<i32>(textureDimensions(t)) - 1;
+    let a = textureLoad(t, clamp(i0, vec2<i32>(0), last), 0);
+    let b = textureLoad(t, clamp(i0 + vec2<i32>(1, 0), vec2<i32>(0), last), 0);
+    let c = textureLoad(t, clamp(i0 + vec2<i32>(0, 1), vec2<i32>(0), last), 0);
+    let d = textureLoad(t, clamp(i0 + vec2<i32>(1, 1), vec2<i32>(0), last), 0);
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(accumulated);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let now = textureLoad(signal, id.xy, 0);
+    let l = luminance(now.rgb);
+    let m = textureLoad(motion, id.xy, 0);
+    if m.z != 0.0 {
+        // No history here: start again.
+        textureStore(accumulated, id.xy, now);
+        textureStore(moments, id.xy, vec4<f32>(l, l * l, 1.0, 0.0));
+        return;
+    }
+    let before = vec2<f32>(id.xy) + 0.5 - m.xy;
+    var history = bilinear(accumulated_previous, before);
+    let history_moments = bilinear(moments_previous, before);
+    if params.variance_clamp != 0u {
+        var sum = vec4<f32>(0.0);
+        var sum2 = vec4<f32>(0.0);
+        let last = vec2<i32>(size) - 1;
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let v = textureLoad(signal, clamp(vec2<i32>(id.xy) + vec2<i32>(dx, dy), vec2<i32>(0), last), 0);
+                sum += v;
+                sum2 += v * v;
+            }
+        }
+        let mean = sum / 9.0;
+        let sigma = sqrt(max(sum2 / 9.0 - mean * mean, vec4<f32>(0.0)));
+        history = clamp(history, mean - params.clamp_sigma * sigma, mean + params.clamp_sigma * sigma);
+    }
+    let n = min(floor(history_moments.z + 0.5) + 1.0, f32(params.max_history));
+    let alpha = 1.0 / n;
+    textureStore(accumulated, id.xy, mix(history, now, alpha));
+    textureStore(moments, id.xy, vec4<f32>(mix(history_moments.xy, vec2<f32>(l, l * l), alpha), n, 0.0));
+}

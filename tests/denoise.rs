@@ -1,0 +1,151 @@
+//! Temporal accumulation (`layers/temporal.ron`) against a closed form: a floor under a
+//! parallel ceiling at h = 0.5 with AO rays of length R = 1 is unoccluded in a fraction
+//! (h/R)^2 = 0.25 of cosine-weighted directions at every point. With 8 white-noise rays a
+//! frame (`per_frame`: new samples every frame) one frame's estimate has a standard deviation
+//! sigma = sqrt(0.25 x 0.75 / 8) = 0.153 per pixel; the accumulated mean over F frames must
+//! come to sigma / sqrt(F) around 0.25, unbiased.
+
+mod common;
+
+use common::{gpu, TempProject};
+use raygraph::runtime::Executor;
+
+const W: u32 = 64;
+const H: u32 = 48;
+const RAYS: f64 = 8.0;
+const EXPECTED: f64 = 0.25;
+
+const SHOW_LAYER: &str = r#"Layer(
+    inputs: {"value": Texture(format: Rgba32Float)},
+    outputs: {"color": Texture(format: Rgba8Unorm)},
+    passes: [Pass(name: "show", kind: Compute, shader: "test/show_value.wgsl", reads: ["value"], writes: ["color"])],
+)
+"#;
+
+const SHOW_WGSL: &str = r#"@group(0) @binding(0) var value: texture_2d<f32>;
+@group(0) @binding(1) var color: texture_storage_2d<rgba8unorm, write>;
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(color);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    textureStore(color, id.xy, vec4<f32>(textureLoad(value, id.xy, 0).rgb, 1.0));
+}
+"#;
+
+const GRAPH: &str = r#"Graph(output: "show.color", nodes: {
+    "accel": Accel(),
+    "gbuffer": Layer(layer: "deferred"),
+    "motion": Layer(layer: "motion", inputs: {"position": "gbuffer.position"}),
+    "ao": Layer(
+        layer: "rt_ao",
+        inputs: {"position": "gbuffer.position", "geo_normal": "gbuffer.geo_normal", "tlas": "accel.tlas"},
+        params: {"rays": 8, "range": 1.0, "range_scale": 0.0, "sampling": 0, "per_frame": true},
+    ),
+    "ao_temporal": Layer(layer: "temporal", inputs: {"signal": "ao.ao", "motion": "motion.motion"}, params: {"max_history": 2048, "variance_clamp": false}),
+    "show": Layer(layer: "show_value", inputs: {"value": "ao_temporal.accumulated"}),
+})"#;
+
+/// (mean over pixels, RMS error against the closed form) of resource `name`'s red channel.
+fn stats(values: &[[f32; 4]]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().map(|v| v[0] as f64).sum::<f64>() / n;
+    let rms = (values.iter().map(|v| (v[0] as f64 - EXPECTED).powi(2)).sum::<f64>() / n).sqrt();
+    (mean, rms)
+}
+
+#[test]
+fn accumulating_a_still_frame_converges_to_the_closed_form_ambient_occlusion() {
+    let gpu = gpu();
+    let p = TempProject::with_repo_files();
+    p.write("layers/show_value.ron", SHOW_LAYER);
+    p.write("shaders/test/show_value.wgsl", SHOW_WGSL);
+    let path = p.write("graph/accumulate.ron", GRAPH);
+    let plan = raygraph::graph::compile::compile(&path, &p.project(), (W, H)).unwrap_or_else(|e| panic!("{e}"));
+    let scene = raygraph::bench::error::ceiling_scene();
+    let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+    let sigma = (EXPECTED * (1.0 - EXPECTED) / RAYS).sqrt();
+    let mut rows = Vec::new();
+    for frame in 1..=64u32 {
+        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        if frame.is_power_of_two() {
+            let (mean, rms) = stats(&common::channel(&gpu, &exec, "ao_temporal.accumulated"));
+            let (_, single) = stats(&common::channel(&gpu, &exec, "ao.ao"));
+            println!(
+                "frame {frame:>2}: mean {mean:.4}, RMS error {rms:.4} (sigma/sqrt(F) = {:.4}); this frame alone: RMS {single:.4}",
+                sigma / (frame as f64).sqrt()
+            );
+            rows.push((frame, mean, rms, single));
+        }
+    }
+    for &(frame, mean, rms, single) in &rows {
+        let expected_rms = sigma / (frame as f64).sqrt();
+        // One frame alone stays at sigma: the samples are new every frame, not accumulated.
+        assert!((single / sigma - 1.0).abs() < 0.1, "frame {frame}: one frame's RMS {single} against sigma {sigma}");
+        // The accumulated mean: within 15% of sigma / sqrt(F) (3,072 pixels: the RMS itself
+        // varies by about 2.5%; half-float storage of the running mean adds a rounding of
+        // 2^-11 per frame).
+        assert!((rms / expected_rms - 1.0).abs() < 0.15, "frame {frame}: RMS {rms} against sigma/sqrt(F) {expected_rms}");
+        // Unbiased: the mean over pixels within 4 standard errors, plus the rounding.
+        assert!((mean - EXPECTED).abs() < 4.0 * expected_rms / ((W * H) as f64).sqrt() + 1e-3, "frame {frame}: mean {mean}");
+    }
+}
+
+/// A layer that writes a constant signal (0.3, 0.6, 0.9) and moments of a settled, noiseless
+/// history (10 frames, no variance).
+const CONSTANT_LAYER: &str = r#"Layer(
+    outputs: {"signal": Texture(format: Rgba32Float), "moments": Texture(format: Rgba32Float)},
+    passes: [Pass(name: "fill", kind: Compute, shader: "test/constant.wgsl", writes: ["signal", "moments"])],
+)
+"#;
+
+const CONSTANT_WGSL: &str = r#"@group(0) @binding(0) var signal: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(1) var moments: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(signal);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    textureStore(signal, id.xy, vec4<f32>(0.3, 0.6, 0.9, 1.0));
+    textureStore(moments, id.xy, vec4<f32>(0.5, 0.25, 10.0, 0.0));
+}
+"#;
+
+/// The à-trous filter (`layers/atrous.ron`: one shader for its four steps, bound through
+/// `binding=resource` aliases) keeps a constant image constant over the default scene's
+/// edges: its weights are normalised whatever the edge-stopping functions make of them.
+#[test]
+fn the_atrous_filter_keeps_a_constant_image_constant() {
+    let gpu = gpu();
+    let p = TempProject::with_repo_files();
+    p.write("layers/show_value.ron", &SHOW_LAYER.replace("Rgba32Float", "Rgba16Float"));
+    p.write("shaders/test/show_value.wgsl", SHOW_WGSL);
+    p.write("layers/constant.ron", CONSTANT_LAYER);
+    p.write("shaders/test/constant.wgsl", CONSTANT_WGSL);
+    let path = p.write(
+        "graph/constant.ron",
+        r#"Graph(output: "show.color", nodes: {
+    "gbuffer": Layer(layer: "deferred"),
+    "constant": Layer(layer: "constant"),
+    "filter": Layer(layer: "atrous", inputs: {"signal": "constant.signal", "moments": "constant.moments", "position": "gbuffer.position", "normal": "gbuffer.normal"}),
+    "show": Layer(layer: "show_value", inputs: {"value": "filter.filtered"}),
+})"#,
+    );
+    let plan = raygraph::graph::compile::compile(&path, &p.project(), (W, H)).unwrap_or_else(|e| panic!("{e}"));
+    let scene = raygraph::scene::builtin::default_scene();
+    let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    let filtered = common::channel(&gpu, &exec, "filter.filtered");
+    // In half-float units in the last place: the signal is stored in half floats five times
+    // (packed and after each step), and a Vulkan implementation may round each store towards
+    // zero (lavapipe does: 0.9 comes out as 0.89941, two units low), so up to 5 units.
+    let ulp = |c: f32| 2f32.powi(c.log2().floor() as i32 - 10);
+    let worst =
+        filtered.iter().flat_map(|v| [(v[0] - 0.3).abs() / ulp(0.3), (v[1] - 0.6).abs() / ulp(0.6), (v[2] - 0.9).abs() / ulp(0.9)]).fold(0.0f32, f32::max);
+    println!("largest deviation from the constant: {worst} half-float units in the last place");
+    assert!(worst <= 5.0, "the filter changed a constant image by {worst} units");
+}
