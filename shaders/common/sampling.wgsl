@@ -20,16 +20,36 @@ fn r2_sample(i: u32) -> vec2<f32> {
     return fract(vec2<f32>(0.5) + f32(i + 1u) * vec2<f32>(1.0 / g, 1.0 / (g * g)));
 }
 
-// A cosine-weighted direction around unit `n` from two uniform numbers.
-fn cosine_hemisphere(n: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
-    let r = sqrt(u.x);
-    let phi = 6.28318530718 * u.y;
-    let local = vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
-    // Orthonormal basis (Duff et al. 2017).
+// `local` (z along `n`) in world space, through an orthonormal basis around unit `n` (Duff et
+// al. 2017).
+fn around(n: vec3<f32>, local: vec3<f32>) -> vec3<f32> {
     let s = select(-1.0, 1.0, n.z >= 0.0);
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;
     let t = vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
     let bt = vec3<f32>(b, s + n.y * n.y * a, -n.y);
-    return normalize(local.x * t + local.y * bt + local.z * n);
+    return local.x * t + local.y * bt + local.z * n;
+}
+
+// A cosine-weighted direction around unit `n` from two uniform numbers.
+fn cosine_hemisphere(n: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let r = sqrt(u.x);
+    let phi = 6.28318530718 * u.y;
+    return normalize(around(n, vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)))));
+}
+
+// A direction uniform in solid angle within `cos_max` of unit `n` (a cone), from two uniform
+// numbers.
+fn uniform_cone(n: vec3<f32>, cos_max: f32, u: vec2<f32>) -> vec3<f32> {
+    let c = 1.0 - u.x * (1.0 - cos_max);
+    let s = sqrt(max(0.0, 1.0 - c * c));
+    let phi = 6.28318530718 * u.y;
+    return normalize(around(n, vec3<f32>(s * cos(phi), s * sin(phi), c)));
+}
+
+// A point uniform on the unit disc around the origin perpendicular to unit `n`.
+fn uniform_disc(n: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let r = sqrt(u.x);
+    let phi = 6.28318530718 * u.y;
+    return around(n, vec3<f32>(r * cos(phi), r * sin(phi), 0.0));
 }

@@ -16,29 +16,31 @@ struct Params {
 @group(0) @binding(4) var normal: texture_2d<f32>;
 @group(0) @binding(5) var result: texture_storage_2d<rgba16float, write>;
 
-fn filter_pixel(id: vec2<u32>, step: i32) {
+// The last step writes alpha 1 (the filtered signal is there) instead of the variance.
+fn filter_pixel(id: vec2<u32>, step: i32, last: bool) {
     let size = textureDimensions(result);
     if id.x < size.x && id.y < size.y {
-        textureStore(result, id, atrous_step(source, vec2<i32>(id), step));
+        let v = atrous_step(source, vec2<i32>(id), step);
+        textureStore(result, id, select(v, vec4<f32>(v.rgb, 1.0), last));
     }
 }
 
 @compute @workgroup_size(8, 8)
 fn step_1(@builtin(global_invocation_id) id: vec3<u32>) {
-    filter_pixel(id.xy, 1);
+    filter_pixel(id.xy, 1, false);
 }
 
 @compute @workgroup_size(8, 8)
 fn step_2(@builtin(global_invocation_id) id: vec3<u32>) {
-    filter_pixel(id.xy, 2);
+    filter_pixel(id.xy, 2, false);
 }
 
 @compute @workgroup_size(8, 8)
 fn step_4(@builtin(global_invocation_id) id: vec3<u32>) {
-    filter_pixel(id.xy, 4);
+    filter_pixel(id.xy, 4, false);
 }
 
 @compute @workgroup_size(8, 8)
 fn step_8(@builtin(global_invocation_id) id: vec3<u32>) {
-    filter_pixel(id.xy, 8);
+    filter_pixel(id.xy, 8, true);
 }
