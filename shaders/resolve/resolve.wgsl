@@ -18,6 +18,7 @@
 @group(0) @binding(8) var emissive: texture_2d<f32>;
 @group(0) @binding(9) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(10) var hdr: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(11) var gi: texture_2d<f32>;
 
 fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
@@ -57,6 +58,8 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
         }
     }
     var color = surface_radiance(s, lit, load(ao, texel).r);
+    // Diffuse global illumination (0 without an rt_gi node).
+    color += s.albedo * (1.0 - s.metallic) * s.occlusion * load(gi, texel).rgb;
     // Where no reflection ray was traced (a = 0: switched off, or too rough), the sky.
     let r = load(reflection, texel);
     color += reflected_radiance(s, select(sky_reflection(s), r.rgb, r.a > 0.0));
