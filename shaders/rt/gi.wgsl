@@ -10,6 +10,7 @@
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
 //#include "common/shadow_ray.wgsl"
+//#include "common/hit_lighting.wgsl"
 
 struct Params {
     rays: u32,
@@ -34,23 +35,7 @@ struct Params {
 // The radiance leaving hit surface `s` towards `v`: every light with its own shadow ray, and
 // the emission (no sky ambient: that is the resolve's).
 fn hit_radiance(s: Surface, v: vec3<f32>) -> vec3<f32> {
-    let origin = offset_ray_origin(s.position, s.geo_normal);
-    var sp: ShadingPoint;
-    sp.position = s.position;
-    sp.normal = s.normal;
-    sp.view = v;
-    sp.albedo = s.albedo;
-    sp.metallic = s.metallic;
-    sp.roughness = s.roughness;
-    sp.occlusion = s.occlusion;
-    sp.emissive = s.emissive;
-    var direct = vec3<f32>(0.0);
-    for (var i = 0u; i < frame.light_count; i++) {
-        if light_visible(scene_lights[i], origin, s.geo_normal) {
-            direct += light_radiance(sp, light_sample(scene_lights[i], s.position));
-        }
-    }
-    return direct + s.emissive;
+    return hit_direct_light(s, hit_shading_point(s, v)) + s.emissive;
 }
 
 @compute @workgroup_size(8, 8)

@@ -13,6 +13,7 @@
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
 //#include "common/shadow_ray.wgsl"
+//#include "common/hit_lighting.wgsl"
 
 struct Params {
     bounces: u32,
@@ -58,23 +59,8 @@ fn glossy_direction(r: vec3<f32>, roughness: f32, u: vec2<f32>) -> vec3<f32> {
 // A hit shaded with the model of every mode (common/lighting.wgsl): every light with its own
 // shadow ray, sky ambient, emission; seen from direction v.
 fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
-    let origin = offset_ray_origin(s.position, s.geo_normal);
-    var sp: ShadingPoint;
-    sp.position = s.position;
-    sp.normal = s.normal;
-    sp.view = v;
-    sp.albedo = s.albedo;
-    sp.metallic = s.metallic;
-    sp.roughness = s.roughness;
-    sp.occlusion = s.occlusion;
-    sp.emissive = s.emissive;
-    var direct = vec3<f32>(0.0);
-    for (var i = 0u; i < frame.light_count; i++) {
-        if light_visible(scene_lights[i], origin, s.geo_normal) {
-            direct += light_radiance(sp, light_sample(scene_lights[i], s.position));
-        }
-    }
-    return surface_radiance(sp, direct, 1.0);
+    let sp = hit_shading_point(s, v);
+    return surface_radiance(sp, hit_direct_light(s, sp), 1.0);
 }
 
 @compute @workgroup_size(8, 8)
