@@ -18,4 +18,4 @@ for g in hybrid hybrid_soft_gi hybrid_denoised; do
     echo "== $g $n"; grep -E "^(motion|ao|ao_|shadow|shadow_|gi|gi_|reflection|resolve|gbuffer)/|^total" $OUT/r/${g}_${n}.txt | awk '{print $1, $3}' | tr '\n' ' '; echo
   done
 done
-cd $OUT && tar czf results.tgz r table3 *.err 2>/dev/null; rm -rf r table3 *.err
+rm -f $OUT/r/*.png; cd $OUT && tar czf results.tgz r table3 *.err 2>/dev/null; rm -rf r table3 *.err
