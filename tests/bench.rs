@@ -215,14 +215,24 @@ fn assert_plots(dir: &std::path::Path) {
 #[test]
 fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
     let out = common::gltf_doc::temp_dir("bench-interrupted");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_raygraph"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_raygraph"));
+    command
         .current_dir(common::repo())
         .args(["bench", "rays", "--quick", "--out"])
         .arg(&out)
         .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
+        .stderr(std::process::Stdio::null());
+    // A shell that starts a job in the background (`cmd &` without job control) ignores SIGINT
+    // in it, and children inherit that: the bench would then run to the end. A terminal's Ctrl-C
+    // reaches a process with the default action, so restore it.
+    // SAFETY: `signal` is async-signal-safe, as `pre_exec` requires.
+    unsafe {
+        std::os::unix::process::CommandExt::pre_exec(&mut command, || {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = command.spawn().unwrap();
     let data_rows = |csv: &str| csv.lines().filter(|l| !l.starts_with('#')).count().saturating_sub(1);
     let start = std::time::Instant::now();
     loop {
