@@ -66,6 +66,11 @@ enum Command {
         /// Shaders directory (default: `shaders/` beside the graph's directory).
         #[arg(long)]
         shaders: Option<PathBuf>,
+        /// Switch a layer node of the graph off (repeatable): its passes are culled, and the
+        /// nodes that read it get what its layer's `bypass` passes through (a filter's input),
+        /// else their input's fallback.
+        #[arg(long, value_name = "NODE")]
+        off: Vec<String>,
     },
     /// Graph files: validate or draw.
     Graph {
@@ -757,12 +762,18 @@ fn run(cli: Cli) -> Result<()> {
             report,
             layers,
             shaders,
+            off,
         } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
             anyhow::ensure!(width > 0 && height > 0, "--width and --height must be at least 1");
             anyhow::ensure!(duplicate >= 1, "--duplicate must be at least 1");
             let project = project_for(&graph_file, layers, shaders);
-            graph::compile(&graph_file, &project, (width, height))?; // report graph errors before opening a device
+            let switches = |mut options: graph::compile::CompileOptions| {
+                options.enabled.extend(off.iter().map(|node| (node.clone(), false)));
+                options
+            };
+            // Graph errors are reported before a device is opened.
+            graph::compile::compile_with(&graph_file, &project, (width, height), &switches(Default::default()))?;
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let largest = gpu.device.limits().max_texture_dimension_2d;
@@ -770,7 +781,7 @@ fn run(cli: Cli) -> Result<()> {
                 width <= largest && height <= largest,
                 "--width {width} --height {height}: this adapter's largest 2D texture is {largest} pixels on a side"
             );
-            let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &gpu.compile_options())?;
+            let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &switches(gpu.compile_options()))?;
             if plan.passes().iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }

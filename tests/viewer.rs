@@ -249,3 +249,50 @@ fn a_shader_that_never_ends_stops_the_viewer_with_the_deadline_error() {
     assert!(log.contains("the GPU ran past its deadline of 2 s") && log.contains("`fog/fog`"), "{log}");
     assert!(!log.contains("panicked"), "{log}");
 }
+
+/// The viewer on an accumulating graph (`graph/hybrid_denoised.ron`): a camera move restarts
+/// the history, and with the reset switched off (`ResetHistoryOnMove(false)`) a small move
+/// keeps it, as the overlay's history line reports.
+#[test]
+fn a_camera_move_resets_the_accumulation_unless_switched_off() {
+    let x = XServer::start();
+    let dir = common::gltf_doc::temp_dir("viewer-history");
+    let shot = |name: &str| dir.join(name).display().to_string();
+    let script = dir.join("script.ron");
+    std::fs::write(
+        &script,
+        format!(
+            r#"Script(steps: [
+                (frame: 2, action: Camera(position: (0.0, 2.0, 6.0), target: (0.0, 0.5, 0.0))),
+                (frame: 6, action: Screenshot("{reset}")),
+                (frame: 7, action: ResetHistoryOnMove(false)),
+                (frame: 8, action: Camera(position: (0.02, 2.0, 6.0), target: (0.0, 0.5, 0.0))),
+                (frame: 11, action: Screenshot("{kept}")),
+                (frame: 12, action: Quit),
+            ])"#,
+            reset = shot("reset.png"),
+            kept = shot("kept.png"),
+        ),
+    )
+    .unwrap();
+    let (ok, out, log) = run_with_timeout(
+        x.viewer(&["default", "--graph", "graph/hybrid_denoised.ron", "--width", "160", "--height", "90", "--script", script.to_str().unwrap()]),
+        600,
+    );
+    assert!(ok, "{log}");
+    assert!(!out.iter().any(|l| l.starts_with("error:")), "no step failed: {log}");
+    // (frames valid, resets) from the overlay's history line.
+    let history = |name: &str| {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
+        let line = text.lines().find(|l| l.starts_with("history: ")).unwrap_or_else(|| panic!("no history line:\n{text}")).to_string();
+        let numbers: Vec<u64> = line.split(|c: char| !c.is_ascii_digit()).filter(|s| !s.is_empty()).map(|s| s.parse().unwrap()).collect();
+        (numbers[0], numbers[1], line)
+    };
+    let (valid, resets, line) = history("reset");
+    assert_eq!(resets, 1, "the move at frame 2 reset the history: {line}");
+    assert!((1..=4).contains(&valid), "valid again since the move: {line}");
+    let (valid_after, resets_after, line) = history("kept");
+    assert_eq!(resets_after, 1, "no reset with the switch off: {line}");
+    assert!(valid_after >= valid + 4 && line.contains("kept across camera moves"), "the history stayed valid across the small move: {line}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

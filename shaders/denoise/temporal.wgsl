@@ -13,10 +13,11 @@ struct Params {
 @group(0) @binding(1) var<uniform> params: Params;
 @group(0) @binding(2) var signal: texture_2d<f32>;
 @group(0) @binding(3) var motion: texture_2d<f32>;
-@group(0) @binding(4) var accumulated_previous: texture_2d<f32>;
+@group(0) @binding(4) var mean_previous: texture_2d<f32>;
 @group(0) @binding(5) var moments_previous: texture_2d<f32>;
-@group(0) @binding(6) var accumulated: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(7) var moments: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var mean: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var accumulated: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(8) var moments: texture_storage_2d<rgba32float, write>;
 
 fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
@@ -46,12 +47,13 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = textureLoad(motion, id.xy, 0);
     if m.z != 0.0 {
         // No history here: start again.
+        textureStore(mean, id.xy, now);
         textureStore(accumulated, id.xy, now);
         textureStore(moments, id.xy, vec4<f32>(l, l * l, 1.0, 0.0));
         return;
     }
     let before = vec2<f32>(id.xy) + 0.5 - m.xy;
-    var history = bilinear(accumulated_previous, before);
+    var history = bilinear(mean_previous, before);
     let history_moments = bilinear(moments_previous, before);
     if params.variance_clamp != 0u {
         var sum = vec4<f32>(0.0);
@@ -64,12 +66,14 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
                 sum2 += v * v;
             }
         }
-        let mean = sum / 9.0;
-        let sigma = sqrt(max(sum2 / 9.0 - mean * mean, vec4<f32>(0.0)));
-        history = clamp(history, mean - params.clamp_sigma * sigma, mean + params.clamp_sigma * sigma);
+        let local_mean = sum / 9.0;
+        let sigma = sqrt(max(sum2 / 9.0 - local_mean * local_mean, vec4<f32>(0.0)));
+        history = clamp(history, local_mean - params.clamp_sigma * sigma, local_mean + params.clamp_sigma * sigma);
     }
     let n = min(floor(history_moments.z + 0.5) + 1.0, f32(params.max_history));
     let alpha = 1.0 / n;
-    textureStore(accumulated, id.xy, mix(history, now, alpha));
+    let blended = mix(history, now, alpha);
+    textureStore(mean, id.xy, blended);
+    textureStore(accumulated, id.xy, blended);
     textureStore(moments, id.xy, vec4<f32>(mix(history_moments.xy, vec2<f32>(l, l * l), alpha), n, 0.0));
 }

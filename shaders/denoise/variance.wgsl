@@ -16,7 +16,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let s = textureLoad(signal, id.xy, 0);
-    let m = textureLoad(moments, id.xy, 0);
+    // A 1x1 `moments` is the layer's fallback (no temporal moments: z = 0).
+    let m = textureLoad(moments, min(id.xy, textureDimensions(moments) - 1u), 0);
     var variance = max(m.y - m.x * m.x, 0.0);
     if m.z < 4.0 {
         var sum = 0.0;

@@ -56,7 +56,8 @@ pub struct LayerNode {
     #[serde(default)]
     pub params: BTreeMap<String, ParamValue>,
     /// `false` switches the node off: its passes and resources are not instantiated, and the
-    /// inputs it fed read their declared `fallback` value instead.
+    /// inputs it fed read what its layer's `bypass` passes through, else their declared
+    /// `fallback` value.
     #[serde(default = "enabled_default")]
     pub enabled: bool,
 }
@@ -129,6 +130,12 @@ pub struct LayerDesc {
     /// is 0 and the history's contents are undefined.
     #[serde(default)]
     pub history: BTreeMap<String, String>,
+    /// Pass-through when the node is switched off: each output named here is replaced, for the
+    /// nodes that read it, by whatever feeds the input it names, e.g. `bypass: {"filtered":
+    /// "signal"}` for a filter. The two must be textures of one format. Outputs without a bypass
+    /// leave their readers on their `fallback`.
+    #[serde(default)]
+    pub bypass: BTreeMap<String, String>,
     /// Parameters a graph file may set.
     #[serde(default)]
     pub(crate) params: BTreeMap<String, ParamDecl>,

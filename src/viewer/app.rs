@@ -194,6 +194,11 @@ impl App {
             }),
             Action::Param { node, name, value } => self.session.set_param(gpu, &node, &name, value).map(|_| println!("parameter {node}.{name} = {value:?}")),
             Action::Enable { node, on } => self.session.set_enabled(gpu, &node, on).map(|_| println!("node {node}: {}", if on { "on" } else { "off" })),
+            Action::ResetHistoryOnMove(on) => {
+                self.session.reset_history_on_move = on;
+                println!("reset the history when the camera moves: {}", if on { "on" } else { "off" });
+                Ok(())
+            }
             Action::SelectPass(pass) => match self.session.plan().and_then(|p| ui::pass_texture(p, &pass)) {
                 Some(resource) => {
                     self.select(Some(pass.clone()), resource.clone());

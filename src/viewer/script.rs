@@ -62,6 +62,8 @@ pub enum Action {
     },
     /// Show the first texture a pass writes in the viewport (as clicking it in the overlay).
     SelectPass(String),
+    /// Whether a camera move restarts the history of an accumulating graph (on at start).
+    ResetHistoryOnMove(bool),
     /// Show a texture resource by name (`gbuffer.normal`).
     SelectResource(String),
     /// Show the graph's output again.

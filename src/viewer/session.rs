@@ -91,6 +91,15 @@ pub(crate) struct Session {
     /// rays per pixel, GigaRays/s), updated by every frame.
     pub report: Option<Report>,
     controls: Vec<NodeControls>,
+    /// Whether a camera move restarts the history (an accumulating graph then converges only
+    /// while the camera is still); off, the graph's own reprojection carries it across moves.
+    pub(crate) reset_history_on_move: bool,
+    /// The camera of the last frame.
+    last_camera: Option<Camera>,
+    /// Frames in a row with a valid history (0 on a frame without).
+    pub(crate) history_frames: u64,
+    /// History resets caused by camera moves since the viewer started.
+    pub(crate) history_resets: u64,
 }
 
 impl Session {
@@ -118,6 +127,10 @@ impl Session {
             reuse_bytes: None,
             report: None,
             controls: Vec::new(),
+            reset_history_on_move: true,
+            last_camera: None,
+            history_frames: 0,
+            history_resets: 0,
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
@@ -297,7 +310,15 @@ impl Session {
     /// Renders a frame with the current plan, keeps its timings and updates [`Self::report`].
     pub fn render(&mut self, gpu: &Gpu, camera: &Camera) -> Result<(), String> {
         let exec = self.exec.as_mut().ok_or("no plan")?;
+        let moved = self.last_camera.is_some_and(|c| c != *camera);
+        self.last_camera = Some(*camera);
+        let has_history = exec.plan().resources.iter().any(|r| r.history_of.is_some());
+        if moved && self.reset_history_on_move && has_history {
+            exec.camera_cut();
+            self.history_resets += 1;
+        }
         let t = exec.render(gpu, camera, &self.scene).map_err(|e| e.to_string())?;
+        self.history_frames = if exec.history_valid() { self.history_frames + 1 } else { 0 };
         self.frame_index += 1;
         if self.frames.len() == STATS_WINDOW {
             self.frames.pop_front();

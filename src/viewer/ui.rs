@@ -135,6 +135,9 @@ pub fn overlay_text(f: &Frame) -> String {
         let off: Vec<&str> = controls.iter().filter(|c| !c.enabled).map(|c| c.node.as_str()).collect();
         let _ = writeln!(s, "switched off: {}", if off.is_empty() { "none".into() } else { off.join(", ") });
         let _ = writeln!(s, "transient memory: {}", memory(session, plan));
+        if let Some(line) = history_line(session, plan) {
+            let _ = writeln!(s, "{line}");
+        }
     }
     if let Some(a) = session.frames.back().and_then(|t| t.accel.as_ref()) {
         let _ = writeln!(s, "acceleration structures this frame: {}", a.describe());
@@ -143,6 +146,19 @@ pub fn overlay_text(f: &Frame) -> String {
         let _ = writeln!(s, "error: {e}");
     }
     s
+}
+
+/// The state of the plan's history resources, if it has any: how many frames it has been valid
+/// for, and how often a camera move reset it.
+fn history_line(session: &Session, plan: &crate::graph::compile::Plan) -> Option<String> {
+    plan.resources.iter().any(|r| r.history_of.is_some()).then(|| {
+        format!(
+            "history: valid for {} frames; reset by camera moves {} times ({})",
+            session.history_frames,
+            session.history_resets,
+            if session.reset_history_on_move { "resets when the camera moves" } else { "kept across camera moves" }
+        )
+    })
 }
 
 /// The plan's transient memory: the viewer allocates each resource on its own so that any
@@ -291,6 +307,13 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
         if let Some(plan) = session.plan() {
             ui.label(format!("culled: {}", if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") }));
             ui.label(format!("transient memory: {}", memory(session, plan)));
+            if let Some(line) = history_line(session, plan) {
+                ui.label(line);
+                let mut on = session.reset_history_on_move;
+                if ui.checkbox(&mut on, "reset the history when the camera moves").changed() {
+                    actions.push(Action::ResetHistoryOnMove(on));
+                }
+            }
         }
         let builds = session.frames.back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
         ui.label(format!("acceleration structures this frame: {builds}"));

@@ -1,7 +1,8 @@
 //! The graph compiler: [`compile_with`] is its list of phases, each in its own file:
 //!
-//! 1. `source`: read and parse the graph file; `resolve`: apply the options' node switches,
-//!    check that there is at most one `Accel` node, read each node's layer file and check its
+//! 1. `source`: read and parse the graph file; `resolve`: apply the options' node switches;
+//!    `bypass`: hand the readers of a switched-off filter what feeds it; `resolve`: check that
+//!    there is at most one `Accel` node, read each node's layer file and check its
 //!    parameters and the options' overrides;
 //! 2. `connect`: declare every output, transient and history, connect every input to its
 //!    producer;
@@ -13,6 +14,7 @@
 //! 7. `plan`: the resulting [`Plan`].
 
 mod allocate;
+mod bypass;
 mod connect;
 mod interface;
 mod lifetimes;
@@ -43,8 +45,12 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let gsrc = source::read_file(graph_file, None)?;
     let mut graph: GraphDesc = source::parse_ron(&gsrc, "graph")?;
     resolve::apply_switches(&mut graph, &options.enabled, graph_file)?;
+    bypass::apply_bypasses(&mut graph, project, &options.layers)?;
     resolve::check_one_accel(&graph, &gsrc)?;
     let mut nodes = resolve::resolve_layers(&graph, &gsrc, project, &options.layers)?;
+    for node in &nodes {
+        bypass::check_bypass(&node.layer, &node.layer_src, &node.layer_name)?;
+    }
     resolve::apply_param_overrides(&mut nodes, &options.params, graph_file)?;
 
     connect::check_history(&nodes)?;

@@ -125,6 +125,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
         outputs: BTreeMap::from([("tlas".to_string(), ResourceDecl::Accel)]),
         transients: BTreeMap::new(),
         history: BTreeMap::new(),
+        bypass: BTreeMap::new(),
         params: BTreeMap::new(),
         passes: vec![PassDesc {
             name: "build".into(),
