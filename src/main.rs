@@ -267,11 +267,17 @@ enum BenchCommand {
     /// Ambient occlusion against its closed form (floor under a parallel ceiling): error
     /// (RMSE, relMSE, bias, variance over seeds) against rays per pixel and GPU time, for white
     /// noise and the R2 sequence, with the fitted convergence slopes.
+    /// Also AO, soft shadows and GI of `graph/hybrid_denoised.ron`, noisy and filtered, against
+    /// converged references (relMSE, ꟻLIP) and GPU time, with an equal-time table and a camera
+    /// track for flicker and ghosting (`filters.md`).
     Error {
         #[arg(long)]
         quick: bool,
         #[arg(long)]
         backend: Option<Backend>,
+        /// Run only the part on the filtered effects.
+        #[arg(long)]
+        filters_only: bool,
         #[command(flatten)]
         deadline: Deadline,
         #[arg(long, default_value = "bench-results/error")]
@@ -343,6 +349,23 @@ fn with_progress<T>(run: impl FnOnce(&mut dyn FnMut(usize, usize, &str)) -> T) -
     let out = run(&mut update);
     bar.finish_and_clear();
     out
+}
+
+/// `bench error`'s part on the filtered effects (`raygraph::bench::filters`).
+fn bench_filters(gpu: &raygraph::runtime::Gpu, quick: bool, backend: Backend, out: &Path) -> Result<()> {
+    use raygraph::bench::filters::{self, FiltersConfig};
+    let root = PathBuf::from(".");
+    let cfg = if quick { FiltersConfig::quick(&root, backend) } else { FiltersConfig::full(&root, backend) };
+    let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), gpu, cfg.size);
+    let files = |rows: &[_], track: &[_]| {
+        [
+            ("filters.md", filters::markdown(&info, &cfg, rows, track)),
+            ("filters_track.csv", filters::track_csv(&info, track)),
+            ("filters.csv", filters::csv(&info, rows)),
+        ]
+    };
+    let (rows, track) = with_progress(|progress| filters::run(gpu, &cfg, progress, |rows, track| write_partial(out, &files(rows, track))))?;
+    write_results(out, &files(&rows, &track))
 }
 
 /// Reports the plots a bench wrote.
@@ -635,11 +658,15 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(track_bench::plots(&out, &rows))?;
         }
-        Command::Bench { command: BenchCommand::Error { quick, backend, deadline, out } } => {
+        Command::Bench { command: BenchCommand::Error { quick, backend, filters_only, deadline, out } } => {
             use raygraph::bench::error::{self as error_bench, ErrorConfig};
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            bench_filters(&gpu, quick, *backends.first().context("no back-end")?, &out)?;
+            if filters_only {
+                return Ok(());
+            }
             let root = PathBuf::from(".");
             let cfg = if quick { ErrorConfig::quick(&root, backends) } else { ErrorConfig::full(&root, backends) };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);

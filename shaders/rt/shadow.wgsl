@@ -1,8 +1,8 @@
 // Shadows: from the offset G-buffer position one any-hit ray to every light (to its position
 // for point and spot lights, stopping just short of it; along the light for directional ones),
 // where the surface faces the light and the light reaches it. With an area (`light_radius`,
-// `sun_angle` above 0), the ray goes to one random point of it (common/shadow_ray.wgsl): one
-// stochastic sample of a soft shadow per pixel and light, for the temporal and spatial filters. Writes the
+// `sun_angle` above 0), each of `rays` rays goes to one random point of it
+// (common/shadow_ray.wgsl): a stochastic estimate of a soft shadow per pixel and light, for the temporal and spatial filters. Writes the
 // shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four.
 //#include "common/frame.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -16,6 +16,7 @@ struct Params {
     sun_angle: f32,
     per_frame: u32,
     seed: u32,
+    rays: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -56,21 +57,26 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let area = params.light_radius > 0.0 || params.sun_angle > 0.0;
     let sun_radius = radians(params.sun_angle) * 0.5;
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed + select(0u, frame.frame_index, params.per_frame != 0u) * 0x9e3779b9u)));
+    let samples = select(1u, max(params.rays, 1u), area);
     for (var i = 0u; i < frame.light_count; i++) {
-        var visible: bool;
+        var seen = 0u;
         if area {
-            state = pcg_hash(state);
-            let a = state;
-            state = pcg_hash(state);
-            let u = vec2<f32>(f32(a >> 8u), f32(state >> 8u)) * (1.0 / 16777216.0);
-            visible = area_light_visible(scene_lights[i], origin, geo, params.light_radius, sun_radius, u);
+            for (var k = 0u; k < samples; k++) {
+                state = pcg_hash(state);
+                let a = state;
+                state = pcg_hash(state);
+                let u = vec2<f32>(f32(a >> 8u), f32(state >> 8u)) * (1.0 / 16777216.0);
+                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, geo, params.light_radius, sun_radius, u));
+            }
         } else {
-            visible = light_visible(scene_lights[i], origin, geo);
+            seen = select(0u, 1u, light_visible(scene_lights[i], origin, geo));
         }
-        if visible {
-            radiance += light_radiance(s, light_sample(scene_lights[i], p.xyz));
+        if seen > 0u {
+            // The fraction of the light's samples that reach it (exactly 1 for a hard shadow).
+            let fraction = f32(seen) / f32(samples);
+            radiance += fraction * light_radiance(s, light_sample(scene_lights[i], p.xyz));
             if i < 4u {
-                mask[i] = 1.0;
+                mask[i] = fraction;
             }
         }
     }

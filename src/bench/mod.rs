@@ -6,6 +6,7 @@
 pub mod build;
 pub mod depth;
 pub mod error;
+pub mod filters;
 pub mod modes;
 pub mod plot;
 pub mod rays;

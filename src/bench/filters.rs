@@ -1,0 +1,464 @@
+//! `raygraph bench error`, its part on the time-filtered effects of `graph/hybrid_denoised.ron`:
+//! ambient occlusion, soft shadows and one-bounce GI, each with 1, 2, 4, ... rays per pixel,
+//! with and without its filters (`temporal` and `atrous`), measured against a converged
+//! reference: the same graph with the effect's spatial filter off and its temporal
+//! accumulation made a plain running mean (no variance clamp, no history limit) over
+//! `reference_frames` frames at the most rays, read in 32-bit floats. Only the effect's own
+//! signal is compared (the texture the resolve reads for it), on the pixels that show geometry:
+//!
+//! - relMSE: the mean over pixels and colour channels of (x - r)^2 / (r^2 + 0.01);
+//! - ꟻLIP mean: both signals shown as LDR sRGB images (AO as grey, clamped to [0, 1]; the HDR
+//!   signals, direct light and GI, through x / (1 + x) per channel).
+//!
+//! Noisy rows: the effect's filters switched off (bypassed), one frame (new samples every
+//! frame: the error does not depend on the frame). Filtered rows: after 1 frame (the spatial
+//! filter alone has anything to work with) and after `settle_frames` frames of a still camera.
+//! Milliseconds: the median GPU time per frame of the effect's trace pass, plus its two filters
+//! and the shared `motion` pass when they run. The track: the graph's own ray counts, a still
+//! stretch (frame-to-frame ꟻLIP: flicker), then a fast turn (`turn_degrees` a frame, under the
+//! executor's 30-degree camera cut) and a stop, with the error against a reference at the new
+//! view in the frames after the stop (ghosting).
+
+use super::RunInfo;
+use crate::backend::Backend;
+use crate::error::RuntimeError;
+use crate::graph::compile::{compile_with, CompileOptions, Project};
+use crate::graph::desc::ParamValue;
+use crate::runtime::{Executor, Gpu};
+use crate::scene::{Camera, Scene};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One time-filtered effect of `graph/hybrid_denoised.ron`.
+#[derive(Debug, Clone, Copy)]
+pub struct Effect {
+    /// As the tables name it.
+    pub label: &'static str,
+    /// The node that traces it (its `rays` parameter is set).
+    pub node: &'static str,
+    /// Its noisy signal.
+    pub signal: &'static str,
+    /// Its temporal and spatial filter nodes.
+    pub filters: [&'static str; 2],
+    /// The filtered signal.
+    pub filtered: &'static str,
+    /// Whether the signal is HDR (shown through x / (1 + x) for ꟻLIP) rather than in [0, 1].
+    pub hdr: bool,
+}
+
+/// AO, soft shadows and GI.
+pub const EFFECTS: [Effect; 3] = [
+    Effect { label: "AO", node: "ao", signal: "ao.ao", filters: ["ao_temporal", "ao_denoise"], filtered: "ao_denoise.filtered", hdr: false },
+    Effect {
+        label: "soft shadows",
+        node: "shadow",
+        signal: "shadow.direct",
+        filters: ["shadow_temporal", "shadow_denoise"],
+        filtered: "shadow_denoise.filtered",
+        hdr: true,
+    },
+    Effect { label: "GI", node: "gi", signal: "gi.gi", filters: ["gi_temporal", "gi_denoise"], filtered: "gi_denoise.filtered", hdr: true },
+];
+
+/// What the part runs.
+#[derive(Debug, Clone)]
+pub struct FiltersConfig {
+    /// Built-in scene names or glTF files.
+    pub scenes: Vec<String>,
+    /// Frame size.
+    pub size: (u32, u32),
+    /// Rays per pixel of the rows.
+    pub rays: Vec<i64>,
+    /// Frames accumulated into the reference (at the most rays).
+    pub reference_frames: u32,
+    /// Frames of a still camera before a filtered row is measured.
+    pub settle_frames: u32,
+    /// Frames timed for a noisy row.
+    pub timed_frames: u32,
+    /// Frames of the track's still stretch compared pairwise (flicker).
+    pub still_frames: u32,
+    /// Frames of the turn and degrees per frame.
+    pub turn: (u32, f32),
+    /// The back-end.
+    pub backend: Backend,
+    /// Where `graph/`, `layers/` and `shaders/` are.
+    pub root: PathBuf,
+}
+
+impl FiltersConfig {
+    /// The published run: the atrium and a shared real asset at 1280x720.
+    pub fn full(root: &Path, backend: Backend) -> Self {
+        Self {
+            scenes: vec!["atrium".into(), "assets/gltf/DamagedHelmet/DamagedHelmet.glb".into()],
+            size: (1280, 720),
+            rays: vec![1, 2, 4, 8],
+            reference_frames: 2048,
+            settle_frames: 32,
+            timed_frames: 16,
+            still_frames: 8,
+            turn: (6, 10.0),
+            backend,
+            root: root.to_path_buf(),
+        }
+    }
+
+    /// Seconds on a CPU (CI).
+    pub fn quick(root: &Path, backend: Backend) -> Self {
+        Self {
+            scenes: vec!["default".into()],
+            size: (64, 36),
+            rays: vec![1, 2],
+            reference_frames: 64,
+            settle_frames: 8,
+            timed_frames: 2,
+            still_frames: 3,
+            turn: (2, 10.0),
+            backend,
+            root: root.to_path_buf(),
+        }
+    }
+}
+
+/// One row: an effect at a ray count, noisy or filtered after some frames.
+#[derive(Debug, Clone)]
+pub struct FilterRow {
+    /// The scene.
+    pub scene: String,
+    /// The effect's label.
+    pub effect: &'static str,
+    /// Rays per pixel.
+    pub rays: i64,
+    /// 0 for the noisy signal; else the frames the filters had.
+    pub filtered_frames: u32,
+    /// Median GPU ms per frame of the effect's passes.
+    pub ms: f64,
+    /// relMSE against the reference.
+    pub relmse: f64,
+    /// ꟻLIP mean against the reference.
+    pub flip: f64,
+}
+
+/// The track's figures for an effect, noisy or filtered.
+#[derive(Debug, Clone)]
+pub struct TrackRow {
+    /// The scene.
+    pub scene: String,
+    /// The effect's label.
+    pub effect: &'static str,
+    /// Whether the filters ran.
+    pub filtered: bool,
+    /// Mean ꟻLIP between consecutive frames of the still stretch.
+    pub flicker: f64,
+    /// ꟻLIP against the reference at the still view, at the end of the still stretch.
+    pub still_error: f64,
+    /// ꟻLIP against the reference at the view after the turn, 1, 2, 4 and 8 frames after it.
+    pub after_turn: [f64; 4],
+}
+
+/// An effect's signal and the pixels showing geometry, read after a frame.
+struct Signal {
+    values: Vec<[f32; 4]>,
+    geometry: Vec<bool>,
+}
+
+/// The compiled graph's executor for `effect` with `off` switched off and `params` set on
+/// `(node, name)`. The other effects and the reflections are switched off too: the effects are
+/// independent of each other (GI traces its own shadow rays), so this changes nothing in the
+/// effect's signal and keeps the timings to its own passes.
+fn executor(
+    gpu: &Gpu,
+    cfg: &FiltersConfig,
+    scene: &Scene,
+    effect: &Effect,
+    off: &[&str],
+    params: &[(&str, &str, ParamValue)],
+) -> Result<Executor, RuntimeError> {
+    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
+    let mut options: CompileOptions = gpu.compile_options_for(cfg.backend);
+    options.reuse = false; // every resource readable after the frame
+    let others = EFFECTS.iter().filter(|e| e.node != effect.node).flat_map(|e| [e.node, e.filters[0], e.filters[1]]);
+    for node in off.iter().copied().chain(others).chain(["reflection"]) {
+        options.enabled.insert(node.to_string(), false);
+    }
+    for (node, name, value) in params {
+        options.params.insert((node.to_string(), name.to_string()), *value);
+    }
+    let plan = compile_with(&cfg.root.join("graph/hybrid_denoised.ron"), &project, cfg.size, &options)?;
+    Executor::new(gpu, plan, scene)
+}
+
+/// Resource `name` of the executor's plan after its last frame, with the geometry mask.
+fn read(gpu: &Gpu, exec: &Executor, name: &str) -> Result<Signal, RuntimeError> {
+    let find = |n: &str| exec.plan().resource_by_name(n).ok_or_else(|| RuntimeError::Gpu(format!("graph/hybrid_denoised.ron has no resource {n}")));
+    let (_, _, values) = exec.read_texture_f32(gpu, find(name)?)?;
+    let (_, _, positions) = exec.read_texture_f32(gpu, find("gbuffer.position")?)?;
+    Ok(Signal { values, geometry: positions.iter().map(|p| p[3] != 0.0).collect() })
+}
+
+/// The converged reference of `effect` at `camera`: the running mean of its noisy signal over
+/// `reference_frames` frames at the most rays, in 32-bit floats.
+fn reference(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, effect: &Effect, camera: &Camera) -> Result<Signal, RuntimeError> {
+    let rays = *cfg.rays.iter().max().unwrap_or(&1);
+    let frames = cfg.reference_frames.max(1) as i64;
+    let params = [
+        (effect.node, "rays", ParamValue::Int(rays)),
+        (effect.filters[0], "max_history", ParamValue::Int(frames)),
+        (effect.filters[0], "variance_clamp", ParamValue::Bool(false)),
+    ];
+    let mut exec = executor(gpu, cfg, scene, effect, &[effect.filters[1]], &params)?;
+    for _ in 0..frames {
+        exec.render(gpu, camera, scene)?;
+    }
+    read(gpu, &exec, &format!("{}/mean", effect.filters[0]))
+}
+
+/// (relMSE, ꟻLIP mean) of `test` against `reference` over the pixels where both show geometry.
+fn compare(test: &Signal, reference: &Signal, size: (u32, u32), hdr: bool) -> (f64, f64) {
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for ((t, r), (gt, gr)) in test.values.iter().zip(&reference.values).zip(test.geometry.iter().zip(&reference.geometry)) {
+        if *gt && *gr {
+            sum += (0..3).map(|c| (t[c] as f64 - r[c] as f64).powi(2) / ((r[c] as f64).powi(2) + 1e-2)).sum::<f64>() / 3.0;
+            n += 1;
+        }
+    }
+    let relmse = if n == 0 { 0.0 } else { sum / n as f64 };
+    (relmse, flip_between(test, reference, size, hdr))
+}
+
+/// ꟻLIP mean between two signals shown as LDR images (background pixels black in both).
+fn flip_between(a: &Signal, b: &Signal, (w, h): (u32, u32), hdr: bool) -> f64 {
+    let show = |s: &Signal, mask: &[bool]| -> Vec<u8> {
+        s.values
+            .iter()
+            .zip(mask)
+            .flat_map(|(v, on)| {
+                let c = |x: f32| {
+                    let x = if hdr { x.max(0.0) / (1.0 + x.max(0.0)) } else { x.clamp(0.0, 1.0) };
+                    if *on {
+                        (crate::util::linear_to_srgb(x as f64) * 255.0).round() as u8
+                    } else {
+                        0
+                    }
+                };
+                [c(v[0]), c(v[1]), c(v[2])]
+            })
+            .collect()
+    };
+    let mask: Vec<bool> = a.geometry.iter().zip(&b.geometry).map(|(x, y)| *x && *y).collect();
+    let map = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &show(b, &mask)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &show(a, &mask)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&map).mean() as f64
+}
+
+/// The GPU ms of a frame spent in the passes of `nodes`.
+fn nodes_ms(exec: &Executor, frame: &crate::runtime::profiler::FrameTimings, nodes: &[&str]) -> f64 {
+    let passes = &exec.plan().passes;
+    match &frame.gpu_ms {
+        Some(ms) => passes.iter().zip(ms).filter(|(p, _)| nodes.contains(&p.node.as_str())).map(|(_, t)| t).sum(),
+        None => frame.frame_ms,
+    }
+}
+
+/// The rows of one scene and effect: noisy and filtered at every ray count.
+fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, effect: &Effect, reference: &Signal) -> Result<Vec<FilterRow>, RuntimeError> {
+    let mut rows = Vec::new();
+    let camera = scene.camera;
+    for &n in &cfg.rays {
+        let rays = [(effect.node, "rays", ParamValue::Int(n))];
+        let mut noisy = executor(gpu, cfg, scene, effect, &effect.filters, &rays)?;
+        crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).run(gpu, &mut noisy, scene, &camera)?;
+        let mut ms = Vec::new();
+        for _ in 0..cfg.timed_frames.max(1) {
+            let frame = noisy.render(gpu, &camera, scene)?;
+            ms.push(nodes_ms(&noisy, &frame, &[effect.node]));
+        }
+        let (relmse, flip) = compare(&read(gpu, &noisy, effect.signal)?, reference, cfg.size, effect.hdr);
+        let row = |filtered_frames, ms: &mut Vec<f64>, (relmse, flip)| FilterRow {
+            scene: scene_name.to_string(),
+            effect: effect.label,
+            rays: n,
+            filtered_frames,
+            ms: crate::runtime::profiler::median(ms),
+            relmse,
+            flip,
+        };
+        rows.push(row(0, &mut ms, (relmse, flip)));
+        drop(noisy);
+
+        let mut filtered = executor(gpu, cfg, scene, effect, &[], &rays)?;
+        crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).run(gpu, &mut filtered, scene, &camera)?;
+        filtered.camera_cut(); // the history starts again at the first measured frame
+        let mut ms = Vec::new();
+        let with_filters = [effect.node, effect.filters[0], effect.filters[1], "motion"];
+        for frame_no in 1..=cfg.settle_frames.max(1) {
+            let frame = filtered.render(gpu, &camera, scene)?;
+            ms.push(nodes_ms(&filtered, &frame, &with_filters));
+            if frame_no == 1 || frame_no == cfg.settle_frames {
+                let errors = compare(&read(gpu, &filtered, effect.filtered)?, reference, cfg.size, effect.hdr);
+                rows.push(row(frame_no, &mut ms.clone(), errors));
+            }
+        }
+        if let Some(last) = rows.last_mut() {
+            last.ms = crate::runtime::profiler::median(&mut ms); // over all the frames
+        }
+    }
+    Ok(rows)
+}
+
+/// `camera` turned about its position by `degrees` around the up axis.
+fn turned(camera: &Camera, degrees: f32) -> Camera {
+    let rotation = glam::Mat3::from_axis_angle(camera.up.normalize(), degrees.to_radians());
+    Camera { target: camera.position + rotation * (camera.target - camera.position), ..*camera }
+}
+
+/// The track for one effect, noisy or filtered: a still stretch, a fast turn, a stop.
+fn track_row(
+    gpu: &Gpu,
+    cfg: &FiltersConfig,
+    scene: &Scene,
+    scene_name: &str,
+    effect: &Effect,
+    references: (&Signal, &Signal),
+    filtered: bool,
+) -> Result<TrackRow, RuntimeError> {
+    let off: &[&str] = if filtered { &[] } else { &effect.filters };
+    let mut exec = executor(gpu, cfg, scene, effect, off, &[])?;
+    let signal = if filtered { effect.filtered } else { effect.signal };
+    let camera = scene.camera;
+    for _ in 0..cfg.settle_frames {
+        exec.render(gpu, &camera, scene)?;
+    }
+    let mut previous: Option<Signal> = None;
+    let mut flicker = Vec::new();
+    for _ in 0..cfg.still_frames.max(2) {
+        exec.render(gpu, &camera, scene)?;
+        let now = read(gpu, &exec, signal)?;
+        if let Some(p) = &previous {
+            flicker.push(flip_between(&now, p, cfg.size, effect.hdr));
+        }
+        previous = Some(now);
+    }
+    let still_error = compare(previous.as_ref().expect("two or more still frames"), references.0, cfg.size, effect.hdr).1;
+    let (turn_frames, degrees) = cfg.turn;
+    for i in 1..=turn_frames {
+        exec.render(gpu, &turned(&camera, degrees * i as f32), scene)?;
+    }
+    let end = turned(&camera, degrees * turn_frames as f32);
+    let mut after_turn = [0.0; 4];
+    for frame_no in 1..=8u32 {
+        exec.render(gpu, &end, scene)?;
+        if let Some(slot) = [1, 2, 4, 8].iter().position(|f| *f == frame_no) {
+            after_turn[slot] = compare(&read(gpu, &exec, signal)?, references.1, cfg.size, effect.hdr).1;
+        }
+    }
+    let flicker = flicker.iter().sum::<f64>() / flicker.len().max(1) as f64;
+    Ok(TrackRow { scene: scene_name.to_string(), effect: effect.label, filtered, flicker, still_error, after_turn })
+}
+
+/// Runs the part; `on_rows` sees the rows finished so far.
+pub fn run(
+    gpu: &Gpu,
+    cfg: &FiltersConfig,
+    mut progress: impl FnMut(usize, usize, &str),
+    mut on_rows: impl FnMut(&[FilterRow], &[TrackRow]),
+) -> Result<(Vec<FilterRow>, Vec<TrackRow>), RuntimeError> {
+    let (mut rows, mut track) = (Vec::new(), Vec::new());
+    let total = cfg.scenes.len() * EFFECTS.len();
+    for scene_name in &cfg.scenes {
+        let (scene, _) = crate::scene::open(scene_name, &crate::scene::LoadOptions::default())?;
+        for effect in &EFFECTS {
+            let reference_still = reference(gpu, cfg, &scene, effect, &scene.camera)?;
+            rows.extend(effect_rows(gpu, cfg, &scene, scene_name, effect, &reference_still)?);
+            let end = turned(&scene.camera, cfg.turn.1 * cfg.turn.0 as f32);
+            let reference_end = reference(gpu, cfg, &scene, effect, &end)?;
+            for filtered in [false, true] {
+                track.push(track_row(gpu, cfg, &scene, scene_name, effect, (&reference_still, &reference_end), filtered)?);
+            }
+            on_rows(&rows, &track);
+            progress(rows.len() / (3 * cfg.rays.len()).max(1), total, &format!("{scene_name}: {}", effect.label));
+        }
+    }
+    Ok((rows, track))
+}
+
+/// The rows as CSV, with the run's header.
+pub fn csv(info: &RunInfo, rows: &[FilterRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,effect,rays,filtered_frames,ms,relmse,flip_mean\n");
+    for r in rows {
+        let _ = writeln!(s, "{},{},{},{},{:.5},{:.6},{:.5}", r.scene, r.effect, r.rays, r.filtered_frames, r.ms, r.relmse, r.flip);
+    }
+    s
+}
+
+/// The track's rows as CSV, with the run's header.
+pub fn track_csv(info: &RunInfo, rows: &[TrackRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,effect,filtered,flicker_flip,still_flip,after_turn_1,after_turn_2,after_turn_4,after_turn_8\n");
+    for r in rows {
+        let a = r.after_turn;
+        let _ = writeln!(s, "{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5}", r.scene, r.effect, r.filtered, r.flicker, r.still_error, a[0], a[1], a[2], a[3]);
+    }
+    s
+}
+
+fn describe(filtered_frames: u32) -> String {
+    match filtered_frames {
+        0 => "noisy".into(),
+        1 => "filtered, 1st frame".into(),
+        n => format!("filtered, {n} frames"),
+    }
+}
+
+/// The rows as markdown: error against time, the equal-time table and the track.
+pub fn markdown(info: &RunInfo, cfg: &FiltersConfig, rows: &[FilterRow], track: &[TrackRow]) -> String {
+    let mut s = format!("# bench error: AO, soft shadows and GI, noisy and filtered, against converged references\n\n{}\n", info.markdown());
+    let _ = writeln!(
+        s,
+        "`graph/hybrid_denoised.ron`; reference: {} frames accumulated at {} rays/pixel without the spatial filter; back-end {}.\n",
+        cfg.reference_frames,
+        cfg.rays.iter().max().unwrap_or(&1),
+        cfg.backend
+    );
+    s.push_str("| scene | effect | rays/pixel | signal | GPU ms | relMSE | ꟻLIP mean |\n| --- | --- | ---: | --- | ---: | ---: | ---: |\n");
+    for r in rows {
+        let _ = writeln!(s, "| {} | {} | {} | {} | {:.3} | {:.5} | {:.4} |", r.scene, r.effect, r.rays, describe(r.filtered_frames), r.ms, r.relmse, r.flip);
+    }
+    s.push_str("\nEqual time: for each noisy row's GPU time, the lowest ꟻLIP mean of a filtered row (after the still frames) that costs no more:\n\n| scene | effect | budget ms (noisy rays) | noisy ꟻLIP | filtered within budget |\n| --- | --- | ---: | ---: | --- |\n");
+    for noisy in rows.iter().filter(|r| r.filtered_frames == 0) {
+        let best = rows
+            .iter()
+            .filter(|r| r.scene == noisy.scene && r.effect == noisy.effect && r.filtered_frames > 1 && r.ms <= noisy.ms)
+            .min_by(|a, b| a.flip.total_cmp(&b.flip))
+            .map(|r| format!("{:.4} ({} rays, {:.3} ms)", r.flip, r.rays, r.ms))
+            .unwrap_or_else(|| "none fits".into());
+        let _ = writeln!(s, "| {} | {} | {:.3} ({}) | {:.4} | {best} |", noisy.scene, noisy.effect, noisy.ms, noisy.rays, noisy.flip);
+    }
+    let _ = writeln!(
+        s,
+        "\nCamera track (the graph's own ray counts): ꟻLIP between consecutive frames of a still stretch of {} frames (flicker), against the reference at its end, and against the reference at the new view 1, 2, 4 and 8 frames after a turn of {} frames of {} degrees (ghosting):\n",
+        cfg.still_frames, cfg.turn.0, cfg.turn.1
+    );
+    s.push_str("| scene | effect | signal | flicker | still error | +1 | +2 | +4 | +8 |\n| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in track {
+        let a = r.after_turn;
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} |",
+            r.scene,
+            r.effect,
+            if r.filtered { "filtered" } else { "noisy" },
+            r.flicker,
+            r.still_error,
+            a[0],
+            a[1],
+            a[2],
+            a[3]
+        );
+    }
+    s
+}
