@@ -14,24 +14,52 @@ fn light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>) -> bool {
     return !trace_any(Ray(origin, 0.0, ls.l, t_max));
 }
 
+// The sizes of the area lights (rt_shadow's parameters): `radius` of the sphere of point and
+// spot lights, or a `width` x `height` rectangle (both above 0; the rectangle wins) centred on
+// them and facing along their direction, its width along the horizontal axis perpendicular to
+// that direction (world x for a light pointing straight up or down) and its height along the
+// third axis; `sun_radius`, the angular radius of directional lights (radians).
+struct AreaLights {
+    radius: f32,
+    sun_radius: f32,
+    width: f32,
+    height: f32,
+}
+
+// The rectangle's width and height axes for a light shining along `d` (see `AreaLights`).
+fn rectangle_axes(d: vec3<f32>) -> array<vec3<f32>, 2> {
+    let w = select(normalize(cross(vec3<f32>(0.0, 1.0, 0.0), d)), vec3<f32>(1.0, 0.0, 0.0), abs(d.y) > 0.9999);
+    return array<vec3<f32>, 2>(w, cross(d, w));
+}
+
 // Whether the ray from `origin` to one point of an area light reaches it: for a directional
-// light a direction uniform in the cone of angular radius `sun_radius` (radians) around it,
-// for a point or spot light a point uniform on the disc of radius `radius` around it facing
-// the origin (a sphere light seen from there), chosen by the uniform numbers `u`. With both
-// sizes 0 it is `light_visible`'s ray.
-fn area_light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>, radius: f32, sun_radius: f32, u: vec2<f32>) -> bool {
+// light a direction uniform in the cone of angular radius `sun_radius` around it; for a point
+// or spot light a point uniform on its rectangle (which shines only forwards, along the
+// light's direction) or else on the disc of radius `radius` around it facing the origin (a
+// sphere light seen from there); chosen by the uniform numbers `u`. With every size 0 it is
+// `light_visible`'s ray.
+fn area_light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>, area: AreaLights, u: vec2<f32>) -> bool {
     let ls = light_sample(light, origin);
     if all(ls.e == vec3<f32>(0.0)) {
         return false;
     }
     if light.kind == LIGHT_DIRECTIONAL {
-        let l = select(ls.l, uniform_cone(ls.l, cos(sun_radius), u), sun_radius > 0.0);
+        let l = select(ls.l, uniform_cone(ls.l, cos(area.sun_radius), u), area.sun_radius > 0.0);
         return dot(geo, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, ls.distance));
     }
-    let aim = light.position + radius * uniform_disc(ls.l, u);
+    var aim = light.position + area.radius * uniform_disc(ls.l, u);
+    var sized = area.radius > 0.0;
+    if area.width > 0.0 && area.height > 0.0 {
+        let axes = rectangle_axes(light.direction);
+        aim = light.position + (u.x - 0.5) * area.width * axes[0] + (u.y - 0.5) * area.height * axes[1];
+        sized = true;
+        if dot(origin - aim, light.direction) <= 0.0 {
+            return false; // behind the rectangle
+        }
+    }
     let to_aim = aim - origin;
     let d = length(to_aim);
-    let l = select(ls.l, to_aim / d, radius > 0.0);
-    let t_max = select(ls.distance, d, radius > 0.0) * 0.9999;
+    let l = select(ls.l, to_aim / d, sized);
+    let t_max = select(ls.distance, d, sized) * 0.9999;
     return dot(geo, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, t_max));
 }

@@ -1,7 +1,7 @@
 // Shadows: from the offset G-buffer position one any-hit ray to every light (to its position
 // for point and spot lights, stopping just short of it; along the light for directional ones),
 // where the surface faces the light and the light reaches it. With an area (`light_radius`,
-// `sun_angle` above 0), each of `rays` rays goes to one random point of it
+// `light_width` and `light_height`, `sun_angle` above 0), each of `rays` rays goes to one random point of it
 // (common/shadow_ray.wgsl): a stochastic estimate of a soft shadow per pixel and light, for the temporal and spatial filters. Writes the
 // shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four.
 //#include "common/frame.wgsl"
@@ -17,6 +17,8 @@ struct Params {
     per_frame: u32,
     seed: u32,
     rays: u32,
+    light_width: f32,
+    light_height: f32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -54,8 +56,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let origin = offset_ray_origin(p.xyz, geo);
     var mask = vec4<f32>(0.0);
     var radiance = vec3<f32>(0.0);
-    let area = params.light_radius > 0.0 || params.sun_angle > 0.0;
-    let sun_radius = radians(params.sun_angle) * 0.5;
+    let sizes = AreaLights(params.light_radius, radians(params.sun_angle) * 0.5, params.light_width, params.light_height);
+    let area = sizes.radius > 0.0 || sizes.sun_radius > 0.0 || (sizes.width > 0.0 && sizes.height > 0.0);
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed + select(0u, frame.frame_index, params.per_frame != 0u) * 0x9e3779b9u)));
     let samples = select(1u, max(params.rays, 1u), area);
     for (var i = 0u; i < frame.light_count; i++) {
@@ -66,7 +68,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
                 let a = state;
                 state = pcg_hash(state);
                 let u = vec2<f32>(f32(a >> 8u), f32(state >> 8u)) * (1.0 / 16777216.0);
-                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, geo, params.light_radius, sun_radius, u));
+                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, geo, sizes, u));
             }
         } else {
             seen = select(0u, 1u, light_visible(scene_lights[i], origin, geo));
