@@ -115,17 +115,16 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 "#;
 
-/// The à-trous filter (`layers/atrous.ron`: one shader for its four steps, bound through
-/// `binding=resource` aliases) keeps a constant image constant over the default scene's
-/// edges: its weights are normalised whatever the edge-stopping functions make of them.
-#[test]
-fn the_atrous_filter_keeps_a_constant_image_constant() {
+/// One frame of `atrous` over the default scene's G-buffer, filtering the signal and moments
+/// that `fill_wgsl` writes (`CONSTANT_LAYER`'s interface): the filtered texels and the
+/// G-buffer positions.
+fn filter_once(fill_wgsl: &str) -> (Vec<[f32; 4]>, Vec<[f32; 4]>) {
     let gpu = gpu();
     let p = TempProject::with_repo_files();
     p.write("layers/show_value.ron", SHOW_LAYER);
     p.write("shaders/test/show_value.wgsl", SHOW_WGSL);
     p.write("layers/constant.ron", CONSTANT_LAYER);
-    p.write("shaders/test/constant.wgsl", CONSTANT_WGSL);
+    p.write("shaders/test/constant.wgsl", fill_wgsl);
     let path = p.write(
         "graph/constant.ron",
         r#"Graph(output: "show.color", nodes: {
@@ -139,7 +138,15 @@ fn the_atrous_filter_keeps_a_constant_image_constant() {
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     exec.render(&gpu, &scene.camera, &scene).unwrap();
-    let filtered = common::channel(&gpu, &exec, "filter.filtered");
+    (common::channel(&gpu, &exec, "filter.filtered"), common::channel(&gpu, &exec, "gbuffer.position"))
+}
+
+/// The à-trous filter (`layers/atrous.ron`: one shader for its four steps, bound through
+/// `binding=resource` aliases) keeps a constant image constant over the default scene's
+/// edges: its weights are normalised whatever the edge-stopping functions make of them.
+#[test]
+fn the_atrous_filter_keeps_a_constant_image_constant() {
+    let (filtered, _) = filter_once(CONSTANT_WGSL);
     // In half-float units in the last place: the signal is stored in half floats six times
     // (the constant itself, packed, and after each step), and a Vulkan implementation may round
     // each store towards zero (lavapipe does: 0.9 comes out as 0.89941, two units low), so up
@@ -152,7 +159,8 @@ fn the_atrous_filter_keeps_a_constant_image_constant() {
 }
 
 /// The filter nodes of `graph/hybrid_denoised.ron`.
-const FILTERS: [&str; 6] = ["shadow_temporal", "shadow_denoise", "ao_temporal", "ao_denoise", "gi_temporal", "gi_denoise"];
+const FILTERS: [&str; 8] =
+    ["shadow_temporal", "shadow_denoise", "ao_temporal", "ao_denoise", "gi_temporal", "gi_denoise", "reflection_temporal", "reflection_denoise"];
 
 /// Frames of `graph` (a file of the repository) with `off` switched off: the plan's pass
 /// names and the output image after `frames` frames.
@@ -187,13 +195,13 @@ fn switching_the_filters_off_hands_their_readers_the_noisy_signal() {
 
     // The spatial filter alone: it reads the raw signal and estimates the variance spatially
     // (its `moments` input falls back to no temporal moments).
-    let (passes, spatial) = render_switched("graph/hybrid_denoised.ron", &["shadow_temporal", "ao_temporal", "gi_temporal"], 3);
+    let (passes, spatial) = render_switched("graph/hybrid_denoised.ron", &["shadow_temporal", "ao_temporal", "gi_temporal", "reflection_temporal"], 3);
     assert!(passes.iter().all(|p| !p.contains("temporal") && !p.starts_with("motion/")), "{passes:?}");
     assert!(passes.iter().any(|p| p == "ao_denoise/step8"), "{passes:?}");
     assert!(spatial != noisy, "the spatial filter changed the image");
 
     // The temporal filter alone.
-    let (passes, temporal) = render_switched("graph/hybrid_denoised.ron", &["shadow_denoise", "ao_denoise", "gi_denoise"], 3);
+    let (passes, temporal) = render_switched("graph/hybrid_denoised.ron", &["shadow_denoise", "ao_denoise", "gi_denoise", "reflection_denoise"], 3);
     assert!(passes.iter().all(|p| !p.contains("denoise")), "{passes:?}");
     assert!(passes.iter().any(|p| p == "ao_temporal/accumulate") && passes.iter().any(|p| p.starts_with("motion/")), "{passes:?}");
     assert!(temporal != noisy && temporal != spatial);
@@ -225,4 +233,37 @@ fn a_bypass_between_different_formats_is_refused() {
         let text = e.to_string();
         assert!(text.contains("bad_filter.ron") && text.contains("bypass `filtered` -> `signal`"), "{text}");
     }
+}
+
+/// A signal present only on the right half of the frame (alpha 1), the left half without one
+/// (alpha 0, as reflections where no ray was traced, and 5.0). Pixels without a signal stay
+/// without one through `atrous` (alpha 0, so that the resolve shows the sky there), and the
+/// filter leaves their values out of the pixels that have one: the right half stays its
+/// constant within the half-float rounding of the test above.
+#[test]
+fn pixels_without_a_signal_keep_none_and_lend_nothing_to_their_neighbours() {
+    let half = CONSTANT_WGSL.replace(
+        "textureStore(signal, id.xy, vec4<f32>(0.3, 0.6, 0.9, 1.0));",
+        "textureStore(signal, id.xy, select(vec4<f32>(5.0, 5.0, 5.0, 0.0), vec4<f32>(0.3, 0.6, 0.9, 1.0), id.x >= size.x / 2u));",
+    );
+    assert!(half != CONSTANT_WGSL);
+    let (filtered, position) = filter_once(&half);
+    let ulp = |c: f32| 2f32.powi(c.log2().floor() as i32 - 10);
+    let (mut left, mut right, mut worst) = (0, 0, 0.0f32);
+    for (i, (v, x)) in filtered.iter().zip(&position).enumerate() {
+        if x[3] == 0.0 {
+            continue; // the sky: passed through as before
+        }
+        if (i as u32 % W) < W / 2 {
+            left += 1;
+            assert_eq!(v[3], 0.0, "pixel {i}: no signal stays without one: {v:?}");
+        } else {
+            right += 1;
+            assert_eq!(v[3], 1.0, "pixel {i}: {v:?}");
+            worst = worst.max((v[0] - 0.3).abs() / ulp(0.3)).max((v[1] - 0.6).abs() / ulp(0.6)).max((v[2] - 0.9).abs() / ulp(0.9));
+        }
+    }
+    println!("{left} pixels without a signal, {right} with; largest deviation on the right {worst} units");
+    assert!(left > 100 && right > 100);
+    assert!(worst <= 6.0, "the left half's 5.0 leaked into the right half: {worst} units");
 }

@@ -12,8 +12,8 @@ fn atrous_luminance(c: vec3<f32>) -> f32 {
 fn atrous_step(src: texture_2d<f32>, p: vec2<i32>, step: i32) -> vec4<f32> {
     let centre = textureLoad(src, p, 0);
     let x = textureLoad(position, p, 0);
-    if x.w == 0.0 {
-        return centre;
+    if x.w == 0.0 || centre.a < 0.0 {
+        return centre; // no surface, or no signal here
     }
     let n = normalize(textureLoad(normal, p, 0).xyz);
     let l = atrous_luminance(centre.rgb);
@@ -35,6 +35,9 @@ fn atrous_step(src: texture_2d<f32>, p: vec2<i32>, step: i32) -> vec4<f32> {
                 continue;
             }
             let v = textureLoad(src, q, 0);
+            if v.a < 0.0 {
+                continue; // no signal there
+            }
             let m = normalize(textureLoad(normal, q, 0).xyz);
             let w_normal = pow(max(dot(n, m), 0.0), params.sigma_normal);
             let w_depth = exp(-abs(dot(n, y.xyz - x.xyz)) / depth_scale);

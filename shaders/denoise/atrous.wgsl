@@ -16,12 +16,13 @@ struct Params {
 @group(0) @binding(4) var normal: texture_2d<f32>;
 @group(0) @binding(5) var result: texture_storage_2d<rgba16float, write>;
 
-// The last step writes alpha 1 (the filtered signal is there) instead of the variance.
+// The last step writes alpha 1 where the filtered signal is there, instead of the variance,
+// and 0 where the signal had none (a negative variance, see denoise/variance.wgsl).
 fn filter_pixel(id: vec2<u32>, step: i32, last: bool) {
     let size = textureDimensions(result);
     if id.x < size.x && id.y < size.y {
         let v = atrous_step(source, vec2<i32>(id), step);
-        textureStore(result, id, select(v, vec4<f32>(v.rgb, 1.0), last));
+        textureStore(result, id, select(v, vec4<f32>(v.rgb, select(1.0, 0.0, v.a < 0.0)), last));
     }
 }
 

@@ -1,4 +1,5 @@
-// The signal packed with its luminance variance for the à-trous filter (layers/atrous.ron):
+// The signal packed with its luminance variance for the à-trous filter (layers/atrous.ron;
+// -1 where the signal's alpha says there is none):
 // from the temporal moments where 4 or more frames were accumulated, else from the 3x3
 // neighbourhood of this frame (Schied et al. 2017, section 4.2).
 @group(0) @binding(0) var signal: texture_2d<f32>;
@@ -32,5 +33,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         variance = max(sum2 / 9.0 - (sum / 9.0) * (sum / 9.0), 0.0);
     }
-    textureStore(packed, id.xy, vec4<f32>(s.rgb, variance));
+    // A pixel without a signal (alpha 0: no reflection traced there) is marked by a negative
+    // variance: the steps leave it out and keep its alpha 0.
+    textureStore(packed, id.xy, vec4<f32>(s.rgb, select(variance, -1.0, s.a <= 0.0)));
 }

@@ -20,6 +20,7 @@ struct Params {
     glossy: u32,
     max_roughness: f32,
     seed: u32,
+    per_frame: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -82,7 +83,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var roughness = m.g;
     var radiance = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
-    let rnd = pixel_random2(id.xy, params.seed);
+    // New glossy directions every frame with `per_frame` (for the temporal filter).
+    let rnd = pixel_random2(id.xy, params.seed + select(0u, frame.frame_index * 0x9e3779b9u, params.per_frame != 0u));
     let spread = camera_pixel_spread(id.xy);
     var path = distance(frame.camera_pos.xyz, p.xyz);
     for (var bounce = 0u; bounce < params.bounces; bounce++) {

@@ -177,7 +177,7 @@ fn executor(
     let mut options: CompileOptions = gpu.compile_options_for(cfg.backend);
     options.reuse = false; // every resource readable after the frame
     let others = EFFECTS.iter().filter(|e| e.node != effect.node).flat_map(|e| [e.node, e.filters[0], e.filters[1]]);
-    for node in off.iter().copied().chain(others).chain(["reflection"]) {
+    for node in off.iter().copied().chain(others).chain(["reflection", "reflection_temporal", "reflection_denoise"]) {
         options.enabled.insert(node.to_string(), false);
     }
     for (node, name, value) in params {
