@@ -52,7 +52,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(moments, id.xy, vec4<f32>(l, l * l, 1.0, 0.0));
         return;
     }
-    let before = vec2<f32>(id.xy) + 0.5 - m.xy;
+    // Motion under a hundredth of a pixel is the rounding of the reprojection (a still camera
+    // gives up to 1e-3 px): the history is read at the pixel itself, so that a long
+    // accumulation does not drift by the bilinear weights of that rounding.
+    let still = all(abs(m.xy) < vec2<f32>(0.01));
+    let before = vec2<f32>(id.xy) + 0.5 - select(m.xy, vec2<f32>(0.0), still);
     var history = bilinear(mean_previous, before);
     let history_moments = bilinear(moments_previous, before);
     if params.variance_clamp != 0u {

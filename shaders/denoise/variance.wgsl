@@ -1,6 +1,7 @@
 // The signal packed with its luminance variance for the à-trous filter (layers/atrous.ron;
 // -1 where the signal's alpha says there is none):
-// from the temporal moments where 4 or more frames were accumulated, else from the 3x3
+// from the temporal moments where 4 or more frames were accumulated (divided by their number:
+// the variance of the accumulated mean), else from the 3x3
 // neighbourhood of this frame (Schied et al. 2017, section 4.2).
 @group(0) @binding(0) var signal: texture_2d<f32>;
 @group(0) @binding(1) var moments: texture_2d<f32>;
@@ -19,7 +20,10 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let s = textureLoad(signal, id.xy, 0);
     // A 1x1 `moments` is the layer's fallback (no temporal moments: z = 0).
     let m = textureLoad(moments, min(id.xy, textureDimensions(moments) - 1u), 0);
-    var variance = max(m.y - m.x * m.x, 0.0);
+    // The moments give the variance of one frame's value over time; the signal is the mean of
+    // m.z frames, whose variance is that over m.z. (The spatial estimate below is taken from
+    // the signal itself.)
+    var variance = max(m.y - m.x * m.x, 0.0) / max(m.z, 1.0);
     if m.z < 4.0 {
         var sum = 0.0;
         var sum2 = 0.0;

@@ -15,8 +15,9 @@
 //! filter alone has anything to work with) and after `settle_frames` frames of a still camera.
 //! Milliseconds: the median GPU time per frame of the effect's trace pass, plus its two filters
 //! and the shared `motion` pass when they run. The track: the graph's own ray counts, a still
-//! stretch (frame-to-frame ꟻLIP: flicker), then a fast turn (`turn_degrees` a frame, under the
-//! executor's 30-degree camera cut) and a stop, with the error against a reference at the new
+//! stretch (frame-to-frame ꟻLIP: flicker), then a fast turn in place (in `turn_frames` equal
+//! steps, 40% of the horizontal field of view in all, so that what was in the middle of the
+//! view stays in it; each step under the executor's 30-degree camera cut) and a stop, with the error against a reference at the new
 //! view in the frames after the stop (ghosting).
 
 use super::RunInfo;
@@ -77,8 +78,8 @@ pub struct FiltersConfig {
     pub timed_frames: u32,
     /// Frames of the track's still stretch compared pairwise (flicker).
     pub still_frames: u32,
-    /// Frames of the turn and degrees per frame.
-    pub turn: (u32, f32),
+    /// Frames of the turn (see the module doc).
+    pub turn_frames: u32,
     /// The back-end.
     pub backend: Backend,
     /// Where `graph/`, `layers/` and `shaders/` are.
@@ -96,7 +97,7 @@ impl FiltersConfig {
             settle_frames: 32,
             timed_frames: 16,
             still_frames: 8,
-            turn: (6, 10.0),
+            turn_frames: 6,
             backend,
             root: root.to_path_buf(),
         }
@@ -112,7 +113,7 @@ impl FiltersConfig {
             settle_frames: 8,
             timed_frames: 2,
             still_frames: 3,
-            turn: (2, 10.0),
+            turn_frames: 2,
             backend,
             root: root.to_path_buf(),
         }
@@ -212,7 +213,8 @@ fn reference(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, effect: &Effect, cam
     read(gpu, &exec, &format!("{}/mean", effect.filters[0]))
 }
 
-/// (relMSE, ꟻLIP mean) of `test` against `reference` over the pixels where both show geometry.
+/// (relMSE, ꟻLIP mean) of `test` against `reference` over the pixels where both show geometry
+/// (NaN where there are none).
 fn compare(test: &Signal, reference: &Signal, size: (u32, u32), hdr: bool) -> (f64, f64) {
     let mut sum = 0.0;
     let mut n = 0usize;
@@ -222,8 +224,10 @@ fn compare(test: &Signal, reference: &Signal, size: (u32, u32), hdr: bool) -> (f
             n += 1;
         }
     }
-    let relmse = if n == 0 { 0.0 } else { sum / n as f64 };
-    (relmse, flip_between(test, reference, size, hdr))
+    if n == 0 {
+        return (f64::NAN, f64::NAN); // nothing to compare: shown as "—", never as no error
+    }
+    (sum / n as f64, flip_between(test, reference, size, hdr))
 }
 
 /// ꟻLIP mean between two signals shown as LDR images (background pixels black in both).
@@ -315,6 +319,14 @@ fn turned(camera: &Camera, degrees: f32) -> Camera {
     Camera { target: camera.position + rotation * (camera.target - camera.position), ..*camera }
 }
 
+/// Degrees per frame of the track's turn: 40% of the horizontal field of view over
+/// `turn_frames` frames.
+fn turn_step(cfg: &FiltersConfig, camera: &Camera) -> f32 {
+    let aspect = cfg.size.0 as f32 / cfg.size.1 as f32;
+    let horizontal = 2.0 * ((camera.fov_y * 0.5).tan() * aspect).atan();
+    0.4 * horizontal.to_degrees() / cfg.turn_frames.max(1) as f32
+}
+
 /// The track for one effect, noisy or filtered: a still stretch, a fast turn, a stop.
 fn track_row(
     gpu: &Gpu,
@@ -343,11 +355,11 @@ fn track_row(
         previous = Some(now);
     }
     let still_error = compare(previous.as_ref().expect("two or more still frames"), references.0, cfg.size, effect.hdr).1;
-    let (turn_frames, degrees) = cfg.turn;
-    for i in 1..=turn_frames {
+    let degrees = turn_step(cfg, &camera);
+    for i in 1..=cfg.turn_frames {
         exec.render(gpu, &turned(&camera, degrees * i as f32), scene)?;
     }
-    let end = turned(&camera, degrees * turn_frames as f32);
+    let end = turned(&camera, degrees * cfg.turn_frames as f32);
     let mut after_turn = [0.0; 4];
     for frame_no in 1..=8u32 {
         exec.render(gpu, &end, scene)?;
@@ -373,7 +385,7 @@ pub fn run(
         for effect in &EFFECTS {
             let reference_still = reference(gpu, cfg, &scene, effect, &scene.camera)?;
             rows.extend(effect_rows(gpu, cfg, &scene, scene_name, effect, &reference_still)?);
-            let end = turned(&scene.camera, cfg.turn.1 * cfg.turn.0 as f32);
+            let end = turned(&scene.camera, turn_step(cfg, &scene.camera) * cfg.turn_frames as f32);
             let reference_end = reference(gpu, cfg, &scene, effect, &end)?;
             for filtered in [false, true] {
                 track.push(track_row(gpu, cfg, &scene, scene_name, effect, (&reference_still, &reference_end), filtered)?);
@@ -404,6 +416,15 @@ pub fn track_csv(info: &RunInfo, rows: &[TrackRow]) -> String {
         let _ = writeln!(s, "{},{},{},{:.5},{:.5},{:.5},{:.5},{:.5},{:.5}", r.scene, r.effect, r.filtered, r.flicker, r.still_error, a[0], a[1], a[2], a[3]);
     }
     s
+}
+
+/// A ꟻLIP figure for a table; "—" where nothing was compared.
+fn cell(x: f64) -> String {
+    if x.is_nan() {
+        "—".into()
+    } else {
+        format!("{x:.4}")
+    }
 }
 
 fn describe(filtered_frames: u32) -> String {
@@ -440,24 +461,24 @@ pub fn markdown(info: &RunInfo, cfg: &FiltersConfig, rows: &[FilterRow], track: 
     }
     let _ = writeln!(
         s,
-        "\nCamera track (the graph's own ray counts): ꟻLIP between consecutive frames of a still stretch of {} frames (flicker), against the reference at its end, and against the reference at the new view 1, 2, 4 and 8 frames after a turn of {} frames of {} degrees (ghosting):\n",
-        cfg.still_frames, cfg.turn.0, cfg.turn.1
+        "\nCamera track (the graph's own ray counts): ꟻLIP between consecutive frames of a still stretch of {} frames (flicker), against the reference at its end, and against the reference at the new view 1, 2, 4 and 8 frames after a turn in place of 40% of the horizontal field of view in {} frames (ghosting):\n",
+        cfg.still_frames, cfg.turn_frames
     );
     s.push_str("| scene | effect | signal | flicker | still error | +1 | +2 | +4 | +8 |\n| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in track {
         let a = r.after_turn;
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.scene,
             r.effect,
             if r.filtered { "filtered" } else { "noisy" },
-            r.flicker,
-            r.still_error,
-            a[0],
-            a[1],
-            a[2],
-            a[3]
+            cell(r.flicker),
+            cell(r.still_error),
+            cell(a[0]),
+            cell(a[1]),
+            cell(a[2]),
+            cell(a[3])
         );
     }
     s
