@@ -394,10 +394,9 @@ fn csv_rows(text: &str, header: &str) -> Vec<Vec<String>> {
 
 /// `bench error`'s part on the filtered effects (quick: the default scene at 64x36, 1 and 2
 /// rays, references of 64 frames at 2 rays). Every row is there and finite; AO's noisy error
-/// falls with rays (relMSE measured 0.0286 at 1 ray, 0.0123 at 2: the Monte Carlo rate); GI's
-/// filtered error after the still frames is below its noisy one (0.031 against 0.71 at 1 ray);
-/// and filtering cuts AO's and GI's flicker on the still stretch (0.0008 against 0.0054, 0.015
-/// against 0.106). Soft shadows have a penumbra of a few pixels in this scene at this size, so
+/// falls with rays (relMSE measured 0.025 at 1 ray, 0.0096 at 2); GI's filtered error after the
+/// still frames is below its noisy one (0.024 against 0.59 at 1 ray); and filtering cuts AO's
+/// and GI's flicker on the still stretch (0.0008 against 0.0054, 0.0096 against 0.106). Soft shadows have a penumbra of a few pixels in this scene at this size, so
 /// their numbers are only checked to be there and finite.
 fn check_filters(filters: &str, track: &str) {
     let rows = csv_rows(filters, "scene,effect,rays,filtered_frames,ms,relmse,flip_mean");
