@@ -11,5 +11,5 @@ timeout 480 $R bench error --filters-only --backend compute --out $OUT/filters >
 grep -iE "adapter" $OUT/filters.log | head -1
 cat $OUT/filters/filters.md 2>/dev/null | grep -E "^\|" | grep -v -- "---"
 $R render --graph graph/hybrid_denoised.ron --scene atrium --backend compute --width 2560 --height 1440 --frames 20 --out $OUT/r/denoised.png > $OUT/r/denoised.txt 2>&1
-echo "== hybrid_denoised atrium 2560x1440"; grep -E "^(motion|ao|ao_|shadow|shadow_|gi|gi_|reflection|resolve|gbuffer)/|^total" $OUT/r/denoised.txt | awk '{print $1, $3}' | tr '\n' ' '; echo
+echo "== hybrid_denoised atrium 2560x1440"; grep -E "^[a-z_]+/[a-z0-9_]+ |^total" $OUT/r/denoised.txt | awk '{print $1, $3}' | tr '\n' ' '; echo
 rm -f $OUT/r/*.png; cd $OUT && tar czf results.tgz r filters filters.log 2>/dev/null; rm -rf r filters filters.log
