@@ -13,8 +13,9 @@
 //! Noisy rows: the effect's filters switched off (bypassed), one frame (new samples every
 //! frame: the error does not depend on the frame). Filtered rows: after 1 frame (the spatial
 //! filter alone has anything to work with) and after `settle_frames` frames of a still camera.
-//! Milliseconds: the median GPU time per frame of the effect's trace pass, plus its two filters
-//! and the shared `motion` pass when they run. The track: the graph's own ray counts, a still
+//! Milliseconds: medians over the filtered run's `settle_frames` frames (after the warm-up) of
+//! the effect's trace pass alone for the noisy rows (the same pass doing the same work), and of
+//! the trace pass with its two filters and the shared `motion` pass for the filtered rows. The track: the graph's own ray counts, a still
 //! stretch (frame-to-frame ꟻLIP: flicker), then a fast turn in place (in `turn_frames` equal
 //! steps, 40% of the horizontal field of view in all, so that what was in the middle of the
 //! view stays in it; each step under the executor's 30-degree camera cut) and a stop, with the error against a reference at the new
@@ -74,8 +75,6 @@ pub struct FiltersConfig {
     pub reference_frames: u32,
     /// Frames of a still camera before a filtered row is measured.
     pub settle_frames: u32,
-    /// Frames timed for a noisy row.
-    pub timed_frames: u32,
     /// Frames of the track's still stretch compared pairwise (flicker).
     pub still_frames: u32,
     /// Frames of the turn (see the module doc).
@@ -95,7 +94,6 @@ impl FiltersConfig {
             rays: vec![1, 2, 4, 8],
             reference_frames: 2048,
             settle_frames: 32,
-            timed_frames: 16,
             still_frames: 8,
             turn_frames: 6,
             backend,
@@ -111,7 +109,6 @@ impl FiltersConfig {
             rays: vec![1, 2],
             reference_frames: 64,
             settle_frames: 8,
-            timed_frames: 2,
             still_frames: 3,
             turn_frames: 2,
             backend,
@@ -271,44 +268,34 @@ fn nodes_ms(exec: &Executor, frame: &crate::runtime::profiler::FrameTimings, nod
 fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, effect: &Effect, reference: &Signal) -> Result<Vec<FilterRow>, RuntimeError> {
     let mut rows = Vec::new();
     let camera = scene.camera;
+    let median = crate::runtime::profiler::median;
+    let with_filters = [effect.node, effect.filters[0], effect.filters[1], "motion"];
     for &n in &cfg.rays {
         let rays = [(effect.node, "rays", ParamValue::Int(n))];
-        let mut noisy = executor(gpu, cfg, scene, effect, &effect.filters, &rays)?;
-        crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).run(gpu, &mut noisy, scene, &camera)?;
-        let mut ms = Vec::new();
-        for _ in 0..cfg.timed_frames.max(1) {
-            let frame = noisy.render(gpu, &camera, scene)?;
-            ms.push(nodes_ms(&noisy, &frame, &[effect.node]));
-        }
-        let (relmse, flip) = compare(&read(gpu, &noisy, effect.signal)?, reference, cfg.size, effect.hdr);
-        let row = |filtered_frames, ms: &mut Vec<f64>, (relmse, flip)| FilterRow {
-            scene: scene_name.to_string(),
-            effect: effect.label,
-            rays: n,
-            filtered_frames,
-            ms: crate::runtime::profiler::median(ms),
-            relmse,
-            flip,
-        };
-        rows.push(row(0, &mut ms, (relmse, flip)));
-        drop(noisy);
-
+        let row =
+            |filtered_frames, ms, (relmse, flip)| FilterRow { scene: scene_name.to_string(), effect: effect.label, rays: n, filtered_frames, ms, relmse, flip };
+        // The filtered run times both: the trace pass alone (the noisy signal's cost) and with
+        // the filters and the motion pass, over the same frames.
         let mut filtered = executor(gpu, cfg, scene, effect, &[], &rays)?;
         crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).run(gpu, &mut filtered, scene, &camera)?;
         filtered.camera_cut(); // the history starts again at the first measured frame
-        let mut ms = Vec::new();
-        let with_filters = [effect.node, effect.filters[0], effect.filters[1], "motion"];
+        let (mut trace_ms, mut all_ms, mut errors) = (Vec::new(), Vec::new(), Vec::new());
         for frame_no in 1..=cfg.settle_frames.max(1) {
             let frame = filtered.render(gpu, &camera, scene)?;
-            ms.push(nodes_ms(&filtered, &frame, &with_filters));
+            trace_ms.push(nodes_ms(&filtered, &frame, &[effect.node]));
+            all_ms.push(nodes_ms(&filtered, &frame, &with_filters));
             if frame_no == 1 || frame_no == cfg.settle_frames {
-                let errors = compare(&read(gpu, &filtered, effect.filtered)?, reference, cfg.size, effect.hdr);
-                rows.push(row(frame_no, &mut ms.clone(), errors));
+                errors.push((frame_no, compare(&read(gpu, &filtered, effect.filtered)?, reference, cfg.size, effect.hdr)));
             }
         }
-        if let Some(last) = rows.last_mut() {
-            last.ms = crate::runtime::profiler::median(&mut ms); // over all the frames
-        }
+        drop(filtered);
+        // The noisy signal: one frame with the filters switched off (new samples every frame,
+        // so any frame is as good as another).
+        let mut noisy = executor(gpu, cfg, scene, effect, &effect.filters, &rays)?;
+        noisy.render(gpu, &camera, scene)?;
+        rows.push(row(0, median(&mut trace_ms), compare(&read(gpu, &noisy, effect.signal)?, reference, cfg.size, effect.hdr)));
+        let filtered_ms = median(&mut all_ms);
+        rows.extend(errors.into_iter().map(|(frames, e)| row(frames, filtered_ms, e)));
     }
     Ok(rows)
 }
