@@ -57,17 +57,27 @@ fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
     a.pixels().zip(b.pixels()).map(|(p, q)| (0..3).map(|c| (p[c] as f64 - q[c] as f64).abs()).sum::<f64>() / 3.0).sum::<f64>() / (a.width() * a.height()) as f64
 }
 
+/// Writes `Script(steps: [STEPS])` into `dir` and runs the viewer with `args` and the script to
+/// its end: it must exit successfully with no step failing. Returns its stdout lines and all of
+/// its output.
+fn run_script(x: &XServer, dir: &Path, steps: &str, args: &[&str]) -> (Vec<String>, String) {
+    let script = dir.join("script.ron");
+    std::fs::write(&script, format!("Script(steps: [\n                {steps}\n            ])")).unwrap();
+    let mut all: Vec<&str> = args.to_vec();
+    all.extend(["--script", script.to_str().unwrap()]);
+    let (ok, out, log) = run_with_timeout(x.viewer(&all), 600);
+    assert!(ok, "{log}");
+    assert!(!out.iter().any(|l| l.starts_with("error:")), "no step failed: {log}");
+    (out, log)
+}
+
 #[test]
 fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
     let x = XServer::start();
     let dir = common::gltf_doc::temp_dir("viewer-script");
     let shot = |name: &str| dir.join(name).display().to_string();
-    let script = dir.join("script.ron");
-    std::fs::write(
-        &script,
-        format!(
-            r#"Script(steps: [
-                (frame: 2, action: Screenshot("{overlay}")),
+    let steps = format!(
+        r#"(frame: 2, action: Screenshot("{overlay}")),
                 (frame: 3, action: Overlay(false)),
                 (frame: 4, action: Screenshot("{raster}")),
                 (frame: 5, action: Mode(FullRt)),
@@ -85,23 +95,17 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
                 (frame: 21, action: SaveTrack("{track}")),
                 (frame: 22, action: PlayTrack("{track}")),
                 (frame: 24, action: Screenshot("{compute}")),
-                (frame: 25, action: Quit),
-            ])"#,
-            overlay = shot("overlay.png"),
-            raster = shot("raster.png"),
-            full_rt = shot("full_rt.png"),
-            ao = shot("ao.png"),
-            ao_overlay = shot("ao_overlay.png"),
-            ao_off = shot("ao_off.png"),
-            track = shot("track.ron"),
-            compute = shot("compute.png"),
-        ),
-    )
-    .unwrap();
-    let (ok, out, log) =
-        run_with_timeout(x.viewer(&["default", "--mode", "raster", "--width", "320", "--height", "180", "--script", script.to_str().unwrap()]), 600);
-    assert!(ok, "{log}");
-    assert!(!out.iter().any(|l| l.starts_with("error:")), "no step failed: {log}");
+                (frame: 25, action: Quit),"#,
+        overlay = shot("overlay.png"),
+        raster = shot("raster.png"),
+        full_rt = shot("full_rt.png"),
+        ao = shot("ao.png"),
+        ao_overlay = shot("ao_overlay.png"),
+        ao_off = shot("ao_off.png"),
+        track = shot("track.ron"),
+        compute = shot("compute.png"),
+    );
+    let (_, log) = run_script(&x, &dir, &steps, &["default", "--mode", "raster", "--width", "320", "--height", "180"]);
 
     // The overlay lists the running plan's passes with their timings, the adapter and back-end.
     let text = |name: &str| std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
@@ -258,29 +262,17 @@ fn a_camera_move_resets_the_accumulation_unless_switched_off() {
     let x = XServer::start();
     let dir = common::gltf_doc::temp_dir("viewer-history");
     let shot = |name: &str| dir.join(name).display().to_string();
-    let script = dir.join("script.ron");
-    std::fs::write(
-        &script,
-        format!(
-            r#"Script(steps: [
-                (frame: 2, action: Camera(position: (0.0, 2.0, 6.0), target: (0.0, 0.5, 0.0))),
+    let steps = format!(
+        r#"(frame: 2, action: Camera(position: (0.0, 2.0, 6.0), target: (0.0, 0.5, 0.0))),
                 (frame: 6, action: Screenshot("{reset}")),
                 (frame: 7, action: ResetHistoryOnMove(false)),
                 (frame: 8, action: Camera(position: (0.02, 2.0, 6.0), target: (0.0, 0.5, 0.0))),
                 (frame: 11, action: Screenshot("{kept}")),
-                (frame: 12, action: Quit),
-            ])"#,
-            reset = shot("reset.png"),
-            kept = shot("kept.png"),
-        ),
-    )
-    .unwrap();
-    let (ok, out, log) = run_with_timeout(
-        x.viewer(&["default", "--graph", "graph/hybrid_denoised.ron", "--width", "160", "--height", "90", "--script", script.to_str().unwrap()]),
-        600,
+                (frame: 12, action: Quit),"#,
+        reset = shot("reset.png"),
+        kept = shot("kept.png"),
     );
-    assert!(ok, "{log}");
-    assert!(!out.iter().any(|l| l.starts_with("error:")), "no step failed: {log}");
+    run_script(&x, &dir, &steps, &["default", "--graph", "graph/hybrid_denoised.ron", "--width", "160", "--height", "90"]);
     // (frames valid, resets) from the overlay's history line.
     let history = |name: &str| {
         let text = std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
