@@ -60,9 +60,12 @@ fn graph(gi_enabled: bool) -> String {
     )
 }
 
+/// A texture's texels, read back.
+type Texels = Vec<[f32; 4]>;
+
 /// The `resolve.hdr` texels, the G-buffer's positions and, with GI, the `gi.gi` texels after
 /// two frames.
-fn render(gi_enabled: bool) -> (Vec<[f32; 4]>, Vec<[f32; 4]>, Option<Vec<[f32; 4]>>) {
+fn render(gi_enabled: bool) -> (Texels, Texels, Option<Texels>) {
     let gpu = gpu();
     let p = TempProject::with_repo_files();
     let path = p.write("graph/furnace.ron", &graph(gi_enabled));
