@@ -14,6 +14,20 @@ fn pixel_random2(pixel: vec2<u32>, seed: u32) -> vec2<f32> {
     return vec2<f32>(f32(h1 >> 8u), f32(h2 >> 8u)) * (1.0 / 16777216.0);
 }
 
+// The next two uniform numbers in [0, 1) of the PCG stream `state`, which it advances.
+fn next_random2(state: ptr<function, u32>) -> vec2<f32> {
+    *state = pcg_hash(*state);
+    let a = *state;
+    *state = pcg_hash(*state);
+    return vec2<f32>(f32(a >> 8u), f32(*state >> 8u)) * (1.0 / 16777216.0);
+}
+
+// `seed`, made new every frame when `per_frame` is set (for layers whose samples a temporal
+// filter accumulates).
+fn frame_seed(seed: u32, frame_index: u32, per_frame: u32) -> u32 {
+    return seed + select(0u, frame_index, per_frame != 0u) * 0x9e3779b9u;
+}
+
 // The i-th point of the R2 sequence in [0, 1)^2.
 fn r2_sample(i: u32) -> vec2<f32> {
     let g = 1.32471795724474602596;

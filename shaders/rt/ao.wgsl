@@ -43,10 +43,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var i = 0u; i < params.rays; i++) {
         var u: vec2<f32>;
         if params.sampling == 0u {
-            state = pcg_hash(state);
-            let a = state;
-            state = pcg_hash(state);
-            u = vec2<f32>(f32(a >> 8u), f32(state >> 8u)) * (1.0 / 16777216.0);
+            u = next_random2(&state);
         } else {
             u = fract(r2_sample(i + frame_offset * params.rays) + rotation);
         }

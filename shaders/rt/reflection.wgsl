@@ -84,7 +84,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var radiance = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
     // New glossy directions every frame with `per_frame` (for the temporal filter).
-    let rnd = pixel_random2(id.xy, params.seed + select(0u, frame.frame_index * 0x9e3779b9u, params.per_frame != 0u));
+    let rnd = pixel_random2(id.xy, frame_seed(params.seed, frame.frame_index, params.per_frame));
     let spread = camera_pixel_spread(id.xy);
     var path = distance(frame.camera_pos.xyz, p.xyz);
     for (var bounce = 0u; bounce < params.bounces; bounce++) {

@@ -58,17 +58,13 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var radiance = vec3<f32>(0.0);
     let sizes = AreaLights(params.light_radius, radians(params.sun_angle) * 0.5, params.light_width, params.light_height);
     let area = sizes.radius > 0.0 || sizes.sun_radius > 0.0 || (sizes.width > 0.0 && sizes.height > 0.0);
-    var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed + select(0u, frame.frame_index, params.per_frame != 0u) * 0x9e3779b9u)));
+    var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
     let samples = select(1u, max(params.rays, 1u), area);
     for (var i = 0u; i < frame.light_count; i++) {
         var seen = 0u;
         if area {
             for (var k = 0u; k < samples; k++) {
-                state = pcg_hash(state);
-                let a = state;
-                state = pcg_hash(state);
-                let u = vec2<f32>(f32(a >> 8u), f32(state >> 8u)) * (1.0 / 16777216.0);
-                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, geo, sizes, u));
+                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, geo, sizes, next_random2(&state)));
             }
         } else {
             seen = select(0u, 1u, light_visible(scene_lights[i], origin, geo));

@@ -229,30 +229,20 @@ fn compare(test: &Signal, reference: &Signal, size: (u32, u32), hdr: bool) -> (f
 
 /// ꟻLIP mean between two signals shown as LDR images (background pixels black in both).
 fn flip_between(a: &Signal, b: &Signal, (w, h): (u32, u32), hdr: bool) -> f64 {
-    let show = |s: &Signal, mask: &[bool]| -> Vec<u8> {
-        s.values
-            .iter()
-            .zip(mask)
-            .flat_map(|(v, on)| {
-                let c = |x: f32| {
-                    let x = if hdr { x.max(0.0) / (1.0 + x.max(0.0)) } else { x.clamp(0.0, 1.0) };
-                    if *on {
-                        (crate::util::linear_to_srgb(x as f64) * 255.0).round() as u8
-                    } else {
-                        0
-                    }
-                };
-                [c(v[0]), c(v[1]), c(v[2])]
-            })
-            .collect()
-    };
     let mask: Vec<bool> = a.geometry.iter().zip(&b.geometry).map(|(x, y)| *x && *y).collect();
-    let map = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &show(b, &mask)),
-        nv_flip::FlipImageRgb8::with_data(w, h, &show(a, &mask)),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&map).mean() as f64
+    let show = |s: &Signal| -> image::RgbaImage {
+        let c = |x: f32, on: bool| {
+            let x = if hdr { x.max(0.0) / (1.0 + x.max(0.0)) } else { x.clamp(0.0, 1.0) };
+            if on {
+                (crate::util::linear_to_srgb(x as f64) * 255.0).round() as u8
+            } else {
+                0
+            }
+        };
+        let rgba = s.values.iter().zip(&mask).flat_map(|(v, on)| [c(v[0], *on), c(v[1], *on), c(v[2], *on), 255]).collect();
+        image::RgbaImage::from_raw(w, h, rgba).expect("a texel per pixel")
+    };
+    super::modes::flip_mean(&show(b), &show(a)) as f64
 }
 
 /// The GPU ms of a frame spent in the passes of `nodes`.

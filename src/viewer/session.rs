@@ -312,8 +312,7 @@ impl Session {
         let exec = self.exec.as_mut().ok_or("no plan")?;
         let moved = self.last_camera.is_some_and(|c| c != *camera);
         self.last_camera = Some(*camera);
-        let has_history = exec.plan().resources.iter().any(|r| r.history_of.is_some());
-        if moved && self.reset_history_on_move && has_history {
+        if moved && self.reset_history_on_move && exec.plan().has_history() {
             exec.camera_cut();
             self.history_resets += 1;
         }

@@ -151,7 +151,7 @@ pub fn overlay_text(f: &Frame) -> String {
 /// The state of the plan's history resources, if it has any: how many frames it has been valid
 /// for, and how often a camera move reset it.
 fn history_line(session: &Session, plan: &crate::graph::compile::Plan) -> Option<String> {
-    plan.resources.iter().any(|r| r.history_of.is_some()).then(|| {
+    plan.has_history().then(|| {
         format!(
             "history: valid for {} frames; reset by camera moves {} times ({})",
             session.history_frames,

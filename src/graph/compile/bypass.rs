@@ -68,8 +68,7 @@ fn switched_off_bypasses(graph: &GraphDesc, project: &Project, layers: &BTreeMap
         if ln.enabled {
             continue;
         }
-        let layer_name = layers.get(&ln.layer).unwrap_or(&ln.layer);
-        let path = project.layers_dir.join(format!("{layer_name}.ron"));
+        let (layer_name, path) = super::resolve::layer_file(project, layers, &ln.layer);
         if !crate::graph::files::exists(&path) {
             continue; // a switched-off node's layer is not required to exist
         }

@@ -214,6 +214,11 @@ impl Plan {
         self.slots.iter().map(|s| s.bytes).sum()
     }
 
+    /// Whether the plan keeps any texture from frame to frame (a history resource).
+    pub fn has_history(&self) -> bool {
+        self.resources.iter().any(|r| r.history_of.is_some())
+    }
+
     /// The resource named `name` (`"node.output"`, `"node/transient"`).
     pub fn resource_by_name(&self, name: &str) -> Option<ResourceId> {
         self.resources.iter().position(|r| r.name == name)

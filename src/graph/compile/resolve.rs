@@ -59,8 +59,7 @@ pub(super) fn resolve_layers(
             }
         };
         let node_anchor = SourceText::quoted(name);
-        let layer_name = layers.get(&ln.layer).unwrap_or(&ln.layer);
-        let path = project.layers_dir.join(format!("{layer_name}.ron"));
+        let (layer_name, path) = layer_file(project, layers, &ln.layer);
         if !crate::graph::files::exists(&path) {
             let loc = gsrc.locate(&["nodes", &node_anchor, &SourceText::quoted(&ln.layer)]);
             let known = crate::graph::files::ron_stems(&project.layers_dir);
@@ -97,6 +96,12 @@ pub(super) fn resolve_layers(
         out.push(ResolvedNode { name: name.clone(), layer_name: layer_name.clone(), layer, layer_src, params, locals: HashMap::new(), accel: None });
     }
     Ok(out)
+}
+
+/// The layer a node names (or the device's substitute for it, `layers`) and its file.
+pub(super) fn layer_file<'a>(project: &Project, layers: &'a BTreeMap<String, String>, layer: &'a String) -> (&'a String, std::path::PathBuf) {
+    let name = layers.get(layer).unwrap_or(layer);
+    (name, project.layers_dir.join(format!("{name}.ron")))
 }
 
 /// A graph has at most one `Accel` node: the runtime keeps one acceleration-structure cache per
