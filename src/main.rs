@@ -450,6 +450,39 @@ struct ViewArgs {
     /// Seed of the generated atrium.
     #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
     seed: u64,
+    /// Seconds into the scene's animation (glTF clips; a clip loops over its length). With
+    /// --track the default is the track's time at --track-frame [default: the rest pose].
+    #[arg(long, value_name = "SECONDS")]
+    time: Option<f32>,
+    /// The clip that plays, by name or index [default: the first].
+    #[arg(long, value_name = "NAME|INDEX")]
+    animation: Option<String>,
+}
+
+impl ViewArgs {
+    /// Poses `scene` at the asked time of the asked clip (nothing asked: left at rest); the
+    /// track's time when a track gives the camera and no time is given.
+    fn pose(&self, scene: &mut raygraph::scene::Scene, track: Option<&Track>) -> Result<()> {
+        use raygraph::scene::animation::ClipChoice;
+        let time = self.time.or_else(|| track.map(|t| self.track_frame as f32 / t.fps)).or(self.animation.as_ref().map(|_| 0.0));
+        if self.time.is_some_and(|t| !t.is_finite()) {
+            anyhow::bail!("--time {}: give a finite number of seconds", self.time.unwrap_or_default());
+        }
+        let choice = self.animation.as_deref().map(|a| a.parse::<ClipChoice>().unwrap_or_default()).unwrap_or_default();
+        let Some(rig) = scene.rig.clone() else {
+            anyhow::ensure!(self.animation.is_none(), "--animation {}: scene `{}` has no animations", self.animation.as_deref().unwrap_or(""), scene.name);
+            if self.time.is_some() {
+                eprintln!("note: scene `{}` has no animations; --time changes nothing", scene.name);
+            }
+            return Ok(());
+        };
+        let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name))?;
+        if let Some(t) = time.filter(|_| clip.is_some()) {
+            scene.pose(clip, t);
+            println!("animation `{}` at {t:.3} s", rig.animations[clip.unwrap_or(0)].name);
+        }
+        Ok(())
+    }
 }
 
 #[derive(Subcommand)]
@@ -825,9 +858,11 @@ fn run(cli: Cli) -> Result<()> {
                     scene.instances.len()
                 );
             }
-            let camera = match (&view.camera, &view.track) {
+            let track = view.track.as_deref().map(Track::load).transpose()?;
+            view.pose(&mut scene, track.as_ref())?;
+            let camera = match (&view.camera, &track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
-                (None, Some(path)) => Track::load(path)?.camera_at_frame(view.track_frame, &scene.camera),
+                (None, Some(track)) => track.camera_at_frame(view.track_frame, &scene.camera),
                 (None, None) => scene.camera,
             };
             let mut exec = Executor::new(&gpu, plan, &scene)?;

@@ -30,6 +30,7 @@ fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) ->
         light: Light { direction: light_dir.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 },
         point_light: None,
         lights: Vec::new(),
+        rig: None,
     };
     common::add_parts(&mut s, parts);
     s

@@ -143,5 +143,6 @@ pub fn default_scene() -> Scene {
         light: Light { direction: Vec3::new(-0.4, 0.8, 0.45).normalize(), color: Vec3::new(1.0, 0.96, 0.9), intensity: 3.0, ambient: 0.35 },
         point_light: None,
         lights: Vec::new(),
+        rig: None,
     }
 }

@@ -46,6 +46,14 @@ pub enum SceneError {
         /// What is wrong with it.
         message: String,
     },
+    /// The file's animation data cannot be played (clip, channel, skin or morph target).
+    #[error("{path}: {message}\n  help: fix the animation data, or export the file without animation")]
+    Rig {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the clip, channel, skin or primitive.
+        message: String,
+    },
     /// The file has nothing to draw.
     #[error("{path}: the file has no scene and no nodes to draw")]
     Empty {
@@ -173,6 +181,8 @@ pub struct ImportReport {
     pub default_material: bool,
     /// Texture references not loaded because the active graph samples no textures.
     pub textures_not_loaded: usize,
+    /// What the import of clips, skins and morph targets repaired.
+    pub rig_repairs: super::gltf_animation::RigRepairs,
 }
 
 impl ImportReport {
@@ -299,6 +309,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
     // Meshes: one raygraph mesh per glTF primitive.
     let mut meshes: Vec<Mesh> = Vec::new();
     let mut primitives_of_mesh: Vec<Vec<(usize, usize)>> = Vec::new(); // (mesh, material)
+    let mut mesh_primitive: Vec<(usize, usize)> = Vec::new(); // per scene mesh: glTF mesh, primitive
     for mesh in gltf.document.meshes() {
         let mut prims = Vec::new();
         let mesh_name = mesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {}", mesh.index()));
@@ -322,6 +333,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
             report.non_finite_triangles += non_finite;
             report.degenerate_triangles += count_degenerate(&m.vertices, &m.indices);
             meshes.push(Mesh { name: format!("{mesh_name}/{}", prim.index()), ..m });
+            mesh_primitive.push((mesh.index(), prim.index()));
             prims.push((meshes.len() - 1, material));
         }
         primitives_of_mesh.push(prims);
@@ -333,7 +345,9 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
         report.warn(format!("{}: {} zero-area triangles (left out of acceleration structures)", path.display(), report.degenerate_triangles));
     }
 
-    let placed = walk_nodes(path, &gltf.document, &primitives_of_mesh, &mut report)?;
+    let mut placed = walk_nodes(path, &gltf.document, &primitives_of_mesh, &mut report)?;
+    let rig_input = super::gltf_animation::RigInput { path, doc: &gltf.document, buffers: &buffers, mesh_primitive: &mesh_primitive };
+    let rig = super::gltf_animation::rig(&rig_input, &mut meshes, &mut placed.instances, &placed.instance_nodes, &mut report)?;
     if placed.instances.is_empty() && meshes.is_empty() {
         return Err(SceneError::Empty { path: path.to_path_buf() });
     }
@@ -349,7 +363,10 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
         light: super::Light::default(),
         point_light: None,
         lights: placed.lights,
+        rig: rig.map(std::sync::Arc::new),
     };
+    // Skinned meshes are placed by their joints and morph targets take the nodes' weights.
+    scene.pose(None, 0.0);
     let bounds = scene.bounds();
     scene.presets = file_cameras(path, &placed.cameras, bounds, &mut report);
     report.file_cameras = scene.presets.len();
@@ -656,6 +673,8 @@ fn images_used(doc: &gltf::Document) -> usize {
 /// world transform), the last two in the order of their nodes in the file.
 struct Placed<'a> {
     instances: Vec<Instance>,
+    /// Per instance, the node that places it.
+    instance_nodes: Vec<usize>,
     lights: Vec<PunctualLight>,
     cameras: Vec<(gltf::Node<'a>, gltf::Camera<'a>, Mat4)>,
 }
@@ -668,6 +687,7 @@ fn walk_nodes<'a>(
     report: &mut ImportReport,
 ) -> Result<Placed<'a>, SceneError> {
     let mut instances = Vec::new();
+    let mut instance_nodes = Vec::new();
     let mut lights = Vec::new();
     let mut cameras = Vec::new();
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
@@ -687,6 +707,7 @@ fn walk_nodes<'a>(
         if let Some(mesh) = node.mesh() {
             for (m, mat) in &primitives_of_mesh[mesh.index()] {
                 instances.push(Instance { mesh: *m, material: *mat, transform: world });
+                instance_nodes.push(node.index());
             }
         }
         if let Some(light) = node.light() {
@@ -701,7 +722,7 @@ fn walk_nodes<'a>(
     }
     lights.sort_by_key(|(n, _)| *n);
     cameras.sort_by_key(|(n, _, _)| n.index());
-    Ok(Placed { instances, lights: lights.into_iter().map(|(_, l)| l).collect(), cameras })
+    Ok(Placed { instances, instance_nodes, lights: lights.into_iter().map(|(_, l)| l).collect(), cameras })
 }
 
 /// A `KHR_lights_punctual` light in world space: at the node's origin, shining along its -Z.
@@ -794,8 +815,6 @@ mod notes {
         let count = |n: usize, what: &str, why: &str| (n > 0).then(|| format!("{n} {what}{} ({why})", if n == 1 { "" } else { "s" }));
         report.ignored_features.extend(
             [
-                count(doc.animations().count(), "animation", "the scene is drawn as it is posed"),
-                count(doc.skins().count(), "skin", "skinned meshes are drawn in their bind pose"),
                 count(doc.scenes().count().saturating_sub(1), "scene besides the default", "only the default scene is drawn"),
             ]
             .into_iter()
@@ -870,7 +889,7 @@ mod notes {
     }
 
     fn meshes(doc: &gltf::Document, report: &mut ImportReport) {
-        let (mut colours, mut morphs, mut uv_sets) = (Vec::new(), Vec::new(), BTreeMap::<u32, Vec<String>>::new());
+        let (mut colours, mut uv_sets) = (Vec::new(), BTreeMap::<u32, Vec<String>>::new());
         for mesh in doc.meshes() {
             let name = mesh.name().map(|n| format!("`{n}`")).unwrap_or_else(|| mesh.index().to_string());
             if mesh.primitives().any(|p| p.attributes().any(|(s, _)| matches!(s, gltf::Semantic::Colors(_)))) {
@@ -883,18 +902,12 @@ mod notes {
             for n in sets {
                 uv_sets.entry(n).or_default().push(name.clone());
             }
-            if mesh.primitives().any(|p| p.morph_targets().next().is_some()) {
-                morphs.push(name);
-            }
         }
         if !colours.is_empty() {
             report.ignored_features.push(format!("vertex colours (COLOR_n) on mesh {}", colours.join(", ")));
         }
         for (n, meshes) in uv_sets {
             report.ignored_features.push(format!("attribute TEXCOORD_{n} on mesh {} (only TEXCOORD_0 is read)", meshes.join(", ")));
-        }
-        if !morphs.is_empty() {
-            report.ignored_features.push(format!("morph targets on mesh {} (the base shape is drawn)", morphs.join(", ")));
         }
     }
 }

@@ -164,6 +164,8 @@ pub struct GpuScene {
     pub motion: Option<wgpu::Buffer>,
     /// One draw per instance, for raster passes.
     pub(crate) draws: Vec<Draw>,
+    /// Per mesh, its first vertex in `vertices`.
+    pub(crate) base_vertices: Vec<u32>,
     /// What was uploaded.
     pub usage: SceneUsage,
     /// Bytes uploaded.
@@ -210,6 +212,7 @@ impl GpuScene {
             lights: None,
             motion: None,
             draws: Vec::new(),
+            base_vertices: Vec::new(),
             usage,
             bytes: 0,
         };
@@ -236,8 +239,17 @@ impl GpuScene {
             }
             let bounds: Vec<Bounds> = scene.meshes.iter().map(|m| m.bounds()).collect();
             let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
-            let closed: Vec<Option<Bounds>> =
-                scene.meshes.iter().zip(&bounds).map(|(m, b)| (usage.closed_meshes && super::topology::is_closed_outward(m)).then_some(*b)).collect();
+            // A deforming mesh's bounds and closedness change from frame to frame: its shadow
+            // maps draw both faces.
+            let deforming = scene.deforming_meshes();
+            let closed: Vec<Option<Bounds>> = scene
+                .meshes
+                .iter()
+                .zip(&bounds)
+                .enumerate()
+                .map(|(i, (m, b))| (usage.closed_meshes && !deforming.contains(&i) && super::topology::is_closed_outward(m)).then_some(*b))
+                .collect();
+            out.base_vertices = ranges.iter().map(|r| r.1 as u32).collect();
             out.draws = scene
                 .instances
                 .iter()
@@ -539,6 +551,24 @@ impl GpuScene {
 }
 
 impl GpuScene {
+    /// Rewrites the vertices of the meshes `meshes` in place (their vertex counts unchanged).
+    /// Returns false if there is no vertex buffer or a mesh no longer fits its range.
+    pub fn write_vertices(&self, queue: &wgpu::Queue, scene: &Scene, meshes: &[usize]) -> bool {
+        let Some(buffer) = &self.vertices else { return false };
+        let stride = std::mem::size_of::<super::Vertex>() as u64;
+        for &m in meshes {
+            let (Some(&base), Some(mesh)) = (self.base_vertices.get(m), scene.meshes.get(m)) else { return false };
+            let end = self.base_vertices.get(m + 1).map_or(buffer.size() / stride, |&b| b as u64);
+            if base as u64 + mesh.vertices.len() as u64 > end {
+                return false;
+            }
+            if !mesh.vertices.is_empty() {
+                queue.write_buffer(buffer, base as u64 * stride, bytemuck::cast_slice(&mesh.vertices));
+            }
+        }
+        true
+    }
+
     /// Rewrites the previous transforms (`scene_motion`). Returns false if there is no such
     /// buffer or its size no longer matches.
     pub fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {
@@ -647,10 +677,12 @@ fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radiu
 /// edited in place are not).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct SceneContent {
-    /// The hash of everything but the instance transforms.
+    /// The hash of everything but the instance transforms and the deforming meshes' vertices.
     pub(crate) structure: u64,
     /// The hash of the instance transforms.
     pub(crate) transforms: u64,
+    /// The hash of the deforming meshes' vertices ([`Scene::deforming_meshes`]).
+    pub(crate) deformed: u64,
 }
 
 impl SceneContent {
@@ -658,23 +690,30 @@ impl SceneContent {
     pub(crate) fn of(scene: &Scene) -> Self {
         use crate::util::hash_words;
         use rayon::prelude::*;
+        let deforming = scene.deforming_meshes();
+        let vertices = |m: &super::Mesh| hash_words(1, bytemuck::cast_slice(&m.vertices));
         let meshes: Vec<u64> = scene
             .meshes
             .par_iter()
-            .map(|m| {
-                let h = hash_words(hash_words(1, bytemuck::cast_slice(&m.vertices)), bytemuck::cast_slice(&m.indices));
+            .enumerate()
+            .map(|(i, m)| {
+                // A deforming mesh's vertices are in `deformed`; its vertex count stays here.
+                let v = if deforming.contains(&i) { m.vertices.len() as u64 } else { vertices(m) };
+                let h = hash_words(v, bytemuck::cast_slice(&m.indices));
                 m.tangents.as_ref().map_or(h, |t| hash_words(h, bytemuck::cast_slice(t)))
             })
             .collect();
+        let deformed: Vec<u64> = deforming.iter().map(|&i| vertices(&scene.meshes[i])).collect();
         let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
         let textures: Vec<[u64; 4]> = scene.textures.iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
         structure = hash_words(structure, format!("{:?}", scene.materials).as_bytes());
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
+        structure = hash_words(structure, bytemuck::cast_slice(&deforming.iter().map(|&i| i as u64).collect::<Vec<_>>()));
         // The light buffer's size (its records are rewritten every frame).
         structure = hash_words(structure, &(scene.effective_light_count() as u64).to_le_bytes());
         let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
-        Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)) }
+        Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)), deformed: hash_words(4, bytemuck::cast_slice(&deformed)) }
     }
 }

@@ -38,6 +38,13 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
         let _ = writeln!(s, "paper       Table 1 `{row}`: {tris} triangles, {meshes} meshes, {textures} textures");
     }
     let _ = writeln!(s, "lights      {}", lights(scene));
+    if let Some(rig) = &scene.rig {
+        let clips: Vec<String> = rig.animations.iter().enumerate().map(|(i, a)| format!("{i}: `{}` {:.2} s, {} channels", a.name, a.duration, a.channels.len())).collect();
+        list(&mut s, "animations", &clips);
+        let skinned = rig.deformers.iter().filter(|d| d.skin.is_some()).count();
+        let morphed = rig.deformers.iter().filter(|d| !d.targets.is_empty()).count();
+        let _ = writeln!(s, "deforming   {} meshes ({skinned} skinned, {morphed} with morph targets), {} skins", rig.deformers.len(), rig.skins.len());
+    }
     let presets: Vec<&str> = scene.presets.iter().map(|(n, _)| n.as_str()).collect();
     let presets = if presets.is_empty() { "none".to_string() } else { presets.join(", ") };
     match report.map_or(0, |r| r.file_cameras) {
@@ -60,6 +67,14 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
             "repairs     {} NaN/Inf triangles dropped, {} zero-area triangles, {} non-triangle primitives skipped, {} images replaced by fallbacks",
             r.non_finite_triangles, r.degenerate_triangles, r.skipped_primitives, r.missing_images
         );
+        let rr = &r.rig_repairs;
+        if rr.renormalised_weights + rr.dropped_channels + rr.decomposed_matrices > 0 {
+            let _ = writeln!(
+                s,
+                "repairs     {} vertices' skin weights normalised, {} weights channels without morph targets dropped, {} animated matrix nodes decomposed",
+                rr.renormalised_weights, rr.dropped_channels, rr.decomposed_matrices
+            );
+        }
         if r.textures_not_loaded > 0 {
             let _ = writeln!(s, "textures    {} references not loaded (the graph samples none)", r.textures_not_loaded);
         }

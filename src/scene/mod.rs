@@ -1,10 +1,12 @@
 //! The CPU scene (meshes, materials, instances, textures, camera, light), the built-in
 //! default scene, and its upload to the GPU ([`gpu`]).
 
+pub mod animation;
 pub mod builtin;
 pub mod camera;
 pub mod duplicate;
 pub mod export;
+pub mod gltf_animation;
 pub mod gltf_import;
 pub mod gpu;
 pub mod info;
@@ -180,6 +182,9 @@ pub struct Scene {
     /// The file's own lights (glTF `KHR_lights_punctual`), in world space. Empty: the scene is
     /// lit by `light` (and `point_light`); see [`Scene::effective_lights`].
     pub lights: Vec<PunctualLight>,
+    /// The file's node hierarchy, clips, skins and deforming meshes, where it has clips or
+    /// deforming meshes ([`Scene::pose`]); `None` for a scene that never moves by itself.
+    pub rig: Option<std::sync::Arc<animation::Rig>>,
 }
 
 /// What kind of punctual light, with the parameters only that kind has.
@@ -354,6 +359,14 @@ impl Scene {
     /// Triangles over all instances (a mesh placed twice counts twice).
     pub fn triangle_count(&self) -> usize {
         self.instances.iter().map(|i| self.meshes[i.mesh].triangle_count()).sum()
+    }
+
+    /// The meshes the rig deforms (skinned or morphed), in increasing order; empty without a rig.
+    pub fn deforming_meshes(&self) -> Vec<usize> {
+        let mut m: Vec<usize> = self.rig.as_ref().map(|r| r.deformers.iter().map(|d| d.mesh).collect()).unwrap_or_default();
+        m.sort_unstable();
+        m.dedup();
+        m
     }
 
     /// World-space bounds of all instances.

@@ -109,6 +109,7 @@ pub fn metallic_roughness_scene() -> (Scene, Vec<(&'static str, Vec3)>) {
         light: Light { direction: Vec3::new(-0.4, 0.8, 0.45).normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 },
         point_light: None,
         lights: Vec::new(),
+        rig: None,
     };
     super::add_parts(&mut scene, parts);
     let probes = vec![

@@ -58,9 +58,16 @@ impl Executor {
         if content == self.scene_content {
             return Ok(());
         }
-        if content.structure == self.scene_content.structure && uploaded.write_instances(&gpu.queue, scene) {
-            self.scene_content = content;
-            return Ok(());
+        // Moved instances and deformed meshes are rewritten in place.
+        if content.structure == self.scene_content.structure {
+            let instances_ok = content.transforms == self.scene_content.transforms || uploaded.write_instances(&gpu.queue, scene);
+            let vertices_ok = content.deformed == self.scene_content.deformed
+                || uploaded.vertices.is_none()
+                || uploaded.write_vertices(&gpu.queue, scene, &scene.deforming_meshes());
+            if instances_ok && vertices_ok {
+                self.scene_content = content;
+                return Ok(());
+            }
         }
         let scope = gpu.scopes();
         self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);

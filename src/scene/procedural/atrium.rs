@@ -992,5 +992,6 @@ pub(super) fn build(seed: u64) -> Scene {
         light: Light { direction: Vec3::new(-0.32, 0.88, 0.36).normalize(), color: Vec3::new(1.0, 0.95, 0.86), intensity: 3.2, ambient: 0.25 },
         point_light: None,
         lights: Vec::new(),
+        rig: None,
     }
 }

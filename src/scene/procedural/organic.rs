@@ -204,5 +204,6 @@ pub(super) fn build() -> Scene {
         light: Light { direction: Vec3::new(0.5, 0.7, 0.5).normalize(), color: Vec3::new(1.0, 0.97, 0.92), intensity: 3.0, ambient: 0.3 },
         point_light: None,
         lights: Vec::new(),
+        rig: None,
     }
 }
