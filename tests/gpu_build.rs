@@ -274,11 +274,21 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
     }
     println!("{what}: {identical} of {} world vertices bit-identical to the CPU's", 3 * records.len());
     let object = read_bytes(&gpu.device, &gpu.queue, &made.object_vertices, 0, 48 * made.count as u64).unwrap();
-    let object: &[[f32; 4]] = bytemuck::cast_slice(&object);
+    // xyz: the object-space vertex; w: its index among all meshes' vertices (mesh by mesh).
+    let object: &[[u32; 4]] = bytemuck::cast_slice(&object);
     for (k, want) in expected.iter().enumerate() {
-        let mesh = &scene.meshes[scene.instances[want.instance as usize].mesh];
+        let m = scene.instances[want.instance as usize].mesh;
+        let mesh = &scene.meshes[m];
+        let first_vertex: usize = scene.meshes[..m].iter().map(|m| m.vertices.len()).sum();
         let verts = raygraph::accel::bvh::mesh_triangle(mesh, want.prim as usize).unwrap();
-        assert_eq!(&object[3 * k..3 * k + 3], &verts.map(|v| v.extend(0.0).to_array()), "{what}: record {k}'s object-space vertices");
+        for c in 0..3 {
+            let id = (first_vertex + mesh.indices[3 * want.prim as usize + c] as usize) as u32;
+            assert_eq!(
+                object[3 * k + c],
+                [verts[c].x.to_bits(), verts[c].y.to_bits(), verts[c].z.to_bits(), id],
+                "{what}: record {k}'s object-space vertex {c}"
+            );
+        }
     }
     made.bytes_uploaded as usize
 }

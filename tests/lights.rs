@@ -48,6 +48,7 @@ fn scene(lights: Vec<PunctualLight>, extra: Vec<(Mesh, Material, Mat4)>) -> Scen
         light: Light { ambient: 0.0, ..Light::default() },
         point_light: None,
         lights,
+        rig: None,
     };
     common::add_parts(&mut s, std::iter::once((plane("floor", 16.0, 1.0), grey(), Mat4::IDENTITY)).chain(extra));
     s

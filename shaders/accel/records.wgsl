@@ -34,8 +34,9 @@ struct Params {
 @group(0) @binding(5) var<storage, read_write> total: array<u32>;
 // The builder's input records: v0, prim, v1, instance, v2, flags (`GpuTriangle`).
 @group(0) @binding(6) var<storage, read_write> records: array<vec4<u32>>;
-// Per record, its three object-space vertices (the tree refit's input).
-@group(0) @binding(7) var<storage, read_write> object_vertices: array<vec4<f32>>;
+// Per record, its three object-space vertices (the tree refit's input), each with its index
+// into `vertices` in w (where shaders/accel/deform.wgsl gathers deformed positions from).
+@group(0) @binding(7) var<storage, read_write> object_vertices: array<vec4<u32>>;
 
 const GROUP: u32 = 256u;
 const BAD_INDEX: u32 = 0xffffffffu;
@@ -152,6 +153,8 @@ struct Triangle {
     w0: vec3<f32>,
     w1: vec3<f32>,
     w2: vec3<f32>,
+    // The vertices' indices into `vertices`.
+    ids: vec3<u32>,
 }
 
 fn classify(slot: u32) -> Triangle {
@@ -167,9 +170,10 @@ fn classify(slot: u32) -> Triangle {
     if indices[first] == BAD_INDEX {
         return t;
     }
-    t.o0 = vertices[head.x + indices[first]].xyz;
-    t.o1 = vertices[head.x + indices[first + 1u]].xyz;
-    t.o2 = vertices[head.x + indices[first + 2u]].xyz;
+    t.ids = head.x + vec3<u32>(indices[first], indices[first + 1u], indices[first + 2u]);
+    t.o0 = vertices[t.ids.x].xyz;
+    t.o1 = vertices[t.ids.y].xyz;
+    t.o2 = vertices[t.ids.z].xyz;
     t.w0 = to_world(t.inst, t.o0);
     t.w1 = to_world(t.inst, t.o1);
     t.w2 = to_world(t.inst, t.o2);
@@ -251,7 +255,7 @@ fn records_write(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
     records[3u * out] = vec4<u32>(bitcast<vec3<u32>>(t.w0), t.prim);
     records[3u * out + 1u] = vec4<u32>(bitcast<vec3<u32>>(t.w1), scene_instance);
     records[3u * out + 2u] = vec4<u32>(bitcast<vec3<u32>>(t.w2), flags);
-    object_vertices[3u * out] = vec4<f32>(t.o0, 0.0);
-    object_vertices[3u * out + 1u] = vec4<f32>(t.o1, 0.0);
-    object_vertices[3u * out + 2u] = vec4<f32>(t.o2, 0.0);
+    object_vertices[3u * out] = vec4<u32>(bitcast<vec3<u32>>(t.o0), t.ids.x);
+    object_vertices[3u * out + 1u] = vec4<u32>(bitcast<vec3<u32>>(t.o1), t.ids.y);
+    object_vertices[3u * out + 2u] = vec4<u32>(bitcast<vec3<u32>>(t.o2), t.ids.z);
 }

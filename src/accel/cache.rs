@@ -19,6 +19,7 @@
 //! back-ends' opaque geometry flag).
 
 use super::bvh::{instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas};
+use super::deform::{DeformPipelines, RefitPolicy, SahProbe};
 use super::gpu_build::{GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
 use super::gpu_records::{GpuRecordMaker, GpuRecords};
 use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel};
@@ -109,6 +110,14 @@ pub struct BuildReport {
     pub blas_gpu_built: bool,
     /// GPU milliseconds of the merged BLAS's GPU build.
     pub(crate) blas_gpu_ms: Option<f64>,
+    /// Deforming meshes whose positions changed in this update.
+    pub deformed_meshes: usize,
+    /// The merged tree's SAH cost over the builder's, as last measured after a refit (before
+    /// this update's work).
+    pub sah_growth: Option<f64>,
+    /// The merged layout was rebuilt because its refitted tree had degraded past the policy's
+    /// threshold (a refit was possible).
+    pub rebuilt_for_quality: bool,
 }
 
 impl BuildReport {
@@ -134,7 +143,12 @@ impl BuildReport {
         } else {
             ""
         };
-        format!("{} BLAS built{refit}, {} reused, {tlas}, {:.2} ms CPU", self.blas_built, self.blas_reused, self.cpu_ms)
+        let deformed = if self.deformed_meshes > 0 { format!(", {} deforming meshes", self.deformed_meshes) } else { String::new() };
+        let growth = self
+            .sah_growth
+            .map(|g| format!(", SAH x{g:.3} of the build{}", if self.rebuilt_for_quality { ", rebuilt for quality" } else { "" }))
+            .unwrap_or_default();
+        format!("{} BLAS built{refit}, {} reused, {tlas}{deformed}{growth}, {:.2} ms CPU", self.blas_built, self.blas_reused, self.cpu_ms)
     }
 }
 
@@ -144,8 +158,24 @@ pub fn mesh_hash(mesh: &Mesh) -> u64 {
     hash_words(hash_words(1, bytemuck::cast_slice(&positions)), bytemuck::cast_slice(&mesh.indices))
 }
 
+/// What a refit keeps of a mesh: its index triples and vertex count.
+fn topology_hash(mesh: &Mesh) -> u64 {
+    hash_words(mesh.vertices.len() as u64, bytemuck::cast_slice(&mesh.indices))
+}
+
 fn instance_hash(inst: &crate::scene::Instance, alpha_tested: bool) -> u64 {
     hash_words(inst.mesh as u64 | (alpha_tested as u64) << 63, bytemuck::cast_slice(&inst.transform.to_cols_array()))
+}
+
+/// What changed for the merged layout: every mesh's content hash, the hash of what a refit
+/// keeps (topology, instances of meshes, alpha flags), the deforming meshes' positions, and
+/// whether to refit.
+#[derive(Clone, Copy)]
+struct MergedChange<'a> {
+    mesh_hashes: &'a [u64],
+    meshes_hash: u64,
+    deformed_hash: Option<u64>,
+    refit: bool,
 }
 
 /// One BLAS unit: a mesh (de-duplication on) or an instance (off).
@@ -248,6 +278,18 @@ pub struct AccelCache {
     /// `accel_alpha` and the words last written to it.
     alpha: wgpu::Buffer,
     alpha_words: Vec<[u32; 4]>,
+    /// When the merged layout is refitted and when rebuilt.
+    policy: RefitPolicy,
+    /// The merged layout's deformation: gather and SAH pipelines, once a refit needed them;
+    /// the probe of the current tree; the builder's SAH cost of its last build; the hash of
+    /// the deforming meshes' positions last gathered.
+    deform: Option<DeformPipelines>,
+    probe: Option<SahProbe>,
+    built_sah: Option<f64>,
+    /// The hash of the deforming meshes' positions in the refit's input (`None`: as built).
+    gathered: Option<u64>,
+    /// Per deforming mesh, its content hash at the last update.
+    deformed: Vec<u64>,
 }
 
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).
@@ -298,6 +340,12 @@ impl AccelCache {
             pending: None,
             alpha: storage(device, "accel alpha", 16),
             alpha_words: Vec::new(),
+            policy: RefitPolicy::default(),
+            deform: None,
+            probe: None,
+            built_sah: None,
+            gathered: None,
+            deformed: Vec::new(),
         }
     }
 
@@ -332,6 +380,33 @@ impl AccelCache {
     /// same cores).
     pub fn set_merged_builder(&mut self, builder: MergedBuilder) {
         self.merged_builder = builder;
+    }
+
+    /// Sets when the merged layout is refitted and when rebuilt.
+    pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
+        self.policy = policy;
+    }
+
+    /// When the merged layout is refitted and when rebuilt.
+    pub fn refit_policy(&self) -> RefitPolicy {
+        self.policy
+    }
+
+    /// The merged tree's SAH cost over the builder's, as last measured after a refit.
+    pub fn sah_growth(&self) -> Option<f64> {
+        match (self.probe.as_ref().and_then(SahProbe::latest), self.built_sah) {
+            (Some(l), Some(b)) if b > 0.0 => Some(l / b),
+            _ => None,
+        }
+    }
+
+    /// Reads the SAH measurement of the frame that has just finished (the executor calls this
+    /// after each frame).
+    pub fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
+        match &mut self.probe {
+            Some(p) => p.read(device),
+            None => Ok(()),
+        }
     }
 
     /// The back-end the cache builds for.
@@ -404,22 +479,38 @@ impl AccelCache {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
             return Ok(report);
         }
-        // The merged layout when only instances moved: a GPU refit, no build.
+        // The merged layout when only instances moved or meshes deformed (their triangles the
+        // same): a GPU refit, no build, while the policy allows.
         let tested_words: Vec<u64> = tested.iter().map(|&t| t as u64).collect();
+        let deforming = scene.deforming_meshes();
+        let topology: Vec<u64> =
+            mesh_hashes.iter().enumerate().map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes[m]) } else { h }).collect();
         let meshes_hash = hash_words(
-            hash_words(hash_words(3, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
+            hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
             bytemuck::cast_slice(&tested_words),
         );
-        let refit = match &self.state {
+        let deformed_hash = hash_words(5, bytemuck::cast_slice(&deforming.iter().map(|&m| mesh_hashes[m]).collect::<Vec<_>>()));
+        let deformed_hash = (!deforming.is_empty()).then_some(deformed_hash);
+        let refittable = match &self.state {
             State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
             _ => false,
         };
+        let growth = self.sah_growth();
+        let refit = refittable && self.policy.refits(growth);
+        let deformed: Vec<u64> = deforming.iter().map(|&m| mesh_hashes[m]).collect();
+        report.deformed_meshes = deformed.iter().enumerate().filter(|(k, h)| self.deformed.get(*k) != Some(h)).count();
+        report.sah_growth = growth;
+        self.deformed = deformed;
         let built = if refit { 0 } else { changed.len() };
         report.blas_built = built;
         report.blas_reused = units.len() - built;
         self.total_blas_builds += built;
         match self.backend {
-            Backend::Compute if self.merge => self.update_compute_merged(device, queue, encoder, scene, (&mesh_hashes, meshes_hash), refit, &mut report)?,
+            Backend::Compute if self.merge => {
+                report.rebuilt_for_quality = refittable && !refit;
+                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash, refit };
+                self.update_compute_merged(device, queue, encoder, scene, change, &mut report)?
+            }
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &tested_meshes, &mut report)?,
             Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
@@ -539,25 +630,25 @@ impl AccelCache {
     }
 
     /// The merged layout: one BLAS over every instance's world-space triangles, rebuilt when
-    /// anything but the instance transforms changed, else refitted on the GPU.
+    /// anything but the instance transforms and the deforming meshes' positions changed (or
+    /// when the policy says the refitted tree has degraded), else refitted on the GPU.
     fn update_compute_merged(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         scene: &Scene,
-        (mesh_hashes, meshes_hash): (&[u64], u64),
-        refit: bool,
+        change: MergedChange,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         let mut old = match std::mem::replace(&mut self.state, State::Empty) {
             State::Compute(c) => Some(c),
             _ => None,
         };
-        // Only instances moved: refit on the GPU.
-        if refit {
+        // Only instances moved or meshes deformed: refit on the GPU.
+        if change.refit {
             if let Some((refit, _)) = old.as_mut().and_then(|c| c.refit.as_mut()) {
-                refit.record(device, queue, encoder, scene);
+                self.record_refit(device, queue, encoder, scene, refit, change);
                 report.tlas = TlasWork::Refit;
                 report.blas_refit = true;
             }
@@ -567,23 +658,57 @@ impl AccelCache {
         let t0 = Instant::now();
         report.tlas = TlasWork::Rebuild;
         let first_build = old.is_none();
-        if let Some((built, records)) = self.build_merged_on_gpu(device, queue, scene, mesh_hashes, first_build) {
+        self.probe = None;
+        self.gathered = change.deformed_hash;
+        if let Some((built, records)) = self.build_merged_on_gpu(device, queue, scene, change.mesh_hashes, first_build) {
             report.blas_gpu_built = true;
             report.blas_gpu_ms = built.gpu_ms;
             report.blas_sah = Some(built.sah_cost);
             report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
-            return self.install_gpu_built(device, queue, encoder, scene, old, (built, records), meshes_hash, report);
+            self.built_sah = report.blas_sah;
+            return self.install_gpu_built(device, queue, encoder, scene, old, (built, records), change.meshes_hash, report);
         }
         let (mesh, origin) = merge_instances(scene);
         let blas = Blas::build(&mesh, &AccelOptions::default().build);
         report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
+        self.built_sah = report.blas_sah;
         let flat = merge(&mesh, &origin, blas);
         report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
         self.install(device, queue, scene, old, None, &flat, report)?;
         if let State::Compute(c) = &mut self.state {
-            c.refit = MergedRefit::new(device, scene, &flat, &c.buffers).map(|r| (Refit::Planned(r), meshes_hash));
+            c.refit = MergedRefit::new(device, scene, &flat, &c.buffers).map(|r| (Refit::Planned(r), change.meshes_hash));
         }
         Ok(())
+    }
+
+    /// Records a refit of the merged tree: the deforming meshes' new positions gathered into
+    /// its input first (where they changed since the input was made), its SAH cost measured
+    /// after.
+    fn record_refit(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+        refit: &mut Refit,
+        change: MergedChange,
+    ) {
+        let pipelines = self.deform.get_or_insert_with(|| DeformPipelines::new(device));
+        if change.deformed_hash != self.gathered {
+            let maker = self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
+            if maker.sync_meshes(device, queue, scene, change.mesh_hashes).is_some() {
+                if let Some(positions) = maker.positions() {
+                    pipelines.record_gather(device, encoder, positions, refit.object_vertices());
+                    self.gathered = change.deformed_hash;
+                }
+            }
+        }
+        refit.record(device, queue, encoder, scene);
+        let probe = self.probe.get_or_insert_with(|| {
+            let (nodes, count) = refit.nodes();
+            SahProbe::new(device, pipelines, nodes, count)
+        });
+        probe.record(pipelines, encoder);
     }
 
     /// Makes the GPU-built merged tree `built` (from the records `records`) the current state

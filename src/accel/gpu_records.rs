@@ -148,7 +148,7 @@ impl GpuRecordMaker {
     /// Brings the meshes on the GPU up to date with `scene` (`hashes`: each mesh's content
     /// hash): only meshes whose hash changed are written, unless the meshes' sizes changed,
     /// which lays them all out again. The bytes written, or `None` past 32-bit offsets.
-    fn sync_meshes(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, hashes: &[u64]) -> Option<u64> {
+    pub(crate) fn sync_meshes(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, hashes: &[u64]) -> Option<u64> {
         let ranges = mesh_ranges(scene)?;
         let same_layout = self.meshes.as_ref().is_some_and(|m| m.ranges == ranges);
         if !same_layout {
@@ -182,6 +182,11 @@ impl GpuRecordMaker {
         }
         data.hashes = hashes.to_vec();
         Some(bytes)
+    }
+
+    /// Every mesh's positions as `vec4<f32>`, one mesh after another, as last synchronised.
+    pub(crate) fn positions(&self) -> Option<&wgpu::Buffer> {
+        self.meshes.as_ref().map(|m| &m.vertices)
     }
 
     /// The builder's input records of the merged layout of `scene` (`hashes`: each mesh's

@@ -29,6 +29,7 @@ pub mod alpha;
 pub mod bvh;
 pub mod cache;
 pub mod cpu_traverse;
+pub mod deform;
 pub mod gpu_build;
 pub mod gpu_records;
 pub mod layout;

@@ -118,6 +118,11 @@ pub struct MergedRefit {
     /// The merged arrays and the refit's own buffers; `Params` records `params_stride` apart.
     bind_group: wgpu::BindGroup,
     transforms: wgpu::Buffer,
+    /// Object-space vertices in leaf order, with their gather indices.
+    object_vertices: wgpu::Buffer,
+    /// The merged tree's nodes (the cache's buffer) and their count.
+    nodes: wgpu::Buffer,
+    node_count: u32,
     params_stride: u64,
     /// Workgroups (treelets) per dispatch: the subtree treelets, then the top one.
     dispatches: Vec<u32>,
@@ -133,18 +138,7 @@ impl MergedRefit {
         if *flat.blas_roots.first()? != 0 || flat.triangles.iter().all(|t| t.prim == NO_PRIM) {
             return None;
         }
-        // Object-space vertices in the triangles' (leaf) order.
-        let mut object = Vec::with_capacity(flat.triangles.len() * 3);
-        for t in &flat.triangles {
-            let verts = scene
-                .instances
-                .get(t.instance as usize)
-                .and_then(|i| scene.meshes.get(i.mesh))
-                .filter(|_| t.prim != NO_PRIM)
-                .and_then(|m| super::bvh::mesh_triangle(m, t.prim as usize))
-                .unwrap_or([glam::Vec3::ZERO; 3]);
-            object.extend(verts.map(|v| v.extend(0.0).to_array()));
-        }
+        let object = object_vertices(scene, flat);
         let max_nodes = TREELET_NODES.max(flat.blas_nodes.len().div_ceil(60_000));
         let plan = plan_treelets(&flat.blas_nodes, max_nodes);
         let subtrees = plan.treelets.len() as u32 - plan.has_top as u32;
@@ -214,7 +208,18 @@ impl MergedRefit {
             ],
         });
         let usable = usable_instances(scene);
-        Some(Self { pipeline, bind_group, transforms, params_stride, dispatches, levels: plan.depth, usable })
+        Some(Self {
+            pipeline,
+            bind_group,
+            transforms,
+            object_vertices,
+            nodes: buffers[2].clone(),
+            node_count: flat.blas_nodes.len() as u32,
+            params_stride,
+            dispatches,
+            levels: plan.depth,
+            usable,
+        })
     }
 
     /// Whether `scene` differs from the merged one only in where its instances are (same
@@ -246,6 +251,37 @@ impl MergedRefit {
     }
 }
 
+/// Object-space vertices in the triangles' (leaf) order, each with its index among all meshes'
+/// vertices (mesh by mesh, as [`crate::accel::gpu_records`] lays them out) in w: where
+/// `shaders/accel/deform.wgsl` gathers a deformed position from ([`NO_VERTEX`] for none).
+fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
+    let mut first_vertex = Vec::with_capacity(scene.meshes.len());
+    let mut next = 0u64;
+    for m in &scene.meshes {
+        first_vertex.push(next);
+        next += m.vertices.len() as u64;
+    }
+    let mut object = Vec::with_capacity(flat.triangles.len() * 3);
+    for t in &flat.triangles {
+        let mesh = scene.instances.get(t.instance as usize).map(|i| i.mesh).filter(|_| t.prim != NO_PRIM);
+        let verts = mesh.and_then(|m| super::bvh::mesh_triangle(&scene.meshes[m], t.prim as usize));
+        match (mesh, verts) {
+            (Some(m), Some(verts)) => {
+                let index = |c: usize| {
+                    let id = first_vertex[m] + scene.meshes[m].indices[3 * t.prim as usize + c] as u64;
+                    u32::try_from(id).unwrap_or(NO_VERTEX)
+                };
+                object.extend((0..3).map(|c| [verts[c].x.to_bits(), verts[c].y.to_bits(), verts[c].z.to_bits(), index(c)]));
+            }
+            _ => object.extend([[0, 0, 0, NO_VERTEX]; 3]),
+        }
+    }
+    object
+}
+
+/// No vertex to gather from (see [`object_vertices`]).
+pub const NO_VERTEX: u32 = u32::MAX;
+
 fn usable_instances(scene: &Scene) -> Vec<bool> {
     scene.instances.iter().map(|i| scene.meshes.get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
 }
@@ -267,6 +303,22 @@ impl Refit {
             Refit::Tree(r) => &r.usable,
         };
         usable_instances(scene) == *usable
+    }
+
+    /// The refit's object-space input (three `vec4` per leaf triangle, w: the gather index).
+    pub fn object_vertices(&self) -> &wgpu::Buffer {
+        match self {
+            Refit::Planned(r) => &r.object_vertices,
+            Refit::Tree(r) => &r.arrays[5],
+        }
+    }
+
+    /// The refitted tree's nodes and their count.
+    pub fn nodes(&self) -> (&wgpu::Buffer, u32) {
+        match self {
+            Refit::Planned(r) => (&r.nodes, r.node_count),
+            Refit::Tree(r) => (&r.arrays[0], r.node_count),
+        }
     }
 
     /// Writes `scene`'s transforms and records the refit of the merged arrays.

@@ -450,7 +450,7 @@ mod tests {
         let values = vec![9.0, 0.0, 3.0, -1.0, 1.0, 9.0];
         let c = channel(ChannelTarget::Weights, Interpolation::CubicSpline, vec![0.0, 2.0], values, 1);
         for s in [0.0f32, 0.25, 0.5, 0.75, 1.0] {
-            let expected = (s * s * s - 2.0 * s * s + s) * 2.0 * 3.0 + (-2.0 * s * s * s + 3.0 * s * s) * 1.0 + (s * s * s - s * s) * 2.0 * -1.0;
+            let expected = (s * s * s - 2.0 * s * s + s) * 2.0 * 3.0 + (-2.0 * s * s * s + 3.0 * s * s) * 1.0 - (s * s * s - s * s) * 2.0;
             assert!((c.sample(2.0 * s)[0] - expected).abs() < 1e-6, "s {s}");
         }
     }
@@ -477,7 +477,10 @@ mod tests {
         let mut rig = Rig { nodes: vec![node(Some(1), 1.0), node(None, 10.0)], ..Default::default() };
         rig.animations.push(Animation {
             name: "move".into(),
-            channels: vec![Channel { node: 1, ..channel(ChannelTarget::Translation, Interpolation::Linear, vec![0.0, 2.0], vec![0.0; 3].into_iter().chain([20.0, 0.0, 0.0]).collect(), 3) }],
+            channels: vec![Channel {
+                node: 1,
+                ..channel(ChannelTarget::Translation, Interpolation::Linear, vec![0.0, 2.0], vec![0.0; 3].into_iter().chain([20.0, 0.0, 0.0]).collect(), 3)
+            }],
             duration: 2.0,
         });
         assert_eq!(rig.pose(None, 0.0).world[0].w_axis.x, 11.0);

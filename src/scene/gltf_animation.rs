@@ -43,7 +43,9 @@ pub(super) fn rig(
     report: &mut ImportReport,
 ) -> Result<Option<Rig>, SceneError> {
     let doc = input.doc;
-    let morphing = |m: usize| input.mesh_primitive.get(m).and_then(|&(mesh, prim)| doc.meshes().nth(mesh)?.primitives().nth(prim)).is_some_and(|p| p.morph_targets().next().is_some());
+    let morphing = |m: usize| {
+        input.mesh_primitive.get(m).and_then(|&(mesh, prim)| doc.meshes().nth(mesh)?.primitives().nth(prim)).is_some_and(|p| p.morph_targets().next().is_some())
+    };
     let deforms = |i: usize| doc.nodes().nth(instance_nodes[i]).is_some_and(|n| n.skin().is_some()) || morphing(instances[i].mesh);
     let deforming: Vec<bool> = (0..instances.len()).map(deforms).collect();
     if doc.animations().next().is_none() && !deforming.contains(&true) {
@@ -130,7 +132,12 @@ fn skin(input: &RigInput, s: &gltf::Skin) -> Result<Skin, SceneError> {
         None => vec![Mat4::IDENTITY; joints.len()],
         Some(acc) => {
             if acc.data_type() != gltf::accessor::DataType::F32 || acc.dimensions() != gltf::accessor::Dimensions::Mat4 {
-                return Err(err(format!("inverseBindMatrices accessor {} is {:?} {:?}; glTF requires Mat4 of F32", acc.index(), acc.dimensions(), acc.data_type())));
+                return Err(err(format!(
+                    "inverseBindMatrices accessor {} is {:?} {:?}; glTF requires Mat4 of F32",
+                    acc.index(),
+                    acc.dimensions(),
+                    acc.data_type()
+                )));
             }
             if acc.count() != joints.len() {
                 return Err(err(format!("inverseBindMatrices accessor {} has {} matrices for {} joints", acc.index(), acc.count(), joints.len())));
@@ -148,7 +155,14 @@ fn skin(input: &RigInput, s: &gltf::Skin) -> Result<Skin, SceneError> {
 
 /// The deformer of scene mesh `mesh_index` (`mesh`, placed by `node`): its morph targets and,
 /// with `skin = (index, joint count)`, its joints and weights.
-fn deformer(input: &RigInput, mesh: &Mesh, mesh_index: usize, node: &gltf::Node, skin: Option<(usize, usize)>, repairs: &mut RigRepairs) -> Result<Deformer, SceneError> {
+fn deformer(
+    input: &RigInput,
+    mesh: &Mesh,
+    mesh_index: usize,
+    node: &gltf::Node,
+    skin: Option<(usize, usize)>,
+    repairs: &mut RigRepairs,
+) -> Result<Deformer, SceneError> {
     let &(gm, gp) = input.mesh_primitive.get(mesh_index).ok_or_else(|| parse_error(input, format!("mesh {mesh_index} has no primitive")))?;
     let gmesh = input.doc.meshes().nth(gm).ok_or_else(|| parse_error(input, format!("mesh {gm} is missing")))?;
     let prim = gmesh.primitives().nth(gp).ok_or_else(|| parse_error(input, format!("mesh {gm} primitive {gp} is missing")))?;
@@ -165,7 +179,12 @@ fn deformer(input: &RigInput, mesh: &Mesh, mesh_index: usize, node: &gltf::Node,
         for (what, acc) in [("POSITION", target.positions()), ("NORMAL", target.normals())] {
             if let Some(acc) = acc {
                 if acc.data_type() != gltf::accessor::DataType::F32 || acc.dimensions() != gltf::accessor::Dimensions::Vec3 {
-                    return Err(prim_err(format!("morph target {t} {what} accessor {} is {:?} {:?}; raygraph reads Vec3 of F32", acc.index(), acc.dimensions(), acc.data_type())));
+                    return Err(prim_err(format!(
+                        "morph target {t} {what} accessor {} is {:?} {:?}; raygraph reads Vec3 of F32",
+                        acc.index(),
+                        acc.dimensions(),
+                        acc.data_type()
+                    )));
                 }
                 if acc.count() != n {
                     return Err(prim_err(format!("morph target {t} {what} accessor {} has {} elements but POSITION has {n}", acc.index(), acc.count())));
@@ -190,13 +209,21 @@ fn deformer(input: &RigInput, mesh: &Mesh, mesh_index: usize, node: &gltf::Node,
 
 /// The `JOINTS_n`/`WEIGHTS_n` sets of a skinned primitive with `n` vertices, checked against
 /// the skin's `joint_count`, the weights normalised per vertex.
-fn skin_weights<'a, 's, F>(prim: &gltf::Primitive, reader: &gltf::mesh::Reader<'a, 's, F>, n: usize, skin: usize, joint_count: usize, repairs: &mut RigRepairs) -> Result<SkinWeights, String>
+fn skin_weights<'a, 's, F>(
+    prim: &gltf::Primitive,
+    reader: &gltf::mesh::Reader<'a, 's, F>,
+    n: usize,
+    skin: usize,
+    joint_count: usize,
+    repairs: &mut RigRepairs,
+) -> Result<SkinWeights, String>
 where
     F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
 {
     use gltf::accessor::{DataType as T, Dimensions as D};
     let mut sets = 0;
-    let (mut joints, mut weights): (Vec<Vec<[u16; 4]>>, Vec<Vec<[f32; 4]>>) = (Vec::new(), Vec::new());
+    let mut joints: Vec<Vec<[u16; 4]>> = Vec::new();
+    let mut weights: Vec<Vec<[f32; 4]>> = Vec::new();
     loop {
         let (j, w) = (prim.get(&gltf::Semantic::Joints(sets)), prim.get(&gltf::Semantic::Weights(sets)));
         let (j, w) = match (j, w) {
@@ -285,7 +312,12 @@ fn animation(input: &RigInput, a: &gltf::Animation, target_counts: &[usize], rep
         };
         let (input_acc, output_acc) = (sampler.input(), sampler.output());
         if input_acc.data_type() != T::F32 || input_acc.dimensions() != D::Scalar {
-            return Err(err(format!("input accessor {} is {:?} {:?}; glTF requires Scalar F32 key times", input_acc.index(), input_acc.dimensions(), input_acc.data_type())));
+            return Err(err(format!(
+                "input accessor {} is {:?} {:?}; glTF requires Scalar F32 key times",
+                input_acc.index(),
+                input_acc.dimensions(),
+                input_acc.data_type()
+            )));
         }
         let expected_dims = match target {
             ChannelTarget::Translation | ChannelTarget::Scale => D::Vec3,
@@ -294,7 +326,12 @@ fn animation(input: &RigInput, a: &gltf::Animation, target_counts: &[usize], rep
         };
         let float_only = matches!(target, ChannelTarget::Translation | ChannelTarget::Scale);
         if output_acc.dimensions() != expected_dims || (float_only && output_acc.data_type() != T::F32) || output_acc.data_type() == T::U32 {
-            return Err(err(format!("output accessor {} is {:?} {:?}; a {target:?} channel needs {expected_dims:?}", output_acc.index(), output_acc.dimensions(), output_acc.data_type())));
+            return Err(err(format!(
+                "output accessor {} is {:?} {:?}; a {target:?} channel needs {expected_dims:?}",
+                output_acc.index(),
+                output_acc.dimensions(),
+                output_acc.data_type()
+            )));
         }
         let keys = input_acc.count();
         let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 } * if target == ChannelTarget::Weights { width } else { 1 };

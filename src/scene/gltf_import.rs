@@ -813,13 +813,9 @@ mod notes {
         samplers(doc, report);
         meshes(doc, report);
         let count = |n: usize, what: &str, why: &str| (n > 0).then(|| format!("{n} {what}{} ({why})", if n == 1 { "" } else { "s" }));
-        report.ignored_features.extend(
-            [
-                count(doc.scenes().count().saturating_sub(1), "scene besides the default", "only the default scene is drawn"),
-            ]
-            .into_iter()
-            .flatten(),
-        );
+        report
+            .ignored_features
+            .extend([count(doc.scenes().count().saturating_sub(1), "scene besides the default", "only the default scene is drawn")].into_iter().flatten());
     }
 
     /// The JSON of `slot`'s texture info in material `m`.

@@ -279,7 +279,9 @@ impl GpuScene {
                 }
                 out.meshes = Some(init("scene meshes", bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE));
             }
-            out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX | storage));
+            // Deforming meshes are rewritten in place every frame they move.
+            let rewritten = if deforming.is_empty() { wgpu::BufferUsages::empty() } else { wgpu::BufferUsages::COPY_DST };
+            out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX | storage | rewritten));
             out.indices = Some(init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX | storage));
             bytes += (vertices.len() * std::mem::size_of::<super::Vertex>() + indices.len() * 4) as u64;
         }

@@ -39,7 +39,8 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     }
     let _ = writeln!(s, "lights      {}", lights(scene));
     if let Some(rig) = &scene.rig {
-        let clips: Vec<String> = rig.animations.iter().enumerate().map(|(i, a)| format!("{i}: `{}` {:.2} s, {} channels", a.name, a.duration, a.channels.len())).collect();
+        let clips: Vec<String> =
+            rig.animations.iter().enumerate().map(|(i, a)| format!("{i}: `{}` {:.2} s, {} channels", a.name, a.duration, a.channels.len())).collect();
         list(&mut s, "animations", &clips);
         let skinned = rig.deformers.iter().filter(|d| d.skin.is_some()).count();
         let morphed = rig.deformers.iter().filter(|d| !d.targets.is_empty()).count();

@@ -308,6 +308,9 @@ impl Executor {
             std::mem::forget(views);
             return Err(e);
         }
+        if let Some(cache) = self.accel.as_mut() {
+            cache.read_probe(&gpu.device)?;
+        }
         let timings = self.frame_timings(gpu, start, cpu_ms, accel_report)?;
         self.frame_index += 1;
         Ok(timings)
