@@ -204,3 +204,86 @@ fn the_cache_refits_deforming_meshes_until_the_tree_degrades() {
     let g = exec.accel().unwrap().sah_growth().unwrap();
     assert!((g - 1.0).abs() < 1e-3, "the ground moved by 1e-3: SAH x{g}");
 }
+
+/// Primary hits and sun shadows of `exec`'s last frame against the f64 reference of `scene`:
+/// (compared, disagreements outside the reference's margin, pixels that hit the cylinder).
+fn against_reference(gpu: &Gpu, exec: &Executor, scene: &Scene, camera: &Camera, size: (u32, u32)) -> (usize, usize, usize) {
+    use raygraph::accel::reference_render::{ReferenceRenderer, SurfacePoint};
+    const MARGIN: f64 = 1e-5; // as raygraph selftest's reference channels (src/selftest/channels.rs)
+    let renderer = ReferenceRenderer::new(scene);
+    let rays = ReferenceRenderer::camera_rays(camera, size);
+    let visibility = renderer.visibility(&rays);
+    let (pos, geo, normal, shadow) = (
+        common::channel(gpu, exec, "gbuffer.position"),
+        common::channel(gpu, exec, "gbuffer.geo_normal"),
+        common::channel(gpu, exec, "gbuffer.normal"),
+        common::channel(gpu, exec, "shadow.shadow"),
+    );
+    let (mut compared, mut wrong, mut cylinder) = (0, 0, 0);
+    for (i, ray) in rays.iter().enumerate() {
+        let r = &visibility[i];
+        let agree = match (pos[i][3] != 0.0, r.value) {
+            (false, None) => true,
+            (true, Some(h)) => {
+                cylinder += (h.instance_id == 1) as usize;
+                let at = ray.origin.as_dvec3() + h.t * ray.dir.as_dvec3();
+                (Vec3::new(pos[i][0], pos[i][1], pos[i][2]).as_dvec3() - at).length() <= 1e-4 * h.t
+            }
+            _ => false,
+        };
+        compared += 1;
+        wrong += (!agree && r.margin >= MARGIN) as usize;
+    }
+    let xyz = |v: [f32; 4]| Vec3::new(v[0], v[1], v[2]);
+    let surfaces: Vec<Option<SurfacePoint>> =
+        (0..pos.len()).map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]) })).collect();
+    for (i, s) in renderer.shadow(&surfaces, &scene.light, None).iter().enumerate() {
+        let Some(s) = s else { continue };
+        compared += 1;
+        wrong += ((shadow[i][0] == 1.0) != s.sun.value && s.sun.margin >= MARGIN) as usize;
+    }
+    (compared, wrong, cylinder)
+}
+
+#[test]
+fn every_back_end_agrees_with_the_f64_reference_after_100_refit_frames() {
+    use raygraph::selftest::VARIANTS;
+    let gpu = gpu();
+    let size = (64, 48);
+    let camera = Camera { position: Vec3::new(1.6, 1.6, 3.2), target: Vec3::new(0.6, 1.0, 0.0), fov_y: 50f32.to_radians(), ..Camera::default() };
+    let shipped = std::fs::read_to_string(repo().join("graph/full_rt.ron")).unwrap();
+    let p = common::TempProject::with_repo_files();
+    let merged = p.write("graph/anim_merged.ron", &shipped);
+    let two_level = p.write("graph/anim_two_level.ron", &shipped.replace("Accel(merge: true)", "Accel()"));
+    assert_ne!(std::fs::read_to_string(&two_level).unwrap(), shipped, "graph/full_rt.ron merges: the two-level copy must differ");
+    for variant in VARIANTS {
+        let mut scene = animated("skinned_cylinder");
+        scene.pose(Some(0), 0.0);
+        let graph = if variant.merge { &merged } else { &two_level };
+        let options = CompileOptions { reuse: false, ..gpu.compile_options_for(variant.backend) };
+        let plan = compile_with(graph, &p.project(), size, &options).unwrap_or_else(|e| panic!("{e}"));
+        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+        if let Some(cache) = exec.accel_mut() {
+            cache.set_refit_policy(RefitPolicy::AlwaysRefit);
+        }
+        let mut refits = 0;
+        for frame in 0..=100 {
+            // 100 frames over the clip's bend up and back (2 s) and on into the next loop.
+            scene.pose(Some(0), 0.023 * frame as f32);
+            let t = exec.render(&gpu, &camera, &scene).unwrap();
+            refits += t.accel.as_ref().is_some_and(|r| r.blas_refit || r.blas_refits > 0) as usize;
+        }
+        let (compared, wrong, cylinder) = against_reference(&gpu, &exec, &scene, &camera, size);
+        println!(
+            "{}: {refits} refits; {compared} primary and shadow answers compared, {wrong} outside the margin; {cylinder} pixels see the cylinder",
+            variant.name
+        );
+        assert!(cylinder > 100, "{}: the cylinder is in view", variant.name);
+        assert_eq!(wrong, 0, "{}", variant.name);
+        if variant.backend == Backend::Compute {
+            // The merged layout refits on the GPU, the two-level one the cylinder's BLAS on the
+            // CPU; the driver back-ends rebuild (wgpu has no refit).
+            assert_eq!(refits, 100, "{}: a refit every frame after the first", variant.name);
+        }
+    }
+}

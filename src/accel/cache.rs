@@ -112,6 +112,8 @@ pub struct BuildReport {
     pub(crate) blas_gpu_ms: Option<f64>,
     /// Deforming meshes whose positions changed in this update.
     pub deformed_meshes: usize,
+    /// Two-level layout: BLASes of deforming meshes refitted on the CPU instead of built.
+    pub blas_refits: usize,
     /// The merged tree's SAH cost over the builder's, as last measured after a refit (before
     /// this update's work).
     pub sah_growth: Option<f64>,
@@ -123,7 +125,7 @@ pub struct BuildReport {
 impl BuildReport {
     /// Whether anything was built or refitted.
     pub fn built_anything(&self) -> bool {
-        self.blas_built > 0 || self.blas_refit || self.tlas != TlasWork::None
+        self.blas_built > 0 || self.blas_refit || self.blas_refits > 0 || self.tlas != TlasWork::None
     }
 
     /// One line for reports.
@@ -143,7 +145,10 @@ impl BuildReport {
         } else {
             ""
         };
-        let deformed = if self.deformed_meshes > 0 { format!(", {} deforming meshes", self.deformed_meshes) } else { String::new() };
+        let mut deformed = if self.deformed_meshes > 0 { format!(", {} deforming meshes", self.deformed_meshes) } else { String::new() };
+        if self.blas_refits > 0 {
+            deformed += &format!(" ({} BLAS refitted)", self.blas_refits);
+        }
         let growth = self
             .sah_growth
             .map(|g| format!(", SAH x{g:.3} of the build{}", if self.rebuilt_for_quality { ", rebuilt for quality" } else { "" }))
@@ -290,6 +295,8 @@ pub struct AccelCache {
     gathered: Option<u64>,
     /// Per deforming mesh, its content hash at the last update.
     deformed: Vec<u64>,
+    /// Two-level layout: per unit, the SAH cost of its BLAS when it was last built.
+    unit_built_sah: Vec<f64>,
 }
 
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).
@@ -346,6 +353,7 @@ impl AccelCache {
             built_sah: None,
             gathered: None,
             deformed: Vec::new(),
+            unit_built_sah: Vec::new(),
         }
     }
 
@@ -515,6 +523,7 @@ impl AccelCache {
             Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &tested_meshes, &mut report)?,
             Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
         }
+        self.total_blas_builds -= report.blas_refits; // counted as builds above
         self.units = units;
         self.instances = instances;
         self.instance_meshes = scene.instances.iter().map(|i| i.mesh).collect();
@@ -555,14 +564,45 @@ impl AccelCache {
             old => old,
         };
         let t0 = Instant::now();
-        let built: Vec<(usize, Blas)> = changed.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
-        report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
         let mut old_blases = old.as_ref().and_then(|c| c.accel.as_ref()).map(|a| a.blases.clone()).unwrap_or_default();
         old_blases.resize_with(units.len(), Blas::default);
         let mut blases = old_blases;
+        // A deforming mesh's BLAS (same triangles, moved vertices) is refitted on the CPU
+        // while the policy allows its SAH growth over its build's cost; others are built.
+        let deforming = scene.deforming_meshes();
+        self.unit_built_sah.resize(units.len(), 0.0);
+        let refitted: Vec<usize> = changed
+            .iter()
+            .copied()
+            .filter(|&u| {
+                let (mesh, blas, built_sah) = (units[u].mesh, &blases[u], self.unit_built_sah[u]);
+                let growth = (built_sah > 0.0).then(|| blas.bvh.sah_cost() as f64 / built_sah);
+                deforming.binary_search(&mesh).is_ok()
+                    && !blas.is_empty()
+                    && blas.triangle_count == scene.meshes[mesh].triangle_count()
+                    && self.policy.refits(growth)
+            })
+            .collect();
+        for &u in &refitted {
+            if blases[u].refit(&scene.meshes[units[u].mesh], units[u].mesh).is_err() {
+                blases[u] = Blas::default(); // unreachable: the triangle counts were checked
+            }
+        }
+        let to_build: Vec<usize> = changed.iter().copied().filter(|u| !refitted.contains(u)).collect();
+        let built: Vec<(usize, Blas)> = to_build.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
+        report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
+        report.blas_built = built.len();
+        report.blas_refits = refitted.len();
+        report.blas_reused = units.len() - changed.len();
         for (u, b) in built {
+            self.unit_built_sah[u] = b.bvh.sah_cost() as f64;
             blases[u] = b;
         }
+        report.sah_growth = refitted
+            .iter()
+            .filter(|&&u| self.unit_built_sah[u] > 0.0)
+            .map(|&u| blases[u].bvh.sah_cost() as f64 / self.unit_built_sah[u])
+            .fold(None, |a: Option<f64>, g| Some(a.map_or(g, |a| a.max(g))));
         let instance_transforms: Vec<_> = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
         let instance_blas: Vec<Option<u32>> = scene
             .instances
