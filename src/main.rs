@@ -264,6 +264,35 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/track")]
         out: PathBuf,
     },
+    /// Animated scenes played through the paper's scene workload under each policy of the
+    /// acceleration-structure cache (refit until the SAH cost grows past its threshold, always
+    /// refit, always rebuild): per frame the update's GPU and CPU milliseconds, what it did, the
+    /// SAH growth, and the trace passes' GigaRays/s.
+    Anim {
+        /// Seconds on a CPU instead of the full run (CI): 96x54, 24 frames, the small files.
+        #[arg(long)]
+        quick: bool,
+        /// Animated scenes, comma-separated: built-in names or glTF files.
+        #[arg(long, value_delimiter = ',', default_value = "organic-skinned,atrium-moving")]
+        scenes: Vec<String>,
+        /// Frames per scene and policy.
+        #[arg(long, default_value_t = 240)]
+        frames: u32,
+        /// Frames per second of the clip's clock.
+        #[arg(long, default_value_t = 60.0)]
+        fps: f32,
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        /// Traversal back-end [default: compute].
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
+        #[arg(long, default_value = "bench-results/anim")]
+        out: PathBuf,
+    },
     /// Ambient occlusion against its closed form (floor under a parallel ceiling): error
     /// (RMSE, relMSE, bias, variance over seeds) against rays per pixel and GPU time, for white
     /// noise and the R2 sequence, with the fitted convergence slopes.
@@ -690,6 +719,30 @@ fn run(cli: Cli) -> Result<()> {
             let rows = with_progress(|progress| track_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(track_bench::plots(&out, &rows))?;
+        }
+        Command::Bench { command: BenchCommand::Anim { quick, scenes, frames, fps, width, height, backend, deadline, out } } => {
+            use raygraph::accel::deform::RefitPolicy;
+            use raygraph::bench::anim::{self as anim_bench, AnimConfig};
+            let backend = backend.unwrap_or(Backend::Compute);
+            let gpu = deadline.open_gpu(Some(backend))?;
+            println!("adapter: {}", gpu.describe());
+            let (w, h) = if quick { (96, 54) } else { (1920, 1080) };
+            let scenes = if quick { ["skinned_cylinder", "spinner"].map(|n| format!("assets/gltf/animated/{n}.gltf")).to_vec() } else { scenes };
+            let cfg = AnimConfig {
+                scenes,
+                size: (width.unwrap_or(w), height.unwrap_or(h)),
+                frames: if quick { 24 } else { frames.max(1) },
+                fps,
+                backend,
+                policies: vec![RefitPolicy::default(), RefitPolicy::AlwaysRefit, RefitPolicy::AlwaysRebuild],
+                root: PathBuf::from("."),
+            };
+            anyhow::ensure!(cfg.fps.is_finite() && cfg.fps > 0.0, "--fps {}: give a positive number", cfg.fps);
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
+            let files = |rows: &[_]| [("anim.csv", anim_bench::csv(&info, rows)), ("anim.md", anim_bench::markdown(&info, rows))];
+            let rows = with_progress(|progress| anim_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
+            write_results(&out, &files(&rows))?;
+            write_plots(anim_bench::plots(&out, &rows))?;
         }
         Command::Bench { command: BenchCommand::Error { quick, backend, filters_only, deadline, out } } => {
             use raygraph::bench::error::{self as error_bench, ErrorConfig};

@@ -188,6 +188,23 @@ fn bench_track_quick_plays_the_track_through_every_mode() {
     }
 }
 
+/// `bench anim --quick`: the two small animated files, 24 frames under each policy: the auto
+/// and always-refit policies refit every frame after the first, always-rebuild never; every
+/// frame traces rays.
+#[test]
+fn bench_anim_quick_compares_the_cache_policies() {
+    let (header, rows) = quick_csv("anim");
+    assert_eq!(header, ["scene", "policy", "frame", "pose_ms", "accel_gpu_ms", "accel_cpu_ms", "work", "sah_growth", "trace_ms", "rays", "grays_per_s"]);
+    assert_eq!(rows.len(), 2 * 3 * 24, "2 scenes x 3 policies x 24 frames");
+    for scene in ["skinned_cylinder", "spinner"] {
+        for (policy, refits) in [("refit until SAH x1.5", 23), ("always refit", 23), ("always rebuild", 0)] {
+            let sel: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == scene && r[1] == policy).collect();
+            assert_eq!(sel.iter().filter(|r| r[6] == "refit").count(), refits, "{scene}, {policy}: {sel:?}");
+            assert!(sel.iter().all(|r| r[9].parse::<u64>().unwrap() > 0), "{scene}, {policy}: rays every frame");
+        }
+    }
+}
+
 #[test]
 fn bench_depth_quick_counts_more_reflection_rays_with_more_bounces() {
     let (header, rows) = quick_csv("depth");

@@ -1,8 +1,9 @@
 //! The experiments: `raygraph bench rays` (the paper's Table 3), `bench build` (Figure 9),
-//! `bench track` (Figures 10 and 11), `bench depth` (reflection bounces), `bench error` (AO
+//! `bench track` (Figures 10 and 11), `bench anim` (animated scenes: acceleration-structure updates and GigaRays/s under the cache's policies), `bench depth` (reflection bounces), `bench error` (AO
 //! error against rays and time), `bench modes` (the three modes against each other) and `bench roofline` (bytes per ray, CPU-counted). Each bench writes a results folder with CSV and markdown whose
 //! header names the adapter, driver, back-end, resolution and git revision.
 
+pub mod anim;
 pub mod build;
 pub mod depth;
 pub mod error;

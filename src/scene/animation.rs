@@ -37,6 +37,9 @@ pub struct RigNode {
     pub parent: Option<usize>,
     /// Its transform when no channel drives it.
     pub rest: Trs,
+    /// Its exact matrix when no channel drives it (a glTF `matrix` node, or a placed instance
+    /// that never moves): kept bit for bit instead of `rest`'s recomposition.
+    pub fixed: Option<Mat4>,
     /// Its morph weights when no channel drives them (the node's, else its mesh's, else zeros).
     pub weights: Vec<f32>,
 }
@@ -225,10 +228,12 @@ impl Rig {
     pub fn pose(&self, clip: Option<usize>, time: f32) -> Pose {
         let mut local: Vec<Trs> = self.nodes.iter().map(|n| n.rest).collect();
         let mut weights: Vec<Vec<f32>> = self.nodes.iter().map(|n| n.weights.clone()).collect();
+        let mut driven = vec![false; self.nodes.len()];
         if let Some(anim) = clip.and_then(|c| self.animations.get(c)) {
             let t = if anim.duration > 0.0 && time.is_finite() { time.rem_euclid(anim.duration) } else { 0.0 };
             for ch in &anim.channels {
                 let v = ch.sample(t);
+                driven[ch.node] |= ch.target != ChannelTarget::Weights;
                 let node = &mut local[ch.node];
                 match ch.target {
                     ChannelTarget::Translation => node.translation = Vec3::from_slice(&v),
@@ -240,6 +245,8 @@ impl Rig {
         }
         // Parents come before children in a valid hierarchy of any order: resolve recursively
         // through a memo (the importer has checked there is no cycle).
+        let local: Vec<Mat4> =
+            self.nodes.iter().zip(&local).zip(&driven).map(|((n, trs), &d)| if d { trs.matrix() } else { n.fixed.unwrap_or_else(|| trs.matrix()) }).collect();
         let mut world: Vec<Option<Mat4>> = vec![None; self.nodes.len()];
         for n in 0..self.nodes.len() {
             self.resolve_world(n, &local, &mut world);
@@ -247,7 +254,7 @@ impl Rig {
         Pose { world: world.into_iter().map(|m| m.unwrap_or(Mat4::IDENTITY)).collect(), weights }
     }
 
-    fn resolve_world(&self, n: usize, local: &[Trs], world: &mut [Option<Mat4>]) -> Mat4 {
+    fn resolve_world(&self, n: usize, local: &[Mat4], world: &mut [Option<Mat4>]) -> Mat4 {
         // Walk up to the first resolved ancestor, then down.
         let mut chain = vec![n];
         while let Some(p) = self.nodes[*chain.last().unwrap_or(&n)].parent {
@@ -259,7 +266,7 @@ impl Rig {
         let top = *chain.last().unwrap_or(&n);
         let mut m = self.nodes[top].parent.and_then(|p| world[p]).unwrap_or(Mat4::IDENTITY);
         for &c in chain.iter().rev() {
-            m = world[c].unwrap_or_else(|| m * local[c].matrix());
+            m = world[c].unwrap_or_else(|| m * local[c]);
             world[c] = Some(m);
         }
         m
@@ -471,6 +478,7 @@ mod tests {
             name: String::new(),
             parent,
             rest: Trs { translation: Vec3::new(x, 0.0, 0.0), rotation: Quat::IDENTITY, scale: Vec3::ONE },
+            fixed: None,
             weights: vec![],
         };
         // The child comes first in file order.

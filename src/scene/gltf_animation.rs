@@ -106,16 +106,18 @@ fn nodes(doc: &gltf::Document, animated: &HashSet<usize>, repairs: &mut RigRepai
     }
     doc.nodes()
         .map(|n| {
-            if matches!(n.transform(), gltf::scene::Transform::Matrix { .. }) && animated.contains(&n.index()) {
+            let is_matrix = matches!(n.transform(), gltf::scene::Transform::Matrix { .. });
+            if is_matrix && animated.contains(&n.index()) {
                 repairs.decomposed_matrices += 1;
             }
+            let fixed = is_matrix.then(|| Mat4::from_cols_array_2d(&n.transform().matrix()));
             let (t, r, s) = n.transform().decomposed();
             let targets = n.mesh().and_then(|m| m.primitives().next()).map_or(0, |p| p.morph_targets().count());
             let mut weights = n.weights().or_else(|| n.mesh().and_then(|m| m.weights())).map(<[f32]>::to_vec).unwrap_or_default();
             weights.resize(targets, 0.0);
             let rest = Trs { translation: Vec3::from(t), rotation: Quat::from_array(r).normalize(), scale: Vec3::from(s) };
             let rest = if rest.rotation.is_finite() { rest } else { Trs { rotation: Quat::IDENTITY, ..rest } };
-            RigNode { name: n.name().map(str::to_string).unwrap_or_else(|| format!("node {}", n.index())), parent: parent[n.index()], rest, weights }
+            RigNode { name: n.name().map(str::to_string).unwrap_or_else(|| format!("node {}", n.index())), parent: parent[n.index()], rest, fixed, weights }
         })
         .collect()
 }

@@ -1,18 +1,19 @@
 //! Opening a scene by name or path: the built-in scenes (`default`, `box`, `organic`,
-//! `atrium`) or a glTF/GLB file, with only the parts the active graph needs.
+//! `atrium`, and the animated `organic-skinned` and `atrium-moving`) or a glTF/GLB file, with only the parts the active graph needs.
 
 use super::gltf_import::{self, ImportReport, LoadOptions, SceneError};
 use super::{builtin, procedural, Scene};
 use std::path::Path;
 
 /// Names of the built-in scenes.
-pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium"];
+pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium", "organic-skinned", "atrium-moving"];
 
 /// The built-in scene called `name`.
 pub fn builtin(name: &str, seed: u64) -> Option<Scene> {
     match name {
         "default" => Some(builtin::default_scene()),
         "atrium" => Some(procedural::atrium(seed)),
+        "atrium-moving" => Some(procedural::animated::atrium_moving(seed)),
         other => procedural::by_name(other),
     }
 }

@@ -3,10 +3,14 @@
 //! mesh ([`organic`], 3,920 triangles) and a Sponza-like courtyard ([`atrium`], about
 //! 262,500 triangles in 103 meshes with 69 textures).
 //!
+//! Two animated variants serve `raygraph bench anim` ([`animated`]): `organic-skinned` and
+//! `atrium-moving`.
+//!
 //! This file owns the scene registry ([`by_name`], [`NAMES`]); `common` the machinery the
 //! scenes share. Every generator is a pure function of its arguments: the same call gives the
 //! same bytes.
 
+pub mod animated;
 mod atrium;
 mod box_scene;
 mod common;
@@ -18,7 +22,7 @@ use super::Scene;
 pub const ATRIUM_DEFAULT_SEED: u64 = 1;
 
 /// The names [`by_name`] accepts.
-pub const NAMES: &[&str] = &["box", "organic", "atrium"];
+pub const NAMES: &[&str] = &["box", "organic", "atrium", "organic-skinned", "atrium-moving"];
 
 /// A cube with two textures (base colour and a roughness map): 12 triangles, 1 mesh.
 pub fn box_scene() -> Scene {
@@ -43,6 +47,8 @@ pub fn by_name(name: &str) -> Option<Scene> {
         "box" => Some(box_scene()),
         "organic" => Some(organic()),
         "atrium" => Some(atrium(ATRIUM_DEFAULT_SEED)),
+        "organic-skinned" => Some(animated::organic_skinned()),
+        "atrium-moving" => Some(animated::atrium_moving(ATRIUM_DEFAULT_SEED)),
         _ => None,
     }
 }
