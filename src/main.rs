@@ -281,6 +281,10 @@ enum BenchCommand {
         /// Frames per second of the clip's clock.
         #[arg(long, default_value_t = 60.0)]
         fps: f32,
+        /// The SAH growths at which the auto policy is run (comma-separated), besides always
+        /// refit and always rebuild [default: the cache's threshold].
+        #[arg(long, value_delimiter = ',')]
+        max_growth: Vec<f64>,
         #[arg(long)]
         width: Option<u32>,
         #[arg(long)]
@@ -507,7 +511,7 @@ impl ViewArgs {
         };
         let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name))?;
         if let Some(t) = time.filter(|_| clip.is_some()) {
-            scene.pose(clip, t);
+            scene.pose_for_gpu(clip, t);
             println!("animation `{}` at {t:.3} s", rig.animations[clip.unwrap_or(0)].name);
         }
         Ok(())
@@ -720,7 +724,7 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(track_bench::plots(&out, &rows))?;
         }
-        Command::Bench { command: BenchCommand::Anim { quick, scenes, frames, fps, width, height, backend, deadline, out } } => {
+        Command::Bench { command: BenchCommand::Anim { quick, scenes, frames, fps, max_growth, width, height, backend, deadline, out } } => {
             use raygraph::accel::deform::RefitPolicy;
             use raygraph::bench::anim::{self as anim_bench, AnimConfig};
             let backend = backend.unwrap_or(Backend::Compute);
@@ -734,10 +738,18 @@ fn run(cli: Cli) -> Result<()> {
                 frames: if quick { 24 } else { frames.max(1) },
                 fps,
                 backend,
-                policies: vec![RefitPolicy::default(), RefitPolicy::AlwaysRefit, RefitPolicy::AlwaysRebuild],
+                policies: if max_growth.is_empty() {
+                    vec![RefitPolicy::default()]
+                } else {
+                    max_growth.iter().map(|&g| RefitPolicy::Auto { max_growth: g }).collect()
+                }
+                .into_iter()
+                .chain([RefitPolicy::AlwaysRefit, RefitPolicy::AlwaysRebuild])
+                .collect(),
                 root: PathBuf::from("."),
             };
             anyhow::ensure!(cfg.fps.is_finite() && cfg.fps > 0.0, "--fps {}: give a positive number", cfg.fps);
+            anyhow::ensure!(max_growth.iter().all(|g| g.is_finite() && *g >= 1.0), "--max-growth: give growths of at least 1");
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
             let files = |rows: &[_]| [("anim.csv", anim_bench::csv(&info, rows)), ("anim.md", anim_bench::markdown(&info, rows))];
             let rows = with_progress(|progress| anim_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;

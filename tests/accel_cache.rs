@@ -351,7 +351,7 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     // `merged_triangles`, to a few ulps of the transform's terms on lavapipe).
     let hashes: Vec<u64> = scene.meshes.iter().map(raygraph::accel::cache::mesh_hash).collect();
     let mut maker = raygraph::accel::gpu_records::GpuRecordMaker::new(&gpu.device);
-    let records = maker.make(&gpu.device, &gpu.queue, &scene, &hashes, u32::MAX).unwrap().unwrap();
+    let records = maker.make(&gpu.device, &gpu.queue, &scene, (&hashes, None), u32::MAX).unwrap().unwrap();
     let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
     let built = builder.build_records(&gpu.device, &gpu.queue, &records.records, records.count as usize).unwrap();
     let (nodes, tris) = built.read_back(&gpu.device, &gpu.queue).unwrap();

@@ -98,20 +98,27 @@ fn posed_scenes_render_as_their_static_twins() {
 #[test]
 fn an_executor_after_frames_of_animation_renders_as_a_fresh_one() {
     let gpu = gpu();
-    for name in ["spinner", "skinned_cylinder"] {
+    for (name, on_gpu) in [("spinner", false), ("skinned_cylinder", false), ("skinned_cylinder", true), ("morph", true)] {
         let mut scene = animated(name);
         let clip = Some(0);
         let mut exec = executor(&gpu, "graph/hybrid.ron", None, &scene);
         let mut last = Vec::new();
         for frame in 0..12 {
-            scene.pose(clip, 0.13 * frame as f32);
+            if on_gpu {
+                scene.pose_for_gpu(clip, 0.13 * frame as f32);
+            } else {
+                scene.pose(clip, 0.13 * frame as f32);
+            }
             last = image(&gpu, &mut exec, &scene);
         }
         let report = exec.accel().map(|a| a.refit_policy());
         println!("{name}: policy {report:?}");
         let fresh = image(&gpu, &mut executor(&gpu, "graph/hybrid.ron", None, &scene), &scene);
         let (largest, pixels) = difference(&last, &fresh);
-        println!("{name}: after 12 frames, {pixels} pixels differ from a fresh executor (largest {largest})");
+        println!(
+            "{name} (deformed on the {}): after 12 frames, {pixels} pixels differ from a fresh executor (largest {largest})",
+            if on_gpu { "GPU" } else { "CPU" }
+        );
         // A refitted tree holds the same triangles as a built one: every hit and shadow ray
         // finds the same answer, so the images are identical.
         assert_eq!(pixels, 0, "{name}: largest difference {largest}");
@@ -163,7 +170,7 @@ fn reports(gpu: &Gpu, scene: &mut Scene, policy: RefitPolicy, frames: usize, ste
     exec.accel_mut().unwrap().set_refit_policy(policy);
     (0..frames)
         .map(|f| {
-            scene.pose(Some(0), step * f as f32);
+            scene.pose_for_gpu(Some(0), step * f as f32);
             exec.render(gpu, &camera(), scene).unwrap().accel.unwrap()
         })
         .collect()
@@ -269,11 +276,11 @@ fn every_back_end_agrees_with_the_f64_reference_after_100_refit_frames() {
         let mut refits = 0;
         for frame in 0..=100 {
             // 100 frames over the clip's bend up and back (2 s) and on into the next loop.
-            scene.pose(Some(0), 0.023 * frame as f32);
+            scene.pose_for_gpu(Some(0), 0.023 * frame as f32);
             let t = exec.render(&gpu, &camera, &scene).unwrap();
             refits += t.accel.as_ref().is_some_and(|r| r.blas_refit || r.blas_refits > 0) as usize;
         }
-        let (compared, wrong, cylinder) = against_reference(&gpu, &exec, &scene, &camera, size);
+        let (compared, wrong, cylinder) = against_reference(&gpu, &exec, &scene.with_meshes_posed(), &camera, size);
         println!(
             "{}: {refits} refits; {compared} primary and shadow answers compared, {wrong} outside the margin; {cylinder} pixels see the cylinder",
             variant.name
@@ -285,5 +292,50 @@ fn every_back_end_agrees_with_the_f64_reference_after_100_refit_frames() {
             // CPU; the driver back-ends rebuild (wgpu has no refit).
             assert_eq!(refits, 100, "{}: a refit every frame after the first", variant.name);
         }
+    }
+}
+
+/// The GPU deformation (`shaders/anim/deform.wgsl`) against the CPU's (`Deformer::deform`):
+/// skinned and morphed vertices, positions and normals, at several times. Tolerance: 4 ulps of
+/// the largest coordinate for positions, 1e-5 for unit normals (the GPU may fuse the
+/// joint-matrix sums and products); measured below.
+#[test]
+fn gpu_deformation_matches_the_cpu_reference() {
+    use raygraph::accel::gpu_build::read_bytes;
+    let gpu = gpu();
+    for name in ["skinned_cylinder", "morph"] {
+        let mut scene = animated(name);
+        let mut exec = executor(&gpu, "graph/hybrid.ron", None, &scene);
+        let (mut worst_p, mut worst_n) = (0.0f32, 0.0f32);
+        for time in [0.2f32, 0.7, 1.45] {
+            scene.pose_for_gpu(Some(0), time);
+            exec.render(&gpu, &camera(), &scene).unwrap();
+            let cpu = scene.with_meshes_posed();
+            let uploaded = exec.uploaded_scene().unwrap();
+            let bytes = read_bytes(&gpu.device, &gpu.queue, uploaded.vertices.as_ref().unwrap(), 0, uploaded.vertices.as_ref().unwrap().size()).unwrap();
+            let gpu_vertices: &[raygraph::scene::Vertex] = bytemuck::cast_slice(&bytes);
+            let mut base = 0;
+            for (m, mesh) in cpu.meshes.iter().enumerate() {
+                let deforming = scene.deforming_meshes().contains(&m);
+                for (k, v) in mesh.vertices.iter().enumerate() {
+                    let g = gpu_vertices[base + k];
+                    let scale = v.position.iter().fold(1.0f32, |a, c| a.max(c.abs()));
+                    let dp = (0..3).map(|c| (g.position[c] - v.position[c]).abs()).fold(0.0, f32::max) / scale;
+                    let dn = (0..3).map(|c| (g.normal[c] - v.normal[c]).abs()).fold(0.0, f32::max);
+                    if deforming {
+                        worst_p = worst_p.max(dp);
+                        worst_n = worst_n.max(dn);
+                    } else {
+                        assert_eq!(g, *v, "{name}: mesh {m} does not deform and keeps its vertices");
+                    }
+                }
+                base += mesh.vertices.len();
+            }
+            let rest = &scene.rig.as_ref().unwrap().deformers[0].rest;
+            let moved = cpu.meshes[scene.deforming_meshes()[0]].vertices.iter().zip(rest).filter(|(a, b)| a.position != b.position).count();
+            assert!(moved > 10, "{name} at {time} s: the pose moves vertices ({moved})");
+        }
+        println!("{name}: GPU against CPU deformation: positions within {worst_p:.2e} of the largest coordinate, normals within {worst_n:.2e}");
+        assert!(worst_p <= 4.0 * f32::EPSILON && worst_n <= 1e-5, "{name}: {worst_p} {worst_n}");
     }
 }

@@ -197,9 +197,10 @@ fn bench_anim_quick_compares_the_cache_policies() {
     assert_eq!(header, ["scene", "policy", "frame", "pose_ms", "accel_gpu_ms", "accel_cpu_ms", "work", "sah_growth", "trace_ms", "rays", "grays_per_s"]);
     assert_eq!(rows.len(), 2 * 3 * 24, "2 scenes x 3 policies x 24 frames");
     for scene in ["skinned_cylinder", "spinner"] {
-        for (policy, refits) in [("refit until SAH x1.5", 23), ("always refit", 23), ("always rebuild", 0)] {
+        // (The first timed frame refits too where the warm-up's pose differs from frame 0's.)
+        for (policy, refits) in [("refit until SAH x1.5", 23..=24), ("always refit", 23..=24), ("always rebuild", 0..=0)] {
             let sel: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == scene && r[1] == policy).collect();
-            assert_eq!(sel.iter().filter(|r| r[6] == "refit").count(), refits, "{scene}, {policy}: {sel:?}");
+            assert!(refits.contains(&sel.iter().filter(|r| r[6] == "refit").count()), "{scene}, {policy}: {sel:?}");
             assert!(sel.iter().all(|r| r[9].parse::<u64>().unwrap() > 0), "{scene}, {policy}: rays every frame");
         }
     }

@@ -251,7 +251,7 @@ fn record_test_scene() -> Scene {
 /// to plain f32 arithmetic (four roundings: 1-ulp differences where the terms cancel).
 fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what: &str) -> usize {
     let hashes: Vec<u64> = scene.meshes.iter().map(mesh_hash).collect();
-    let made = maker.make(&gpu.device, &gpu.queue, scene, &hashes, u32::MAX).unwrap().expect("records");
+    let made = maker.make(&gpu.device, &gpu.queue, scene, (&hashes, None), u32::MAX).unwrap().expect("records");
     let (merged, origin) = merge_instances(scene);
     let expected = merged_triangles(&merged, &origin);
     assert_eq!(made.count as usize, expected.len(), "{what}: record count");

@@ -31,6 +31,7 @@ fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) ->
         point_light: None,
         lights: Vec::new(),
         rig: None,
+        posed: None,
     };
     common::add_parts(&mut s, parts);
     s

@@ -49,6 +49,7 @@ fn scene(lights: Vec<PunctualLight>, extra: Vec<(Mesh, Material, Mat4)>) -> Scen
         point_light: None,
         lights,
         rig: None,
+        posed: None,
     };
     common::add_parts(&mut s, std::iter::once((plane("floor", 16.0, 1.0), grey(), Mat4::IDENTITY)).chain(extra));
     s

@@ -181,6 +181,8 @@ struct MergedChange<'a> {
     meshes_hash: u64,
     deformed_hash: Option<u64>,
     refit: bool,
+    /// The deforming meshes' positions are on the device only (the scene was posed for the GPU).
+    gpu_deformed: bool,
 }
 
 /// One BLAS unit: a mesh (de-duplication on) or an instance (off).
@@ -293,10 +295,13 @@ pub struct AccelCache {
     built_sah: Option<f64>,
     /// The hash of the deforming meshes' positions in the refit's input (`None`: as built).
     gathered: Option<u64>,
-    /// Per deforming mesh, its content hash at the last update.
-    deformed: Vec<u64>,
+    /// The deforming meshes' shape at the last update ([`Scene::deformation_key`]).
+    deformed: Option<u64>,
     /// Two-level layout: per unit, the SAH cost of its BLAS when it was last built.
     unit_built_sah: Vec<f64>,
+    /// Every mesh's positions as the executor's GPU deformation writes them
+    /// ([`crate::runtime::deform::GpuDeform::positions`]), for scenes posed for the GPU.
+    device_positions: Option<wgpu::Buffer>,
 }
 
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).
@@ -352,8 +357,9 @@ impl AccelCache {
             probe: None,
             built_sah: None,
             gathered: None,
-            deformed: Vec::new(),
+            deformed: None,
             unit_built_sah: Vec::new(),
+            device_positions: None,
         }
     }
 
@@ -388,6 +394,13 @@ impl AccelCache {
     /// same cores).
     pub fn set_merged_builder(&mut self, builder: MergedBuilder) {
         self.merged_builder = builder;
+    }
+
+    /// Where the executor's GPU deformation writes every mesh's positions (`None`: no GPU
+    /// deformation). A scene posed for the GPU is refitted and rebuilt on the GPU from them;
+    /// a CPU build poses a copy of the scene on the CPU.
+    pub fn set_device_positions(&mut self, positions: Option<wgpu::Buffer>) {
+        self.device_positions = positions;
     }
 
     /// Sets when the merged layout is refitted and when rebuilt.
@@ -449,6 +462,12 @@ impl AccelCache {
         scene: &Scene,
     ) -> Result<BuildReport, RuntimeError> {
         let start = Instant::now();
+        // The GPU-deformed merged layout reads the device's positions; every other path (and
+        // any CPU build) the meshes posed on the CPU.
+        let gpu_deformed = self.merge && self.backend == Backend::Compute && self.device_positions.is_some() && scene.posed.is_some_and(|p| !p.meshes_deformed);
+        let posed = if gpu_deformed { std::borrow::Cow::Borrowed(scene) } else { scene.with_meshes_posed() };
+        let scene = &*posed;
+        let deform_key = scene.deformation_key();
         self.update_alpha(device, queue, scene)?;
         // Whether a unit holds alpha-tested geometry is part of its key (the driver back-ends
         // build it non-opaque; the merged layout's triangles carry the flag).
@@ -457,8 +476,9 @@ impl AccelCache {
         let mesh_hashes: Vec<u64> = scene.meshes.par_iter().map(mesh_hash).collect();
         let instances: Vec<u64> = scene.instances.iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
         let units: Vec<UnitKey> = if self.merge {
-            // One unit, the whole scene: any change rebuilds it.
-            vec![UnitKey { mesh: 0, hash: hash_words(hash_words(2, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&instances)) }]
+            // One unit, the whole scene: any change rebuilds it (or refits it, below).
+            let unit = hash_words(hash_words(2, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&instances));
+            vec![UnitKey { mesh: 0, hash: hash_words(unit, &deform_key.unwrap_or(0).to_le_bytes()) }]
         } else if self.dedup {
             mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash: hash ^ tested_meshes[mesh] as u64 }).collect()
         } else {
@@ -497,18 +517,16 @@ impl AccelCache {
             hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
             bytemuck::cast_slice(&tested_words),
         );
-        let deformed_hash = hash_words(5, bytemuck::cast_slice(&deforming.iter().map(|&m| mesh_hashes[m]).collect::<Vec<_>>()));
-        let deformed_hash = (!deforming.is_empty()).then_some(deformed_hash);
+        let deformed_hash = deform_key;
         let refittable = match &self.state {
             State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
             _ => false,
         };
         let growth = self.sah_growth();
         let refit = refittable && self.policy.refits(growth);
-        let deformed: Vec<u64> = deforming.iter().map(|&m| mesh_hashes[m]).collect();
-        report.deformed_meshes = deformed.iter().enumerate().filter(|(k, h)| self.deformed.get(*k) != Some(h)).count();
+        report.deformed_meshes = if deform_key != self.deformed { deforming.len() } else { 0 };
         report.sah_growth = growth;
-        self.deformed = deformed;
+        self.deformed = deform_key;
         let built = if refit { 0 } else { changed.len() };
         report.blas_built = built;
         report.blas_reused = units.len() - built;
@@ -516,7 +534,7 @@ impl AccelCache {
         match self.backend {
             Backend::Compute if self.merge => {
                 report.rebuilt_for_quality = refittable && !refit;
-                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash, refit };
+                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash, refit, gpu_deformed };
                 self.update_compute_merged(device, queue, encoder, scene, change, &mut report)?
             }
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
@@ -700,7 +718,8 @@ impl AccelCache {
         let first_build = old.is_none();
         self.probe = None;
         self.gathered = change.deformed_hash;
-        if let Some((built, records)) = self.build_merged_on_gpu(device, queue, scene, change.mesh_hashes, first_build) {
+        let positions = self.device_positions.clone().filter(|_| change.gpu_deformed);
+        if let Some((built, records)) = self.build_merged_on_gpu(device, queue, scene, (change.mesh_hashes, positions.as_ref()), first_build) {
             report.blas_gpu_built = true;
             report.blas_gpu_ms = built.gpu_ms;
             report.blas_sah = Some(built.sah_cost);
@@ -708,6 +727,8 @@ impl AccelCache {
             self.built_sah = report.blas_sah;
             return self.install_gpu_built(device, queue, encoder, scene, old, (built, records), change.meshes_hash, report);
         }
+        let posed = scene.with_meshes_posed();
+        let scene = &*posed;
         let (mesh, origin) = merge_instances(scene);
         let blas = Blas::build(&mesh, &AccelOptions::default().build);
         report.blas_sah = (!blas.is_empty()).then(|| blas.bvh.sah_cost() as f64);
@@ -735,12 +756,16 @@ impl AccelCache {
     ) {
         let pipelines = self.deform.get_or_insert_with(|| DeformPipelines::new(device));
         if change.deformed_hash != self.gathered {
-            let maker = self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
-            if maker.sync_meshes(device, queue, scene, change.mesh_hashes).is_some() {
-                if let Some(positions) = maker.positions() {
-                    pipelines.record_gather(device, encoder, positions, refit.object_vertices());
-                    self.gathered = change.deformed_hash;
+            let positions = match (&self.device_positions, change.gpu_deformed) {
+                (Some(p), true) => Some(p),
+                _ => {
+                    let maker = self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
+                    maker.sync_meshes(device, queue, scene, change.mesh_hashes).and_then(|_| maker.positions())
                 }
+            };
+            if let Some(positions) = positions {
+                pipelines.record_gather(device, encoder, positions, refit.object_vertices());
+                self.gathered = change.deformed_hash;
             }
         }
         refit.record(device, queue, encoder, scene);
@@ -801,7 +826,7 @@ impl AccelCache {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &Scene,
-        mesh_hashes: &[u64],
+        (mesh_hashes, positions): (&[u64], Option<&wgpu::Buffer>),
         first_build: bool,
     ) -> Option<(GpuBlas, GpuRecords)> {
         match self.merged_builder {
@@ -822,7 +847,7 @@ impl AccelCache {
         let max_binding = device.limits().max_storage_buffer_binding_size / 48;
         let max_slots = (MAX_GPU_BUILD_TRIANGLES as u64).min(max_binding) as u32;
         let maker = self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
-        let records = match maker.make(device, queue, scene, mesh_hashes, max_slots) {
+        let records = match maker.make(device, queue, scene, (mesh_hashes, positions), max_slots) {
             Ok(Some(r)) if (r.count as usize) >= GPU_BUILD_MIN_TRIANGLES => r,
             Ok(_) => return None,
             Err(e) => {

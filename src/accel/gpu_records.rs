@@ -190,7 +190,8 @@ impl GpuRecordMaker {
     }
 
     /// The builder's input records of the merged layout of `scene` (`hashes`: each mesh's
-    /// content hash, as the cache keeps them), made on the GPU; waits for the survivor count.
+    /// content hash, as the cache keeps them; `positions`: every mesh's positions where a GPU
+    /// deformation wrote them, else the meshes' own), made on the GPU; waits for the survivor count.
     /// `None` for a scene without triangles, with more than `max_slots` of them, or past 32-bit
     /// offsets.
     pub fn make(
@@ -198,7 +199,7 @@ impl GpuRecordMaker {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &Scene,
-        hashes: &[u64],
+        (hashes, positions): (&[u64], Option<&wgpu::Buffer>),
         max_slots: u32,
     ) -> Result<Option<GpuRecords>, GpuBuildError> {
         let Some(mesh_bytes) = self.sync_meshes(device, queue, scene, hashes) else { return Ok(None) };
@@ -219,7 +220,8 @@ impl GpuRecordMaker {
         let total = buffer("records total", 16, storage | wgpu::BufferUsages::COPY_SRC);
         let records = buffer("records (GPU-made)", 48 * slots as u64, storage | wgpu::BufferUsages::COPY_SRC);
         let object_vertices = buffer("records object vertices", 48 * slots as u64, storage | wgpu::BufferUsages::COPY_SRC);
-        let resources = [&params, &instance_buffer, &data.vertices, &data.indices, &group_offsets, &total, &records, &object_vertices];
+        let vertices = positions.unwrap_or(&data.vertices);
+        let resources = [&params, &instance_buffer, vertices, &data.indices, &group_offsets, &total, &records, &object_vertices];
         let entries: Vec<_> = resources.iter().enumerate().map(|(b, r)| wgpu::BindGroupEntry { binding: b as u32, resource: r.as_entire_binding() }).collect();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("gpu records"), layout: &self.layout, entries: &entries });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu records") });

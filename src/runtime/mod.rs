@@ -1,8 +1,10 @@
-//! The GPU runtime: device context ([`gpu`]), plan executor ([`exec`]), pass timing
+//! The GPU runtime: device context ([`gpu`]), plan executor ([`exec`]), GPU skinning and
+//! morphing ([`deform`]), pass timing
 //! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`]),
 //! the warm-up before timed frames ([`warm_up`]) and rays traced outside any graph ([`batch`]).
 
 pub mod batch;
+pub mod deform;
 pub mod exec;
 pub mod gpu;
 pub mod profiler;

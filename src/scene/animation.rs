@@ -179,6 +179,18 @@ pub struct Pose {
     pub weights: Vec<Vec<f32>>,
 }
 
+/// When a scene was posed, and where its deforming meshes were deformed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PoseTime {
+    /// The clip (none: the rest pose).
+    pub clip: Option<usize>,
+    /// Seconds into it.
+    pub time: f32,
+    /// The deforming meshes' vertices in [`Scene::meshes`] hold this pose (false: they are left
+    /// as they were, and the executor deforms them on the GPU).
+    pub meshes_deformed: bool,
+}
+
 /// Which clip plays.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub enum ClipChoice {
@@ -399,15 +411,45 @@ impl Scene {
         let Some(rig) = self.rig.clone() else { return };
         let pose = rig.pose(clip, time);
         self.apply_pose(&rig, &pose, true);
+        self.posed = Some(PoseTime { clip, time, meshes_deformed: true });
     }
 
-    /// Poses the instances only, leaving deforming meshes as they are (the executor's GPU
-    /// deformation writes them on the device); returns the pose.
-    pub fn pose_instances(&mut self, clip: Option<usize>, time: f32) -> Option<Pose> {
-        let rig = self.rig.clone()?;
+    /// Poses the instances only and leaves the deforming meshes' vertices as they are: an
+    /// executor deforms them on the GPU (skinning and morph targets, no per-vertex work on the
+    /// CPU); CPU consumers that need the vertices call [`Scene::pose`] on a copy
+    /// ([`Scene::with_meshes_posed`]).
+    pub fn pose_for_gpu(&mut self, clip: Option<usize>, time: f32) {
+        let Some(rig) = self.rig.clone() else { return };
         let pose = rig.pose(clip, time);
         self.apply_pose(&rig, &pose, false);
-        Some(pose)
+        self.posed = Some(PoseTime { clip, time, meshes_deformed: rig.deformers.is_empty() });
+    }
+
+    /// This scene with its deforming meshes' vertices holding its pose: itself, or a copy posed
+    /// on the CPU when the pose was left to the GPU.
+    pub fn with_meshes_posed(&self) -> std::borrow::Cow<'_, Scene> {
+        match self.posed {
+            Some(PoseTime { clip, time, meshes_deformed: false }) => {
+                let mut copy = self.clone();
+                copy.pose(clip, time);
+                std::borrow::Cow::Owned(copy)
+            }
+            _ => std::borrow::Cow::Borrowed(self),
+        }
+    }
+
+    /// A key that changes whenever the deforming meshes' shape changes: their vertices' hash,
+    /// or the pose time when the GPU deforms them; `None` without deforming meshes.
+    pub fn deformation_key(&self) -> Option<u64> {
+        use crate::util::hash_words;
+        let deforming = self.deforming_meshes();
+        if deforming.is_empty() {
+            return None;
+        }
+        Some(match self.posed {
+            Some(PoseTime { clip, time, meshes_deformed: false }) => hash_words(clip.map_or(u64::MAX, |c| c as u64), &time.to_bits().to_le_bytes()),
+            _ => deforming.iter().fold(7, |h, &m| hash_words(h, bytemuck::cast_slice(&self.meshes[m].vertices))),
+        })
     }
 
     fn apply_pose(&mut self, rig: &Rig, pose: &Pose, deform: bool) {

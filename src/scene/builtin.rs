@@ -144,5 +144,6 @@ pub fn default_scene() -> Scene {
         point_light: None,
         lights: Vec::new(),
         rig: None,
+        posed: None,
     }
 }

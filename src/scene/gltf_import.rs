@@ -364,6 +364,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
         point_light: None,
         lights: placed.lights,
         rig: rig.map(std::sync::Arc::new),
+        posed: None,
     };
     // Skinned meshes are placed by their joints and morph targets take the nodes' weights.
     scene.pose(None, 0.0);

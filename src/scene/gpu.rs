@@ -280,7 +280,11 @@ impl GpuScene {
                 out.meshes = Some(init("scene meshes", bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE));
             }
             // Deforming meshes are rewritten in place every frame they move.
-            let rewritten = if deforming.is_empty() { wgpu::BufferUsages::empty() } else { wgpu::BufferUsages::COPY_DST };
+            let rewritten = if deforming.is_empty() {
+                wgpu::BufferUsages::empty()
+            } else {
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::STORAGE
+            };
             out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX | storage | rewritten));
             out.indices = Some(init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX | storage));
             bytes += (vertices.len() * std::mem::size_of::<super::Vertex>() + indices.len() * 4) as u64;
@@ -683,7 +687,7 @@ pub struct SceneContent {
     pub(crate) structure: u64,
     /// The hash of the instance transforms.
     pub(crate) transforms: u64,
-    /// The hash of the deforming meshes' vertices ([`Scene::deforming_meshes`]).
+    /// The deforming meshes' shape ([`Scene::deformation_key`]).
     pub(crate) deformed: u64,
 }
 
@@ -705,7 +709,6 @@ impl SceneContent {
                 m.tangents.as_ref().map_or(h, |t| hash_words(h, bytemuck::cast_slice(t)))
             })
             .collect();
-        let deformed: Vec<u64> = deforming.iter().map(|&i| vertices(&scene.meshes[i])).collect();
         let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
         let textures: Vec<[u64; 4]> = scene.textures.iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
@@ -716,6 +719,6 @@ impl SceneContent {
         // The light buffer's size (its records are rewritten every frame).
         structure = hash_words(structure, &(scene.effective_light_count() as u64).to_le_bytes());
         let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
-        Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)), deformed: hash_words(4, bytemuck::cast_slice(&deformed)) }
+        Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)), deformed: scene.deformation_key().unwrap_or(0) }
     }
 }

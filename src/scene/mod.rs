@@ -185,6 +185,9 @@ pub struct Scene {
     /// The file's node hierarchy, clips, skins and deforming meshes, where it has clips or
     /// deforming meshes ([`Scene::pose`]); `None` for a scene that never moves by itself.
     pub rig: Option<std::sync::Arc<animation::Rig>>,
+    /// The time the rig was last posed at, and whether the deforming meshes' vertices here
+    /// hold that pose (`None`: never posed since loading, or no rig).
+    pub posed: Option<animation::PoseTime>,
 }
 
 /// What kind of punctual light, with the parameters only that kind has.

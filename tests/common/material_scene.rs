@@ -110,6 +110,7 @@ pub fn metallic_roughness_scene() -> (Scene, Vec<(&'static str, Vec3)>) {
         point_light: None,
         lights: Vec::new(),
         rig: None,
+        posed: None,
     };
     super::add_parts(&mut scene, parts);
     let probes = vec![

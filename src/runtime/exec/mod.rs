@@ -139,6 +139,8 @@ pub struct Executor {
     rust_passes: RustPasses,
     /// The history pairs, their swap and the history's validity (`history`).
     history: history::HistoryState,
+    /// The GPU deformation of the scene's skinned and morphed meshes, if it has any.
+    deform: Option<crate::runtime::deform::GpuDeform>,
 }
 
 /// One frame while it is recorded.
@@ -207,7 +209,9 @@ impl Executor {
             trace_alpha_test: Self::scene_has_alpha_test(scene),
             rust_passes,
             history: history::HistoryState::default(),
+            deform: None,
         };
+        exec.make_deform(gpu, scene);
         exec.history = history::HistoryState::of_plan(&exec.plan);
         exec.passes = exec.build_passes(gpu)?;
         if gpu.timestamps {
@@ -284,6 +288,15 @@ impl Executor {
     /// Records and submits one frame; waits for it and returns its pass timings.
     pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
         let start = Instant::now();
+        // A pose left to the GPU, without a GPU deformation here (a plan that uploads no
+        // vertices): deformed on the CPU instead.
+        let posed;
+        let scene = if self.deform.is_none() && scene.posed.is_some_and(|p| !p.meshes_deformed) {
+            posed = scene.with_meshes_posed();
+            &*posed
+        } else {
+            scene
+        };
         self.begin_frame(gpu, scene)?;
         let uniforms = self.frame_uniforms(gpu, camera, scene)?;
         gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
@@ -295,6 +308,8 @@ impl Executor {
             accel_report: None,
         };
         let inputs = self.frame_inputs(gpu, camera, scene, &uniforms);
+        // Before every pass: rasterized and traced passes alike see this frame's shapes.
+        self.record_deform(gpu, &mut frame.encoder, scene);
         for i in 0..self.passes.len() {
             self.record_pass(gpu, &mut frame, &inputs, i)?;
         }

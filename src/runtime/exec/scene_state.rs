@@ -61,8 +61,11 @@ impl Executor {
         // Moved instances and deformed meshes are rewritten in place.
         if content.structure == self.scene_content.structure {
             let instances_ok = content.transforms == self.scene_content.transforms || uploaded.write_instances(&gpu.queue, scene);
+            // Deformed on the CPU: uploaded; left to the GPU: `record_deform` writes them.
+            let cpu_deformed = scene.posed.is_none_or(|p| p.meshes_deformed) || self.deform.is_none();
             let vertices_ok = content.deformed == self.scene_content.deformed
                 || uploaded.vertices.is_none()
+                || !cpu_deformed
                 || uploaded.write_vertices(&gpu.queue, scene, &scene.deforming_meshes());
             if instances_ok && vertices_ok {
                 self.scene_content = content;
@@ -73,6 +76,7 @@ impl Executor {
         self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
         // The new buffers hold the current transforms: `write_motion` writes the previous ones.
         self.history.motion_written.clear();
+        self.make_deform(gpu, scene);
         self.passes = self.build_passes(gpu)?;
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
@@ -80,6 +84,23 @@ impl Executor {
         log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
         self.scene_content = content;
         Ok(())
+    }
+
+    /// The GPU deformation of `scene`'s deforming meshes into the uploaded scene (none without
+    /// them); the acceleration-structure cache reads the positions it writes.
+    pub(super) fn make_deform(&mut self, gpu: &Gpu, scene: &Scene) {
+        self.deform = self.scene.as_ref().and_then(|uploaded| crate::runtime::deform::GpuDeform::new(&gpu.device, scene, uploaded));
+        if let Some(cache) = self.accel.as_mut() {
+            cache.set_device_positions(self.deform.as_ref().map(|d| d.positions.clone()));
+        }
+    }
+
+    /// Records the GPU deformation of the frame's pose (nothing when the CPU posed the meshes
+    /// or the pose has not changed).
+    pub(super) fn record_deform(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
+        if let Some(deform) = self.deform.as_mut() {
+            deform.record(&gpu.queue, encoder, scene);
+        }
     }
 
     /// `scene_motion`, where the plan binds it: each instance's transform of the previous frame

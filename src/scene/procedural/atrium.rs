@@ -993,5 +993,6 @@ pub(super) fn build(seed: u64) -> Scene {
         point_light: None,
         lights: Vec::new(),
         rig: None,
+        posed: None,
     }
 }

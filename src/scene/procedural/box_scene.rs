@@ -55,5 +55,6 @@ pub(super) fn build() -> Scene {
         point_light: None,
         lights: Vec::new(),
         rig: None,
+        posed: None,
     }
 }
