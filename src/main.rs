@@ -185,6 +185,12 @@ enum Command {
         /// Print every frame's number.
         #[arg(long)]
         verbose: bool,
+        /// The clip that plays (glTF animations), by name or index [default: the first].
+        #[arg(long, value_name = "NAME|INDEX")]
+        animation: Option<String>,
+        /// Seconds into the clip at the start.
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        time: f32,
     },
 }
 
@@ -853,7 +859,8 @@ fn run(cli: Cli) -> Result<()> {
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, (width, height));
             write_results(&out, &[("modes.md", raygraph::bench::modes::markdown(&info, backend, &rows))])?;
         }
-        Command::View { scene, graph, mode, backend, deadline, width, height, camera, seed, frames, screenshot, script, verbose } => {
+        Command::View { scene, graph, mode, backend, deadline, width, height, camera, seed, frames, screenshot, script, verbose, animation, time } => {
+            anyhow::ensure!(time.is_finite(), "--time {time}: give a finite number of seconds");
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let opts = raygraph::viewer::ViewerOptions {
                 scene,
@@ -868,6 +875,8 @@ fn run(cli: Cli) -> Result<()> {
                 screenshot,
                 script,
                 verbose,
+                animation,
+                time,
             };
             raygraph::viewer::run(opts).map_err(anyhow::Error::msg)?;
         }

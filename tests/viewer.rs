@@ -288,3 +288,57 @@ fn a_camera_move_resets_the_accumulation_unless_switched_off() {
     assert!(valid_after >= valid + 4 && line.contains("kept across camera moves"), "the history stayed valid across the small move: {line}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An animated file in the viewer: the clock plays (1/60 s a frame in scripted runs), pauses,
+/// seeks and runs at another speed; the overlay shows the clip, the time and what the
+/// acceleration-structure cache did; paused frames are identical and the played ones move.
+#[test]
+fn the_animation_clock_plays_pauses_seeks_and_changes_speed() {
+    let x = XServer::start();
+    let dir = common::gltf_doc::temp_dir("viewer-anim");
+    let shot = |name: &str| dir.join(name).display().to_string();
+    let steps = format!(
+        r#"(frame: 1, action: Overlay(false)),
+                (frame: 3, action: Screenshot("{playing}")),
+                (frame: 4, action: Play(false)),
+                (frame: 4, action: Seek(0.5)),
+                (frame: 6, action: Screenshot("{paused}")),
+                (frame: 8, action: Screenshot("{still}")),
+                (frame: 9, action: Speed(2.0)),
+                (frame: 9, action: Play(true)),
+                (frame: 14, action: Screenshot("{fast}")),
+                (frame: 15, action: Quit),"#,
+        playing = shot("playing.png"),
+        paused = shot("paused.png"),
+        still = shot("still.png"),
+        fast = shot("fast.png"),
+    );
+    run_script(
+        &x,
+        &dir,
+        &steps,
+        &["assets/gltf/animated/skinned_cylinder.gltf", "--mode", "hybrid", "--backend", "compute", "--width", "160", "--height", "90"],
+    );
+    let overlay = |name: &str| std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
+    let clock = |name: &str| {
+        let text = overlay(name);
+        let line = text.lines().find(|l| l.starts_with("animation: ")).unwrap_or_else(|| panic!("no animation line:\n{text}")).to_string();
+        let time: f32 = line.split(" at ").nth(1).and_then(|r| r.split(' ').next()).and_then(|t| t.parse().ok()).unwrap_or_else(|| panic!("{line}"));
+        (time, line)
+    };
+    let (t, line) = clock("playing");
+    assert!(line.contains("`bend`") && line.contains("playing at 1.00x") && t > 0.0 && t < 0.1, "{line}");
+    let (t, line) = clock("paused");
+    assert!(line.contains("paused") && (t - 0.5).abs() < 1e-6, "{line}");
+    assert_eq!(clock("still").0, t, "paused: the time stays");
+    let (t_fast, line) = clock("fast");
+    assert!(line.contains("playing at 2.00x") && t_fast > 0.5 + 4.0 * 2.0 / 60.0 - 1e-4 && t_fast < 0.5 + 7.0 * 2.0 / 60.0, "{line}");
+    let accel = overlay("fast");
+    assert!(
+        accel.lines().any(|l| l.starts_with("acceleration structures this frame:") && l.contains("1 deforming meshes") && l.contains("refitted")),
+        "{accel}"
+    );
+    assert_eq!(mean_abs_diff(&load(&dir.join("paused.png")), &load(&dir.join("still.png"))), 0.0, "paused frames are identical");
+    assert!(mean_abs_diff(&load(&dir.join("still.png")), &load(&dir.join("fast.png"))) > 0.05, "played frames move");
+    let _ = std::fs::remove_dir_all(&dir);
+}

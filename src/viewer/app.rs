@@ -48,6 +48,10 @@ pub struct ViewerOptions {
     pub script: Option<PathBuf>,
     /// Print each frame's number and every reload to stdout.
     pub verbose: bool,
+    /// The clip that plays, by name or index (`None`: the first, if the scene has any).
+    pub animation: Option<String>,
+    /// Seconds into the clip at the start.
+    pub time: f32,
 }
 
 /// Opens the window and runs until it is closed, the script quits or `--frames` is reached.
@@ -70,7 +74,14 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     };
     let mode = opts.graph.is_none().then_some(opts.mode);
     let backend = gpu.selection.backend;
-    let session = Session::new(&gpu, &root, graph_file, mode, backend, opts.size, scene)?;
+    let choice = opts.animation.as_deref().map(|a| a.parse().unwrap_or_default()).unwrap_or_default();
+    let mut clock = super::clock::AnimationClock::new(&scene, &choice, opts.time)?;
+    // Scripted and counted runs advance the clock by a fixed step per frame.
+    if opts.script.is_some() || opts.frames.is_some() {
+        clock.fixed_step = Some(1.0 / 60.0);
+    }
+    let mut session = Session::new(&gpu, &root, graph_file, mode, backend, opts.size, scene)?;
+    session.clock = clock;
     println!("graph: {} ({} passes), back-end {}", session.graph_file.display(), session.plan().map_or(0, |p| p.passes.len()), session.backend());
     let mut app = App {
         fly: FlyCamera::from_camera(&camera, radius),
@@ -257,6 +268,24 @@ impl App {
                 }
             },
             Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
+            Action::Play(on) => {
+                self.session.clock.playing = on && self.session.clock.clip.is_some();
+                Ok(println!("animation: {}", if self.session.clock.playing { "playing" } else { "paused" }))
+            }
+            Action::Seek(t) => {
+                self.session.clock.seek(&self.session.scene, t);
+                Ok(println!("animation at {:.3} s", self.session.clock.time))
+            }
+            Action::Speed(x) if x.is_finite() && x >= 0.0 => {
+                self.session.clock.speed = x;
+                Ok(println!("animation speed {x}x"))
+            }
+            Action::Speed(x) => Err(format!("animation speed {x}: give a number of at least 0")),
+            Action::Clip(name) => crate::viewer::clock::AnimationClock::new(&self.session.scene, &name.parse().unwrap_or_default(), 0.0).map(|c| {
+                let fixed = self.session.clock.fixed_step;
+                self.session.clock = crate::viewer::clock::AnimationClock { fixed_step: fixed, ..c };
+                println!("animation clip {name}");
+            }),
             Action::Quit => {
                 self.exit = true;
                 Ok(())

@@ -5,12 +5,14 @@
 //!   the rolling frame statistics);
 //! - [`display`]: the viewport's texture (the output, or any pass's texture mapped for display);
 //! - [`camera`]: the fly camera and track recording/playback;
+//! - [`clock`]: the animation clock (play, pause, scrub, speed);
 //! - [`ui`]: the egui overlay (controls, profiler, parameters, graph, errors);
 //! - [`script`]: timed actions for automated runs;
 //! - [`app`]: the window, surface and event loop tying them together.
 
 pub mod app;
 pub mod camera;
+pub mod clock;
 pub mod display;
 pub mod script;
 pub mod session;

@@ -7,6 +7,8 @@
 //!     (frame: 4, action: Param(node: "ao", name: "rays", value: 2)),
 //!     (frame: 5, action: Enable(node: "reflection", on: false)),
 //!     (frame: 6, action: SelectPass("ao/ao")),
+//!     (frame: 7, action: Seek(1.25)),
+//!     (frame: 7, action: Play(false)),
 //!     (frame: 8, action: Screenshot("ao.png")),
 //!     (frame: 9, action: Quit),
 //! ])
@@ -88,6 +90,14 @@ pub enum Action {
     SaveTrack(PathBuf),
     /// Play a track file.
     PlayTrack(PathBuf),
+    /// Run or pause the animation's clock.
+    Play(bool),
+    /// Move the animation's clock to a time (seconds; scrubbing).
+    Seek(f32),
+    /// Seconds of animation per second of wall time (per 1/60 s step in scripted runs).
+    Speed(f32),
+    /// Play another clip of the scene, by name or index, from its start.
+    Clip(String),
     /// Close the window.
     Quit,
 }

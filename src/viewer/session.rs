@@ -100,6 +100,8 @@ pub(crate) struct Session {
     pub(crate) history_frames: u64,
     /// History resets caused by camera moves since the viewer started.
     pub(crate) history_resets: u64,
+    /// The animation's clock; the scene is posed at its time before every frame.
+    pub(crate) clock: super::clock::AnimationClock,
 }
 
 impl Session {
@@ -131,6 +133,7 @@ impl Session {
             last_camera: None,
             history_frames: 0,
             history_resets: 0,
+            clock: super::clock::AnimationClock { clip: None, time: 0.0, playing: false, speed: 1.0, fixed_step: None, last: None },
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
@@ -315,6 +318,10 @@ impl Session {
         if moved && self.reset_history_on_move && exec.plan().has_history() {
             exec.camera_cut();
             self.history_resets += 1;
+        }
+        self.clock.tick(&self.scene);
+        if self.clock.clip.is_some() {
+            self.scene.pose_for_gpu(self.clock.clip, self.clock.time);
         }
         let t = exec.render(gpu, camera, &self.scene).map_err(|e| e.to_string())?;
         self.history_frames = if exec.history_valid() { self.history_frames + 1 } else { 0 };

@@ -139,6 +139,9 @@ pub fn overlay_text(f: &Frame) -> String {
             let _ = writeln!(s, "{line}");
         }
     }
+    if let Some(line) = session.clock.describe(&session.scene) {
+        let _ = writeln!(s, "{line}");
+    }
     if let Some(a) = session.frames.back().and_then(|t| t.accel.as_ref()) {
         let _ = writeln!(s, "acceleration structures this frame: {}", a.describe());
     }
@@ -146,6 +149,35 @@ pub fn overlay_text(f: &Frame) -> String {
         let _ = writeln!(s, "error: {e}");
     }
     s
+}
+
+/// Play/pause, the time slider (scrubbing), the speed and the clip, for a scene with clips.
+fn animation_controls(ui: &mut egui::Ui, session: &Session, actions: &mut Vec<Action>) {
+    let (Some(line), Some(rig)) = (session.clock.describe(&session.scene), session.scene.rig.as_ref()) else { return };
+    ui.label(line);
+    ui.horizontal(|ui| {
+        let clock = &session.clock;
+        if ui.button(if clock.playing { "pause" } else { "play" }).clicked() {
+            actions.push(Action::Play(!clock.playing));
+        }
+        let mut t = clock.time;
+        if ui.add(egui::Slider::new(&mut t, 0.0..=clock.duration(&session.scene)).text("s")).changed() {
+            actions.push(Action::Seek(t));
+        }
+        let mut speed = clock.speed;
+        if ui.add(egui::Slider::new(&mut speed, 0.0..=4.0).text("speed")).changed() {
+            actions.push(Action::Speed(speed));
+        }
+    });
+    if rig.animations.len() > 1 {
+        ui.horizontal(|ui| {
+            for (i, a) in rig.animations.iter().enumerate() {
+                if ui.selectable_label(session.clock.clip == Some(i), &a.name).clicked() {
+                    actions.push(Action::Clip(i.to_string()));
+                }
+            }
+        });
+    }
 }
 
 /// The state of the plan's history resources, if it has any: how many frames it has been valid
@@ -315,6 +347,7 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
                 }
             }
         }
+        animation_controls(ui, session, actions);
         let builds = session.frames.back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
         ui.label(format!("acceleration structures this frame: {builds}"));
         // Frame-time history: GPU total per frame over the window.
