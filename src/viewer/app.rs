@@ -270,15 +270,18 @@ impl App {
             Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
             Action::Play(on) => {
                 self.session.clock.playing = on && self.session.clock.clip.is_some();
-                Ok(println!("animation: {}", if self.session.clock.playing { "playing" } else { "paused" }))
+                println!("animation: {}", if self.session.clock.playing { "playing" } else { "paused" });
+                Ok(())
             }
             Action::Seek(t) => {
                 self.session.clock.seek(&self.session.scene, t);
-                Ok(println!("animation at {:.3} s", self.session.clock.time))
+                println!("animation at {:.3} s", self.session.clock.time);
+                Ok(())
             }
             Action::Speed(x) if x.is_finite() && x >= 0.0 => {
                 self.session.clock.speed = x;
-                Ok(println!("animation speed {x}x"))
+                println!("animation speed {x}x");
+                Ok(())
             }
             Action::Speed(x) => Err(format!("animation speed {x}: give a number of at least 0")),
             Action::Clip(name) => crate::viewer::clock::AnimationClock::new(&self.session.scene, &name.parse().unwrap_or_default(), 0.0).map(|c| {
