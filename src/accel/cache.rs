@@ -403,6 +403,24 @@ impl AccelCache {
         self.device_positions = positions;
     }
 
+    /// Makes the pipelines that refits and GPU rebuilds of a changing scene need now (at
+    /// start-up) instead of in the first frame that needs them (a compile of up to a second
+    /// on the H100 the first time a driver sees them).
+    pub fn prepare_for_changes(&mut self, device: &wgpu::Device) {
+        if !self.merge || self.backend != Backend::Compute {
+            return;
+        }
+        self.deform.get_or_insert_with(|| DeformPipelines::new(device));
+        self.tree_refit.get_or_insert_with(|| TreeRefitPipelines::new(device));
+        self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
+        if self.merged_builder != MergedBuilder::Cpu && self.gpu_builder.is_none() {
+            match GpuBlasBuilder::new(device) {
+                Ok(b) => self.gpu_builder = Some(b),
+                Err(e) => log::warn!("accel: {e}; merged layouts are built on the CPU"),
+            }
+        }
+    }
+
     /// Sets when the merged layout is refitted and when rebuilt.
     pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
         self.policy = policy;
