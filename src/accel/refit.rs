@@ -279,7 +279,7 @@ fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
     object
 }
 
-/// No vertex to gather from (see [`object_vertices`]).
+/// No vertex to gather from: the gather index of a leaf slot without a triangle.
 pub const NO_VERTEX: u32 = u32::MAX;
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {

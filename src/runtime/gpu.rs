@@ -101,7 +101,7 @@ impl Gpu {
 
     /// Whether trace passes on the compute back-end clear their traversal stack when each
     /// invocation starts (compiled from WGSL, which zero-initialises it) rather than being
-    /// written without that clear ([`super::trace_spirv`]; not on this device, or
+    /// written without that clear (`runtime::trace_spirv`; not on this device, or
     /// `RAYGRAPH_CLEARED_STACK=1`).
     pub fn traversal_stack_cleared(&self) -> bool {
         self.trace_spirv.is_none()

@@ -1,13 +1,13 @@
 //! What moves in a scene and how, on the CPU: the node hierarchy a glTF file places its meshes
 //! with ([`Rig`]), its animation clips (translation, rotation, scale and morph-weight channels,
 //! linear, step or cubic-spline), morph targets and skins, and the pose at a time: node world
-//! matrices, joint matrices and morph weights ([`Pose`]), applied to a [`Scene`] by
-//! [`Scene::pose`]. The GPU deformation of the executor ([`crate::runtime`]'s deform pass)
+//! matrices, joint matrices and morph weights ([`Pose`]), applied to a scene by
+//! [`crate::scene::Scene::pose`] ([`crate::scene::posing`]). The GPU deformation of the executor ([`crate::runtime`]'s deform pass)
 //! reads the same joint matrices and weights ([`Pose::deform_inputs`]); this module's CPU
 //! deformation ([`Deformer::deform`]) is the reference it is tested against, and what CPU
 //! builders and the f64 reference tracer see.
 
-use super::{Scene, Vertex};
+use super::vertex::Vertex;
 use glam::{Mat3, Mat4, Quat, Vec3};
 
 /// A node's local transform.
@@ -133,7 +133,7 @@ pub struct SkinWeights {
 /// A scene mesh that deforms: its rest vertices, morph targets and skin.
 #[derive(Debug, Clone)]
 pub struct Deformer {
-    /// The scene mesh it writes ([`Scene::meshes`]).
+    /// The scene mesh it writes ([`crate::scene::Scene::meshes`]).
     pub mesh: usize,
     /// The node whose weights (and skin) drive it.
     pub node: usize,
@@ -186,7 +186,7 @@ pub struct PoseTime {
     pub clip: Option<usize>,
     /// Seconds into it.
     pub time: f32,
-    /// The deforming meshes' vertices in [`Scene::meshes`] hold this pose (false: they are left
+    /// The deforming meshes' vertices in [`crate::scene::Scene::meshes`] hold this pose (false: they are left
     /// as they were, and the executor deforms them on the GPU).
     pub meshes_deformed: bool,
 }
@@ -401,76 +401,6 @@ fn skin_matrix(skin: &SkinWeights, v: usize, joints: &[Mat4]) -> Mat4 {
         }
     }
     m
-}
-
-impl Scene {
-    /// Poses the scene at `time` seconds of clip `clip` (none: the rest pose): instance
-    /// transforms from the nodes' world matrices, deforming meshes morphed and skinned on the
-    /// CPU. Nothing to do for a scene without a rig.
-    pub fn pose(&mut self, clip: Option<usize>, time: f32) {
-        let Some(rig) = self.rig.clone() else { return };
-        let pose = rig.pose(clip, time);
-        self.apply_pose(&rig, &pose, true);
-        self.posed = Some(PoseTime { clip, time, meshes_deformed: true });
-    }
-
-    /// Poses the instances only and leaves the deforming meshes' vertices as they are: an
-    /// executor deforms them on the GPU (skinning and morph targets, no per-vertex work on the
-    /// CPU); CPU consumers that need the vertices call [`Scene::pose`] on a copy
-    /// ([`Scene::with_meshes_posed`]).
-    pub fn pose_for_gpu(&mut self, clip: Option<usize>, time: f32) {
-        let Some(rig) = self.rig.clone() else { return };
-        let pose = rig.pose(clip, time);
-        self.apply_pose(&rig, &pose, false);
-        self.posed = Some(PoseTime { clip, time, meshes_deformed: rig.deformers.is_empty() });
-    }
-
-    /// This scene with its deforming meshes' vertices holding its pose: itself, or a copy posed
-    /// on the CPU when the pose was left to the GPU.
-    pub fn with_meshes_posed(&self) -> std::borrow::Cow<'_, Scene> {
-        match self.posed {
-            Some(PoseTime { clip, time, meshes_deformed: false }) => {
-                let mut copy = self.clone();
-                copy.pose(clip, time);
-                std::borrow::Cow::Owned(copy)
-            }
-            _ => std::borrow::Cow::Borrowed(self),
-        }
-    }
-
-    /// A key that changes whenever the deforming meshes' shape changes: their vertices' hash,
-    /// or the pose time when the GPU deforms them; `None` without deforming meshes.
-    pub fn deformation_key(&self) -> Option<u64> {
-        use crate::util::hash_words;
-        let deforming = self.deforming_meshes();
-        if deforming.is_empty() {
-            return None;
-        }
-        Some(match self.posed {
-            Some(PoseTime { clip, time, meshes_deformed: false }) => hash_words(clip.map_or(u64::MAX, |c| c as u64), &time.to_bits().to_le_bytes()),
-            _ => deforming.iter().fold(7, |h, &m| hash_words(h, bytemuck::cast_slice(&self.meshes[m].vertices))),
-        })
-    }
-
-    fn apply_pose(&mut self, rig: &Rig, pose: &Pose, deform: bool) {
-        for (inst, src) in self.instances.iter_mut().zip(&rig.instances) {
-            inst.transform = if src.skinned { Mat4::IDENTITY } else { pose.world[src.node] };
-        }
-        if deform {
-            use rayon::prelude::*;
-            let meshes: Vec<(usize, Vec<Vertex>)> = rig
-                .deformers
-                .par_iter()
-                .map(|d| {
-                    let (joints, weights) = pose.deform_inputs(rig, d);
-                    (d.mesh, d.deform(&joints, &weights))
-                })
-                .collect();
-            for (m, vertices) in meshes {
-                self.meshes[m].vertices = vertices;
-            }
-        }
-    }
 }
 
 #[cfg(test)]

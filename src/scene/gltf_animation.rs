@@ -1,24 +1,37 @@
 //! glTF import of what moves: the node hierarchy, animation clips, skins and morph targets, as
 //! a [`Rig`]. Every accessor is checked before it is read (types, counts, finite values, joint
-//! indices); what cannot be played is a [`SceneError`] naming the file and the clip, channel,
-//! skin or primitive; what can be repaired (weights that do not sum to one, a `weights`
+//! indices); what cannot be played is a [`RigError`] naming the clip, channel, skin or
+//! primitive (the importer adds the file); what can be repaired (weights that do not sum to one, a `weights`
 //! channel on a node without morph targets, an animated node given as a matrix) is counted and
 //! logged.
 
 use super::animation::{Animation, Channel, ChannelTarget, Deformer, InstanceNode, Interpolation, MorphTarget, Rig, RigNode, Skin, SkinWeights, Trs};
-use super::gltf_import::{ImportReport, SceneError};
 use super::{Instance, Mesh};
 use glam::{Mat4, Quat, Vec3};
 use std::collections::HashSet;
-use std::path::Path;
 
 /// What the rig builder reads besides the document: the buffers, and for every scene mesh the
 /// glTF mesh and primitive it came from.
 pub(super) struct RigInput<'a> {
-    pub path: &'a Path,
     pub doc: &'a gltf::Document,
     pub buffers: &'a [gltf::buffer::Data],
     pub mesh_primitive: &'a [(usize, usize)],
+}
+
+/// Why a file's animation data cannot be played.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RigError {
+    /// A clip, channel or skin, named in the message.
+    Rig(String),
+    /// A primitive's morph targets or skin attributes.
+    Primitive {
+        /// The mesh's name.
+        mesh: String,
+        /// The primitive's index in the mesh.
+        primitive: usize,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 /// Counts of what the rig builder repaired.
@@ -40,8 +53,7 @@ pub(super) fn rig(
     meshes: &mut Vec<Mesh>,
     instances: &mut [Instance],
     instance_nodes: &[usize],
-    report: &mut ImportReport,
-) -> Result<Option<Rig>, SceneError> {
+) -> Result<Option<(Rig, RigRepairs)>, RigError> {
     let doc = input.doc;
     let morphing = |m: usize| {
         input.mesh_primitive.get(m).and_then(|&(mesh, prim)| doc.meshes().nth(mesh)?.primitives().nth(prim)).is_some_and(|p| p.morph_targets().next().is_some())
@@ -57,7 +69,7 @@ pub(super) fn rig(
     rig.skins = doc.skins().map(|s| skin(input, &s)).collect::<Result<_, _>>()?;
     let mut claimed = HashSet::new();
     for (i, inst) in instances.iter_mut().enumerate() {
-        let node = doc.nodes().nth(instance_nodes[i]).ok_or_else(|| parse_error(input, format!("instance {i} has no node")))?;
+        let node = doc.nodes().nth(instance_nodes[i]).ok_or_else(|| rig_error(format!("instance {i} has no node")))?;
         let skin = node.skin().map(|s| s.index());
         rig.instances.push(InstanceNode { node: node.index(), skinned: skin.is_some() });
         if !deforming[i] {
@@ -77,22 +89,26 @@ pub(super) fn rig(
     for a in doc.animations() {
         rig.animations.push(animation(input, &a, &target_counts, &mut repairs)?);
     }
-    for (n, count) in [
-        (repairs.renormalised_weights, "vertices' skin weights did not sum to one (normalised)"),
-        (repairs.dropped_channels, "weights channels drive nodes without morph targets (dropped)"),
-        (repairs.decomposed_matrices, "animated nodes are given as a matrix (decomposed into translation, rotation and scale)"),
-    ] {
-        if n > 0 {
-            report.warnings.push(format!("{}: {n} {count}", input.path.display()));
-            log::warn!("{}: {n} {count}", input.path.display());
-        }
-    }
-    report.rig_repairs = repairs;
-    Ok(Some(rig))
+    Ok(Some((rig, repairs)))
 }
 
-fn parse_error(input: &RigInput, message: String) -> SceneError {
-    SceneError::Rig { path: input.path.to_path_buf(), message }
+impl RigRepairs {
+    /// One warning line per kind of repair made.
+    pub fn warnings(&self) -> Vec<String> {
+        [
+            (self.renormalised_weights, "vertices' skin weights did not sum to one (normalised)"),
+            (self.dropped_channels, "weights channels drive nodes without morph targets (dropped)"),
+            (self.decomposed_matrices, "animated nodes are given as a matrix (decomposed into translation, rotation and scale)"),
+        ]
+        .into_iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect()
+    }
+}
+
+fn rig_error(message: String) -> RigError {
+    RigError::Rig(message)
 }
 
 /// Every node with its parent and rest transform; a matrix node that a channel drives is
@@ -127,9 +143,9 @@ fn skin_name(s: &gltf::Skin) -> String {
 }
 
 /// A skin's joints and inverse bind matrices (identity where the file gives none).
-fn skin(input: &RigInput, s: &gltf::Skin) -> Result<Skin, SceneError> {
+fn skin(input: &RigInput, s: &gltf::Skin) -> Result<Skin, RigError> {
     let joints: Vec<usize> = s.joints().map(|j| j.index()).collect();
-    let err = |m: String| parse_error(input, format!("skin {}: {m}", skin_name(s)));
+    let err = |m: String| rig_error(format!("skin {}: {m}", skin_name(s)));
     let inverse_bind = match s.inverse_bind_matrices() {
         None => vec![Mat4::IDENTITY; joints.len()],
         Some(acc) => {
@@ -164,16 +180,12 @@ fn deformer(
     node: &gltf::Node,
     skin: Option<(usize, usize)>,
     repairs: &mut RigRepairs,
-) -> Result<Deformer, SceneError> {
-    let &(gm, gp) = input.mesh_primitive.get(mesh_index).ok_or_else(|| parse_error(input, format!("mesh {mesh_index} has no primitive")))?;
-    let gmesh = input.doc.meshes().nth(gm).ok_or_else(|| parse_error(input, format!("mesh {gm} is missing")))?;
-    let prim = gmesh.primitives().nth(gp).ok_or_else(|| parse_error(input, format!("mesh {gm} primitive {gp} is missing")))?;
-    let prim_err = |message: String| SceneError::Primitive {
-        path: input.path.to_path_buf(),
-        mesh: gmesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {gm}")),
-        primitive: gp,
-        message,
-    };
+) -> Result<Deformer, RigError> {
+    let &(gm, gp) = input.mesh_primitive.get(mesh_index).ok_or_else(|| rig_error(format!("mesh {mesh_index} has no primitive")))?;
+    let gmesh = input.doc.meshes().nth(gm).ok_or_else(|| rig_error(format!("mesh {gm} is missing")))?;
+    let prim = gmesh.primitives().nth(gp).ok_or_else(|| rig_error(format!("mesh {gm} primitive {gp} is missing")))?;
+    let prim_err =
+        |message: String| RigError::Primitive { mesh: gmesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {gm}")), primitive: gp, message };
     let n = mesh.vertices.len();
     let reader = prim.reader(|b| input.buffers.get(b.index()).map(|d| &d.0[..]));
     let mut targets = Vec::new();
@@ -283,13 +295,13 @@ where
 
 /// One clip: its channels read and checked (key times finite and increasing, outputs finite,
 /// output counts matching the keys).
-fn animation(input: &RigInput, a: &gltf::Animation, target_counts: &[usize], repairs: &mut RigRepairs) -> Result<Animation, SceneError> {
+fn animation(input: &RigInput, a: &gltf::Animation, target_counts: &[usize], repairs: &mut RigRepairs) -> Result<Animation, RigError> {
     use gltf::accessor::{DataType as T, Dimensions as D};
     use gltf::animation::util::ReadOutputs;
     let name = a.name().map(str::to_string).unwrap_or_else(|| format!("animation {}", a.index()));
     let mut channels = Vec::new();
     for (c, ch) in a.channels().enumerate() {
-        let err = |m: String| parse_error(input, format!("animation `{name}` channel {c}: {m}"));
+        let err = |m: String| rig_error(format!("animation `{name}` channel {c}: {m}"));
         let sampler = ch.sampler();
         let node = ch.target().node().index();
         let target = match ch.target().property() {

@@ -346,8 +346,21 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
     }
 
     let mut placed = walk_nodes(path, &gltf.document, &primitives_of_mesh, &mut report)?;
-    let rig_input = super::gltf_animation::RigInput { path, doc: &gltf.document, buffers: &buffers, mesh_primitive: &mesh_primitive };
-    let rig = super::gltf_animation::rig(&rig_input, &mut meshes, &mut placed.instances, &placed.instance_nodes, &mut report)?;
+    let rig_input = super::gltf_animation::RigInput { doc: &gltf.document, buffers: &buffers, mesh_primitive: &mesh_primitive };
+    let rig = match super::gltf_animation::rig(&rig_input, &mut meshes, &mut placed.instances, &placed.instance_nodes) {
+        Ok(Some((rig, repairs))) => {
+            for w in repairs.warnings() {
+                report.warn(format!("{}: {w}", path.display()));
+            }
+            report.rig_repairs = repairs;
+            Some(rig)
+        }
+        Ok(None) => None,
+        Err(super::gltf_animation::RigError::Rig(message)) => return Err(SceneError::Rig { path: path.to_path_buf(), message }),
+        Err(super::gltf_animation::RigError::Primitive { mesh, primitive, message }) => {
+            return Err(SceneError::Primitive { path: path.to_path_buf(), mesh, primitive, message })
+        }
+    };
     if placed.instances.is_empty() && meshes.is_empty() {
         return Err(SceneError::Empty { path: path.to_path_buf() });
     }

@@ -11,28 +11,18 @@ pub mod gltf_import;
 pub mod gpu;
 pub mod info;
 pub mod load;
+pub mod posing;
 pub mod procedural;
 pub mod topology;
 pub mod track;
+pub mod vertex;
 
-use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 pub use camera::Camera;
 pub use gltf_import::{ImportReport, LoadOptions, SceneError};
 pub use load::open;
-
-/// Vertex layout shared by every mesh: `@location(0)` position, `(1)` normal, `(2)` uv.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
-pub struct Vertex {
-    /// Object-space position.
-    pub position: [f32; 3],
-    /// Object-space unit normal.
-    pub normal: [f32; 3],
-    /// Texture coordinates.
-    pub uv: [f32; 2],
-}
+pub use vertex::Vertex;
 
 /// A triangle mesh in object space.
 #[derive(Debug, Clone, Default)]

@@ -1,0 +1,77 @@
+//! Posing a [`Scene`] from its rig ([`crate::scene::animation`]): instance transforms from the
+//! nodes' world matrices, and the deforming meshes morphed and skinned on the CPU
+//! ([`Scene::pose`]) or left to the executor's GPU deformation ([`Scene::pose_for_gpu`]).
+
+use super::animation::{Pose, PoseTime, Rig};
+use super::{Scene, Vertex};
+use glam::Mat4;
+
+impl Scene {
+    /// Poses the scene at `time` seconds of clip `clip` (none: the rest pose): instance
+    /// transforms from the nodes' world matrices, deforming meshes morphed and skinned on the
+    /// CPU. Nothing to do for a scene without a rig.
+    pub fn pose(&mut self, clip: Option<usize>, time: f32) {
+        let Some(rig) = self.rig.clone() else { return };
+        let pose = rig.pose(clip, time);
+        self.apply_pose(&rig, &pose, true);
+        self.posed = Some(PoseTime { clip, time, meshes_deformed: true });
+    }
+
+    /// Poses the instances only and leaves the deforming meshes' vertices as they are: an
+    /// executor deforms them on the GPU (skinning and morph targets, no per-vertex work on the
+    /// CPU); CPU consumers that need the vertices call [`Scene::pose`] on a copy
+    /// ([`Scene::with_meshes_posed`]).
+    pub fn pose_for_gpu(&mut self, clip: Option<usize>, time: f32) {
+        let Some(rig) = self.rig.clone() else { return };
+        let pose = rig.pose(clip, time);
+        self.apply_pose(&rig, &pose, false);
+        self.posed = Some(PoseTime { clip, time, meshes_deformed: rig.deformers.is_empty() });
+    }
+
+    /// This scene with its deforming meshes' vertices holding its pose: itself, or a copy posed
+    /// on the CPU when the pose was left to the GPU.
+    pub fn with_meshes_posed(&self) -> std::borrow::Cow<'_, Scene> {
+        match self.posed {
+            Some(PoseTime { clip, time, meshes_deformed: false }) => {
+                let mut copy = self.clone();
+                copy.pose(clip, time);
+                std::borrow::Cow::Owned(copy)
+            }
+            _ => std::borrow::Cow::Borrowed(self),
+        }
+    }
+
+    /// A key that changes whenever the deforming meshes' shape changes: their vertices' hash,
+    /// or the pose time when the GPU deforms them; `None` without deforming meshes.
+    pub fn deformation_key(&self) -> Option<u64> {
+        use crate::util::hash_words;
+        let deforming = self.deforming_meshes();
+        if deforming.is_empty() {
+            return None;
+        }
+        Some(match self.posed {
+            Some(PoseTime { clip, time, meshes_deformed: false }) => hash_words(clip.map_or(u64::MAX, |c| c as u64), &time.to_bits().to_le_bytes()),
+            _ => deforming.iter().fold(7, |h, &m| hash_words(h, bytemuck::cast_slice(&self.meshes[m].vertices))),
+        })
+    }
+
+    fn apply_pose(&mut self, rig: &Rig, pose: &Pose, deform: bool) {
+        for (inst, src) in self.instances.iter_mut().zip(&rig.instances) {
+            inst.transform = if src.skinned { Mat4::IDENTITY } else { pose.world[src.node] };
+        }
+        if deform {
+            use rayon::prelude::*;
+            let meshes: Vec<(usize, Vec<Vertex>)> = rig
+                .deformers
+                .par_iter()
+                .map(|d| {
+                    let (joints, weights) = pose.deform_inputs(rig, d);
+                    (d.mesh, d.deform(&joints, &weights))
+                })
+                .collect();
+            for (m, vertices) in meshes {
+                self.meshes[m].vertices = vertices;
+            }
+        }
+    }
+}
