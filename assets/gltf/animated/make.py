@@ -95,6 +95,26 @@ class Doc:
             f.write("\n")
 
 
+def look_at(eye, target):
+    """The rotation (x, y, z, w) of a glTF camera at `eye` looking at `target` (cameras look
+    down their -Z with +Y up)."""
+    f = [t - e for t, e in zip(target, eye)]
+    n = math.sqrt(sum(c * c for c in f))
+    b = [-c / n for c in f]  # the camera's +Z
+    r = [b[2], 0.0, -b[0]]  # up x back
+    n = math.sqrt(sum(c * c for c in r))
+    r = [c / n for c in r]
+    u = [b[1] * r[2] - b[2] * r[1], b[2] * r[0] - b[0] * r[2], b[0] * r[1] - b[1] * r[0]]
+    m = [[r[0], u[0], b[0]], [r[1], u[1], b[1]], [r[2], u[2], b[2]]]
+    w = math.sqrt(max(0.0, 1 + m[0][0] + m[1][1] + m[2][2])) / 2
+    return [(m[2][1] - m[1][2]) / (4 * w), (m[0][2] - m[2][0]) / (4 * w), (m[1][0] - m[0][1]) / (4 * w), w]
+
+
+def camera(doc, eye, target):
+    doc.j["cameras"] = [{"type": "perspective", "perspective": {"yfov": math.radians(45), "znear": 0.05, "zfar": 100}}]
+    doc.node(name="view", camera=0, translation=eye, rotation=look_at(eye, target))
+
+
 def ground(doc):
     s = 5.0
     p = [(-s, 0, -s), (s, 0, -s), (s, 0, s), (-s, 0, s)]
@@ -162,6 +182,7 @@ MOON_SCALE = ([0.3] * 3, [0.2] * 3, [-0.1] * 3, [0.6] * 3)  # v0, out-tangent 0,
 def spinner(t=None):
     doc = Doc()
     ground(doc)
+    camera(doc, [2.5, 4.0, 7.0], [0.8, 1.0, 0.0])
     p, n, i = box()
     m = doc.mesh("box", p, n, i, 1)
     moon_mesh = doc.mesh("moon", p, n, i, 2)
@@ -194,6 +215,7 @@ MORPH_WEIGHTS = [[0.0, 0.0], [1.0, 0.5], [0.0, 1.0]]
 def morph(t=None):
     doc = Doc()
     ground(doc)
+    camera(doc, [2.0, 2.2, 3.5], [0.2, 0.7, 0.0])
     p, n, i = box()
     up = [(0, 1.0 if q[1] > 0 else 0, 0) for q in p]
     out = [(0.5 if q[0] > 0 else 0, 0, 0) for q in p]
@@ -276,6 +298,7 @@ def rot_z(deg):
 def skinned(t=None):
     doc = Doc()
     ground(doc)
+    camera(doc, [1.8, 1.8, 3.6], [0.6, 1.0, 0.0])
     p, n, i, joints, weights = cylinder()
     if t is None:
         m = doc.mesh("cylinder", p, n, i, 1, joints=joints, skin_weights=weights)

@@ -1,7 +1,7 @@
 //! The animated benchmark scenes of `raygraph bench anim`: `organic-skinned`, the organic mesh
 //! subdivided three times (250,880 triangles) and skinned to two joints (the head nods and
 //! turns on its neck, the weights blended over its height), and `atrium-moving`, the atrium
-//! with 200 balls (1,024 triangles each) orbiting the courtyard at different heights, speeds
+//! with 200 balls (960 triangles each) orbiting the courtyard at different heights, speeds
 //! and directions while they spin. Both loop every 4 seconds.
 
 use super::super::animation::{Animation, Channel, ChannelTarget, Deformer, InstanceNode, Interpolation, Rig, RigNode, Skin, SkinWeights, Trs};
