@@ -339,3 +339,24 @@ fn gpu_deformation_matches_the_cpu_reference() {
         assert!(worst_p <= 4.0 * f32::EPSILON && worst_n <= 1e-5, "{name}: {worst_p} {worst_n}");
     }
 }
+
+/// A scene that does not move pays for none of this: no deformation pass, a vertex buffer
+/// neither rewritable nor writable by shaders beyond what the plan asks for, and after the
+/// first frame no acceleration-structure work at all; an animated file with only node motion
+/// makes no deformation either.
+#[test]
+fn a_static_scene_pays_nothing() {
+    let gpu = gpu();
+    for (name, mut scene) in [("default", raygraph::scene::builtin::default_scene()), ("spinner (nodes only)", animated("spinner"))] {
+        let mut exec = executor(&gpu, "graph/hybrid.ron", Some(Backend::Compute), &scene);
+        let vertices = exec.uploaded_scene().unwrap().vertices.as_ref().unwrap().usage();
+        assert!(!vertices.contains(wgpu::BufferUsages::COPY_DST), "{name}: {vertices:?}");
+        let reports: Vec<BuildReport> = (0..3)
+            .map(|_| {
+                scene.pose_for_gpu(Some(0), 0.5);
+                exec.render(&gpu, &camera(), &scene).unwrap().accel.unwrap()
+            })
+            .collect();
+        assert!(reports[1..].iter().all(|r| !r.built_anything() && r.deformed_meshes == 0), "{name}: {reports:?}");
+    }
+}
