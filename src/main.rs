@@ -287,8 +287,8 @@ enum BenchCommand {
         /// Frames per second of the clip's clock.
         #[arg(long, default_value_t = 60.0)]
         fps: f32,
-        /// The SAH growths at which the auto policy is run (comma-separated), besides always
-        /// refit and always rebuild [default: the cache's threshold].
+        /// The SAH growths at which the auto policy is run (comma-separated), besides the cost
+        /// policy, always refit and always rebuild [default: the cache's threshold].
         #[arg(long, value_delimiter = ',')]
         max_growth: Vec<f64>,
         #[arg(long)]
@@ -750,7 +750,7 @@ fn run(cli: Cli) -> Result<()> {
                     max_growth.iter().map(|&g| RefitPolicy::Auto { max_growth: g }).collect()
                 }
                 .into_iter()
-                .chain([RefitPolicy::AlwaysRefit, RefitPolicy::AlwaysRebuild])
+                .chain([RefitPolicy::Cost, RefitPolicy::AlwaysRefit, RefitPolicy::AlwaysRebuild])
                 .collect(),
                 root: PathBuf::from("."),
             };

@@ -195,7 +195,7 @@ fn bench_track_quick_plays_the_track_through_every_mode() {
 fn bench_anim_quick_compares_the_cache_policies() {
     let (header, rows) = quick_csv("anim");
     assert_eq!(header, ["scene", "policy", "frame", "pose_ms", "accel_gpu_ms", "accel_cpu_ms", "work", "sah_growth", "trace_ms", "rays", "grays_per_s"]);
-    assert_eq!(rows.len(), 2 * 3 * 24, "2 scenes x 3 policies x 24 frames");
+    assert_eq!(rows.len(), 2 * 4 * 24, "2 scenes x 4 policies x 24 frames");
     for scene in ["skinned_cylinder", "spinner"] {
         // (The first timed frame refits too where the warm-up's pose differs from frame 0's.)
         for (policy, refits) in [("refit until SAH x1.1", 23..=24), ("always refit", 23..=24), ("always rebuild", 0..=0)] {
@@ -203,6 +203,9 @@ fn bench_anim_quick_compares_the_cache_policies() {
             assert!(refits.contains(&sel.iter().filter(|r| r[6] == "refit").count()), "{scene}, {policy}: {sel:?}");
             assert!(sel.iter().all(|r| r[9].parse::<u64>().unwrap() > 0), "{scene}, {policy}: rays every frame");
         }
+        // The cost policy refits or rebuilds every frame that moved something.
+        let cost: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == scene && r[1] == "refit until it cost a rebuild").collect();
+        assert!(cost.iter().filter(|r| r[6] != "none").count() >= 23, "{scene}: {cost:?}");
     }
 }
 

@@ -19,7 +19,7 @@
 //! back-ends' opaque geometry flag).
 
 use super::bvh::{instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas};
-use super::deform::{DeformPipelines, RefitPolicy, SahProbe};
+use super::deform::{DeformPipelines, RebuildLedger, RefitPolicy, SahProbe};
 use super::gpu_build::{GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
 use super::gpu_records::{GpuRecordMaker, GpuRecords};
 use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel};
@@ -293,6 +293,8 @@ pub struct AccelCache {
     deform: Option<DeformPipelines>,
     probe: Option<SahProbe>,
     built_sah: Option<f64>,
+    /// What the refits have cost since the merged layout's last build ([`RefitPolicy::Cost`]).
+    ledger: RebuildLedger,
     /// The hash of the deforming meshes' positions in the refit's input (`None`: as built).
     gathered: Option<u64>,
     /// The deforming meshes' shape at the last update ([`Scene::deformation_key`]).
@@ -356,6 +358,7 @@ impl AccelCache {
             deform: None,
             probe: None,
             built_sah: None,
+            ledger: RebuildLedger::default(),
             gathered: None,
             deformed: None,
             unit_built_sah: Vec::new(),
@@ -446,6 +449,13 @@ impl AccelCache {
             Some(p) => p.read(device),
             None => Ok(()),
         }
+    }
+
+    /// The trace passes' GPU milliseconds of the frame that has just finished, for the ledger
+    /// of [`RefitPolicy::Cost`] (the executor calls this after each frame with timestamps).
+    pub fn note_trace_ms(&mut self, trace_ms: f64) {
+        let growth = self.sah_growth();
+        self.ledger.note_frame(trace_ms, growth);
     }
 
     /// The back-end the cache builds for.
@@ -541,7 +551,7 @@ impl AccelCache {
             _ => false,
         };
         let growth = self.sah_growth();
-        let refit = refittable && self.policy.refits(growth);
+        let refit = refittable && self.policy.refits(growth, &self.ledger);
         report.deformed_meshes = if deform_key != self.deformed { deforming.len() } else { 0 };
         report.sah_growth = growth;
         self.deformed = deform_key;
@@ -604,7 +614,8 @@ impl AccelCache {
         old_blases.resize_with(units.len(), Blas::default);
         let mut blases = old_blases;
         // A deforming mesh's BLAS (same triangles, moved vertices) is refitted on the CPU
-        // while the policy allows its SAH growth over its build's cost; others are built.
+        // while the policy allows its SAH growth over its build's cost (the cost policy keeps
+        // no ledger per BLAS: its SAH threshold decides); others are built.
         let deforming = scene.deforming_meshes();
         self.unit_built_sah.resize(units.len(), 0.0);
         let refitted: Vec<usize> = changed
@@ -616,7 +627,7 @@ impl AccelCache {
                 deforming.binary_search(&mesh).is_ok()
                     && !blas.is_empty()
                     && blas.triangle_count == scene.meshes[mesh].triangle_count()
-                    && self.policy.refits(growth)
+                    && self.policy.refits(growth, &RebuildLedger::default())
             })
             .collect();
         for &u in &refitted {
@@ -743,6 +754,7 @@ impl AccelCache {
             report.blas_sah = Some(built.sah_cost);
             report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
             self.built_sah = report.blas_sah;
+            self.ledger.note_build(report.blas_ms);
             return self.install_gpu_built(device, queue, encoder, scene, old, (built, records), change.meshes_hash, report);
         }
         let posed = scene.with_meshes_posed();
@@ -753,6 +765,7 @@ impl AccelCache {
         self.built_sah = report.blas_sah;
         let flat = merge(&mesh, &origin, blas);
         report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
+        self.ledger.note_build(report.blas_ms);
         self.install(device, queue, scene, old, None, &flat, report)?;
         if let State::Compute(c) = &mut self.state {
             c.refit = MergedRefit::new(device, scene, &flat, &c.buffers).map(|r| (Refit::Planned(r), change.meshes_hash));

@@ -36,6 +36,12 @@ pub enum RefitPolicy {
         /// The growth that triggers a rebuild.
         max_growth: f64,
     },
+    /// Refit until the trace time the refitted tree has cost beyond the rebuilt one (the trace
+    /// time of the first frame after the build times the SAH growth over it, summed over the
+    /// frames since) reaches what the last rebuild cost; then rebuild ([`RebuildLedger`]).
+    /// Without GPU timestamps the ledger has no trace time and `Auto` at
+    /// [`REBUILD_SAH_GROWTH`] decides.
+    Cost,
     /// Refit whenever the topology allows (the tree may degrade without bound).
     AlwaysRefit,
     /// Rebuild on every change.
@@ -49,10 +55,15 @@ impl Default for RefitPolicy {
 }
 
 impl RefitPolicy {
-    /// Whether a tree whose SAH cost has grown by `growth` (unknown: `None`) is refitted.
-    pub fn refits(&self, growth: Option<f64>) -> bool {
+    /// Whether a tree whose SAH cost has grown by `growth` (unknown: `None`) is refitted, with
+    /// `ledger` the costs since the last build.
+    pub fn refits(&self, growth: Option<f64>, ledger: &RebuildLedger) -> bool {
         match self {
             RefitPolicy::Auto { max_growth } => growth.is_none_or(|g| g <= *max_growth),
+            RefitPolicy::Cost => match ledger.owes_rebuild() {
+                Some(owes) => !owes,
+                None => RefitPolicy::default().refits(growth, ledger),
+            },
             RefitPolicy::AlwaysRefit => true,
             RefitPolicy::AlwaysRebuild => false,
         }
@@ -62,9 +73,46 @@ impl RefitPolicy {
     pub fn name(&self) -> String {
         match self {
             RefitPolicy::Auto { max_growth } => format!("refit until SAH x{max_growth}"),
+            RefitPolicy::Cost => "refit until it cost a rebuild".into(),
             RefitPolicy::AlwaysRefit => "always refit".into(),
             RefitPolicy::AlwaysRebuild => "always rebuild".into(),
         }
+    }
+}
+
+/// What a refitted tree has cost since its build, against what the build cost: the ledger
+/// of [`RefitPolicy::Cost`]. The extra trace time of a frame is estimated from the SAH growth
+/// (trace time follows it: BENCHMARKS.md, "Animation"), not from the frame's own trace time,
+/// which moves with the camera.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RebuildLedger {
+    /// Milliseconds the last build took (wall time, its GPU work waited for).
+    pub rebuild_ms: Option<f64>,
+    /// The trace passes' GPU milliseconds of the first frame after the build.
+    pub base_trace_ms: Option<f64>,
+    /// The estimated trace milliseconds lost to the refitted tree since the build.
+    pub regret_ms: f64,
+}
+
+impl RebuildLedger {
+    /// A build that took `ms` milliseconds: the ledger starts again.
+    pub fn note_build(&mut self, ms: f64) {
+        *self = RebuildLedger { rebuild_ms: Some(ms), base_trace_ms: None, regret_ms: 0.0 };
+    }
+
+    /// A frame that traced for `trace_ms` GPU milliseconds with a tree grown by `growth`.
+    pub fn note_frame(&mut self, trace_ms: f64, growth: Option<f64>) {
+        match (self.base_trace_ms, growth) {
+            (None, _) => self.base_trace_ms = Some(trace_ms),
+            (Some(base), Some(g)) => self.regret_ms += base * (g - 1.0).max(0.0),
+            (Some(_), None) => {}
+        }
+    }
+
+    /// Whether the refits have lost as much trace time as a rebuild costs (`None`: not known).
+    pub fn owes_rebuild(&self) -> Option<bool> {
+        let (rebuild, _) = (self.rebuild_ms?, self.base_trace_ms?);
+        Some(self.regret_ms >= rebuild)
     }
 }
 
@@ -214,5 +262,29 @@ impl SahProbe {
     /// The latest measured SAH cost.
     pub fn latest(&self) -> Option<f64> {
         self.latest
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cost_policy_rebuilds_once_the_refits_have_lost_a_rebuild() {
+        let mut ledger = RebuildLedger::default();
+        let policy = RefitPolicy::Cost;
+        // Unknown costs: the SAH threshold decides.
+        assert!(policy.refits(Some(1.05), &ledger) && !policy.refits(Some(1.2), &ledger));
+        ledger.note_build(3.0);
+        ledger.note_frame(20.0, Some(1.0)); // the first frame after the build: the base
+        assert_eq!(ledger.owes_rebuild(), Some(false));
+        ledger.note_frame(20.0, Some(1.05)); // 1 ms lost
+        ledger.note_frame(20.0, Some(1.05)); // 2
+        assert!(policy.refits(Some(1.05), &ledger));
+        ledger.note_frame(35.0, Some(1.05)); // 3: the frame's own trace time plays no part
+        assert!((ledger.regret_ms - 3.0).abs() < 1e-9, "{}", ledger.regret_ms);
+        assert!(!policy.refits(Some(1.05), &ledger), "3 ms lost: a rebuild's worth");
+        ledger.note_build(3.0);
+        assert!(policy.refits(Some(1.0), &ledger) || ledger.owes_rebuild().is_none());
     }
 }

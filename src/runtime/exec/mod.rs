@@ -327,6 +327,10 @@ impl Executor {
             cache.read_probe(&gpu.device)?;
         }
         let timings = self.frame_timings(gpu, start, cpu_ms, accel_report)?;
+        if let (Some(cache), Some(gpu_ms)) = (self.accel.as_mut(), timings.gpu_ms.as_ref()) {
+            let trace_ms: f64 = self.plan.passes.iter().zip(gpu_ms).filter(|(p, _)| p.kind == PassKind::Trace).map(|(_, ms)| ms).sum();
+            cache.note_trace_ms(trace_ms);
+        }
         self.frame_index += 1;
         Ok(timings)
     }
