@@ -56,7 +56,7 @@ enum Surface {
 }
 
 fn checker_alpha() -> TextureImage {
-    let rgba = (0..64).flat_map(|i| [255, 255, 255, if (i % 8 + i / 8) % 2 == 0 { 255 } else { 0 }]).collect();
+    let rgba = (0..64).flat_map(|i| [255, 255, 255, if (i % 8 + i / 8) % 2 == 0 { 255 } else { 0 }]).collect::<Vec<u8>>().into();
     TextureImage { name: "alpha checker".into(), width: 8, height: 8, rgba }
 }
 
@@ -238,7 +238,7 @@ fn gpu() -> Gpu {
 fn stacked_scene() -> Scene {
     let mut s = scene();
     let mut inverted = checker_alpha();
-    for a in inverted.rgba.iter_mut().skip(3).step_by(4) {
+    for a in std::sync::Arc::make_mut(&mut inverted.rgba).iter_mut().skip(3).step_by(4) {
         *a = 255 - *a;
     }
     s.textures.push(inverted);

@@ -534,7 +534,7 @@ fn the_occlusion_texture_scales_the_ambient_term_in_every_mode() {
         let mut s = scene(vec![directional(Vec3::NEG_Y, 0.0)], vec![]);
         s.light.ambient = ambient;
         if with_texture {
-            s.textures.push(raygraph::scene::TextureImage { name: "black".into(), width: 1, height: 1, rgba: vec![0, 0, 0, 255] });
+            s.textures.push(raygraph::scene::TextureImage { name: "black".into(), width: 1, height: 1, rgba: vec![0, 0, 0, 255].into() });
             s.materials[0].occlusion_texture = Some(0);
             s.materials[0].occlusion_strength = 0.5;
         }

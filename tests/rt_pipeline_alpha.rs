@@ -44,7 +44,7 @@ fn alpha_scene() -> Scene {
     }
     let mut scene = raygraph::scene::builtin::default_scene();
     scene.name = "alpha quads".into();
-    scene.textures = vec![TextureImage { name: "checker alpha".into(), width: CELLS, height: CELLS, rgba }];
+    scene.textures = vec![TextureImage { name: "checker alpha".into(), width: CELLS, height: CELLS, rgba: rgba.into() }];
     let mut cutout = Material::diffuse("cutout", [1.0; 4], Some(0));
     cutout.alpha_mode = AlphaMode::Mask(0.5);
     scene.materials = vec![cutout, Material::diffuse("opaque", [1.0; 4], None)];

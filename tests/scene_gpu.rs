@@ -140,7 +140,7 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     let gpu = gpu();
     let limit = gpu.device.limits().max_texture_array_layers;
     let mut scene: Scene = builtin::default_scene();
-    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4] };
+    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
     scene.textures = vec![tiny; limit as usize + 5];
     let usage = raygraph::scene::gpu::SceneUsage { textures: true, ..Default::default() };
     let err = match GpuScene::upload(&gpu.device, &gpu.queue, &scene, usage) {

@@ -81,7 +81,7 @@ pub fn checker(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]) -> Tex
             rgba.extend_from_slice(&[c[0], c[1], c[2], 255]);
         }
     }
-    TextureImage { name: name.into(), width: size, height: size, rgba }
+    TextureImage { name: name.into(), width: size, height: size, rgba: rgba.into() }
 }
 
 /// A brick pattern texture.
@@ -102,7 +102,7 @@ pub fn bricks(name: &str, size: u32) -> TextureImage {
             rgba.extend_from_slice(&[c[0], c[1], c[2], 255]);
         }
     }
-    TextureImage { name: name.into(), width: size, height: size, rgba }
+    TextureImage { name: name.into(), width: size, height: size, rgba: rgba.into() }
 }
 
 /// The default scene: a checker floor, a brick cube, two spheres.

@@ -79,7 +79,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     let mut textures = Vec::new();
     for t in &scene.textures {
         let img =
-            image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
+            image::RgbaImage::from_raw(t.width, t.height, t.rgba.to_vec()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
         let mut png = Vec::new();
         img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
         let view = w.view(&mut root, buffer, &png, None);

@@ -969,7 +969,7 @@ fn to_rgba8(name: &str, data: &gltf::image::Data) -> Result<TextureImage, String
         };
         rgba.extend_from_slice(&c);
     }
-    Ok(TextureImage { name: name.into(), width: w, height: h, rgba })
+    Ok(TextureImage { name: name.into(), width: w, height: h, rgba: rgba.into() })
 }
 
 /// Area-weighted vertex normals.

@@ -413,11 +413,12 @@ fn storage_records<T: bytemuck::Pod>(
 
 /// The texture as an image; malformed pixel data becomes the magenta fallback, never a panic.
 fn to_image(img: &super::TextureImage) -> image::RgbaImage {
-    match image::RgbaImage::from_raw(img.width, img.height, img.rgba.clone()) {
+    match image::RgbaImage::from_raw(img.width, img.height, img.rgba.to_vec()) {
         Some(i) if i.width() > 0 && i.height() > 0 => i,
         _ => {
             let fb = super::gltf_import::fallback_texture(&img.name);
-            image::RgbaImage::from_raw(fb.width, fb.height, fb.rgba).unwrap_or_else(|| image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 0, 255, 255])))
+            image::RgbaImage::from_raw(fb.width, fb.height, fb.rgba.to_vec())
+                .unwrap_or_else(|| image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 0, 255, 255])))
         }
     }
 }

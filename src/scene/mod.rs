@@ -131,8 +131,9 @@ pub struct TextureImage {
     pub width: u32,
     /// Height in texels.
     pub height: u32,
-    /// `width * height` RGBA8 texels, row by row.
-    pub rgba: Vec<u8>,
+    /// `width * height` RGBA8 texels, row by row (shared: a scene's copies, such as one posed
+    /// on the CPU, do not copy its images).
+    pub rgba: std::sync::Arc<Vec<u8>>,
 }
 
 /// A directional light.

@@ -29,7 +29,7 @@ impl Scene {
     }
 
     /// This scene with its deforming meshes' vertices holding its pose: itself, or a copy posed
-    /// on the CPU when the pose was left to the GPU.
+    /// on the CPU when the pose was left to the GPU (its images shared, not copied).
     pub fn with_meshes_posed(&self) -> std::borrow::Cow<'_, Scene> {
         match self.posed {
             Some(PoseTime { clip, time, meshes_deformed: false }) => {

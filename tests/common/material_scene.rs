@@ -15,7 +15,7 @@ fn texture(name: &str, size: u32, f: impl Fn(f32, f32) -> [u8; 4]) -> TextureIma
             rgba.extend_from_slice(&f((x as f32 + 0.5) / size as f32, (y as f32 + 0.5) / size as f32));
         }
     }
-    TextureImage { name: name.into(), width: size, height: size, rgba }
+    TextureImage { name: name.into(), width: size, height: size, rgba: rgba.into() }
 }
 
 fn constant(name: &str, texel: [u8; 4]) -> TextureImage {

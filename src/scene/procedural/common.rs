@@ -451,7 +451,7 @@ pub(crate) fn image(name: &str, size: u32, mut f: impl FnMut(f32, f32) -> Rgb) -
             rgba.extend_from_slice(&[c.x as u8, c.y as u8, c.z as u8, 255]);
         }
     }
-    TextureImage { name: name.into(), width: size, height: size, rgba }
+    TextureImage { name: name.into(), width: size, height: size, rgba: rgba.into() }
 }
 
 /// Bricks or ashlar blocks: `rows` courses of `cols` blocks, running bond, mortar lines.
