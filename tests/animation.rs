@@ -295,6 +295,20 @@ fn every_back_end_agrees_with_the_f64_reference_after_100_refit_frames() {
     }
 }
 
+/// The skinned cylinder with a morph target too (every vertex displaced along x by up to 0.1,
+/// weight 0.7 from its node): a mesh whose frame data holds both joint matrices and weights.
+fn skinned_and_morphed() -> Scene {
+    use raygraph::scene::animation::MorphTarget;
+    let mut scene = animated("skinned_cylinder");
+    let mut rig = (**scene.rig.as_ref().unwrap()).clone();
+    let deformer = &mut rig.deformers[0];
+    let positions = deformer.rest.iter().map(|v| Vec3::new(0.1 * v.position[1] / 2.0, 0.0, 0.0)).collect();
+    deformer.targets.push(MorphTarget { positions, normals: None });
+    rig.nodes[deformer.node].weights = vec![0.7];
+    scene.rig = Some(std::sync::Arc::new(rig));
+    scene
+}
+
 /// The GPU deformation (`shaders/anim/deform.wgsl`) against the CPU's (`Deformer::deform`):
 /// skinned and morphed vertices, positions and normals, at several times. Tolerance: 4 ulps of
 /// the largest coordinate for positions, 1e-5 for unit normals (the GPU may fuse the
@@ -303,8 +317,8 @@ fn every_back_end_agrees_with_the_f64_reference_after_100_refit_frames() {
 fn gpu_deformation_matches_the_cpu_reference() {
     use raygraph::accel::gpu_build::read_bytes;
     let gpu = gpu();
-    for name in ["skinned_cylinder", "morph"] {
-        let mut scene = animated(name);
+    for name in ["skinned_cylinder", "morph", "skinned and morphed"] {
+        let mut scene = if name == "skinned and morphed" { skinned_and_morphed() } else { animated(name) };
         let mut exec = executor(&gpu, "graph/hybrid.ron", None, &scene);
         let (mut worst_p, mut worst_n) = (0.0f32, 0.0f32);
         for time in [0.2f32, 0.7, 1.45] {
