@@ -204,10 +204,12 @@ pub fn fallback_texture(name: &str) -> TextureImage {
     super::builtin::checker(&format!("missing: {name}"), 64, 8, [255, 0, 255], [0, 0, 0])
 }
 
-/// `gltf::Gltf::from_slice` with two checks first: every extension the file requires is one
-/// raygraph reads (an error naming them otherwise); and every accessor a primitive names
-/// exists (gltf-json 1.4's validator reads the accessor a primitive's `POSITION` names without
-/// a bounds check, so a file naming a missing accessor would panic inside it).
+/// `gltf::Gltf::from_slice` with three checks first: every extension the file requires is one
+/// raygraph reads (an error naming them otherwise); every accessor a primitive names exists
+/// (gltf-json 1.4's validator reads the accessor a primitive's `POSITION` names without a
+/// bounds check, so a file naming a missing accessor would panic inside it); and every
+/// animation channel targets a node that exists through a path glTF defines (unvalidated by
+/// gltf-json, unwrapped by the `gltf` crate).
 fn parse_and_validate(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, SceneError> {
     use gltf::json::validation::Validate;
     let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
@@ -235,6 +237,19 @@ fn parse_and_validate(path: &Path, bytes: &[u8]) -> Result<gltf::Gltf, SceneErro
                         root.accessors.len()
                     )));
                 }
+            }
+        }
+    }
+    // gltf-json 1.4 does not validate an animation channel's target (its node index and path),
+    // and the `gltf` crate's accessors for them panic on a bad one.
+    for (a, anim) in root.animations.iter().enumerate() {
+        for (c, channel) in anim.channels.iter().enumerate() {
+            let at = format!("animations[{a}].channels[{c}].target");
+            if channel.target.node.value() >= root.nodes.len() {
+                return Err(parse_err(format!("{at}.node: names node {}, but the file has {} nodes", channel.target.node.value(), root.nodes.len())));
+            }
+            if matches!(channel.target.path, gltf::json::validation::Checked::Invalid) {
+                return Err(parse_err(format!("{at}.path: not one of translation, rotation, scale, weights")));
             }
         }
     }
