@@ -545,7 +545,6 @@ impl AccelCache {
             hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
             bytemuck::cast_slice(&tested_words),
         );
-        let deformed_hash = deform_key;
         let refittable = match &self.state {
             State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
             _ => false,
@@ -562,7 +561,7 @@ impl AccelCache {
         match self.backend {
             Backend::Compute if self.merge => {
                 report.rebuilt_for_quality = refittable && !refit;
-                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash, refit, gpu_deformed };
+                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash: deform_key, refit, gpu_deformed };
                 self.update_compute_merged(device, queue, encoder, scene, change, &mut report)?
             }
             Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,

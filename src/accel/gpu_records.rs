@@ -65,8 +65,8 @@ pub struct GpuRecordMaker {
     meshes: Option<MeshData>,
 }
 
-/// A mesh's positions as `vec4<f32>`.
-fn mesh_vertices(mesh: &Mesh) -> Vec<[f32; 4]> {
+/// A mesh's positions as `vec4<f32>` (also the layout of the executor's deformed positions).
+pub(crate) fn mesh_vertices(mesh: &Mesh) -> Vec<[f32; 4]> {
     mesh.vertices.iter().map(|v| [v.position[0], v.position[1], v.position[2], 0.0]).collect()
 }
 

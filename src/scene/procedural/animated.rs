@@ -112,7 +112,7 @@ pub fn atrium_moving(seed: u64) -> Scene {
         .enumerate()
         .map(|(i, inst)| {
             let (s, r, t) = inst.transform.to_scale_rotation_translation();
-            RigNode { fixed: Some(inst.transform), ..rest_node(&format!("atrium {i}"), None, t) }.with_rest(Trs { translation: t, rotation: r, scale: s })
+            RigNode { rest: Trs { translation: t, rotation: r, scale: s }, fixed: Some(inst.transform), ..rest_node(&format!("atrium {i}"), None, t) }
         })
         .collect();
     let ball = scene.meshes.len();
@@ -166,10 +166,4 @@ pub fn atrium_moving(seed: u64) -> Scene {
     scene.rig = Some(Arc::new(rig));
     scene.pose(Some(0), 0.0);
     scene
-}
-
-impl RigNode {
-    fn with_rest(self, rest: Trs) -> Self {
-        RigNode { rest, ..self }
-    }
 }
