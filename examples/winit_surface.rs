@@ -1,7 +1,7 @@
 //! Renders a built-in graph into a window the program owns: the program opens the winit
 //! window, the wgpu instance, surface, adapter and device itself, hands the device to raygraph
 //! (`Gpu::from_wgpu`), renders a frame with an `Executor` on every redraw, copies the graph's
-//! output into the window's surface texture with a small blit pass, and presents. A resize
+//! output into the window's surface texture (`runtime::present::Presenter`), and presents. A resize
 //! compiles the graph again at the new size.
 //!
 //! `cargo run --example winit_surface -- [raster|hybrid|full-rt] [--frames N] [--resize WxH]`
@@ -11,6 +11,7 @@
 
 use anyhow::{bail, Context};
 use raygraph::graph::{self, Mode, Project};
+use raygraph::runtime::present::Presenter;
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::{LoadOptions, Scene};
 use std::sync::Arc;
@@ -150,16 +151,9 @@ struct WindowRenderer {
     gpu: Gpu,
     mode: Mode,
     scene: Scene,
-    frame: Frame,
-    blit: wgpu::RenderPipeline,
-}
-
-/// What depends on the window's size: the executor and the copy of its output that the blit
-/// pass samples (the output itself is a storage texture, not bindable for sampling).
-struct Frame {
+    /// The executor, compiled for the window's size.
     exec: Executor,
-    copy: wgpu::Texture,
-    bind_group: wgpu::BindGroup,
+    presenter: Presenter,
 }
 
 impl WindowRenderer {
@@ -181,19 +175,19 @@ impl WindowRenderer {
         let gpu = Gpu::from_wgpu(instance, adapter, device, queue, None)?;
         println!("adapter: {}", gpu.describe());
 
-        // The graph's output holds display-encoded (sRGB) values: the blit writes them through
+        // The graph's output holds display-encoded (sRGB) values: the presenter writes them through
         // a view without the sRGB conversion.
         let size = window.inner_size();
         let mut config =
             surface.get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1)).context("the adapter cannot present to this window")?;
         config.view_formats = vec![config.format.remove_srgb_suffix()];
         surface.configure(&gpu.device, &config);
-        let blit = blit_pipeline(&gpu.device, config.format.remove_srgb_suffix());
+        let presenter = Presenter::new(&gpu, config.format);
 
         let textures = graph_plan(&gpu, mode, (config.width, config.height))?.scene_usage().textures;
         let (scene, _report) = raygraph::scene::open("default", &LoadOptions { textures, ..LoadOptions::default() })?;
-        let frame = Frame::new(&gpu, mode, &scene, &blit, (config.width, config.height))?;
-        Ok(WindowRenderer { window, surface, config, gpu, mode, scene, frame, blit })
+        let exec = Executor::new(&gpu, graph_plan(&gpu, mode, (config.width, config.height))?, &scene)?;
+        Ok(WindowRenderer { window, surface, config, gpu, mode, scene, exec, presenter })
     }
 
     /// A new size: the surface is configured again and the graph compiled at that size.
@@ -204,7 +198,7 @@ impl WindowRenderer {
         }
         (self.config.width, self.config.height) = size;
         self.surface.configure(&self.gpu.device, &self.config);
-        self.frame = Frame::new(&self.gpu, self.mode, &self.scene, &self.blit, size)?;
+        self.exec = Executor::new(&self.gpu, graph_plan(&self.gpu, self.mode, size)?, &self.scene)?;
         Ok(())
     }
 
@@ -226,97 +220,15 @@ impl WindowRenderer {
             }
         };
         let gpu = &self.gpu;
-        self.frame.exec.render(gpu, &self.scene.camera, &self.scene)?;
-        let output = self.frame.exec.texture(self.frame.exec.plan().output()).context("the graph's output is not a texture")?;
-        let target =
-            surface_texture.texture.create_view(&wgpu::TextureViewDescriptor { format: Some(self.config.format.remove_srgb_suffix()), ..Default::default() });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });
-        encoder.copy_texture_to_texture(output.as_image_copy(), self.frame.copy.as_image_copy(), self.frame.copy.size());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("blit"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.blit);
-            pass.set_bind_group(0, &self.frame.bind_group, &[]);
-            pass.draw(0..3, 0..1);
-        }
-        gpu.queue.submit([encoder.finish()]);
+        self.exec.render(gpu, &self.scene.camera, &self.scene)?;
+        self.presenter.present(gpu, &self.exec, &surface_texture.texture)?;
         gpu.queue.present(surface_texture);
         Ok(true)
     }
 }
 
-impl Frame {
-    fn new(gpu: &Gpu, mode: Mode, scene: &Scene, blit: &wgpu::RenderPipeline, size: (u32, u32)) -> anyhow::Result<Frame> {
-        let exec = Executor::new(gpu, graph_plan(gpu, mode, size)?, scene)?;
-        let copy = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("graph output copy"),
-            size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("blit"),
-            layout: &blit.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&copy.create_view(&Default::default())) }],
-        });
-        Ok(Frame { exec, copy, bind_group })
-    }
-}
-
-/// `mode`'s built-in graph compiled for `gpu` at `size`.
+/// The plan of `mode`'s built-in graph at `size`.
 fn graph_plan(gpu: &Gpu, mode: Mode, size: (u32, u32)) -> anyhow::Result<graph::Plan> {
     let graph_file = std::path::Path::new(mode.graph());
     Ok(graph::compile::compile_with(graph_file, &Project::beside_graph(graph_file), size, &gpu.compile_options())?)
-}
-
-/// A full-window triangle that copies the texture at binding 0 texel for texel.
-const BLIT_WGSL: &str = r#"
-@group(0) @binding(0) var source: texture_2d<f32>;
-
-@vertex
-fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
-}
-
-@fragment
-fn fs(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
-    let texel = min(vec2<u32>(position.xy), textureDimensions(source) - 1u);
-    return vec4<f32>(textureLoad(source, texel, 0).rgb, 1.0);
-}
-"#;
-
-fn blit_pipeline(device: &wgpu::Device, format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("blit"), source: wgpu::ShaderSource::Wgsl(BLIT_WGSL.into()) });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("blit"),
-        layout: None,
-        vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[] },
-        primitive: Default::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs"),
-            compilation_options: Default::default(),
-            targets: &[Some(format.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
 }

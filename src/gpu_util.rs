@@ -26,6 +26,7 @@ pub enum ShaderOrigin {
     BuiltInLayer,
     /// One of raygraph's own traversal kernels, a fixed part of the program rather than of a
     /// project (the batch tracer of tests and benches): no loop bounding, as for trace passes.
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     BuiltInTraversal,
 }
 
@@ -88,7 +89,65 @@ pub fn storage_with_readback(device: &wgpu::Device, label: &str, size: u64) -> (
     (storage_buffer(device, label, size), readback_buffer(device, &format!("{label} readback"), size))
 }
 
+/// Maps a buffer slice for reading; the future resolves once the map is done. Native: waits
+/// for it at once ([`map_read`]). In a browser, which cannot block: awaits the map's callback,
+/// which the browser runs from its event loop.
+pub async fn map_read_async<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        map_read(device, slice)
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        let _ = device;
+        web_map::mapped(slice).await
+    }
+}
+
+/// The browser's side of [`map_read_async`]: a future over the map's callback.
+#[cfg(target_arch = "wasm32")]
+mod web_map {
+    use crate::error::RuntimeError;
+    use std::cell::RefCell;
+    use std::rc::Rc;
+    use std::task::{Poll, Waker};
+
+    #[derive(Default)]
+    struct MapState {
+        result: Option<Result<(), wgpu::BufferAsyncError>>,
+        waker: Option<Waker>,
+    }
+
+    pub(super) async fn mapped<'a>(slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
+        let state = Rc::new(RefCell::new(MapState::default()));
+        let callback_state = state.clone();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let mut s = callback_state.borrow_mut();
+            s.result = Some(r);
+            if let Some(w) = s.waker.take() {
+                w.wake();
+            }
+        });
+        let result = std::future::poll_fn(|cx| {
+            let mut s = state.borrow_mut();
+            match s.result.take() {
+                Some(r) => Poll::Ready(r),
+                None => {
+                    s.waker = Some(cx.waker().clone());
+                    Poll::Pending
+                }
+            }
+        })
+        .await;
+        match result {
+            Ok(()) => slice.get_mapped_range().map_err(|e| RuntimeError::Gpu(format!("buffer map failed: {e}"))),
+            Err(e) => Err(RuntimeError::Gpu(format!("buffer map failed: {e}"))),
+        }
+    }
+}
+
 /// Maps a buffer slice for reading and waits for it.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn map_read<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {

@@ -29,17 +29,19 @@
 
 override TRACE_ALPHA_TEST: bool = true;
 
-@group(2) @binding(15) var<storage, read> accel_alpha: array<vec4<u32>>;
+// `accel_alpha` and its reader trace_alpha_word (in the compute back-end's packed buffer on
+// devices with few storage buffers per stage: trace/alpha_words_packed.wgsl).
+//#include "trace/alpha_words.wgsl"
 
 const TRACE_ALPHA_OPAQUE: u32 = 0xffffffffu;
 
 fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
-    let rec = accel_alpha[instance];
+    let rec = trace_alpha_word(instance);
     if rec.x == TRACE_ALPHA_OPAQUE {
         return true;
     }
-    let a = bitcast<vec4<f32>>(accel_alpha[rec.x + 2u * primitive]);
-    let b = bitcast<vec4<f32>>(accel_alpha[rec.x + 2u * primitive + 1u]);
+    let a = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive));
+    let b = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive + 1u));
     let uv = a.xy * (1.0 - bary.x - bary.y) + a.zw * bary.x + b.xy * bary.y;
     return alpha_kept(rec.y, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv);
 }

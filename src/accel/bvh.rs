@@ -51,7 +51,8 @@
 use crate::scene::{Mesh, Scene};
 use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 /// SAH cost of visiting an interior node (testing its two children's boxes).
 pub const TRAVERSAL_COST: f32 = 1.0;

@@ -23,14 +23,15 @@ use super::deform::{DeformPipelines, RebuildLedger, RefitPolicy, SahProbe};
 use super::gpu_build::{GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
 use super::gpu_records::{GpuRecordMaker, GpuRecords};
 use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel};
+use super::packed::PackedArrays;
 use super::refit::{MergedRefit, Refit, TreeRefit, TreeRefitPipelines};
 use crate::backend::Backend;
 use crate::error::RuntimeError;
-use crate::gpu_util::{map_read, storage_with_readback};
+use crate::gpu_util::{map_read_async, storage_with_readback};
 use crate::scene::{Mesh, Scene};
 use crate::util::hash_words;
 use rayon::prelude::*;
-use std::time::Instant;
+use web_time::Instant;
 
 /// Slots of the `accel_stats` buffer (see `shaders/trace/common.wgsl`).
 pub const STAT_SLOTS: usize = 4;
@@ -282,6 +283,9 @@ pub struct AccelCache {
     tree_refit: Option<TreeRefitPipelines>,
     /// The rt-pipeline back-end's build command buffer, until taken ([`AccelCache::take_pending`]).
     pending: Option<wgpu::CommandBuffer>,
+    /// The compute back-end's arrays and alpha words copied into one buffer after every
+    /// update, on devices with few storage buffers per stage ([`AccelCache::pack_arrays`]).
+    packed: Option<PackedArrays>,
     /// `accel_alpha` and the words last written to it.
     alpha: wgpu::Buffer,
     alpha_words: Vec<[u32; 4]>,
@@ -352,6 +356,7 @@ impl AccelCache {
             record_maker: None,
             tree_refit: None,
             pending: None,
+            packed: None,
             alpha: storage(device, "accel alpha", 16),
             alpha_words: Vec::new(),
             policy: RefitPolicy::default(),
@@ -444,9 +449,9 @@ impl AccelCache {
 
     /// Reads the SAH measurement of the frame that has just finished (the executor calls this
     /// after each frame).
-    pub fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
+    pub async fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
         match &mut self.probe {
-            Some(p) => p.read(device),
+            Some(p) => p.read(device).await,
             None => Ok(()),
         }
     }
@@ -1052,6 +1057,24 @@ impl AccelCache {
         }
     }
 
+    /// Binds the compute back-end's arrays as one packed buffer (`accel_packed`) from now on,
+    /// for a device with few storage buffers per stage ([`super::packed`]); the executor then
+    /// calls [`AccelCache::record_packing`] after every update.
+    pub fn pack_arrays(&mut self) {
+        self.packed.get_or_insert_with(PackedArrays::default);
+    }
+
+    /// Records the copy of the compute back-end's arrays into the packed buffer (after
+    /// [`AccelCache::update`], before any trace); nothing without [`AccelCache::pack_arrays`]
+    /// or on another back-end. A larger packed buffer starts a new generation.
+    pub fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) {
+        let (Some(packed), State::Compute(c)) = (self.packed.as_mut(), &self.state) else { return };
+        let [tlas, instances, blas, triangles] = &c.buffers;
+        if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha]) {
+            self.generation += 1;
+        }
+    }
+
     /// The buffer of ray counters and the byte range of trace pass number `window`'s counters.
     pub fn stats_window(&self, window: u32) -> (&wgpu::Buffer, u64, u64) {
         (&self.stats, self.stats_stride * window.min(self.stats_windows - 1) as u64, (STAT_SLOTS * 4) as u64)
@@ -1073,6 +1096,7 @@ impl AccelCache {
             (State::Compute(c), "accel_instances") => Some(c.buffers[1].as_entire_binding()),
             (State::Compute(c), "accel_blas_nodes") => Some(c.buffers[2].as_entire_binding()),
             (State::Compute(c), "accel_triangles") => Some(c.buffers[3].as_entire_binding()),
+            (State::Compute(_), "accel_packed") => self.packed.as_ref().and_then(PackedArrays::buffer).map(wgpu::Buffer::as_entire_binding),
             (State::RayQuery(r), "accel_tlas") => Some(r.tlas.as_binding()),
             (_, "accel_alpha") => Some(self.alpha.as_entire_binding()),
             _ => None,
@@ -1090,8 +1114,8 @@ impl AccelCache {
     }
 
     /// The ray counts of each trace pass in the last submitted frame (after it completed).
-    pub fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
-        let data = map_read(device, self.stats_readback.slice(..))?;
+    pub async fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
+        let data = map_read_async(device, self.stats_readback.slice(..)).await?;
         let words: &[u32] = bytemuck::cast_slice(&data);
         let per = (self.stats_stride / 4) as usize;
         let stats = (0..self.stats_windows as usize)

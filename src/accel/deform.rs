@@ -10,7 +10,7 @@
 //! scene that does not change never refits and pays for none of this.
 
 use crate::error::RuntimeError;
-use crate::gpu_util::{compute_pipeline, map_read, readback_buffer, storage_buffer};
+use crate::gpu_util::{compute_pipeline, map_read_async, readback_buffer, storage_buffer};
 use wgpu::util::DeviceExt;
 
 /// The gather kernel's WGSL.
@@ -239,12 +239,12 @@ impl SahProbe {
     }
 
     /// Reads the measurement recorded, once its frame has finished (nothing to do without one).
-    pub fn read(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
+    pub async fn read(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
         if !std::mem::take(&mut self.pending) {
             return Ok(());
         }
         let cost = {
-            let view = map_read(device, self.readback.slice(..))?;
+            let view = map_read_async(device, self.readback.slice(..)).await?;
             let words: &[f32] = bytemuck::cast_slice(&view);
             let (sums, root) = words.split_at(words.len() - 1);
             let total: f64 = sums.iter().map(|&s| s as f64).sum();

@@ -33,7 +33,10 @@ pub mod deform;
 pub mod gpu_build;
 pub mod gpu_records;
 pub mod layout;
+pub mod packed;
 pub mod reference;
 pub mod reference_render;
 pub mod refit;
+// Vulkan through wgpu-hal; on the web a stand-in whose constructors fail.
+#[cfg_attr(target_arch = "wasm32", path = "rt_pipeline/unavailable.rs")]
 pub mod rt_pipeline;

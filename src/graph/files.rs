@@ -59,7 +59,8 @@ pub fn read(path: &Path) -> std::io::Result<FileText> {
             let builtin = builtin_of(path).is_some_and(|(_, copy)| copy == text);
             Ok(FileText { path: path.to_path_buf(), text, builtin })
         }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => match builtin_of(path) {
+        // A browser has no file system (`Unsupported`): every file is the built-in copy.
+        Err(e) if matches!(e.kind(), std::io::ErrorKind::NotFound | std::io::ErrorKind::Unsupported) => match builtin_of(path) {
             Some((name, text)) => Ok(FileText { path: Path::new(BUILTIN_PREFIX).join(name), text: text.to_string(), builtin: true }),
             None => Err(e),
         },

@@ -146,7 +146,7 @@ impl BatchTracer {
         let info =
             reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
 
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         let mut cache = AccelCache::new(device, backend, settings, 1);
         let mut encoder = device.create_command_encoder(&Default::default());
         let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
@@ -385,9 +385,9 @@ impl BatchTracer {
         let out: Vec<RawResult> = bytemuck::cast_slice::<u8, RawResult>(&data)[..count].to_vec();
         drop(data);
         readback.unmap();
-        let stats = self.cache.read_stats(device)?[0];
+        let stats = pollster::block_on(self.cache.read_stats(device))?[0];
         let ms = match &self.timer {
-            Some(t) => t.read(device, 1)?.first().copied(),
+            Some(t) => pollster::block_on(t.read(device, 1))?.first().copied(),
             None => None,
         };
         Ok((out, stats, ms))

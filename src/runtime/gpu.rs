@@ -42,6 +42,11 @@ pub struct Gpu {
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
     /// one texture per element instead of as one resampled texture array.
     pub texture_binding_arrays: bool,
+    /// The compute back-end's arrays are bound as one packed storage buffer
+    /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
+    /// per stage than a trace pass with separate arrays binds ([`SEPARATE_ARRAYS_STORAGE_BUFFERS`];
+    /// a browser's WebGPU allows 8 by default).
+    pub packed_accel_arrays: bool,
     /// The traversal back-end chosen at start-up, and why.
     pub selection: Selection,
     /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
@@ -75,6 +80,13 @@ struct Faults {
 
 /// Features that scene texture binding arrays need.
 const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgpu::Features::SAMPLED_TEXTURE_AND_STORAGE_BUFFER_ARRAY_NON_UNIFORM_INDEXING);
+/// Storage buffers per shader stage that the built-in trace passes bind with the compute
+/// back-end's arrays separate: six of the scene's (instances, materials, meshes, indices,
+/// vertices, lights: `shaders/rt/reflection.wgsl`, `gi.wgsl`, `forward/shade.wgsl`), four arrays,
+/// the ray counters and the alpha words. Packed, the four arrays and the alpha words are one
+/// buffer: 8, WebGPU's default limit.
+pub const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
+
 /// Most scene textures in a binding array.
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
@@ -247,6 +259,7 @@ impl Gpu {
         let info = adapter.get_info();
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let texture_binding_arrays = bindless_allowed(device.features(), &device.limits());
+        let packed_accel_arrays = device.limits().max_storage_buffers_per_shader_stage < SEPARATE_ARRAYS_STORAGE_BUFFERS;
         let selection = backend::select(device.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
         let backends: Vec<Backend> = Backend::ALL.into_iter().filter(|b| device.features().contains(b.features())).collect();
         let faults = Arc::new(Mutex::new(Faults::default()));
@@ -284,6 +297,12 @@ impl Gpu {
             }
         );
         log::info!("traversal back-end: {} ({})", selection.backend, selection.reason);
+        if packed_accel_arrays {
+            log::info!(
+                "compute back-end arrays: packed into one storage buffer (the device allows {} storage buffers per stage; separate arrays need {SEPARATE_ARRAYS_STORAGE_BUFFERS})",
+                device.limits().max_storage_buffers_per_shader_stage
+            );
+        }
         let gpu_timeout = default_gpu_timeout(&info);
         let trace_spirv = TraceSpirv::for_device(&device);
         log::info!(
@@ -298,6 +317,7 @@ impl Gpu {
             info,
             timestamps,
             texture_binding_arrays,
+            packed_accel_arrays,
             selection,
             backends,
             faults,
@@ -316,7 +336,13 @@ impl Gpu {
     /// Compiler options for this device and `backend`.
     pub fn compile_options_for(&self, backend: Backend) -> crate::graph::compile::CompileOptions {
         crate::graph::compile::CompileOptions {
-            includes: include_aliases(self.texture_binding_arrays),
+            includes: {
+                let mut includes = include_aliases(self.texture_binding_arrays);
+                if self.packed_accel_arrays && backend == Backend::Compute {
+                    includes.extend(packed_arrays_aliases());
+                }
+                includes
+            },
             layers: self.layer_aliases(),
             backend,
             ..Default::default()
@@ -436,13 +462,44 @@ pub struct GpuScopes {
 impl GpuScopes {
     /// Closes the scopes: an error caught while `context` ("creating ...") ran, a lost device
     /// or an earlier uncaptured error becomes the `Err`.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn finish(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
-        let validation = pollster::block_on(self.validation.pop());
-        let oom = pollster::block_on(self.oom.pop());
-        if let Some(e) = oom.or(validation) {
-            return Err(gpu.scope_error(context, e));
-        }
+        pollster::block_on(self.finish_async(gpu, context))
+    }
+
+    /// In a browser, which cannot wait for the scopes here: their errors are reported by the
+    /// next [`Gpu::check`] (every frame's [`GpuScopes::finish_async`] makes one), as errors
+    /// raised outside a scope are; `context` names the work.
+    #[cfg(target_arch = "wasm32")]
+    pub fn finish(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
+        let (faults, context) = (gpu.faults.clone(), context.to_string());
+        // Popped now, in reverse order of their push (later scopes may be pushed before the
+        // errors arrive); only the results are awaited later.
+        let Self { validation, oom } = self;
+        let (validation, oom) = (validation.pop(), oom.pop());
+        wasm_bindgen_futures::spawn_local(async move {
+            let validation = validation.await;
+            if let Some(e) = oom.await.or(validation) {
+                if let Ok(mut f) = faults.lock() {
+                    f.uncaptured.get_or_insert(format!("{context} failed: {e}"));
+                }
+            }
+        });
         gpu.check()
+    }
+
+    /// [`GpuScopes::finish`] as a future (the frame's; it resolves at once natively).
+    pub async fn finish_async(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
+        let Self { validation, oom } = self;
+        let (validation, oom) = (validation.pop(), oom.pop());
+        let (validation, oom) = (validation.await, oom.await);
+        // An error recorded earlier (in a browser, one from a scope popped after its work) is
+        // the cause of what this scope caught: it is reported first.
+        gpu.check()?;
+        match oom.or(validation) {
+            Some(e) => Err(gpu.scope_error(context, e)),
+            None => Ok(()),
+        }
     }
 }
 
@@ -456,6 +513,15 @@ pub fn include_aliases(texture_binding_arrays: bool) -> crate::graph::reflect::I
     a
 }
 
+/// The include substitutions of the compute back-end's packed arrays
+/// ([`Gpu::packed_accel_arrays`]).
+pub fn packed_arrays_aliases() -> crate::graph::reflect::IncludeAliases {
+    let mut a = crate::graph::reflect::IncludeAliases::new();
+    a.insert("trace/compute_arrays.wgsl".into(), "trace/compute_arrays_packed.wgsl".into());
+    a.insert("trace/alpha_words.wgsl".into(), "trace/alpha_words_packed.wgsl".into());
+    a
+}
+
 /// Every set of include substitutions a device and back-end can select (tests validate each).
 pub fn all_include_variants() -> Vec<crate::graph::reflect::IncludeAliases> {
     let mut out = Vec::new();
@@ -463,6 +529,9 @@ pub fn all_include_variants() -> Vec<crate::graph::reflect::IncludeAliases> {
         for backend in Backend::ALL {
             out.push(crate::graph::compile::CompileOptions { includes: include_aliases(bindless), backend, ..Default::default() }.all_includes());
         }
+        let mut packed = include_aliases(bindless);
+        packed.extend(packed_arrays_aliases());
+        out.push(crate::graph::compile::CompileOptions { includes: packed, backend: Backend::Compute, ..Default::default() }.all_includes());
     }
     out
 }

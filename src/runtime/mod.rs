@@ -3,10 +3,13 @@
 //! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`]),
 //! the warm-up before timed frames ([`warm_up`]) and rays traced outside any graph ([`batch`]).
 
+// The batch tracer waits for its rays, which a browser's main thread cannot.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod batch;
 pub mod deform;
 pub mod exec;
 pub mod gpu;
+pub mod present;
 pub mod profiler;
 pub(crate) mod raster;
 pub mod report;

@@ -2,7 +2,7 @@
 //! has timestamp queries), CPU time of recording each pass, and medians over frames.
 
 use crate::error::RuntimeError;
-use crate::gpu_util::{map_read, readback_buffer};
+use crate::gpu_util::{map_read_async, readback_buffer};
 
 /// Timestamp queries for up to `capacity` passes per frame.
 pub struct GpuTimer {
@@ -77,13 +77,13 @@ impl GpuTimer {
     }
 
     /// Reads the GPU milliseconds of each pass (after the frame's submission completed).
-    pub fn read(&self, device: &wgpu::Device, passes: u32) -> Result<Vec<f64>, RuntimeError> {
+    pub async fn read(&self, device: &wgpu::Device, passes: u32) -> Result<Vec<f64>, RuntimeError> {
         let n = passes.min(self.capacity) as usize;
         if n == 0 {
             return Ok(Vec::new());
         }
         let slice = self.readback.slice(..(n as u64 * 16));
-        let data = map_read(device, slice)?;
+        let data = map_read_async(device, slice).await?;
         let ticks: &[u64] = bytemuck::cast_slice(&data);
         let ms = (0..n).map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6).collect();
         drop(data);

@@ -18,6 +18,7 @@
 
 use crate::spirv_words::{binding_map, instructions, named, word0};
 use spirv::Op;
+#[cfg(not(target_arch = "wasm32"))]
 use wgpu::hal;
 
 /// The WGSL name of the traversal stack (`shaders/trace/compute.wgsl`).
@@ -33,6 +34,7 @@ pub struct TraceSpirv {
 impl TraceSpirv {
     /// The writer's options for `device`, or `None` where trace modules are compiled from WGSL
     /// by wgpu (no Vulkan device, no passthrough shaders, or `RAYGRAPH_CLEARED_STACK=1`).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn for_device(device: &wgpu::Device) -> Option<Self> {
         if !device.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) || std::env::var("RAYGRAPH_CLEARED_STACK").is_ok_and(|v| v == "1") {
             return None;
@@ -43,10 +45,17 @@ impl TraceSpirv {
         Some(Self::from_hal(&hal_device))
     }
 
+    /// On the web: never (WebGPU takes WGSL only).
+    #[cfg(target_arch = "wasm32")]
+    pub fn for_device(_device: &wgpu::Device) -> Option<Self> {
+        None
+    }
+
     /// As wgpu-hal's `Adapter::open` chooses them: SPIR-V 1.0/1.3/1.5/1.6 by the device's API
     /// version, and bounds checks left to the driver where its robustness features make
     /// out-of-bounds accesses safe (buffers: `robustBufferAccess2`; image loads:
     /// `robustImageAccess2`, or `robustImageAccess` without `VK_EXT_robustness2`).
+    #[cfg(not(target_arch = "wasm32"))]
     fn from_hal(device: &hal::vulkan::Device) -> Self {
         let instance = device.shared_instance().raw_instance();
         let phd = device.raw_physical_device();

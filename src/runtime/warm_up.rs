@@ -9,12 +9,10 @@
 //! from the frames themselves: the median of the last three frame times against the median of
 //! the three before.
 
-use super::exec::Executor;
 use super::gpu::Gpu;
 use super::profiler::FrameTimings;
-use crate::error::RuntimeError;
-use crate::scene::{Camera, Scene};
-use std::time::Instant;
+#[cfg(not(target_arch = "wasm32"))]
+use {super::exec::Executor, crate::error::RuntimeError, crate::scene::Camera, crate::scene::Scene, web_time::Instant};
 
 /// When warm-up may stop.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,6 +59,7 @@ impl WarmUp {
     }
 
     /// Renders untimed frames of `exec` with `camera` until [`Self::settled`]; returns how many.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn run(&self, gpu: &Gpu, exec: &mut Executor, scene: &Scene, camera: &Camera) -> Result<u32, RuntimeError> {
         let start = Instant::now();
         let mut frame_ms = Vec::new();

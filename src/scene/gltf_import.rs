@@ -297,10 +297,16 @@ fn check_accessor_types(prim: &gltf::Primitive) -> Result<(), String> {
 
 /// Loads a glTF or GLB file.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
-    let parse_err = |message: String| SceneError::Parse { path: path.to_path_buf(), message };
-    let bytes = std::fs::read(path).map_err(|e| parse_err(e.to_string()))?;
-    let gltf = parse_and_validate(path, &bytes)?;
-    let raw = raw_json(&bytes);
+    let bytes = std::fs::read(path).map_err(|e| SceneError::Parse { path: path.to_path_buf(), message: e.to_string() })?;
+    load_bytes(path, &bytes, options)
+}
+
+/// Loads glTF or GLB `bytes` that were read from `path` (the name errors give; the folder its
+/// relative buffer and image uris are read from). A browser's file picker gives bytes and a
+/// name: a GLB, or a glTF whose buffers and images are embedded.
+pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
+    let gltf = parse_and_validate(path, bytes)?;
+    let raw = raw_json(bytes);
     let base = path.parent().unwrap_or(Path::new("."));
     let mut report = ImportReport::default();
     let buffers = load_buffers(path, base, &gltf)?;

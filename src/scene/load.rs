@@ -45,3 +45,13 @@ pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), 
     }
     Ok((scene, report))
 }
+
+/// Opens the bytes of a glTF or GLB file called `name` (what a browser's file picker gives),
+/// as [`open`] opens a file; errors name `name`.
+pub fn open_bytes(name: &str, bytes: &[u8], options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
+    let (mut scene, report) = gltf_import::load_bytes(Path::new(name), bytes, options)?;
+    if !options.textures {
+        scene.strip_textures();
+    }
+    Ok((scene, report))
+}

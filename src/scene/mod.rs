@@ -6,6 +6,7 @@ pub mod builtin;
 pub mod camera;
 pub mod duplicate;
 pub mod export;
+pub mod fly;
 pub mod gltf_animation;
 pub mod gltf_import;
 pub mod gpu;

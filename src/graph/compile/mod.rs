@@ -27,6 +27,7 @@ mod source;
 pub use options::{CompileOptions, Project};
 pub use plan::{fmt_bytes, Plan, PlannedPass, PlannedResource, ResourceId, Slot, Usage};
 pub(crate) use resolve::check_param;
+#[cfg(feature = "cli")]
 pub(crate) use source::parse_graph;
 pub use source::parse_layer;
 

@@ -45,6 +45,7 @@ pub(super) fn parse_ron<T: serde::de::DeserializeOwned>(src: &SourceText, what: 
 }
 
 /// Phase 1: parse a graph file.
+#[cfg_attr(not(feature = "cli"), allow(dead_code))]
 pub(crate) fn parse_graph(path: &Path) -> Result<GraphDesc, GraphError> {
     let src = read_file(path, None)?;
     parse_ron(&src, "graph")

@@ -9,7 +9,7 @@ use crate::graph::compile::Plan;
 use crate::graph::desc::PassKind;
 use crate::runtime::gpu::Gpu;
 use crate::scene::Scene;
-use std::time::Instant;
+use web_time::Instant;
 
 impl Executor {
     /// The cache of the plan's `Accel` node, if it has one (settings from the node; the GPU
@@ -19,8 +19,13 @@ impl Executor {
             let settings = AccelSettings { dedup: p.accel.as_ref().is_none_or(|a| a.dedup), merge: p.accel.as_ref().is_some_and(|a| a.merge) };
             log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
             let mut cache = AccelCache::new(&gpu.device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
-            if gpu.info.device_type != wgpu::DeviceType::Cpu {
+            // The GPU builder reads a few words back between its kernels, which a browser cannot
+            // wait for within a frame: on the web the CPU builds.
+            if gpu.info.device_type != wgpu::DeviceType::Cpu && !cfg!(target_arch = "wasm32") {
                 cache.set_merged_builder(MergedBuilder::GpuRebuilds);
+            }
+            if gpu.packed_accel_arrays && plan.backend == crate::backend::Backend::Compute {
+                cache.pack_arrays();
             }
             cache
         })
@@ -49,6 +54,7 @@ impl Executor {
         }
         let t0 = Instant::now();
         let report = cache.update(&gpu.device, &gpu.queue, encoder, scene)?;
+        cache.record_packing(&gpu.device, &gpu.queue, encoder);
         let ms = t0.elapsed().as_secs_f64() * 1e3;
         // The rt-pipeline back-end's build, recorded through wgpu-hal: submitted between the
         // node's timestamps, before every trace.

@@ -22,6 +22,8 @@ mod scene_state;
 mod slots;
 mod trace;
 
+pub use readback::read_texture_async;
+#[cfg(not(target_arch = "wasm32"))]
 pub use readback::{read_texture, write_png};
 pub use trace::TRACE_ALPHA_CONSTANT;
 
@@ -37,7 +39,7 @@ use crate::graph::desc::PassKind;
 use crate::graph::reflect::UniformMember;
 use crate::scene::gpu::{GpuScene, SceneContent};
 use crate::scene::{Camera, Scene};
-use std::time::Instant;
+use web_time::Instant;
 
 enum Pipeline {
     Compute(wgpu::ComputePipeline),
@@ -286,7 +288,15 @@ impl Executor {
     }
 
     /// Records and submits one frame; waits for it and returns its pass timings.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn render(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
+        // Native, every await below is ready at once: the waits are inside (`map_read_async`).
+        pollster::block_on(self.render_async(gpu, camera, scene))
+    }
+
+    /// [`Executor::render`] as a future: what a browser runs, whose main thread cannot wait
+    /// for the GPU. It resolves once the frame's timestamps and ray counters are read back.
+    pub async fn render_async(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameTimings, RuntimeError> {
         let start = Instant::now();
         // A pose left to the GPU, without a GPU deformation here (a plan that uploads no
         // vertices): deformed on the CPU instead.
@@ -316,17 +326,21 @@ impl Executor {
         let FrameInputs { views, .. } = inputs;
         let FrameRecording { encoder, command_buffers, cpu_ms, accel_report } = frame;
         self.submit(gpu, encoder, command_buffers);
-        scope.finish(gpu, "recording the frame")?;
+        scope.finish_async(gpu, "recording the frame").await?;
+        // The GPU deadline (a browser has its own: it loses the device).
+        #[cfg(not(target_arch = "wasm32"))]
         if let Err(e) = gpu.wait_for(|| self.frame_work()) {
             // The frame's views may still be in use by work past the GPU deadline: releasing
             // them can block in the driver.
             std::mem::forget(views);
             return Err(e);
         }
+        #[cfg(target_arch = "wasm32")]
+        drop(views);
         if let Some(cache) = self.accel.as_mut() {
-            cache.read_probe(&gpu.device)?;
+            cache.read_probe(&gpu.device).await?;
         }
-        let timings = self.frame_timings(gpu, start, cpu_ms, accel_report)?;
+        let timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
         if let (Some(cache), Some(gpu_ms)) = (self.accel.as_mut(), timings.gpu_ms.as_ref()) {
             let trace_ms: f64 = self.plan.passes.iter().zip(gpu_ms).filter(|(p, _)| p.kind == PassKind::Trace).map(|(_, ms)| ms).sum();
             cache.note_trace_ms(trace_ms);
@@ -404,15 +418,15 @@ impl Executor {
 
     /// The finished frame's timings: GPU milliseconds per pass, CPU milliseconds, and the ray
     /// counters (one window per trace pass, in schedule order).
-    fn frame_timings(&self, gpu: &Gpu, start: Instant, cpu_ms: Vec<f64>, accel_report: Option<(BuildReport, f64)>) -> Result<FrameTimings, RuntimeError> {
+    async fn frame_timings(&self, gpu: &Gpu, start: Instant, cpu_ms: Vec<f64>, accel_report: Option<(BuildReport, f64)>) -> Result<FrameTimings, RuntimeError> {
         let gpu_ms = match &self.timer {
-            Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32)?),
+            Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32).await?),
             None => None,
         };
         let mut pass_rays = vec![None; self.plan.passes.len()];
         let mut rays = None;
         if let Some(cache) = &self.accel {
-            let windows = cache.read_stats(&gpu.device)?;
+            let windows = cache.read_stats(&gpu.device).await?;
             let trace_passes = self.plan.passes.iter().enumerate().filter(|(_, p)| p.kind == PassKind::Trace).map(|(i, _)| i);
             for (i, stats) in trace_passes.zip(&windows) {
                 pass_rays[i] = Some(*stats);
@@ -425,6 +439,7 @@ impl Executor {
     /// The work one frame submits, for the GPU deadline's error: its passes in submission
     /// order with their layer and WGSL files. They are submitted together, so any of them may
     /// be the one that did not end.
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     fn frame_work(&self) -> String {
         let passes: Vec<String> = self
             .plan

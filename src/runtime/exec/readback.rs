@@ -3,21 +3,35 @@
 
 use super::{Executor, Physical};
 use crate::error::RuntimeError;
-use crate::gpu_util::{map_read, readback_buffer};
-use crate::graph::builtins;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::gpu_util::map_read;
+use crate::gpu_util::{map_read_async, readback_buffer};
+
 use crate::graph::compile::ResourceId;
 use crate::graph::desc::ResourceDecl;
 use crate::runtime::gpu::Gpu;
 
 impl Executor {
     /// Reads back the graph output as tightly packed RGBA8 rows.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_output(&self, gpu: &Gpu) -> Result<image::RgbaImage, RuntimeError> {
-        self.read_texture_rgba8(gpu, self.plan.output)
+        pollster::block_on(self.read_output_async(gpu))
+    }
+
+    /// [`Executor::read_output`] as a future (a browser's page shows the output through it).
+    pub async fn read_output_async(&self, gpu: &Gpu) -> Result<image::RgbaImage, RuntimeError> {
+        self.read_texture_rgba8_async(gpu, self.plan.output).await
     }
 
     /// Reads back any kept RGBA8 texture resource.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_texture_rgba8(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
-        let (w, h, format, data) = self.read_texture_bytes(gpu, r)?;
+        pollster::block_on(self.read_texture_rgba8_async(gpu, r))
+    }
+
+    /// [`Executor::read_texture_rgba8`] as a future.
+    pub async fn read_texture_rgba8_async(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
+        let (w, h, format, data) = self.read_texture_bytes(gpu, r).await?;
         if format.bytes_per_texel() != 4 || format.is_uint() {
             return Err(RuntimeError::Gpu(format!("{} is {format:?}, not an 8-bit RGBA texture", self.plan.resources[r].name)));
         }
@@ -26,8 +40,9 @@ impl Executor {
 
     /// Reads back any kept colour texture as RGBA f32 per texel (row-major; missing channels
     /// 0, alpha 1); float, half and 8-bit unorm formats.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_texture_f32(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, Vec<[f32; 4]>), RuntimeError> {
-        let (w, h, format, data) = self.read_texture_bytes(gpu, r)?;
+        let (w, h, format, data) = pollster::block_on(self.read_texture_bytes(gpu, r))?;
         use crate::graph::desc::TexelKind;
         if format.is_uint() {
             return Err(RuntimeError::Gpu(format!("{format:?} is not a float format")));
@@ -53,7 +68,7 @@ impl Executor {
     }
 
     /// A kept texture's texels, tightly packed rows.
-    fn read_texture_bytes(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, crate::graph::desc::Format, Vec<u8>), RuntimeError> {
+    async fn read_texture_bytes(&self, gpu: &Gpu, r: ResourceId) -> Result<(u32, u32, crate::graph::desc::Format, Vec<u8>), RuntimeError> {
         let (w, h) = self.plan.resources[r].extent;
         let ResourceDecl::Texture(t) = &self.plan.resources[r].decl else {
             return Err(RuntimeError::Gpu(format!("{} is not a texture", self.plan.resources[r].name)));
@@ -61,12 +76,13 @@ impl Executor {
         let Physical::Texture(texture) = &self.slots[self.slot_of(r).ok_or_else(|| RuntimeError::Gpu("resource is not allocated".into()))?] else {
             return Err(RuntimeError::Gpu("resource is not a texture".into()));
         };
-        Ok((w, h, t.format, read_texture(gpu, texture, t.format.bytes_per_texel() as u32)?))
+        Ok((w, h, t.format, read_texture_async(gpu, texture, t.format.bytes_per_texel() as u32).await?))
     }
 
     /// Reads the `debug_counters` buffer (shaders may count events into it).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read_debug_counters(&self, gpu: &Gpu) -> Result<Vec<u32>, RuntimeError> {
-        let size = builtins::DEBUG_COUNTER_COUNT as u64 * 4;
+        let size = crate::graph::builtins::DEBUG_COUNTER_COUNT as u64 * 4;
         let buf = readback_buffer(&gpu.device, "counter readback", size);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.debug_counters, 0, &buf, 0, size);
@@ -81,7 +97,13 @@ impl Executor {
 
 /// Reads back the whole of `texture` (`texel_bytes` bytes per texel; it needs `COPY_SRC`) as
 /// tightly packed rows.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
+    pollster::block_on(read_texture_async(gpu, texture, texel_bytes))
+}
+
+/// [`read_texture`] as a future.
+pub async fn read_texture_async(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
     let (w, h) = (texture.width(), texture.height());
     let row = w * texel_bytes;
     let padded = row.div_ceil(256) * 256;
@@ -93,7 +115,7 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Res
         wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
     );
     gpu.queue.submit([encoder.finish()]);
-    let data = map_read(&gpu.device, buf.slice(..))?;
+    let data = map_read_async(&gpu.device, buf.slice(..)).await?;
     let mut bytes = Vec::with_capacity((row * h) as usize);
     for y in 0..h as usize {
         bytes.extend_from_slice(&data[y * padded as usize..y * padded as usize + row as usize]);
@@ -103,6 +125,7 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Res
     Ok(bytes)
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// Writes an image as PNG atomically (temporary file, then rename): a failed write never
 /// leaves a truncated file behind.
 pub fn write_png(path: &std::path::Path, img: &image::RgbaImage) -> Result<(), RuntimeError> {

@@ -1,0 +1,66 @@
+//! The compute back-end's arrays packed into one storage buffer (`accel::packed`,
+//! `shaders/trace/compute_arrays_packed.wgsl`), the form a browser's WebGPU needs: a device
+//! limited to WebGPU's default 8 storage buffers per stage gets it, and renders the atrium
+//! (alpha-tested instances included) byte for byte as the separate arrays do. And what WebGPU's
+//! default limits allow as a whole (README, "In a browser"): raster runs; hybrid and full RT need
+//! more colour-attachment bytes and storage textures than the defaults, and say so.
+
+use raygraph::graph::{self, Mode, Project};
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::{LoadOptions, Scene};
+
+/// Size of the frames compared.
+const SIZE: (u32, u32) = (160, 90);
+
+/// A device on the first adapter with `limits` (and the optional features raygraph would ask
+/// for, bar ray tracing: the compute back-end is the browser's).
+fn device_with(limits: impl FnOnce(&wgpu::Adapter) -> wgpu::Limits) -> Gpu {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None)).expect("an adapter");
+    let mut desc = Gpu::device_descriptor(&adapter);
+    desc.required_features = desc.required_features.difference(wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::EXPERIMENTAL_RAY_TRACING_PIPELINES);
+    desc.experimental_features = wgpu::ExperimentalFeatures::disabled();
+    desc.required_limits = limits(&adapter);
+    let (device, queue) = pollster::block_on(adapter.request_device(&desc)).expect("a device");
+    Gpu::from_wgpu(instance, adapter, device, queue, Some(raygraph::backend::Backend::Compute)).expect("the compute back-end")
+}
+
+/// `mode`'s built-in graph on the atrium: the image, or the error.
+fn render(gpu: &Gpu, mode: Mode) -> Result<image::RgbaImage, String> {
+    let graph_file = std::path::Path::new(mode.graph());
+    let plan = graph::compile::compile_with(graph_file, &Project::beside_graph(graph_file), SIZE, &gpu.compile_options()).map_err(|e| e.to_string())?;
+    let (scene, _): (Scene, _) = raygraph::scene::open("atrium", &LoadOptions { textures: plan.scene_usage().textures, ..Default::default() }).unwrap();
+    let mut exec = Executor::new(gpu, plan, &scene).map_err(|e| e.to_string())?;
+    exec.render(gpu, &scene.camera, &scene).map_err(|e| e.to_string())?;
+    exec.read_output(gpu).map_err(|e| e.to_string())
+}
+
+#[test]
+fn packed_arrays_render_as_separate_ones() {
+    let separate = device_with(|a| Gpu::device_descriptor(a).required_limits);
+    let packed = device_with(|a| wgpu::Limits { max_storage_buffers_per_shader_stage: 8, ..Gpu::device_descriptor(a).required_limits });
+    assert!(!separate.packed_accel_arrays, "the adapter's own limits allow separate arrays");
+    assert!(packed.packed_accel_arrays, "8 storage buffers per stage select the packed arrays");
+    for mode in [Mode::Hybrid, Mode::FullRt] {
+        let a = render(&separate, mode).unwrap_or_else(|e| panic!("{}, separate arrays: {e}", mode.label()));
+        let b = render(&packed, mode).unwrap_or_else(|e| panic!("{}, packed arrays: {e}", mode.label()));
+        assert!(a.as_raw() == b.as_raw(), "{}: the packed arrays' image differs from the separate arrays'", mode.label());
+    }
+}
+
+#[test]
+fn webgpu_default_limits_run_raster_and_name_what_the_others_need() {
+    let gpu = device_with(|_| wgpu::Limits::default());
+    assert!(gpu.packed_accel_arrays);
+    render(&gpu, Mode::Raster).expect("raster at WebGPU's default limits");
+    // The G-buffer is written either by a compute pass over a visibility buffer (6 storage
+    // textures) or, without primitive indices, by a raster pass (56 bytes of colour attachments
+    // per sample); primary rays write it as storage textures.
+    let names_a_default_limit = |e: &str| {
+        e.contains("StorageTextures") && e.contains("limit is 4") || e.contains("bytes per sample in color attachments") && e.contains("exceeds the limit 32")
+    };
+    for mode in [Mode::Hybrid, Mode::FullRt] {
+        let e = render(&gpu, mode).expect_err("beyond WebGPU's default limits");
+        assert!(names_a_default_limit(&e), "{}: {e}", mode.label());
+    }
+}
