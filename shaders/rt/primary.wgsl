@@ -11,6 +11,7 @@
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
 //#include "common/gbuffer_store.wgsl"
+//#include "rt/primary_hit.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -25,27 +26,6 @@
 @group(0) @binding(10) var albedo: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(11) var material: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(12) var emissive: texture_storage_2d<rgba16float, write>;
-
-// How many culled back faces a primary ray passes before it gives up (a miss).
-const MAX_CULLED: u32 = 16u;
-
-// The closest hit that is not a back face of a single-sided material.
-fn closest_visible(ray_in: Ray) -> Hit {
-    var ray = ray_in;
-    var hit = trace_closest(ray);
-    for (var i = 0u; i < MAX_CULLED && hit.instance != NO_HIT && !hit.front_face; i++) {
-        if (scene_materials[scene_instances[hit.instance].material].flags & MATERIAL_DOUBLE_SIDED) != 0u {
-            break;
-        }
-        // Past the culled triangle: 64 ulps of its distance.
-        ray.t_min = bitcast<f32>(bitcast<u32>(hit.t) + 64u);
-        hit = trace_closest(ray);
-    }
-    if hit.instance != NO_HIT && !hit.front_face && (scene_materials[scene_instances[hit.instance].material].flags & MATERIAL_DOUBLE_SIDED) == 0u {
-        hit.instance = NO_HIT;
-    }
-    return hit;
-}
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {

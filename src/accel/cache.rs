@@ -1067,12 +1067,18 @@ impl AccelCache {
     /// Records the copy of the compute back-end's arrays into the packed buffer (after
     /// [`AccelCache::update`], before any trace); nothing without [`AccelCache::pack_arrays`]
     /// or on another back-end. A larger packed buffer starts a new generation.
-    pub fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) {
-        let (Some(packed), State::Compute(c)) = (self.packed.as_mut(), &self.state) else { return };
+    pub fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) -> Result<(), RuntimeError> {
+        let (Some(packed), State::Compute(c)) = (self.packed.as_mut(), &self.state) else { return Ok(()) };
         let [tlas, instances, blas, triangles] = &c.buffers;
-        if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha]) {
+        if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha])? {
             self.generation += 1;
         }
+        Ok(())
+    }
+
+    /// Bytes of the packed arrays' buffer ([`AccelCache::pack_arrays`]; 0 without).
+    pub fn packed_bytes(&self) -> u64 {
+        self.packed.as_ref().map_or(0, PackedArrays::size)
     }
 
     /// The buffer of ray counters and the byte range of trace pass number `window`'s counters.

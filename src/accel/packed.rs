@@ -6,6 +6,8 @@
 //! them. Word 0 (16 bytes) holds where each array starts, in 16-byte words: instances, BLAS
 //! nodes, triangles, alpha words; the TLAS nodes start at word 1.
 
+use crate::error::RuntimeError;
+
 /// The packed buffer and the layout last written into its header.
 #[derive(Default)]
 pub struct PackedArrays {
@@ -25,13 +27,29 @@ impl PackedArrays {
     /// Records the copies of `arrays` (TLAS nodes, instances, BLAS nodes, triangles, alpha
     /// words: whole buffers, each a multiple of 16 bytes) into the packed buffer, making a
     /// larger one when they outgrow it. Returns whether the buffer was replaced (bind groups
-    /// made before must be made again).
-    pub fn record(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, arrays: [&wgpu::Buffer; 5]) -> bool {
+    /// made before must be made again). Arrays that together exceed the device's storage
+    /// binding size are an error naming both sizes.
+    pub fn record(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        arrays: [&wgpu::Buffer; 5],
+    ) -> Result<bool, RuntimeError> {
         let mut starts = [0u64; 5];
         let mut end = HEADER;
         for (start, array) in starts.iter_mut().zip(arrays) {
             *start = end;
             end += array.size().next_multiple_of(16);
+        }
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if end > limit {
+            return Err(RuntimeError::Gpu(format!(
+                "the scene's acceleration structure needs {:.1} MiB in one storage buffer (its arrays are packed on this device, which binds {} storage buffers per stage); the device binds at most {:.1} MiB: use a smaller scene",
+                end as f64 / 1048576.0,
+                device.limits().max_storage_buffers_per_shader_stage,
+                limit as f64 / 1048576.0
+            )));
         }
         let replaced = self.buffer.as_ref().is_none_or(|b| b.size() < end);
         if replaced {
@@ -52,6 +70,11 @@ impl PackedArrays {
         for (start, array) in starts.iter().zip(arrays) {
             encoder.copy_buffer_to_buffer(array, 0, buffer, *start, array.size());
         }
-        replaced
+        Ok(replaced)
+    }
+
+    /// Bytes of the packed buffer (0 before the first [`PackedArrays::record`]).
+    pub fn size(&self) -> u64 {
+        self.buffer.as_ref().map_or(0, wgpu::Buffer::size)
     }
 }

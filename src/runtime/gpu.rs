@@ -87,6 +87,11 @@ const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgp
 /// buffer: 8, WebGPU's default limit.
 pub const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
 
+/// Storage textures per stage of a compute pass that writes the whole G-buffer
+/// (`shaders/common/gbuffer_store.wgsl`: position, normal, geometric normal, albedo, material,
+/// emissive).
+pub const GBUFFER_STORAGE_TEXTURES: u32 = 6;
+
 /// Most scene textures in a binding array.
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
@@ -353,11 +358,21 @@ impl Gpu {
     /// without primitive indices in fragment shaders, forward shading over a visibility buffer
     /// (`layers/forward.ron`) becomes forward shading in the fragment stage
     /// (`layers/forward_fragment.ron`).
+    ///
+    /// With fewer than [`GBUFFER_STORAGE_TEXTURES`] storage textures per stage (a browser's
+    /// WebGPU allows four by default), the G-buffer is not written by one compute pass: the
+    /// rasterized one comes from the fragment stage (`layers/deferred_fragment.ron`), and
+    /// primary rays write it in two passes (`layers/primary_split.ron`).
     pub fn layer_aliases(&self) -> std::collections::BTreeMap<String, String> {
         let mut aliases = std::collections::BTreeMap::new();
+        let few_storage_textures = self.device.limits().max_storage_textures_per_shader_stage < GBUFFER_STORAGE_TEXTURES;
         if !self.device.features().contains(wgpu::Features::PRIMITIVE_INDEX) {
             aliases.insert("forward".to_string(), "forward_fragment".to_string());
             aliases.insert("deferred".to_string(), "deferred_fragment".to_string());
+        }
+        if few_storage_textures {
+            aliases.insert("deferred".to_string(), "deferred_fragment".to_string());
+            aliases.insert("primary".to_string(), "primary_split".to_string());
         }
         aliases
     }

@@ -54,7 +54,7 @@ impl Executor {
         }
         let t0 = Instant::now();
         let report = cache.update(&gpu.device, &gpu.queue, encoder, scene)?;
-        cache.record_packing(&gpu.device, &gpu.queue, encoder);
+        cache.record_packing(&gpu.device, &gpu.queue, encoder)?;
         let ms = t0.elapsed().as_secs_f64() * 1e3;
         // The rt-pipeline back-end's build, recorded through wgpu-hal: submitted between the
         // node's timestamps, before every trace.

@@ -1,0 +1,13 @@
+// The material half of the G-buffer (common/gbuffer_store.wgsl): `material` and `emissive`,
+// storage textures the main shader declares.
+
+fn store_gbuffer_material(p: vec2<u32>, s: Surface) {
+    let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
+    textureStore(material, p, vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0));
+    textureStore(emissive, p, vec4<f32>(s.emissive, s.occlusion));
+}
+
+fn store_gbuffer_material_miss(p: vec2<u32>) {
+    textureStore(material, p, vec4<f32>(0.0));
+    textureStore(emissive, p, vec4<f32>(0.0));
+}
