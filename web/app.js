@@ -64,7 +64,7 @@ async function loadFile(name, bytes) {
 
 // The next frame: at the display's next refresh, or at once in a test (a headless browser
 // under a virtual-time budget runs no animation frames).
-const next = test ? (f) => setTimeout(f, 0) : requestAnimationFrame;
+const next = test ? (f) => setTimeout(f, 0) : (f) => requestAnimationFrame(f);
 let framesSinceLoad = 0;
 let failures = 0;
 async function loop() {
