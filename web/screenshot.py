@@ -53,7 +53,7 @@ class Handler(http.server.BaseHTTPRequestHandler):
 
 def main():
     args = sys.argv[1:]
-    window, seconds = "1380,600", 300
+    window, seconds = "1430,600", 300
     for flag in ("--window", "--seconds"):
         if flag in args:
             i = args.index(flag)

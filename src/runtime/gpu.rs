@@ -314,7 +314,7 @@ impl Gpu {
             "traversal stack: {}",
             if trace_spirv.is_some() { "not cleared (trace modules as SPIR-V)" } else { "cleared per invocation (trace modules from WGSL)" }
         );
-        Ok(Self {
+        let gpu = Self {
             instance,
             adapter,
             device,
@@ -330,7 +330,12 @@ impl Gpu {
             gpu_timeout,
             on_gpu_timeout: None,
             trace_spirv,
-        })
+        };
+        let replaced: Vec<String> = gpu.layer_aliases().iter().map(|(from, to)| format!("{from} -> {to}")).collect();
+        if !replaced.is_empty() {
+            log::info!("layers in the form this device runs: {}", replaced.join(", "));
+        }
+        Ok(gpu)
     }
 
     /// Compiler options for this device and its selected back-end.

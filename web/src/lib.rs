@@ -222,6 +222,9 @@ impl App {
     /// Renders one frame (after applying the input since the last); resolves when it is on the
     /// canvas and its timings are read. Rejects with the error's text; the page goes on with
     /// the last scene and mode that worked.
+    // The renderer stays borrowed while the frame awaits the GPU: that is what keeps a second
+    // frame out (`try_borrow_mut` refuses it); the page's other calls touch only the inbox.
+    #[allow(clippy::await_holding_refcell_ref)]
     pub fn frame(&self) -> js_sys::Promise {
         let (renderer, inbox) = (self.renderer.clone(), self.inbox.clone());
         wasm_bindgen_futures::future_to_promise(async move {
