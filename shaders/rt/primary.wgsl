@@ -11,7 +11,7 @@
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
 //#include "common/gbuffer_store.wgsl"
-//#include "rt/primary_hit.wgsl"
+//#include "common/primary_hit.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;

@@ -6,7 +6,7 @@
 //#include "common/scene_textures.wgsl"
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
-//#include "rt/primary_hit.wgsl"
+//#include "common/primary_hit.wgsl"
 //#include "common/gbuffer_store_material.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;

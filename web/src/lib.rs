@@ -44,9 +44,6 @@ struct Inbox {
     /// Wheel notches.
     speed_notches: f32,
     keys: Motion,
-    /// The graph needs the scenes' textures (set by every new plan; files loaded by the page
-    /// read it).
-    textures_needed: bool,
     /// The profiler panel of the last frame (JSON).
     profile: String,
 }
@@ -101,9 +98,10 @@ fn plan(gpu: &Gpu, mode: Mode, size: (u32, u32)) -> Result<graph::Plan, String> 
     graph::compile::compile_with(graph_file, &Project::beside_graph(graph_file), size, &gpu.compile_options()).map_err(|e| e.to_string())
 }
 
-/// Opens a built-in scene (`textures`: the graph reads them).
-fn builtin_scene(name: &str, textures: bool) -> Result<Scene, String> {
-    scene::open(name, &LoadOptions { textures, ..Default::default() }).map(|(scene, _)| scene).map_err(|e| e.to_string())
+/// Opens a built-in scene, with its textures: the mode can change under it (only what the
+/// graph reads is uploaded).
+fn builtin_scene(name: &str) -> Result<Scene, String> {
+    scene::open(name, &LoadOptions::default()).map(|(scene, _)| scene).map_err(|e| e.to_string())
 }
 
 impl Renderer {
@@ -127,7 +125,6 @@ impl Renderer {
         if let Some(mode) = inbox.mode.take().filter(|m| *m != self.mode) {
             self.exec = self.executor(mode, &self.scene)?;
             self.mode = mode;
-            inbox.textures_needed = self.exec.plan().scene_usage().textures;
         }
         let moved = inbox.look != (0.0, 0.0)
             || inbox.speed_notches != 0.0
@@ -209,13 +206,12 @@ impl App {
             .ok_or_else(|| js_error("the canvas has no 2D context"))?;
         let gpu = open_gpu().await.map_err(js_error)?;
         let plan = plan(&gpu, mode, size).map_err(js_error)?;
-        let textures_needed = plan.scene_usage().textures;
-        let scene_value = builtin_scene(&scene, textures_needed).map_err(js_error)?;
+        let scene_value = builtin_scene(&scene).map_err(js_error)?;
         let exec = Executor::new(&gpu, plan, &scene_value).map_err(|e| js_error(format!("{scene}: {e}")))?;
         let info = format!("{} | back-end {}", gpu.describe(), gpu.describe_backend());
         let renderer =
             Renderer { gpu, canvas: context, size, mode, scene_name: scene, scene: scene_value, fly: None, exec, last_frame: None, frames: 0, clock: 0.0 };
-        let inbox = Inbox { textures_needed, ..Default::default() };
+        let inbox = Inbox::default();
         Ok(App { renderer: Rc::new(RefCell::new(renderer)), inbox: Rc::new(RefCell::new(inbox)), info })
     }
 
@@ -249,8 +245,7 @@ impl App {
 
     /// Shows built-in scene `name` from the next frame.
     pub fn load_builtin(&self, name: &str) -> Result<(), JsValue> {
-        let textures = self.inbox.borrow().textures_needed;
-        let scene = builtin_scene(name, textures).map_err(js_error)?;
+        let scene = builtin_scene(name).map_err(js_error)?;
         self.inbox.borrow_mut().scene = Some((name.to_string(), scene));
         Ok(())
     }
@@ -258,8 +253,7 @@ impl App {
     /// Loads the glTF or GLB file `name` (its bytes, from the file picker) and shows it from
     /// the next frame. A bad file is refused with an error naming it; the current scene stays.
     pub fn load_file(&self, name: &str, bytes: &[u8]) -> Result<(), JsValue> {
-        let textures = self.inbox.borrow().textures_needed;
-        let (scene, report) = scene::load::open_bytes(name, bytes, &LoadOptions { textures, ..Default::default() }).map_err(js_error)?;
+        let (scene, report) = scene::load::open_bytes(name, bytes, &LoadOptions::default()).map_err(js_error)?;
         for note in report.notes() {
             log::warn!("{name}: {note}");
         }
