@@ -54,12 +54,9 @@ struct GBuffer {
     @location(5) emissive: vec4<f32>,
 }
 
-@fragment
-fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
+// The fragment's G-buffer channels (discarded fragments never return).
+fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     let inst = scene_instances[in.instance];
-    if !raster_fragment_kept(inst, in.uv) {
-        discard;
-    }
     let s = raster_surface(inst, front_facing, in.local, in.uv, in.normal);
     var out: GBuffer;
     // w: the instance + 1 (0 is the sky), as common/gbuffer_store.wgsl writes it.
@@ -71,4 +68,45 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer 
     out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0);
     out.emissive = vec4<f32>(s.emissive, s.occlusion);
     return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+        discard;
+    }
+    return gbuffer_of(in, front_facing);
+}
+
+// The G-buffer in two draws, for devices whose colour attachments take fewer than the 56 bytes
+// per sample of all six (WebGPU's default is 32; layers/deferred_split.ron): the surface half
+// (32 bytes), then the material half (24 bytes as WebGPU counts them).
+struct GBufferSurface {
+    @location(0) position: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+    @location(2) geo_normal: vec4<f32>,
+}
+
+struct GBufferMaterial {
+    @location(0) albedo: vec4<f32>,
+    @location(1) material: vec4<f32>,
+    @location(2) emissive: vec4<f32>,
+}
+
+@fragment
+fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferSurface {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+        discard;
+    }
+    let g = gbuffer_of(in, front_facing);
+    return GBufferSurface(g.position, g.normal, g.geo_normal);
+}
+
+@fragment
+fn fs_material(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferMaterial {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+        discard;
+    }
+    let g = gbuffer_of(in, front_facing);
+    return GBufferMaterial(g.albedo, g.material, g.emissive);
 }

@@ -92,6 +92,11 @@ pub const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
 /// emissive).
 pub const GBUFFER_STORAGE_TEXTURES: u32 = 6;
 
+/// Bytes per sample of the fragment-stage G-buffer's colour attachments
+/// (`layers/deferred_fragment.ron`), as WebGPU counts them: 16 + 8 + 8 for position and the two
+/// normals, 8 for each 8-bit RGBA target (albedo, material), 8 for emission.
+pub const GBUFFER_ATTACHMENT_BYTES: u32 = 56;
+
 /// Most scene textures in a binding array.
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
@@ -367,7 +372,9 @@ impl Gpu {
     /// With fewer than [`GBUFFER_STORAGE_TEXTURES`] storage textures per stage (a browser's
     /// WebGPU allows four by default), the G-buffer is not written by one compute pass: the
     /// rasterized one comes from the fragment stage (`layers/deferred_fragment.ron`), and
-    /// primary rays write it in two passes (`layers/primary_split.ron`).
+    /// primary rays write it in two passes (`layers/primary_split.ron`). Where the fragment
+    /// stage writes it and the colour attachments take fewer than [`GBUFFER_ATTACHMENT_BYTES`]
+    /// per sample (WebGPU's default is 32), it is drawn twice (`layers/deferred_split.ron`).
     pub fn layer_aliases(&self) -> std::collections::BTreeMap<String, String> {
         let mut aliases = std::collections::BTreeMap::new();
         let few_storage_textures = self.device.limits().max_storage_textures_per_shader_stage < GBUFFER_STORAGE_TEXTURES;
@@ -378,6 +385,11 @@ impl Gpu {
         if few_storage_textures {
             aliases.insert("deferred".to_string(), "deferred_fragment".to_string());
             aliases.insert("primary".to_string(), "primary_split".to_string());
+        }
+        if aliases.get("deferred").is_some_and(|l| l == "deferred_fragment")
+            && self.device.limits().max_color_attachment_bytes_per_sample < GBUFFER_ATTACHMENT_BYTES
+        {
+            aliases.insert("deferred".to_string(), "deferred_split".to_string());
         }
         aliases
     }
