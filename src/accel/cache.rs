@@ -286,6 +286,8 @@ pub struct AccelCache {
     /// The compute back-end's arrays and alpha words copied into one buffer after every
     /// update, on devices with few storage buffers per stage ([`AccelCache::pack_arrays`]).
     packed: Option<PackedArrays>,
+    /// The arrays or the alpha words were written since they were last packed.
+    packed_stale: bool,
     /// `accel_alpha` and the words last written to it.
     alpha: wgpu::Buffer,
     alpha_words: Vec<[u32; 4]>,
@@ -357,6 +359,7 @@ impl AccelCache {
             tree_refit: None,
             pending: None,
             packed: None,
+            packed_stale: true,
             alpha: storage(device, "accel alpha", 16),
             alpha_words: Vec::new(),
             policy: RefitPolicy::default(),
@@ -372,11 +375,11 @@ impl AccelCache {
     }
 
     /// Rewrites `accel_alpha` if the scene's alpha data changed (a new buffer, and a new
-    /// generation, when it outgrows the old one).
-    fn update_alpha(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<(), RuntimeError> {
+    /// generation, when it outgrows the old one). Returns whether it wrote them.
+    fn update_alpha(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<bool, RuntimeError> {
         let words = super::alpha::gpu_words(scene);
         if words == self.alpha_words {
-            return Ok(());
+            return Ok(false);
         }
         let bytes: &[u8] = bytemuck::cast_slice(&words);
         let max = device.limits().max_storage_buffer_binding_size;
@@ -393,7 +396,7 @@ impl AccelCache {
         }
         queue.write_buffer(&self.alpha, 0, bytes);
         self.alpha_words = words;
-        Ok(())
+        Ok(true)
     }
 
     /// Chooses who builds the merged layout's BLAS (the executor picks
@@ -501,7 +504,7 @@ impl AccelCache {
         let posed = if gpu_deformed { std::borrow::Cow::Borrowed(scene) } else { scene.with_meshes_posed() };
         let scene = &*posed;
         let deform_key = scene.deformation_key();
-        self.update_alpha(device, queue, scene)?;
+        self.packed_stale |= self.update_alpha(device, queue, scene)?;
         // Whether a unit holds alpha-tested geometry is part of its key (the driver back-ends
         // build it non-opaque; the merged layout's triangles carry the flag).
         let tested_meshes = super::alpha::tested_meshes(scene);
@@ -540,6 +543,8 @@ impl AccelCache {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
             return Ok(report);
         }
+        // Everything below writes the arrays (a build, a refit, new instances).
+        self.packed_stale = true;
         // The merged layout when only instances moved or meshes deformed (their triangles the
         // same): a GPU refit, no build, while the policy allows.
         let tested_words: Vec<u64> = tested.iter().map(|&t| t as u64).collect();
@@ -1065,14 +1070,16 @@ impl AccelCache {
     }
 
     /// Records the copy of the compute back-end's arrays into the packed buffer (after
-    /// [`AccelCache::update`], before any trace); nothing without [`AccelCache::pack_arrays`]
-    /// or on another back-end. A larger packed buffer starts a new generation.
+    /// [`AccelCache::update`], before any trace) when the update wrote them; nothing without
+    /// [`AccelCache::pack_arrays`] or on another back-end. A larger packed buffer starts a new
+    /// generation.
     pub fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) -> Result<(), RuntimeError> {
         let (Some(packed), State::Compute(c)) = (self.packed.as_mut(), &self.state) else { return Ok(()) };
         let [tlas, instances, blas, triangles] = &c.buffers;
-        if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha])? {
+        if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha], self.packed_stale)? {
             self.generation += 1;
         }
+        self.packed_stale = false;
         Ok(())
     }
 

@@ -2,7 +2,7 @@
 //! storage buffers per shader stage than a trace pass with separate arrays binds (a browser's
 //! WebGPU: 8 by default; `runtime::gpu::Gpu::packed_accel_arrays`). The cache keeps its four
 //! arrays and the alpha words as they are (built, uploaded, refitted on the GPU) and copies
-//! them here, on the GPU, after every update: `shaders/trace/compute_arrays_packed.wgsl` reads
+//! them here, on the GPU, after every update that wrote them: `shaders/trace/compute_arrays_packed.wgsl` reads
 //! them. Word 0 (16 bytes) holds where each array starts, in 16-byte words: instances, BLAS
 //! nodes, triangles, alpha words; the TLAS nodes start at word 1.
 
@@ -25,16 +25,17 @@ impl PackedArrays {
     }
 
     /// Records the copies of `arrays` (TLAS nodes, instances, BLAS nodes, triangles, alpha
-    /// words: whole buffers, each a multiple of 16 bytes) into the packed buffer, making a
-    /// larger one when they outgrow it. Returns whether the buffer was replaced (bind groups
-    /// made before must be made again). Arrays that together exceed the device's storage
-    /// binding size are an error naming both sizes.
+    /// words: whole buffers, each a multiple of 16 bytes) into the packed buffer when `written`
+    /// (they changed since the last copy) or a larger buffer was needed. Returns whether the
+    /// buffer was replaced (bind groups made before must be made again). Arrays that together
+    /// exceed the device's storage binding size are an error naming both sizes.
     pub fn record(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         arrays: [&wgpu::Buffer; 5],
+        written: bool,
     ) -> Result<bool, RuntimeError> {
         let mut starts = [0u64; 5];
         let mut end = HEADER;
@@ -52,6 +53,9 @@ impl PackedArrays {
             )));
         }
         let replaced = self.buffer.as_ref().is_none_or(|b| b.size() < end);
+        if !written && !replaced {
+            return Ok(false);
+        }
         if replaced {
             self.buffer = Some(device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("accel packed arrays"),

@@ -23,7 +23,7 @@ pub fn builtin(name: &str, seed: u64) -> Option<Scene> {
 pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
     let path = Path::new(spec);
     let looks_like_file = path.extension().is_some() || spec.contains('/') || path.exists();
-    let (mut scene, report) = if let (false, Some(scene)) = (looks_like_file, builtin(spec, options.seed)) {
+    let loaded = if let (false, Some(scene)) = (looks_like_file, builtin(spec, options.seed)) {
         let mut report = ImportReport::default();
         let referenced = scene
             .materials
@@ -40,18 +40,19 @@ pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), 
     } else {
         return Err(SceneError::UnknownScene(spec.to_string(), BUILTIN_NAMES.join(", ")));
     };
+    Ok(without_unused_textures(loaded, options))
+}
+
+/// The scene without its textures where `options` does not load them.
+fn without_unused_textures((mut scene, report): (Scene, ImportReport), options: &LoadOptions) -> (Scene, ImportReport) {
     if !options.textures {
         scene.strip_textures();
     }
-    Ok((scene, report))
+    (scene, report)
 }
 
 /// Opens the bytes of a glTF or GLB file called `name` (what a browser's file picker gives),
 /// as [`open`] opens a file; errors name `name`.
 pub fn open_bytes(name: &str, bytes: &[u8], options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
-    let (mut scene, report) = gltf_import::load_bytes(Path::new(name), bytes, options)?;
-    if !options.textures {
-        scene.strip_textures();
-    }
-    Ok((scene, report))
+    gltf_import::load_bytes(Path::new(name), bytes, options).map(|loaded| without_unused_textures(loaded, options))
 }
