@@ -173,6 +173,8 @@ enum Command {
         /// Seed of the generated atrium.
         #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
         seed: u64,
+        #[command(flatten)]
+        gltf: GltfSceneArg,
         /// Stop after this many frames.
         #[arg(long)]
         frames: Option<u64>,
@@ -185,8 +187,9 @@ enum Command {
         /// Print every frame's number.
         #[arg(long)]
         verbose: bool,
-        /// The clip that plays (glTF animations), by name or index [default: the first].
-        #[arg(long, value_name = "NAME|INDEX")]
+        /// The clip that plays (glTF animations), by name or index, or `all` (every clip at
+        /// once) [default: the first].
+        #[arg(long, value_name = "NAME|INDEX|all")]
         animation: Option<String>,
         /// Seconds into the clip at the start.
         #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
@@ -474,9 +477,20 @@ fn exit_after_gpu_timeout(e: &raygraph::error::RuntimeError) {
     std::process::exit(1);
 }
 
+/// Which scene of a glTF file is drawn.
+#[derive(clap::Args)]
+struct GltfSceneArg {
+    /// The glTF file's scene to draw, by index or name (see `raygraph scene info`) [default:
+    /// the file's `scene`].
+    #[arg(long, value_name = "INDEX|NAME")]
+    gltf_scene: Option<String>,
+}
+
 /// Where the camera is.
 #[derive(clap::Args)]
 struct ViewArgs {
+    #[command(flatten)]
+    gltf: GltfSceneArg,
     /// A named camera preset of the scene (see `raygraph scene info`).
     #[arg(long, conflicts_with = "track")]
     camera: Option<String>,
@@ -493,8 +507,9 @@ struct ViewArgs {
     /// --track the default is the track's time at --track-frame [default: the rest pose].
     #[arg(long, value_name = "SECONDS")]
     time: Option<f32>,
-    /// The clip that plays, by name or index [default: the first].
-    #[arg(long, value_name = "NAME|INDEX")]
+    /// The clip that plays, by name or index, or `all` (every clip at once, as glTF viewers
+    /// play them) [default: the first].
+    #[arg(long, value_name = "NAME|INDEX|all")]
     animation: Option<String>,
 }
 
@@ -516,9 +531,9 @@ impl ViewArgs {
             return Ok(());
         };
         let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name))?;
-        if let Some(t) = time.filter(|_| clip.is_some()) {
+        if let Some(t) = time.filter(|_| clip.is_playing()) {
             scene.pose_for_gpu(clip, t);
-            println!("animation `{}` at {t:.3} s", rig.animations[clip.unwrap_or(0)].name);
+            println!("animation `{}` at {t:.3} s", rig.describe(clip));
         }
         Ok(())
     }
@@ -540,6 +555,8 @@ enum SceneCommand {
         no_dedup: bool,
         #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
         seed: u64,
+        #[command(flatten)]
+        gltf: GltfSceneArg,
     },
     /// Write a scene (built-in or loaded) as binary glTF.
     Export {
@@ -547,6 +564,8 @@ enum SceneCommand {
         out: PathBuf,
         #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
         seed: u64,
+        #[command(flatten)]
+        gltf: GltfSceneArg,
     },
     /// Write an orbit camera track around a scene (a starting point for recorded tracks).
     Orbit {
@@ -614,15 +633,15 @@ fn run(cli: Cli) -> Result<()> {
                 None => print!("{dot}"),
             }
         }
-        Command::Scene { command: SceneCommand::Info { scene, duplicate, no_dedup, seed } } => {
-            let (mut s, report) = scene::open(&scene, &LoadOptions { textures: true, seed })?;
+        Command::Scene { command: SceneCommand::Info { scene, duplicate, no_dedup, seed, gltf } } => {
+            let (mut s, report) = scene::open(&scene, &LoadOptions { textures: true, seed, gltf_scene: gltf.gltf_scene })?;
             if duplicate > 1 {
                 s = raygraph::scene::duplicate::duplicate(&s, duplicate, !no_dedup);
             }
             print!("{}", raygraph::scene::info::describe(&s, Some(&report)));
         }
-        Command::Scene { command: SceneCommand::Export { scene, out, seed } } => {
-            let (s, _) = scene::open(&scene, &LoadOptions { textures: true, seed })?;
+        Command::Scene { command: SceneCommand::Export { scene, out, seed, gltf } } => {
+            let (s, _) = scene::open(&scene, &LoadOptions { textures: true, seed, gltf_scene: gltf.gltf_scene })?;
             raygraph::scene::export::write_glb(&s, &out)?;
             println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes.len(), s.textures.len());
         }
@@ -859,7 +878,7 @@ fn run(cli: Cli) -> Result<()> {
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, (width, height));
             write_results(&out, &[("modes.md", raygraph::bench::modes::markdown(&info, backend, &rows))])?;
         }
-        Command::View { scene, graph, mode, backend, deadline, width, height, camera, seed, frames, screenshot, script, verbose, animation, time } => {
+        Command::View { scene, graph, mode, backend, deadline, width, height, camera, seed, gltf, frames, screenshot, script, verbose, animation, time } => {
             anyhow::ensure!(time.is_finite(), "--time {time}: give a finite number of seconds");
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let opts = raygraph::viewer::ViewerOptions {
@@ -871,6 +890,7 @@ fn run(cli: Cli) -> Result<()> {
                 size: (width, height),
                 camera,
                 seed,
+                gltf_scene: gltf.gltf_scene,
                 frames,
                 screenshot,
                 script,
@@ -919,7 +939,7 @@ fn run(cli: Cli) -> Result<()> {
             if plan.passes().iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }
-            let (mut scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed })?;
+            let (mut scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed, gltf_scene: view.gltf.gltf_scene.clone() })?;
             for note in import.notes() {
                 log::warn!("{scene_spec}: {note}"); // once per run; repairs and fallbacks were logged by the import
             }
@@ -936,7 +956,7 @@ fn run(cli: Cli) -> Result<()> {
             view.pose(&mut scene, track.as_ref())?;
             let camera = match (&view.camera, &track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
-                (None, Some(track)) => track.camera_at_frame(view.track_frame, &scene.camera),
+                (None, Some(track)) => track.camera_at_frame(view.track_frame, &scene.camera).fit_clip_planes(scene.bounds()),
                 (None, None) => scene.camera,
             };
             let mut exec = Executor::new(&gpu, plan, &scene)?;

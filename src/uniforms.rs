@@ -13,7 +13,7 @@ pub struct FrameUniforms {
     pub(crate) view_proj: [[f32; 4]; 4],
     /// Clip to world space.
     pub(crate) inv_view_proj: [[f32; 4]; 4],
-    /// xyz camera position, w unused.
+    /// xyz camera position; w 1 for a perspective camera, 0 for an orthographic one.
     pub camera_pos: [f32; 4],
     /// width, height, 1/width, 1/height.
     pub resolution: [f32; 4],
@@ -104,7 +104,8 @@ pub struct MaterialUniforms {
     pub(crate) normal_scale: f32,
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
     pub alpha_cutoff: f32,
-    /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`].
+    /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
+    /// [`MATERIAL_UNLIT`].
     pub flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
@@ -128,3 +129,5 @@ pub(crate) const MATERIAL_DOUBLE_SIDED: u32 = 1;
 pub(crate) const MATERIAL_ALPHA_MASK: u32 = 2;
 /// Material flag: alpha-blended (glTF `BLEND`).
 pub(crate) const MATERIAL_ALPHA_BLEND: u32 = 4;
+/// Material flag: unlit (glTF `KHR_materials_unlit`).
+pub(crate) const MATERIAL_UNLIT: u32 = 8;

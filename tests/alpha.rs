@@ -371,7 +371,7 @@ fn only_alpha_tested_instances_are_flagged() {
 /// The camera of the graph test: quads 0 (MASK) and 1 (BLEND) fill a 96x48 image, its pixel
 /// centres on the quads' plane at the batch rays' grid.
 fn camera() -> Camera {
-    Camera { position: Vec3::new(1.5, 0.0, 4.0), target: Vec3::new(1.5, 0.0, 0.0), up: Vec3::Y, fov_y: 2.0 * (1.5f32 / 4.0).atan(), near: 0.05, far: 100.0 }
+    Camera { position: Vec3::new(1.5, 0.0, 4.0), target: Vec3::new(1.5, 0.0, 0.0), up: Vec3::Y, fov_y: 2.0 * (1.5f32 / 4.0).atan(), near: 0.05, far: 100.0, orthographic: None }
 }
 
 const IMAGE: (u32, u32) = (96, 48);

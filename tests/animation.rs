@@ -149,11 +149,11 @@ fn bad_animation_data_fails_with_errors_naming_the_file() {
 
 #[test]
 fn clips_are_chosen_by_name_or_index_and_loop() {
-    use raygraph::scene::animation::ClipChoice;
+    use raygraph::scene::animation::{ClipChoice, ClipSet};
     let scene = animated("spinner");
     let rig = scene.rig.as_ref().unwrap();
-    assert_eq!(rig.clip(&"hop".parse::<ClipChoice>().unwrap()), Ok(Some(1)));
-    assert_eq!(rig.clip(&"0".parse::<ClipChoice>().unwrap()), Ok(Some(0)));
+    assert_eq!(rig.clip(&"hop".parse::<ClipChoice>().unwrap()), Ok(ClipSet::One(1)));
+    assert_eq!(rig.clip(&"0".parse::<ClipChoice>().unwrap()), Ok(ClipSet::One(0)));
     let err = rig.clip(&"walk".parse::<ClipChoice>().unwrap()).unwrap_err();
     assert!(err.contains("no animation named `walk`") && err.contains("`spin` (2.00 s)") && err.contains("`hop`"), "{err}");
     let spinner_node = rig.nodes.iter().position(|n| n.name == "spinner").unwrap();
@@ -161,6 +161,8 @@ fn clips_are_chosen_by_name_or_index_and_loop() {
     assert_eq!(rig.pose(Some(1), 0.7).world[spinner_node].w_axis.y, 2.0);
     assert_eq!(rig.pose(Some(1), 1.7).world[spinner_node].w_axis.y, 2.0);
     assert_eq!(rig.pose(Some(1), 0.2).world[spinner_node].w_axis.y, 1.0);
+    assert_eq!(rig.clip(&"all".parse::<ClipChoice>().unwrap()), Ok(ClipSet::All));
+    assert_eq!(rig.duration(ClipSet::All), 2.0, "the longest clip's length");
 }
 
 /// The build reports of `frames` frames of `scene`'s first clip (`step` seconds apart) on the

@@ -219,7 +219,8 @@ fn the_files_cameras_become_presets_and_the_first_is_the_default_view() {
     let (s, r) = load(&cameras_document().write_glb(&dir, "cams"));
     let _ = std::fs::remove_dir_all(&dir);
     let names: Vec<&str> = s.presets.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, ["hero", "side"], "perspective cameras only, named by camera, then by node");
+    assert_eq!(names, ["hero", "side", "plan", "front", "top"], "the file's cameras named by camera, then by node; then the built-in presets (the file's `side` takes the built-in one's place)");
+    assert_eq!(s.preset("plan").unwrap().orthographic, Some(1.0));
     assert_eq!(s.camera, s.presets[0].1, "the first is the default view");
     let hero = s.preset("hero").unwrap();
     let want = Mat4::look_at_rh(Vec3::new(0.0, 1.0, 5.0), Vec3::new(0.0, 1.0, 4.0), Vec3::Y);
@@ -229,13 +230,12 @@ fn the_files_cameras_become_presets_and_the_first_is_the_default_view() {
     let want = Mat4::look_at_rh(Vec3::new(4.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0), Vec3::Y);
     assert!(side.view().abs_diff_eq(want, 1e-5), "{:?}", side.view());
     assert!(side.far > side.near && side.far.is_finite());
-    assert_eq!(r.file_cameras, 2);
+    assert_eq!(r.file_cameras, 3);
     says(
         &info::describe(&s, Some(&r)),
         &[
-            "cameras     2 from the file: hero, side (the first is the default view)",
-            "orthographic camera `plan` (skipped",
-            "camera `side`: aspectRatio 1.5 (the output size decides",
+            "cameras     3 from the file, then the built-in presets: hero, side, plan, front, top (the first is the default view)",
+            "camera `side`: aspectRatio 1.5 not enforced (the output size sets the aspect ratio",
             "camera `side`: infinite far plane",
         ],
     );
@@ -252,7 +252,7 @@ fn camera_names_are_made_unique_and_unnamed_ones_numbered() {
     let (s, _) = load(&d.write_glb(&dir, "names"));
     let _ = std::fs::remove_dir_all(&dir);
     let names: Vec<&str> = s.presets.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, ["a", "a-2", "camera1"]);
+    assert_eq!(names, ["a", "a-2", "camera1", "front", "top", "side"]);
 }
 
 #[test]
@@ -300,17 +300,18 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
 }
 
 #[test]
-fn a_16_bit_image_is_read_as_8_bit_and_says_so() {
+fn a_16_bit_image_is_rounded_to_8_bits_and_says_so() {
     let dir = temp_dir("deep-image");
-    let img = image::ImageBuffer::<image::Rgba<u16>, _>::from_pixel(2, 2, image::Rgba([0x8040, 0xffff, 0, 0xffff]));
+    let img = image::ImageBuffer::<image::Rgba<u16>, _>::from_pixel(2, 2, image::Rgba([0x01ff, 0x8040, 0, 0xffff]));
     img.save(dir.join("deep.png")).unwrap();
     let mut d = triangle_with(json!({}));
     let t = d.texture_uri("deep.png");
     d.json["materials"][0] = json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": t}}});
     let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(&s.textures[0].rgba[0..4], &[0x80, 0xff, 0, 0xff], "the high byte of each channel");
-    assert_eq!(r.approximated, ["image `deep.png`: 16-bit channels read as 8-bit"]);
+    // 511 / 65535 x 255 = 1.99 (the high byte would give 1); 32832 / 65535 x 255 = 127.75.
+    assert_eq!(&s.textures[0].rgba[0..4], &[2, 128, 0, 255], "each channel rounded to the nearest 8-bit value");
+    assert_eq!(r.approximated, ["image `deep.png`: 16-bit channels rounded to 8 bits (textures are stored as RGBA8)"]);
 }
 
 #[test]
@@ -443,6 +444,8 @@ fn render_prints_the_notes_once_and_takes_a_files_camera() {
     }
     let cams = cameras_document().write_glb(&dir, "cams");
     let stderr = render(cams.to_str().unwrap(), &["--camera", "side"]);
-    assert_eq!(stderr.matches("orthographic camera `plan`").count(), 1, "{stderr}");
+    assert_eq!(stderr.matches("camera `side`: infinite far plane").count(), 1, "{stderr}");
+    let stderr = render(cams.to_str().unwrap(), &["--camera", "plan"]);
+    assert!(!stderr.contains("orthographic camera `plan`"), "the orthographic camera is drawn, not skipped: {stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }

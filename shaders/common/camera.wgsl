@@ -1,15 +1,52 @@
 // Camera rays and their cones. Needs the main shader to declare `frame: Frame` (include
-// common/frame.wgsl first).
+// common/frame.wgsl first). `frame.camera_pos.w` is 1 for a perspective camera (rays leave its
+// position) and 0 for an orthographic one (parallel rays leave the near plane).
+
+fn camera_is_orthographic() -> bool {
+    return frame.camera_pos.w == 0.0;
+}
+
+// The world-space points of pixel `p`'s centre on the near (depth 0) and far (depth 1) planes.
+fn camera_unproject(p: vec2<u32>, depth: f32) -> vec3<f32> {
+    let ndc = vec2<f32>((f32(p.x) + 0.5) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(p.y) + 0.5) * frame.resolution.w * 2.0);
+    let q = frame.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
+    return q.xyz / q.w;
+}
+
+// Where the camera ray through pixel `p` starts: the camera's position, or the pixel's point
+// on the near plane for an orthographic camera.
+fn camera_origin(p: vec2<u32>) -> vec3<f32> {
+    if camera_is_orthographic() {
+        return camera_unproject(p, 0.0);
+    }
+    return frame.camera_pos.xyz;
+}
 
 // The world-space direction of the camera ray through the centre of pixel `p`.
 fn camera_dir(p: vec2<u32>) -> vec3<f32> {
-    let ndc = vec2<f32>((f32(p.x) + 0.5) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(p.y) + 0.5) * frame.resolution.w * 2.0);
-    let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
-    return normalize(far.xyz / far.w - frame.camera_pos.xyz);
+    return normalize(camera_unproject(p, 1.0) - camera_origin(p));
+}
+
+// The unit direction from the world-space point `x` towards the camera (along the view axis
+// for an orthographic camera).
+fn camera_view_dir(x: vec3<f32>) -> vec3<f32> {
+    if camera_is_orthographic() {
+        return -camera_dir(vec2<u32>(0u, 0u));
+    }
+    return normalize(frame.camera_pos.xyz - x);
 }
 
 // The spread angle of pixel `p`'s ray cone: the angle to the next pixel's ray (Ray Tracing
-// Gems ch. 20): a cone's width at distance d is about `spread * d`.
+// Gems ch. 20): a cone's width at distance d is about `spread * d` (0 for parallel rays).
 fn camera_pixel_spread(p: vec2<u32>) -> f32 {
     return length(camera_dir(p + vec2<u32>(1u, 0u)) - camera_dir(p));
+}
+
+// The width of pixel `p`'s ray cone at `distance` along it: `spread * distance`, or the
+// pixel's constant width for an orthographic camera.
+fn camera_cone_width(p: vec2<u32>, distance: f32) -> f32 {
+    if camera_is_orthographic() {
+        return length(camera_origin(p + vec2<u32>(1u, 0u)) - camera_origin(p));
+    }
+    return camera_pixel_spread(p) * distance;
 }

@@ -3,6 +3,7 @@
 struct Frame {
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
+    // xyz the camera's position; w 1 for a perspective camera, 0 for an orthographic one
     camera_pos: vec4<f32>,
     // width, height, 1/width, 1/height
     resolution: vec4<f32>,

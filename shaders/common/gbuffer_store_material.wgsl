@@ -3,7 +3,8 @@
 
 fn store_gbuffer_material(p: vec2<u32>, s: Surface) {
     let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
-    textureStore(material, p, vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0));
+    // a: 1 for a lit surface, 0 for an unlit one (KHR_materials_unlit).
+    textureStore(material, p, vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), select(1.0, 0.0, s.unlit)));
     textureStore(emissive, p, vec4<f32>(s.emissive, s.occlusion));
 }
 

@@ -13,6 +13,7 @@ fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
     sp.roughness = s.roughness;
     sp.occlusion = s.occlusion;
     sp.emissive = s.emissive;
+    sp.unlit = s.unlit;
     return sp;
 }
 

@@ -59,6 +59,9 @@ struct ShadingPoint {
     // material occlusion (1: none); scales the ambient term only
     occlusion: f32,
     emissive: vec3<f32>,
+    // KHR_materials_unlit: the point shows its albedo (the base colour) and nothing else
+    // (false in a zero-initialised point)
+    unlit: bool,
 }
 
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
@@ -126,7 +129,7 @@ fn brdf_light(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, e: vec3<f32>, albedo: ve
 
 // Unshadowed radiance towards the viewer from one light with sample `ls`.
 fn light_radiance(s: ShadingPoint, ls: LightSample) -> vec3<f32> {
-    if all(ls.e == vec3<f32>(0.0)) {
+    if all(ls.e == vec3<f32>(0.0)) || s.unlit {
         return vec3<f32>(0.0);
     }
     return brdf_light(s.normal, s.view, ls.l, ls.e, s.albedo, s.metallic, s.roughness);
@@ -135,6 +138,9 @@ fn light_radiance(s: ShadingPoint, ls: LightSample) -> vec3<f32> {
 // Specular reflection of `incoming` radiance arriving along the mirror direction (a
 // ray-traced reflection, or `sky_reflection`), weighted by the Fresnel term.
 fn reflected_radiance(s: ShadingPoint, incoming: vec3<f32>) -> vec3<f32> {
+    if s.unlit {
+        return vec3<f32>(0.0);
+    }
     return fresnel_schlick(dot(s.normal, s.view), specular_f0(s.albedo, s.metallic)) * incoming;
 }
 
@@ -146,7 +152,11 @@ fn sky_reflection(s: ShadingPoint) -> vec3<f32> {
 
 // The whole shaded colour: sky ambient (x AO x material occlusion, diffuse part only), the
 // direct light the mode summed over the lights with their visibility, and emission.
+// An unlit point shows its albedo alone.
 fn surface_radiance(s: ShadingPoint, direct: vec3<f32>, ao: f32) -> vec3<f32> {
+    if s.unlit {
+        return s.albedo;
+    }
     let ambient = frame.ambient * sky_color(s.normal) * s.albedo * (1.0 - s.metallic) * ao * s.occlusion;
     return ambient + direct + s.emissive;
 }

@@ -26,6 +26,8 @@ struct RasterSurface {
     roughness: f32,
     emissive: vec3<f32>,
     occlusion: f32,
+    // KHR_materials_unlit: shows `albedo` alone.
+    unlit: bool,
 }
 
 // Surface inputs of a fragment of instance `inst` at object-space position `local`, with
@@ -67,5 +69,6 @@ fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = material.emissive * emission;
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
+    s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
     return s;
 }

@@ -13,6 +13,7 @@ struct Instance {
 const MATERIAL_DOUBLE_SIDED: u32 = 1u;
 const MATERIAL_ALPHA_MASK: u32 = 2u;
 const MATERIAL_ALPHA_BLEND: u32 = 4u;
+const MATERIAL_UNLIT: u32 = 8u;
 
 struct Material {
     base_color: vec4<f32>,

@@ -25,6 +25,8 @@ struct Surface {
     emissive: vec3<f32>,
     // Material occlusion (occlusion texture and strength; 1 without one).
     occlusion: f32,
+    // KHR_materials_unlit: shows `albedo` alone.
+    unlit: bool,
 }
 
 fn scene_vertex(i: u32) -> SceneVertex {
@@ -90,6 +92,7 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = emissive;
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
+    s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
     return s;
 }
 

@@ -46,7 +46,7 @@ fn visible_hit(ray: Ray, seen: Visible) -> Hit {
 // the camera ray through its centre, met on the triangle `seen` names, read at the pixel's ray
 // cone as primary rays read their hits.
 fn visible_surface(p: vec2<u32>, seen: Visible) -> Surface {
-    let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(p), 3.0e38);
+    let ray = Ray(camera_origin(p), 0.0, camera_dir(p), 3.0e38);
     let hit = visible_hit(ray, seen);
-    return surface_at_cone(ray, hit, camera_pixel_spread(p) * hit.t);
+    return surface_at_cone(ray, hit, camera_cone_width(p, hit.t));
 }

@@ -65,7 +65,9 @@ fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     out.geo_normal = vec4<f32>(s.geo_normal, 0.0);
     out.albedo = vec4<f32>(s.albedo, 1.0);
     let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
-    out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), 1.0);
+    // a: 1 for a lit surface, 0 for an unlit one (KHR_materials_unlit), as
+    // common/gbuffer_store_material.wgsl writes it.
+    out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), select(1.0, 0.0, s.unlit));
     out.emissive = vec4<f32>(s.emissive, s.occlusion);
     return out;
 }

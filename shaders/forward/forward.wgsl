@@ -7,6 +7,7 @@
 // lights) has its direct term multiplied by its shadow-map visibility (common/forward_shading.wgsl);
 // other lights are unshadowed.
 //#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/lighting.wgsl"
@@ -72,11 +73,12 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @locatio
     var s: ShadingPoint;
     s.position = in.world_pos;
     s.normal = r.normal;
-    s.view = normalize(frame.camera_pos.xyz - in.world_pos);
+    s.view = camera_view_dir(in.world_pos);
     s.albedo = r.albedo;
     s.metallic = r.metallic;
     s.roughness = r.roughness;
     s.occlusion = r.occlusion;
     s.emissive = r.emissive;
+    s.unlit = r.unlit;
     return vec4<f32>(forward_radiance(s, r.geo_normal, r.dp1, r.dp2), 1.0);
 }

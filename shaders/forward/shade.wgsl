@@ -31,10 +31,11 @@
 @group(0) @binding(13) var visibility: texture_2d<u32>;
 @group(0) @binding(14) var color: texture_storage_2d<rgba16float, write>;
 
-// The world-space offset from `p` to where the camera ray `dir` meets the plane through `p`
-// with normal `n` (zero where the ray runs along the plane).
-fn plane_offset(dir: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
-    let eye = frame.camera_pos.xyz;
+// The world-space offset from `p` to where the camera ray through pixel `q` meets the plane
+// through `p` with normal `n` (zero where the ray runs along the plane).
+fn plane_offset(q: vec2<u32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let eye = camera_origin(q);
+    let dir = camera_dir(q);
     let along = dot(dir, n);
     if abs(along) < 1e-8 {
         return vec3<f32>(0.0);
@@ -57,13 +58,14 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var s: ShadingPoint;
     s.position = surface.position;
     s.normal = surface.normal;
-    s.view = normalize(frame.camera_pos.xyz - surface.position);
+    s.view = camera_view_dir(surface.position);
     s.albedo = surface.albedo;
     s.metallic = surface.metallic;
     s.roughness = surface.roughness;
     s.occlusion = surface.occlusion;
     s.emissive = surface.emissive;
-    let dp1 = plane_offset(camera_dir(id.xy + vec2<u32>(1u, 0u)), s.position, surface.geo_normal);
-    let dp2 = plane_offset(camera_dir(id.xy + vec2<u32>(0u, 1u)), s.position, surface.geo_normal);
+    s.unlit = surface.unlit;
+    let dp1 = plane_offset(id.xy + vec2<u32>(1u, 0u), s.position, surface.geo_normal);
+    let dp2 = plane_offset(id.xy + vec2<u32>(0u, 1u), s.position, surface.geo_normal);
     textureStore(color, id.xy, vec4<f32>(forward_radiance(s, surface.geo_normal, dp1, dp2), 1.0));
 }

@@ -35,8 +35,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(surface, id.xy, p);
     let valid = frame.history_valid == 1u;
     if p.w == 0.0 {
-        // The sky is at infinity: only the camera's turn moves it.
-        let before = previous_pixel(frame.prev_view_proj * vec4<f32>(camera_dir(id.xy), 0.0));
+        // The sky is at infinity: only the camera's turn moves it (an orthographic camera's
+        // projection maps no direction to a pixel: its sky is taken as still).
+        var before = here;
+        if !camera_is_orthographic() {
+            before = previous_pixel(frame.prev_view_proj * vec4<f32>(camera_dir(id.xy), 0.0));
+        }
         textureStore(motion, id.xy, vec4<f32>(here - before, select(1.0, 0.0, valid), 0.0));
         return;
     }

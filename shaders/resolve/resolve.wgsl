@@ -5,6 +5,7 @@
 // reflections x Fresnel (the sky's where no reflection ray was traced) and emission. Inputs that may be 1x1 fallbacks are read at a clamped
 // texel.
 //#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
 //#include "common/lighting.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -43,12 +44,16 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
     var s: ShadingPoint;
     s.position = p.xyz;
     s.normal = normalize(load(normal, texel).xyz);
-    s.view = normalize(frame.camera_pos.xyz - p.xyz);
+    s.view = camera_view_dir(p.xyz);
     s.albedo = load(albedo, texel).rgb;
     s.metallic = m.r;
     s.roughness = m.g;
     s.occlusion = e.a;
     s.emissive = e.rgb;
+    s.unlit = m.a < 0.5;
+    if s.unlit {
+        return vec4<f32>(surface_radiance(s, vec3<f32>(0.0), 1.0), 1.0);
+    }
     let d = load(direct, texel);
     var lit = d.rgb;
     if d.a == 0.0 {

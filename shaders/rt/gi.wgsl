@@ -35,6 +35,9 @@ struct Params {
 // The radiance leaving hit surface `s` towards `v`: every light with its own shadow ray, and
 // the emission (no sky ambient: that is the resolve's).
 fn hit_radiance(s: Surface, v: vec3<f32>) -> vec3<f32> {
+    if s.unlit {
+        return s.albedo;
+    }
     return hit_direct_light(s, hit_shading_point(s, v)) + s.emissive;
 }
 
@@ -54,7 +57,6 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let origin = offset_ray_origin(p.xyz, geo);
     let frame_offset = select(0u, frame.frame_index, params.per_frame != 0u);
     let rotation = pixel_random2(id.xy, params.seed);
-    let spread = camera_pixel_spread(id.xy);
     let path = distance(frame.camera_pos.xyz, p.xyz);
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < params.rays; i++) {
@@ -65,7 +67,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         let ray = Ray(origin, 0.0, dir, 3.0e38);
         let hit = trace_closest(ray);
         if hit.instance != NO_HIT {
-            sum += hit_radiance(surface_at_cone(ray, hit, spread * (path + hit.t)), -dir);
+            sum += hit_radiance(surface_at_cone(ray, hit, camera_cone_width(id.xy, path + hit.t)), -dir);
         }
     }
     textureStore(gi, id.xy, vec4<f32>(sum / f32(max(params.rays, 1u)), 1.0));

@@ -29,12 +29,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    let ray = Ray(frame.camera_pos.xyz, 0.0, camera_dir(id.xy), 3.0e38);
+    let ray = Ray(camera_origin(id.xy), 0.0, camera_dir(id.xy), 3.0e38);
     let hit = closest_visible(ray);
     if hit.instance == NO_HIT {
         store_gbuffer_surface_miss(id.xy);
     } else {
-        store_gbuffer_surface(id.xy, surface_at_cone(ray, hit, camera_pixel_spread(id.xy) * hit.t), hit.instance);
+        store_gbuffer_surface(id.xy, surface_at_cone(ray, hit, camera_cone_width(id.xy, hit.t)), hit.instance);
     }
     trace_flush_stats();
 }

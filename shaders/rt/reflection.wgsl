@@ -72,20 +72,20 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let p = textureLoad(position, id.xy, 0);
     let m = textureLoad(material, id.xy, 0);
-    if p.w == 0.0 || m.g > params.max_roughness {
+    // No reflection off the sky, rough surfaces and unlit ones (material a 0).
+    if p.w == 0.0 || m.g > params.max_roughness || m.a < 0.5 {
         textureStore(reflection, id.xy, vec4<f32>(0.0));
         return;
     }
     var n = normalize(textureLoad(normal, id.xy, 0).xyz);
     var geo = normalize(textureLoad(geo_normal, id.xy, 0).xyz);
     var origin = offset_ray_origin(p.xyz, geo);
-    var v = normalize(frame.camera_pos.xyz - p.xyz);
+    var v = camera_view_dir(p.xyz);
     var roughness = m.g;
     var radiance = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
     // New glossy directions every frame with `per_frame` (for the temporal filter).
     let rnd = pixel_random2(id.xy, frame_seed(params.seed, frame.frame_index, params.per_frame));
-    let spread = camera_pixel_spread(id.xy);
     var path = distance(frame.camera_pos.xyz, p.xyz);
     for (var bounce = 0u; bounce < params.bounces; bounce++) {
         var dir = glossy_direction(reflect(-v, n), roughness, fract(rnd + r2_sample(bounce)));
@@ -99,8 +99,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             break;
         }
         path += hit.t;
-        let s = surface_at_cone(ray, hit, spread * path);
+        let s = surface_at_cone(ray, hit, camera_cone_width(id.xy, path));
         radiance += throughput * shade_hit(s, -dir);
+        if s.unlit {
+            break; // an unlit surface reflects nothing
+        }
         // The next bounce leaves the hit point, weighted by its Fresnel reflectance.
         let f = fresnel_schlick(dot(s.normal, -dir), specular_f0(s.albedo, s.metallic));
         throughput *= f;

@@ -5,6 +5,7 @@
 // (common/shadow_ray.wgsl): a stochastic estimate of a soft shadow per pixel and light, for the temporal and spatial filters. Writes the
 // shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four.
 //#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
 //#include "common/lighting.wgsl"
 //#include "common/sampling.wgsl"
@@ -49,10 +50,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var s: ShadingPoint;
     s.position = p.xyz;
     s.normal = normalize(textureLoad(normal, id.xy, 0).xyz);
-    s.view = normalize(frame.camera_pos.xyz - p.xyz);
+    s.view = camera_view_dir(p.xyz);
     s.albedo = textureLoad(albedo, id.xy, 0).rgb;
     s.metallic = m.r;
     s.roughness = m.g;
+    s.unlit = m.a < 0.5;
     let origin = offset_ray_origin(p.xyz, geo);
     var mask = vec4<f32>(0.0);
     var radiance = vec3<f32>(0.0);

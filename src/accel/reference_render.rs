@@ -90,7 +90,7 @@ impl ReferenceRenderer {
     /// The camera rays through the pixel centres of a `size` image, row by row, as
     /// `camera_dir` builds them (`t` over `[0, 3e38]`).
     pub fn camera_rays(camera: &Camera, size: (u32, u32)) -> Vec<Ray> {
-        camera.ray_dirs(size, 1).into_iter().map(|d| Ray::with_interval(camera.position, d, 0.0, 3.0e38)).collect()
+        camera.rays(size, 1).into_iter().map(|(o, d)| Ray::with_interval(o, d, 0.0, 3.0e38)).collect()
     }
 
     /// Primary visibility: the closest hit of each ray, with its margin.

@@ -60,6 +60,7 @@ pub fn run(
 ) -> Result<Vec<TrackRow>, crate::error::RuntimeError> {
     let track = Track::load(&cfg.track)?;
     let (scene, _) = crate::scene::open(&cfg.scene, &LoadOptions::default())?;
+    let bounds = scene.bounds();
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let frames: Vec<u32> = (0..track.frame_count()).step_by(cfg.stride.max(1) as usize).collect();
     // Raster runs once (it traces nothing); the ray-traced modes once per back-end.
@@ -73,7 +74,7 @@ pub fn run(
         let options = gpu.compile_options_for(backend.unwrap_or(gpu.selection.backend));
         let plan = compile_with(&cfg.root.join(graph), &project, cfg.size, &options)?;
         let mut exec = Executor::new(gpu, plan, &scene)?;
-        let timings = super::timed_frames(gpu, &mut exec, &scene, 1, frames.len() as u32, |i| track.camera_at_frame(frames[i as usize], &scene.camera))?;
+        let timings = super::timed_frames(gpu, &mut exec, &scene, 1, frames.len() as u32, |i| track.camera_at_frame(frames[i as usize], &scene.camera).fit_clip_planes(bounds))?;
         for (f, t) in frames.iter().zip(&timings) {
             let ms = super::frame_gpu_ms(t);
             let rays = t.rays.map(|r| r.traced()).unwrap_or(0);

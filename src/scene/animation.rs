@@ -179,11 +179,37 @@ pub struct Pose {
     pub weights: Vec<Vec<f32>>,
 }
 
+/// Which clips drive a pose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub enum ClipSet {
+    /// None: the rest pose.
+    #[default]
+    Rest,
+    /// One clip, by index.
+    One(usize),
+    /// Every clip at once, each looping over its own duration (what glTF viewers play); where
+    /// two clips drive the same property, the later clip's value is used.
+    All,
+}
+
+impl From<Option<usize>> for ClipSet {
+    fn from(clip: Option<usize>) -> Self {
+        clip.map_or(ClipSet::Rest, ClipSet::One)
+    }
+}
+
+impl ClipSet {
+    /// Whether any clip plays.
+    pub fn is_playing(self) -> bool {
+        self != ClipSet::Rest
+    }
+}
+
 /// When a scene was posed, and where its deforming meshes were deformed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PoseTime {
-    /// The clip (none: the rest pose).
-    pub clip: Option<usize>,
+    /// The clips (rest: the rest pose).
+    pub clip: ClipSet,
     /// Seconds into it.
     pub time: f32,
     /// The deforming meshes' vertices in [`crate::scene::Scene::meshes`] hold this pose (false: they are left
@@ -191,12 +217,14 @@ pub struct PoseTime {
     pub meshes_deformed: bool,
 }
 
-/// Which clip plays.
+/// Which clip plays, as a user names it.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub enum ClipChoice {
     /// The file's first clip (the rest pose in a file without clips).
     #[default]
     First,
+    /// Every clip at once (`all`).
+    All,
     /// A clip by index.
     Index(usize),
     /// A clip by name.
@@ -206,6 +234,9 @@ pub enum ClipChoice {
 impl std::str::FromStr for ClipChoice {
     type Err = std::convert::Infallible;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "all" {
+            return Ok(ClipChoice::All);
+        }
         Ok(s.parse::<usize>().map(ClipChoice::Index).unwrap_or_else(|_| ClipChoice::Name(s.to_string())))
     }
 }
@@ -216,9 +247,10 @@ impl Rig {
         self.animations.iter().any(|a| !a.channels.is_empty())
     }
 
-    /// The clip `choice` names: `Ok(None)` for a file without clips and [`ClipChoice::First`];
-    /// an error listing the clips for a name or index that is not there.
-    pub fn clip(&self, choice: &ClipChoice) -> Result<Option<usize>, String> {
+    /// The clips `choice` names: [`ClipSet::Rest`] for a file without clips and
+    /// [`ClipChoice::First`] or [`ClipChoice::All`]; an error listing the clips for a name or
+    /// index that is not there.
+    pub fn clip(&self, choice: &ClipChoice) -> Result<ClipSet, String> {
         let list = || {
             if self.animations.is_empty() {
                 "the scene has no animations".to_string()
@@ -227,21 +259,46 @@ impl Rig {
                 format!("its animations are {}", names.join(", "))
             }
         };
+        let any = !self.animations.is_empty();
         match choice {
-            ClipChoice::First => Ok((!self.animations.is_empty()).then_some(0)),
-            ClipChoice::Index(i) if *i < self.animations.len() => Ok(Some(*i)),
+            ClipChoice::First => Ok(if any { ClipSet::One(0) } else { ClipSet::Rest }),
+            ClipChoice::All => Ok(if any { ClipSet::All } else { ClipSet::Rest }),
+            ClipChoice::Index(i) if *i < self.animations.len() => Ok(ClipSet::One(*i)),
             ClipChoice::Index(i) => Err(format!("no animation {i}: {}", list())),
-            ClipChoice::Name(n) => self.animations.iter().position(|a| a.name == *n).map(Some).ok_or_else(|| format!("no animation named `{n}`: {}", list())),
+            ClipChoice::Name(n) => self.animations.iter().position(|a| a.name == *n).map(ClipSet::One).ok_or_else(|| format!("no animation named `{n}`: {}", list())),
         }
     }
 
-    /// The pose of clip `clip` (none: the rest pose) at `time` seconds, looping over the
-    /// clip's duration.
-    pub fn pose(&self, clip: Option<usize>, time: f32) -> Pose {
+    /// The clips of `clips`, by index.
+    fn playing(&self, clips: ClipSet) -> std::ops::Range<usize> {
+        match clips {
+            ClipSet::Rest => 0..0,
+            ClipSet::One(c) => c.min(self.animations.len())..(c + 1).min(self.animations.len()),
+            ClipSet::All => 0..self.animations.len(),
+        }
+    }
+
+    /// The length of `clips` in seconds: the longest clip's (0 at rest).
+    pub fn duration(&self, clips: ClipSet) -> f32 {
+        self.playing(clips).map(|c| self.animations[c].duration).fold(0.0, f32::max)
+    }
+
+    /// A short name of `clips` for messages: the clip's name, `all clips` or `rest pose`.
+    pub fn describe(&self, clips: ClipSet) -> String {
+        match clips {
+            ClipSet::Rest => "rest pose".into(),
+            ClipSet::One(c) => self.animations.get(c).map_or_else(|| format!("clip {c}"), |a| a.name.clone()),
+            ClipSet::All => format!("all {} clips", self.animations.len()),
+        }
+    }
+
+    /// The pose of `clips` (a clip index, `None` for the rest pose, or a [`ClipSet`]) at `time`
+    /// seconds, each clip looping over its own duration.
+    pub fn pose(&self, clips: impl Into<ClipSet>, time: f32) -> Pose {
         let mut local: Vec<Trs> = self.nodes.iter().map(|n| n.rest).collect();
         let mut weights: Vec<Vec<f32>> = self.nodes.iter().map(|n| n.weights.clone()).collect();
         let mut driven = vec![false; self.nodes.len()];
-        if let Some(anim) = clip.and_then(|c| self.animations.get(c)) {
+        for anim in self.playing(clips.into()).map(|c| &self.animations[c]) {
             let t = if anim.duration > 0.0 && time.is_finite() { time.rem_euclid(anim.duration) } else { 0.0 };
             for ch in &anim.channels {
                 let v = ch.sample(t);
@@ -466,7 +523,7 @@ mod tests {
         assert_eq!(rig.pose(None, 0.0).world[0].w_axis.x, 11.0);
         assert_eq!(rig.pose(Some(0), 1.0).world[0].w_axis.x, 11.0);
         assert_eq!(rig.pose(Some(0), 3.0).world[0].w_axis.x, 11.0, "3 s loops to 1 s");
-        assert_eq!(rig.clip(&ClipChoice::Name("move".into())), Ok(Some(0)));
+        assert_eq!(rig.clip(&ClipChoice::Name("move".into())), Ok(ClipSet::One(0)));
         assert!(rig.clip(&ClipChoice::Index(4)).unwrap_err().contains("`move`"));
     }
 }

@@ -131,11 +131,11 @@ pub fn default_scene() -> Scene {
         materials,
         instances,
         textures,
-        camera: Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 },
+        camera: Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0, orthographic: None },
         presets: vec![
             (
                 "main".into(),
-                Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0 },
+                Camera { position: Vec3::new(3.5, 3.2, 6.5), target: Vec3::new(0.0, 0.6, 0.4), up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 100.0, orthographic: None },
             ),
             ("low".into(), Camera::look(Vec3::new(-4.0, 0.6, 4.5), Vec3::new(0.0, 0.8, 0.0), 50.0, 0.05, 100.0)),
             ("top".into(), Camera::look(Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO, 50.0, 0.05, 100.0)),

@@ -132,10 +132,11 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             }),
             emissive_texture: info(m.emissive_texture),
             emissive_factor: json::material::EmissiveFactor(emissive),
-            extensions: emissive_strength.map(|strength| json::extensions::material::Material {
-                emissive_strength: Some(json::extensions::material::EmissiveStrength {
+            extensions: (emissive_strength.is_some() || m.unlit).then(|| json::extensions::material::Material {
+                emissive_strength: emissive_strength.map(|strength| json::extensions::material::EmissiveStrength {
                     emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
                 }),
+                unlit: m.unlit.then_some(json::extensions::material::Unlit {}),
                 ..Default::default()
             }),
             ..Default::default()
@@ -143,6 +144,9 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     }
     if scene.materials.iter().any(|m| emissive_factor(m).1.is_some()) {
         root.extensions_used.push("KHR_materials_emissive_strength".into());
+    }
+    if scene.materials.iter().any(|m| m.unlit) {
+        root.extensions_used.push("KHR_materials_unlit".into());
     }
 
     // Meshes. The material goes with the primitive, so a mesh used with several materials
@@ -252,20 +256,29 @@ fn oriented_node(name: &str, position: Vec3, forward: Vec3, up: Vec3) -> json::N
     }
 }
 
-/// A camera preset as a perspective camera on its own node.
+/// A camera preset as a perspective or orthographic camera on its own node.
 fn camera_node(root: &mut json::Root, name: &str, c: &Camera) -> json::Index<json::Node> {
+    let perspective = c.orthographic.is_none().then(|| json::camera::Perspective {
+        aspect_ratio: None,
+        yfov: c.fov_y,
+        zfar: Some(c.far),
+        znear: c.near,
+        extensions: None,
+        extras: Default::default(),
+    });
+    let orthographic = c.orthographic.map(|half_height| json::camera::Orthographic {
+        xmag: half_height,
+        ymag: half_height,
+        zfar: c.far,
+        znear: c.near,
+        extensions: None,
+        extras: Default::default(),
+    });
     let camera = root.push(json::Camera {
         name: Some(name.to_string()),
-        orthographic: None,
-        perspective: Some(json::camera::Perspective {
-            aspect_ratio: None,
-            yfov: c.fov_y,
-            zfar: Some(c.far),
-            znear: c.near,
-            extensions: None,
-            extras: Default::default(),
-        }),
-        type_: Valid(json::camera::Type::Perspective),
+        type_: Valid(if orthographic.is_some() { json::camera::Type::Orthographic } else { json::camera::Type::Perspective }),
+        orthographic,
+        perspective,
         extensions: None,
         extras: Default::default(),
     });

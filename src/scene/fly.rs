@@ -34,6 +34,7 @@ pub struct FlyCamera {
     pub(crate) fov_y: f32,
     pub(crate) near: f32,
     pub(crate) far: f32,
+    pub(crate) orthographic: Option<f32>,
 }
 
 impl FlyCamera {
@@ -49,6 +50,7 @@ impl FlyCamera {
             fov_y: c.fov_y,
             near: c.near,
             far: c.far,
+            orthographic: c.orthographic,
         }
     }
 
@@ -60,7 +62,7 @@ impl FlyCamera {
 
     /// The camera it describes.
     pub fn camera(&self) -> Camera {
-        Camera { position: self.position, target: self.position + self.forward(), up: Vec3::Y, fov_y: self.fov_y, near: self.near, far: self.far }
+        Camera { position: self.position, target: self.position + self.forward(), up: Vec3::Y, fov_y: self.fov_y, near: self.near, far: self.far, orthographic: self.orthographic }
     }
 
     /// Moves by the held keys over `dt` seconds.

@@ -70,6 +70,24 @@ pub enum SceneError {
         /// The extensions it reads ([`SUPPORTED_EXTENSIONS`]).
         supported: String,
     },
+    /// The scene asked for with `--gltf-scene` is not in the file.
+    #[error("{path}: no scene `{asked}`; the file's scenes are: {scenes}\n  help: give a scene's index or name (see `raygraph scene info`)")]
+    NoSuchScene {
+        /// The file.
+        path: PathBuf,
+        /// What was asked for.
+        asked: String,
+        /// The file's scenes, by index and name.
+        scenes: String,
+    },
+    /// `--gltf-scene` given for a scene that is not a glTF file.
+    #[error("--gltf-scene {asked}: `{scene}` is a built-in scene, not a glTF file\n  help: give --gltf-scene only with a .gltf or .glb path")]
+    SceneOfBuiltin {
+        /// The built-in scene.
+        scene: String,
+        /// What was asked for.
+        asked: String,
+    },
     /// Neither a built-in scene nor a glTF path: the name, and the built-in names.
     #[error("unknown scene `{0}`; built-in scenes are: {1}\n  help: give a built-in scene name or a .gltf/.glb path")]
     UnknownScene(String, String),
@@ -84,23 +102,25 @@ pub enum SceneError {
 }
 
 /// What to load. Textures are decoded only when a pass of the active graph samples them.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct LoadOptions {
     /// Decode the material textures (`false`: materials keep their factors only).
     pub textures: bool,
     /// Seed of the generated `atrium`.
     pub seed: u64,
+    /// The glTF scene to draw, by index or name (`None`: the file's `scene`, else its first).
+    pub gltf_scene: Option<String>,
 }
 
 impl Default for LoadOptions {
     fn default() -> Self {
-        Self { textures: true, seed: super::procedural::ATRIUM_DEFAULT_SEED }
+        Self { textures: true, seed: super::procedural::ATRIUM_DEFAULT_SEED, gltf_scene: None }
     }
 }
 
 /// The glTF extensions raygraph reads (everything else in `extensionsUsed` is listed as
 /// ignored, and a file that requires anything else is refused).
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit"];
 
 /// The five texture slots of a glTF material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -177,6 +197,9 @@ pub struct ImportReport {
     pub ignored_features: Vec<String>,
     /// Cameras of the file that became camera presets.
     pub file_cameras: usize,
+    /// The file's scenes, one line each (index, name, whether it is drawn and the file's
+    /// default); empty for built-in scenes.
+    pub scenes: Vec<String>,
     /// A `default` material was added for primitives that name none.
     pub default_material: bool,
     /// Texture references not loaded because the active graph samples no textures.
@@ -366,7 +389,8 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
         report.warn(format!("{}: {} zero-area triangles (left out of acceleration structures)", path.display(), report.degenerate_triangles));
     }
 
-    let mut placed = walk_nodes(path, &gltf.document, &primitives_of_mesh, &mut report)?;
+    let roots = scene_roots(path, &gltf.document, options.gltf_scene.as_deref(), &mut report)?;
+    let mut placed = walk_nodes(path, roots, &primitives_of_mesh, &mut report)?;
     let rig_input = super::gltf_animation::RigInput { doc: &gltf.document, buffers: &buffers, mesh_primitive: &mesh_primitive };
     let rig = match super::gltf_animation::rig(&rig_input, &mut meshes, &mut placed.instances, &placed.instance_nodes) {
         Ok(Some((rig, repairs))) => {
@@ -402,15 +426,9 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
     };
     // Skinned meshes are placed by their joints and morph targets take the nodes' weights.
     scene.pose(None, 0.0);
-    let bounds = scene.bounds();
-    scene.presets = file_cameras(path, &placed.cameras, bounds, &mut report);
-    report.file_cameras = scene.presets.len();
-    if scene.presets.is_empty() {
-        scene.presets = Camera::presets_for(bounds);
-        scene.camera = Camera::framing(bounds);
-    } else {
-        scene.camera = scene.presets[0].1;
-    }
+    let file = file_cameras(path, &placed.cameras, scene.bounds(), &mut report);
+    report.file_cameras = file.len();
+    (scene.camera, scene.presets) = camera_presets(&scene, file);
     Ok((scene, report))
 }
 
@@ -598,6 +616,7 @@ impl TextureLoader<'_> {
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
         mat.double_sided = m.double_sided();
+        mat.unlit = m.unlit();
         mat
     }
 
@@ -641,7 +660,10 @@ impl TextureLoader<'_> {
                 Ok(data) => {
                     use gltf::image::Format as F;
                     if matches!(data.format, F::R16 | F::R16G16 | F::R16G16B16 | F::R16G16B16A16) {
-                        report.approximated.push(format!("image `{name}`: 16-bit channels read as 8-bit"));
+                        report.approximated.push(format!("image `{name}`: 16-bit channels rounded to 8 bits (textures are stored as RGBA8)"));
+                    }
+                    if matches!(data.format, F::R32G32B32FLOAT | F::R32G32B32A32FLOAT) {
+                        report.approximated.push(format!("image `{name}`: float channels clamped to 0..1 and rounded to 8 bits"));
                     }
                     to_rgba8(&name, &data).map_err(|why| format!("has {why}"))
                 }
@@ -714,10 +736,38 @@ struct Placed<'a> {
     cameras: Vec<(gltf::Node<'a>, gltf::Camera<'a>, Mat4)>,
 }
 
-/// Walks the default scene (or the first, or every node when there are no scenes).
+/// The root nodes of the scene to draw: `asked` (an index or a name), else the file's default
+/// scene, else its first, else every node of a file without scenes; the file's scenes are
+/// listed in `report.scenes`.
+fn scene_roots<'a>(path: &Path, doc: &'a gltf::Document, asked: Option<&str>, report: &mut ImportReport) -> Result<Vec<gltf::Node<'a>>, SceneError> {
+    let label = |s: &gltf::Scene| format!("{} `{}`", s.index(), s.name().unwrap_or("unnamed"));
+    let chosen = match asked {
+        Some(a) => Some(doc.scenes().find(|s| a.parse::<usize>().ok() == Some(s.index()) || s.name() == Some(a)).ok_or_else(|| SceneError::NoSuchScene {
+            path: path.to_path_buf(),
+            asked: a.to_string(),
+            scenes: if doc.scenes().len() == 0 { "none".into() } else { doc.scenes().map(|s| label(&s)).collect::<Vec<_>>().join(", ") },
+        })?),
+        None => doc.default_scene().or_else(|| doc.scenes().next()),
+    };
+    let default = doc.default_scene().map(|s| s.index());
+    report.scenes = doc
+        .scenes()
+        .map(|s| {
+            let drawn = chosen.as_ref().is_some_and(|c| c.index() == s.index());
+            let tags: Vec<&str> = [drawn.then_some("drawn"), (default == Some(s.index())).then_some("the file's default")].into_iter().flatten().collect();
+            format!("{} {} nodes{}", label(&s), s.nodes().len(), if tags.is_empty() { String::new() } else { format!(" ({})", tags.join(", ")) })
+        })
+        .collect();
+    Ok(match chosen {
+        Some(s) => s.nodes().collect(),
+        None => doc.nodes().collect(),
+    })
+}
+
+/// Walks the node hierarchy from `roots`.
 fn walk_nodes<'a>(
     path: &Path,
-    doc: &'a gltf::Document,
+    roots: Vec<gltf::Node<'a>>,
     primitives_of_mesh: &[Vec<(usize, usize)>],
     report: &mut ImportReport,
 ) -> Result<Placed<'a>, SceneError> {
@@ -725,10 +775,6 @@ fn walk_nodes<'a>(
     let mut instance_nodes = Vec::new();
     let mut lights = Vec::new();
     let mut cameras = Vec::new();
-    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
-        Some(s) => s.nodes().collect(),
-        None => doc.nodes().collect(),
-    };
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = roots.into_iter().map(|n| (n, Mat4::IDENTITY, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
@@ -781,51 +827,98 @@ fn punctual_light(node: &gltf::Node, light: &gltf::khr_lights_punctual::Light, w
     }
 }
 
-/// The file's perspective cameras as named presets (camera name, node name or `camera{N}`,
-/// made unique), in world space. Orthographic cameras and ones with unusable numbers are
-/// skipped (and listed).
+/// The file's cameras (perspective and orthographic) as named presets (camera name, node name
+/// or `camera{N}`, made unique), in world space. A camera's near plane is the file's `znear`;
+/// its far plane the file's `zfar`, or where none is given (perspective's infinite far plane)
+/// just past the scene's far side. Ones with unusable numbers are skipped with a warning.
 fn file_cameras(path: &Path, cameras: &[(gltf::Node, gltf::Camera, Mat4)], bounds: Bounds, report: &mut ImportReport) -> Vec<(String, Camera)> {
     let mut presets: Vec<(String, Camera)> = Vec::new();
     for (node, camera, world) in cameras {
         let base = camera.name().or(node.name()).map(str::to_string).unwrap_or_else(|| format!("camera{}", camera.index()));
-        let p = match camera.projection() {
-            gltf::camera::Projection::Perspective(p) => p,
-            gltf::camera::Projection::Orthographic(_) => {
-                report.ignored_features.push(format!("orthographic camera `{base}` (skipped: raygraph cameras are perspective)"));
-                continue;
-            }
-        };
-        let (fov_y, near) = (p.yfov(), p.znear());
         let position = world.transform_point3(Vec3::ZERO);
         let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let up = world.transform_vector3(Vec3::Y);
         let up = (up - forward * forward.dot(up)).normalize_or_zero();
-        let radius = 0.5 * bounds.diagonal();
+        let fitted = Camera { position, ..Camera::default() }.fit_clip_planes(bounds);
         let to_center = if bounds.is_empty() { 1.0 } else { position.distance(bounds.center()) };
-        let far = p.zfar().unwrap_or(2.0 * (to_center + radius)).max(near * 2.0);
-        let usable = fov_y.is_finite() && fov_y > 0.0 && fov_y < std::f32::consts::PI && near.is_finite() && near > 0.0 && far.is_finite() && far > near;
-        if !usable || forward == Vec3::ZERO || up == Vec3::ZERO {
-            report.warn(format!("{}: camera `{base}` has an unusable yfov, znear, zfar or transform; skipped", path.display()));
+        let (fov_y, near, far, orthographic) = match camera.projection() {
+            gltf::camera::Projection::Perspective(p) => {
+                if let Some(a) = p.aspect_ratio() {
+                    report.approximated.push(format!("camera `{base}`: aspectRatio {a} not enforced (the output size sets the aspect ratio; yfov is kept)"));
+                }
+                let far = p.zfar().unwrap_or(fitted.far.max(p.znear() * 2.0));
+                if p.zfar().is_none() {
+                    report.approximated.push(format!("camera `{base}`: infinite far plane drawn with a far plane at {far:.3} (just past the scene's far side)"));
+                }
+                (p.yfov(), p.znear(), far, None)
+            }
+            gltf::camera::Projection::Orthographic(o) => {
+                if o.xmag() != o.ymag() {
+                    report.approximated.push(format!(
+                        "camera `{base}`: orthographic xmag {} drawn as ymag {} times the output's aspect ratio",
+                        o.xmag(),
+                        o.ymag()
+                    ));
+                }
+                (Camera::default().fov_y, o.znear(), o.zfar(), Some(o.ymag().abs()))
+            }
+        };
+        let usable = fov_y.is_finite() && fov_y > 0.0 && fov_y < std::f32::consts::PI && near.is_finite() && near >= 0.0 && far.is_finite() && far > near;
+        let ortho_usable = orthographic.is_none_or(|h| h.is_finite() && h > 0.0);
+        if !usable || !ortho_usable || forward == Vec3::ZERO || up == Vec3::ZERO || (orthographic.is_none() && near == 0.0) {
+            report.warn(format!("{}: camera `{base}` has an unusable yfov, xmag/ymag, znear, zfar or transform; skipped", path.display()));
             continue;
         }
-        if p.zfar().is_none() {
-            report
-                .approximated
-                .push(format!("camera `{base}`: infinite far plane drawn with a far plane at {far:.3} (twice the distance to the scene's far side)"));
-        }
-        if let Some(a) = p.aspect_ratio() {
-            report.ignored_features.push(format!("camera `{base}`: aspectRatio {a} (the output size decides the aspect ratio)"));
-        }
-        let mut name = base.clone();
-        let mut n = 2;
-        while presets.iter().any(|(p, _)| *p == name) {
-            name = format!("{base}-{n}");
-            n += 1;
-        }
+        let name = unique_name(&presets, &base);
         let target = position + forward * to_center.max(near);
-        presets.push((name, Camera { position, target, up, fov_y, near, far }));
+        presets.push((name, Camera { position, target, up, fov_y, near, far, orthographic }));
     }
     presets
+}
+
+/// `base`, or `base-2`, `base-3`, ... : the first that no preset of `presets` is called.
+fn unique_name(presets: &[(String, Camera)], base: &str) -> String {
+    let mut name = base.to_string();
+    let mut n = 2;
+    while presets.iter().any(|(p, _)| *p == name) {
+        name = format!("{base}-{n}");
+        n += 1;
+    }
+    name
+}
+
+/// The file's cameras first (the first of them is the default view), then the built-in
+/// `front`, `top` and `side` presets framing the scene's bounds over its whole animation (the
+/// default view of a file without cameras: `front`); a file camera of the same name takes a
+/// built-in preset's place (so a file raygraph exported reads back with the same presets).
+fn camera_presets(scene: &Scene, file: Vec<(String, Camera)>) -> (Camera, Vec<(String, Camera)>) {
+    let bounds = animated_bounds(scene);
+    let mut presets = file;
+    let default = presets.first().map(|(_, c)| *c).unwrap_or_else(|| Camera::framing(bounds));
+    for (name, camera) in Camera::presets_for(bounds) {
+        if !presets.iter().any(|(n, _)| *n == name) {
+            presets.push((name, camera));
+        }
+    }
+    (default, presets)
+}
+
+/// The scene's bounds over every clip: the rest pose's, grown by the pose at 16 times spread
+/// over each clip (the deforming meshes deformed on the CPU).
+pub fn animated_bounds(scene: &Scene) -> Bounds {
+    let mut bounds = scene.bounds();
+    let Some(rig) = scene.rig.clone().filter(|r| r.is_animated()) else { return bounds };
+    let mut posed = scene.clone();
+    for (clip, anim) in rig.animations.iter().enumerate() {
+        for k in 0..16 {
+            posed.pose(Some(clip), anim.duration * k as f32 / 16.0);
+            let b = posed.bounds();
+            if !b.is_empty() {
+                bounds = bounds.union(&b);
+            }
+        }
+    }
+    bounds
 }
 
 /// What a file uses that raygraph approximates or ignores, per extension, material, texture,
@@ -847,10 +940,6 @@ mod notes {
         }
         samplers(doc, report);
         meshes(doc, report);
-        let count = |n: usize, what: &str, why: &str| (n > 0).then(|| format!("{n} {what}{} ({why})", if n == 1 { "" } else { "s" }));
-        report
-            .ignored_features
-            .extend([count(doc.scenes().count().saturating_sub(1), "scene besides the default", "only the default scene is drawn")].into_iter().flatten());
     }
 
     /// The JSON of `slot`'s texture info in material `m`.
@@ -871,6 +960,20 @@ mod notes {
     fn material(m: &gltf::Material, raw: &Value, report: &mut ImportReport) {
         let name = material_name(m);
         let json = m.index().map(|i| &raw["materials"][i]).unwrap_or(&Value::Null);
+        if extension_names(json).contains(&"KHR_materials_unlit") {
+            let unread: Vec<&str> = [
+                (m.pbr_metallic_roughness().metallic_roughness_texture().is_some(), "metallic-roughness"),
+                (m.normal_texture().is_some(), "normal"),
+                (m.occlusion_texture().is_some(), "occlusion"),
+                (m.emissive_texture().is_some() || m.emissive_factor() != [0.0; 3], "emission"),
+            ]
+            .into_iter()
+            .filter_map(|(has, what)| has.then_some(what))
+            .collect();
+            if !unread.is_empty() {
+                report.ignored_features.push(format!("material {name}: {} (KHR_materials_unlit draws the base colour only)", unread.join(", ")));
+            }
+        }
         if m.alpha_mode() == gltf::material::AlphaMode::Blend {
             report.approximated.push(format!("material {name}: alphaMode BLEND drawn as a cutout at alpha 0.5 for visibility and shadows (not blended)"));
         }
@@ -955,40 +1058,46 @@ fn triangle_list(mode: gltf::mesh::Mode, i: Vec<u32>) -> Vec<u32> {
     }
 }
 
+/// An image of any pixel format glTF images decode to as RGBA8: grey (L) spread to rgb, grey
+/// and alpha (LA) as grey rgb with that alpha, missing alpha opaque. 16-bit channels (stored
+/// native-endian) are rounded to 8 bits, float channels clamped to 0..1 and scaled.
 fn to_rgba8(name: &str, data: &gltf::image::Data) -> Result<TextureImage, String> {
     use gltf::image::Format as F;
     let (w, h) = (data.width, data.height);
     let n = (w * h) as usize;
-    let px = &data.pixels;
-    let channels = match data.format {
-        F::R8 => 1,
-        F::R8G8 => 2,
-        F::R8G8B8 => 3,
-        F::R8G8B8A8 => 4,
-        F::R16 => 2,
-        F::R16G16 => 4,
-        F::R16G16B16 => 6,
-        F::R16G16B16A16 => 8,
-        other => return Err(format!("an unsupported pixel format {other:?}")),
+    let (channels, bytes_per_channel) = match data.format {
+        F::R8 => (1, 1),
+        F::R8G8 => (2, 1),
+        F::R8G8B8 => (3, 1),
+        F::R8G8B8A8 => (4, 1),
+        F::R16 => (1, 2),
+        F::R16G16 => (2, 2),
+        F::R16G16B16 => (3, 2),
+        F::R16G16B16A16 => (4, 2),
+        F::R32G32B32FLOAT => (3, 4),
+        F::R32G32B32A32FLOAT => (4, 4),
     };
-    if px.len() < n * channels || n == 0 {
+    let texel_bytes = channels * bytes_per_channel;
+    if data.pixels.len() < n * texel_bytes || n == 0 {
         return Err("too little pixel data".into());
     }
+    let channel = |b: &[u8]| -> u8 {
+        match bytes_per_channel {
+            1 => b[0],
+            2 => ((u16::from_ne_bytes([b[0], b[1]]) as u32 * 255 + 32767) / 65535) as u8,
+            _ => (f32::from_ne_bytes([b[0], b[1], b[2], b[3]]).clamp(0.0, 1.0) * 255.0 + 0.5) as u8,
+        }
+    };
     let mut rgba = Vec::with_capacity(n * 4);
-    for i in 0..n {
-        let p = &px[i * channels..(i + 1) * channels];
-        let c = match data.format {
-            F::R8 => [p[0], p[0], p[0], 255],
-            F::R8G8 => [p[0], p[1], 0, 255],
-            F::R8G8B8 => [p[0], p[1], p[2], 255],
-            F::R8G8B8A8 => [p[0], p[1], p[2], p[3]],
-            // 16-bit channels are little-endian; keep the high byte.
-            F::R16 => [p[1], p[1], p[1], 255],
-            F::R16G16 => [p[1], p[3], 0, 255],
-            F::R16G16B16 => [p[1], p[3], p[5], 255],
-            _ => [p[1], p[3], p[5], p[7]],
+    for texel in data.pixels[..n * texel_bytes].chunks_exact(texel_bytes) {
+        let c: Vec<u8> = texel.chunks_exact(bytes_per_channel).map(channel).collect();
+        let out = match channels {
+            1 => [c[0], c[0], c[0], 255],
+            2 => [c[0], c[0], c[0], c[1]],
+            3 => [c[0], c[1], c[2], 255],
+            _ => [c[0], c[1], c[2], c[3]],
         };
-        rgba.extend_from_slice(&c);
+        rgba.extend_from_slice(&out);
     }
     Ok(TextureImage { name: name.into(), width: w, height: h, rgba: rgba.into() })
 }

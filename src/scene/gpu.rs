@@ -11,7 +11,7 @@
 use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -313,7 +313,7 @@ impl GpuScene {
                         roughness: m.roughness,
                         normal_scale: m.normal_scale,
                         alpha_cutoff: cutoff,
-                        flags: alpha_flag | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 },
+                        flags: alpha_flag | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 } | if m.unlit { MATERIAL_UNLIT } else { 0 },
                         base_texture: layer(m.texture),
                         metallic_roughness_texture: layer(m.metallic_roughness_texture),
                         normal_texture: layer(m.normal_texture),

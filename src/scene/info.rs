@@ -11,6 +11,9 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     let b = scene.bounds();
     let unique: usize = scene.meshes.iter().map(|m| m.triangle_count()).sum();
     let _ = writeln!(s, "scene       {}", scene.name);
+    if let Some(r) = report.filter(|r| !r.scenes.is_empty()) {
+        list(&mut s, "gltf scenes", &r.scenes);
+    }
     let _ = writeln!(s, "triangles   {} (over instances; {} in unique meshes)", scene.triangle_count(), unique);
     let closed = scene.meshes.iter().filter(|m| super::topology::is_closed_outward(m)).count();
     let _ = writeln!(s, "meshes      {} ({closed} closed and wound outwards)", scene.meshes.len());
@@ -50,7 +53,7 @@ pub fn describe(scene: &Scene, report: Option<&ImportReport>) -> String {
     let presets = if presets.is_empty() { "none".to_string() } else { presets.join(", ") };
     match report.map_or(0, |r| r.file_cameras) {
         0 => _ = writeln!(s, "cameras     {presets}"),
-        n => _ = writeln!(s, "cameras     {n} from the file: {presets} (the first is the default view)"),
+        n => _ = writeln!(s, "cameras     {n} from the file, then the built-in presets: {presets} (the first is the default view)"),
     }
     if let Some(r) = report {
         list(

@@ -24,6 +24,9 @@ pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), 
     let path = Path::new(spec);
     let looks_like_file = path.extension().is_some() || spec.contains('/') || path.exists();
     let loaded = if let (false, Some(scene)) = (looks_like_file, builtin(spec, options.seed)) {
+        if let Some(asked) = &options.gltf_scene {
+            return Err(SceneError::SceneOfBuiltin { scene: spec.to_string(), asked: asked.clone() });
+        }
         let mut report = ImportReport::default();
         let referenced = scene
             .materials

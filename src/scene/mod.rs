@@ -88,6 +88,9 @@ pub struct Material {
     pub alpha_mode: AlphaMode,
     /// Both faces are lit and neither is culled.
     pub double_sided: bool,
+    /// Unlit (glTF `KHR_materials_unlit`): the surface shows its base colour (factor times
+    /// texture), whatever the lights; it reflects and emits nothing else.
+    pub unlit: bool,
 }
 
 impl Material {
@@ -108,6 +111,7 @@ impl Material {
             occlusion_strength: 1.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
+            unlit: false,
         }
     }
 }

@@ -2,15 +2,16 @@
 //! nodes' world matrices, and the deforming meshes morphed and skinned on the CPU
 //! ([`Scene::pose`]) or left to the executor's GPU deformation ([`Scene::pose_for_gpu`]).
 
-use super::animation::{Pose, PoseTime, Rig};
+use super::animation::{ClipSet, Pose, PoseTime, Rig};
 use super::{Scene, Vertex};
 use glam::Mat4;
 
 impl Scene {
-    /// Poses the scene at `time` seconds of clip `clip` (none: the rest pose): instance
-    /// transforms from the nodes' world matrices, deforming meshes morphed and skinned on the
-    /// CPU. Nothing to do for a scene without a rig.
-    pub fn pose(&mut self, clip: Option<usize>, time: f32) {
+    /// Poses the scene at `time` seconds of `clip` (a clip index, `None` for the rest pose, or
+    /// a [`ClipSet`]): instance transforms from the nodes' world matrices, deforming meshes
+    /// morphed and skinned on the CPU. Nothing to do for a scene without a rig.
+    pub fn pose(&mut self, clip: impl Into<ClipSet>, time: f32) {
+        let clip = clip.into();
         let Some(rig) = self.rig.clone() else { return };
         let pose = rig.pose(clip, time);
         self.apply_pose(&rig, &pose, true);
@@ -21,7 +22,8 @@ impl Scene {
     /// executor deforms them on the GPU (skinning and morph targets, no per-vertex work on the
     /// CPU); CPU consumers that need the vertices call [`Scene::pose`] on a copy
     /// ([`Scene::with_meshes_posed`]).
-    pub fn pose_for_gpu(&mut self, clip: Option<usize>, time: f32) {
+    pub fn pose_for_gpu(&mut self, clip: impl Into<ClipSet>, time: f32) {
+        let clip = clip.into();
         let Some(rig) = self.rig.clone() else { return };
         let pose = rig.pose(clip, time);
         self.apply_pose(&rig, &pose, false);
@@ -50,7 +52,14 @@ impl Scene {
             return None;
         }
         Some(match self.posed {
-            Some(PoseTime { clip, time, meshes_deformed: false }) => hash_words(clip.map_or(u64::MAX, |c| c as u64), &time.to_bits().to_le_bytes()),
+            Some(PoseTime { clip, time, meshes_deformed: false }) => hash_words(
+                match clip {
+                    ClipSet::Rest => u64::MAX,
+                    ClipSet::All => u64::MAX - 1,
+                    ClipSet::One(c) => c as u64,
+                },
+                &time.to_bits().to_le_bytes(),
+            ),
             _ => deforming.iter().fold(7, |h, &m| hash_words(h, bytemuck::cast_slice(&self.meshes[m].vertices))),
         })
     }

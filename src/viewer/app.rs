@@ -40,6 +40,8 @@ pub struct ViewerOptions {
     pub camera: Option<String>,
     /// Seed of the generated `atrium`.
     pub seed: u64,
+    /// The glTF file's scene to draw, by index or name (`None`: the file's default).
+    pub gltf_scene: Option<String>,
     /// Stop after this many frames.
     pub frames: Option<u64>,
     /// Screenshot written after the last frame (`--frames`).
@@ -63,7 +65,7 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     println!("adapter: {}", gpu.describe());
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
-    let (scene, _) = crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed }).map_err(|e| e.to_string())?;
+    let (scene, _) = crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed, gltf_scene: opts.gltf_scene.clone() }).map_err(|e| e.to_string())?;
     let camera = match &opts.camera {
         Some(name) => scene.preset(name)?,
         None => scene.camera,
@@ -269,7 +271,7 @@ impl App {
             },
             Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
             Action::Play(on) => {
-                self.session.clock.playing = on && self.session.clock.clip.is_some();
+                self.session.clock.playing = on && self.session.clock.clip.is_playing();
                 println!("animation: {}", if self.session.clock.playing { "playing" } else { "paused" });
                 Ok(())
             }
@@ -369,7 +371,7 @@ impl App {
         let camera = match &mut self.track {
             TrackState::Playing { track, seconds } => {
                 *seconds += dt;
-                let c = track.camera_at(*seconds, &self.fly.camera());
+                let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds);
                 if *seconds > track.duration() {
                     // Fly on from where the track ends.
                     let speed = self.fly.speed;
@@ -391,6 +393,8 @@ impl App {
                 self.fly.camera()
             }
         };
+        // Wherever the camera flies, the scene stays between its clip planes.
+        let camera = camera.fit_clip_planes(self.session.scene_bounds);
         if let Err(e) = self.session.render(&self.gpu, &camera) {
             if self.session.error.as_deref() != Some(e.as_str()) {
                 self.log(format!("frame failed: {e}"));

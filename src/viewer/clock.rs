@@ -3,15 +3,15 @@
 //! in scripted and `--frames` runs (so that their screenshots do not depend on the machine's
 //! speed); clips loop. The session poses the scene for the GPU at the clock's time.
 
-use crate::scene::animation::ClipChoice;
+use crate::scene::animation::{ClipChoice, ClipSet};
 use crate::scene::Scene;
 use std::time::Instant;
 
 /// The clock of a scene's animation.
 #[derive(Debug, Clone)]
 pub struct AnimationClock {
-    /// The clip (none: the scene has no animation).
-    pub clip: Option<usize>,
+    /// The clips that play (rest: the scene has no animation).
+    pub clip: ClipSet,
     /// Seconds into the clip.
     pub time: f32,
     /// Whether time runs.
@@ -28,15 +28,15 @@ impl AnimationClock {
     pub fn new(scene: &Scene, choice: &ClipChoice, start: f32) -> Result<Self, String> {
         let clip = match &scene.rig {
             Some(rig) => rig.clip(choice)?,
-            None if *choice == ClipChoice::First => None,
+            None if matches!(choice, ClipChoice::First | ClipChoice::All) => ClipSet::Rest,
             None => return Err(format!("scene `{}` has no animations", scene.name)),
         };
-        Ok(Self { clip, time: start, playing: clip.is_some(), speed: 1.0, fixed_step: None, last: None })
+        Ok(Self { clip, time: start, playing: clip.is_playing(), speed: 1.0, fixed_step: None, last: None })
     }
 
     /// The clip's length in seconds (0 without one).
     pub fn duration(&self, scene: &Scene) -> f32 {
-        self.clip.and_then(|c| scene.rig.as_ref()?.animations.get(c)).map_or(0.0, |a| a.duration)
+        scene.rig.as_ref().map_or(0.0, |rig| rig.duration(self.clip))
     }
 
     /// Moves time on by one frame (when playing), wrapping at the clip's end.
@@ -48,7 +48,7 @@ impl AnimationClock {
             (None, None) => 0.0,
         };
         self.last = Some(now);
-        if self.playing && self.clip.is_some() {
+        if self.playing && self.clip.is_playing() {
             let d = self.duration(scene);
             self.time = if d > 0.0 { (self.time + dt * self.speed).rem_euclid(d) } else { 0.0 };
         }
@@ -62,7 +62,7 @@ impl AnimationClock {
 
     /// One line for the overlay, for a scene with a clip.
     pub fn describe(&self, scene: &Scene) -> Option<String> {
-        let name = &scene.rig.as_ref()?.animations.get(self.clip?)?.name;
+        let name = scene.rig.as_ref().filter(|_| self.clip.is_playing())?.describe(self.clip);
         let state = if self.playing { format!("playing at {:.2}x", self.speed) } else { "paused".into() };
         Some(format!("animation: `{name}` at {:.3} of {:.2} s, {state}", self.time, self.duration(scene)))
     }

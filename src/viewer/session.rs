@@ -74,6 +74,9 @@ pub(crate) struct Session {
     pub(crate) options: CompileOptions,
     pub(crate) size: (u32, u32),
     pub(crate) scene: Scene,
+    /// The scene's bounds over its whole animation (the camera's clip planes are fitted to
+    /// them every frame).
+    pub(crate) scene_bounds: crate::scene::Bounds,
     exec: Option<Executor>,
     /// The last compile or frame error (file:line where it has one), shown until a compile
     /// succeeds.
@@ -119,6 +122,7 @@ impl Session {
             project,
             options,
             size,
+            scene_bounds: crate::scene::gltf_import::animated_bounds(&scene),
             scene,
             exec: None,
             error: None,
@@ -133,7 +137,7 @@ impl Session {
             last_camera: None,
             history_frames: 0,
             history_resets: 0,
-            clock: super::clock::AnimationClock { clip: None, time: 0.0, playing: false, speed: 1.0, fixed_step: None, last: None },
+            clock: super::clock::AnimationClock { clip: crate::scene::animation::ClipSet::Rest, time: 0.0, playing: false, speed: 1.0, fixed_step: None, last: None },
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
@@ -320,7 +324,7 @@ impl Session {
             self.history_resets += 1;
         }
         self.clock.tick(&self.scene);
-        if self.clock.clip.is_some() {
+        if self.clock.clip.is_playing() {
             self.scene.pose_for_gpu(self.clock.clip, self.clock.time);
         }
         let t = exec.render(gpu, camera, &self.scene).map_err(|e| e.to_string())?;

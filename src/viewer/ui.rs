@@ -172,9 +172,12 @@ fn animation_controls(ui: &mut egui::Ui, session: &Session, actions: &mut Vec<Ac
     if rig.animations.len() > 1 {
         ui.horizontal(|ui| {
             for (i, a) in rig.animations.iter().enumerate() {
-                if ui.selectable_label(session.clock.clip == Some(i), &a.name).clicked() {
+                if ui.selectable_label(session.clock.clip == crate::scene::animation::ClipSet::One(i), &a.name).clicked() {
                     actions.push(Action::Clip(i.to_string()));
                 }
+            }
+            if ui.selectable_label(session.clock.clip == crate::scene::animation::ClipSet::All, "all").clicked() {
+                actions.push(Action::Clip("all".into()));
             }
         });
     }

@@ -153,7 +153,8 @@ impl Executor {
         Ok(FrameUniforms {
             view_proj: vp.to_cols_array_2d(),
             inv_view_proj: vp.inverse().to_cols_array_2d(),
-            camera_pos: camera.position.extend(1.0).into(),
+            // w: 1 for a perspective camera, 0 for an orthographic one (common/camera.wgsl).
+            camera_pos: camera.position.extend(if camera.orthographic.is_some() { 0.0 } else { 1.0 }).into(),
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
             scene_sphere: center.extend(radius).into(),
             shadow_view_proj,

@@ -956,6 +956,7 @@ pub(super) fn build(seed: u64) -> Scene {
             fov_y: 60f32.to_radians(),
             near: 0.05,
             far: 120.0,
+            orthographic: None,
         },
         presets: vec![
             (
@@ -967,6 +968,7 @@ pub(super) fn build(seed: u64) -> Scene {
                     fov_y: 60f32.to_radians(),
                     near: 0.05,
                     far: 120.0,
+            orthographic: None,
                 },
             ),
             ("gallery".into(), Camera::look(Vec3::new(-12.0, 7.6, -5.0), Vec3::new(10.0, 5.0, -4.0), 60.0, 0.05, 120.0)),
@@ -986,6 +988,7 @@ pub(super) fn build(seed: u64) -> Scene {
                     fov_y: 24f32.to_radians(),
                     near: 0.05,
                     far: 120.0,
+            orthographic: None,
                 },
             ),
         ],

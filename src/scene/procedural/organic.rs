@@ -190,11 +190,11 @@ pub(super) fn build() -> Scene {
         materials: vec![m],
         instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
         textures,
-        camera: Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0 },
+        camera: Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0, orthographic: None },
         presets: vec![
             (
                 "three-quarter".into(),
-                Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0 },
+                Camera { position: Vec3::new(1.5, 0.7, 3.0), target: Vec3::new(0.0, 0.05, 0.0), up: Vec3::Y, fov_y: 45f32.to_radians(), near: 0.05, far: 50.0, orthographic: None },
             ),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.1, 3.2), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
             ("profile".into(), Camera::look(Vec3::new(3.2, 0.2, 0.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),

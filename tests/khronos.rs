@@ -1,0 +1,206 @@
+//! The Khronos glTF sample models of `assets/khronos` (the working group's conformance set,
+//! credits in `assets/khronos/CREDITS.md`), checked in numbers where a feature can be:
+//! grey+alpha images (TextureEncodingTest's labels) against the `image` crate's own decode,
+//! scene selection (MultipleScenes), the file's cameras with the built-in presets and the
+//! orthographic camera's parallel projection in the rasterized and ray-traced G-buffers against
+//! the f64 reference caster (Cameras), every clip at once (InterpolationTest).
+
+mod common;
+
+use common::{gpu, repo};
+use raygraph::accel::reference_render::ReferenceRenderer;
+use raygraph::backend::Backend;
+use raygraph::graph::compile::{compile_with, CompileOptions, Project};
+use raygraph::runtime::Executor;
+use raygraph::scene::animation::ClipSet;
+use raygraph::scene::{info, Camera, LoadOptions, Scene};
+
+fn model(name: &str) -> String {
+    repo().join(format!("assets/khronos/{name}/glTF/{name}.gltf")).to_str().unwrap().to_string()
+}
+
+fn open_with(name: &str, options: &LoadOptions) -> (Scene, raygraph::scene::ImportReport) {
+    raygraph::scene::open(&model(name), options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn grey_and_alpha_images_decode_as_grey_with_their_alpha() {
+    let (scene, _) = open_with("TextureEncodingTest", &LoadOptions::default());
+    for label in ["TestLabels.png", "SlotLabels.png"] {
+        let texture = scene.textures.iter().find(|t| t.name == label).unwrap_or_else(|| panic!("no texture {label}"));
+        let want = image::open(repo().join("assets/khronos/TextureEncodingTest/glTF").join(label)).unwrap();
+        assert!(matches!(want.color(), image::ColorType::La8), "{label} is a grey+alpha PNG");
+        let want = want.to_rgba8();
+        assert_eq!((texture.width, texture.height), want.dimensions());
+        assert_eq!(texture.rgba.as_slice(), want.as_raw().as_slice(), "{label}: every texel as the image crate converts it (grey to rgb, alpha kept)");
+        let alphas: std::collections::BTreeSet<u8> = texture.rgba.chunks_exact(4).map(|p| p[3]).collect();
+        assert!(alphas.contains(&0) && alphas.contains(&255), "{label}: a cut-out label has transparent and opaque texels");
+    }
+}
+
+#[test]
+fn the_default_scene_is_drawn_and_any_other_can_be_chosen_by_index_or_name() {
+    // MultipleScenes: scene 0 holds the triangle (mesh 0), scene 1 (the file's `scene`) the
+    // square (mesh 1).
+    let (default, report) = open_with("MultipleScenes", &LoadOptions::default());
+    assert_eq!(default.triangle_count(), 2, "the file's default scene, the square");
+    let listed = info::describe(&default, Some(&report));
+    assert!(listed.contains("gltf scenes 2") && listed.contains("1 `unnamed` 1 nodes (drawn, the file's default)"), "{listed}");
+    assert!(!listed.contains("scene besides the default"), "{listed}");
+    let first = LoadOptions { gltf_scene: Some("0".into()), ..Default::default() };
+    assert_eq!(open_with("MultipleScenes", &first).0.triangle_count(), 1, "scene 0, the triangle");
+    let missing = LoadOptions { gltf_scene: Some("lobby".into()), ..Default::default() };
+    let err = raygraph::scene::open(&model("MultipleScenes"), &missing).unwrap_err().to_string();
+    assert!(err.contains("MultipleScenes.gltf") && err.contains("no scene `lobby`") && err.contains("0 `unnamed`, 1 `unnamed`"), "{err}");
+    let builtin = raygraph::scene::open("box", &first).unwrap_err().to_string();
+    assert!(builtin.contains("built-in scene"), "{builtin}");
+}
+
+#[test]
+fn every_file_camera_and_the_built_in_presets_are_listed() {
+    let (scene, report) = open_with("Cameras", &LoadOptions::default());
+    let names: Vec<&str> = scene.presets.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["camera0", "camera1", "front", "top", "side"]);
+    assert_eq!(scene.camera, scene.presets[0].1, "the file's first camera is the default view");
+    let ortho = scene.preset("camera1").unwrap();
+    assert_eq!(ortho.orthographic, Some(1.0), "ymag");
+    assert_eq!((ortho.near, ortho.far), (0.01, 100.0), "the file's znear and zfar");
+    assert_eq!(scene.preset("camera0").unwrap().orthographic, None);
+    let listed = info::describe(&scene, Some(&report));
+    assert!(!listed.contains("orthographic camera `camera1` (skipped"), "{listed}");
+}
+
+/// Whether each pixel of `graph`'s G-buffer shows a surface, for `camera` at `size`.
+fn coverage(scene: &Scene, graph: &str, camera: &Camera, size: (u32, u32)) -> Vec<bool> {
+    let gpu = gpu();
+    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
+    let path = repo().join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
+    let mut exec = Executor::new(&gpu, plan, scene).unwrap();
+    exec.render(&gpu, camera, scene).unwrap();
+    common::channel(&gpu, &exec, "gbuffer.position").iter().map(|p| p[3] != 0.0).collect()
+}
+
+/// The covered pixels of one row.
+fn row_width(covered: &[bool], width: u32, row: u32) -> usize {
+    covered[(row * width) as usize..((row + 1) * width) as usize].iter().filter(|c| **c).count()
+}
+
+#[test]
+fn the_orthographic_camera_draws_parallel_rays_in_raster_and_ray_traced_g_buffers() {
+    let (scene, _) = open_with("Cameras", &LoadOptions::default());
+    let size = (48, 48);
+    for name in ["camera1", "camera0"] {
+        let camera = scene.preset(name).unwrap();
+        let reference = ReferenceRenderer::new(&scene);
+        let hits = reference.visibility(&ReferenceRenderer::camera_rays(&camera, size));
+        let want: Vec<bool> = hits.iter().map(|h| h.value.is_some()).collect();
+        // Pixels whose ray passes within 1e-4 (relative) of an edge may go either way in f32.
+        let sure: Vec<bool> = hits.iter().map(|h| h.margin > 1e-4).collect();
+        let rows: Vec<u32> = (0..size.1).filter(|&y| row_width(&want, size.0, y) > 0).collect();
+        let (top, bottom) = (rows[1], rows[rows.len() - 2]);
+        let (top_width, bottom_width) = (row_width(&want, size.0, top), row_width(&want, size.0, bottom));
+        if camera.orthographic.is_some() {
+            assert_eq!(top_width, bottom_width, "{name}: parallel rays see the tilted square's far edge as wide as its near edge");
+        } else {
+            assert!(top_width < bottom_width, "{name}: perspective makes the far edge narrower ({top_width} against {bottom_width})");
+        }
+        for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
+            let got = coverage(&scene, graph, &camera, size);
+            let wrong = (0..want.len()).filter(|&i| sure[i] && got[i] != want[i]).count();
+            assert_eq!(wrong, 0, "{name} {graph}: pixels whose coverage differs from the f64 reference");
+            assert!(got.iter().filter(|c| **c).count() > 100, "{name} {graph}: the square is in view");
+        }
+    }
+}
+
+#[test]
+fn every_clip_at_once_poses_each_node_as_its_own_clip_does() {
+    // InterpolationTest: nine clips, each driving one node (step, linear and cubic-spline
+    // translation, rotation and scale).
+    let (scene, _) = open_with("InterpolationTest", &LoadOptions::default());
+    let rig = scene.rig.as_ref().expect("a rig");
+    assert_eq!(rig.animations.len(), 9);
+    for t in [0.0, 0.4, 1.3, 2.7] {
+        let all = rig.pose(ClipSet::All, t);
+        for (c, clip) in rig.animations.iter().enumerate() {
+            let alone = rig.pose(Some(c), t);
+            for channel in &clip.channels {
+                assert_eq!(all.world[channel.node], alone.world[channel.node], "clip `{}` at {t} s", clip.name);
+            }
+        }
+    }
+    // The longest clip sets the length.
+    let longest = rig.animations.iter().map(|a| a.duration).fold(0.0, f32::max);
+    assert_eq!(rig.duration(ClipSet::All), longest);
+}
+
+#[test]
+fn the_default_view_frames_the_whole_animation_from_the_front() {
+    let (scene, _) = open_with("InterpolationTest", &LoadOptions::default());
+    let bounds = raygraph::scene::gltf_import::animated_bounds(&scene);
+    let c = scene.camera;
+    let dir = (c.target - c.position).normalize();
+    assert!((dir - glam::Vec3::NEG_Z).length() < 1e-6, "looks down -Z: {dir}");
+    // Every corner of the animated bounds is inside the view frustum.
+    let view_proj = c.view_proj(1.0);
+    for i in 0..8 {
+        let corner = glam::Vec3::new(
+            if i & 1 == 0 { bounds.min.x } else { bounds.max.x },
+            if i & 2 == 0 { bounds.min.y } else { bounds.max.y },
+            if i & 4 == 0 { bounds.min.z } else { bounds.max.z },
+        );
+        let ndc = view_proj.project_point3(corner);
+        assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z), "corner {corner} at {ndc}");
+    }
+    assert!(bounds.max.y - bounds.min.y >= scene.bounds().max.y - scene.bounds().min.y, "the animation's bounds hold the rest pose's");
+}
+
+#[test]
+fn clip_planes_fitted_to_the_bounds_draw_the_scene_from_any_distance() {
+    let (scene, _) = open_with("Cameras", &LoadOptions::default());
+    let bounds = scene.bounds();
+    for distance in [0.01, 120.0, 1.0e5] {
+        let position = bounds.center() + glam::Vec3::Z * distance;
+        let c = Camera::look(position, bounds.center(), 2.0, 0.05, 1000.0).fit_clip_planes(bounds);
+        let d = position.distance(bounds.center());
+        let r = 0.5 * bounds.diagonal();
+        assert!(c.far >= d + r && c.near > 0.0 && c.near <= (d - r).max(c.far * 1e-4), "{distance}: near {} far {}", c.near, c.far);
+    }
+}
+
+/// The HDR colour before tone mapping of `graph`'s frame and the resource that holds it.
+fn hdr(scene: &Scene, graph: &str, resource: &str, size: (u32, u32)) -> Vec<[f32; 4]> {
+    let gpu = gpu();
+    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
+    let path = repo().join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
+    let mut exec = Executor::new(&gpu, plan, scene).unwrap();
+    exec.render(&gpu, &scene.camera, scene).unwrap();
+    common::channel(&gpu, &exec, resource)
+}
+
+#[test]
+fn unlit_materials_show_their_base_colour_in_every_mode() {
+    let (scene, report) = open_with("UnlitTest", &LoadOptions::default());
+    assert!(scene.materials.iter().all(|m| m.unlit));
+    let listed = info::describe(&scene, Some(&report));
+    assert!(!listed.contains("KHR_materials_unlit"), "nothing about unlit is approximated or ignored: {listed}");
+    let colours = [glam::Vec3::new(1.0, 0.217_637_64, 0.0), glam::Vec3::new(0.0, 0.217_637_64, 1.0)];
+    // Bounds: the output's rgba16float holds 0.2176 to within 1.2e-4 (raster shades straight
+    // into it); the hybrid and full-RT G-buffer keeps the base colour in 8-bit linear albedo,
+    // half a step 1/510 = 0.00196 (measured 0.00206 with the f16 output's rounding).
+    let g_buffer_bound = 1.0 / 510.0 + 2e-4;
+    for (graph, resource, bound) in
+        [("graph/raster.ron", "forward.color", 2e-4), ("graph/hybrid.ron", "resolve.hdr", g_buffer_bound), ("graph/full_rt.ron", "resolve.hdr", g_buffer_bound)]
+    {
+        let pixels = hdr(&scene, graph, resource, (64, 48));
+        let covered: Vec<glam::Vec3> = pixels.iter().filter(|p| p[3] > 0.0).map(|p| glam::Vec3::new(p[0], p[1], p[2])).collect();
+        assert!(covered.len() > 400, "{graph}: both objects in view ({} pixels)", covered.len());
+        let mut errors: Vec<f32> = covered.iter().map(|c| colours.iter().map(|b| (*c - *b).abs().max_element()).fold(f32::INFINITY, f32::min)).collect();
+        errors.sort_by(f32::total_cmp);
+        let (median, worst) = (errors[errors.len() / 2], errors[errors.len() - 1]);
+        println!("{graph}: unlit colour error over {} pixels: median {median:.5}, max {worst:.5}", errors.len());
+        assert!(worst < bound, "{graph}: max error {worst} (median {median})");
+    }
+}
