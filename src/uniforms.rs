@@ -105,7 +105,7 @@ pub struct MaterialUniforms {
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
-    /// [`MATERIAL_UNLIT`].
+    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`].
     pub flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
@@ -119,8 +119,12 @@ pub struct MaterialUniforms {
     pub occlusion_texture: u32,
     /// How much the occlusion texture darkens ambient light, 0..1.
     pub(crate) occlusion_strength: f32,
-    /// Padding to the WGSL struct's size.
-    pub(crate) _pad: [u32; 2],
+    /// Each texture slot's sampler, 8 bits a slot ([`crate::scene::SlotSampling::sampler_bits`]):
+    /// slots 0-3 in the first word, slot 4 in the second.
+    pub(crate) samplers: [u32; 2],
+    /// Each slot's uv transform (`KHR_texture_transform`), rows `2 slot` and `2 slot + 1` (xyz);
+    /// read only with [`MATERIAL_UV_TRANSFORM`].
+    pub(crate) uv_transforms: [[f32; 4]; 10],
 }
 
 /// Material flag: both faces are lit and never culled.
@@ -131,3 +135,5 @@ pub(crate) const MATERIAL_ALPHA_MASK: u32 = 2;
 pub(crate) const MATERIAL_ALPHA_BLEND: u32 = 4;
 /// Material flag: unlit (glTF `KHR_materials_unlit`).
 pub(crate) const MATERIAL_UNLIT: u32 = 8;
+/// Material flag: a texture slot has a uv transform (`uv_transforms` is read).
+pub(crate) const MATERIAL_UV_TRANSFORM: u32 = 16;

@@ -325,7 +325,7 @@ fn cpu_references_cut_out_the_checker() {
     let texture = checker_alpha();
     let closest_to_edge = grid()
         .filter(|(x, y)| x.abs() < 1.0 && y.abs() < 1.0)
-        .map(|(x, y)| (alpha::bilinear_alpha(&texture, [(x as f64 + 1.0) / 2.0, (1.0 - y as f64) / 2.0]) - 0.5).abs())
+        .map(|(x, y)| (alpha::bilinear_alpha(&texture, [(x as f64 + 1.0) / 2.0, (1.0 - y as f64) / 2.0], &Default::default()) - 0.5).abs())
         .fold(f64::INFINITY, f64::min);
     assert!(closest_to_edge > 0.03, "alpha within {closest_to_edge} of the cutoff");
 

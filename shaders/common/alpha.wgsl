@@ -11,6 +11,7 @@
 // materials with a pipeline where it is false (src/runtime/raster.rs), so their fragment stage
 // has no discard and keeps early depth testing.
 //#include "common/alpha_read.wgsl"
+//#include "common/texture_slots.wgsl"
 
 override RASTER_ALPHA_TEST: bool = true;
 
@@ -22,5 +23,7 @@ fn material_alpha_visible(material: u32, uv: vec2<f32>) -> bool {
     if (m.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }
-    return alpha_kept(m.base_texture, m.base_color.a, m.alpha_cutoff, uv);
+    // The base colour slot's uv transform and wrap modes (its filter does not apply: the test
+    // is always bilinear at level 0).
+    return alpha_kept(m.base_texture, m.base_color.a, m.alpha_cutoff, slot_uv(m, SLOT_BASE, uv), slot_sampler(m, SLOT_BASE) & 15u);
 }

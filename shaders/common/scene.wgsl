@@ -14,6 +14,7 @@ const MATERIAL_DOUBLE_SIDED: u32 = 1u;
 const MATERIAL_ALPHA_MASK: u32 = 2u;
 const MATERIAL_ALPHA_BLEND: u32 = 4u;
 const MATERIAL_UNLIT: u32 = 8u;
+const MATERIAL_UV_TRANSFORM: u32 = 16u;
 
 struct Material {
     base_color: vec4<f32>,
@@ -30,8 +31,13 @@ struct Material {
     // 0: no occlusion texture (occlusion 1).
     occlusion_texture: u32,
     occlusion_strength: f32,
-    _pad0: u32,
-    _pad1: u32,
+    // Each texture slot's sampler, 8 bits a slot (common/texture_sampling.wgsl): slots 0-3,
+    // then slot 4.
+    samplers_low: u32,
+    samplers_high: u32,
+    // Each slot's uv transform (KHR_texture_transform): rows 2 slot and 2 slot + 1 (xyz), read
+    // only with MATERIAL_UV_TRANSFORM.
+    uv_transforms: array<vec4<f32>, 10>,
 }
 
 // Geometry for shading hits (`scene_vertices`, `scene_indices`, `scene_meshes`): a vertex is

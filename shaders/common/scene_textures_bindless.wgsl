@@ -12,6 +12,15 @@ fn sample_scene_texture_level(layer: u32, uv: vec2<f32>, lod: f32) -> vec4<f32> 
     return textureSampleLevel(scene_textures[layer], linear_sampler, uv, lod);
 }
 
+fn sample_scene_texture_grad(layer: u32, uv: vec2<f32>, dx: vec2<f32>, dy: vec2<f32>) -> vec4<f32> {
+    return textureSampleGrad(scene_textures[layer], linear_sampler, uv, dx, dy);
+}
+
+// The size in texels of mip `level` of a texture (clamped to its last level).
+fn scene_texture_size_at(layer: u32, level: u32) -> vec2<u32> {
+    return textureDimensions(scene_textures[layer], min(level, textureNumLevels(scene_textures[layer]) - 1u));
+}
+
 // log2 of the texture's side in texels (the geometric mean of width and height), for choosing a
 // mip level from a footprint in uv units.
 fn scene_texture_log2_size(layer: u32) -> f32 {

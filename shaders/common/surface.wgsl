@@ -12,6 +12,7 @@
 // common/scene.wgsl and common/scene_textures.wgsl.
 //#include "common/ray.wgsl"
 //#include "common/material_inputs.wgsl"
+//#include "common/texture_sampling.wgsl"
 
 struct Surface {
     position: vec3<f32>,
@@ -65,17 +66,18 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
             lod_uv = 0.5 * log2(uv_area / world_area) + log2(cone_width / cosine);
         }
     }
-    let base = sample_scene_texture_level(material.base_texture, uv, cone_level(lod_uv, material.base_texture));
-    let mr = sample_scene_texture_level(material.metallic_roughness_texture, uv, cone_level(lod_uv, material.metallic_roughness_texture));
-    let emissive = material.emissive * sample_scene_texture_level(material.emissive_texture, uv, cone_level(lod_uv, material.emissive_texture)).rgb;
-    let occlusion = sample_scene_texture_level(material.occlusion_texture, uv, cone_level(lod_uv, material.occlusion_texture)).r;
+    // Every slot's own sampler and uv transform (common/texture_sampling.wgsl).
+    let base = sample_material_level(material, SLOT_BASE, material.base_texture, uv, lod_uv);
+    let mr = sample_material_level(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uv, lod_uv);
+    let emissive = material.emissive * sample_material_level(material, SLOT_EMISSIVE, material.emissive_texture, uv, lod_uv).rgb;
+    let occlusion = sample_material_level(material, SLOT_OCCLUSION, material.occlusion_texture, uv, lod_uv).r;
     // The normal map bends the front side's normal; a back face reverses the result. The face
     // normal is oriented by the ray's side of the vertex normal, as the rasterizer orients it.
     let n_front = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
     var n = n_front;
     if material.normal_texture != 0u {
-        let map = sample_scene_texture_level(material.normal_texture, uv, cone_level(lod_uv, material.normal_texture)).rgb;
-        n = apply_normal_map(n_front, dp1, dp2, duv1, duv2, map, material.normal_scale);
+        let map = sample_material_level(material, SLOT_NORMAL, material.normal_texture, uv, lod_uv).rgb;
+        n = apply_normal_map(n_front, dp1, dp2, slot_uv_delta(material, SLOT_NORMAL, duv1), slot_uv_delta(material, SLOT_NORMAL, duv2), map, material.normal_scale);
     }
     let side = select(-1.0, 1.0, hit.front_face);
     n = n * side;
@@ -94,9 +96,4 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
     s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
     return s;
-}
-
-// The mip level of a texture for a footprint of 2^lod_uv in uv units (level 0 at least).
-fn cone_level(lod_uv: f32, layer: u32) -> f32 {
-    return max(lod_uv + scene_texture_log2_size(layer), 0.0);
 }

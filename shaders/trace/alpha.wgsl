@@ -5,19 +5,20 @@
 //     `instance`: the scene instance (Scene::instances index); `primitive`: the triangle's
 //     index within its mesh; `bary`: barycentric weights of the triangle's vertices 1 and 2.
 //     True when the hit is kept: the instance's material is not alpha-tested, or
-//     base_color.a x the base texture's level-0 bilinear alpha (repeat wrap) at the
-//     interpolated TEXCOORD_0 is >= the material's cutoff (BLEND: 0.5). Same arithmetic as
+//     base_color.a x the base texture's level-0 bilinear alpha (its slot's wrap modes) at the
+//     interpolated, transformed TEXCOORD_0 is >= the material's cutoff (BLEND: 0.5). Same arithmetic as
 //     the raster side (common/alpha.wgsl) and the CPU references (src/accel/alpha.rs).
 //
 // Bindings (bound by the executor and the batch tracer by name, like the other accel_*):
 //   @group(2) @binding(15) accel_alpha: array<vec4<u32>>, the AccelCache's alpha buffer
 //     (AccelCache::binding("accel_alpha", _)), one buffer for
 //     every back-end:
-//     - word [instance]: (uv_base, texture layer, bitcast<u32>(base_color.a),
-//       bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an instance whose material is
-//       not alpha-tested (nothing else is read then);
-//     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 as f32 bits,
-//       (u0, v0, u1, v1) and (u2, v2, 0, 0). Only meshes of alpha-tested instances have uvs.
+//     - word [instance]: (uv_base, texture layer | the base colour slot's wrap bits << 24,
+//       bitcast<u32>(base_color.a), bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an
+//       instance whose material is not alpha-tested (nothing else is read then);
+//     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 through the base
+//       colour slot's uv transform, as f32 bits, (u0, v0, u1, v1) and (u2, v2, 0, 0). Only
+//       meshes of alpha-tested instances have uvs (one copy per transform they are drawn with).
 //   @group(1) @binding(0) scene_textures, declared by common/scene_textures_texels.wgsl
 //     (either variant, which common/scene_textures.wgsl includes), so a trace pass that
 //     reads textures itself shares the declaration.
@@ -43,5 +44,5 @@ fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
     let a = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive));
     let b = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive + 1u));
     let uv = a.xy * (1.0 - bary.x - bary.y) + a.zw * bary.x + b.xy * bary.y;
-    return alpha_kept(rec.y, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv);
+    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv, rec.y >> 24u);
 }

@@ -4,12 +4,12 @@
 //!
 //! A material is alpha-tested when its alpha mode is MASK (its cutoff) or BLEND (a cutout at
 //! 0.5). A hit is kept when `base_color.a` x the base texture's alpha, read at mip level 0 with
-//! bilinear filtering and repeat wrapping at the interpolated TEXCOORD_0, is at least the
-//! cutoff. The CPU reads the file's own texels: that is what the GPU reads when textures are a
+//! bilinear filtering and the base colour slot's wrap modes at the interpolated TEXCOORD_0
+//! through that slot's uv transform, is at least the cutoff. The CPU reads the file's own texels: that is what the GPU reads when textures are a
 //! binding array; the texture-array fallback resamples every texture to 256x256 first, which
 //! moves alpha edges by at most a fraction of a source texel.
 
-use crate::scene::{AlphaMode, Scene, TextureImage};
+use crate::scene::{AlphaMode, Scene, SlotSampling, TextureImage, Wrap};
 
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
@@ -51,46 +51,64 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
         return vec![[ALPHA_OPAQUE; 4]];
     }
     let mut words = vec![[ALPHA_OPAQUE; 4]; scene.instances.len()];
-    let mut uv_base: Vec<Option<u32>> = vec![None; scene.meshes.len()];
+    // Per (mesh, the base slot's uv transform): where its uvs start.
+    let mut uv_base: std::collections::HashMap<(usize, Option<[u32; 6]>), u32> = Default::default();
     for (i, inst) in scene.instances.iter().enumerate() {
         let (true, Some(mesh), Some(m)) = (tested[i], scene.meshes.get(inst.mesh), scene.materials.get(inst.material)) else { continue };
-        let base = match uv_base[inst.mesh] {
-            Some(b) => b,
-            None => {
-                let b = words.len() as u32;
-                for tri in mesh.indices.chunks_exact(3) {
-                    let uv = |k: u32| mesh.vertices.get(k as usize).map_or([0.0; 2], |v| v.uv).map(f32::to_bits);
-                    let (a, b, c) = (uv(tri[0]), uv(tri[1]), uv(tri[2]));
-                    words.push([a[0], a[1], b[0], b[1]]);
-                    words.push([c[0], c[1], 0, 0]);
-                }
-                uv_base[inst.mesh] = Some(b);
-                b
+        let sampling = &m.sampling[0];
+        let key = (inst.mesh, sampling.transform.map(|[a, b]| [a[0], a[1], a[2], b[0], b[1], b[2]].map(f32::to_bits)));
+        let base = *uv_base.entry(key).or_insert_with(|| {
+            let b = words.len() as u32;
+            for tri in mesh.indices.chunks_exact(3) {
+                let uv = |k: u32| sampling.apply(mesh.vertices.get(k as usize).map_or([0.0; 2], |v| v.uv)).map(f32::to_bits);
+                let (a, b, c) = (uv(tri[0]), uv(tri[1]), uv(tri[2]));
+                words.push([a[0], a[1], b[0], b[1]]);
+                words.push([c[0], c[1], 0, 0]);
             }
-        };
+            b
+        });
         let layer = m.texture.map_or(0, |t| t as u32 + 1);
-        words[i] = [base, layer, m.base_color[3].to_bits(), cutoff(m.alpha_mode).unwrap_or(0.0).to_bits()];
+        let wrap = sampling.sampler_bits() & 15;
+        words[i] = [base, layer | wrap << 24, m.base_color[3].to_bits(), cutoff(m.alpha_mode).unwrap_or(0.0).to_bits()];
     }
     words
 }
 
-/// Level-0 bilinear alpha of `img` at `uv`, repeat wrap: `scene_alpha_level0` in
-/// `shaders/common/alpha_read.wgsl`, in f64. A malformed image reads as opaque (the GPU's
-/// fallback texture is).
-pub fn bilinear_alpha(img: &TextureImage, uv: [f64; 2]) -> f64 {
+/// Texel index `f` (a whole number) of an axis `n` texels long, wrapped by `wrap`:
+/// `alpha_texel_index` in `shaders/common/alpha_read.wgsl`.
+fn texel_index(f: f64, n: usize, wrap: Wrap) -> usize {
+    let n = n as f64;
+    let k = match wrap {
+        Wrap::Repeat => f.rem_euclid(n),
+        Wrap::ClampToEdge => f.clamp(0.0, n - 1.0),
+        Wrap::MirroredRepeat => {
+            let k = f.rem_euclid(2.0 * n);
+            if k >= n {
+                2.0 * n - 1.0 - k
+            } else {
+                k
+            }
+        }
+    };
+    (k.max(0.0) as usize).min(n as usize - 1)
+}
+
+/// Level-0 bilinear alpha of `img` at `uv`, wrapped per axis as `sampling` wraps:
+/// `scene_alpha_level0` in `shaders/common/alpha_read.wgsl`, in f64. A malformed image reads as
+/// opaque (the GPU's fallback texture is).
+pub fn bilinear_alpha(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling) -> f64 {
     let (w, h) = (img.width as usize, img.height as usize);
     if w == 0 || h == 0 || img.rgba.len() < w * h * 4 {
         return 1.0;
     }
     let texel = |x: usize, y: usize| img.rgba[(y * w + x) * 4 + 3] as f64 / 255.0;
-    let axis = |c: f64, n: usize| {
+    let axis = |c: f64, n: usize, wrap: Wrap| {
         let x = c * n as f64 - 0.5;
         let f = x.floor();
-        let i0 = (f.rem_euclid(n as f64) as usize).min(n - 1);
-        (i0, (i0 + 1) % n, x - f)
+        (texel_index(f, n, wrap), texel_index(f + 1.0, n, wrap), x - f)
     };
-    let (x0, x1, wx) = axis(uv[0], w);
-    let (y0, y1, wy) = axis(uv[1], h);
+    let (x0, x1, wx) = axis(uv[0], w, sampling.wrap_s);
+    let (y0, y1, wy) = axis(uv[1], h, sampling.wrap_t);
     let top = texel(x0, y0) + (texel(x1, y0) - texel(x0, y0)) * wx;
     let bottom = texel(x0, y1) + (texel(x1, y1) - texel(x0, y1)) * wx;
     top + (bottom - top) * wy
@@ -109,10 +127,14 @@ pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Op
     let m = scene.materials.get(inst.material)?;
     let cutoff = cutoff(m.alpha_mode)?;
     let mesh = scene.meshes.get(inst.mesh)?;
-    let uv = |k: usize| mesh.indices.get(3 * prim + k).and_then(|&i| mesh.vertices.get(i as usize)).map_or([0.0; 2], |v| v.uv.map(f64::from));
+    let sampling = &m.sampling[0];
+    // The vertices' uvs through the slot's transform in f32, as the GPU's records hold them.
+    let uv = |k: usize| {
+        mesh.indices.get(3 * prim + k).and_then(|&i| mesh.vertices.get(i as usize)).map_or([0.0; 2], |v| sampling.apply(v.uv).map(f64::from))
+    };
     let w = [1.0 - bary[0] - bary[1], bary[0], bary[1]];
     let (a, b, c) = (uv(0), uv(1), uv(2));
     let p = [0, 1].map(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2]);
-    let tex = m.texture.and_then(|t| scene.textures.get(t)).map_or(1.0, |img| bilinear_alpha(img, p));
+    let tex = m.texture.and_then(|t| scene.textures.get(t)).map_or(1.0, |img| bilinear_alpha(img, p, sampling));
     Some(m.base_color[3] as f64 * tex - cutoff as f64)
 }

@@ -1,12 +1,13 @@
 //! Writes a [`Scene`] as a binary glTF (`.glb`): one buffer, one glTF mesh per raygraph mesh,
 //! one node per instance (with its matrix), PBR materials with all five texture slots
-//! (emission above 1 through `KHR_materials_emissive_strength`), PNG-embedded textures, the
+//! (emission above 1 through `KHR_materials_emissive_strength`, unlit ones through
+//! `KHR_materials_unlit`, each slot's sampler and `KHR_texture_transform`), PNG-embedded textures, the
 //! file's lights (`KHR_lights_punctual`) and the camera presets as perspective cameras (the
 //! first is the default view on import). The file is written to a temporary name and renamed,
 //! so a failure never leaves a partial file.
 
 use super::gltf_import::SceneError;
-use super::{AlphaMode, Camera, LightKind, Material, PunctualLight, Scene};
+use super::{AlphaMode, Camera, LightKind, Material, Mipmaps, PunctualLight, Scene, SlotSampling, Wrap};
 use glam::{Mat3, Quat, Vec3};
 use gltf::json;
 use json::validation::Checked::Valid;
@@ -93,9 +94,14 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
         });
         textures.push(root.push(json::Texture { name: Some(t.name.clone()), sampler: None, source: image, extensions: None, extras: Default::default() }));
     }
-    let info = |t: Option<usize>| t.map(|i| json::texture::Info { index: textures[i], tex_coord: 0, extensions: None, extras: Default::default() });
+    let sampled = sampled_textures(&mut root, scene, &textures);
     let mut materials = Vec::new();
     for m in &scene.materials {
+        // The glTF texture of scene texture `i` with slot `slot`'s sampler.
+        let texture = |i: usize, slot: usize| sampled.get(&(i, m.sampling[slot].sampler_bits())).copied().unwrap_or(textures[i]);
+        let info = |t: Option<usize>, slot: usize| {
+            t.map(|i| json::texture::Info { index: texture(i, slot), tex_coord: 0, extensions: None, extras: Default::default() })
+        };
         let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
             AlphaMode::Opaque => (json::material::AlphaMode::Opaque, None),
             AlphaMode::Mask(c) => (json::material::AlphaMode::Mask, Some(json::material::AlphaCutoff(c))),
@@ -109,28 +115,28 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             double_sided: m.double_sided,
             pbr_metallic_roughness: json::material::PbrMetallicRoughness {
                 base_color_factor: json::material::PbrBaseColorFactor(m.base_color),
-                base_color_texture: info(m.texture),
+                base_color_texture: info(m.texture, 0),
                 metallic_factor: json::material::StrengthFactor(m.metallic),
                 roughness_factor: json::material::StrengthFactor(m.roughness),
-                metallic_roughness_texture: info(m.metallic_roughness_texture),
+                metallic_roughness_texture: info(m.metallic_roughness_texture, 1),
                 extensions: None,
                 extras: Default::default(),
             },
             normal_texture: m.normal_texture.map(|i| json::material::NormalTexture {
-                index: textures[i],
+                index: texture(i, 2),
                 scale: m.normal_scale,
                 tex_coord: 0,
                 extensions: None,
                 extras: Default::default(),
             }),
             occlusion_texture: m.occlusion_texture.map(|i| json::material::OcclusionTexture {
-                index: textures[i],
+                index: texture(i, 3),
                 strength: json::material::StrengthFactor(m.occlusion_strength),
                 tex_coord: 0,
                 extensions: None,
                 extras: Default::default(),
             }),
-            emissive_texture: info(m.emissive_texture),
+            emissive_texture: info(m.emissive_texture, 4),
             emissive_factor: json::material::EmissiveFactor(emissive),
             extensions: (emissive_strength.is_some() || m.unlit).then(|| json::extensions::material::Material {
                 emissive_strength: emissive_strength.map(|strength| json::extensions::material::EmissiveStrength {
@@ -222,13 +228,101 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     }
     root.buffers[0].byte_length = USize64::from(w.bin.len());
 
-    let json_string = json::serialize::to_string(&root).map_err(|e| e.to_string())?;
+    let json_string = with_texture_transforms(&root, scene)?;
     let glb = gltf::binary::Glb {
         header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
         bin: Some(Cow::Owned(w.bin)),
         json: Cow::Owned(json_string.into_bytes()),
     };
     glb.to_vec().map_err(|e| e.to_string())
+}
+
+/// Extra glTF textures for slots whose sampler is not glTF's default: one per (scene texture,
+/// sampler bits), each with its own sampler (the default keeps the plain texture of the image).
+fn sampled_textures(
+    root: &mut json::Root,
+    scene: &Scene,
+    plain: &[json::Index<json::Texture>],
+) -> std::collections::HashMap<(usize, u32), json::Index<json::Texture>> {
+    let mut out = std::collections::HashMap::new();
+    for m in &scene.materials {
+        let slots = [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture];
+        for (t, s) in slots.iter().zip(&m.sampling) {
+            let Some(t) = t.filter(|t| *t < plain.len() && s.sampler_bits() != 0) else { continue };
+            out.entry((t, s.sampler_bits())).or_insert_with(|| {
+                let sampler = root.push(sampler_json(s));
+                let source = root.get(plain[t]).map(|p| p.source).unwrap_or_else(|| json::Index::new(0));
+                root.push(json::Texture { name: None, sampler: Some(sampler), source, extensions: None, extras: Default::default() })
+            });
+        }
+    }
+    out
+}
+
+/// A slot's sampler as glTF's.
+fn sampler_json(s: &SlotSampling) -> json::texture::Sampler {
+    use json::texture::{MagFilter, MinFilter, WrappingMode};
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => WrappingMode::Repeat,
+        Wrap::ClampToEdge => WrappingMode::ClampToEdge,
+        Wrap::MirroredRepeat => WrappingMode::MirroredRepeat,
+    };
+    let min = match (s.min_nearest, s.mipmaps) {
+        (false, Mipmaps::None) => MinFilter::Linear,
+        (true, Mipmaps::None) => MinFilter::Nearest,
+        (false, Mipmaps::Nearest) => MinFilter::LinearMipmapNearest,
+        (true, Mipmaps::Nearest) => MinFilter::NearestMipmapNearest,
+        (false, Mipmaps::Linear) => MinFilter::LinearMipmapLinear,
+        (true, Mipmaps::Linear) => MinFilter::NearestMipmapLinear,
+    };
+    json::texture::Sampler {
+        mag_filter: Some(Valid(if s.mag_nearest { MagFilter::Nearest } else { MagFilter::Linear })),
+        min_filter: Some(Valid(min)),
+        wrap_s: Valid(wrap(s.wrap_s)),
+        wrap_t: Valid(wrap(s.wrap_t)),
+        name: None,
+        extensions: None,
+        extras: Default::default(),
+    }
+}
+
+/// The document's JSON with each slot's uv transform written as `KHR_texture_transform`
+/// (offset, rotation and scale recovered from the matrix: translation x rotation x scale).
+fn with_texture_transforms(root: &json::Root, scene: &Scene) -> Result<String, String> {
+    let mut doc = json::serialize::to_value(root).map_err(|e| e.to_string())?;
+    let mut any = false;
+    for (i, m) in scene.materials.iter().enumerate() {
+        for (slot, s) in m.sampling.iter().enumerate() {
+            let Some([a, b]) = s.transform else { continue };
+            let path: &[&str] = match slot {
+                0 => &["pbrMetallicRoughness", "baseColorTexture"],
+                1 => &["pbrMetallicRoughness", "metallicRoughnessTexture"],
+                2 => &["normalTexture"],
+                3 => &["occlusionTexture"],
+                _ => &["emissiveTexture"],
+            };
+            let info = path.iter().fold(&mut doc["materials"][i], |v, key| &mut v[*key]);
+            if !info.is_object() {
+                continue; // the slot has no texture
+            }
+            let rotation = (-b[0]).atan2(a[0]);
+            let (sin, cos) = rotation.sin_cos();
+            let scale = [a[0] * cos - b[0] * sin, a[1] * sin + b[1] * cos];
+            let mut ext = json::Value::Object(Default::default());
+            ext["offset"] = json::Value::from(vec![a[2], b[2]]);
+            ext["rotation"] = json::Value::from(rotation);
+            ext["scale"] = json::Value::from(scale.to_vec());
+            info["extensions"]["KHR_texture_transform"] = ext;
+            any = true;
+        }
+    }
+    if any {
+        match doc["extensionsUsed"].as_array_mut() {
+            Some(used) => used.push("KHR_texture_transform".into()),
+            None => doc["extensionsUsed"] = json::Value::from(vec!["KHR_texture_transform"]),
+        }
+    }
+    json::serialize::to_string(&doc).map_err(|e| e.to_string())
 }
 
 /// glTF's emissiveFactor (at most 1) and, where the emission is brighter, the

@@ -5,7 +5,7 @@
 //! [`SceneError`] naming the file, or a counted warning where loading can go on; what the file
 //! uses that raygraph approximates or ignores is listed in the [`ImportReport`].
 
-use super::{AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, TextureImage, Vertex};
+use super::{AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, Mipmaps, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, Wrap};
 use glam::{Mat4, Vec3};
 use gltf::json::Value;
 use std::collections::{BTreeSet, HashMap};
@@ -120,7 +120,7 @@ impl Default for LoadOptions {
 
 /// The glTF extensions raygraph reads (everything else in `extensionsUsed` is listed as
 /// ignored, and a file that requires anything else is refused).
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_texture_transform"];
 
 /// The five texture slots of a glTF material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -338,6 +338,7 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
     let mut loader = TextureLoader {
         path,
         doc: &gltf.document,
+        raw: &raw,
         base,
         buffers: &buffers,
         load: options.textures,
@@ -571,6 +572,9 @@ fn primitive_mesh(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], normal
 struct TextureLoader<'a> {
     path: &'a Path,
     doc: &'a gltf::Document,
+    /// The file's JSON (for `KHR_texture_transform`, which the `gltf` crate does not read on
+    /// every slot).
+    raw: &'a Value,
     base: &'a Path,
     buffers: &'a [gltf::buffer::Data],
     /// Whether to load textures at all (the active graph samples some).
@@ -594,6 +598,8 @@ impl TextureLoader<'_> {
         let strength = m.emissive_strength().unwrap_or(1.0);
         mat.emissive = m.emissive_factor().map(|c| c * strength);
         for (slot, texture, _) in material_slots(m) {
+            let json = m.index().map_or(&Value::Null, |i| notes::slot_json(&self.raw["materials"][i], slot));
+            mat.sampling[slot as usize] = slot_sampling(&texture, &json["extensions"]["KHR_texture_transform"]);
             let fallbacks = report.texture_fallbacks.len();
             let t = self.slot(&name, slot, texture, report);
             match slot {
@@ -680,6 +686,47 @@ impl TextureLoader<'_> {
         self.loaded.insert(image.index(), result.clone());
         result
     }
+}
+
+/// How a slot samples texture `tex`: the texture's sampler and the slot's
+/// `KHR_texture_transform` (`transform`, its JSON; `Null` without one). A transform with
+/// numbers that are not finite is left out.
+fn slot_sampling(tex: &gltf::Texture, transform: &Value) -> SlotSampling {
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let sampler = tex.sampler();
+    let wrap = |w: WrappingMode| match w {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+    };
+    let min = sampler.min_filter();
+    let mipmaps = match min {
+        Some(MinFilter::Nearest | MinFilter::Linear) => Mipmaps::None,
+        Some(MinFilter::NearestMipmapNearest | MinFilter::LinearMipmapNearest) => Mipmaps::Nearest,
+        _ => Mipmaps::Linear,
+    };
+    SlotSampling {
+        wrap_s: wrap(sampler.wrap_s()),
+        wrap_t: wrap(sampler.wrap_t()),
+        mag_nearest: sampler.mag_filter() == Some(MagFilter::Nearest),
+        min_nearest: matches!(min, Some(MinFilter::Nearest | MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear)),
+        mipmaps,
+        transform: uv_transform(transform),
+    }
+}
+
+/// The rows of `KHR_texture_transform`'s matrix, translation x rotation x scale (`None` without
+/// the extension, or with numbers that are not finite).
+fn uv_transform(json: &Value) -> Option<[[f32; 3]; 2]> {
+    if !json.is_object() {
+        return None;
+    }
+    let pair = |key: &str, default: f64| [0, 1].map(|k| json[key][k].as_f64().unwrap_or(default));
+    let [ox, oy] = pair("offset", 0.0);
+    let [sx, sy] = pair("scale", 1.0);
+    let (sin, cos) = json["rotation"].as_f64().unwrap_or(0.0).sin_cos();
+    let rows = [[sx * cos, sy * sin, ox], [-sx * sin, sy * cos, oy]].map(|r| r.map(|v| v as f32));
+    rows.iter().flatten().all(|v| v.is_finite()).then_some(rows)
 }
 
 /// A material as messages name it: "`name`" or "3" (its index).
@@ -924,9 +971,8 @@ pub fn animated_bounds(scene: &Scene) -> Bounds {
 /// What a file uses that raygraph approximates or ignores, per extension, material, texture,
 /// mesh and document, as lines of [`ImportReport::approximated`] and `ignored_features`.
 mod notes {
-    use super::{image_name, material_name, material_slots, ImportReport, TextureSlot, SUPPORTED_EXTENSIONS};
+    use super::{material_name, material_slots, ImportReport, TextureSlot, SUPPORTED_EXTENSIONS};
     use gltf::json::Value;
-    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
     use std::collections::{BTreeMap, BTreeSet};
 
     pub(super) fn collect(doc: &gltf::Document, raw: &Value, report: &mut ImportReport) {
@@ -938,12 +984,11 @@ mod notes {
         for m in doc.materials() {
             material(&m, raw, report);
         }
-        samplers(doc, report);
         meshes(doc, report);
     }
 
     /// The JSON of `slot`'s texture info in material `m`.
-    fn slot_json(m: &Value, slot: TextureSlot) -> &Value {
+    pub(super) fn slot_json(m: &Value, slot: TextureSlot) -> &Value {
         match slot {
             TextureSlot::BaseColor => &m["pbrMetallicRoughness"]["baseColorTexture"],
             TextureSlot::MetallicRoughness => &m["pbrMetallicRoughness"]["metallicRoughnessTexture"],
@@ -984,40 +1029,11 @@ mod notes {
             if tex_coord != 0 {
                 report.ignored_features.push(format!("material {name} {} texture: texCoord {tex_coord} (TEXCOORD_0 is read instead)", slot.name()));
             }
-            for ext in extension_names(slot_json(json, slot)) {
+            for ext in extension_names(slot_json(json, slot)).into_iter().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
                 report.ignored_features.push(format!("material {name} {} texture: {ext}", slot.name()));
             }
-        }
-    }
-
-    /// Sampler settings other than the one raygraph samples every texture with.
-    fn samplers(doc: &gltf::Document, report: &mut ImportReport) {
-        let mut used: Vec<gltf::Texture> = doc.materials().flat_map(|m| material_slots(&m).into_iter().map(|(_, t, _)| t)).collect();
-        used.sort_by_key(|t| t.index());
-        used.dedup_by_key(|t| t.index());
-        for t in used {
-            let s = t.sampler();
-            let mut differs = Vec::new();
-            for (axis, mode) in [("wrapS", s.wrap_s()), ("wrapT", s.wrap_t())] {
-                match mode {
-                    WrappingMode::Repeat => {}
-                    WrappingMode::ClampToEdge => differs.push(format!("{axis} CLAMP_TO_EDGE")),
-                    WrappingMode::MirroredRepeat => differs.push(format!("{axis} MIRRORED_REPEAT")),
-                }
-            }
-            if s.mag_filter() == Some(MagFilter::Nearest) {
-                differs.push("magFilter NEAREST".into());
-            }
-            if let Some(f) = s.min_filter().filter(|f| *f != MinFilter::LinearMipmapLinear) {
-                differs.push(format!("minFilter {f:?}"));
-            }
-            if !differs.is_empty() {
-                report.ignored_features.push(format!(
-                    "texture {} (`{}`) sampler: {} (every texture is sampled with repeat wrapping and linear mipmapped filtering)",
-                    t.index(),
-                    image_name(doc, &t.source()),
-                    differs.join(", ")
-                ));
+            if let Some(n) = slot_json(json, slot)["extensions"]["KHR_texture_transform"]["texCoord"].as_u64().filter(|n| *n != 0) {
+                report.ignored_features.push(format!("material {name} {} texture: KHR_texture_transform texCoord {n} (TEXCOORD_0 is read instead)", slot.name()));
             }
         }
     }

@@ -11,7 +11,7 @@
 use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -313,14 +313,18 @@ impl GpuScene {
                         roughness: m.roughness,
                         normal_scale: m.normal_scale,
                         alpha_cutoff: cutoff,
-                        flags: alpha_flag | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 } | if m.unlit { MATERIAL_UNLIT } else { 0 },
+                        flags: alpha_flag
+                            | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 }
+                            | if m.unlit { MATERIAL_UNLIT } else { 0 }
+                            | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 },
                         base_texture: layer(m.texture),
                         metallic_roughness_texture: layer(m.metallic_roughness_texture),
                         normal_texture: layer(m.normal_texture),
                         emissive_texture: layer(m.emissive_texture),
                         occlusion_texture: layer(m.occlusion_texture),
                         occlusion_strength: m.occlusion_strength,
-                        _pad: [0; 2],
+                        samplers: sampler_words(&m.sampling),
+                        uv_transforms: uv_transform_rows(&m.sampling),
                     }
                 })
                 .collect();
@@ -342,6 +346,7 @@ impl GpuScene {
             let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures.iter().map(to_image));
             // Element 0 (white) is colour; the scene's textures follow at index + 1.
             let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
+            let nearest: Vec<bool> = std::iter::once(false).chain(nearest_textures(scene)).collect();
             out.textures = Some(if usage.texture_binding_array {
                 let allowed = limits.max_binding_array_elements_per_shader_stage;
                 check_count(scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
@@ -372,11 +377,8 @@ impl GpuScene {
                 let texture = create_texture(device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS, TexelEncoding::Colour.format());
                 for (layer, img) in images.enumerate() {
                     let encoding = if data[layer] { TexelEncoding::DataInSrgb } else { TexelEncoding::Colour };
-                    let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) {
-                        img
-                    } else {
-                        image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, image::imageops::FilterType::Triangle)
-                    };
+                    let filter = if nearest[layer] { image::imageops::FilterType::Nearest } else { image::imageops::FilterType::Triangle };
+                    let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, filter) };
                     bytes += upload_mips(queue, &texture, layer as u32, img, encoding);
                 }
                 let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
@@ -421,6 +423,38 @@ fn to_image(img: &super::TextureImage) -> image::RgbaImage {
                 .unwrap_or_else(|| image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 0, 255, 255])))
         }
     }
+}
+
+/// The slots' sampler bits, four slots to a word.
+fn sampler_words(sampling: &[crate::scene::SlotSampling; 5]) -> [u32; 2] {
+    let bits = sampling.map(|s| s.sampler_bits());
+    [bits[0] | bits[1] << 8 | bits[2] << 16 | bits[3] << 24, bits[4]]
+}
+
+/// The slots' uv transforms as rows (the identity where a slot has none).
+fn uv_transform_rows(sampling: &[crate::scene::SlotSampling; 5]) -> [[f32; 4]; 10] {
+    let mut rows = [[0.0; 4]; 10];
+    for (slot, s) in sampling.iter().enumerate() {
+        let [a, b] = s.transform.unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        rows[2 * slot] = [a[0], a[1], a[2], 0.0];
+        rows[2 * slot + 1] = [b[0], b[1], b[2], 0.0];
+    }
+    rows
+}
+
+/// Which textures a slot samples with NEAREST filtering (resampled to the texture array's size
+/// by nearest texel, so their texels stay sharp).
+fn nearest_textures(scene: &Scene) -> Vec<bool> {
+    let mut nearest = vec![false; scene.textures.len()];
+    for m in &scene.materials {
+        let slots = [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture];
+        for (t, s) in slots.iter().zip(&m.sampling) {
+            if let Some(t) = t.filter(|t| *t < nearest.len()) {
+                nearest[t] |= s.mag_nearest || s.min_nearest;
+            }
+        }
+    }
+    nearest
 }
 
 /// Which textures hold data rather than colour: those that only normal, metallic-roughness or

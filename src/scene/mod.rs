@@ -57,6 +57,76 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// How a texture coordinate outside 0..1 wraps (glTF sampler `wrapS`, `wrapT`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Wrap {
+    /// The texture repeats.
+    #[default]
+    Repeat,
+    /// The edge texels extend.
+    ClampToEdge,
+    /// The texture repeats, every other copy mirrored.
+    MirroredRepeat,
+}
+
+/// Which mip levels minification reads (from glTF's `minFilter`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Mipmaps {
+    /// The two nearest levels, blended (`*_MIPMAP_LINEAR`, and no `minFilter`).
+    #[default]
+    Linear,
+    /// The nearest level (`*_MIPMAP_NEAREST`).
+    Nearest,
+    /// Level 0 only (`NEAREST`, `LINEAR`).
+    None,
+}
+
+/// How one texture slot of a material is sampled: its texture's glTF sampler and its
+/// `KHR_texture_transform`. The default is glTF's default sampler without a transform.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SlotSampling {
+    /// Wrap along u (`wrapS`).
+    pub wrap_s: Wrap,
+    /// Wrap along v (`wrapT`).
+    pub wrap_t: Wrap,
+    /// Magnification picks the nearest texel (`magFilter` NEAREST).
+    pub mag_nearest: bool,
+    /// Minification picks the nearest texel of a level (`minFilter` NEAREST*).
+    pub min_nearest: bool,
+    /// The mip levels minification reads.
+    pub mipmaps: Mipmaps,
+    /// The two rows of the 2x3 matrix the uv goes through (`KHR_texture_transform`: translation
+    /// x rotation x scale); `None`: the identity.
+    pub transform: Option<[[f32; 3]; 2]>,
+}
+
+impl SlotSampling {
+    /// The uv through the transform.
+    pub fn apply(&self, uv: [f32; 2]) -> [f32; 2] {
+        match self.transform {
+            Some([a, b]) => [a[0] * uv[0] + a[1] * uv[1] + a[2], b[0] * uv[0] + b[1] * uv[1] + b[2]],
+            None => uv,
+        }
+    }
+
+    /// The sampler as 8 bits (`shaders/common/texture_sampling.wgsl`): bits 0-1 wrap S, 2-3
+    /// wrap T (0 repeat, 1 clamp, 2 mirror), 4 magnification NEAREST, 5 minification NEAREST,
+    /// 6-7 the mipmap mode (0 linear, 1 nearest, 2 none). 0 is glTF's default sampler.
+    pub fn sampler_bits(&self) -> u32 {
+        let wrap = |w: Wrap| match w {
+            Wrap::Repeat => 0,
+            Wrap::ClampToEdge => 1,
+            Wrap::MirroredRepeat => 2,
+        };
+        let mipmaps = match self.mipmaps {
+            Mipmaps::Linear => 0,
+            Mipmaps::Nearest => 1,
+            Mipmaps::None => 2,
+        };
+        wrap(self.wrap_s) | wrap(self.wrap_t) << 2 | u32::from(self.mag_nearest) << 4 | u32::from(self.min_nearest) << 5 | mipmaps << 6
+    }
+}
+
 /// A PBR metallic-roughness material. Texture fields index [`Scene::textures`].
 #[derive(Debug, Clone)]
 pub struct Material {
@@ -91,6 +161,9 @@ pub struct Material {
     /// Unlit (glTF `KHR_materials_unlit`): the surface shows its base colour (factor times
     /// texture), whatever the lights; it reflects and emits nothing else.
     pub unlit: bool,
+    /// How each texture slot is sampled, in the order of [`gltf_import::TextureSlot`] (base
+    /// colour, metallic-roughness, normal, occlusion, emissive).
+    pub sampling: [SlotSampling; 5],
 }
 
 impl Material {
@@ -112,6 +185,7 @@ impl Material {
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
+            sampling: Default::default(),
         }
     }
 }

@@ -1,0 +1,58 @@
+// A material's texture slots (common/scene.wgsl `Material`): their sampler bits and their
+// KHR_texture_transform, read alike by the sampled reads (common/texture_sampling.wgsl) and
+// the alpha test's texel reads (common/alpha.wgsl). Needs common/scene.wgsl included.
+
+const SLOT_BASE: u32 = 0u;
+const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
+const SLOT_NORMAL: u32 = 2u;
+const SLOT_OCCLUSION: u32 = 3u;
+const SLOT_EMISSIVE: u32 = 4u;
+
+// A slot's sampler bits (`SlotSampling::sampler_bits`, src/scene/mod.rs): bits 0-1 wrap S, 2-3 wrap T,
+// 4 magnification NEAREST, 5 minification NEAREST, 6-7 the mipmap mode.
+const WRAP_REPEAT: u32 = 0u;
+const WRAP_CLAMP: u32 = 1u;
+const WRAP_MIRROR: u32 = 2u;
+const SAMPLER_MAG_NEAREST: u32 = 16u;
+const SAMPLER_MIN_NEAREST: u32 = 32u;
+const MIPMAP_LINEAR: u32 = 0u;
+const MIPMAP_NEAREST: u32 = 1u;
+const MIPMAP_NONE: u32 = 2u;
+
+fn slot_sampler(m: Material, slot: u32) -> u32 {
+    if slot < 4u {
+        return (m.samplers_low >> (8u * slot)) & 0xffu;
+    }
+    return m.samplers_high & 0xffu;
+}
+
+fn slot_transformed(m: Material) -> bool {
+    return (m.flags & MATERIAL_UV_TRANSFORM) != 0u;
+}
+
+// The slot's uv through its KHR_texture_transform (unchanged without one).
+fn slot_uv(m: Material, slot: u32, uv: vec2<f32>) -> vec2<f32> {
+    if !slot_transformed(m) {
+        return uv;
+    }
+    let h = vec3<f32>(uv, 1.0);
+    return vec2<f32>(dot(m.uv_transforms[2u * slot].xyz, h), dot(m.uv_transforms[2u * slot + 1u].xyz, h));
+}
+
+// A uv differential through the transform's linear part.
+fn slot_uv_delta(m: Material, slot: u32, d: vec2<f32>) -> vec2<f32> {
+    if !slot_transformed(m) {
+        return d;
+    }
+    return vec2<f32>(dot(m.uv_transforms[2u * slot].xy, d), dot(m.uv_transforms[2u * slot + 1u].xy, d));
+}
+
+// log2 of how much the transform scales a footprint's side (0 without one).
+fn slot_footprint_log2(m: Material, slot: u32) -> f32 {
+    if !slot_transformed(m) {
+        return 0.0;
+    }
+    let a = m.uv_transforms[2u * slot].xy;
+    let b = m.uv_transforms[2u * slot + 1u].xy;
+    return 0.5 * log2(max(abs(a.x * b.y - a.y * b.x), 1e-30));
+}
