@@ -105,7 +105,7 @@ pub struct MaterialUniforms {
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
-    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`].
+    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] | [`MATERIAL_UV1`] << slot.
     pub flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
@@ -137,3 +137,5 @@ pub(crate) const MATERIAL_ALPHA_BLEND: u32 = 4;
 pub(crate) const MATERIAL_UNLIT: u32 = 8;
 /// Material flag: a texture slot has a uv transform (`uv_transforms` is read).
 pub(crate) const MATERIAL_UV_TRANSFORM: u32 = 16;
+/// Material flag of slot 0, shifted left by the slot: the slot reads `TEXCOORD_1`.
+pub(crate) const MATERIAL_UV1: u32 = 32;

@@ -56,6 +56,7 @@ fn mesh(name: &str, positions: &[[f32; 3]], indices: &[u32]) -> Mesh {
         vertices: positions.iter().map(|p| Vertex { position: *p, normal: [0.0, 1.0, 0.0], uv: [0.0; 2] }).collect(),
         indices: indices.to_vec(),
         tangents: None,
+        extras: None,
     }
 }
 

@@ -62,7 +62,7 @@ fn checker_alpha() -> TextureImage {
 
 fn quad_mesh(name: &str, x: [f32; 2], y: [f32; 2], z: f32) -> Mesh {
     let v = |px: f32, py: f32| Vertex { position: [px, py, z], normal: [0.0, 0.0, 1.0], uv: [(px - x[0]) / (x[1] - x[0]), (y[1] - py) / (y[1] - y[0])] };
-    Mesh { name: name.into(), vertices: vec![v(x[0], y[0]), v(x[1], y[0]), v(x[1], y[1]), v(x[0], y[1])], indices: vec![0, 1, 2, 0, 2, 3], tangents: None }
+    Mesh { name: name.into(), vertices: vec![v(x[0], y[0]), v(x[1], y[0]), v(x[1], y[1]), v(x[0], y[1])], indices: vec![0, 1, 2, 0, 2, 3], tangents: None, extras: None }
 }
 
 fn scene() -> Scene {

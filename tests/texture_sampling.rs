@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions, Project};
 use raygraph::runtime::Executor;
-use raygraph::scene::{Camera, Instance, LoadOptions, Material, Mesh, Mipmaps, Scene, SlotSampling, TextureImage, Vertex, Wrap};
+use raygraph::scene::{Camera, Instance, LoadOptions, Material, Mesh, Mipmaps, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, Wrap};
 
 /// 4 x 4 texels, each its own colour (sRGB bytes).
 fn texel(i: usize, j: usize) -> [u8; 4] {
@@ -32,7 +32,7 @@ const UV_SPAN: f32 = 3.0;
 /// that it fills exactly.
 fn quad_scene(sampling: SlotSampling) -> Scene {
     let vertex = |x: f32, y: f32| Vertex { position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], uv: [UV_MIN + UV_SPAN * x, UV_MIN + UV_SPAN * (1.0 - y)] };
-    let mesh = Mesh { name: "quad".into(), vertices: vec![vertex(0.0, 0.0), vertex(1.0, 0.0), vertex(1.0, 1.0), vertex(0.0, 1.0)], indices: vec![0, 1, 2, 0, 2, 3], tangents: None };
+    let mesh = Mesh { name: "quad".into(), vertices: vec![vertex(0.0, 0.0), vertex(1.0, 0.0), vertex(1.0, 1.0), vertex(0.0, 1.0)], indices: vec![0, 1, 2, 0, 2, 3], tangents: None, extras: None };
     let mut material = Material::diffuse("sampled", [1.0; 4], Some(0));
     material.sampling[0] = sampling;
     let mut scene = raygraph::scene::builtin::default_scene();
@@ -96,18 +96,27 @@ fn albedo(gpu: &raygraph::runtime::Gpu, scene: &Scene, graph: &str, layers: &[(&
     common::channel(gpu, &exec, "gbuffer.albedo")
 }
 
+/// The G-buffer producers: over the visibility buffer, in the fragment stage (the layer of
+/// devices without primitive indices), from primary rays.
+const PRODUCERS: [(&str, &[(&str, &str)]); 3] =
+    [("graph/hybrid.ron", &[]), ("graph/hybrid.ron", &[("deferred", "deferred_fragment")]), ("graph/full_rt.ron", &[])];
+
 /// Every G-buffer producer (fragment stage, visibility buffer, primary rays) on both texture
 /// paths shows `sampling`'s texel at every pixel away from texel edges.
 fn check(name: &str, sampling: SlotSampling) {
+    check_scene(name, &quad_scene(sampling), &sampling, &PRODUCERS);
+}
+
+/// [`check`] of `scene` (a [`quad_scene`], perhaps changed) through `producers`.
+fn check_scene(name: &str, scene: &Scene, sampling: &SlotSampling, producers: &[(&str, &[(&str, &str)])]) {
     let size = 48;
-    let scene = quad_scene(sampling);
-    let want = expected(&sampling, size);
+    let want = expected(sampling, size);
     assert!(want.iter().filter(|w| w.is_some()).count() > (size * size / 2) as usize, "{name}: most pixels are checked");
     let mut gpu = gpu();
     for bindless in [true, false] {
         gpu.texture_binding_arrays = bindless;
-        for (graph, layers) in [("graph/hybrid.ron", &[][..]), ("graph/hybrid.ron", &[("deferred", "deferred_fragment")][..]), ("graph/full_rt.ron", &[][..])] {
-            let got = albedo(&gpu, &scene, graph, layers, size);
+        for &(graph, layers) in producers {
+            let got = albedo(&gpu, scene, graph, layers, size);
             // The G-buffer's albedo is 8-bit linear: half a step is 1/510.
             let wrong: Vec<usize> =
                 (0..want.len()).filter(|&p| want[p].is_some_and(|w| (0..3).any(|c| (got[p][c] - w[c]).abs() > 1.0 / 510.0 + 1e-4))).collect();
@@ -124,7 +133,7 @@ fn check(name: &str, sampling: SlotSampling) {
 }
 
 fn nearest(wrap_s: Wrap, wrap_t: Wrap) -> SlotSampling {
-    SlotSampling { wrap_s, wrap_t, mag_nearest: true, min_nearest: true, mipmaps: Mipmaps::None, transform: None }
+    SlotSampling { wrap_s, wrap_t, mag_nearest: true, min_nearest: true, mipmaps: Mipmaps::None, tex_coord: 0, transform: None }
 }
 
 #[test]
@@ -158,6 +167,13 @@ fn the_khronos_samplers_and_transforms_are_imported() {
     assert_eq!((s.min_nearest, s.mipmaps, s.mag_nearest), (true, Mipmaps::Linear, false));
     assert!(!report.ignored_features.iter().any(|f| f.contains("sampler")), "{:?}", report.ignored_features);
 
+    let (scene, _) = open("MultiUVTest");
+    assert_eq!((scene.materials[0].sampling[4].tex_coord, scene.materials[0].sampling[0].tex_coord), (1, 0), "emissive reads TEXCOORD_1");
+    assert!(scene.meshes[0].extras.as_ref().is_some_and(|e| e.iter().any(|x| x.uv1 != [0.0; 2])), "the mesh's TEXCOORD_1");
+    let (scene, _) = open("VertexColorTest");
+    let coloured = scene.meshes.iter().filter_map(|m| m.extras.as_ref()).flatten().filter(|x| x.color != [1.0; 4]).count();
+    assert!(coloured > 0, "COLOR_0 read");
+
     let (scene, report) = open("TextureTransformTest");
     assert!(!report.ignored_features.iter().any(|f| f.contains("KHR_texture_transform")), "{:?}", report.ignored_features);
     let transformed = scene.materials.iter().filter(|m| m.sampling[0].transform.is_some()).count();
@@ -184,10 +200,12 @@ fn export_keeps_samplers_transforms_and_unlit() {
     let m = &mut scene.materials[0];
     m.emissive = [1.0; 3];
     m.emissive_texture = Some(0);
-    m.sampling[4] = SlotSampling { wrap_s: Wrap::ClampToEdge, mipmaps: Mipmaps::Nearest, ..Default::default() };
+    m.sampling[4] = SlotSampling { wrap_s: Wrap::ClampToEdge, mipmaps: Mipmaps::Nearest, tex_coord: 1, ..Default::default() };
     m.occlusion_texture = Some(0);
     m.sampling[3] = SlotSampling { transform: Some([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]), ..Default::default() };
     m.unlit = true;
+    let extras: Vec<VertexExtra> = (0..4).map(|i| VertexExtra { uv1: [i as f32, 0.5], color: [0.25 * i as f32, 1.0, 0.5, 1.0], _pad: [0.0; 2] }).collect();
+    scene.meshes[0].extras = Some(extras);
     let dir = std::env::temp_dir().join(format!("raygraph-export-sampling-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("sampled.glb");
@@ -200,11 +218,63 @@ fn export_keeps_samplers_transforms_and_unlit() {
     assert_eq!(report.ignored_features, ["material `sampled`: occlusion, emission (KHR_materials_unlit draws the base colour only)"]);
     for slot in [0, 3, 4] {
         let (x, y) = (a.sampling[slot], b.sampling[slot]);
-        assert_eq!((x.wrap_s, x.wrap_t, x.mag_nearest, x.min_nearest, x.mipmaps), (y.wrap_s, y.wrap_t, y.mag_nearest, y.min_nearest, y.mipmaps), "slot {slot}");
+        assert_eq!(
+            (x.wrap_s, x.wrap_t, x.mag_nearest, x.min_nearest, x.mipmaps, x.tex_coord),
+            (y.wrap_s, y.wrap_t, y.mag_nearest, y.min_nearest, y.mipmaps, y.tex_coord),
+            "slot {slot}"
+        );
         let flat = |t: Option<[[f32; 3]; 2]>| t.map(|t| t.concat());
         match (flat(x.transform), flat(y.transform)) {
             (Some(p), Some(q)) => assert!(p.iter().zip(&q).all(|(p, q)| (p - q).abs() < 1e-5), "slot {slot}: {p:?} against {q:?}"),
             (p, q) => assert_eq!(p, q, "slot {slot}"),
         }
+    }
+    assert_eq!(scene.meshes[0].extras, back.meshes[0].extras, "COLOR_0 and TEXCOORD_1");
+}
+
+#[test]
+fn a_slot_reads_the_second_texture_coordinates_it_names() {
+    // TEXCOORD_0 is constant; TEXCOORD_1 spans the quad. The fragment-stage G-buffer (devices
+    // without primitive indices) reads TEXCOORD_0 only, and is left out.
+    let sampling = SlotSampling { tex_coord: 1, ..nearest(Wrap::MirroredRepeat, Wrap::Repeat) };
+    let mut scene = quad_scene(sampling);
+    let mesh = &mut scene.meshes[0];
+    mesh.extras = Some(mesh.vertices.iter().map(|v| VertexExtra { uv1: v.uv, ..Default::default() }).collect());
+    for v in &mut mesh.vertices {
+        v.uv = [0.1, 0.1];
+    }
+    check_scene("TEXCOORD_1", &scene, &sampling, &[PRODUCERS[0], PRODUCERS[2]]);
+}
+
+#[test]
+fn vertex_colours_multiply_the_base_colour() {
+    // An untextured white quad whose corners are red, green, blue and grey: the albedo is their
+    // barycentric blend over each of its two triangles.
+    let mut scene = quad_scene(SlotSampling::default());
+    scene.materials[0].texture = None;
+    scene.materials[0].base_color = [1.0, 0.5, 1.0, 1.0];
+    let corners = [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.5, 0.5, 0.5, 1.0]];
+    scene.meshes[0].extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
+    let size = 48u32;
+    let mut gpu = gpu();
+    gpu.texture_binding_arrays = true;
+    for (graph, layers) in [PRODUCERS[0], PRODUCERS[2]] {
+        let got = albedo(&gpu, &scene, graph, layers, size);
+        let mut worst = 0.0f32;
+        for p in 0..(size * size) as usize {
+            // The pixel's point on the quad: x right, y up (vertices 0..3 at (0,0), (1,0), (1,1), (0,1)).
+            let (x, y) = (((p as u32 % size) as f32 + 0.5) / size as f32, 1.0 - ((p as u32 / size) as f32 + 0.5) / size as f32);
+            // Triangle (0, 1, 2) below the diagonal x = y, (0, 2, 3) above; skip pixels on it.
+            if (x - y).abs() < 0.03 {
+                continue;
+            }
+            let (tri, w) = if x > y { ([0, 1, 2], [1.0 - x, x - y, y]) } else { ([0, 2, 3], [1.0 - y, x, y - x]) };
+            for c in 0..3 {
+                let want = scene.materials[0].base_color[c] * (0..3).map(|k| w[k] * corners[tri[k]][c]).sum::<f32>();
+                worst = worst.max((got[p][c] - want).abs());
+            }
+        }
+        // The albedo is 8-bit linear: half a step is 1/510.
+        assert!(worst <= 1.0 / 510.0 + 1e-4, "{graph}: worst albedo error {worst}");
     }
 }

@@ -15,6 +15,8 @@ const MATERIAL_ALPHA_MASK: u32 = 2u;
 const MATERIAL_ALPHA_BLEND: u32 = 4u;
 const MATERIAL_UNLIT: u32 = 8u;
 const MATERIAL_UV_TRANSFORM: u32 = 16u;
+// Slot 0's flag, shifted left by the slot: the slot reads TEXCOORD_1.
+const MATERIAL_UV1: u32 = 32u;
 
 struct Material {
     base_color: vec4<f32>,
@@ -54,9 +56,14 @@ struct SceneVertex {
     v: f32,
 }
 
+// `extras`: where the mesh's colours and second uvs start in `scene_vertices` (one record a
+// vertex, laid out as `VertexExtra` in src/scene/vertex.rs: u1, v1, then rgba in the places of
+// pz..nz), or MESH_NO_EXTRAS.
 struct MeshRecord {
     first_index: u32,
     base_vertex: u32,
     index_count: u32,
-    _pad: u32,
+    extras: u32,
 }
+
+const MESH_NO_EXTRAS: u32 = 0xffffffffu;

@@ -1,5 +1,5 @@
-// Shading data at a ray hit: interpolated position, normals and uv from the scene's vertex and
-// index buffers, and the material's textures at the mip level of the ray cone's footprint
+// Shading data at a ray hit: interpolated position, normals, both uv sets and the vertex colour
+// from the scene's vertex and index buffers, and the material's textures at the mip level of the ray cone's footprint
 // (`surface_at_cone`, Akenine-Möller et al., "Texture Level of Detail Strategies for Real-Time
 // Ray Tracing", Ray Tracing Gems ch. 20; width 0 samples level 0): compute shaders have no
 // derivatives.
@@ -34,50 +34,107 @@ fn scene_vertex(i: u32) -> SceneVertex {
     return scene_vertices[i];
 }
 
+// A hit's two texture coordinate sets (TEXCOORD_0, and TEXCOORD_1 where the mesh has it, else
+// 0): each interpolated, its differentials along the triangle's edges (b - a, c - a), and the
+// log2 of the ray cone's footprint in its units (-1e9: level 0).
+struct HitTexCoords {
+    uv0: vec2<f32>,
+    uv1: vec2<f32>,
+    duv1_0: vec2<f32>,
+    duv2_0: vec2<f32>,
+    duv1_1: vec2<f32>,
+    duv2_1: vec2<f32>,
+    lod0: f32,
+    lod1: f32,
+}
+
+// The mesh's colour and second uv of its vertex `i` (mesh-local): white and 0 without extras.
+fn scene_vertex_extra(mesh: MeshRecord, i: u32) -> SceneVertex {
+    if mesh.extras == MESH_NO_EXTRAS {
+        return SceneVertex(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0);
+    }
+    return scene_vertices[mesh.extras + i];
+}
+
+// log2 of the footprint in uv units of a cone `cone_width` wide meeting a triangle of world area
+// `world_area` at `cosine`, for uv edges `duv1`, `duv2`: half the log2 of uv area over world
+// area, plus log2 of the cone's footprint across the surface (-1e9: level 0).
+fn cone_footprint_log2(duv1: vec2<f32>, duv2: vec2<f32>, world_area: f32, cone_width: f32, cosine: f32) -> f32 {
+    let uv_area = abs(duv1.x * duv2.y - duv1.y * duv2.x);
+    if cone_width > 0.0 && world_area > 0.0 && uv_area > 0.0 && cosine > 0.0 {
+        return 0.5 * log2(uv_area / world_area) + log2(cone_width / cosine);
+    }
+    return -1.0e9;
+}
+
+// Slot `slot` of material `m` (its texture `layer`) in the uv set the slot reads.
+fn hit_slot_texture(m: Material, slot: u32, layer: u32, t: HitTexCoords) -> vec4<f32> {
+    if slot_uv_set(m, slot) == 1u {
+        return sample_material_level(m, slot, layer, t.uv1, t.lod1);
+    }
+    return sample_material_level(m, slot, layer, t.uv0, t.lod0);
+}
+
+// The uv edges of the set slot `slot` reads, through its transform's linear part.
+fn hit_slot_uv_edges(m: Material, slot: u32, t: HitTexCoords) -> array<vec2<f32>, 2> {
+    let one = slot_uv_set(m, slot) == 1u;
+    return array<vec2<f32>, 2>(slot_uv_delta(m, slot, select(t.duv1_0, t.duv1_1, one)), slot_uv_delta(m, slot, select(t.duv2_0, t.duv2_1, one)));
+}
+
 // `cone_width`: the width of the ray's cone at the hit (0: sample level 0).
 fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let inst = scene_instances[hit.instance];
     let mesh = scene_meshes[inst.mesh];
     let first = mesh.first_index + 3u * hit.primitive;
-    let a = scene_vertex(mesh.base_vertex + scene_indices[first]);
-    let b = scene_vertex(mesh.base_vertex + scene_indices[first + 1u]);
-    let c = scene_vertex(mesh.base_vertex + scene_indices[first + 2u]);
+    let ia = scene_indices[first];
+    let ib = scene_indices[first + 1u];
+    let ic = scene_indices[first + 2u];
+    let a = scene_vertex(mesh.base_vertex + ia);
+    let b = scene_vertex(mesh.base_vertex + ib);
+    let c = scene_vertex(mesh.base_vertex + ic);
+    let xa = scene_vertex_extra(mesh, ia);
+    let xb = scene_vertex_extra(mesh, ib);
+    let xc = scene_vertex_extra(mesh, ic);
     let w = vec3<f32>(1.0 - hit.bary.x - hit.bary.y, hit.bary.x, hit.bary.y);
     let pa = vec3<f32>(a.px, a.py, a.pz);
     let pb = vec3<f32>(b.px, b.py, b.pz);
     let pc = vec3<f32>(c.px, c.py, c.pz);
     let local = pa * w.x + pb * w.y + pc * w.z;
     let n_obj = vec3<f32>(a.nx, a.ny, a.nz) * w.x + vec3<f32>(b.nx, b.ny, b.nz) * w.y + vec3<f32>(c.nx, c.ny, c.nz) * w.z;
-    let uv = vec2<f32>(a.u, a.v) * w.x + vec2<f32>(b.u, b.v) * w.y + vec2<f32>(c.u, c.v) * w.z;
+    // The vertex colour (COLOR_0) multiplies the base colour; exactly white without extras (the
+    // barycentric weights need not sum to 1 in f32).
+    var vertex_color = vec4<f32>(1.0);
+    if mesh.extras != MESH_NO_EXTRAS {
+        vertex_color = vec4<f32>(xa.pz, xa.nx, xa.ny, xa.nz) * w.x + vec4<f32>(xb.pz, xb.nx, xb.ny, xb.nz) * w.y + vec4<f32>(xc.pz, xc.nx, xc.ny, xc.nz) * w.z;
+    }
     let material = scene_materials[inst.material];
-    // Mip level in uv units: half the log2 of uv area over world area, plus log2 of the cone's
-    // footprint across the surface; each texture adds log2 of its size.
     let geo_front = normalize((inst.normal_matrix * vec4<f32>(cross(pb - pa, pc - pa), 0.0)).xyz);
     let dp1 = (inst.model * vec4<f32>(pb - pa, 0.0)).xyz;
     let dp2 = (inst.model * vec4<f32>(pc - pa, 0.0)).xyz;
-    let duv1 = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
-    let duv2 = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
-    var lod_uv = -1.0e9;
-    if cone_width > 0.0 {
-        let world_area = length(cross(dp1, dp2));
-        let uv_area = abs(duv1.x * duv2.y - duv1.y * duv2.x);
-        let cosine = abs(dot(geo_front, normalize(ray.dir)));
-        if world_area > 0.0 && uv_area > 0.0 && cosine > 0.0 {
-            lod_uv = 0.5 * log2(uv_area / world_area) + log2(cone_width / cosine);
-        }
-    }
-    // Every slot's own sampler and uv transform (common/texture_sampling.wgsl).
-    let base = sample_material_level(material, SLOT_BASE, material.base_texture, uv, lod_uv);
-    let mr = sample_material_level(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uv, lod_uv);
-    let emissive = material.emissive * sample_material_level(material, SLOT_EMISSIVE, material.emissive_texture, uv, lod_uv).rgb;
-    let occlusion = sample_material_level(material, SLOT_OCCLUSION, material.occlusion_texture, uv, lod_uv).r;
+    let world_area = length(cross(dp1, dp2));
+    let cosine = abs(dot(geo_front, normalize(ray.dir)));
+    var t: HitTexCoords;
+    t.uv0 = vec2<f32>(a.u, a.v) * w.x + vec2<f32>(b.u, b.v) * w.y + vec2<f32>(c.u, c.v) * w.z;
+    t.uv1 = vec2<f32>(xa.px, xa.py) * w.x + vec2<f32>(xb.px, xb.py) * w.y + vec2<f32>(xc.px, xc.py) * w.z;
+    t.duv1_0 = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
+    t.duv2_0 = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
+    t.duv1_1 = vec2<f32>(xb.px, xb.py) - vec2<f32>(xa.px, xa.py);
+    t.duv2_1 = vec2<f32>(xc.px, xc.py) - vec2<f32>(xa.px, xa.py);
+    t.lod0 = cone_footprint_log2(t.duv1_0, t.duv2_0, world_area, cone_width, cosine);
+    t.lod1 = cone_footprint_log2(t.duv1_1, t.duv2_1, world_area, cone_width, cosine);
+    // Every slot's own uv set, sampler and uv transform (common/texture_sampling.wgsl).
+    let base = hit_slot_texture(material, SLOT_BASE, material.base_texture, t);
+    let mr = hit_slot_texture(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, t);
+    let emissive = material.emissive * hit_slot_texture(material, SLOT_EMISSIVE, material.emissive_texture, t).rgb;
+    let occlusion = hit_slot_texture(material, SLOT_OCCLUSION, material.occlusion_texture, t).r;
     // The normal map bends the front side's normal; a back face reverses the result. The face
     // normal is oriented by the ray's side of the vertex normal, as the rasterizer orients it.
     let n_front = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
     var n = n_front;
     if material.normal_texture != 0u {
-        let map = sample_material_level(material, SLOT_NORMAL, material.normal_texture, uv, lod_uv).rgb;
-        n = apply_normal_map(n_front, dp1, dp2, slot_uv_delta(material, SLOT_NORMAL, duv1), slot_uv_delta(material, SLOT_NORMAL, duv2), map, material.normal_scale);
+        let map = hit_slot_texture(material, SLOT_NORMAL, material.normal_texture, t).rgb;
+        let edges = hit_slot_uv_edges(material, SLOT_NORMAL, t);
+        n = apply_normal_map(n_front, dp1, dp2, edges[0], edges[1], map, material.normal_scale);
     }
     let side = select(-1.0, 1.0, hit.front_face);
     n = n * side;
@@ -89,7 +146,7 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.position = (inst.model * vec4<f32>(local, 1.0)).xyz;
     s.normal = n;
     s.geo_normal = geo;
-    s.albedo = material.base_color.rgb * base.rgb;
+    s.albedo = material.base_color.rgb * base.rgb * vertex_color.rgb;
     s.metallic = material.metallic * mr.b;
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = emissive;

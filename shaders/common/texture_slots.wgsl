@@ -26,6 +26,11 @@ fn slot_sampler(m: Material, slot: u32) -> u32 {
     return m.samplers_high & 0xffu;
 }
 
+// The texture coordinate set slot `slot` reads: 0 or 1.
+fn slot_uv_set(m: Material, slot: u32) -> u32 {
+    return select(0u, 1u, (m.flags & (MATERIAL_UV1 << slot)) != 0u);
+}
+
 fn slot_transformed(m: Material) -> bool {
     return (m.flags & MATERIAL_UV_TRANSFORM) != 0u;
 }

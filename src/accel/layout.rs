@@ -342,7 +342,7 @@ pub struct TriangleOrigin {
 /// stays shared (the watertight test needs that). Instances with an unusable transform or mesh
 /// are left out; a triangle with an out-of-range index keeps an out-of-range index.
 pub fn merge_instances(scene: &Scene) -> (Mesh, Vec<TriangleOrigin>) {
-    let mut mesh = Mesh { name: format!("{} (merged)", scene.name), vertices: Vec::new(), indices: Vec::new(), tangents: None };
+    let mut mesh = Mesh { name: format!("{} (merged)", scene.name), vertices: Vec::new(), indices: Vec::new(), tangents: None, extras: None };
     let mut origin = Vec::new();
     for (i, inst) in scene.instances.iter().enumerate() {
         let (Some(src), Some(xf)) = (scene.meshes.get(inst.mesh), instance_transform(&inst.transform)) else { continue };

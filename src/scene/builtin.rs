@@ -14,6 +14,7 @@ pub fn plane(name: &str, size: f32, tiles: f32) -> Mesh {
         vertices: vec![v(-h, -h, 0.0, 0.0), v(-h, h, 0.0, tiles), v(h, h, tiles, tiles), v(h, -h, tiles, 0.0)],
         indices: vec![0, 1, 2, 0, 2, 3],
         tangents: None,
+        extras: None,
     }
 }
 
@@ -38,7 +39,7 @@ pub fn cube(name: &str) -> Mesh {
         }
         indices.extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
     }
-    Mesh { name: name.into(), vertices, indices, tangents: None }
+    Mesh { name: name.into(), vertices, indices, tangents: None, extras: None }
 }
 
 /// A UV sphere of radius 1.
@@ -69,7 +70,7 @@ pub fn sphere(name: &str, rings: u32, segments: u32) -> Mesh {
             }
         }
     }
-    Mesh { name: name.into(), vertices, indices, tangents: None }
+    Mesh { name: name.into(), vertices, indices, tangents: None, extras: None }
 }
 
 /// A checkerboard texture.

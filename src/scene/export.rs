@@ -100,7 +100,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
         // The glTF texture of scene texture `i` with slot `slot`'s sampler.
         let texture = |i: usize, slot: usize| sampled.get(&(i, m.sampling[slot].sampler_bits())).copied().unwrap_or(textures[i]);
         let info = |t: Option<usize>, slot: usize| {
-            t.map(|i| json::texture::Info { index: texture(i, slot), tex_coord: 0, extensions: None, extras: Default::default() })
+            t.map(|i| json::texture::Info { index: texture(i, slot), tex_coord: m.sampling[slot].tex_coord, extensions: None, extras: Default::default() })
         };
         let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
             AlphaMode::Opaque => (json::material::AlphaMode::Opaque, None),
@@ -125,14 +125,14 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             normal_texture: m.normal_texture.map(|i| json::material::NormalTexture {
                 index: texture(i, 2),
                 scale: m.normal_scale,
-                tex_coord: 0,
+                tex_coord: m.sampling[2].tex_coord,
                 extensions: None,
                 extras: Default::default(),
             }),
             occlusion_texture: m.occlusion_texture.map(|i| json::material::OcclusionTexture {
                 index: texture(i, 3),
                 strength: json::material::StrengthFactor(m.occlusion_strength),
-                tex_coord: 0,
+                tex_coord: m.sampling[3].tex_coord,
                 extensions: None,
                 extras: Default::default(),
             }),
@@ -184,6 +184,14 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             if let Some(t) = &mesh.tangents {
                 let vt = w.view(&mut root, buffer, bytemuck::cast_slice(t), Some(json::buffer::Target::ArrayBuffer));
                 attributes.insert(Valid(json::mesh::Semantic::Tangents), accessor(&mut root, vt, n, C::F32, T::Vec4, None));
+            }
+            if let Some(extras) = mesh.extras.as_ref().filter(|e| e.len() == n) {
+                let colors: Vec<[f32; 4]> = extras.iter().map(|e| e.color).collect();
+                let uv1: Vec<[f32; 2]> = extras.iter().map(|e| e.uv1).collect();
+                let vc = w.view(&mut root, buffer, bytemuck::cast_slice(&colors), Some(json::buffer::Target::ArrayBuffer));
+                attributes.insert(Valid(json::mesh::Semantic::Colors(0)), accessor(&mut root, vc, n, C::F32, T::Vec4, None));
+                let vu1 = w.view(&mut root, buffer, bytemuck::cast_slice(&uv1), Some(json::buffer::Target::ArrayBuffer));
+                attributes.insert(Valid(json::mesh::Semantic::TexCoords(1)), accessor(&mut root, vu1, n, C::F32, T::Vec2, None));
             }
 
             root.push(json::Mesh {

@@ -1,11 +1,13 @@
-//! glTF 2.0 import (`.gltf` with external or embedded buffers, `.glb`): node hierarchy with
-//! transforms, meshes and primitives, PBR metallic-roughness materials with all five texture
-//! slots (a per-slot fallback where an image cannot be loaded), `KHR_materials_emissive_strength`,
-//! `KHR_lights_punctual` lights and perspective cameras (camera presets). Bad input becomes a
+//! glTF 2.0 import (`.gltf` with external or embedded buffers, `.glb`): the chosen scene's node
+//! hierarchy with transforms, meshes and primitives (with `COLOR_0` and `TEXCOORD_1`), PBR
+//! metallic-roughness materials with all five texture slots (a per-slot fallback where an image
+//! cannot be loaded; each slot's sampler, uv set and `KHR_texture_transform`),
+//! `KHR_materials_emissive_strength`, `KHR_materials_unlit`, `KHR_lights_punctual` lights and
+//! perspective and orthographic cameras (camera presets, with the built-in ones). Bad input becomes a
 //! [`SceneError`] naming the file, or a counted warning where loading can go on; what the file
 //! uses that raygraph approximates or ignores is listed in the [`ImportReport`].
 
-use super::{AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, Mipmaps, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, Wrap};
+use super::{AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, Mipmaps, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, Wrap};
 use glam::{Mat4, Vec3};
 use gltf::json::Value;
 use std::collections::{BTreeSet, HashMap};
@@ -311,7 +313,10 @@ fn check_accessor_types(prim: &gltf::Primitive) -> Result<(), String> {
             S::Positions => check("the POSITION", acc, &[T::F32], D::Vec3)?,
             S::Normals => check("the NORMAL", acc, &[T::F32], D::Vec3)?,
             S::Tangents => check("the TANGENT", acc, &[T::F32], D::Vec4)?,
-            S::TexCoords(0) => check("the TEXCOORD_0", acc, &[T::F32, T::U8, T::U16], D::Vec2)?,
+            S::TexCoords(n @ 0..=1) => check(&format!("the TEXCOORD_{n}"), acc, &[T::F32, T::U8, T::U16], D::Vec2)?,
+            S::Colors(0) => {
+                check("the COLOR_0", acc.clone(), &[T::F32, T::U8, T::U16], D::Vec4).or_else(|_| check("the COLOR_0", acc, &[T::F32, T::U8, T::U16], D::Vec3))?
+            }
             _ => {}
         }
     }
@@ -564,7 +569,37 @@ fn primitive_mesh(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], normal
         None if normal_mapped => Some(generate_tangents(&vertices, &kept)),
         None => None,
     };
-    Ok((Mesh { name: String::new(), vertices, indices: kept, tangents }, dropped))
+    let extras = vertex_extras(&reader, positions.len())?;
+    Ok((Mesh { name: String::new(), vertices, indices: kept, tangents, extras }, dropped))
+}
+
+/// The primitive's colours (`COLOR_0`, any component type, rgb or rgba, in linear space) and
+/// second texture coordinates (`TEXCOORD_1`), where it has either; non-finite values become
+/// white and 0.
+fn vertex_extras<'a, 's, F>(reader: &gltf::mesh::Reader<'a, 's, F>, count: usize) -> Result<Option<Vec<VertexExtra>>, String>
+where
+    F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
+{
+    let colors: Option<Vec<[f32; 4]>> = reader.read_colors(0).map(|c| c.into_rgba_f32().collect());
+    let uv1: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|t| t.into_f32().collect());
+    if colors.is_none() && uv1.is_none() {
+        return Ok(None);
+    }
+    for (what, len) in [("COLOR_0", colors.as_ref().map(Vec::len)), ("TEXCOORD_1", uv1.as_ref().map(Vec::len))] {
+        if let Some(len) = len.filter(|l| *l != count) {
+            return Err(format!("{what} has {len} elements but POSITION has {count}"));
+        }
+    }
+    let finite_or = |v: f32, default: f32| if v.is_finite() { v } else { default };
+    Ok(Some(
+        (0..count)
+            .map(|i| VertexExtra {
+                uv1: uv1.as_ref().map_or([0.0; 2], |u| u[i].map(|c| finite_or(c, 0.0))),
+                color: colors.as_ref().map_or([1.0; 4], |c| c[i].map(|c| finite_or(c, 1.0))),
+                _pad: [0.0; 2],
+            })
+            .collect(),
+    ))
 }
 
 /// Loads each image once and fills material texture slots, with the slot's fallback where an
@@ -597,9 +632,12 @@ impl TextureLoader<'_> {
         mat.occlusion_strength = m.occlusion_texture().map_or(mat.occlusion_strength, |o| o.strength());
         let strength = m.emissive_strength().unwrap_or(1.0);
         mat.emissive = m.emissive_factor().map(|c| c * strength);
-        for (slot, texture, _) in material_slots(m) {
+        for (slot, texture, tex_coord) in material_slots(m) {
             let json = m.index().map_or(&Value::Null, |i| notes::slot_json(&self.raw["materials"][i], slot));
-            mat.sampling[slot as usize] = slot_sampling(&texture, &json["extensions"]["KHR_texture_transform"]);
+            let transform = &json["extensions"]["KHR_texture_transform"];
+            // The transform's texCoord, where it has one, replaces the slot's.
+            let set = transform["texCoord"].as_u64().map_or(tex_coord, |n| n as u32);
+            mat.sampling[slot as usize] = SlotSampling { tex_coord: if set <= 1 { set } else { 0 }, ..slot_sampling(&texture, transform) };
             let fallbacks = report.texture_fallbacks.len();
             let t = self.slot(&name, slot, texture, report);
             match slot {
@@ -711,6 +749,7 @@ fn slot_sampling(tex: &gltf::Texture, transform: &Value) -> SlotSampling {
         mag_nearest: sampler.mag_filter() == Some(MagFilter::Nearest),
         min_nearest: matches!(min, Some(MinFilter::Nearest | MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear)),
         mipmaps,
+        tex_coord: 0,
         transform: uv_transform(transform),
     }
 }
@@ -1026,13 +1065,13 @@ mod notes {
             report.ignored_features.push(format!("material {name}: {ext}"));
         }
         for (slot, _, tex_coord) in material_slots(m) {
-            if tex_coord != 0 {
+            if tex_coord > 1 {
                 report.ignored_features.push(format!("material {name} {} texture: texCoord {tex_coord} (TEXCOORD_0 is read instead)", slot.name()));
             }
             for ext in extension_names(slot_json(json, slot)).into_iter().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
                 report.ignored_features.push(format!("material {name} {} texture: {ext}", slot.name()));
             }
-            if let Some(n) = slot_json(json, slot)["extensions"]["KHR_texture_transform"]["texCoord"].as_u64().filter(|n| *n != 0) {
+            if let Some(n) = slot_json(json, slot)["extensions"]["KHR_texture_transform"]["texCoord"].as_u64().filter(|n| *n > 1) {
                 report.ignored_features.push(format!("material {name} {} texture: KHR_texture_transform texCoord {n} (TEXCOORD_0 is read instead)", slot.name()));
             }
         }
@@ -1042,22 +1081,22 @@ mod notes {
         let (mut colours, mut uv_sets) = (Vec::new(), BTreeMap::<u32, Vec<String>>::new());
         for mesh in doc.meshes() {
             let name = mesh.name().map(|n| format!("`{n}`")).unwrap_or_else(|| mesh.index().to_string());
-            if mesh.primitives().any(|p| p.attributes().any(|(s, _)| matches!(s, gltf::Semantic::Colors(_)))) {
+            if mesh.primitives().any(|p| p.attributes().any(|(s, _)| matches!(s, gltf::Semantic::Colors(1..)))) {
                 colours.push(name.clone());
             }
             let sets: BTreeSet<u32> = mesh
                 .primitives()
-                .flat_map(|p| p.attributes().filter_map(|(s, _)| if let gltf::Semantic::TexCoords(n @ 1..) = s { Some(n) } else { None }))
+                .flat_map(|p| p.attributes().filter_map(|(s, _)| if let gltf::Semantic::TexCoords(n @ 2..) = s { Some(n) } else { None }))
                 .collect();
             for n in sets {
                 uv_sets.entry(n).or_default().push(name.clone());
             }
         }
         if !colours.is_empty() {
-            report.ignored_features.push(format!("vertex colours (COLOR_n) on mesh {}", colours.join(", ")));
+            report.ignored_features.push(format!("vertex colours past COLOR_0 on mesh {}", colours.join(", ")));
         }
         for (n, meshes) in uv_sets {
-            report.ignored_features.push(format!("attribute TEXCOORD_{n} on mesh {} (only TEXCOORD_0 is read)", meshes.join(", ")));
+            report.ignored_features.push(format!("attribute TEXCOORD_{n} on mesh {} (TEXCOORD_0 and TEXCOORD_1 are read)", meshes.join(", ")));
         }
     }
 }

@@ -11,7 +11,7 @@
 use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -218,7 +218,9 @@ impl GpuScene {
         };
 
         if usage.geometry || usage.geometry_storage {
-            let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
+            // Meshes' colours and second uvs follow every mesh's vertices where shaders read them.
+            let extras = |m: &super::Mesh| m.extras.as_ref().filter(|e| usage.geometry_storage && e.len() == m.vertices.len()).map_or(0, Vec::len);
+            let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len() + extras(m)).sum();
             let index_count: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
             let vertex_bytes = (vertex_count * std::mem::size_of::<super::Vertex>()) as u64;
             let help = "use a smaller scene or a lower duplication factor";
@@ -230,12 +232,18 @@ impl GpuScene {
             let mut ranges = Vec::new();
             let mut records: Vec<[u32; 4]> = Vec::new();
             for mesh in &scene.meshes {
-                records.push([indices.len() as u32, vertices.len() as u32, mesh.indices.len() as u32, 0]);
+                records.push([indices.len() as u32, vertices.len() as u32, mesh.indices.len() as u32, MESH_NO_EXTRAS]);
                 let first_index = indices.len() as u32;
                 let base_vertex = vertices.len() as i32;
                 vertices.extend_from_slice(&mesh.vertices);
                 indices.extend_from_slice(&mesh.indices);
                 ranges.push((first_index..indices.len() as u32, base_vertex));
+            }
+            for (record, mesh) in records.iter_mut().zip(&scene.meshes) {
+                if let Some(e) = mesh.extras.as_ref().filter(|_| extras(mesh) > 0) {
+                    record[3] = vertices.len() as u32;
+                    vertices.extend(e.iter().map(|e| bytemuck::cast::<super::VertexExtra, super::Vertex>(*e)));
+                }
             }
             let bounds: Vec<Bounds> = scene.meshes.iter().map(|m| m.bounds()).collect();
             let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
@@ -316,7 +324,8 @@ impl GpuScene {
                         flags: alpha_flag
                             | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 }
                             | if m.unlit { MATERIAL_UNLIT } else { 0 }
-                            | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 },
+                            | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 }
+                            | m.sampling.iter().enumerate().map(|(slot, s)| if s.tex_coord == 1 { MATERIAL_UV1 << slot } else { 0 }).sum::<u32>(),
                         base_texture: layer(m.texture),
                         metallic_roughness_texture: layer(m.metallic_roughness_texture),
                         normal_texture: layer(m.normal_texture),
@@ -424,6 +433,9 @@ fn to_image(img: &super::TextureImage) -> image::RgbaImage {
         }
     }
 }
+
+/// A mesh record's `extras` word for a mesh without colours or second uvs.
+const MESH_NO_EXTRAS: u32 = u32::MAX;
 
 /// The slots' sampler bits, four slots to a word.
 fn sampler_words(sampling: &[crate::scene::SlotSampling; 5]) -> [u32; 2] {

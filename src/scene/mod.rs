@@ -23,7 +23,7 @@ use glam::{Mat4, Vec3};
 pub use camera::Camera;
 pub use gltf_import::{ImportReport, LoadOptions, SceneError};
 pub use load::open;
-pub use vertex::Vertex;
+pub use vertex::{Vertex, VertexExtra};
 
 /// A triangle mesh in object space.
 #[derive(Debug, Clone, Default)]
@@ -36,6 +36,9 @@ pub struct Mesh {
     pub indices: Vec<u32>,
     /// Per-vertex tangents (xyz, w = handedness), present where a normal map needs them.
     pub tangents: Option<Vec<[f32; 4]>>,
+    /// Per-vertex colours and second texture coordinates, where the mesh has either (one per
+    /// vertex).
+    pub extras: Option<Vec<VertexExtra>>,
 }
 
 impl Mesh {
@@ -95,6 +98,8 @@ pub struct SlotSampling {
     pub min_nearest: bool,
     /// The mip levels minification reads.
     pub mipmaps: Mipmaps,
+    /// The texture coordinate set the slot reads: 0 (`TEXCOORD_0`) or 1 (`TEXCOORD_1`).
+    pub tex_coord: u32,
     /// The two rows of the 2x3 matrix the uv goes through (`KHR_texture_transform`: translation
     /// x rotation x scale); `None`: the identity.
     pub transform: Option<[[f32; 3]; 2]>,

@@ -105,6 +105,7 @@ mod tests {
             vertices: positions.iter().map(|&position| Vertex { position, ..Default::default() }).collect(),
             indices: indices.to_vec(),
             tangents: None,
+            extras: None,
         }
     }
 

@@ -41,6 +41,7 @@ fn mesh(positions: &[Vec3], indices: &[u32]) -> Mesh {
         vertices: positions.iter().map(|p| Vertex { position: p.to_array(), normal: [0.0, 1.0, 0.0], uv: [0.0; 2] }).collect(),
         indices: indices.to_vec(),
         tangents: None,
+        extras: None,
     }
 }
 

@@ -35,7 +35,7 @@ pub fn subdivide(mesh: &Mesh) -> Mesh {
         let (ab, bc, ca) = (midpoint(a, b, &mut vertices), midpoint(b, c, &mut vertices), midpoint(c, a, &mut vertices));
         indices.extend_from_slice(&[a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca]);
     }
-    Mesh { name: format!("{} (subdivided)", mesh.name), vertices, indices, tangents: None }
+    Mesh { name: format!("{} (subdivided)", mesh.name), vertices, indices, tangents: None, extras: None }
 }
 
 fn rest_node(name: &str, parent: Option<usize>, translation: Vec3) -> RigNode {

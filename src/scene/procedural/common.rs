@@ -374,7 +374,7 @@ impl MeshBuilder {
                 indices.push(remap[i]);
             }
         }
-        Mesh { name: name.into(), vertices, indices, tangents: None }
+        Mesh { name: name.into(), vertices, indices, tangents: None, extras: None }
     }
 }
 

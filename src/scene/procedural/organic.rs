@@ -163,7 +163,7 @@ pub(super) fn head_mesh(seed: u32) -> Mesh {
             Vertex { position: (*p).into(), normal: a.normalize_or(*d).into(), uv: (Vec2::new(u, v) * 2.0).into() }
         })
         .collect();
-    Mesh { name: "organic_head".into(), vertices, indices, tangents: None }
+    Mesh { name: "organic_head".into(), vertices, indices, tangents: None, extras: None }
 }
 
 pub(super) fn build() -> Scene {
