@@ -53,7 +53,7 @@ fn scene_vertex_extra(mesh: MeshRecord, i: u32) -> SceneVertex {
     if mesh.extras == MESH_NO_EXTRAS {
         return SceneVertex(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0);
     }
-    return scene_vertices[mesh.extras + i];
+    return scene_vertex(mesh.extras + i);
 }
 
 // log2 of the footprint in uv units of a cone `cone_width` wide meeting a triangle of world area
@@ -68,11 +68,9 @@ fn cone_footprint_log2(duv1: vec2<f32>, duv2: vec2<f32>, world_area: f32, cone_w
 }
 
 // Slot `slot` of material `m` (its texture `layer`) in the uv set the slot reads.
-fn hit_slot_texture(m: Material, slot: u32, layer: u32, t: HitTexCoords) -> vec4<f32> {
-    if slot_uv_set(m, slot) == 1u {
-        return sample_material_level(m, slot, layer, t.uv1, t.lod1);
-    }
-    return sample_material_level(m, slot, layer, t.uv0, t.lod0);
+fn hit_slot_texture(m: Material, slot: u32, layer: u32, uvs: vec4<f32>, lods: vec2<f32>) -> vec4<f32> {
+    let one = slot_uv_set(m, slot) == 1u;
+    return sample_material_level(m, slot, layer, select(uvs.xy, uvs.zw, one), select(lods.x, lods.y, one));
 }
 
 // The uv edges of the set slot `slot` reads, through its transform's linear part.
@@ -121,18 +119,25 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     t.duv1_1 = vec2<f32>(xb.px, xb.py) - vec2<f32>(xa.px, xa.py);
     t.duv2_1 = vec2<f32>(xc.px, xc.py) - vec2<f32>(xa.px, xa.py);
     t.lod0 = cone_footprint_log2(t.duv1_0, t.duv2_0, world_area, cone_width, cosine);
-    t.lod1 = cone_footprint_log2(t.duv1_1, t.duv2_1, world_area, cone_width, cosine);
+    // The second set's footprint: the first's, scaled by the ratio of the two sets' uv areas
+    // (level 0 where the first set is degenerate). A second cone_footprint_log2 call costs
+    // software WebGPU (SwiftShader) over 30 s more to compile the reflection pass; this does not.
+    let area0 = abs(t.duv1_0.x * t.duv2_0.y - t.duv1_0.y * t.duv2_0.x);
+    let area1 = abs(t.duv1_1.x * t.duv2_1.y - t.duv1_1.y * t.duv2_1.x);
+    t.lod1 = t.lod0 + 0.5 * log2(max(area1, 1e-30) / max(area0, 1e-30));
+    let uvs = vec4<f32>(t.uv0, t.uv1);
+    let lods = vec2<f32>(t.lod0, t.lod1);
     // Every slot's own uv set, sampler and uv transform (common/texture_sampling.wgsl).
-    let base = hit_slot_texture(material, SLOT_BASE, material.base_texture, t);
-    let mr = hit_slot_texture(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, t);
-    let emissive = material.emissive * hit_slot_texture(material, SLOT_EMISSIVE, material.emissive_texture, t).rgb;
-    let occlusion = hit_slot_texture(material, SLOT_OCCLUSION, material.occlusion_texture, t).r;
+    let base = hit_slot_texture(material, SLOT_BASE, material.base_texture, uvs, lods);
+    let mr = hit_slot_texture(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uvs, lods);
+    let emissive = material.emissive * hit_slot_texture(material, SLOT_EMISSIVE, material.emissive_texture, uvs, lods).rgb;
+    let occlusion = hit_slot_texture(material, SLOT_OCCLUSION, material.occlusion_texture, uvs, lods).r;
     // The normal map bends the front side's normal; a back face reverses the result. The face
     // normal is oriented by the ray's side of the vertex normal, as the rasterizer orients it.
     let n_front = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
     var n = n_front;
     if material.normal_texture != 0u {
-        let map = hit_slot_texture(material, SLOT_NORMAL, material.normal_texture, t).rgb;
+        let map = hit_slot_texture(material, SLOT_NORMAL, material.normal_texture, uvs, lods).rgb;
         let edges = hit_slot_uv_edges(material, SLOT_NORMAL, t);
         n = apply_normal_map(n_front, dp1, dp2, edges[0], edges[1], map, material.normal_scale);
     }

@@ -26,9 +26,10 @@ fn wrap_coordinate(u: f32, mode: u32, texels: f32) -> f32 {
     return u;
 }
 
-// Texture `layer` at `uv` (transformed already) for a footprint of mip level `lod` (unclamped:
-// below 0 magnifies), with sampler bits `bits`.
-fn sample_with_sampler(layer: u32, uv: vec2<f32>, lod: f32, bits: u32) -> vec4<f32> {
+// Where and at which level sampler bits `bits` read texture `layer` at `uv` (transformed
+// already) for a footprint of mip level `lod` (unclamped: below 0 magnifies): xy the
+// coordinate, z the level.
+fn sampler_read(layer: u32, uv: vec2<f32>, lod: f32, bits: u32) -> vec3<f32> {
     var level = max(lod, 0.0);
     let mipmap = (bits >> 6u) & 3u;
     if mipmap == MIPMAP_NONE {
@@ -42,7 +43,7 @@ fn sample_with_sampler(layer: u32, uv: vec2<f32>, lod: f32, bits: u32) -> vec4<f
     if nearest {
         st = (floor(st * size) + 0.5) / size;
     }
-    return sample_scene_texture_level(layer, st, level);
+    return vec3<f32>(st, level);
 }
 
 // Slot `slot` of material `m` (its texture `layer`) at `uv` in the fragment stage, with the
@@ -56,16 +57,19 @@ fn sample_material_grad(m: Material, slot: u32, layer: u32, uv: vec2<f32>, dx: v
     let tx = slot_uv_delta(m, slot, dx) * size0;
     let ty = slot_uv_delta(m, slot, dy) * size0;
     let lod = 0.5 * log2(max(max(dot(tx, tx), dot(ty, ty)), 1e-30));
-    return sample_with_sampler(layer, slot_uv(m, slot, uv), lod, bits);
+    let read = sampler_read(layer, slot_uv(m, slot, uv), lod, bits);
+    return sample_scene_texture_level(layer, read.xy, read.z);
 }
 
 // Slot `slot` of material `m` (its texture `layer`) at `uv` at a ray hit whose footprint is
 // 2^lod_uv in uv units (the ray cone's; -1e9: level 0).
+// One texture read either way (small shaders compile faster, on software WebGPU above all).
 fn sample_material_level(m: Material, slot: u32, layer: u32, uv: vec2<f32>, lod_uv: f32) -> vec4<f32> {
     let lod = lod_uv + slot_footprint_log2(m, slot) + scene_texture_log2_size(layer);
     let bits = slot_sampler(m, slot);
-    if bits == 0u && !slot_transformed(m) {
-        return sample_scene_texture_level(layer, uv, max(lod, 0.0));
+    var read = vec3<f32>(uv, max(lod, 0.0));
+    if bits != 0u || slot_transformed(m) {
+        read = sampler_read(layer, slot_uv(m, slot, uv), lod, bits);
     }
-    return sample_with_sampler(layer, slot_uv(m, slot, uv), lod, bits);
+    return sample_scene_texture_level(layer, read.xy, read.z);
 }
