@@ -6,7 +6,8 @@
 fn store_gbuffer_surface(p: vec2<u32>, s: Surface, instance: u32) {
     textureStore(position, p, vec4<f32>(s.position, f32(instance + 1u)));
     textureStore(normal, p, vec4<f32>(s.normal, 0.0));
-    textureStore(geo_normal, p, vec4<f32>(s.geo_normal, 0.0));
+    // w: how far shadow rays leave above the surface (the shadow-terminator offset).
+    textureStore(geo_normal, p, vec4<f32>(s.geo_normal, s.shadow_offset));
     textureStore(albedo, p, vec4<f32>(s.albedo, 1.0));
 }
 

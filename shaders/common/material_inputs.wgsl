@@ -37,6 +37,20 @@ fn apply_normal_map(n: vec3<f32>, dp1: vec3<f32>, dp2: vec3<f32>, duv1: vec2<f32
     return perturbed * inverseSqrt(len2);
 }
 
+// The shadow-terminator offset of a hit on a smooth-shaded triangle (Hanika, "Hacking the
+// Shadow Terminator", Ray Tracing Gems II ch. 4, 2021): the point `p` moved onto the blend, by
+// its barycentric weights `w`, of its projections onto the tangent planes of the vertices
+// (positions `a`, `b`, `c`, unit normals `na`, `nb`, `nc` on the hit's side, one space); only
+// planes that `p` lies below push it. Returned as the offset vector: zero on a flat triangle,
+// outwards where a low-poly surface bulges past its flat triangle, so that shadow rays leave
+// from where the smooth surface would be and do not hit the neighbouring triangles.
+fn terminator_offset(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, na: vec3<f32>, nb: vec3<f32>, nc: vec3<f32>, w: vec3<f32>) -> vec3<f32> {
+    let da = min(0.0, dot(p - a, na));
+    let db = min(0.0, dot(p - b, nb));
+    let dc = min(0.0, dot(p - c, nc));
+    return -(w.x * da * na + w.y * db * nb + w.z * dc * nc);
+}
+
 // Material occlusion (glTF occlusionTexture): 1 + strength x (texel red - 1); 1 without a
 // texture (layer 0 is white).
 fn material_occlusion(red: f32, strength: f32) -> f32 {

@@ -1,8 +1,24 @@
 // One shadow ray per light, shared by rt/shadow.wgsl and the reflection hits. Needs
 // common/lighting.wgsl, common/sampling.wgsl and trace/trace.wgsl.
 
-// Whether `light` reaches `origin` (a ray origin already offset from a surface with geometric
-// normal `geo`): false where the surface faces away, the light's range or cone does not reach,
+// How much of the shadow-terminator offset `offset` (common/material_inputs.wgsl) a shadow ray
+// towards `l` leaves from, for shading normal `n` and geometric normal `geo`: all of it where the
+// light grazes the surface, none where it stands well above it, with the cutoff 0.1 and the
+// blend of Cycles' `shadow_ray_offset` (so contact shadows away from the terminator keep their
+// origin on the triangle).
+fn terminator_lift(offset: f32, n: vec3<f32>, geo: vec3<f32>, l: vec3<f32>) -> f32 {
+    if offset <= 0.0 {
+        return 0.0;
+    }
+    let nl = dot(n, l);
+    let ngl = dot(geo, l);
+    let amount = select(clamp(1.0 - ngl / 0.1, 0.0, 1.0), clamp(2.0 - (ngl + nl) / 0.1, 0.0, 1.0), nl < 0.1);
+    return offset * amount;
+}
+
+// Whether `light` reaches `origin` (a ray origin already offset from a surface whose facing
+// normal is `geo`: the geometric normal, or the shading normal where the shadow-terminator
+// offset lifts the origin): false where the surface faces away, the light's range or cone does not reach,
 // or an any-hit ray finds an occluder (stopping just short of a point or spot light: nothing
 // behind it can shadow).
 fn light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>) -> bool {

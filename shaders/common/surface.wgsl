@@ -28,6 +28,10 @@ struct Surface {
     occlusion: f32,
     // KHR_materials_unlit: shows `albedo` alone.
     unlit: bool,
+    // How far shadow rays leave above the surface along `geo_normal` (world units): the
+    // shadow-terminator offset of a smooth-shaded triangle (common/material_inputs.wgsl), 0 on
+    // a flat one.
+    shadow_offset: f32,
 }
 
 fn scene_vertex(i: u32) -> SceneVertex {
@@ -157,5 +161,10 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.emissive = emissive;
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
     s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
+    let na = normalize(vec3<f32>(a.nx, a.ny, a.nz)) * side;
+    let nb = normalize(vec3<f32>(b.nx, b.ny, b.nz)) * side;
+    let nc = normalize(vec3<f32>(c.nx, c.ny, c.nz)) * side;
+    let lift = (inst.model * vec4<f32>(terminator_offset(local, pa, pb, pc, na, nb, nc, w), 0.0)).xyz;
+    s.shadow_offset = max(dot(lift, geo), 0.0);
     return s;
 }

@@ -45,7 +45,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(direct, id.xy, vec4<f32>(0.0));
         return;
     }
-    let geo = normalize(textureLoad(geo_normal, id.xy, 0).xyz);
+    let g = textureLoad(geo_normal, id.xy, 0);
+    let geo = normalize(g.xyz);
     let m = textureLoad(material, id.xy, 0);
     var s: ShadingPoint;
     s.position = p.xyz;
@@ -55,7 +56,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.metallic = m.r;
     s.roughness = m.g;
     s.unlit = m.a < 0.5;
-    let origin = offset_ray_origin(p.xyz, geo);
+    // Where geo_normal.w holds a shadow-terminator offset, the shading normal decides which
+    // lights the surface faces.
+    let facing = select(geo, s.normal, g.w > 0.0);
     var mask = vec4<f32>(0.0);
     var radiance = vec3<f32>(0.0);
     let sizes = AreaLights(params.light_radius, radians(params.sun_angle) * 0.5, params.light_width, params.light_height);
@@ -63,13 +66,16 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
     let samples = select(1u, max(params.rays, 1u), area);
     for (var i = 0u; i < frame.light_count; i++) {
+        // Rays towards this light leave from the part of the offset its angle asks for.
+        let lift = terminator_lift(g.w, s.normal, geo, light_sample(scene_lights[i], p.xyz).l);
+        let origin = offset_ray_origin(p.xyz + geo * lift, geo);
         var seen = 0u;
         if area {
             for (var k = 0u; k < samples; k++) {
-                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, geo, sizes, next_random2(&state)));
+                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, facing, sizes, next_random2(&state)));
             }
         } else {
-            seen = select(0u, 1u, light_visible(scene_lights[i], origin, geo));
+            seen = select(0u, 1u, light_visible(scene_lights[i], origin, facing));
         }
         if seen > 0u {
             // The fraction of the light's samples that reach it (exactly 1 for a hard shadow).

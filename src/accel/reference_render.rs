@@ -48,6 +48,9 @@ pub struct SurfacePoint {
     pub geo_normal: Vec3,
     /// Shading normal.
     pub normal: Vec3,
+    /// How far shadow rays leave above the surface along `geo_normal` (the G-buffer's
+    /// `geo_normal.w`: the shadow-terminator offset; 0 on flat triangles).
+    pub shadow_offset: f32,
 }
 
 /// One pixel of the shadow mask: lit by the directional light (r channel), and by the point
@@ -118,12 +121,13 @@ impl ReferenceRenderer {
                     n = -n;
                 }
                 let p = r.origin.as_dvec3() + h.t * d;
-                Some(SurfacePoint { position: p.as_vec3(), geo_normal: n.as_vec3(), normal: n.as_vec3() })
+                Some(SurfacePoint { position: p.as_vec3(), geo_normal: n.as_vec3(), normal: n.as_vec3(), shadow_offset: 0.0 })
             })
             .collect()
     }
 
     /// The shadow mask of `rt_shadow` (`shaders/rt/shadow.wgsl`): from the offset surface point
+    /// (lifted by the part of its shadow-terminator offset [`terminator_lift`] gives)
     /// one ray towards the directional light (unbounded) and one towards the point light
     /// (stopping at 0.9999 of its distance), each only where the surface faces the light.
     pub fn shadow(&self, surfaces: &[Option<SurfacePoint>], light: &Light, point_light: Option<&PointLight>) -> Vec<Option<ShadowPixel>> {
@@ -134,13 +138,18 @@ impl ReferenceRenderer {
             .map(|s| {
                 let s = s.as_ref()?;
                 let n = s.geo_normal.normalize();
-                let origin = offset_ray_origin(s.position, n);
-                let sun = if n.dot(l) > 0.0 { self.lit(&Ray::with_interval(origin, l, 0.0, 3.0e38)) } else { facing_away };
+                // With a shadow-terminator offset the shading normal decides which lights the
+                // surface faces, and each light's ray leaves from the part of the offset its
+                // angle asks for (as shaders/rt/shadow.wgsl).
+                let facing = if s.shadow_offset > 0.0 { s.normal } else { n };
+                let origin_towards = |dir: Vec3| offset_ray_origin(s.position + n * terminator_lift(s.shadow_offset, s.normal, n, dir), n);
+                let sun = if facing.dot(l) > 0.0 { self.lit(&Ray::with_interval(origin_towards(l), l, 0.0, 3.0e38)) } else { facing_away };
                 let point = point_light.filter(|p| p.intensity > 0.0).map(|p| {
+                    let origin = origin_towards((p.position - s.position).normalize());
                     let to_light = p.position - origin;
                     let dist = to_light.length();
                     let dir = to_light / dist;
-                    if n.dot(dir) > 0.0 {
+                    if facing.dot(dir) > 0.0 {
                         self.lit(&Ray::with_interval(origin, dir, 0.0, dist * 0.9999))
                     } else {
                         facing_away
@@ -190,6 +199,17 @@ impl ReferenceRenderer {
             })
             .collect()
     }
+}
+
+/// How much of a shadow-terminator offset `offset` a shadow ray towards `l` leaves from:
+/// `terminator_lift` in `shaders/common/shadow_ray.wgsl` (Cycles' cutoff 0.1 and blend).
+pub fn terminator_lift(offset: f32, n: Vec3, geo: Vec3, l: Vec3) -> f32 {
+    if offset <= 0.0 {
+        return 0.0;
+    }
+    let (nl, ngl) = (n.dot(l), geo.dot(l));
+    let amount = if nl < 0.1 { (2.0 - (ngl + nl) / 0.1).clamp(0.0, 1.0) } else { (1.0 - ngl / 0.1).clamp(0.0, 1.0) };
+    offset * amount
 }
 
 /// The mirror ray from a surface point seen from `camera_position` (module docs of
