@@ -25,5 +25,5 @@ fn material_alpha_visible(material: u32, uv: vec2<f32>) -> bool {
     }
     // The base colour slot's uv transform and wrap modes (its filter does not apply: the test
     // is always bilinear at level 0).
-    return alpha_kept(m.base_texture, m.base_color.a, m.alpha_cutoff, slot_uv(m, SLOT_BASE, uv), slot_sampler(m, SLOT_BASE) & 15u);
+    return alpha_kept(m.base_texture, m.base_color.a, m.alpha_cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
 }

@@ -32,8 +32,18 @@ fn scene_alpha_level0(layer: u32, uv: vec2<f32>, wrap: u32) -> f32 {
     let x = uv * sizef - 0.5;
     let f = floor(x);
     let w = x - f;
-    let i0 = vec2<u32>(alpha_texel_index(f.x, sizef.x, wrap & 3u), alpha_texel_index(f.y, sizef.y, (wrap >> 2u) & 3u));
-    let i1 = vec2<u32>(alpha_texel_index(f.x + 1.0, sizef.x, wrap & 3u), alpha_texel_index(f.y + 1.0, sizef.y, (wrap >> 2u) & 3u));
+    var i0: vec2<u32>;
+    var i1: vec2<u32>;
+    if wrap == 0u {
+        // Repeat on both axes (glTF's default): f modulo the size, clamped against rounding at
+        // the top end; the next texel wraps to 0.
+        let wrapped = f - sizef * floor(f / sizef);
+        i0 = min(vec2<u32>(max(wrapped, vec2<f32>(0.0))), size - 1u);
+        i1 = select(i0 + 1u, vec2<u32>(0u), i0 + 1u >= size);
+    } else {
+        i0 = vec2<u32>(alpha_texel_index(f.x, sizef.x, wrap & 3u), alpha_texel_index(f.y, sizef.y, (wrap >> 2u) & 3u));
+        i1 = vec2<u32>(alpha_texel_index(f.x + 1.0, sizef.x, wrap & 3u), alpha_texel_index(f.y + 1.0, sizef.y, (wrap >> 2u) & 3u));
+    }
     let a00 = scene_texel0(layer, vec2<u32>(i0.x, i0.y)).a;
     let a10 = scene_texel0(layer, vec2<u32>(i1.x, i0.y)).a;
     let a01 = scene_texel0(layer, vec2<u32>(i0.x, i1.y)).a;

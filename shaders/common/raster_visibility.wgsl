@@ -43,18 +43,18 @@ fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2
     let duv2 = dpdy(uv);
     let face = cross(dpdx(local), dpdy(local));
     // Every slot's own sampler and uv transform, with the uv's screen-space gradients.
-    let base = sample_material_grad(material, SLOT_BASE, material.base_texture, uv, duv1, duv2);
-    let mr = sample_material_grad(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uv, duv1, duv2);
-    let emission = sample_material_grad(material, SLOT_EMISSIVE, material.emissive_texture, uv, duv1, duv2).rgb;
-    let occlusion = sample_material_grad(material, SLOT_OCCLUSION, material.occlusion_texture, uv, duv1, duv2).r;
-    let map = sample_material_grad(material, SLOT_NORMAL, material.normal_texture, uv, duv1, duv2).rgb;
+    let base = sample_material_grad(inst.material, SLOT_BASE, material.base_texture, uv, duv1, duv2);
+    let mr = sample_material_grad(inst.material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uv, duv1, duv2);
+    let emission = sample_material_grad(inst.material, SLOT_EMISSIVE, material.emissive_texture, uv, duv1, duv2).rgb;
+    let occlusion = sample_material_grad(inst.material, SLOT_OCCLUSION, material.occlusion_texture, uv, duv1, duv2).r;
+    let map = sample_material_grad(inst.material, SLOT_NORMAL, material.normal_texture, uv, duv1, duv2).rgb;
     // The normal map bends the front side's normal; a back face (double-sided) reverses the
     // result. The face normal is oriented by the viewer-side vertex normal, not by a test
     // against positions (which lose precision far from the origin) nor by the sign of the
     // derivatives (which flips in quads that straddle the horizon).
     var n = normalize(vertex_normal);
     if material.normal_texture != 0u {
-        n = apply_normal_map(n, dp1, dp2, slot_uv_delta(material, SLOT_NORMAL, duv1), slot_uv_delta(material, SLOT_NORMAL, duv2), map, material.normal_scale);
+        n = apply_normal_map(n, dp1, dp2, slot_uv_delta(inst.material, SLOT_NORMAL, duv1), slot_uv_delta(inst.material, SLOT_NORMAL, duv2), map, material.normal_scale);
     }
     let side = select(-1.0, 1.0, raster_front_face(front_facing, inst.model));
     var geo = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);

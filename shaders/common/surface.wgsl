@@ -72,13 +72,13 @@ fn cone_footprint_log2(duv1: vec2<f32>, duv2: vec2<f32>, world_area: f32, cone_w
 }
 
 // Slot `slot` of material `m` (its texture `layer`) in the uv set the slot reads.
-fn hit_slot_texture(m: Material, slot: u32, layer: u32, uvs: vec4<f32>, lods: vec2<f32>) -> vec4<f32> {
+fn hit_slot_texture(m: u32, slot: u32, layer: u32, uvs: vec4<f32>, lods: vec2<f32>) -> vec4<f32> {
     let one = slot_uv_set(m, slot) == 1u;
     return sample_material_level(m, slot, layer, select(uvs.xy, uvs.zw, one), select(lods.x, lods.y, one));
 }
 
 // The uv edges of the set slot `slot` reads, through its transform's linear part.
-fn hit_slot_uv_edges(m: Material, slot: u32, t: HitTexCoords) -> array<vec2<f32>, 2> {
+fn hit_slot_uv_edges(m: u32, slot: u32, t: HitTexCoords) -> array<vec2<f32>, 2> {
     let one = slot_uv_set(m, slot) == 1u;
     return array<vec2<f32>, 2>(slot_uv_delta(m, slot, select(t.duv1_0, t.duv1_1, one)), slot_uv_delta(m, slot, select(t.duv2_0, t.duv2_1, one)));
 }
@@ -132,17 +132,17 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let uvs = vec4<f32>(t.uv0, t.uv1);
     let lods = vec2<f32>(t.lod0, t.lod1);
     // Every slot's own uv set, sampler and uv transform (common/texture_sampling.wgsl).
-    let base = hit_slot_texture(material, SLOT_BASE, material.base_texture, uvs, lods);
-    let mr = hit_slot_texture(material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uvs, lods);
-    let emissive = material.emissive * hit_slot_texture(material, SLOT_EMISSIVE, material.emissive_texture, uvs, lods).rgb;
-    let occlusion = hit_slot_texture(material, SLOT_OCCLUSION, material.occlusion_texture, uvs, lods).r;
+    let base = hit_slot_texture(inst.material, SLOT_BASE, material.base_texture, uvs, lods);
+    let mr = hit_slot_texture(inst.material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uvs, lods);
+    let emissive = material.emissive * hit_slot_texture(inst.material, SLOT_EMISSIVE, material.emissive_texture, uvs, lods).rgb;
+    let occlusion = hit_slot_texture(inst.material, SLOT_OCCLUSION, material.occlusion_texture, uvs, lods).r;
     // The normal map bends the front side's normal; a back face reverses the result. The face
     // normal is oriented by the ray's side of the vertex normal, as the rasterizer orients it.
     let n_front = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
     var n = n_front;
     if material.normal_texture != 0u {
-        let map = hit_slot_texture(material, SLOT_NORMAL, material.normal_texture, uvs, lods).rgb;
-        let edges = hit_slot_uv_edges(material, SLOT_NORMAL, t);
+        let map = hit_slot_texture(inst.material, SLOT_NORMAL, material.normal_texture, uvs, lods).rgb;
+        let edges = hit_slot_uv_edges(inst.material, SLOT_NORMAL, t);
         n = apply_normal_map(n_front, dp1, dp2, edges[0], edges[1], map, material.normal_scale);
     }
     let side = select(-1.0, 1.0, hit.front_face);

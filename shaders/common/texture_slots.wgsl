@@ -1,6 +1,9 @@
 // A material's texture slots (common/scene.wgsl `Material`): their sampler bits and their
 // KHR_texture_transform, read alike by the sampled reads (common/texture_sampling.wgsl) and
-// the alpha test's texel reads (common/alpha.wgsl). Needs common/scene.wgsl included.
+// the alpha test's texel reads (common/alpha.wgsl). Each function takes the material's index
+// and reads only the words it needs from `scene_materials` (a copy of the whole record would
+// carry its ten transform rows along). Needs common/scene.wgsl included and `scene_materials`
+// declared.
 
 const SLOT_BASE: u32 = 0u;
 const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
@@ -19,45 +22,45 @@ const MIPMAP_LINEAR: u32 = 0u;
 const MIPMAP_NEAREST: u32 = 1u;
 const MIPMAP_NONE: u32 = 2u;
 
-fn slot_sampler(m: Material, slot: u32) -> u32 {
+fn slot_sampler(m: u32, slot: u32) -> u32 {
     if slot < 4u {
-        return (m.samplers_low >> (8u * slot)) & 0xffu;
+        return (scene_materials[m].samplers_low >> (8u * slot)) & 0xffu;
     }
-    return m.samplers_high & 0xffu;
+    return scene_materials[m].samplers_high & 0xffu;
 }
 
 // The texture coordinate set slot `slot` reads: 0 or 1.
-fn slot_uv_set(m: Material, slot: u32) -> u32 {
-    return select(0u, 1u, (m.flags & (MATERIAL_UV1 << slot)) != 0u);
+fn slot_uv_set(m: u32, slot: u32) -> u32 {
+    return select(0u, 1u, (scene_materials[m].flags & (MATERIAL_UV1 << slot)) != 0u);
 }
 
-fn slot_transformed(m: Material) -> bool {
-    return (m.flags & MATERIAL_UV_TRANSFORM) != 0u;
+fn slot_transformed(m: u32) -> bool {
+    return (scene_materials[m].flags & MATERIAL_UV_TRANSFORM) != 0u;
 }
 
 // The slot's uv through its KHR_texture_transform (unchanged without one).
-fn slot_uv(m: Material, slot: u32, uv: vec2<f32>) -> vec2<f32> {
+fn slot_uv(m: u32, slot: u32, uv: vec2<f32>) -> vec2<f32> {
     if !slot_transformed(m) {
         return uv;
     }
     let h = vec3<f32>(uv, 1.0);
-    return vec2<f32>(dot(m.uv_transforms[2u * slot].xyz, h), dot(m.uv_transforms[2u * slot + 1u].xyz, h));
+    return vec2<f32>(dot(scene_materials[m].uv_transforms[2u * slot].xyz, h), dot(scene_materials[m].uv_transforms[2u * slot + 1u].xyz, h));
 }
 
 // A uv differential through the transform's linear part.
-fn slot_uv_delta(m: Material, slot: u32, d: vec2<f32>) -> vec2<f32> {
+fn slot_uv_delta(m: u32, slot: u32, d: vec2<f32>) -> vec2<f32> {
     if !slot_transformed(m) {
         return d;
     }
-    return vec2<f32>(dot(m.uv_transforms[2u * slot].xy, d), dot(m.uv_transforms[2u * slot + 1u].xy, d));
+    return vec2<f32>(dot(scene_materials[m].uv_transforms[2u * slot].xy, d), dot(scene_materials[m].uv_transforms[2u * slot + 1u].xy, d));
 }
 
 // log2 of how much the transform scales a footprint's side (0 without one).
-fn slot_footprint_log2(m: Material, slot: u32) -> f32 {
+fn slot_footprint_log2(m: u32, slot: u32) -> f32 {
     if !slot_transformed(m) {
         return 0.0;
     }
-    let a = m.uv_transforms[2u * slot].xy;
-    let b = m.uv_transforms[2u * slot + 1u].xy;
+    let a = scene_materials[m].uv_transforms[2u * slot].xy;
+    let b = scene_materials[m].uv_transforms[2u * slot + 1u].xy;
     return 0.5 * log2(max(abs(a.x * b.y - a.y * b.x), 1e-30));
 }

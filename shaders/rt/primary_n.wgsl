@@ -25,8 +25,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         let ndc = vec2<f32>((f32(id.x) + s.x) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(id.y) + s.y) * frame.resolution.w * 2.0);
         let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
         // Perspective rays leave the camera; orthographic ones the near plane (camera_pos.w 0).
-        let near = frame.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
-        let origin = select(near.xyz / near.w, frame.camera_pos.xyz, frame.camera_pos.w != 0.0);
+        var origin = frame.camera_pos.xyz;
+        if frame.camera_pos.w == 0.0 {
+            let near = frame.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
+            origin = near.xyz / near.w;
+        }
         let dir = normalize(far.xyz / far.w - origin);
         if trace_closest(Ray(origin, 0.0, dir, 3.0e38)).instance != NO_HIT {
             hits++;

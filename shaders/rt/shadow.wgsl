@@ -59,6 +59,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     // Where geo_normal.w holds a shadow-terminator offset, the shading normal decides which
     // lights the surface faces.
     let facing = select(geo, s.normal, g.w > 0.0);
+    let flat_origin = offset_ray_origin(p.xyz, geo);
     var mask = vec4<f32>(0.0);
     var radiance = vec3<f32>(0.0);
     let sizes = AreaLights(params.light_radius, radians(params.sun_angle) * 0.5, params.light_width, params.light_height);
@@ -66,9 +67,13 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
     let samples = select(1u, max(params.rays, 1u), area);
     for (var i = 0u; i < frame.light_count; i++) {
-        // Rays towards this light leave from the part of the offset its angle asks for.
-        let lift = terminator_lift(g.w, s.normal, geo, light_sample(scene_lights[i], p.xyz).l);
-        let origin = offset_ray_origin(p.xyz + geo * lift, geo);
+        // Rays towards this light leave from the part of the offset its angle asks for (no
+        // work where there is none: flat triangles, the fragment-stage G-buffer).
+        var origin = flat_origin;
+        if g.w > 0.0 {
+            let lift = terminator_lift(g.w, s.normal, geo, light_sample(scene_lights[i], p.xyz).l);
+            origin = offset_ray_origin(p.xyz + geo * lift, geo);
+        }
         var seen = 0u;
         if area {
             for (var k = 0u; k < samples; k++) {
