@@ -105,7 +105,8 @@ pub struct MaterialUniforms {
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
-    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] | [`MATERIAL_UV1`] << slot.
+    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] | [`MATERIAL_UV1`] << slot |
+    /// [`MATERIAL_SAMPLERS`].
     pub flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
@@ -139,3 +140,5 @@ pub(crate) const MATERIAL_UNLIT: u32 = 8;
 pub(crate) const MATERIAL_UV_TRANSFORM: u32 = 16;
 /// Material flag of slot 0, shifted left by the slot: the slot reads `TEXCOORD_1`.
 pub(crate) const MATERIAL_UV1: u32 = 32;
+/// Material flag: a texture slot's sampler is not glTF's default (`samplers` is read).
+pub(crate) const MATERIAL_SAMPLERS: u32 = 1024;

@@ -17,6 +17,8 @@ const MATERIAL_UNLIT: u32 = 8u;
 const MATERIAL_UV_TRANSFORM: u32 = 16u;
 // Slot 0's flag, shifted left by the slot: the slot reads TEXCOORD_1.
 const MATERIAL_UV1: u32 = 32u;
+// A texture slot's sampler is not glTF's default (samplers_low/high are read).
+const MATERIAL_SAMPLERS: u32 = 1024u;
 
 struct Material {
     base_color: vec4<f32>,

@@ -39,7 +39,7 @@ fn scene_vertex(i: u32) -> SceneVertex {
 }
 
 // A hit's two texture coordinate sets (TEXCOORD_0, and TEXCOORD_1 where the mesh has it, else
-// 0): each interpolated, its differentials along the triangle's edges (b - a, c - a), and the
+// the first set): each interpolated, its differentials along the triangle's edges (b - a, c - a), and the
 // log2 of the ray cone's footprint in its units (-1e9: level 0).
 struct HitTexCoords {
     uv0: vec2<f32>,
@@ -50,14 +50,6 @@ struct HitTexCoords {
     duv2_1: vec2<f32>,
     lod0: f32,
     lod1: f32,
-}
-
-// The mesh's colour and second uv of its vertex `i` (mesh-local): white and 0 without extras.
-fn scene_vertex_extra(mesh: MeshRecord, i: u32) -> SceneVertex {
-    if mesh.extras == MESH_NO_EXTRAS {
-        return SceneVertex(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0);
-    }
-    return scene_vertex(mesh.extras + i);
 }
 
 // log2 of the footprint in uv units of a cone `cone_width` wide meeting a triangle of world area
@@ -94,21 +86,12 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let a = scene_vertex(mesh.base_vertex + ia);
     let b = scene_vertex(mesh.base_vertex + ib);
     let c = scene_vertex(mesh.base_vertex + ic);
-    let xa = scene_vertex_extra(mesh, ia);
-    let xb = scene_vertex_extra(mesh, ib);
-    let xc = scene_vertex_extra(mesh, ic);
     let w = vec3<f32>(1.0 - hit.bary.x - hit.bary.y, hit.bary.x, hit.bary.y);
     let pa = vec3<f32>(a.px, a.py, a.pz);
     let pb = vec3<f32>(b.px, b.py, b.pz);
     let pc = vec3<f32>(c.px, c.py, c.pz);
     let local = pa * w.x + pb * w.y + pc * w.z;
     let n_obj = vec3<f32>(a.nx, a.ny, a.nz) * w.x + vec3<f32>(b.nx, b.ny, b.nz) * w.y + vec3<f32>(c.nx, c.ny, c.nz) * w.z;
-    // The vertex colour (COLOR_0) multiplies the base colour; exactly white without extras (the
-    // barycentric weights need not sum to 1 in f32).
-    var vertex_color = vec4<f32>(1.0);
-    if mesh.extras != MESH_NO_EXTRAS {
-        vertex_color = vec4<f32>(xa.pz, xa.nx, xa.ny, xa.nz) * w.x + vec4<f32>(xb.pz, xb.nx, xb.ny, xb.nz) * w.y + vec4<f32>(xc.pz, xc.nx, xc.ny, xc.nz) * w.z;
-    }
     let material = scene_materials[inst.material];
     let geo_front = normalize((inst.normal_matrix * vec4<f32>(cross(pb - pa, pc - pa), 0.0)).xyz);
     let dp1 = (inst.model * vec4<f32>(pb - pa, 0.0)).xyz;
@@ -117,18 +100,32 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let cosine = abs(dot(geo_front, normalize(ray.dir)));
     var t: HitTexCoords;
     t.uv0 = vec2<f32>(a.u, a.v) * w.x + vec2<f32>(b.u, b.v) * w.y + vec2<f32>(c.u, c.v) * w.z;
-    t.uv1 = vec2<f32>(xa.px, xa.py) * w.x + vec2<f32>(xb.px, xb.py) * w.y + vec2<f32>(xc.px, xc.py) * w.z;
     t.duv1_0 = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
     t.duv2_0 = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
-    t.duv1_1 = vec2<f32>(xb.px, xb.py) - vec2<f32>(xa.px, xa.py);
-    t.duv2_1 = vec2<f32>(xc.px, xc.py) - vec2<f32>(xa.px, xa.py);
     t.lod0 = cone_footprint_log2(t.duv1_0, t.duv2_0, world_area, cone_width, cosine);
-    // The second set's footprint: the first's, scaled by the ratio of the two sets' uv areas
-    // (level 0 where the first set is degenerate). A second cone_footprint_log2 call costs
-    // software WebGPU (SwiftShader) over 30 s more to compile the reflection pass; this does not.
-    let area0 = abs(t.duv1_0.x * t.duv2_0.y - t.duv1_0.y * t.duv2_0.x);
-    let area1 = abs(t.duv1_1.x * t.duv2_1.y - t.duv1_1.y * t.duv2_1.x);
-    t.lod1 = t.lod0 + 0.5 * log2(max(area1, 1e-30) / max(area0, 1e-30));
+    // Without extras (no COLOR_0, no TEXCOORD_1) the colour is exactly white and the second set
+    // is the first; nothing more is read.
+    t.uv1 = t.uv0;
+    t.duv1_1 = t.duv1_0;
+    t.duv2_1 = t.duv2_0;
+    t.lod1 = t.lod0;
+    var vertex_color = vec4<f32>(1.0);
+    if mesh.extras != MESH_NO_EXTRAS {
+        let xa = scene_vertex(mesh.extras + ia);
+        let xb = scene_vertex(mesh.extras + ib);
+        let xc = scene_vertex(mesh.extras + ic);
+        // The vertex colour (COLOR_0) multiplies the base colour.
+        vertex_color = vec4<f32>(xa.pz, xa.nx, xa.ny, xa.nz) * w.x + vec4<f32>(xb.pz, xb.nx, xb.ny, xb.nz) * w.y + vec4<f32>(xc.pz, xc.nx, xc.ny, xc.nz) * w.z;
+        t.uv1 = vec2<f32>(xa.px, xa.py) * w.x + vec2<f32>(xb.px, xb.py) * w.y + vec2<f32>(xc.px, xc.py) * w.z;
+        t.duv1_1 = vec2<f32>(xb.px, xb.py) - vec2<f32>(xa.px, xa.py);
+        t.duv2_1 = vec2<f32>(xc.px, xc.py) - vec2<f32>(xa.px, xa.py);
+        // The second set's footprint: the first's, scaled by the ratio of the two sets' uv
+        // areas (level 0 where the first set is degenerate). A second cone_footprint_log2 call
+        // costs software WebGPU (SwiftShader) over 30 s more to compile the reflection pass.
+        let area0 = abs(t.duv1_0.x * t.duv2_0.y - t.duv1_0.y * t.duv2_0.x);
+        let area1 = abs(t.duv1_1.x * t.duv2_1.y - t.duv1_1.y * t.duv2_1.x);
+        t.lod1 = t.lod0 + 0.5 * log2(max(area1, 1e-30) / max(area0, 1e-30));
+    }
     let uvs = vec4<f32>(t.uv0, t.uv1);
     let lods = vec2<f32>(t.lod0, t.lod1);
     // Every slot's own uv set, sampler and uv transform (common/texture_sampling.wgsl).

@@ -49,10 +49,10 @@ fn sampler_read(layer: u32, uv: vec2<f32>, lod: f32, bits: u32) -> vec3<f32> {
 // Slot `slot` of material `m` (an index of `scene_materials`; its texture `layer`) at `uv` in the fragment stage, with the
 // uv's screen-space gradients `dx`, `dy` (taken in uniform control flow by the caller).
 fn sample_material_grad(m: u32, slot: u32, layer: u32, uv: vec2<f32>, dx: vec2<f32>, dy: vec2<f32>) -> vec4<f32> {
-    let bits = slot_sampler(m, slot);
-    if bits == 0u && !slot_transformed(m) {
+    if !material_sampling_custom(m) {
         return sample_scene_texture_grad(layer, uv, dx, dy);
     }
+    let bits = slot_sampler(m, slot);
     let size0 = vec2<f32>(scene_texture_size_at(layer, 0u));
     let tx = slot_uv_delta(m, slot, dx) * size0;
     let ty = slot_uv_delta(m, slot, dy) * size0;
@@ -65,11 +65,10 @@ fn sample_material_grad(m: u32, slot: u32, layer: u32, uv: vec2<f32>, dx: vec2<f
 // 2^lod_uv in uv units (the ray cone's; -1e9: level 0).
 // One texture read either way (small shaders compile faster, on software WebGPU above all).
 fn sample_material_level(m: u32, slot: u32, layer: u32, uv: vec2<f32>, lod_uv: f32) -> vec4<f32> {
-    let lod = lod_uv + slot_footprint_log2(m, slot) + scene_texture_log2_size(layer);
-    let bits = slot_sampler(m, slot);
-    var read = vec3<f32>(uv, max(lod, 0.0));
-    if bits != 0u || slot_transformed(m) {
-        read = sampler_read(layer, slot_uv(m, slot, uv), lod, bits);
+    var read = vec3<f32>(uv, max(lod_uv + scene_texture_log2_size(layer), 0.0));
+    if material_sampling_custom(m) {
+        let lod = lod_uv + slot_footprint_log2(m, slot) + scene_texture_log2_size(layer);
+        read = sampler_read(layer, slot_uv(m, slot, uv), lod, slot_sampler(m, slot));
     }
     return sample_scene_texture_level(layer, read.xy, read.z);
 }

@@ -34,6 +34,12 @@ fn slot_uv_set(m: u32, slot: u32) -> u32 {
     return select(0u, 1u, (scene_materials[m].flags & (MATERIAL_UV1 << slot)) != 0u);
 }
 
+// Whether any slot of material `m` has a sampler other than glTF's default or a transform (one
+// word read: the plain read needs nothing else).
+fn material_sampling_custom(m: u32) -> bool {
+    return (scene_materials[m].flags & (MATERIAL_SAMPLERS | MATERIAL_UV_TRANSFORM)) != 0u;
+}
+
 fn slot_transformed(m: u32) -> bool {
     return (scene_materials[m].flags & MATERIAL_UV_TRANSFORM) != 0u;
 }

@@ -11,7 +11,7 @@
 use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_SAMPLERS, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -325,6 +325,7 @@ impl GpuScene {
                             | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 }
                             | if m.unlit { MATERIAL_UNLIT } else { 0 }
                             | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 }
+                            | if m.sampling.iter().any(|s| s.sampler_bits() != 0) { MATERIAL_SAMPLERS } else { 0 }
                             | m.sampling.iter().enumerate().map(|(slot, s)| if s.tex_coord == 1 { MATERIAL_UV1 << slot } else { 0 }).sum::<u32>(),
                         base_texture: layer(m.texture),
                         metallic_roughness_texture: layer(m.metallic_roughness_texture),
