@@ -1,5 +1,6 @@
 // N closest-hit primary rays per pixel through R2-stratified points of the pixel; the output
-// is the fraction that hit (no shading).
+// is the fraction that hit (no shading). Perspective cameras only: `bench rays` gives it no
+// other (src/bench/rays.rs).
 //#include "common/frame.wgsl"
 //#include "common/sampling.wgsl"
 //#include "trace/trace.wgsl"
@@ -19,22 +20,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    // Perspective rays leave the camera; orthographic ones (camera_pos.w 0) the near plane, an
-    // affine function of the ndc: origin = o0 + ndc.x ox + ndc.y oy, set up once here.
-    var o0 = frame.camera_pos.xyz;
-    var ox = vec3<f32>(0.0);
-    var oy = vec3<f32>(0.0);
-    if frame.camera_pos.w == 0.0 {
-        o0 = (frame.inv_view_proj * vec4<f32>(0.0, 0.0, 0.0, 1.0)).xyz;
-        ox = (frame.inv_view_proj * vec4<f32>(1.0, 0.0, 0.0, 1.0)).xyz - o0;
-        oy = (frame.inv_view_proj * vec4<f32>(0.0, 1.0, 0.0, 1.0)).xyz - o0;
-    }
+    let origin = frame.camera_pos.xyz;
     var hits = 0u;
     for (var i = 0u; i < params.rays; i++) {
         let s = r2_sample(i);
         let ndc = vec2<f32>((f32(id.x) + s.x) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(id.y) + s.y) * frame.resolution.w * 2.0);
         let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
-        let origin = o0 + ndc.x * ox + ndc.y * oy;
         let dir = normalize(far.xyz / far.w - origin);
         if trace_closest(Ray(origin, 0.0, dir, 3.0e38)).instance != NO_HIT {
             hits++;

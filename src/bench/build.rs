@@ -260,6 +260,8 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
     use crate::graph::desc::PassKind;
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let graph = cfg.root.join("graph/bench_primary.ron");
+    // `rt/primary_n.wgsl` casts perspective rays only (src/bench/rays.rs says why).
+    let primary_camera = |scene: &crate::scene::Scene| crate::scene::Camera { orthographic: None, ..scene.camera };
     let mut options = gpu.compile_options_for(Backend::Compute);
     options.params.insert(("primary".into(), "rays".into()), crate::graph::desc::ParamValue::Int(1));
     let mut rows = Vec::new();
@@ -268,7 +270,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
         let plan = compile_with(&graph, &project, (64, 64), &options)?;
         let accel_pass = plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild);
         let mut exec = crate::runtime::Executor::new(gpu, plan, &scene)?;
-        let first = exec.render(gpu, &scene.camera, &scene)?;
+        let first = exec.render(gpu, &primary_camera(&scene), &scene)?;
         let rebuild_ms = first.accel.as_ref().map(|r| r.blas_ms).unwrap_or(0.0);
         let radius = 0.5 * scene.bounds().diagonal();
         let base: Vec<_> = scene.instances.iter().map(|i| i.transform).collect();
@@ -278,7 +280,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
             for (inst, t) in scene.instances.iter_mut().zip(&base) {
                 inst.transform = glam::Mat4::from_translation(offset) * *t;
             }
-            let t = exec.render(gpu, &scene.camera, &scene)?;
+            let t = exec.render(gpu, &primary_camera(&scene), &scene)?;
             let report = t.accel.clone().unwrap_or_default();
             if !report.blas_refit {
                 return Err(RuntimeError::Gpu(format!(
