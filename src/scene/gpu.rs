@@ -152,7 +152,8 @@ pub struct GpuScene {
     pub instances: Option<wgpu::Buffer>,
     /// Material records (`scene_materials`).
     pub materials: Option<wgpu::Buffer>,
-    /// Per mesh: first index, base vertex, index count (`scene_meshes`).
+    /// Per mesh: first index, base vertex, index count, where its extras start in the vertex
+    /// buffer (`scene_meshes`; `MESH_NO_EXTRAS` without colours or second uvs).
     pub meshes: Option<wgpu::Buffer>,
     /// The material textures.
     pub textures: Option<SceneTextures>,
