@@ -50,6 +50,8 @@ struct HitTexCoords {
     duv2_1: vec2<f32>,
     lod0: f32,
     lod1: f32,
+    // The vertex colour (COLOR_0; exactly white without one).
+    color: vec4<f32>,
 }
 
 // log2 of the footprint in uv units of a cone `cone_width` wide meeting a triangle of world area
@@ -75,6 +77,41 @@ fn hit_slot_uv_edges(m: u32, slot: u32, t: HitTexCoords) -> array<vec2<f32>, 2> 
     return array<vec2<f32>, 2>(slot_uv_delta(m, slot, select(t.duv1_0, t.duv1_1, one)), slot_uv_delta(m, slot, select(t.duv2_0, t.duv2_1, one)));
 }
 
+// The texture coordinates and vertex colour of a hit at barycentric weights `w` on the triangle
+// of mesh-local vertex indices `corners` (vertices `a`, `b`, `c`), for a cone `cone_width`
+// wide meeting the triangle (world area `world_area`) at `cosine`.
+fn hit_tex_coords(mesh: MeshRecord, corners: vec3<u32>, a: SceneVertex, b: SceneVertex, c: SceneVertex, w: vec3<f32>, world_area: f32, cone_width: f32, cosine: f32) -> HitTexCoords {
+    var t: HitTexCoords;
+    t.uv0 = vec2<f32>(a.u, a.v) * w.x + vec2<f32>(b.u, b.v) * w.y + vec2<f32>(c.u, c.v) * w.z;
+    t.duv1_0 = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
+    t.duv2_0 = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
+    t.lod0 = cone_footprint_log2(t.duv1_0, t.duv2_0, world_area, cone_width, cosine);
+    // Without extras (no COLOR_0, no TEXCOORD_1) the colour is exactly white and the second set
+    // is the first; nothing more is read.
+    t.uv1 = t.uv0;
+    t.duv1_1 = t.duv1_0;
+    t.duv2_1 = t.duv2_0;
+    t.lod1 = t.lod0;
+    t.color = vec4<f32>(1.0);
+    if mesh.extras != MESH_NO_EXTRAS {
+        let xa = scene_vertex(mesh.extras + corners.x);
+        let xb = scene_vertex(mesh.extras + corners.y);
+        let xc = scene_vertex(mesh.extras + corners.z);
+        // The vertex colour (COLOR_0) multiplies the base colour.
+        t.color = vec4<f32>(xa.pz, xa.nx, xa.ny, xa.nz) * w.x + vec4<f32>(xb.pz, xb.nx, xb.ny, xb.nz) * w.y + vec4<f32>(xc.pz, xc.nx, xc.ny, xc.nz) * w.z;
+        t.uv1 = vec2<f32>(xa.px, xa.py) * w.x + vec2<f32>(xb.px, xb.py) * w.y + vec2<f32>(xc.px, xc.py) * w.z;
+        t.duv1_1 = vec2<f32>(xb.px, xb.py) - vec2<f32>(xa.px, xa.py);
+        t.duv2_1 = vec2<f32>(xc.px, xc.py) - vec2<f32>(xa.px, xa.py);
+        // The second set's footprint: the first's, scaled by the ratio of the two sets' uv
+        // areas (level 0 where the first set is degenerate). A second cone_footprint_log2 call
+        // costs software WebGPU (SwiftShader) over 30 s more to compile the reflection pass.
+        let area0 = abs(t.duv1_0.x * t.duv2_0.y - t.duv1_0.y * t.duv2_0.x);
+        let area1 = abs(t.duv1_1.x * t.duv2_1.y - t.duv1_1.y * t.duv2_1.x);
+        t.lod1 = t.lod0 + 0.5 * log2(max(area1, 1e-30) / max(area0, 1e-30));
+    }
+    return t;
+}
+
 // `cone_width`: the width of the ray's cone at the hit (0: sample level 0).
 fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let inst = scene_instances[hit.instance];
@@ -98,34 +135,7 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let dp2 = (inst.model * vec4<f32>(pc - pa, 0.0)).xyz;
     let world_area = length(cross(dp1, dp2));
     let cosine = abs(dot(geo_front, normalize(ray.dir)));
-    var t: HitTexCoords;
-    t.uv0 = vec2<f32>(a.u, a.v) * w.x + vec2<f32>(b.u, b.v) * w.y + vec2<f32>(c.u, c.v) * w.z;
-    t.duv1_0 = vec2<f32>(b.u, b.v) - vec2<f32>(a.u, a.v);
-    t.duv2_0 = vec2<f32>(c.u, c.v) - vec2<f32>(a.u, a.v);
-    t.lod0 = cone_footprint_log2(t.duv1_0, t.duv2_0, world_area, cone_width, cosine);
-    // Without extras (no COLOR_0, no TEXCOORD_1) the colour is exactly white and the second set
-    // is the first; nothing more is read.
-    t.uv1 = t.uv0;
-    t.duv1_1 = t.duv1_0;
-    t.duv2_1 = t.duv2_0;
-    t.lod1 = t.lod0;
-    var vertex_color = vec4<f32>(1.0);
-    if mesh.extras != MESH_NO_EXTRAS {
-        let xa = scene_vertex(mesh.extras + ia);
-        let xb = scene_vertex(mesh.extras + ib);
-        let xc = scene_vertex(mesh.extras + ic);
-        // The vertex colour (COLOR_0) multiplies the base colour.
-        vertex_color = vec4<f32>(xa.pz, xa.nx, xa.ny, xa.nz) * w.x + vec4<f32>(xb.pz, xb.nx, xb.ny, xb.nz) * w.y + vec4<f32>(xc.pz, xc.nx, xc.ny, xc.nz) * w.z;
-        t.uv1 = vec2<f32>(xa.px, xa.py) * w.x + vec2<f32>(xb.px, xb.py) * w.y + vec2<f32>(xc.px, xc.py) * w.z;
-        t.duv1_1 = vec2<f32>(xb.px, xb.py) - vec2<f32>(xa.px, xa.py);
-        t.duv2_1 = vec2<f32>(xc.px, xc.py) - vec2<f32>(xa.px, xa.py);
-        // The second set's footprint: the first's, scaled by the ratio of the two sets' uv
-        // areas (level 0 where the first set is degenerate). A second cone_footprint_log2 call
-        // costs software WebGPU (SwiftShader) over 30 s more to compile the reflection pass.
-        let area0 = abs(t.duv1_0.x * t.duv2_0.y - t.duv1_0.y * t.duv2_0.x);
-        let area1 = abs(t.duv1_1.x * t.duv2_1.y - t.duv1_1.y * t.duv2_1.x);
-        t.lod1 = t.lod0 + 0.5 * log2(max(area1, 1e-30) / max(area0, 1e-30));
-    }
+    let t = hit_tex_coords(mesh, vec3<u32>(ia, ib, ic), a, b, c, w, world_area, cone_width, cosine);
     let uvs = vec4<f32>(t.uv0, t.uv1);
     let lods = vec2<f32>(t.lod0, t.lod1);
     // Every slot's own uv set, sampler and uv transform (common/texture_sampling.wgsl).
@@ -152,7 +162,7 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.position = (inst.model * vec4<f32>(local, 1.0)).xyz;
     s.normal = n;
     s.geo_normal = geo;
-    s.albedo = material.base_color.rgb * base.rgb * vertex_color.rgb;
+    s.albedo = material.base_color.rgb * base.rgb * t.color.rgb;
     s.metallic = material.metallic * mr.b;
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = emissive;

@@ -163,36 +163,9 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
         let key = (inst.mesh, inst.material);
         gltf_mesh.entry(key).or_insert_with(|| {
             let mesh = &scene.meshes[inst.mesh];
-            let b = mesh.bounds();
-            let bounds = if b.is_empty() { None } else { Some((b.min.to_array(), b.max.to_array())) };
-            let pos: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
-            let nrm: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.normal).collect();
-            let uv: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv).collect();
-            let n = mesh.vertices.len();
-            let vp = w.view(&mut root, buffer, bytemuck::cast_slice(&pos), Some(json::buffer::Target::ArrayBuffer));
-            let pa = accessor(&mut root, vp, n, C::F32, T::Vec3, bounds);
-            let vn = w.view(&mut root, buffer, bytemuck::cast_slice(&nrm), Some(json::buffer::Target::ArrayBuffer));
-            let na = accessor(&mut root, vn, n, C::F32, T::Vec3, None);
-            let vu = w.view(&mut root, buffer, bytemuck::cast_slice(&uv), Some(json::buffer::Target::ArrayBuffer));
-            let ua = accessor(&mut root, vu, n, C::F32, T::Vec2, None);
+            let attributes = mesh_attributes(&mut root, &mut w, buffer, mesh);
             let vi = w.view(&mut root, buffer, bytemuck::cast_slice(&mesh.indices), Some(json::buffer::Target::ElementArrayBuffer));
             let ia = accessor(&mut root, vi, mesh.indices.len(), C::U32, T::Scalar, None);
-            let mut attributes = std::collections::BTreeMap::new();
-            attributes.insert(Valid(json::mesh::Semantic::Positions), pa);
-            attributes.insert(Valid(json::mesh::Semantic::Normals), na);
-            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), ua);
-            if let Some(t) = &mesh.tangents {
-                let vt = w.view(&mut root, buffer, bytemuck::cast_slice(t), Some(json::buffer::Target::ArrayBuffer));
-                attributes.insert(Valid(json::mesh::Semantic::Tangents), accessor(&mut root, vt, n, C::F32, T::Vec4, None));
-            }
-            if let Some(extras) = mesh.extras.as_ref().filter(|e| e.len() == n) {
-                let colors: Vec<[f32; 4]> = extras.iter().map(|e| e.color).collect();
-                let uv1: Vec<[f32; 2]> = extras.iter().map(|e| e.uv1).collect();
-                let vc = w.view(&mut root, buffer, bytemuck::cast_slice(&colors), Some(json::buffer::Target::ArrayBuffer));
-                attributes.insert(Valid(json::mesh::Semantic::Colors(0)), accessor(&mut root, vc, n, C::F32, T::Vec4, None));
-                let vu1 = w.view(&mut root, buffer, bytemuck::cast_slice(&uv1), Some(json::buffer::Target::ArrayBuffer));
-                attributes.insert(Valid(json::mesh::Semantic::TexCoords(1)), accessor(&mut root, vu1, n, C::F32, T::Vec2, None));
-            }
 
             root.push(json::Mesh {
                 name: Some(mesh.name.clone()),
@@ -243,6 +216,42 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
         json: Cow::Owned(json_string.into_bytes()),
     };
     glb.to_vec().map_err(|e| e.to_string())
+}
+
+/// A mesh's vertex attributes written into the buffer: positions (with their bounds), normals,
+/// TEXCOORD_0, and where the mesh has them tangents, COLOR_0 and TEXCOORD_1.
+fn mesh_attributes(
+    root: &mut json::Root,
+    w: &mut BinWriter,
+    buffer: json::Index<json::Buffer>,
+    mesh: &super::Mesh,
+) -> std::collections::BTreeMap<json::validation::Checked<json::mesh::Semantic>, json::Index<json::Accessor>> {
+    use json::accessor::{ComponentType as C, Type as T};
+    use json::mesh::Semantic as S;
+    let b = mesh.bounds();
+    let bounds = if b.is_empty() { None } else { Some((b.min.to_array(), b.max.to_array())) };
+    let n = mesh.vertices.len();
+    let mut attributes = std::collections::BTreeMap::new();
+    let mut add = |root: &mut json::Root, semantic: S, bytes: &[u8], ty: T, bounds: Option<([f32; 3], [f32; 3])>| {
+        let view = w.view(root, buffer, bytes, Some(json::buffer::Target::ArrayBuffer));
+        attributes.insert(Valid(semantic), accessor(root, view, n, C::F32, ty, bounds));
+    };
+    let pos: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
+    let nrm: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.normal).collect();
+    let uv: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv).collect();
+    add(root, S::Positions, bytemuck::cast_slice(&pos), T::Vec3, bounds);
+    add(root, S::Normals, bytemuck::cast_slice(&nrm), T::Vec3, None);
+    add(root, S::TexCoords(0), bytemuck::cast_slice(&uv), T::Vec2, None);
+    if let Some(t) = &mesh.tangents {
+        add(root, S::Tangents, bytemuck::cast_slice(t), T::Vec4, None);
+    }
+    if let Some(extras) = mesh.extras.as_ref().filter(|e| e.len() == n) {
+        let colors: Vec<[f32; 4]> = extras.iter().map(|e| e.color).collect();
+        let uv1: Vec<[f32; 2]> = extras.iter().map(|e| e.uv1).collect();
+        add(root, S::Colors(0), bytemuck::cast_slice(&colors), T::Vec4, None);
+        add(root, S::TexCoords(1), bytemuck::cast_slice(&uv1), T::Vec2, None);
+    }
+    attributes
 }
 
 /// Extra glTF textures for slots whose sampler is not glTF's default: one per (scene texture,
