@@ -939,7 +939,8 @@ fn run(cli: Cli) -> Result<()> {
             if plan.passes().iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }
-            let (mut scene, import) = scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed, gltf_scene: view.gltf.gltf_scene.clone() })?;
+            let (mut scene, import) =
+                scene::open(&scene_spec, &LoadOptions { textures: plan.scene_usage().textures, seed: view.seed, gltf_scene: view.gltf.gltf_scene.clone() })?;
             for note in import.notes() {
                 log::warn!("{scene_spec}: {note}"); // once per run; repairs and fallbacks were logged by the import
             }

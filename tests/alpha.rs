@@ -62,7 +62,13 @@ fn checker_alpha() -> TextureImage {
 
 fn quad_mesh(name: &str, x: [f32; 2], y: [f32; 2], z: f32) -> Mesh {
     let v = |px: f32, py: f32| Vertex { position: [px, py, z], normal: [0.0, 0.0, 1.0], uv: [(px - x[0]) / (x[1] - x[0]), (y[1] - py) / (y[1] - y[0])] };
-    Mesh { name: name.into(), vertices: vec![v(x[0], y[0]), v(x[1], y[0]), v(x[1], y[1]), v(x[0], y[1])], indices: vec![0, 1, 2, 0, 2, 3], tangents: None, extras: None }
+    Mesh {
+        name: name.into(),
+        vertices: vec![v(x[0], y[0]), v(x[1], y[0]), v(x[1], y[1]), v(x[0], y[1])],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        tangents: None,
+        extras: None,
+    }
 }
 
 fn scene() -> Scene {
@@ -371,7 +377,15 @@ fn only_alpha_tested_instances_are_flagged() {
 /// The camera of the graph test: quads 0 (MASK) and 1 (BLEND) fill a 96x48 image, its pixel
 /// centres on the quads' plane at the batch rays' grid.
 fn camera() -> Camera {
-    Camera { position: Vec3::new(1.5, 0.0, 4.0), target: Vec3::new(1.5, 0.0, 0.0), up: Vec3::Y, fov_y: 2.0 * (1.5f32 / 4.0).atan(), near: 0.05, far: 100.0, orthographic: None }
+    Camera {
+        position: Vec3::new(1.5, 0.0, 4.0),
+        target: Vec3::new(1.5, 0.0, 0.0),
+        up: Vec3::Y,
+        fov_y: 2.0 * (1.5f32 / 4.0).atan(),
+        near: 0.05,
+        far: 100.0,
+        orthographic: None,
+    }
 }
 
 const IMAGE: (u32, u32) = (96, 48);

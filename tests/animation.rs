@@ -244,8 +244,9 @@ fn against_reference(gpu: &Gpu, exec: &Executor, scene: &Scene, camera: &Camera,
         wrong += (!agree && r.margin >= MARGIN) as usize;
     }
     let xyz = |v: [f32; 4]| Vec3::new(v[0], v[1], v[2]);
-    let surfaces: Vec<Option<SurfacePoint>> =
-        (0..pos.len()).map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]), shadow_offset: geo[i][3] })).collect();
+    let surfaces: Vec<Option<SurfacePoint>> = (0..pos.len())
+        .map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]), shadow_offset: geo[i][3] }))
+        .collect();
     for (i, s) in renderer.shadow(&surfaces, &scene.light, None).iter().enumerate() {
         let Some(s) = s else { continue };
         compared += 1;

@@ -219,7 +219,11 @@ fn the_files_cameras_become_presets_and_the_first_is_the_default_view() {
     let (s, r) = load(&cameras_document().write_glb(&dir, "cams"));
     let _ = std::fs::remove_dir_all(&dir);
     let names: Vec<&str> = s.presets.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, ["hero", "side", "plan", "front", "top"], "the file's cameras named by camera, then by node; then the built-in presets (the file's `side` takes the built-in one's place)");
+    assert_eq!(
+        names,
+        ["hero", "side", "plan", "front", "top"],
+        "the file's cameras named by camera, then by node; then the built-in presets (the file's `side` takes the built-in one's place)"
+    );
     assert_eq!(s.preset("plan").unwrap().orthographic, Some(1.0));
     assert_eq!(s.camera, s.presets[0].1, "the first is the default view");
     let hero = s.preset("hero").unwrap();

@@ -29,7 +29,13 @@ fn opaque_texel(column: u32, row: u32) -> bool {
 /// The unit square in z = 0, facing +z, uv = (x, 1 - y): image row 0 at the top (y = 1).
 fn quad() -> Mesh {
     let v = |x: f32, y: f32| Vertex { position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], uv: [x, 1.0 - y] };
-    Mesh { name: "quad".into(), vertices: vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)], indices: vec![0, 1, 2, 0, 2, 3], tangents: None, extras: None }
+    Mesh {
+        name: "quad".into(),
+        vertices: vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        tangents: None,
+        extras: None,
+    }
 }
 
 /// Instance 0: an alpha-tested quad (MASK 0.5) over x in [0, 1]; 1: the same, mirrored (x

@@ -49,7 +49,14 @@ fn surfaces(gpu: &Gpu, exec: &Executor) -> Vec<Option<SurfacePoint>> {
     let (pos, normal, geo) = (channel(gpu, exec, "gbuffer.position"), channel(gpu, exec, "gbuffer.normal"), channel(gpu, exec, "gbuffer.geo_normal"));
     let xyz = |v: [f32; 4]| Vec3::new(v[0], v[1], v[2]);
     (0..pos.len())
-        .map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]).normalize(), shadow_offset: geo[i][3] }))
+        .map(|i| {
+            (pos[i][3] != 0.0).then(|| SurfacePoint {
+                position: xyz(pos[i]),
+                geo_normal: xyz(geo[i]),
+                normal: xyz(normal[i]).normalize(),
+                shadow_offset: geo[i][3],
+            })
+        })
         .collect()
 }
 

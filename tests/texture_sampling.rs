@@ -32,7 +32,13 @@ const UV_SPAN: f32 = 3.0;
 /// that it fills exactly.
 fn quad_scene(sampling: SlotSampling) -> Scene {
     let vertex = |x: f32, y: f32| Vertex { position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], uv: [UV_MIN + UV_SPAN * x, UV_MIN + UV_SPAN * (1.0 - y)] };
-    let mesh = Mesh { name: "quad".into(), vertices: vec![vertex(0.0, 0.0), vertex(1.0, 0.0), vertex(1.0, 1.0), vertex(0.0, 1.0)], indices: vec![0, 1, 2, 0, 2, 3], tangents: None, extras: None };
+    let mesh = Mesh {
+        name: "quad".into(),
+        vertices: vec![vertex(0.0, 0.0), vertex(1.0, 0.0), vertex(1.0, 1.0), vertex(0.0, 1.0)],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        tangents: None,
+        extras: None,
+    };
     let mut material = Material::diffuse("sampled", [1.0; 4], Some(0));
     material.sampling[0] = sampling;
     let mut scene = raygraph::scene::builtin::default_scene();

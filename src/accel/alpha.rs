@@ -129,9 +129,7 @@ pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Op
     let mesh = scene.meshes.get(inst.mesh)?;
     let sampling = &m.sampling[0];
     // The vertices' uvs through the slot's transform in f32, as the GPU's records hold them.
-    let uv = |k: usize| {
-        mesh.indices.get(3 * prim + k).and_then(|&i| mesh.vertices.get(i as usize)).map_or([0.0; 2], |v| sampling.apply(v.uv).map(f64::from))
-    };
+    let uv = |k: usize| mesh.indices.get(3 * prim + k).and_then(|&i| mesh.vertices.get(i as usize)).map_or([0.0; 2], |v| sampling.apply(v.uv).map(f64::from));
     let w = [1.0 - bary[0] - bary[1], bary[0], bary[1]];
     let (a, b, c) = (uv(0), uv(1), uv(2));
     let p = [0, 1].map(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2]);

@@ -265,7 +265,9 @@ impl Rig {
             ClipChoice::All => Ok(if any { ClipSet::All } else { ClipSet::Rest }),
             ClipChoice::Index(i) if *i < self.animations.len() => Ok(ClipSet::One(*i)),
             ClipChoice::Index(i) => Err(format!("no animation {i}: {}", list())),
-            ClipChoice::Name(n) => self.animations.iter().position(|a| a.name == *n).map(ClipSet::One).ok_or_else(|| format!("no animation named `{n}`: {}", list())),
+            ClipChoice::Name(n) => {
+                self.animations.iter().position(|a| a.name == *n).map(ClipSet::One).ok_or_else(|| format!("no animation named `{n}`: {}", list()))
+            }
         }
     }
 

@@ -62,7 +62,15 @@ impl FlyCamera {
 
     /// The camera it describes.
     pub fn camera(&self) -> Camera {
-        Camera { position: self.position, target: self.position + self.forward(), up: Vec3::Y, fov_y: self.fov_y, near: self.near, far: self.far, orthographic: self.orthographic }
+        Camera {
+            position: self.position,
+            target: self.position + self.forward(),
+            up: Vec3::Y,
+            fov_y: self.fov_y,
+            near: self.near,
+            far: self.far,
+            orthographic: self.orthographic,
+        }
     }
 
     /// Moves by the held keys over `dt` seconds.

@@ -7,7 +7,9 @@
 //! [`SceneError`] naming the file, or a counted warning where loading can go on; what the file
 //! uses that raygraph approximates or ignores is listed in the [`ImportReport`].
 
-use super::{AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, Mipmaps, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, Wrap};
+use super::{
+    AlphaMode, Bounds, Camera, Instance, LightKind, Material, Mesh, Mipmaps, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, Wrap,
+};
 use glam::{Mat4, Vec3};
 use gltf::json::Value;
 use std::collections::{BTreeSet, HashMap};
@@ -314,9 +316,8 @@ fn check_accessor_types(prim: &gltf::Primitive) -> Result<(), String> {
             S::Normals => check("the NORMAL", acc, &[T::F32], D::Vec3)?,
             S::Tangents => check("the TANGENT", acc, &[T::F32], D::Vec4)?,
             S::TexCoords(n @ 0..=1) => check(&format!("the TEXCOORD_{n}"), acc, &[T::F32, T::U8, T::U16], D::Vec2)?,
-            S::Colors(0) => {
-                check("the COLOR_0", acc.clone(), &[T::F32, T::U8, T::U16], D::Vec4).or_else(|_| check("the COLOR_0", acc, &[T::F32, T::U8, T::U16], D::Vec3))?
-            }
+            S::Colors(0) => check("the COLOR_0", acc.clone(), &[T::F32, T::U8, T::U16], D::Vec4)
+                .or_else(|_| check("the COLOR_0", acc, &[T::F32, T::U8, T::U16], D::Vec3))?,
             _ => {}
         }
     }
@@ -934,7 +935,9 @@ fn file_cameras(path: &Path, cameras: &[(gltf::Node, gltf::Camera, Mat4)], bound
                 }
                 let far = p.zfar().unwrap_or(fitted.far.max(p.znear() * 2.0));
                 if p.zfar().is_none() {
-                    report.approximated.push(format!("camera `{base}`: infinite far plane drawn with a far plane at {far:.3} (just past the scene's far side)"));
+                    report
+                        .approximated
+                        .push(format!("camera `{base}`: infinite far plane drawn with a far plane at {far:.3} (just past the scene's far side)"));
                 }
                 (p.yfov(), p.znear(), far, None)
             }
@@ -1072,7 +1075,9 @@ mod notes {
                 report.ignored_features.push(format!("material {name} {} texture: {ext}", slot.name()));
             }
             if let Some(n) = slot_json(json, slot)["extensions"]["KHR_texture_transform"]["texCoord"].as_u64().filter(|n| *n > 1) {
-                report.ignored_features.push(format!("material {name} {} texture: KHR_texture_transform texCoord {n} (TEXCOORD_0 is read instead)", slot.name()));
+                report
+                    .ignored_features
+                    .push(format!("material {name} {} texture: KHR_texture_transform texCoord {n} (TEXCOORD_0 is read instead)", slot.name()));
             }
         }
     }

@@ -389,7 +389,8 @@ impl GpuScene {
                 for (layer, img) in images.enumerate() {
                     let encoding = if data[layer] { TexelEncoding::DataInSrgb } else { TexelEncoding::Colour };
                     let filter = if nearest[layer] { image::imageops::FilterType::Nearest } else { image::imageops::FilterType::Triangle };
-                    let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, filter) };
+                    let img =
+                        if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, filter) };
                     bytes += upload_mips(queue, &texture, layer as u32, img, encoding);
                 }
                 let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });

@@ -375,5 +375,7 @@ impl ChannelScene {
 
 /// The surface points of a G-buffer's pixels (`None` where it shows no geometry).
 fn surface_points(pos: &[[f32; 4]], geo: &[[f32; 4]], normal: &[[f32; 4]]) -> Vec<Option<SurfacePoint>> {
-    (0..pos.len()).map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]), shadow_offset: geo[i][3] })).collect()
+    (0..pos.len())
+        .map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]), shadow_offset: geo[i][3] }))
+        .collect()
 }

@@ -65,7 +65,8 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     println!("adapter: {}", gpu.describe());
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
-    let (scene, _) = crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed, gltf_scene: opts.gltf_scene.clone() }).map_err(|e| e.to_string())?;
+    let (scene, _) =
+        crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed, gltf_scene: opts.gltf_scene.clone() }).map_err(|e| e.to_string())?;
     let camera = match &opts.camera {
         Some(name) => scene.preset(name)?,
         None => scene.camera,

@@ -137,7 +137,14 @@ impl Session {
             last_camera: None,
             history_frames: 0,
             history_resets: 0,
-            clock: super::clock::AnimationClock { clip: crate::scene::animation::ClipSet::Rest, time: 0.0, playing: false, speed: 1.0, fixed_step: None, last: None },
+            clock: super::clock::AnimationClock {
+                clip: crate::scene::animation::ClipSet::Rest,
+                time: 0.0,
+                playing: false,
+                speed: 1.0,
+                fixed_step: None,
+                last: None,
+            },
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
