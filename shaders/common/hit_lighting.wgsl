@@ -23,15 +23,11 @@ fn hit_direct_light(s: Surface, sp: ShadingPoint) -> vec3<f32> {
     // With a shadow-terminator offset, the shading normal decides which lights the hit faces,
     // and each light's ray leaves from the part of the offset its angle asks for (as
     // rt/shadow.wgsl).
-    let facing = select(s.geo_normal, s.normal, s.shadow_offset > 0.0);
+    let facing = shadow_facing(s.geo_normal, s.normal, s.shadow_offset);
     let flat_origin = offset_ray_origin(s.position, s.geo_normal);
     var direct = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {
-        var origin = flat_origin;
-        if s.shadow_offset > 0.0 {
-            let lift = terminator_lift(s.shadow_offset, s.normal, s.geo_normal, light_sample(scene_lights[i], s.position).l);
-            origin = offset_ray_origin(s.position + s.geo_normal * lift, s.geo_normal);
-        }
+        let origin = shadow_ray_origin(flat_origin, s.position, s.geo_normal, s.normal, s.shadow_offset, scene_lights[i]);
         if light_visible(scene_lights[i], origin, facing) {
             direct += light_radiance(sp, light_sample(scene_lights[i], s.position));
         }

@@ -1,5 +1,6 @@
 // One shadow ray per light, shared by rt/shadow.wgsl and the reflection hits. Needs
 // common/lighting.wgsl, common/sampling.wgsl and trace/trace.wgsl.
+//#include "common/ray_offset.wgsl"
 
 // How much of the shadow-terminator offset `offset` (common/material_inputs.wgsl) a shadow ray
 // towards `l` leaves from, for shading normal `n` and geometric normal `geo`: all of it where the
@@ -14,6 +15,24 @@ fn terminator_lift(offset: f32, n: vec3<f32>, geo: vec3<f32>, l: vec3<f32>) -> f
     let ngl = dot(geo, l);
     let amount = select(clamp(1.0 - ngl / 0.1, 0.0, 1.0), clamp(2.0 - (ngl + nl) / 0.1, 0.0, 1.0), nl < 0.1);
     return offset * amount;
+}
+
+// Where the shadow ray towards `light` leaves a surface point `p` (geometric normal `geo`,
+// shading normal `n`, shadow-terminator offset `offset`): `flat`, the point's usual origin
+// (offset_ray_origin(p, geo), made once per point), where there is no offset; else lifted by
+// the part of the offset the light's angle asks for.
+fn shadow_ray_origin(flat: vec3<f32>, p: vec3<f32>, geo: vec3<f32>, n: vec3<f32>, offset: f32, light: Light) -> vec3<f32> {
+    if offset <= 0.0 {
+        return flat;
+    }
+    let lift = terminator_lift(offset, n, geo, light_sample(light, p).l);
+    return offset_ray_origin(p + geo * lift, geo);
+}
+
+// The normal that decides which lights a surface point faces: the shading normal `n` where a
+// shadow-terminator offset lifts its rays, else the geometric normal `geo`.
+fn shadow_facing(geo: vec3<f32>, n: vec3<f32>, offset: f32) -> vec3<f32> {
+    return select(geo, n, offset > 0.0);
 }
 
 // Whether `light` reaches `origin` (a ray origin already offset from a surface whose facing

@@ -58,7 +58,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.unlit = m.a < 0.5;
     // Where geo_normal.w holds a shadow-terminator offset, the shading normal decides which
     // lights the surface faces.
-    let facing = select(geo, s.normal, g.w > 0.0);
+    let facing = shadow_facing(geo, s.normal, g.w);
     let flat_origin = offset_ray_origin(p.xyz, geo);
     var mask = vec4<f32>(0.0);
     var radiance = vec3<f32>(0.0);
@@ -69,11 +69,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var i = 0u; i < frame.light_count; i++) {
         // Rays towards this light leave from the part of the offset its angle asks for (no
         // work where there is none: flat triangles, the fragment-stage G-buffer).
-        var origin = flat_origin;
-        if g.w > 0.0 {
-            let lift = terminator_lift(g.w, s.normal, geo, light_sample(scene_lights[i], p.xyz).l);
-            origin = offset_ray_origin(p.xyz + geo * lift, geo);
-        }
+        let origin = shadow_ray_origin(flat_origin, p.xyz, geo, s.normal, g.w, scene_lights[i]);
         var seen = 0u;
         if area {
             for (var k = 0u; k < samples; k++) {

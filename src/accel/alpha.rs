@@ -5,7 +5,8 @@
 //! A material is alpha-tested when its alpha mode is MASK (its cutoff) or BLEND (a cutout at
 //! 0.5). A hit is kept when `base_color.a` x the base texture's alpha, read at mip level 0 with
 //! bilinear filtering and the base colour slot's wrap modes at the interpolated TEXCOORD_0
-//! through that slot's uv transform, is at least the cutoff. The CPU reads the file's own texels: that is what the GPU reads when textures are a
+//! through that slot's uv transform, is at least the cutoff. The CPU reads the file's own
+//! texels: that is what the GPU reads when textures are a
 //! binding array; the texture-array fallback resamples every texture to 256x256 first, which
 //! moves alpha edges by at most a fraction of a source texel.
 
@@ -68,7 +69,7 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
             b
         });
         let layer = m.texture.map_or(0, |t| t as u32 + 1);
-        let wrap = sampling.sampler_bits() & 15;
+        let wrap = sampling.wrap_bits();
         words[i] = [base, layer | wrap << 24, m.base_color[3].to_bits(), cutoff(m.alpha_mode).unwrap_or(0.0).to_bits()];
     }
     words

@@ -263,8 +263,7 @@ fn sampled_textures(
 ) -> std::collections::HashMap<(usize, u32), json::Index<json::Texture>> {
     let mut out = std::collections::HashMap::new();
     for m in &scene.materials {
-        let slots = [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture];
-        for (t, s) in slots.iter().zip(&m.sampling) {
+        for (t, s) in m.slot_textures().iter().zip(&m.sampling) {
             let Some(t) = t.filter(|t| *t < plain.len() && s.sampler_bits() != 0) else { continue };
             out.entry((t, s.sampler_bits())).or_insert_with(|| {
                 let sampler = root.push(sampler_json(s));
@@ -311,13 +310,7 @@ fn with_texture_transforms(root: &json::Root, scene: &Scene) -> Result<String, S
     for (i, m) in scene.materials.iter().enumerate() {
         for (slot, s) in m.sampling.iter().enumerate() {
             let Some([a, b]) = s.transform else { continue };
-            let path: &[&str] = match slot {
-                0 => &["pbrMetallicRoughness", "baseColorTexture"],
-                1 => &["pbrMetallicRoughness", "metallicRoughnessTexture"],
-                2 => &["normalTexture"],
-                3 => &["occlusionTexture"],
-                _ => &["emissiveTexture"],
-            };
+            let path = super::gltf_import::TextureSlot::ALL[slot].json_path();
             let info = path.iter().fold(&mut doc["materials"][i], |v, key| &mut v[*key]);
             if !info.is_object() {
                 continue; // the slot has no texture

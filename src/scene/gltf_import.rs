@@ -142,6 +142,21 @@ pub enum TextureSlot {
 }
 
 impl TextureSlot {
+    /// Every slot, in the order of [`Material::sampling`] and [`Material::slot_textures`].
+    pub const ALL: [TextureSlot; 5] =
+        [TextureSlot::BaseColor, TextureSlot::MetallicRoughness, TextureSlot::Normal, TextureSlot::Occlusion, TextureSlot::Emissive];
+
+    /// The keys from a glTF material's JSON down to the slot's texture info.
+    pub fn json_path(self) -> &'static [&'static str] {
+        match self {
+            TextureSlot::BaseColor => &["pbrMetallicRoughness", "baseColorTexture"],
+            TextureSlot::MetallicRoughness => &["pbrMetallicRoughness", "metallicRoughnessTexture"],
+            TextureSlot::Normal => &["normalTexture"],
+            TextureSlot::Occlusion => &["occlusionTexture"],
+            TextureSlot::Emissive => &["emissiveTexture"],
+        }
+    }
+
     /// The slot's name in reports.
     pub fn name(self) -> &'static str {
         match self {
@@ -1031,13 +1046,7 @@ mod notes {
 
     /// The JSON of `slot`'s texture info in material `m`.
     pub(super) fn slot_json(m: &Value, slot: TextureSlot) -> &Value {
-        match slot {
-            TextureSlot::BaseColor => &m["pbrMetallicRoughness"]["baseColorTexture"],
-            TextureSlot::MetallicRoughness => &m["pbrMetallicRoughness"]["metallicRoughnessTexture"],
-            TextureSlot::Normal => &m["normalTexture"],
-            TextureSlot::Occlusion => &m["occlusionTexture"],
-            TextureSlot::Emissive => &m["emissiveTexture"],
-        }
+        slot.json_path().iter().fold(m, |v, key| &v[*key])
     }
 
     fn extension_names(v: &Value) -> Vec<&str> {

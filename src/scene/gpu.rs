@@ -462,8 +462,7 @@ fn uv_transform_rows(sampling: &[crate::scene::SlotSampling; 5]) -> [[f32; 4]; 1
 fn nearest_textures(scene: &Scene) -> Vec<bool> {
     let mut nearest = vec![false; scene.textures.len()];
     for m in &scene.materials {
-        let slots = [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture];
-        for (t, s) in slots.iter().zip(&m.sampling) {
+        for (t, s) in m.slot_textures().iter().zip(&m.sampling) {
             if let Some(t) = t.filter(|t| *t < nearest.len()) {
                 nearest[t] |= s.mag_nearest || s.min_nearest;
             }

@@ -28,12 +28,7 @@ pub fn open(spec: &str, options: &LoadOptions) -> Result<(Scene, ImportReport), 
             return Err(SceneError::SceneOfBuiltin { scene: spec.to_string(), asked: asked.clone() });
         }
         let mut report = ImportReport::default();
-        let referenced = scene
-            .materials
-            .iter()
-            .flat_map(|m| [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture])
-            .flatten()
-            .count();
+        let referenced = scene.materials.iter().flat_map(|m| m.slot_textures()).flatten().count();
         if !options.textures {
             report.textures_not_loaded = referenced;
         }

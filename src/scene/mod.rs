@@ -114,6 +114,12 @@ impl SlotSampling {
         }
     }
 
+    /// The wrap modes alone: [`SlotSampling::sampler_bits`]' bits 0-3 (what the alpha test
+    /// reads).
+    pub fn wrap_bits(&self) -> u32 {
+        self.sampler_bits() & 15
+    }
+
     /// The sampler as 8 bits (`shaders/common/texture_sampling.wgsl`): bits 0-1 wrap S, 2-3
     /// wrap T (0 repeat, 1 clamp, 2 mirror), 4 magnification NEAREST, 5 minification NEAREST,
     /// 6-7 the mipmap mode (0 linear, 1 nearest, 2 none). 0 is glTF's default sampler.
@@ -172,6 +178,12 @@ pub struct Material {
 }
 
 impl Material {
+    /// The five slots' textures in the order of [`gltf_import::TextureSlot`] and of
+    /// [`Material::sampling`]: base colour, metallic-roughness, normal, occlusion, emissive.
+    pub fn slot_textures(&self) -> [Option<usize>; 5] {
+        [self.texture, self.metallic_roughness_texture, self.normal_texture, self.occlusion_texture, self.emissive_texture]
+    }
+
     /// A plain diffuse material.
     pub fn diffuse(name: &str, base_color: [f32; 4], texture: Option<usize>) -> Self {
         Self {
