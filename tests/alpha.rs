@@ -2,8 +2,8 @@
 //! mesh) side by side, 3 apart, each over a plane at z = -1 that covers only the left half of
 //! its view, x in [-1.5, 0], y in [-1.5, 1.5] (so holes show either the plane or nothing). The
 //! quads share an 8x8 checkerboard texture of alpha 0 and 1 (uv [0, 1]² over the quad): MASK
-//! 0.5, BLEND (a cutout at 0.5), MASK 0.25 with base-colour alpha 0.5 (the factor times the
-//! texture), and an opaque material, which ignores the texture's alpha. The level-0 bilinear
+//! 0.5, MASK 0.375 with base-colour alpha 0.75, MASK 0.25 with base-colour alpha 0.5 (the factor
+//! times the texture), and an opaque material, which ignores the texture's alpha. The level-0 bilinear
 //! read of a 0/1 checker crosses 0.5 exactly on the cell edges (also across the repeat wrap,
 //! the checker being periodic), so an alpha-tested quad is its opaque cells.
 //!
@@ -79,7 +79,7 @@ fn scene() -> Scene {
     let textured = |name: &str, a: f32, mode| Material { alpha_mode: mode, ..Material::diffuse(name, [1.0, 1.0, 1.0, a], Some(0)) };
     s.materials = vec![
         textured("mask", 1.0, AlphaMode::Mask(0.5)),
-        textured("blend", 1.0, AlphaMode::Blend),
+        textured("mask with factor 0.75", 0.75, AlphaMode::Mask(0.375)),
         textured("mask with factor", 0.5, AlphaMode::Mask(0.25)),
         textured("opaque", 1.0, AlphaMode::Opaque),
         Material::diffuse("plane", [0.6, 0.6, 0.6, 1.0], None),
@@ -374,7 +374,7 @@ fn only_alpha_tested_instances_are_flagged() {
     }
 }
 
-/// The camera of the graph test: quads 0 (MASK) and 1 (BLEND) fill a 96x48 image, its pixel
+/// The camera of the graph test: quads 0 and 1 (both MASK) fill a 96x48 image, its pixel
 /// centres on the quads' plane at the batch rays' grid.
 fn camera() -> Camera {
     Camera {
@@ -561,7 +561,7 @@ fn an_executor_compiles_the_alpha_test_in_when_its_scene_gains_alpha() {
         let mut exec = gbuffer_executor(&gpu, &path, gpu.compile_options_for(Backend::Compute), &opaque);
         let first = rendered_surfaces(&gpu, &mut exec, &opaque);
         let quads = quad_pixels(&first);
-        // Quads 0 and 1 (MASK, BLEND) are the ones in view.
+        // Quads 0 and 1 (both MASK) are the ones in view.
         for i in 0..QUADS {
             let more = if want_quads[i] > 0 { quads[i] > want_quads[i] } else { quads[i] == 0 };
             assert!(more, "{graph}, opaque frame: quad {i} covers {} pixels, its checker {}", quads[i], want_quads[i]);

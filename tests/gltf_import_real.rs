@@ -288,7 +288,10 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(s.materials[0].sampling[0].wrap_t, raygraph::scene::Wrap::MirroredRepeat);
     assert_eq!(s.materials[0].sampling[0].transform, Some([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
-    assert_eq!(r.approximated, ["material `coat`: alphaMode BLEND drawn as a cutout at alpha 0.5 for visibility and shadows (not blended)"]);
+    assert_eq!(
+        r.approximated,
+        ["material `coat`: alphaMode BLEND is blended in hybrid and full RT (up to 8 surfaces a ray), screen-door (a 4x4 ordered dither) in raster"]
+    );
     // KHR_texture_transform and the sampler's MIRRORED_REPEAT are read (tests/texture_sampling.rs).
     let want = [
         "extension KHR_materials_clearcoat (not read)",
@@ -379,7 +382,7 @@ fn alpha_counts(s: &Scene) -> (usize, usize, usize) {
 }
 
 #[test]
-fn smallpine_reports_its_missing_atlas_normal_map_and_its_blend_cutout() {
+fn smallpine_reports_its_missing_atlas_normal_map_and_its_blended_leaves() {
     let (s, r, text) = real_asset("smallpine/scene.gltf");
     assert_eq!((s.triangle_count(), s.meshes.len(), s.materials.len()), (1650, 2, 2));
     assert_eq!((r.images_used, r.missing_images, s.textures.len()), (Some(5), 1, 4), "5 images used, the normal map missing");
@@ -400,7 +403,7 @@ fn smallpine_reports_its_missing_atlas_normal_map_and_its_blend_cutout() {
             "alpha       1 opaque, 0 mask, 1 blend",
             "fallbacks   1\n  material `M_TreeAtlas` normal texture: image `textures/M_TreeAtlas_normal.png`",
             "; no normal map (the flat normal)\n",
-            "approximated 1\n  material `M_TreeAtlas`: alphaMode BLEND drawn as a cutout at alpha 0.5",
+            "approximated 1\n  material `M_TreeAtlas`: alphaMode BLEND is blended in hybrid and full RT",
             "lights      none in the scene: the default sun",
             "cameras     front, top, side",
         ],

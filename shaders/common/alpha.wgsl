@@ -1,9 +1,14 @@
 // The raster side of the alpha test (decision in docs/ARCHITECTURE.md, "Alpha-tested
-// geometry"): a fragment of an alpha-tested material (MATERIAL_ALPHA_MASK, which BLEND
-// materials carry too, with cutoff 0.5) is discarded when base_color.a x the base texture's
-// level-0 bilinear alpha at `uv` is below the cutoff; the same read as the ray tracers', so
-// every mode cuts the same texels. Usable from depth-only passes:
-//   if !material_alpha_visible(material, uv) { discard; }
+// geometry"): a fragment of an alpha-tested material (MATERIAL_ALPHA_MASK) is discarded when
+// base_color.a x the base texture's level-0 bilinear alpha at `uv` is below the cutoff; the
+// same read as the ray tracers', so every mode cuts the same texels. BLEND materials (which
+// carry MATERIAL_ALPHA_MASK too) are drawn screen-door: a fragment is kept where that coverage
+// exceeds the 4x4 ordered-dither threshold of its pixel `pixel` (the fragment's position), so
+// a 4x4 block keeps a share of its fragments equal to the coverage to within 1/16, in any
+// order, shadow maps included (their PCF then lets that share of the light through). Passes
+// whose G-buffer the rt_blend layer composites over do not draw BLEND instances at all
+// (`skip_blend`). Usable from depth-only passes:
+//   if !material_alpha_visible(material, uv, in.clip.xy) { discard; }
 // Needs common/scene.wgsl included and `scene_materials` declared by the pass
 // (`scene_textures` comes with the include).
 //
@@ -15,7 +20,15 @@
 
 override RASTER_ALPHA_TEST: bool = true;
 
-fn material_alpha_visible(material: u32, uv: vec2<f32>) -> bool {
+// The ordered-dither (Bayer) threshold of pixel `pixel`, in (0, 1): the 16 values (k + 0.5) / 16
+// spread over every 4x4 block.
+fn screen_door_threshold(pixel: vec2<f32>) -> f32 {
+    let p = vec2<u32>(pixel) & vec2<u32>(3u);
+    let bayer = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    return (f32(bayer[p.y * 4u + p.x]) + 0.5) / 16.0;
+}
+
+fn material_alpha_visible(material: u32, uv: vec2<f32>, pixel: vec2<f32>) -> bool {
     if !RASTER_ALPHA_TEST {
         return true;
     }
@@ -23,7 +36,9 @@ fn material_alpha_visible(material: u32, uv: vec2<f32>) -> bool {
     if (m.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }
+    // BLEND: the coverage against the pixel's dither threshold instead of a cutoff.
+    let cutoff = select(m.alpha_cutoff, screen_door_threshold(pixel), (m.flags & MATERIAL_ALPHA_BLEND) != 0u);
     // The base colour slot's uv transform and wrap modes (its filter does not apply: the test
     // is always bilinear at level 0).
-    return alpha_kept(m.base_texture, m.base_color.a, m.alpha_cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
+    return alpha_kept(m.base_texture, m.base_color.a, cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
 }

@@ -1,7 +1,8 @@
-// The direct light at a secondary hit, shared by reflection and GI rays: the hit as a shading
-// point seen from direction `v`, and every light with its own shadow ray. Needs
-// common/lighting.wgsl, common/surface.wgsl, common/shadow_ray.wgsl, and `scene_lights` and
-// `frame` declared by the main shader.
+// The direct light at a secondary hit, shared by reflection and GI rays and the blended
+// surfaces: the hit as a shading point seen from direction `v`, and every light with its own
+// shadow ray; and the BLEND surfaces along a ray composited front to back. Needs
+// common/lighting.wgsl, common/surface.wgsl, common/shadow_ray.wgsl, and `scene_lights`,
+// `scene_materials`, `scene_instances` and `frame` declared by the main shader.
 
 fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
     var sp: ShadingPoint;
@@ -28,9 +29,54 @@ fn hit_direct_light(s: Surface, sp: ShadingPoint) -> vec3<f32> {
     var direct = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {
         let origin = shadow_ray_origin(flat_origin, s.position, s.geo_normal, s.normal, s.shadow_offset, scene_lights[i]);
-        if light_visible(scene_lights[i], origin, facing) {
-            direct += light_radiance(sp, light_sample(scene_lights[i], s.position));
+        let transmittance = light_transmittance(scene_lights[i], origin, facing);
+        if transmittance > 0.0 {
+            direct += transmittance * light_radiance(sp, light_sample(scene_lights[i], s.position));
         }
     }
     return direct;
+}
+
+// A hit shaded with the model of every mode (common/lighting.wgsl): every light with its own
+// shadow ray, sky ambient, emission; seen from direction v.
+fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
+    let sp = hit_shading_point(s, v);
+    return surface_radiance(sp, hit_direct_light(s, sp), 1.0);
+}
+
+// The BLEND surfaces along a ray, composited front to back: `radiance` is what they add (each
+// shaded by shade_hit times its coverage and the transmittance in front of it),
+// `transmittance` the share of whatever lies behind them that still shows, and `hit` the first
+// surface that is not BLEND (or a miss).
+struct BlendComposite {
+    radiance: vec3<f32>,
+    transmittance: f32,
+    hit: Hit,
+}
+
+// Composites the BLEND surfaces `ray` meets (common/blend.wgsl: at most BLEND_LAYERS; back
+// faces of single-sided materials passed as the rasterizer culls them) until its first other
+// surface. `cone_start` and `cone_spread`: the ray cone's width is cone_start + cone_spread x
+// distance (textures' mip level, as the ray's own surface takes it).
+fn composite_blend(ray_in: Ray, cone_start: f32, cone_spread: f32) -> BlendComposite {
+    var ray = ray_in;
+    var out = BlendComposite(vec3<f32>(0.0), 1.0, trace_closest(ray));
+    if !TRACE_BLEND {
+        return out;
+    }
+    for (var layer = 0u; layer < BLEND_LAYERS && out.hit.instance != NO_HIT; layer++) {
+        let coverage = hit_blend_coverage(out.hit);
+        if coverage < 0.0 {
+            break;
+        }
+        let flags = scene_materials[scene_instances[out.hit.instance].material].flags;
+        if out.hit.front_face || (flags & MATERIAL_DOUBLE_SIDED) != 0u {
+            let s = surface_at_cone(ray, out.hit, cone_start + cone_spread * out.hit.t);
+            out.radiance += out.transmittance * min(coverage, 1.0) * shade_hit(s, -ray.dir);
+            out.transmittance *= 1.0 - min(coverage, 1.0);
+        }
+        ray.t_min = blend_past(out.hit.t);
+        out.hit = trace_closest(ray);
+    }
+    return out;
 }

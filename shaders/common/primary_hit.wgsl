@@ -1,24 +1,32 @@
 // The closest surface a primary ray sees, back faces of single-sided materials culled as the
-// rasterizer culls them (rt/primary.wgsl, and the two passes of layers/primary_split.ron).
+// rasterizer culls them (rt/primary.wgsl, and the two passes of layers/primary_split.ron), and
+// BLEND surfaces passed (the G-buffer holds the first opaque surface; the rt_blend layer
+// composites the translucent ones in front of it, common/blend.wgsl).
 // Needs the main shader to declare the scene's instances and materials and to include
 // trace/trace.wgsl.
+//#include "common/blend.wgsl"
 
-// How many culled back faces a primary ray passes before it gives up (a miss).
+// How many culled back faces and BLEND surfaces a primary ray passes before it gives up (a
+// miss).
 const MAX_CULLED: u32 = 16u;
 
-// The closest hit that is not a back face of a single-sided material.
+// Whether a primary ray goes on past `hit`: a back face of a single-sided material, or a BLEND
+// surface.
+fn primary_passes(hit: Hit) -> bool {
+    let flags = scene_materials[scene_instances[hit.instance].material].flags;
+    return (!hit.front_face && (flags & MATERIAL_DOUBLE_SIDED) == 0u) || (TRACE_BLEND && (flags & MATERIAL_ALPHA_BLEND) != 0u);
+}
+
+// The closest hit that is neither a back face of a single-sided material nor a BLEND surface.
 fn closest_visible(ray_in: Ray) -> Hit {
     var ray = ray_in;
     var hit = trace_closest(ray);
-    for (var i = 0u; i < MAX_CULLED && hit.instance != NO_HIT && !hit.front_face; i++) {
-        if (scene_materials[scene_instances[hit.instance].material].flags & MATERIAL_DOUBLE_SIDED) != 0u {
-            break;
-        }
-        // Past the culled triangle: 64 ulps of its distance.
-        ray.t_min = bitcast<f32>(bitcast<u32>(hit.t) + 64u);
+    for (var i = 0u; i < MAX_CULLED && hit.instance != NO_HIT && primary_passes(hit); i++) {
+        // Past the passed triangle: 64 ulps of its distance.
+        ray.t_min = blend_past(hit.t);
         hit = trace_closest(ray);
     }
-    if hit.instance != NO_HIT && !hit.front_face && (scene_materials[scene_instances[hit.instance].material].flags & MATERIAL_DOUBLE_SIDED) == 0u {
+    if hit.instance != NO_HIT && primary_passes(hit) {
         hit.instance = NO_HIT;
     }
     return hit;

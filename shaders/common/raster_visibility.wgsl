@@ -10,8 +10,9 @@
 //#include "common/alpha.wgsl"
 //#include "common/texture_sampling.wgsl"
 
-fn raster_fragment_kept(inst: Instance, uv: vec2<f32>) -> bool {
-    return material_alpha_visible(inst.material, uv);
+// `pixel`: the fragment's position (BLEND materials are drawn screen-door).
+fn raster_fragment_kept(inst: Instance, uv: vec2<f32>, pixel: vec2<f32>) -> bool {
+    return material_alpha_visible(inst.material, uv, pixel);
 }
 
 // The material and geometry of a kept fragment. Normals face the viewer.

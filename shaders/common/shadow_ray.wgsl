@@ -1,6 +1,8 @@
-// One shadow ray per light, shared by rt/shadow.wgsl and the reflection hits. Needs
-// common/lighting.wgsl, common/sampling.wgsl and trace/trace.wgsl.
+// One shadow ray per light, shared by rt/shadow.wgsl and the reflection hits; BLEND surfaces
+// on it let part of the light through (common/blend.wgsl). Needs common/lighting.wgsl,
+// common/sampling.wgsl and trace/trace.wgsl.
 //#include "common/ray_offset.wgsl"
+//#include "common/blend.wgsl"
 
 // How much of the shadow-terminator offset `offset` (common/material_inputs.wgsl) a shadow ray
 // towards `l` leaves from, for shading normal `n` and geometric normal `geo`: all of it where the
@@ -35,18 +37,19 @@ fn shadow_facing(geo: vec3<f32>, n: vec3<f32>, offset: f32) -> vec3<f32> {
     return select(geo, n, offset > 0.0);
 }
 
-// Whether `light` reaches `origin` (a ray origin already offset from a surface whose facing
+// How much of `light` reaches `origin` (a ray origin already offset from a surface whose facing
 // normal is `geo`: the geometric normal, or the shading normal where the shadow-terminator
-// offset lifts the origin): false where the surface faces away, the light's range or cone does not reach,
-// or an any-hit ray finds an occluder (stopping just short of a point or spot light: nothing
-// behind it can shadow).
-fn light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>) -> bool {
+// offset lifts the origin), 0 to 1: 0 where the surface faces away, the light's range or cone
+// does not reach, or the ray finds an opaque occluder (stopping just short of a point or spot
+// light: nothing behind it can shadow); else the transmittance of the BLEND surfaces on the
+// way (1 without any).
+fn light_transmittance(light: Light, origin: vec3<f32>, geo: vec3<f32>) -> f32 {
     let ls = light_sample(light, origin);
     if dot(geo, ls.l) <= 0.0 || all(ls.e == vec3<f32>(0.0)) {
-        return false;
+        return 0.0;
     }
     let t_max = select(ls.distance * 0.9999, ls.distance, light.kind == LIGHT_DIRECTIONAL);
-    return !trace_any(Ray(origin, 0.0, ls.l, t_max));
+    return trace_transmittance(Ray(origin, 0.0, ls.l, t_max));
 }
 
 // The sizes of the area lights (rt_shadow's parameters): `radius` of the sphere of point and
@@ -67,20 +70,24 @@ fn rectangle_axes(d: vec3<f32>) -> array<vec3<f32>, 2> {
     return array<vec3<f32>, 2>(w, cross(d, w));
 }
 
-// Whether the ray from `origin` to one point of an area light reaches it: for a directional
+// How much of the light along the ray from `origin` to one point of an area light reaches it
+// (0 to 1, as light_transmittance): for a directional
 // light a direction uniform in the cone of angular radius `sun_radius` around it; for a point
 // or spot light a point uniform on its rectangle (which shines only forwards, along the
 // light's direction) or else on the disc of radius `radius` around it facing the origin (a
 // sphere light seen from there); chosen by the uniform numbers `u`. With every size 0 it is
-// `light_visible`'s ray.
-fn area_light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>, area: AreaLights, u: vec2<f32>) -> bool {
+// `light_transmittance`'s ray.
+fn area_light_transmittance(light: Light, origin: vec3<f32>, geo: vec3<f32>, area: AreaLights, u: vec2<f32>) -> f32 {
     let ls = light_sample(light, origin);
     if all(ls.e == vec3<f32>(0.0)) {
-        return false;
+        return 0.0;
     }
     if light.kind == LIGHT_DIRECTIONAL {
         let l = select(ls.l, uniform_cone(ls.l, cos(area.sun_radius), u), area.sun_radius > 0.0);
-        return dot(geo, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, ls.distance));
+        if dot(geo, l) <= 0.0 {
+            return 0.0;
+        }
+        return trace_transmittance(Ray(origin, 0.0, l, ls.distance));
     }
     var aim = light.position + area.radius * uniform_disc(ls.l, u);
     var sized = area.radius > 0.0;
@@ -89,12 +96,15 @@ fn area_light_visible(light: Light, origin: vec3<f32>, geo: vec3<f32>, area: Are
         aim = light.position + (u.x - 0.5) * area.width * axes[0] + (u.y - 0.5) * area.height * axes[1];
         sized = true;
         if dot(origin - aim, light.direction) <= 0.0 {
-            return false; // behind the rectangle
+            return 0.0; // behind the rectangle
         }
     }
     let to_aim = aim - origin;
     let d = length(to_aim);
     let l = select(ls.l, to_aim / d, sized);
     let t_max = select(ls.distance, d, sized) * 0.9999;
-    return dot(geo, l) > 0.0 && !trace_any(Ray(origin, 0.0, l, t_max));
+    if dot(geo, l) <= 0.0 {
+        return 0.0;
+    }
+    return trace_transmittance(Ray(origin, 0.0, l, t_max));
 }

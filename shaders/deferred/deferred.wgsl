@@ -74,7 +74,7 @@ fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy) {
         discard;
     }
     return gbuffer_of(in, front_facing);
@@ -97,7 +97,7 @@ struct GBufferMaterial {
 
 @fragment
 fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferSurface {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy) {
         discard;
     }
     let g = gbuffer_of(in, front_facing);
@@ -106,7 +106,7 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuff
 
 @fragment
 fn fs_material(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferMaterial {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv) {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy) {
         discard;
     }
     let g = gbuffer_of(in, front_facing);

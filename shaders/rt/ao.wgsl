@@ -4,6 +4,7 @@
 //#include "common/ray_offset.wgsl"
 //#include "common/sampling.wgsl"
 //#include "trace/trace.wgsl"
+//#include "common/blend.wgsl"
 
 struct Params {
     rays: u32,
@@ -39,7 +40,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     // noise is seeded again.
     let frame_offset = select(0u, frame.frame_index, params.per_frame != 0u);
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed + 0x9e3779b9u + frame_offset * 0x85ebca6bu)));
-    var open = 0u;
+    // Each ray counts by how much of it gets through: 1 or 0, or the transmittance of the
+    // BLEND surfaces it meets (common/blend.wgsl).
+    var open = 0.0;
     for (var i = 0u; i < params.rays; i++) {
         var u: vec2<f32>;
         if params.sampling == 0u {
@@ -47,11 +50,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         } else {
             u = fract(r2_sample(i + frame_offset * params.rays) + rotation);
         }
-        if !trace_any(Ray(origin, 0.0, cosine_hemisphere(n, u), range)) {
-            open++;
-        }
+        open += trace_transmittance(Ray(origin, 0.0, cosine_hemisphere(n, u), range));
     }
-    let v = f32(open) / f32(max(params.rays, 1u));
+    let v = open / f32(max(params.rays, 1u));
     textureStore(ao, id.xy, vec4<f32>(v, v, v, 1.0));
     trace_flush_stats();
 }

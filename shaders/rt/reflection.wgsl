@@ -1,7 +1,8 @@
 // Reflections: closest-hit rays along the mirror direction (glossy: a cosine-power lobe whose
 // width follows the roughness), hit points shaded with the model of every mode
 // (common/lighting.wgsl) and a shadow ray to every light; further bounces weighted by the
-// Fresnel term. Hit textures are sampled at the mip level of the pixel's ray cone, grown along
+// Fresnel term. BLEND surfaces along each ray are composited over what lies behind them
+// (common/hit_lighting.wgsl's composite_blend). Hit textures are sampled at the mip level of the pixel's ray cone, grown along
 // the whole path (camera to the first surface, then every bounce; surfaces taken as flat).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
@@ -57,13 +58,6 @@ fn glossy_direction(r: vec3<f32>, roughness: f32, u: vec2<f32>) -> vec3<f32> {
     return normalize(t * (sin_t * cos(phi)) + bt * (sin_t * sin(phi)) + r * cos_t);
 }
 
-// A hit shaded with the model of every mode (common/lighting.wgsl): every light with its own
-// shadow ray, sky ambient, emission; seen from direction v.
-fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
-    let sp = hit_shading_point(s, v);
-    return surface_radiance(sp, hit_direct_light(s, sp), 1.0);
-}
-
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(reflection);
@@ -93,7 +87,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             dir = reflect(dir, geo); // keep the ray above the surface it leaves
         }
         let ray = Ray(origin, 0.0, dir, 3.0e38);
-        let hit = trace_closest(ray);
+        // BLEND surfaces on the way add their share and let the rest through.
+        let cone = camera_cone_width(id.xy, path);
+        let layers = composite_blend(ray, cone, camera_cone_width(id.xy, path + 1.0) - cone);
+        radiance += throughput * layers.radiance;
+        throughput *= layers.transmittance;
+        let hit = layers.hit;
         if hit.instance == NO_HIT {
             radiance += throughput * sky_color(dir);
             break;

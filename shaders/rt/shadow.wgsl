@@ -70,17 +70,19 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         // Rays towards this light leave from the part of the offset its angle asks for (no
         // work where there is none: flat triangles, the fragment-stage G-buffer).
         let origin = shadow_ray_origin(flat_origin, p.xyz, geo, s.normal, g.w, scene_lights[i]);
-        var seen = 0u;
+        // The light's samples that reach the point, each counted by the transmittance of the
+        // BLEND surfaces on its way (1 for every sample that reaches it without any).
+        var seen = 0.0;
         if area {
             for (var k = 0u; k < samples; k++) {
-                seen += select(0u, 1u, area_light_visible(scene_lights[i], origin, facing, sizes, next_random2(&state)));
+                seen += area_light_transmittance(scene_lights[i], origin, facing, sizes, next_random2(&state));
             }
         } else {
-            seen = select(0u, 1u, light_visible(scene_lights[i], origin, facing));
+            seen = light_transmittance(scene_lights[i], origin, facing);
         }
-        if seen > 0u {
-            // The fraction of the light's samples that reach it (exactly 1 for a hard shadow).
-            let fraction = f32(seen) / f32(samples);
+        if seen > 0.0 {
+            // The fraction of the light that reaches it (exactly 1 for an unshadowed hard shadow).
+            let fraction = seen / f32(samples);
             radiance += fraction * light_radiance(s, light_sample(scene_lights[i], p.xyz));
             if i < 4u {
                 mask[i] = fraction;

@@ -53,7 +53,7 @@ fn vs_slot3(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, @built
 
 @fragment
 fn fs_main(in: VertexOut) {
-    if !material_alpha_visible(in.material, in.uv) {
+    if !material_alpha_visible(in.material, in.uv, in.clip.xy) {
         discard;
     }
 }

@@ -1,6 +1,7 @@
 // Tone map: exposure, then the ACES filmic fit (Narkowicz 2015), encoded as sRGB into an 8-bit
 // target (a compute pass: storage textures cannot be sRGB, so the encoding is done here).
-// Texels with alpha 0 (nothing drawn) show a sky gradient.
+// The image is premultiplied by alpha: the sky gradient shows through 1 - alpha of each texel
+// (all of it where nothing was drawn, a = 0; part of it behind translucent surfaces).
 
 struct Params {
     exposure: f32,
@@ -34,10 +35,10 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let c = textureLoad(hdr, min(id.xy, textureDimensions(hdr) - vec2<u32>(1u)), 0);
     var linear = c.rgb;
-    if (c.a == 0.0 && params.sky != 0u) {
+    if (c.a < 1.0 && params.sky != 0u) {
         // Pixel centres, as the fragment stage saw them: v = 0 at the top, 1 at the bottom.
         let v = (f32(id.y) + 0.5) / f32(size.y);
-        linear = mix(vec3<f32>(0.9, 0.85, 0.8), vec3<f32>(0.35, 0.55, 0.9), 1.0 - v);
+        linear += (1.0 - max(c.a, 0.0)) * mix(vec3<f32>(0.9, 0.85, 0.8), vec3<f32>(0.35, 0.55, 0.9), 1.0 - v);
     }
     textureStore(color, id.xy, vec4<f32>(srgb_encode(aces(linear * params.exposure)), 1.0));
 }

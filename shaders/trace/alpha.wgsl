@@ -6,14 +6,19 @@
 //     index within its mesh; `bary`: barycentric weights of the triangle's vertices 1 and 2.
 //     True when the hit is kept: the instance's material is not alpha-tested, or
 //     base_color.a x the base texture's level-0 bilinear alpha (its slot's wrap modes) at the
-//     interpolated, transformed TEXCOORD_0 is >= the material's cutoff (BLEND: 0.5). Same arithmetic as
-//     the raster side (common/alpha.wgsl) and the CPU references (src/accel/alpha.rs).
+//     interpolated, transformed TEXCOORD_0 is >= the material's cutoff (BLEND: 1/256, its
+//     least coverage: a BLEND surface is translucent, composited by the passes through
+//     common/blend.wgsl). Same arithmetic as the raster side (common/alpha.wgsl) and the CPU
+//     references (src/accel/alpha.rs).
+//   trace_blend_coverage(instance, primitive, bary) -> f32
+//     base_color.a x that texture alpha where the instance's material is BLEND, else -1.
 //
 // Bindings (bound by the executor and the batch tracer by name, like the other accel_*):
 //   @group(2) @binding(15) accel_alpha: array<vec4<u32>>, the AccelCache's alpha buffer
 //     (AccelCache::binding("accel_alpha", _)), one buffer for
 //     every back-end:
-//     - word [instance]: (uv_base, texture layer | the base colour slot's wrap bits << 24,
+//     - word [instance]: (uv_base, texture layer | the base colour slot's wrap bits << 24 |
+//       TRACE_ALPHA_BLEND for a BLEND material,
 //       bitcast<u32>(base_color.a), bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an
 //       instance whose material is not alpha-tested (nothing else is read then);
 //     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 through the base
@@ -35,14 +40,29 @@ override TRACE_ALPHA_TEST: bool = true;
 //#include "trace/alpha_words.wgsl"
 
 const TRACE_ALPHA_OPAQUE: u32 = 0xffffffffu;
+const TRACE_ALPHA_BLEND: u32 = 0x10000000u;
+
+// The base colour slot's uv of a hit on an alpha-tested instance whose record is `rec`.
+fn trace_alpha_uv(rec: vec4<u32>, primitive: u32, bary: vec2<f32>) -> vec2<f32> {
+    let a = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive));
+    let b = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive + 1u));
+    return a.xy * (1.0 - bary.x - bary.y) + a.zw * bary.x + b.xy * bary.y;
+}
 
 fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
     let rec = trace_alpha_word(instance);
     if rec.x == TRACE_ALPHA_OPAQUE {
         return true;
     }
-    let a = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive));
-    let b = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive + 1u));
-    let uv = a.xy * (1.0 - bary.x - bary.y) + a.zw * bary.x + b.xy * bary.y;
-    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv, rec.y >> 24u);
+    let uv = trace_alpha_uv(rec, primitive, bary);
+    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv, (rec.y >> 24u) & 15u);
+}
+
+fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
+    let rec = trace_alpha_word(instance);
+    if rec.x == TRACE_ALPHA_OPAQUE || (rec.y & TRACE_ALPHA_BLEND) == 0u {
+        return -1.0;
+    }
+    let uv = trace_alpha_uv(rec, primitive, bary);
+    return bitcast<f32>(rec.z) * scene_alpha_level0(rec.y & 0xffffffu, uv, (rec.y >> 24u) & 15u);
 }

@@ -43,7 +43,7 @@ fn vs_main(
 @fragment
 fn fs_main(in: VertexOut, @builtin(primitive_index) primitive: u32, @builtin(front_facing) front_facing: bool) -> @location(0) vec2<u32> {
     let inst = scene_instances[in.instance];
-    if !raster_fragment_kept(inst, in.uv) {
+    if !raster_fragment_kept(inst, in.uv, in.clip.xy) {
         discard;
     }
     let front = select(0u, VISIBLE_FRONT_FACE, raster_front_face(front_facing, inst.model));

@@ -2,8 +2,11 @@
 //! module's `trace_alpha_visible` reads (`accel_alpha`, see `shaders/trace/alpha.wgsl`), and
 //! the same test on the CPU for [`crate::accel::cpu_traverse`] and [`crate::accel::reference`].
 //!
-//! A material is alpha-tested when its alpha mode is MASK (its cutoff) or BLEND (a cutout at
-//! 0.5). A hit is kept when `base_color.a` x the base texture's alpha, read at mip level 0 with
+//! A material is alpha-tested when its alpha mode is MASK (its cutoff) or BLEND. A BLEND
+//! surface is translucent: the traversal keeps its hits wherever its coverage is at least
+//! [`BLEND_MIN_COVERAGE`] (a texel below it is empty), and the passes composite it
+//! (`shaders/common/blend.wgsl`: skipped by primary rays, attenuating shadow and AO rays by one
+//! minus its coverage, composited front to back over the opaque surface behind it). A hit is kept when `base_color.a` x the base texture's alpha, read at mip level 0 with
 //! bilinear filtering and the base colour slot's wrap modes at the interpolated TEXCOORD_0
 //! through that slot's uv transform, is at least the cutoff. The CPU reads the file's own
 //! texels: that is what the GPU reads when textures are a
@@ -15,12 +18,19 @@ use crate::scene::{AlphaMode, Scene, SlotSampling, TextureImage, Wrap};
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
 
+/// The least coverage (`base_color.a` x texture alpha) a BLEND texel needs to be hit at all:
+/// below it the texel is empty (under one 8-bit step of what it would add).
+pub const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
+
+/// Bit of a record's second word that marks a BLEND instance (`TRACE_ALPHA_BLEND`).
+pub const ALPHA_BLEND_BIT: u32 = 1 << 28;
+
 /// The cutoff of an alpha-tested material, `None` for an opaque one.
 pub fn cutoff(mode: AlphaMode) -> Option<f32> {
     match mode {
         AlphaMode::Opaque => None,
         AlphaMode::Mask(c) => Some(c),
-        AlphaMode::Blend => Some(0.5),
+        AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
     }
 }
 
@@ -70,7 +80,8 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
         });
         let layer = m.texture.map_or(0, |t| t as u32 + 1);
         let wrap = sampling.wrap_bits();
-        words[i] = [base, layer | wrap << 24, m.base_color[3].to_bits(), cutoff(m.alpha_mode).unwrap_or(0.0).to_bits()];
+        let blend = if m.alpha_mode == AlphaMode::Blend { ALPHA_BLEND_BIT } else { 0 };
+        words[i] = [base, layer | wrap << 24 | blend, m.base_color[3].to_bits(), cutoff(m.alpha_mode).unwrap_or(0.0).to_bits()];
     }
     words
 }
@@ -119,6 +130,16 @@ pub fn bilinear_alpha(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling)
 /// vertices 1 and 2) is kept: true for instances that are not alpha-tested.
 pub fn visible(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> bool {
     excess(scene, instance, prim, bary).is_none_or(|e| e >= 0.0)
+}
+
+/// The coverage of a BLEND surface at such a hit (`base_color.a` x texture alpha), `None` where
+/// the instance's material is not BLEND: `trace_blend_coverage` in `shaders/trace/alpha.wgsl`.
+pub fn blend_coverage(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
+    let m = scene.instances.get(instance).and_then(|inst| scene.materials.get(inst.material))?;
+    if m.alpha_mode != AlphaMode::Blend {
+        return None;
+    }
+    excess(scene, instance, prim, bary).map(|e| e + BLEND_MIN_COVERAGE as f64)
 }
 
 /// `base_color.a` x texture alpha minus the cutoff at such a hit (kept when >= 0), `None` where

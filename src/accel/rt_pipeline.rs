@@ -768,12 +768,15 @@ impl RtPass {
     /// `entry` as a ray-generation shader and the trace module's miss, closest-hit and any-hit
     /// shaders; `bindings` lists every binding of every group (`accel_group` is bound later by
     /// [`RtPass::bind_accel`]). The shader binding table is built here and uploaded on `queue`.
+    /// `constants`: the pipeline constants of the ray-generation, miss and closest-hit stages.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         label: &str,
         module: &crate::graph::reflect::RayTracingModule,
         entry: &str,
+        constants: &naga::back::PipelineConstants,
         bindings: Vec<RtBinding>,
         accel_group: u32,
     ) -> Result<Self, RuntimeError> {
@@ -859,8 +862,7 @@ impl RtPass {
             .map(count_made)
             .map_err(|e| hal_error("compiling the any-hit shader", e))?;
             objects.shader_modules.push(any_hit_shader);
-            let constants = Default::default();
-            let stage = |module, entry_point| hal::ProgrammableStage { module, entry_point, constants: &constants, zero_initialize_workgroup_memory: true };
+            let stage = |module, entry_point| hal::ProgrammableStage { module, entry_point, constants, zero_initialize_workgroup_memory: true };
             let (naga_stages, spirv_stage) = (&objects.shader_modules[0], &objects.shader_modules[1]);
             // One hit group for every instance: the any-hit shader runs only on non-opaque
             // geometry (alpha-tested instances, RtAccel::update), so opaque hits never reach it.

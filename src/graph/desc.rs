@@ -528,6 +528,11 @@ pub struct PassDesc {
     /// a slot no light has) and its row reads 0 ms.
     #[serde(default)]
     pub shadow_slot: Option<u32>,
+    /// `SceneRaster` only: instances of BLEND materials are not drawn (a G-buffer of the
+    /// opaque surfaces, over which the `rt_blend` layer composites the translucent ones by
+    /// ray tracing). Default `false`: they are drawn screen-door (`shaders/common/alpha.wgsl`).
+    #[serde(default)]
+    pub skip_blend: bool,
 }
 
 /// The kind of GPU work of a pass.

@@ -185,7 +185,7 @@ impl BatchTracer {
                 resource: resource.clone(),
             });
             let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
-            let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", bindings, crate::graph::builtins::ACCEL_GROUP)?;
+            let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", &Default::default(), bindings, crate::graph::builtins::ACCEL_GROUP)?;
             let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
             pass.bind_accel(built, &crate::accel::cache::cache_buffers(&cache, 0))?;
             scope.finish(gpu, "creating the batch tracer")?;

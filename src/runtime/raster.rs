@@ -63,6 +63,8 @@ pub struct InstanceClass {
     pub(crate) double_sided: bool,
     pub(crate) mirrored: bool,
     pub(crate) alpha_tested: bool,
+    /// Its material is BLEND (not drawn by passes with `skip_blend`).
+    pub(crate) blend: bool,
     /// For an opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`): the
     /// world-space corners of its bounds.
     pub(crate) closed_corners: Option<[glam::Vec3; 8]>,
@@ -75,13 +77,15 @@ impl InstanceClass {
         (0..scene.instances.len())
             .map(|i| {
                 let inst = &scene.instances[i];
-                let double_sided = scene.materials.get(inst.material).is_some_and(|m| m.double_sided);
+                let material = scene.materials.get(inst.material);
+                let double_sided = material.is_some_and(|m| m.double_sided);
                 let alpha_tested = crate::accel::alpha::instance_tested(scene, i);
                 let closed_bounds = draws.get(i).filter(|d| d.instance as usize == i && !alpha_tested).and_then(|d| d.closed_bounds);
                 InstanceClass {
                     double_sided,
                     mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
                     alpha_tested,
+                    blend: material.is_some_and(|m| m.alpha_mode == crate::scene::AlphaMode::Blend),
                     closed_corners: closed_bounds.map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
                 }
             })
@@ -197,29 +201,34 @@ pub struct ScenePipelines {
     spec: RenderSpec,
     cull_back_faces: bool,
     cull_closed_back_faces: bool,
+    skip_blend: bool,
     variants: Vec<(DrawClass, wgpu::RenderPipeline)>,
 }
 
 impl ScenePipelines {
     /// The pipelines of a pass with its layer's `cull_back_faces` and
-    /// `cull_closed_back_faces`.
-    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool, cull_closed_back_faces: bool) -> Self {
-        Self { spec, cull_back_faces, cull_closed_back_faces, variants: Vec::new() }
+    /// `cull_closed_back_faces` and `skip_blend`.
+    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool, cull_closed_back_faces: bool, skip_blend: bool) -> Self {
+        Self { spec, cull_back_faces, cull_closed_back_faces, skip_blend, variants: Vec::new() }
     }
 
-    /// The class of each instance in this pass; `light_view_proj` is the view-projection of
-    /// the pass's shadow-map slot, where it has one in use.
-    pub fn classes(&self, instances: &[InstanceClass], light_view_proj: Option<&glam::Mat4>) -> Vec<DrawClass> {
+    /// The class of each instance in this pass (`None`: not drawn, a BLEND instance in a pass
+    /// with `skip_blend`); `light_view_proj` is the view-projection of the pass's shadow-map
+    /// slot, where it has one in use.
+    pub fn classes(&self, instances: &[InstanceClass], light_view_proj: Option<&glam::Mat4>) -> Vec<Option<DrawClass>> {
         let closed_culling = light_view_proj.filter(|_| self.cull_closed_back_faces);
         instances
             .iter()
-            .map(|c| c.draw_class(self.cull_back_faces, self.spec.alpha_switch, closed_culling.is_some_and(|vp| c.closed_and_beyond_near_plane(vp))))
+            .map(|c| {
+                (!(self.skip_blend && c.blend))
+                    .then(|| c.draw_class(self.cull_back_faces, self.spec.alpha_switch, closed_culling.is_some_and(|vp| c.closed_and_beyond_near_plane(vp))))
+            })
             .collect()
     }
 
     /// Creates the variants of `classes` that do not exist yet.
-    pub fn prepare(&mut self, device: &wgpu::Device, classes: &[DrawClass]) {
-        for &class in classes {
+    pub fn prepare(&mut self, device: &wgpu::Device, classes: &[Option<DrawClass>]) {
+        for &class in classes.iter().flatten() {
             if !self.variants.iter().any(|(c, _)| *c == class) {
                 let pipeline = self.spec.create(device, class);
                 self.variants.push((class, pipeline));
@@ -241,7 +250,7 @@ mod tests {
     use super::*;
 
     fn class(double_sided: bool, mirrored: bool, alpha_tested: bool) -> InstanceClass {
-        InstanceClass { double_sided, mirrored, alpha_tested, closed_corners: None }
+        InstanceClass { double_sided, mirrored, alpha_tested, blend: false, closed_corners: None }
     }
 
     #[test]
@@ -289,7 +298,7 @@ mod tests {
     fn closed_instance(center: glam::Vec3, alpha_tested: bool, double_sided: bool) -> InstanceClass {
         let b = crate::scene::Bounds { min: glam::Vec3::splat(-1.0), max: glam::Vec3::ONE };
         let corners = corners(&b).map(|c| c + center);
-        InstanceClass { double_sided, mirrored: false, alpha_tested, closed_corners: (!alpha_tested).then_some(corners) }
+        InstanceClass { double_sided, mirrored: false, alpha_tested, blend: false, closed_corners: (!alpha_tested).then_some(corners) }
     }
 
     #[test]

@@ -312,8 +312,9 @@ impl GpuScene {
                     let (alpha_flag, cutoff) = match m.alpha_mode {
                         AlphaMode::Opaque => (0, 0.0),
                         AlphaMode::Mask(c) => (MATERIAL_ALPHA_MASK, c),
-                        // BLEND is a cutout at 0.5 for visibility and shadows in every mode.
-                        AlphaMode::Blend => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, 0.5),
+                        // BLEND is translucent: hit wherever its coverage reaches the least one
+                        // (crate::accel::alpha), composited by the passes.
+                        AlphaMode::Blend => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, crate::accel::alpha::BLEND_MIN_COVERAGE),
                     };
                     MaterialUniforms {
                         base_color: m.base_color,

@@ -55,12 +55,14 @@ pub enum RtPass {}
 
 impl RtPass {
     /// Fails: there is no Vulkan device to make the pipeline on.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         _device: &wgpu::Device,
         _queue: &wgpu::Queue,
         _label: &str,
         _module: &crate::graph::reflect::RayTracingModule,
         _entry: &str,
+        _constants: &naga::back::PipelineConstants,
         _bindings: Vec<RtBinding>,
         _accel_group: u32,
     ) -> Result<Self, RuntimeError> {

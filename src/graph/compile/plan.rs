@@ -127,6 +127,8 @@ pub struct PlannedPass {
     pub cull_closed_back_faces: bool,
     /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
     pub shadow_slot: Option<u32>,
+    /// `SceneRaster`: BLEND instances are not drawn (`PassDesc::skip_blend`).
+    pub skip_blend: bool,
     /// `AccelBuild`: the settings of its `Accel` node.
     pub accel: Option<AccelNode>,
     /// Parameter values after graph overrides.

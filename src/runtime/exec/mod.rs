@@ -136,6 +136,9 @@ pub struct Executor {
     /// constant TRACE_ALPHA_TEST (see [`trace`]); the passes are built again when it
     /// changes.
     trace_alpha_test: bool,
+    /// Whether the scene has BLEND materials: the value of the passes' pipeline constant
+    /// TRACE_BLEND (`shaders/common/blend.wgsl`); the passes are built again when it changes.
+    trace_blend: bool,
     warned_unshadowed: bool,
     /// The Rust passes layer files may name (`PassKind::Rust`).
     rust_passes: RustPasses,
@@ -162,8 +165,9 @@ struct FrameInputs<'a> {
     scene: &'a Scene,
     /// Shadow maps lights use this frame; passes of the other slots are not drawn.
     shadow_count: u32,
-    /// Per pass: the draw class of each instance (empty but for `SceneRaster` passes).
-    pass_classes: Vec<Vec<DrawClass>>,
+    /// Per pass: the draw class of each instance, `None` where the pass does not draw it (empty
+    /// but for `SceneRaster` passes).
+    pass_classes: Vec<Vec<Option<DrawClass>>>,
     /// The order of the scene's draws (front to back).
     draw_order: Vec<usize>,
     /// Per pass: its colour attachments' views and its depth attachment's.
@@ -209,6 +213,7 @@ impl Executor {
             samplers,
             warned_unshadowed: false,
             trace_alpha_test: Self::scene_has_alpha_test(scene),
+            trace_blend: Self::scene_has_blend(scene),
             rust_passes,
             history: history::HistoryState::default(),
             deform: None,

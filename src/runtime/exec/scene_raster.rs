@@ -13,7 +13,7 @@ use crate::runtime::raster::ScenePipelines;
 impl Executor {
     pub(super) fn build_scene_raster_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
         self.build_render_pass(gpu, pass, layout, bindings, |spec| {
-            Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces, pass.cull_closed_back_faces))
+            Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces, pass.cull_closed_back_faces, pass.skip_blend))
         })
     }
 
@@ -38,7 +38,7 @@ impl Executor {
         let classes = &inputs.pass_classes[i];
         for (class, pipeline) in pipelines.variants() {
             let mut draws =
-                inputs.draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&class)).peekable();
+                inputs.draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&Some(class))).peekable();
             if draws.peek().is_none() {
                 continue;
             }

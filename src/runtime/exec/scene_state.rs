@@ -47,9 +47,9 @@ impl Executor {
     /// other change (meshes, materials, textures, instances added or removed) uploads the scene
     /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
     pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
-        let alpha_test = Self::scene_has_alpha_test(scene);
-        if alpha_test != self.trace_alpha_test {
-            self.trace_alpha_test = alpha_test;
+        let (alpha_test, blend) = (Self::scene_has_alpha_test(scene), Self::scene_has_blend(scene));
+        if (alpha_test, blend) != (self.trace_alpha_test, self.trace_blend) {
+            (self.trace_alpha_test, self.trace_blend) = (alpha_test, blend);
             self.passes = self.build_passes(gpu)?;
             self.accel_generation = u64::MAX;
         }

@@ -20,15 +20,23 @@ use crate::scene::Scene;
 /// (`shaders/trace/alpha.wgsl`).
 pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
 
+/// The pipeline constant of `shaders/common/blend.wgsl` that compiles the passes' handling of
+/// BLEND surfaces in (skipped by primary rays, attenuating shadow rays, composited).
+pub const TRACE_BLEND_CONSTANT: &str = "TRACE_BLEND";
+
 /// Pipeline constants of a compute or trace pass: a trace pass whose module declares
 /// [`TRACE_ALPHA_CONSTANT`] gets the alpha test only when the scene has alpha-tested geometry,
-/// so a scene without any runs a traversal with no trace of the test.
-pub(super) fn trace_constants(pass: &PlannedPass, alpha_test: bool) -> Vec<(&'static str, f64)> {
-    if pass.kind == PassKind::Trace && pass.shader.has_override(TRACE_ALPHA_CONSTANT) {
-        vec![(TRACE_ALPHA_CONSTANT, if alpha_test { 1.0 } else { 0.0 })]
-    } else {
-        Vec::new()
+/// and one that declares [`TRACE_BLEND_CONSTANT`] its BLEND handling only when the scene has
+/// BLEND materials, so a scene without any runs passes with no trace of either.
+pub(super) fn trace_constants(pass: &PlannedPass, alpha_test: bool, blend: bool) -> Vec<(&'static str, f64)> {
+    if pass.kind != PassKind::Trace {
+        return Vec::new();
     }
+    [(TRACE_ALPHA_CONSTANT, alpha_test), (TRACE_BLEND_CONSTANT, blend)]
+        .into_iter()
+        .filter(|(name, _)| pass.shader.has_override(name))
+        .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))
+        .collect()
 }
 
 /// The state a binding's resource is in while a pass uses it (the rt-pipeline back-end's
@@ -55,6 +63,11 @@ impl Executor {
         (0..scene.instances.len()).any(|i| crate::accel::alpha::instance_tested(scene, i))
     }
 
+    /// Whether any instance of `scene` has a BLEND material.
+    pub(super) fn scene_has_blend(scene: &Scene) -> bool {
+        scene.instances.iter().any(|inst| scene.materials.get(inst.material).is_some_and(|m| m.alpha_mode == crate::scene::AlphaMode::Blend))
+    }
+
     /// A trace pass on the rt-pipeline back-end: the same bindings as the compute pass would
     /// have, bound through hal bind groups of a ray-tracing pipeline.
     pub(super) fn build_rt_pass(&self, gpu: &Gpu, pass: &PlannedPass, bindings: PassBindings) -> Result<PassRuntime, RuntimeError> {
@@ -69,7 +82,10 @@ impl Executor {
             let Some(resource) = self.rt_resource(pass, b, &bindings)? else { continue };
             rt_bindings.push(RtBinding { group: b.group, entry, resource });
         }
-        let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, rt_bindings, builtins::ACCEL_GROUP)?;
+        // The ray-generation stage's constants; the alpha test is the any-hit shader's own.
+        let constants =
+            trace_constants(pass, true, self.trace_blend).into_iter().filter(|(n, _)| *n == TRACE_BLEND_CONSTANT).map(|(n, v)| (n.to_string(), v)).collect();
+        let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, &constants, rt_bindings, builtins::ACCEL_GROUP)?;
         let wg = shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
         // The launch grid: one ray-generation invocation per invocation of the compute dispatch.
         let launch = match pass.dispatch {

@@ -1,0 +1,60 @@
+// Translucent (glTF BLEND) surfaces along rays (docs/ARCHITECTURE.md, "Blended surfaces"). The
+// traversal hits a BLEND surface wherever its coverage (base_color.a x the base texture's
+// alpha, trace/alpha.wgsl's trace_blend_coverage) is at least 1/256; the passes then:
+//   - skip it on primary rays (common/primary_hit.wgsl: the G-buffer holds the first opaque
+//     surface; the rt_blend layer composites the translucent ones over the resolved image);
+//   - let shadow and AO rays through it, attenuated by one minus its coverage
+//     (trace_transmittance: the product over every BLEND surface on the segment, 0 at an
+//     opaque one);
+//   - composite it front to back along primary and reflection rays (at most BLEND_LAYERS
+//     surfaces a ray; what lies past them is taken as seen through the last one).
+// TRACE_BLEND is a pipeline constant: the executor sets it false for a scene without BLEND
+// materials (src/runtime/exec/trace.rs), and every function here is then one plain trace.
+// Needs trace/trace.wgsl included first.
+
+override TRACE_BLEND: bool = true;
+
+// BLEND surfaces composited along one ray, and passed by a shadow or AO ray, at most.
+const BLEND_LAYERS: u32 = 8u;
+
+// A distance just past `t` on the same ray: 64 ulps, so the surface hit at `t` is not hit
+// again (the same rule as the culled back faces of common/primary_hit.wgsl).
+fn blend_past(t: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(t) + 64u);
+}
+
+// The coverage of the BLEND surface `hit` is on, or -1 for an opaque surface (or a miss).
+fn hit_blend_coverage(hit: Hit) -> f32 {
+    if !TRACE_BLEND || hit.instance == NO_HIT {
+        return -1.0;
+    }
+    return trace_blend_coverage(hit.instance, hit.primitive, hit.bary);
+}
+
+// The fraction of light that gets through [t_min, t_max] of `ray`: 0 past an opaque surface,
+// else the product of one minus the coverage of every BLEND surface on it (order does not
+// matter). Without BLEND materials: one any-hit ray, 0 or 1.
+fn trace_transmittance(ray: Ray) -> f32 {
+    if !TRACE_BLEND {
+        return select(1.0, 0.0, trace_any(ray));
+    }
+    var r = ray;
+    var transmittance = 1.0;
+    for (var layer = 0u; layer <= BLEND_LAYERS; layer++) {
+        let hit = trace_closest(r);
+        if hit.instance == NO_HIT {
+            return transmittance;
+        }
+        let coverage = hit_blend_coverage(hit);
+        if coverage < 0.0 {
+            return 0.0;
+        }
+        transmittance *= 1.0 - min(coverage, 1.0);
+        if transmittance < 1.0 / 256.0 {
+            return 0.0;
+        }
+        r.t_min = blend_past(hit.t);
+    }
+    // More BLEND surfaces than BLEND_LAYERS: whatever lies further is not looked at.
+    return transmittance;
+}

@@ -1,0 +1,229 @@
+//! glTF BLEND surfaces against closed-form answers.
+//!
+//! A 40%-covering red panel (base colour alpha 0.4, BLEND, double-sided) 1 unit in front of a
+//! blue wall, both unlit (KHR_materials_unlit: each shows its base colour, whatever the
+//! lights), seen straight on:
+//! - hybrid and full RT composite the panel over the wall: where the panel covers the pixel its
+//!   HDR colour is 0.4 red + 0.6 blue, elsewhere blue, on every back-end; the G-buffer holds the
+//!   wall behind the panel (primary rays and the raster G-buffer pass BLEND surfaces);
+//! - raster draws it screen-door: every 4x4 block inside the panel keeps 6 of its 16
+//!   fragments (the dither thresholds (k + 0.5) / 16 at most 0.4), within 1/32 of 0.4.
+//!
+//! A sun straight above a lit floor, the same panel between them: the ray-traced shadow mask
+//! under the panel is 1 - 0.4 (the light through it), 1 beside it, on every back-end; two
+//! stacked panels let 0.6 x 0.6 through.
+//!
+//! A scene without BLEND materials runs its shadow rays as any-hit rays (TRACE_BLEND off).
+
+mod common;
+
+use common::{channel, gpu, repo};
+use glam::{Mat4, Vec3};
+use raygraph::backend::Backend;
+use raygraph::graph::compile::{compile_with, CompileOptions};
+use raygraph::graph::Project;
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::{builtin, AlphaMode, Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, Vertex};
+
+const SIZE: (u32, u32) = (64, 64);
+const COVERAGE: f32 = 0.4;
+
+/// A quad over [-h, h]² in the xy plane at height z, facing +z, uvs over [0, 1]².
+fn quad(name: &str, h: f32, z: f32) -> Mesh {
+    let v = |x: f32, y: f32| Vertex { position: [x, y, z], normal: [0.0, 0.0, 1.0], uv: [(x + h) / (2.0 * h), (h - y) / (2.0 * h)] };
+    Mesh { name: name.into(), vertices: vec![v(-h, -h), v(h, -h), v(h, h), v(-h, h)], indices: vec![0, 1, 2, 0, 2, 3], tangents: None, extras: None }
+}
+
+fn panel_material(lit: bool) -> Material {
+    Material { alpha_mode: AlphaMode::Blend, double_sided: true, unlit: !lit, ..Material::diffuse("panel", [1.0, 0.0, 0.0, COVERAGE], None) }
+}
+
+/// The panel over the wall, seen from +z: the panel covers the middle half of the image.
+fn panel_scene() -> Scene {
+    let mut s = builtin::default_scene();
+    s.name = "blend panel".into();
+    s.meshes = vec![quad("wall", 4.0, 0.0), quad("panel", 1.0, 1.0)];
+    s.materials = vec![Material { unlit: true, ..Material::diffuse("wall", [0.0, 0.0, 1.0, 1.0], None) }, panel_material(false)];
+    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
+    s.textures.clear();
+    // 5 units from the panel, whose half-width 1 then spans half the image's height.
+    s.camera = Camera {
+        position: Vec3::new(0.0, 0.0, 6.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 2.0 * (2.0f32 / 5.0).atan(),
+        near: 0.05,
+        far: 100.0,
+        orthographic: None,
+    };
+    s
+}
+
+fn render(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene) -> Executor {
+    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+    let path = repo().join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec
+}
+
+/// Whether pixel (x, y) is wholly inside the panel's image (its middle half, a pixel's margin).
+fn inside_panel(x: u32, y: u32) -> bool {
+    let (lo, hi) = (SIZE.0 / 4 + 1, 3 * SIZE.0 / 4 - 1);
+    (lo..hi).contains(&x) && (lo..hi).contains(&y)
+}
+
+/// Whether pixel (x, y) is wholly outside it.
+fn outside_panel(x: u32, y: u32) -> bool {
+    let (lo, hi) = (SIZE.0 / 4 - 1, 3 * SIZE.0 / 4 + 1);
+    !(lo..hi).contains(&x) || !(lo..hi).contains(&y)
+}
+
+fn backends(gpu: &Gpu) -> Vec<Backend> {
+    gpu.backends.clone()
+}
+
+#[test]
+fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
+    let gpu = gpu();
+    let scene = panel_scene();
+    let over = Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE);
+    for backend in backends(&gpu) {
+        for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
+            let exec = render(&gpu, graph, backend, &scene);
+            let hdr = channel(&gpu, &exec, "blend.color");
+            let position = channel(&gpu, &exec, "gbuffer.position");
+            let (mut worst_in, mut worst_out, mut n_in) = (0.0f32, 0.0f32, 0);
+            for y in 0..SIZE.1 {
+                for x in 0..SIZE.0 {
+                    let i = (y * SIZE.0 + x) as usize;
+                    let c = Vec3::new(hdr[i][0], hdr[i][1], hdr[i][2]);
+                    if inside_panel(x, y) {
+                        // The G-buffer shows the wall (instance 0, w = 1) behind the panel.
+                        assert_eq!(position[i][3], 1.0, "{graph} {backend:?}: the G-buffer at ({x}, {y}) holds the wall");
+                        assert!(position[i][2].abs() < 1e-3, "{graph} {backend:?}: G-buffer depth at ({x}, {y}): z = {}", position[i][2]);
+                        worst_in = worst_in.max((c - over).abs().max_element());
+                        n_in += 1;
+                    } else if outside_panel(x, y) {
+                        worst_out = worst_out.max((c - Vec3::Z).abs().max_element());
+                    }
+                }
+            }
+            println!("{graph} {backend:?}: {n_in} pixels behind the panel, largest error {worst_in:.5}; beside it {worst_out:.5}");
+            assert!(n_in > 600, "{graph}: the panel is in view");
+            // 8-bit albedo of the G-buffer (wall) and the f16 output: 1/510 + 1e-3.
+            assert!(worst_in < 3e-3, "{graph} {backend:?}: 0.4 red over 0.6 blue, largest error {worst_in}");
+            assert!(worst_out < 3e-3, "{graph} {backend:?}: the bare wall, largest error {worst_out}");
+        }
+    }
+}
+
+#[test]
+fn raster_draws_the_panel_screen_door_keeping_its_share_of_every_4x4_block() {
+    let gpu = gpu();
+    let exec = render(&gpu, "graph/raster.ron", Backend::Compute, &panel_scene());
+    let hdr = channel(&gpu, &exec, "forward.color");
+    let mut blocks = 0;
+    for by in 0..SIZE.1 / 4 {
+        for bx in 0..SIZE.0 / 4 {
+            let pixels: Vec<(u32, u32)> = (0..16).map(|k| (bx * 4 + k % 4, by * 4 + k / 4)).collect();
+            if !pixels.iter().all(|&(x, y)| inside_panel(x, y)) {
+                continue;
+            }
+            let red: Vec<f32> = pixels.iter().map(|&(x, y)| hdr[(y * SIZE.0 + x) as usize][0]).collect();
+            // Each fragment is the panel's red or the wall's blue, nothing between.
+            assert!(red.iter().all(|&r| r < 2e-3 || (r - 1.0).abs() < 2e-3), "block ({bx}, {by}): {red:?}");
+            let share = red.iter().filter(|&&r| r > 0.5).count() as f32 / 16.0;
+            assert_eq!(share, 6.0 / 16.0, "block ({bx}, {by})");
+            assert!((share - COVERAGE).abs() <= 1.0 / 32.0);
+            blocks += 1;
+        }
+    }
+    println!("raster: {blocks} 4x4 blocks inside the panel, each keeping 6 of 16 fragments (coverage 0.4)");
+    assert!(blocks >= 16);
+}
+
+/// A lit floor (y = 0) under a sun straight above, one BLEND panel 1 above it over all of x < 0
+/// and, with `stacked`, a second one 2 above it over the same part; seen from above (image right
+/// is +x).
+fn shadow_scene(stacked: bool) -> Scene {
+    let mut s = builtin::default_scene();
+    s.name = "blend shadow".into();
+    let flat = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    let over_left = |y: f32| Mat4::from_translation(Vec3::new(-4.0, y, 0.0)) * flat;
+    s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)];
+    s.materials = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), panel_material(true)];
+    s.instances = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
+    if stacked {
+        s.instances.push(Instance { mesh: 1, material: 1, transform: over_left(2.0) });
+    }
+    s.textures.clear();
+    s.lights = vec![PunctualLight {
+        name: "sun".into(),
+        kind: LightKind::Directional,
+        position: Vec3::ZERO,
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        intensity: 3.0,
+    }];
+    s.camera = Camera {
+        position: Vec3::new(0.0, 10.0, 0.0),
+        target: Vec3::ZERO,
+        up: Vec3::NEG_Z,
+        fov_y: 2.0 * (3.0f32 / 10.0).atan(),
+        near: 0.05,
+        far: 100.0,
+        orthographic: None,
+    };
+    s
+}
+
+#[test]
+fn shadows_through_blend_panels_let_one_minus_their_coverage_through_on_every_back_end() {
+    let gpu = gpu();
+    for (stacked, through) in [(false, 1.0 - COVERAGE), (true, (1.0 - COVERAGE) * (1.0 - COVERAGE))] {
+        let scene = shadow_scene(stacked);
+        for backend in backends(&gpu) {
+            let exec = render(&gpu, "graph/hybrid.ron", backend, &scene);
+            let mask = channel(&gpu, &exec, "shadow.shadow");
+            // Floor pixels: x in [-3, 3] spans the image; the panels cover x < 0 (left half),
+            // the floor's right half is in the open. A pixel's margin around x = 0.
+            let (mut under, mut open) = (Vec::new(), Vec::new());
+            for y in 4..SIZE.1 - 4 {
+                for x in 4..SIZE.0 - 4 {
+                    let m = mask[(y * SIZE.0 + x) as usize][0];
+                    if x < SIZE.0 / 2 - 1 {
+                        under.push(m);
+                    } else if x > SIZE.0 / 2 {
+                        open.push(m);
+                    }
+                }
+            }
+            let worst_under = under.iter().map(|m| (m - through).abs()).fold(0.0f32, f32::max);
+            let worst_open = open.iter().map(|m| (m - 1.0).abs()).fold(0.0f32, f32::max);
+            println!("{backend:?}, stacked {stacked}: light under the panels {through:.3} within {worst_under:.4}, in the open within {worst_open:.4}");
+            // The mask is 8-bit: half a step.
+            assert!(worst_under <= 0.5 / 255.0 + 1e-4, "{backend:?} stacked {stacked}: under the panels {worst_under}");
+            assert!(worst_open <= 0.5 / 255.0 + 1e-4, "{backend:?} stacked {stacked}: in the open {worst_open}");
+        }
+    }
+}
+
+#[test]
+fn a_scene_without_blend_materials_traces_its_shadow_rays_as_any_hit_rays() {
+    let gpu = gpu();
+    let scene = builtin::default_scene();
+    assert!(scene.materials.iter().all(|m| m.alpha_mode != AlphaMode::Blend));
+    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
+    let path = repo().join("graph/hybrid.ron");
+    let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
+    let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+    let frame = exec.render(&gpu, &scene.camera, &scene).unwrap();
+    let names: Vec<String> = exec.plan().passes().iter().map(|p| p.name.clone()).collect();
+    let rays_of = |pass: &str| frame.pass_rays[names.iter().position(|n| n == pass).unwrap()].expect("a trace pass counts its rays");
+    let (shadow, blend) = (rays_of("shadow/shadow"), rays_of("blend/blend"));
+    println!("default scene: shadow pass {} any-hit, {} closest-hit rays; blend pass {} rays", shadow.any, shadow.closest, blend.traced());
+    assert!(shadow.any > 0 && shadow.closest == 0, "shadow rays are any-hit rays without BLEND materials");
+    assert_eq!(blend.traced(), 0, "the blend layer traces nothing without BLEND materials");
+}
