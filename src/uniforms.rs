@@ -106,7 +106,7 @@ pub struct MaterialUniforms {
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
     /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] | [`MATERIAL_UV1`] << slot |
-    /// [`MATERIAL_SAMPLERS`].
+    /// [`MATERIAL_SAMPLERS`] | [`MATERIAL_LOBES`].
     pub flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
@@ -126,6 +126,13 @@ pub struct MaterialUniforms {
     /// Each slot's uv transform (`KHR_texture_transform`), rows `2 slot` and `2 slot + 1` (xyz);
     /// read only with [`MATERIAL_UV_TRANSFORM`].
     pub(crate) uv_transforms: [[f32; 4]; 10],
+    /// The dielectric reflectance at normal incidence (rgb) and at grazing angles (a):
+    /// [`crate::scene::Lobes::dielectric_f0`] and the specular factor; read only with
+    /// [`MATERIAL_LOBES`].
+    pub(crate) specular: [f32; 4],
+    /// The clear coat's weight and perceptual roughness (then 0, 0); read only with
+    /// [`MATERIAL_LOBES`].
+    pub(crate) clearcoat: [f32; 4],
 }
 
 /// Material flag: both faces are lit and never culled.
@@ -142,3 +149,6 @@ pub(crate) const MATERIAL_UV_TRANSFORM: u32 = 16;
 pub(crate) const MATERIAL_UV1: u32 = 32;
 /// Material flag: a texture slot's sampler is not glTF's default (`samplers` is read).
 pub(crate) const MATERIAL_SAMPLERS: u32 = 1024;
+/// Material flag: its specular lobes are not glTF's core material's (`specular` and
+/// `clearcoat` are read; KHR_materials_ior, KHR_materials_specular, KHR_materials_clearcoat).
+pub(crate) const MATERIAL_LOBES: u32 = 2048;

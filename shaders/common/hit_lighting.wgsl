@@ -15,6 +15,8 @@ fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
     sp.occlusion = s.occlusion;
     sp.emissive = s.emissive;
     sp.unlit = s.unlit;
+    let m = scene_materials[s.material];
+    shading_lobes(&sp, m.flags, m.specular, m.clearcoat);
     return sp;
 }
 

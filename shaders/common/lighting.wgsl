@@ -12,6 +12,7 @@
 // radiance scale: a white Lambert surface facing a directional light of intensity 1 (or a point
 // light of intensity 1 at distance 1) has radiance 1.
 // Needs the main shader to declare `frame` (common/frame.wgsl).
+//#include "common/gbuffer_material_word.wgsl"
 
 const PI: f32 = 3.14159265359;
 
@@ -62,6 +63,25 @@ struct ShadingPoint {
     // KHR_materials_unlit: the point shows its albedo (the base colour) and nothing else
     // (false in a zero-initialised point)
     unlit: bool,
+    // The specular lobes (set by shading_lobes): the dielectric part's reflectance at normal
+    // incidence (0.04: glTF's core material) and at grazing angles (1), and the clear coat's
+    // weight (0: none) and perceptual roughness.
+    f0: vec3<f32>,
+    f90: f32,
+    clearcoat: f32,
+    clearcoat_roughness: f32,
+}
+
+// Sets the specular lobes of `s` from material flags `flags` and the material's `specular` and
+// `clearcoat` words (KHR_materials_ior, _specular, _clearcoat; read only with MATERIAL_LOBES,
+// else glTF's core material).
+fn shading_lobes(s: ptr<function, ShadingPoint>, flags: u32, specular: vec4<f32>, clearcoat: vec4<f32>) {
+    // MATERIAL_LOBES (common/scene.wgsl, which not every includer of this file has).
+    let lobes = (flags & 2048u) != 0u;
+    (*s).f0 = select(vec3<f32>(0.04), specular.rgb, lobes);
+    (*s).f90 = select(1.0, specular.a, lobes);
+    (*s).clearcoat = select(0.0, clearcoat.x, lobes);
+    (*s).clearcoat_roughness = clearcoat.y;
 }
 
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
@@ -72,8 +92,26 @@ fn fresnel_schlick(cos_theta: f32, f0: vec3<f32>) -> vec3<f32> {
     return f0 + (vec3<f32>(1.0) - f0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0);
 }
 
-fn specular_f0(albedo: vec3<f32>, metallic: f32) -> vec3<f32> {
-    return mix(vec3<f32>(0.04), albedo, metallic);
+// Reflectance at normal incidence: the dielectric part's `dielectric` (0.04 for glTF's core
+// material), the base colour for metals.
+fn specular_f0(albedo: vec3<f32>, metallic: f32, dielectric: vec3<f32>) -> vec3<f32> {
+    return mix(dielectric, albedo, metallic);
+}
+
+// Schlick's Fresnel term from `f0` at normal incidence to `f90` at grazing angles.
+fn fresnel_schlick_f90(cos_theta: f32, f0: vec3<f32>, f90: f32) -> vec3<f32> {
+    return f0 + (vec3<f32>(f90) - f0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0);
+}
+
+// The Fresnel reflectance of point `s` seen at cosine `cos_theta`: the dielectric part's
+// (f0 to f90) mixed with the metal's (base colour to 1) by metalness.
+fn point_fresnel(s: ShadingPoint, cos_theta: f32) -> vec3<f32> {
+    return fresnel_schlick_f90(cos_theta, specular_f0(s.albedo, s.metallic, s.f0), mix(s.f90, 1.0, s.metallic));
+}
+
+// The clear coat's Fresnel reflectance (ior 1.5) at cosine `cos_theta`.
+fn coat_fresnel(cos_theta: f32) -> f32 {
+    return fresnel_schlick(cos_theta, vec3<f32>(0.04)).x;
 }
 
 fn light_sample(light: Light, p: vec3<f32>) -> LightSample {
@@ -105,8 +143,9 @@ fn light_sample(light: Light, p: vec3<f32>) -> LightSample {
 }
 
 // Outgoing radiance towards `v` from light arriving from `l` with irradiance `e` (normal
-// incidence), for a surface with normal n.
-fn brdf_light(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, e: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32) -> vec3<f32> {
+// incidence), for a surface with normal n; `f0` and `f90`: its Fresnel reflectance at normal
+// incidence and at grazing angles.
+fn brdf_light(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, e: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32, f0: vec3<f32>, f90: f32) -> vec3<f32> {
     let n_l = dot(n, l);
     if n_l <= 0.0 {
         return vec3<f32>(0.0);
@@ -119,7 +158,7 @@ fn brdf_light(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, e: vec3<f32>, albedo: ve
     let d = a2 / (PI * pow(n_h * n_h * (a2 - 1.0) + 1.0, 2.0));
     let k = (roughness + 1.0) * (roughness + 1.0) / 8.0;
     let g = (n_l / (n_l * (1.0 - k) + k)) * (n_v / (n_v * (1.0 - k) + k));
-    let f = fresnel_schlick(max(dot(h, v), 0.0), specular_f0(albedo, metallic));
+    let f = fresnel_schlick_f90(max(dot(h, v), 0.0), f0, f90);
     let specular = d * g * f / (4.0 * n_l * n_v);
     let diffuse = (vec3<f32>(1.0) - f) * (1.0 - metallic) * albedo / PI;
     // Lights are given as irradiance; scale so a white Lambert surface facing a light of
@@ -132,7 +171,15 @@ fn light_radiance(s: ShadingPoint, ls: LightSample) -> vec3<f32> {
     if all(ls.e == vec3<f32>(0.0)) || s.unlit {
         return vec3<f32>(0.0);
     }
-    return brdf_light(s.normal, s.view, ls.l, ls.e, s.albedo, s.metallic, s.roughness);
+    let f0 = specular_f0(s.albedo, s.metallic, s.f0);
+    let base = brdf_light(s.normal, s.view, ls.l, ls.e, s.albedo, s.metallic, s.roughness, f0, mix(s.f90, 1.0, s.metallic));
+    if s.clearcoat <= 0.0 {
+        return base;
+    }
+    // KHR_materials_clearcoat: the coat's GGX lobe (ior 1.5, no diffuse) over the base, which
+    // gets what the coat does not reflect towards the viewer.
+    let coat = brdf_light(s.normal, s.view, ls.l, ls.e, vec3<f32>(0.0), 0.0, s.clearcoat_roughness, vec3<f32>(0.04), 1.0);
+    return base * (1.0 - s.clearcoat * coat_fresnel(dot(s.normal, s.view))) + s.clearcoat * coat;
 }
 
 // Specular reflection of `incoming` radiance arriving along the mirror direction (a
@@ -141,7 +188,14 @@ fn reflected_radiance(s: ShadingPoint, incoming: vec3<f32>) -> vec3<f32> {
     if s.unlit {
         return vec3<f32>(0.0);
     }
-    return fresnel_schlick(dot(s.normal, s.view), specular_f0(s.albedo, s.metallic)) * incoming;
+    let cos_v = dot(s.normal, s.view);
+    let base = point_fresnel(s, cos_v) * incoming;
+    if s.clearcoat <= 0.0 {
+        return base;
+    }
+    // The coat reflects the same incoming light (its own roughness is not traced apart).
+    let coat = s.clearcoat * coat_fresnel(cos_v);
+    return base * (1.0 - coat) + coat * incoming;
 }
 
 // What a mirror shows without occluders: the sky along the mirror direction. Modes that trace

@@ -19,6 +19,8 @@ const MATERIAL_UV_TRANSFORM: u32 = 16u;
 const MATERIAL_UV1: u32 = 32u;
 // A texture slot's sampler is not glTF's default (samplers_low/high are read).
 const MATERIAL_SAMPLERS: u32 = 1024u;
+// The specular lobes are not glTF's core material's (`specular` and `clearcoat` are read).
+const MATERIAL_LOBES: u32 = 2048u;
 
 struct Material {
     base_color: vec4<f32>,
@@ -42,6 +44,11 @@ struct Material {
     // Each slot's uv transform (KHR_texture_transform): rows 2 slot and 2 slot + 1 (xyz), read
     // only with MATERIAL_UV_TRANSFORM.
     uv_transforms: array<vec4<f32>, 10>,
+    // KHR_materials_ior / _specular: the dielectric reflectance at normal incidence (rgb) and
+    // at grazing angles (a); KHR_materials_clearcoat: weight, roughness (then 0, 0). Read only
+    // with MATERIAL_LOBES (common/lighting.wgsl's shading_lobes).
+    specular: vec4<f32>,
+    clearcoat: vec4<f32>,
 }
 
 // Geometry for shading hits (`scene_vertices`, `scene_indices`, `scene_meshes`): a vertex is

@@ -28,6 +28,8 @@ struct Surface {
     occlusion: f32,
     // KHR_materials_unlit: shows `albedo` alone.
     unlit: bool,
+    // Its material (scene_materials index).
+    material: u32,
     // How far shadow rays leave above the surface along `geo_normal` (world units): the
     // shadow-terminator offset of a smooth-shaded triangle (common/material_inputs.wgsl), 0 on
     // a flat one.
@@ -168,6 +170,7 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.emissive = emissive;
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
     s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
+    s.material = inst.material;
     let na = normalize(vec3<f32>(a.nx, a.ny, a.nz)) * side;
     let nb = normalize(vec3<f32>(b.nx, b.ny, b.nz)) * side;
     let nc = normalize(vec3<f32>(c.nx, c.ny, c.nz)) * side;

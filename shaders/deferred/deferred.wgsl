@@ -9,6 +9,7 @@
 //#include "common/scene_textures.wgsl"
 //#include "common/material_inputs.wgsl"
 //#include "common/raster_visibility.wgsl"
+//#include "common/gbuffer_material_word.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -65,9 +66,10 @@ fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     out.geo_normal = vec4<f32>(s.geo_normal, 0.0);
     out.albedo = vec4<f32>(s.albedo, 1.0);
     let e = dot(s.emissive, vec3<f32>(0.2126, 0.7152, 0.0722));
-    // a: 1 for a lit surface, 0 for an unlit one (KHR_materials_unlit), as
-    // common/gbuffer_store_material.wgsl writes it.
-    out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), select(1.0, 0.0, s.unlit));
+    // a: 1 for a lit surface, 0 for an unlit one (KHR_materials_unlit), 0.5 for a lit one with
+    // its own specular lobes, as common/gbuffer_store_material.wgsl writes it.
+    let word = gbuffer_material_word(s.unlit, scene_materials[inst.material].flags);
+    out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), word);
     out.emissive = vec4<f32>(s.emissive, s.occlusion);
     return out;
 }

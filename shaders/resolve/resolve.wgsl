@@ -7,6 +7,7 @@
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/lighting.wgsl"
+//#include "common/gbuffer_lobes.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var position: texture_2d<f32>;
@@ -20,6 +21,8 @@
 @group(0) @binding(9) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(10) var hdr: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var gi: texture_2d<f32>;
+@group(0) @binding(12) var<storage, read> scene_instances: array<Instance>;
+@group(0) @binding(13) var<storage, read> scene_materials: array<Material>;
 
 fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
@@ -50,7 +53,8 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
     s.roughness = m.g;
     s.occlusion = e.a;
     s.emissive = e.rgb;
-    s.unlit = m.a < 0.5;
+    s.unlit = gbuffer_unlit(m.a);
+    gbuffer_lobes(&s, m.a, p.w);
     if s.unlit {
         return vec4<f32>(surface_radiance(s, vec3<f32>(0.0), 1.0), 1.0);
     }

@@ -67,7 +67,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = textureLoad(position, id.xy, 0);
     let m = textureLoad(material, id.xy, 0);
     // No reflection off the sky, rough surfaces and unlit ones (material a 0).
-    if p.w == 0.0 || m.g > params.max_roughness || m.a < 0.5 {
+    if p.w == 0.0 || m.g > params.max_roughness || gbuffer_unlit(m.a) {
         textureStore(reflection, id.xy, vec4<f32>(0.0));
         return;
     }
@@ -104,7 +104,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             break; // an unlit surface reflects nothing
         }
         // The next bounce leaves the hit point, weighted by its Fresnel reflectance.
-        let f = fresnel_schlick(dot(s.normal, -dir), specular_f0(s.albedo, s.metallic));
+        let f = point_fresnel(hit_shading_point(s, -dir), dot(s.normal, -dir));
         throughput *= f;
         if s.roughness > params.max_roughness || max(throughput.x, max(throughput.y, throughput.z)) < 0.01 {
             break;

@@ -8,6 +8,7 @@
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
 //#include "common/lighting.wgsl"
+//#include "common/gbuffer_lobes.wgsl"
 //#include "common/sampling.wgsl"
 //#include "trace/trace.wgsl"
 //#include "common/shadow_ray.wgsl"
@@ -32,6 +33,8 @@ struct Params {
 @group(0) @binding(6) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(7) var shadow: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(8) var direct: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(10) var<storage, read> scene_instances: array<Instance>;
+@group(0) @binding(11) var<storage, read> scene_materials: array<Material>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -55,7 +58,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.albedo = textureLoad(albedo, id.xy, 0).rgb;
     s.metallic = m.r;
     s.roughness = m.g;
-    s.unlit = m.a < 0.5;
+    s.unlit = gbuffer_unlit(m.a);
+    gbuffer_lobes(&s, m.a, p.w);
     // Where geo_normal.w holds a shadow-terminator offset, the shading normal decides which
     // lights the surface faces.
     let facing = shadow_facing(geo, s.normal, g.w);

@@ -7,7 +7,7 @@
 //! so a failure never leaves a partial file.
 
 use super::gltf_import::SceneError;
-use super::{AlphaMode, Camera, LightKind, Material, Mipmaps, PunctualLight, Scene, SlotSampling, Wrap};
+use super::{AlphaMode, Camera, LightKind, Lobes, Material, Mipmaps, PunctualLight, Scene, SlotSampling, Wrap};
 use glam::{Mat3, Quat, Vec3};
 use gltf::json;
 use json::validation::Checked::Valid;
@@ -138,11 +138,12 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             }),
             emissive_texture: info(m.emissive_texture, 4),
             emissive_factor: json::material::EmissiveFactor(emissive),
-            extensions: (emissive_strength.is_some() || m.unlit).then(|| json::extensions::material::Material {
+            extensions: (emissive_strength.is_some() || m.unlit || m.lobes != Lobes::default()).then(|| json::extensions::material::Material {
                 emissive_strength: emissive_strength.map(|strength| json::extensions::material::EmissiveStrength {
                     emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
                 }),
                 unlit: m.unlit.then_some(json::extensions::material::Unlit {}),
+                others: lobe_extensions(&m.lobes),
                 ..Default::default()
             }),
             ..Default::default()
@@ -153,6 +154,13 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     }
     if scene.materials.iter().any(|m| m.unlit) {
         root.extensions_used.push("KHR_materials_unlit".into());
+    }
+    for m in &scene.materials {
+        for name in lobe_extensions(&m.lobes).keys() {
+            if !root.extensions_used.contains(name) {
+                root.extensions_used.push(name.clone());
+            }
+        }
     }
 
     // Meshes. The material goes with the primitive, so a mesh used with several materials
@@ -425,4 +433,24 @@ pub fn write_glb(scene: &Scene, path: &Path) -> Result<(), SceneError> {
     let err = |message: String| SceneError::Write { path: path.to_path_buf(), message };
     let bytes = to_glb(scene).map_err(err)?;
     crate::util::write_atomic(path, &bytes).map_err(|e| err(e.to_string()))
+}
+
+/// The lobe extensions a material needs (`KHR_materials_ior`, `KHR_materials_specular`,
+/// `KHR_materials_clearcoat`), each only where its factors differ from glTF's defaults.
+fn lobe_extensions(lobes: &Lobes) -> serde_json::Map<String, serde_json::Value> {
+    let core = Lobes::default();
+    let mut out = serde_json::Map::new();
+    if lobes.ior != core.ior {
+        out.insert("KHR_materials_ior".into(), serde_json::json!({ "ior": lobes.ior }));
+    }
+    if lobes.specular != core.specular || lobes.specular_color != core.specular_color {
+        out.insert("KHR_materials_specular".into(), serde_json::json!({ "specularFactor": lobes.specular, "specularColorFactor": lobes.specular_color }));
+    }
+    if lobes.clearcoat != core.clearcoat || lobes.clearcoat_roughness != core.clearcoat_roughness {
+        out.insert(
+            "KHR_materials_clearcoat".into(),
+            serde_json::json!({ "clearcoatFactor": lobes.clearcoat, "clearcoatRoughnessFactor": lobes.clearcoat_roughness }),
+        );
+    }
+    out
 }

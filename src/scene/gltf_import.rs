@@ -124,7 +124,42 @@ impl Default for LoadOptions {
 
 /// The glTF extensions raygraph reads (everything else in `extensionsUsed` is listed as
 /// ignored, and a file that requires anything else is refused).
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_texture_transform"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_unlit",
+    "KHR_texture_transform",
+];
+
+/// The textures of the lobe extensions raygraph reads only the factors of (`scene info` lists
+/// a material's as ignored).
+const LOBE_TEXTURES: &[(&str, &str)] = &[
+    ("KHR_materials_specular", "specularTexture"),
+    ("KHR_materials_specular", "specularColorTexture"),
+    ("KHR_materials_clearcoat", "clearcoatTexture"),
+    ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"),
+    ("KHR_materials_clearcoat", "clearcoatNormalTexture"),
+];
+
+/// The lobe factors of a material's JSON (`KHR_materials_ior`, `KHR_materials_specular`,
+/// `KHR_materials_clearcoat`), glTF's defaults where absent.
+fn material_lobes(json: &Value) -> crate::scene::Lobes {
+    let ext = &json["extensions"];
+    let number = |v: &Value, default: f32| v.as_f64().map_or(default, |x| x as f32);
+    let mut lobes = crate::scene::Lobes { ior: number(&ext["KHR_materials_ior"]["ior"], 1.5), ..Default::default() };
+    let specular = &ext["KHR_materials_specular"];
+    lobes.specular = number(&specular["specularFactor"], 1.0);
+    if let Some(c) = specular["specularColorFactor"].as_array().filter(|c| c.len() == 3) {
+        lobes.specular_color = [0, 1, 2].map(|k| number(&c[k], 1.0));
+    }
+    let coat = &ext["KHR_materials_clearcoat"];
+    lobes.clearcoat = number(&coat["clearcoatFactor"], 0.0);
+    lobes.clearcoat_roughness = number(&coat["clearcoatRoughnessFactor"], 0.0);
+    lobes
+}
 
 /// The five texture slots of a glTF material.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -677,6 +712,7 @@ impl TextureLoader<'_> {
         };
         mat.double_sided = m.double_sided();
         mat.unlit = m.unlit();
+        mat.lobes = material_lobes(m.index().map_or(&Value::Null, |i| &self.raw["materials"][i]));
         mat
     }
 
@@ -1028,7 +1064,7 @@ pub fn animated_bounds(scene: &Scene) -> Bounds {
 /// What a file uses that raygraph approximates or ignores, per extension, material, texture,
 /// mesh and document, as lines of [`ImportReport::approximated`] and `ignored_features`.
 mod notes {
-    use super::{material_name, material_slots, ImportReport, TextureSlot, SUPPORTED_EXTENSIONS};
+    use super::{material_name, material_slots, ImportReport, TextureSlot, LOBE_TEXTURES, SUPPORTED_EXTENSIONS};
     use gltf::json::Value;
     use std::collections::{BTreeMap, BTreeSet};
 
@@ -1077,6 +1113,9 @@ mod notes {
         }
         for ext in extension_names(json).into_iter().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
             report.ignored_features.push(format!("material {name}: {ext}"));
+        }
+        for (ext, texture) in LOBE_TEXTURES.iter().filter(|(ext, texture)| !json["extensions"][ext][texture].is_null()) {
+            report.ignored_features.push(format!("material {name}: {ext} {texture} (its factor alone is read)"));
         }
         for (slot, _, tex_coord) in material_slots(m) {
             if tex_coord > 1 {

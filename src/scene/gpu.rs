@@ -11,7 +11,7 @@
 use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_SAMPLERS, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -304,42 +304,7 @@ impl GpuScene {
         }
 
         if usage.materials {
-            let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
-            let materials: Vec<MaterialUniforms> = scene
-                .materials
-                .iter()
-                .map(|m| {
-                    let (alpha_flag, cutoff) = match m.alpha_mode {
-                        AlphaMode::Opaque => (0, 0.0),
-                        AlphaMode::Mask(c) => (MATERIAL_ALPHA_MASK, c),
-                        // BLEND is translucent: hit wherever its coverage reaches the least one
-                        // (crate::accel::alpha), composited by the passes.
-                        AlphaMode::Blend => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, crate::accel::alpha::BLEND_MIN_COVERAGE),
-                    };
-                    MaterialUniforms {
-                        base_color: m.base_color,
-                        emissive: m.emissive,
-                        metallic: m.metallic,
-                        roughness: m.roughness,
-                        normal_scale: m.normal_scale,
-                        alpha_cutoff: cutoff,
-                        flags: alpha_flag
-                            | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 }
-                            | if m.unlit { MATERIAL_UNLIT } else { 0 }
-                            | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 }
-                            | if m.sampling.iter().any(|s| s.sampler_bits() != 0) { MATERIAL_SAMPLERS } else { 0 }
-                            | m.sampling.iter().enumerate().map(|(slot, s)| if s.tex_coord == 1 { MATERIAL_UV1 << slot } else { 0 }).sum::<u32>(),
-                        base_texture: layer(m.texture),
-                        metallic_roughness_texture: layer(m.metallic_roughness_texture),
-                        normal_texture: layer(m.normal_texture),
-                        emissive_texture: layer(m.emissive_texture),
-                        occlusion_texture: layer(m.occlusion_texture),
-                        occlusion_strength: m.occlusion_strength,
-                        samplers: sampler_words(&m.sampling),
-                        uv_transforms: uv_transform_rows(&m.sampling),
-                    }
-                })
-                .collect();
+            let materials: Vec<MaterialUniforms> = scene.materials.iter().map(material_uniforms).collect();
             out.materials = Some(storage_records(device, scene, "material", materials, &mut bytes)?);
         }
 
@@ -770,5 +735,45 @@ impl SceneContent {
         structure = hash_words(structure, &(scene.effective_light_count() as u64).to_le_bytes());
         let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
         Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)), deformed: scene.deformation_key().unwrap_or(0) }
+    }
+}
+
+/// The GPU record of material `m` (`scene_materials`).
+fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
+    let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
+    let (alpha_flag, cutoff) = match m.alpha_mode {
+        AlphaMode::Opaque => (0, 0.0),
+        AlphaMode::Mask(c) => (MATERIAL_ALPHA_MASK, c),
+        // BLEND is translucent: hit wherever its coverage reaches the least one
+        // (crate::accel::alpha), composited by the passes.
+        AlphaMode::Blend => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, crate::accel::alpha::BLEND_MIN_COVERAGE),
+    };
+    MaterialUniforms {
+        base_color: m.base_color,
+        emissive: m.emissive,
+        metallic: m.metallic,
+        roughness: m.roughness,
+        normal_scale: m.normal_scale,
+        alpha_cutoff: cutoff,
+        flags: alpha_flag
+            | if m.double_sided { MATERIAL_DOUBLE_SIDED } else { 0 }
+            | if m.unlit { MATERIAL_UNLIT } else { 0 }
+            | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 }
+            | if m.sampling.iter().any(|s| s.sampler_bits() != 0) { MATERIAL_SAMPLERS } else { 0 }
+            | m.sampling.iter().enumerate().map(|(slot, s)| if s.tex_coord == 1 { MATERIAL_UV1 << slot } else { 0 }).sum::<u32>()
+            | if m.lobes != crate::scene::Lobes::default() { MATERIAL_LOBES } else { 0 },
+        base_texture: layer(m.texture),
+        metallic_roughness_texture: layer(m.metallic_roughness_texture),
+        normal_texture: layer(m.normal_texture),
+        emissive_texture: layer(m.emissive_texture),
+        occlusion_texture: layer(m.occlusion_texture),
+        occlusion_strength: m.occlusion_strength,
+        samplers: sampler_words(&m.sampling),
+        uv_transforms: uv_transform_rows(&m.sampling),
+        specular: {
+            let f0 = m.lobes.dielectric_f0();
+            [f0[0], f0[1], f0[2], m.lobes.specular]
+        },
+        clearcoat: [m.lobes.clearcoat, m.lobes.clearcoat_roughness, 0.0, 0.0],
     }
 }

@@ -175,6 +175,42 @@ pub struct Material {
     /// How each texture slot is sampled, in the order of [`gltf_import::TextureSlot`] (base
     /// colour, metallic-roughness, normal, occlusion, emissive).
     pub sampling: [SlotSampling; 5],
+    /// The specular lobes of the glTF PBR extensions (`KHR_materials_ior`,
+    /// `KHR_materials_specular`, `KHR_materials_clearcoat`).
+    pub lobes: Lobes,
+}
+
+/// The factors of `KHR_materials_ior`, `KHR_materials_specular` and `KHR_materials_clearcoat`
+/// (their textures are not read; `scene info` lists them). The default is glTF's core
+/// material: index of refraction 1.5 (a dielectric reflects 4% at normal incidence), no coat.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lobes {
+    /// Index of refraction of the dielectric part.
+    pub ior: f32,
+    /// `specularFactor`: the strength of the dielectric specular lobe (its reflectance at
+    /// grazing angles, and a scale of its reflectance at normal incidence).
+    pub specular: f32,
+    /// `specularColorFactor`: the tint of the dielectric reflectance at normal incidence.
+    pub specular_color: [f32; 3],
+    /// `clearcoatFactor`: the weight of a clear dielectric coat (ior 1.5) over the material.
+    pub clearcoat: f32,
+    /// `clearcoatRoughnessFactor`: the coat's perceptual roughness.
+    pub clearcoat_roughness: f32,
+}
+
+impl Default for Lobes {
+    fn default() -> Self {
+        Self { ior: 1.5, specular: 1.0, specular_color: [1.0; 3], clearcoat: 0.0, clearcoat_roughness: 0.0 }
+    }
+}
+
+impl Lobes {
+    /// The dielectric part's reflectance at normal incidence (KHR_materials_specular):
+    /// min(((ior - 1) / (ior + 1))² x specular colour, 1) x specular factor; 0.04 by default.
+    pub fn dielectric_f0(&self) -> [f32; 3] {
+        let r = ((self.ior as f64 - 1.0) / (self.ior as f64 + 1.0)).powi(2);
+        self.specular_color.map(|c| ((r * c as f64).min(1.0) * self.specular as f64) as f32)
+    }
 }
 
 impl Material {
@@ -203,6 +239,7 @@ impl Material {
             double_sided: false,
             unlit: false,
             sampling: Default::default(),
+            lobes: Lobes::default(),
         }
     }
 }
