@@ -106,7 +106,7 @@ pub struct MaterialUniforms {
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
     /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] | [`MATERIAL_UV1`] << slot |
-    /// [`MATERIAL_SAMPLERS`] | [`MATERIAL_LOBES`].
+    /// [`MATERIAL_SAMPLERS`] | [`MATERIAL_LOBES`] | [`MATERIAL_TRANSMISSION`].
     pub flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
@@ -130,8 +130,9 @@ pub struct MaterialUniforms {
     /// [`crate::scene::Lobes::dielectric_f0`] and the specular factor; read only with
     /// [`MATERIAL_LOBES`].
     pub(crate) specular: [f32; 4],
-    /// The clear coat's weight and perceptual roughness (then 0, 0); read only with
-    /// [`MATERIAL_LOBES`].
+    /// The clear coat's weight and perceptual roughness, the transmission factor and the
+    /// coverage factor of a transmissive material ([`crate::scene::Material::coverage_factor`]);
+    /// read only with [`MATERIAL_LOBES`].
     pub(crate) clearcoat: [f32; 4],
 }
 
@@ -152,3 +153,6 @@ pub(crate) const MATERIAL_SAMPLERS: u32 = 1024;
 /// Material flag: its specular lobes are not glTF's core material's (`specular` and
 /// `clearcoat` are read; KHR_materials_ior, KHR_materials_specular, KHR_materials_clearcoat).
 pub(crate) const MATERIAL_LOBES: u32 = 2048;
+/// Material flag: transmissive (`KHR_materials_transmission`; translucent, with
+/// MATERIAL_ALPHA_BLEND: its coverage factor is `clearcoat[3]`).
+pub(crate) const MATERIAL_TRANSMISSION: u32 = 4096;

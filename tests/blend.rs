@@ -13,6 +13,10 @@
 //! under the panel is 1 - 0.4 (the light through it), 1 beside it, on every back-end; two
 //! stacked panels let 0.6 x 0.6 through.
 //!
+//! A transmissive panel (KHR_materials_transmission 0.75, alpha mode OPAQUE, unlit base colour
+//! (0.5, 1, 0.25)) in the same place covers 1 - 0.75 of the pixel and tints what it lets through
+//! by its base colour: 0.25 x base + 0.75 x base x blue; its shadow lets 0.75 through.
+//!
 //! A scene without BLEND materials runs its shadow rays as any-hit rays (TRACE_BLEND off).
 
 mod common;
@@ -36,6 +40,23 @@ fn quad(name: &str, h: f32, z: f32) -> Mesh {
 
 fn panel_material(lit: bool) -> Material {
     Material { alpha_mode: AlphaMode::Blend, double_sided: true, unlit: !lit, ..Material::diffuse("panel", [1.0, 0.0, 0.0, COVERAGE], None) }
+}
+
+/// The transmissive panel: what it covers (1 - transmission) and its colour.
+const TRANSMISSION: f32 = 0.75;
+const GLASS: [f32; 3] = [0.5, 1.0, 0.25];
+
+fn glass_material(lit: bool) -> Material {
+    let mut m = Material { double_sided: true, unlit: !lit, ..Material::diffuse("glass", [GLASS[0], GLASS[1], GLASS[2], 1.0], None) };
+    m.lobes.transmission = TRANSMISSION;
+    m
+}
+
+/// The panel scene with the transmissive panel instead of the BLEND one.
+fn glass_scene() -> Scene {
+    let mut s = panel_scene();
+    s.materials[1] = glass_material(false);
+    s
 }
 
 /// The panel over the wall, seen from +z: the panel covers the middle half of the image.
@@ -87,11 +108,15 @@ fn backends(gpu: &Gpu) -> Vec<Backend> {
 #[test]
 fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
     let gpu = gpu();
-    let scene = panel_scene();
-    let over = Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE);
-    for backend in backends(&gpu) {
+    let glass = Vec3::from(GLASS);
+    let cases = [
+        ("blend", panel_scene(), Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE)),
+        ("transmission", glass_scene(), (1.0 - TRANSMISSION) * glass + TRANSMISSION * glass * Vec3::Z),
+    ];
+    for (backend, (what, scene, over)) in backends(&gpu).into_iter().flat_map(|b| cases.iter().map(move |c| (b, c))) {
+        let over = *over;
         for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
-            let exec = render(&gpu, graph, backend, &scene);
+            let exec = render(&gpu, graph, backend, scene);
             let hdr = channel(&gpu, &exec, "blend.color");
             let position = channel(&gpu, &exec, "gbuffer.position");
             let (mut worst_in, mut worst_out, mut n_in) = (0.0f32, 0.0f32, 0);
@@ -110,10 +135,10 @@ fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
                     }
                 }
             }
-            println!("{graph} {backend:?}: {n_in} pixels behind the panel, largest error {worst_in:.5}; beside it {worst_out:.5}");
+            println!("{what}, {graph} {backend:?}: {n_in} pixels behind the panel, largest error {worst_in:.5}; beside it {worst_out:.5}");
             assert!(n_in > 600, "{graph}: the panel is in view");
             // 8-bit albedo of the G-buffer (wall) and the f16 output: 1/510 + 1e-3.
-            assert!(worst_in < 3e-3, "{graph} {backend:?}: 0.4 red over 0.6 blue, largest error {worst_in}");
+            assert!(worst_in < 3e-3, "{what}, {graph} {backend:?}: the panel over the wall, largest error {worst_in}");
             assert!(worst_out < 3e-3, "{graph} {backend:?}: the bare wall, largest error {worst_out}");
         }
     }
@@ -147,13 +172,13 @@ fn raster_draws_the_panel_screen_door_keeping_its_share_of_every_4x4_block() {
 /// A lit floor (y = 0) under a sun straight above, one BLEND panel 1 above it over all of x < 0
 /// and, with `stacked`, a second one 2 above it over the same part; seen from above (image right
 /// is +x).
-fn shadow_scene(stacked: bool) -> Scene {
+fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
     let mut s = builtin::default_scene();
     s.name = "blend shadow".into();
     let flat = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
     let over_left = |y: f32| Mat4::from_translation(Vec3::new(-4.0, y, 0.0)) * flat;
     s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)];
-    s.materials = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), panel_material(true)];
+    s.materials = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), if transmissive { glass_material(true) } else { panel_material(true) }];
     s.instances = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
     if stacked {
         s.instances.push(Instance { mesh: 1, material: 1, transform: over_left(2.0) });
@@ -182,8 +207,8 @@ fn shadow_scene(stacked: bool) -> Scene {
 #[test]
 fn shadows_through_blend_panels_let_one_minus_their_coverage_through_on_every_back_end() {
     let gpu = gpu();
-    for (stacked, through) in [(false, 1.0 - COVERAGE), (true, (1.0 - COVERAGE) * (1.0 - COVERAGE))] {
-        let scene = shadow_scene(stacked);
+    for (stacked, transmissive, through) in [(false, false, 1.0 - COVERAGE), (true, false, (1.0 - COVERAGE) * (1.0 - COVERAGE)), (false, true, TRANSMISSION)] {
+        let scene = shadow_scene(stacked, transmissive);
         for backend in backends(&gpu) {
             let exec = render(&gpu, "graph/hybrid.ron", backend, &scene);
             let mask = channel(&gpu, &exec, "shadow.shadow");
@@ -202,7 +227,7 @@ fn shadows_through_blend_panels_let_one_minus_their_coverage_through_on_every_ba
             }
             let worst_under = under.iter().map(|m| (m - through).abs()).fold(0.0f32, f32::max);
             let worst_open = open.iter().map(|m| (m - 1.0).abs()).fold(0.0f32, f32::max);
-            println!("{backend:?}, stacked {stacked}: light under the panels {through:.3} within {worst_under:.4}, in the open within {worst_open:.4}");
+            println!("{backend:?}, stacked {stacked}, transmissive {transmissive}: light under the panels {through:.3} within {worst_under:.4}, in the open within {worst_open:.4}");
             // The mask is 8-bit: half a step.
             assert!(worst_under <= 0.5 / 255.0 + 1e-4, "{backend:?} stacked {stacked}: under the panels {worst_under}");
             assert!(worst_open <= 0.5 / 255.0 + 1e-4, "{backend:?} stacked {stacked}: in the open {worst_open}");

@@ -36,9 +36,11 @@ fn material_alpha_visible(material: u32, uv: vec2<f32>, pixel: vec2<f32>) -> boo
     if (m.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }
-    // BLEND: the coverage against the pixel's dither threshold instead of a cutoff.
+    // Translucent (BLEND, transmissive): the coverage against the pixel's dither threshold
+    // instead of a cutoff; a transmissive material's coverage factor takes its transmission.
     let cutoff = select(m.alpha_cutoff, screen_door_threshold(pixel), (m.flags & MATERIAL_ALPHA_BLEND) != 0u);
+    let factor = select(m.base_color.a, m.clearcoat.w, (m.flags & MATERIAL_TRANSMISSION) != 0u);
     // The base colour slot's uv transform and wrap modes (its filter does not apply: the test
     // is always bilinear at level 0).
-    return alpha_kept(m.base_texture, m.base_color.a, cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
+    return alpha_kept(m.base_texture, factor, cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
 }

@@ -46,23 +46,24 @@ fn shade_hit(s: Surface, v: vec3<f32>) -> vec3<f32> {
     return surface_radiance(sp, hit_direct_light(s, sp), 1.0);
 }
 
-// The BLEND surfaces along a ray, composited front to back: `radiance` is what they add (each
-// shaded by shade_hit times its coverage and the transmittance in front of it),
-// `transmittance` the share of whatever lies behind them that still shows, and `hit` the first
-// surface that is not BLEND (or a miss).
+// The translucent surfaces along a ray (BLEND, transmissive), composited front to back:
+// `radiance` is what they add (each shaded by shade_hit times its coverage and the
+// transmittance in front of it), `transmittance` the share of whatever lies behind them that
+// still shows (per channel: a transmissive surface tints what it lets through by its base
+// colour), and `hit` the first surface that is neither (or a miss).
 struct BlendComposite {
     radiance: vec3<f32>,
-    transmittance: f32,
+    transmittance: vec3<f32>,
     hit: Hit,
 }
 
-// Composites the BLEND surfaces `ray` meets (common/blend.wgsl: at most BLEND_LAYERS; back
-// faces of single-sided materials passed as the rasterizer culls them) until its first other
-// surface. `cone_start` and `cone_spread`: the ray cone's width is cone_start + cone_spread x
+// Composites the translucent surfaces `ray` meets (common/blend.wgsl: at most BLEND_LAYERS;
+// back faces of single-sided materials passed as the rasterizer culls them) until its first
+// other surface. `cone_start` and `cone_spread`: the ray cone's width is cone_start + cone_spread x
 // distance (textures' mip level, as the ray's own surface takes it).
 fn composite_blend(ray_in: Ray, cone_start: f32, cone_spread: f32) -> BlendComposite {
     var ray = ray_in;
-    var out = BlendComposite(vec3<f32>(0.0), 1.0, trace_closest(ray));
+    var out = BlendComposite(vec3<f32>(0.0), vec3<f32>(1.0), trace_closest(ray));
     if !TRACE_BLEND {
         return out;
     }
@@ -74,8 +75,10 @@ fn composite_blend(ray_in: Ray, cone_start: f32, cone_spread: f32) -> BlendCompo
         let flags = scene_materials[scene_instances[out.hit.instance].material].flags;
         if out.hit.front_face || (flags & MATERIAL_DOUBLE_SIDED) != 0u {
             let s = surface_at_cone(ray, out.hit, cone_start + cone_spread * out.hit.t);
-            out.radiance += out.transmittance * min(coverage, 1.0) * shade_hit(s, -ray.dir);
-            out.transmittance *= 1.0 - min(coverage, 1.0);
+            let c = min(coverage, 1.0);
+            out.radiance += out.transmittance * c * shade_hit(s, -ray.dir);
+            let tint = select(vec3<f32>(1.0), s.albedo, (flags & MATERIAL_TRANSMISSION) != 0u);
+            out.transmittance *= (1.0 - c) * tint;
         }
         ray.t_min = blend_past(out.hit.t);
         out.hit = trace_closest(ray);

@@ -21,6 +21,9 @@ const MATERIAL_UV1: u32 = 32u;
 const MATERIAL_SAMPLERS: u32 = 1024u;
 // The specular lobes are not glTF's core material's (`specular` and `clearcoat` are read).
 const MATERIAL_LOBES: u32 = 2048u;
+// Transmissive (KHR_materials_transmission; with MATERIAL_ALPHA_BLEND): its coverage factor is
+// clearcoat.w, and what it lets through is tinted by its base colour.
+const MATERIAL_TRANSMISSION: u32 = 4096u;
 
 struct Material {
     base_color: vec4<f32>,
@@ -45,8 +48,10 @@ struct Material {
     // only with MATERIAL_UV_TRANSFORM.
     uv_transforms: array<vec4<f32>, 10>,
     // KHR_materials_ior / _specular: the dielectric reflectance at normal incidence (rgb) and
-    // at grazing angles (a); KHR_materials_clearcoat: weight, roughness (then 0, 0). Read only
-    // with MATERIAL_LOBES (common/lighting.wgsl's shading_lobes).
+    // at grazing angles (a); KHR_materials_clearcoat: weight, roughness; then
+    // KHR_materials_transmission's factor and the coverage factor base_color.a x (1 -
+    // transmission x (1 - metallic)). Read only with MATERIAL_LOBES (common/lighting.wgsl's
+    // shading_lobes) and MATERIAL_TRANSMISSION.
     specular: vec4<f32>,
     clearcoat: vec4<f32>,
 }

@@ -47,7 +47,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             let layers = composite_blend(Ray(origin, 0.0, dir, t_max), cone, camera_cone_width(id.xy, 1.0) - cone);
             // Premultiplied: alpha is how much of the pixel is covered (the tone-map pass
             // shows the sky through the rest).
-            c = vec4<f32>(layers.radiance + layers.transmittance * c.rgb, 1.0 - layers.transmittance * (1.0 - c.a));
+            let through = dot(layers.transmittance, vec3<f32>(1.0 / 3.0));
+            c = vec4<f32>(layers.radiance + layers.transmittance * c.rgb, 1.0 - through * (1.0 - c.a));
         }
     }
     textureStore(color, id.xy, c);

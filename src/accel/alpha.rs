@@ -13,7 +13,7 @@
 //! binding array; the texture-array fallback resamples every texture to 256x256 first, which
 //! moves alpha edges by at most a fraction of a source texel.
 
-use crate::scene::{AlphaMode, Scene, SlotSampling, TextureImage, Wrap};
+use crate::scene::{AlphaMode, Material, Scene, SlotSampling, TextureImage, Wrap};
 
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
@@ -25,18 +25,21 @@ pub const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
 /// Bit of a record's second word that marks a BLEND instance (`TRACE_ALPHA_BLEND`).
 pub const ALPHA_BLEND_BIT: u32 = 1 << 28;
 
-/// The cutoff of an alpha-tested material, `None` for an opaque one.
-pub fn cutoff(mode: AlphaMode) -> Option<f32> {
-    match mode {
+/// The cutoff of an alpha-tested material, `None` for an opaque one. A transmissive material
+/// (`KHR_materials_transmission`) is translucent whatever its alpha mode, and its surface is
+/// always hit (cutoff 0: even one that lets everything through reflects).
+pub fn cutoff(m: &Material) -> Option<f32> {
+    match m.alpha_mode {
+        AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
+        _ if m.lobes.transmission > 0.0 => Some(0.0),
         AlphaMode::Opaque => None,
         AlphaMode::Mask(c) => Some(c),
-        AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
     }
 }
 
 /// Whether scene instance `i` runs the alpha test (its material is alpha-tested).
 pub fn instance_tested(scene: &Scene, i: usize) -> bool {
-    scene.instances.get(i).and_then(|inst| scene.materials.get(inst.material)).is_some_and(|m| cutoff(m.alpha_mode).is_some())
+    scene.instances.get(i).and_then(|inst| scene.materials.get(inst.material)).is_some_and(|m| cutoff(m).is_some())
 }
 
 /// Per mesh, whether an alpha-tested instance uses it (a mesh used by both kinds counts as
@@ -80,8 +83,8 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
         });
         let layer = m.texture.map_or(0, |t| t as u32 + 1);
         let wrap = sampling.wrap_bits();
-        let blend = if m.alpha_mode == AlphaMode::Blend { ALPHA_BLEND_BIT } else { 0 };
-        words[i] = [base, layer | wrap << 24 | blend, m.base_color[3].to_bits(), cutoff(m.alpha_mode).unwrap_or(0.0).to_bits()];
+        let (blend, factor) = if m.translucent() { (ALPHA_BLEND_BIT, m.coverage_factor()) } else { (0, m.base_color[3]) };
+        words[i] = [base, layer | wrap << 24 | blend, factor.to_bits(), cutoff(m).unwrap_or(0.0).to_bits()];
     }
     words
 }
@@ -132,14 +135,15 @@ pub fn visible(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> b
     excess(scene, instance, prim, bary).is_none_or(|e| e >= 0.0)
 }
 
-/// The coverage of a BLEND surface at such a hit (`base_color.a` x texture alpha), `None` where
-/// the instance's material is not BLEND: `trace_blend_coverage` in `shaders/trace/alpha.wgsl`.
+/// The coverage of a translucent surface at such a hit ([`Material::coverage_factor`] x texture
+/// alpha), `None` where the instance's material is not translucent: `trace_blend_coverage` in
+/// `shaders/trace/alpha.wgsl`.
 pub fn blend_coverage(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
     let m = scene.instances.get(instance).and_then(|inst| scene.materials.get(inst.material))?;
-    if m.alpha_mode != AlphaMode::Blend {
+    if !m.translucent() {
         return None;
     }
-    excess(scene, instance, prim, bary).map(|e| e + BLEND_MIN_COVERAGE as f64)
+    excess(scene, instance, prim, bary).map(|e| e + cutoff(m).unwrap_or(0.0) as f64)
 }
 
 /// `base_color.a` x texture alpha minus the cutoff at such a hit (kept when >= 0), `None` where
@@ -147,7 +151,7 @@ pub fn blend_coverage(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2
 pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
     let inst = scene.instances.get(instance)?;
     let m = scene.materials.get(inst.material)?;
-    let cutoff = cutoff(m.alpha_mode)?;
+    let cutoff = cutoff(m)?;
     let mesh = scene.meshes.get(inst.mesh)?;
     let sampling = &m.sampling[0];
     // The vertices' uvs through the slot's transform in f32, as the GPU's records hold them.
@@ -156,5 +160,6 @@ pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Op
     let (a, b, c) = (uv(0), uv(1), uv(2));
     let p = [0, 1].map(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2]);
     let tex = m.texture.and_then(|t| scene.textures.get(t)).map_or(1.0, |img| bilinear_alpha(img, p, sampling));
-    Some(m.base_color[3] as f64 * tex - cutoff as f64)
+    let factor = if m.translucent() { m.coverage_factor() } else { m.base_color[3] };
+    Some(factor as f64 * tex - cutoff as f64)
 }

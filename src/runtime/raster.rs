@@ -63,7 +63,8 @@ pub struct InstanceClass {
     pub(crate) double_sided: bool,
     pub(crate) mirrored: bool,
     pub(crate) alpha_tested: bool,
-    /// Its material is BLEND (not drawn by passes with `skip_blend`).
+    /// Its material is translucent (BLEND or transmissive: not drawn by passes with
+    /// `skip_blend`).
     pub(crate) blend: bool,
     /// For an opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`): the
     /// world-space corners of its bounds.
@@ -85,7 +86,7 @@ impl InstanceClass {
                     double_sided,
                     mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
                     alpha_tested,
-                    blend: material.is_some_and(|m| m.alpha_mode == crate::scene::AlphaMode::Blend),
+                    blend: material.is_some_and(|m| m.translucent()),
                     closed_corners: closed_bounds.map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
                 }
             })

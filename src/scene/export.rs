@@ -452,5 +452,8 @@ fn lobe_extensions(lobes: &Lobes) -> serde_json::Map<String, serde_json::Value> 
             serde_json::json!({ "clearcoatFactor": lobes.clearcoat, "clearcoatRoughnessFactor": lobes.clearcoat_roughness }),
         );
     }
+    if lobes.transmission != core.transmission {
+        out.insert("KHR_materials_transmission".into(), serde_json::json!({ "transmissionFactor": lobes.transmission }));
+    }
     out
 }

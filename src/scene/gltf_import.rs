@@ -130,6 +130,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",
+    "KHR_materials_transmission",
     "KHR_materials_unlit",
     "KHR_texture_transform",
 ];
@@ -142,10 +143,11 @@ const LOBE_TEXTURES: &[(&str, &str)] = &[
     ("KHR_materials_clearcoat", "clearcoatTexture"),
     ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"),
     ("KHR_materials_clearcoat", "clearcoatNormalTexture"),
+    ("KHR_materials_transmission", "transmissionTexture"),
 ];
 
 /// The lobe factors of a material's JSON (`KHR_materials_ior`, `KHR_materials_specular`,
-/// `KHR_materials_clearcoat`), glTF's defaults where absent.
+/// `KHR_materials_clearcoat`, `KHR_materials_transmission`), glTF's defaults where absent.
 fn material_lobes(json: &Value) -> crate::scene::Lobes {
     let ext = &json["extensions"];
     let number = |v: &Value, default: f32| v.as_f64().map_or(default, |x| x as f32);
@@ -158,6 +160,7 @@ fn material_lobes(json: &Value) -> crate::scene::Lobes {
     let coat = &ext["KHR_materials_clearcoat"];
     lobes.clearcoat = number(&coat["clearcoatFactor"], 0.0);
     lobes.clearcoat_roughness = number(&coat["clearcoatRoughnessFactor"], 0.0);
+    lobes.transmission = number(&ext["KHR_materials_transmission"]["transmissionFactor"], 0.0);
     lobes
 }
 

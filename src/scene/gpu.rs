@@ -11,7 +11,7 @@
 use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_TRANSMISSION, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -741,12 +741,12 @@ impl SceneContent {
 /// The GPU record of material `m` (`scene_materials`).
 fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
     let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
-    let (alpha_flag, cutoff) = match m.alpha_mode {
-        AlphaMode::Opaque => (0, 0.0),
-        AlphaMode::Mask(c) => (MATERIAL_ALPHA_MASK, c),
-        // BLEND is translucent: hit wherever its coverage reaches the least one
-        // (crate::accel::alpha), composited by the passes.
-        AlphaMode::Blend => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, crate::accel::alpha::BLEND_MIN_COVERAGE),
+    // Translucent materials (BLEND, transmissive) are hit wherever their coverage reaches
+    // their cutoff (crate::accel::alpha) and composited by the passes.
+    let (alpha_flag, cutoff) = match (m.translucent(), m.alpha_mode) {
+        (true, _) => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, crate::accel::alpha::cutoff(m).unwrap_or(0.0)),
+        (false, AlphaMode::Mask(c)) => (MATERIAL_ALPHA_MASK, c),
+        (false, _) => (0, 0.0),
     };
     MaterialUniforms {
         base_color: m.base_color,
@@ -761,7 +761,8 @@ fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
             | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 }
             | if m.sampling.iter().any(|s| s.sampler_bits() != 0) { MATERIAL_SAMPLERS } else { 0 }
             | m.sampling.iter().enumerate().map(|(slot, s)| if s.tex_coord == 1 { MATERIAL_UV1 << slot } else { 0 }).sum::<u32>()
-            | if m.lobes != crate::scene::Lobes::default() { MATERIAL_LOBES } else { 0 },
+            | if m.lobes != crate::scene::Lobes::default() { MATERIAL_LOBES } else { 0 }
+            | if m.lobes.transmission > 0.0 { MATERIAL_TRANSMISSION } else { 0 },
         base_texture: layer(m.texture),
         metallic_roughness_texture: layer(m.metallic_roughness_texture),
         normal_texture: layer(m.normal_texture),
@@ -774,6 +775,6 @@ fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
             let f0 = m.lobes.dielectric_f0();
             [f0[0], f0[1], f0[2], m.lobes.specular]
         },
-        clearcoat: [m.lobes.clearcoat, m.lobes.clearcoat_roughness, 0.0, 0.0],
+        clearcoat: [m.lobes.clearcoat, m.lobes.clearcoat_roughness, m.lobes.transmission, m.coverage_factor()],
     }
 }

@@ -180,8 +180,8 @@ pub struct Material {
     pub lobes: Lobes,
 }
 
-/// The factors of `KHR_materials_ior`, `KHR_materials_specular` and `KHR_materials_clearcoat`
-/// (their textures are not read; `scene info` lists them). The default is glTF's core
+/// The factors of `KHR_materials_ior`, `KHR_materials_specular`, `KHR_materials_clearcoat` and
+/// `KHR_materials_transmission` (their textures are not read; `scene info` lists them). The default is glTF's core
 /// material: index of refraction 1.5 (a dielectric reflects 4% at normal incidence), no coat.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lobes {
@@ -196,11 +196,14 @@ pub struct Lobes {
     pub clearcoat: f32,
     /// `clearcoatRoughnessFactor`: the coat's perceptual roughness.
     pub clearcoat_roughness: f32,
+    /// `transmissionFactor` (KHR_materials_transmission): the share of the dielectric part's
+    /// light that passes through, tinted by the base colour (thin-walled: no refraction).
+    pub transmission: f32,
 }
 
 impl Default for Lobes {
     fn default() -> Self {
-        Self { ior: 1.5, specular: 1.0, specular_color: [1.0; 3], clearcoat: 0.0, clearcoat_roughness: 0.0 }
+        Self { ior: 1.5, specular: 1.0, specular_color: [1.0; 3], clearcoat: 0.0, clearcoat_roughness: 0.0, transmission: 0.0 }
     }
 }
 
@@ -214,6 +217,18 @@ impl Lobes {
 }
 
 impl Material {
+    /// Whether light passes through it: BLEND, or transmissive (`KHR_materials_transmission`).
+    /// Translucent surfaces are composited (docs/ARCHITECTURE.md, "Blended surfaces").
+    pub fn translucent(&self) -> bool {
+        self.alpha_mode == AlphaMode::Blend || self.lobes.transmission > 0.0
+    }
+
+    /// The factor of a translucent surface's coverage (what it hides of what lies behind it;
+    /// times the base texture's alpha): `base_color.a` x (1 - transmission x (1 - metallic)).
+    pub fn coverage_factor(&self) -> f32 {
+        self.base_color[3] * (1.0 - self.lobes.transmission * (1.0 - self.metallic))
+    }
+
     /// The five slots' textures in the order of [`gltf_import::TextureSlot`] and of
     /// [`Material::sampling`]: base colour, metallic-roughness, normal, occlusion, emissive.
     pub fn slot_textures(&self) -> [Option<usize>; 5] {

@@ -63,9 +63,9 @@ impl Executor {
         (0..scene.instances.len()).any(|i| crate::accel::alpha::instance_tested(scene, i))
     }
 
-    /// Whether any instance of `scene` has a BLEND material.
+    /// Whether any instance of `scene` has a translucent (BLEND or transmissive) material.
     pub(super) fn scene_has_blend(scene: &Scene) -> bool {
-        scene.instances.iter().any(|inst| scene.materials.get(inst.material).is_some_and(|m| m.alpha_mode == crate::scene::AlphaMode::Blend))
+        scene.instances.iter().any(|inst| scene.materials.get(inst.material).is_some_and(|m| m.translucent()))
     }
 
     /// A trace pass on the rt-pipeline back-end: the same bindings as the compute pass would
