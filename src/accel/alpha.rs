@@ -13,28 +13,20 @@
 //! binding array; the texture-array fallback resamples every texture to 256x256 first, which
 //! moves alpha edges by at most a fraction of a source texel.
 
-use crate::scene::{AlphaMode, Material, Scene, SlotSampling, TextureImage, Wrap};
+use crate::scene::{Material, Scene, SlotSampling, TextureImage, Wrap};
 
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
 
-/// The least coverage (`base_color.a` x texture alpha) a BLEND texel needs to be hit at all:
-/// below it the texel is empty (under one 8-bit step of what it would add).
-pub const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
+pub use crate::scene::BLEND_MIN_COVERAGE;
 
 /// Bit of a record's second word that marks a BLEND instance (`TRACE_ALPHA_BLEND`).
 pub const ALPHA_BLEND_BIT: u32 = 1 << 28;
 
-/// The cutoff of an alpha-tested material, `None` for an opaque one. A transmissive material
-/// (`KHR_materials_transmission`) is translucent whatever its alpha mode, and its surface is
-/// always hit (cutoff 0: even one that lets everything through reflects).
+/// The cutoff of an alpha-tested material, `None` for an opaque one
+/// ([`Material::alpha_cutoff`]).
 pub fn cutoff(m: &Material) -> Option<f32> {
-    match m.alpha_mode {
-        AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
-        _ if m.lobes.transmission > 0.0 => Some(0.0),
-        AlphaMode::Opaque => None,
-        AlphaMode::Mask(c) => Some(c),
-    }
+    m.alpha_cutoff()
 }
 
 /// Whether scene instance `i` runs the alpha test (its material is alpha-tested).

@@ -742,9 +742,9 @@ impl SceneContent {
 fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
     let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
     // Translucent materials (BLEND, transmissive) are hit wherever their coverage reaches
-    // their cutoff (crate::accel::alpha) and composited by the passes.
+    // their cutoff (Material::alpha_cutoff) and composited by the passes.
     let (alpha_flag, cutoff) = match (m.translucent(), m.alpha_mode) {
-        (true, _) => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, crate::accel::alpha::cutoff(m).unwrap_or(0.0)),
+        (true, _) => (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND, m.alpha_cutoff().unwrap_or(0.0)),
         (false, AlphaMode::Mask(c)) => (MATERIAL_ALPHA_MASK, c),
         (false, _) => (0, 0.0),
     };

@@ -223,6 +223,18 @@ impl Material {
         self.alpha_mode == AlphaMode::Blend || self.lobes.transmission > 0.0
     }
 
+    /// The cutoff of an alpha-tested material, `None` for an opaque one: MASK's own; BLEND's
+    /// [`BLEND_MIN_COVERAGE`] (a texel below it is empty); 0 for a transmissive one whatever its
+    /// alpha mode (its surface is always hit: even one that lets everything through reflects).
+    pub fn alpha_cutoff(&self) -> Option<f32> {
+        match self.alpha_mode {
+            AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
+            _ if self.lobes.transmission > 0.0 => Some(0.0),
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask(c) => Some(c),
+        }
+    }
+
     /// The factor of a translucent surface's coverage (what it hides of what lies behind it;
     /// times the base texture's alpha): `base_color.a` x (1 - transmission x (1 - metallic)).
     pub fn coverage_factor(&self) -> f32 {
@@ -258,6 +270,10 @@ impl Material {
         }
     }
 }
+
+/// The least coverage (`base_color.a` x texture alpha) a BLEND texel needs to be hit at all:
+/// below it the texel is empty (under one 8-bit step of what it would add).
+pub const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
 
 /// One placement of a mesh.
 #[derive(Debug, Clone)]
