@@ -1,5 +1,5 @@
 //! The specular lobes of KHR_materials_ior, KHR_materials_specular and KHR_materials_clearcoat
-//! against closed-form answers.
+//! against closed-form answers (KHR_materials_transmission's compositing: tests/blend.rs).
 //!
 //! A black dielectric plate (base colour 0, so neither diffuse nor ambient light) seen head-on
 //! under a light of intensity 0 shows only the sky reflected along the view axis: its HDR colour
@@ -90,17 +90,18 @@ fn a_black_plate_reflects_the_sky_by_its_fresnel_reflectance_in_every_mode() {
 }
 
 #[test]
-fn the_importer_reads_the_lobe_factors_names_their_textures_and_the_export_writes_them_back() {
+fn the_importer_reads_the_lobe_and_transmission_factors_names_their_textures_and_the_export_writes_them_back() {
     let dir = tempdir();
     let gltf = serde_json::json!({
         "asset": {"version": "2.0"},
-        "extensionsUsed": ["KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat"],
+        "extensionsUsed": ["KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_transmission"],
         "materials": [{
             "name": "lacquer",
             "extensions": {
                 "KHR_materials_ior": {"ior": 1.7},
                 "KHR_materials_specular": {"specularFactor": 0.6, "specularColorFactor": [1.0, 0.9, 0.8]},
-                "KHR_materials_clearcoat": {"clearcoatFactor": 0.9, "clearcoatRoughnessFactor": 0.3, "clearcoatTexture": {"index": 0}}
+                "KHR_materials_clearcoat": {"clearcoatFactor": 0.9, "clearcoatRoughnessFactor": 0.3, "clearcoatTexture": {"index": 0}},
+                "KHR_materials_transmission": {"transmissionFactor": 0.25}
             }
         }],
         "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
@@ -114,7 +115,7 @@ fn the_importer_reads_the_lobe_factors_names_their_textures_and_the_export_write
     let path = dir.join("lacquer.gltf");
     std::fs::write(&path, serde_json::to_string(&gltf).unwrap()).unwrap();
     let (scene, report) = raygraph::scene::open(path.to_str().unwrap(), &Default::default()).unwrap();
-    let want = Lobes { ior: 1.7, specular: 0.6, specular_color: [1.0, 0.9, 0.8], clearcoat: 0.9, clearcoat_roughness: 0.3 };
+    let want = Lobes { ior: 1.7, specular: 0.6, specular_color: [1.0, 0.9, 0.8], clearcoat: 0.9, clearcoat_roughness: 0.3, transmission: 0.25 };
     assert_eq!(scene.materials[0].lobes, want);
     assert_eq!(report.ignored_features, ["material `lacquer`: KHR_materials_clearcoat clearcoatTexture (its factor alone is read)"]);
     let out = dir.join("again.glb");
