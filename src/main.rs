@@ -48,8 +48,10 @@ enum Command {
         /// Frame width in pixels, up to the adapter's largest 2D texture.
         #[arg(long, default_value_t = 1280)]
         width: u32,
-        #[arg(long, default_value_t = 720)]
-        height: u32,
+        /// Frame height in pixels [default: the width over the camera's aspect ratio (a glTF
+        /// camera's `aspectRatio`, or xmag/ymag), else 720]
+        #[arg(long)]
+        height: Option<u32>,
         /// Output PNG.
         #[arg(long, default_value = "out.png")]
         out: PathBuf,
@@ -595,6 +597,23 @@ enum GraphCommand {
     },
 }
 
+/// The output height of `render`: `asked` (`--height`), else the width over the camera's aspect
+/// ratio, else 720. Given a height that does not match the camera's aspect ratio, the output
+/// size wins (the vertical field of view is kept) and a warning says so.
+fn output_height(width: u32, asked: Option<u32>, camera: &raygraph::scene::Camera) -> u32 {
+    match (asked, camera.aspect_ratio) {
+        (Some(h), Some(a)) => {
+            if ((width as f32 / h as f32) / a - 1.0).abs() > 0.01 {
+                log::warn!("the camera's aspect ratio {a:.4} is not the output's {width}x{h}: the output size wins (the vertical field of view is kept); leave out --height to take the camera's");
+            }
+            h
+        }
+        (Some(h), None) => h,
+        (None, Some(a)) => ((width as f32 / a).round() as u32).max(1),
+        (None, None) => 720,
+    }
+}
+
 fn project_for(graph: &Path, layers: Option<PathBuf>, shaders: Option<PathBuf>) -> Project {
     let mut p = Project::beside_graph(graph);
     if let Some(l) = layers {
@@ -919,6 +938,9 @@ fn run(cli: Cli) -> Result<()> {
             off,
         } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
+            let asked_height = height;
+            // Until the camera is known (it may set the aspect ratio).
+            let mut height = height.unwrap_or(720);
             anyhow::ensure!(width > 0 && height > 0, "--width and --height must be at least 1");
             anyhow::ensure!(duplicate >= 1, "--duplicate must be at least 1");
             let project = project_for(&graph_file, layers, shaders);
@@ -935,7 +957,7 @@ fn run(cli: Cli) -> Result<()> {
                 width <= largest && height <= largest,
                 "--width {width} --height {height}: this adapter's largest 2D texture is {largest} pixels on a side"
             );
-            let plan = graph::compile::compile_with(&graph_file, &project, (width, height), &switches(gpu.compile_options()))?;
+            let mut plan = graph::compile::compile_with(&graph_file, &project, (width, height), &switches(gpu.compile_options()))?;
             if plan.passes().iter().any(|p| p.kind == raygraph::graph::desc::PassKind::Trace) {
                 println!("back-end: {}", gpu.describe_backend());
             }
@@ -960,6 +982,15 @@ fn run(cli: Cli) -> Result<()> {
                 (None, Some(track)) => track.camera_at_frame(view.track_frame, &scene.camera).fit_clip_planes(scene.bounds()),
                 (None, None) => scene.camera,
             };
+            let sized = output_height(width, asked_height, &camera);
+            if sized != height {
+                height = sized;
+                anyhow::ensure!(
+                    height <= largest,
+                    "--width {width}: the camera's aspect ratio asks for a height of {height} pixels, past this adapter's largest 2D texture ({largest})"
+                );
+                plan = graph::compile::compile_with(&graph_file, &project, (width, height), &switches(gpu.compile_options()))?;
+            }
             let mut exec = Executor::new(&gpu, plan, &scene)?;
             // Warm-up: pipeline compilation, first use, and the GPU's clocks back up.
             raygraph::runtime::warm_up::WarmUp::for_gpu(&gpu, 1).run(&gpu, &mut exec, &scene, &camera)?;

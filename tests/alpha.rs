@@ -385,6 +385,7 @@ fn camera() -> Camera {
         near: 0.05,
         far: 100.0,
         orthographic: None,
+        aspect_ratio: None,
     }
 }
 

@@ -76,6 +76,7 @@ fn panel_scene() -> Scene {
         near: 0.05,
         far: 100.0,
         orthographic: None,
+        aspect_ratio: None,
     };
     s
 }
@@ -200,6 +201,7 @@ fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
         near: 0.05,
         far: 100.0,
         orthographic: None,
+        aspect_ratio: None,
     };
     s
 }

@@ -102,6 +102,29 @@ fn scene_export_writes_a_glb_that_scene_info_reads_back() {
 }
 
 #[test]
+fn render_sizes_its_output_by_the_cameras_aspect_ratio_unless_given_a_height() {
+    let dir = common::gltf_doc::temp_dir("cli-aspect");
+    let png = |n: &str| dir.join(n).to_str().unwrap().to_string();
+    // One triangle and a file camera with aspectRatio 1.5 looking at it.
+    let mut d = common::gltf_doc::Doc::new();
+    let p = d.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let mesh = d.mesh(&[("POSITION", p)], None, None, None);
+    d.node(serde_json::json!({"mesh": mesh}), true);
+    d.json["cameras"] = serde_json::json!([{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "aspectRatio": 1.5}}]);
+    d.node(serde_json::json!({"camera": 0, "translation": [0.0, 0.0, 3.0]}), true);
+    let file = d.write_glb(&dir, "wide");
+    let file = file.to_str().unwrap();
+    run_ok(&["render", "--scene", file, "--width", "60", "--frames", "1", "--out", &png("wide.png")]);
+    assert_eq!(image::open(png("wide.png")).unwrap().to_rgba8().dimensions(), (60, 40), "60 wide over aspect 1.5");
+    // Both given: the output size wins, with a warning.
+    let out = raygraph().args(["render", "--scene", file, "--width", "60", "--height", "60", "--frames", "1", "--out", &png("square.png")]).output().unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("the camera's aspect ratio 1.5000 is not the output's 60x60"));
+    assert_eq!(image::open(png("square.png")).unwrap().to_rgba8().dimensions(), (60, 60));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn render_takes_a_scene_a_camera_preset_and_a_track() {
     let dir = common::gltf_doc::temp_dir("cli-render");
     let png = |n: &str| dir.join(n).to_str().unwrap().to_string();

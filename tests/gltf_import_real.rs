@@ -234,12 +234,13 @@ fn the_files_cameras_become_presets_and_the_first_is_the_default_view() {
     let want = Mat4::look_at_rh(Vec3::new(4.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0), Vec3::Y);
     assert!(side.view().abs_diff_eq(want, 1e-5), "{:?}", side.view());
     assert!(side.far > side.near && side.far.is_finite());
+    assert_eq!((side.aspect_ratio, hero.aspect_ratio), (Some(1.5), None), "aspectRatio is kept for `render` to size its output by");
+    assert_eq!(s.preset("plan").unwrap().aspect_ratio, Some(1.0), "an orthographic camera's xmag / ymag");
     assert_eq!(r.file_cameras, 3);
     says(
         &info::describe(&s, Some(&r)),
         &[
             "cameras     3 from the file, then the built-in presets: hero, side, plan, front, top (the first is the default view)",
-            "camera `side`: aspectRatio 1.5 not enforced (the output size sets the aspect ratio",
             "camera `side`: infinite far plane",
         ],
     );

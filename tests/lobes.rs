@@ -46,7 +46,16 @@ fn plate_scene(lobes: Lobes) -> Scene {
         color: Vec3::ONE,
         intensity: 0.0,
     }];
-    s.camera = Camera { position: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 0.5, near: 0.05, far: 100.0, orthographic: None };
+    s.camera = Camera {
+        position: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_y: 0.5,
+        near: 0.05,
+        far: 100.0,
+        orthographic: None,
+        aspect_ratio: None,
+    };
     s
 }
 

@@ -140,6 +140,7 @@ pub fn default_scene() -> Scene {
             near: 0.05,
             far: 100.0,
             orthographic: None,
+            aspect_ratio: None,
         },
         presets: vec![
             (
@@ -152,6 +153,7 @@ pub fn default_scene() -> Scene {
                     near: 0.05,
                     far: 100.0,
                     orthographic: None,
+                    aspect_ratio: None,
                 },
             ),
             ("low".into(), Camera::look(Vec3::new(-4.0, 0.6, 4.5), Vec3::new(0.0, 0.8, 0.0), 50.0, 0.05, 100.0)),

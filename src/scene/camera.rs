@@ -23,11 +23,24 @@ pub struct Camera {
     /// and below its axis (glTF `ymag`; the output's aspect ratio sets the half width), with
     /// parallel rays; `fov_y` is then unused. `None`: perspective.
     pub orthographic: Option<f32>,
+    /// The width / height its image is meant to have (glTF perspective `aspectRatio`,
+    /// orthographic `xmag / ymag`): `render` sizes its output by it unless given both
+    /// `--width` and `--height`. `None`: the output's aspect ratio.
+    pub aspect_ratio: Option<f32>,
 }
 
 impl Default for Camera {
     fn default() -> Self {
-        Self { position: Vec3::new(0.0, 1.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 50f32.to_radians(), near: 0.05, far: 1000.0, orthographic: None }
+        Self {
+            position: Vec3::new(0.0, 1.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 50f32.to_radians(),
+            near: 0.05,
+            far: 1000.0,
+            orthographic: None,
+            aspect_ratio: None,
+        }
     }
 }
 
@@ -63,7 +76,7 @@ impl Camera {
     /// A perspective camera at `position` looking at `target`, y up, `fov_y_deg` vertical field
     /// of view.
     pub fn look(position: Vec3, target: Vec3, fov_y_deg: f32, near: f32, far: f32) -> Self {
-        Self { position, target, up: Vec3::Y, fov_y: fov_y_deg.to_radians(), near, far, orthographic: None }
+        Self { position, target, up: Vec3::Y, fov_y: fov_y_deg.to_radians(), near, far, orthographic: None, aspect_ratio: None }
     }
 
     /// This camera with its near and far planes fitted to `bounds` from where it stands: the
@@ -109,6 +122,7 @@ impl Camera {
             near: (distance - radius).max(distance * 1e-3) * 0.5,
             far: (distance + radius) * 2.0,
             orthographic: None,
+            aspect_ratio: None,
         }
     }
 

@@ -371,7 +371,7 @@ fn oriented_node(name: &str, position: Vec3, forward: Vec3, up: Vec3) -> json::N
 /// A camera preset as a perspective or orthographic camera on its own node.
 fn camera_node(root: &mut json::Root, name: &str, c: &Camera) -> json::Index<json::Node> {
     let perspective = c.orthographic.is_none().then(|| json::camera::Perspective {
-        aspect_ratio: None,
+        aspect_ratio: c.aspect_ratio,
         yfov: c.fov_y,
         zfar: Some(c.far),
         znear: c.near,
@@ -379,7 +379,7 @@ fn camera_node(root: &mut json::Root, name: &str, c: &Camera) -> json::Index<jso
         extras: Default::default(),
     });
     let orthographic = c.orthographic.map(|half_height| json::camera::Orthographic {
-        xmag: half_height,
+        xmag: half_height * c.aspect_ratio.unwrap_or(1.0),
         ymag: half_height,
         zfar: c.far,
         znear: c.near,

@@ -35,6 +35,7 @@ pub struct FlyCamera {
     pub(crate) near: f32,
     pub(crate) far: f32,
     pub(crate) orthographic: Option<f32>,
+    pub(crate) aspect_ratio: Option<f32>,
 }
 
 impl FlyCamera {
@@ -51,6 +52,7 @@ impl FlyCamera {
             near: c.near,
             far: c.far,
             orthographic: c.orthographic,
+            aspect_ratio: c.aspect_ratio,
         }
     }
 
@@ -70,6 +72,7 @@ impl FlyCamera {
             near: self.near,
             far: self.far,
             orthographic: self.orthographic,
+            aspect_ratio: self.aspect_ratio,
         }
     }
 

@@ -982,28 +982,19 @@ fn file_cameras(path: &Path, cameras: &[(gltf::Node, gltf::Camera, Mat4)], bound
         let up = (up - forward * forward.dot(up)).normalize_or_zero();
         let fitted = Camera { position, ..Camera::default() }.fit_clip_planes(bounds);
         let to_center = if bounds.is_empty() { 1.0 } else { position.distance(bounds.center()) };
-        let (fov_y, near, far, orthographic) = match camera.projection() {
+        let (fov_y, near, far, orthographic, aspect_ratio) = match camera.projection() {
             gltf::camera::Projection::Perspective(p) => {
-                if let Some(a) = p.aspect_ratio() {
-                    report.approximated.push(format!("camera `{base}`: aspectRatio {a} not enforced (the output size sets the aspect ratio; yfov is kept)"));
-                }
                 let far = p.zfar().unwrap_or(fitted.far.max(p.znear() * 2.0));
                 if p.zfar().is_none() {
                     report
                         .approximated
                         .push(format!("camera `{base}`: infinite far plane drawn with a far plane at {far:.3} (just past the scene's far side)"));
                 }
-                (p.yfov(), p.znear(), far, None)
+                (p.yfov(), p.znear(), far, None, p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0))
             }
             gltf::camera::Projection::Orthographic(o) => {
-                if o.xmag() != o.ymag() {
-                    report.approximated.push(format!(
-                        "camera `{base}`: orthographic xmag {} drawn as ymag {} times the output's aspect ratio",
-                        o.xmag(),
-                        o.ymag()
-                    ));
-                }
-                (Camera::default().fov_y, o.znear(), o.zfar(), Some(o.ymag().abs()))
+                let aspect = (o.xmag() / o.ymag()).abs();
+                (Camera::default().fov_y, o.znear(), o.zfar(), Some(o.ymag().abs()), (aspect.is_finite() && aspect > 0.0).then_some(aspect))
             }
         };
         let usable = fov_y.is_finite() && fov_y > 0.0 && fov_y < std::f32::consts::PI && near.is_finite() && near >= 0.0 && far.is_finite() && far > near;
@@ -1014,7 +1005,7 @@ fn file_cameras(path: &Path, cameras: &[(gltf::Node, gltf::Camera, Mat4)], bound
         }
         let name = unique_name(&presets, &base);
         let target = position + forward * to_center.max(near);
-        presets.push((name, Camera { position, target, up, fov_y, near, far, orthographic }));
+        presets.push((name, Camera { position, target, up, fov_y, near, far, orthographic, aspect_ratio }));
     }
     presets
 }

@@ -957,6 +957,7 @@ pub(super) fn build(seed: u64) -> Scene {
             near: 0.05,
             far: 120.0,
             orthographic: None,
+            aspect_ratio: None,
         },
         presets: vec![
             (
@@ -969,6 +970,7 @@ pub(super) fn build(seed: u64) -> Scene {
                     near: 0.05,
                     far: 120.0,
                     orthographic: None,
+                    aspect_ratio: None,
                 },
             ),
             ("gallery".into(), Camera::look(Vec3::new(-12.0, 7.6, -5.0), Vec3::new(10.0, 5.0, -4.0), 60.0, 0.05, 120.0)),
@@ -989,6 +991,7 @@ pub(super) fn build(seed: u64) -> Scene {
                     near: 0.05,
                     far: 120.0,
                     orthographic: None,
+                    aspect_ratio: None,
                 },
             ),
         ],

@@ -51,6 +51,7 @@ pub(super) fn build() -> Scene {
             near: 0.05,
             far: 50.0,
             orthographic: None,
+            aspect_ratio: None,
         },
         presets: vec![
             (
@@ -63,6 +64,7 @@ pub(super) fn build() -> Scene {
                     near: 0.05,
                     far: 50.0,
                     orthographic: None,
+                    aspect_ratio: None,
                 },
             ),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.0, 2.5), Vec3::ZERO, 45.0, 0.05, 50.0)),

@@ -198,6 +198,7 @@ pub(super) fn build() -> Scene {
             near: 0.05,
             far: 50.0,
             orthographic: None,
+            aspect_ratio: None,
         },
         presets: vec![
             (
@@ -210,6 +211,7 @@ pub(super) fn build() -> Scene {
                     near: 0.05,
                     far: 50.0,
                     orthographic: None,
+                    aspect_ratio: None,
                 },
             ),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.1, 3.2), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
