@@ -1,6 +1,8 @@
-// Translucent (glTF BLEND) surfaces along rays (docs/ARCHITECTURE.md, "Blended surfaces"). The
-// traversal hits a BLEND surface wherever its coverage (base_color.a x the base texture's
-// alpha, trace/alpha.wgsl's trace_blend_coverage) is at least 1/256; the passes then:
+// Translucent surfaces along rays (docs/ARCHITECTURE.md, "Blended surfaces"): glTF BLEND ones,
+// and transmissive ones (KHR_materials_transmission, thin-walled), both called BLEND below. The
+// traversal hits a BLEND surface wherever its coverage (base_color.a x (1 - transmission x
+// (1 - metallic)) x the base texture's alpha, trace/alpha.wgsl's trace_blend_coverage) reaches
+// its cutoff (1/256; 0 for a transmissive one, which is always hit); the passes then:
 //   - skip it on primary rays (common/primary_hit.wgsl: the G-buffer holds the first opaque
 //     surface; the rt_blend layer composites the translucent ones over the resolved image);
 //   - let shadow and AO rays through it, attenuated by one minus its coverage
@@ -8,8 +10,9 @@
 //     opaque one);
 //   - composite it front to back along primary and reflection rays (at most BLEND_LAYERS
 //     surfaces a ray; what lies past them is taken as seen through the last one).
-// TRACE_BLEND is a pipeline constant: the executor sets it false for a scene without BLEND
-// materials (src/runtime/exec/trace.rs), and every function here is then one plain trace.
+// TRACE_BLEND is a pipeline constant: the executor sets it false for a scene without
+// translucent materials (src/runtime/exec/trace.rs), and every function here is then one plain
+// trace.
 // Needs trace/trace.wgsl included first.
 
 override TRACE_BLEND: bool = true;
