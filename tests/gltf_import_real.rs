@@ -279,9 +279,9 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
     d.json["materials"][0] = json!({
         "name": "coat", "alphaMode": "BLEND",
         "pbrMetallicRoughness": {"baseColorTexture": {"index": t, "texCoord": 2, "extensions": {"KHR_texture_transform": {"scale": [2.0, 2.0]}}}},
-        "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}
+        "extensions": {"KHR_materials_sheen": {"sheenRoughnessFactor": 1.0}}
     });
-    d.json["extensionsUsed"] = json!(["KHR_texture_transform", "KHR_materials_clearcoat"]);
+    d.json["extensionsUsed"] = json!(["KHR_texture_transform", "KHR_materials_sheen"]);
     let colour = d.floats(&[1.0; 12], "VEC4", 3);
     d.json["meshes"][0]["primitives"][0]["attributes"]["COLOR_1"] = json!(colour);
     d.json["meshes"][0]["name"] = json!("tri");
@@ -295,8 +295,8 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
     );
     // KHR_texture_transform and the sampler's MIRRORED_REPEAT are read (tests/texture_sampling.rs).
     let want = [
-        "extension KHR_materials_clearcoat (not read)",
-        "material `coat`: KHR_materials_clearcoat",
+        "extension KHR_materials_sheen (not read)",
+        "material `coat`: KHR_materials_sheen",
         "material `coat` base colour texture: texCoord 2 (TEXCOORD_0 is read instead)",
         "vertex colours past COLOR_0 on mesh `tri`",
     ];

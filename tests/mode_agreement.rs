@@ -18,7 +18,7 @@ use common::modes::render_without_effects;
 use raygraph::backend::Backend;
 use raygraph::bench::modes::flip_mean;
 use raygraph::runtime::Gpu;
-use raygraph::scene::Scene;
+use raygraph::scene::{AlphaMode, Scene};
 
 /// ꟻLIP means of hybrid against raster, full RT against hybrid and full RT against raster.
 fn check(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), limits: [f32; 3]) {
@@ -46,8 +46,17 @@ fn damaged_helmet_looks_the_same_in_every_mode_with_effects_off() {
 #[test]
 fn pine_looks_the_same_in_every_mode_with_effects_off() {
     let gpu = gpu();
+    // The leaf cards are BLEND: blended in hybrid and full RT, screen-door in raster, which
+    // differ pixel by pixel by design (raster against hybrid: FLIP mean 0.045, measured); the
+    // two are checked against closed-form answers in tests/blend.rs. Here the cards are cut
+    // out at alpha 0.5 (MASK), so the comparison keeps covering the atlas's alpha test and
+    // everything else on a real asset in all three modes.
+    let mut pine = open("assets/gltf/smallpine/scene.gltf");
+    for m in pine.materials.iter_mut().filter(|m| m.alpha_mode == AlphaMode::Blend) {
+        m.alpha_mode = AlphaMode::Mask(0.5);
+    }
     // Measured: 0.0010, 0.0026, 0.0027 (lavapipe); limits 3x that, rounded up.
-    check(&gpu, "smallpine", &open("assets/gltf/smallpine/scene.gltf"), (128, 96), [0.003, 0.008, 0.009]);
+    check(&gpu, "smallpine", &pine, (128, 96), [0.003, 0.008, 0.009]);
 }
 
 #[test]
