@@ -3,7 +3,8 @@
 //! grey+alpha images (TextureEncodingTest's labels) against the `image` crate's own decode,
 //! scene selection (MultipleScenes), the file's cameras with the built-in presets and the
 //! orthographic camera's parallel projection in the rasterized and ray-traced G-buffers against
-//! the f64 reference caster (Cameras), every clip at once (InterpolationTest).
+//! the f64 reference caster (Cameras), every clip at once (InterpolationTest), the BLEND panel's
+//! alpha ramp composited over what lies behind it (AlphaBlendModeTest).
 
 mod common;
 
@@ -225,4 +226,71 @@ fn scene_info_ignores_nothing_on_any_khronos_model() {
             assert!(line.contains("alphaMode BLEND"), "{name}: {line}");
         }
     }
+}
+
+/// The HDR image of `graph`'s resource `resource` for `scene` from its own camera, compute
+/// back-end.
+fn frame_of(scene: &Scene, graph: &str, resource: &str, size: (u32, u32)) -> Vec<[f32; 4]> {
+    hdr(scene, graph, resource, size)
+}
+
+#[test]
+fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_behind() {
+    // Every material unlit (each shows its base colour times its texture), so a pixel through
+    // the BLEND panel is coverage x the panel's colour + (1 - coverage) x what lies behind:
+    // the colour from a render with the panel made OPAQUE, what lies behind from one without
+    // the panel, the coverage from the f64 CPU read of the panel's texture alpha at the hit
+    // (accel::alpha, the CPU traversal through the model). Full RT: one primary ray per pixel,
+    // the same ray cone for the panel's colour in both renders.
+    let (mut scene, _) = open_with("AlphaBlendModeTest", &LoadOptions::default());
+    for m in &mut scene.materials {
+        m.unlit = true;
+    }
+    let blend = scene.materials.iter().position(|m| m.name == "MatBlend").expect("the BLEND material");
+    let panel = scene
+        .instances
+        .iter()
+        .position(|i| i.material == blend && scene.meshes[i.mesh].indices.len() == 6 && scene.meshes[i.mesh].name.contains("TestBlend"))
+        .expect("the BLEND panel");
+    // The panel fills the frame's middle: look at it straight on from 3.5 in front.
+    let centre = scene.instances[panel].transform.transform_point3(glam::Vec3::new(0.0, 1.035, 0.0));
+    scene.camera = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.5), centre, 40.0, 0.05, 100.0);
+    let size = (48, 64);
+    let composite = frame_of(&scene, "graph/full_rt.ron", "blend.color", size);
+    let mut opaque = scene.clone();
+    opaque.materials[blend].alpha_mode = raygraph::scene::AlphaMode::Opaque;
+    let colour = frame_of(&opaque, "graph/full_rt.ron", "resolve.hdr", size);
+    let mut without = scene.clone();
+    without.instances.remove(panel);
+    let behind = frame_of(&without, "graph/full_rt.ron", "blend.color", size);
+    // Which pixels see the panel first, and its coverage there.
+    let accel = raygraph::accel::layout::GpuAccel::build(&scene, &Default::default());
+    let cpu = raygraph::accel::cpu_traverse::CpuTraverser::with_scene(&accel, &scene);
+    let (mut checked, mut worst, mut covers) = (0, 0.0f32, (1.0f64, 0.0f64));
+    for (i, (origin, dir)) in scene.camera.rays(size, 1).into_iter().enumerate() {
+        let Some(hit) = cpu.closest(&raygraph::accel::cpu_traverse::Ray::new(origin, dir)) else { continue };
+        if hit.instance_id as usize != panel {
+            continue;
+        }
+        let Some(a) = raygraph::accel::alpha::blend_coverage(&scene, panel, hit.prim as usize, [hit.u as f64, hit.v as f64]) else { continue };
+        // Away from the ramp's texel-sharp edges (its black border, the labels' cut-outs), where
+        // a bilinear read moves fast and the GPU's f32 barycentrics may land on another texel.
+        let near = |d: f64| raygraph::accel::alpha::blend_coverage(&scene, panel, hit.prim as usize, [hit.u as f64 + d, hit.v as f64]);
+        if [near(0.004), near(-0.004)].iter().any(|n| n.is_none_or(|n| (n - a).abs() > 0.02)) {
+            continue;
+        }
+        covers = (covers.0.min(a), covers.1.max(a));
+        for k in 0..3 {
+            let want = a as f32 * colour[i][k] + (1.0 - a as f32) * behind[i][k];
+            worst = worst.max((composite[i][k] - want).abs());
+        }
+        checked += 1;
+    }
+    println!("AlphaBlendModeTest: {checked} pixels through the BLEND panel, coverage {:.3} to {:.3}, largest error {worst:.5}", covers.0, covers.1);
+    assert!(checked > 500, "the panel is in view ({checked} pixels)");
+    assert!(covers.1 - covers.0 > 0.5, "the ramp spans its coverage ({covers:?})");
+    // The panel's colour comes through the G-buffer's 8-bit albedo (half a step: 1/510) in the
+    // OPAQUE render only; the three images are f16 (2^-11 relative); the coverage is f32 on the
+    // GPU against f64 here (1e-3 with the texel-edge margin above).
+    assert!(worst < 1.0 / 510.0 + 2e-3, "largest error {worst}");
 }
