@@ -32,30 +32,47 @@ struct RasterSurface {
     unlit: bool,
 }
 
+// A slot's texture of a fragment: its own uv set (`uv` and its gradients for set 0, `uv1` for
+// set 1), sampler and uv transform.
+fn raster_slot(m: u32, slot: u32, layer: u32, uv: mat3x2<f32>, uv1: mat3x2<f32>) -> vec4<f32> {
+    var coords = uv;
+    if slot_uv_set(m, slot) == 1u {
+        coords = uv1;
+    }
+    return sample_material_grad(m, slot, layer, coords[0], coords[1], coords[2]);
+}
+
 // Surface inputs of a fragment of instance `inst` at object-space position `local`, with
-// texture coordinates `uv` and interpolated world-space vertex normal `vertex_normal`. Takes
-// derivatives: call in uniform control flow (before any non-uniform branch).
-fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2<f32>, vertex_normal: vec3<f32>) -> RasterSurface {
+// texture coordinates `uv` (TEXCOORD_0) and `uv1` (TEXCOORD_1, or `uv` without one), vertex
+// colour `color` (COLOR_0, times the base colour) and interpolated world-space vertex normal
+// `vertex_normal`. Takes derivatives: call in uniform control flow (before any non-uniform
+// branch).
+fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2<f32>, uv1: vec2<f32>, color: vec4<f32>, vertex_normal: vec3<f32>) -> RasterSurface {
     let material = scene_materials[inst.material];
     // Object-space derivatives, transformed, keep their precision far from the origin.
     let dp1 = (inst.model * vec4<f32>(dpdx(local), 0.0)).xyz;
     let dp2 = (inst.model * vec4<f32>(dpdy(local), 0.0)).xyz;
-    let duv1 = dpdx(uv);
-    let duv2 = dpdy(uv);
+    let set0 = mat3x2<f32>(uv, dpdx(uv), dpdy(uv));
+    let set1 = mat3x2<f32>(uv1, dpdx(uv1), dpdy(uv1));
     let face = cross(dpdx(local), dpdy(local));
-    // Every slot's own sampler and uv transform, with the uv's screen-space gradients.
-    let base = sample_material_grad(inst.material, SLOT_BASE, material.base_texture, uv, duv1, duv2);
-    let mr = sample_material_grad(inst.material, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, uv, duv1, duv2);
-    let emission = sample_material_grad(inst.material, SLOT_EMISSIVE, material.emissive_texture, uv, duv1, duv2).rgb;
-    let occlusion = sample_material_grad(inst.material, SLOT_OCCLUSION, material.occlusion_texture, uv, duv1, duv2).r;
-    let map = sample_material_grad(inst.material, SLOT_NORMAL, material.normal_texture, uv, duv1, duv2).rgb;
+    // Every slot's own uv set, sampler and uv transform, with its screen-space gradients.
+    let m = inst.material;
+    let base = raster_slot(m, SLOT_BASE, material.base_texture, set0, set1);
+    let mr = raster_slot(m, SLOT_METALLIC_ROUGHNESS, material.metallic_roughness_texture, set0, set1);
+    let emission = raster_slot(m, SLOT_EMISSIVE, material.emissive_texture, set0, set1).rgb;
+    let occlusion = raster_slot(m, SLOT_OCCLUSION, material.occlusion_texture, set0, set1).r;
+    let map = raster_slot(m, SLOT_NORMAL, material.normal_texture, set0, set1).rgb;
+    var normal_set = set0;
+    if slot_uv_set(m, SLOT_NORMAL) == 1u {
+        normal_set = set1;
+    }
     // The normal map bends the front side's normal; a back face (double-sided) reverses the
     // result. The face normal is oriented by the viewer-side vertex normal, not by a test
     // against positions (which lose precision far from the origin) nor by the sign of the
     // derivatives (which flips in quads that straddle the horizon).
     var n = normalize(vertex_normal);
     if material.normal_texture != 0u {
-        n = apply_normal_map(n, dp1, dp2, slot_uv_delta(inst.material, SLOT_NORMAL, duv1), slot_uv_delta(inst.material, SLOT_NORMAL, duv2), map, material.normal_scale);
+        n = apply_normal_map(n, dp1, dp2, slot_uv_delta(m, SLOT_NORMAL, normal_set[1]), slot_uv_delta(m, SLOT_NORMAL, normal_set[2]), map, material.normal_scale);
     }
     let side = select(-1.0, 1.0, raster_front_face(front_facing, inst.model));
     var geo = normalize((inst.normal_matrix * vec4<f32>(face, 0.0)).xyz);
@@ -67,7 +84,7 @@ fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2
     s.geo_normal = geo;
     s.dp1 = dp1;
     s.dp2 = dp2;
-    s.albedo = material.base_color.rgb * base.rgb;
+    s.albedo = material.base_color.rgb * base.rgb * color.rgb;
     s.metallic = material.metallic * mr.b;
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = material.emissive * emission;

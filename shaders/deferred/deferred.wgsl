@@ -10,11 +10,14 @@
 //#include "common/material_inputs.wgsl"
 //#include "common/raster_visibility.wgsl"
 //#include "common/gbuffer_material_word.wgsl"
+//#include "common/vertex_extras.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
 @group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(3) var linear_sampler: sampler;
+@group(0) @binding(4) var<storage, read> scene_meshes: array<MeshRecord>;
+@group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -25,6 +28,9 @@ struct VertexOut {
     // Object-space position: its derivatives give the face normal without the rounding of
     // large world coordinates (an instance far from the origin).
     @location(4) local: vec3<f32>,
+    // TEXCOORD_1 (TEXCOORD_0 without one) and COLOR_0 (white without one).
+    @location(5) uv1: vec2<f32>,
+    @location(6) color: vec4<f32>,
 }
 
 @vertex
@@ -33,8 +39,10 @@ fn vs_main(
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @builtin(instance_index) instance: u32,
+    @builtin(vertex_index) vertex: u32,
 ) -> VertexOut {
     let inst = scene_instances[instance];
+    let extras = vertex_extras(inst, vertex, uv);
     let world = inst.model * vec4<f32>(position, 1.0);
     var out: VertexOut;
     out.clip = frame.view_proj * world;
@@ -43,6 +51,8 @@ fn vs_main(
     out.uv = uv;
     out.instance = instance;
     out.local = position;
+    out.uv1 = extras.uv1;
+    out.color = extras.color;
     return out;
 }
 
@@ -58,7 +68,7 @@ struct GBuffer {
 // The fragment's G-buffer channels (discarded fragments never return).
 fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     let inst = scene_instances[in.instance];
-    let s = raster_surface(inst, front_facing, in.local, in.uv, in.normal);
+    let s = raster_surface(inst, front_facing, in.local, in.uv, in.uv1, in.color, in.normal);
     var out: GBuffer;
     // w: the instance + 1 (0 is the sky), as common/gbuffer_store.wgsl writes it.
     out.position = vec4<f32>(in.world, f32(in.instance + 1u));

@@ -14,6 +14,7 @@
 //#include "common/material_inputs.wgsl"
 //#include "common/raster_visibility.wgsl"
 //#include "common/forward_shading.wgsl"
+//#include "common/vertex_extras.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -25,6 +26,8 @@
 @group(0) @binding(8) var shadow_map_2: texture_depth_2d;
 @group(0) @binding(9) var shadow_map_3: texture_depth_2d;
 @group(0) @binding(10) var<storage, read> scene_lights: array<Light>;
+@group(0) @binding(11) var<storage, read> scene_meshes: array<MeshRecord>;
+@group(0) @binding(12) var<storage, read> scene_vertices: array<SceneVertex>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -35,6 +38,9 @@ struct VertexOut {
     // Object-space position: its derivatives give the face normal and the normal map's frame
     // without the rounding of large world coordinates, as in deferred/deferred.wgsl.
     @location(4) local: vec3<f32>,
+    // TEXCOORD_1 (TEXCOORD_0 without one) and COLOR_0 (white without one).
+    @location(5) uv1: vec2<f32>,
+    @location(6) color: vec4<f32>,
 }
 
 @vertex
@@ -43,8 +49,10 @@ fn vs_main(
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @builtin(instance_index) instance: u32,
+    @builtin(vertex_index) vertex: u32,
 ) -> VertexOut {
     let inst = scene_instances[instance];
+    let extras = vertex_extras(inst, vertex, uv);
     let world = inst.model * vec4<f32>(position, 1.0);
     var out: VertexOut;
     out.clip = frame.view_proj * world;
@@ -53,6 +61,8 @@ fn vs_main(
     out.instance = instance;
     out.world_pos = world.xyz;
     out.local = position;
+    out.uv1 = extras.uv1;
+    out.color = extras.color;
     return out;
 }
 
@@ -68,7 +78,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @locatio
     // Before any non-uniform branch (it takes derivatives: the normal map's frame, the face
     // normal and the shadow maps' receiver plane). The geometric normal decides the shadow
     // offset direction, so smooth shading normals do not push points into neighbouring geometry.
-    let r = raster_surface(inst, front_facing, in.local, in.uv, in.world_normal);
+    let r = raster_surface(inst, front_facing, in.local, in.uv, in.uv1, in.color, in.world_normal);
 
     var s: ShadingPoint;
     s.position = in.world_pos;
