@@ -13,6 +13,8 @@
 //! under the panel is 1 - 0.4 (the light through it), 1 beside it, on every back-end; two
 //! stacked panels let 0.6 x 0.6 through.
 //!
+//! The same panel with its 0.4 in its vertex colours' alpha (COLOR_0) instead: the same answers.
+//!
 //! A transmissive panel (KHR_materials_transmission 0.75, alpha mode OPAQUE, unlit base colour
 //! (0.5, 1, 0.25)) in the same place covers 1 - 0.75 of the pixel and tints what it lets through
 //! by its base colour: 0.25 x base + 0.75 x base x blue; its shadow lets 0.75 through.
@@ -27,7 +29,7 @@ use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions};
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};
-use raygraph::scene::{builtin, AlphaMode, Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, Vertex};
+use raygraph::scene::{builtin, AlphaMode, Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, Vertex, VertexExtra};
 
 const SIZE: (u32, u32) = (64, 64);
 const COVERAGE: f32 = 0.4;
@@ -50,6 +52,16 @@ fn glass_material(lit: bool) -> Material {
     let mut m = Material { double_sided: true, unlit: !lit, ..Material::diffuse("glass", [GLASS[0], GLASS[1], GLASS[2], 1.0], None) };
     m.lobes.transmission = TRANSMISSION;
     m
+}
+
+/// The panel scene with the panel's 0.4 in its vertex colours' alpha (COLOR_0) instead of its
+/// base colour's.
+fn vertex_alpha_scene() -> Scene {
+    let mut s = panel_scene();
+    s.materials[1].base_color[3] = 1.0;
+    let corners = s.meshes[1].vertices.len();
+    s.meshes[1].extras = Some(vec![VertexExtra { color: [1.0, 1.0, 1.0, COVERAGE], ..Default::default() }; corners]);
+    s
 }
 
 /// The panel scene with the transmissive panel instead of the BLEND one.
@@ -112,6 +124,7 @@ fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
     let glass = Vec3::from(GLASS);
     let cases = [
         ("blend", panel_scene(), Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE)),
+        ("vertex alpha", vertex_alpha_scene(), Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE)),
         ("transmission", glass_scene(), (1.0 - TRANSMISSION) * glass + TRANSMISSION * glass * Vec3::Z),
     ];
     for (backend, (what, scene, over)) in backends(&gpu).into_iter().flat_map(|b| cases.iter().map(move |c| (b, c))) {
@@ -148,8 +161,14 @@ fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
 #[test]
 fn raster_draws_the_panel_screen_door_keeping_its_share_of_every_4x4_block() {
     let gpu = gpu();
-    let exec = render(&gpu, "graph/raster.ron", Backend::Compute, &panel_scene());
-    let hdr = channel(&gpu, &exec, "forward.color");
+    for (what, scene) in [("base alpha", panel_scene()), ("vertex alpha", vertex_alpha_scene())] {
+        raster_screen_door(&gpu, what, &scene);
+    }
+}
+
+fn raster_screen_door(gpu: &Gpu, what: &str, scene: &Scene) {
+    let exec = render(gpu, "graph/raster.ron", Backend::Compute, scene);
+    let hdr = channel(gpu, &exec, "forward.color");
     let mut blocks = 0;
     for by in 0..SIZE.1 / 4 {
         for bx in 0..SIZE.0 / 4 {
@@ -159,14 +178,14 @@ fn raster_draws_the_panel_screen_door_keeping_its_share_of_every_4x4_block() {
             }
             let red: Vec<f32> = pixels.iter().map(|&(x, y)| hdr[(y * SIZE.0 + x) as usize][0]).collect();
             // Each fragment is the panel's red or the wall's blue, nothing between.
-            assert!(red.iter().all(|&r| r < 2e-3 || (r - 1.0).abs() < 2e-3), "block ({bx}, {by}): {red:?}");
+            assert!(red.iter().all(|&r| r < 2e-3 || (r - 1.0).abs() < 2e-3), "{what}, block ({bx}, {by}): {red:?}");
             let share = red.iter().filter(|&&r| r > 0.5).count() as f32 / 16.0;
-            assert_eq!(share, 6.0 / 16.0, "block ({bx}, {by})");
+            assert_eq!(share, 6.0 / 16.0, "{what}, block ({bx}, {by})");
             assert!((share - COVERAGE).abs() <= 1.0 / 32.0);
             blocks += 1;
         }
     }
-    println!("raster: {blocks} 4x4 blocks inside the panel, each keeping 6 of 16 fragments (coverage 0.4)");
+    println!("raster, {what}: {blocks} 4x4 blocks inside the panel, each keeping 6 of 16 fragments (coverage 0.4)");
     assert!(blocks >= 16);
 }
 

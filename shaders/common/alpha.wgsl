@@ -8,7 +8,7 @@
 // order, shadow maps included (their PCF then lets that share of the light through). Passes
 // whose G-buffer the rt_blend layer composites over do not draw BLEND instances at all
 // (`skip_blend`). Usable from depth-only passes:
-//   if !material_alpha_visible(material, uv, in.clip.xy) { discard; }
+//   if !material_alpha_visible(material, uv, in.clip.xy, vertex_alpha) { discard; }
 // Needs common/scene.wgsl included and `scene_materials` declared by the pass
 // (`scene_textures` comes with the include).
 //
@@ -28,7 +28,8 @@ fn screen_door_threshold(pixel: vec2<f32>) -> f32 {
     return (f32(bayer[p.y * 4u + p.x]) + 0.5) / 16.0;
 }
 
-fn material_alpha_visible(material: u32, uv: vec2<f32>, pixel: vec2<f32>) -> bool {
+// `vertex_alpha`: the interpolated vertex colours' alpha (COLOR_0; 1 without).
+fn material_alpha_visible(material: u32, uv: vec2<f32>, pixel: vec2<f32>, vertex_alpha: f32) -> bool {
     if !RASTER_ALPHA_TEST {
         return true;
     }
@@ -42,5 +43,5 @@ fn material_alpha_visible(material: u32, uv: vec2<f32>, pixel: vec2<f32>) -> boo
     let factor = select(m.base_color.a, m.clearcoat.w, (m.flags & MATERIAL_TRANSMISSION) != 0u);
     // The base colour slot's uv transform and wrap modes (its filter does not apply: the test
     // is always bilinear at level 0).
-    return alpha_kept(m.base_texture, factor, cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
+    return alpha_kept(m.base_texture, factor * vertex_alpha, cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
 }

@@ -10,9 +10,10 @@
 //#include "common/alpha.wgsl"
 //#include "common/texture_sampling.wgsl"
 
-// `pixel`: the fragment's position (BLEND materials are drawn screen-door).
-fn raster_fragment_kept(inst: Instance, uv: vec2<f32>, pixel: vec2<f32>) -> bool {
-    return material_alpha_visible(inst.material, uv, pixel);
+// `pixel`: the fragment's position (BLEND materials are drawn screen-door); `vertex_alpha`: the
+// interpolated vertex colours' alpha (COLOR_0; 1 without).
+fn raster_fragment_kept(inst: Instance, uv: vec2<f32>, pixel: vec2<f32>, vertex_alpha: f32) -> bool {
+    return material_alpha_visible(inst.material, uv, pixel, vertex_alpha);
 }
 
 // The material and geometry of a kept fragment. Normals face the viewer.

@@ -86,7 +86,7 @@ fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy) {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
         discard;
     }
     return gbuffer_of(in, front_facing);
@@ -109,7 +109,7 @@ struct GBufferMaterial {
 
 @fragment
 fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferSurface {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy) {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
         discard;
     }
     let g = gbuffer_of(in, front_facing);
@@ -118,7 +118,7 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuff
 
 @fragment
 fn fs_material(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferMaterial {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy) {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
         discard;
     }
     let g = gbuffer_of(in, front_facing);

@@ -72,7 +72,7 @@ fn vs_main(
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
     let inst = scene_instances[in.instance];
-    if !raster_fragment_kept(inst, in.uv, in.clip.xy) {
+    if !raster_fragment_kept(inst, in.uv, in.clip.xy, in.color.a) {
         discard;
     }
     // Before any non-uniform branch (it takes derivatives: the normal map's frame, the face

@@ -5,7 +5,7 @@
 //     `instance`: the scene instance (Scene::instances index); `primitive`: the triangle's
 //     index within its mesh; `bary`: barycentric weights of the triangle's vertices 1 and 2.
 //     True when the hit is kept: the instance's material is not alpha-tested, or
-//     base_color.a x the base texture's level-0 bilinear alpha (its slot's wrap modes) at the
+//     base_color.a x the vertex colours' alpha x the base texture's level-0 bilinear alpha (its slot's wrap modes) at the
 //     interpolated, transformed TEXCOORD_0 is >= the material's cutoff (BLEND: 1/256, its
 //     least coverage: a BLEND surface is translucent, composited by the passes through
 //     common/blend.wgsl). Same arithmetic as the raster side (common/alpha.wgsl) and the CPU
@@ -22,7 +22,8 @@
 //       bitcast<u32>(base_color.a), bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an
 //       instance whose material is not alpha-tested (nothing else is read then);
 //     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 through the base
-//       colour slot's uv transform, as f32 bits, (u0, v0, u1, v1) and (u2, v2, 0, 0). Only
+//       colour slot's uv transform, as f32 bits, (u0, v0, u1, v1) and (u2, v2, alphas, 0), alphas
+//       its corners' vertex-colour alpha (COLOR_0; 1 without), 8-bit unorm, 8 bits each. Only
 //       meshes of alpha-tested instances have uvs (one copy per transform they are drawn with).
 //   @group(1) @binding(0) scene_textures, declared by common/scene_textures_texels.wgsl
 //     (either variant, which common/scene_textures.wgsl includes), so a trace pass that
@@ -42,11 +43,14 @@ override TRACE_ALPHA_TEST: bool = true;
 const TRACE_ALPHA_OPAQUE: u32 = 0xffffffffu;
 const TRACE_ALPHA_BLEND: u32 = 0x10000000u;
 
-// The base colour slot's uv of a hit on an alpha-tested instance whose record is `rec`.
-fn trace_alpha_uv(rec: vec4<u32>, primitive: u32, bary: vec2<f32>) -> vec2<f32> {
-    let a = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive));
-    let b = bitcast<vec4<f32>>(trace_alpha_word(rec.x + 2u * primitive + 1u));
-    return a.xy * (1.0 - bary.x - bary.y) + a.zw * bary.x + b.xy * bary.y;
+// The base colour slot's uv (xy) and the vertex colours' alpha (z) of a hit on an alpha-tested
+// instance whose record is `rec`.
+fn trace_alpha_corners(rec: vec4<u32>, primitive: u32, bary: vec2<f32>) -> vec3<f32> {
+    let a = trace_alpha_word(rec.x + 2u * primitive);
+    let b = trace_alpha_word(rec.x + 2u * primitive + 1u);
+    let w = vec3<f32>(1.0 - bary.x - bary.y, bary.x, bary.y);
+    let uv = bitcast<vec2<f32>>(a.xy) * w.x + bitcast<vec2<f32>>(a.zw) * w.y + bitcast<vec2<f32>>(b.xy) * w.z;
+    return vec3<f32>(uv, dot(unpack4x8unorm(b.z).xyz, w));
 }
 
 fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
@@ -54,8 +58,8 @@ fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
     if rec.x == TRACE_ALPHA_OPAQUE {
         return true;
     }
-    let uv = trace_alpha_uv(rec, primitive, bary);
-    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z), bitcast<f32>(rec.w), uv, (rec.y >> 24u) & 15u);
+    let c = trace_alpha_corners(rec, primitive, bary);
+    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, bitcast<f32>(rec.w), c.xy, (rec.y >> 24u) & 15u);
 }
 
 fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
@@ -63,6 +67,6 @@ fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
     if rec.x == TRACE_ALPHA_OPAQUE || (rec.y & TRACE_ALPHA_BLEND) == 0u {
         return -1.0;
     }
-    let uv = trace_alpha_uv(rec, primitive, bary);
-    return bitcast<f32>(rec.z) * scene_alpha_level0(rec.y & 0xffffffu, uv, (rec.y >> 24u) & 15u);
+    let c = trace_alpha_corners(rec, primitive, bary);
+    return bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
 }

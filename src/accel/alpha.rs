@@ -2,7 +2,9 @@
 //! module's `trace_alpha_visible` reads (`accel_alpha`, see `shaders/trace/alpha.wgsl`), and
 //! the same test on the CPU for [`crate::accel::cpu_traverse`] and [`crate::accel::reference`].
 //!
-//! A material is alpha-tested when its alpha mode is MASK (its cutoff) or BLEND. A BLEND
+//! A material is alpha-tested when its alpha mode is MASK (its cutoff) or BLEND (or it is
+//! transmissive). Its alpha is `base_color.a` x the vertex colours' alpha (`COLOR_0`) x the
+//! base texture's alpha. A BLEND
 //! surface is translucent: the traversal keeps its hits wherever its coverage is at least
 //! [`BLEND_MIN_COVERAGE`] (a texel below it is empty), and the passes composite it
 //! (`shaders/common/blend.wgsl`: skipped by primary rays, attenuating shadow and AO rays by one
@@ -68,8 +70,9 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
             for tri in mesh.indices.chunks_exact(3) {
                 let uv = |k: u32| sampling.apply(mesh.vertices.get(k as usize).map_or([0.0; 2], |v| v.uv)).map(f32::to_bits);
                 let (a, b, c) = (uv(tri[0]), uv(tri[1]), uv(tri[2]));
+                let alphas = tri.iter().enumerate().map(|(k, &i)| vertex_alpha_byte(mesh, i) << (8 * k)).sum::<u32>();
                 words.push([a[0], a[1], b[0], b[1]]);
-                words.push([c[0], c[1], 0, 0]);
+                words.push([c[0], c[1], alphas, 0]);
             }
             b
         });
@@ -79,6 +82,12 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
         words[i] = [base, layer | wrap << 24 | blend, factor.to_bits(), cutoff(m).unwrap_or(0.0).to_bits()];
     }
     words
+}
+
+/// The alpha of vertex `i`'s colour (`COLOR_0`; 1 without one) as the records hold it: 8-bit
+/// unorm (three to a word, `trace_alpha_corners` in `shaders/trace/alpha.wgsl`).
+fn vertex_alpha_byte(mesh: &crate::scene::Mesh, i: u32) -> u32 {
+    mesh.extras.as_ref().and_then(|e| e.get(i as usize)).map_or(255, |x| (x.color[3].clamp(0.0, 1.0) * 255.0).round() as u32)
 }
 
 /// Texel index `f` (a whole number) of an axis `n` texels long, wrapped by `wrap`:
@@ -153,5 +162,8 @@ pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Op
     let p = [0, 1].map(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2]);
     let tex = m.texture.and_then(|t| scene.textures.get(t)).map_or(1.0, |img| bilinear_alpha(img, p, sampling));
     let factor = if m.translucent() { m.coverage_factor() } else { m.base_color[3] };
-    Some(factor as f64 * tex - cutoff as f64)
+    // The vertex colours' alpha (COLOR_0), interpolated from the records' 8-bit copies.
+    let corner = |k: usize| mesh.indices.get(3 * prim + k).map_or(1.0, |&i| vertex_alpha_byte(mesh, i) as f64 / 255.0);
+    let vertex = corner(0) * w[0] + corner(1) * w[1] + corner(2) * w[2];
+    Some(factor as f64 * vertex * tex - cutoff as f64)
 }
