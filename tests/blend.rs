@@ -94,12 +94,7 @@ fn panel_scene() -> Scene {
 }
 
 fn render(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene) -> Executor {
-    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
-    let path = repo().join(graph);
-    let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
-    exec
+    common::modes::render_graph(gpu, graph, backend, scene, SIZE)
 }
 
 /// Whether pixel (x, y) is wholly inside the panel's image (its middle half, a pixel's margin).

@@ -228,12 +228,6 @@ fn scene_info_ignores_nothing_on_any_khronos_model() {
     }
 }
 
-/// The HDR image of `graph`'s resource `resource` for `scene` from its own camera, compute
-/// back-end.
-fn frame_of(scene: &Scene, graph: &str, resource: &str, size: (u32, u32)) -> Vec<[f32; 4]> {
-    hdr(scene, graph, resource, size)
-}
-
 #[test]
 fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_behind() {
     // Every material unlit (each shows its base colour times its texture), so a pixel through
@@ -256,13 +250,13 @@ fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_b
     let centre = scene.instances[panel].transform.transform_point3(glam::Vec3::new(0.0, 1.035, 0.0));
     scene.camera = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.5), centre, 40.0, 0.05, 100.0);
     let size = (48, 64);
-    let composite = frame_of(&scene, "graph/full_rt.ron", "blend.color", size);
+    let composite = hdr(&scene, "graph/full_rt.ron", "blend.color", size);
     let mut opaque = scene.clone();
     opaque.materials[blend].alpha_mode = raygraph::scene::AlphaMode::Opaque;
-    let colour = frame_of(&opaque, "graph/full_rt.ron", "resolve.hdr", size);
+    let colour = hdr(&opaque, "graph/full_rt.ron", "resolve.hdr", size);
     let mut without = scene.clone();
     without.instances.remove(panel);
-    let behind = frame_of(&without, "graph/full_rt.ron", "blend.color", size);
+    let behind = hdr(&without, "graph/full_rt.ron", "blend.color", size);
     // Which pixels see the panel first, and its coverage there.
     let accel = raygraph::accel::layout::GpuAccel::build(&scene, &Default::default());
     let cpu = raygraph::accel::cpu_traverse::CpuTraverser::with_scene(&accel, &scene);

@@ -14,12 +14,9 @@
 
 mod common;
 
-use common::{channel, gpu, repo};
+use common::{channel, gpu};
 use glam::{Mat4, Vec3};
 use raygraph::backend::Backend;
-use raygraph::graph::compile::{compile_with, CompileOptions};
-use raygraph::graph::Project;
-use raygraph::runtime::Executor;
 use raygraph::scene::{builtin, Camera, Instance, LightKind, Lobes, Material, Mesh, PunctualLight, Scene, Vertex};
 
 const SIZE: (u32, u32) = (33, 33);
@@ -81,11 +78,7 @@ fn a_black_plate_reflects_the_sky_by_its_fresnel_reflectance_in_every_mode() {
         let scene = plate_scene(lobes);
         let f = expected_reflectance(&lobes);
         for (graph, resource) in [("graph/raster.ron", "forward.color"), ("graph/hybrid.ron", "resolve.hdr"), ("graph/full_rt.ron", "resolve.hdr")] {
-            let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
-            let path = repo().join(graph);
-            let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
-            let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-            exec.render(&gpu, &scene.camera, &scene).unwrap();
+            let exec = common::modes::render_graph(&gpu, graph, Backend::Compute, &scene, SIZE);
             let centre = channel(&gpu, &exec, resource)[(SIZE.1 / 2 * SIZE.0 + SIZE.0 / 2) as usize];
             let got: Vec<f64> = (0..3).map(|k| centre[k] as f64 / sky[k]).collect();
             println!("{name}, {graph}: reflectance {got:.5?}, expected {f:.5?}");
@@ -100,7 +93,7 @@ fn a_black_plate_reflects_the_sky_by_its_fresnel_reflectance_in_every_mode() {
 
 #[test]
 fn the_importer_reads_the_lobe_and_transmission_factors_names_their_textures_and_the_export_writes_them_back() {
-    let dir = tempdir();
+    let dir = common::gltf_doc::temp_dir("lobes");
     let gltf = serde_json::json!({
         "asset": {"version": "2.0"},
         "extensionsUsed": ["KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_transmission"],
@@ -131,10 +124,5 @@ fn the_importer_reads_the_lobe_and_transmission_factors_names_their_textures_and
     raygraph::scene::export::write_glb(&scene, &out).unwrap();
     let (again, _) = raygraph::scene::open(out.to_str().unwrap(), &Default::default()).unwrap();
     assert_eq!(again.materials[0].lobes, want, "the export writes the factors back");
-}
-
-fn tempdir() -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("raygraph-lobes-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    let _ = std::fs::remove_dir_all(&dir);
 }

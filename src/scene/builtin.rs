@@ -126,36 +126,17 @@ pub fn default_scene() -> Scene {
         Instance { mesh: 2, material: 2, transform: Mat4::from_scale_rotation_translation(Vec3::splat(0.9), glam::Quat::IDENTITY, Vec3::new(1.2, 0.9, 0.6)) },
         Instance { mesh: 2, material: 3, transform: Mat4::from_scale_rotation_translation(Vec3::splat(0.5), glam::Quat::IDENTITY, Vec3::new(0.2, 0.5, 2.2)) },
     ];
+    // The default view, also the first preset.
+    let view = Camera::look(Vec3::new(3.5, 3.2, 6.5), Vec3::new(0.0, 0.6, 0.4), 50.0, 0.05, 100.0);
     Scene {
         name: "default".into(),
         meshes,
         materials,
         instances,
         textures,
-        camera: Camera {
-            position: Vec3::new(3.5, 3.2, 6.5),
-            target: Vec3::new(0.0, 0.6, 0.4),
-            up: Vec3::Y,
-            fov_y: 50f32.to_radians(),
-            near: 0.05,
-            far: 100.0,
-            orthographic: None,
-            aspect_ratio: None,
-        },
+        camera: view,
         presets: vec![
-            (
-                "main".into(),
-                Camera {
-                    position: Vec3::new(3.5, 3.2, 6.5),
-                    target: Vec3::new(0.0, 0.6, 0.4),
-                    up: Vec3::Y,
-                    fov_y: 50f32.to_radians(),
-                    near: 0.05,
-                    far: 100.0,
-                    orthographic: None,
-                    aspect_ratio: None,
-                },
-            ),
+            ("main".into(), view),
             ("low".into(), Camera::look(Vec3::new(-4.0, 0.6, 4.5), Vec3::new(0.0, 0.8, 0.0), 50.0, 0.05, 100.0)),
             ("top".into(), Camera::look(Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO, 50.0, 0.05, 100.0)),
         ],

@@ -108,6 +108,12 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             AlphaMode::Blend => (json::material::AlphaMode::Blend, None),
         };
         let (emissive, emissive_strength) = emissive_factor(m);
+        let lobes = lobe_extensions(&m.lobes);
+        for name in lobes.keys() {
+            if !root.extensions_used.contains(name) {
+                root.extensions_used.push(name.clone());
+            }
+        }
         materials.push(root.push(json::Material {
             name: Some(m.name.clone()),
             alpha_mode: Valid(alpha_mode),
@@ -138,12 +144,12 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             }),
             emissive_texture: info(m.emissive_texture, 4),
             emissive_factor: json::material::EmissiveFactor(emissive),
-            extensions: (emissive_strength.is_some() || m.unlit || m.lobes != Lobes::default()).then(|| json::extensions::material::Material {
+            extensions: (emissive_strength.is_some() || m.unlit || !lobes.is_empty()).then(|| json::extensions::material::Material {
                 emissive_strength: emissive_strength.map(|strength| json::extensions::material::EmissiveStrength {
                     emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
                 }),
                 unlit: m.unlit.then_some(json::extensions::material::Unlit {}),
-                others: lobe_extensions(&m.lobes),
+                others: lobes,
                 ..Default::default()
             }),
             ..Default::default()
@@ -154,13 +160,6 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     }
     if scene.materials.iter().any(|m| m.unlit) {
         root.extensions_used.push("KHR_materials_unlit".into());
-    }
-    for m in &scene.materials {
-        for name in lobe_extensions(&m.lobes).keys() {
-            if !root.extensions_used.contains(name) {
-                root.extensions_used.push(name.clone());
-            }
-        }
     }
 
     // Meshes. The material goes with the primitive, so a mesh used with several materials

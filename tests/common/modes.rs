@@ -26,3 +26,14 @@ pub fn render_without_effects(gpu: &Gpu, graph: &str, backend: Backend, scene: &
     exec.render(gpu, &scene.camera, scene).unwrap();
     exec
 }
+
+/// One frame of the repository's `graph` for `scene` from its own camera on `backend`, without
+/// texture reuse so that every channel can be read back (`common::channel`).
+pub fn render_graph(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene, size: (u32, u32)) -> Executor {
+    let options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+    let path = super::repo().join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec
+}

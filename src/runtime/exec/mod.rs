@@ -197,6 +197,7 @@ impl Executor {
         let samplers = Self::samplers(&gpu.device);
         let accel = Self::accel_cache(gpu, &plan);
         let scene_content = if scene_gpu.is_some() { SceneContent::of(scene) } else { SceneContent::default() };
+        let (trace_alpha_test, trace_blend) = Self::scene_trace_switches(scene);
         let mut exec = Self {
             plan,
             slots,
@@ -212,8 +213,8 @@ impl Executor {
             scene_content,
             samplers,
             warned_unshadowed: false,
-            trace_alpha_test: Self::scene_has_alpha_test(scene),
-            trace_blend: Self::scene_has_blend(scene),
+            trace_alpha_test,
+            trace_blend,
             rust_passes,
             history: history::HistoryState::default(),
             deform: None,

@@ -47,7 +47,7 @@ impl Executor {
     /// other change (meshes, materials, textures, instances added or removed) uploads the scene
     /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
     pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
-        let (alpha_test, blend) = (Self::scene_has_alpha_test(scene), Self::scene_has_blend(scene));
+        let (alpha_test, blend) = Self::scene_trace_switches(scene);
         if (alpha_test, blend) != (self.trace_alpha_test, self.trace_blend) {
             (self.trace_alpha_test, self.trace_blend) = (alpha_test, blend);
             self.passes = self.build_passes(gpu)?;

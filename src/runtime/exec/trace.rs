@@ -58,14 +58,19 @@ fn buffer_uses(kind: &BindingKind) -> wgpu::BufferUses {
 }
 
 impl Executor {
-    /// Whether any instance of `scene` is alpha-tested.
-    pub(super) fn scene_has_alpha_test(scene: &Scene) -> bool {
-        (0..scene.instances.len()).any(|i| crate::accel::alpha::instance_tested(scene, i))
-    }
-
-    /// Whether any instance of `scene` has a translucent (BLEND or transmissive) material.
-    pub(super) fn scene_has_blend(scene: &Scene) -> bool {
-        scene.instances.iter().any(|inst| scene.materials.get(inst.material).is_some_and(|m| m.translucent()))
+    /// Whether any instance of `scene` is alpha-tested, and whether any is translucent (BLEND or
+    /// transmissive, which are alpha-tested too): the values of TRACE_ALPHA_TEST and TRACE_BLEND,
+    /// in one pass over the instances (made every frame).
+    pub(super) fn scene_trace_switches(scene: &Scene) -> (bool, bool) {
+        let mut switches = (false, false);
+        for m in scene.instances.iter().filter_map(|inst| scene.materials.get(inst.material)) {
+            switches.0 |= m.alpha_cutoff().is_some();
+            switches.1 |= m.translucent();
+            if switches.1 {
+                break;
+            }
+        }
+        switches
     }
 
     /// A trace pass on the rt-pipeline back-end: the same bindings as the compute pass would
@@ -82,9 +87,12 @@ impl Executor {
             let Some(resource) = self.rt_resource(pass, b, &bindings)? else { continue };
             rt_bindings.push(RtBinding { group: b.group, entry, resource });
         }
-        // The ray-generation stage's constants; the alpha test is the any-hit shader's own.
-        let constants =
-            trace_constants(pass, true, self.trace_blend).into_iter().filter(|(n, _)| *n == TRACE_BLEND_CONSTANT).map(|(n, v)| (n.to_string(), v)).collect();
+        // The ray-generation stage's constants: TRACE_BLEND only (the alpha test is the any-hit
+        // shader's own).
+        let mut constants = naga::back::PipelineConstants::default();
+        if pass.shader.has_override(TRACE_BLEND_CONSTANT) {
+            constants.insert(TRACE_BLEND_CONSTANT.to_string(), if self.trace_blend { 1.0 } else { 0.0 });
+        }
         let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, &constants, rt_bindings, builtins::ACCEL_GROUP)?;
         let wg = shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
         // The launch grid: one ray-generation invocation per invocation of the compute dispatch.

@@ -943,36 +943,17 @@ pub(super) fn build(seed: u64) -> Scene {
         n_bush += 1;
     }
 
+    // The default view, also the first preset.
+    let view = Camera::look(Vec3::new(-13.2, 1.8, 0.6), Vec3::new(6.0, 4.2, -0.4), 60.0, 0.05, 120.0);
     Scene {
         name: "atrium".into(),
         meshes: a.meshes,
         materials: a.materials,
         instances: a.instances,
         textures: a.textures,
-        camera: Camera {
-            position: Vec3::new(-13.2, 1.8, 0.6),
-            target: Vec3::new(6.0, 4.2, -0.4),
-            up: Vec3::Y,
-            fov_y: 60f32.to_radians(),
-            near: 0.05,
-            far: 120.0,
-            orthographic: None,
-            aspect_ratio: None,
-        },
+        camera: view,
         presets: vec![
-            (
-                "courtyard".into(),
-                Camera {
-                    position: Vec3::new(-13.2, 1.8, 0.6),
-                    target: Vec3::new(6.0, 4.2, -0.4),
-                    up: Vec3::Y,
-                    fov_y: 60f32.to_radians(),
-                    near: 0.05,
-                    far: 120.0,
-                    orthographic: None,
-                    aspect_ratio: None,
-                },
-            ),
+            ("courtyard".into(), view),
             ("gallery".into(), Camera::look(Vec3::new(-12.0, 7.6, -5.0), Vec3::new(10.0, 5.0, -4.0), 60.0, 0.05, 120.0)),
             ("aisle".into(), Camera::look(Vec3::new(12.0, 1.7, 5.2), Vec3::new(-10.0, 2.5, 5.0), 60.0, 0.05, 120.0)),
             ("sky".into(), Camera::look(Vec3::new(0.5, 30.0, 0.0), Vec3::new(0.0, 0.0, 0.0), 55.0, 0.05, 120.0)),
@@ -981,19 +962,7 @@ pub(super) fn build(seed: u64) -> Scene {
             // Miss (inside): from the middle of the courtyard, above the fountain (2.35 m),
             // straight up through the open roof (its opening is 6.2 m across at 12 m; 24 degrees over the 6.2 m side leaves the
             // cornice out), so rays cross the scene's box and hit nothing.
-            (
-                "miss_inside".into(),
-                Camera {
-                    position: Vec3::new(0.0, 2.6, 0.0),
-                    target: Vec3::new(0.0, 12.0, 0.0),
-                    up: Vec3::Z,
-                    fov_y: 24f32.to_radians(),
-                    near: 0.05,
-                    far: 120.0,
-                    orthographic: None,
-                    aspect_ratio: None,
-                },
-            ),
+            ("miss_inside".into(), Camera { up: Vec3::Z, ..Camera::look(Vec3::new(0.0, 2.6, 0.0), Vec3::new(0.0, 12.0, 0.0), 24.0, 0.05, 120.0) }),
         ],
         light: Light { direction: Vec3::new(-0.32, 0.88, 0.36).normalize(), color: Vec3::new(1.0, 0.95, 0.86), intensity: 3.2, ambient: 0.25 },
         point_light: None,

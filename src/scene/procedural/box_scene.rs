@@ -37,36 +37,17 @@ pub(super) fn build() -> Scene {
     let textures = vec![crate_texture(&mut rng), tex_roughness("box_roughness", 128, 0.7, 0.5, &mut rng)];
     let mut m = material("crate", [1.0; 4], Some(0), 0.7);
     m.metallic_roughness_texture = Some(1);
+    // The default view, also the first preset.
+    let view = Camera::look(Vec3::new(1.6, 1.3, 2.2), Vec3::ZERO, 45.0, 0.05, 50.0);
     Scene {
         name: "box".into(),
         meshes: vec![mesh],
         materials: vec![m],
         instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
         textures,
-        camera: Camera {
-            position: Vec3::new(1.6, 1.3, 2.2),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_y: 45f32.to_radians(),
-            near: 0.05,
-            far: 50.0,
-            orthographic: None,
-            aspect_ratio: None,
-        },
+        camera: view,
         presets: vec![
-            (
-                "corner".into(),
-                Camera {
-                    position: Vec3::new(1.6, 1.3, 2.2),
-                    target: Vec3::ZERO,
-                    up: Vec3::Y,
-                    fov_y: 45f32.to_radians(),
-                    near: 0.05,
-                    far: 50.0,
-                    orthographic: None,
-                    aspect_ratio: None,
-                },
-            ),
+            ("corner".into(), view),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.0, 2.5), Vec3::ZERO, 45.0, 0.05, 50.0)),
             ("close".into(), Camera::look(Vec3::new(0.45, 0.35, 0.9), Vec3::ZERO, 60.0, 0.05, 50.0)),
             // The Stress view (`bench rays`): one face fills the frame, no sky.

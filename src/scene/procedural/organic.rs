@@ -184,36 +184,17 @@ pub(super) fn build() -> Scene {
     let textures = vec![base, tex_roughness("organic_roughness", 128, 0.55, 0.6, &mut rng)];
     let mut m = material("organic_skin", [1.0; 4], Some(0), 0.55);
     m.metallic_roughness_texture = Some(1);
+    // The default view, also the first preset.
+    let view = Camera::look(Vec3::new(1.5, 0.7, 3.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0);
     Scene {
         name: "organic".into(),
         meshes: vec![mesh],
         materials: vec![m],
         instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
         textures,
-        camera: Camera {
-            position: Vec3::new(1.5, 0.7, 3.0),
-            target: Vec3::new(0.0, 0.05, 0.0),
-            up: Vec3::Y,
-            fov_y: 45f32.to_radians(),
-            near: 0.05,
-            far: 50.0,
-            orthographic: None,
-            aspect_ratio: None,
-        },
+        camera: view,
         presets: vec![
-            (
-                "three-quarter".into(),
-                Camera {
-                    position: Vec3::new(1.5, 0.7, 3.0),
-                    target: Vec3::new(0.0, 0.05, 0.0),
-                    up: Vec3::Y,
-                    fov_y: 45f32.to_radians(),
-                    near: 0.05,
-                    far: 50.0,
-                    orthographic: None,
-                    aspect_ratio: None,
-                },
-            ),
+            ("three-quarter".into(), view),
             ("front".into(), Camera::look(Vec3::new(0.0, 0.1, 3.2), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
             ("profile".into(), Camera::look(Vec3::new(3.2, 0.2, 0.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0)),
             // The Stress view (`bench rays`): the face fills the frame, no sky.
