@@ -170,15 +170,49 @@ fn clip_planes_fitted_to_the_bounds_draw_the_scene_from_any_distance() {
     }
 }
 
-/// The HDR colour before tone mapping of `graph`'s frame and the resource that holds it.
-fn hdr(scene: &Scene, graph: &str, resource: &str, size: (u32, u32)) -> Vec<[f32; 4]> {
+/// Resources of one frame of `graph` (compute back-end, no transient reuse).
+fn channels(scene: &Scene, graph: &str, resources: &[&str], size: (u32, u32)) -> Vec<Vec<[f32; 4]>> {
     let gpu = gpu();
     let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
     let path = repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
     let mut exec = Executor::new(&gpu, plan, scene).unwrap();
     exec.render(&gpu, &scene.camera, scene).unwrap();
-    common::channel(&gpu, &exec, resource)
+    resources.iter().map(|r| common::channel(&gpu, &exec, r)).collect()
+}
+
+/// The HDR colour before tone mapping of `graph`'s frame and the resource that holds it.
+fn hdr(scene: &Scene, graph: &str, resource: &str, size: (u32, u32)) -> Vec<[f32; 4]> {
+    channels(scene, graph, &[resource], size).remove(0)
+}
+
+#[test]
+fn texture_settings_tests_single_sided_quad_is_culled_and_still_casts_its_shadow() {
+    // TextureSettingsTest's sided rows: a quad facing away from the camera 0.1 in front of one
+    // facing it. The root node turns the file's planes y = -0.1 and y = 0 into world z = 0.1
+    // and z = 0. Single-sided (doubleSided false): the nearer quad is culled and the check mark
+    // behind it shows; double-sided: the nearer quad shows its own check mark. The culled quad
+    // is still geometry: it shadows the check mark behind it from the scene's default sun,
+    // which is why that cell reads darker than in the reference screenshot (drawn unshadowed).
+    let (mut scene, _) = open_with("TextureSettingsTest", &LoadOptions::default());
+    assert!(scene.lights.is_empty(), "lit by the default sun");
+    // The Test column's cells (file x 0 to 0.9) of the single-sided row (file z 2.09 to 2.99)
+    // and of the double-sided row (1.07 to 1.97).
+    for (row, centre_y, nearer_drawn) in [("single-sided", 2.54, false), ("double-sided", 1.52, true)] {
+        let centre = glam::Vec3::new(0.45, centre_y, 0.05);
+        scene.camera = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.0), centre, 8.0, 0.05, 100.0);
+        let size = (9, 9);
+        let middle = (4 * size.0 + 4) as usize;
+        for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
+            let c = channels(&scene, graph, &["gbuffer.position", "shadow.shadow"], size);
+            let (position, shadow) = (c[0][middle], c[1][middle]);
+            let want_z = if nearer_drawn { 0.1 } else { 0.0 };
+            println!("TextureSettingsTest {row}, {graph}: z {:.4}, sun visibility {:.3}", position[2], shadow[0]);
+            assert!(position[3] >= 1.0 && (position[2] - want_z).abs() < 1e-3, "{row}, {graph}: the drawn quad lies at z {want_z}: {position:?}");
+            let want_visibility = if nearer_drawn { 1.0 } else { 0.0 };
+            assert_eq!(shadow[0], want_visibility, "{row}, {graph}: the sun's visibility");
+        }
+    }
 }
 
 #[test]
