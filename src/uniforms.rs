@@ -105,7 +105,7 @@ pub struct MaterialUniforms {
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
     pub alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
-    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] | [`MATERIAL_UV1`] << slot |
+    /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] |
     /// [`MATERIAL_SAMPLERS`] | [`MATERIAL_LOBES`] | [`MATERIAL_TRANSMISSION`].
     pub flags: u32,
     /// Layer of the base colour texture.
@@ -121,20 +121,33 @@ pub struct MaterialUniforms {
     /// How much the occlusion texture darkens ambient light, 0..1.
     pub(crate) occlusion_strength: f32,
     /// Each texture slot's sampler, 8 bits a slot ([`crate::scene::SlotSampling::sampler_bits`]):
-    /// slots 0-3 in the first word, slot 4 in the second.
+    /// slots 0-3 in the first word, 4-7 in the second (8-10 in `slot_words[2]`).
     pub(crate) samplers: [u32; 2],
+    /// Layers of the lobe extensions' textures of slots 5-8 (specular, specular colour,
+    /// clearcoat, clearcoat roughness; 0: none).
+    pub(crate) lobe_layers: [u32; 4],
+    /// The layers of slots 9 (clearcoat normal, 0: none) and 10 (transmission), the sampler
+    /// bits of slots 8-10, and the uv-set bits (bit `slot`: the slot reads `TEXCOORD_1`).
+    pub(crate) slot_words: [u32; 4],
     /// Each slot's uv transform (`KHR_texture_transform`), rows `2 slot` and `2 slot + 1` (xyz);
     /// read only with [`MATERIAL_UV_TRANSFORM`].
-    pub(crate) uv_transforms: [[f32; 4]; 10],
-    /// The dielectric reflectance at normal incidence (rgb) and at grazing angles (a):
-    /// [`crate::scene::Lobes::dielectric_f0`] and the specular factor; read only with
-    /// [`MATERIAL_LOBES`].
+    pub(crate) uv_transforms: [[f32; 4]; 2 * MATERIAL_TEXTURE_SLOTS],
+    /// ((ior - 1) / (ior + 1))² x the specular colour factor (rgb) and the specular factor (a),
+    /// which the shaders make the dielectric reflectance with the lobe textures
+    /// (`shaders/common/surface_lobes.wgsl`, as [`crate::scene::Lobes::dielectric_f0`] without
+    /// them); read only with [`MATERIAL_LOBES`].
     pub(crate) specular: [f32; 4],
     /// The clear coat's weight and perceptual roughness, the transmission factor and the
     /// coverage factor of a transmissive material ([`crate::scene::Material::coverage_factor`]);
     /// read only with [`MATERIAL_LOBES`].
     pub(crate) clearcoat: [f32; 4],
+    /// The scale of the coat's normal map (x); y-w padding.
+    pub(crate) coat: [f32; 4],
 }
+
+/// A material's texture slots (`crate::scene::TEXTURE_SLOTS`): glTF's five and the lobe
+/// extensions' six.
+pub const MATERIAL_TEXTURE_SLOTS: usize = 11;
 
 /// Material flag: both faces are lit and never culled.
 pub(crate) const MATERIAL_DOUBLE_SIDED: u32 = 1;
@@ -146,8 +159,6 @@ pub(crate) const MATERIAL_ALPHA_BLEND: u32 = 4;
 pub(crate) const MATERIAL_UNLIT: u32 = 8;
 /// Material flag: a texture slot has a uv transform (`uv_transforms` is read).
 pub(crate) const MATERIAL_UV_TRANSFORM: u32 = 16;
-/// Material flag of slot 0, shifted left by the slot: the slot reads `TEXCOORD_1`.
-pub(crate) const MATERIAL_UV1: u32 = 32;
 /// Material flag: a texture slot's sampler is not glTF's default (`samplers` is read).
 pub(crate) const MATERIAL_SAMPLERS: u32 = 1024;
 /// Material flag: its specular lobes are not glTF's core material's (`specular` and
@@ -156,3 +167,6 @@ pub(crate) const MATERIAL_LOBES: u32 = 2048;
 /// Material flag: transmissive (`KHR_materials_transmission`; translucent, with
 /// MATERIAL_ALPHA_BLEND: its coverage factor is `clearcoat[3]`).
 pub(crate) const MATERIAL_TRANSMISSION: u32 = 4096;
+/// Material flag: its transmission texture is drawn ([`crate::scene::Material::transmission_texture_drawn`]):
+/// the coverage is `base_color.a` x (1 - transmission x (1 - metallic) x the texel).
+pub(crate) const MATERIAL_TRANSMISSION_TEXTURE: u32 = 8192;

@@ -19,6 +19,10 @@
 //! (0.5, 1, 0.25)) in the same place covers 1 - 0.75 of the pixel and tints what it lets through
 //! by its base colour: 0.25 x base + 0.75 x base x blue; its shadow lets 0.75 through.
 //!
+//! The same red transmissive panel with transmission 1 and a transmission texture of 0.6 covers
+//! 0.4 (1 - 0.6) in every mode: 0.4 red over the wall in hybrid and full RT (the blue it lets
+//! through tinted away by its red), 6 of 16 fragments in raster.
+//!
 //! A scene without BLEND materials runs its shadow rays as any-hit rays (TRACE_BLEND off).
 
 mod common;
@@ -68,6 +72,21 @@ fn vertex_alpha_scene() -> Scene {
 fn glass_scene() -> Scene {
     let mut s = panel_scene();
     s.materials[1] = glass_material(false);
+    s
+}
+
+/// The panel scene with a red transmissive panel (transmission 1) whose transmission texture's
+/// red is 153/255 = 0.6 everywhere: it covers 1 - 0.6 = 0.4 of the pixel (without the texture
+/// it would cover nothing) and lets through what its red base colour lets through of the blue
+/// wall: nothing.
+fn transmission_texture_scene() -> Scene {
+    let mut s = panel_scene();
+    let mut m = Material { double_sided: true, unlit: true, ..Material::diffuse("textured glass", [1.0, 0.0, 0.0, 1.0], None) };
+    m.lobes.transmission = 1.0;
+    m.lobes.textures[raygraph::scene::LOBE_TRANSMISSION] = Some(0);
+    s.textures =
+        vec![raygraph::scene::TextureImage { name: "transmission".into(), width: 2, height: 2, rgba: std::sync::Arc::new([153, 0, 0, 255].repeat(4)) }];
+    s.materials[1] = m;
     s
 }
 
@@ -121,6 +140,7 @@ fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
         ("blend", panel_scene(), Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE)),
         ("vertex alpha", vertex_alpha_scene(), Vec3::new(COVERAGE, 0.0, 1.0 - COVERAGE)),
         ("transmission", glass_scene(), (1.0 - TRANSMISSION) * glass + TRANSMISSION * glass * Vec3::Z),
+        ("transmission texture", transmission_texture_scene(), Vec3::new(COVERAGE, 0.0, 0.0)),
     ];
     for (backend, (what, scene, over)) in backends(&gpu).into_iter().flat_map(|b| cases.iter().map(move |c| (b, c))) {
         let over = *over;
@@ -156,9 +176,20 @@ fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
 #[test]
 fn raster_draws_the_panel_screen_door_keeping_its_share_of_every_4x4_block() {
     let gpu = gpu();
-    for (what, scene) in [("base alpha", panel_scene()), ("vertex alpha", vertex_alpha_scene())] {
+    for (what, scene) in [("base alpha", panel_scene()), ("vertex alpha", vertex_alpha_scene()), ("transmission texture", transmission_texture_scene())] {
         raster_screen_door(&gpu, what, &scene);
     }
+}
+
+#[test]
+fn the_cpu_reads_the_transmission_texture_into_the_coverage_as_the_gpu_does() {
+    let scene = transmission_texture_scene();
+    assert!(scene.materials[1].transmission_texture_drawn());
+    let coverage = raygraph::accel::alpha::blend_coverage(&scene, 1, 0, [0.25, 0.25]).expect("a translucent panel");
+    assert!((coverage - 0.4).abs() < 1e-6, "1 - 1 x 0.6: {coverage}");
+    let mut other_uv = scene.clone();
+    other_uv.materials[1].sampling[5 + raygraph::scene::LOBE_TRANSMISSION].tex_coord = 1;
+    assert!(!other_uv.materials[1].transmission_texture_drawn(), "a texture on another uv set is not drawn");
 }
 
 fn raster_screen_door(gpu: &Gpu, what: &str, scene: &Scene) {

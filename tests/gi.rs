@@ -40,7 +40,7 @@ fn graph(gi_enabled: bool) -> String {
     "gbuffer": Layer(layer: "deferred"),
     "shadow": Layer(
         layer: "rt_shadow",
-        inputs: {{"position": "gbuffer.position", "geo_normal": "gbuffer.geo_normal", "normal": "gbuffer.normal", "albedo": "gbuffer.albedo", "material": "gbuffer.material", "tlas": "accel.tlas"}},
+        inputs: {{"position": "gbuffer.position", "geo_normal": "gbuffer.geo_normal", "normal": "gbuffer.normal", "albedo": "gbuffer.albedo", "material": "gbuffer.material", "lobes": "gbuffer.lobes", "tlas": "accel.tlas"}},
     ),
     "gi": Layer(
         layer: "rt_gi",
@@ -51,7 +51,7 @@ fn graph(gi_enabled: bool) -> String {
     "resolve": Layer(
         layer: "resolve",
         inputs: {{
-            "position": "gbuffer.position", "normal": "gbuffer.normal", "albedo": "gbuffer.albedo", "material": "gbuffer.material",
+            "position": "gbuffer.position", "normal": "gbuffer.normal", "albedo": "gbuffer.albedo", "material": "gbuffer.material", "lobes": "gbuffer.lobes",
             "emissive": "gbuffer.emissive", "direct": "shadow.direct", "gi": "gi.gi",
         }},
     ),

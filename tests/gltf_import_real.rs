@@ -44,6 +44,10 @@ fn load_with_missing(slot: TextureSlot) -> (Material, ImportReport, Scene) {
         TextureSlot::Normal => m["normalTexture"] = json!({"index": missing, "scale": 0.5}),
         TextureSlot::Occlusion => m["occlusionTexture"] = json!({"index": missing, "strength": 0.5}),
         TextureSlot::Emissive => m["emissiveTexture"] = json!({"index": missing}),
+        lobe => {
+            let path = lobe.json_path();
+            m[path[0]][path[1]][path[2]] = json!({"index": missing});
+        }
     }
     d.json["materials"][0] = m;
     let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
@@ -94,6 +98,15 @@ fn a_missing_emissive_image_turns_the_emission_off() {
     let (m, _, s) = load_with_missing(TextureSlot::Emissive);
     assert_eq!((m.emissive_texture, m.emissive), (None, [0.0; 3]));
     assert_eq!(s.textures.len(), 1);
+}
+
+#[test]
+fn a_missing_lobe_extension_image_leaves_its_factor_alone() {
+    for (k, slot) in TextureSlot::ALL[5..].iter().enumerate() {
+        let (m, _, s) = load_with_missing(*slot);
+        assert_eq!(m.lobes.textures[k], None, "{slot:?}");
+        assert_eq!(s.textures.len(), 1, "{slot:?}: only the base colour image; no checker was made");
+    }
 }
 
 #[test]

@@ -40,7 +40,7 @@ fn graph(params: &str) -> String {
     "gbuffer": Layer(layer: "deferred"),
     "shadow": Layer(
         layer: "rt_shadow",
-        inputs: {{"position": "gbuffer.position", "geo_normal": "gbuffer.geo_normal", "normal": "gbuffer.normal", "albedo": "gbuffer.albedo", "material": "gbuffer.material", "tlas": "accel.tlas"}},
+        inputs: {{"position": "gbuffer.position", "geo_normal": "gbuffer.geo_normal", "normal": "gbuffer.normal", "albedo": "gbuffer.albedo", "material": "gbuffer.material", "lobes": "gbuffer.lobes", "tlas": "accel.tlas"}},
         params: {{{params}}},
     ),
 }})"#

@@ -33,15 +33,21 @@ fn material_alpha_visible(material: u32, uv: vec2<f32>, pixel: vec2<f32>, vertex
     if !RASTER_ALPHA_TEST {
         return true;
     }
-    let m = scene_materials[material];
+    let m = &scene_materials[material];
     if (m.flags & MATERIAL_ALPHA_MASK) == 0u {
         return true;
     }
     // Translucent (BLEND, transmissive): the coverage against the pixel's dither threshold
     // instead of a cutoff; a transmissive material's coverage factor takes its transmission.
     let cutoff = select(m.alpha_cutoff, screen_door_threshold(pixel), (m.flags & MATERIAL_ALPHA_BLEND) != 0u);
-    let factor = select(m.base_color.a, m.clearcoat.w, (m.flags & MATERIAL_TRANSMISSION) != 0u);
+    var factor = select(m.base_color.a, m.clearcoat.w, (m.flags & MATERIAL_TRANSMISSION) != 0u);
     // The base colour slot's uv transform and wrap modes (its filter does not apply: the test
     // is always bilinear at level 0).
-    return alpha_kept(m.base_texture, factor * vertex_alpha, cutoff, slot_uv(material, SLOT_BASE, uv), slot_sampler(material, SLOT_BASE) & 15u);
+    let base_uv = slot_uv(material, SLOT_BASE, uv);
+    if (m.flags & MATERIAL_TRANSMISSION_TEXTURE) != 0u {
+        // The transmission texture reads the same uv (Material::transmission_texture_drawn).
+        let texel = scene_bilinear_level0(m.slot_words.y, base_uv, slot_sampler(material, SLOT_TRANSMISSION) & 15u).r;
+        factor *= 1.0 - m.clearcoat.z * (1.0 - m.metallic) * texel;
+    }
+    return alpha_kept(m.base_texture, factor * vertex_alpha, cutoff, base_uv, slot_sampler(material, SLOT_BASE) & 15u);
 }

@@ -27,6 +27,11 @@ fn alpha_texel_index(f: f32, n: f32, mode: u32) -> u32 {
 
 // Level-0 bilinear alpha of `layer` at `uv`, wrapped by `wrap`.
 fn scene_alpha_level0(layer: u32, uv: vec2<f32>, wrap: u32) -> f32 {
+    return scene_bilinear_level0(layer, uv, wrap).a;
+}
+
+// Level-0 bilinear texel of `layer` at `uv`, wrapped by `wrap`.
+fn scene_bilinear_level0(layer: u32, uv: vec2<f32>, wrap: u32) -> vec4<f32> {
     let size = scene_texture_size0(layer);
     let sizef = vec2<f32>(size);
     let x = uv * sizef - 0.5;
@@ -44,10 +49,10 @@ fn scene_alpha_level0(layer: u32, uv: vec2<f32>, wrap: u32) -> f32 {
         i0 = vec2<u32>(alpha_texel_index(f.x, sizef.x, wrap & 3u), alpha_texel_index(f.y, sizef.y, (wrap >> 2u) & 3u));
         i1 = vec2<u32>(alpha_texel_index(f.x + 1.0, sizef.x, wrap & 3u), alpha_texel_index(f.y + 1.0, sizef.y, (wrap >> 2u) & 3u));
     }
-    let a00 = scene_texel0(layer, vec2<u32>(i0.x, i0.y)).a;
-    let a10 = scene_texel0(layer, vec2<u32>(i1.x, i0.y)).a;
-    let a01 = scene_texel0(layer, vec2<u32>(i0.x, i1.y)).a;
-    let a11 = scene_texel0(layer, vec2<u32>(i1.x, i1.y)).a;
+    let a00 = scene_texel0(layer, vec2<u32>(i0.x, i0.y));
+    let a10 = scene_texel0(layer, vec2<u32>(i1.x, i0.y));
+    let a01 = scene_texel0(layer, vec2<u32>(i0.x, i1.y));
+    let a11 = scene_texel0(layer, vec2<u32>(i1.x, i1.y));
     let top = a00 + (a10 - a00) * w.x;
     let bottom = a01 + (a11 - a01) * w.x;
     return top + (bottom - top) * w.y;

@@ -15,8 +15,7 @@ fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
     sp.occlusion = s.occlusion;
     sp.emissive = s.emissive;
     sp.unlit = s.unlit;
-    let m = scene_materials[s.material];
-    shading_lobes(&sp, m.flags, m.specular, m.clearcoat);
+    shading_lobes(&sp, s.lobes);
     return sp;
 }
 

@@ -13,6 +13,8 @@
 // light of intensity 1 at distance 1) has radiance 1.
 // Needs the main shader to declare `frame` (common/frame.wgsl).
 //#include "common/gbuffer_material_word.wgsl"
+//#include "common/scene_features.wgsl"
+//#include "common/lobes.wgsl"
 
 const PI: f32 = 3.14159265359;
 
@@ -63,25 +65,23 @@ struct ShadingPoint {
     // KHR_materials_unlit: the point shows its albedo (the base colour) and nothing else
     // (false in a zero-initialised point)
     unlit: bool,
-    // The specular lobes (set by shading_lobes): the dielectric part's reflectance at normal
-    // incidence (0.04: glTF's core material) and at grazing angles (1), and the clear coat's
-    // weight (0: none) and perceptual roughness.
+    // The specular lobes (set by shading_lobes; common/lobes.wgsl): the dielectric part's
+    // reflectance at normal incidence (0.04: glTF's core material) and at grazing angles (1),
+    // the clear coat's weight (0: none), perceptual roughness and normal.
     f0: vec3<f32>,
     f90: f32,
     clearcoat: f32,
     clearcoat_roughness: f32,
+    coat_normal: vec3<f32>,
 }
 
-// Sets the specular lobes of `s` from material flags `flags` and the material's `specular` and
-// `clearcoat` words (KHR_materials_ior, _specular, _clearcoat; read only with MATERIAL_LOBES,
-// else glTF's core material).
-fn shading_lobes(s: ptr<function, ShadingPoint>, flags: u32, specular: vec4<f32>, clearcoat: vec4<f32>) {
-    // MATERIAL_LOBES (common/scene.wgsl, which not every includer of this file has).
-    let lobes = (flags & 2048u) != 0u;
-    (*s).f0 = select(vec3<f32>(0.04), specular.rgb, lobes);
-    (*s).f90 = select(1.0, specular.a, lobes);
-    (*s).clearcoat = select(0.0, clearcoat.x, lobes);
-    (*s).clearcoat_roughness = clearcoat.y;
+// Sets the specular lobes of `s`.
+fn shading_lobes(s: ptr<function, ShadingPoint>, lobes: SurfaceLobes) {
+    (*s).f0 = lobes.f0;
+    (*s).f90 = lobes.f90;
+    (*s).clearcoat = lobes.clearcoat;
+    (*s).clearcoat_roughness = lobes.clearcoat_roughness;
+    (*s).coat_normal = lobes.coat_normal;
 }
 
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
@@ -173,13 +173,13 @@ fn light_radiance(s: ShadingPoint, ls: LightSample) -> vec3<f32> {
     }
     let f0 = specular_f0(s.albedo, s.metallic, s.f0);
     let base = brdf_light(s.normal, s.view, ls.l, ls.e, s.albedo, s.metallic, s.roughness, f0, mix(s.f90, 1.0, s.metallic));
-    if s.clearcoat <= 0.0 {
+    if !SCENE_LOBES || s.clearcoat <= 0.0 {
         return base;
     }
     // KHR_materials_clearcoat: the coat's GGX lobe (ior 1.5, no diffuse) over the base, which
     // gets what the coat does not reflect towards the viewer.
-    let coat = brdf_light(s.normal, s.view, ls.l, ls.e, vec3<f32>(0.0), 0.0, s.clearcoat_roughness, vec3<f32>(0.04), 1.0);
-    return base * (1.0 - s.clearcoat * coat_fresnel(dot(s.normal, s.view))) + s.clearcoat * coat;
+    let coat = brdf_light(s.coat_normal, s.view, ls.l, ls.e, vec3<f32>(0.0), 0.0, s.clearcoat_roughness, vec3<f32>(0.04), 1.0);
+    return base * (1.0 - s.clearcoat * coat_fresnel(dot(s.coat_normal, s.view))) + s.clearcoat * coat;
 }
 
 // Specular reflection of `incoming` radiance arriving along the mirror direction (a
@@ -190,11 +190,12 @@ fn reflected_radiance(s: ShadingPoint, incoming: vec3<f32>) -> vec3<f32> {
     }
     let cos_v = dot(s.normal, s.view);
     let base = point_fresnel(s, cos_v) * incoming;
-    if s.clearcoat <= 0.0 {
+    if !SCENE_LOBES || s.clearcoat <= 0.0 {
         return base;
     }
-    // The coat reflects the same incoming light (its own roughness is not traced apart).
-    let coat = s.clearcoat * coat_fresnel(cos_v);
+    // The coat reflects the same incoming light (its own roughness and normal are not traced
+    // apart), weighted by its own Fresnel term.
+    let coat = s.clearcoat * coat_fresnel(dot(s.coat_normal, s.view));
     return base * (1.0 - coat) + coat * incoming;
 }
 

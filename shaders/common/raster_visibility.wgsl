@@ -9,6 +9,7 @@
 //#include "common/material_inputs.wgsl"
 //#include "common/alpha.wgsl"
 //#include "common/texture_sampling.wgsl"
+//#include "common/surface_lobes.wgsl"
 
 // `pixel`: the fragment's position (BLEND materials are drawn screen-door); `vertex_alpha`: the
 // interpolated vertex colours' alpha (COLOR_0; 1 without).
@@ -31,6 +32,31 @@ struct RasterSurface {
     occlusion: f32,
     // KHR_materials_unlit: shows `albedo` alone.
     unlit: bool,
+    // The specular lobes (glTF's core material's, or the material's own with its textures).
+    lobes: SurfaceLobes,
+}
+
+// The lobes of material `m` at a fragment (common/surface_lobes.wgsl): its lobe textures in
+// their own uv sets, the coat's normal map bending `n` (the viewer-side normal before the
+// base's normal map) in the frame of world differentials `dp1`, `dp2`.
+fn raster_lobes(m: u32, set0: mat3x2<f32>, set1: mat3x2<f32>, n: vec3<f32>, dp1: vec3<f32>, dp2: vec3<f32>) -> SurfaceLobes {
+    let specular = raster_slot(m, SLOT_SPECULAR, lobe_slot_layer(m, SLOT_SPECULAR), set0, set1).a;
+    let color = raster_slot(m, SLOT_SPECULAR_COLOR, lobe_slot_layer(m, SLOT_SPECULAR_COLOR), set0, set1).rgb;
+    let coat = raster_slot(m, SLOT_CLEARCOAT, lobe_slot_layer(m, SLOT_CLEARCOAT), set0, set1).r;
+    let rough = raster_slot(m, SLOT_CLEARCOAT_ROUGHNESS, lobe_slot_layer(m, SLOT_CLEARCOAT_ROUGHNESS), set0, set1).g;
+    var coat_normal = n;
+    let normal_layer = lobe_slot_layer(m, SLOT_CLEARCOAT_NORMAL);
+    if normal_layer != 0u {
+        let map = raster_slot(m, SLOT_CLEARCOAT_NORMAL, normal_layer, set0, set1).rgb;
+        var coat_set = set0;
+        if slot_uv_set(m, SLOT_CLEARCOAT_NORMAL) == 1u {
+            coat_set = set1;
+        }
+        let duv1 = slot_uv_delta(m, SLOT_CLEARCOAT_NORMAL, coat_set[1]);
+        let duv2 = slot_uv_delta(m, SLOT_CLEARCOAT_NORMAL, coat_set[2]);
+        coat_normal = apply_normal_map(n, dp1, dp2, duv1, duv2, map, scene_materials[m].coat.x);
+    }
+    return lobes_from_texels(m, specular, color, coat, rough, coat_normal);
 }
 
 // A slot's texture of a fragment: its own uv set (`uv` and its gradients for set 0, `uv1` for
@@ -49,7 +75,7 @@ fn raster_slot(m: u32, slot: u32, layer: u32, uv: mat3x2<f32>, uv1: mat3x2<f32>)
 // `vertex_normal`. Takes derivatives: call in uniform control flow (before any non-uniform
 // branch).
 fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2<f32>, uv1: vec2<f32>, color: vec4<f32>, vertex_normal: vec3<f32>) -> RasterSurface {
-    let material = scene_materials[inst.material];
+    let material = &scene_materials[inst.material];
     // Object-space derivatives, transformed, keep their precision far from the origin.
     let dp1 = (inst.model * vec4<f32>(dpdx(local), 0.0)).xyz;
     let dp2 = (inst.model * vec4<f32>(dpdy(local), 0.0)).xyz;
@@ -90,6 +116,13 @@ fn raster_surface(inst: Instance, front_facing: bool, local: vec3<f32>, uv: vec2
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = material.emissive * emission;
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
-    s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
+    s.unlit = SCENE_UNLIT && (material.flags & MATERIAL_UNLIT) != 0u;
+    s.lobes = core_lobes(normalize(vertex_normal) * side);
+    if material_has_lobes(m) {
+        // The coat's normal map bends the front side's normal, as the base's does.
+        var lobes = raster_lobes(m, set0, set1, normalize(vertex_normal), dp1, dp2);
+        lobes.coat_normal *= side;
+        s.lobes = lobes;
+    }
     return s;
 }

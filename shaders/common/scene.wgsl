@@ -1,6 +1,7 @@
 // Scene records. `Instance` (bound as `scene_instances`) mirrors InstanceUniforms and
 // `Material` (bound as `scene_materials`) mirrors MaterialUniforms in src/uniforms.rs.
 // Texture fields are layers of `scene_textures` (0 = white; `normal_texture` 0 = none).
+//#include "common/scene_features.wgsl"
 struct Instance {
     model: mat4x4<f32>,
     normal_matrix: mat4x4<f32>,
@@ -15,8 +16,6 @@ const MATERIAL_ALPHA_MASK: u32 = 2u;
 const MATERIAL_ALPHA_BLEND: u32 = 4u;
 const MATERIAL_UNLIT: u32 = 8u;
 const MATERIAL_UV_TRANSFORM: u32 = 16u;
-// Slot 0's flag, shifted left by the slot: the slot reads TEXCOORD_1.
-const MATERIAL_UV1: u32 = 32u;
 // A texture slot's sampler is not glTF's default (samplers_low/high are read).
 const MATERIAL_SAMPLERS: u32 = 1024u;
 // The specular lobes are not glTF's core material's (`specular` and `clearcoat` are read).
@@ -24,6 +23,9 @@ const MATERIAL_LOBES: u32 = 2048u;
 // Transmissive (KHR_materials_transmission; with MATERIAL_ALPHA_BLEND): its coverage factor is
 // clearcoat.w, and what it lets through is tinted by its base colour.
 const MATERIAL_TRANSMISSION: u32 = 4096u;
+// Its transmission texture is drawn (src/scene/mod.rs Material::transmission_texture_drawn):
+// the coverage is base_color.a x (1 - transmission x (1 - metallic) x the texel's red).
+const MATERIAL_TRANSMISSION_TEXTURE: u32 = 8192u;
 
 struct Material {
     base_color: vec4<f32>,
@@ -41,19 +43,27 @@ struct Material {
     occlusion_texture: u32,
     occlusion_strength: f32,
     // Each texture slot's sampler, 8 bits a slot (common/texture_sampling.wgsl): slots 0-3,
-    // then slot 4.
+    // then 4-7 (8-10 in slot_words.z).
     samplers_low: u32,
     samplers_high: u32,
+    // Layers of the lobe extensions' textures of slots 5-8: specular, specular colour,
+    // clearcoat, clearcoat roughness (0: white).
+    lobe_layers: vec4<u32>,
+    // x, y: the layers of slots 9 (clearcoat normal; 0: none) and 10 (transmission); z: the
+    // sampler bits of slots 8-10; w: bit `slot` set where the slot reads TEXCOORD_1.
+    slot_words: vec4<u32>,
     // Each slot's uv transform (KHR_texture_transform): rows 2 slot and 2 slot + 1 (xyz), read
     // only with MATERIAL_UV_TRANSFORM.
-    uv_transforms: array<vec4<f32>, 10>,
-    // KHR_materials_ior / _specular: the dielectric reflectance at normal incidence (rgb) and
-    // at grazing angles (a); KHR_materials_clearcoat: weight, roughness; then
+    uv_transforms: array<vec4<f32>, 22>,
+    // KHR_materials_ior / _specular: ((ior - 1) / (ior + 1))^2 x specularColorFactor (rgb) and
+    // specularFactor (a); KHR_materials_clearcoat: weight, roughness; then
     // KHR_materials_transmission's factor and the coverage factor base_color.a x (1 -
-    // transmission x (1 - metallic)). Read only with MATERIAL_LOBES (common/lighting.wgsl's
-    // shading_lobes) and MATERIAL_TRANSMISSION.
+    // transmission x (1 - metallic)). Read only with MATERIAL_LOBES (common/surface_lobes.wgsl)
+    // and MATERIAL_TRANSMISSION.
     specular: vec4<f32>,
     clearcoat: vec4<f32>,
+    // x: the scale of the coat's normal map.
+    coat: vec4<f32>,
 }
 
 // Geometry for shading hits (`scene_vertices`, `scene_indices`, `scene_meshes`): a vertex is

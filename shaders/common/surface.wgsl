@@ -13,6 +13,7 @@
 //#include "common/ray.wgsl"
 //#include "common/material_inputs.wgsl"
 //#include "common/texture_sampling.wgsl"
+//#include "common/surface_lobes.wgsl"
 
 struct Surface {
     position: vec3<f32>,
@@ -34,6 +35,8 @@ struct Surface {
     // shadow-terminator offset of a smooth-shaded triangle (common/material_inputs.wgsl), 0 on
     // a flat one.
     shadow_offset: f32,
+    // The specular lobes (glTF's core material's, or the material's own with its textures).
+    lobes: SurfaceLobes,
 }
 
 fn scene_vertex(i: u32) -> SceneVertex {
@@ -95,7 +98,7 @@ fn hit_tex_coords(mesh: MeshRecord, corners: vec3<u32>, a: SceneVertex, b: Scene
     t.duv2_1 = t.duv2_0;
     t.lod1 = t.lod0;
     t.color = vec4<f32>(1.0);
-    if mesh.extras != MESH_NO_EXTRAS {
+    if SCENE_VERTEX_EXTRAS && mesh.extras != MESH_NO_EXTRAS {
         let xa = scene_vertex(mesh.extras + corners.x);
         let xb = scene_vertex(mesh.extras + corners.y);
         let xc = scene_vertex(mesh.extras + corners.z);
@@ -112,6 +115,24 @@ fn hit_tex_coords(mesh: MeshRecord, corners: vec3<u32>, a: SceneVertex, b: Scene
         t.lod1 = t.lod0 + 0.5 * log2(max(area1, 1e-30) / max(area0, 1e-30));
     }
     return t;
+}
+
+// The lobes of material `m` at a hit (common/surface_lobes.wgsl): its lobe textures in their
+// own uv sets, the coat's normal map bending `n_front` (the front side's normal before the
+// base's normal map) in the frame of world edges `dp1`, `dp2`; `side`: -1 on a back face.
+fn hit_lobes(m: u32, t: HitTexCoords, uvs: vec4<f32>, lods: vec2<f32>, n_front: vec3<f32>, dp1: vec3<f32>, dp2: vec3<f32>, side: f32) -> SurfaceLobes {
+    let specular = hit_slot_texture(m, SLOT_SPECULAR, lobe_slot_layer(m, SLOT_SPECULAR), uvs, lods).a;
+    let color = hit_slot_texture(m, SLOT_SPECULAR_COLOR, lobe_slot_layer(m, SLOT_SPECULAR_COLOR), uvs, lods).rgb;
+    let coat = hit_slot_texture(m, SLOT_CLEARCOAT, lobe_slot_layer(m, SLOT_CLEARCOAT), uvs, lods).r;
+    let rough = hit_slot_texture(m, SLOT_CLEARCOAT_ROUGHNESS, lobe_slot_layer(m, SLOT_CLEARCOAT_ROUGHNESS), uvs, lods).g;
+    var coat_normal = n_front;
+    let normal_layer = lobe_slot_layer(m, SLOT_CLEARCOAT_NORMAL);
+    if normal_layer != 0u {
+        let map = hit_slot_texture(m, SLOT_CLEARCOAT_NORMAL, normal_layer, uvs, lods).rgb;
+        let edges = hit_slot_uv_edges(m, SLOT_CLEARCOAT_NORMAL, t);
+        coat_normal = apply_normal_map(n_front, dp1, dp2, edges[0], edges[1], map, scene_materials[m].coat.x);
+    }
+    return lobes_from_texels(m, specular, color, coat, rough, coat_normal * side);
 }
 
 // `cone_width`: the width of the ray's cone at the hit (0: sample level 0).
@@ -131,7 +152,7 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     let pc = vec3<f32>(c.px, c.py, c.pz);
     let local = pa * w.x + pb * w.y + pc * w.z;
     let n_obj = vec3<f32>(a.nx, a.ny, a.nz) * w.x + vec3<f32>(b.nx, b.ny, b.nz) * w.y + vec3<f32>(c.nx, c.ny, c.nz) * w.z;
-    let material = scene_materials[inst.material];
+    let material = &scene_materials[inst.material];
     let geo_front = normalize((inst.normal_matrix * vec4<f32>(cross(pb - pa, pc - pa), 0.0)).xyz);
     let dp1 = (inst.model * vec4<f32>(pb - pa, 0.0)).xyz;
     let dp2 = (inst.model * vec4<f32>(pc - pa, 0.0)).xyz;
@@ -169,12 +190,16 @@ fn surface_at_cone(ray: Ray, hit: Hit, cone_width: f32) -> Surface {
     s.roughness = clamp(material.roughness * mr.g, 0.02, 1.0);
     s.emissive = emissive;
     s.occlusion = material_occlusion(occlusion, material.occlusion_strength);
-    s.unlit = (material.flags & MATERIAL_UNLIT) != 0u;
+    s.unlit = SCENE_UNLIT && (material.flags & MATERIAL_UNLIT) != 0u;
     s.material = inst.material;
     let na = normalize(vec3<f32>(a.nx, a.ny, a.nz)) * side;
     let nb = normalize(vec3<f32>(b.nx, b.ny, b.nz)) * side;
     let nc = normalize(vec3<f32>(c.nx, c.ny, c.nz)) * side;
     let lift = (inst.model * vec4<f32>(terminator_offset(local, pa, pb, pc, na, nb, nc, w), 0.0)).xyz;
     s.shadow_offset = max(dot(lift, geo), 0.0);
+    s.lobes = core_lobes(n_front * side);
+    if material_has_lobes(inst.material) {
+        s.lobes = hit_lobes(inst.material, t, uvs, lods, n_front, dp1, dp2, side);
+    }
     return s;
 }

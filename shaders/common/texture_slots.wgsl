@@ -10,6 +10,13 @@ const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
 const SLOT_NORMAL: u32 = 2u;
 const SLOT_OCCLUSION: u32 = 3u;
 const SLOT_EMISSIVE: u32 = 4u;
+// The lobe extensions' slots (src/scene/mod.rs `Lobes::textures`).
+const SLOT_SPECULAR: u32 = 5u;
+const SLOT_SPECULAR_COLOR: u32 = 6u;
+const SLOT_CLEARCOAT: u32 = 7u;
+const SLOT_CLEARCOAT_ROUGHNESS: u32 = 8u;
+const SLOT_CLEARCOAT_NORMAL: u32 = 9u;
+const SLOT_TRANSMISSION: u32 = 10u;
 
 // A slot's sampler bits (`SlotSampling::sampler_bits`, src/scene/mod.rs): bits 0-1 wrap S, 2-3 wrap T,
 // 4 magnification NEAREST, 5 minification NEAREST, 6-7 the mipmap mode.
@@ -23,25 +30,36 @@ const MIPMAP_NEAREST: u32 = 1u;
 const MIPMAP_NONE: u32 = 2u;
 
 fn slot_sampler(m: u32, slot: u32) -> u32 {
-    if slot < 4u {
-        return (scene_materials[m].samplers_low >> (8u * slot)) & 0xffu;
+    var word = scene_materials[m].samplers_low;
+    if slot >= 8u {
+        word = scene_materials[m].slot_words.z;
+    } else if slot >= 4u {
+        word = scene_materials[m].samplers_high;
     }
-    return scene_materials[m].samplers_high & 0xffu;
+    return (word >> (8u * (slot % 4u))) & 0xffu;
 }
 
 // The texture coordinate set slot `slot` reads: 0 or 1.
 fn slot_uv_set(m: u32, slot: u32) -> u32 {
-    return select(0u, 1u, (scene_materials[m].flags & (MATERIAL_UV1 << slot)) != 0u);
+    return select(0u, (scene_materials[m].slot_words.w >> slot) & 1u, SCENE_VERTEX_EXTRAS);
+}
+
+// The texture layer of lobe slot `slot` (SLOT_SPECULAR to SLOT_TRANSMISSION) of material `m`.
+fn lobe_slot_layer(m: u32, slot: u32) -> u32 {
+    if slot >= SLOT_CLEARCOAT_NORMAL {
+        return scene_materials[m].slot_words[slot - SLOT_CLEARCOAT_NORMAL];
+    }
+    return scene_materials[m].lobe_layers[slot - SLOT_SPECULAR];
 }
 
 // Whether any slot of material `m` has a sampler other than glTF's default or a transform (one
 // word read: the plain read needs nothing else).
 fn material_sampling_custom(m: u32) -> bool {
-    return (scene_materials[m].flags & (MATERIAL_SAMPLERS | MATERIAL_UV_TRANSFORM)) != 0u;
+    return SCENE_CUSTOM_SAMPLING && (scene_materials[m].flags & (MATERIAL_SAMPLERS | MATERIAL_UV_TRANSFORM)) != 0u;
 }
 
 fn slot_transformed(m: u32) -> bool {
-    return (scene_materials[m].flags & MATERIAL_UV_TRANSFORM) != 0u;
+    return SCENE_CUSTOM_SAMPLING && (scene_materials[m].flags & MATERIAL_UV_TRANSFORM) != 0u;
 }
 
 // The slot's uv through its KHR_texture_transform (unchanged without one).

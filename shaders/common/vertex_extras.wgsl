@@ -13,7 +13,7 @@ struct VertexExtras {
 // vertex's TEXCOORD_0.
 fn vertex_extras(inst: Instance, vertex_index: u32, uv0: vec2<f32>) -> VertexExtras {
     let mesh = scene_meshes[inst.mesh];
-    if mesh.extras == MESH_NO_EXTRAS {
+    if !SCENE_VERTEX_EXTRAS || mesh.extras == MESH_NO_EXTRAS {
         return VertexExtras(uv0, vec4<f32>(1.0));
     }
     let x = scene_vertices[mesh.extras + vertex_index - mesh.base_vertex];

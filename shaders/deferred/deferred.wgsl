@@ -9,7 +9,7 @@
 //#include "common/scene_textures.wgsl"
 //#include "common/material_inputs.wgsl"
 //#include "common/raster_visibility.wgsl"
-//#include "common/gbuffer_material_word.wgsl"
+//#include "common/gbuffer_lobes.wgsl"
 //#include "common/vertex_extras.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -63,6 +63,8 @@ struct GBuffer {
     @location(3) albedo: vec4<f32>,
     @location(4) material: vec4<f32>,
     @location(5) emissive: vec4<f32>,
+    // Written where material.a says the material has its own lobes (common/gbuffer_lobes.wgsl).
+    @location(6) lobes: vec4<u32>,
 }
 
 // The fragment's G-buffer channels (discarded fragments never return).
@@ -81,6 +83,7 @@ fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     let word = gbuffer_material_word(s.unlit, scene_materials[inst.material].flags);
     out.material = vec4<f32>(s.metallic, s.roughness, min(e / 16.0, 1.0), word);
     out.emissive = vec4<f32>(s.emissive, s.occlusion);
+    out.lobes = pack_gbuffer_lobes(s.lobes);
     return out;
 }
 
@@ -92,9 +95,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer 
     return gbuffer_of(in, front_facing);
 }
 
-// The G-buffer in two draws, for devices whose colour attachments take fewer than the 56 bytes
-// per sample of all six (WebGPU's default is 32; layers/deferred_split.ron): the surface half
-// (32 bytes), then the material half (24 bytes as WebGPU counts them).
+// The G-buffer in three draws, for devices whose colour attachments take fewer than the 72
+// bytes per sample of all seven (WebGPU's default is 32; layers/deferred_split.ron): the surface
+// half (32 bytes), the material half (24 bytes as WebGPU counts them), then the lobes (16).
 struct GBufferSurface {
     @location(0) position: vec4<f32>,
     @location(1) normal: vec4<f32>,
@@ -123,4 +126,12 @@ fn fs_material(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuf
     }
     let g = gbuffer_of(in, front_facing);
     return GBufferMaterial(g.albedo, g.material, g.emissive);
+}
+
+@fragment
+fn fs_lobes(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<u32> {
+    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
+        discard;
+    }
+    return gbuffer_of(in, front_facing).lobes;
 }

@@ -27,6 +27,7 @@
 @group(0) @binding(11) var albedo: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(12) var material: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(13) var emissive: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(14) var lobes: texture_storage_2d<rgba32uint, write>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {

@@ -90,7 +90,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @locatio
     s.occlusion = r.occlusion;
     s.emissive = r.emissive;
     s.unlit = r.unlit;
-    let m = scene_materials[inst.material];
-    shading_lobes(&s, m.flags, m.specular, m.clearcoat);
+    shading_lobes(&s, r.lobes);
     return vec4<f32>(forward_radiance(s, r.geo_normal, r.dp1, r.dp2), 1.0);
 }

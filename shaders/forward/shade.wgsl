@@ -65,8 +65,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.occlusion = surface.occlusion;
     s.emissive = surface.emissive;
     s.unlit = surface.unlit;
-    let m = scene_materials[surface.material];
-    shading_lobes(&s, m.flags, m.specular, m.clearcoat);
+    shading_lobes(&s, surface.lobes);
     let dp1 = plane_offset(id.xy + vec2<u32>(1u, 0u), s.position, surface.geo_normal);
     let dp2 = plane_offset(id.xy + vec2<u32>(0u, 1u), s.position, surface.geo_normal);
     textureStore(color, id.xy, vec4<f32>(forward_radiance(s, surface.geo_normal, dp1, dp2), 1.0));

@@ -21,8 +21,7 @@
 @group(0) @binding(9) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(10) var hdr: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var gi: texture_2d<f32>;
-@group(0) @binding(12) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(13) var<storage, read> scene_materials: array<Material>;
+@group(0) @binding(12) var lobes: texture_2d<u32>;
 
 fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
@@ -54,7 +53,7 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
     s.occlusion = e.a;
     s.emissive = e.rgb;
     s.unlit = gbuffer_unlit(m.a);
-    gbuffer_lobes(&s, m.a, p.w);
+    shading_lobes(&s, gbuffer_lobes(m.a, textureLoad(lobes, texel, 0), s.normal));
     if s.unlit {
         return vec4<f32>(surface_radiance(s, vec3<f32>(0.0), 1.0), 1.0);
     }

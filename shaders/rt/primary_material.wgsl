@@ -18,6 +18,7 @@
 @group(0) @binding(6) var linear_sampler: sampler;
 @group(0) @binding(7) var material: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(8) var emissive: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(9) var lobes: texture_storage_2d<rgba32uint, write>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {

@@ -8,6 +8,7 @@
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
 //#include "common/lighting.wgsl"
+//#include "common/scene.wgsl"
 //#include "common/gbuffer_lobes.wgsl"
 //#include "common/sampling.wgsl"
 //#include "trace/trace.wgsl"
@@ -35,6 +36,7 @@ struct Params {
 @group(0) @binding(8) var direct: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var<storage, read> scene_instances: array<Instance>;
 @group(0) @binding(11) var<storage, read> scene_materials: array<Material>;
+@group(0) @binding(12) var lobes: texture_2d<u32>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -59,7 +61,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.metallic = m.r;
     s.roughness = m.g;
     s.unlit = gbuffer_unlit(m.a);
-    gbuffer_lobes(&s, m.a, p.w);
+    shading_lobes(&s, gbuffer_lobes(m.a, textureLoad(lobes, id.xy, 0), s.normal));
     // Where geo_normal.w holds a shadow-terminator offset, the shading normal decides which
     // lights the surface faces.
     let facing = shadow_facing(geo, s.normal, g.w);

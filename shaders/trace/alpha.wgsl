@@ -11,15 +11,18 @@
 //     common/blend.wgsl). Same arithmetic as the raster side (common/alpha.wgsl) and the CPU
 //     references (src/accel/alpha.rs).
 //   trace_blend_coverage(instance, primitive, bary) -> f32
-//     base_color.a x that texture alpha where the instance's material is BLEND, else -1.
+//     base_color.a x that texture alpha where the instance's material is BLEND, else -1;
+//     where its transmission texture is drawn, times 1 - the transmitted share x its texel.
 //
 // Bindings (bound by the executor and the batch tracer by name, like the other accel_*):
 //   @group(2) @binding(15) accel_alpha: array<vec4<u32>>, the AccelCache's alpha buffer
 //     (AccelCache::binding("accel_alpha", _)), one buffer for
 //     every back-end:
 //     - word [instance]: (uv_base, texture layer | the base colour slot's wrap bits << 24 |
-//       TRACE_ALPHA_BLEND for a BLEND material,
-//       bitcast<u32>(base_color.a), bitcast<u32>(cutoff)); uv_base == TRACE_ALPHA_OPAQUE for an
+//       TRACE_ALPHA_BLEND for a BLEND material | TRACE_ALPHA_TRANSMISSION where its transmission
+//       texture is drawn, bitcast<u32>(coverage factor), bitcast<u32>(cutoff), or with
+//       TRACE_ALPHA_TRANSMISSION the index of a word (transmission texture layer | its wrap
+//       bits << 24, the transmitted share, the cutoff, 0)); uv_base == TRACE_ALPHA_OPAQUE for an
 //       instance whose material is not alpha-tested (nothing else is read then);
 //     - words [uv_base + 2 primitive] and [+ 1]: the triangle's TEXCOORD_0 through the base
 //       colour slot's uv transform, as f32 bits, (u0, v0, u1, v1) and (u2, v2, alphas, 0), alphas
@@ -42,6 +45,16 @@ override TRACE_ALPHA_TEST: bool = true;
 
 const TRACE_ALPHA_OPAQUE: u32 = 0xffffffffu;
 const TRACE_ALPHA_BLEND: u32 = 0x10000000u;
+const TRACE_ALPHA_TRANSMISSION: u32 = 0x20000000u;
+
+// The cutoff of an alpha-tested instance's record `rec` (in its transmission word where it
+// has one).
+fn trace_alpha_cutoff(rec: vec4<u32>) -> f32 {
+    if (rec.y & TRACE_ALPHA_TRANSMISSION) != 0u {
+        return bitcast<f32>(trace_alpha_word(rec.w).z);
+    }
+    return bitcast<f32>(rec.w);
+}
 
 // The base colour slot's uv (xy) and the vertex colours' alpha (z) of a hit on an alpha-tested
 // instance whose record is `rec`.
@@ -59,7 +72,7 @@ fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
         return true;
     }
     let c = trace_alpha_corners(rec, primitive, bary);
-    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, bitcast<f32>(rec.w), c.xy, (rec.y >> 24u) & 15u);
+    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
 }
 
 fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
@@ -68,5 +81,11 @@ fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
         return -1.0;
     }
     let c = trace_alpha_corners(rec, primitive, bary);
-    return bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
+    var coverage = bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
+    if (rec.y & TRACE_ALPHA_TRANSMISSION) != 0u {
+        // 1 - the transmitted share x the transmission texel (red) at the same uv.
+        let t = trace_alpha_word(rec.w);
+        coverage *= 1.0 - bitcast<f32>(t.y) * scene_bilinear_level0(t.x & 0xffffffu, c.xy, (t.x >> 24u) & 15u).r;
+    }
+    return coverage;
 }

@@ -15,7 +15,7 @@
 //! binding array; the texture-array fallback resamples every texture to 256x256 first, which
 //! moves alpha edges by at most a fraction of a source texel.
 
-use crate::scene::{Material, Scene, SlotSampling, TextureImage, Wrap};
+use crate::scene::{Material, Scene, SlotSampling, TextureImage, Wrap, LOBE_TRANSMISSION};
 
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
@@ -24,6 +24,11 @@ pub use crate::scene::BLEND_MIN_COVERAGE;
 
 /// Bit of a record's second word that marks a BLEND instance (`TRACE_ALPHA_BLEND`).
 pub const ALPHA_BLEND_BIT: u32 = 1 << 28;
+
+/// Bit of a record's second word that marks an instance whose transmission texture is drawn
+/// (`TRACE_ALPHA_TRANSMISSION`): its fourth word is then the index of a word holding the
+/// texture's layer and wrap bits, the transmitted share and the cutoff.
+pub const ALPHA_TRANSMISSION_BIT: u32 = 1 << 29;
 
 /// The cutoff of an alpha-tested material, `None` for an opaque one
 /// ([`Material::alpha_cutoff`]).
@@ -79,7 +84,14 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
         let layer = m.texture.map_or(0, |t| t as u32 + 1);
         let wrap = sampling.wrap_bits();
         let (blend, factor) = if m.translucent() { (ALPHA_BLEND_BIT, m.coverage_factor()) } else { (0, m.base_color[3]) };
-        words[i] = [base, layer | wrap << 24 | blend, factor.to_bits(), cutoff(m).unwrap_or(0.0).to_bits()];
+        let cutoff = cutoff(m).unwrap_or(0.0).to_bits();
+        words[i] = [base, layer | wrap << 24 | blend, factor.to_bits(), cutoff];
+        if let (true, Some(t)) = (m.transmission_texture_drawn(), m.lobes.textures[LOBE_TRANSMISSION]) {
+            let transmission = [t as u32 + 1 | m.sampling[5 + LOBE_TRANSMISSION].wrap_bits() << 24, m.transmitted_share().to_bits(), cutoff, 0];
+            words[i][1] |= ALPHA_TRANSMISSION_BIT;
+            words[i][3] = words.len() as u32;
+            words.push(transmission);
+        }
     }
     words
 }
@@ -113,11 +125,16 @@ fn texel_index(f: f64, n: usize, wrap: Wrap) -> usize {
 /// `scene_alpha_level0` in `shaders/common/alpha_read.wgsl`, in f64. A malformed image reads as
 /// opaque (the GPU's fallback texture is).
 pub fn bilinear_alpha(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling) -> f64 {
+    bilinear_channel(img, uv, sampling, 3)
+}
+
+/// [`bilinear_alpha`] of channel `channel` (0 red to 3 alpha; a data texture, read as stored).
+pub fn bilinear_channel(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling, channel: usize) -> f64 {
     let (w, h) = (img.width as usize, img.height as usize);
     if w == 0 || h == 0 || img.rgba.len() < w * h * 4 {
         return 1.0;
     }
-    let texel = |x: usize, y: usize| img.rgba[(y * w + x) * 4 + 3] as f64 / 255.0;
+    let texel = |x: usize, y: usize| img.rgba[(y * w + x) * 4 + channel] as f64 / 255.0;
     let axis = |c: f64, n: usize, wrap: Wrap| {
         let x = c * n as f64 - 0.5;
         let f = x.floor();
@@ -137,14 +154,29 @@ pub fn visible(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> b
 }
 
 /// The coverage of a translucent surface at such a hit ([`Material::coverage_factor`] x texture
-/// alpha), `None` where the instance's material is not translucent: `trace_blend_coverage` in
+/// alpha, times 1 - the transmitted share x the transmission texel where that texture is
+/// drawn), `None` where the instance's material is not translucent: `trace_blend_coverage` in
 /// `shaders/trace/alpha.wgsl`.
 pub fn blend_coverage(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
-    let m = scene.instances.get(instance).and_then(|inst| scene.materials.get(inst.material))?;
+    let inst = scene.instances.get(instance)?;
+    let m = scene.materials.get(inst.material)?;
     if !m.translucent() {
         return None;
     }
-    excess(scene, instance, prim, bary).map(|e| e + cutoff(m).unwrap_or(0.0) as f64)
+    let coverage = excess(scene, instance, prim, bary)? + cutoff(m).unwrap_or(0.0) as f64;
+    let texture = m.lobes.textures[LOBE_TRANSMISSION].and_then(|t| scene.textures.get(t)).filter(|_| m.transmission_texture_drawn());
+    let Some((img, mesh)) = texture.zip(scene.meshes.get(inst.mesh)) else { return Some(coverage) };
+    let uv = hit_uv(mesh, prim, bary, &m.sampling[0]);
+    Some(coverage * (1.0 - m.transmitted_share() as f64 * bilinear_channel(img, uv, &m.sampling[5 + LOBE_TRANSMISSION], 0)))
+}
+
+/// The uv of a hit on triangle `prim` of `mesh` at barycentrics `bary` through `sampling`'s
+/// transform, the vertices' in f32 as the GPU's records hold them.
+fn hit_uv(mesh: &crate::scene::Mesh, prim: usize, bary: [f64; 2], sampling: &SlotSampling) -> [f64; 2] {
+    let uv = |k: usize| mesh.indices.get(3 * prim + k).and_then(|&i| mesh.vertices.get(i as usize)).map_or([0.0; 2], |v| sampling.apply(v.uv).map(f64::from));
+    let w = [1.0 - bary[0] - bary[1], bary[0], bary[1]];
+    let (a, b, c) = (uv(0), uv(1), uv(2));
+    [0, 1].map(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2])
 }
 
 /// `base_color.a` x texture alpha minus the cutoff at such a hit (kept when >= 0), `None` where
@@ -155,11 +187,8 @@ pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Op
     let cutoff = cutoff(m)?;
     let mesh = scene.meshes.get(inst.mesh)?;
     let sampling = &m.sampling[0];
-    // The vertices' uvs through the slot's transform in f32, as the GPU's records hold them.
-    let uv = |k: usize| mesh.indices.get(3 * prim + k).and_then(|&i| mesh.vertices.get(i as usize)).map_or([0.0; 2], |v| sampling.apply(v.uv).map(f64::from));
     let w = [1.0 - bary[0] - bary[1], bary[0], bary[1]];
-    let (a, b, c) = (uv(0), uv(1), uv(2));
-    let p = [0, 1].map(|k| a[k] * w[0] + b[k] * w[1] + c[k] * w[2]);
+    let p = hit_uv(mesh, prim, bary, sampling);
     let tex = m.texture.and_then(|t| scene.textures.get(t)).map_or(1.0, |img| bilinear_alpha(img, p, sampling));
     let factor = if m.translucent() { m.coverage_factor() } else { m.base_color[3] };
     // The vertex colours' alpha (COLOR_0), interpolated from the records' 8-bit copies.

@@ -89,13 +89,13 @@ pub const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
 
 /// Storage textures per stage of a compute pass that writes the whole G-buffer
 /// (`shaders/common/gbuffer_store.wgsl`: position, normal, geometric normal, albedo, material,
-/// emissive).
-pub const GBUFFER_STORAGE_TEXTURES: u32 = 6;
+/// emissive, lobes).
+pub const GBUFFER_STORAGE_TEXTURES: u32 = 7;
 
 /// Bytes per sample of the fragment-stage G-buffer's colour attachments
 /// (`layers/deferred_fragment.ron`), as WebGPU counts them: 16 + 8 + 8 for position and the two
-/// normals, 8 for each 8-bit RGBA target (albedo, material), 8 for emission.
-pub const GBUFFER_ATTACHMENT_BYTES: u32 = 56;
+/// normals, 8 for each 8-bit RGBA target (albedo, material), 8 for emission, 16 for the lobes.
+pub const GBUFFER_ATTACHMENT_BYTES: u32 = 72;
 
 /// Most scene textures in a binding array.
 pub const MAX_BINDLESS_TEXTURES: u32 = 4096;

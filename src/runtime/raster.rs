@@ -145,6 +145,9 @@ pub struct RenderSpec {
     pub(crate) depth: bool,
     /// The shader declares [`ALPHA_TEST_CONSTANT`].
     pub alpha_switch: bool,
+    /// The scene's feature constants the shader declares, with their values
+    /// (`crate::runtime::exec::features`).
+    pub scene_constants: Vec<(&'static str, f64)>,
     /// The fragment stage does nothing but the alpha test: a built-in shader (its files
     /// raygraph's own, byte for byte) with the alpha switch and no colour targets, such as the
     /// shadow maps'. Its opaque draw classes get a depth-only pipeline, no fragment stage at all.
@@ -154,7 +157,10 @@ pub struct RenderSpec {
 impl RenderSpec {
     /// The pipeline of one variant.
     pub fn create(&self, device: &wgpu::Device, class: DrawClass) -> wgpu::RenderPipeline {
-        let constants: Vec<(&str, f64)> = if self.alpha_switch { vec![(ALPHA_TEST_CONSTANT, if class.alpha_test { 1.0 } else { 0.0 })] } else { Vec::new() };
+        let mut constants = self.scene_constants.clone();
+        if self.alpha_switch {
+            constants.push((ALPHA_TEST_CONSTANT, if class.alpha_test { 1.0 } else { 0.0 }));
+        }
         let compilation_options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let vertex_buffers: Vec<Option<wgpu::VertexBufferLayout>> = self
             .scene_attributes

@@ -108,7 +108,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
             AlphaMode::Blend => (json::material::AlphaMode::Blend, None),
         };
         let (emissive, emissive_strength) = emissive_factor(m);
-        let lobes = lobe_extensions(&m.lobes);
+        let lobes = lobe_extensions(&m.lobes, |k| info(m.lobes.textures[k], 5 + k).and_then(|i| serde_json::to_value(i).ok()));
         for name in lobes.keys() {
             if !root.extensions_used.contains(name) {
                 root.extensions_used.push(name.clone());
@@ -436,23 +436,39 @@ pub fn write_glb(scene: &Scene, path: &Path) -> Result<(), SceneError> {
 
 /// The lobe extensions a material needs (`KHR_materials_ior`, `KHR_materials_specular`,
 /// `KHR_materials_clearcoat`), each only where its factors differ from glTF's defaults.
-fn lobe_extensions(lobes: &Lobes) -> serde_json::Map<String, serde_json::Value> {
+/// `texture_info(k)`: the texture info JSON of lobe texture `k` ([`Lobes::textures`]), `None`
+/// without one.
+fn lobe_extensions(lobes: &Lobes, texture_info: impl Fn(usize) -> Option<serde_json::Value>) -> serde_json::Map<String, serde_json::Value> {
+    use crate::scene::{LOBE_CLEARCOAT, LOBE_CLEARCOAT_NORMAL, LOBE_CLEARCOAT_ROUGHNESS, LOBE_SPECULAR, LOBE_SPECULAR_COLOR, LOBE_TRANSMISSION};
     let core = Lobes::default();
     let mut out = serde_json::Map::new();
+    let mut add = |name: &str, mut ext: serde_json::Value, textures: &[(usize, &str)]| {
+        for &(k, key) in textures {
+            if let Some(info) = texture_info(k) {
+                ext[key] = info;
+            }
+        }
+        out.insert(name.into(), ext);
+    };
+    let has = |ks: &[usize]| ks.iter().any(|&k| lobes.textures[k].is_some());
     if lobes.ior != core.ior {
-        out.insert("KHR_materials_ior".into(), serde_json::json!({ "ior": lobes.ior }));
+        add("KHR_materials_ior", serde_json::json!({ "ior": lobes.ior }), &[]);
     }
-    if lobes.specular != core.specular || lobes.specular_color != core.specular_color {
-        out.insert("KHR_materials_specular".into(), serde_json::json!({ "specularFactor": lobes.specular, "specularColorFactor": lobes.specular_color }));
+    if lobes.specular != core.specular || lobes.specular_color != core.specular_color || has(&[LOBE_SPECULAR, LOBE_SPECULAR_COLOR]) {
+        let ext = serde_json::json!({ "specularFactor": lobes.specular, "specularColorFactor": lobes.specular_color });
+        add("KHR_materials_specular", ext, &[(LOBE_SPECULAR, "specularTexture"), (LOBE_SPECULAR_COLOR, "specularColorTexture")]);
     }
-    if lobes.clearcoat != core.clearcoat || lobes.clearcoat_roughness != core.clearcoat_roughness {
-        out.insert(
-            "KHR_materials_clearcoat".into(),
-            serde_json::json!({ "clearcoatFactor": lobes.clearcoat, "clearcoatRoughnessFactor": lobes.clearcoat_roughness }),
-        );
+    if lobes.clearcoat != core.clearcoat || lobes.clearcoat_roughness != core.clearcoat_roughness || has(&[LOBE_CLEARCOAT, LOBE_CLEARCOAT_ROUGHNESS]) {
+        let ext = serde_json::json!({ "clearcoatFactor": lobes.clearcoat, "clearcoatRoughnessFactor": lobes.clearcoat_roughness });
+        let textures =
+            [(LOBE_CLEARCOAT, "clearcoatTexture"), (LOBE_CLEARCOAT_ROUGHNESS, "clearcoatRoughnessTexture"), (LOBE_CLEARCOAT_NORMAL, "clearcoatNormalTexture")];
+        add("KHR_materials_clearcoat", ext, &textures);
     }
-    if lobes.transmission != core.transmission {
-        out.insert("KHR_materials_transmission".into(), serde_json::json!({ "transmissionFactor": lobes.transmission }));
+    if lobes.transmission != core.transmission || has(&[LOBE_TRANSMISSION]) {
+        add("KHR_materials_transmission", serde_json::json!({ "transmissionFactor": lobes.transmission }), &[(LOBE_TRANSMISSION, "transmissionTexture")]);
+    }
+    if let Some(normal) = out.get_mut("KHR_materials_clearcoat").and_then(|c| c.get_mut("clearcoatNormalTexture")) {
+        normal["scale"] = serde_json::json!(lobes.clearcoat_normal_scale);
     }
     out
 }

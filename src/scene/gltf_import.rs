@@ -135,17 +135,6 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_texture_transform",
 ];
 
-/// The textures of the lobe extensions raygraph reads only the factors of (`scene info` lists
-/// a material's as ignored).
-const LOBE_TEXTURES: &[(&str, &str)] = &[
-    ("KHR_materials_specular", "specularTexture"),
-    ("KHR_materials_specular", "specularColorTexture"),
-    ("KHR_materials_clearcoat", "clearcoatTexture"),
-    ("KHR_materials_clearcoat", "clearcoatRoughnessTexture"),
-    ("KHR_materials_clearcoat", "clearcoatNormalTexture"),
-    ("KHR_materials_transmission", "transmissionTexture"),
-];
-
 /// The lobe factors of a material's JSON (`KHR_materials_ior`, `KHR_materials_specular`,
 /// `KHR_materials_clearcoat`, `KHR_materials_transmission`), glTF's defaults where absent.
 fn material_lobes(json: &Value) -> crate::scene::Lobes {
@@ -160,11 +149,12 @@ fn material_lobes(json: &Value) -> crate::scene::Lobes {
     let coat = &ext["KHR_materials_clearcoat"];
     lobes.clearcoat = number(&coat["clearcoatFactor"], 0.0);
     lobes.clearcoat_roughness = number(&coat["clearcoatRoughnessFactor"], 0.0);
+    lobes.clearcoat_normal_scale = number(&coat["clearcoatNormalTexture"]["scale"], 1.0);
     lobes.transmission = number(&ext["KHR_materials_transmission"]["transmissionFactor"], 0.0);
     lobes
 }
 
-/// The five texture slots of a glTF material.
+/// The texture slots of a glTF material: the core five, then the lobe extensions' six.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TextureSlot {
     /// The base colour texture (sRGB).
@@ -177,12 +167,35 @@ pub enum TextureSlot {
     Occlusion,
     /// The emissive texture (sRGB).
     Emissive,
+    /// `KHR_materials_specular` `specularTexture` (alpha).
+    Specular,
+    /// `KHR_materials_specular` `specularColorTexture` (sRGB).
+    SpecularColor,
+    /// `KHR_materials_clearcoat` `clearcoatTexture` (red).
+    Clearcoat,
+    /// `KHR_materials_clearcoat` `clearcoatRoughnessTexture` (green).
+    ClearcoatRoughness,
+    /// `KHR_materials_clearcoat` `clearcoatNormalTexture`.
+    ClearcoatNormal,
+    /// `KHR_materials_transmission` `transmissionTexture` (red).
+    Transmission,
 }
 
 impl TextureSlot {
     /// Every slot, in the order of [`Material::sampling`] and [`Material::slot_textures`].
-    pub const ALL: [TextureSlot; 5] =
-        [TextureSlot::BaseColor, TextureSlot::MetallicRoughness, TextureSlot::Normal, TextureSlot::Occlusion, TextureSlot::Emissive];
+    pub const ALL: [TextureSlot; crate::scene::TEXTURE_SLOTS] = [
+        TextureSlot::BaseColor,
+        TextureSlot::MetallicRoughness,
+        TextureSlot::Normal,
+        TextureSlot::Occlusion,
+        TextureSlot::Emissive,
+        TextureSlot::Specular,
+        TextureSlot::SpecularColor,
+        TextureSlot::Clearcoat,
+        TextureSlot::ClearcoatRoughness,
+        TextureSlot::ClearcoatNormal,
+        TextureSlot::Transmission,
+    ];
 
     /// The keys from a glTF material's JSON down to the slot's texture info.
     pub fn json_path(self) -> &'static [&'static str] {
@@ -192,6 +205,12 @@ impl TextureSlot {
             TextureSlot::Normal => &["normalTexture"],
             TextureSlot::Occlusion => &["occlusionTexture"],
             TextureSlot::Emissive => &["emissiveTexture"],
+            TextureSlot::Specular => &["extensions", "KHR_materials_specular", "specularTexture"],
+            TextureSlot::SpecularColor => &["extensions", "KHR_materials_specular", "specularColorTexture"],
+            TextureSlot::Clearcoat => &["extensions", "KHR_materials_clearcoat", "clearcoatTexture"],
+            TextureSlot::ClearcoatRoughness => &["extensions", "KHR_materials_clearcoat", "clearcoatRoughnessTexture"],
+            TextureSlot::ClearcoatNormal => &["extensions", "KHR_materials_clearcoat", "clearcoatNormalTexture"],
+            TextureSlot::Transmission => &["extensions", "KHR_materials_transmission", "transmissionTexture"],
         }
     }
 
@@ -203,6 +222,12 @@ impl TextureSlot {
             TextureSlot::Normal => "normal",
             TextureSlot::Occlusion => "occlusion",
             TextureSlot::Emissive => "emissive",
+            TextureSlot::Specular => "specular",
+            TextureSlot::SpecularColor => "specular colour",
+            TextureSlot::Clearcoat => "clearcoat",
+            TextureSlot::ClearcoatRoughness => "clearcoat roughness",
+            TextureSlot::ClearcoatNormal => "clearcoat normal",
+            TextureSlot::Transmission => "transmission",
         }
     }
 
@@ -214,7 +239,15 @@ impl TextureSlot {
             TextureSlot::Normal => "no normal map (the flat normal)",
             TextureSlot::Occlusion => "no occlusion texture (occlusion 1)",
             TextureSlot::Emissive => "no emission (emissive 0)",
+            TextureSlot::ClearcoatNormal => "no coat normal map (the surface's normal)",
+            _ => "no texture (the extension's factor alone)",
         }
+    }
+
+    /// Whether the slot's texels are colour (sRGB-encoded): base colour, emissive, specular
+    /// colour. The others hold linear data.
+    pub fn is_colour(self) -> bool {
+        matches!(self, TextureSlot::BaseColor | TextureSlot::Emissive | TextureSlot::SpecularColor)
     }
 }
 
@@ -406,7 +439,13 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
         checker: HashMap::new(),
     };
     let mut materials: Vec<Material> = gltf.document.materials().map(|m| loader.material(&m, &mut report)).collect();
-    report.images_used = Some(images_used(&gltf.document));
+    for m in materials.iter().filter(|m| m.lobes.textures[crate::scene::LOBE_TRANSMISSION].is_some() && !m.transmission_texture_drawn()) {
+        report.ignored_features.push(format!(
+            "material `{}`: KHR_materials_transmission transmissionTexture (drawn only where it reads the base colour's uv, TEXCOORD_0 through the same transform; transmissionFactor alone is read)",
+            m.name
+        ));
+    }
+    report.images_used = Some(images_used(&gltf.document, &raw));
     let textures = std::mem::take(&mut loader.textures);
     let mut default_material = None; // added for the first primitive without a material
 
@@ -686,27 +725,17 @@ impl TextureLoader<'_> {
         mat.occlusion_strength = m.occlusion_texture().map_or(mat.occlusion_strength, |o| o.strength());
         let strength = m.emissive_strength().unwrap_or(1.0);
         mat.emissive = m.emissive_factor().map(|c| c * strength);
-        for (slot, texture, tex_coord) in material_slots(m) {
-            let json = m.index().map_or(&Value::Null, |i| notes::slot_json(&self.raw["materials"][i], slot));
-            let transform = &json["extensions"]["KHR_texture_transform"];
+        let (doc, raw) = (self.doc, self.raw);
+        let material_json = m.index().map_or(&Value::Null, |i| &raw["materials"][i]);
+        mat.lobes = material_lobes(material_json);
+        for (slot, texture, tex_coord) in material_slots(m).into_iter().chain(lobe_slots(doc, material_json)) {
+            let transform = &notes::slot_json(material_json, slot)["extensions"]["KHR_texture_transform"];
             // The transform's texCoord, where it has one, replaces the slot's.
             let set = transform["texCoord"].as_u64().map_or(tex_coord, |n| n as u32);
             mat.sampling[slot as usize] = SlotSampling { tex_coord: if set <= 1 { set } else { 0 }, ..slot_sampling(&texture, transform) };
             let fallbacks = report.texture_fallbacks.len();
             let t = self.slot(&name, slot, texture, report);
-            match slot {
-                TextureSlot::BaseColor => mat.texture = t,
-                TextureSlot::MetallicRoughness => mat.metallic_roughness_texture = t,
-                TextureSlot::Normal => mat.normal_texture = t,
-                TextureSlot::Occlusion => mat.occlusion_texture = t,
-                TextureSlot::Emissive => {
-                    mat.emissive_texture = t;
-                    // An emissive image that cannot be loaded means no emission at all.
-                    if report.texture_fallbacks.len() > fallbacks {
-                        mat.emissive = [0.0; 3];
-                    }
-                }
-            }
+            fill_slot(&mut mat, slot, t, report.texture_fallbacks.len() > fallbacks);
         }
         mat.alpha_mode = match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
@@ -715,7 +744,6 @@ impl TextureLoader<'_> {
         };
         mat.double_sided = m.double_sided();
         mat.unlit = m.unlit();
-        mat.lobes = material_lobes(m.index().map_or(&Value::Null, |i| &self.raw["materials"][i]));
         mat
     }
 
@@ -778,6 +806,24 @@ impl TextureLoader<'_> {
         }
         self.loaded.insert(image.index(), result.clone());
         result
+    }
+}
+
+/// Puts texture `t` in `slot` of `mat`; `fell_back`: its image could not be loaded.
+fn fill_slot(mat: &mut Material, slot: TextureSlot, t: Option<usize>, fell_back: bool) {
+    match slot {
+        TextureSlot::BaseColor => mat.texture = t,
+        TextureSlot::MetallicRoughness => mat.metallic_roughness_texture = t,
+        TextureSlot::Normal => mat.normal_texture = t,
+        TextureSlot::Occlusion => mat.occlusion_texture = t,
+        TextureSlot::Emissive => {
+            mat.emissive_texture = t;
+            // An emissive image that cannot be loaded means no emission at all.
+            if fell_back {
+                mat.emissive = [0.0; 3];
+            }
+        }
+        lobe => mat.lobes.textures[lobe as usize - 5] = t,
     }
 }
 
@@ -862,9 +908,28 @@ fn material_slots<'a>(m: &gltf::Material<'a>) -> Vec<(TextureSlot, gltf::Texture
     out
 }
 
+/// The lobe extensions' texture infos of material `m` (its JSON `json`), with the slot each
+/// fills; an index naming no texture is left out (the validator's error, not drawn).
+fn lobe_slots<'a>(doc: &'a gltf::Document, json: &Value) -> Vec<(TextureSlot, gltf::Texture<'a>, u32)> {
+    TextureSlot::ALL[5..]
+        .iter()
+        .filter_map(|&slot| {
+            let info = notes::slot_json(json, slot);
+            let texture = doc.textures().nth(info["index"].as_u64()? as usize)?;
+            Some((slot, texture, info["texCoord"].as_u64().unwrap_or(0) as u32))
+        })
+        .collect()
+}
+
 /// Distinct images the materials' texture slots use.
-fn images_used(doc: &gltf::Document) -> usize {
-    doc.materials().flat_map(|m| material_slots(&m).into_iter().map(|(_, t, _)| t.source().index())).collect::<BTreeSet<_>>().len()
+fn images_used(doc: &gltf::Document, raw: &Value) -> usize {
+    doc.materials()
+        .flat_map(|m| {
+            let json = m.index().map_or(&Value::Null, |i| &raw["materials"][i]);
+            material_slots(&m).into_iter().chain(lobe_slots(doc, json)).map(|(_, t, _)| t.source().index()).collect::<Vec<_>>()
+        })
+        .collect::<BTreeSet<_>>()
+        .len()
 }
 
 /// What the node hierarchy places: mesh instances, lights, and cameras (with their node's
@@ -1058,7 +1123,7 @@ pub fn animated_bounds(scene: &Scene) -> Bounds {
 /// What a file uses that raygraph approximates or ignores, per extension, material, texture,
 /// mesh and document, as lines of [`ImportReport::approximated`] and `ignored_features`.
 mod notes {
-    use super::{material_name, material_slots, ImportReport, TextureSlot, LOBE_TEXTURES, SUPPORTED_EXTENSIONS};
+    use super::{lobe_slots, material_name, material_slots, ImportReport, TextureSlot, SUPPORTED_EXTENSIONS};
     use gltf::json::Value;
     use std::collections::{BTreeMap, BTreeSet};
 
@@ -1069,7 +1134,7 @@ mod notes {
             }
         }
         for m in doc.materials() {
-            material(&m, raw, report);
+            material(doc, &m, raw, report);
         }
         meshes(doc, report);
     }
@@ -1083,7 +1148,7 @@ mod notes {
         v["extensions"].as_object().map(|o| o.keys().map(String::as_str).collect()).unwrap_or_default()
     }
 
-    fn material(m: &gltf::Material, raw: &Value, report: &mut ImportReport) {
+    fn material(doc: &gltf::Document, m: &gltf::Material, raw: &Value, report: &mut ImportReport) {
         let name = material_name(m);
         let json = m.index().map(|i| &raw["materials"][i]).unwrap_or(&Value::Null);
         if extension_names(json).contains(&"KHR_materials_unlit") {
@@ -1108,10 +1173,13 @@ mod notes {
         for ext in extension_names(json).into_iter().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
             report.ignored_features.push(format!("material {name}: {ext}"));
         }
-        for (ext, texture) in LOBE_TEXTURES.iter().filter(|(ext, texture)| !json["extensions"][ext][texture].is_null()) {
-            report.ignored_features.push(format!("material {name}: {ext} {texture} (its factor alone is read)"));
+        for slot in TextureSlot::ALL[5..].iter().filter(|s| !slot_json(json, **s).is_null()) {
+            let index = slot_json(json, *slot)["index"].as_u64();
+            if index.is_none_or(|i| i as usize >= doc.textures().len()) {
+                report.ignored_features.push(format!("material {name} {} texture: its index names no texture of the file", slot.name()));
+            }
         }
-        for (slot, _, tex_coord) in material_slots(m) {
+        for (slot, _, tex_coord) in material_slots(m).into_iter().chain(lobe_slots(doc, json)) {
             if tex_coord > 1 {
                 report.ignored_features.push(format!("material {name} {} texture: texCoord {tex_coord} (TEXCOORD_0 is read instead)", slot.name()));
             }

@@ -8,10 +8,11 @@
 //! the built-in scenes' textures are at most 256² anyway). Too many layers, or buffers larger
 //! than the device allows, are an error with the numbers, never a panic.
 
-use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene};
+use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene, SlotSampling, TEXTURE_SLOTS};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_TRANSMISSION, MATERIAL_UNLIT, MATERIAL_UV1, MATERIAL_UV_TRANSFORM, SHADOW_MAP_SLOTS,
+    MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_TRANSMISSION, MATERIAL_TRANSMISSION_TEXTURE, MATERIAL_UNLIT, MATERIAL_UV_TRANSFORM,
+    SHADOW_MAP_SLOTS,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -406,15 +407,18 @@ fn to_image(img: &super::TextureImage) -> image::RgbaImage {
 /// A mesh record's `extras` word for a mesh without colours or second uvs.
 const MESH_NO_EXTRAS: u32 = u32::MAX;
 
-/// The slots' sampler bits, four slots to a word.
-fn sampler_words(sampling: &[crate::scene::SlotSampling; 5]) -> [u32; 2] {
-    let bits = sampling.map(|s| s.sampler_bits());
-    [bits[0] | bits[1] << 8 | bits[2] << 16 | bits[3] << 24, bits[4]]
+/// The slots' sampler bits, four slots to a word (slots 0-3, 4-7, 8-10).
+fn sampler_words(sampling: &[SlotSampling; TEXTURE_SLOTS]) -> [u32; 3] {
+    let mut words = [0; 3];
+    for (slot, s) in sampling.iter().enumerate() {
+        words[slot / 4] |= s.sampler_bits() << (8 * (slot % 4));
+    }
+    words
 }
 
 /// The slots' uv transforms as rows (the identity where a slot has none).
-fn uv_transform_rows(sampling: &[crate::scene::SlotSampling; 5]) -> [[f32; 4]; 10] {
-    let mut rows = [[0.0; 4]; 10];
+fn uv_transform_rows(sampling: &[SlotSampling; TEXTURE_SLOTS]) -> [[f32; 4]; 2 * TEXTURE_SLOTS] {
+    let mut rows = [[0.0; 4]; 2 * TEXTURE_SLOTS];
     for (slot, s) in sampling.iter().enumerate() {
         let [a, b] = s.transform.unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
         rows[2 * slot] = [a[0], a[1], a[2], 0.0];
@@ -437,18 +441,22 @@ fn nearest_textures(scene: &Scene) -> Vec<bool> {
     nearest
 }
 
-/// Which textures hold data rather than colour: those that only normal, metallic-roughness or
-/// occlusion slots use (glTF stores them linearly). A texture a base-colour or emissive slot
-/// also uses stays colour.
+/// Which textures hold data rather than colour: those that only data slots use (normal,
+/// metallic-roughness, occlusion and the lobe extensions' but specular colour: glTF stores them
+/// linearly). A texture a colour slot also uses stays colour.
 fn data_textures(scene: &Scene) -> Vec<bool> {
+    use super::gltf_import::TextureSlot;
     let n = scene.textures.len();
     let (mut colour, mut data) = (vec![false; n], vec![false; n]);
     for m in &scene.materials {
-        for t in [m.texture, m.emissive_texture].into_iter().flatten().filter(|t| *t < n) {
-            colour[t] = true;
-        }
-        for t in [m.normal_texture, m.metallic_roughness_texture, m.occlusion_texture].into_iter().flatten().filter(|t| *t < n) {
-            data[t] = true;
+        for (slot, t) in TextureSlot::ALL.iter().zip(m.slot_textures()) {
+            if let Some(t) = t.filter(|t| *t < n) {
+                if slot.is_colour() {
+                    colour[t] = true;
+                } else {
+                    data[t] = true;
+                }
+            }
         }
     }
     (0..n).map(|t| data[t] && !colour[t]).collect()
@@ -741,6 +749,8 @@ impl SceneContent {
 /// The GPU record of material `m` (`scene_materials`).
 fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
     let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
+    let samplers = sampler_words(&m.sampling);
+    let uv_sets = m.sampling.iter().enumerate().map(|(slot, s)| u32::from(s.tex_coord == 1) << slot).sum::<u32>();
     // Translucent materials (BLEND, transmissive) are hit wherever their coverage reaches
     // their cutoff (Material::alpha_cutoff) and composited by the passes.
     let (alpha_flag, cutoff) = match (m.translucent(), m.alpha_mode) {
@@ -760,21 +770,25 @@ fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
             | if m.unlit { MATERIAL_UNLIT } else { 0 }
             | if m.sampling.iter().any(|s| s.transform.is_some()) { MATERIAL_UV_TRANSFORM } else { 0 }
             | if m.sampling.iter().any(|s| s.sampler_bits() != 0) { MATERIAL_SAMPLERS } else { 0 }
-            | m.sampling.iter().enumerate().map(|(slot, s)| if s.tex_coord == 1 { MATERIAL_UV1 << slot } else { 0 }).sum::<u32>()
             | if m.lobes != crate::scene::Lobes::default() { MATERIAL_LOBES } else { 0 }
-            | if m.lobes.transmission > 0.0 { MATERIAL_TRANSMISSION } else { 0 },
+            | if m.lobes.transmission > 0.0 { MATERIAL_TRANSMISSION } else { 0 }
+            | if m.transmission_texture_drawn() { MATERIAL_TRANSMISSION_TEXTURE } else { 0 },
         base_texture: layer(m.texture),
         metallic_roughness_texture: layer(m.metallic_roughness_texture),
         normal_texture: layer(m.normal_texture),
         emissive_texture: layer(m.emissive_texture),
         occlusion_texture: layer(m.occlusion_texture),
         occlusion_strength: m.occlusion_strength,
-        samplers: sampler_words(&m.sampling),
+        samplers: [samplers[0], samplers[1]],
+        lobe_layers: [0, 1, 2, 3].map(|k| layer(m.lobes.textures[k])),
+        slot_words: [layer(m.lobes.textures[4]), layer(m.lobes.textures[5]), samplers[2], uv_sets],
         uv_transforms: uv_transform_rows(&m.sampling),
         specular: {
-            let f0 = m.lobes.dielectric_f0();
-            [f0[0], f0[1], f0[2], m.lobes.specular]
+            let r = ((m.lobes.ior - 1.0) / (m.lobes.ior + 1.0)).powi(2);
+            let c = m.lobes.specular_color;
+            [r * c[0], r * c[1], r * c[2], m.lobes.specular]
         },
         clearcoat: [m.lobes.clearcoat, m.lobes.clearcoat_roughness, m.lobes.transmission, m.coverage_factor()],
+        coat: [m.lobes.clearcoat_normal_scale, 0.0, 0.0, 0.0],
     }
 }

@@ -173,15 +173,33 @@ pub struct Material {
     /// texture), whatever the lights; it reflects and emits nothing else.
     pub unlit: bool,
     /// How each texture slot is sampled, in the order of [`gltf_import::TextureSlot`] (base
-    /// colour, metallic-roughness, normal, occlusion, emissive).
-    pub sampling: [SlotSampling; 5],
+    /// colour, metallic-roughness, normal, occlusion, emissive, then the lobe extensions' six:
+    /// [`Lobes::textures`]).
+    pub sampling: [SlotSampling; TEXTURE_SLOTS],
     /// The specular lobes of the glTF PBR extensions (`KHR_materials_ior`,
     /// `KHR_materials_specular`, `KHR_materials_clearcoat`).
     pub lobes: Lobes,
 }
 
-/// The factors of `KHR_materials_ior`, `KHR_materials_specular`, `KHR_materials_clearcoat` and
-/// `KHR_materials_transmission` (their textures are not read; `scene info` lists them). The default is glTF's core
+/// A material's texture slots: glTF's five (base colour, metallic-roughness, normal, occlusion,
+/// emissive) and the six of the lobe extensions ([`Lobes::textures`]).
+pub const TEXTURE_SLOTS: usize = crate::uniforms::MATERIAL_TEXTURE_SLOTS;
+
+/// The slots of [`Lobes::textures`], counted from the first lobe slot (slot 5 of a material).
+pub const LOBE_SPECULAR: usize = 0;
+/// `specularColorTexture` (sRGB).
+pub const LOBE_SPECULAR_COLOR: usize = 1;
+/// `clearcoatTexture` (red).
+pub const LOBE_CLEARCOAT: usize = 2;
+/// `clearcoatRoughnessTexture` (green).
+pub const LOBE_CLEARCOAT_ROUGHNESS: usize = 3;
+/// `clearcoatNormalTexture` (tangent space, like the normal map).
+pub const LOBE_CLEARCOAT_NORMAL: usize = 4;
+/// `transmissionTexture` (red).
+pub const LOBE_TRANSMISSION: usize = 5;
+
+/// The factors and textures of `KHR_materials_ior`, `KHR_materials_specular`,
+/// `KHR_materials_clearcoat` and `KHR_materials_transmission`. The default is glTF's core
 /// material: index of refraction 1.5 (a dielectric reflects 4% at normal incidence), no coat.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lobes {
@@ -199,11 +217,28 @@ pub struct Lobes {
     /// `transmissionFactor` (KHR_materials_transmission): the share of the dielectric part's
     /// light that passes through, tinted by the base colour (thin-walled: no refraction).
     pub transmission: f32,
+    /// The scale of the coat's normal map's xy (`clearcoatNormalTexture.scale`).
+    pub clearcoat_normal_scale: f32,
+    /// Textures indexing [`Scene::textures`], each multiplying its factor: `specularTexture`
+    /// (alpha), `specularColorTexture` (rgb, sRGB), `clearcoatTexture` (red),
+    /// `clearcoatRoughnessTexture` (green), `clearcoatNormalTexture` (the coat's own normal
+    /// map; without one the coat follows the surface's normal before the base's normal map),
+    /// `transmissionTexture` (red); indexed by [`LOBE_SPECULAR`] and the constants after it.
+    pub textures: [Option<usize>; 6],
 }
 
 impl Default for Lobes {
     fn default() -> Self {
-        Self { ior: 1.5, specular: 1.0, specular_color: [1.0; 3], clearcoat: 0.0, clearcoat_roughness: 0.0, transmission: 0.0 }
+        Self {
+            ior: 1.5,
+            specular: 1.0,
+            specular_color: [1.0; 3],
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+            transmission: 0.0,
+            clearcoat_normal_scale: 1.0,
+            textures: [None; 6],
+        }
     }
 }
 
@@ -235,16 +270,42 @@ impl Material {
         }
     }
 
+    /// Whether the transmission texture is drawn: a transmissive material whose
+    /// `transmissionTexture` reads the base colour slot's uv (TEXCOORD_0 through the same
+    /// transform), where the coverage records keep their uvs. Another one is kept but not drawn
+    /// (`scene info` says so).
+    pub fn transmission_texture_drawn(&self) -> bool {
+        let (base, t) = (&self.sampling[0], &self.sampling[5 + LOBE_TRANSMISSION]);
+        self.lobes.transmission > 0.0
+            && self.lobes.textures[LOBE_TRANSMISSION].is_some()
+            && t.tex_coord == 0
+            && base.tex_coord == 0
+            && t.transform == base.transform
+    }
+
+    /// The share of the light that passes a transmissive surface where its transmission
+    /// texel is 1: transmission x (1 - metallic); 0 for other materials.
+    pub fn transmitted_share(&self) -> f32 {
+        self.lobes.transmission * (1.0 - self.metallic)
+    }
+
     /// The factor of a translucent surface's coverage (what it hides of what lies behind it;
-    /// times the base texture's alpha): `base_color.a` x (1 - transmission x (1 - metallic)).
+    /// times the base texture's alpha): `base_color.a` x (1 - transmission x (1 - metallic)),
+    /// and where the transmission texture is drawn, `base_color.a` (the texel then scales the
+    /// transmitted share: [`Material::transmission_texture_drawn`]).
     pub fn coverage_factor(&self) -> f32 {
+        if self.transmission_texture_drawn() {
+            return self.base_color[3];
+        }
         self.base_color[3] * (1.0 - self.lobes.transmission * (1.0 - self.metallic))
     }
 
-    /// The five slots' textures in the order of [`gltf_import::TextureSlot`] and of
-    /// [`Material::sampling`]: base colour, metallic-roughness, normal, occlusion, emissive.
-    pub fn slot_textures(&self) -> [Option<usize>; 5] {
-        [self.texture, self.metallic_roughness_texture, self.normal_texture, self.occlusion_texture, self.emissive_texture]
+    /// Every slot's texture in the order of [`gltf_import::TextureSlot`] and of
+    /// [`Material::sampling`]: base colour, metallic-roughness, normal, occlusion, emissive,
+    /// then [`Lobes::textures`].
+    pub fn slot_textures(&self) -> [Option<usize>; TEXTURE_SLOTS] {
+        let core = [self.texture, self.metallic_roughness_texture, self.normal_texture, self.occlusion_texture, self.emissive_texture];
+        std::array::from_fn(|slot| if slot < 5 { core[slot] } else { self.lobes.textures[slot - 5] })
     }
 
     /// A plain diffuse material.

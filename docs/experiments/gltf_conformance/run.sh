@@ -20,11 +20,16 @@ for round in 1 2; do
     mkdir -p /tmp/empty_$b && cd /tmp/empty_$b
     $R bench rays --frames 10 --out $OUT/t3_${b}_$round >/dev/null 2>$OUT/t3_${b}_$round.err || tail -2 $OUT/t3_${b}_$round.err
     $R bench rays --scenes $ASSETS --frames 10 --out $OUT/ra_${b}_$round >/dev/null 2>$OUT/ra_${b}_$round.err || tail -2 $OUT/ra_${b}_$round.err
+    # The raster graph's passes (Table 3's RFPS) one by one, after the warm-up above.
+    for s in box organic atrium; do
+      $R render --mode raster --scene $s --width 2560 --height 1440 --frames 300 --out /tmp/r.png 2>/dev/null | grep -E "^(forward|shadow_map/shadow_map |tonemap|total)" > $OUT/rp_${b}_${round}_$s.txt
+    done
     cd - >/dev/null
   done
 done
 for round in 1 2; do for b in old new; do
   echo "== table 3, $b binary, round $round (test, back-end, GPU ms, wall ms, GR/s, RFPS)"; t3 $OUT/t3_${b}_$round 2,3,5,6,8,10
   echo "== real assets (old view), $b binary, round $round"; t3 $OUT/ra_${b}_$round 2,3,5,6,8,10
+  for s in box organic atrium; do echo "== raster passes, $s, $b binary, round $round (GPU ms, CPU ms)"; cat $OUT/rp_${b}_${round}_$s.txt; done
 done; done
-cd $OUT && tar czf results.tgz t3_* ra_* 2>/dev/null; rm -rf t3_* ra_*
+cd $OUT && tar czf results.tgz t3_* ra_* rp_* 2>/dev/null; rm -rf t3_* ra_* rp_*

@@ -11,7 +11,7 @@ use crate::runtime::gpu::Gpu;
 
 impl Executor {
     pub(super) fn build_compute_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
-        let constants = super::trace::trace_constants(pass, self.trace_alpha_test, self.trace_blend);
+        let constants = self.features.constants(pass);
         let (module, constants) = if pass.kind == PassKind::Trace {
             let groups = bindings.layout_groups();
             gpu.traversal_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, &pass.entry, ShaderOrigin::TracePass, &constants, &groups)

@@ -11,6 +11,7 @@
 mod accel_build;
 mod bindings;
 mod compute;
+pub mod features;
 mod fullscreen;
 pub mod history;
 mod params;
@@ -22,10 +23,10 @@ mod scene_state;
 mod slots;
 mod trace;
 
+pub use features::{SceneFeatures, TRACE_ALPHA_CONSTANT};
 pub use readback::read_texture_async;
 #[cfg(not(target_arch = "wasm32"))]
 pub use readback::{read_texture, write_png};
-pub use trace::TRACE_ALPHA_CONSTANT;
 
 use super::gpu::Gpu;
 use super::profiler::{FrameTimings, GpuTimer};
@@ -132,13 +133,9 @@ pub struct Executor {
     scene_content: SceneContent,
     samplers: (wgpu::Sampler, wgpu::Sampler),
     /// Whether the warning about lights without a raster shadow map was printed.
-    /// Whether the scene has alpha-tested instances: the value of the trace modules' pipeline
-    /// constant TRACE_ALPHA_TEST (see [`trace`]); the passes are built again when it
-    /// changes.
-    trace_alpha_test: bool,
-    /// Whether the scene has BLEND materials: the value of the passes' pipeline constant
-    /// TRACE_BLEND (`shaders/common/blend.wgsl`); the passes are built again when it changes.
-    trace_blend: bool,
+    /// What the scene uses of the features passes compile out ([`features`]); the passes are
+    /// built again when it changes.
+    features: features::SceneFeatures,
     warned_unshadowed: bool,
     /// The Rust passes layer files may name (`PassKind::Rust`).
     rust_passes: RustPasses,
@@ -197,7 +194,6 @@ impl Executor {
         let samplers = Self::samplers(&gpu.device);
         let accel = Self::accel_cache(gpu, &plan);
         let scene_content = if scene_gpu.is_some() { SceneContent::of(scene) } else { SceneContent::default() };
-        let (trace_alpha_test, trace_blend) = Self::scene_trace_switches(scene);
         let mut exec = Self {
             plan,
             slots,
@@ -213,8 +209,7 @@ impl Executor {
             scene_content,
             samplers,
             warned_unshadowed: false,
-            trace_alpha_test,
-            trace_blend,
+            features: features::SceneFeatures::of(scene),
             rust_passes,
             history: history::HistoryState::default(),
             deform: None,

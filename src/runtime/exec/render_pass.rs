@@ -51,6 +51,7 @@ impl Executor {
             scene_attributes: (pass.kind == PassKind::SceneRaster).then(|| scene_vertex_attributes(pass)),
             depth: depth.is_some(),
             alpha_switch,
+            scene_constants: self.features.constants(pass),
             fragment_only_alpha_tests: alpha_switch && colors.is_empty() && pass.shader.source.is_builtin(),
         };
         PassRuntime { bind_groups, accel_layout, colors, depth, params: bindings.params(), ..PassRuntime::bare(pipeline(spec)) }

@@ -2,6 +2,7 @@
 //! changes followed from frame to frame (passes rebuilt when the upload is replaced), the
 //! scene's bounding sphere and light records written every frame.
 
+use super::features::SceneFeatures;
 use super::Executor;
 use crate::error::RuntimeError;
 use crate::graph::compile::Plan;
@@ -47,9 +48,9 @@ impl Executor {
     /// other change (meshes, materials, textures, instances added or removed) uploads the scene
     /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
     pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
-        let (alpha_test, blend) = Self::scene_trace_switches(scene);
-        if (alpha_test, blend) != (self.trace_alpha_test, self.trace_blend) {
-            (self.trace_alpha_test, self.trace_blend) = (alpha_test, blend);
+        let features = SceneFeatures::of(scene);
+        if features != self.features {
+            self.features = features;
             self.passes = self.build_passes(gpu)?;
             self.accel_generation = u64::MAX;
         }

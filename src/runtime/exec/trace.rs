@@ -1,4 +1,4 @@
-//! `Trace` passes: the trace modules' alpha-test pipeline constant, the trace module's bind
+//! `Trace` passes: the trace module's bind
 //! group (re-made whenever the acceleration-structure cache replaces its GPU objects), and on
 //! the `rt-pipeline` back-end the ray-tracing pipeline (`crate::accel::rt_pipeline`), built
 //! from the same bindings and recorded into a command buffer of its own. On the other
@@ -10,34 +10,10 @@ use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::RuntimeError;
 use crate::graph::builtins;
 use crate::graph::compile::PlannedPass;
-use crate::graph::desc::{Dispatch, PassKind, ResourceDecl};
+use crate::graph::desc::{Dispatch, ResourceDecl};
 use crate::graph::reflect::{BindingKind, ShaderBinding};
 use crate::runtime::gpu::Gpu;
 use crate::scene::gpu::SceneTextures;
-use crate::scene::Scene;
-
-/// The trace module's pipeline constant that compiles the alpha test into the traversal
-/// (`shaders/trace/alpha.wgsl`).
-pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
-
-/// The pipeline constant of `shaders/common/blend.wgsl` that compiles the passes' handling of
-/// BLEND surfaces in (skipped by primary rays, attenuating shadow rays, composited).
-pub const TRACE_BLEND_CONSTANT: &str = "TRACE_BLEND";
-
-/// Pipeline constants of a compute or trace pass: a trace pass whose module declares
-/// [`TRACE_ALPHA_CONSTANT`] gets the alpha test only when the scene has alpha-tested geometry,
-/// and one that declares [`TRACE_BLEND_CONSTANT`] its BLEND handling only when the scene has
-/// BLEND materials, so a scene without any runs passes with no trace of either.
-pub(super) fn trace_constants(pass: &PlannedPass, alpha_test: bool, blend: bool) -> Vec<(&'static str, f64)> {
-    if pass.kind != PassKind::Trace {
-        return Vec::new();
-    }
-    [(TRACE_ALPHA_CONSTANT, alpha_test), (TRACE_BLEND_CONSTANT, blend)]
-        .into_iter()
-        .filter(|(name, _)| pass.shader.has_override(name))
-        .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))
-        .collect()
-}
 
 /// The state a binding's resource is in while a pass uses it (the rt-pipeline back-end's
 /// explicit transitions).
@@ -58,21 +34,6 @@ fn buffer_uses(kind: &BindingKind) -> wgpu::BufferUses {
 }
 
 impl Executor {
-    /// Whether any instance of `scene` is alpha-tested, and whether any is translucent (BLEND or
-    /// transmissive, which are alpha-tested too): the values of TRACE_ALPHA_TEST and TRACE_BLEND,
-    /// in one pass over the instances (made every frame).
-    pub(super) fn scene_trace_switches(scene: &Scene) -> (bool, bool) {
-        let mut switches = (false, false);
-        for m in scene.instances.iter().filter_map(|inst| scene.materials.get(inst.material)) {
-            switches.0 |= m.alpha_cutoff().is_some();
-            switches.1 |= m.translucent();
-            if switches.1 {
-                break;
-            }
-        }
-        switches
-    }
-
     /// A trace pass on the rt-pipeline back-end: the same bindings as the compute pass would
     /// have, bound through hal bind groups of a ray-tracing pipeline.
     pub(super) fn build_rt_pass(&self, gpu: &Gpu, pass: &PlannedPass, bindings: PassBindings) -> Result<PassRuntime, RuntimeError> {
@@ -87,12 +48,14 @@ impl Executor {
             let Some(resource) = self.rt_resource(pass, b, &bindings)? else { continue };
             rt_bindings.push(RtBinding { group: b.group, entry, resource });
         }
-        // The ray-generation stage's constants: TRACE_BLEND only (the alpha test is the any-hit
-        // shader's own).
-        let mut constants = naga::back::PipelineConstants::default();
-        if pass.shader.has_override(TRACE_BLEND_CONSTANT) {
-            constants.insert(TRACE_BLEND_CONSTANT.to_string(), if self.trace_blend { 1.0 } else { 0.0 });
-        }
+        // The ray-generation stage's constants: all but the alpha test (the any-hit shader's own).
+        let constants: naga::back::PipelineConstants = self
+            .features
+            .constants(pass)
+            .into_iter()
+            .filter(|(name, _)| *name != super::features::TRACE_ALPHA_CONSTANT)
+            .map(|(name, value)| (name.to_string(), value))
+            .collect();
         let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, &constants, rt_bindings, builtins::ACCEL_GROUP)?;
         let wg = shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
         // The launch grid: one ray-generation invocation per invocation of the compute dispatch.

@@ -1,0 +1,83 @@
+//! The scene's features as pipeline constants: what the scene uses of the material and mesh
+//! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
+//! samplers and texture transforms, the second uv set and vertex colours, unlit materials). Every pass whose
+//! module declares one of the constants gets its value; the shaders' defaults are `true`, so a
+//! pipeline made without them is right for any scene. The passes are built again when the
+//! features change.
+
+use crate::graph::compile::PlannedPass;
+use crate::scene::Scene;
+
+/// The trace module's pipeline constant that compiles the alpha test into the traversal
+/// (`shaders/trace/alpha.wgsl`).
+pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
+
+/// The pipeline constant of `shaders/common/blend.wgsl` that compiles the passes' handling of
+/// BLEND surfaces in (skipped by primary rays, attenuating shadow rays, composited).
+pub const TRACE_BLEND_CONSTANT: &str = "TRACE_BLEND";
+
+/// `shaders/common/scene_features.wgsl`: some material has its own specular lobes
+/// (`KHR_materials_ior`, `_specular`, `_clearcoat`).
+pub const LOBES_CONSTANT: &str = "SCENE_LOBES";
+
+/// `shaders/common/scene_features.wgsl`: some material has a sampler other than glTF's default
+/// or a `KHR_texture_transform`.
+pub const CUSTOM_SAMPLING_CONSTANT: &str = "SCENE_CUSTOM_SAMPLING";
+
+/// `shaders/common/scene_features.wgsl`: some drawn mesh has COLOR_0 or TEXCOORD_1.
+pub const VERTEX_EXTRAS_CONSTANT: &str = "SCENE_VERTEX_EXTRAS";
+
+/// `shaders/common/scene_features.wgsl`: some material is unlit (`KHR_materials_unlit`).
+pub const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
+
+/// What the scene's instances use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SceneFeatures {
+    /// Some instance is alpha-tested (MASK, BLEND or transmissive).
+    pub alpha_test: bool,
+    /// Some instance is translucent (BLEND or transmissive).
+    pub blend: bool,
+    /// Some instance's material has its own specular lobes.
+    pub lobes: bool,
+    /// Some instance's material has a non-default sampler or a texture transform.
+    pub custom_sampling: bool,
+    /// Some instance's mesh has vertex colours or a second uv set.
+    pub vertex_extras: bool,
+    /// Some instance's material is unlit.
+    pub unlit: bool,
+}
+
+impl SceneFeatures {
+    /// The features of `scene`'s instances, in one pass over them.
+    pub fn of(scene: &Scene) -> Self {
+        let mut f = Self::default();
+        for inst in &scene.instances {
+            if let Some(m) = scene.materials.get(inst.material) {
+                f.alpha_test |= m.alpha_cutoff().is_some();
+                f.blend |= m.translucent();
+                f.lobes |= m.lobes != crate::scene::Lobes::default();
+                f.custom_sampling |= m.sampling.iter().any(|s| s.transform.is_some() || s.sampler_bits() != 0);
+                f.unlit |= m.unlit;
+            }
+            f.vertex_extras |= scene.meshes.get(inst.mesh).is_some_and(|mesh| mesh.extras.is_some());
+        }
+        f
+    }
+
+    /// Every constant with its value.
+    fn all(&self) -> [(&'static str, bool); 6] {
+        [
+            (TRACE_ALPHA_CONSTANT, self.alpha_test),
+            (TRACE_BLEND_CONSTANT, self.blend),
+            (LOBES_CONSTANT, self.lobes),
+            (CUSTOM_SAMPLING_CONSTANT, self.custom_sampling),
+            (VERTEX_EXTRAS_CONSTANT, self.vertex_extras),
+            (UNLIT_CONSTANT, self.unlit),
+        ]
+    }
+
+    /// The constants `pass`'s module declares, with their values.
+    pub(crate) fn constants(&self, pass: &PlannedPass) -> Vec<(&'static str, f64)> {
+        self.all().into_iter().filter(|(name, _)| pass.shader.has_override(name)).map(|(name, on)| (name, if on { 1.0 } else { 0.0 })).collect()
+    }
+}
