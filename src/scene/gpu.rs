@@ -735,7 +735,10 @@ impl SceneContent {
         let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
         let textures: Vec<[u64; 4]> = scene.textures.iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
-        structure = hash_words(structure, format!("{:?}", scene.materials).as_bytes());
+        // The materials as the GPU reads them (every field that reaches a pass, texture layers
+        // included): hashing their records is cheaper than formatting them.
+        let materials: Vec<MaterialUniforms> = scene.materials.iter().map(material_uniforms).collect();
+        structure = hash_words(structure, bytemuck::cast_slice(&materials));
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
         structure = hash_words(structure, bytemuck::cast_slice(&deforming.iter().map(|&i| i as u64).collect::<Vec<_>>()));

@@ -48,20 +48,45 @@ pub struct SceneFeatures {
 }
 
 impl SceneFeatures {
-    /// The features of `scene`'s instances, in one pass over them.
+    /// The features of `scene`'s instances: each material's and mesh's found once, then one
+    /// pass over the instances that stops when every feature is in use (made every frame).
     pub fn of(scene: &Scene) -> Self {
-        let mut f = Self::default();
+        let material_bits: Vec<u8> = scene.materials.iter().map(Self::material_bits).collect();
+        let mesh_bits: Vec<u8> = scene.meshes.iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
+        let mut bits = 0u8;
         for inst in &scene.instances {
-            if let Some(m) = scene.materials.get(inst.material) {
-                f.alpha_test |= m.alpha_cutoff().is_some();
-                f.blend |= m.translucent();
-                f.lobes |= m.lobes != crate::scene::Lobes::default();
-                f.custom_sampling |= m.sampling.iter().any(|s| s.transform.is_some() || s.sampler_bits() != 0);
-                f.unlit |= m.unlit;
+            bits |= material_bits.get(inst.material).copied().unwrap_or(0) | mesh_bits.get(inst.mesh).copied().unwrap_or(0);
+            if bits == Self::ALL_BITS {
+                break;
             }
-            f.vertex_extras |= scene.meshes.get(inst.mesh).is_some_and(|mesh| mesh.extras.is_some());
         }
-        f
+        let on = |bit: u8| bits & bit != 0;
+        Self {
+            alpha_test: on(Self::ALPHA_TEST),
+            blend: on(Self::BLEND),
+            lobes: on(Self::LOBES),
+            custom_sampling: on(Self::CUSTOM_SAMPLING),
+            vertex_extras: on(Self::VERTEX_EXTRAS),
+            unlit: on(Self::UNLIT),
+        }
+    }
+
+    const ALPHA_TEST: u8 = 1;
+    const BLEND: u8 = 2;
+    const LOBES: u8 = 4;
+    const CUSTOM_SAMPLING: u8 = 8;
+    const VERTEX_EXTRAS: u8 = 16;
+    const UNLIT: u8 = 32;
+    const ALL_BITS: u8 = 63;
+
+    /// The features material `m` uses, as bits.
+    fn material_bits(m: &crate::scene::Material) -> u8 {
+        let flag = |on: bool, bit: u8| if on { bit } else { 0 };
+        flag(m.alpha_cutoff().is_some(), Self::ALPHA_TEST)
+            | flag(m.translucent(), Self::BLEND)
+            | flag(m.lobes != crate::scene::Lobes::default(), Self::LOBES)
+            | flag(m.sampling.iter().any(|s| s.transform.is_some() || s.sampler_bits() != 0), Self::CUSTOM_SAMPLING)
+            | flag(m.unlit, Self::UNLIT)
     }
 
     /// Every constant with its value.
