@@ -182,9 +182,16 @@ fn the_importer_reads_the_lobe_factors_and_textures_and_the_export_writes_them_b
     };
     assert_eq!(Lobes { textures: [None; 6], ..lobes }, factors);
     let read: Vec<usize> = (0..6).filter(|&k| lobes.textures[k].is_some()).collect();
-    // The transmission texture is kept (and exported) but not drawn: the report says so.
     assert_eq!(read, [LOBE_SPECULAR_COLOR, LOBE_CLEARCOAT, LOBE_CLEARCOAT_NORMAL, LOBE_TRANSMISSION], "the lobe textures are read");
-    assert_eq!(report.ignored_features, ["material `lacquer`: KHR_materials_transmission transmissionTexture (transmissionFactor alone is read)"]);
+    // The transmission texture reads the base colour's uv (TEXCOORD_0, no transform): drawn.
+    assert!(scene.materials[0].transmission_texture_drawn());
+    assert!(report.ignored_features.is_empty(), "{:?}", report.ignored_features);
+    // On TEXCOORD_1 it is kept but not drawn, and said so.
+    d.json["materials"][0]["extensions"]["KHR_materials_transmission"]["transmissionTexture"]["texCoord"] = serde_json::json!(1);
+    let other = d.write_gltf_embedded(&dir, "lacquer_uv1");
+    let (uv1, uv1_report) = raygraph::scene::open(other.to_str().unwrap(), &Default::default()).unwrap();
+    assert!(!uv1.materials[0].transmission_texture_drawn());
+    assert!(uv1_report.ignored_features.iter().any(|f| f.contains("transmissionTexture")), "{:?}", uv1_report.ignored_features);
     let out = dir.join("again.glb");
     raygraph::scene::export::write_glb(&scene, &out).unwrap();
     let (again, _) = raygraph::scene::open(out.to_str().unwrap(), &Default::default()).unwrap();

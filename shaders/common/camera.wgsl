@@ -2,7 +2,16 @@
 // common/frame.wgsl first). `frame.camera_pos.w` is 1 for a perspective camera (rays leave its
 // position) and 0 for an orthographic one (parallel rays leave the near plane).
 
+// The camera's projection as a pipeline constant the executor sets from the frame's camera
+// (src/runtime/exec/features.rs; the passes are built again when it changes): 1 perspective,
+// 2 orthographic, 0 (the default, for pipelines made without it) read from `frame`. A branch on
+// the frame's word in every camera function costs the raster shade pass about 5% on an H200.
+override CAMERA_PROJECTION: u32 = 0u;
+
 fn camera_is_orthographic() -> bool {
+    if CAMERA_PROJECTION != 0u {
+        return CAMERA_PROJECTION == 2u;
+    }
     return frame.camera_pos.w == 0.0;
 }
 

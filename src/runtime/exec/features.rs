@@ -1,6 +1,7 @@
 //! The scene's features as pipeline constants: what the scene uses of the material and mesh
 //! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
-//! samplers and texture transforms, the second uv set and vertex colours, unlit materials). Every pass whose
+//! samplers and texture transforms, the second uv set and vertex colours, unlit materials) and
+//! the frame camera's projection. Every pass whose
 //! module declares one of the constants gets its value; the shaders' defaults are `true`, so a
 //! pipeline made without them is right for any scene. The passes are built again when the
 //! features change.
@@ -30,6 +31,9 @@ pub const VERTEX_EXTRAS_CONSTANT: &str = "SCENE_VERTEX_EXTRAS";
 /// `shaders/common/scene_features.wgsl`: some material is unlit (`KHR_materials_unlit`).
 pub const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
 
+/// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
+pub const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
+
 /// What the scene's instances use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SceneFeatures {
@@ -45,6 +49,8 @@ pub struct SceneFeatures {
     pub vertex_extras: bool,
     /// Some instance's material is unlit.
     pub unlit: bool,
+    /// The frame's camera is orthographic (set by [`SceneFeatures::with_camera`]).
+    pub orthographic: bool,
 }
 
 impl SceneFeatures {
@@ -68,7 +74,13 @@ impl SceneFeatures {
             custom_sampling: on(Self::CUSTOM_SAMPLING),
             vertex_extras: on(Self::VERTEX_EXTRAS),
             unlit: on(Self::UNLIT),
+            orthographic: scene.camera.orthographic.is_some(),
         }
+    }
+
+    /// The same features with the projection of `camera`, the frame's.
+    pub fn with_camera(self, camera: &crate::scene::Camera) -> Self {
+        Self { orthographic: camera.orthographic.is_some(), ..self }
     }
 
     const ALPHA_TEST: u8 = 1;
@@ -103,6 +115,8 @@ impl SceneFeatures {
 
     /// The constants `pass`'s module declares, with their values.
     pub(crate) fn constants(&self, pass: &PlannedPass) -> Vec<(&'static str, f64)> {
-        self.all().into_iter().filter(|(name, _)| pass.shader.has_override(name)).map(|(name, on)| (name, if on { 1.0 } else { 0.0 })).collect()
+        let projection = (CAMERA_PROJECTION_CONSTANT, if self.orthographic { 2.0 } else { 1.0 });
+        let switches = self.all().into_iter().map(|(name, on)| (name, if on { 1.0 } else { 0.0 }));
+        switches.chain([projection]).filter(|(name, _)| pass.shader.has_override(name)).collect()
     }
 }

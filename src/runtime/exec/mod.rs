@@ -308,7 +308,7 @@ impl Executor {
         } else {
             scene
         };
-        self.begin_frame(gpu, scene)?;
+        self.begin_frame(gpu, scene, camera)?;
         let uniforms = self.frame_uniforms(gpu, camera, scene)?;
         gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
         let scope = gpu.scopes();

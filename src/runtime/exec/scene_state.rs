@@ -31,13 +31,13 @@ impl Executor {
 
     /// Before a frame is recorded: the injected device loss (`RAYGRAPH_INJECT_DEVICE_LOSS`), the
     /// device's state, the scene's changes and its bounding sphere.
-    pub(super) fn begin_frame(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+    pub(super) fn begin_frame(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<(), RuntimeError> {
         if gpu.inject_device_loss_at == Some(self.frame_index) {
             log::warn!("RAYGRAPH_INJECT_DEVICE_LOSS: destroying the device at frame {}", self.frame_index);
             gpu.device.destroy();
         }
         gpu.check()?;
-        self.sync_scene(gpu, scene)?;
+        self.sync_scene(gpu, scene, camera)?;
         // Every frame: the scene may have changed since the last one.
         let b = scene.bounds();
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
@@ -47,8 +47,10 @@ impl Executor {
     /// Keeps the uploaded scene equal to `scene`: moved instances are rewritten in place; any
     /// other change (meshes, materials, textures, instances added or removed) uploads the scene
     /// again and rebuilds the passes that bind it. Nothing to do for graphs that upload none.
-    pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
-        let features = SceneFeatures::of(scene);
+    /// The passes are also built again when the scene's features or `camera`'s projection
+    /// change (their pipeline constants, [`super::features`]).
+    pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<(), RuntimeError> {
+        let features = SceneFeatures::of(scene).with_camera(camera);
         if features != self.features {
             self.features = features;
             self.passes = self.build_passes(gpu)?;
