@@ -33,7 +33,7 @@
 //     reads textures itself shares the declaration.
 //
 // TRACE_ALPHA_TEST is a pipeline constant: the executor sets it false for a scene without
-// alpha-tested instances (src/runtime/exec.rs, `trace_constants`), and the compute traversal
+// alpha-tested instances (src/runtime/exec/features.rs), and the compute traversal
 // then has no alpha branch at all. Back-ends and callers that do not set it keep the test.
 //#include "common/alpha_read.wgsl"
 

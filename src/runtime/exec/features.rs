@@ -1,10 +1,10 @@
 //! The scene's features as pipeline constants: what the scene uses of the material and mesh
 //! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
 //! samplers and texture transforms, the second uv set and vertex colours, unlit materials) and
-//! the frame camera's projection. Every pass whose
-//! module declares one of the constants gets its value; the shaders' defaults are `true`, so a
-//! pipeline made without them is right for any scene. The passes are built again when the
-//! features change.
+//! the frame camera's projection. Every pass whose module declares one of the constants gets
+//! its value; the shaders' defaults keep every feature (and read the projection from the
+//! frame), so a pipeline made without them is right for any scene. The passes are built again
+//! when the features change.
 
 use crate::graph::compile::PlannedPass;
 use crate::scene::Scene;

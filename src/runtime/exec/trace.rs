@@ -1,8 +1,8 @@
-//! `Trace` passes: the trace module's bind
-//! group (re-made whenever the acceleration-structure cache replaces its GPU objects), and on
-//! the `rt-pipeline` back-end the ray-tracing pipeline (`crate::accel::rt_pipeline`), built
-//! from the same bindings and recorded into a command buffer of its own. On the other
-//! back-ends a trace pass is a compute dispatch ([`super::compute`]).
+//! `Trace` passes: the trace module's bind group (re-made whenever the acceleration-structure
+//! cache replaces its GPU objects), and on the `rt-pipeline` back-end the ray-tracing pipeline
+//! (`crate::accel::rt_pipeline`), built from the same bindings and recorded into a command
+//! buffer of its own. On the other back-ends a trace pass is a compute dispatch
+//! ([`super::compute`]).
 
 use super::bindings::{linear_sampler, nearest_sampler, resource_of, PassBindings};
 use super::{Executor, FrameRecording, PassRuntime, Pipeline};
