@@ -1,13 +1,24 @@
 //! The per-pass profiling report (`runtime::report`) on synthetic frames: statistics against
-//! hand-computed values, and the CSV, markdown, Chrome trace and file exports.
+//! hand-computed values, and the CSV, markdown, Chrome trace and file exports; the frame's time
+//! outside the passes by part, in the report and on a rendered frame.
+
+mod common;
 
 use raygraph::accel::cache::RayStats;
-use raygraph::runtime::profiler::FrameTimings;
+use raygraph::runtime::profiler::{FramePhases, FrameTimings};
 use raygraph::runtime::report::{Report, Summary, CSV_COLUMNS, TRACE_CPU_TID, TRACE_GPU_TID};
 use serde_json::Value;
 
 fn frame(gpu: Option<&[f64]>, cpu: &[f64], frame_ms: f64, pass_rays: &[Option<RayStats>]) -> FrameTimings {
-    FrameTimings { gpu_ms: gpu.map(|g| g.to_vec()), cpu_ms: cpu.to_vec(), frame_ms, rays: None, pass_rays: pass_rays.to_vec(), accel: None }
+    FrameTimings {
+        gpu_ms: gpu.map(|g| g.to_vec()),
+        cpu_ms: cpu.to_vec(),
+        frame_ms,
+        rays: None,
+        pass_rays: pass_rays.to_vec(),
+        accel: None,
+        phases: Default::default(),
+    }
 }
 
 fn rays(closest: u64, any: u64, hits: u64) -> Option<RayStats> {
@@ -283,4 +294,41 @@ fn write_all_writes_three_files_atomically() {
     r.write_all(&dir.join("nested"), "run1").unwrap();
     assert_eq!(std::fs::read_dir(dir.join("nested")).unwrap().count(), 3);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_time_outside_the_passes_is_reported_by_part() {
+    // Three frames whose parts differ: the report's line carries each part's median.
+    let phases = [(0.2, 0.03, 0.5, 4.0, 0.1), (0.4, 0.01, 0.7, 6.0, 0.3), (0.3, 0.02, 0.6, 5.0, 0.2)];
+    let frames: Vec<FrameTimings> = phases
+        .iter()
+        .map(|&(scene_ms, uniforms_ms, submit_ms, wait_ms, readback_ms)| FrameTimings {
+            phases: FramePhases { scene_ms, uniforms_ms, submit_ms, wait_ms, readback_ms },
+            ..frame(Some(&[1.0]), &[0.1], 7.0, &[None])
+        })
+        .collect();
+    let report = Report::new(&names(&[("a", "compute")]), 100, &frames);
+    let md = report.to_markdown();
+    assert!(md.contains("outside the passes (medians): scene update 0.300, uniforms 0.020, submit 0.600, wait 5.000, read-back 0.200 ms"), "{md}");
+    let table = raygraph::runtime::profiler::pass_table(&names(&[("a", "compute")]), &frames, 100);
+    assert!(table.contains("outside the passes (medians): scene update 0.300"), "{table}");
+}
+
+#[test]
+fn a_rendered_frame_accounts_for_its_time_outside_the_passes() {
+    let gpu = common::gpu();
+    let scene = raygraph::scene::builtin::default_scene();
+    let exec_frames: Vec<FrameTimings> = {
+        let mut exec = common::modes::render_graph(&gpu, "graph/hybrid.ron", raygraph::backend::Backend::Compute, &scene, (32, 24));
+        (0..3).map(|_| exec.render(&gpu, &scene.camera, &scene).unwrap()).collect()
+    };
+    for f in &exec_frames {
+        let parts = f.phases.parts();
+        assert!(parts.iter().all(|(_, ms)| ms.is_finite() && *ms >= 0.0), "{parts:?}");
+        let outside: f64 = parts.iter().map(|(_, ms)| ms).sum();
+        let recording: f64 = f.cpu_ms.iter().sum();
+        // The parts and the passes' recording are disjoint stretches of the frame's wall time.
+        assert!(outside + recording <= f.frame_ms + 1e-6, "{parts:?} + recording {recording} > frame {}", f.frame_ms);
+        assert!(f.phases.wait_ms > 0.0, "the wait for the GPU is measured");
+    }
 }

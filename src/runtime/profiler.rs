@@ -92,6 +92,41 @@ impl GpuTimer {
     }
 }
 
+/// Where a frame's wall time went outside the passes' recording, in milliseconds of the CPU's
+/// clock: what `render --report`, its table and the viewer's overlay show beside the passes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FramePhases {
+    /// Following the scene: change detection, uploads, passes built again, the bounds.
+    pub scene_ms: f64,
+    /// The frame uniforms and lights written, the draw classes and attachment views made.
+    pub uniforms_ms: f64,
+    /// Resolving the timestamps, submitting, and the error scopes' answer.
+    pub submit_ms: f64,
+    /// Waiting for the GPU to finish the frame.
+    pub wait_ms: f64,
+    /// Reading back the timestamps, the ray counters and the SAH probe.
+    pub readback_ms: f64,
+}
+
+impl FramePhases {
+    /// The parts with their names, in frame order.
+    pub fn parts(&self) -> [(&'static str, f64); 5] {
+        [("scene update", self.scene_ms), ("uniforms", self.uniforms_ms), ("submit", self.submit_ms), ("wait", self.wait_ms), ("read-back", self.readback_ms)]
+    }
+
+    /// "scene update 0.012, uniforms ..., read-back ... ms" from per-part values.
+    pub fn describe(parts: &[(&str, f64)]) -> String {
+        let list: Vec<String> = parts.iter().map(|(name, ms)| format!("{name} {ms:.3}")).collect();
+        format!("{} ms", list.join(", "))
+    }
+
+    /// The median of each part over `frames`.
+    pub fn medians(frames: &[FrameTimings]) -> [(&'static str, f64); 5] {
+        let names = FramePhases::default().parts().map(|(name, _)| name);
+        std::array::from_fn(|k| (names[k], median(&mut frames.iter().map(|f| f.phases.parts()[k].1).collect::<Vec<_>>())))
+    }
+}
+
 /// Per-pass timings of one frame.
 #[derive(Debug, Clone)]
 pub struct FrameTimings {
@@ -107,6 +142,8 @@ pub struct FrameTimings {
     pub pass_rays: Vec<Option<crate::accel::cache::RayStats>>,
     /// What the acceleration-structure node built this frame.
     pub accel: Option<crate::accel::cache::BuildReport>,
+    /// The frame's time outside the passes' recording, by part.
+    pub phases: FramePhases,
 }
 
 /// The median of `values` (sorts them; NaN for none).
@@ -160,5 +197,6 @@ pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings], pix
     let gpu_total = if frames.iter().all(|f| f.gpu_ms.is_some()) { format!("{gpu_total:>10.3}") } else { format!("{:>10}", "n/a") };
     let _ = writeln!(s, "{:<30} {:<12} {gpu_total} {cpu_total:>10.3}", "total (passes)", "");
     let _ = writeln!(s, "frame wall time (median of {}): {:.3} ms", frames.len(), median(&mut frame));
+    let _ = writeln!(s, "outside the passes (medians): {}", FramePhases::describe(&FramePhases::medians(frames)));
     s
 }

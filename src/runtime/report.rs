@@ -179,6 +179,11 @@ impl Report {
             med(self.cpu_total_ms),
             med(self.frame_ms)
         );
+        let _ = writeln!(
+            s,
+            "outside the passes (medians): {}",
+            crate::runtime::profiler::FramePhases::describe(&crate::runtime::profiler::FramePhases::medians(&self.frames))
+        );
         s
     }
 

@@ -10,6 +10,7 @@ use super::session::Session;
 use crate::graph::compile::{fmt_bytes, Plan};
 use crate::graph::desc::{ParamDecl, ParamValue, ResourceDecl};
 use crate::graph::Mode;
+use crate::runtime::profiler::FramePhases;
 use crate::runtime::Gpu;
 use egui::{Color32, RichText};
 use std::fmt::Write;
@@ -288,6 +289,8 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
         let total: f64 = rows.iter().filter_map(|r| r.2).sum();
         let wall = session.frames.back().map(|t| t.frame_ms).unwrap_or(0.0);
         ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames.len()));
+        let frames: Vec<_> = session.frames.iter().cloned().collect();
+        ui.label(RichText::new(format!("outside the passes: {}", FramePhases::describe(&FramePhases::medians(&frames)))).small());
         let selected = match f.view {
             View::Resource { pass, .. } => pass.clone(),
             View::Output => None,

@@ -29,7 +29,7 @@ pub use readback::read_texture_async;
 pub use readback::{read_texture, write_png};
 
 use super::gpu::Gpu;
-use super::profiler::{FrameTimings, GpuTimer};
+use super::profiler::{FramePhases, FrameTimings, GpuTimer};
 use super::raster::{DrawClass, InstanceClass, ScenePipelines};
 use super::rust_pass::{RustPass, RustPassIo, RustPasses};
 use crate::accel::cache::{AccelCache, BuildReport, RayStats};
@@ -308,7 +308,11 @@ impl Executor {
         } else {
             scene
         };
+        let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+        let t = Instant::now();
         self.begin_frame(gpu, scene, camera)?;
+        let mut phases = FramePhases { scene_ms: ms(t), ..Default::default() };
+        let t = Instant::now();
         let uniforms = self.frame_uniforms(gpu, camera, scene)?;
         gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
         let scope = gpu.scopes();
@@ -319,6 +323,7 @@ impl Executor {
             accel_report: None,
         };
         let inputs = self.frame_inputs(gpu, camera, scene, &uniforms);
+        phases.uniforms_ms = ms(t);
         // Before every pass: rasterized and traced passes alike see this frame's shapes.
         self.record_deform(gpu, &mut frame.encoder, scene);
         for i in 0..self.passes.len() {
@@ -326,8 +331,11 @@ impl Executor {
         }
         let FrameInputs { views, .. } = inputs;
         let FrameRecording { encoder, command_buffers, cpu_ms, accel_report } = frame;
+        let t = Instant::now();
         self.submit(gpu, encoder, command_buffers);
         scope.finish_async(gpu, "recording the frame").await?;
+        phases.submit_ms = ms(t);
+        let t = Instant::now();
         // The GPU deadline (a browser has its own: it loses the device).
         #[cfg(not(target_arch = "wasm32"))]
         if let Err(e) = gpu.wait_for(|| self.frame_work()) {
@@ -338,10 +346,13 @@ impl Executor {
         }
         #[cfg(target_arch = "wasm32")]
         drop(views);
+        phases.wait_ms = ms(t);
+        let t = Instant::now();
         if let Some(cache) = self.accel.as_mut() {
             cache.read_probe(&gpu.device).await?;
         }
-        let timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
+        let mut timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
+        timings.phases = FramePhases { readback_ms: ms(t), ..phases };
         if let (Some(cache), Some(gpu_ms)) = (self.accel.as_mut(), timings.gpu_ms.as_ref()) {
             let trace_ms: f64 = self.plan.passes.iter().zip(gpu_ms).filter(|(p, _)| p.kind == PassKind::Trace).map(|(_, ms)| ms).sum();
             cache.note_trace_ms(trace_ms);
@@ -434,7 +445,8 @@ impl Executor {
             }
             rays = Some(windows.iter().fold(RayStats::default(), |a, b| a.add(b)));
         }
-        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms: start.elapsed().as_secs_f64() * 1e3, rays, pass_rays, accel: accel_report.map(|(r, _)| r) })
+        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms, rays, pass_rays, accel: accel_report.map(|(r, _)| r), phases: FramePhases::default() })
     }
 
     /// The work one frame submits, for the GPU deadline's error: its passes in submission
