@@ -4,7 +4,7 @@
 //! (alpha-tested instances included) byte for byte as the separate arrays do; primary rays split
 //! in two passes for devices with four storage textures per stage (`layers/primary_split.ron`)
 //! give the one pass's image. And at WebGPU's default limits (README, "In a browser") every mode
-//! runs, hybrid's rasterized G-buffer drawn twice (`layers/deferred_split.ron`), which gives the
+//! runs, hybrid's rasterized G-buffer drawn in three parts (`layers/deferred_split.ron`), which gives the
 //! one draw's image.
 
 use raygraph::graph::{self, Mode, Project};
@@ -77,11 +77,12 @@ fn webgpu_default_limits_run_every_mode() {
     assert_eq!(gpu.layer_aliases().get("deferred").map(String::as_str), Some("deferred_split"));
     render(&gpu, Mode::Raster).expect("raster at WebGPU's default limits");
     render(&gpu, Mode::FullRt).expect("full RT at WebGPU's default limits (split primary rays, packed arrays)");
-    let split = render(&gpu, Mode::Hybrid).expect("hybrid at WebGPU's default limits (the G-buffer drawn twice)");
-    // The same limits but 56 bytes of colour attachments: the G-buffer drawn once from the
-    // fragment stage. The two draws give the same image.
-    let one_draw = device_with(|_| wgpu::Limits { max_color_attachment_bytes_per_sample: 56, ..wgpu::Limits::default() });
+    let split = render(&gpu, Mode::Hybrid).expect("hybrid at WebGPU's default limits (the G-buffer drawn in three parts)");
+    // The same limits but the bytes of colour attachments the whole G-buffer takes: drawn once
+    // from the fragment stage. The split draws give the same image.
+    let bytes = raygraph::runtime::gpu::GBUFFER_ATTACHMENT_BYTES;
+    let one_draw = device_with(|_| wgpu::Limits { max_color_attachment_bytes_per_sample: bytes, ..wgpu::Limits::default() });
     assert_eq!(one_draw.layer_aliases().get("deferred").map(String::as_str), Some("deferred_fragment"));
-    let once = render(&one_draw, Mode::Hybrid).expect("hybrid with 56 bytes of colour attachments");
-    assert!(split.as_raw() == once.as_raw(), "hybrid: the G-buffer drawn twice differs from the one draw");
+    let once = render(&one_draw, Mode::Hybrid).expect("hybrid with the whole G-buffer's bytes of colour attachments");
+    assert!(split.as_raw() == once.as_raw(), "hybrid: the G-buffer drawn in three parts differs from the one draw");
 }

@@ -374,7 +374,7 @@ impl Gpu {
     /// rasterized one comes from the fragment stage (`layers/deferred_fragment.ron`), and
     /// primary rays write it in two passes (`layers/primary_split.ron`). Where the fragment
     /// stage writes it and the colour attachments take fewer than [`GBUFFER_ATTACHMENT_BYTES`]
-    /// per sample (WebGPU's default is 32), it is drawn twice (`layers/deferred_split.ron`).
+    /// per sample (WebGPU's default is 32), it is drawn in three parts (`layers/deferred_split.ron`).
     pub fn layer_aliases(&self) -> std::collections::BTreeMap<String, String> {
         let mut aliases = std::collections::BTreeMap::new();
         let few_storage_textures = self.device.limits().max_storage_textures_per_shader_stage < GBUFFER_STORAGE_TEXTURES;
