@@ -787,9 +787,8 @@ fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
         slot_words: [layer(m.lobes.textures[4]), layer(m.lobes.textures[5]), samplers[2], uv_sets],
         uv_transforms: uv_transform_rows(&m.sampling),
         specular: {
-            let r = ((m.lobes.ior - 1.0) / (m.lobes.ior + 1.0)).powi(2);
-            let c = m.lobes.specular_color;
-            [r * c[0], r * c[1], r * c[2], m.lobes.specular]
+            let [r, g, b] = m.lobes.tinted_reflectance().map(|t| t as f32);
+            [r, g, b, m.lobes.specular]
         },
         clearcoat: [m.lobes.clearcoat, m.lobes.clearcoat_roughness, m.lobes.transmission, m.coverage_factor()],
         coat: [m.lobes.clearcoat_normal_scale, 0.0, 0.0, 0.0],

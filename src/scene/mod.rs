@@ -246,8 +246,14 @@ impl Lobes {
     /// The dielectric part's reflectance at normal incidence (KHR_materials_specular):
     /// min(((ior - 1) / (ior + 1))² x specular colour, 1) x specular factor; 0.04 by default.
     pub fn dielectric_f0(&self) -> [f32; 3] {
+        self.tinted_reflectance().map(|t| (t.min(1.0) * self.specular as f64) as f32)
+    }
+
+    /// ((ior - 1) / (ior + 1))² x specular colour: [`Lobes::dielectric_f0`] before the clamp and
+    /// the specular factor, which the shaders apply with the lobe textures' texels.
+    pub fn tinted_reflectance(&self) -> [f64; 3] {
         let r = ((self.ior as f64 - 1.0) / (self.ior as f64 + 1.0)).powi(2);
-        self.specular_color.map(|c| ((r * c as f64).min(1.0) * self.specular as f64) as f32)
+        self.specular_color.map(|c| r * c as f64)
     }
 }
 
