@@ -304,7 +304,7 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
     assert_eq!(s.materials[0].sampling[0].transform, Some([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
     assert_eq!(
         r.approximated,
-        ["material `coat`: alphaMode BLEND is blended in hybrid and full RT (up to 8 surfaces a ray), screen-door (a 4x4 ordered dither) in raster"]
+        ["material `coat`: alphaMode BLEND is blended in hybrid and full RT (up to 8 surfaces a ray, in depth order), in raster after the opaque surfaces with instances sorted back to front (not the triangles of one mesh), screen-door in raster shadow maps"]
     );
     // KHR_texture_transform and the sampler's MIRRORED_REPEAT are read (tests/texture_sampling.rs).
     let want = [

@@ -255,7 +255,7 @@ fn scene_info_ignores_nothing_on_any_khronos_model() {
         let (scene, report) = open_with(&name, &LoadOptions::default());
         assert!(report.ignored_features.is_empty(), "{name}: {:?}", report.ignored_features);
         assert!(info::describe(&scene, Some(&report)).contains("ignored     nothing"), "{name}");
-        // What is drawn differently is said: BLEND (screen-door in raster). The cameras' aspect
+        // What is drawn differently is said: BLEND (instances sorted in raster). The cameras' aspect
         // ratios are honoured (tests/cli.rs).
         for line in &report.approximated {
             assert!(line.contains("alphaMode BLEND"), "{name}: {line}");

@@ -46,9 +46,10 @@ fn damaged_helmet_looks_the_same_in_every_mode_with_effects_off() {
 #[test]
 fn pine_looks_the_same_in_every_mode_with_effects_off() {
     let gpu = gpu();
-    // The leaf cards are BLEND: blended in hybrid and full RT, screen-door in raster, which
-    // differ pixel by pixel by design (raster against hybrid: FLIP mean 0.045, measured); the
-    // two are checked against closed-form answers in tests/blend.rs. Here the cards are cut
+    // The leaf cards are BLEND: hybrid and full RT composite them in depth order per pixel,
+    // raster sorts whole instances (the cards of one mesh blend in their draw order), so they
+    // differ where cards overlap, by design; both are checked against closed-form answers in
+    // tests/blend.rs. Here the cards are cut
     // out at alpha 0.5 (MASK), so the comparison keeps covering the atlas's alpha test and
     // everything else on a real asset in all three modes.
     let mut pine = open("assets/gltf/smallpine/scene.gltf");

@@ -10,12 +10,11 @@
 //     opaque one);
 //   - composite it front to back along primary and reflection rays (at most BLEND_LAYERS
 //     surfaces a ray; what lies past them is taken as seen through the last one).
-// TRACE_BLEND is a pipeline constant: the executor sets it false for a scene without
-// translucent materials (src/runtime/exec/trace.rs), and every function here is then one plain
-// trace.
+// SCENE_BLEND is a pipeline constant (common/scene_features.wgsl): the executor sets it false
+// for a scene without translucent materials (src/runtime/exec/features.rs), and every function
+// here is then one plain trace.
 // Needs trace/trace.wgsl included first.
-
-override TRACE_BLEND: bool = true;
+//#include "common/scene_features.wgsl"
 
 // BLEND surfaces composited along one ray, and passed by a shadow or AO ray, at most.
 const BLEND_LAYERS: u32 = 8u;
@@ -28,7 +27,7 @@ fn blend_past(t: f32) -> f32 {
 
 // The coverage of the BLEND surface `hit` is on, or -1 for an opaque surface (or a miss).
 fn hit_blend_coverage(hit: Hit) -> f32 {
-    if !TRACE_BLEND || hit.instance == NO_HIT {
+    if !SCENE_BLEND || hit.instance == NO_HIT {
         return -1.0;
     }
     return trace_blend_coverage(hit.instance, hit.primitive, hit.bary);
@@ -38,7 +37,7 @@ fn hit_blend_coverage(hit: Hit) -> f32 {
 // else the product of one minus the coverage of every BLEND surface on it (order does not
 // matter). Without BLEND materials: one any-hit ray, 0 or 1.
 fn trace_transmittance(ray: Ray) -> f32 {
-    if !TRACE_BLEND {
+    if !SCENE_BLEND {
         return select(1.0, 0.0, trace_any(ray));
     }
     var r = ray;

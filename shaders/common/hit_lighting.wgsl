@@ -63,7 +63,7 @@ struct BlendComposite {
 fn composite_blend(ray_in: Ray, cone_start: f32, cone_spread: f32) -> BlendComposite {
     var ray = ray_in;
     var out = BlendComposite(vec3<f32>(0.0), vec3<f32>(1.0), trace_closest(ray));
-    if !TRACE_BLEND {
+    if !SCENE_BLEND {
         return out;
     }
     for (var layer = 0u; layer < BLEND_LAYERS && out.hit.instance != NO_HIT; layer++) {

@@ -14,7 +14,7 @@ const MAX_CULLED: u32 = 16u;
 // surface.
 fn primary_passes(hit: Hit) -> bool {
     let flags = scene_materials[scene_instances[hit.instance].material].flags;
-    return (!hit.front_face && (flags & MATERIAL_DOUBLE_SIDED) == 0u) || (TRACE_BLEND && (flags & MATERIAL_ALPHA_BLEND) != 0u);
+    return (!hit.front_face && (flags & MATERIAL_DOUBLE_SIDED) == 0u) || (SCENE_BLEND && (flags & MATERIAL_ALPHA_BLEND) != 0u);
 }
 
 // The closest hit that is neither a back face of a single-sided material nor a BLEND surface.

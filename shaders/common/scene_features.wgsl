@@ -3,6 +3,8 @@
 // declares them: a scene without a feature runs passes with no trace of it. The defaults keep
 // every feature, so a pipeline made without these constants is right for any scene.
 
+// Some material is translucent (BLEND, or transmissive: MATERIAL_ALPHA_BLEND).
+override SCENE_BLEND: bool = true;
 // Some material has its own specular lobes (MATERIAL_LOBES).
 override SCENE_LOBES: bool = true;
 // Some material has a non-default sampler or a texture transform (MATERIAL_SAMPLERS,

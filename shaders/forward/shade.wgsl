@@ -5,7 +5,8 @@
 // cone) and shaded as forward/forward.wgsl shades a fragment (common/forward_shading.wgsl), the shadow
 // maps' receiver plane from where the neighbouring pixels' rays meet the triangle's plane (the
 // rasterizer's screen derivatives, on a flat triangle). Writes linear HDR colour, alpha 1 where
-// geometry was drawn and 0 elsewhere, as the fragment-stage pass does.
+// geometry was drawn and 0 elsewhere, as the fragment-stage pass does, with the translucent
+// layer (forward/translucent.wgsl) over it (forward/translucent_over.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
@@ -14,6 +15,7 @@
 //#include "common/surface.wgsl"
 //#include "common/visible_hit.wgsl"
 //#include "common/forward_shading.wgsl"
+//#include "forward/translucent_over.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -30,6 +32,8 @@
 @group(0) @binding(12) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(13) var visibility: texture_2d<u32>;
 @group(0) @binding(14) var color: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(15) var translucent: texture_2d<f32>;
+@group(0) @binding(16) var translucent_filter: texture_2d<f32>;
 
 // The world-space offset from `p` to where the camera ray through pixel `q` meets the plane
 // through `p` with normal `n` (zero where the ray runs along the plane).
@@ -49,12 +53,16 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    let seen = visible_decode(textureLoad(visibility, id.xy, 0).xy);
+    textureStore(color, id.xy, composite_translucent(id.xy, opaque_color(id.xy)));
+}
+
+// The shaded opaque surface the rasterizer kept at pixel `q` (alpha 1), or 0 where none.
+fn opaque_color(q: vec2<u32>) -> vec4<f32> {
+    let seen = visible_decode(textureLoad(visibility, q, 0).xy);
     if !seen.drawn {
-        textureStore(color, id.xy, vec4<f32>(0.0));
-        return;
+        return vec4<f32>(0.0);
     }
-    let surface = visible_surface(id.xy, seen);
+    let surface = visible_surface(q, seen);
     var s: ShadingPoint;
     s.position = surface.position;
     s.normal = surface.normal;
@@ -66,7 +74,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.emissive = surface.emissive;
     s.unlit = surface.unlit;
     shading_lobes(&s, surface.lobes);
-    let dp1 = plane_offset(id.xy + vec2<u32>(1u, 0u), s.position, surface.geo_normal);
-    let dp2 = plane_offset(id.xy + vec2<u32>(0u, 1u), s.position, surface.geo_normal);
-    textureStore(color, id.xy, vec4<f32>(forward_radiance(s, surface.geo_normal, dp1, dp2), 1.0));
+    let dp1 = plane_offset(q + vec2<u32>(1u, 0u), s.position, surface.geo_normal);
+    let dp2 = plane_offset(q + vec2<u32>(0u, 1u), s.position, surface.geo_normal);
+    return vec4<f32>(forward_radiance(s, surface.geo_normal, dp1, dp2), 1.0);
 }

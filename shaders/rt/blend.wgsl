@@ -3,7 +3,7 @@
 // pixel's ray is the primary ray of rt/primary.wgsl (the rasterizer's sample position), cut
 // just short of the G-buffer surface; textures are read at the mip level of the pixel's ray
 // cone. The image is premultiplied (the sky, a = 0, shows through what the surfaces leave
-// uncovered). Without BLEND materials (TRACE_BLEND false) the image is copied through.
+// uncovered). Without BLEND materials (SCENE_BLEND false) the image is copied through.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
@@ -35,7 +35,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     var c = textureLoad(hdr, id.xy, 0);
-    if TRACE_BLEND {
+    if SCENE_BLEND {
         let origin = camera_origin(id.xy);
         let dir = camera_dir(id.xy);
         // Up to the G-buffer's surface (w = 0: the sky, no end), stopping 1e-4 of the way

@@ -530,9 +530,22 @@ pub struct PassDesc {
     pub shadow_slot: Option<u32>,
     /// `SceneRaster` only: instances of BLEND materials are not drawn (a G-buffer of the
     /// opaque surfaces, over which the `rt_blend` layer composites the translucent ones by
-    /// ray tracing). Default `false`: they are drawn screen-door (`shaders/common/alpha.wgsl`).
+    /// ray tracing), or that a `translucent` pass blends over them. Default `false`: they are drawn
+    /// screen-door (`shaders/common/alpha.wgsl`), as the shadow maps draw them.
     #[serde(default)]
     pub skip_blend: bool,
+    /// `SceneRaster` only: the pass draws the translucent instances alone (BLEND or
+    /// transmissive materials), back to front by the centre of each instance's bounds, with
+    /// blending into its colour targets (cleared to transparent): the first with premultiplied
+    /// alpha (`src + (1 - src.a) x dst`: the translucent layer's radiance and coverage), any
+    /// other by `src + (1 - src) x dst` per channel (with `src` one minus a surface's
+    /// transmittance, it holds one minus the product of the transmittances: the tint of what
+    /// lies behind). It has no depth attachment; its shader tests depth against the opaque
+    /// pass's.
+    /// In a frame without translucent instances it is not recorded (its targets keep what they
+    /// had; readers compile their use out with `SCENE_BLEND`). Default `false`.
+    #[serde(default)]
+    pub translucent: bool,
 }
 
 /// The kind of GPU work of a pass.

@@ -131,6 +131,37 @@ pub fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usiz
     order
 }
 
+/// Which of the scene's instances a `SceneRaster` pass draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawnInstances {
+    /// Every instance (translucent ones screen-door: the shadow maps).
+    All,
+    /// The opaque and alpha-tested instances (`skip_blend`).
+    Opaque,
+    /// The translucent instances, back to front and blended (`translucent`).
+    Translucent,
+}
+
+impl DrawnInstances {
+    /// What `pass` draws.
+    pub fn of_pass(pass: &crate::graph::compile::PlannedPass) -> Self {
+        match (pass.translucent, pass.skip_blend) {
+            (true, _) => Self::Translucent,
+            (false, true) => Self::Opaque,
+            (false, false) => Self::All,
+        }
+    }
+
+    /// Whether an instance of class `c` is drawn.
+    pub fn draws(self, c: &InstanceClass) -> bool {
+        match self {
+            Self::All => true,
+            Self::Opaque => !c.blend,
+            Self::Translucent => c.blend,
+        }
+    }
+}
+
 /// Everything a render pipeline of a pass is made from, but the variant.
 pub struct RenderSpec {
     pub(crate) label: String,
@@ -208,26 +239,27 @@ pub struct ScenePipelines {
     spec: RenderSpec,
     cull_back_faces: bool,
     cull_closed_back_faces: bool,
-    skip_blend: bool,
+    drawn: DrawnInstances,
     variants: Vec<(DrawClass, wgpu::RenderPipeline)>,
 }
 
 impl ScenePipelines {
     /// The pipelines of a pass with its layer's `cull_back_faces` and
-    /// `cull_closed_back_faces` and `skip_blend`.
-    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool, cull_closed_back_faces: bool, skip_blend: bool) -> Self {
-        Self { spec, cull_back_faces, cull_closed_back_faces, skip_blend, variants: Vec::new() }
+    /// `cull_closed_back_faces`, drawing the instances `drawn` names.
+    pub(crate) fn new(spec: RenderSpec, cull_back_faces: bool, cull_closed_back_faces: bool, drawn: DrawnInstances) -> Self {
+        Self { spec, cull_back_faces, cull_closed_back_faces, drawn, variants: Vec::new() }
     }
 
-    /// The class of each instance in this pass (`None`: not drawn, a BLEND instance in a pass
-    /// with `skip_blend`); `light_view_proj` is the view-projection of the pass's shadow-map
-    /// slot, where it has one in use.
+    /// The class of each instance in this pass (`None`: not drawn: a translucent instance in a
+    /// pass with `skip_blend`, an opaque one in a translucent pass); `light_view_proj` is the
+    /// view-projection of the pass's shadow-map slot, where it has one in use.
     pub fn classes(&self, instances: &[InstanceClass], light_view_proj: Option<&glam::Mat4>) -> Vec<Option<DrawClass>> {
         let closed_culling = light_view_proj.filter(|_| self.cull_closed_back_faces);
         instances
             .iter()
             .map(|c| {
-                (!(self.skip_blend && c.blend))
+                self.drawn
+                    .draws(c)
                     .then(|| c.draw_class(self.cull_back_faces, self.spec.alpha_switch, closed_culling.is_some_and(|vp| c.closed_and_beyond_near_plane(vp))))
             })
             .collect()
@@ -241,6 +273,11 @@ impl ScenePipelines {
                 self.variants.push((class, pipeline));
             }
         }
+    }
+
+    /// The variant of `class`, once made.
+    pub fn variant(&self, class: DrawClass) -> Option<&wgpu::RenderPipeline> {
+        self.variants.iter().find(|(c, _)| *c == class).map(|(_, p)| p)
     }
 
     /// The variants made so far, in a fixed order (opaque before alpha-tested, so that the

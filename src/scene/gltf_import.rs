@@ -1167,7 +1167,7 @@ mod notes {
         }
         if m.alpha_mode() == gltf::material::AlphaMode::Blend {
             report.approximated.push(format!(
-                "material {name}: alphaMode BLEND is blended in hybrid and full RT (up to 8 surfaces a ray), screen-door (a 4x4 ordered dither) in raster"
+                "material {name}: alphaMode BLEND is blended in hybrid and full RT (up to 8 surfaces a ray, in depth order), in raster after the opaque surfaces with instances sorted back to front (not the triangles of one mesh), screen-door in raster shadow maps"
             ));
         }
         for ext in extension_names(json).into_iter().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)) {

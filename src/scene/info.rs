@@ -101,7 +101,7 @@ fn list(s: &mut String, label: &str, items: &[String]) {
 fn alpha_modes(scene: &Scene) -> String {
     let count = |f: fn(&AlphaMode) -> bool| scene.materials.iter().filter(|m| f(&m.alpha_mode)).count();
     let (opaque, mask, blend) = (count(|a| *a == AlphaMode::Opaque), count(|a| matches!(a, AlphaMode::Mask(_))), count(|a| *a == AlphaMode::Blend));
-    format!("{opaque} opaque, {mask} mask, {blend} blend (materials; MASK is a cutout at its alphaCutoff, BLEND blended by ray tracing, screen-door in raster)")
+    format!("{opaque} opaque, {mask} mask, {blend} blend (materials; MASK is a cutout at its alphaCutoff, BLEND blended: by ray tracing in hybrid and full RT, sorted by instance in raster)")
 }
 
 /// The number of images the materials use; for a file, with how many loaded and how many

@@ -176,8 +176,16 @@ fn check_render_entries(it: &PassInterface) -> Result<(), GraphError> {
             "make the fragment outputs @location(0..n) match the order of `writes`",
         ));
     }
-    if p.writes.iter().filter(|(_, r)| resources[*r].decl.is_depth_texture()).count() > 1 {
+    let depth_writes = p.writes.iter().filter(|(_, r)| resources[*r].decl.is_depth_texture()).count();
+    if depth_writes > 1 {
         return Err(it.mismatch("the pass writes more than one depth texture".into(), file_loc, "write at most one Depth32Float texture"));
+    }
+    if pass.translucent && (depth_writes > 0 || colors.is_empty()) {
+        return Err(it.mismatch(
+            "a translucent pass blends into colour targets and has no depth attachment".into(),
+            file_loc,
+            "write colour textures only, and read the opaque pass's depth as a texture to test against",
+        ));
     }
     if pass.kind == PassKind::SceneRaster {
         let vs_locs = it.info.entry(&vs).map(|e| e.locations.clone()).unwrap_or_default();

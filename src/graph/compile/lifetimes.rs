@@ -34,6 +34,7 @@ pub(super) fn planned_passes(kept: &[usize], nodes: &[ResolvedNode], passes: &[P
                 cull_closed_back_faces: pass.cull_closed_back_faces,
                 shadow_slot: pass.shadow_slot,
                 skip_blend: pass.skip_blend,
+                translucent: pass.translucent,
                 accel: node.accel.clone(),
                 params: node.params.clone(),
                 location: p.location.clone(),

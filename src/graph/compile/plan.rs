@@ -129,6 +129,8 @@ pub struct PlannedPass {
     pub shadow_slot: Option<u32>,
     /// `SceneRaster`: BLEND instances are not drawn (`PassDesc::skip_blend`).
     pub skip_blend: bool,
+    /// `SceneRaster`: only translucent instances, back to front, blended (`PassDesc::translucent`).
+    pub translucent: bool,
     /// `AccelBuild`: the settings of its `Accel` node.
     pub accel: Option<AccelNode>,
     /// Parameter values after graph overrides.

@@ -145,6 +145,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             cull_closed_back_faces: false,
             shadow_slot: None,
             skip_blend: false,
+            translucent: false,
         }],
     };
     ResolvedNode {

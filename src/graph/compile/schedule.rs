@@ -139,6 +139,14 @@ fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphE
         )
         .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
     }
+    if pass.translucent && (pass.kind != PassKind::SceneRaster || pass.skip_blend || pass.shadow_slot.is_some()) {
+        return Err(GraphError::new(
+            ErrorKind::Unsupported,
+            location.clone(),
+            format!("pass `{}` is `translucent` but not a SceneRaster pass of colour targets (or also has `skip_blend` or `shadow_slot`)", pass.name),
+        )
+        .help("a translucent pass draws the scene's translucent instances blended into colour targets: make it a SceneRaster pass without `skip_blend` and `shadow_slot`".to_string()));
+    }
     if pass.cull_closed_back_faces && pass.shadow_slot.is_none() {
         return Err(GraphError::new(
             ErrorKind::Unsupported,

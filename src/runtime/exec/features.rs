@@ -13,9 +13,10 @@ use crate::scene::Scene;
 /// (`shaders/trace/alpha.wgsl`).
 pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
 
-/// The pipeline constant of `shaders/common/blend.wgsl` that compiles the passes' handling of
-/// BLEND surfaces in (skipped by primary rays, attenuating shadow rays, composited).
-pub const TRACE_BLEND_CONSTANT: &str = "TRACE_BLEND";
+/// `shaders/common/scene_features.wgsl`: some material is translucent. It compiles the passes'
+/// handling of translucent surfaces in (`shaders/common/blend.wgsl`: skipped by primary rays,
+/// attenuating shadow rays, composited; the raster translucent layer's read).
+pub const BLEND_CONSTANT: &str = "SCENE_BLEND";
 
 /// `shaders/common/scene_features.wgsl`: some material has its own specular lobes
 /// (`KHR_materials_ior`, `_specular`, `_clearcoat`).
@@ -105,7 +106,7 @@ impl SceneFeatures {
     fn all(&self) -> [(&'static str, bool); 6] {
         [
             (TRACE_ALPHA_CONSTANT, self.alpha_test),
-            (TRACE_BLEND_CONSTANT, self.blend),
+            (BLEND_CONSTANT, self.blend),
             (LOBES_CONSTANT, self.lobes),
             (CUSTOM_SAMPLING_CONSTANT, self.custom_sampling),
             (VERTEX_EXTRAS_CONSTANT, self.vertex_extras),

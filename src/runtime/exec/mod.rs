@@ -399,7 +399,8 @@ impl Executor {
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             return Ok(());
         }
-        if self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
+        let nothing_translucent = self.plan.passes[i].translucent && inputs.pass_classes[i].iter().all(Option::is_none);
+        if nothing_translucent || self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
             self.record_unused_shadow_map(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);
             return Ok(());

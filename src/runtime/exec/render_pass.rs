@@ -20,6 +20,17 @@ fn scene_vertex_attributes(pass: &PlannedPass) -> Vec<wgpu::VertexAttribute> {
     attributes.iter().filter(|a| locations.contains(&a.shader_location)).copied().collect()
 }
 
+/// The blending of colour target `k` of a translucent pass (`PassDesc::translucent`): the first
+/// premultiplied-alpha "over", back to front; the others `src + (1 - src) x dst` per channel.
+fn translucent_blend(k: usize) -> wgpu::BlendState {
+    if k == 0 {
+        return wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING;
+    }
+    let one_minus_product =
+        wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::OneMinusSrc, operation: wgpu::BlendOperation::Add };
+    wgpu::BlendState { color: one_minus_product, alpha: one_minus_product }
+}
+
 impl Executor {
     /// A raster pass whose pipeline `pipeline` makes from the pass's [`RenderSpec`].
     pub(super) fn build_render_pass(
@@ -34,8 +45,13 @@ impl Executor {
         let (colors, depth) = self.attachments(pass);
         let targets: Vec<Option<wgpu::ColorTargetState>> = colors
             .iter()
-            .map(|r| match &self.plan.resources[*r].decl {
-                ResourceDecl::Texture(t) => Some(wgpu::ColorTargetState { format: t.format.to_wgpu(), blend: None, write_mask: wgpu::ColorWrites::ALL }),
+            .enumerate()
+            .map(|(k, r)| match &self.plan.resources[*r].decl {
+                ResourceDecl::Texture(t) => Some(wgpu::ColorTargetState {
+                    format: t.format.to_wgpu(),
+                    blend: pass.translucent.then_some(translucent_blend(k)),
+                    write_mask: wgpu::ColorWrites::ALL,
+                }),
                 ResourceDecl::Buffer(_) | ResourceDecl::Accel => None,
             })
             .collect();

@@ -1,6 +1,7 @@
 //! `SceneRaster` passes: the scene's meshes drawn with one pipeline variant per draw class
-//! (`crate::runtime::raster`), front to back; a shadow-map pass of a slot no light uses this
-//! frame, recorded as an empty pass that keeps its timestamps.
+//! (`crate::runtime::raster`), front to back, or back to front in a translucent pass; a
+//! shadow-map pass of a slot no light uses this frame, or a translucent pass of a frame without
+//! translucent instances, recorded as an empty pass that keeps its timestamps.
 
 use super::bindings::{PassBindings, PassLayout};
 use super::{Executor, FrameInputs, PassRuntime, Pipeline};
@@ -8,12 +9,12 @@ use crate::error::RuntimeError;
 use crate::graph::compile::PlannedPass;
 use crate::graph::desc::PassKind;
 use crate::runtime::gpu::Gpu;
-use crate::runtime::raster::ScenePipelines;
+use crate::runtime::raster::{DrawnInstances, ScenePipelines};
 
 impl Executor {
     pub(super) fn build_scene_raster_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
         self.build_render_pass(gpu, pass, layout, bindings, |spec| {
-            Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces, pass.cull_closed_back_faces, pass.skip_blend))
+            Pipeline::Scene(ScenePipelines::new(spec, pass.cull_back_faces, pass.cull_closed_back_faces, DrawnInstances::of_pass(pass)))
         })
     }
 
@@ -36,6 +37,19 @@ impl Executor {
         rp.set_vertex_buffer(0, vertices.slice(..));
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let classes = &inputs.pass_classes[i];
+        if self.plan.passes[i].translucent {
+            let back_to_front = inputs.draw_order.iter().rev().filter_map(|&k| scene.draws.get(k));
+            let mut current = None;
+            for d in back_to_front {
+                let Some(Some(class)) = classes.get(d.instance as usize) else { continue };
+                if current != Some(*class) {
+                    rp.set_pipeline(pipelines.variant(*class).expect("prepared for every class of the frame"));
+                    current = Some(*class);
+                }
+                rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
+            }
+            return Ok(());
+        }
         for (class, pipeline) in pipelines.variants() {
             let mut draws =
                 inputs.draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&Some(class))).peekable();
