@@ -20,6 +20,12 @@ use raygraph::bench::modes::flip_mean;
 use raygraph::runtime::Gpu;
 use raygraph::scene::{AlphaMode, Scene};
 
+/// The Khronos models' limits (raster / hybrid, hybrid / full RT, raster / full RT). Measured
+/// (lavapipe), the largest over the 14 models: 0.0220, 0.0002, 0.0220 (UnlitTest and
+/// EmissiveStrengthTest; the raster G-buffer is a visibility buffer read as primary rays read
+/// their hits, so hybrid and full RT agree but for edges); limits 3x that, rounded up.
+const KHRONOS_LIMITS: [f32; 3] = [0.07, 0.001, 0.07];
+
 /// ꟻLIP means of hybrid against raster, full RT against hybrid and full RT against raster.
 fn check(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), limits: [f32; 3]) {
     let [raster, hybrid, full_rt] = ["graph/raster.ron", "graph/hybrid.ron", "graph/full_rt.ron"]
@@ -66,4 +72,31 @@ fn metallic_roughness_scene_looks_the_same_in_every_mode_with_effects_off() {
     // Measured: 0.0082, 0.0054, 0.0107 (lavapipe: the far, minified ground carries most of it);
     // limits 3x that, rounded up.
     check(&gpu, "metallic-roughness scene", &metallic_roughness_scene().0, (128, 96), [0.025, 0.017, 0.033]);
+}
+
+/// The 14 Khronos test models, each from the view it is compared with its reference from
+/// (`raygraph::bench::conformance::comparison_view`), at its reference's aspect, 128 pixels on
+/// the longer side: one limit for all of them.
+#[test]
+fn every_khronos_model_looks_the_same_in_every_mode_from_its_reference_view() {
+    use raygraph::bench::conformance;
+    let gpu = gpu();
+    let root = common::repo().join("assets/khronos");
+    let mut names: Vec<String> = std::fs::read_dir(&root)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().join("glTF").is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 14);
+    for name in names {
+        let file = root.join(format!("{name}/glTF/{name}.gltf"));
+        let (mut scene, report) = conformance::open(file.to_str().unwrap()).unwrap();
+        let reference = ["png", "jpg", "gif"].iter().map(|ext| root.join(format!("{name}/screenshot/screenshot.{ext}"))).find(|p| p.exists()).unwrap();
+        let (w, h) = image::image_dimensions(&reference).unwrap_or((128, 128));
+        let size = conformance::frame_size(w, h, 128);
+        scene.camera = conformance::comparison_view(&scene, &report, size.0 as f32 / size.1 as f32);
+        check(&gpu, &name, &scene, size, KHRONOS_LIMITS);
+    }
 }

@@ -5,6 +5,7 @@
 
 pub mod anim;
 pub mod build;
+pub mod conformance;
 pub mod depth;
 pub mod error;
 pub mod filters;
