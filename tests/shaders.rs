@@ -49,11 +49,11 @@ fn every_wgsl_file_validates() {
 #[test]
 fn included_files_report_their_own_lines() {
     let root = common::repo().join("shaders");
-    let f = root.join("forward/forward.wgsl");
+    let f = root.join("forward/shade.wgsl");
     let info = reflect(&f, &root, &Location::file_start(&f)).unwrap();
     let text = std::fs::read_to_string(&f).unwrap();
     let frame = info.binding("frame").unwrap();
-    assert!(frame.location.file.ends_with("forward/forward.wgsl"));
+    assert!(frame.location.file.ends_with("forward/shade.wgsl"));
     assert_eq!(frame.location.line, common::line_of(&text, "var<uniform> frame"));
     // An offset inside the appended include maps back into the include.
     let offset = info.source.text.find("struct Instance").unwrap();

@@ -1,7 +1,7 @@
 // The translucent layer (forward/translucent.wgsl) over the opaque image of the fragment-stage
-// forward layer (forward/translucent_over.wgsl); a copy of the opaque image in a scene without
+// forward layer (common/translucent_over.wgsl); a copy of the opaque image in a scene without
 // translucent materials.
-//#include "forward/translucent_over.wgsl"
+//#include "common/translucent_over.wgsl"
 
 @group(0) @binding(0) var opaque: texture_2d<f32>;
 @group(0) @binding(1) var translucent: texture_2d<f32>;

@@ -1,8 +1,8 @@
-// Forward shading of the scene's opaque and alpha-tested meshes (forward/forward_draw.wgsl:
+// Forward shading of the scene's opaque and alpha-tested meshes (common/forward_draw.wgsl:
 // the shading model of every mode). Writes linear HDR colour; alpha 1 marks geometry. Texels
 // the alpha test cuts are discarded (common/alpha.wgsl); translucent instances are not drawn
 // here (`skip_blend`) but blended by forward/translucent.wgsl.
-//#include "forward/forward_draw.wgsl"
+//#include "common/forward_draw.wgsl"
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {

@@ -6,7 +6,7 @@
 // maps' receiver plane from where the neighbouring pixels' rays meet the triangle's plane (the
 // rasterizer's screen derivatives, on a flat triangle). Writes linear HDR colour, alpha 1 where
 // geometry was drawn and 0 elsewhere, as the fragment-stage pass does, with the translucent
-// layer (forward/translucent.wgsl) over it (forward/translucent_over.wgsl).
+// layer (forward/translucent.wgsl) over it (common/translucent_over.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
@@ -15,7 +15,7 @@
 //#include "common/surface.wgsl"
 //#include "common/visible_hit.wgsl"
 //#include "common/forward_shading.wgsl"
-//#include "forward/translucent_over.wgsl"
+//#include "common/translucent_over.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;

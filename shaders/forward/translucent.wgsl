@@ -1,6 +1,6 @@
 // The translucent surfaces of the raster image (glTF BLEND, and transmissive ones, thin-walled),
 // drawn after the opaque ones, back to front by the centre of each instance's bounds, each
-// fragment shaded as forward/forward.wgsl shades one (forward/forward_draw.wgsl) with coverage
+// fragment shaded as forward/forward.wgsl shades one (common/forward_draw.wgsl) with coverage
 // c (common/alpha.wgsl's material_coverage). The executor's `translucent` pass draws only the
 // translucent instances (src/runtime/raster.rs) into two targets cleared to 0:
 //   - `translucent`: radiance x c with premultiplied-alpha blending (the layer's radiance and
@@ -19,7 +19,7 @@
 // of one mesh, composite in the wrong order there; and between translucent surfaces the one in
 // front attenuates the one behind by 1 - c, untinted (the opaque surface behind them all gets
 // every tint). The ray-traced modes composite each ray's surfaces in depth order, tinted.
-//#include "forward/forward_draw.wgsl"
+//#include "common/forward_draw.wgsl"
 
 @group(0) @binding(13) var depth: texture_depth_2d;
 
