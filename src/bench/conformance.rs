@@ -40,9 +40,6 @@ pub struct Comparison {
     pub gains: [f32; 3],
     /// Where the reference lies on the render.
     pub alignment: Alignment,
-    /// The images compared, 8-bit sRGB rows of the render's size: the aligned reference and
-    /// the render with its gains (the reference's colour outside the model's pixels).
-    pub images: [image::RgbImage; 2],
 }
 
 /// The least edge correlation at which a reference counts as placed: below it the search found
@@ -148,9 +145,7 @@ pub fn compare(render: &image::RgbaImage, mask: &[bool], reference: &image::Rgba
     )
     .to_vec();
     let flip_mean = pixels.iter().map(|&i| error[i] as f64).sum::<f64>() / pixels.len() as f64;
-    let rgb = |data: Vec<u8>| image::RgbImage::from_raw(w, h, data).expect("w x h x 3 bytes");
-    let images = [rgb(reference_rgb), rgb(test)];
-    Ok(Comparison { flip_mean: flip_mean as f32, pixels: pixels.len(), gains, alignment, images })
+    Ok(Comparison { flip_mean: flip_mean as f32, pixels: pixels.len(), gains, alignment })
 }
 
 /// The reference resampled into the render's frame (bilinear, linear colour) by `alignment`;

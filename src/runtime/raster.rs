@@ -298,6 +298,15 @@ mod tests {
     }
 
     #[test]
+    fn each_pass_draws_its_share_of_the_instances() {
+        let opaque = class(false, false, false);
+        let translucent = InstanceClass { blend: true, ..class(true, false, true) };
+        assert!(DrawnInstances::All.draws(&opaque) && DrawnInstances::All.draws(&translucent));
+        assert!(DrawnInstances::Opaque.draws(&opaque) && !DrawnInstances::Opaque.draws(&translucent));
+        assert!(!DrawnInstances::Translucent.draws(&opaque) && DrawnInstances::Translucent.draws(&translucent));
+    }
+
+    #[test]
     fn draws_go_nearest_first() {
         let mut scene = crate::scene::builtin::default_scene();
         let mesh = scene.instances[0].mesh;

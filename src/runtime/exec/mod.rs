@@ -401,7 +401,7 @@ impl Executor {
         }
         let nothing_translucent = self.plan.passes[i].translucent && inputs.pass_classes[i].iter().all(Option::is_none);
         if nothing_translucent || self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
-            self.record_unused_shadow_map(&mut frame.encoder, i);
+            self.record_empty_timed_pass(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);
             return Ok(());
         }

@@ -38,17 +38,7 @@ impl Executor {
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let classes = &inputs.pass_classes[i];
         if self.plan.passes[i].translucent {
-            let back_to_front = inputs.draw_order.iter().rev().filter_map(|&k| scene.draws.get(k));
-            let mut current = None;
-            for d in back_to_front {
-                let Some(Some(class)) = classes.get(d.instance as usize) else { continue };
-                if current != Some(*class) {
-                    rp.set_pipeline(pipelines.variant(*class).expect("prepared for every class of the frame"));
-                    current = Some(*class);
-                }
-                rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
-            }
-            return Ok(());
+            return record_back_to_front(&mut rp, pipelines, inputs, &scene.draws, classes);
         }
         for (class, pipeline) in pipelines.variants() {
             let mut draws =
@@ -64,9 +54,9 @@ impl Executor {
         Ok(())
     }
 
-    /// A shadow map no light uses this frame: not drawn; an empty pass keeps the timestamp
-    /// pair (0 ms).
-    pub(super) fn record_unused_shadow_map(&self, encoder: &mut wgpu::CommandEncoder, i: usize) {
+    /// A pass with nothing to draw this frame (a shadow map no light uses, a translucent pass
+    /// without translucent instances): an empty pass keeps the timestamp pair (0 ms).
+    pub(super) fn record_empty_timed_pass(&self, encoder: &mut wgpu::CommandEncoder, i: usize) {
         if let Some(t) = &self.timer {
             drop(
                 encoder
@@ -79,4 +69,26 @@ impl Executor {
     pub(super) fn draws_shadow_maps(&self) -> bool {
         self.plan.passes.iter().any(|p| p.kind == PassKind::SceneRaster && p.writes.iter().all(|(_, r)| self.is_depth(*r)))
     }
+}
+
+/// A translucent pass's draws: back to front (the frame's order reversed), each with the
+/// variant of its class, switched only where the class changes.
+fn record_back_to_front(
+    rp: &mut wgpu::RenderPass<'_>,
+    pipelines: &ScenePipelines,
+    inputs: &FrameInputs,
+    draws: &[crate::scene::gpu::Draw],
+    classes: &[Option<crate::runtime::raster::DrawClass>],
+) -> Result<(), RuntimeError> {
+    let mut current = None;
+    for d in inputs.draw_order.iter().rev().filter_map(|&k| draws.get(k)) {
+        let Some(Some(class)) = classes.get(d.instance as usize) else { continue };
+        if current != Some(*class) {
+            let pipeline = pipelines.variant(*class).ok_or_else(|| RuntimeError::Gpu(format!("no pipeline was made for draw class {class:?}")))?;
+            rp.set_pipeline(pipeline);
+            current = Some(*class);
+        }
+        rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
+    }
+    Ok(())
 }
