@@ -332,7 +332,7 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
             for (inst, orig) in scene.instances.iter_mut().zip(&base.instances) {
                 inst.transform = orig.transform;
             }
-            scene.meshes.push(sphere.clone());
+            scene.meshes.push(sphere.clone().into());
             let at = Mat4::from_translation(b.center() + Vec3::Y * (0.25 * radius)) * Mat4::from_scale(Vec3::splat(0.2 * radius));
             scene.instances.push(crate::scene::Instance { mesh: scene.meshes.len() - 1, material: 0, transform: at });
             report.meshes_added += 1;

@@ -38,7 +38,7 @@ fn the_cache_builds_only_what_changed() {
             assert!(!r.built_anything(), "{backend}: an unchanged scene builds nothing: {r:?}");
         }
         // Edit one mesh (the sphere, used by two instances): one BLAS.
-        scene.meshes[2].vertices[5].position[1] += 0.05;
+        std::sync::Arc::make_mut(&mut scene.meshes[2]).vertices[5].position[1] += 0.05;
         let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
         assert_eq!((r.blas_built, r.blas_reused, r.tlas), (1, scene.meshes.len() - 1, TlasWork::Rebuild), "{backend}: {r:?}");
         // Move one instance: the TLAS only.
@@ -244,7 +244,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
 
     // An edited mesh: rebuilt, on the GPU again.
     let (mut rebuilds, first) = render(&organic, MergedBuilder::GpuRebuilds);
-    for v in organic.meshes[0].vertices.iter_mut() {
+    for v in std::sync::Arc::make_mut(&mut organic.meshes[0]).vertices.iter_mut() {
         v.position[1] *= 1.1;
     }
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
@@ -343,13 +343,13 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     };
     let first = update(&mut cache, &scene);
     assert!(!first.blas_gpu_built, "the first build is the CPU's: {first:?}");
-    scene.meshes[0].vertices[0].position[1] += 0.01;
+    std::sync::Arc::make_mut(&mut scene.meshes[0]).vertices[0].position[1] += 0.01;
     let r = update(&mut cache, &scene);
     assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild && !r.blas_refit, "an edited mesh rebuilds on the GPU: {r:?}");
 
     // The builder over the records made on the GPU (tests/gpu_build.rs checks them against
     // `merged_triangles`, to a few ulps of the transform's terms on lavapipe).
-    let hashes: Vec<u64> = scene.meshes.iter().map(raygraph::accel::cache::mesh_hash).collect();
+    let hashes: Vec<u64> = scene.meshes.iter().map(|m| raygraph::accel::cache::mesh_hash(m)).collect();
     let mut maker = raygraph::accel::gpu_records::GpuRecordMaker::new(&gpu.device);
     let records = maker.make(&gpu.device, &gpu.queue, &scene, (&hashes, None), u32::MAX).unwrap().unwrap();
     let builder = GpuBlasBuilder::new(&gpu.device).unwrap();

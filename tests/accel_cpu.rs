@@ -65,7 +65,7 @@ fn mesh(name: &str, positions: &[[f32; 3]], indices: &[u32]) -> Mesh {
 fn scene_with(name: &str, meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Scene {
     let mut s = box_scene();
     s.name = name.into();
-    s.meshes = meshes;
+    s.meshes = meshes.into_iter().map(Into::into).collect();
     s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
     s
 }
@@ -81,8 +81,8 @@ fn subset(scene: &Scene, meshes: &[usize]) -> Scene {
 
 /// box + two transformed copies of the organic head (rotation, non-uniform scale, translation).
 fn multi_scene() -> Scene {
-    let head = organic().meshes.remove(0);
-    let cube = box_scene().meshes.remove(0);
+    let head = Mesh::clone(&organic().meshes.remove(0));
+    let cube = Mesh::clone(&box_scene().meshes.remove(0));
     scene_with(
         "multi",
         vec![head, cube],
@@ -441,7 +441,7 @@ fn gpu_layout_sizes_offsets_and_matrix_order() {
     );
     // Row-major 3x4: the translation is the last column of each row.
     let xf = Mat4::from_scale_rotation_translation(Vec3::new(2.0, 1.0, 1.0), Quat::from_rotation_z(std::f32::consts::FRAC_PI_2), Vec3::new(3.0, 4.0, 5.0));
-    let s = scene_with("one", vec![box_scene().meshes.remove(0)], &[(0, xf)]);
+    let s = scene_with("one", vec![Mesh::clone(&box_scene().meshes.remove(0))], &[(0, xf)]);
     let a = GpuAccel::build(&s, &AccelOptions::default());
     let inst = a.instances[0];
     assert_eq!(inst.instance_id, 0);
@@ -522,7 +522,7 @@ fn atrium_build_time_structure_and_sah() {
         scene.meshes.len()
     );
     let accel = SceneAccel::build(&scene, &AccelOptions::default());
-    let unique: usize = scene.meshes.iter().map(Mesh::triangle_count).sum();
+    let unique: usize = scene.meshes.iter().map(|m| m.triangle_count()).sum();
     println!(
         "atrium: two-level build (one BLAS per mesh, {unique} distinct triangles, TLAS over {} instances) in {:?}",
         scene.instances.len(),
@@ -818,7 +818,7 @@ fn refit_after_moving_instances_matches_rebuild() {
     assert!(a.iter().filter(|h| h.is_some_and(|h| h.instance_id == 1)).count() > 20, "the moved instance is hit");
     // Moving vertices: refit the BLASes too.
     let before = scene.clone();
-    for v in &mut scene.meshes[0].vertices {
+    for v in &mut std::sync::Arc::make_mut(&mut scene.meshes[0]).vertices {
         let p = Vec3::from(v.position);
         v.position = (p * Vec3::new(1.2, 0.9, 1.0) + Vec3::new(0.0, 0.1 * p.x.sin(), 0.0)).into();
     }
@@ -839,7 +839,7 @@ fn refit_after_moving_instances_matches_rebuild() {
     nan.instances[2].transform = Mat4::from_translation(Vec3::splat(f32::NAN));
     assert_eq!(accel.refit_instances(&nan), Err(AccelError::InstanceChanged(2)));
     let mut fewer = scene.clone();
-    fewer.meshes[0].indices.truncate(30);
+    std::sync::Arc::make_mut(&mut fewer.meshes[0]).indices.truncate(30);
     assert!(matches!(accel.refit_meshes(&fewer), Err(AccelError::MeshChanged { mesh: 0, .. })));
     // A failed refit leaves the structure as it was.
     same_hits("after failed refits", &CpuTraverser::new(&flatten(&scene, &accel)).closest_many(&rays), &a);
@@ -858,7 +858,7 @@ fn deduplication_off_gives_one_blas_per_instance() {
     let per_mesh: Vec<usize> = scene
         .meshes
         .iter()
-        .map(|m| SceneAccel::build(&scene_with("m", vec![m.clone()], &[(0, Mat4::IDENTITY)]), &AccelOptions::default()).blases[0].bvh.nodes.len())
+        .map(|m| SceneAccel::build(&scene_with("m", vec![Mesh::clone(m)], &[(0, Mat4::IDENTITY)]), &AccelOptions::default()).blases[0].bvh.nodes.len())
         .collect();
     assert_eq!(on.blas_nodes.len(), per_mesh.iter().sum::<usize>());
     assert_eq!(off.blas_nodes.len(), scene.instances.iter().map(|i| per_mesh[i.mesh]).sum::<usize>());
@@ -970,7 +970,7 @@ fn empty_and_degenerate_scenes_trace_as_misses() {
     // No meshes, no instances.
     misses(&scene_with("empty", vec![], &[]));
     // Meshes but no instances.
-    misses(&scene_with("no instances", vec![box_scene().meshes.remove(0)], &[]));
+    misses(&scene_with("no instances", vec![Mesh::clone(&box_scene().meshes.remove(0))], &[]));
     // An empty mesh.
     misses(&scene_with("empty mesh", vec![mesh("none", &[], &[])], &[(0, Mat4::IDENTITY)]));
     // Only degenerate triangles: collinear, repeated vertices, a tiny one that underflows.
@@ -985,7 +985,7 @@ fn empty_and_degenerate_scenes_trace_as_misses() {
     assert_eq!((blas.dropped_non_finite, blas.dropped_bad_index, blas.bvh.nodes.len()), (2, 1, 0));
     misses(&scene_with("nan", vec![nan.clone(), degenerate], &[(0, Mat4::IDENTITY), (1, Mat4::IDENTITY)]));
     // Unusable instances: bad mesh index, NaN, singular and infinite transforms.
-    let cube = box_scene().meshes.remove(0);
+    let cube = Mesh::clone(&box_scene().meshes.remove(0));
     let bad = [
         (7, Mat4::IDENTITY),
         (0, Mat4::from_translation(Vec3::splat(f32::NAN))),

@@ -74,7 +74,7 @@ fn quad_mesh(name: &str, x: [f32; 2], y: [f32; 2], z: f32) -> Mesh {
 fn scene() -> Scene {
     let mut s = builtin::default_scene();
     s.name = "alpha checker".into();
-    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0), quad_mesh("plane", [-1.5, 0.0], [-1.5, 1.5], -1.0)];
+    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0), quad_mesh("plane", [-1.5, 0.0], [-1.5, 1.5], -1.0)].into_iter().map(Into::into).collect();
     s.textures = vec![checker_alpha()];
     let textured = |name: &str, a: f32, mode| Material { alpha_mode: mode, ..Material::diffuse(name, [1.0, 1.0, 1.0, a], Some(0)) };
     s.materials = vec![
@@ -581,7 +581,7 @@ fn an_executor_compiles_the_alpha_test_in_when_its_scene_gains_alpha() {
 fn facing_scene(double_sided: bool) -> Scene {
     let mut s = builtin::default_scene();
     s.name = "facing".into();
-    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0)];
+    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0)].into_iter().map(Into::into).collect();
     s.textures.clear();
     s.materials = vec![Material { double_sided, ..Material::diffuse("quad", [0.8, 0.8, 0.8, 1.0], None) }];
     let mirrored = Mat4::from_translation(Vec3::new(SPACING, 0.0, 0.0)) * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));

@@ -69,7 +69,7 @@ fn vertex_alpha_scene() -> Scene {
     let mut s = panel_scene();
     s.materials[1].base_color[3] = 1.0;
     let corners = s.meshes[1].vertices.len();
-    s.meshes[1].extras = Some(vec![VertexExtra { color: [1.0, 1.0, 1.0, COVERAGE], ..Default::default() }; corners]);
+    std::sync::Arc::make_mut(&mut s.meshes[1]).extras = Some(vec![VertexExtra { color: [1.0, 1.0, 1.0, COVERAGE], ..Default::default() }; corners]);
     s
 }
 
@@ -98,7 +98,7 @@ fn transmission_texture_scene() -> Scene {
 /// The panel scene with a green 40% panel half a unit behind the red one, the same size.
 fn stacked_scene() -> Scene {
     let mut s = panel_scene();
-    s.meshes.push(quad("green panel", 1.0, 0.5));
+    s.meshes.push(quad("green panel", 1.0, 0.5).into());
     s.materials.push(Material { alpha_mode: AlphaMode::Blend, double_sided: true, unlit: true, ..Material::diffuse("green", [0.0, 1.0, 0.0, COVERAGE], None) });
     s.instances.push(Instance { mesh: 2, material: 2, transform: Mat4::IDENTITY });
     s
@@ -140,7 +140,7 @@ fn panel_errors(hdr: &[[f32; 4]], over: Vec3) -> (f32, usize, f32) {
 fn panel_scene() -> Scene {
     let mut s = builtin::default_scene();
     s.name = "blend panel".into();
-    s.meshes = vec![quad("wall", 4.0, 0.0), quad("panel", 1.0, 1.0)];
+    s.meshes = vec![quad("wall", 4.0, 0.0), quad("panel", 1.0, 1.0)].into_iter().map(Into::into).collect();
     s.materials = vec![Material { unlit: true, ..Material::diffuse("wall", [0.0, 0.0, 1.0, 1.0], None) }, panel_material(false)];
     s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
     s.textures.clear();
@@ -247,7 +247,7 @@ fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
     s.name = "blend shadow".into();
     let flat = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
     let over_left = |y: f32| Mat4::from_translation(Vec3::new(-4.0, y, 0.0)) * flat;
-    s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)];
+    s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)].into_iter().map(Into::into).collect();
     s.materials = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), if transmissive { glass_material(true) } else { panel_material(true) }];
     s.instances = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
     if stacked {

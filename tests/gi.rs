@@ -20,7 +20,7 @@ const ALBEDO: f32 = 0.5;
 fn furnace() -> Scene {
     let mut s = default_scene();
     s.name = "furnace".into();
-    s.meshes = vec![cube("room")];
+    s.meshes = vec![cube("room")].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
     let mut m = Material::diffuse("wall", [ALBEDO, ALBEDO, ALBEDO, 1.0], None);
     m.emissive = [E; 3];

@@ -228,7 +228,7 @@ fn record_test_scene() -> Scene {
         odd.vertices.push(Vertex { position: p, ..Default::default() });
     }
     odd.indices = vec![0, 1, 2, 0, 1, 3, 0, 0, 1, 0, 1, 9, 1, 2, 4, 2, 2, 2];
-    scene.meshes.push(odd);
+    scene.meshes.push(odd.into());
     let odd_mesh = scene.meshes.len() - 1;
     let transforms = [
         Mat4::from_scale_rotation_translation(Vec3::new(-1.0, 1.0, 1.0), Quat::from_rotation_y(0.7), Vec3::new(123.456, -7.25, 0.1)),
@@ -250,7 +250,7 @@ fn record_test_scene() -> Scene {
 /// f64 result once; the kernel carries the sum in two f32s, which lavapipe's compiler reduces
 /// to plain f32 arithmetic (four roundings: 1-ulp differences where the terms cancel).
 fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what: &str) -> usize {
-    let hashes: Vec<u64> = scene.meshes.iter().map(mesh_hash).collect();
+    let hashes: Vec<u64> = scene.meshes.iter().map(|m| mesh_hash(m)).collect();
     let made = maker.make(&gpu.device, &gpu.queue, scene, (&hashes, None), u32::MAX).unwrap().expect("records");
     let (merged, origin) = merge_instances(scene);
     let expected = merged_triangles(&merged, &origin);
@@ -301,12 +301,12 @@ fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
     let first = check_gpu_records(&gpu, &mut maker, &scene, "first");
     // One vertex of the small mesh moved: only that mesh is written again.
     let odd = scene.meshes.len() - 1;
-    scene.meshes[odd].vertices[4].position[2] = 0.0;
+    std::sync::Arc::make_mut(&mut scene.meshes[odd]).vertices[4].position[2] = 0.0;
     let edit = check_gpu_records(&gpu, &mut maker, &scene, "after an edit");
     // 80 bytes per usable instance: the two under the singular transform are left out.
     let instance_bytes = 80 * (scene.instances.len() - 2);
     assert_eq!(edit, instance_bytes + 5 * 16 + 18 * 4, "an edit uploads the instances and the edited mesh (first build: {first} bytes)");
     // A triangle added to the small mesh: the meshes are laid out again.
-    scene.meshes[odd].indices.extend([0, 2, 4]);
+    std::sync::Arc::make_mut(&mut scene.meshes[odd]).indices.extend([0, 2, 4]);
     check_gpu_records(&gpu, &mut maker, &scene, "after a new triangle");
 }

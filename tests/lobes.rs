@@ -32,7 +32,8 @@ fn plate_scene(lobes: Lobes) -> Scene {
         indices: vec![0, 1, 2, 0, 2, 3],
         tangents: None,
         extras: None,
-    }];
+    }
+    .into()];
     s.materials = vec![Material { roughness: 0.05, lobes, ..Material::diffuse("plate", [0.0, 0.0, 0.0, 1.0], None) }];
     s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     s.textures.clear();
@@ -109,7 +110,7 @@ fn the_lobe_textures_multiply_their_factors_and_the_coat_follows_its_normal_map_
     let sky = [0.475f64, 0.525, 0.625];
     let factors = Lobes { ior: 1.8, specular: 0.9, specular_color: [1.0, 0.8, 1.5], clearcoat: 0.8, clearcoat_roughness: 0.5, ..Default::default() };
     let mut scene = plate_scene(factors);
-    for v in &mut scene.meshes[0].vertices {
+    for v in &mut std::sync::Arc::make_mut(&mut scene.meshes[0]).vertices {
         v.uv = [(v.position[0] + 4.0) / 8.0, (4.0 - v.position[1]) / 8.0];
     }
     let (half, colour, normal_texel) = (128u8, [255u8, 188, 128], [238u8, 128, 191]);

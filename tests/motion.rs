@@ -66,7 +66,7 @@ fn project() -> TempProject {
 fn scene(ball: Option<Vec3>) -> Scene {
     let mut s = default_scene();
     s.name = "motion test".into();
-    s.meshes = vec![plane("floor", 20.0, 1.0), sphere("ball", 48, 96)];
+    s.meshes = vec![plane("floor", 20.0, 1.0), sphere("ball", 48, 96)].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
     s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
     s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];

@@ -96,7 +96,7 @@ Graph(
 fn scene(sphere_at: Option<(Vec3, f32)>, light: Vec3, camera: Camera) -> Scene {
     let mut s = default_scene();
     s.name = "shadow test".into();
-    s.meshes = vec![plane("floor", 2.0 * FLOOR_HALF, 1.0), sphere("ball", 48, 96)];
+    s.meshes = vec![plane("floor", 2.0 * FLOOR_HALF, 1.0), sphere("ball", 48, 96)].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
     s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
     s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];

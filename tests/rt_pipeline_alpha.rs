@@ -56,7 +56,7 @@ fn alpha_scene() -> Scene {
     scene.materials = vec![cutout, Material::diffuse("opaque", [1.0; 4], None)];
     let mut backdrop = quad();
     backdrop.name = "backdrop".into();
-    scene.meshes = vec![quad(), backdrop];
+    scene.meshes = vec![quad(), backdrop].into_iter().map(Into::into).collect();
     let at = |x: f32| glam::Mat4::from_translation(glam::Vec3::new(x, 0.0, 0.0));
     scene.instances = vec![
         Instance { mesh: 0, material: 0, transform: at(0.0) },

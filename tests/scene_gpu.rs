@@ -163,7 +163,7 @@ fn the_executor_follows_a_changing_scene() {
     let mut moved = base.clone();
     moved.instances[0].transform = glam::Mat4::from_translation(Vec3::new(0.4, 0.2, -0.3)) * moved.instances[0].transform;
     let mut added = base.clone();
-    added.meshes.push(builtin::sphere("added", 8, 16));
+    added.meshes.push(builtin::sphere("added", 8, 16).into());
     added.instances.push(raygraph::scene::Instance {
         mesh: added.meshes.len() - 1,
         material: 0,

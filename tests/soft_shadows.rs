@@ -23,7 +23,7 @@ const FRAMES: usize = 64;
 fn scene(camera: Camera) -> Scene {
     let mut s = default_scene();
     s.name = "soft shadow test".into();
-    s.meshes = vec![plane("floor", 12.0, 1.0), sphere("ball", 64, 128)];
+    s.meshes = vec![plane("floor", 12.0, 1.0), sphere("ball", 64, 128)].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
     s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
     s.instances =

@@ -42,7 +42,7 @@ fn quad_scene(sampling: SlotSampling) -> Scene {
     let mut material = Material::diffuse("sampled", [1.0; 4], Some(0));
     material.sampling[0] = sampling;
     let mut scene = raygraph::scene::builtin::default_scene();
-    scene.meshes = vec![mesh];
+    scene.meshes = vec![mesh.into()];
     scene.materials = vec![material];
     scene.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     scene.textures = vec![checker()];
@@ -211,7 +211,7 @@ fn export_keeps_samplers_transforms_and_unlit() {
     m.sampling[3] = SlotSampling { transform: Some([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]), ..Default::default() };
     m.unlit = true;
     let extras: Vec<VertexExtra> = (0..4).map(|i| VertexExtra { uv1: [i as f32, 0.5], color: [0.25 * i as f32, 1.0, 0.5, 1.0], _pad: [0.0; 2] }).collect();
-    scene.meshes[0].extras = Some(extras);
+    std::sync::Arc::make_mut(&mut scene.meshes[0]).extras = Some(extras);
     let dir = std::env::temp_dir().join(format!("raygraph-export-sampling-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("sampled.glb");
@@ -244,7 +244,7 @@ fn a_slot_reads_the_second_texture_coordinates_it_names() {
     // G-buffer too (its vertex stage reads the mesh's extras).
     let sampling = SlotSampling { tex_coord: 1, ..nearest(Wrap::MirroredRepeat, Wrap::Repeat) };
     let mut scene = quad_scene(sampling);
-    let mesh = &mut scene.meshes[0];
+    let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
     mesh.extras = Some(mesh.vertices.iter().map(|v| VertexExtra { uv1: v.uv, ..Default::default() }).collect());
     for v in &mut mesh.vertices {
         v.uv = [0.1, 0.1];
@@ -260,7 +260,7 @@ fn vertex_colours_multiply_the_base_colour() {
     scene.materials[0].texture = None;
     scene.materials[0].base_color = [1.0, 0.5, 1.0, 1.0];
     let corners = [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.5, 0.5, 0.5, 1.0]];
-    scene.meshes[0].extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
+    std::sync::Arc::make_mut(&mut scene.meshes[0]).extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
     let size = 48u32;
     let mut gpu = gpu();
     gpu.texture_binding_arrays = true;

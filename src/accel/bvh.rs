@@ -1205,7 +1205,7 @@ impl SceneAccel {
         }
         for (blas, mesh) in self.blases.iter().zip(&self.blas_mesh) {
             if let Some(m) = mesh {
-                let found = scene.meshes.get(*m).map_or(0, Mesh::triangle_count);
+                let found = scene.meshes.get(*m).map_or(0, |m| m.triangle_count());
                 if found != blas.triangle_count {
                     return Err(AccelError::MeshChanged { mesh: *m, expected: blas.triangle_count, found });
                 }

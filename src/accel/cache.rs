@@ -258,6 +258,8 @@ impl AccelSettings {
 
 /// The cache of one `Accel` node.
 pub struct AccelCache {
+    /// Each mesh's [`mesh_hash`] while it stays the same `Arc` (`crate::scene::memo`).
+    mesh_memo: crate::scene::memo::MeshMemo<u64>,
     backend: Backend,
     dedup: bool,
     merge: bool,
@@ -340,6 +342,7 @@ impl AccelCache {
         let size = stats_stride * stats_windows as u64;
         let (stats, stats_readback) = storage_with_readback(device, "accel stats", size);
         Self {
+            mesh_memo: crate::scene::memo::MeshMemo::new(),
             backend,
             dedup: settings.dedup,
             merge: settings.merges(backend),
@@ -509,7 +512,7 @@ impl AccelCache {
         // build it non-opaque; the merged layout's triangles carry the flag).
         let tested_meshes = super::alpha::tested_meshes(scene);
         let tested: Vec<bool> = (0..scene.instances.len()).map(|i| super::alpha::instance_tested(scene, i)).collect();
-        let mesh_hashes: Vec<u64> = scene.meshes.par_iter().map(mesh_hash).collect();
+        let mesh_hashes: Vec<u64> = self.mesh_memo.values(&scene.meshes, mesh_hash);
         let instances: Vec<u64> = scene.instances.iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
         let units: Vec<UnitKey> = if self.merge {
             // One unit, the whole scene: any change rebuilds it (or refits it, below).

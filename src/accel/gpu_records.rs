@@ -152,8 +152,8 @@ impl GpuRecordMaker {
         let ranges = mesh_ranges(scene)?;
         let same_layout = self.meshes.as_ref().is_some_and(|m| m.ranges == ranges);
         if !same_layout {
-            let vertices: Vec<[f32; 4]> = scene.meshes.iter().flat_map(mesh_vertices).collect();
-            let indices: Vec<u32> = scene.meshes.iter().flat_map(mesh_indices).collect();
+            let vertices: Vec<[f32; 4]> = scene.meshes.iter().flat_map(|m| mesh_vertices(m)).collect();
+            let indices: Vec<u32> = scene.meshes.iter().flat_map(|m| mesh_indices(m)).collect();
             let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
             let init = |label: &str, bytes: &[u8]| {
                 let contents = if bytes.is_empty() { &[0u8; 16][..] } else { bytes };

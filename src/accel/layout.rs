@@ -238,13 +238,13 @@ pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
 }
 
 /// [`flatten`] with the meshes the BLASes were built from.
-fn flatten_meshes(meshes: &[Mesh], accel: &SceneAccel) -> GpuAccel {
+fn flatten_meshes<M: std::borrow::Borrow<Mesh>>(meshes: &[M], accel: &SceneAccel) -> GpuAccel {
     let mut out = GpuAccel::default();
     let mut empty_blas_nodes = Vec::new();
     for (blas, mesh) in accel.blases.iter().zip(&accel.blas_mesh) {
         let node_base = out.blas_nodes.len() as u32;
         out.blas_roots.push(node_base);
-        let mesh = mesh.and_then(|m| meshes.get(m));
+        let mesh = mesh.and_then(|m| meshes.get(m)).map(|m| m.borrow());
         match mesh {
             Some(mesh) if !blas.is_empty() => {
                 let tri_base = out.triangles.len() as u32;

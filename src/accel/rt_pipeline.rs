@@ -404,7 +404,7 @@ fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -
             }
         }
         for (u, &mesh) in unit_meshes.iter().enumerate() {
-            let Some((p, i)) = scene.meshes.get(mesh).and_then(super::bvh::driver_triangles) else {
+            let Some((p, i)) = scene.meshes.get(mesh).and_then(|m| super::bvh::driver_triangles(m)) else {
                 packed.spans.push(None);
                 continue;
             };

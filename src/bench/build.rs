@@ -463,7 +463,7 @@ fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64
     let (mut walls, mut parts) = (Vec::new(), [Vec::new(), Vec::new(), Vec::new()]);
     for k in 0..=builds {
         // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
-        if let Some(v) = scene.meshes.iter_mut().find_map(|m| m.vertices.first_mut()) {
+        if let Some(v) = scene.meshes.iter_mut().find_map(|m| std::sync::Arc::make_mut(m).vertices.first_mut()) {
             v.position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
         }
         let t = std::time::Instant::now();

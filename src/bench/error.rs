@@ -97,7 +97,7 @@ pub struct ErrorRow {
 pub fn ceiling_scene() -> Scene {
     let mut s = builtin::default_scene();
     s.name = "parallel ceiling".into();
-    s.meshes = vec![builtin::plane("floor", 400.0, 1.0)];
+    s.meshes = vec![builtin::plane("floor", 400.0, 1.0).into()];
     s.strip_textures();
     let ceiling = Mat4::from_translation(Vec3::new(0.0, CEILING, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
     s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }];

@@ -142,7 +142,7 @@ impl GpuDeform {
             params[k * params_stride as usize..][..48].copy_from_slice(bytemuck::cast_slice(&job.params));
         }
         let params = init("deform params", &params, wgpu::BufferUsages::UNIFORM);
-        let rest_positions: Vec<[f32; 4]> = scene.meshes.iter().flat_map(crate::accel::gpu_records::mesh_vertices).collect();
+        let rest_positions: Vec<[f32; 4]> = scene.meshes.iter().flat_map(|m| crate::accel::gpu_records::mesh_vertices(m)).collect();
         let positions = init("deformed positions", bytemuck::cast_slice(&rest_positions), storage | wgpu::BufferUsages::COPY_DST);
         let (layout, pipeline) = deform_pipeline(device);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {

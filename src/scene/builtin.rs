@@ -130,7 +130,7 @@ pub fn default_scene() -> Scene {
     let view = Camera::look(Vec3::new(3.5, 3.2, 6.5), Vec3::new(0.0, 0.6, 0.4), 50.0, 0.05, 100.0);
     Scene {
         name: "default".into(),
-        meshes,
+        meshes: meshes.into_iter().map(Into::into).collect(),
         materials,
         instances,
         textures,

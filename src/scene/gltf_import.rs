@@ -511,7 +511,7 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
     let mut scene = Scene {
         name,
-        meshes,
+        meshes: meshes.into_iter().map(Into::into).collect(),
         materials,
         instances: placed.instances,
         textures,

@@ -715,23 +715,21 @@ pub struct SceneContent {
 }
 
 impl SceneContent {
-    /// The hashes of `scene`.
-    pub(crate) fn of(scene: &Scene) -> Self {
+    /// The hashes of `scene`; `memo` keeps each mesh's own two hashes (of its whole content,
+    /// and of all but a deforming mesh's vertices) while the mesh is unchanged
+    /// ([`super::memo::MeshMemo`]), so an unchanged mesh's vertices are not read again.
+    pub(crate) fn of(scene: &Scene, memo: &mut super::memo::MeshMemo<[u64; 2]>) -> Self {
         use crate::util::hash_words;
-        use rayon::prelude::*;
         let deforming = scene.deforming_meshes();
-        let vertices = |m: &super::Mesh| hash_words(1, bytemuck::cast_slice(&m.vertices));
-        let meshes: Vec<u64> = scene
-            .meshes
-            .par_iter()
-            .enumerate()
-            .map(|(i, m)| {
-                // A deforming mesh's vertices are in `deformed`; its vertex count stays here.
-                let v = if deforming.contains(&i) { m.vertices.len() as u64 } else { vertices(m) };
+        let mesh_hashes = memo.values(&scene.meshes, |m| {
+            // A deforming mesh's vertices are in `deformed`; its vertex count stays here.
+            let rest = |v: u64| {
                 let h = hash_words(v, bytemuck::cast_slice(&m.indices));
                 m.tangents.as_ref().map_or(h, |t| hash_words(h, bytemuck::cast_slice(t)))
-            })
-            .collect();
+            };
+            [rest(hash_words(1, bytemuck::cast_slice(&m.vertices))), rest(m.vertices.len() as u64)]
+        });
+        let meshes: Vec<u64> = mesh_hashes.iter().enumerate().map(|(i, [whole, shape])| if deforming.contains(&i) { *shape } else { *whole }).collect();
         let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
         let textures: Vec<[u64; 4]> = scene.textures.iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));

@@ -12,6 +12,7 @@ pub mod gltf_import;
 pub mod gpu;
 pub mod info;
 pub mod load;
+pub mod memo;
 pub mod posing;
 pub mod procedural;
 pub mod topology;
@@ -386,7 +387,7 @@ pub struct Scene {
     /// The scene's name (built-in name or file stem).
     pub name: String,
     /// The meshes instances place.
-    pub meshes: Vec<Mesh>,
+    pub meshes: Vec<std::sync::Arc<Mesh>>,
     /// The materials instances use.
     pub materials: Vec<Material>,
     /// Placements of meshes with a material.
@@ -596,10 +597,15 @@ impl Scene {
 
     /// World-space bounds of all instances.
     pub fn bounds(&self) -> Bounds {
-        let mesh_bounds: Vec<Bounds> = self.meshes.iter().map(Mesh::bounds).collect();
+        self.bounds_from(&self.meshes.iter().map(|m| m.bounds()).collect::<Vec<_>>())
+    }
+
+    /// World-space bounds of all instances, given each mesh's bounds (`mesh_bounds`, one per
+    /// mesh, as [`Mesh::bounds`] gives them; a memo of them spares reading the vertices).
+    pub fn bounds_from(&self, mesh_bounds: &[Bounds]) -> Bounds {
         let mut b = Bounds::EMPTY;
         for inst in &self.instances {
-            let mb = mesh_bounds[inst.mesh];
+            let Some(&mb) = mesh_bounds.get(inst.mesh) else { continue };
             if mb.is_empty() {
                 continue;
             }

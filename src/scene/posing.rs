@@ -79,7 +79,7 @@ impl Scene {
                 })
                 .collect();
             for (m, vertices) in meshes {
-                self.meshes[m].vertices = vertices;
+                std::sync::Arc::make_mut(&mut self.meshes[m]).vertices = vertices;
             }
         }
     }

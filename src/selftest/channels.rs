@@ -103,7 +103,7 @@ pub fn scenes() -> Result<Vec<Scene>, String> {
     let (default, _) = crate::scene::open("default", &LoadOptions { textures: false, ..Default::default() }).map_err(|e| format!("opening default: {e}"))?;
     let mut small = default.clone();
     small.name = "small".into();
-    small.meshes = vec![builtin::plane("floor", 8.0, 1.0), builtin::sphere("ball", 16, 32), builtin::cube("box")];
+    small.meshes = vec![builtin::plane("floor", 8.0, 1.0).into(), builtin::sphere("ball", 16, 32).into(), builtin::cube("box").into()];
     let wall = Mat4::from_translation(Vec3::new(0.0, 2.0, -2.5)) * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
     let ball = Mat4::from_scale_rotation_translation(Vec3::splat(0.7), Quat::IDENTITY, Vec3::new(0.0, 0.7, 0.0));
     let cube = Mat4::from_rotation_translation(Quat::from_rotation_y(0.5), Vec3::new(-1.4, 0.5, -0.6));

@@ -48,7 +48,7 @@ fn mesh(positions: &[Vec3], indices: &[u32]) -> Mesh {
 fn scene_of(meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Scene {
     let mut s = crate::scene::builtin::default_scene();
     s.name = "case".into();
-    s.meshes = meshes;
+    s.meshes = meshes.into_iter().map(Into::into).collect();
     s.strip_textures();
     s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
     s

@@ -39,7 +39,7 @@ pub fn open(rel: &str) -> Scene {
 pub fn add_parts(scene: &mut Scene, parts: impl IntoIterator<Item = (Mesh, Material, Mat4)>) {
     for (mesh, material, transform) in parts {
         scene.instances.push(Instance { mesh: scene.meshes.len(), material: scene.materials.len(), transform });
-        scene.meshes.push(mesh);
+        scene.meshes.push(mesh.into());
         scene.materials.push(material);
     }
 }

@@ -131,6 +131,10 @@ pub struct Executor {
     scene_sphere: (glam::Vec3, f32),
     /// What the uploaded scene was made from (see [`Executor::sync_scene`]).
     scene_content: SceneContent,
+    /// Each mesh's content hashes and bounds while it stays the same `Arc`
+    /// (`crate::scene::memo`): a static scene's frame reads no vertex.
+    content_memo: crate::scene::memo::MeshMemo<[u64; 2]>,
+    bounds_memo: crate::scene::memo::MeshMemo<crate::scene::Bounds>,
     samplers: (wgpu::Sampler, wgpu::Sampler),
     /// Whether the warning about lights without a raster shadow map was printed.
     /// What the scene uses of the features passes compile out ([`features`]); the passes are
@@ -193,7 +197,8 @@ impl Executor {
         let scene_gpu = Self::upload_scene(gpu, &plan, scene)?;
         let samplers = Self::samplers(&gpu.device);
         let accel = Self::accel_cache(gpu, &plan);
-        let scene_content = if scene_gpu.is_some() { SceneContent::of(scene) } else { SceneContent::default() };
+        let mut content_memo = crate::scene::memo::MeshMemo::new();
+        let scene_content = if scene_gpu.is_some() { SceneContent::of(scene, &mut content_memo) } else { SceneContent::default() };
         let mut exec = Self {
             plan,
             slots,
@@ -207,6 +212,8 @@ impl Executor {
             accel_generation: u64::MAX,
             scene_sphere: (glam::Vec3::ZERO, 1.0),
             scene_content,
+            content_memo,
+            bounds_memo: crate::scene::memo::MeshMemo::new(),
             samplers,
             warned_unshadowed: false,
             features: features::SceneFeatures::of(scene),

@@ -39,7 +39,7 @@ impl Executor {
         gpu.check()?;
         self.sync_scene(gpu, scene, camera)?;
         // Every frame: the scene may have changed since the last one.
-        let b = scene.bounds();
+        let b = scene.bounds_from(&self.bounds_memo.values(&scene.meshes, crate::scene::Mesh::bounds));
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
         Ok(())
     }
@@ -57,7 +57,7 @@ impl Executor {
             self.accel_generation = u64::MAX;
         }
         let Some(uploaded) = &self.scene else { return Ok(()) };
-        let content = SceneContent::of(scene);
+        let content = SceneContent::of(scene, &mut self.content_memo);
         if content == self.scene_content {
             return Ok(());
         }

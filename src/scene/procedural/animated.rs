@@ -51,7 +51,7 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 /// (the neck, at y = -0.35) that nods 25 degrees and turns 35 degrees over the loop.
 pub fn organic_skinned() -> Scene {
     let mut scene = super::organic();
-    let mut mesh = scene.meshes[0].clone();
+    let mut mesh = Mesh::clone(&scene.meshes[0]);
     for _ in 0..3 {
         mesh = subdivide(&mesh);
     }
@@ -92,7 +92,7 @@ pub fn organic_skinned() -> Scene {
             skin: Some(SkinWeights { skin: 0, sets: 1, joints, weights }),
         }],
     };
-    scene.meshes[0] = mesh;
+    scene.meshes[0] = mesh.into();
     scene.rig = Some(Arc::new(rig));
     scene.pose(None, 0.0);
     scene
@@ -116,7 +116,7 @@ pub fn atrium_moving(seed: u64) -> Scene {
         })
         .collect();
     let ball = scene.meshes.len();
-    scene.meshes.push(builtin::sphere("ball", 16, 32));
+    scene.meshes.push(builtin::sphere("ball", 16, 32).into());
     let material = scene.materials.len();
     scene.materials.push(Material { metallic: 0.3, roughness: 0.35, ..Material::diffuse("ball", [0.85, 0.3, 0.2, 1.0], None) });
     let b = scene.bounds();

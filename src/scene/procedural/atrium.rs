@@ -947,7 +947,7 @@ pub(super) fn build(seed: u64) -> Scene {
     let view = Camera::look(Vec3::new(-13.2, 1.8, 0.6), Vec3::new(6.0, 4.2, -0.4), 60.0, 0.05, 120.0);
     Scene {
         name: "atrium".into(),
-        meshes: a.meshes,
+        meshes: a.meshes.into_iter().map(Into::into).collect(),
         materials: a.materials,
         instances: a.instances,
         textures: a.textures,

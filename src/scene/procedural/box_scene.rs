@@ -41,7 +41,7 @@ pub(super) fn build() -> Scene {
     let view = Camera::look(Vec3::new(1.6, 1.3, 2.2), Vec3::ZERO, 45.0, 0.05, 50.0);
     Scene {
         name: "box".into(),
-        meshes: vec![mesh],
+        meshes: vec![mesh.into()],
         materials: vec![m],
         instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
         textures,

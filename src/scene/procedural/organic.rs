@@ -188,7 +188,7 @@ pub(super) fn build() -> Scene {
     let view = Camera::look(Vec3::new(1.5, 0.7, 3.0), Vec3::new(0.0, 0.05, 0.0), 45.0, 0.05, 50.0);
     Scene {
         name: "organic".into(),
-        meshes: vec![mesh],
+        meshes: vec![mesh.into()],
         materials: vec![m],
         instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
         textures,

@@ -1,0 +1,77 @@
+//! Values computed once per mesh content: what the executor and the acceleration-structure
+//! cache need of every mesh each frame (content hashes, bounds), without reading the vertices
+//! of meshes that did not change.
+//!
+//! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut`. A memo keeps a
+//! clone of the `Arc` of each mesh it computed a value from, so an edited mesh is always a new
+//! allocation (`make_mut` copies a shared mesh before the edit): the same pointer means the same
+//! content, and a frame of a static scene costs one pointer comparison per mesh. The memo keeps
+//! the meshes it last saw alive until its next call.
+
+use super::Mesh;
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// A value per mesh, kept while the mesh is the same `Arc`.
+#[derive(Debug, Default)]
+pub struct MeshMemo<T> {
+    entries: Vec<Option<(Arc<Mesh>, T)>>,
+}
+
+impl<T: Clone + Send + Sync> MeshMemo<T> {
+    /// An empty memo.
+    pub fn new() -> Self {
+        Self { entries: Vec::new() }
+    }
+
+    /// The value of every mesh of `meshes`, in order: a mesh that is the same `Arc` as at the
+    /// same index on the last call keeps its value; the others get `f` (in parallel).
+    pub fn values(&mut self, meshes: &[Arc<Mesh>], f: impl Fn(&Mesh) -> T + Sync) -> Vec<T> {
+        self.entries.resize_with(meshes.len(), || None);
+        let stale: Vec<usize> = (0..meshes.len()).filter(|&i| !self.entries[i].as_ref().is_some_and(|(seen, _)| Arc::ptr_eq(seen, &meshes[i]))).collect();
+        let fresh: Vec<T> = stale.par_iter().map(|&i| f(&meshes[i])).collect();
+        for (i, value) in stale.into_iter().zip(fresh) {
+            self.entries[i] = Some((Arc::clone(&meshes[i]), value));
+        }
+        self.entries.iter().map(|e| e.as_ref().map(|(_, v)| v.clone()).expect("filled above")).collect()
+    }
+
+    /// The number of meshes the memo holds a value of.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether the memo has seen no mesh.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn only_meshes_edited_since_the_last_call_are_computed_again() {
+        let mut meshes: Vec<Arc<Mesh>> = vec![Arc::new(crate::scene::builtin::cube("a")), Arc::new(crate::scene::builtin::cube("b"))];
+        let calls = AtomicUsize::new(0);
+        let mut memo = MeshMemo::new();
+        let count = |m: &Mesh| {
+            calls.fetch_add(1, Ordering::SeqCst);
+            m.vertices[0].position[0]
+        };
+        let first = memo.values(&meshes, count);
+        assert_eq!(calls.load(Ordering::SeqCst), 2);
+        assert_eq!(memo.values(&meshes, count), first, "nothing edited: the same values");
+        assert_eq!(calls.load(Ordering::SeqCst), 2, "and nothing computed");
+        // An edit through make_mut copies the shared mesh: a new pointer, computed again.
+        Arc::make_mut(&mut meshes[1]).vertices[0].position[0] += 1.0;
+        let second = memo.values(&meshes, count);
+        assert_eq!(calls.load(Ordering::SeqCst), 3);
+        assert_eq!(second[1], first[1] + 1.0);
+        meshes.push(Arc::new(crate::scene::builtin::cube("c")));
+        assert_eq!(memo.values(&meshes, count).len(), 3);
+        assert_eq!(calls.load(Ordering::SeqCst), 4);
+    }
+}
