@@ -488,11 +488,11 @@ fn build_subtree(prims: &mut [Work], first: u32, depth: usize, cfg: &BuildConfig
     if prims.len() < cfg.parallel_threshold {
         let mut nodes = Vec::with_capacity(prims.len());
         nodes.push(BvhNode { bounds: Aabb::EMPTY, left_or_first: 0, count: 0 });
-        let mut scratch = Bins::new();
+        let mut scratch = Box::new(Bins::new());
         build_sequential(&mut nodes, 0, prims, first, depth, cfg, (bounds, centroids), &mut scratch);
         return Subtree::Nodes(nodes);
     }
-    let mut scratch = Bins::new();
+    let mut scratch = Box::new(Bins::new());
     let Some(sp) = split(prims, &bounds, &centroids, depth, cfg, &mut scratch) else {
         return Subtree::Nodes(vec![BvhNode { bounds: bounds.to_aabb(), left_or_first: first, count: prims.len() as u32 }]);
     };
@@ -588,7 +588,7 @@ impl Bins {
             }
             return;
         }
-        let mut other = Bins::new();
+        let mut other = Box::new(Bins::new());
         let pairs = prims.chunks_exact(2);
         if let [p] = pairs.remainder() {
             self.add_one(p, map);
@@ -605,14 +605,13 @@ impl Bins {
         }
     }
 
-    fn merge(mut self, o: Bins) -> Bins {
+    fn absorb(&mut self, o: &Bins) {
         for axis in 0..3 {
             for b in 0..MAX_BINS {
                 self.count[axis][b] += o.count[axis][b];
                 self.bounds[axis][b] = self.bounds[axis][b].union(&o.bounds[axis][b]);
             }
         }
-        self
     }
 }
 
@@ -638,16 +637,25 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
         // All centroids coincide: no plane separates them.
         return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
     }
-    let parallel;
+    let parallel: Box<Bins>;
     let binned: &Bins = if n >= PARALLEL_BINNING {
+        // On the heap (7 KB a set): rayon's joins and work stealing nest the frames of many
+        // nodes' builds on one worker's stack, whose default 2 MiB overflowed on 7.1M
+        // triangles with 16 workers.
         parallel = prims
             .par_chunks(PARALLEL_BINNING / 4)
             .map(|c| {
-                let mut b = Bins::new();
+                let mut b = Box::new(Bins::new());
                 b.add(c, &map, bins);
                 b
             })
-            .reduce(Bins::new, Bins::merge);
+            .reduce(
+                || Box::new(Bins::new()),
+                |mut a, b| {
+                    a.absorb(&b);
+                    a
+                },
+            );
         &parallel
     } else {
         scratch.reset(bins);
