@@ -35,16 +35,6 @@ impl<T: Clone + Send + Sync> MeshMemo<T> {
         }
         self.entries.iter().map(|e| e.as_ref().map(|(_, v)| v.clone()).expect("filled above")).collect()
     }
-
-    /// The number of meshes the memo holds a value of.
-    pub fn len(&self) -> usize {
-        self.entries.len()
-    }
-
-    /// Whether the memo has seen no mesh.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
 }
 
 #[cfg(test)]
