@@ -243,15 +243,7 @@ fn unlit_materials_show_their_base_colour_in_every_mode() {
 
 #[test]
 fn scene_info_ignores_nothing_on_any_khronos_model() {
-    let mut names: Vec<String> = std::fs::read_dir(repo().join("assets/khronos"))
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().join("glTF").is_dir())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    assert_eq!(names.len(), 14);
-    for name in names {
+    for name in common::khronos_models() {
         let (scene, report) = open_with(&name, &LoadOptions::default());
         assert!(report.ignored_features.is_empty(), "{name}: {:?}", report.ignored_features);
         assert!(info::describe(&scene, Some(&report)).contains("ignored     nothing"), "{name}");

@@ -82,15 +82,7 @@ fn every_khronos_model_looks_the_same_in_every_mode_from_its_reference_view() {
     use raygraph::bench::conformance;
     let gpu = gpu();
     let root = common::repo().join("assets/khronos");
-    let mut names: Vec<String> = std::fs::read_dir(&root)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().join("glTF").is_dir())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    assert_eq!(names.len(), 14);
-    for name in names {
+    for name in common::khronos_models() {
         let file = root.join(format!("{name}/glTF/{name}.gltf"));
         let (mut scene, report) = conformance::open(file.to_str().unwrap()).unwrap();
         let reference = ["png", "jpg", "gif"].iter().map(|ext| root.join(format!("{name}/screenshot/screenshot.{ext}"))).find(|p| p.exists()).unwrap();

@@ -14,7 +14,7 @@
 //#include "common/material_inputs.wgsl"
 //#include "common/raster_visibility.wgsl"
 //#include "common/forward_shading.wgsl"
-//#include "common/vertex_extras.wgsl"
+//#include "common/scene_vertex.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -29,49 +29,12 @@
 @group(0) @binding(11) var<storage, read> scene_meshes: array<MeshRecord>;
 @group(0) @binding(12) var<storage, read> scene_vertices: array<SceneVertex>;
 
-struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world_normal: vec3<f32>,
-    @location(1) uv: vec2<f32>,
-    @location(2) @interpolate(flat) instance: u32,
-    @location(3) world_pos: vec3<f32>,
-    // Object-space position: its derivatives give the face normal and the normal map's frame
-    // without the rounding of large world coordinates, as in deferred/deferred.wgsl.
-    @location(4) local: vec3<f32>,
-    // TEXCOORD_1 (TEXCOORD_0 without one) and COLOR_0 (white without one).
-    @location(5) uv1: vec2<f32>,
-    @location(6) color: vec4<f32>,
-}
-
-@vertex
-fn vs_main(
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @builtin(instance_index) instance: u32,
-    @builtin(vertex_index) vertex: u32,
-) -> VertexOut {
-    let inst = scene_instances[instance];
-    let extras = vertex_extras(inst, vertex, uv);
-    let world = inst.model * vec4<f32>(position, 1.0);
-    var out: VertexOut;
-    out.clip = frame.view_proj * world;
-    out.world_normal = (inst.normal_matrix * vec4<f32>(normal, 0.0)).xyz;
-    out.uv = uv;
-    out.instance = instance;
-    out.world_pos = world.xyz;
-    out.local = position;
-    out.uv1 = extras.uv1;
-    out.color = extras.color;
-    return out;
-}
-
 // The material inputs of a fragment, read as the raster G-buffer reads them
 // (deferred/deferred.wgsl, common/material_inputs.wgsl): back faces of single-sided materials
 // culled, those of double-sided ones with reversed normals. Takes derivatives (the normal map's
 // frame, the face normal and the shadow maps' receiver plane): call in uniform control flow.
 fn fragment_surface(in: VertexOut, front_facing: bool) -> RasterSurface {
-    return raster_surface(scene_instances[in.instance], front_facing, in.local, in.uv, in.uv1, in.color, in.world_normal);
+    return raster_surface(scene_instances[in.instance], front_facing, in.local, in.uv, in.uv1, in.color, in.normal);
 }
 
 // The linear HDR radiance of fragment `in` with surface `r`. The geometric normal decides the
@@ -79,9 +42,9 @@ fn fragment_surface(in: VertexOut, front_facing: bool) -> RasterSurface {
 // geometry.
 fn fragment_radiance(in: VertexOut, r: RasterSurface) -> vec3<f32> {
     var s: ShadingPoint;
-    s.position = in.world_pos;
+    s.position = in.world;
     s.normal = r.normal;
-    s.view = camera_view_dir(in.world_pos);
+    s.view = camera_view_dir(in.world);
     s.albedo = r.albedo;
     s.metallic = r.metallic;
     s.roughness = r.roughness;

@@ -1,5 +1,5 @@
 // A vertex's COLOR_0 and TEXCOORD_1 in the vertex stage of the fragment-stage layers
-// (deferred/deferred.wgsl, forward/forward.wgsl): the mesh's extras records (32 bytes a vertex,
+// (common/scene_vertex.wgsl): the mesh's extras records (32 bytes a vertex,
 // after all vertices in `scene_vertices`; common/scene.wgsl's MeshRecord.extras), white and the
 // first set where the mesh has none. Needs `scene_meshes` and `scene_vertices` declared by the
 // main shader (read-only storage, visible to the vertex stage).

@@ -10,7 +10,7 @@
 //#include "common/material_inputs.wgsl"
 //#include "common/raster_visibility.wgsl"
 //#include "common/gbuffer_lobes.wgsl"
-//#include "common/vertex_extras.wgsl"
+//#include "common/scene_vertex.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -18,43 +18,6 @@
 @group(0) @binding(3) var linear_sampler: sampler;
 @group(0) @binding(4) var<storage, read> scene_meshes: array<MeshRecord>;
 @group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
-
-struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) @interpolate(flat) instance: u32,
-    // Object-space position: its derivatives give the face normal without the rounding of
-    // large world coordinates (an instance far from the origin).
-    @location(4) local: vec3<f32>,
-    // TEXCOORD_1 (TEXCOORD_0 without one) and COLOR_0 (white without one).
-    @location(5) uv1: vec2<f32>,
-    @location(6) color: vec4<f32>,
-}
-
-@vertex
-fn vs_main(
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @builtin(instance_index) instance: u32,
-    @builtin(vertex_index) vertex: u32,
-) -> VertexOut {
-    let inst = scene_instances[instance];
-    let extras = vertex_extras(inst, vertex, uv);
-    let world = inst.model * vec4<f32>(position, 1.0);
-    var out: VertexOut;
-    out.clip = frame.view_proj * world;
-    out.world = world.xyz;
-    out.normal = (inst.normal_matrix * vec4<f32>(normal, 0.0)).xyz;
-    out.uv = uv;
-    out.instance = instance;
-    out.local = position;
-    out.uv1 = extras.uv1;
-    out.color = extras.color;
-    return out;
-}
 
 struct GBuffer {
     @location(0) position: vec4<f32>,

@@ -722,12 +722,11 @@ impl SceneContent {
         use crate::util::hash_words;
         let deforming = scene.deforming_meshes();
         let mesh_hashes = memo.values(&scene.meshes, |m| {
-            // A deforming mesh's vertices are in `deformed`; its vertex count stays here.
-            let rest = |v: u64| {
-                let h = hash_words(v, bytemuck::cast_slice(&m.indices));
-                m.tangents.as_ref().map_or(h, |t| hash_words(h, bytemuck::cast_slice(t)))
-            };
-            [rest(hash_words(1, bytemuck::cast_slice(&m.vertices))), rest(m.vertices.len() as u64)]
+            // A deforming mesh's vertices are in `deformed`; its vertex count stays here. The
+            // indices and tangents are read once for both.
+            let indices = hash_words(4, bytemuck::cast_slice(&m.indices));
+            let rest = m.tangents.as_ref().map_or(indices, |t| hash_words(indices, bytemuck::cast_slice(t))).to_le_bytes();
+            [hash_words(hash_words(1, bytemuck::cast_slice(&m.vertices)), &rest), hash_words(m.vertices.len() as u64, &rest)]
         });
         let meshes: Vec<u64> = mesh_hashes.iter().enumerate().map(|(i, [whole, shape])| if deforming.contains(&i) { *shape } else { *whole }).collect();
         let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();

@@ -44,6 +44,20 @@ pub fn add_parts(scene: &mut Scene, parts: impl IntoIterator<Item = (Mesh, Mater
     }
 }
 
+/// The Khronos test models of `assets/khronos` (each a folder with `glTF/NAME.gltf`), sorted:
+/// all 14.
+pub fn khronos_models() -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(repo().join("assets/khronos"))
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().join("glTF").is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 14);
+    names
+}
+
 /// The texels of the graph resource `name` after a frame (the plan compiled without reuse).
 pub fn channel(gpu: &Gpu, exec: &Executor, name: &str) -> Vec<[f32; 4]> {
     let r = exec.plan().resource_by_name(name).unwrap_or_else(|| panic!("no resource {name}"));
