@@ -42,7 +42,7 @@ fn the_cache_builds_only_what_changed() {
         let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
         assert_eq!((r.blas_built, r.blas_reused, r.tlas), (1, scene.meshes.len() - 1, TlasWork::Rebuild), "{backend}: {r:?}");
         // Move one instance: the TLAS only.
-        scene.instances[1].transform = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0)) * scene.instances[1].transform;
+        scene.instances_mut()[1].transform = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0)) * scene.instances[1].transform;
         let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
         let expected = if backend == Backend::Compute { TlasWork::Refit } else { TlasWork::Rebuild };
         assert_eq!((r.blas_built, r.tlas), (0, expected), "{backend}: {r:?}");
@@ -170,7 +170,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
     exec.render(&gpu, &scene.camera, &scene).unwrap();
     for step in 1..=3 {
-        for (k, inst) in scene.instances.iter_mut().enumerate() {
+        for (k, inst) in scene.instances_mut().iter_mut().enumerate() {
             inst.transform = Mat4::from_translation(Vec3::new(0.05 * k as f32, 0.15, -0.1 * step as f32)) * inst.transform;
         }
         let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
@@ -183,7 +183,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
         assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "after {step} moves: RMSE {rmse}, {outliers} outliers");
     }
     // A structural change (an instance removed) rebuilds.
-    scene.instances.pop();
+    scene.instances_mut().pop();
     let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
     assert_eq!((r.blas_built, r.tlas, r.blas_refit), (1, TlasWork::Rebuild, false), "a removed instance rebuilds the merged BVH: {r:?}");
 
@@ -195,7 +195,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     exec.render(&gpu, &organic.camera, &organic).unwrap();
     let (levels, dispatches) = exec.accel().unwrap().refit_shape().unwrap();
     assert_eq!(dispatches, 2, "organic: subtree treelets, then the top one ({levels} levels)");
-    organic.instances[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
+    organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
     let r = exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit, "{r:?}");
     let mut fresh = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
@@ -234,7 +234,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
 
     // Moved: refitted (from the builder's parents: the tree never comes back to the CPU).
-    organic.instances[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
+    organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
     let (fresh, _) = render(&organic, MergedBuilder::Cpu);
@@ -250,7 +250,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild, "{r:?}");
     // Moved after that rebuild: refitted, it draws what a CPU build of the moved scene draws.
-    organic.instances[0].transform = Mat4::from_rotation_x(-0.2) * Mat4::from_translation(Vec3::new(-0.1, 0.05, 0.05)) * organic.instances[0].transform;
+    organic.instances_mut()[0].transform = Mat4::from_rotation_x(-0.2) * Mat4::from_translation(Vec3::new(-0.1, 0.05, 0.05)) * organic.instances[0].transform;
     let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
     let (fresh, _) = render(&organic, MergedBuilder::Cpu);
@@ -331,7 +331,7 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     for k in 1..3 {
         let mut inst = scene.instances[0].clone();
         inst.transform = Mat4::from_translation(Vec3::new(1.5 * k as f32, 0.2, 0.0)) * inst.transform;
-        scene.instances.push(inst);
+        scene.instances_mut().push(inst);
     }
     let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::GpuRebuilds);
@@ -366,7 +366,7 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     assert!((sah - read_back_sah).abs() <= 1e-4 * read_back_sah, "SAH cost {sah} against {read_back_sah}");
 
     for step in 1..=2 {
-        for (k, inst) in scene.instances.iter_mut().enumerate() {
+        for (k, inst) in scene.instances_mut().iter_mut().enumerate() {
             let turn = Mat4::from_rotation_y(0.2 * step as f32 * (k as f32 - 1.0));
             inst.transform = Mat4::from_translation(Vec3::new(0.1 * k as f32, -0.05 * step as f32, 0.1)) * turn * inst.transform;
         }

@@ -66,7 +66,7 @@ fn scene_with(name: &str, meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Sce
     let mut s = box_scene();
     s.name = name.into();
     s.meshes = meshes.into_iter().map(Into::into).collect();
-    s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
+    *s.instances_mut() = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
     s
 }
 
@@ -75,7 +75,7 @@ fn subset(scene: &Scene, meshes: &[usize]) -> Scene {
     let mut s = scene.clone();
     s.name = format!("{}-subset", scene.name);
     s.meshes = meshes.iter().map(|&m| scene.meshes[m].clone()).collect();
-    s.instances = scene.instances.iter().filter_map(|i| meshes.iter().position(|&m| m == i.mesh).map(|k| Instance { mesh: k, ..i.clone() })).collect();
+    *s.instances_mut() = scene.instances.iter().filter_map(|i| meshes.iter().position(|&m| m == i.mesh).map(|k| Instance { mesh: k, ..i.clone() })).collect();
     s
 }
 
@@ -109,7 +109,7 @@ struct WorldTri {
 
 fn world_triangles(scene: &Scene) -> Vec<WorldTri> {
     let mut out = Vec::new();
-    for inst in &scene.instances {
+    for inst in scene.instances.iter() {
         let m = &scene.meshes[inst.mesh];
         for t in m.indices.chunks_exact(3) {
             let v = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[t[k] as usize].position)));
@@ -413,7 +413,7 @@ fn check_gpu_accel(a: &GpuAccel, scene: &Scene) {
             }
         }
     }
-    for inst in &a.instances {
+    for inst in a.instances.iter() {
         assert!((inst.blas_root as usize) < a.blas_nodes.len());
         assert!(inst.world_to_object.iter().chain(&inst.object_to_world).flatten().all(|x| x.is_finite()));
         assert!(inst.instance_id == NO_INSTANCE || (inst.instance_id as usize) < scene.instances.len());
@@ -550,7 +550,7 @@ fn atrium_build_time_structure_and_sah() {
 
     // All 262k instanced triangles baked into one world-space mesh: one big BLAS.
     let mut flat = Mesh { name: "atrium_flat".into(), ..Default::default() };
-    for inst in &scene.instances {
+    for inst in scene.instances.iter() {
         let m = &scene.meshes[inst.mesh];
         let base = flat.vertices.len() as u32;
         flat.vertices.extend(m.vertices.iter().map(|v| Vertex { position: inst.transform.transform_point3(Vec3::from(v.position)).into(), ..*v }));
@@ -639,7 +639,7 @@ fn merged_layout_agrees_with_reference_and_two_levels() {
     let mut scene = multi_scene();
     // A mirrored instance: its triangles wind the other way in world space.
     let mirror = Mat4::from_translation(Vec3::new(-1.0, 1.5, 2.0)) * Mat4::from_scale(Vec3::new(-0.8, 0.8, 0.8));
-    scene.instances.push(Instance { mesh: 0, material: 0, transform: mirror });
+    scene.instances_mut().push(Instance { mesh: 0, material: 0, transform: mirror });
     let mirrored = scene.instances.len() as u32 - 1;
     let (_, rays, two_level) = check_agreement(&scene, 250, 5);
     let (accel, _, merged_hits) = check_agreement_with(&scene, merged(&scene), 250, 5);
@@ -735,9 +735,9 @@ fn organic_is_watertight_from_inside() {
     // The same through an instance transform (rotated, scaled, translated), next to a second
     // instance.
     let mut moved = scene.clone();
-    moved.instances[0].transform =
+    moved.instances_mut()[0].transform =
         Mat4::from_scale_rotation_translation(Vec3::new(1.3, 0.8, 1.1), Quat::from_euler(glam::EulerRot::XYZ, 0.4, 1.1, -0.6), Vec3::new(10.0, -3.0, 5.5));
-    moved.instances.push(Instance { mesh: 0, material: 0, transform: Mat4::from_translation(Vec3::new(-5.0, 0.0, 0.0)) });
+    moved.instances_mut().push(Instance { mesh: 0, material: 0, transform: Mat4::from_translation(Vec3::new(-5.0, 0.0, 0.0)) });
     check_watertight(&moved, 0, &inside[..2]);
 }
 
@@ -804,8 +804,8 @@ fn same_hits(name: &str, a: &[Option<Hit>], b: &[Option<Hit>]) {
 fn refit_after_moving_instances_matches_rebuild() {
     let mut scene = multi_scene();
     let mut accel = SceneAccel::build(&scene, &AccelOptions::default());
-    scene.instances[1].transform = Mat4::from_scale_rotation_translation(Vec3::splat(0.8), Quat::from_rotation_x(1.0), Vec3::new(-1.0, 2.5, 1.0));
-    scene.instances[3].transform = Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0));
+    scene.instances_mut()[1].transform = Mat4::from_scale_rotation_translation(Vec3::splat(0.8), Quat::from_rotation_x(1.0), Vec3::new(-1.0, 2.5, 1.0));
+    scene.instances_mut()[3].transform = Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0));
     accel.refit_instances(&scene).expect("refit");
     let ids: HashSet<u32> = (0..scene.instances.len() as u32).collect();
     check_bvh("refit tlas", &accel.tlas.bvh, &ids, |id| accel.tlas.instance_bounds[id as usize], 4);
@@ -833,10 +833,11 @@ fn refit_after_moving_instances_matches_rebuild() {
     assert!(a.iter().zip(&old).any(|(x, y)| x != y), "moving the vertices changes some hits");
     // Refit refuses changes that need a rebuild.
     let mut more = scene.clone();
-    more.instances.push(more.instances[0].clone());
+    let first = more.instances[0].clone();
+    more.instances_mut().push(first);
     assert_eq!(accel.refit_instances(&more), Err(AccelError::InstanceCountChanged { expected: 4, found: 5 }));
     let mut nan = scene.clone();
-    nan.instances[2].transform = Mat4::from_translation(Vec3::splat(f32::NAN));
+    nan.instances_mut()[2].transform = Mat4::from_translation(Vec3::splat(f32::NAN));
     assert_eq!(accel.refit_instances(&nan), Err(AccelError::InstanceChanged(2)));
     let mut fewer = scene.clone();
     std::sync::Arc::make_mut(&mut fewer.meshes[0]).indices.truncate(30);

@@ -77,14 +77,14 @@ fn scene() -> Scene {
     s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0), quad_mesh("plane", [-1.5, 0.0], [-1.5, 1.5], -1.0)].into_iter().map(Into::into).collect();
     s.textures = vec![checker_alpha()];
     let textured = |name: &str, a: f32, mode| Material { alpha_mode: mode, ..Material::diffuse(name, [1.0, 1.0, 1.0, a], Some(0)) };
-    s.materials = vec![
+    *s.materials_mut() = vec![
         textured("mask", 1.0, AlphaMode::Mask(0.5)),
         textured("mask with factor 0.75", 0.75, AlphaMode::Mask(0.375)),
         textured("mask with factor", 0.5, AlphaMode::Mask(0.25)),
         textured("opaque", 1.0, AlphaMode::Opaque),
         Material::diffuse("plane", [0.6, 0.6, 0.6, 1.0], None),
     ];
-    s.instances = (0..QUADS)
+    *s.instances_mut() = (0..QUADS)
         .flat_map(|i| {
             let at = Mat4::from_translation(Vec3::new(SPACING * i as f32, 0.0, 0.0));
             [Instance { mesh: 0, material: i, transform: at }, Instance { mesh: 1, material: 4, transform: at }]
@@ -248,8 +248,8 @@ fn stacked_scene() -> Scene {
         *a = 255 - *a;
     }
     s.textures.push(inverted);
-    s.materials.push(Material { alpha_mode: AlphaMode::Mask(0.5), ..Material::diffuse("inverted", [1.0; 4], Some(1)) });
-    s.instances = vec![
+    s.materials_mut().push(Material { alpha_mode: AlphaMode::Mask(0.5), ..Material::diffuse("inverted", [1.0; 4], Some(1)) });
+    *s.instances_mut() = vec![
         Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },
         Instance { mesh: 0, material: s.materials.len() - 1, transform: Mat4::from_translation(Vec3::new(0.0, 0.0, 0.5)) },
     ];
@@ -551,7 +551,7 @@ fn an_executor_compiles_the_alpha_test_in_when_its_scene_gains_alpha() {
     let gpu = gpu();
     let (scene, want, p) = graph_setup();
     let mut opaque = scene.clone();
-    for m in &mut opaque.materials {
+    for m in opaque.materials_mut().iter_mut() {
         m.alpha_mode = AlphaMode::Opaque;
     }
     let quad_pixels = |s: &[Surface]| (0..QUADS).map(|i| s.iter().filter(|x| **x == Surface::Quad(i)).count()).collect::<Vec<_>>();
@@ -583,9 +583,9 @@ fn facing_scene(double_sided: bool) -> Scene {
     s.name = "facing".into();
     s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0)].into_iter().map(Into::into).collect();
     s.textures.clear();
-    s.materials = vec![Material { double_sided, ..Material::diffuse("quad", [0.8, 0.8, 0.8, 1.0], None) }];
+    *s.materials_mut() = vec![Material { double_sided, ..Material::diffuse("quad", [0.8, 0.8, 0.8, 1.0], None) }];
     let mirrored = Mat4::from_translation(Vec3::new(SPACING, 0.0, 0.0)) * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: mirrored }];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: mirrored }];
     s.lights.clear();
     s
 }

@@ -207,7 +207,7 @@ fn the_cache_refits_deforming_meshes_until_the_tree_degrades() {
     scene.pose(Some(0), 0.0);
     exec.render(&gpu, &camera(), &scene).unwrap();
     let mut moved = scene.clone();
-    moved.instances[0].transform = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 1e-3)) * moved.instances[0].transform;
+    moved.instances_mut()[0].transform = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 1e-3)) * moved.instances[0].transform;
     exec.render(&gpu, &camera(), &moved).unwrap();
     exec.render(&gpu, &camera(), &moved).unwrap();
     let g = exec.accel().unwrap().sah_growth().unwrap();

@@ -67,7 +67,7 @@ fn glass_material(lit: bool) -> Material {
 /// base colour's.
 fn vertex_alpha_scene() -> Scene {
     let mut s = panel_scene();
-    s.materials[1].base_color[3] = 1.0;
+    s.materials_mut()[1].base_color[3] = 1.0;
     let corners = s.meshes[1].vertices.len();
     std::sync::Arc::make_mut(&mut s.meshes[1]).extras = Some(vec![VertexExtra { color: [1.0, 1.0, 1.0, COVERAGE], ..Default::default() }; corners]);
     s
@@ -76,7 +76,7 @@ fn vertex_alpha_scene() -> Scene {
 /// The panel scene with the transmissive panel instead of the BLEND one.
 fn glass_scene() -> Scene {
     let mut s = panel_scene();
-    s.materials[1] = glass_material(false);
+    s.materials_mut()[1] = glass_material(false);
     s
 }
 
@@ -91,7 +91,7 @@ fn transmission_texture_scene() -> Scene {
     m.lobes.textures[raygraph::scene::LOBE_TRANSMISSION] = Some(0);
     s.textures =
         vec![raygraph::scene::TextureImage { name: "transmission".into(), width: 2, height: 2, rgba: std::sync::Arc::new([153, 0, 0, 255].repeat(4)) }];
-    s.materials[1] = m;
+    s.materials_mut()[1] = m;
     s
 }
 
@@ -99,8 +99,13 @@ fn transmission_texture_scene() -> Scene {
 fn stacked_scene() -> Scene {
     let mut s = panel_scene();
     s.meshes.push(quad("green panel", 1.0, 0.5).into());
-    s.materials.push(Material { alpha_mode: AlphaMode::Blend, double_sided: true, unlit: true, ..Material::diffuse("green", [0.0, 1.0, 0.0, COVERAGE], None) });
-    s.instances.push(Instance { mesh: 2, material: 2, transform: Mat4::IDENTITY });
+    s.materials_mut().push(Material {
+        alpha_mode: AlphaMode::Blend,
+        double_sided: true,
+        unlit: true,
+        ..Material::diffuse("green", [0.0, 1.0, 0.0, COVERAGE], None)
+    });
+    s.instances_mut().push(Instance { mesh: 2, material: 2, transform: Mat4::IDENTITY });
     s
 }
 
@@ -141,8 +146,8 @@ fn panel_scene() -> Scene {
     let mut s = builtin::default_scene();
     s.name = "blend panel".into();
     s.meshes = vec![quad("wall", 4.0, 0.0), quad("panel", 1.0, 1.0)].into_iter().map(Into::into).collect();
-    s.materials = vec![Material { unlit: true, ..Material::diffuse("wall", [0.0, 0.0, 1.0, 1.0], None) }, panel_material(false)];
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
+    *s.materials_mut() = vec![Material { unlit: true, ..Material::diffuse("wall", [0.0, 0.0, 1.0, 1.0], None) }, panel_material(false)];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
     s.textures.clear();
     // 5 units from the panel, whose half-width 1 then spans half the image's height.
     s.camera = Camera {
@@ -235,7 +240,7 @@ fn the_cpu_reads_the_transmission_texture_into_the_coverage_as_the_gpu_does() {
     let coverage = raygraph::accel::alpha::blend_coverage(&scene, 1, 0, [0.25, 0.25]).expect("a translucent panel");
     assert!((coverage - 0.4).abs() < 1e-6, "1 - 1 x 0.6: {coverage}");
     let mut other_uv = scene.clone();
-    other_uv.materials[1].sampling[5 + raygraph::scene::LOBE_TRANSMISSION].tex_coord = 1;
+    other_uv.materials_mut()[1].sampling[5 + raygraph::scene::LOBE_TRANSMISSION].tex_coord = 1;
     assert!(!other_uv.materials[1].transmission_texture_drawn(), "a texture on another uv set is not drawn");
 }
 
@@ -248,10 +253,10 @@ fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
     let flat = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
     let over_left = |y: f32| Mat4::from_translation(Vec3::new(-4.0, y, 0.0)) * flat;
     s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)].into_iter().map(Into::into).collect();
-    s.materials = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), if transmissive { glass_material(true) } else { panel_material(true) }];
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
+    *s.materials_mut() = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), if transmissive { glass_material(true) } else { panel_material(true) }];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
     if stacked {
-        s.instances.push(Instance { mesh: 1, material: 1, transform: over_left(2.0) });
+        s.instances_mut().push(Instance { mesh: 1, material: 1, transform: over_left(2.0) });
     }
     s.textures.clear();
     s.lights = vec![PunctualLight {

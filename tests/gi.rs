@@ -26,8 +26,8 @@ fn furnace() -> Scene {
     m.emissive = [E; 3];
     m.double_sided = true;
     m.roughness = 1.0;
-    s.materials = vec![m];
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_scale(Vec3::splat(4.0)) }];
+    *s.materials_mut() = vec![m];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_scale(Vec3::splat(4.0)) }];
     s.light.ambient = 0.0;
     s.camera = Camera::look(Vec3::new(0.3, 0.2, 1.2), Vec3::new(-0.5, -0.4, -1.0), 70.0, 0.01, 100.0);
     s

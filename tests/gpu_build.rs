@@ -237,8 +237,8 @@ fn record_test_scene() -> Scene {
         Mat4::from_scale_rotation_translation(Vec3::splat(1e-3), Quat::from_rotation_z(0.1), Vec3::new(0.5, 0.5, 0.5)),
     ];
     for (k, t) in transforms.into_iter().enumerate() {
-        scene.instances.push(raygraph::scene::Instance { transform: t, ..base.clone() });
-        scene.instances.push(raygraph::scene::Instance { mesh: odd_mesh, transform: t * Mat4::from_translation(Vec3::splat(k as f32)), ..base.clone() });
+        scene.instances_mut().push(raygraph::scene::Instance { transform: t, ..base.clone() });
+        scene.instances_mut().push(raygraph::scene::Instance { mesh: odd_mesh, transform: t * Mat4::from_translation(Vec3::splat(k as f32)), ..base.clone() });
     }
     scene
 }

@@ -22,8 +22,8 @@ fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) ->
     let mut s = Scene {
         name: "test".into(),
         meshes: Vec::new(),
-        materials: Vec::new(),
-        instances: Vec::new(),
+        materials: Default::default(),
+        instances: Default::default(),
         textures: Vec::new(),
         camera,
         presets: vec![("test".into(), camera)],

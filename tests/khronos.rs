@@ -264,7 +264,7 @@ fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_b
     // (accel::alpha, the CPU traversal through the model). Full RT: one primary ray per pixel,
     // the same ray cone for the panel's colour in both renders.
     let (mut scene, _) = open_with("AlphaBlendModeTest", &LoadOptions::default());
-    for m in &mut scene.materials {
+    for m in scene.materials_mut().iter_mut() {
         m.unlit = true;
     }
     let blend = scene.materials.iter().position(|m| m.name == "MatBlend").expect("the BLEND material");
@@ -279,10 +279,10 @@ fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_b
     let size = (48, 64);
     let composite = hdr(&scene, "graph/full_rt.ron", "blend.color", size);
     let mut opaque = scene.clone();
-    opaque.materials[blend].alpha_mode = raygraph::scene::AlphaMode::Opaque;
+    opaque.materials_mut()[blend].alpha_mode = raygraph::scene::AlphaMode::Opaque;
     let colour = hdr(&opaque, "graph/full_rt.ron", "resolve.hdr", size);
     let mut without = scene.clone();
-    without.instances.remove(panel);
+    without.instances_mut().remove(panel);
     let behind = hdr(&without, "graph/full_rt.ron", "blend.color", size);
     // Which pixels see the panel first, and its coverage there.
     let accel = raygraph::accel::layout::GpuAccel::build(&scene, &Default::default());
@@ -335,7 +335,7 @@ fn alpha_blend_mode_tests_mask_panels_are_cut_at_their_cutoffs_as_the_cpu_alpha_
     let mode = |i: usize| scene.materials[scene.instances[i].material].alpha_mode;
     // The pixels a MASK panel covers but cuts: its first hit with the panels made opaque.
     let mut opaque = scene.clone();
-    for m in opaque.materials.iter_mut().filter(|m| matches!(m.alpha_mode, raygraph::scene::AlphaMode::Mask(_))) {
+    for m in opaque.materials_mut().iter_mut().filter(|m| matches!(m.alpha_mode, raygraph::scene::AlphaMode::Mask(_))) {
         m.alpha_mode = raygraph::scene::AlphaMode::Opaque;
     }
     let cut: Vec<bool> =

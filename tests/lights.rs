@@ -40,8 +40,8 @@ fn scene(lights: Vec<PunctualLight>, extra: Vec<(Mesh, Material, Mat4)>) -> Scen
     let mut s = Scene {
         name: "lights".into(),
         meshes: Vec::new(),
-        materials: Vec::new(),
-        instances: Vec::new(),
+        materials: Default::default(),
+        instances: Default::default(),
         textures: Vec::new(),
         camera: camera(),
         presets: vec![("test".into(), camera())],
@@ -440,7 +440,7 @@ fn emissive_surfaces_glow_with_every_light_off() {
     let mut glowing = grey();
     glowing.emissive = emissive;
     let mut s = scene(dark.clone(), vec![]);
-    s.materials[0] = glowing.clone();
+    s.materials_mut()[0] = glowing.clone();
     for (mode, backend) in configurations(&gpu) {
         check_floor_color(&gpu, mode, backend, &s, |p| Vec3::from(emissive) + sky_reflection(p), "emission");
     }
@@ -449,7 +449,7 @@ fn emissive_surfaces_glow_with_every_light_off() {
     let mirror = Material { metallic: 1.0, roughness: 0.0, ..Material::diffuse("mirror", [1.0; 4], None) };
     let wall = Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0)) * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
     let mut s = scene(dark, vec![(plane("wall", 16.0, 1.0), glowing, wall)]);
-    s.materials[0] = mirror;
+    s.materials_mut()[0] = mirror;
     let text = std::fs::read_to_string(common::repo().join("graph/hybrid.ron")).unwrap().replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ");
     let project = common::TempProject::with_repo_files();
     let graph_file = project.write("graph/test.ron", &text);
@@ -535,8 +535,8 @@ fn the_occlusion_texture_scales_the_ambient_term_in_every_mode() {
         s.light.ambient = ambient;
         if with_texture {
             s.textures.push(raygraph::scene::TextureImage { name: "black".into(), width: 1, height: 1, rgba: vec![0, 0, 0, 255].into() });
-            s.materials[0].occlusion_texture = Some(0);
-            s.materials[0].occlusion_strength = 0.5;
+            s.materials_mut()[0].occlusion_texture = Some(0);
+            s.materials_mut()[0].occlusion_strength = 0.5;
         }
         for (mode, backend) in configurations(&gpu).into_iter().filter(|(_, b)| *b == Backend::Compute) {
             let want = |p: Vec3| ambient * sky(Vec3::Y) * ALBEDO * occlusion + sky_reflection(p);

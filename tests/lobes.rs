@@ -34,8 +34,8 @@ fn plate_scene(lobes: Lobes) -> Scene {
         extras: None,
     }
     .into()];
-    s.materials = vec![Material { roughness: 0.05, lobes, ..Material::diffuse("plate", [0.0, 0.0, 0.0, 1.0], None) }];
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
+    *s.materials_mut() = vec![Material { roughness: 0.05, lobes, ..Material::diffuse("plate", [0.0, 0.0, 0.0, 1.0], None) }];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     s.textures.clear();
     s.lights = vec![PunctualLight {
         name: "off".into(),
@@ -121,7 +121,7 @@ fn the_lobe_textures_multiply_their_factors_and_the_coat_follows_its_normal_map_
         flat_texture("clearcoat roughness", [0, 200, 0, 255]),
         flat_texture("clearcoat normal", [normal_texel[0], normal_texel[1], normal_texel[2], 255]),
     ];
-    scene.materials[0].lobes.textures = [Some(0), Some(1), Some(2), Some(3), Some(4), None];
+    scene.materials_mut()[0].lobes.textures = [Some(0), Some(1), Some(2), Some(3), Some(4), None];
     let scale = half as f64 / 255.0;
     let linear = colour.map(|c| raygraph::util::srgb_to_linear(c) as f64);
     let n = normal_texel.map(|c| 2.0 * c as f64 / 255.0 - 1.0);

@@ -59,7 +59,7 @@ fn pine_looks_the_same_in_every_mode_with_effects_off() {
     // out at alpha 0.5 (MASK), so the comparison keeps covering the atlas's alpha test and
     // everything else on a real asset in all three modes.
     let mut pine = open("assets/gltf/smallpine/scene.gltf");
-    for m in pine.materials.iter_mut().filter(|m| m.alpha_mode == AlphaMode::Blend) {
+    for m in pine.materials_mut().iter_mut().filter(|m| m.alpha_mode == AlphaMode::Blend) {
         m.alpha_mode = AlphaMode::Mask(0.5);
     }
     // Measured: 0.0010, 0.0026, 0.0027 (lavapipe); limits 3x that, rounded up.

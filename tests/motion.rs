@@ -68,10 +68,10 @@ fn scene(ball: Option<Vec3>) -> Scene {
     s.name = "motion test".into();
     s.meshes = vec![plane("floor", 20.0, 1.0), sphere("ball", 48, 96)].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
-    s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
+    *s.materials_mut() = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     if let Some(c) = ball {
-        s.instances.push(Instance { mesh: 1, material: 0, transform: Mat4::from_translation(c) });
+        s.instances_mut().push(Instance { mesh: 1, material: 0, transform: Mat4::from_translation(c) });
     }
     s
 }

@@ -25,11 +25,11 @@ fn check_counts(s: &Scene, tris: RangeInclusive<usize>, meshes: RangeInclusive<u
 }
 
 fn check_references(s: &Scene) {
-    for inst in &s.instances {
+    for inst in s.instances.iter() {
         assert!(inst.mesh < s.meshes.len() && inst.material < s.materials.len());
         assert!(inst.transform.is_finite() && inst.transform.determinant() > 0.0, "{}: instance transform must be finite and not mirror", s.name);
     }
-    for m in &s.materials {
+    for m in s.materials.iter() {
         for t in [m.texture, m.metallic_roughness_texture, m.normal_texture, m.emissive_texture].into_iter().flatten() {
             assert!(t < s.textures.len(), "{}: material {} uses texture {t}", s.name, m.name);
         }

@@ -98,10 +98,10 @@ fn scene(sphere_at: Option<(Vec3, f32)>, light: Vec3, camera: Camera) -> Scene {
     s.name = "shadow test".into();
     s.meshes = vec![plane("floor", 2.0 * FLOOR_HALF, 1.0), sphere("ball", 48, 96)].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
-    s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
+    *s.materials_mut() = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     if let Some((c, r)) = sphere_at {
-        s.instances.push(Instance { mesh: 1, material: 0, transform: Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c) });
+        s.instances_mut().push(Instance { mesh: 1, material: 0, transform: Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c) });
     }
     s.light = Light { direction: light.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
     s.camera = camera;

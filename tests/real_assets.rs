@@ -194,7 +194,7 @@ fn pine_gbuffers_agree_in_hybrid_and_full_rt() {
     // them: tests/blend.rs); cut out at alpha 0.5 (MASK) here, both G-buffer producers' alpha
     // test on the atlas is compared on a real asset.
     let mut scene = open("assets/gltf/smallpine/scene.gltf");
-    for m in scene.materials.iter_mut().filter(|m| m.alpha_mode == raygraph::scene::AlphaMode::Blend) {
+    for m in scene.materials_mut().iter_mut().filter(|m| m.alpha_mode == raygraph::scene::AlphaMode::Blend) {
         m.alpha_mode = raygraph::scene::AlphaMode::Mask(0.5);
     }
     check_agreement(&gpu, "smallpine", &scene, (128, 128), Backend::Compute, 500, &real_asset_tolerances(0.005, 0.05));

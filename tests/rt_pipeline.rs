@@ -122,7 +122,7 @@ fn a_moving_instance_is_followed_frame_by_frame() {
         let mut outputs = Vec::new();
         let mut build_ms = Vec::new();
         for step in 0..3 {
-            scene.instances[0].transform = glam::Mat4::from_translation(glam::vec3(0.3 * (step + 1) as f32, 0.0, 0.0)) * scene.instances[0].transform;
+            scene.instances_mut()[0].transform = glam::Mat4::from_translation(glam::vec3(0.3 * (step + 1) as f32, 0.0, 0.0)) * scene.instances[0].transform;
             compute.render(&gpu, &scene.camera, &scene).unwrap();
             let t = rt.render(&gpu, &scene.camera, &scene).unwrap();
             build_ms.push(t.gpu_ms.as_ref().map(|ms| ms[accel_pass]).unwrap());
@@ -171,7 +171,7 @@ fn executors_come_and_go_without_leaks() {
         assert!(first.get_or_insert_with(|| image.clone()) == &image, "a new executor draws another picture");
         // The last mesh and its instances go: one BLAS fewer.
         let last = scene.meshes.len() - 1;
-        scene.instances.retain(|i| i.mesh != last);
+        scene.instances_mut().retain(|i| i.mesh != last);
         scene.meshes.pop();
         let t = rt.render(&gpu, &scene.camera, &scene).unwrap();
         assert!(t.rays.unwrap().traced() > 0);

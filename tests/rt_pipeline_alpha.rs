@@ -53,12 +53,12 @@ fn alpha_scene() -> Scene {
     scene.textures = vec![TextureImage { name: "checker alpha".into(), width: CELLS, height: CELLS, rgba: rgba.into() }];
     let mut cutout = Material::diffuse("cutout", [1.0; 4], Some(0));
     cutout.alpha_mode = AlphaMode::Mask(0.5);
-    scene.materials = vec![cutout, Material::diffuse("opaque", [1.0; 4], None)];
+    *scene.materials_mut() = vec![cutout, Material::diffuse("opaque", [1.0; 4], None)];
     let mut backdrop = quad();
     backdrop.name = "backdrop".into();
     scene.meshes = vec![quad(), backdrop].into_iter().map(Into::into).collect();
     let at = |x: f32| glam::Mat4::from_translation(glam::Vec3::new(x, 0.0, 0.0));
-    scene.instances = vec![
+    *scene.instances_mut() = vec![
         Instance { mesh: 0, material: 0, transform: at(0.0) },
         Instance { mesh: 0, material: 0, transform: at(3.0) * glam::Mat4::from_scale(glam::Vec3::new(-1.0, 1.0, 1.0)) },
         Instance { mesh: 0, material: 1, transform: at(4.0) },

@@ -161,11 +161,12 @@ fn the_executor_follows_a_changing_scene() {
     let size = (80, 48);
     let base = builtin::default_scene();
     let mut moved = base.clone();
-    moved.instances[0].transform = glam::Mat4::from_translation(Vec3::new(0.4, 0.2, -0.3)) * moved.instances[0].transform;
+    moved.instances_mut()[0].transform = glam::Mat4::from_translation(Vec3::new(0.4, 0.2, -0.3)) * moved.instances[0].transform;
     let mut added = base.clone();
     added.meshes.push(builtin::sphere("added", 8, 16).into());
-    added.instances.push(raygraph::scene::Instance {
-        mesh: added.meshes.len() - 1,
+    let mesh = added.meshes.len() - 1;
+    added.instances_mut().push(raygraph::scene::Instance {
+        mesh,
         material: 0,
         transform: glam::Mat4::from_translation(base.camera.target + Vec3::Y * 0.3) * glam::Mat4::from_scale(Vec3::splat(0.6)),
     });

@@ -173,7 +173,7 @@ fn a_graph_without_textures_loads_none() {
 /// World-space triangles of a scene, sorted, as bit patterns rounded to 1e-5.
 fn world_triangles(s: &Scene) -> Vec<[i64; 9]> {
     let mut out = Vec::new();
-    for inst in &s.instances {
+    for inst in s.instances.iter() {
         let m = &s.meshes[inst.mesh];
         for t in m.indices.chunks_exact(3) {
             let mut tri = [0i64; 9];

@@ -22,8 +22,8 @@ const SIZE: (u32, u32) = (96, 96);
 fn sphere_scene() -> Scene {
     let mut scene = raygraph::scene::builtin::default_scene();
     scene.meshes = vec![raygraph::scene::builtin::sphere("low-poly sphere", 6, 8)].into_iter().map(Into::into).collect();
-    scene.materials = vec![Material::diffuse("white", [0.8, 0.8, 0.8, 1.0], None)];
-    scene.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_rotation_y(0.3) }];
+    *scene.materials_mut() = vec![Material::diffuse("white", [0.8, 0.8, 0.8, 1.0], None)];
+    *scene.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_rotation_y(0.3) }];
     scene.textures.clear();
     scene.lights.clear();
     scene.point_light = None;

@@ -25,8 +25,8 @@ fn scene(camera: Camera) -> Scene {
     s.name = "soft shadow test".into();
     s.meshes = vec![plane("floor", 12.0, 1.0), sphere("ball", 64, 128)].into_iter().map(Into::into).collect();
     s.textures = Vec::new();
-    s.materials = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
-    s.instances =
+    *s.materials_mut() = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
+    *s.instances_mut() =
         vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 0, transform: Mat4::from_translation(CENTRE) }];
     s.light = Light { direction: Vec3::Y, color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
     s.camera = camera;

@@ -43,8 +43,8 @@ fn quad_scene(sampling: SlotSampling) -> Scene {
     material.sampling[0] = sampling;
     let mut scene = raygraph::scene::builtin::default_scene();
     scene.meshes = vec![mesh.into()];
-    scene.materials = vec![material];
-    scene.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
+    *scene.materials_mut() = vec![material];
+    *scene.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     scene.textures = vec![checker()];
     scene.rig = None;
     scene.camera = Camera { orthographic: Some(0.5), ..Camera::look(Vec3::new(0.5, 0.5, 2.0), Vec3::new(0.5, 0.5, 0.0), 45.0, 0.5, 4.0) };
@@ -203,7 +203,7 @@ fn export_keeps_samplers_transforms_and_unlit() {
     let (sin, cos) = 0.7f32.sin_cos();
     let transform = Some([[2.0 * cos, -0.5 * sin, 0.25], [-2.0 * sin, -0.5 * cos, -1.5]]);
     let mut scene = quad_scene(SlotSampling { transform, ..nearest(Wrap::MirroredRepeat, Wrap::ClampToEdge) });
-    let m = &mut scene.materials[0];
+    let m = &mut scene.materials_mut()[0];
     m.emissive = [1.0; 3];
     m.emissive_texture = Some(0);
     m.sampling[4] = SlotSampling { wrap_s: Wrap::ClampToEdge, mipmaps: Mipmaps::Nearest, tex_coord: 1, ..Default::default() };
@@ -257,8 +257,8 @@ fn vertex_colours_multiply_the_base_colour() {
     // An untextured white quad whose corners are red, green, blue and grey: the albedo is their
     // barycentric blend over each of its two triangles.
     let mut scene = quad_scene(SlotSampling::default());
-    scene.materials[0].texture = None;
-    scene.materials[0].base_color = [1.0, 0.5, 1.0, 1.0];
+    scene.materials_mut()[0].texture = None;
+    scene.materials_mut()[0].base_color = [1.0, 0.5, 1.0, 1.0];
     let corners = [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.5, 0.5, 0.5, 1.0]];
     std::sync::Arc::make_mut(&mut scene.meshes[0]).extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
     let size = 48u32;

@@ -260,6 +260,9 @@ impl AccelSettings {
 pub struct AccelCache {
     /// Each mesh's [`mesh_hash`] while it stays the same `Arc` (`crate::scene::memo`).
     mesh_memo: crate::scene::memo::MeshMemo<u64>,
+    /// The scene the last update brought the structure up to date with, by pointer: an update
+    /// for the same scene does nothing and reads nothing.
+    seen: Option<crate::scene::memo::SceneSnapshot>,
     backend: Backend,
     dedup: bool,
     merge: bool,
@@ -343,6 +346,7 @@ impl AccelCache {
         let (stats, stats_readback) = storage_with_readback(device, "accel stats", size);
         Self {
             mesh_memo: crate::scene::memo::MeshMemo::new(),
+            seen: None,
             backend,
             dedup: settings.dedup,
             merge: settings.merges(backend),
@@ -415,6 +419,7 @@ impl AccelCache {
     /// a CPU build poses a copy of the scene on the CPU.
     pub fn set_device_positions(&mut self, positions: Option<wgpu::Buffer>) {
         self.device_positions = positions;
+        self.seen = None;
     }
 
     /// Makes the pipelines that refits and GPU rebuilds of a changing scene need now (at
@@ -493,7 +498,27 @@ impl AccelCache {
 
     /// Brings the acceleration structure up to date with `scene`, recording GPU work into
     /// `encoder` (ray-query builds) or writing buffers through `queue` (compute back-end).
+    /// Nothing is read or done for the scene the last update saw (`crate::scene::memo`).
     pub fn update(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+    ) -> Result<BuildReport, RuntimeError> {
+        let start = Instant::now();
+        if !matches!(self.state, State::Empty) && self.seen.as_ref().is_some_and(|seen| seen.matches(scene)) {
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            return Ok(BuildReport { blas_count: self.units.len(), hash_ms: ms, cpu_ms: ms, ..Default::default() });
+        }
+        self.seen = None;
+        let report = self.update_changed(device, queue, encoder, scene)?;
+        self.seen = Some(crate::scene::memo::SceneSnapshot::of(scene));
+        Ok(report)
+    }
+
+    /// [`AccelCache::update`] for a scene that may have changed since the last update.
+    fn update_changed(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,

@@ -277,7 +277,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
         let (mut gpu_ms, mut cpu_ms) = (Vec::new(), Vec::new());
         for f in 0..frames.max(1) {
             let offset = glam::Vec3::new((f as f32 * 0.7).sin(), 0.0, (f as f32 * 0.7).cos()) * (1e-3 * radius);
-            for (inst, t) in scene.instances.iter_mut().zip(&base) {
+            for (inst, t) in scene.instances_mut().iter_mut().zip(&base) {
                 inst.transform = glam::Mat4::from_translation(offset) * *t;
             }
             let t = exec.render(gpu, &primary_camera(&scene), &scene)?;

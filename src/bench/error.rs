@@ -100,7 +100,7 @@ pub fn ceiling_scene() -> Scene {
     s.meshes = vec![builtin::plane("floor", 400.0, 1.0).into()];
     s.strip_textures();
     let ceiling = Mat4::from_translation(Vec3::new(0.0, CEILING, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }];
+    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }].into();
     s.camera = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
     s.presets = vec![("default".into(), s.camera)];
     s.point_light = None;

@@ -225,6 +225,8 @@ impl Gpu {
         // Forward shading over a visibility buffer (`layers/forward.ron`) needs the triangle of
         // each fragment.
         required_features |= adapter.features() & wgpu::Features::PRIMITIVE_INDEX;
+        // Scene draws as indirect commands (`exec::draws`); without it, drawn one by one.
+        required_features |= adapter.features() & wgpu::Features::INDIRECT_FIRST_INSTANCE;
         // The compute back-end's trace modules without their traversal stack's clear
         // (`runtime::trace_spirv`), on Vulkan.
         if adapter.get_info().backend == wgpu::Backend::Vulkan {

@@ -279,14 +279,6 @@ impl ScenePipelines {
     pub fn variant(&self, class: DrawClass) -> Option<&wgpu::RenderPipeline> {
         self.variants.iter().find(|(c, _)| *c == class).map(|(_, p)| p)
     }
-
-    /// The variants made so far, in a fixed order (opaque before alpha-tested, so that the
-    /// cheap draws fill the depth buffer first).
-    pub fn variants(&self) -> impl Iterator<Item = (DrawClass, &wgpu::RenderPipeline)> {
-        let mut order: Vec<&(DrawClass, wgpu::RenderPipeline)> = self.variants.iter().collect();
-        order.sort_by_key(|(c, _)| (c.alpha_test, c.cull));
-        order.into_iter().map(|(c, p)| (*c, p))
-    }
 }
 
 #[cfg(test)]
@@ -310,7 +302,7 @@ mod tests {
     fn draws_go_nearest_first() {
         let mut scene = crate::scene::builtin::default_scene();
         let mesh = scene.instances[0].mesh;
-        scene.instances = [5.0f32, -1.0, 2.0]
+        *scene.instances_mut() = [5.0f32, -1.0, 2.0]
             .iter()
             .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })
             .collect();

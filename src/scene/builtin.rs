@@ -131,8 +131,8 @@ pub fn default_scene() -> Scene {
     Scene {
         name: "default".into(),
         meshes: meshes.into_iter().map(Into::into).collect(),
-        materials,
-        instances,
+        materials: materials.into(),
+        instances: instances.into(),
         textures,
         camera: view,
         presets: vec![

@@ -10,7 +10,7 @@ pub fn duplicate(scene: &Scene, n: u32, dedup: bool) -> Scene {
     let n = n.max(1);
     let b = scene.bounds();
     let step = if b.is_empty() { Vec3::ONE } else { (b.max - b.min).max(Vec3::splat(1e-3)) * 1.1 };
-    let mut out = Scene { name: format!("{}x{n}", scene.name), meshes: Vec::new(), instances: Vec::new(), ..scene.clone() };
+    let mut out = Scene { name: format!("{}x{n}", scene.name), meshes: Vec::new(), instances: Default::default(), ..scene.clone() };
     if dedup {
         out.meshes = scene.meshes.clone();
     }
@@ -22,13 +22,13 @@ pub fn duplicate(scene: &Scene, n: u32, dedup: bool) -> Scene {
                 if !dedup {
                     out.meshes.extend(scene.meshes.iter().cloned());
                 }
-                for inst in &scene.instances {
+                for inst in scene.instances.iter() {
                     let mut i = inst.clone();
                     i.transform = offset * inst.transform;
                     if !dedup {
                         i.mesh += base;
                     }
-                    out.instances.push(i);
+                    out.instances_mut().push(i);
                 }
             }
         }

@@ -96,7 +96,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     }
     let sampled = sampled_textures(&mut root, scene, &textures);
     let mut materials = Vec::new();
-    for m in &scene.materials {
+    for m in scene.materials.iter() {
         // The glTF texture of scene texture `i` with slot `slot`'s sampler.
         let texture = |i: usize, slot: usize| sampled.get(&(i, m.sampling[slot].sampler_bits())).copied().unwrap_or(textures[i]);
         let info = |t: Option<usize>, slot: usize| {
@@ -166,7 +166,7 @@ pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     // is written once per (mesh, material) pair.
     let mut gltf_mesh: std::collections::HashMap<(usize, usize), json::Index<json::Mesh>> = Default::default();
     let mut nodes = Vec::new();
-    for inst in &scene.instances {
+    for inst in scene.instances.iter() {
         let key = (inst.mesh, inst.material);
         gltf_mesh.entry(key).or_insert_with(|| {
             let mesh = &scene.meshes[inst.mesh];
@@ -269,7 +269,7 @@ fn sampled_textures(
     plain: &[json::Index<json::Texture>],
 ) -> std::collections::HashMap<(usize, u32), json::Index<json::Texture>> {
     let mut out = std::collections::HashMap::new();
-    for m in &scene.materials {
+    for m in scene.materials.iter() {
         for (t, s) in m.slot_textures().iter().zip(&m.sampling) {
             let Some(t) = t.filter(|t| *t < plain.len() && s.sampler_bits() != 0) else { continue };
             out.entry((t, s.sampler_bits())).or_insert_with(|| {

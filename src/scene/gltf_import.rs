@@ -512,8 +512,8 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
     let mut scene = Scene {
         name,
         meshes: meshes.into_iter().map(Into::into).collect(),
-        materials,
-        instances: placed.instances,
+        materials: materials.into(),
+        instances: placed.instances.into(),
         textures,
         camera: Camera::default(),
         presets: Vec::new(),

@@ -431,7 +431,7 @@ fn uv_transform_rows(sampling: &[SlotSampling; TEXTURE_SLOTS]) -> [[f32; 4]; 2 *
 /// by nearest texel, so their texels stay sharp).
 fn nearest_textures(scene: &Scene) -> Vec<bool> {
     let mut nearest = vec![false; scene.textures.len()];
-    for m in &scene.materials {
+    for m in scene.materials.iter() {
         for (t, s) in m.slot_textures().iter().zip(&m.sampling) {
             if let Some(t) = t.filter(|t| *t < nearest.len()) {
                 nearest[t] |= s.mag_nearest || s.min_nearest;
@@ -448,7 +448,7 @@ fn data_textures(scene: &Scene) -> Vec<bool> {
     use super::gltf_import::TextureSlot;
     let n = scene.textures.len();
     let (mut colour, mut data) = (vec![false; n], vec![false; n]);
-    for m in &scene.materials {
+    for m in scene.materials.iter() {
         for (slot, t) in TextureSlot::ALL.iter().zip(m.slot_textures()) {
             if let Some(t) = t.filter(|t| *t < n) {
                 if slot.is_colour() {

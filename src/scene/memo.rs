@@ -1,6 +1,6 @@
-//! Values computed once per mesh content: what the executor and the acceleration-structure
-//! cache need of every mesh each frame (content hashes, bounds), without reading the vertices
-//! of meshes that did not change.
+//! Change detection without reading data: values computed once per mesh content (content
+//! hashes, bounds: [`MeshMemo`]), and a whole scene kept by pointer ([`SceneSnapshot`]), so a
+//! frame of a static scene costs one pointer comparison per mesh and a few per scene.
 //!
 //! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut`. A memo keeps a
 //! clone of the `Arc` of each mesh it computed a value from, so an edited mesh is always a new
@@ -8,9 +8,65 @@
 //! content, and a frame of a static scene costs one pointer comparison per mesh. The memo keeps
 //! the meshes it last saw alive until its next call.
 
-use super::Mesh;
+use super::{Instance, Material, Mesh, Scene};
 use rayon::prelude::*;
 use std::sync::Arc;
+
+/// Everything a frame reads of a scene but its name, cameras and presets, kept as the `Arc`s it
+/// saw (meshes, materials, instances, texture pixels, rig) and the small rest by value (lights,
+/// pose time). While a snapshot holds them, an edit through `Arc::make_mut` cannot reuse their
+/// allocations, so [`SceneSnapshot::matches`] is exact.
+#[derive(Debug, Clone)]
+pub struct SceneSnapshot {
+    meshes: Vec<Arc<Mesh>>,
+    materials: Arc<Vec<Material>>,
+    instances: Arc<Vec<Instance>>,
+    textures: Vec<(u32, u32, Arc<Vec<u8>>)>,
+    lights: Vec<super::PunctualLight>,
+    light: super::Light,
+    point_light: Option<super::PointLight>,
+    rig: Option<Arc<super::animation::Rig>>,
+    posed: Option<super::animation::PoseTime>,
+}
+
+impl SceneSnapshot {
+    /// The parts of `scene` a frame reads.
+    pub fn of(scene: &Scene) -> Self {
+        Self {
+            meshes: scene.meshes.clone(),
+            materials: Arc::clone(&scene.materials),
+            instances: Arc::clone(&scene.instances),
+            textures: scene.textures.iter().map(|t| (t.width, t.height, Arc::clone(&t.rgba))).collect(),
+            lights: scene.lights.clone(),
+            light: scene.light,
+            point_light: scene.point_light,
+            rig: scene.rig.clone(),
+            posed: scene.posed,
+        }
+    }
+
+    /// Whether `scene` is what this snapshot saw: the same allocations and the same lights.
+    pub fn matches(&self, scene: &Scene) -> bool {
+        fn same<T>(a: &Option<Arc<T>>, b: &Option<Arc<T>>) -> bool {
+            match (a, b) {
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                (None, None) => true,
+                _ => false,
+            }
+        }
+        Arc::ptr_eq(&self.instances, &scene.instances)
+            && Arc::ptr_eq(&self.materials, &scene.materials)
+            && self.meshes.len() == scene.meshes.len()
+            && self.meshes.iter().zip(&scene.meshes).all(|(a, b)| Arc::ptr_eq(a, b))
+            && self.textures.len() == scene.textures.len()
+            && self.textures.iter().zip(&scene.textures).all(|((w, h, p), t)| (*w, *h) == (t.width, t.height) && Arc::ptr_eq(p, &t.rgba))
+            && self.light == scene.light
+            && self.point_light == scene.point_light
+            && self.lights == scene.lights
+            && same(&self.rig, &scene.rig)
+            && self.posed == scene.posed
+    }
+}
 
 /// A value per mesh, kept while the mesh is the same `Arc`.
 #[derive(Debug, Default)]

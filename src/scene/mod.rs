@@ -369,7 +369,7 @@ pub struct TextureImage {
 }
 
 /// A directional light.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
     /// Unit direction from surfaces towards the light.
     pub direction: Vec3,
@@ -386,12 +386,15 @@ pub struct Light {
 pub struct Scene {
     /// The scene's name (built-in name or file stem).
     pub name: String,
-    /// The meshes instances place.
+    /// The meshes instances place, each behind an `Arc`: edit one through `Arc::make_mut`
+    /// (or [`Scene::mesh_mut`]), so that an edited mesh is a new allocation ([`memo`]).
     pub meshes: Vec<std::sync::Arc<Mesh>>,
-    /// The materials instances use.
-    pub materials: Vec<Material>,
-    /// Placements of meshes with a material.
-    pub instances: Vec<Instance>,
+    /// The materials instances use, behind one `Arc`: edit them through
+    /// [`Scene::materials_mut`], so that the same pointer means the same materials.
+    pub materials: std::sync::Arc<Vec<Material>>,
+    /// Placements of meshes with a material, behind one `Arc`: edit them through
+    /// [`Scene::instances_mut`] (a moved instance is a new allocation of the list).
+    pub instances: std::sync::Arc<Vec<Instance>>,
     /// Images that materials index.
     pub textures: Vec<TextureImage>,
     /// The default view.
@@ -525,6 +528,23 @@ impl Mesh {
 }
 
 impl Scene {
+    /// The materials, for editing: a copy when the list is shared (with a memo or a copy of
+    /// the scene), so that whoever kept the old `Arc` sees the change as a new pointer.
+    pub fn materials_mut(&mut self) -> &mut Vec<Material> {
+        std::sync::Arc::make_mut(&mut self.materials)
+    }
+
+    /// The instances, for editing (moved, added, removed): a copy when the list is shared, as
+    /// [`Scene::materials_mut`].
+    pub fn instances_mut(&mut self) -> &mut Vec<Instance> {
+        std::sync::Arc::make_mut(&mut self.instances)
+    }
+
+    /// Mesh `index`, for editing: a copy when it is shared ([`memo`]).
+    pub fn mesh_mut(&mut self, index: usize) -> &mut Mesh {
+        std::sync::Arc::make_mut(&mut self.meshes[index])
+    }
+
     /// The preset called `name`, or an error listing the presets there are.
     pub fn preset(&self, name: &str) -> Result<Camera, String> {
         self.presets.iter().find(|(n, _)| n == name).map(|(_, c)| *c).ok_or_else(|| {
@@ -537,7 +557,7 @@ impl Scene {
     /// none).
     pub fn strip_textures(&mut self) {
         self.textures.clear();
-        for m in &mut self.materials {
+        for m in self.materials_mut().iter_mut() {
             m.texture = None;
             m.metallic_roughness_texture = None;
             m.normal_texture = None;
@@ -604,7 +624,7 @@ impl Scene {
     /// mesh, as [`Mesh::bounds`] gives them; a memo of them spares reading the vertices).
     pub fn bounds_from(&self, mesh_bounds: &[Bounds]) -> Bounds {
         let mut b = Bounds::EMPTY;
-        for inst in &self.instances {
+        for inst in self.instances.iter() {
             let Some(&mb) = mesh_bounds.get(inst.mesh) else { continue };
             if mb.is_empty() {
                 continue;

@@ -65,7 +65,7 @@ impl Scene {
     }
 
     fn apply_pose(&mut self, rig: &Rig, pose: &Pose, deform: bool) {
-        for (inst, src) in self.instances.iter_mut().zip(&rig.instances) {
+        for (inst, src) in self.instances_mut().iter_mut().zip(rig.instances.iter()) {
             inst.transform = if src.skinned { Mat4::IDENTITY } else { pose.world[src.node] };
         }
         if deform {

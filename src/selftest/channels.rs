@@ -111,7 +111,8 @@ pub fn scenes() -> Result<Vec<Scene>, String> {
     small.instances = [(0, Mat4::IDENTITY), (0, wall), (1, ball), (2, cube), (2, mirrored)]
         .iter()
         .map(|&(mesh, transform)| Instance { mesh, material: 0, transform })
-        .collect();
+        .collect::<Vec<_>>()
+        .into();
     small.camera = Camera::look(Vec3::new(2.5, 2.2, 4.0), Vec3::new(0.0, 0.5, 0.0), 50.0, 0.05, 100.0);
     small.light.direction = Vec3::new(-0.4, 0.8, 0.45).normalize();
     let mut scenes = vec![default, small];

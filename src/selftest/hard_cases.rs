@@ -50,7 +50,7 @@ fn scene_of(meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Scene {
     s.name = "case".into();
     s.meshes = meshes.into_iter().map(Into::into).collect();
     s.strip_textures();
-    s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
+    s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect::<Vec<_>>().into();
     s
 }
 

@@ -101,8 +101,8 @@ pub fn metallic_roughness_scene() -> (Scene, Vec<(&'static str, Vec3)>) {
     let mut scene = Scene {
         name: "metallic-roughness".into(),
         meshes: Vec::new(),
-        materials: Vec::new(),
-        instances: Vec::new(),
+        materials: Default::default(),
+        instances: Default::default(),
         textures,
         camera,
         presets: vec![("test".into(), camera)],

@@ -61,7 +61,7 @@ impl SceneFeatures {
         let material_bits: Vec<u8> = scene.materials.iter().map(Self::material_bits).collect();
         let mesh_bits: Vec<u8> = scene.meshes.iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
         let mut bits = 0u8;
-        for inst in &scene.instances {
+        for inst in scene.instances.iter() {
             bits |= material_bits.get(inst.material).copied().unwrap_or(0) | mesh_bits.get(inst.mesh).copied().unwrap_or(0);
             if bits == Self::ALL_BITS {
                 break;

@@ -30,10 +30,10 @@ pub(super) struct HistoryState {
     pub(super) cut_requested: bool,
     /// The camera and view-projection of the previous frame.
     pub(super) previous: Option<(Camera, glam::Mat4)>,
-    /// The instance transforms of the previous frame (`scene_motion`).
-    pub(super) transforms: Vec<glam::Mat4>,
-    /// What the `scene_motion` buffer holds.
-    pub(super) motion_written: Vec<glam::Mat4>,
+    /// The instances of the previous frame (`scene_motion`), as the scene holds them.
+    pub(super) instances: Option<std::sync::Arc<Vec<crate::scene::Instance>>>,
+    /// The instances whose transforms the `scene_motion` buffer holds.
+    pub(super) motion_written: Option<std::sync::Arc<Vec<crate::scene::Instance>>>,
 }
 
 impl HistoryState {

@@ -11,6 +11,7 @@
 mod accel_build;
 mod bindings;
 mod compute;
+mod draws;
 pub mod features;
 mod fullscreen;
 pub mod history;
@@ -30,7 +31,7 @@ pub use readback::{read_texture, write_png};
 
 use super::gpu::Gpu;
 use super::profiler::{FramePhases, FrameTimings, GpuTimer};
-use super::raster::{DrawClass, InstanceClass, ScenePipelines};
+use super::raster::ScenePipelines;
 use super::rust_pass::{RustPass, RustPassIo, RustPasses};
 use crate::accel::cache::{AccelCache, BuildReport, RayStats};
 use crate::accel::rt_pipeline::RtPass;
@@ -135,6 +136,12 @@ pub struct Executor {
     /// (`crate::scene::memo`): a static scene's frame reads no vertex.
     content_memo: crate::scene::memo::MeshMemo<[u64; 2]>,
     bounds_memo: crate::scene::memo::MeshMemo<crate::scene::Bounds>,
+    /// The scene as last seen, by pointer, and a count of its changes: a frame of an unchanged
+    /// scene skips change detection and the draw inputs made from it.
+    seen: Option<crate::scene::memo::SceneSnapshot>,
+    scene_generation: u64,
+    /// The draw classes and order of the last frame, kept while the scene and camera stay.
+    draws: draws::DrawInputs,
     samplers: (wgpu::Sampler, wgpu::Sampler),
     /// Whether the warning about lights without a raster shadow map was printed.
     /// What the scene uses of the features passes compile out ([`features`]); the passes are
@@ -166,16 +173,17 @@ struct FrameInputs<'a> {
     scene: &'a Scene,
     /// Shadow maps lights use this frame; passes of the other slots are not drawn.
     shadow_count: u32,
-    /// Per pass: the draw class of each instance, `None` where the pass does not draw it (empty
-    /// but for `SceneRaster` passes).
-    pass_classes: Vec<Vec<Option<DrawClass>>>,
-    /// The order of the scene's draws (front to back).
-    draw_order: Vec<usize>,
     /// Per pass: its colour attachments' views and its depth attachment's.
     views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)>,
 }
 
 impl Executor {
+    /// How many times the frames so far found the scene changed (by pointer: `scene::memo`),
+    /// the first frame included: a static scene's count stays 1.
+    pub fn scene_changes(&self) -> u64 {
+        self.scene_generation
+    }
+
     /// The scene as uploaded (None when no kept pass reads it).
     pub fn uploaded_scene(&self) -> Option<&GpuScene> {
         self.scene.as_ref()
@@ -214,6 +222,9 @@ impl Executor {
             scene_content,
             content_memo,
             bounds_memo: crate::scene::memo::MeshMemo::new(),
+            seen: None,
+            scene_generation: 0,
+            draws: draws::DrawInputs::default(),
             samplers,
             warned_unshadowed: false,
             features: features::SceneFeatures::of(scene),
@@ -223,7 +234,7 @@ impl Executor {
         };
         exec.make_deform(gpu, scene);
         exec.history = history::HistoryState::of_plan(&exec.plan);
-        exec.passes = exec.build_passes(gpu)?;
+        exec.rebuild_passes(gpu)?;
         if gpu.timestamps {
             exec.timer = Some(GpuTimer::new(&gpu.device, &gpu.queue, exec.plan.passes.len() as u32));
         }
@@ -254,8 +265,12 @@ impl Executor {
         self.history.valid
     }
 
-    fn build_passes(&self, gpu: &Gpu) -> Result<Vec<PassRuntime>, RuntimeError> {
-        self.plan.passes.iter().map(|pass| self.build_pass(gpu, pass)).collect()
+    /// Builds every pass's GPU objects again (the draws kept for the old ones are forgotten).
+    fn rebuild_passes(&mut self, gpu: &Gpu) -> Result<(), RuntimeError> {
+        let passes = self.plan.passes.iter().map(|pass| self.build_pass(gpu, pass)).collect::<Result<Vec<_>, _>>()?;
+        self.passes = passes;
+        self.draws.forget_passes();
+        Ok(())
     }
 
     /// One pass's GPU objects: its bindings from reflection, then its kind's pipeline.
@@ -368,29 +383,22 @@ impl Executor {
         Ok(timings)
     }
 
-    /// What the frame's passes record with: the scene's draw classes per pass (a shadow-map
-    /// pass's from its slot's light) and draw order, the scene pipelines made for classes that
-    /// appeared, and every pass's attachment views.
+    /// What the frame's passes record with: each scene pass's draws brought up to date
+    /// ([`draws`]: kept while the scene and the camera's position stay; a shadow-map pass's
+    /// classes from its slot's light), and every pass's attachment views.
     fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, uniforms: &crate::uniforms::FrameUniforms) -> FrameInputs<'a> {
         let draws = self.scene.as_ref().map_or(&[][..], |s| &s.draws[..]);
-        let instance_classes = InstanceClass::of_scene(scene, draws);
-        let draw_order = super::raster::front_to_back(draws, scene, camera.position);
-        let mut pass_classes = Vec::with_capacity(self.passes.len());
-        for (pass, planned) in self.passes.iter_mut().zip(&self.plan.passes) {
-            let Pipeline::Scene(pipelines) = &mut pass.pipeline else {
-                pass_classes.push(Vec::new());
-                continue;
-            };
+        for (i, (pass, planned)) in self.passes.iter_mut().zip(&self.plan.passes).enumerate() {
+            let Pipeline::Scene(pipelines) = &mut pass.pipeline else { continue };
             let light_view_proj = planned
                 .shadow_slot
                 .filter(|slot| *slot < uniforms.shadow_count)
                 .map(|slot| glam::Mat4::from_cols_array_2d(&uniforms.shadow_view_proj[slot as usize]));
-            let classes = pipelines.classes(&instance_classes, light_view_proj.as_ref());
-            pipelines.prepare(&gpu.device, &classes);
-            pass_classes.push(classes);
+            let source = draws::PassDrawSource { pipelines, back_to_front: planned.translucent, light_view_proj };
+            self.draws.update_pass(gpu, scene, self.scene_generation, draws, camera.position, i, source);
         }
         let views = self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
-        FrameInputs { scene, shadow_count: uniforms.shadow_count, pass_classes, draw_order, views }
+        FrameInputs { scene, shadow_count: uniforms.shadow_count, views }
     }
 
     /// Records pass `i` of the frame, and its CPU milliseconds.
@@ -406,7 +414,7 @@ impl Executor {
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             return Ok(());
         }
-        let nothing_translucent = self.plan.passes[i].translucent && inputs.pass_classes[i].iter().all(Option::is_none);
+        let nothing_translucent = self.plan.passes[i].translucent && self.draws.pass(i).is_none_or(|d| d.runs.is_empty());
         if nothing_translucent || self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
             self.record_empty_timed_pass(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);

@@ -1,5 +1,6 @@
 //! `SceneRaster` passes: the scene's meshes drawn with one pipeline variant per draw class
-//! (`crate::runtime::raster`), front to back, or back to front in a translucent pass; a
+//! (`crate::runtime::raster`), front to back, or back to front in a translucent pass, from the
+//! draws kept in `super::draws`; a
 //! shadow-map pass of a slot no light uses this frame, or a translucent pass of a frame without
 //! translucent instances, recorded as an empty pass that keeps its timestamps.
 
@@ -18,9 +19,9 @@ impl Executor {
         })
     }
 
-    /// Records scene raster pass `i`: every instance drawn with the pipeline variant of its
-    /// draw class, the variants in their fixed order, each class's draws in the frame's draw
-    /// order (front to back).
+    /// Records scene raster pass `i`: its runs of draws ([`super::draws`]), each with the
+    /// pipeline variant of its class: every variant's draws in the frame's draw order (front to
+    /// back), opaque variants first, or in a translucent pass back to front.
     pub(super) fn record_scene_raster_pass(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -29,27 +30,16 @@ impl Executor {
         inputs: &FrameInputs,
     ) -> Result<(), RuntimeError> {
         let mut rp = self.begin_render_pass(encoder, i, &inputs.views[i]);
-        let (Some(scene), Some(vertices), Some(indices)) =
-            (self.scene.as_ref(), self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok())
-        else {
+        let (Some(vertices), Some(indices)) = (self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok()) else {
             return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", self.plan.passes[i].name)));
         };
         rp.set_vertex_buffer(0, vertices.slice(..));
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        let classes = &inputs.pass_classes[i];
-        if self.plan.passes[i].translucent {
-            return record_back_to_front(&mut rp, pipelines, inputs, &scene.draws, classes);
-        }
-        for (class, pipeline) in pipelines.variants() {
-            let mut draws =
-                inputs.draw_order.iter().filter_map(|&k| scene.draws.get(k)).filter(|d| classes.get(d.instance as usize) == Some(&Some(class))).peekable();
-            if draws.peek().is_none() {
-                continue;
-            }
+        let Some(draws) = self.draws.pass(i) else { return Ok(()) };
+        for (class, run) in &draws.runs {
+            let pipeline = pipelines.variant(*class).ok_or_else(|| RuntimeError::Gpu(format!("no pipeline was made for draw class {class:?}")))?;
             rp.set_pipeline(pipeline);
-            for d in draws {
-                rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
-            }
+            draws.record_run(&mut rp, run);
         }
         Ok(())
     }
@@ -69,26 +59,4 @@ impl Executor {
     pub(super) fn draws_shadow_maps(&self) -> bool {
         self.plan.passes.iter().any(|p| p.kind == PassKind::SceneRaster && p.writes.iter().all(|(_, r)| self.is_depth(*r)))
     }
-}
-
-/// A translucent pass's draws: back to front (the frame's order reversed), each with the
-/// variant of its class, switched only where the class changes.
-fn record_back_to_front(
-    rp: &mut wgpu::RenderPass<'_>,
-    pipelines: &ScenePipelines,
-    inputs: &FrameInputs,
-    draws: &[crate::scene::gpu::Draw],
-    classes: &[Option<crate::runtime::raster::DrawClass>],
-) -> Result<(), RuntimeError> {
-    let mut current = None;
-    for d in inputs.draw_order.iter().rev().filter_map(|&k| draws.get(k)) {
-        let Some(Some(class)) = classes.get(d.instance as usize) else { continue };
-        if current != Some(*class) {
-            let pipeline = pipelines.variant(*class).ok_or_else(|| RuntimeError::Gpu(format!("no pipeline was made for draw class {class:?}")))?;
-            rp.set_pipeline(pipeline);
-            current = Some(*class);
-        }
-        rp.draw_indexed(d.indices.clone(), d.base_vertex, d.instance..d.instance + 1);
-    }
-    Ok(())
 }

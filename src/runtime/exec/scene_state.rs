@@ -37,10 +37,27 @@ impl Executor {
             gpu.device.destroy();
         }
         gpu.check()?;
+        if self.seen.as_ref().is_some_and(|seen| seen.matches(scene)) {
+            // The same scene (by pointer, `scene::memo`): only the camera's projection can
+            // change the passes' constants.
+            return self.sync_projection(gpu, camera);
+        }
         self.sync_scene(gpu, scene, camera)?;
-        // Every frame: the scene may have changed since the last one.
         let b = scene.bounds_from(&self.bounds_memo.values(&scene.meshes, crate::scene::Mesh::bounds));
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
+        self.seen = Some(crate::scene::memo::SceneSnapshot::of(scene));
+        self.scene_generation += 1;
+        Ok(())
+    }
+
+    /// The passes built again when only `camera`'s projection changed their constants.
+    fn sync_projection(&mut self, gpu: &Gpu, camera: &Camera) -> Result<(), RuntimeError> {
+        let features = self.features.with_camera(camera);
+        if features != self.features {
+            self.features = features;
+            self.rebuild_passes(gpu)?;
+            self.accel_generation = u64::MAX;
+        }
         Ok(())
     }
 
@@ -53,7 +70,7 @@ impl Executor {
         let features = SceneFeatures::of(scene).with_camera(camera);
         if features != self.features {
             self.features = features;
-            self.passes = self.build_passes(gpu)?;
+            self.rebuild_passes(gpu)?;
             self.accel_generation = u64::MAX;
         }
         let Some(uploaded) = &self.scene else { return Ok(()) };
@@ -78,9 +95,9 @@ impl Executor {
         let scope = gpu.scopes();
         self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
         // The new buffers hold the current transforms: `write_motion` writes the previous ones.
-        self.history.motion_written.clear();
+        self.history.motion_written = None;
         self.make_deform(gpu, scene);
-        self.passes = self.build_passes(gpu)?;
+        self.rebuild_passes(gpu)?;
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
         scope.finish(gpu, "uploading the changed scene")?;
@@ -111,18 +128,26 @@ impl Executor {
 
     /// `scene_motion`, where the plan binds it: each instance's transform of the previous frame
     /// (its current one on a frame without history, or where the instances changed in number),
-    /// written only when it differs from what the buffer holds.
+    /// written only when it differs from what the buffer holds (by pointer first: nothing is
+    /// read while the instances stay the same `Arc`).
     fn write_motion(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        use std::sync::Arc;
         let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion.is_some()) else { return Ok(()) };
-        let current: Vec<glam::Mat4> = scene.instances.iter().map(|i| i.transform).collect();
-        let previous = std::mem::replace(&mut self.history.transforms, current.clone());
-        let motion = if self.history.valid && previous.len() == current.len() { previous } else { current };
-        if motion != self.history.motion_written {
-            if !uploaded.write_motion(&gpu.queue, &motion) {
+        let current = Arc::clone(&scene.instances);
+        let previous = self.history.instances.replace(Arc::clone(&current));
+        let motion = match previous {
+            Some(previous) if self.history.valid && previous.len() == current.len() => previous,
+            _ => current,
+        };
+        let transforms = |instances: &[crate::scene::Instance]| instances.iter().map(|i| i.transform).collect::<Vec<glam::Mat4>>();
+        let written = self.history.motion_written.as_ref().is_some_and(|w| Arc::ptr_eq(w, &motion) || transforms(w) == transforms(&motion));
+        if !written {
+            if !uploaded.write_motion(&gpu.queue, &transforms(&motion)) {
                 return Err(RuntimeError::Gpu("the previous-transform buffer does not match the scene's instances".into()));
             }
-            self.history.motion_written = motion;
         }
+        // Kept even when equal by value: the next frame compares pointers.
+        self.history.motion_written = Some(motion);
         Ok(())
     }
 

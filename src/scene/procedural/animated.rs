@@ -118,7 +118,7 @@ pub fn atrium_moving(seed: u64) -> Scene {
     let ball = scene.meshes.len();
     scene.meshes.push(builtin::sphere("ball", 16, 32).into());
     let material = scene.materials.len();
-    scene.materials.push(Material { metallic: 0.3, roughness: 0.35, ..Material::diffuse("ball", [0.85, 0.3, 0.2, 1.0], None) });
+    scene.materials_mut().push(Material { metallic: 0.3, roughness: 0.35, ..Material::diffuse("ball", [0.85, 0.3, 0.2, 1.0], None) });
     let b = scene.bounds();
     let (center, half) = (b.center(), 0.5 * (b.max - b.min));
     let mut channels = Vec::new();
@@ -135,7 +135,7 @@ pub fn atrium_moving(seed: u64) -> Scene {
             rest: Trs { translation: center, rotation: Quat::IDENTITY, scale: Vec3::splat(size) },
             ..rest_node(&format!("ball {k}"), None, center)
         });
-        scene.instances.push(Instance { mesh: ball, material, transform: Mat4::IDENTITY });
+        scene.instances_mut().push(Instance { mesh: ball, material, transform: Mat4::IDENTITY });
         let keys: Vec<f32> = (0..=16).map(|i| LOOP_SECONDS * i as f32 / 16.0).collect();
         let positions: Vec<f32> = keys
             .iter()

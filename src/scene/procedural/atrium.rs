@@ -948,8 +948,8 @@ pub(super) fn build(seed: u64) -> Scene {
     Scene {
         name: "atrium".into(),
         meshes: a.meshes.into_iter().map(Into::into).collect(),
-        materials: a.materials,
-        instances: a.instances,
+        materials: a.materials.into(),
+        instances: a.instances.into(),
         textures: a.textures,
         camera: view,
         presets: vec![

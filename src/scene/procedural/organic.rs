@@ -189,8 +189,8 @@ pub(super) fn build() -> Scene {
     Scene {
         name: "organic".into(),
         meshes: vec![mesh.into()],
-        materials: vec![m],
-        instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }],
+        materials: vec![m].into(),
+        instances: vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }].into(),
         textures,
         camera: view,
         presets: vec![
