@@ -235,6 +235,29 @@ enum BenchCommand {
         #[arg(long, default_value = "bench-results/rays")]
         out: PathBuf,
     },
+    /// Speed, build time and GPU memory against unique triangles (10^4 to 3x10^7): each step a
+    /// scene copied NxNxN without de-duplication, on every back-end (BENCHMARKS.md, "Scale").
+    Scale {
+        /// Seconds on a CPU: two small steps at a small size (CI).
+        #[arg(long)]
+        quick: bool,
+        /// Comma-separated steps `scene:N` (the scene copied NxNxN)
+        /// [default: organic:2,organic:3,atrium:1,atrium:2,atrium:3,atrium:4,atrium:5].
+        #[arg(long, value_delimiter = ',')]
+        steps: Option<Vec<String>>,
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        #[arg(long)]
+        frames: Option<u32>,
+        #[arg(long)]
+        backend: Option<Backend>,
+        #[command(flatten)]
+        deadline: Deadline,
+        #[arg(long, default_value = "bench-results/scale")]
+        out: PathBuf,
+    },
     /// The paper's Figure 9: BLAS and TLAS build times against triangles, each scene copied
     /// N×N×N (one BLAS per copy), per builder, with SAH cost and the trace time of the result.
     Build {
@@ -715,6 +738,28 @@ fn run(cli: Cli) -> Result<()> {
             let rows = with_progress(|progress| raygraph::bench::rays::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows))))?;
             write_results(&out, &files(&rows))?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;
+        }
+        Command::Bench { command: BenchCommand::Scale { quick, steps, width, height, frames, backend, deadline, out } } => {
+            use raygraph::bench::scale::{self as scale_bench, ScaleConfig};
+            let gpu = deadline.open_gpu(backend)?;
+            println!("adapter: {}", gpu.describe());
+            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            let root = PathBuf::from(".");
+            let mut rays = if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) };
+            rays.size = (width.unwrap_or(rays.size.0), height.unwrap_or(rays.size.1));
+            rays.frames = frames.unwrap_or(rays.frames);
+            let mut cfg = ScaleConfig::full(rays);
+            if quick {
+                cfg.steps = vec![("box".into(), 1), ("organic".into(), 2)];
+            }
+            if let Some(list) = steps {
+                cfg.steps = ScaleConfig::parse_steps(&list).map_err(anyhow::Error::msg)?;
+            }
+            let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.rays.size);
+            let files =
+                |rows: &[_], skipped: &[String]| [("scale.md", scale_bench::markdown(&info, rows, skipped)), ("scale.csv", scale_bench::csv(&info, rows))];
+            let (rows, skipped) = with_progress(|progress| scale_bench::run(&gpu, &cfg, progress, |rows| write_partial(&out, &files(rows, &[]))))?;
+            write_results(&out, &files(&rows, &skipped))?;
         }
         Command::Bench { command: BenchCommand::Build { quick, scenes, max_factor, max_triangles, backend, deadline, out } } => {
             use raygraph::bench::build::{self as build_bench, BuildBenchConfig};

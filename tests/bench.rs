@@ -151,6 +151,31 @@ fn bench_build_quick_writes_a_complete_table() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+#[test]
+fn bench_scale_quick_measures_every_step_on_every_back_end() {
+    let out = common::gltf_doc::temp_dir("bench-scale");
+    let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", "scale", "--quick", "--out"]).arg(&out).output().unwrap();
+    assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(std::fs::read_to_string(out.join("scale.md")).unwrap().contains("revision:"));
+    let csv = std::fs::read_to_string(out.join("scale.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    let rows = csv_rows(
+        &csv,
+        "step,triangles,backend,workload_grays,stress_grays,build_cpu_ms,build_gpu_ms,gpu_builder_ms,bytes_per_triangle,frame_wall_ms,frame_gpu_ms",
+    );
+    // box x1 and organic x2 (8 copies of 3,920 unique triangles), every back-end.
+    assert_eq!(rows.len(), 2 * LAVAPIPE_BACKENDS, "{csv}");
+    for r in &rows {
+        let triangles: usize = r[1].parse().unwrap();
+        assert_eq!(triangles, if r[0] == "box x1" { 12 } else { 8 * 3920 }, "{r:?}");
+        let positive = |k: usize| r[k].parse::<f64>().is_ok_and(|x| x > 0.0 && x.is_finite());
+        assert!(positive(3) && positive(4), "rays counted and timed on the GPU: {r:?}");
+        assert!(positive(5) && positive(9) && positive(10), "build and frame times: {r:?}");
+        assert!(positive(8), "the scene and its acceleration structure take GPU memory: {r:?}");
+        assert_eq!(r[7].is_empty(), r[2] != "compute", "the GPU builder is timed for compute's merged layout only: {r:?}");
+    }
+}
+
 /// Runs `raygraph bench NAME --quick` and returns the CSV's header and rows.
 fn quick_csv(name: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let (header, rows, _) = quick_csv_with(name, &[]);

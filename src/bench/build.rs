@@ -10,6 +10,7 @@ use crate::backend::Backend;
 use crate::error::RuntimeError;
 use crate::runtime::batch::{BatchTracer, GpuRay};
 use crate::runtime::profiler::median;
+use crate::runtime::warm_up::WarmUp;
 use crate::runtime::Gpu;
 use crate::scene::duplicate::duplicate;
 use crate::scene::{LoadOptions, Scene};
@@ -121,7 +122,8 @@ pub fn run(
                         }
                         Err(e) => return Err(e),
                     };
-                tracer.time_closest(gpu, &rays)?; // warm-up: pipeline and caches
+                // Warm-up until the trace time settles: pipeline, caches and clocks.
+                WarmUp::for_gpu(gpu, 1).until_settled(|| tracer.time_closest(gpu, &rays).map(|(_, ms)| ms.unwrap_or(0.0)))?;
                 let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
                 let b = &tracer.build;
                 let cpu_builder = backend == Backend::Compute;
@@ -272,6 +274,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
         let mut exec = crate::runtime::Executor::new(gpu, plan, &scene)?;
         let first = exec.render(gpu, &primary_camera(&scene), &scene)?;
         let rebuild_ms = first.accel.as_ref().map(|r| r.blas_ms).unwrap_or(0.0);
+        WarmUp::for_gpu(gpu, 1).run(gpu, &mut exec, &scene, &primary_camera(&scene))?;
         let radius = 0.5 * scene.bounds().diagonal();
         let base: Vec<_> = scene.instances.iter().map(|i| i.transform).collect();
         let (mut gpu_ms, mut cpu_ms) = (Vec::new(), Vec::new());
@@ -416,6 +419,11 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         }
         let cpu = merge(&merged, &origin, cpu_blas.unwrap_or_default());
         let (mut times, mut phases, mut walls, mut last) = (Vec::new(), vec![Vec::new(); 4], Vec::new(), None);
+        // Warm-up until the build's kernel time settles (clocks, caches).
+        WarmUp::for_gpu(gpu, 1).until_settled(|| {
+            let b = builder.build(&gpu.device, &gpu.queue, &merged_triangles(&merged, &origin)).map_err(fail)?;
+            Ok::<f64, RuntimeError>(b.gpu_ms.unwrap_or(0.0))
+        })?;
         for _ in 0..builds.max(1) {
             let t = std::time::Instant::now();
             let b = builder.build(&gpu.device, &gpu.queue, &merged_triangles(&merged, &origin)).map_err(fail)?;
@@ -452,33 +460,40 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
 
 /// Wall milliseconds of `builds` rebuilds of `scene`'s merged layout by an [`AccelCache`] on
 /// the GPU builder (median; [`GpuBuildRow::cache_rebuild_ms`]), after one update that makes
-/// the pipelines; `None` if the cache builds it on the CPU.
+/// the pipelines and a warm-up of rebuilds until their time settles; `None` if the cache
+/// builds it on the CPU.
 ///
 /// [`AccelCache`]: crate::accel::cache::AccelCache
 fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64, [f64; 3])>, RuntimeError> {
-    use crate::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
+    use crate::accel::cache::{AccelCache, AccelSettings, BuildReport, MergedBuilder};
     let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::Gpu);
     let mut scene = scene.clone();
-    let (mut walls, mut parts) = (Vec::new(), [Vec::new(), Vec::new(), Vec::new()]);
-    for k in 0..=builds {
-        // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
+    let mut k = 0u32;
+    // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
+    let mut rebuild = || -> Result<(f64, BuildReport), RuntimeError> {
         if let Some(v) = scene.meshes.iter_mut().find_map(|m| std::sync::Arc::make_mut(m).vertices.first_mut()) {
             v.position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
         }
+        k += 1;
         let t = std::time::Instant::now();
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bench cache rebuild") });
         let report = cache.update(&gpu.device, &gpu.queue, &mut encoder, &scene)?;
         gpu.queue.submit([encoder.finish()]);
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RuntimeError::Gpu(format!("bench build: cache rebuild: {e}")))?;
-        if !report.blas_gpu_built {
-            return Ok(None);
-        }
-        if k > 0 {
-            walls.push(t.elapsed().as_secs_f64() * 1e3);
-            for (all, ms) in parts.iter_mut().zip([report.hash_ms, report.cpu_ms, report.blas_ms]) {
-                all.push(ms);
-            }
+        Ok((t.elapsed().as_secs_f64() * 1e3, report))
+    };
+    // The first update makes the pipelines (and may build on the CPU: then nothing to time).
+    if !rebuild()?.1.blas_gpu_built {
+        return Ok(None);
+    }
+    WarmUp::for_gpu(gpu, 1).until_settled(|| rebuild().map(|(ms, _)| ms))?;
+    let (mut walls, mut parts) = (Vec::new(), [Vec::new(), Vec::new(), Vec::new()]);
+    for _ in 0..builds {
+        let (ms, report) = rebuild()?;
+        walls.push(ms);
+        for (all, ms) in parts.iter_mut().zip([report.hash_ms, report.cpu_ms, report.blas_ms]) {
+            all.push(ms);
         }
     }
     Ok(Some((median(&mut walls), parts.map(|mut p| median(&mut p)))))

@@ -1,6 +1,6 @@
 //! The experiments: `raygraph bench rays` (the paper's Table 3), `bench build` (Figure 9),
 //! `bench track` (Figures 10 and 11), `bench anim` (animated scenes: acceleration-structure updates and GigaRays/s under the cache's policies), `bench depth` (reflection bounces), `bench error` (AO
-//! error against rays and time), `bench modes` (the three modes against each other) and `bench roofline` (bytes per ray, CPU-counted). Each bench writes a results folder with CSV and markdown whose
+//! error against rays and time), `bench modes` (the three modes against each other) `bench roofline` (bytes per ray, CPU-counted) and `bench scale` (speed, build time and memory against unique triangles, 10^4 to 3x10^7). Each bench writes a results folder with CSV and markdown whose
 //! header names the adapter, driver, back-end, resolution and git revision.
 
 pub mod anim;
@@ -13,6 +13,7 @@ pub mod modes;
 pub mod plot;
 pub mod rays;
 pub mod roofline;
+pub mod scale;
 pub mod track;
 
 use std::path::{Path, PathBuf};

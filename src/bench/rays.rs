@@ -183,6 +183,26 @@ fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured,
     }
 }
 
+/// The Stress camera of `scene` ([`stress_view`]), for other benches.
+pub(crate) fn stress_camera(gpu: &Gpu, primary: &Path, project: &Project, scene: &Scene) -> Result<Camera, crate::error::RuntimeError> {
+    stress_view(gpu, primary, project, scene).map(|v| v.camera)
+}
+
+/// GigaRays/s of `graph` on `scene` from `camera` (median rays over median GPU time), for other
+/// benches.
+pub(crate) fn measure_rays(
+    gpu: &Gpu,
+    graph: &Path,
+    project: &Project,
+    options: &CompileOptions,
+    scene: &Scene,
+    camera: &Camera,
+    cfg: &RaysConfig,
+) -> Result<f64, crate::error::RuntimeError> {
+    let m = measure(gpu, graph, project, options, scene, camera, cfg)?;
+    Ok(m.rays as f64 / (m.gpu_ms * 1e-3) / 1e9)
+}
+
 /// The camera preset a scene names its Stress view with.
 pub const STRESS_PRESET: &str = "stress";
 /// The camera preset a scene names its Miss (inside) view with.

@@ -61,13 +61,19 @@ impl WarmUp {
     /// Renders untimed frames of `exec` with `camera` until [`Self::settled`]; returns how many.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn run(&self, gpu: &Gpu, exec: &mut Executor, scene: &Scene, camera: &Camera) -> Result<u32, RuntimeError> {
+        self.until_settled(|| exec.render(gpu, camera, scene).map(|frame| gpu_ms(&frame)))
+    }
+
+    /// Runs untimed repetitions of any measured work (`measure` returns its milliseconds: a
+    /// build's kernels, a rebuild's wall time) until [`Self::settled`]; returns how many.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn until_settled<E>(&self, mut measure: impl FnMut() -> Result<f64, E>) -> Result<u32, E> {
         let start = Instant::now();
-        let mut frame_ms = Vec::new();
+        let mut times = Vec::new();
         loop {
-            let frame = exec.render(gpu, camera, scene)?;
-            frame_ms.push(gpu_ms(&frame));
-            if self.settled(&frame_ms, start.elapsed().as_secs_f64()) {
-                return Ok(frame_ms.len() as u32);
+            times.push(measure()?);
+            if self.settled(&times, start.elapsed().as_secs_f64()) {
+                return Ok(times.len() as u32);
             }
         }
     }
