@@ -1,0 +1,43 @@
+#!/bin/bash
+# The GPU-machine runs for the wall-time-and-scale issue, in two parts (each within one device
+# call). Binaries: .gpu/raygraph-prev (965f747: meshes behind Arcs, instances and materials
+# still hashed every frame, one draw call per instance) and .gpu/raygraph (the scene followed
+# by pointer, raster draws as indirect commands, `bench scale`). Every binary runs from an
+# empty folder but for the repository's graph/layers/shaders where a bench needs them.
+#   part 1: a static scene's frame, before and after: `render --frames 60` at 2560x1440,
+#           compute back-end, full RT and raster, the atrium copied 1 to 4 times per axis
+#           without de-duplication (and 5, after only); then `bench build` and `bench rays`
+#           each run twice (the 3% agreement rule of BENCHMARKS.md).
+#   part 2: `bench scale` (compute and rt-pipeline).
+# Results go to $OUT.
+set -u
+PART=${1:-1}
+for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
+for b in raygraph raygraph-prev; do [ -f .gpu/$b.gz ] && gunzip -f .gpu/$b.gz && chmod +x .gpu/$b; done
+PREV=$PWD/.gpu/raygraph-prev; NEW=$PWD/.gpu/raygraph; ROOT=$PWD
+OUT=${OUT:-/tmp/out}; mkdir -p $OUT
+nvidia-smi --query-gpu=name,driver_version,clocks.sm --format=csv,noheader
+$NEW bench rays --scenes box --backend compute --frames 5 --out /tmp/warm 2>&1 | grep -iE "adapter" | head -1
+if [ "$PART" = 1 ]; then
+  for scene in "atrium" "atrium --duplicate 2 --no-dedup" "atrium --duplicate 3 --no-dedup" "atrium --duplicate 4 --no-dedup" "atrium --duplicate 5 --no-dedup"; do
+    for mode in full-rt raster; do
+      for b in prev new; do
+        R=$PREV; [ $b = new ] && R=$NEW
+        case "$scene" in *"duplicate 5"*) [ $b = prev ] && continue;; esac
+        mkdir -p /tmp/empty_$b && cd /tmp/empty_$b
+        echo "== $scene, $mode, $b binary"
+        $R render --scene $scene --mode $mode --backend compute --width 2560 --height 1440 --frames 60 --out /tmp/o.png 2>&1 | grep -E "^total|frame wall|outside the passes|overflow|error"
+        cd - >/dev/null
+      done
+    done
+  done 2>&1 | tee $OUT/static_scene.txt
+  for k in 1 2; do
+    $NEW bench build --scenes organic,atrium --max-factor 1 --backend compute --out $OUT/build_$k > $OUT/build_$k.log 2>&1
+    $NEW bench rays --scenes atrium,.gpu/helmet_oldview.glb --out $OUT/rays_$k > $OUT/rays_$k.log 2>&1
+  done
+  for k in 1 2; do echo "== build run $k"; cat $OUT/build_$k/gpu_build.md | grep -E "^\| (organic|atrium)"; echo "== rays run $k"; grep -E "^\| " $OUT/rays_$k/rays.md | cut -c1-160; done
+  cd $OUT && tar czf results.tgz build_1 build_2 rays_1 rays_2 && rm -rf build_1 build_2 rays_1 rays_2 /tmp/warm
+else
+  $NEW bench scale --frames 10 --out $OUT/scale > $OUT/scale.log 2>&1; echo "exit $?"
+  tail -30 $OUT/scale.log
+fi
