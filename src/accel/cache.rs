@@ -398,7 +398,7 @@ impl AccelCache {
             )));
         }
         if bytes.len() as u64 > self.alpha.size() {
-            self.alpha = storage(device, "accel alpha", (bytes.len() as u64).next_power_of_two());
+            self.alpha = storage(device, "accel alpha", grown_capacity(bytes.len() as u64, max));
             self.generation += 1;
         }
         queue.write_buffer(&self.alpha, 0, bytes);
@@ -949,7 +949,7 @@ impl AccelCache {
     fn write_array(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, buf: &mut wgpu::Buffer, data: &[u8]) -> u64 {
         if (data.len() as u64) > buf.size() {
             let label = format!("accel buffer of {} bytes", data.len());
-            *buf = storage(device, &label, (data.len() as u64).next_power_of_two());
+            *buf = storage(device, &label, grown_capacity(data.len() as u64, device.limits().max_storage_buffer_binding_size));
             self.generation += 1;
         }
         queue.write_buffer(buf, 0, data);
@@ -1208,6 +1208,15 @@ fn new_accel_buffers(device: &wgpu::Device) -> [wgpu::Buffer; 4] {
     [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32))
 }
 
+/// The size of a storage buffer grown to hold `len` bytes: the next power of two (room for the
+/// next growth), but never past what one binding may cover (`max_binding`, rounded down to
+/// whole 16-byte records): a buffer of 1.6 GB grown to 2 GiB could not be bound whole on a
+/// device whose limit is 2 GiB - 1 (a 32.8M-triangle scene's triangle array on the H200).
+/// `len` itself is checked against the limit before ([`check_fits`]).
+fn grown_capacity(len: u64, max_binding: u64) -> u64 {
+    len.next_power_of_two().min(max_binding / 16 * 16).max(len)
+}
+
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -1253,5 +1262,19 @@ pub fn cache_buffers(cache: &AccelCache, window: u32) -> impl Fn(&str) -> Option
     move |name| match cache.binding(name, window)? {
         wgpu::BindingResource::Buffer(b) => Some((b.buffer.clone(), b.offset, b.size)),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grown_buffers_stay_bindable() {
+        assert_eq!(grown_capacity(1000, 1 << 30), 1024, "room for the next growth");
+        let limit = (1u64 << 31) - 1;
+        let triangles = 32_812_000 * 48;
+        assert_eq!(grown_capacity(triangles, limit), limit / 16 * 16, "not past one binding");
+        assert_eq!(grown_capacity(limit - 15, limit), limit - 15, "never below the data");
     }
 }

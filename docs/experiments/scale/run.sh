@@ -9,6 +9,9 @@
 #           without de-duplication (and 5, after only); then `bench build` and `bench rays`
 #           each run twice (the 3% agreement rule of BENCHMARKS.md).
 #   part 2: `bench scale` (compute and rt-pipeline).
+#   part 3: after the fixes part 1 called for (no indirect-draw validation; buffers grown no
+#           further than one binding): the raster rows of 7.1M-32.8M triangles and the
+#           32.8M full-RT row again (new binary), and `bench build` twice.
 # Results go to $OUT.
 set -u
 PART=${1:-1}
@@ -37,7 +40,22 @@ if [ "$PART" = 1 ]; then
   done
   for k in 1 2; do echo "== build run $k"; cat $OUT/build_$k/gpu_build.md | grep -E "^\| (organic|atrium)"; echo "== rays run $k"; grep -E "^\| " $OUT/rays_$k/rays.md | cut -c1-160; done
   cd $OUT && tar czf results.tgz build_1 build_2 rays_1 rays_2 && rm -rf build_1 build_2 rays_1 rays_2 /tmp/warm
-else
+elif [ "$PART" = 2 ]; then
   $NEW bench scale --frames 10 --out $OUT/scale > $OUT/scale.log 2>&1; echo "exit $?"
   tail -30 $OUT/scale.log
+else
+  for scene in "atrium --duplicate 3 --no-dedup" "atrium --duplicate 4 --no-dedup" "atrium --duplicate 5 --no-dedup"; do
+    for mode in raster full-rt; do
+      case "$scene" in *"duplicate 5"*) ;; *) [ $mode = full-rt ] && continue;; esac
+      mkdir -p /tmp/empty_new && cd /tmp/empty_new
+      echo "== $scene, $mode, new binary"
+      $NEW render --scene $scene --mode $mode --backend compute --width 2560 --height 1440 --frames 60 --out /tmp/o.png 2>&1 | grep -vE "^(shadow|forward|gbuffer|tonemap|shade|resolve|trace|rt_|accel|culled|transient|wrote|graph|pass)"
+      cd - >/dev/null
+    done
+  done 2>&1 | tee $OUT/static_scene_3.txt
+  for k in 1 2; do
+    $NEW bench build --scenes organic,atrium --max-factor 1 --backend compute --out $OUT/build_$k > $OUT/build_$k.log 2>&1
+    echo "== build run $k"; grep -E "^\| (organic|atrium)" $OUT/build_$k/gpu_build.md
+  done
+  cd $OUT && tar czf results.tgz build_1 build_2 && rm -rf build_1 build_2
 fi
