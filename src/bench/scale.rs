@@ -1,7 +1,9 @@
 //! `raygraph bench scale`: speed, build time and memory against the number of unique
 //! triangles. Each step is a scene copied N×N×N without de-duplication (every copy with meshes
-//! of its own: one BLAS per instance, nothing shared), from about 10^4 to 3x10^7 triangles. Per
-//! step and back-end:
+//! of its own, nothing shared: the acceleration structure is the one the workload graph's
+//! `Accel` node asks for, all instances merged into one BVH), from about 10^4 to 3x10^7
+//! triangles. Every step is seen from the original scene's views, inside the first copy, so
+//! the rows differ by the scene's size alone. Per step and back-end:
 //! - GigaRays/s of the scene workload (`graph/bench_rays.ron` from the scene's camera, as
 //!   `bench rays` defines it) and of Stress (`graph/bench_primary.ron` from the scene's
 //!   `stress` preset or its camera narrowed until it shows no sky);
@@ -153,7 +155,8 @@ pub fn run(
     let total = cfg.steps.len() * rc.backends.len();
     for (k, (name, n)) in cfg.steps.iter().enumerate() {
         let (base, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
-        let scene = crate::scene::duplicate::duplicate(&base, *n, false);
+        // The copies' own camera frames the whole grid; the original's stays inside copy 0.
+        let scene = Scene { camera: base.camera, ..crate::scene::duplicate::duplicate(&base, *n, false) };
         let step = format!("{name} x{n}");
         let stress = rays::stress_camera(gpu, &primary, &project, &scene)?;
         for (b, &backend) in rc.backends.iter().enumerate() {
