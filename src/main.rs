@@ -226,6 +226,10 @@ enum BenchCommand {
         /// Primary rays per pixel of the Miss and Stress tests.
         #[arg(long)]
         primary_rays: Option<i64>,
+        /// Comma-separated fractions of the frame: each scene also measured with its camera moved
+        /// along its view axis until it covers that fraction (rows "SCENE at 2%").
+        #[arg(long, value_delimiter = ',')]
+        coverage: Vec<f64>,
         /// Only this back-end (default: every back-end the adapter has).
         #[arg(long)]
         backend: Option<Backend>,
@@ -502,6 +506,28 @@ fn exit_after_gpu_timeout(e: &raygraph::error::RuntimeError) {
     std::process::exit(1);
 }
 
+/// Copies of the scene on a grid.
+#[derive(clap::Args)]
+struct DuplicateArgs {
+    /// Copy the scene N×N×N times on a grid.
+    #[arg(long, default_value_t = 1)]
+    duplicate: u32,
+    /// With --duplicate: give every copy its own meshes (unique triangles, nothing instanced).
+    #[arg(long)]
+    no_dedup: bool,
+}
+
+impl DuplicateArgs {
+    /// `s` copied as asked (itself for one copy).
+    fn apply(&self, s: scene::Scene) -> scene::Scene {
+        if self.duplicate > 1 {
+            raygraph::scene::duplicate::duplicate(&s, self.duplicate, !self.no_dedup)
+        } else {
+            s
+        }
+    }
+}
+
 /// Which scene of a glTF file is drawn.
 #[derive(clap::Args)]
 struct GltfSceneArg {
@@ -572,12 +598,8 @@ enum SceneCommand {
     Info {
         /// A built-in scene name or a .gltf/.glb file.
         scene: String,
-        /// Copy the scene N×N×N times on a grid.
-        #[arg(long, default_value_t = 1)]
-        duplicate: u32,
-        /// With --duplicate: give every copy its own meshes (one BLAS per copy).
-        #[arg(long)]
-        no_dedup: bool,
+        #[command(flatten)]
+        copies: DuplicateArgs,
         #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
         seed: u64,
         #[command(flatten)]
@@ -587,6 +609,8 @@ enum SceneCommand {
     Export {
         scene: String,
         out: PathBuf,
+        #[command(flatten)]
+        copies: DuplicateArgs,
         #[arg(long, default_value_t = raygraph::scene::procedural::ATRIUM_DEFAULT_SEED)]
         seed: u64,
         #[command(flatten)]
@@ -675,15 +699,14 @@ fn run(cli: Cli) -> Result<()> {
                 None => print!("{dot}"),
             }
         }
-        Command::Scene { command: SceneCommand::Info { scene, duplicate, no_dedup, seed, gltf } } => {
-            let (mut s, report) = scene::open(&scene, &LoadOptions { textures: true, seed, gltf_scene: gltf.gltf_scene })?;
-            if duplicate > 1 {
-                s = raygraph::scene::duplicate::duplicate(&s, duplicate, !no_dedup);
-            }
+        Command::Scene { command: SceneCommand::Info { scene, copies, seed, gltf } } => {
+            let (s, report) = scene::open(&scene, &LoadOptions { textures: true, seed, gltf_scene: gltf.gltf_scene })?;
+            let s = copies.apply(s);
             print!("{}", raygraph::scene::info::describe(&s, Some(&report)));
         }
-        Command::Scene { command: SceneCommand::Export { scene, out, seed, gltf } } => {
+        Command::Scene { command: SceneCommand::Export { scene, out, copies, seed, gltf } } => {
             let (s, _) = scene::open(&scene, &LoadOptions { textures: true, seed, gltf_scene: gltf.gltf_scene })?;
+            let s = copies.apply(s);
             raygraph::scene::export::write_glb(&s, &out)?;
             println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes.len(), s.textures.len());
         }
@@ -707,7 +730,9 @@ fn run(cli: Cli) -> Result<()> {
             cfg.backend = backend;
             run_soak(&gpu, &cfg, log.as_deref())?;
         }
-        Command::Bench { command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, ao_length, primary_rays, backend, deadline, out } } => {
+        Command::Bench {
+            command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, ao_length, primary_rays, coverage, backend, deadline, out },
+        } => {
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = match backend {
@@ -724,6 +749,10 @@ fn run(cli: Cli) -> Result<()> {
             cfg.ao_rays = ao_rays.unwrap_or(cfg.ao_rays);
             cfg.ao_length = ao_length.unwrap_or(cfg.ao_length);
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
+            if let Some(bad) = coverage.iter().find(|c| !(**c > 0.0 && **c <= 1.0)) {
+                anyhow::bail!("--coverage {bad}: give fractions of the frame in (0, 1]");
+            }
+            cfg.coverages = coverage;
             let command = std::env::args().collect::<Vec<_>>().join(" ");
             let info = raygraph::bench::RunInfo::new(&command, &gpu, cfg.size);
             // The markdown first: a run interrupted between the two writes leaves the CSV (what

@@ -43,6 +43,9 @@ pub struct RaysConfig {
     pub(crate) backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
+    /// Fractions of the frame each scene is also measured at: its camera moved along its view
+    /// axis until its surfaces cover that fraction of the pixels ([`coverage_view`]).
+    pub coverages: Vec<f64>,
 }
 
 impl RaysConfig {
@@ -58,6 +61,7 @@ impl RaysConfig {
             primary_rays: 64,
             backends,
             root: root.to_path_buf(),
+            coverages: Vec::new(),
         }
     }
 
@@ -73,6 +77,7 @@ impl RaysConfig {
             primary_rays: 4,
             backends,
             root: root.to_path_buf(),
+            coverages: Vec::new(),
         }
     }
 }
@@ -217,6 +222,41 @@ const PROBE_RAYS: i64 = 16;
 const PROBE_MIN_HITS: f64 = 0.999;
 const STRESS_NARROWINGS: i32 = 6;
 
+/// The probe of [`coverage_view`]: frame size (1 primary ray per pixel), the tolerance on the
+/// covered fraction (relative), and the most moves it makes.
+const COVERAGE_PROBE_SIZE: (u32, u32) = (256, 144);
+const COVERAGE_TOLERANCE: f64 = 0.15;
+const COVERAGE_MOVES: u32 = 8;
+
+/// `scene`'s camera moved along its view axis (towards its target or away from it) until its
+/// surfaces cover `coverage` of the pixels, within 15%: a probe (256x144, 1 primary ray per
+/// pixel, `primary`'s graph) measures the covered fraction, and the distance to the target is
+/// scaled by the square root of the ratio (a surface's pixels go as the inverse square of the
+/// distance) until it is near enough. An error when it does not get there.
+fn coverage_view<'a>(gpu: &Gpu, primary: &Path, project: &Project, scene: &'a Scene, coverage: f64) -> Result<View<'a>, crate::error::RuntimeError> {
+    let mut options = gpu.compile_options();
+    options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(1));
+    let mut exec = Executor::new(gpu, compile_with(primary, project, COVERAGE_PROBE_SIZE, &options)?, scene)?;
+    let base = Camera { orthographic: None, ..scene.camera };
+    let (mut scale, mut covered) = (1.0f64, 0.0);
+    for _ in 0..COVERAGE_MOVES {
+        let camera = base.moved_back(scale as f32);
+        let frame = exec.render(gpu, &camera, scene)?;
+        covered = frame.rays.map_or(0.0, |r| r.hits as f64 / r.traced().max(1) as f64);
+        if (covered - coverage).abs() <= COVERAGE_TOLERANCE * coverage {
+            let described = format!("the scene's camera {scale:.2}x as far from its target: {:.1}% of the pixels covered", covered * 100.0);
+            return Ok(View { scene, camera, described });
+        }
+        scale *= (covered.max(1e-4) / coverage).sqrt().clamp(0.25, 4.0);
+    }
+    Err(crate::error::RuntimeError::NotTheTest(format!(
+        "no view of `{}` covering {:.1}% of the frame: moving its camera along its view axis ended at {:.1}%",
+        scene.name,
+        coverage * 100.0,
+        covered * 100.0
+    )))
+}
+
 /// The camera of the Miss (outside) test: above the scene's box, looking straight up.
 pub fn miss_outside_camera(scene: &Scene) -> Camera {
     let b = scene.bounds();
@@ -327,7 +367,7 @@ pub fn run(
     let workload = cfg.root.join("graph/bench_rays.ron");
     let primary = cfg.root.join("graph/bench_primary.ron");
     let raster = cfg.root.join("graph/raster.ron");
-    let total = cfg.scenes.len() * (cfg.backends.len() + 1) + 3 * cfg.backends.len();
+    let total = cfg.scenes.len() * (cfg.backends.len() * (1 + cfg.coverages.len()) + 1) + 3 * cfg.backends.len();
     let mut done = 0;
     let mut rows = Vec::new();
     let mut step = |rows: &[RaysRow], label: String| {
@@ -348,6 +388,17 @@ pub fn run(
             let m = measure(gpu, &workload, &project, &options, &scene, &scene.camera, cfg)?;
             rows.push(row(name, &view, backend, cfg, m, Some(1000.0 / raster_ms)));
             step(&rows, format!("{name}: {backend}"));
+        }
+        for &coverage in &cfg.coverages {
+            let view = coverage_view(gpu, &primary, &project, &scene, coverage)?;
+            for &backend in &cfg.backends {
+                let mut options = gpu.compile_options_for(backend);
+                options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
+                options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
+                let m = measure(gpu, &workload, &project, &options, &scene, &view.camera, cfg)?;
+                rows.push(row(&format!("{name} at {:.0}%", coverage * 100.0), &view, backend, cfg, m, None));
+                step(&rows, format!("{name} at {:.0}%: {backend}", coverage * 100.0));
+            }
         }
         last_scene = Some(scene);
     }

@@ -45,6 +45,14 @@ impl Default for Camera {
 }
 
 impl Camera {
+    /// The camera `factor` times as far from its target along its view axis (closer below 1),
+    /// its far plane moved back as far, its near plane kept.
+    pub fn moved_back(&self, factor: f32) -> Camera {
+        let offset = self.position - self.target;
+        let position = self.target + offset * factor;
+        Camera { position, far: self.far + offset.length() * (factor - 1.0).max(0.0), ..*self }
+    }
+
     /// Directions of the rays through the centres of every `stride`-th pixel of a `w`×`h`
     /// image in each direction, row by row (all the view direction for an orthographic camera).
     pub fn ray_dirs(&self, size: (u32, u32), stride: u32) -> Vec<Vec3> {

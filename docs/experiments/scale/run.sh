@@ -12,6 +12,10 @@
 #   part 3: after the fixes part 1 called for (no indirect-draw validation; buffers grown no
 #           further than one binding): the raster rows of 7.1M-32.8M triangles and the
 #           32.8M full-RT row again (new binary), and `bench build` twice.
+#   part 4: AO rays shared out over the workgroup (trace/pixel_rays.wgsl): `bench rays` on the
+#           built-in scenes and the real assets with the previous binary and the new one, then
+#           the real assets at 2%, 5% and 10% of the frame and a 1.93M-triangle file (the
+#           helmet copied 5x5x5 without de-duplication, `scene export`), new binary.
 # Results go to $OUT.
 set -u
 PART=${1:-1}
@@ -40,6 +44,19 @@ if [ "$PART" = 1 ]; then
   done
   for k in 1 2; do echo "== build run $k"; cat $OUT/build_$k/gpu_build.md | grep -E "^\| (organic|atrium)"; echo "== rays run $k"; grep -E "^\| " $OUT/rays_$k/rays.md | cut -c1-160; done
   cd $OUT && tar czf results.tgz build_1 build_2 rays_1 rays_2 && rm -rf build_1 build_2 rays_1 rays_2 /tmp/warm
+elif [ "$PART" = 4 ]; then
+  REAL=$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf
+  for b in prev new; do
+    R=$PREV; [ $b = new ] && R=$NEW
+    $R bench rays --frames 10 --out $OUT/rays_builtin_$b > $OUT/rays_builtin_$b.log 2>&1
+    $R bench rays --scenes $REAL --frames 10 --out $OUT/rays_real_$b > $OUT/rays_real_$b.log 2>&1
+  done
+  $NEW scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup
+  $NEW bench rays --scenes $REAL,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1 --frames 10 --out $OUT/rays_coverage > $OUT/rays_coverage.log 2>&1
+  for f in rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new rays_coverage; do
+    echo "== $f"; grep -E "^\| " $OUT/$f/rays.md | cut -d'|' -f2-9
+  done
+  cd $OUT && tar czf results.tgz rays_* && rm -rf rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new rays_coverage
 elif [ "$PART" = 2 ]; then
   $NEW bench scale --frames 10 --out $OUT/scale > $OUT/scale.log 2>&1; echo "exit $?"
   tail -30 $OUT/scale.log
