@@ -14,14 +14,6 @@ fn pixel_random2(pixel: vec2<u32>, seed: u32) -> vec2<f32> {
     return vec2<f32>(f32(h1 >> 8u), f32(h2 >> 8u)) * (1.0 / 16777216.0);
 }
 
-// Two uniform numbers in [0, 1), the `i`-th pair of the stream `key` (any pair computed on its
-// own, unlike `next_random2`'s).
-fn indexed_random2(key: u32, i: u32) -> vec2<f32> {
-    let h1 = pcg_hash(key ^ pcg_hash(i));
-    let h2 = pcg_hash(h1);
-    return vec2<f32>(f32(h1 >> 8u), f32(h2 >> 8u)) * (1.0 / 16777216.0);
-}
-
 // The next two uniform numbers in [0, 1) of the PCG stream `state`, which it advances.
 fn next_random2(state: ptr<function, u32>) -> vec2<f32> {
     *state = pcg_hash(*state);

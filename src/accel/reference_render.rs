@@ -264,13 +264,14 @@ fn r2_sample(i: u32) -> [f32; 2] {
 /// The uniform number pairs of a pixel's AO rays, in the order `ao.wgsl` draws them.
 pub fn ao_numbers(pixel: (u32, u32), settings: &AoSettings) -> Vec<[f32; 2]> {
     let rotation = pixel_random2(pixel, settings.seed);
-    let key = pcg_hash(pixel.0 ^ pcg_hash(pixel.1 ^ pcg_hash(settings.seed.wrapping_add(0x9e37_79b9))));
+    let mut state = pcg_hash(pixel.0 ^ pcg_hash(pixel.1 ^ pcg_hash(settings.seed.wrapping_add(0x9e37_79b9))));
     (0..settings.rays)
         .map(|i| {
             if settings.sampling == 0 {
-                // `indexed_random2`.
-                let h1 = pcg_hash(key ^ pcg_hash(i));
-                [unit(h1), unit(pcg_hash(h1))]
+                state = pcg_hash(state);
+                let a = state;
+                state = pcg_hash(state);
+                [unit(a), unit(state)]
             } else {
                 let r = r2_sample(i);
                 [fract(r[0] + rotation[0]), fract(r[1] + rotation[1])]

@@ -12,10 +12,11 @@
 #   part 3: after the fixes part 1 called for (no indirect-draw validation; buffers grown no
 #           further than one binding): the raster rows of 7.1M-32.8M triangles and the
 #           32.8M full-RT row again (new binary), and `bench build` twice.
-#   part 4: AO rays shared out over the workgroup (trace/pixel_rays.wgsl): `bench rays` on the
-#           built-in scenes and the real assets with the previous binary and the new one, then
-#           the real assets at 2%, 5% and 10% of the frame and a 1.93M-triangle file (the
-#           helmet copied 5x5x5 without de-duplication, `scene export`), new binary.
+#   part 4: `bench rays` on the built-in scenes and the real assets with the previous binary
+#           and the new one (SKIP_COVERAGE=1: only that; it measured the AO rays shared out over
+#           the workgroup, docs/experiments/pixel_rays/), then (ONLY_COVERAGE=1: only this) the
+#           real assets at 2%, 5% and 10% of the frame and a 1.93M-triangle file (the helmet
+#           copied 5x5x5 without de-duplication, `scene export`), new binary.
 # Results go to $OUT.
 set -u
 PART=${1:-1}
@@ -46,15 +47,19 @@ if [ "$PART" = 1 ]; then
   cd $OUT && tar czf results.tgz build_1 build_2 rays_1 rays_2 && rm -rf build_1 build_2 rays_1 rays_2 /tmp/warm
 elif [ "$PART" = 4 ]; then
   REAL=$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf
-  for b in prev new; do
-    R=$PREV; [ $b = new ] && R=$NEW
-    $R bench rays --frames 10 --out $OUT/rays_builtin_$b > $OUT/rays_builtin_$b.log 2>&1
-    $R bench rays --scenes $REAL --frames 10 --out $OUT/rays_real_$b > $OUT/rays_real_$b.log 2>&1
+  # The previous binary runs where there is no shaders/ folder (the working tree's WGSL would
+  # replace its built-in copy): the graph and layer files only.
+  mkdir -p /tmp/prevroot && cp -r graph layers /tmp/prevroot/
+  [ "${ONLY_COVERAGE:-0}" = 1 ] || for b in prev new; do
+    R=$PREV; D=/tmp/prevroot; [ $b = new ] && R=$NEW && D=$ROOT
+    (cd $D && $R bench rays --frames 10 --out $OUT/rays_builtin_$b > $OUT/rays_builtin_$b.log 2>&1)
+    (cd $D && $R bench rays --scenes $REAL --frames 10 --out $OUT/rays_real_$b > $OUT/rays_real_$b.log 2>&1)
   done
+  [ "${SKIP_COVERAGE:-0}" = 1 ] && { for f in rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new; do echo "== $f"; grep -E "^\\| " $OUT/$f/rays.md | cut -d'|' -f2-9; done; exit 0; }
   $NEW scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup
   $NEW bench rays --scenes $REAL,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1 --frames 10 --out $OUT/rays_coverage > $OUT/rays_coverage.log 2>&1
   for f in rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new rays_coverage; do
-    echo "== $f"; grep -E "^\| " $OUT/$f/rays.md | cut -d'|' -f2-9
+    [ -f $OUT/$f/rays.md ] && echo "== $f" && grep -E "^\| " $OUT/$f/rays.md | cut -d'|' -f2-9
   done
   cd $OUT && tar czf results.tgz rays_* && rm -rf rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new rays_coverage
 elif [ "$PART" = 2 ]; then

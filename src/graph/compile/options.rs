@@ -70,18 +70,9 @@ impl CompileOptions {
         if self.backend != Backend::Compute {
             a.insert(TRACE_INCLUDE.into(), self.backend.trace_module().into());
         }
-        // A ray-generation shader has no workgroup to share a pixel's rays with.
-        if self.backend == Backend::RtPipeline {
-            a.insert(PIXEL_RAYS_INCLUDE.into(), PIXEL_RAYS_PER_LANE.into());
-        }
         a
     }
 }
-
-/// The include that shares a pixel's rays out over its workgroup, and what the `rt-pipeline`
-/// back-end substitutes for it (each lane traces its own pixel's rays).
-const PIXEL_RAYS_INCLUDE: &str = "trace/pixel_rays.wgsl";
-const PIXEL_RAYS_PER_LANE: &str = "trace/pixel_rays_per_lane.wgsl";
 
 /// The include every trace pass uses; the back-end substitutes its module for it.
 const TRACE_INCLUDE: &str = "trace/trace.wgsl";
