@@ -152,6 +152,24 @@ fn bench_build_quick_writes_a_complete_table() {
 }
 
 #[test]
+fn bench_rays_coverage_rows_see_the_scene_at_the_fraction_asked() {
+    let out = common::gltf_doc::temp_dir("bench-rays-coverage");
+    let args = ["bench", "rays", "--quick", "--scenes", "organic", "--coverage", "0.1", "--backend", "compute", "--out"];
+    let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(args).arg(&out).output().unwrap();
+    assert!(run.status.success(), "{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    let csv = std::fs::read_to_string(out.join("rays.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    let rows: Vec<Vec<&str>> = csv.lines().filter(|l| !l.starts_with('#')).skip(1).map(|l| l.split(',').collect()).collect();
+    let at: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == "organic at 10%").collect();
+    assert_eq!(at.len(), 1, "one row on the one back-end: {csv}");
+    // "the scene's camera 1.52x as far from its target: 10.4% of the pixels covered"
+    let camera = at[0][2];
+    let covered: f64 = camera.split(": ").nth(1).and_then(|s| s.split('%').next()).and_then(|s| s.parse().ok()).unwrap_or_else(|| panic!("{camera}"));
+    assert!((covered - 10.0).abs() <= 1.5, "within 15% of the fraction asked: {camera}");
+    assert!(at[0][8].parse::<f64>().is_ok_and(|x| x > 0.0), "rays counted: {:?}", at[0]);
+}
+
+#[test]
 fn bench_scale_quick_measures_every_step_on_every_back_end() {
     let out = common::gltf_doc::temp_dir("bench-scale");
     let run = Command::new(env!("CARGO_BIN_EXE_raygraph")).current_dir(common::repo()).args(["bench", "scale", "--quick", "--out"]).arg(&out).output().unwrap();

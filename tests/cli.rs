@@ -95,6 +95,12 @@ fn scene_export_writes_a_glb_that_scene_info_reads_back() {
     let info = run_ok(&["scene", "info", glb.to_str().unwrap()]);
     assert_eq!(field(&info, "triangles"), 3920.0, "{info}");
     assert_eq!(field(&info, "textures"), 2.0, "{info}");
+    // Copies on a grid, each with meshes of its own: 8 x 3,920 unique triangles in 8 meshes.
+    let grid = dir.join("organic_2x2x2.glb");
+    let said = run_ok(&["scene", "export", "organic", grid.to_str().unwrap(), "--duplicate", "2", "--no-dedup"]);
+    assert!(said.contains("31360 triangles, 8 meshes"), "{said}");
+    let info = run_ok(&["scene", "info", grid.to_str().unwrap()]);
+    assert_eq!(field(&info, "triangles"), 31360.0, "{info}");
     // A failed export (no such directory) reports the path and leaves nothing.
     let out = raygraph().args(["scene", "export", "box", "/nonexistent-dir/b.glb"]).output().unwrap();
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("/nonexistent-dir/b.glb"));
