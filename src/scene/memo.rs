@@ -99,6 +99,25 @@ mod tests {
     use std::sync::atomic::{AtomicUsize, Ordering};
 
     #[test]
+    fn a_snapshot_matches_its_scene_and_its_copies_until_one_is_edited() {
+        let scene = crate::scene::builtin::default_scene();
+        let seen = SceneSnapshot::of(&scene);
+        let mut copy = scene.clone();
+        assert!(seen.matches(&scene) && seen.matches(&copy), "a copy shares every allocation");
+        copy.instances_mut()[0].transform = glam::Mat4::from_translation(glam::Vec3::X);
+        assert!(!seen.matches(&copy) && seen.matches(&scene), "the edit copied the list: only the copy changed");
+        let mut copy = scene.clone();
+        copy.materials_mut()[0].roughness = 0.5;
+        assert!(!seen.matches(&copy));
+        let mut copy = scene.clone();
+        copy.mesh_mut(0).vertices[0].position[0] += 1.0;
+        assert!(!seen.matches(&copy));
+        let mut copy = scene.clone();
+        copy.light.intensity *= 2.0;
+        assert!(!seen.matches(&copy));
+    }
+
+    #[test]
     fn only_meshes_edited_since_the_last_call_are_computed_again() {
         let mut meshes: Vec<Arc<Mesh>> = vec![Arc::new(crate::scene::builtin::cube("a")), Arc::new(crate::scene::builtin::cube("b"))];
         let calls = AtomicUsize::new(0);

@@ -143,10 +143,10 @@ pub struct Executor {
     /// The draw classes and order of the last frame, kept while the scene and camera stay.
     draws: draws::DrawInputs,
     samplers: (wgpu::Sampler, wgpu::Sampler),
-    /// Whether the warning about lights without a raster shadow map was printed.
     /// What the scene uses of the features passes compile out ([`features`]); the passes are
     /// built again when it changes.
     features: features::SceneFeatures,
+    /// Whether the warning about lights without a raster shadow map was printed.
     warned_unshadowed: bool,
     /// The Rust passes layer files may name (`PassKind::Rust`).
     rust_passes: RustPasses,
