@@ -25,13 +25,13 @@ pub const H100_L1_BYTES_PER_S: f64 = 132.0 * 128.0 * 1.98e9;
 #[derive(Debug, Clone)]
 pub struct RooflineRow {
     /// The test's name.
-    pub(crate) test: String,
+    pub test: String,
     /// Rays counted.
-    pub(crate) rays: u64,
+    pub rays: u64,
     /// Interior nodes, leaves, triangles and instances visited per ray.
-    pub(crate) per_ray: [f64; 4],
+    pub per_ray: [f64; 4],
     /// Bytes loaded per ray.
-    pub(crate) bytes_per_ray: f64,
+    pub bytes_per_ray: f64,
     /// Load-bound ceiling at the given bandwidth, GigaRays/s.
     pub ceiling: f64,
     /// From a `bench rays` CSV, if given: achieved GigaRays/s.
