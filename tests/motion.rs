@@ -137,8 +137,9 @@ fn a_moving_camera_over_a_static_floor_reprojects_every_pixel_to_its_analytic_pl
             if rays { "primary rays" } else { "raster G-buffer" }
         );
         assert!(floor > W as usize * H as usize / 2);
-        // Rgba16Float motion: 11 significant bits, 0.03 px at 60 px of motion.
-        assert!(worst < 0.25, "reprojection error {worst} px");
+        // Rgba16Float motion: 11 significant bits, 0.03 px at 60 px of motion. Measured 0.0081 px
+        // on both paths (lavapipe, 2026-11-28): the bound is about 3x that.
+        assert!(worst < 0.025, "reprojection error {worst} px");
         assert!(off_screen > 0, "the move must bring pixels in from off screen");
         assert_eq!(disoccluded_wrongly, 0);
     }
