@@ -210,12 +210,8 @@ enum BenchCommand {
         /// Comma-separated scenes (built-in names or glTF files).
         #[arg(long, value_delimiter = ',')]
         scenes: Option<Vec<String>>,
-        #[arg(long)]
-        width: Option<u32>,
-        #[arg(long)]
-        height: Option<u32>,
-        #[arg(long)]
-        frames: Option<u32>,
+        #[command(flatten)]
+        timing: TimingArgs,
         /// AO rays per pixel of the scene workload.
         #[arg(long)]
         ao_rays: Option<i64>,
@@ -249,12 +245,8 @@ enum BenchCommand {
         /// [default: organic:2,organic:3,atrium:1,atrium:2,atrium:3,atrium:4,atrium:5].
         #[arg(long, value_delimiter = ',')]
         steps: Option<Vec<String>>,
-        #[arg(long)]
-        width: Option<u32>,
-        #[arg(long)]
-        height: Option<u32>,
-        #[arg(long)]
-        frames: Option<u32>,
+        #[command(flatten)]
+        timing: TimingArgs,
         #[arg(long)]
         backend: Option<Backend>,
         #[command(flatten)]
@@ -506,6 +498,26 @@ fn exit_after_gpu_timeout(e: &raygraph::error::RuntimeError) {
     std::process::exit(1);
 }
 
+/// Frame size and timed frames of the ray benches (`bench rays`, `bench scale`).
+#[derive(clap::Args)]
+struct TimingArgs {
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    #[arg(long)]
+    frames: Option<u32>,
+}
+
+impl TimingArgs {
+    /// `cfg` with the size and frame count given.
+    fn apply(&self, mut cfg: RaysConfig) -> RaysConfig {
+        cfg.size = (self.width.unwrap_or(cfg.size.0), self.height.unwrap_or(cfg.size.1));
+        cfg.frames = self.frames.unwrap_or(cfg.frames);
+        cfg
+    }
+}
+
 /// Copies of the scene on a grid.
 #[derive(clap::Args)]
 struct DuplicateArgs {
@@ -730,9 +742,7 @@ fn run(cli: Cli) -> Result<()> {
             cfg.backend = backend;
             run_soak(&gpu, &cfg, log.as_deref())?;
         }
-        Command::Bench {
-            command: BenchCommand::Rays { quick, scenes, width, height, frames, ao_rays, ao_length, primary_rays, coverage, backend, deadline, out },
-        } => {
+        Command::Bench { command: BenchCommand::Rays { quick, scenes, timing, ao_rays, ao_length, primary_rays, coverage, backend, deadline, out } } => {
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = match backend {
@@ -740,12 +750,10 @@ fn run(cli: Cli) -> Result<()> {
                 None => gpu.backends.clone(),
             };
             let root = PathBuf::from(".");
-            let mut cfg = if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) };
+            let mut cfg = timing.apply(if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) });
             if let Some(s) = scenes {
                 cfg.scenes = s;
             }
-            cfg.size = (width.unwrap_or(cfg.size.0), height.unwrap_or(cfg.size.1));
-            cfg.frames = frames.unwrap_or(cfg.frames);
             cfg.ao_rays = ao_rays.unwrap_or(cfg.ao_rays);
             cfg.ao_length = ao_length.unwrap_or(cfg.ao_length);
             cfg.primary_rays = primary_rays.unwrap_or(cfg.primary_rays);
@@ -768,15 +776,13 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(raygraph::bench::rays::plots(&out, &rows))?;
         }
-        Command::Bench { command: BenchCommand::Scale { quick, steps, width, height, frames, backend, deadline, out } } => {
+        Command::Bench { command: BenchCommand::Scale { quick, steps, timing, backend, deadline, out } } => {
             use raygraph::bench::scale::{self as scale_bench, ScaleConfig};
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
             let root = PathBuf::from(".");
-            let mut rays = if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) };
-            rays.size = (width.unwrap_or(rays.size.0), height.unwrap_or(rays.size.1));
-            rays.frames = frames.unwrap_or(rays.frames);
+            let rays = timing.apply(if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) });
             let mut cfg = ScaleConfig::full(rays);
             if quick {
                 cfg.steps = vec![("box".into(), 1), ("organic".into(), 2)];

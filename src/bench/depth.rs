@@ -83,7 +83,7 @@ pub fn run(
                 bounces,
                 reflection_ms: ms,
                 rays_per_pixel: rays / pixels,
-                grays_per_s: rays / (ms * 1e-3) / 1e9,
+                grays_per_s: super::grays_per_s(rays, ms),
                 frame_ms: median(&mut frame_ms),
             });
             on_rows(&rows);

@@ -57,6 +57,11 @@ impl RunInfo {
     }
 }
 
+/// GigaRays per second of `rays` traced in `gpu_ms` milliseconds.
+pub(crate) fn grays_per_s(rays: f64, gpu_ms: f64) -> f64 {
+    rays / (gpu_ms * 1e-3) / 1e9
+}
+
 /// `dir`, created if needed.
 pub fn results_dir(dir: &Path) -> std::io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;

@@ -181,11 +181,20 @@ fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured,
         wall_ms,
         rays_per_frame: rays,
         rays_per_pixel: rays as f64 / pixels,
-        grays_per_s: rays as f64 / (ms * 1e-3) / 1e9,
+        grays_per_s: super::grays_per_s(rays as f64, ms),
         hit_fraction: if rays > 0 { hits as f64 / rays as f64 } else { 0.0 },
         rfps,
         passes,
     }
+}
+
+/// The compile options of the scene workload (`graph/bench_rays.ron`) on `backend`: `cfg`'s AO
+/// rays and length.
+pub(crate) fn workload_options(gpu: &Gpu, backend: Backend, cfg: &RaysConfig) -> CompileOptions {
+    let mut options = gpu.compile_options_for(backend);
+    options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
+    options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
+    options
 }
 
 /// The Stress camera of `scene` ([`stress_view`]), for other benches.
@@ -205,7 +214,7 @@ pub(crate) fn measure_rays(
     cfg: &RaysConfig,
 ) -> Result<f64, crate::error::RuntimeError> {
     let m = measure(gpu, graph, project, options, scene, camera, cfg)?;
-    Ok(m.rays as f64 / (m.gpu_ms * 1e-3) / 1e9)
+    Ok(super::grays_per_s(m.rays as f64, m.gpu_ms))
 }
 
 /// The camera preset a scene names its Stress view with.
@@ -382,20 +391,14 @@ pub fn run(
         let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, &scene.camera, cfg)?.gpu_ms;
         step(&rows, format!("{name}: raster"));
         for &backend in &cfg.backends {
-            let mut options = gpu.compile_options_for(backend);
-            options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
-            options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
-            let m = measure(gpu, &workload, &project, &options, &scene, &scene.camera, cfg)?;
+            let m = measure(gpu, &workload, &project, &workload_options(gpu, backend, cfg), &scene, &scene.camera, cfg)?;
             rows.push(row(name, &view, backend, cfg, m, Some(1000.0 / raster_ms)));
             step(&rows, format!("{name}: {backend}"));
         }
         for &coverage in &cfg.coverages {
             let view = coverage_view(gpu, &primary, &project, &scene, coverage)?;
             for &backend in &cfg.backends {
-                let mut options = gpu.compile_options_for(backend);
-                options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
-                options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
-                let m = measure(gpu, &workload, &project, &options, &scene, &view.camera, cfg)?;
+                let m = measure(gpu, &workload, &project, &workload_options(gpu, backend, cfg), &scene, &view.camera, cfg)?;
                 rows.push(row(&format!("{name} at {:.0}%", coverage * 100.0), &view, backend, cfg, m, None));
                 step(&rows, format!("{name} at {:.0}%: {backend}", coverage * 100.0));
             }

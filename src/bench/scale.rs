@@ -94,10 +94,7 @@ fn allocated(gpu: &Gpu) -> Option<u64> {
 /// The scene workload on `scene` with `backend`: the first frame's build and memory, then the
 /// timed frames.
 fn workload(gpu: &Gpu, cfg: &RaysConfig, project: &Project, scene: &Scene, backend: Backend) -> Result<ScaleRow, RuntimeError> {
-    let mut options = gpu.compile_options_for(backend);
-    options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
-    options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
-    let plan = compile_with(&cfg.root.join("graph/bench_rays.ron"), project, cfg.size, &options)?;
+    let plan = compile_with(&cfg.root.join("graph/bench_rays.ron"), project, cfg.size, &rays::workload_options(gpu, backend, cfg))?;
     let graph_bytes = plan.bytes_with_reuse();
     let accel_pass = plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild);
     let before = allocated(gpu);
@@ -113,7 +110,7 @@ fn workload(gpu: &Gpu, cfg: &RaysConfig, project: &Project, scene: &Scene, backe
         step: String::new(),
         triangles: scene.triangle_count(),
         backend,
-        workload_grays: median(&mut traced) / (frame_gpu_ms * 1e-3) / 1e9,
+        workload_grays: super::grays_per_s(median(&mut traced), frame_gpu_ms),
         stress_grays: f64::NAN,
         build_cpu_ms: first.cpu_ms.get(accel_pass.unwrap_or(usize::MAX)).copied().unwrap_or(f64::NAN),
         build_gpu_ms: accel_pass.and_then(|i| first.gpu_ms.as_ref().map(|g| g[i])),

@@ -80,7 +80,7 @@ pub fn run(
         for (f, t) in frames.iter().zip(&timings) {
             let ms = super::frame_gpu_ms(t);
             let rays = t.rays.map(|r| r.traced()).unwrap_or(0);
-            rows.push(TrackRow { mode, backend: *backend, frame: *f, gpu_ms: ms, fps: 1000.0 / ms, rays, grays_per_s: rays as f64 / (ms * 1e-3) / 1e9 });
+            rows.push(TrackRow { mode, backend: *backend, frame: *f, gpu_ms: ms, fps: 1000.0 / ms, rays, grays_per_s: super::grays_per_s(rays as f64, ms) });
         }
         on_rows(&rows);
         progress(k + 1, runs.len(), mode);

@@ -40,7 +40,7 @@ impl Executor {
         if self.seen.as_ref().is_some_and(|seen| seen.matches(scene)) {
             // The same scene (by pointer, `scene::memo`): only the camera's projection can
             // change the passes' constants.
-            return self.sync_projection(gpu, camera);
+            return self.use_features(gpu, self.features.with_camera(camera));
         }
         self.sync_scene(gpu, scene, camera)?;
         let b = scene.bounds_from(&self.bounds_memo.values(&scene.meshes, crate::scene::Mesh::bounds));
@@ -50,9 +50,9 @@ impl Executor {
         Ok(())
     }
 
-    /// The passes built again when only `camera`'s projection changed their constants.
-    fn sync_projection(&mut self, gpu: &Gpu, camera: &Camera) -> Result<(), RuntimeError> {
-        let features = self.features.with_camera(camera);
+    /// The passes built again when `features` (their pipeline constants) differ from the
+    /// ones they were built with.
+    fn use_features(&mut self, gpu: &Gpu, features: SceneFeatures) -> Result<(), RuntimeError> {
         if features != self.features {
             self.features = features;
             self.rebuild_passes(gpu)?;
@@ -67,12 +67,7 @@ impl Executor {
     /// The passes are also built again when the scene's features or `camera`'s projection
     /// change (their pipeline constants, [`super::features`]).
     pub(super) fn sync_scene(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<(), RuntimeError> {
-        let features = SceneFeatures::of(scene).with_camera(camera);
-        if features != self.features {
-            self.features = features;
-            self.rebuild_passes(gpu)?;
-            self.accel_generation = u64::MAX;
-        }
+        self.use_features(gpu, SceneFeatures::of(scene).with_camera(camera))?;
         let Some(uploaded) = &self.scene else { return Ok(()) };
         let content = SceneContent::of(scene, &mut self.content_memo);
         if content == self.scene_content {
