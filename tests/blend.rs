@@ -15,7 +15,7 @@
 //!
 //! A sun straight above a lit floor, the same panel between them: the ray-traced shadow mask
 //! under the panel is 1 - 0.4 (the light through it), 1 beside it, on every back-end; two
-//! stacked panels let 0.6 x 0.6 through.
+//! stacked panels let 0.6 x 0.6 through, ten 0.6^10 (every surface on the ray counts).
 //!
 //! The same panel with its 0.4 in its vertex colours' alpha (COLOR_0) instead: the same answers.
 //!
@@ -244,10 +244,9 @@ fn the_cpu_reads_the_transmission_texture_into_the_coverage_as_the_gpu_does() {
     assert!(!other_uv.materials[1].transmission_texture_drawn(), "a texture on another uv set is not drawn");
 }
 
-/// A lit floor (y = 0) under a sun straight above, one BLEND panel 1 above it over all of x < 0
-/// and, with `stacked`, a second one 2 above it over the same part; seen from above (image right
-/// is +x).
-fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
+/// A lit floor (y = 0) under a sun straight above, `panels` BLEND panels over all of x < 0, the
+/// first 1 above it, the others 0.5 apart above that; seen from above (image right is +x).
+fn shadow_scene(panels: usize, transmissive: bool) -> Scene {
     let mut s = builtin::default_scene();
     s.name = "blend shadow".into();
     let flat = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
@@ -255,8 +254,8 @@ fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
     s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)].into_iter().map(Into::into).collect();
     *s.materials_mut() = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), if transmissive { glass_material(true) } else { panel_material(true) }];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
-    if stacked {
-        s.instances_mut().push(Instance { mesh: 1, material: 1, transform: over_left(2.0) });
+    for i in 1..panels {
+        s.instances_mut().push(Instance { mesh: 1, material: 1, transform: over_left(1.0 + 0.5 * i as f32) });
     }
     s.textures.clear();
     s.lights = vec![PunctualLight {
@@ -283,8 +282,11 @@ fn shadow_scene(stacked: bool, transmissive: bool) -> Scene {
 #[test]
 fn shadows_through_blend_panels_let_one_minus_their_coverage_through_on_every_back_end() {
     let gpu = gpu();
-    for (stacked, transmissive, through) in [(false, false, 1.0 - COVERAGE), (true, false, (1.0 - COVERAGE) * (1.0 - COVERAGE)), (false, true, TRANSMISSION)] {
-        let scene = shadow_scene(stacked, transmissive);
+    // Ten stacked panels let 0.6^10 = 0.006 through (above the 1/256 below which a ray counts
+    // as stopped): every surface on the ray counts, not only the first eight (0.6^8 = 0.017).
+    let cases = [(1, false, 1.0 - COVERAGE), (2, false, (1.0 - COVERAGE).powi(2)), (10, false, (1.0 - COVERAGE).powi(10)), (1, true, TRANSMISSION)];
+    for (panels, transmissive, through) in cases {
+        let scene = shadow_scene(panels, transmissive);
         for backend in backends(&gpu) {
             let exec = render(&gpu, "graph/hybrid.ron", backend, &scene);
             let mask = channel(&gpu, &exec, "shadow.shadow");
@@ -303,10 +305,10 @@ fn shadows_through_blend_panels_let_one_minus_their_coverage_through_on_every_ba
             }
             let worst_under = under.iter().map(|m| (m - through).abs()).fold(0.0f32, f32::max);
             let worst_open = open.iter().map(|m| (m - 1.0).abs()).fold(0.0f32, f32::max);
-            println!("{backend:?}, stacked {stacked}, transmissive {transmissive}: light under the panels {through:.3} within {worst_under:.4}, in the open within {worst_open:.4}");
+            println!("{backend:?}, {panels} panels, transmissive {transmissive}: light under the panels {through:.3} within {worst_under:.4}, in the open within {worst_open:.4}");
             // The mask is 8-bit: half a step.
-            assert!(worst_under <= 0.5 / 255.0 + 1e-4, "{backend:?} stacked {stacked}: under the panels {worst_under}");
-            assert!(worst_open <= 0.5 / 255.0 + 1e-4, "{backend:?} stacked {stacked}: in the open {worst_open}");
+            assert!(worst_under <= 0.5 / 255.0 + 1e-4, "{backend:?} {panels} panels: under the panels {worst_under}");
+            assert!(worst_open <= 0.5 / 255.0 + 1e-4, "{backend:?} {panels} panels: in the open {worst_open}");
         }
     }
 }

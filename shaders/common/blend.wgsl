@@ -6,8 +6,8 @@
 //   - skip it on primary rays (common/primary_hit.wgsl: the G-buffer holds the first opaque
 //     surface; the rt_blend layer composites the translucent ones over the resolved image);
 //   - let shadow and AO rays through it, attenuated by one minus its coverage
-//     (trace_transmittance: the product over every BLEND surface on the segment, 0 at an
-//     opaque one);
+//     (trace_transmittance: the product over every BLEND surface on the segment, found in one
+//     traversal, 0 at an opaque one or once less than 1/256 gets through);
 //   - composite it front to back along primary and reflection rays (at most BLEND_LAYERS
 //     surfaces a ray; what lies past them is taken as seen through the last one).
 // SCENE_BLEND is a pipeline constant (common/scene_features.wgsl): the executor sets it false
@@ -16,7 +16,7 @@
 // Needs trace/trace.wgsl included first.
 //#include "common/scene_features.wgsl"
 
-// BLEND surfaces composited along one ray, and passed by a shadow or AO ray, at most.
+// BLEND surfaces composited along one primary or reflection ray, at most.
 const BLEND_LAYERS: u32 = 8u;
 
 // A distance just past `t` on the same ray: 64 ulps, so the surface hit at `t` is not hit
@@ -35,28 +35,11 @@ fn hit_blend_coverage(hit: Hit) -> f32 {
 
 // The fraction of light that gets through [t_min, t_max] of `ray`: 0 past an opaque surface,
 // else the product of one minus the coverage of every BLEND surface on it (order does not
-// matter). Without BLEND materials: one any-hit ray, 0 or 1.
+// matter, so each back-end finds them in one traversal: trace_transmittance_flags), 0 once
+// that falls below TRACE_TRANSMITTANCE_MIN. Without BLEND materials: one any-hit ray, 0 or 1.
 fn trace_transmittance(ray: Ray) -> f32 {
     if !SCENE_BLEND {
         return select(1.0, 0.0, trace_any(ray));
     }
-    var r = ray;
-    var transmittance = 1.0;
-    for (var layer = 0u; layer <= BLEND_LAYERS; layer++) {
-        let hit = trace_closest(r);
-        if hit.instance == NO_HIT {
-            return transmittance;
-        }
-        let coverage = hit_blend_coverage(hit);
-        if coverage < 0.0 {
-            return 0.0;
-        }
-        transmittance *= 1.0 - min(coverage, 1.0);
-        if transmittance < 1.0 / 256.0 {
-            return 0.0;
-        }
-        r.t_min = blend_past(hit.t);
-    }
-    // More BLEND surfaces than BLEND_LAYERS: whatever lies further is not looked at.
-    return transmittance;
+    return trace_transmittance_flags(ray, TRACE_FLAGS_NONE);
 }

@@ -10,6 +10,9 @@
 //     least coverage: a BLEND surface is translucent, composited by the passes through
 //     common/blend.wgsl). Same arithmetic as the raster side (common/alpha.wgsl) and the CPU
 //     references (src/accel/alpha.rs).
+//   trace_pass_blend(instance, primitive, bary) -> bool
+//     For a kept hit on a transmittance ray: true where it is a BLEND surface the ray passes
+//     (its coverage taken out of the private trace_transmitted, still >= 1/256 after).
 //   trace_blend_coverage(instance, primitive, bary) -> f32
 //     base_color.a x that texture alpha where the instance's material is BLEND, else -1;
 //     where its transmission texture is drawn, times 1 - the transmitted share x its texel.
@@ -73,6 +76,24 @@ fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
     }
     let c = trace_alpha_corners(rec, primitive, bary);
     return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
+}
+
+// What a transmittance ray (trace_transmittance_flags) has let through so far; each
+// back-end's any-hit step multiplies it by what a BLEND surface lets through.
+var<private> trace_transmitted: f32 = 1.0;
+// Less than this getting through counts as none: the ray is stopped there.
+const TRACE_TRANSMITTANCE_MIN: f32 = 1.0 / 256.0;
+
+// For a candidate the alpha test keeps: true when it is a BLEND surface the ray passes through
+// (trace_transmitted takes its coverage out and is still at least TRACE_TRANSMITTANCE_MIN);
+// false when it stops the ray (an opaque surface, or too little left getting through).
+fn trace_pass_blend(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
+    let coverage = trace_blend_coverage(instance, primitive, bary);
+    if coverage < 0.0 {
+        return false;
+    }
+    trace_transmitted *= 1.0 - min(coverage, 1.0);
+    return trace_transmitted >= TRACE_TRANSMITTANCE_MIN;
 }
 
 fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {

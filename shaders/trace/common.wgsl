@@ -1,6 +1,11 @@
 // The trace interface every trace pass uses, whatever the back-end:
 //   trace_closest(ray) -> Hit   closest hit in [t_min, t_max]
 //   trace_any(ray) -> bool      any hit in [t_min, t_max]; stops at the first (shadow/AO rays)
+//   trace_transmittance_flags(ray, flags) -> f32
+//                               what gets through [t_min, t_max]: the product of one minus
+//                               the coverage of the BLEND surfaces passed (trace/alpha.wgsl's
+//                               trace_pass_blend), 0 at an opaque one; one any-hit traversal,
+//                               counted as one any-hit ray (common/blend.wgsl calls it)
 //   trace_closest_flags(ray, flags), trace_any_flags(ray, flags)
 //                               the same with per-ray flags (TRACE_CULL_BACK_FACES)
 //   trace_flush_stats()         adds this invocation's ray counts to the GPU counters; call it

@@ -260,7 +260,10 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
 // `cull`: back faces are passed through (TRACE_CULL_BACK_FACES). `alpha_instance`: the scene
 // instance if the whole instance is alpha-tested, else NO_HIT (merged triangles carry TRI_ALPHA
 // and their instance themselves); hits the alpha test rejects are passed through.
-fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, cull: bool, alpha_instance: u32, sp: ptr<function, u32>) -> u32 {
+// `through_blend` (with `any_hit`): a BLEND surface the alpha test keeps is passed through,
+// its coverage taken out of trace_transmitted, unless what is left falls below
+// TRACE_TRANSMITTANCE_MIN (then it stops the ray as an opaque one does).
+fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, through_blend: bool, cull: bool, alpha_instance: u32, sp: ptr<function, u32>) -> u32 {
     let base = *sp;
     var desc = trace_descriptor(trace_blas_node(root));
     var found = NO_HIT;
@@ -273,9 +276,12 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                 let h = trace_triangle(r, tri, t_min, (*best).t);
                 if h.t >= 0.0 && !(cull && trace_back_facing(r, tri)) {
                     let tri_alpha = (tri.flags & TRI_ALPHA) != 0u;
-                    if TRACE_ALPHA_TEST && (alpha_instance != NO_HIT || tri_alpha)
-                        && !trace_alpha_visible(select(alpha_instance, tri.instance, tri_alpha), tri.prim, vec2<f32>(h.u, h.v)) {
-                        continue;
+                    if TRACE_ALPHA_TEST && (alpha_instance != NO_HIT || tri_alpha) {
+                        let owner = select(alpha_instance, tri.instance, tri_alpha);
+                        let bary = vec2<f32>(h.u, h.v);
+                        if !trace_alpha_visible(owner, tri.prim, bary) || (through_blend && trace_pass_blend(owner, tri.prim, bary)) {
+                            continue;
+                        }
                     }
                     *best = h;
                     found = i;
@@ -328,7 +334,7 @@ struct TraceResult {
     any: bool,
 }
 
-fn trace_impl(ray: Ray, any_hit: bool, cull: bool) -> TraceResult {
+fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> TraceResult {
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var result = trace_miss();
     var hit_anything = false;
@@ -363,7 +369,7 @@ fn trace_impl(ray: Ray, any_hit: bool, cull: bool) -> TraceResult {
                     r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
                 }
                 let alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
-                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, cull, alpha_instance, &sp);
+                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, through_blend, cull, alpha_instance, &sp);
                 if tri != NO_HIT {
                     hit_anything = true;
                     if any_hit {
@@ -400,7 +406,7 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
         return trace_miss();
     }
     trace_count_closest++;
-    let r = trace_impl(ray, false, (flags & TRACE_CULL_BACK_FACES) != 0u);
+    let r = trace_impl(ray, false, false, (flags & TRACE_CULL_BACK_FACES) != 0u);
     if r.any {
         trace_count_hits++;
     }
@@ -413,9 +419,24 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
         return false;
     }
     trace_count_any++;
-    let hit = trace_impl(ray, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any;
+    let hit = trace_impl(ray, true, false, (flags & TRACE_CULL_BACK_FACES) != 0u).any;
     if hit {
         trace_count_hits++;
     }
     return hit;
+}
+
+fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return 1.0;
+    }
+    trace_count_any++;
+    trace_transmitted = 1.0;
+    let blocked = trace_impl(ray, true, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any;
+    let transmittance = select(trace_transmitted, 0.0, blocked);
+    if transmittance < 1.0 {
+        trace_count_hits++;
+    }
+    return transmittance;
 }

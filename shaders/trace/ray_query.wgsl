@@ -65,3 +65,30 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
     }
     return hit;
 }
+
+fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return 1.0;
+    }
+    trace_count_any++;
+    trace_transmitted = 1.0;
+    var rq: ray_query;
+    let ray_flags = TRACE_FLAG_TERMINATE_ON_FIRST_HIT | (flags & TRACE_CULL_BACK_FACES);
+    rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
+    // Candidates of BLEND surfaces are passed (their coverage taken out of trace_transmitted);
+    // the first one that stops the ray is confirmed, which ends it.
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if trace_alpha_visible(c.instance_custom_data, c.primitive_index, c.barycentrics)
+            && !trace_pass_blend(c.instance_custom_data, c.primitive_index, c.barycentrics) {
+            rayQueryConfirmIntersection(&rq);
+        }
+    }
+    let blocked = rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE;
+    let transmittance = select(trace_transmitted, 0.0, blocked);
+    if transmittance < 1.0 {
+        trace_count_hits++;
+    }
+    return transmittance;
+}

@@ -51,6 +51,9 @@ const TRACE_HIT_KIND_FRONT_FACING: u32 = 0xfeu;
 // The payload's ray_type: which miss shader the miss stands for.
 const TRACE_RAY_CLOSEST: u32 = 0u;
 const TRACE_RAY_ANY: u32 = 1u;
+// A transmittance ray (trace_transmittance_flags): an any-hit ray whose any-hit shader passes
+// BLEND surfaces, multiplying `transmittance` by what each lets through.
+const TRACE_RAY_TRANSMITTANCE: u32 = 2u;
 
 struct TracePayload {
     ray_type: u32,
@@ -60,6 +63,8 @@ struct TracePayload {
     primitive: u32,
     front_face: u32,
     bary: vec2<f32>,
+    // Transmittance rays: what the BLEND surfaces passed so far let through.
+    transmittance: f32,
 }
 
 var<ray_payload> trace_payload: TracePayload;
@@ -100,14 +105,35 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
     return hit;
 }
 
+fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return 1.0;
+    }
+    trace_count_any++;
+    // "Stopped" unless the miss shader says otherwise, as for trace_any_flags; the any-hit
+    // shader passes the BLEND surfaces and accepts the candidate that stops the ray.
+    trace_payload.ray_type = TRACE_RAY_TRANSMITTANCE;
+    trace_payload.instance = 0u;
+    trace_payload.transmittance = 1.0;
+    let ray_flags = TRACE_FLAG_TERMINATE_ON_FIRST_HIT | TRACE_FLAG_SKIP_CLOSEST_HIT_SHADER | (flags & TRACE_CULL_BACK_FACES);
+    traceRay(accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir), &trace_payload);
+    let transmittance = select(0.0, trace_payload.transmittance, trace_payload.instance == NO_HIT);
+    if transmittance < 1.0 {
+        trace_count_hits++;
+    }
+    return transmittance;
+}
+
 // The miss shader of every ray type (see the module comment).
 @miss @incoming_payload(trace_incoming)
 fn trace_miss_shader() {
-    if trace_incoming.ray_type == TRACE_RAY_ANY {
-        // Shadow and AO rays: only "nothing hit" matters.
+    if trace_incoming.ray_type != TRACE_RAY_CLOSEST {
+        // Shadow and AO rays: only "nothing hit" matters (and what a transmittance ray's
+        // payload has let through).
         trace_incoming.instance = NO_HIT;
     } else {
-        trace_incoming = TracePayload(TRACE_RAY_CLOSEST, -1.0, NO_HIT, 0u, 0u, vec2<f32>(0.0));
+        trace_incoming = TracePayload(TRACE_RAY_CLOSEST, -1.0, NO_HIT, 0u, 0u, vec2<f32>(0.0), 1.0);
     }
 }
 
@@ -161,7 +187,7 @@ fn trace_closest_hit_shader(
         b = b.yx;
     }
     let front = select(0u, 1u, hit_kind == TRACE_HIT_KIND_FRONT_FACING);
-    trace_incoming = TracePayload(TRACE_RAY_CLOSEST, t, tri.instance, tri.primitive, front, b);
+    trace_incoming = TracePayload(TRACE_RAY_CLOSEST, t, tri.instance, tri.primitive, front, b, 1.0);
 }
 
 // Patched by the runtime (src/accel/rt_pipeline/any_hit.rs): the HitAttributeKHR variable
@@ -171,7 +197,10 @@ fn trace_closest_hit_shader(
 var<private> trace_hit_attribute: vec2<f32>;
 var<private> trace_ignore_intersection: u32;
 
-// Runs on candidates of alpha-tested (non-opaque) geometry only: rejects a transparent texel.
+// Runs on candidates of alpha-tested (non-opaque) geometry only: rejects a transparent texel;
+// a transmittance ray also passes a BLEND surface (trace_pass_blend on the payload's
+// transmittance; the geometry is built NO_DUPLICATE_ANY_HIT_INVOCATION, so no surface is taken
+// out twice).
 @any_hit @incoming_payload(trace_incoming)
 fn trace_any_hit_shader(
     @builtin(instance_custom_data) instance: u32,
@@ -183,7 +212,13 @@ fn trace_any_hit_shader(
     if tri.mirrored {
         b = b.yx;
     }
-    if !trace_alpha_visible(tri.instance, tri.primitive, b) {
+    var ignore = !trace_alpha_visible(tri.instance, tri.primitive, b);
+    if !ignore && trace_incoming.ray_type == TRACE_RAY_TRANSMITTANCE {
+        trace_transmitted = trace_incoming.transmittance;
+        ignore = trace_pass_blend(tri.instance, tri.primitive, b);
+        trace_incoming.transmittance = trace_transmitted;
+    }
+    if ignore {
         trace_ignore_intersection = 1u;
     }
 }

@@ -1242,7 +1242,11 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Opt
         vertex_count: positions.len() as u32,
         index_format: Some(wgpu::IndexFormat::Uint32),
         index_count: Some(indices.len() as u32),
-        flags: if opaque { wgpu::AccelerationStructureGeometryFlags::OPAQUE } else { wgpu::AccelerationStructureGeometryFlags::empty() },
+        flags: if opaque {
+            wgpu::AccelerationStructureGeometryFlags::OPAQUE
+        } else {
+            wgpu::AccelerationStructureGeometryFlags::NO_DUPLICATE_ANY_HIT_INVOCATION
+        },
     };
     let blas = device.create_blas(
         &wgpu::CreateBlasDescriptor {

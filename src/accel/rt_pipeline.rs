@@ -518,7 +518,8 @@ impl RtAccel {
             let entries: Vec<(usize, hal::AccelerationStructureEntries<HalBuffer>)> = rebuild
                 .iter()
                 .filter_map(|&u| {
-                    // Alpha-tested geometry is built without OPAQUE: the any-hit shader runs on it.
+                    // Alpha-tested geometry is built without OPAQUE: the any-hit shader runs on it, once a
+                    // primitive (a transmittance ray takes each BLEND surface out once).
                     let geometry = |g: &Geometry| hal::AccelerationStructureTriangles {
                         vertex_buffer: Some(pos_buf),
                         vertex_format: wgpu::VertexFormat::Float32x3,
@@ -532,7 +533,11 @@ impl RtAccel {
                             count: g.count * 3,
                         }),
                         transform: None,
-                        flags: if g.opaque { hal::AccelerationStructureGeometryFlags::OPAQUE } else { hal::AccelerationStructureGeometryFlags::empty() },
+                        flags: if g.opaque {
+                            hal::AccelerationStructureGeometryFlags::OPAQUE
+                        } else {
+                            hal::AccelerationStructureGeometryFlags::NO_DUPLICATE_ANY_HIT_INVOCATION
+                        },
                     };
                     Some((u, hal::AccelerationStructureEntries::Triangles(spans[u].as_ref()?.iter().map(geometry).collect())))
                 })
