@@ -17,6 +17,9 @@
 #           the workgroup, docs/experiments/pixel_rays/), then (ONLY_COVERAGE=1: only this) the
 #           real assets at 2%, 5% and 10% of the frame and a 1.93M-triangle file (the helmet
 #           copied 5x5x5 without de-duplication, `scene export`), new binary.
+#   part 5: `bench rays` on the built-in scenes, then on the real assets with the coverage rows
+#           and the 1.93M-triangle file, previous binary and new one in turn (AO rays over
+#           four lanes a pixel; shadow and AO rays through translucent surfaces in one traversal).
 # Results go to $OUT.
 set -u
 PART=${1:-1}
@@ -62,6 +65,23 @@ elif [ "$PART" = 4 ]; then
     [ -f $OUT/$f/rays.md ] && echo "== $f" && grep -E "^\| " $OUT/$f/rays.md | cut -d'|' -f2-9
   done
   cd $OUT && tar czf results.tgz rays_* && rm -rf rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new rays_coverage
+elif [ "$PART" = 5 ]; then
+  REAL=$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb
+  # The previous binary's own graph and layer files (.gpu/prevroot.tgz: `git archive` of its
+  # commit), since the layers changed.
+  mkdir -p /tmp/prevroot && tar xzf .gpu/prevroot.tgz -C /tmp/prevroot
+  $NEW scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
+  for b in prev new; do
+    [ $b = prev ] && [ "${SKIP_PREV:-0}" = 1 ] && continue
+    R=$PREV; D=/tmp/prevroot; [ $b = new ] && R=$NEW && D=$ROOT
+    (cd $D && $R bench rays --frames 10 --out $OUT/rays_builtin_$b > $OUT/rays_builtin_$b.log 2>&1)
+    (cd $D && $R bench rays --scenes $REAL --coverage 0.02,0.05,0.1 --frames 10 --out $OUT/rays_real_$b > $OUT/rays_real_$b.log 2>&1)
+  done
+  for f in rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new; do
+    [ -f $OUT/$f/rays.md ] || continue
+    echo "== $f"; grep -E "^\| " $OUT/$f/rays.md | cut -d'|' -f2-9
+  done
+  cd $OUT && tar czf results.tgz rays_* && rm -rf rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new
 elif [ "$PART" = 2 ]; then
   $NEW bench scale --frames 10 --out $OUT/scale > $OUT/scale.log 2>&1; echo "exit $?"
   tail -30 $OUT/scale.log
