@@ -10,9 +10,10 @@
 //     least coverage: a BLEND surface is translucent, composited by the passes through
 //     common/blend.wgsl). Same arithmetic as the raster side (common/alpha.wgsl) and the CPU
 //     references (src/accel/alpha.rs).
-//   trace_pass_blend(instance, primitive, bary) -> bool
-//     For a kept hit on a transmittance ray: true where it is a BLEND surface the ray passes
-//     (its coverage taken out of the private trace_transmitted, still >= 1/256 after).
+//   trace_transmittance_passes(instance, primitive, bary) -> bool
+//     For a candidate of a transmittance ray: true where the ray passes it (the alpha test
+//     rejects it, or a BLEND surface whose coverage is taken out of the private
+//     trace_transmitted, still >= 1/256 after).
 //   trace_blend_coverage(instance, primitive, bary) -> f32
 //     base_color.a x that texture alpha where the instance's material is BLEND, else -1;
 //     where its transmission texture is drawn, times 1 - the transmitted share x its texel.
@@ -84,13 +85,27 @@ var<private> trace_transmitted: f32 = 1.0;
 // Less than this getting through counts as none: the ray is stopped there.
 const TRACE_TRANSMITTANCE_MIN: f32 = 1.0 / 256.0;
 
-// For a candidate the alpha test keeps: true when it is a BLEND surface the ray passes through
-// (trace_transmitted takes its coverage out and is still at least TRACE_TRANSMITTANCE_MIN);
-// false when it stops the ray (an opaque surface, or too little left getting through).
-fn trace_pass_blend(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
-    let coverage = trace_blend_coverage(instance, primitive, bary);
-    if coverage < 0.0 {
+// A transmittance ray's candidate: true when the ray passes it, either because the alpha test
+// rejects it or because it is a BLEND surface (its coverage taken out of trace_transmitted,
+// which stays at least TRACE_TRANSMITTANCE_MIN); false when it stops the ray (an opaque or
+// MASK surface, or too little left getting through). One read of the texture for both
+// questions: the coverage is the alpha test's own product.
+fn trace_transmittance_passes(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
+    let rec = trace_alpha_word(instance);
+    if rec.x == TRACE_ALPHA_OPAQUE {
         return false;
+    }
+    let c = trace_alpha_corners(rec, primitive, bary);
+    var coverage = bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
+    if coverage < trace_alpha_cutoff(rec) {
+        return true;
+    }
+    if (rec.y & TRACE_ALPHA_BLEND) == 0u {
+        return false;
+    }
+    if (rec.y & TRACE_ALPHA_TRANSMISSION) != 0u {
+        let t = trace_alpha_word(rec.w);
+        coverage *= 1.0 - bitcast<f32>(t.y) * scene_bilinear_level0(t.x & 0xffffffu, c.xy, (t.x >> 24u) & 15u).r;
     }
     trace_transmitted *= 1.0 - min(coverage, 1.0);
     return trace_transmitted >= TRACE_TRANSMITTANCE_MIN;

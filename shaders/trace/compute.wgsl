@@ -279,7 +279,13 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                     if TRACE_ALPHA_TEST && (alpha_instance != NO_HIT || tri_alpha) {
                         let owner = select(alpha_instance, tri.instance, tri_alpha);
                         let bary = vec2<f32>(h.u, h.v);
-                        if !trace_alpha_visible(owner, tri.prim, bary) || (through_blend && trace_pass_blend(owner, tri.prim, bary)) {
+                        var passed: bool;
+                        if through_blend {
+                            passed = trace_transmittance_passes(owner, tri.prim, bary);
+                        } else {
+                            passed = !trace_alpha_visible(owner, tri.prim, bary);
+                        }
+                        if passed {
                             continue;
                         }
                     }

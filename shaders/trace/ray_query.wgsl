@@ -80,8 +80,7 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
     // the first one that stops the ray is confirmed, which ends it.
     while rayQueryProceed(&rq) {
         let c = rayQueryGetCandidateIntersection(&rq);
-        if trace_alpha_visible(c.instance_custom_data, c.primitive_index, c.barycentrics)
-            && !trace_pass_blend(c.instance_custom_data, c.primitive_index, c.barycentrics) {
+        if !trace_transmittance_passes(c.instance_custom_data, c.primitive_index, c.barycentrics) {
             rayQueryConfirmIntersection(&rq);
         }
     }

@@ -198,9 +198,9 @@ var<private> trace_hit_attribute: vec2<f32>;
 var<private> trace_ignore_intersection: u32;
 
 // Runs on candidates of alpha-tested (non-opaque) geometry only: rejects a transparent texel;
-// a transmittance ray also passes a BLEND surface (trace_pass_blend on the payload's
-// transmittance; the geometry is built NO_DUPLICATE_ANY_HIT_INVOCATION, so no surface is taken
-// out twice).
+// a transmittance ray also passes a BLEND surface (trace_transmittance_passes on the
+// payload's transmittance; the geometry is built NO_DUPLICATE_ANY_HIT_INVOCATION, so no
+// surface is taken out twice).
 @any_hit @incoming_payload(trace_incoming)
 fn trace_any_hit_shader(
     @builtin(instance_custom_data) instance: u32,
@@ -212,11 +212,13 @@ fn trace_any_hit_shader(
     if tri.mirrored {
         b = b.yx;
     }
-    var ignore = !trace_alpha_visible(tri.instance, tri.primitive, b);
-    if !ignore && trace_incoming.ray_type == TRACE_RAY_TRANSMITTANCE {
+    var ignore: bool;
+    if trace_incoming.ray_type == TRACE_RAY_TRANSMITTANCE {
         trace_transmitted = trace_incoming.transmittance;
-        ignore = trace_pass_blend(tri.instance, tri.primitive, b);
+        ignore = trace_transmittance_passes(tri.instance, tri.primitive, b);
         trace_incoming.transmittance = trace_transmitted;
+    } else {
+        ignore = !trace_alpha_visible(tri.instance, tri.primitive, b);
     }
     if ignore {
         trace_ignore_intersection = 1u;

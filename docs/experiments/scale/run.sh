@@ -20,6 +20,9 @@
 #   part 5: `bench rays` on the built-in scenes, then on the real assets with the coverage rows
 #           and the 1.93M-triangle file, previous binary and new one in turn (AO rays over
 #           four lanes a pixel; shadow and AO rays through translucent surfaces in one traversal).
+#   part 6: `bench rays` on the pine and the 1.93M-triangle file with the coverage rows,
+#           previous binary and new one in turn (one read of the alpha texture a candidate of
+#           a transmittance ray).
 # Results go to $OUT.
 set -u
 PART=${1:-1}
@@ -82,6 +85,15 @@ elif [ "$PART" = 5 ]; then
     echo "== $f"; grep -E "^\| " $OUT/$f/rays.md | cut -d'|' -f2-9
   done
   cd $OUT && tar czf results.tgz rays_* && rm -rf rays_builtin_prev rays_builtin_new rays_real_prev rays_real_new
+elif [ "$PART" = 6 ]; then
+  mkdir -p /tmp/prevroot && tar xzf .gpu/prevroot.tgz -C /tmp/prevroot
+  $NEW scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
+  for b in prev new; do
+    R=$PREV; D=/tmp/prevroot; [ $b = new ] && R=$NEW && D=$ROOT
+    (cd $D && $R bench rays --scenes $ROOT/assets/gltf/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1 --frames 10 --out $OUT/rays_$b > $OUT/rays_$b.log 2>&1)
+    echo "== $b"; grep -E "^\| " $OUT/rays_$b/rays.md | cut -d'|' -f2-8
+  done
+  cd $OUT && tar czf results.tgz rays_* && rm -rf rays_prev rays_new
 elif [ "$PART" = 2 ]; then
   $NEW bench scale --frames 10 --out $OUT/scale > $OUT/scale.log 2>&1; echo "exit $?"
   tail -30 $OUT/scale.log
