@@ -97,9 +97,11 @@ fn graphs_that_do_not_trace_build_nothing() {
     assert!(exec.render(&gpu, &scene.camera, &scene).unwrap().rays.is_none());
 }
 
-/// Metric: RMSE over RGB in 8-bit units <= 1.0 and at most 0.1% of pixels off by more than 24
-/// between the two back-ends (the same rays from the same G-buffer: only hits exactly at
-/// edges and vertices may differ).
+/// Metric: the images are identical, byte for byte, between the back-ends (the same rays from
+/// the same G-buffer), and in the tests below between layouts, builders and refit against
+/// rebuild (as tests/animation.rs demands for the same claim). Measured on lavapipe (Mesa
+/// 25.0.7), 2026-11-29: RMSE 0.000 and no outlier in every comparison of this file; a
+/// driver whose hits at exact edges differ between back-ends would show it here first.
 #[test]
 fn the_ao_graph_draws_the_same_picture_on_every_back_end() {
     let gpu = gpu();
@@ -118,7 +120,7 @@ fn the_ao_graph_draws_the_same_picture_on_every_back_end() {
     for (k, backend) in Backend::ALL.iter().enumerate().filter(|(_, b)| **b != Backend::Compute) {
         let (rmse, outliers) = difference(&images[k], b);
         println!("{backend} vs compute: RMSE {rmse:.3}, {outliers} outlier pixels; rays {:?} / {:?}", rays[k], rays[1]);
-        assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "{backend}: RMSE {rmse}, {outliers} outliers");
+        assert!(rmse == 0.0 && outliers == 0, "{backend}: RMSE {rmse}, {outliers} outliers");
         assert_eq!(rays[k].traced(), rays[1].traced(), "{backend}: the same rays as on compute");
         assert!(rays[k].any > 0 && rays[k].hits > 0 && rays[k].invalid == 0);
     }
@@ -158,7 +160,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     }
     let (rmse, outliers) = difference(&images[0], &images[1]);
     println!("two levels vs merged: RMSE {rmse:.3}, {outliers} outlier pixels");
-    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
+    assert!(rmse == 0.0 && outliers == 0, "RMSE {rmse}, {outliers} outliers");
 
     let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (32, 24));
     let first = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
@@ -180,7 +182,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
         fresh.render(&gpu, &scene.camera, &scene).unwrap();
         let (rmse, outliers) = difference(&refitted, &fresh.read_output(&gpu).unwrap());
         println!("after {step} moves, refitted vs rebuilt: RMSE {rmse:.3}, {outliers} outlier pixels");
-        assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "after {step} moves: RMSE {rmse}, {outliers} outliers");
+        assert!(rmse == 0.0 && outliers == 0, "after {step} moves: RMSE {rmse}, {outliers} outliers");
     }
     // A structural change (an instance removed) rebuilds.
     scene.instances_mut().pop();
@@ -202,7 +204,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     fresh.render(&gpu, &organic.camera, &organic).unwrap();
     let (rmse, outliers) = difference(&exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
     println!("organic turned and moved, refitted vs rebuilt: RMSE {rmse:.3}, {outliers} outlier pixels ({levels} levels, {dispatches} dispatches)");
-    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "organic: RMSE {rmse}, {outliers} outliers");
+    assert!(rmse == 0.0 && outliers == 0, "organic: RMSE {rmse}, {outliers} outliers");
 }
 
 /// The merged layout built by the GPU builder (PLOC, the executor's choice for rebuilds on a
@@ -231,7 +233,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     assert!(gpu_sah <= 1.1 * cpu_sah, "SAH {gpu_sah} against {cpu_sah}");
     let (rmse, outliers) = difference(&cpu_exec.read_output(&gpu).unwrap(), &gpu_exec.read_output(&gpu).unwrap());
     println!("CPU-built vs GPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
-    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "RMSE {rmse}, {outliers} outliers");
+    assert!(rmse == 0.0 && outliers == 0, "RMSE {rmse}, {outliers} outliers");
 
     // Moved: refitted (from the builder's parents: the tree never comes back to the CPU).
     organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
@@ -240,7 +242,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     let (fresh, _) = render(&organic, MergedBuilder::Cpu);
     let (rmse, outliers) = difference(&gpu_exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
     println!("GPU-built and refitted vs CPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
-    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "refitted: RMSE {rmse}, {outliers} outliers");
+    assert!(rmse == 0.0 && outliers == 0, "refitted: RMSE {rmse}, {outliers} outliers");
 
     // An edited mesh: rebuilt, on the GPU again.
     let (mut rebuilds, first) = render(&organic, MergedBuilder::GpuRebuilds);
@@ -256,7 +258,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     let (fresh, _) = render(&organic, MergedBuilder::Cpu);
     let (rmse, outliers) = difference(&gpu_exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
     println!("rebuilt on the GPU, refitted vs CPU-built: RMSE {rmse:.3}, {outliers} outlier pixels");
-    assert!(rmse <= 1.0 && outliers * 1000 <= 96 * 64, "rebuilt and refitted: RMSE {rmse}, {outliers} outliers");
+    assert!(rmse == 0.0 && outliers == 0, "rebuilt and refitted: RMSE {rmse}, {outliers} outliers");
     // GpuRebuilds (the executor's choice on a real GPU): the first build on the CPU, the
     // rebuild after the edit on the GPU.
     let r = rebuilds.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();

@@ -349,12 +349,14 @@ fn bench_error_quick_converges_at_the_expected_rates() {
     assert_eq!(hybrid_rows.len(), 2 * LAVAPIPE_BACKENDS, "{hybrid}");
     for r in &hybrid_rows {
         let flip_mean: f64 = r[7].parse().unwrap();
+        // Measured on lavapipe (Mesa 25.0.7), 2026-11-29: untextured, RMSE and ꟻLIP 0 on every
+        // back-end (identical images); textured, ꟻLIP mean 0.00003-0.00006.
         if r[1] == "false" {
-            assert!(flip_mean < 0.01, "untextured, hybrid and full RT agree: {r:?}");
+            assert!(flip_mean == 0.0, "untextured, hybrid and full RT draw the same image: {r:?}");
         } else {
             // Textured: full RT's primary rays pick mip levels from their ray cones as the
             // rasterizer does from derivatives (level 0 everywhere measured FLIP 0.196 here).
-            assert!(flip_mean < 0.05, "textured, hybrid and full RT nearly agree: {r:?}");
+            assert!(flip_mean < 0.0002, "textured, hybrid and full RT nearly agree: {r:?}");
         }
     }
     assert_eq!(header, ["backend", "sampling", "rays", "ao_ms", "rmse", "relmse", "bias", "variance", "flip_mean", "flip_p99"]);
@@ -457,11 +459,14 @@ fn csv_rows(text: &str, header: &str) -> Vec<Vec<String>> {
 }
 
 /// `bench error`'s part on the filtered effects (quick: the default scene at 64x36, 1 and 2
-/// rays, references of 64 frames at 2 rays). Every row is there and finite; AO's noisy error
-/// falls with rays (relMSE measured 0.025 at 1 ray, 0.0096 at 2); GI's filtered error after the
-/// still frames is below its noisy one (0.024 against 0.59 at 1 ray); and filtering cuts AO's
-/// and GI's flicker on the still stretch (0.0008 against 0.0054, 0.0096 against 0.106). Soft shadows have a penumbra of a few pixels in this scene at this size, so
-/// their numbers are only checked to be there and finite.
+/// rays, references of 64 frames at 2 rays). Every row is there and finite. Measured on
+/// lavapipe (Mesa 25.0.7), 2026-11-29, and bounded within 3x of those ratios: AO's noisy error
+/// falls with rays (relMSE 0.0271 at 1 ray, 0.0150 at 2: 0.55, the Monte Carlo rate's 0.5;
+/// bound 0.7); GI's filtered error after the still frames is below its noisy one (0.0235
+/// against 0.525 at 1 ray: 0.045; bound 0.135); and filtering cuts AO's and GI's flicker on the
+/// still stretch (0.00079 against 0.00535: 0.15, bound 0.44; 0.0096 against 0.106: 0.091, bound
+/// 0.27). Soft shadows have a penumbra of a few pixels in this scene at this size, so their
+/// numbers are only checked to be there and finite.
 fn check_filters(filters: &str, track: &str) {
     let rows = csv_rows(filters, "scene,effect,rays,filtered_frames,ms,relmse,flip_mean");
     assert_eq!(rows.len(), 3 * 2 * 3, "three effects x two ray counts x (noisy, 1st frame, settled):\n{filters}");
@@ -477,12 +482,12 @@ fn check_filters(filters: &str, track: &str) {
         assert!(r[4].parse::<f64>().unwrap() > 0.0, "the passes were timed: {r:?}");
     }
     assert!(value("AO", "2", "0", 5) < 0.7 * value("AO", "1", "0", 5), "AO's noisy error falls with rays:\n{filters}");
-    assert!(value("GI", "1", "8", 5) < 0.5 * value("GI", "1", "0", 5), "filtered GI beats noisy GI:\n{filters}");
+    assert!(value("GI", "1", "8", 5) < 0.135 * value("GI", "1", "0", 5), "filtered GI beats noisy GI:\n{filters}");
     let track = csv_rows(track, "scene,effect,filtered,flicker_flip,still_flip,after_turn_1,after_turn_2,after_turn_4,after_turn_8");
     assert_eq!(track.len(), 3 * 2, "{track:?}");
     let flicker = |effect: &str, filtered: &str| -> f64 { track.iter().find(|r| r[1] == effect && r[2] == filtered).unwrap()[3].parse().unwrap() };
-    for effect in ["AO", "GI"] {
-        assert!(flicker(effect, "true") < 0.5 * flicker(effect, "false"), "{effect}: filtering cuts flicker: {track:?}");
+    for (effect, bound) in [("AO", 0.44), ("GI", 0.27)] {
+        assert!(flicker(effect, "true") < bound * flicker(effect, "false"), "{effect}: filtering cuts flicker: {track:?}");
     }
     for r in &track {
         assert!(r[3..].iter().all(|v| v.parse::<f64>().unwrap().is_finite()), "{r:?}");

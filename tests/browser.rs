@@ -13,8 +13,8 @@
 //!   the load event). Chromium's flags are in [`chromium_command`]; it is killed after
 //!   [`CHROMIUM_TIME_LIMIT`].
 //! - The screenshot is compared with `raygraph render` of the same scene, mode and size by
-//!   the ꟻLIP mean (nv-flip's default viewing conditions), which must stay under
-//!   [`MAX_FLIP_MEAN`]. On a failure the page's image, the native one and the ꟻLIP map are
+//!   the ꟻLIP mean and 99th percentile (nv-flip's default viewing conditions), in each of the
+//!   three modes, which must stay under their [`MODES`] limits. On a failure the page's image, the native one and the ꟻLIP map are
 //!   kept in a temporary folder, whose path the failure prints.
 //! - A corrupt GLB (`tests/fixtures/web/corrupt.glb`) must give an error report naming the file
 //!   whose message the page shows; a test without a browser checks that the server stays
@@ -40,11 +40,13 @@ const PAGE_TIMEOUT_MS: u32 = 20_000;
 const CHROMIUM_TIME_LIMIT: Duration = Duration::from_secs(120);
 /// How long after Chromium has exited a report may still arrive.
 const REPORT_GRACE: Duration = Duration::from_secs(2);
-/// The largest ꟻLIP mean allowed between the page's screenshot and the native render.
-/// Measured 0.0040 (2026-11-27, Chromium 156 on SwiftShader against lavapipe): the crate's
-/// texture is filtered a little differently across its faces, and a few AO samples differ;
-/// the limit leaves 2.5x that.
-const MAX_FLIP_MEAN: f32 = 0.01;
+/// Per mode (the page's name, the native `--mode`): the largest ꟻLIP mean and 99th percentile
+/// (per pixel) allowed between the page's screenshot and the native render of the box.
+/// Measured 2026-11-29 (Chromium on SwiftShader against lavapipe, Mesa 25.0.7): mean 0.0039,
+/// 0.0040 and 0.0026, 99th percentile 0.0378, 0.0399 and 0.0236 (raster, hybrid, full RT): the
+/// crate's texture is filtered a little differently across its faces, and a few AO samples
+/// differ. The limits leave 2.5x each.
+const MODES: [(&str, &str, f32, f32); 3] = [("raster", "raster", 0.01, 0.095), ("hybrid", "hybrid", 0.01, 0.1), ("rt", "full-rt", 0.0065, 0.06)];
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -377,9 +379,9 @@ fn page_url(extra: &str) -> String {
 }
 
 /// `raygraph render` of the box scene in hybrid mode at `SIZE`, written to `out`.
-fn render_native(out: &Path) -> image::RgbImage {
+fn render_native(mode: &str, out: &Path) -> image::RgbImage {
     let size = [SIZE.0.to_string(), SIZE.1.to_string()];
-    let args = ["render", "--mode", "hybrid", "--scene", "box", "--backend", "compute", "--width", &size[0], "--height", &size[1], "--out"];
+    let args = ["render", "--mode", mode, "--scene", "box", "--backend", "compute", "--width", &size[0], "--height", &size[1], "--out"];
     let run = Command::new(env!("CARGO_BIN_EXE_raygraph"))
         .args(args)
         .arg(out)
@@ -408,36 +410,43 @@ fn screenshot_canvas(visit: &Visit) -> image::RgbImage {
 }
 
 /// The ꟻLIP mean of `test` against `reference`, and the error map in the magma colours.
-fn flip(reference: &image::RgbImage, test: &image::RgbImage) -> (f32, image::RgbImage) {
+/// The ꟻLIP mean and 99th percentile of `test` against `reference`, and the ꟻLIP map.
+fn flip(reference: &image::RgbImage, test: &image::RgbImage) -> (f32, f32, image::RgbImage) {
     let (w, h) = reference.dimensions();
     let map =
         nv_flip::flip(nv_flip::FlipImageRgb8::with_data(w, h, reference), nv_flip::FlipImageRgb8::with_data(w, h, test), nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    let mean = nv_flip::FlipPool::from_image(&map).mean();
+    let mut pool = nv_flip::FlipPool::from_image(&map);
+    let (mean, p99) = (pool.mean(), pool.get_percentile(0.99, false));
     let colours = map.apply_color_lut(&nv_flip::magma_lut());
-    (mean, image::RgbImage::from_raw(w, h, colours.to_vec()).unwrap())
+    (mean, p99, image::RgbImage::from_raw(w, h, colours.to_vec()).unwrap())
 }
 
 #[test]
-fn page_matches_native_render() {
-    let dir = fresh_temp_dir("native");
-    let visit = Visit::open(&page_url("scene=box&mode=hybrid&frames=4"), &dir);
-    let report = visit.report_json();
-    println!("report: {report:#}");
-    assert_eq!(report["status"], "rendered", "{}", visit.describe());
-    let page = screenshot_canvas(&visit);
-    let native = render_native(&dir.join("native.png"));
-    let (mean, map) = flip(&native, &page);
-    println!("ꟻLIP mean of the page against the native render: {mean:.4} (limit {MAX_FLIP_MEAN})");
-    if mean > MAX_FLIP_MEAN {
-        page.save(dir.join("page-canvas.png")).unwrap();
-        map.save(dir.join("flip.png")).unwrap();
-        panic!(
-            "the page differs from the native render: ꟻLIP mean {mean:.4} > {MAX_FLIP_MEAN}\nimages: {0}/page-canvas.png, {0}/native.png, {0}/flip.png\n{1}",
-            dir.display(),
-            visit.describe()
-        );
+fn page_matches_native_render_in_every_mode() {
+    let mut failures = Vec::new();
+    for &(page_mode, native_mode, max_mean, max_p99) in &MODES {
+        let dir = fresh_temp_dir(&format!("native-{page_mode}"));
+        let visit = Visit::open(&page_url(&format!("scene=box&mode={page_mode}&frames=4")), &dir);
+        let report = visit.report_json();
+        println!("{page_mode}: report: {report:#}");
+        assert_eq!(report["status"], "rendered", "{page_mode}: {}", visit.describe());
+        let page = screenshot_canvas(&visit);
+        let native = render_native(native_mode, &dir.join("native.png"));
+        let (mean, p99, map) = flip(&native, &page);
+        println!("{page_mode}: ꟻLIP of the page against the native render: mean {mean:.4} (limit {max_mean}), 99th percentile {p99:.4} (limit {max_p99})");
+        if mean > max_mean || p99 > max_p99 {
+            page.save(dir.join("page-canvas.png")).unwrap();
+            map.save(dir.join("flip.png")).unwrap();
+            failures.push(format!(
+                "{page_mode}: the page differs from the native render: ꟻLIP mean {mean:.4} (limit {max_mean}), 99th percentile {p99:.4} (limit {max_p99})\nimages: {0}/page-canvas.png, {0}/native.png, {0}/flip.png\n{1}",
+                dir.display(),
+                visit.describe()
+            ));
+        } else {
+            let _ = std::fs::remove_dir_all(&dir);
+        }
     }
-    let _ = std::fs::remove_dir_all(&dir);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

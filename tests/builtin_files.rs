@@ -52,8 +52,21 @@ fn render_from_an_empty_directory_uses_the_builtin_files() {
     let dir = EmptyDir::new("empty");
     let out = render_in(&dir.0);
     assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    let img = image::open(dir.0.join("x.png")).unwrap();
+    let img = image::open(dir.0.join("x.png")).unwrap().to_rgba8();
     assert_eq!((img.width(), img.height()), (64, 36));
+    // The built-in copies are the repository's files: the same picture as a render in the
+    // repository, byte for byte.
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let beside = EmptyDir::new("repo-render");
+    let out = Command::new(env!("CARGO_BIN_EXE_raygraph"))
+        .current_dir(repo)
+        .args(["render", "--width", "64", "--height", "36", "--frames", "1", "--out"])
+        .arg(beside.0.join("x.png"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let from_repo = image::open(beside.0.join("x.png")).unwrap().to_rgba8();
+    assert!(img == from_repo, "the built-in files draw what the repository's draw");
 }
 
 #[test]

@@ -48,8 +48,21 @@ fn render_writes_a_png_and_prints_the_pass_table() {
     assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("adapter:"), "{stdout}");
     assert!(stdout.contains("GPU ms") && stdout.contains("forward/shade"), "{stdout}");
-    let img = image::open(&out_png).unwrap();
+    let img = image::open(&out_png).unwrap().to_rgba8();
     assert_eq!((img.width(), img.height()), (96, 54));
+    // The pixels are the library's: the default graph (graph/raster.ron) on the default scene,
+    // two frames, read back from an executor of its own.
+    let graph = common::repo().join("graph/raster.ron");
+    let plan = raygraph::graph::compile(&graph, &raygraph::graph::Project::beside_graph(&graph), (96, 54)).unwrap();
+    let gpu = common::gpu();
+    let scene = raygraph::scene::builtin::default_scene();
+    let mut exec = raygraph::runtime::Executor::new(&gpu, plan, &scene).unwrap();
+    for _ in 0..2 {
+        exec.render(&gpu, &scene.camera, &scene).unwrap();
+    }
+    let library = exec.read_output(&gpu).unwrap();
+    let differing = img.pixels().zip(library.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "the PNG is the library's image byte for byte");
     let _ = std::fs::remove_file(out_png);
 }
 

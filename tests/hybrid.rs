@@ -346,9 +346,9 @@ fn a_mirror_shows_the_mirrored_scene() {
 }
 
 /// Away from silhouettes (pixels whose 3x3 neighbourhood lies on one surface in both modes) the
-/// hybrid and full-RT images agree: mean absolute difference <= 2 and 99th percentile <= 16 in
-/// 8-bit units, on an untextured scene (texture filtering differs between the modes); and the
-/// G-buffers agree there: positions within 1e-3 of the depth, normals within 1e-3 in 1 - cos.
+/// hybrid and full-RT images are identical, on an untextured scene (texture filtering differs
+/// between the modes); and the G-buffers agree there: positions within 2.2e-6 of the depth,
+/// normals within 7.2e-7 in 1 - cos (3x the measured values, beside the assertions).
 #[test]
 fn hybrid_and_full_rt_agree_away_from_silhouettes() {
     let gpu = gpu();
@@ -417,9 +417,11 @@ fn hybrid_and_full_rt_agree_away_from_silhouettes() {
     let p99 = diffs[diffs.len() * 99 / 100];
     println!("hybrid vs full RT over {} interior pixels: mean |difference| {mean:.2}, 99th percentile {p99}, max {}", diffs.len(), diffs.last().unwrap());
     println!("G-buffers: largest position difference {worst_position:.2e} of the depth, largest 1 - cos(normal angle) {worst_normal:.2e}");
-    assert!(worst_position <= 1e-3 && worst_normal <= 1e-3, "G-buffer channels differ: position {worst_position}, normal {worst_normal}");
+    // Measured on lavapipe (Mesa 25.0.7), 2026-11-29: position 7.14e-7 of the depth, 1 - cos
+    // 2.38e-7, and the interior pixels identical (mean, p99 and max 0); bounds 3x those.
+    assert!(worst_position <= 2.2e-6 && worst_normal <= 7.2e-7, "G-buffer channels differ: position {worst_position}, normal {worst_normal}");
     assert!(diffs.len() > (w * h / 4) as usize, "{} interior pixels", diffs.len());
-    assert!(mean <= 2.0 && p99 <= 16, "mean {mean}, p99 {p99}");
+    assert!(*diffs.last().unwrap() == 0, "mean {mean}, p99 {p99}, max {}", diffs.last().unwrap());
 }
 
 #[test]

@@ -167,6 +167,9 @@ fn check_agreement(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), backe
 /// level, which changes filtered texels where the texture has detail at that scale (at most
 /// 0.3% of the pixels past the tolerance, measured); the allowed share leaves room for other
 /// views of the same assets.
+/// Measured on lavapipe (Mesa 25.0.7), 2026-11-29, share of pixels over each tolerance: the
+/// helmet 0.308% (geometric normal), 0.154% (shading normal, albedo, metallic, occlusion: 2 of
+/// 1,300 pixels), the pine 0 everywhere; both shares are 0.5%, within 3x of the largest.
 fn real_asset_tolerances(crossing_share: f64, detail_share: f64) -> Vec<Tolerance> {
     vec![
         Tolerance { name: "position / depth", tolerance: 1e-3, share: crossing_share },
@@ -184,7 +187,7 @@ fn real_asset_tolerances(crossing_share: f64, detail_share: f64) -> Vec<Toleranc
 fn damaged_helmet_gbuffers_agree_in_hybrid_and_full_rt() {
     let gpu = gpu();
     let scene = open("assets/gltf/DamagedHelmet/DamagedHelmet.glb");
-    check_agreement(&gpu, "DamagedHelmet", &scene, (96, 96), Backend::Compute, 1000, &real_asset_tolerances(0.005, 0.05));
+    check_agreement(&gpu, "DamagedHelmet", &scene, (96, 96), Backend::Compute, 1000, &real_asset_tolerances(0.005, 0.005));
 }
 
 #[test]
@@ -197,7 +200,7 @@ fn pine_gbuffers_agree_in_hybrid_and_full_rt() {
     for m in scene.materials_mut().iter_mut().filter(|m| m.alpha_mode == raygraph::scene::AlphaMode::Blend) {
         m.alpha_mode = raygraph::scene::AlphaMode::Mask(0.5);
     }
-    check_agreement(&gpu, "smallpine", &scene, (128, 128), Backend::Compute, 500, &real_asset_tolerances(0.005, 0.05));
+    check_agreement(&gpu, "smallpine", &scene, (128, 128), Backend::Compute, 500, &real_asset_tolerances(0.005, 0.005));
 }
 
 /// The pixel the camera projects `p` to.

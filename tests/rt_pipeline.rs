@@ -63,9 +63,16 @@ fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, usize) {
 
 /// Metric, on the first frame and the next two: shadow and AO equal to compute's texel for
 /// texel (the same any-hit answers: tests/reference_channels.rs shows both exact per pixel);
-/// G-buffer and reflection channels within 1e-2 (the driver's t and barycentrics differ from
-/// compute's in the last bits); the 8-bit output within RMSE 1.0 and at most 0.1% of pixels
-/// off by more than 24; every channel non-zero somewhere (nothing zero-filled).
+/// G-buffer and reflection channels within CHANNEL_TOLERANCES (the driver's t and barycentrics
+/// differ from compute's in the last bits); the 8-bit output within RMSE 0.02 and no pixel
+/// off by more than 24; every channel non-zero somewhere (nothing zero-filled). Measured on
+/// lavapipe (Mesa 25.0.7), 2026-11-29: positions 1.24e-5, normals and reflections 2.44e-4 (one
+/// half-float step at 1), output RMSE 0.007 (full RT) and 0 (hybrid), no outlier; every bound
+/// is 3x its measured value.
+/// The largest |rt-pipeline - compute| of each channel compared (see the test below).
+const CHANNEL_TOLERANCES: [(&str, f32); 5] =
+    [("shadow.shadow", 0.0), ("ao.ao", 0.0), ("gbuffer.position", 4e-5), ("gbuffer.normal", 7.5e-4), ("reflection.reflection", 7.5e-4)];
+
 #[test]
 fn the_first_and_later_frames_match_compute_in_hybrid_and_full_rt() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
@@ -86,13 +93,13 @@ fn the_first_and_later_frames_match_compute_in_hybrid_and_full_rt() {
                 let d = max_diff(a, &b);
                 let lit = b.iter().filter(|t| t.iter().any(|c| *c != 0.0)).count();
                 println!("{graph} frame {frame} {name}: max |rt-pipeline - compute| {d:e}, {lit} non-zero texels");
-                let tolerance = if name.starts_with("shadow") || name.starts_with("ao") { 0.0 } else { 1e-2 };
+                let tolerance = CHANNEL_TOLERANCES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t).unwrap();
                 assert!(d <= tolerance, "{graph} frame {frame}: {name} differs by {d}");
                 assert!(lit > 0, "{graph} frame {frame}: {name} is all zero on rt-pipeline");
             }
             let (rmse, outliers) = difference(&compute.read_output(&gpu).unwrap(), &rt.read_output(&gpu).unwrap());
             println!("{graph} frame {frame} output: RMSE {rmse:.3}, {outliers} outlier pixels");
-            assert!(rmse <= 1.0 && outliers * 1000 <= (SIZE.0 * SIZE.1) as usize, "{graph} frame {frame}: RMSE {rmse}, {outliers} outliers");
+            assert!(rmse <= 0.02 && outliers == 0, "{graph} frame {frame}: RMSE {rmse}, {outliers} outliers");
         }
     }
 }

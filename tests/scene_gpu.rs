@@ -132,7 +132,9 @@ fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
     let sq: f64 = images[0].pixels().zip(images[1].pixels()).flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2))).sum();
     let rmse = (sq / (3.0 * 160.0 * 90.0)).sqrt();
     println!("texture array vs binding array: RMSE {rmse:.3}");
-    assert!(rmse <= 3.0, "RMSE {rmse}");
+    // Measured on lavapipe (Mesa 25.0.7), 2026-11-29: identical (RMSE 0): the same texels
+    // sampled through either binding.
+    assert!(rmse == 0.0, "RMSE {rmse}");
 }
 
 #[test]

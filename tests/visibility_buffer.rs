@@ -10,11 +10,11 @@
 //! more than 24/255 in a channel. The two differ by design only in the texture level (the
 //! fragment stage's screen derivatives against the pixel's ray cone, as primary rays choose it)
 //! and in rounding (the hit recomputed from the camera ray; the shadow maps' receiver plane from
-//! neighbouring rays instead of derivatives). Measured on lavapipe at 160x90 when this test was
-//! written: RMSE 2.145 on the built-in scene (its checkerboard floor at grazing angles, where
-//! the two texture levels differ most), 0.685 on the helmet, 0.226 on the pine; outliers 0.069%,
-//! 0, 0. The bounds (RMSE 3, outliers 0.5% as in the golden test) leave room for drivers, not
-//! for a changed image.
+//! neighbouring rays instead of derivatives). Measured on lavapipe (Mesa 25.0.7) at 160x90,
+//! 2026-11-29: RMSE 2.350 on the built-in scene (its checkerboard floor at grazing angles,
+//! where the two texture levels differ most), 0.396 on the helmet, 0.043 on the pine; outliers
+//! 0.083%, 0, 0. Each scene's bounds are 1.5x to 3x its own measured values (the built-in
+//! scene's within 1.5x, since its difference is the largest by design).
 
 mod common;
 
@@ -24,8 +24,8 @@ use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::Scene;
 
 const SIZE: (u32, u32) = (160, 90);
-const MAX_RMSE: f64 = 3.0;
-const MAX_OUTLIER_FRACTION: f64 = 0.005;
+/// (scene, largest RMSE, largest outlier fraction) of the shading comparison.
+const BOUNDS: [(&str, f64, f64); 3] = [("default", 3.5, 0.0025), ("DamagedHelmet", 1.2, 0.0), ("smallpine", 0.13, 0.0)];
 const OUTLIER_DIFF: i32 = 24;
 
 fn render(gpu: &Gpu, scene: &Scene, options: &CompileOptions) -> (Vec<String>, image::RgbaImage) {
@@ -66,7 +66,8 @@ fn visibility_buffer_shading_matches_fragment_shading() {
         let outlier_fraction = outliers as f64 / n;
         println!("{name}: RMSE {rmse:.3} (8-bit units), outliers {:.3}%", outlier_fraction * 100.0);
         assert!(lit as f64 > n * 0.5, "{name}: an image was rendered");
-        assert!(rmse <= MAX_RMSE && outlier_fraction <= MAX_OUTLIER_FRACTION, "{name}: RMSE {rmse:.3}, outliers {:.3}%", outlier_fraction * 100.0);
+        let (_, max_rmse, max_outliers) = BOUNDS.iter().find(|(n, _, _)| n == name).copied().unwrap();
+        assert!(rmse <= max_rmse && outlier_fraction <= max_outliers, "{name}: RMSE {rmse:.3} (max {max_rmse}), outliers {:.3}%", outlier_fraction * 100.0);
     }
 }
 

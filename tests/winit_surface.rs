@@ -1,7 +1,10 @@
 //! `examples/winit_surface.rs` under Xvfb on lavapipe: the example opens its own window,
 //! instance, surface and device, renders the raster graph into the window, is resized after the
 //! first frame (the executor is built again at the new size), presents at least three frames
-//! and exits. A test without the default harness (`harness = false` in `Cargo.toml`): winit's event
+//! and exits. It checks frames and sizes, not pixels: a swapchain image cannot be read back
+//! once presented, and Xvfb's screen has no reader here; the pixels the example draws are the
+//! raster graph's, which tests/cli.rs checks byte for byte against the library. A test
+//! without the default harness (`harness = false` in `Cargo.toml`): winit's event
 //! loop must run on the main thread.
 
 mod common;

@@ -24,6 +24,19 @@ const EDGE_EPS: f64 = 1e-5;
 /// The scenes the reference comparison runs on, with the rays per group of each.
 pub const SCENES: [(&str, usize); 4] = [("box", 400), ("organic", 400), ("default", 400), ("atrium", 150)];
 
+/// The most rays of a scene's test set whose disagreement is allowed at an edge, as a share:
+/// 1.5x the largest measured over the three back-ends on lavapipe (Mesa 25.0.7, 2026-11-29:
+/// box 8.8%, organic 7.9%, default 11.9%, atrium 4.0%, all on `compute`). More means the
+/// traversal misses or adds hits near edges beyond f32 rounding.
+pub fn edge_share_bound(scene: &str) -> f64 {
+    match scene {
+        "box" => 0.13,
+        "organic" => 0.12,
+        "default" => 0.18,
+        _ => 0.06,
+    }
+}
+
 /// A built-in scene without textures.
 pub fn scene(name: &str) -> Result<Scene, String> {
     Ok(crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() }).map_err(|e| format!("opening {name}: {e}"))?.0)
@@ -249,6 +262,15 @@ impl ReferenceScene {
                 }
                 any_disagree += 1;
             }
+        }
+        let edge_share = near_edge as f64 / self.rays.len() as f64;
+        if edge_share > edge_share_bound(&self.name) {
+            failures.push(format!(
+                "{}/{label}: {near_edge} disagreements at edges, {:.1}% of the rays (bound {:.0}%)",
+                self.name,
+                100.0 * edge_share,
+                100.0 * edge_share_bound(&self.name)
+            ));
         }
         notes.push(format!(
             "{:8} {label:9}: {} rays, {} hits; disagreements at edges {near_edge} ({:.3}%), any-hit {any_disagree}; max relative t error {t_err_max:.2e} (rays steeper than 0.6°)",
