@@ -179,21 +179,24 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
 /// that `fill_wgsl` writes (`CONSTANT_LAYER`'s interface): the filtered texels and the
 /// G-buffer positions.
 fn filter_once(fill_wgsl: &str) -> (Vec<[f32; 4]>, Vec<[f32; 4]>) {
+    filter_once_with(fill_wgsl, "{}")
+}
+
+/// [`filter_once`] with the `atrous` node's `params` (RON, as a graph file writes them).
+fn filter_once_with(fill_wgsl: &str, params: &str) -> (Vec<[f32; 4]>, Vec<[f32; 4]>) {
     let gpu = gpu();
     let p = TempProject::with_repo_files();
     p.write("layers/show_value.ron", SHOW_LAYER);
     p.write("shaders/test/show_value.wgsl", SHOW_WGSL);
     p.write("layers/constant.ron", CONSTANT_LAYER);
     p.write("shaders/test/constant.wgsl", fill_wgsl);
-    let path = p.write(
-        "graph/constant.ron",
-        r#"Graph(output: "show.color", nodes: {
+    let graph = r#"Graph(output: "show.color", nodes: {
     "gbuffer": Layer(layer: "deferred"),
     "constant": Layer(layer: "constant"),
-    "filter": Layer(layer: "atrous", inputs: {"signal": "constant.signal", "moments": "constant.moments", "position": "gbuffer.position", "normal": "gbuffer.normal"}),
+    "filter": Layer(layer: "atrous", inputs: {"signal": "constant.signal", "moments": "constant.moments", "position": "gbuffer.position", "normal": "gbuffer.normal"}, params: PARAMS),
     "show": Layer(layer: "show_value", inputs: {"value": "filter.filtered"}),
-})"#,
-    );
+})"#;
+    let path = p.write("graph/constant.ron", &graph.replace("PARAMS", params));
     let plan = raygraph::graph::compile::compile(&path, &p.project(), (W, H)).unwrap_or_else(|e| panic!("{e}"));
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
@@ -216,6 +219,44 @@ fn the_atrous_filter_keeps_a_constant_image_constant() {
         filtered.iter().flat_map(|v| [(v[0] - 0.3).abs() / ulp(0.3), (v[1] - 0.6).abs() / ulp(0.6), (v[2] - 0.9).abs() / ulp(0.9)]).fold(0.0f32, f32::max);
     println!("largest deviation from the constant: {worst} half-float units in the last place");
     assert!(worst <= 6.0, "the filter changed a constant image by {worst} units");
+}
+
+/// A hard edge, 0 left of the frame's middle and 1 right of it, with the moments of a single
+/// frame (the history a camera motion has just uncovered).
+const EDGE_WGSL: &str = r#"@group(0) @binding(0) var signal: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(1) var moments: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(signal);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let v = select(0.0, 1.0, 2u * id.x >= size.x);
+    textureStore(signal, id.xy, vec4<f32>(v, v, v, 1.0));
+    textureStore(moments, id.xy, vec4<f32>(v, v * v, 1.0, 0.0));
+}
+"#;
+
+/// Before 4 frames of history the filter takes the variance from the 3x3 neighbourhood
+/// ("spatial", the default), which is large across a real edge, so the edge is blurred;
+/// "unfiltered" takes it as 0 and leaves every pixel of a two-valued image as it was.
+#[test]
+fn a_short_history_unfiltered_keeps_a_hard_edge_that_the_spatial_estimate_blurs() {
+    let changed = |filtered: &[[f32; 4]], position: &[[f32; 4]]| {
+        filtered
+            .iter()
+            .zip(position)
+            .enumerate()
+            .filter(|(i, (v, p))| p[3] != 0.0 && (v[0] - if (i % W as usize) * 2 >= W as usize { 1.0 } else { 0.0 }).abs() > 1e-3)
+            .count()
+    };
+    let (spatial, position) = filter_once_with(EDGE_WGSL, "{}");
+    let (unfiltered, _) = filter_once_with(EDGE_WGSL, r#"{"short_history": 1}"#);
+    let (blurred, kept) = (changed(&spatial, &position), changed(&unfiltered, &position));
+    println!("pixels moved off the edge's two values: spatial {blurred}, unfiltered {kept}");
+    assert!(blurred > H as usize, "the spatial estimate blurs the edge ({blurred} pixels changed)");
+    assert_eq!(kept, 0, "unfiltered keeps every pixel");
 }
 
 /// The filter nodes of `graph/hybrid_denoised.ron`.

@@ -3,11 +3,7 @@
 //#include "common/frame.wgsl"
 //#include "common/atrous.wgsl"
 
-struct Params {
-    sigma_luminance: f32,
-    sigma_normal: f32,
-    sigma_depth: f32,
-}
+//#include "common/atrous_params.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;

@@ -2,7 +2,11 @@
 // -1 where the signal's alpha says there is none):
 // from the temporal moments where 4 or more frames were accumulated (divided by their number:
 // the variance of the accumulated mean), else from the 3x3
-// neighbourhood of this frame (Schied et al. 2017, section 4.2).
+// neighbourhood of this frame (Schied et al. 2017, section 4.2), or 0 with `short_history`
+// "unfiltered" (layers/atrous.ron).
+//#include "common/atrous_params.wgsl"
+
+@group(0) @binding(3) var<uniform> params: Params;
 @group(0) @binding(0) var signal: texture_2d<f32>;
 @group(0) @binding(1) var moments: texture_2d<f32>;
 @group(0) @binding(2) var packed: texture_storage_2d<rgba16float, write>;
@@ -24,7 +28,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     // m.z frames, whose variance is that over m.z. (The spatial estimate below is taken from
     // the signal itself.)
     var variance = max(m.y - m.x * m.x, 0.0) / max(m.z, 1.0);
-    if m.z < 4.0 {
+    if m.z < 4.0 && params.short_history == SHORT_HISTORY_UNFILTERED {
+        variance = 0.0;
+    } else if m.z < 4.0 {
         var sum = 0.0;
         var sum2 = 0.0;
         let last = vec2<i32>(size) - 1;
