@@ -83,7 +83,7 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
                 (frame: 5, action: Mode(FullRt)),
                 (frame: 7, action: Screenshot("{full_rt}")),
                 (frame: 8, action: Param(node: "ao", name: "rays", value: 3)),
-                (frame: 9, action: SelectPass("ao/ao")),
+                (frame: 9, action: SelectPass("ao/sum")),
                 (frame: 11, action: Screenshot("{ao}")),
                 (frame: 12, action: Overlay(true)),
                 (frame: 13, action: Screenshot("{ao_overlay}")),
@@ -125,7 +125,8 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
     let d = mean_abs_diff(&without, &full_rt);
     assert!(d > 0.5, "raster and full RT frames differ (mean |diff| {d:.2})");
 
-    // The parameter reached the running graph, the clicked pass's texture is shown.
+    // The parameter reached the running graph, the clicked pass's texture is shown (`ao/sum`,
+    // the AO layer's pass that writes `ao.ao`; `ao/ao` writes the lanes' partial sums).
     let ao = text("ao_overlay");
     for needle in ["mode: full RT", "view: ao.ao", "ao.rays = 3", "ao/ao: GPU", "gbuffer/primary: GPU", "rays/px"] {
         assert!(ao.contains(needle), "overlay after the script's steps lacks `{needle}`:\n{ao}");

@@ -6,7 +6,7 @@
 //!     (frame: 2, action: Mode(FullRt)),
 //!     (frame: 4, action: Param(node: "ao", name: "rays", value: 2)),
 //!     (frame: 5, action: Enable(node: "reflection", on: false)),
-//!     (frame: 6, action: SelectPass("ao/ao")),
+//!     (frame: 6, action: SelectPass("ao/sum")),
 //!     (frame: 7, action: Seek(1.25)),
 //!     (frame: 7, action: Play(false)),
 //!     (frame: 8, action: Screenshot("ao.png")),
