@@ -3,9 +3,10 @@
 //
 // A pixel's rays are shared by AO_LANES invocations (the pass runs over `partial`, twice the
 // frame in each axis: texel (2x + i, 2y + j) is lane i + 2j of pixel (x, y)); lane k traces
-// rays k, k + AO_LANES, ... (in rounds: the lanes of a subgroup trace together) and writes how much of them got through; `sum` (rt/ao_sum.wgsl) adds
-// a pixel's lanes in order. Four times the invocations keep the GPU busy when few pixels have
-// rays (a model covering a few percent of the frame): BENCHMARKS.md, "AO rays over four lanes".
+// rays k, k + AO_LANES, ... (in rounds: the lanes of a subgroup trace together) and writes
+// how much of them got through; `sum` (rt/ao_sum.wgsl) adds a pixel's lanes in order. Four
+// times the invocations keep the GPU busy when few pixels have rays (a model covering a few
+// percent of the frame): BENCHMARKS.md, "AO rays over four lanes".
 //#include "common/frame.wgsl"
 //#include "common/ray_offset.wgsl"
 //#include "common/sampling.wgsl"
