@@ -161,19 +161,28 @@ const CONSTANT_LAYER: &str = r#"Layer(
 )
 "#;
 
-const CONSTANT_WGSL: &str = r#"@group(0) @binding(0) var signal: texture_storage_2d<rgba16float, write>;
+/// CONSTANT_LAYER's shader, writing `signal` and `moments` per pixel with `body` (WGSL that sees
+/// `id` and `size`).
+fn fill_wgsl(body: &str) -> String {
+    format!(
+        r#"@group(0) @binding(0) var signal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(1) var moments: texture_storage_2d<rgba32float, write>;
 
 @compute @workgroup_size(8, 8)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {{
     let size = textureDimensions(signal);
-    if (id.x >= size.x || id.y >= size.y) {
+    if (id.x >= size.x || id.y >= size.y) {{
         return;
-    }
-    textureStore(signal, id.xy, vec4<f32>(0.3, 0.6, 0.9, 1.0));
-    textureStore(moments, id.xy, vec4<f32>(0.5, 0.25, 10.0, 0.0));
+    }}
+{body}
+}}
+"#
+    )
 }
-"#;
+
+/// The constant signal (0.3, 0.6, 0.9) and a settled, noiseless history (10 frames).
+const CONSTANT_FILL: &str = "    textureStore(signal, id.xy, vec4<f32>(0.3, 0.6, 0.9, 1.0));
+    textureStore(moments, id.xy, vec4<f32>(0.5, 0.25, 10.0, 0.0));";
 
 /// One frame of `atrous` over the default scene's G-buffer, filtering the signal and moments
 /// that `fill_wgsl` writes (`CONSTANT_LAYER`'s interface): the filtered texels and the
@@ -209,7 +218,7 @@ fn filter_once_with(fill_wgsl: &str, params: &str) -> (Vec<[f32; 4]>, Vec<[f32; 
 /// edges: its weights are normalised whatever the edge-stopping functions make of them.
 #[test]
 fn the_atrous_filter_keeps_a_constant_image_constant() {
-    let (filtered, _) = filter_once(CONSTANT_WGSL);
+    let (filtered, _) = filter_once(&fill_wgsl(CONSTANT_FILL));
     // In half-float units in the last place: the signal is stored in half floats six times
     // (the constant itself, packed, and after each step), and a Vulkan implementation may round
     // each store towards zero (lavapipe does: 0.9 comes out as 0.89941, two units low), so up
@@ -223,20 +232,9 @@ fn the_atrous_filter_keeps_a_constant_image_constant() {
 
 /// A hard edge, 0 left of the frame's middle and 1 right of it, with the moments of a single
 /// frame (the history a camera motion has just uncovered).
-const EDGE_WGSL: &str = r#"@group(0) @binding(0) var signal: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(1) var moments: texture_storage_2d<rgba32float, write>;
-
-@compute @workgroup_size(8, 8)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(signal);
-    if (id.x >= size.x || id.y >= size.y) {
-        return;
-    }
-    let v = select(0.0, 1.0, 2u * id.x >= size.x);
+const EDGE_FILL: &str = "    let v = select(0.0, 1.0, 2u * id.x >= size.x);
     textureStore(signal, id.xy, vec4<f32>(v, v, v, 1.0));
-    textureStore(moments, id.xy, vec4<f32>(v, v * v, 1.0, 0.0));
-}
-"#;
+    textureStore(moments, id.xy, vec4<f32>(v, v * v, 1.0, 0.0));";
 
 /// Before 4 frames of history the filter takes the variance from the 3x3 neighbourhood
 /// ("spatial", the default), which is large across a real edge, so the edge is blurred;
@@ -251,8 +249,8 @@ fn a_short_history_unfiltered_keeps_a_hard_edge_that_the_spatial_estimate_blurs(
             .filter(|(i, (v, p))| p[3] != 0.0 && (v[0] - if (i % W as usize) * 2 >= W as usize { 1.0 } else { 0.0 }).abs() > 1e-3)
             .count()
     };
-    let (spatial, position) = filter_once_with(EDGE_WGSL, "{}");
-    let (unfiltered, _) = filter_once_with(EDGE_WGSL, r#"{"short_history": 1}"#);
+    let (spatial, position) = filter_once_with(&fill_wgsl(EDGE_FILL), "{}");
+    let (unfiltered, _) = filter_once_with(&fill_wgsl(EDGE_FILL), r#"{"short_history": 1}"#);
     let (blurred, kept) = (changed(&spatial, &position), changed(&unfiltered, &position));
     println!("pixels moved off the edge's two values: spatial {blurred}, unfiltered {kept}");
     assert!(blurred > H as usize, "the spatial estimate blurs the edge ({blurred} pixels changed)");
@@ -343,12 +341,12 @@ fn a_bypass_between_different_formats_is_refused() {
 /// constant within the half-float rounding of the test above.
 #[test]
 fn pixels_without_a_signal_keep_none_and_lend_nothing_to_their_neighbours() {
-    let half = CONSTANT_WGSL.replace(
+    let half = CONSTANT_FILL.replace(
         "textureStore(signal, id.xy, vec4<f32>(0.3, 0.6, 0.9, 1.0));",
         "textureStore(signal, id.xy, select(vec4<f32>(5.0, 5.0, 5.0, 0.0), vec4<f32>(0.3, 0.6, 0.9, 1.0), id.x >= size.x / 2u));",
     );
-    assert!(half != CONSTANT_WGSL);
-    let (filtered, position) = filter_once(&half);
+    assert!(half != CONSTANT_FILL);
+    let (filtered, position) = filter_once(&fill_wgsl(&half));
     let ulp = |c: f32| 2f32.powi(c.log2().floor() as i32 - 10);
     let (mut left, mut right, mut worst) = (0, 0, 0.0f32);
     for (i, (v, x)) in filtered.iter().zip(&position).enumerate() {

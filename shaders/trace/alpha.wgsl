@@ -96,19 +96,55 @@ fn trace_transmittance_passes(instance: u32, primitive: u32, bary: vec2<f32>) ->
         return false;
     }
     let c = trace_alpha_corners(rec, primitive, bary);
-    var coverage = bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
-    if coverage < trace_alpha_cutoff(rec) {
+    let alpha = trace_alpha_of(rec, c);
+    if alpha < trace_alpha_cutoff(rec) {
         return true;
     }
     if (rec.y & TRACE_ALPHA_BLEND) == 0u {
         return false;
     }
-    if (rec.y & TRACE_ALPHA_TRANSMISSION) != 0u {
-        let t = trace_alpha_word(rec.w);
-        coverage *= 1.0 - bitcast<f32>(t.y) * scene_bilinear_level0(t.x & 0xffffffu, c.xy, (t.x >> 24u) & 15u).r;
-    }
-    trace_transmitted *= 1.0 - min(coverage, 1.0);
+    trace_transmitted *= 1.0 - min(trace_coverage_of(rec, c.xy, alpha), 1.0);
     return trace_transmitted >= TRACE_TRANSMITTANCE_MIN;
+}
+
+// The alpha of a hit on an alpha-tested instance (record `rec`, corners `c`): base_color.a x
+// the vertex colours' alpha x the base texture's level-0 bilinear alpha.
+fn trace_alpha_of(rec: vec4<u32>, c: vec3<f32>) -> f32 {
+    return bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
+}
+
+// The coverage of a BLEND hit of alpha `alpha` at `uv`: the alpha, where its transmission
+// texture is drawn times 1 - the transmitted share x its texel.
+fn trace_coverage_of(rec: vec4<u32>, uv: vec2<f32>, alpha: f32) -> f32 {
+    if (rec.y & TRACE_ALPHA_TRANSMISSION) == 0u {
+        return alpha;
+    }
+    let t = trace_alpha_word(rec.w);
+    return alpha * (1.0 - bitcast<f32>(t.y) * scene_bilinear_level0(t.x & 0xffffffu, uv, (t.x >> 24u) & 15u).r);
+}
+
+// The start of each back-end's trace_transmittance_flags: false for an invalid ray (counted as
+// such; it lets everything through), else the ray is counted as an any-hit ray and
+// trace_transmitted starts at 1.
+fn trace_transmittance_starts(ray: Ray) -> bool {
+    if !trace_ray_is_valid(ray) {
+        trace_count_invalid++;
+        return false;
+    }
+    trace_count_any++;
+    trace_transmitted = 1.0;
+    return true;
+}
+
+// A transmittance ray's result (each back-end's trace_transmittance_flags): 0 where something
+// stopped it, else what its BLEND surfaces let through (trace_transmitted); a hit is counted
+// wherever less than all of it got through.
+fn trace_transmittance_result(stopped: bool) -> f32 {
+    let transmittance = select(trace_transmitted, 0.0, stopped);
+    if transmittance < 1.0 {
+        trace_count_hits++;
+    }
+    return transmittance;
 }
 
 fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
@@ -117,11 +153,5 @@ fn trace_blend_coverage(instance: u32, primitive: u32, bary: vec2<f32>) -> f32 {
         return -1.0;
     }
     let c = trace_alpha_corners(rec, primitive, bary);
-    var coverage = bitcast<f32>(rec.z) * c.z * scene_alpha_level0(rec.y & 0xffffffu, c.xy, (rec.y >> 24u) & 15u);
-    if (rec.y & TRACE_ALPHA_TRANSMISSION) != 0u {
-        // 1 - the transmitted share x the transmission texel (red) at the same uv.
-        let t = trace_alpha_word(rec.w);
-        coverage *= 1.0 - bitcast<f32>(t.y) * scene_bilinear_level0(t.x & 0xffffffu, c.xy, (t.x >> 24u) & 15u).r;
-    }
-    return coverage;
+    return trace_coverage_of(rec, c.xy, trace_alpha_of(rec, c));
 }

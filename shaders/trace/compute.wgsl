@@ -433,16 +433,8 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
 }
 
 fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
-    if !trace_ray_is_valid(ray) {
-        trace_count_invalid++;
+    if !trace_transmittance_starts(ray) {
         return 1.0;
     }
-    trace_count_any++;
-    trace_transmitted = 1.0;
-    let blocked = trace_impl(ray, true, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any;
-    let transmittance = select(trace_transmitted, 0.0, blocked);
-    if transmittance < 1.0 {
-        trace_count_hits++;
-    }
-    return transmittance;
+    return trace_transmittance_result(trace_impl(ray, true, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any);
 }

@@ -67,12 +67,9 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
 }
 
 fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
-    if !trace_ray_is_valid(ray) {
-        trace_count_invalid++;
+    if !trace_transmittance_starts(ray) {
         return 1.0;
     }
-    trace_count_any++;
-    trace_transmitted = 1.0;
     var rq: ray_query;
     let ray_flags = TRACE_FLAG_TERMINATE_ON_FIRST_HIT | (flags & TRACE_CULL_BACK_FACES);
     rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
@@ -84,10 +81,5 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
             rayQueryConfirmIntersection(&rq);
         }
     }
-    let blocked = rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE;
-    let transmittance = select(trace_transmitted, 0.0, blocked);
-    if transmittance < 1.0 {
-        trace_count_hits++;
-    }
-    return transmittance;
+    return trace_transmittance_result(rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE);
 }

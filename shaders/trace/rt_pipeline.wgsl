@@ -106,11 +106,9 @@ fn trace_any_flags(ray: Ray, flags: u32) -> bool {
 }
 
 fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
-    if !trace_ray_is_valid(ray) {
-        trace_count_invalid++;
+    if !trace_transmittance_starts(ray) {
         return 1.0;
     }
-    trace_count_any++;
     // "Stopped" unless the miss shader says otherwise, as for trace_any_flags; the any-hit
     // shader passes the BLEND surfaces and accepts the candidate that stops the ray.
     trace_payload.ray_type = TRACE_RAY_TRANSMITTANCE;
@@ -118,11 +116,8 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
     trace_payload.transmittance = 1.0;
     let ray_flags = TRACE_FLAG_TERMINATE_ON_FIRST_HIT | TRACE_FLAG_SKIP_CLOSEST_HIT_SHADER | (flags & TRACE_CULL_BACK_FACES);
     traceRay(accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir), &trace_payload);
-    let transmittance = select(0.0, trace_payload.transmittance, trace_payload.instance == NO_HIT);
-    if transmittance < 1.0 {
-        trace_count_hits++;
-    }
-    return transmittance;
+    trace_transmitted = trace_payload.transmittance;
+    return trace_transmittance_result(trace_payload.instance != NO_HIT);
 }
 
 // The miss shader of every ray type (see the module comment).

@@ -139,16 +139,15 @@ pub fn run(
                         options.params.insert(("ao".into(), name.into()), value);
                     }
                     let plan = compile_with(&graph, &project, cfg.size, &options)?;
-                    // The AO layer's passes: its rays (ao/ao) and the sum of each pixel's lanes.
-                    let passes: Vec<usize> = plan.passes.iter().enumerate().filter(|(_, p)| p.name.starts_with("ao/")).map(|(i, _)| i).collect();
-                    if passes.is_empty() {
+                    // The AO node's passes: its rays (ao/ao) and the sum of each pixel's lanes.
+                    if !plan.passes.iter().any(|p| p.node == "ao") {
                         return Err(RuntimeError::Gpu("graph/ao.ron has no pass of node ao".into()));
                     }
                     let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
                     let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
                     let mut exec = Executor::new(gpu, plan, &scene)?;
                     let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
-                    ms.extend(frames.iter().map(|f| passes.iter().map(|&p| pass_ms(f, p)).sum::<f64>()));
+                    ms.extend(frames.iter().map(|f| super::nodes_ms(&exec, f, &["ao"])));
                     let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
                     let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
                     let grey = |v: f64| {

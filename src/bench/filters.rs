@@ -245,15 +245,6 @@ fn flip_between(a: &Signal, b: &Signal, (w, h): (u32, u32), hdr: bool) -> f64 {
     super::modes::flip_mean(&show(b), &show(a)) as f64
 }
 
-/// The GPU ms of a frame spent in the passes of `nodes`.
-fn nodes_ms(exec: &Executor, frame: &crate::runtime::profiler::FrameTimings, nodes: &[&str]) -> f64 {
-    let passes = &exec.plan().passes;
-    match &frame.gpu_ms {
-        Some(ms) => passes.iter().zip(ms).filter(|(p, _)| nodes.contains(&p.node.as_str())).map(|(_, t)| t).sum(),
-        None => frame.frame_ms,
-    }
-}
-
 /// The rows of one scene and effect: noisy and filtered at every ray count.
 fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, effect: &Effect, reference: &Signal) -> Result<Vec<FilterRow>, RuntimeError> {
     let mut rows = Vec::new();
@@ -272,8 +263,8 @@ fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, 
         let (mut trace_ms, mut all_ms, mut errors) = (Vec::new(), Vec::new(), Vec::new());
         for frame_no in 1..=cfg.settle_frames.max(1) {
             let frame = filtered.render(gpu, &camera, scene)?;
-            trace_ms.push(nodes_ms(&filtered, &frame, &[effect.node]));
-            all_ms.push(nodes_ms(&filtered, &frame, &with_filters));
+            trace_ms.push(super::nodes_ms(&filtered, &frame, &[effect.node]));
+            all_ms.push(super::nodes_ms(&filtered, &frame, &with_filters));
             if frame_no == 1 || frame_no == cfg.settle_frames {
                 errors.push((frame_no, compare(&read(gpu, &filtered, effect.filtered)?, reference, cfg.size, effect.hdr)));
             }

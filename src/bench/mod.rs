@@ -62,6 +62,16 @@ pub(crate) fn grays_per_s(rays: f64, gpu_ms: f64) -> f64 {
     rays / (gpu_ms * 1e-3) / 1e9
 }
 
+/// The GPU ms of a frame spent in the passes of `nodes` (its wall time where passes are not
+/// timed).
+pub(crate) fn nodes_ms(exec: &crate::runtime::Executor, frame: &crate::runtime::profiler::FrameTimings, nodes: &[&str]) -> f64 {
+    let passes = &exec.plan().passes;
+    match &frame.gpu_ms {
+        Some(ms) => passes.iter().zip(ms).filter(|(p, _)| nodes.contains(&p.node.as_str())).map(|(_, t)| t).sum(),
+        None => frame.frame_ms,
+    }
+}
+
 /// `dir`, created if needed.
 pub fn results_dir(dir: &Path) -> std::io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
