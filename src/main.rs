@@ -330,7 +330,7 @@ enum BenchCommand {
     /// Ambient occlusion against its closed form (floor under a parallel ceiling): error
     /// (RMSE, relMSE, bias, variance over seeds) against rays per pixel and GPU time, for white
     /// noise and the R2 sequence, with the fitted convergence slopes.
-    /// Also AO, soft shadows and GI of `graph/hybrid_denoised.ron`, noisy and filtered, against
+    /// Also AO, soft shadows, GI and glossy reflections of `graph/hybrid_denoised.ron`, noisy and filtered, against
     /// converged references (relMSE, ꟻLIP) and GPU time, with an equal-time table and a camera
     /// track for flicker and ghosting (`filters.md`).
     Error {
@@ -341,6 +341,8 @@ enum BenchCommand {
         /// Run only the part on the filtered effects.
         #[arg(long)]
         filters_only: bool,
+        #[command(flatten)]
+        filter_args: FilterArgs,
         #[command(flatten)]
         deadline: Deadline,
         #[arg(long, default_value = "bench-results/error")]
@@ -415,10 +417,10 @@ fn with_progress<T>(run: impl FnOnce(&mut dyn FnMut(usize, usize, &str)) -> T) -
 }
 
 /// `bench error`'s part on the filtered effects (`raygraph::bench::filters`).
-fn bench_filters(gpu: &raygraph::runtime::Gpu, quick: bool, backend: Backend, out: &Path) -> Result<()> {
+fn bench_filters(gpu: &raygraph::runtime::Gpu, quick: bool, args: &FilterArgs, backend: Backend, out: &Path) -> Result<()> {
     use raygraph::bench::filters::{self, FiltersConfig};
     let root = PathBuf::from(".");
-    let cfg = if quick { FiltersConfig::quick(&root, backend) } else { FiltersConfig::full(&root, backend) };
+    let cfg = args.apply(if quick { FiltersConfig::quick(&root, backend) } else { FiltersConfig::full(&root, backend) });
     let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), gpu, cfg.size);
     let files = |rows: &[_], track: &[_]| {
         [
@@ -514,6 +516,45 @@ impl TimingArgs {
     fn apply(&self, mut cfg: RaysConfig) -> RaysConfig {
         cfg.size = (self.width.unwrap_or(cfg.size.0), self.height.unwrap_or(cfg.size.1));
         cfg.frames = self.frames.unwrap_or(cfg.frames);
+        cfg
+    }
+}
+
+/// What `bench error`'s part on the filtered effects runs, instead of its configuration's.
+#[derive(clap::Args)]
+struct FilterArgs {
+    /// A scene of the filter part (built-in name or glTF file); repeat for more.
+    #[arg(long = "filter-scene")]
+    scenes: Vec<String>,
+    /// The filter part's frame width.
+    #[arg(long)]
+    filter_width: Option<u32>,
+    /// The filter part's frame height.
+    #[arg(long)]
+    filter_height: Option<u32>,
+    /// The filter part's ray counts, comma separated.
+    #[arg(long, value_delimiter = ',')]
+    filter_rays: Vec<i64>,
+    /// Frames accumulated into the filter part's references.
+    #[arg(long)]
+    reference_frames: Option<u32>,
+    /// Frames of the filter part's turn.
+    #[arg(long)]
+    turn_frames: Option<u32>,
+}
+
+impl FilterArgs {
+    /// `cfg` with what was given.
+    fn apply(&self, mut cfg: raygraph::bench::filters::FiltersConfig) -> raygraph::bench::filters::FiltersConfig {
+        if !self.scenes.is_empty() {
+            cfg.scenes = self.scenes.clone();
+        }
+        if !self.filter_rays.is_empty() {
+            cfg.rays = self.filter_rays.clone();
+        }
+        cfg.size = (self.filter_width.unwrap_or(cfg.size.0), self.filter_height.unwrap_or(cfg.size.1));
+        cfg.reference_frames = self.reference_frames.unwrap_or(cfg.reference_frames);
+        cfg.turn_frames = self.turn_frames.unwrap_or(cfg.turn_frames);
         cfg
     }
 }
@@ -880,12 +921,12 @@ fn run(cli: Cli) -> Result<()> {
             write_results(&out, &files(&rows))?;
             write_plots(anim_bench::plots(&out, &rows))?;
         }
-        Command::Bench { command: BenchCommand::Error { quick, backend, filters_only, deadline, out } } => {
+        Command::Bench { command: BenchCommand::Error { quick, backend, filters_only, filter_args, deadline, out } } => {
             use raygraph::bench::error::{self as error_bench, ErrorConfig};
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
             let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
-            bench_filters(&gpu, quick, *backends.first().context("no back-end")?, &out)?;
+            bench_filters(&gpu, quick, &filter_args, *backends.first().context("no back-end")?, &out)?;
             if filters_only {
                 return Ok(());
             }

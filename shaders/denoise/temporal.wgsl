@@ -7,7 +7,12 @@ struct Params {
     max_history: u32,
     variance_clamp: u32,
     clamp_sigma: f32,
+    history_taps: u32,
 }
+
+// `history_taps`' choices.
+const HISTORY_TAPS_CONSISTENT: u32 = 0u;
+const HISTORY_TAPS_BILINEAR: u32 = 1u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;
@@ -23,17 +28,56 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-// `t` bilinearly at pixel position `at` (pixel centres at +0.5), clamped to the frame.
-fn bilinear(t: texture_2d<f32>, at: vec2<f32>) -> vec4<f32> {
+// The history read at pixel position `at` (pixel centres at +0.5, clamped to the frame): the
+// running mean and the moments, bilinearly from the four texels around it; with
+// `history_taps` "consistent", less those whose mean is farther from this frame's luminance
+// `now` than `clamp_sigma` times that texel's own deviation over time plus a rounding margin.
+// A noise-free texel across a shadow's or an object's edge is left out (bilinear weights alone
+// smear the edge, and a long history keeps the smear for many frames); a noisy one stays. If
+// no texel is consistent, all four are used: an outlier sample of a noisy signal; but where
+// every texel is noise-free too (no deviation over 4 frames or more), the history is stale (a mirror's image moves otherwise than its
+// surface) and `stale` says so.
+struct History {
+    mean: vec4<f32>,
+    moments: vec4<f32>,
+    stale: bool,
+}
+
+fn reprojected_history(at: vec2<f32>, now: f32) -> History {
     let base = at - 0.5;
     let f = fract(base);
     let i0 = vec2<i32>(floor(base));
-    let last = vec2<i32>(textureDimensions(t)) - 1;
-    let a = textureLoad(t, clamp(i0, vec2<i32>(0), last), 0);
-    let b = textureLoad(t, clamp(i0 + vec2<i32>(1, 0), vec2<i32>(0), last), 0);
-    let c = textureLoad(t, clamp(i0 + vec2<i32>(0, 1), vec2<i32>(0), last), 0);
-    let d = textureLoad(t, clamp(i0 + vec2<i32>(1, 1), vec2<i32>(0), last), 0);
-    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    let last = vec2<i32>(textureDimensions(mean_previous)) - 1;
+    var weights = array<f32, 4>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    var means: array<vec4<f32>, 4>;
+    var moments: array<vec4<f32>, 4>;
+    var consistent = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
+    var consistent_weight = 0.0;
+    var noise_free = true;
+    for (var k = 0; k < 4; k++) {
+        let texel = clamp(i0 + vec2<i32>(k & 1, k >> 1u), vec2<i32>(0), last);
+        means[k] = textureLoad(mean_previous, texel, 0);
+        moments[k] = textureLoad(moments_previous, texel, 0);
+        let deviation = sqrt(max(moments[k].y - moments[k].x * moments[k].x, 0.0));
+        let rounding = 0.01 * max(abs(now), abs(moments[k].x)) + 1e-4;
+        let margin = params.clamp_sigma * deviation + rounding;
+        // Noise-free means a deviation of 0 over 4 frames or more (one frame has none).
+        noise_free = noise_free && (weights[k] == 0.0 || (moments[k].z >= 4.0 && deviation <= rounding));
+        if params.history_taps == HISTORY_TAPS_BILINEAR || abs(luminance(means[k].rgb) - now) <= margin {
+            consistent[k] = 1.0;
+            consistent_weight += weights[k];
+        }
+    }
+    var h: History;
+    let use_consistent = consistent_weight > 1e-6;
+    let total = select(1.0, consistent_weight, use_consistent);
+    for (var k = 0; k < 4; k++) {
+        let w = select(weights[k], weights[k] * consistent[k], use_consistent) / total;
+        h.mean += w * means[k];
+        h.moments += w * moments[k];
+    }
+    h.stale = !use_consistent && noise_free && params.history_taps == HISTORY_TAPS_CONSISTENT;
+    return h;
 }
 
 @compute @workgroup_size(8, 8)
@@ -45,20 +89,21 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let now = textureLoad(signal, id.xy, 0);
     let l = luminance(now.rgb);
     let m = textureLoad(motion, id.xy, 0);
-    if m.z != 0.0 {
-        // No history here: start again.
-        textureStore(mean, id.xy, now);
-        textureStore(accumulated, id.xy, now);
-        textureStore(moments, id.xy, vec4<f32>(l, l * l, 1.0, 0.0));
-        return;
-    }
     // Motion under a hundredth of a pixel is the rounding of the reprojection (a still camera
     // gives up to 1e-3 px): the history is read at the pixel itself, so that a long
     // accumulation does not drift by the bilinear weights of that rounding.
     let still = all(abs(m.xy) < vec2<f32>(0.01));
     let before = vec2<f32>(id.xy) + 0.5 - select(m.xy, vec2<f32>(0.0), still);
-    var history = bilinear(mean_previous, before);
-    let history_moments = bilinear(moments_previous, before);
+    let reprojected = reprojected_history(before, l);
+    if m.z != 0.0 || (reprojected.stale && !still) {
+        // No history here (or only a stale one, on a moving pixel): start again.
+        textureStore(mean, id.xy, now);
+        textureStore(accumulated, id.xy, now);
+        textureStore(moments, id.xy, vec4<f32>(l, l * l, 1.0, 0.0));
+        return;
+    }
+    var history = reprojected.mean;
+    let history_moments = reprojected.moments;
     if params.variance_clamp != 0u {
         var sum = vec4<f32>(0.0);
         var sum2 = vec4<f32>(0.0);

@@ -3,7 +3,8 @@
 // where the surface faces the light and the light reaches it. With an area (`light_radius`,
 // `light_width` and `light_height`, `sun_angle` above 0), each of `rays` rays goes to one random point of it
 // (common/shadow_ray.wgsl): a stochastic estimate of a soft shadow per pixel and light, for the temporal and spatial filters. Writes the
-// shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four.
+// shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four; with
+// `split`, also the unshadowed light and the ratio of the two (layers/rt_shadow.ron).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -22,6 +23,7 @@ struct Params {
     rays: u32,
     light_width: f32,
     light_height: f32,
+    split: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -37,6 +39,27 @@ struct Params {
 @group(0) @binding(10) var<storage, read> scene_instances: array<Instance>;
 @group(0) @binding(11) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(12) var lobes: texture_2d<u32>;
+@group(0) @binding(13) var unshadowed: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(14) var visibility: texture_storage_2d<rgba16float, write>;
+
+// `shadowed` over `unshadowed` per channel; where a channel of `unshadowed` is 0, the ratio of
+// the luminances (the channel's product is 0 either way; this keeps the filters' luminance
+// weights meaningful there); 0 where no light reaches at all.
+fn visibility_ratio(shadowed: vec3<f32>, unshadowed: vec3<f32>) -> vec3<f32> {
+    let luma = vec3<f32>(0.2126, 0.7152, 0.0722);
+    let total = dot(unshadowed, luma);
+    let overall = select(0.0, dot(shadowed, luma) / total, total > 0.0);
+    let per_channel = shadowed / max(unshadowed, vec3<f32>(1e-30));
+    return min(select(vec3<f32>(overall), per_channel, unshadowed > vec3<f32>(0.0)), vec3<f32>(1.0));
+}
+
+// The split outputs (`params.split`): the unshadowed light and the visibility ratio.
+fn store_split(id: vec2<u32>, shadowed: vec3<f32>, light: vec3<f32>, on_geometry: f32) {
+    if params.split != 0u {
+        textureStore(unshadowed, id, vec4<f32>(light, on_geometry));
+        textureStore(visibility, id, vec4<f32>(visibility_ratio(shadowed, light), on_geometry));
+    }
+}
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -48,6 +71,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if p.w == 0.0 {
         textureStore(shadow, id.xy, vec4<f32>(1.0));
         textureStore(direct, id.xy, vec4<f32>(0.0));
+        store_split(id.xy, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
         return;
     }
     let g = textureLoad(geo_normal, id.xy, 0);
@@ -68,6 +92,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let flat_origin = offset_ray_origin(p.xyz, geo);
     var mask = vec4<f32>(0.0);
     var radiance = vec3<f32>(0.0);
+    var light_alone = vec3<f32>(0.0);
     let sizes = AreaLights(params.light_radius, radians(params.sun_angle) * 0.5, params.light_width, params.light_height);
     let area = sizes.radius > 0.0 || sizes.sun_radius > 0.0 || (sizes.width > 0.0 && sizes.height > 0.0);
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
@@ -86,10 +111,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         } else {
             seen = light_transmittance(scene_lights[i], origin, facing);
         }
-        if seen > 0.0 {
+        if seen > 0.0 || params.split != 0u {
             // The fraction of the light that reaches it (exactly 1 for an unshadowed hard shadow).
             let fraction = seen / f32(samples);
-            radiance += fraction * light_radiance(s, light_sample(scene_lights[i], p.xyz));
+            let light = light_radiance(s, light_sample(scene_lights[i], p.xyz));
+            radiance += fraction * light;
+            light_alone += light;
             if i < 4u {
                 mask[i] = fraction;
             }
@@ -98,5 +125,6 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(shadow, id.xy, mask);
     // a = 1: the direct light was computed here (the resolve's fallback has a = 0).
     textureStore(direct, id.xy, vec4<f32>(radiance, 1.0));
+    store_split(id.xy, radiance, light_alone, 1.0);
     trace_flush_stats();
 }

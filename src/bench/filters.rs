@@ -1,5 +1,6 @@
 //! `raygraph bench error`, its part on the time-filtered effects of `graph/hybrid_denoised.ron`:
 //! ambient occlusion, soft shadows and one-bounce GI, each with 1, 2, 4, ... rays per pixel,
+//! and glossy reflections (one ray a pixel and bounce, the graph's own),
 //! with and without its filters (`temporal` and `atrous`), measured against a converged
 //! reference: the same graph with the effect's spatial filter off and its temporal
 //! accumulation made a plain running mean (no variance clamp, no history limit) over
@@ -36,31 +37,89 @@ use std::path::{Path, PathBuf};
 pub struct Effect {
     /// As the tables name it.
     pub label: &'static str,
-    /// The node that traces it (its `rays` parameter is set).
+    /// The node that traces it.
     pub node: &'static str,
+    /// Whether the node has a `rays` parameter, set to each of the ray counts (else the rows
+    /// are the graph's own sampling, shown as 1 ray).
+    pub has_rays: bool,
     /// Its noisy signal.
     pub signal: &'static str,
-    /// Its temporal and spatial filter nodes.
-    pub filters: [&'static str; 2],
+    /// Its temporal filter node, its spatial one, then any node that puts the filtered signal
+    /// back together (the shadows' `modulate`).
+    pub filters: &'static [&'static str],
     /// The filtered signal.
     pub filtered: &'static str,
+    /// What the reference reads after its frames with the spatial filter switched off: the
+    /// temporal filter's 32-bit running mean, or for shadows (filtered as a visibility ratio)
+    /// that mean put back on the unshadowed light.
+    pub reference: &'static str,
     /// Whether the signal is HDR (shown through x / (1 + x) for ꟻLIP) rather than in [0, 1].
     pub hdr: bool,
 }
 
-/// AO, soft shadows and GI.
-pub const EFFECTS: [Effect; 3] = [
-    Effect { label: "AO", node: "ao", signal: "ao.ao", filters: ["ao_temporal", "ao_denoise"], filtered: "ao_denoise.filtered", hdr: false },
+/// AO, soft shadows, GI and glossy reflections.
+pub const EFFECTS: [Effect; 4] = [
+    Effect {
+        label: "AO",
+        node: "ao",
+        has_rays: true,
+        signal: "ao.ao",
+        filters: &["ao_temporal", "ao_denoise"],
+        filtered: "ao_denoise.filtered",
+        reference: "ao_temporal/mean",
+        hdr: false,
+    },
     Effect {
         label: "soft shadows",
         node: "shadow",
+        has_rays: true,
         signal: "shadow.direct",
-        filters: ["shadow_temporal", "shadow_denoise"],
-        filtered: "shadow_denoise.filtered",
+        filters: &["shadow_temporal", "shadow_denoise", "shadow_light"],
+        filtered: "shadow_light.product",
+        reference: "shadow_light.product",
         hdr: true,
     },
-    Effect { label: "GI", node: "gi", signal: "gi.gi", filters: ["gi_temporal", "gi_denoise"], filtered: "gi_denoise.filtered", hdr: true },
+    Effect {
+        label: "GI",
+        node: "gi",
+        has_rays: true,
+        signal: "gi.gi",
+        filters: &["gi_temporal", "gi_denoise"],
+        filtered: "gi_denoise.filtered",
+        reference: "gi_temporal/mean",
+        hdr: true,
+    },
+    Effect {
+        label: "reflections",
+        node: "reflection",
+        has_rays: false,
+        signal: "reflection.reflection",
+        filters: &["reflection_temporal", "reflection_denoise"],
+        filtered: "reflection_denoise.filtered",
+        reference: "reflection_temporal/mean",
+        hdr: true,
+    },
 ];
+
+impl Effect {
+    /// The ray counts of its rows.
+    fn ray_counts(&self, cfg: &FiltersConfig) -> Vec<i64> {
+        if self.has_rays {
+            cfg.rays.clone()
+        } else {
+            vec![1]
+        }
+    }
+
+    /// The parameters that set `rays` rays a pixel (none without a `rays` parameter).
+    fn rays_params(&self, rays: i64) -> Vec<(&'static str, &'static str, ParamValue)> {
+        if self.has_rays {
+            vec![(self.node, "rays", ParamValue::Int(rays))]
+        } else {
+            Vec::new()
+        }
+    }
+}
 
 /// What the part runs.
 #[derive(Debug, Clone)]
@@ -174,8 +233,8 @@ fn executor(
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let mut options: CompileOptions = gpu.compile_options_for(cfg.backend);
     options.reuse = false; // every resource readable after the frame
-    let others = EFFECTS.iter().filter(|e| e.node != effect.node).flat_map(|e| [e.node, e.filters[0], e.filters[1]]);
-    for node in off.iter().copied().chain(others).chain(["reflection", "reflection_temporal", "reflection_denoise"]) {
+    let others = EFFECTS.iter().filter(|e| e.node != effect.node).flat_map(|e| std::iter::once(e.node).chain(e.filters.iter().copied()));
+    for node in off.iter().copied().chain(others) {
         options.enabled.insert(node.to_string(), false);
     }
     for (node, name, value) in params {
@@ -194,20 +253,18 @@ fn read(gpu: &Gpu, exec: &Executor, name: &str) -> Result<Signal, RuntimeError> 
 }
 
 /// The converged reference of `effect` at `camera`: the running mean of its noisy signal over
-/// `reference_frames` frames at the most rays, in 32-bit floats.
+/// `reference_frames` frames at the most rays, in 32-bit floats (`Effect::reference`).
 fn reference(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, effect: &Effect, camera: &Camera) -> Result<Signal, RuntimeError> {
-    let rays = *cfg.rays.iter().max().unwrap_or(&1);
+    let rays = *effect.ray_counts(cfg).iter().max().unwrap_or(&1);
     let frames = cfg.reference_frames.max(1) as i64;
-    let params = [
-        (effect.node, "rays", ParamValue::Int(rays)),
-        (effect.filters[0], "max_history", ParamValue::Int(frames)),
-        (effect.filters[0], "variance_clamp", ParamValue::Bool(false)),
-    ];
+    let mut params = effect.rays_params(rays);
+    params.push((effect.filters[0], "max_history", ParamValue::Int(frames)));
+    params.push((effect.filters[0], "variance_clamp", ParamValue::Bool(false)));
     let mut exec = executor(gpu, cfg, scene, effect, &[effect.filters[1]], &params)?;
     for _ in 0..frames {
         exec.render(gpu, camera, scene)?;
     }
-    read(gpu, &exec, &format!("{}/mean", effect.filters[0]))
+    read(gpu, &exec, effect.reference)
 }
 
 /// (relMSE, ꟻLIP mean) of `test` against `reference` over the pixels where both show geometry
@@ -250,9 +307,9 @@ fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, 
     let mut rows = Vec::new();
     let camera = scene.camera;
     let median = crate::runtime::profiler::median;
-    let with_filters = [effect.node, effect.filters[0], effect.filters[1], "motion"];
-    for &n in &cfg.rays {
-        let rays = [(effect.node, "rays", ParamValue::Int(n))];
+    let with_filters: Vec<&str> = [effect.node, "motion"].into_iter().chain(effect.filters.iter().copied()).collect();
+    for n in effect.ray_counts(cfg) {
+        let rays = effect.rays_params(n);
         let row =
             |filtered_frames, ms, (relmse, flip)| FilterRow { scene: scene_name.to_string(), effect: effect.label, rays: n, filtered_frames, ms, relmse, flip };
         // The filtered run times both: the trace pass alone (the noisy signal's cost) and with
@@ -272,7 +329,7 @@ fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, 
         drop(filtered);
         // The noisy signal: one frame with the filters switched off (new samples every frame,
         // so any frame is as good as another).
-        let mut noisy = executor(gpu, cfg, scene, effect, &effect.filters, &rays)?;
+        let mut noisy = executor(gpu, cfg, scene, effect, effect.filters, &rays)?;
         noisy.render(gpu, &camera, scene)?;
         rows.push(row(0, median(&mut trace_ms), compare(&read(gpu, &noisy, effect.signal)?, reference, cfg.size, effect.hdr)));
         let filtered_ms = median(&mut all_ms);
@@ -305,7 +362,7 @@ fn track_row(
     references: (&Signal, &Signal),
     filtered: bool,
 ) -> Result<TrackRow, RuntimeError> {
-    let off: &[&str] = if filtered { &[] } else { &effect.filters };
+    let off: &[&str] = if filtered { &[] } else { effect.filters };
     let mut exec = executor(gpu, cfg, scene, effect, off, &[])?;
     let signal = if filtered { effect.filtered } else { effect.signal };
     let camera = scene.camera;
@@ -359,7 +416,7 @@ pub fn run(
                 track.push(track_row(gpu, cfg, &scene, scene_name, effect, (&reference_still, &reference_end), filtered)?);
             }
             on_rows(&rows, &track);
-            progress(rows.len() / (3 * cfg.rays.len()).max(1), total, &format!("{scene_name}: {}", effect.label));
+            progress(track.len() / 2, total, &format!("{scene_name}: {}", effect.label));
         }
     }
     Ok((rows, track))
@@ -405,7 +462,7 @@ fn describe(filtered_frames: u32) -> String {
 
 /// The rows as markdown: error against time, the equal-time table and the track.
 pub fn markdown(info: &RunInfo, cfg: &FiltersConfig, rows: &[FilterRow], track: &[TrackRow]) -> String {
-    let mut s = format!("# bench error: AO, soft shadows and GI, noisy and filtered, against converged references\n\n{}\n", info.markdown());
+    let mut s = format!("# bench error: AO, soft shadows, GI and reflections, noisy and filtered, against converged references\n\n{}\n", info.markdown());
     let _ = writeln!(
         s,
         "`graph/hybrid_denoised.ron`; reference: {} frames accumulated at {} rays/pixel without the spatial filter; back-end {}.\n",
