@@ -35,8 +35,8 @@ fn luminance(c: vec3<f32>) -> f32 {
 // A noise-free texel across a shadow's or an object's edge is left out (bilinear weights alone
 // smear the edge, and a long history keeps the smear for many frames); a noisy one stays. If
 // no texel is consistent, all four are used: an outlier sample of a noisy signal; but where
-// every texel is noise-free too (no deviation over 4 frames or more), the history is stale (a mirror's image moves otherwise than its
-// surface) and `stale` says so.
+// every texel is noise-free too (no deviation over 4 frames or more), the history is stale (a
+// mirror's image moves otherwise than its surface) and `stale` says so.
 struct History {
     mean: vec4<f32>,
     moments: vec4<f32>,

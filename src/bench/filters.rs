@@ -4,12 +4,13 @@
 //! with and without its filters (`temporal` and `atrous`), measured against a converged
 //! reference: the same graph with the effect's spatial filter off and its temporal
 //! accumulation made a plain running mean (no variance clamp, no history limit) over
-//! `reference_frames` frames at the most rays, read in 32-bit floats. Only the effect's own
+//! `reference_frames` frames at the most rays, read in 32-bit floats (the shadows' through
+//! `modulate`, see [`Effect::reference`]). Only the effect's own
 //! signal is compared (the texture the resolve reads for it), on the pixels that show geometry:
 //!
 //! - relMSE: the mean over pixels and colour channels of (x - r)^2 / (r^2 + 0.01);
 //! - ꟻLIP mean: both signals shown as LDR sRGB images (AO as grey, clamped to [0, 1]; the HDR
-//!   signals, direct light and GI, through x / (1 + x) per channel).
+//!   signals, direct light, GI and reflections, through x / (1 + x) per channel).
 //!
 //! Noisy rows: the effect's filters switched off (bypassed), one frame (new samples every
 //! frame: the error does not depend on the frame). Filtered rows: after 1 frame (the spatial
@@ -51,7 +52,8 @@ pub struct Effect {
     pub filtered: &'static str,
     /// What the reference reads after its frames with the spatial filter switched off: the
     /// temporal filter's 32-bit running mean, or for shadows (filtered as a visibility ratio)
-    /// that mean put back on the unshadowed light.
+    /// its half-float output put back on the unshadowed light (`modulate`; half floats round
+    /// by at most 2^-11 of the value).
     pub reference: &'static str,
     /// Whether the signal is HDR (shown through x / (1 + x) for ꟻLIP) rather than in [0, 1].
     pub hdr: bool,
