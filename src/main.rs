@@ -31,12 +31,8 @@ enum Command {
         /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
         #[arg(long, default_value = "default")]
         scene: String,
-        /// Copy the scene N×N×N times on a grid (the camera stays the scene's).
-        #[arg(long, default_value_t = 1)]
-        duplicate: u32,
-        /// With --duplicate: give every copy its own meshes.
-        #[arg(long)]
-        no_dedup: bool,
+        #[command(flatten)]
+        copies: DuplicateArgs,
         /// Traversal back-end: ray-query, compute or rt-pipeline (default: ray-query where the
         /// adapter supports it, else compute; rt-pipeline only when asked for).
         #[arg(long)]
@@ -562,7 +558,7 @@ impl FilterArgs {
 /// Copies of the scene on a grid.
 #[derive(clap::Args)]
 struct DuplicateArgs {
-    /// Copy the scene N×N×N times on a grid.
+    /// Copy the scene N×N×N times on a grid (the camera stays the scene's).
     #[arg(long, default_value_t = 1)]
     duplicate: u32,
     /// With --duplicate: give every copy its own meshes (unique triangles, nothing instanced).
@@ -1040,30 +1036,13 @@ fn run(cli: Cli) -> Result<()> {
             };
             raygraph::viewer::run(opts).map_err(anyhow::Error::msg)?;
         }
-        Command::Render {
-            graph,
-            mode,
-            scene: scene_spec,
-            duplicate,
-            no_dedup,
-            backend,
-            deadline,
-            view,
-            width,
-            height,
-            out,
-            frames,
-            report,
-            layers,
-            shaders,
-            off,
-        } => {
+        Command::Render { graph, mode, scene: scene_spec, copies, backend, deadline, view, width, height, out, frames, report, layers, shaders, off } => {
             let graph_file = mode.map(|m| PathBuf::from(m.graph())).unwrap_or(graph);
             let asked_height = height;
             // Until the camera is known (it may set the aspect ratio).
             let mut height = height.unwrap_or(720);
             anyhow::ensure!(width > 0 && height > 0, "--width and --height must be at least 1");
-            anyhow::ensure!(duplicate >= 1, "--duplicate must be at least 1");
+            anyhow::ensure!(copies.duplicate >= 1, "--duplicate must be at least 1");
             let project = project_for(&graph_file, layers, shaders);
             let switches = |mut options: graph::compile::CompileOptions| {
                 options.enabled.extend(off.iter().map(|node| (node.clone(), false)));
@@ -1087,10 +1066,11 @@ fn run(cli: Cli) -> Result<()> {
             for note in import.notes() {
                 log::warn!("{scene_spec}: {note}"); // once per run; repairs and fallbacks were logged by the import
             }
-            if duplicate > 1 {
-                scene = raygraph::scene::duplicate::duplicate(&scene, duplicate, !no_dedup);
+            if copies.duplicate > 1 {
+                scene = copies.apply(scene);
+                let n = copies.duplicate;
                 println!(
-                    "scene duplicated {duplicate}x{duplicate}x{duplicate}: {} triangles, {} meshes, {} instances",
+                    "scene duplicated {n}x{n}x{n}: {} triangles, {} meshes, {} instances",
                     scene.triangle_count(),
                     scene.meshes.len(),
                     scene.instances.len()
