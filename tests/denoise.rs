@@ -390,15 +390,18 @@ fn after_a_fast_turn_the_filtered_shadows_are_no_worse_than_the_unfiltered_ones(
     let scene = raygraph::scene::open("default", &Default::default()).unwrap().0;
     let mut options = gpu.compile_options_for(gpu.backends[0]);
     options.reuse = false;
-    for node in ["ao", "ao_temporal", "ao_denoise", "gi", "gi_temporal", "gi_denoise", "reflection", "reflection_temporal", "reflection_denoise"] {
-        options.enabled.insert(node.to_string(), false);
+    // The other effects of bench error's filter part, and their filters.
+    for effect in raygraph::bench::filters::EFFECTS.iter().filter(|e| e.node != "shadow") {
+        for node in std::iter::once(effect.node).chain(effect.filters.iter().copied()) {
+            options.enabled.insert(node.to_string(), false);
+        }
     }
     for name in ["light_radius", "sun_angle"] {
         options.params.insert(("shadow".to_string(), name.to_string()), ParamValue::Float(0.0));
     }
-    let repo = common::repo();
-    let project = raygraph::graph::compile::Project { layers_dir: repo.join("layers"), shaders_dir: repo.join("shaders") };
-    let plan = raygraph::graph::compile::compile_with(&repo.join("graph/hybrid_denoised.ron"), &project, (64, 36), &options).unwrap_or_else(|e| panic!("{e}"));
+    let path = common::repo().join("graph/hybrid_denoised.ron");
+    let project = raygraph::graph::compile::Project::beside_graph(&path);
+    let plan = raygraph::graph::compile::compile_with(&path, &project, (64, 36), &options).unwrap_or_else(|e| panic!("{e}"));
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     let camera = scene.camera;
     let horizontal = 2.0 * ((camera.fov_y * 0.5).tan() * 64.0 / 36.0).atan();

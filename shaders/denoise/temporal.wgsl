@@ -88,18 +88,22 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let now = textureLoad(signal, id.xy, 0);
     let l = luminance(now.rgb);
+    let restarted = vec4<f32>(l, l * l, 1.0, 0.0);
     let m = textureLoad(motion, id.xy, 0);
+    if m.z != 0.0 {
+        // No history here: start again.
+        store_accumulation(id.xy, now, restarted);
+        return;
+    }
     // Motion under a hundredth of a pixel is the rounding of the reprojection (a still camera
     // gives up to 1e-3 px): the history is read at the pixel itself, so that a long
     // accumulation does not drift by the bilinear weights of that rounding.
     let still = all(abs(m.xy) < vec2<f32>(0.01));
     let before = vec2<f32>(id.xy) + 0.5 - select(m.xy, vec2<f32>(0.0), still);
     let reprojected = reprojected_history(before, l);
-    if m.z != 0.0 || (reprojected.stale && !still) {
-        // No history here (or only a stale one, on a moving pixel): start again.
-        textureStore(mean, id.xy, now);
-        textureStore(accumulated, id.xy, now);
-        textureStore(moments, id.xy, vec4<f32>(l, l * l, 1.0, 0.0));
+    if reprojected.stale && !still {
+        // Only a stale history, on a moving pixel: start again as at a disocclusion.
+        store_accumulation(id.xy, now, restarted);
         return;
     }
     var history = reprojected.mean;
@@ -127,8 +131,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let n = min(floor(history_moments.z + 0.5) + 1.0, f32(params.max_history));
     let alpha = 1.0 / n;
-    let blended = mix(history, now, alpha);
-    textureStore(mean, id.xy, blended);
-    textureStore(accumulated, id.xy, blended);
-    textureStore(moments, id.xy, vec4<f32>(mix(history_moments.xy, vec2<f32>(l, l * l), alpha), n, 0.0));
+    store_accumulation(id.xy, mix(history, now, alpha), vec4<f32>(mix(history_moments.xy, vec2<f32>(l, l * l), alpha), n, 0.0));
+}
+
+// The running mean (kept, and the readers' copy) and the moments of pixel `id`.
+fn store_accumulation(id: vec2<u32>, value: vec4<f32>, stats: vec4<f32>) {
+    textureStore(mean, id, value);
+    textureStore(accumulated, id, value);
+    textureStore(moments, id, stats);
 }
