@@ -327,8 +327,8 @@ enum BenchCommand {
     /// (RMSE, relMSE, bias, variance over seeds) against rays per pixel and GPU time, for white
     /// noise and the R2 sequence, with the fitted convergence slopes.
     /// Also AO, soft shadows, GI and glossy reflections of `graph/hybrid_denoised.ron`, noisy
-    /// and filtered, against converged references (relMSE, ꟻLIP) and GPU time, with an equal-time table and a camera
-    /// track for flicker and ghosting (`filters.md`).
+    /// and filtered, against converged references (relMSE, ꟻLIP) and GPU time, with an
+    /// equal-time table and a camera track for flicker and ghosting (`filters.md`).
     Error {
         #[arg(long)]
         quick: bool,
