@@ -35,12 +35,17 @@ fn backticked(cell: &str) -> Vec<String> {
     cell.split('`').skip(1).step_by(2).map(str::to_string).collect()
 }
 
-/// Parses the table under the heading `## Layers`: `| layer | modules | may import |`.
+/// What a "may import" cell reads when a row may import every module of the lower layers.
+const EVERY_LOWER_LAYER: &str = "every lower layer";
+
+/// Parses the table under the heading `## Layers`: `| layer | modules | may import |`, where
+/// "may import" lists modules in backticks, or reads `every lower layer`.
 fn parse_layers(markdown: &str) -> Result<Layers, String> {
     let section = format!("\n{markdown}");
     let section = section.split("\n## Layers").nth(1).ok_or("docs/ARCHITECTURE.md has no `## Layers` section")?;
     let section = section.split("\n## ").next().unwrap_or(section);
     let mut layers = Layers::default();
+    let mut every_lower = Vec::new();
     for (i, row) in section.lines().filter(|l| l.trim_start().starts_with('|')).enumerate().skip(2) {
         let cells: Vec<&str> = row.split('|').map(str::trim).collect();
         if cells.len() < 5 {
@@ -52,11 +57,19 @@ fn parse_layers(markdown: &str) -> Result<Layers, String> {
             if layers.layer.insert(module.clone(), layer).is_some() {
                 return Err(format!("docs/ARCHITECTURE.md, Layers table: `{module}` is listed twice"));
             }
+            if cells[3] == EVERY_LOWER_LAYER {
+                every_lower.push(module.clone());
+            }
             layers.may_import.insert(module, allowed.clone());
         }
     }
     if layers.layer.is_empty() {
         return Err("docs/ARCHITECTURE.md, Layers table: no rows".into());
+    }
+    for module in every_lower {
+        let own = layers.layer[&module];
+        let lower = layers.layer.iter().filter(|(_, l)| **l < own).map(|(m, _)| m.clone()).collect();
+        layers.may_import.insert(module, lower);
     }
     Ok(layers)
 }
@@ -535,6 +548,12 @@ fn the_checker_catches_a_forbidden_edge_and_a_cycle() {
     assert_eq!(found, vec!["src/low/a.rs:1 -> src/low/b.rs:5 -> src/low/a.rs".to_string()], "{edges:#?}");
     // `high` imports `low` (allowed); the re-export `Thing` resolves to its defining file.
     assert!(edges.iter().any(|e| e.from == "high/top.rs" && e.to == "low/a.rs" && e.path == "crate::low::Thing"), "{edges:#?}");
+    let every = parse_layers(
+        "## Layers\n\n| layer | modules | may import |\n| --- | --- | --- |\n| 0 | `a`, `b` | — |\n| 1 | `c` | `a` |\n| 2 | `d` | every lower layer |\n",
+    )
+    .unwrap();
+    let below_d: BTreeSet<String> = ["a", "b", "c"].into_iter().map(String::from).collect();
+    assert_eq!(every.may_import["d"], below_d);
     let bad = parse_layers("## Layers\n\n| layer | modules | may import |\n| --- | --- | --- |\n| 0 | `low` | `high` |\n| 1 | `high` | `low` |\n").unwrap();
     assert_eq!(table_errors(&bad), vec!["Layers table: `low` (layer 0) may import `high` (layer 1), which is not lower".to_string()]);
 }
