@@ -120,7 +120,7 @@ impl GpuScene {
     /// Uploads the parts of `scene` that `usage` names.
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, usage: SceneUsage) -> Result<Self, SceneLimitError> {
         let mut upload = Upload { device, queue, scene, limits: device.limits(), bytes: 0 };
-        let mut out = GpuScene::nothing(usage);
+        let mut out = GpuScene::empty(usage);
         if usage.geometry || usage.geometry_storage {
             upload.geometry(&mut out)?;
         }
@@ -147,7 +147,7 @@ impl GpuScene {
     }
 
     /// A scene with no part uploaded yet, to be filled for `usage`.
-    fn nothing(usage: SceneUsage) -> Self {
+    fn empty(usage: SceneUsage) -> Self {
         GpuScene {
             vertices: None,
             indices: None,
