@@ -189,7 +189,7 @@ pub enum RuntimeError {
     Graph(#[from] GraphError),
     /// The scene exceeds what the device can bind.
     #[error(transparent)]
-    SceneLimit(#[from] crate::scene::gpu::SceneLimitError),
+    SceneLimit(#[from] crate::scene::usage::SceneLimitError),
     /// The scene could not be opened.
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),

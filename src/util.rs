@@ -86,7 +86,7 @@ impl SplitMix64 {
 
 /// A fast 64-bit hash of plain data (not cryptographic; a change detector): the content hashes
 /// of the acceleration-structure cache and of the scene-change detection
-/// ([`crate::scene::gpu::SceneContent`]).
+/// ([`crate::runtime::scene_upload::SceneContent`]).
 pub fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
     let mut h = seed ^ 0x9E37_79B9_7F4A_7C15 ^ bytes.len() as u64;
     let mut chunks = bytes.chunks_exact(8);

@@ -520,7 +520,7 @@ fn rt_pipeline_gbuffers_agree_with_the_raster_gbuffer() {
 #[test]
 fn every_trace_module_binds_the_alpha_data() {
     use raygraph::graph::reflect::{reflect_with, BindingKind};
-    use raygraph::scene::gpu::SceneUsage;
+    use raygraph::scene::usage::SceneUsage;
     let shaders = common::repo().join("shaders");
     let shadow = shaders.join("rt/shadow.wgsl");
     for backend in Backend::ALL {

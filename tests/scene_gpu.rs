@@ -7,8 +7,8 @@ mod common;
 use common::gltf_doc::{png, temp_dir, Doc};
 use glam::Vec3;
 use raygraph::graph::{compile, Project};
+use raygraph::runtime::scene_upload::{GpuScene, SceneTextures};
 use raygraph::runtime::{Executor, Gpu};
-use raygraph::scene::gpu::{GpuScene, SceneTextures};
 use raygraph::scene::{builtin, gltf_import, Camera, LoadOptions, Scene, TextureImage};
 use serde_json::json;
 
@@ -107,7 +107,7 @@ fn only_what_the_graph_reads_is_uploaded() {
         panic!("the default options bind a texture array")
     };
     assert_eq!(texture.depth_or_array_layers(), scene.textures.len() as u32 + 1);
-    assert_eq!(texture.mip_level_count(), raygraph::scene::gpu::TEXTURE_MIPS);
+    assert_eq!(texture.mip_level_count(), raygraph::runtime::scene_upload::TEXTURE_MIPS);
 }
 
 /// Metric: RMSE over RGB in 8-bit units <= 3 between the texture-array and binding-array
@@ -144,7 +144,7 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     let mut scene: Scene = builtin::default_scene();
     let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
     scene.textures = vec![tiny; limit as usize + 5];
-    let usage = raygraph::scene::gpu::SceneUsage { textures: true, ..Default::default() };
+    let usage = raygraph::scene::usage::SceneUsage { textures: true, ..Default::default() };
     let err = match GpuScene::upload(&gpu.device, &gpu.queue, &scene, usage) {
         Ok(_) => panic!("{} texture layers uploaded with a limit of {limit}", limit + 6),
         Err(e) => e.to_string(),

@@ -1,7 +1,7 @@
 //! Bindings every pass may use without declaring them: frame uniforms, layer parameters,
 //! the debug counters and the scene's resources. Their names are reserved.
 
-use crate::scene::gpu::SceneUsage;
+use crate::scene::usage::SceneUsage;
 use crate::uniforms::FrameUniforms;
 
 pub(crate) const FRAME: &str = "frame";

@@ -13,7 +13,9 @@ use crate::gpu_util::{map_read, storage_with_readback};
 use crate::graph::compile::CompileOptions;
 use crate::graph::reflect;
 use crate::runtime::gpu::include_aliases;
+use crate::runtime::scene_upload::{GpuScene, SceneTextures};
 use crate::runtime::Gpu;
+use crate::scene::usage::SceneUsage;
 use crate::scene::Scene;
 use bytemuck::{Pod, Zeroable};
 use std::path::Path;
@@ -63,7 +65,7 @@ struct RawResult {
 pub struct BatchTracer {
     cache: AccelCache,
     /// The scene's textures, when the trace module binds them (kept alive for the bind groups).
-    _textures: Option<crate::scene::gpu::GpuScene>,
+    _textures: Option<GpuScene>,
     tracer: Tracer,
     timer: Option<crate::runtime::profiler::GpuTimer>,
     /// What building the scene's acceleration structure did.
@@ -81,34 +83,59 @@ enum Tracer {
     RayTracing(std::sync::Mutex<RtPass>),
 }
 
+/// A binding of `batch.wgsl` or of its trace module, seen by the compute stage.
+fn compute_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
+}
+
+/// A storage buffer binding.
+fn storage_buffer(read_only: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None }
+}
+
+/// The layout of group 0 of `batch.wgsl`: the parameters, the rays and the results.
+fn group0_entries() -> [wgpu::BindGroupLayoutEntry; 3] {
+    let uniform = wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None };
+    [compute_entry(0, uniform), compute_entry(1, storage_buffer(true)), compute_entry(2, storage_buffer(false))]
+}
+
+/// The layout entry of a trace module's binding in the acceleration-structure group.
+fn accel_entry(b: &reflect::ShaderBinding) -> wgpu::BindGroupLayoutEntry {
+    let ty = match &b.kind {
+        reflect::BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
+        reflect::BindingKind::Storage { read_only, .. } => storage_buffer(*read_only),
+        other => unreachable!("trace modules bind buffers and acceleration structures, not {other:?}"),
+    };
+    compute_entry(b.binding, ty)
+}
+
 /// Group 0 of `batch.wgsl` for the rt-pipeline back-end.
 fn rt_group0(params: &wgpu::Buffer, rays: &wgpu::Buffer, results: &wgpu::Buffer) -> Vec<RtBinding> {
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
-    let storage =
-        |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
     let buffer = |b: &wgpu::Buffer, uses| RtResource::Buffer { buffer: b.clone(), offset: 0, size: None, uses, initialize: false };
+    let [params_entry, rays_entry, results_entry] = group0_entries();
     vec![
-        RtBinding {
-            group: 0,
-            entry: entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
-            resource: buffer(params, wgpu::BufferUses::UNIFORM),
-        },
-        RtBinding { group: 0, entry: entry(1, storage(true)), resource: buffer(rays, wgpu::BufferUses::STORAGE_READ_ONLY) },
-        RtBinding { group: 0, entry: entry(2, storage(false)), resource: buffer(results, wgpu::BufferUses::STORAGE_READ_WRITE) },
+        RtBinding { group: 0, entry: params_entry, resource: buffer(params, wgpu::BufferUses::UNIFORM) },
+        RtBinding { group: 0, entry: rays_entry, resource: buffer(rays, wgpu::BufferUses::STORAGE_READ_ONLY) },
+        RtBinding { group: 0, entry: results_entry, resource: buffer(results, wgpu::BufferUses::STORAGE_READ_WRITE) },
     ]
+}
+
+/// The scene's textures as the trace module's `scene_textures` (group 1) binds them.
+struct SceneTextureBinding {
+    /// The upload (kept alive for the bind groups).
+    uploaded: GpuScene,
+    /// The layout entry.
+    entry: wgpu::BindGroupLayoutEntry,
+    /// The texture array, or the textures of a binding array.
+    resource: RtResource,
 }
 
 /// The scene's textures for the trace module's `scene_textures` (group 1), if it declares it:
 /// the upload, the layout entry and the resource.
-fn scene_textures(
-    gpu: &Gpu,
-    scene: &Scene,
-    info: &reflect::ShaderInfo,
-) -> Result<Option<(crate::scene::gpu::GpuScene, wgpu::BindGroupLayoutEntry, RtResource)>, RuntimeError> {
-    use crate::scene::gpu::{GpuScene, SceneTextures};
+fn scene_textures(gpu: &Gpu, scene: &Scene, info: &reflect::ShaderInfo) -> Result<Option<SceneTextureBinding>, RuntimeError> {
     let Some(b) = info.bindings.iter().find(|b| b.name == crate::graph::builtins::SCENE_TEXTURES) else { return Ok(None) };
     let array = b.kind == reflect::BindingKind::TextureBindingArray;
-    let usage = crate::scene::gpu::SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
+    let usage = SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
     let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, scene, usage)?;
     let textures = uploaded.textures.as_ref().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
     let ty = wgpu::BindingType::Texture {
@@ -122,7 +149,123 @@ fn scene_textures(
         SceneTextures::Array { texture, view } => RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE },
         SceneTextures::Separate { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
     };
-    Ok(Some((uploaded, entry, resource)))
+    Ok(Some(SceneTextureBinding { uploaded, entry, resource }))
+}
+
+/// `shaders/batch/batch.wgsl` reflected with `backend`'s trace module and the device's include
+/// substitutions.
+fn batch_shader(gpu: &Gpu, backend: Backend, shaders_dir: &Path) -> Result<reflect::ShaderInfo, RuntimeError> {
+    let options = CompileOptions { includes: include_aliases(gpu.texture_binding_arrays), backend, ..Default::default() };
+    let path = shaders_dir.join("batch/batch.wgsl");
+    reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))
+}
+
+/// `scene`'s acceleration structure built for `backend` and waited for: the cache, what the
+/// build did, and its wall milliseconds.
+fn build_accel(gpu: &Gpu, backend: Backend, scene: &Scene, settings: AccelSettings) -> Result<(AccelCache, BuildReport, f64), RuntimeError> {
+    let device = &gpu.device;
+    let start = web_time::Instant::now();
+    let mut cache = AccelCache::new(device, backend, settings, 1);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
+    // The rt-pipeline back-end's build comes as a command buffer of its own.
+    gpu.queue.submit([encoder.finish()].into_iter().chain(cache.take_pending()));
+    gpu.wait()?;
+    Ok((cache, build, start.elapsed().as_secs_f64() * 1e3))
+}
+
+/// The rt-pipeline back-end's tracer: `batch.wgsl` as the ray-generation shader of the trace
+/// `module`, its group 0 bound per batch (placeholder buffers until then).
+fn rt_tracer(
+    gpu: &Gpu,
+    module: &reflect::RayTracingModule,
+    info: &reflect::ShaderInfo,
+    textures: Option<&SceneTextureBinding>,
+    cache: &AccelCache,
+) -> Result<Tracer, RuntimeError> {
+    let device = &gpu.device;
+    let placeholder = |usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch placeholder"), size: 64, usage, mapped_at_creation: false });
+    let group0 = rt_group0(&placeholder(wgpu::BufferUsages::UNIFORM), &placeholder(wgpu::BufferUsages::STORAGE), &placeholder(wgpu::BufferUsages::STORAGE));
+    let accel = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).map(|b| RtBinding {
+        group: b.group,
+        entry: accel_entry(b),
+        resource: RtResource::Accel(b.name.clone()),
+    });
+    let texture_binding = textures.map(|t| RtBinding { group: crate::graph::builtins::SCENE_TEXTURES_GROUP, entry: t.entry, resource: t.resource.clone() });
+    let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
+    let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", &Default::default(), bindings, crate::graph::builtins::ACCEL_GROUP)?;
+    let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
+    pass.bind_accel(built, &crate::accel::cache::cache_buffers(cache, 0))?;
+    Ok(Tracer::RayTracing(std::sync::Mutex::new(pass)))
+}
+
+/// A bind group of the compute tracer with its layout and the layout's entries.
+struct BoundGroup {
+    entries: Vec<wgpu::BindGroupLayoutEntry>,
+    layout: wgpu::BindGroupLayout,
+    group: wgpu::BindGroup,
+}
+
+/// Group 1 of the compute tracer: the scene's textures, or nothing.
+fn texture_group(device: &wgpu::Device, textures: Option<&SceneTextureBinding>) -> BoundGroup {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = textures.map(|t| vec![t.entry]).unwrap_or_default();
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch textures"), entries: &entries });
+    let views: Vec<&wgpu::TextureView> = match textures.map(|t| &t.resource) {
+        Some(RtResource::Textures(list)) => list.iter().map(|(_, v)| v).collect(),
+        Some(RtResource::Texture { view, .. }) => vec![view],
+        _ => Vec::new(),
+    };
+    let group_entries: Vec<wgpu::BindGroupEntry> = match (textures, views.as_slice()) {
+        (Some(t @ SceneTextureBinding { resource: RtResource::Textures(_), .. }), views) => {
+            vec![wgpu::BindGroupEntry { binding: t.entry.binding, resource: wgpu::BindingResource::TextureViewArray(views) }]
+        }
+        (Some(t), [view]) => vec![wgpu::BindGroupEntry { binding: t.entry.binding, resource: wgpu::BindingResource::TextureView(view) }],
+        _ => Vec::new(),
+    };
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch textures"), layout: &layout, entries: &group_entries });
+    BoundGroup { entries, layout, group }
+}
+
+/// Group 2 of the compute tracer: the trace module's acceleration-structure bindings, bound to
+/// the cache's buffers.
+fn accel_group(device: &wgpu::Device, backend: Backend, info: &reflect::ShaderInfo, cache: &AccelCache) -> Result<BoundGroup, RuntimeError> {
+    let bindings: Vec<&reflect::ShaderBinding> = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).collect();
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings.iter().map(|b| accel_entry(b)).collect();
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch accel"), entries: &entries });
+    let mut group_entries = Vec::new();
+    for b in &bindings {
+        let resource = cache.binding(&b.name, 0).ok_or_else(|| RuntimeError::Gpu(format!("back-end {backend} has no binding `{}`", b.name)))?;
+        group_entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
+    }
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch accel"), layout: &layout, entries: &group_entries });
+    Ok(BoundGroup { entries, layout, group })
+}
+
+/// The `compute` and `ray-query` back-ends' tracer: `batch.wgsl` as a compute pipeline, its
+/// groups 1 (scene textures) and 2 (acceleration structure) bound once.
+fn compute_tracer(
+    gpu: &Gpu,
+    backend: Backend,
+    info: &reflect::ShaderInfo,
+    textures: Option<&SceneTextureBinding>,
+    cache: &AccelCache,
+) -> Result<Tracer, RuntimeError> {
+    let device = &gpu.device;
+    let entries0 = group0_entries();
+    let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch"), entries: &entries0 });
+    let textures = texture_group(device, textures);
+    let accel = accel_group(device, backend, info, cache)?;
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("batch"),
+        bind_group_layouts: &[Some(&layout0), Some(&textures.layout), Some(&accel.layout)],
+        immediate_size: 0,
+    });
+    // The batch tracer is part of the program (tests, benches), not of a project: its loops are
+    // the traversal's and its own ray loop, all of which end (`ShaderOrigin::BuiltInTraversal`).
+    let groups = [entries0.to_vec(), textures.entries, accel.entries];
+    let (module, constants) = gpu.traversal_module("batch.wgsl", &info.source.text, "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
+    let pipeline = crate::gpu_util::compute_pipeline_with(device, "batch", &pipeline_layout, &module, "cs_main", &constants);
+    Ok(Tracer::Compute { pipeline, layout0, texture_group: textures.group, accel_group: accel.group })
 }
 
 /// Workgroup size of `batch.wgsl`.
@@ -140,121 +283,17 @@ impl BatchTracer {
         if !gpu.backends.contains(&backend) {
             return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info.name)));
         }
-        let device = &gpu.device;
-        let options = CompileOptions { includes: include_aliases(gpu.texture_binding_arrays), backend, ..Default::default() };
-        let path = shaders_dir.join("batch/batch.wgsl");
-        let info =
-            reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))?;
-
-        let start = web_time::Instant::now();
-        let mut cache = AccelCache::new(device, backend, settings, 1);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
-        // The rt-pipeline back-end's build comes as a command buffer of its own.
-        gpu.queue.submit([encoder.finish()].into_iter().chain(cache.take_pending()));
-        gpu.wait()?;
-        let build_wall_ms = start.elapsed().as_secs_f64() * 1e3;
-
+        let info = batch_shader(gpu, backend, shaders_dir)?;
+        let (cache, build, build_wall_ms) = build_accel(gpu, backend, scene, settings)?;
         let scope = gpu.scopes();
-        let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(device, &gpu.queue, 1));
+        let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(&gpu.device, &gpu.queue, 1));
         let textures = scene_textures(gpu, scene, &info)?;
-        if let Some(module) = &info.ray_tracing {
-            let placeholder =
-                |usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch placeholder"), size: 64, usage, mapped_at_creation: false });
-            let group0 =
-                rt_group0(&placeholder(wgpu::BufferUsages::UNIFORM), &placeholder(wgpu::BufferUsages::STORAGE), &placeholder(wgpu::BufferUsages::STORAGE));
-            let accel = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).map(|b| {
-                let ty = match &b.kind {
-                    reflect::BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
-                    reflect::BindingKind::Storage { read_only, .. } => wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: *read_only },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    other => unreachable!("trace modules bind buffers and acceleration structures, not {other:?}"),
-                };
-                RtBinding {
-                    group: b.group,
-                    entry: wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None },
-                    resource: RtResource::Accel(b.name.clone()),
-                }
-            });
-            let texture_binding = textures.as_ref().map(|(_, entry, resource)| RtBinding {
-                group: crate::graph::builtins::SCENE_TEXTURES_GROUP,
-                entry: *entry,
-                resource: resource.clone(),
-            });
-            let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
-            let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", &Default::default(), bindings, crate::graph::builtins::ACCEL_GROUP)?;
-            let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
-            pass.bind_accel(built, &crate::accel::cache::cache_buffers(&cache, 0))?;
-            scope.finish(gpu, "creating the batch tracer")?;
-            let _textures = textures.map(|t| t.0);
-            return Ok(Self { cache, _textures, tracer: Tracer::RayTracing(std::sync::Mutex::new(pass)), timer, build, build_wall_ms });
-        }
-        let storage =
-            |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
-        let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
-        let entries0 = [
-            entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }),
-            entry(1, storage(true)),
-            entry(2, storage(false)),
-        ];
-        let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch"), entries: &entries0 });
-        let entries1: Vec<wgpu::BindGroupLayoutEntry> = textures.as_ref().map(|t| vec![t.1]).unwrap_or_default();
-        let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch textures"), entries: &entries1 });
-        let texture_views: Vec<&wgpu::TextureView> = match textures.as_ref().map(|t| &t.2) {
-            Some(RtResource::Textures(list)) => list.iter().map(|(_, v)| v).collect(),
-            Some(RtResource::Texture { view, .. }) => vec![view],
-            _ => Vec::new(),
+        let tracer = match &info.ray_tracing {
+            Some(module) => rt_tracer(gpu, module, &info, textures.as_ref(), &cache)?,
+            None => compute_tracer(gpu, backend, &info, textures.as_ref(), &cache)?,
         };
-        let texture_entries: Vec<wgpu::BindGroupEntry> = match (textures.as_ref(), texture_views.as_slice()) {
-            (Some((_, e, RtResource::Textures(_))), views) => {
-                vec![wgpu::BindGroupEntry { binding: e.binding, resource: wgpu::BindingResource::TextureViewArray(views) }]
-            }
-            (Some((_, e, _)), [view]) => vec![wgpu::BindGroupEntry { binding: e.binding, resource: wgpu::BindingResource::TextureView(view) }],
-            _ => Vec::new(),
-        };
-        let texture_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch textures"), layout: &layout1, entries: &texture_entries });
-        let accel_bindings: Vec<&reflect::ShaderBinding> = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).collect();
-        let accel_entries: Vec<wgpu::BindGroupLayoutEntry> = accel_bindings
-            .iter()
-            .map(|b| {
-                let ty = match &b.kind {
-                    reflect::BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
-                    reflect::BindingKind::Storage { read_only, .. } => storage(*read_only),
-                    other => unreachable!("trace modules bind buffers and acceleration structures, not {other:?}"),
-                };
-                entry(b.binding, ty)
-            })
-            .collect();
-        let layout2 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch accel"), entries: &accel_entries });
-        let mut bg_entries = Vec::new();
-        for b in &accel_bindings {
-            let resource = cache.binding(&b.name, 0).ok_or_else(|| RuntimeError::Gpu(format!("back-end {backend} has no binding `{}`", b.name)))?;
-            bg_entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
-        }
-        let accel_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("batch accel"), layout: &layout2, entries: &bg_entries });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("batch"),
-            bind_group_layouts: &[Some(&layout0), Some(&layout1), Some(&layout2)],
-            immediate_size: 0,
-        });
-        // The batch tracer is part of the program (tests, benches), not of a project: its loops are
-        // the traversal's and its own ray loop, all of which end (`ShaderOrigin::BuiltInTraversal`).
-        let groups = [entries0.to_vec(), entries1, accel_entries];
-        let (module, constants) =
-            gpu.traversal_module("batch.wgsl", &info.source.text, "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
-        let pipeline = crate::gpu_util::compute_pipeline_with(device, "batch", &pipeline_layout, &module, "cs_main", &constants);
         scope.finish(gpu, "creating the batch tracer")?;
-        Ok(Self {
-            cache,
-            _textures: textures.map(|t| t.0),
-            tracer: Tracer::Compute { pipeline, layout0, texture_group, accel_group },
-            timer,
-            build,
-            build_wall_ms,
-        })
+        Ok(Self { cache, _textures: textures.map(|t| t.uploaded), tracer, timer, build, build_wall_ms })
     }
 
     /// Closest hits of `rays` (`None`: miss), and the GPU ray counters.

@@ -8,8 +8,8 @@
 //! deforming meshes makes none of this.
 
 use crate::gpu_util::compute_pipeline;
+use crate::runtime::scene_upload::GpuScene;
 use crate::scene::animation::{PoseTime, Rig};
-use crate::scene::gpu::GpuScene;
 use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 

@@ -78,6 +78,33 @@ struct Faults {
     timed_out: Option<(f64, String)>,
 }
 
+impl Faults {
+    /// Faults of `device` as they happen: its loss, and errors outside every error scope
+    /// (wgpu's default handler panics on one; recorded, the next check reports it instead).
+    fn watch(device: &wgpu::Device) -> Arc<Mutex<Faults>> {
+        let faults = Arc::new(Mutex::new(Faults::default()));
+        let on_lost = faults.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            let reason = match reason {
+                wgpu::DeviceLostReason::Destroyed => "the device was destroyed",
+                wgpu::DeviceLostReason::Unknown => "the driver reported the device lost",
+            };
+            let text = if message.is_empty() { reason.to_string() } else { format!("{reason}: {message}") };
+            if let Ok(mut f) = on_lost.lock() {
+                f.lost.get_or_insert(text);
+            }
+        });
+        let on_error = faults.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            log::error!("GPU error outside an error scope: {e}");
+            if let Ok(mut f) = on_error.lock() {
+                f.uncaptured.get_or_insert(e.to_string());
+            }
+        }));
+        faults
+    }
+}
+
 /// Features that scene texture binding arrays need.
 const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgpu::Features::SAMPLED_TEXTURE_AND_STORAGE_BUFFER_ARRAY_NON_UNIFORM_INDEXING);
 /// Storage buffers per shader stage that the built-in trace passes bind with the compute
@@ -282,27 +309,7 @@ impl Gpu {
         let packed_accel_arrays = device.limits().max_storage_buffers_per_shader_stage < SEPARATE_ARRAYS_STORAGE_BUFFERS;
         let selection = backend::select(device.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
         let backends: Vec<Backend> = Backend::ALL.into_iter().filter(|b| device.features().contains(b.features())).collect();
-        let faults = Arc::new(Mutex::new(Faults::default()));
-        let on_lost = faults.clone();
-        device.set_device_lost_callback(move |reason, message| {
-            let reason = match reason {
-                wgpu::DeviceLostReason::Destroyed => "the device was destroyed",
-                wgpu::DeviceLostReason::Unknown => "the driver reported the device lost",
-            };
-            let text = if message.is_empty() { reason.to_string() } else { format!("{reason}: {message}") };
-            if let Ok(mut f) = on_lost.lock() {
-                f.lost.get_or_insert(text);
-            }
-        });
-        // wgpu's default handler panics on an error outside every error scope; record it and
-        // let the next check report it instead.
-        let on_error = faults.clone();
-        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            log::error!("GPU error outside an error scope: {e}");
-            if let Ok(mut f) = on_error.lock() {
-                f.uncaptured.get_or_insert(e.to_string());
-            }
-        }));
+        let faults = Faults::watch(&device);
         let inject_device_loss_at = std::env::var("RAYGRAPH_INJECT_DEVICE_LOSS").ok().and_then(|v| v.parse().ok());
         log::info!("adapter: {} ({:?}, {:?}, driver {} {})", info.name, info.device_type, info.backend, info.driver, info.driver_info);
         if !timestamps {
@@ -346,11 +353,16 @@ impl Gpu {
             on_gpu_timeout: None,
             trace_spirv,
         };
-        let replaced: Vec<String> = gpu.layer_aliases().iter().map(|(from, to)| format!("{from} -> {to}")).collect();
+        gpu.log_layer_aliases();
+        Ok(gpu)
+    }
+
+    /// Logs the layers this device runs in another form, if any.
+    fn log_layer_aliases(&self) {
+        let replaced: Vec<String> = self.layer_aliases().iter().map(|(from, to)| format!("{from} -> {to}")).collect();
         if !replaced.is_empty() {
             log::info!("layers in the form this device runs: {}", replaced.join(", "));
         }
-        Ok(gpu)
     }
 
     /// Compiler options for this device and its selected back-end.

@@ -1,5 +1,5 @@
-//! The GPU runtime: device context ([`gpu`]), plan executor ([`exec`]), GPU skinning and
-//! morphing ([`deform`]), pass timing
+//! The GPU runtime: device context ([`gpu`]), the scene's upload ([`scene_upload`]), plan
+//! executor ([`exec`]), GPU skinning and morphing ([`deform`]), pass timing
 //! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`]),
 //! the warm-up before timed frames ([`warm_up`]) and rays traced outside any graph ([`batch`]).
 
@@ -14,6 +14,7 @@ pub mod profiler;
 pub(crate) mod raster;
 pub mod report;
 pub mod rust_pass;
+pub mod scene_upload;
 pub(crate) mod trace_spirv;
 pub mod warm_up;
 

@@ -21,7 +21,7 @@
 //! (by the distance from the camera to the centre of each instance's bounds), so that early
 //! depth testing spares the fragments behind.
 
-use crate::scene::gpu::Draw;
+use crate::runtime::scene_upload::Draw;
 use crate::scene::Scene;
 
 /// The pipeline constant that switches the raster alpha test (WGSL `override`).
@@ -332,7 +332,7 @@ mod tests {
     /// The view-projection of shadow-map slot 0 for `light` in the scene sphere at the origin
     /// of radius 4.
     fn slot_view_proj(light: crate::scene::PunctualLight) -> glam::Mat4 {
-        crate::scene::gpu::light_records(&[light], glam::Vec3::ZERO, 4.0).shadow_view_proj[0]
+        crate::runtime::scene_upload::light_records(&[light], glam::Vec3::ZERO, 4.0).shadow_view_proj[0]
     }
 
     fn light(kind: crate::scene::LightKind, position: glam::Vec3, direction: glam::Vec3) -> crate::scene::PunctualLight {

@@ -1,5 +1,6 @@
 //! The CPU scene (meshes, materials, instances, textures, camera, light), the built-in
-//! default scene, and its upload to the GPU ([`gpu`]).
+//! default scene, and which parts of it a compiled plan reads ([`usage`]). No GPU: the upload
+//! is the runtime's (`runtime::scene_upload`).
 
 pub mod animation;
 pub mod builtin;
@@ -9,7 +10,6 @@ pub mod export;
 pub mod fly;
 pub mod gltf_animation;
 pub mod gltf_import;
-pub mod gpu;
 pub mod info;
 pub mod load;
 pub mod memo;
@@ -17,6 +17,7 @@ pub mod posing;
 pub mod procedural;
 pub mod topology;
 pub mod track;
+pub mod usage;
 pub mod vertex;
 
 use glam::{Mat4, Vec3};

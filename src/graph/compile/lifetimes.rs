@@ -8,7 +8,7 @@ use super::resolve::ResolvedNode;
 use super::schedule::{pass_name, PassNode};
 use crate::graph::desc::*;
 use crate::graph::reflect::ShaderInfo;
-use crate::scene::gpu::SceneUsage;
+use crate::scene::usage::SceneUsage;
 use std::collections::HashMap;
 use std::sync::Arc;
 

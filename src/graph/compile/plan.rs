@@ -6,7 +6,7 @@ use crate::backend::Backend;
 use crate::error::Location;
 use crate::graph::desc::*;
 use crate::graph::reflect::ShaderInfo;
-use crate::scene::gpu::SceneUsage;
+use crate::scene::usage::SceneUsage;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

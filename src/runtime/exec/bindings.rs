@@ -11,7 +11,7 @@ use crate::graph::compile::{PlannedPass, ResourceId};
 use crate::graph::desc::{PassKind, ResourceDecl};
 use crate::graph::reflect::{BindingKind, ShaderBinding, UniformMember};
 use crate::runtime::gpu::Gpu;
-use crate::scene::gpu::SceneTextures;
+use crate::runtime::scene_upload::SceneTextures;
 
 /// The `linear_sampler` built-in.
 pub(super) fn linear_sampler() -> wgpu::SamplerDescriptor<'static> {

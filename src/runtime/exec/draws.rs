@@ -10,7 +10,7 @@
 //! (`wgpu::Features::INDIRECT_FIRST_INSTANCE`) draws the same commands one by one.
 
 use crate::runtime::raster::{front_to_back, DrawClass, InstanceClass, ScenePipelines};
-use crate::scene::gpu::Draw;
+use crate::runtime::scene_upload::Draw;
 use crate::scene::Scene;
 use std::ops::Range;
 use wgpu::util::DrawIndexedIndirectArgs;

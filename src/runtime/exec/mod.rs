@@ -39,7 +39,7 @@ use crate::error::RuntimeError;
 use crate::graph::compile::{Plan, PlannedPass, ResourceId};
 use crate::graph::desc::PassKind;
 use crate::graph::reflect::UniformMember;
-use crate::scene::gpu::{GpuScene, SceneContent};
+use crate::runtime::scene_upload::{GpuScene, SceneContent};
 use crate::scene::{Camera, Scene};
 use web_time::Instant;
 

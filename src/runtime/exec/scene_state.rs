@@ -7,7 +7,7 @@ use super::Executor;
 use crate::error::RuntimeError;
 use crate::graph::compile::Plan;
 use crate::runtime::gpu::Gpu;
-use crate::scene::gpu::{light_records, GpuScene, SceneContent};
+use crate::runtime::scene_upload::{light_records, GpuScene, SceneContent};
 use crate::scene::{Camera, Scene};
 use crate::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
 
@@ -23,7 +23,7 @@ impl Executor {
         Ok(Some(s))
     }
 
-    /// A part of the uploaded scene; the plan's [`crate::scene::gpu::SceneUsage`] decides what
+    /// A part of the uploaded scene; the plan's [`crate::scene::usage::SceneUsage`] decides what
     /// was uploaded, so a missing part is an internal inconsistency reported as an error.
     pub(super) fn scene_part<T>(&self, part: impl Fn(&GpuScene) -> Option<&T>) -> Result<&T, RuntimeError> {
         self.scene.as_ref().and_then(part).ok_or_else(|| RuntimeError::Gpu("a pass binds a part of the scene that the plan did not upload".into()))

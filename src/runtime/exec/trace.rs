@@ -13,7 +13,7 @@ use crate::graph::compile::PlannedPass;
 use crate::graph::desc::{Dispatch, ResourceDecl};
 use crate::graph::reflect::{BindingKind, ShaderBinding};
 use crate::runtime::gpu::Gpu;
-use crate::scene::gpu::SceneTextures;
+use crate::runtime::scene_upload::SceneTextures;
 
 /// The state a binding's resource is in while a pass uses it (the rt-pipeline back-end's
 /// explicit transitions).

@@ -1,14 +1,14 @@
-//! The scene on the GPU: one vertex and one index buffer for all meshes, storage buffers of
-//! instances and materials, and all textures in one mipmapped 2D texture array (layer 0 is
-//! plain white). Only the parts the compiled plan uses ([`SceneUsage`]) are uploaded.
-//!
-//! Textures: every image is resampled to [`TEXTURE_SIZE`]² and becomes one layer of a
-//! `texture_2d_array<f32>`, so any shader reaches any texture through one binding on every
-//! adapter (binding arrays of separate textures are not used: the array works everywhere, and
-//! the built-in scenes' textures are at most 256² anyway). Too many layers, or buffers larger
-//! than the device allows, are an error with the numbers, never a panic.
+//! The scene on the GPU ([`GpuScene`]): only the parts a plan reads ([`SceneUsage`]) are
+//! uploaded: one vertex and one index buffer for all meshes, storage buffers of instance,
+//! material, light and previous-transform records, and the textures (element or layer 0 plain
+//! white), one texture per element of a binding array where the device has them, else the
+//! layers of one mipmapped [`TEXTURE_SIZE`]² texture array. Too many textures, or buffers larger
+//! than the device allows, are an error with the numbers ([`SceneLimitError`]), never a panic.
+//! Also the records' CPU side ([`light_records`]), what an upload depends on ([`SceneContent`])
+//! and the in-place rewrites of a frame.
 
-use super::{AlphaMode, Bounds, LightKind, PunctualLight, Scene, SlotSampling, TEXTURE_SLOTS};
+use crate::scene::usage::{SceneLimitError, SceneUsage};
+use crate::scene::{AlphaMode, Bounds, LightKind, Mesh, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, TEXTURE_SLOTS};
 use crate::uniforms::{
     InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
     MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_TRANSMISSION, MATERIAL_TRANSMISSION_TEXTURE, MATERIAL_UNLIT, MATERIAL_UV_TRANSFORM,
@@ -32,33 +32,6 @@ pub struct Draw {
     /// (`scene::topology`); `None` when it is not, or when the plan does not ask
     /// (`SceneUsage::closed_meshes`).
     pub closed_bounds: Option<Bounds>,
-}
-
-/// The scene does not fit the device.
-#[derive(Debug, thiserror::Error)]
-#[error("scene `{scene}` does not fit the GPU: {what} needs {}, the device allows {}\n  help: {help}", amount(*.needed, *.bytes), amount(*.allowed, *.bytes))]
-pub struct SceneLimitError {
-    /// The scene's name.
-    pub(crate) scene: String,
-    /// What is too large.
-    pub(crate) what: String,
-    /// How much of it the scene needs.
-    pub(crate) needed: u64,
-    /// How much the device allows.
-    pub(crate) allowed: u64,
-    /// Whether `needed` and `allowed` are bytes (else a count).
-    pub(crate) bytes: bool,
-    /// What to change.
-    pub(crate) help: String,
-}
-
-/// `n` as a count, or as bytes in MiB with the exact number.
-fn amount(n: u64, bytes: bool) -> String {
-    if bytes {
-        format!("{:.2} MiB ({n} bytes)", n as f64 / (1u64 << 20) as f64)
-    } else {
-        n.to_string()
-    }
 }
 
 /// The scene's textures as the graph's shaders bind them.
@@ -86,59 +59,6 @@ impl SceneTextures {
         match self {
             SceneTextures::Array { texture, .. } => texture.depth_or_array_layers(),
             SceneTextures::Separate { views, .. } => views.len() as u32,
-        }
-    }
-}
-
-/// Which parts of the scene the kept passes of a plan use; only these are uploaded.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct SceneUsage {
-    /// Vertex and index buffers (a `SceneRaster` pass draws the meshes).
-    pub geometry: bool,
-    /// `scene_instances`.
-    pub instances: bool,
-    /// `scene_materials`.
-    pub materials: bool,
-    /// `scene_textures` (images are then decoded and uploaded).
-    pub textures: bool,
-    /// `scene_textures` is a binding array (one texture per element) rather than a texture array.
-    pub texture_binding_array: bool,
-    /// `scene_vertices`, `scene_indices`, `scene_meshes` (geometry read in shaders).
-    pub geometry_storage: bool,
-    /// `scene_lights`.
-    pub lights: bool,
-    /// `scene_motion`: the previous frame's instance transforms.
-    pub motion: bool,
-    /// Which meshes are closed and wound outwards (`scene::topology`), for a pass with
-    /// `cull_closed_back_faces`: found on the CPU at upload, not uploaded.
-    pub closed_meshes: bool,
-}
-
-impl SceneUsage {
-    /// Whether any pass reads the scene.
-    pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights || self.motion
-    }
-
-    /// A short list for reports, e.g. `geometry, instances, textures`.
-    pub fn describe(&self) -> String {
-        let parts: Vec<&str> = [
-            (self.geometry, "geometry"),
-            (self.geometry_storage, "geometry for shading hits"),
-            (self.instances, "instances"),
-            (self.materials, "materials"),
-            (self.textures, "textures"),
-            (self.lights, "lights"),
-            (self.motion, "previous transforms"),
-            (self.closed_meshes, "closed meshes (found on the CPU)"),
-        ]
-        .into_iter()
-        .filter_map(|(on, name)| on.then_some(name))
-        .collect();
-        if parts.is_empty() {
-            "nothing (no pass reads the scene)".into()
-        } else {
-            parts.join(", ")
         }
     }
 }
@@ -199,12 +119,36 @@ fn check_amount(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str
 impl GpuScene {
     /// Uploads the parts of `scene` that `usage` names.
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, usage: SceneUsage) -> Result<Self, SceneLimitError> {
-        let limits = device.limits();
-        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
-        };
-        let mut bytes = 0u64;
-        let mut out = GpuScene {
+        let mut upload = Upload { device, queue, scene, limits: device.limits(), bytes: 0 };
+        let mut out = GpuScene::empty(usage);
+        if usage.geometry || usage.geometry_storage {
+            upload.geometry(&mut out)?;
+        }
+        if usage.instances {
+            out.instances = Some(upload.storage_records("instance", instance_records(scene))?);
+        }
+        if usage.materials {
+            let materials: Vec<MaterialUniforms> = scene.materials.iter().map(material_uniforms).collect();
+            out.materials = Some(upload.storage_records("material", materials)?);
+        }
+        if usage.lights {
+            let records = vec![LightUniforms::default(); scene.effective_light_count()];
+            out.lights = Some(upload.storage_records("light", records)?);
+        }
+        if usage.motion {
+            let records: Vec<[[f32; 4]; 4]> = scene.instances.iter().map(|i| i.transform.to_cols_array_2d()).collect();
+            out.motion = Some(upload.storage_records("previous transform", records)?);
+        }
+        if usage.textures {
+            out.textures = Some(upload.textures(usage.texture_binding_array)?);
+        }
+        out.bytes = upload.bytes;
+        Ok(out)
+    }
+
+    /// A scene with no part uploaded yet, to be filled for `usage`.
+    fn empty(usage: SceneUsage) -> Self {
+        GpuScene {
             vertices: None,
             indices: None,
             instances: None,
@@ -217,187 +161,218 @@ impl GpuScene {
             base_vertices: Vec::new(),
             usage,
             bytes: 0,
-        };
-
-        if usage.geometry || usage.geometry_storage {
-            // Meshes' colours and second uvs follow every mesh's vertices where shaders read them.
-            let extras = |m: &super::Mesh| m.extras.as_ref().filter(|e| usage.geometry_storage && e.len() == m.vertices.len()).map_or(0, Vec::len);
-            let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len() + extras(m)).sum();
-            let index_count: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
-            let vertex_bytes = (vertex_count * std::mem::size_of::<super::Vertex>()) as u64;
-            let help = "use a smaller scene or a lower duplication factor";
-            check(scene, "the vertex buffer", vertex_bytes, limits.max_buffer_size, help)?;
-            check(scene, "the index buffer", index_count as u64 * 4, limits.max_buffer_size, help)?;
-            check_count(scene, "the vertex count", vertex_count as u64, i32::MAX as u64, help)?;
-            let mut vertices = Vec::with_capacity(vertex_count.max(1));
-            let mut indices = Vec::with_capacity(index_count.max(3));
-            let mut ranges = Vec::new();
-            let mut records: Vec<[u32; 4]> = Vec::new();
-            for mesh in &scene.meshes {
-                records.push([indices.len() as u32, vertices.len() as u32, mesh.indices.len() as u32, MESH_NO_EXTRAS]);
-                let first_index = indices.len() as u32;
-                let base_vertex = vertices.len() as i32;
-                vertices.extend_from_slice(&mesh.vertices);
-                indices.extend_from_slice(&mesh.indices);
-                ranges.push((first_index..indices.len() as u32, base_vertex));
-            }
-            for (record, mesh) in records.iter_mut().zip(&scene.meshes) {
-                if let Some(e) = mesh.extras.as_ref().filter(|_| extras(mesh) > 0) {
-                    record[3] = vertices.len() as u32;
-                    vertices.extend(e.iter().map(|e| bytemuck::cast::<super::VertexExtra, super::Vertex>(*e)));
-                }
-            }
-            let bounds: Vec<Bounds> = scene.meshes.iter().map(|m| m.bounds()).collect();
-            let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
-            // A deforming mesh's bounds and closedness change from frame to frame: its shadow
-            // maps draw both faces.
-            let deforming = scene.deforming_meshes();
-            let closed: Vec<Option<Bounds>> = scene
-                .meshes
-                .iter()
-                .zip(&bounds)
-                .enumerate()
-                .map(|(i, (m, b))| (usage.closed_meshes && !deforming.contains(&i) && super::topology::is_closed_outward(m)).then_some(*b))
-                .collect();
-            out.base_vertices = ranges.iter().map(|r| r.1 as u32).collect();
-            out.draws = scene
-                .instances
-                .iter()
-                .enumerate()
-                .map(|(i, inst)| Draw {
-                    indices: ranges[inst.mesh].0.clone(),
-                    base_vertex: ranges[inst.mesh].1,
-                    instance: i as u32,
-                    local_center: centers[inst.mesh],
-                    closed_bounds: closed[inst.mesh],
-                })
-                .collect();
-            // wgpu buffers may not be empty.
-            if vertices.is_empty() {
-                vertices.push(super::Vertex::default());
-            }
-            if indices.is_empty() {
-                indices.extend_from_slice(&[0, 0, 0]);
-            }
-            let storage = if usage.geometry_storage { wgpu::BufferUsages::STORAGE } else { wgpu::BufferUsages::empty() };
-            if usage.geometry_storage {
-                let limit = limits.max_storage_buffer_binding_size;
-                check(scene, "the vertex buffer (one storage binding)", vertex_bytes, limit, "use a smaller scene")?;
-                check(scene, "the index buffer (one storage binding)", index_count as u64 * 4, limit, "use a smaller scene")?;
-                if records.is_empty() {
-                    records.push([0; 4]);
-                }
-                out.meshes = Some(init("scene meshes", bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE));
-            }
-            // Deforming meshes are rewritten in place every frame they move.
-            let rewritten = if deforming.is_empty() {
-                wgpu::BufferUsages::empty()
-            } else {
-                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::STORAGE
-            };
-            out.vertices = Some(init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX | storage | rewritten));
-            out.indices = Some(init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX | storage));
-            bytes += (vertices.len() * std::mem::size_of::<super::Vertex>() + indices.len() * 4) as u64;
         }
-
-        if usage.instances {
-            out.instances = Some(storage_records(device, scene, "instance", instance_records(scene), &mut bytes)?);
-        }
-
-        if usage.materials {
-            let materials: Vec<MaterialUniforms> = scene.materials.iter().map(material_uniforms).collect();
-            out.materials = Some(storage_records(device, scene, "material", materials, &mut bytes)?);
-        }
-
-        if usage.lights {
-            let records = vec![LightUniforms::default(); scene.effective_light_count()];
-            out.lights = Some(storage_records(device, scene, "light", records, &mut bytes)?);
-        }
-
-        if usage.motion {
-            let records: Vec<[[f32; 4]; 4]> = scene.instances.iter().map(|i| i.transform.to_cols_array_2d()).collect();
-            out.motion = Some(storage_records(device, scene, "previous transform", records, &mut bytes)?);
-        }
-
-        if usage.textures {
-            let count = scene.textures.len() as u32 + 1;
-            let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures.iter().map(to_image));
-            // Element 0 (white) is colour; the scene's textures follow at index + 1.
-            let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
-            let nearest: Vec<bool> = std::iter::once(false).chain(nearest_textures(scene)).collect();
-            out.textures = Some(if usage.texture_binding_array {
-                let allowed = limits.max_binding_array_elements_per_shader_stage;
-                check_count(scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
-                let (mut textures, mut views) = (Vec::new(), Vec::new());
-                for (i, img) in images.enumerate() {
-                    let max = limits.max_texture_dimension_2d;
-                    let img = if img.width() > max || img.height() > max {
-                        image::imageops::resize(&img, img.width().min(max), img.height().min(max), image::imageops::FilterType::Triangle)
-                    } else {
-                        img
-                    };
-                    let mips = img.width().max(img.height()).ilog2() + 1;
-                    let encoding = if data[i] { TexelEncoding::Data } else { TexelEncoding::Colour };
-                    let texture = create_texture(device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips, encoding.format());
-                    bytes += upload_mips(queue, &texture, 0, img, encoding);
-                    views.push(texture.create_view(&wgpu::TextureViewDescriptor::default()));
-                    textures.push(texture);
-                }
-                SceneTextures::Separate { textures, views }
-            } else {
-                check(
-                    scene,
-                    "the texture array (one layer per texture, plus white)",
-                    count as u64,
-                    limits.max_texture_array_layers as u64,
-                    "use fewer textures",
-                )?;
-                let texture = create_texture(device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS, TexelEncoding::Colour.format());
-                for (layer, img) in images.enumerate() {
-                    let encoding = if data[layer] { TexelEncoding::DataInSrgb } else { TexelEncoding::Colour };
-                    let filter = if nearest[layer] { image::imageops::FilterType::Nearest } else { image::imageops::FilterType::Triangle };
-                    let img =
-                        if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, filter) };
-                    bytes += upload_mips(queue, &texture, layer as u32, img, encoding);
-                }
-                let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
-                SceneTextures::Array { texture, view }
-            });
-        }
-        out.bytes = bytes;
-        Ok(out)
     }
 }
 
-/// A storage buffer of `records` (one zeroed record if there are none: bindings may not be
-/// empty), checked against the device's storage binding limit.
-fn storage_records<T: bytemuck::Pod>(
-    device: &wgpu::Device,
-    scene: &Scene,
-    what: &str,
-    mut records: Vec<T>,
-    bytes: &mut u64,
-) -> Result<wgpu::Buffer, SceneLimitError> {
-    let needed = (records.len() * std::mem::size_of::<T>()) as u64;
-    let allowed = device.limits().max_storage_buffer_binding_size;
-    check(scene, &format!("the {what} buffer (one storage binding)"), needed, allowed, &format!("use fewer {what}s"))?;
-    if records.is_empty() {
-        records.push(T::zeroed());
+/// One upload in progress: the device and its queue, the scene, the device's limits and the
+/// bytes uploaded so far.
+struct Upload<'a> {
+    device: &'a wgpu::Device,
+    queue: &'a wgpu::Queue,
+    scene: &'a Scene,
+    limits: wgpu::Limits,
+    bytes: u64,
+}
+
+/// Every mesh's vertices and indices one after another, as the vertex and index buffers hold
+/// them; where shaders read them, the meshes' colours and second uvs follow all the vertices.
+struct PackedGeometry {
+    vertices: Vec<Vertex>,
+    indices: Vec<u32>,
+    /// Per mesh: its range in `indices` and its first vertex.
+    ranges: Vec<(std::ops::Range<u32>, i32)>,
+    /// Per mesh, its `scene_meshes` record: first index, base vertex, index count, where its
+    /// extras start (`MESH_NO_EXTRAS` without).
+    records: Vec<[u32; 4]>,
+    /// Bytes of the vertices, extras included.
+    vertex_bytes: u64,
+    /// Bytes of the indices.
+    index_bytes: u64,
+}
+
+impl Upload<'_> {
+    /// A buffer holding `contents`.
+    fn buffer(&self, label: &str, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
     }
-    *bytes += needed;
-    Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(&format!("scene {what}s")),
-        contents: bytemuck::cast_slice(&records),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-    }))
+
+    /// The vertex and index buffers (and `scene_meshes` where shaders read the geometry), each
+    /// mesh's first vertex and each instance's draw.
+    fn geometry(&mut self, out: &mut GpuScene) -> Result<(), SceneLimitError> {
+        let (scene, usage) = (self.scene, out.usage);
+        let mut packed = self.pack_geometry(usage)?;
+        // A deforming mesh's bounds and closedness change from frame to frame: its shadow
+        // maps draw both faces.
+        let deforming = scene.deforming_meshes();
+        out.base_vertices = packed.ranges.iter().map(|r| r.1 as u32).collect();
+        out.draws = instance_draws(scene, &packed.ranges, usage.closed_meshes, &deforming);
+        // wgpu buffers may not be empty.
+        if packed.vertices.is_empty() {
+            packed.vertices.push(Vertex::default());
+        }
+        if packed.indices.is_empty() {
+            packed.indices.extend_from_slice(&[0, 0, 0]);
+        }
+        let storage = if usage.geometry_storage { wgpu::BufferUsages::STORAGE } else { wgpu::BufferUsages::empty() };
+        if usage.geometry_storage {
+            let limit = self.limits.max_storage_buffer_binding_size;
+            check(scene, "the vertex buffer (one storage binding)", packed.vertex_bytes, limit, "use a smaller scene")?;
+            check(scene, "the index buffer (one storage binding)", packed.index_bytes, limit, "use a smaller scene")?;
+            if packed.records.is_empty() {
+                packed.records.push([0; 4]);
+            }
+            out.meshes = Some(self.buffer("scene meshes", bytemuck::cast_slice(&packed.records), wgpu::BufferUsages::STORAGE));
+        }
+        // Deforming meshes are rewritten in place every frame they move.
+        let rewritten = if deforming.is_empty() {
+            wgpu::BufferUsages::empty()
+        } else {
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::STORAGE
+        };
+        let (vertices, indices) = (&packed.vertices, &packed.indices);
+        out.vertices = Some(self.buffer("scene vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX | storage | rewritten));
+        out.indices = Some(self.buffer("scene indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX | storage));
+        self.bytes += (vertices.len() * std::mem::size_of::<Vertex>() + indices.len() * 4) as u64;
+        Ok(())
+    }
+
+    /// The meshes packed one after another, checked against the device's buffer size.
+    fn pack_geometry(&self, usage: SceneUsage) -> Result<PackedGeometry, SceneLimitError> {
+        let scene = self.scene;
+        // Meshes' colours and second uvs follow every mesh's vertices where shaders read them.
+        let extras = |m: &Mesh| m.extras.as_ref().filter(|e| usage.geometry_storage && e.len() == m.vertices.len()).map_or(0, Vec::len);
+        let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len() + extras(m)).sum();
+        let index_count: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
+        let vertex_bytes = (vertex_count * std::mem::size_of::<Vertex>()) as u64;
+        let help = "use a smaller scene or a lower duplication factor";
+        check(scene, "the vertex buffer", vertex_bytes, self.limits.max_buffer_size, help)?;
+        check(scene, "the index buffer", index_count as u64 * 4, self.limits.max_buffer_size, help)?;
+        check_count(scene, "the vertex count", vertex_count as u64, i32::MAX as u64, help)?;
+        let mut vertices = Vec::with_capacity(vertex_count.max(1));
+        let mut indices = Vec::with_capacity(index_count.max(3));
+        let mut ranges = Vec::new();
+        let mut records: Vec<[u32; 4]> = Vec::new();
+        for mesh in &scene.meshes {
+            records.push([indices.len() as u32, vertices.len() as u32, mesh.indices.len() as u32, MESH_NO_EXTRAS]);
+            let first_index = indices.len() as u32;
+            let base_vertex = vertices.len() as i32;
+            vertices.extend_from_slice(&mesh.vertices);
+            indices.extend_from_slice(&mesh.indices);
+            ranges.push((first_index..indices.len() as u32, base_vertex));
+        }
+        for (record, mesh) in records.iter_mut().zip(&scene.meshes) {
+            if let Some(e) = mesh.extras.as_ref().filter(|_| extras(mesh) > 0) {
+                record[3] = vertices.len() as u32;
+                vertices.extend(e.iter().map(|e| bytemuck::cast::<VertexExtra, Vertex>(*e)));
+            }
+        }
+        Ok(PackedGeometry { vertices, indices, ranges, records, vertex_bytes, index_bytes: index_count as u64 * 4 })
+    }
+
+    /// A storage buffer of `records` (one zeroed record if there are none: bindings may not be
+    /// empty), checked against the device's storage binding limit.
+    fn storage_records<T: bytemuck::Pod>(&mut self, what: &str, mut records: Vec<T>) -> Result<wgpu::Buffer, SceneLimitError> {
+        let needed = (records.len() * std::mem::size_of::<T>()) as u64;
+        let allowed = self.limits.max_storage_buffer_binding_size;
+        check(self.scene, &format!("the {what} buffer (one storage binding)"), needed, allowed, &format!("use fewer {what}s"))?;
+        if records.is_empty() {
+            records.push(T::zeroed());
+        }
+        self.bytes += needed;
+        Ok(self.buffer(&format!("scene {what}s"), bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST))
+    }
+
+    /// The material textures: element or layer 0 plain white, the scene's textures at their
+    /// index + 1; one texture per element of a binding array if `binding_array`, else the
+    /// layers of one texture array.
+    fn textures(&mut self, binding_array: bool) -> Result<SceneTextures, SceneLimitError> {
+        let scene = self.scene;
+        let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures.iter().map(to_image));
+        // Element 0 (white) is colour; the scene's textures follow at index + 1.
+        let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
+        if binding_array {
+            self.separate_textures(images, &data)
+        } else {
+            let nearest: Vec<bool> = std::iter::once(false).chain(nearest_textures(scene)).collect();
+            self.texture_array(images, &data, &nearest)
+        }
+    }
+
+    /// One texture per image, each at its own size (at most the device's largest) with its own
+    /// mip chain.
+    fn separate_textures(&mut self, images: impl Iterator<Item = image::RgbaImage>, data: &[bool]) -> Result<SceneTextures, SceneLimitError> {
+        let count = self.scene.textures.len() as u32 + 1;
+        let allowed = self.limits.max_binding_array_elements_per_shader_stage;
+        check_count(self.scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
+        let (mut textures, mut views) = (Vec::new(), Vec::new());
+        for (i, img) in images.enumerate() {
+            let max = self.limits.max_texture_dimension_2d;
+            let img = if img.width() > max || img.height() > max {
+                image::imageops::resize(&img, img.width().min(max), img.height().min(max), image::imageops::FilterType::Triangle)
+            } else {
+                img
+            };
+            let mips = img.width().max(img.height()).ilog2() + 1;
+            let encoding = if data[i] { TexelEncoding::Data } else { TexelEncoding::Colour };
+            let texture = create_texture(self.device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips, encoding.format());
+            self.bytes += upload_mips(self.queue, &texture, 0, img, encoding);
+            views.push(texture.create_view(&wgpu::TextureViewDescriptor::default()));
+            textures.push(texture);
+        }
+        Ok(SceneTextures::Separate { textures, views })
+    }
+
+    /// One sRGB texture array of [`TEXTURE_SIZE`]² layers, an image resampled into each
+    /// (by nearest texel where `nearest` says so).
+    fn texture_array(&mut self, images: impl Iterator<Item = image::RgbaImage>, data: &[bool], nearest: &[bool]) -> Result<SceneTextures, SceneLimitError> {
+        let count = self.scene.textures.len() as u32 + 1;
+        let allowed = self.limits.max_texture_array_layers as u64;
+        check(self.scene, "the texture array (one layer per texture, plus white)", count as u64, allowed, "use fewer textures")?;
+        let texture = create_texture(self.device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS, TexelEncoding::Colour.format());
+        for (layer, img) in images.enumerate() {
+            let encoding = if data[layer] { TexelEncoding::DataInSrgb } else { TexelEncoding::Colour };
+            let filter = if nearest[layer] { image::imageops::FilterType::Nearest } else { image::imageops::FilterType::Triangle };
+            let img = if img.dimensions() == (TEXTURE_SIZE, TEXTURE_SIZE) { img } else { image::imageops::resize(&img, TEXTURE_SIZE, TEXTURE_SIZE, filter) };
+            self.bytes += upload_mips(self.queue, &texture, layer as u32, img, encoding);
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+        Ok(SceneTextures::Array { texture, view })
+    }
+}
+
+/// One draw per instance, with its mesh's centre and, where `closed_meshes` asks, its bounds
+/// if the mesh is closed and wound outwards and not `deforming`.
+fn instance_draws(scene: &Scene, ranges: &[(std::ops::Range<u32>, i32)], closed_meshes: bool, deforming: &[usize]) -> Vec<Draw> {
+    let bounds: Vec<Bounds> = scene.meshes.iter().map(|m| m.bounds()).collect();
+    let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
+    let closed: Vec<Option<Bounds>> = scene
+        .meshes
+        .iter()
+        .zip(&bounds)
+        .enumerate()
+        .map(|(i, (m, b))| (closed_meshes && !deforming.contains(&i) && crate::scene::topology::is_closed_outward(m)).then_some(*b))
+        .collect();
+    scene
+        .instances
+        .iter()
+        .enumerate()
+        .map(|(i, inst)| Draw {
+            indices: ranges[inst.mesh].0.clone(),
+            base_vertex: ranges[inst.mesh].1,
+            instance: i as u32,
+            local_center: centers[inst.mesh],
+            closed_bounds: closed[inst.mesh],
+        })
+        .collect()
 }
 
 /// The texture as an image; malformed pixel data becomes the magenta fallback, never a panic.
-fn to_image(img: &super::TextureImage) -> image::RgbaImage {
+fn to_image(img: &TextureImage) -> image::RgbaImage {
     match image::RgbaImage::from_raw(img.width, img.height, img.rgba.to_vec()) {
         Some(i) if i.width() > 0 && i.height() > 0 => i,
         _ => {
-            let fb = super::gltf_import::fallback_texture(&img.name);
+            let fb = crate::scene::gltf_import::fallback_texture(&img.name);
             image::RgbaImage::from_raw(fb.width, fb.height, fb.rgba.to_vec())
                 .unwrap_or_else(|| image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 0, 255, 255])))
         }
@@ -445,7 +420,7 @@ fn nearest_textures(scene: &Scene) -> Vec<bool> {
 /// metallic-roughness, occlusion and the lobe extensions' but specular colour: glTF stores them
 /// linearly). A texture a colour slot also uses stays colour.
 fn data_textures(scene: &Scene) -> Vec<bool> {
-    use super::gltf_import::TextureSlot;
+    use crate::scene::gltf_import::TextureSlot;
     let n = scene.textures.len();
     let (mut colour, mut data) = (vec![false; n], vec![false; n]);
     for m in scene.materials.iter() {
@@ -584,7 +559,7 @@ impl GpuScene {
     /// Returns false if there is no vertex buffer or a mesh no longer fits its range.
     pub fn write_vertices(&self, queue: &wgpu::Queue, scene: &Scene, meshes: &[usize]) -> bool {
         let Some(buffer) = &self.vertices else { return false };
-        let stride = std::mem::size_of::<super::Vertex>() as u64;
+        let stride = std::mem::size_of::<Vertex>() as u64;
         for &m in meshes {
             let (Some(&base), Some(mesh)) = (self.base_vertices.get(m), scene.meshes.get(m)) else { return false };
             let end = self.base_vertices.get(m + 1).map_or(buffer.size() / stride, |&b| b as u64);
@@ -717,8 +692,8 @@ pub struct SceneContent {
 impl SceneContent {
     /// The hashes of `scene`; `memo` keeps each mesh's own two hashes (of its whole content,
     /// and of all but a deforming mesh's vertices) while the mesh is unchanged
-    /// ([`super::memo::MeshMemo`]), so an unchanged mesh's vertices are not read again.
-    pub(crate) fn of(scene: &Scene, memo: &mut super::memo::MeshMemo<[u64; 2]>) -> Self {
+    /// ([`crate::scene::memo::MeshMemo`]), so an unchanged mesh's vertices are not read again.
+    pub(crate) fn of(scene: &Scene, memo: &mut crate::scene::memo::MeshMemo<[u64; 2]>) -> Self {
         use crate::util::hash_words;
         let deforming = scene.deforming_meshes();
         let mesh_hashes = memo.values(&scene.meshes, |m| {
