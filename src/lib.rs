@@ -5,12 +5,12 @@
 //! - [`util`]: atomic file writes, sRGB conversion, the content hash of plain data.
 //! - `uniforms`: `#[repr(C)]` mirrors of the uniform and record structs shared with WGSL.
 //! - [`backend`]: the traversal back-ends (`compute`, `ray-query`, `rt-pipeline`), selection.
-//! - [`scene`]: the CPU scene, its loaders and exporter, and its GPU upload.
+//! - [`scene`]: the CPU scene (no GPU), its loaders and exporter.
 //! - [`error`]: located diagnostics of graph files and the runtime's errors.
 //! - `gpu_util`: small wgpu helpers (compute pipelines, read-back buffers, mapped reads).
 //! - [`graph`]: graph and layer files, shader reflection, the compiler (no GPU).
 //! - [`accel`]: BVHs, the CPU traversal, the f64 reference, the GPU cache and back-ends.
-//! - [`runtime`]: the wgpu device, the plan executor, pass timing and batch tracing.
+//! - [`runtime`]: the wgpu device, the scene's upload, the plan executor, pass timing and batch tracing.
 //!
 //! With the `cli` feature (on by default), the modules behind the `raygraph` command too; they
 //! are not part of the embedding API (`default-features = false` leaves them out):
