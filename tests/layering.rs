@@ -2,11 +2,16 @@
 //! by the "Layers" table of `docs/ARCHITECTURE.md` (parsed from the document, so the two cannot
 //! drift), and the files of a top-level module import each other without a cycle.
 //!
+//! `src/` holds two crates: the library (`lib.rs` and its modules) and the binary (`main.rs`
+//! and the modules it declares, such as `cli`), whose files name the library `raygraph::`. The
+//! binary's top-level modules are rows of the table like the library's; no library module can
+//! name them.
+//!
 //! An import is a `use` declaration or a path written inline (`crate::a::b`, `super::x`,
-//! `child::y`; `raygraph::a` in `main.rs`). A path resolves to the file that defines the item,
-//! following the `pub use` re-exports of module roots; those re-exports are the module's face,
-//! not a dependency of the root file, so they count for the layers but not for file cycles.
-//! Comments and string literals are ignored.
+//! `child::y`; `raygraph::a` in the binary's files). A path resolves to the file that defines
+//! the item, following the `pub use` re-exports of module roots; those re-exports are the
+//! module's face, not a dependency of the root file, so they count for the layers but not for
+//! file cycles. Comments and string literals are ignored.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -212,8 +217,16 @@ fn use_paths(toks: &[Tok]) -> Vec<Vec<String>> {
     out
 }
 
-/// The module path of a file under `src/` (`accel/cache.rs` -> `[accel, cache]`; `lib.rs`
-/// and `main.rs` -> the crate root).
+/// The library's name, as the binary's files write it, and the first segment of the library's
+/// absolute paths.
+const LIBRARY: &str = "raygraph";
+
+/// The first segment of the binary's absolute paths: not an identifier, so no path written in
+/// the source names it.
+const BINARY: &str = "<main.rs>";
+
+/// The module path of a file under `src/` within its crate (`accel/cache.rs` -> `[accel,
+/// cache]`; `lib.rs` and `main.rs` -> the crate root).
 fn module_of(file: &str) -> Vec<String> {
     let stem = file.trim_end_matches(".rs");
     let mut parts: Vec<String> = stem.split('/').map(str::to_string).collect();
@@ -221,6 +234,25 @@ fn module_of(file: &str) -> Vec<String> {
         parts.pop();
     }
     parts
+}
+
+/// The top-level modules of the binary: those `main.rs` declares (`mod cli;`).
+fn binary_modules(files: &[(String, String)]) -> BTreeSet<String> {
+    let Some((_, main)) = files.iter().find(|(f, _)| f == "main.rs") else { return BTreeSet::new() };
+    let toks: Vec<Tok> = tokens(main).into_iter().map(|(t, _)| t).collect();
+    toks.windows(3)
+        .filter_map(|w| match w {
+            [Tok::Ident(m), Tok::Ident(name), Tok::Punct(';')] if m == "mod" => Some(name.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The absolute module path of a file under `src/`: its crate ([`LIBRARY`] or [`BINARY`], the
+/// crate of `main.rs` and of the modules in `binary`), then [`module_of`].
+fn module_path(file: &str, binary: &BTreeSet<String>) -> Vec<String> {
+    let root = if file == "main.rs" || binary.contains(&top_of(file)) { BINARY } else { LIBRARY };
+    std::iter::once(root.to_string()).chain(module_of(file)).collect()
 }
 
 /// The top-level module a file belongs to (`main` for `main.rs`, `lib` for `lib.rs`).
@@ -232,14 +264,15 @@ fn top_of(file: &str) -> String {
     }
 }
 
-/// The crate's module tree: module path -> file, and the re-exports of module roots.
+/// The module tree of both crates: absolute module path -> file, and the re-exports of module
+/// roots.
 struct Crate {
     modules: BTreeMap<Vec<String>, String>,
     reexports: BTreeMap<(Vec<String>, String), Vec<String>>,
 }
 
 impl Crate {
-    /// The file that defines what `path` (absolute, from the crate root) names.
+    /// The file that defines what `path` (absolute, from a crate's root) names.
     fn resolve(&self, path: &[String], depth: usize) -> String {
         let mut module: Vec<String> = Vec::new();
         for (i, seg) in path.iter().enumerate() {
@@ -258,13 +291,18 @@ impl Crate {
     }
 }
 
-/// `path` as written in `file` where the module is `module` (the file's own, or an inline
-/// module's inside it), made absolute; `None` for a path that does not start in this crate.
-fn absolute(crate_: &Crate, file: &str, module: &[String], path: &[String]) -> Option<Vec<String>> {
-    let root = if file == "main.rs" { "raygraph" } else { "crate" };
+/// `path` as written where the module is `module` (absolute: the file's own, or an inline
+/// module's inside it), made absolute; `None` for a path that does not start in `src/`.
+fn absolute(crate_: &Crate, module: &[String], path: &[String]) -> Option<Vec<String>> {
     let (first, rest) = path.split_first()?;
-    if first == root {
-        return Some(rest.to_vec());
+    let own_crate = module.first()?;
+    let root = match first.as_str() {
+        "crate" => Some(own_crate.as_str()),
+        LIBRARY if own_crate == BINARY => Some(LIBRARY),
+        _ => None,
+    };
+    if let Some(root) = root {
+        return Some(std::iter::once(root.to_string()).chain(rest.iter().cloned()).collect());
     }
     if first == "super" || first == "self" {
         let mut base = module.to_vec();
@@ -280,7 +318,7 @@ fn absolute(crate_: &Crate, file: &str, module: &[String], path: &[String]) -> O
     }
     let mut child = module.to_vec();
     child.push(first.clone());
-    (file != "main.rs" && crate_.modules.contains_key(&child)).then(|| module.iter().chain(path).cloned().collect())
+    crate_.modules.contains_key(&child).then(|| module.iter().chain(path).cloned().collect())
 }
 
 /// A `use` declaration: its line, whether it is `pub`, its paths and the tokens it covers.
@@ -364,16 +402,18 @@ fn inline_paths(toks: &[(Tok, usize)], skip: &[std::ops::Range<usize>]) -> Vec<(
     out
 }
 
-/// Every import edge of the crate whose files are `files` (path under `src/`, source).
+/// Every import edge between `files` (path under `src/`, source), in the library and the binary.
 fn edges(files: &[(String, String)]) -> Vec<Edge> {
-    let modules = files.iter().filter(|(f, _)| f != "main.rs").map(|(f, _)| (module_of(f), f.clone())).collect();
+    let binary = binary_modules(files);
+    let module_of = |file: &str| module_path(file, &binary);
+    let is_root = |file: &str| file.ends_with("mod.rs") || file == "lib.rs" || file == "main.rs";
+    let modules = files.iter().map(|(f, _)| (module_of(f), f.clone())).collect();
     let mut crate_ = Crate { modules, reexports: BTreeMap::new() };
     let parsed: Vec<_> = files.iter().map(|(f, s)| (f, tokens(s))).collect();
     for (file, toks) in &parsed {
-        let is_root = file.ends_with("mod.rs") || file.as_str() == "lib.rs";
-        for decl in use_declarations(toks).into_iter().filter(|u| u.is_pub && is_root) {
+        for decl in use_declarations(toks).into_iter().filter(|u| u.is_pub && is_root(file)) {
             for p in decl.paths {
-                if let (Some(abs), Some(name)) = (absolute(&crate_, file, &module_of(file), &p), p.last()) {
+                if let (Some(abs), Some(name)) = (absolute(&crate_, &module_of(file), &p), p.last()) {
                     crate_.reexports.insert((module_of(file), name.clone()), abs);
                 }
             }
@@ -381,7 +421,7 @@ fn edges(files: &[(String, String)]) -> Vec<Edge> {
     }
     let mut out = Vec::new();
     for (file, toks) in &parsed {
-        let is_root = file.ends_with("mod.rs") || file.as_str() == "lib.rs";
+        let is_root = is_root(file);
         let at = modules_at(toks, &module_of(file));
         let uses = use_declarations(toks);
         let ranges: Vec<std::ops::Range<usize>> = uses.iter().map(|u| u.tokens.clone()).collect();
@@ -391,7 +431,7 @@ fn edges(files: &[(String, String)]) -> Vec<Edge> {
         }
         found.extend(inline_paths(toks, &ranges).into_iter().map(|(i, p)| (toks[i].1, p, false, i)));
         for (line, path, reexport, tok) in found {
-            let Some(abs) = absolute(&crate_, file, &at[tok], &path) else { continue };
+            let Some(abs) = absolute(&crate_, &at[tok], &path) else { continue };
             let to = crate_.resolve(&abs, 0);
             if &to != *file {
                 out.push(Edge { from: file.to_string(), line, to, path: path.join("::"), reexport });
@@ -556,4 +596,30 @@ fn the_checker_catches_a_forbidden_edge_and_a_cycle() {
     assert_eq!(every.may_import["d"], below_d);
     let bad = parse_layers("## Layers\n\n| layer | modules | may import |\n| --- | --- | --- |\n| 0 | `low` | `high` |\n| 1 | `high` | `low` |\n").unwrap();
     assert_eq!(table_errors(&bad), vec!["Layers table: `low` (layer 0) may import `high` (layer 1), which is not lower".to_string()]);
+}
+
+/// The binary beside the library of [`synthetic`]: `main.rs` declares `cli`, whose file names
+/// the library `raygraph::` (once a module `cli` may not import) and climbs back up to `main.rs`.
+#[test]
+fn the_checker_reads_the_binary_and_its_modules() {
+    let layers = parse_layers(
+        "## Layers\n\n| layer | modules | may import |\n| --- | --- | --- |\n| 0 | `low` | — |\n| 1 | `high` | `low` |\n| 2 | `cli` | `low` |\n| 3 | `main` | `cli` |\n",
+    )
+    .unwrap();
+    let mut files = synthetic();
+    let f = |p: &str, s: &str| (p.to_string(), s.to_string());
+    files.push(f("main.rs", "mod cli;\nfn main() {\n    cli::run::go();\n}\npub fn exit() {}\n"));
+    files.push(f("cli/mod.rs", "pub mod run;\n"));
+    files.push(f("cli/run.rs", "use raygraph::low::Thing;\npub fn go() {\n    raygraph::high::top::count();\n    crate::exit();\n}\n"));
+    let edges = edges(&files);
+    assert!(edges.iter().any(|e| e.from == "main.rs" && e.to == "cli/run.rs" && e.path == "cli::run::go"), "{edges:#?}");
+    assert!(edges.iter().any(|e| e.from == "cli/run.rs" && e.to == "low/a.rs" && e.path == "raygraph::low::Thing"), "{edges:#?}");
+    assert_eq!(
+        forbidden(&edges, &layers),
+        vec![
+            "src/cli/run.rs:3: `raygraph::high::top::count` imports `high` (src/high/top.rs): `cli` may import only low".to_string(),
+            "src/cli/run.rs:4: `crate::exit` imports `main` (src/main.rs): `cli` may import only low".to_string(),
+            "src/low/b.rs:3: `crate::high::top::count` imports `high` (src/high/top.rs): `low` may import no module of the crate".to_string(),
+        ]
+    );
 }

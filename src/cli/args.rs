@@ -1,0 +1,147 @@
+//! The argument groups that several subcommands share through `#[command(flatten)]`: the GPU a
+//! command opens, frame sizes, copies of the scene and the glTF scene drawn.
+
+use anyhow::{Context, Result};
+use raygraph::backend::Backend;
+use raygraph::bench::rays::RaysConfig;
+use raygraph::runtime::Gpu;
+use raygraph::scene::Scene;
+use std::path::Path;
+
+/// The GPU deadline of a command that renders.
+#[derive(clap::Args)]
+pub(crate) struct Deadline {
+    /// Seconds one GPU submission may run; past it the run ends with an error naming the
+    /// frame's passes, and nothing is written [default: 10, 120 on a software adapter such as
+    /// lavapipe].
+    #[arg(long, value_name = "SECONDS")]
+    gpu_timeout: Option<f64>,
+}
+
+impl Deadline {
+    /// The deadline asked for (`None`: the adapter's default).
+    pub(crate) fn duration(&self) -> Result<Option<std::time::Duration>> {
+        let Some(seconds) = self.gpu_timeout else { return Ok(None) };
+        let d = std::time::Duration::try_from_secs_f64(seconds).ok().filter(|d| !d.is_zero());
+        d.map(Some).with_context(|| format!("--gpu-timeout {seconds}: give a positive number of seconds"))
+    }
+
+    /// Opens the GPU with `backend` forced (or selected) and this deadline.
+    pub(crate) fn open_gpu(&self, backend: Option<Backend>) -> Result<Gpu> {
+        let timeout = self.duration()?;
+        let mut gpu = Gpu::with_backend(backend)?;
+        gpu.gpu_timeout = timeout.unwrap_or(gpu.gpu_timeout);
+        gpu.on_gpu_timeout = Some(exit_after_gpu_timeout);
+        Ok(gpu)
+    }
+}
+
+/// Ends the process after a GPU timeout: the error, exit status 1, and nothing released on
+/// the way out (releasing GPU objects the stuck work uses can block in the driver).
+fn exit_after_gpu_timeout(e: &raygraph::error::RuntimeError) {
+    eprintln!("{e}");
+    std::process::exit(1);
+}
+
+/// The traversal back-end and the GPU deadline of a command that renders. A command whose
+/// `--backend` needs a help line gives it with `#[command(mut_arg("backend", ..))]`.
+#[derive(clap::Args)]
+pub(crate) struct GpuArgs {
+    #[arg(long)]
+    pub(crate) backend: Option<Backend>,
+    #[command(flatten)]
+    pub(crate) deadline: Deadline,
+}
+
+impl GpuArgs {
+    /// Opens the GPU with the back-end and deadline asked for, and prints its adapter.
+    pub(crate) fn open_gpu(&self) -> Result<Gpu> {
+        let gpu = self.deadline.open_gpu(self.backend)?;
+        println!("adapter: {}", gpu.describe());
+        Ok(gpu)
+    }
+
+    /// The back-ends a bench runs: the one asked for, else every one `gpu` has.
+    pub(crate) fn backends(&self, gpu: &Gpu) -> Vec<Backend> {
+        backends(self.backend, gpu)
+    }
+}
+
+/// `backend` alone when one is asked for, else every back-end `gpu` has.
+pub(crate) fn backends(backend: Option<Backend>, gpu: &Gpu) -> Vec<Backend> {
+    backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone())
+}
+
+/// An error unless `width` and `height` are both between 1 and 16384.
+pub(crate) fn ensure_size_in_range(width: u32, height: u32) -> Result<()> {
+    anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
+    Ok(())
+}
+
+/// A frame size that replaces a command's own, side by side.
+#[derive(clap::Args)]
+pub(crate) struct FrameSize {
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+}
+
+impl FrameSize {
+    /// The size given, each side not given taken from `default`.
+    pub(crate) fn or(&self, default: (u32, u32)) -> (u32, u32) {
+        (self.width.unwrap_or(default.0), self.height.unwrap_or(default.1))
+    }
+}
+
+/// Frame size and timed frames of the ray benches (`bench rays`, `bench scale`).
+#[derive(clap::Args)]
+pub(crate) struct TimingArgs {
+    #[command(flatten)]
+    size: FrameSize,
+    #[arg(long)]
+    frames: Option<u32>,
+}
+
+impl TimingArgs {
+    /// The ray benches' configuration (`quick`: the CI one, else the paper's) on `backends`,
+    /// with the size and frame count given.
+    pub(crate) fn config(&self, quick: bool, backends: Vec<Backend>) -> RaysConfig {
+        let root = Path::new(".");
+        let mut cfg = if quick { RaysConfig::quick(root, backends) } else { RaysConfig::paper(root, backends) };
+        cfg.size = self.size.or(cfg.size);
+        cfg.frames = self.frames.unwrap_or(cfg.frames);
+        cfg
+    }
+}
+
+/// Copies of the scene on a grid.
+#[derive(clap::Args)]
+pub(crate) struct DuplicateArgs {
+    /// Copy the scene N×N×N times on a grid (the camera stays the scene's).
+    #[arg(long, default_value_t = 1)]
+    pub(crate) duplicate: u32,
+    /// With --duplicate: give every copy its own meshes (unique triangles, nothing instanced).
+    #[arg(long)]
+    no_dedup: bool,
+}
+
+impl DuplicateArgs {
+    /// `s` copied as asked (itself for one copy).
+    pub(crate) fn apply(&self, s: Scene) -> Scene {
+        if self.duplicate > 1 {
+            raygraph::scene::duplicate::duplicate(&s, self.duplicate, !self.no_dedup)
+        } else {
+            s
+        }
+    }
+}
+
+/// Which scene of a glTF file is drawn.
+#[derive(clap::Args)]
+pub(crate) struct GltfSceneArg {
+    /// The glTF file's scene to draw, by index or name (see `raygraph scene info`) [default:
+    /// the file's `scene`].
+    #[arg(long, value_name = "INDEX|NAME")]
+    pub(crate) gltf_scene: Option<String>,
+}
