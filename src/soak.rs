@@ -25,10 +25,10 @@
 //! (`GpuMemory`) where the back-end has one; it is reported, not judged.
 
 use crate::backend::Backend;
-use crate::error::RuntimeError;
-use crate::graph::compile::{compile_with, Project};
+use crate::error::{GraphError, RuntimeError};
+use crate::graph::compile::{compile_with, CompileOptions, Plan, Project};
 use crate::runtime::{Executor, Gpu};
-use crate::scene::{LoadOptions, Scene};
+use crate::scene::{LoadOptions, Mesh, Scene};
 use glam::{Mat4, Vec3};
 use std::path::{Path, PathBuf};
 
@@ -298,94 +298,165 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
     for dir in ["graph", "layers", "shaders"] {
         copy_dir(&cfg.root.join(dir), &work.0.join(dir)).map_err(|e| io_error(&work.0.join(dir), e))?;
     }
-    let project = Project { layers_dir: work.0.join("layers"), shaders_dir: work.0.join("shaders") };
-    let options = match cfg.backend {
-        Some(b) => gpu.compile_options_for(b),
-        None => gpu.compile_options(),
-    };
-    let graphs = cfg.graphs.clone().map(|g| work.0.join(g));
-    let compile = |graph: &Path| compile_with(graph, &project, cfg.size, &options);
-
-    let (base, _) = crate::scene::open(&cfg.scene, &LoadOptions { textures: true, ..Default::default() })?;
-    let mut scene: Scene = base.clone();
-    let b = base.bounds();
-    let radius = 0.5 * b.diagonal().max(1e-3);
-    let sphere = crate::scene::builtin::sphere("soak sphere", 12, 24);
-    let shader = project.shaders_dir.join(&cfg.broken_shader);
-    let good_wgsl = std::fs::read_to_string(&shader).map_err(|e| io_error(&shader, e))?;
-
-    let mut current = 0usize;
-    let mut exec = Executor::new(gpu, compile(&graphs[0])?, &scene)?;
-    let mut report = SoakReport::default();
+    let mut soak = Soak::new(gpu, cfg, &work.0)?;
     let c = cfg.cycle;
-    let start = std::time::Instant::now();
     for f in 0..cfg.frames {
         let p = f % c;
-        if p < c / 4 {
-            let phase = f as f32 * 0.37;
-            let offset = Vec3::new(phase.sin(), 0.0, phase.cos()) * (0.05 * radius);
-            for (inst, orig) in scene.instances_mut().iter_mut().zip(base.instances.iter()) {
-                inst.transform = Mat4::from_translation(offset) * orig.transform;
-            }
-            report.moved_frames += 1;
-        } else if p == c / 4 {
-            for (inst, orig) in scene.instances_mut().iter_mut().zip(base.instances.iter()) {
-                inst.transform = orig.transform;
-            }
-            scene.meshes.push(sphere.clone().into());
-            let mesh = scene.meshes.len() - 1;
-            let at = Mat4::from_translation(b.center() + Vec3::Y * (0.25 * radius)) * Mat4::from_scale(Vec3::splat(0.2 * radius));
-            scene.instances_mut().push(crate::scene::Instance { mesh, material: 0, transform: at });
-            report.meshes_added += 1;
-        } else if p == c / 2 {
-            scene.instances_mut().pop();
-            scene.meshes.pop();
-            report.meshes_removed += 1;
-        } else if p == 5 * c / 8 || p == 7 * c / 8 {
-            current = 1 - current;
-            exec = Executor::new(gpu, compile(&graphs[current])?, &scene)?;
-            report.graph_swaps += 1;
-        } else if p == 3 * c / 4 {
-            let broken = format!("{good_wgsl}\nfn broken_on_purpose( {{\n");
-            std::fs::write(&shader, broken).map_err(|e| io_error(&shader, e))?;
-            match compile(&graphs[current]) {
-                Ok(_) => report.failures.push(format!("frame {f}: a graph using the broken {} compiled", shader.display())),
-                Err(e) => {
-                    let message = e.to_string();
-                    if !message.contains(&shader.display().to_string()) {
-                        report.failures.push(format!("frame {f}: the shader error does not name {}: {message}", shader.display()));
-                    }
-                    report.shader_error_example.get_or_insert(message);
-                    report.shader_errors += 1;
-                }
-            }
-        } else if p == 3 * c / 4 + 1 {
-            std::fs::write(&shader, &good_wgsl).map_err(|e| io_error(&shader, e))?;
-            exec = Executor::new(gpu, compile(&graphs[current])?, &scene)?;
-            report.shader_fixes += 1;
-        }
-        exec.render(gpu, &scene.camera, &scene)?;
-        report.frames = f + 1;
+        soak.change(f, p)?;
+        soak.exec.render(gpu, &soak.scene.camera, &soak.scene)?;
+        soak.report.frames = f + 1;
         if p == c - 1 {
-            let finite = match exec.plan().resource_by_name(&cfg.hdr_resource) {
-                Some(r) => Some(exec.read_texture_f32(gpu, r)?.2.iter().all(|t| t.iter().all(|x| x.is_finite()))),
-                None => None,
-            };
-            let check = Check {
-                frame: f + 1,
-                rss_mib: rss_mib(),
-                live: LiveObjects::of(gpu),
-                finite,
-                gpu_memory: GpuMemory::of(gpu),
-                seconds: start.elapsed().as_secs_f64(),
-            };
-            report.failures.extend(check.failures(report.checks.first(), cfg.rss_tolerance_mib, &cfg.hdr_resource));
-            report.checks.push(check.clone());
-            on_check(&check, &report);
+            let check = soak.check(f)?;
+            on_check(&check, &soak.report);
         }
     }
+    let mut report = soak.report;
     if report.checks.len() < 2 {
         report.failures.push(format!("{} frames make {} checks of a {}-frame cycle: at least two are needed", cfg.frames, report.checks.len(), c));
     }
     Ok(report)
+}
+
+/// A soak under way: the private copy of the project, the scene as changed so far, the running
+/// graph and the report.
+struct Soak<'a> {
+    gpu: &'a Gpu,
+    cfg: &'a SoakConfig,
+    project: Project,
+    options: CompileOptions,
+    /// The two graphs, in the private copy.
+    graphs: [PathBuf; 2],
+    /// The scene as loaded.
+    base: Scene,
+    /// The scene with this frame's changes.
+    scene: Scene,
+    /// The centre of the scene's bounds.
+    center: Vec3,
+    /// Half the diagonal of the scene's bounds (the diagonal taken as at least 0.001).
+    radius: f32,
+    /// The mesh added and removed in every cycle.
+    sphere: Mesh,
+    /// The WGSL file broken and restored, in the private copy.
+    shader: PathBuf,
+    /// Its text as copied.
+    good_wgsl: String,
+    /// The graph running (an index of `graphs`).
+    current: usize,
+    exec: Executor,
+    report: SoakReport,
+    start: std::time::Instant,
+}
+
+impl<'a> Soak<'a> {
+    /// Loads the scene and compiles the first graph of the copy of the project at `work`.
+    fn new(gpu: &'a Gpu, cfg: &'a SoakConfig, work: &Path) -> Result<Self, RuntimeError> {
+        let project = Project { layers_dir: work.join("layers"), shaders_dir: work.join("shaders") };
+        let options = match cfg.backend {
+            Some(b) => gpu.compile_options_for(b),
+            None => gpu.compile_options(),
+        };
+        let graphs = cfg.graphs.clone().map(|g| work.join(g));
+        let (base, _) = crate::scene::open(&cfg.scene, &LoadOptions { textures: true, ..Default::default() })?;
+        let scene: Scene = base.clone();
+        let b = base.bounds();
+        let (center, radius) = (b.center(), 0.5 * b.diagonal().max(1e-3));
+        let sphere = crate::scene::builtin::sphere("soak sphere", 12, 24);
+        let shader = project.shaders_dir.join(&cfg.broken_shader);
+        let good_wgsl = std::fs::read_to_string(&shader).map_err(|e| io_error(&shader, e))?;
+        let exec = Executor::new(gpu, compile_with(&graphs[0], &project, cfg.size, &options)?, &scene)?;
+        let report = SoakReport::default();
+        let start = std::time::Instant::now();
+        Ok(Self { gpu, cfg, project, options, graphs, base, scene, center, radius, sphere, shader, good_wgsl, current: 0, exec, report, start })
+    }
+
+    /// Compiles the graph `graphs[index]`.
+    fn compile(&self, index: usize) -> Result<Plan, GraphError> {
+        compile_with(&self.graphs[index], &self.project, self.cfg.size, &self.options)
+    }
+
+    /// Makes the change due at frame `f`, the cycle's frame `p`.
+    fn change(&mut self, f: u32, p: u32) -> Result<(), RuntimeError> {
+        let c = self.cfg.cycle;
+        if p < c / 4 {
+            self.move_instances(f);
+        } else if p == c / 4 {
+            self.add_sphere();
+        } else if p == c / 2 {
+            self.scene.instances_mut().pop();
+            self.scene.meshes.pop();
+            self.report.meshes_removed += 1;
+        } else if p == 5 * c / 8 || p == 7 * c / 8 {
+            self.current = 1 - self.current;
+            self.exec = Executor::new(self.gpu, self.compile(self.current)?, &self.scene)?;
+            self.report.graph_swaps += 1;
+        } else if p == 3 * c / 4 {
+            self.break_shader(f)?;
+        } else if p == 3 * c / 4 + 1 {
+            std::fs::write(&self.shader, &self.good_wgsl).map_err(|e| io_error(&self.shader, e))?;
+            self.exec = Executor::new(self.gpu, self.compile(self.current)?, &self.scene)?;
+            self.report.shader_fixes += 1;
+        }
+        Ok(())
+    }
+
+    /// Moves every instance sideways, by an offset that turns with the frame.
+    fn move_instances(&mut self, f: u32) {
+        let phase = f as f32 * 0.37;
+        let offset = Vec3::new(phase.sin(), 0.0, phase.cos()) * (0.05 * self.radius);
+        for (inst, orig) in self.scene.instances_mut().iter_mut().zip(self.base.instances.iter()) {
+            inst.transform = Mat4::from_translation(offset) * orig.transform;
+        }
+        self.report.moved_frames += 1;
+    }
+
+    /// Puts the instances back in place and adds the sphere and an instance of it.
+    fn add_sphere(&mut self) {
+        for (inst, orig) in self.scene.instances_mut().iter_mut().zip(self.base.instances.iter()) {
+            inst.transform = orig.transform;
+        }
+        self.scene.meshes.push(self.sphere.clone().into());
+        let mesh = self.scene.meshes.len() - 1;
+        let at = Mat4::from_translation(self.center + Vec3::Y * (0.25 * self.radius)) * Mat4::from_scale(Vec3::splat(0.2 * self.radius));
+        self.scene.instances_mut().push(crate::scene::Instance { mesh, material: 0, transform: at });
+        self.report.meshes_added += 1;
+    }
+
+    /// Breaks the shader: compiling the running graph must fail with an error naming it.
+    fn break_shader(&mut self, f: u32) -> Result<(), RuntimeError> {
+        let shader = &self.shader;
+        let broken = format!("{}\nfn broken_on_purpose( {{\n", self.good_wgsl);
+        std::fs::write(shader, broken).map_err(|e| io_error(shader, e))?;
+        match self.compile(self.current) {
+            Ok(_) => self.report.failures.push(format!("frame {f}: a graph using the broken {} compiled", shader.display())),
+            Err(e) => {
+                let message = e.to_string();
+                if !message.contains(&shader.display().to_string()) {
+                    self.report.failures.push(format!("frame {f}: the shader error does not name {}: {message}", shader.display()));
+                }
+                self.report.shader_error_example.get_or_insert(message);
+                self.report.shader_errors += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// The end-of-cycle check after frame `f`, judged against the first and added to the report.
+    fn check(&mut self, f: u32) -> Result<Check, RuntimeError> {
+        let (gpu, cfg) = (self.gpu, self.cfg);
+        let finite = match self.exec.plan().resource_by_name(&cfg.hdr_resource) {
+            Some(r) => Some(self.exec.read_texture_f32(gpu, r)?.2.iter().all(|t| t.iter().all(|x| x.is_finite()))),
+            None => None,
+        };
+        let check = Check {
+            frame: f + 1,
+            rss_mib: rss_mib(),
+            live: LiveObjects::of(gpu),
+            finite,
+            gpu_memory: GpuMemory::of(gpu),
+            seconds: self.start.elapsed().as_secs_f64(),
+        };
+        self.report.failures.extend(check.failures(self.report.checks.first(), cfg.rss_tolerance_mib, &cfg.hdr_resource));
+        self.report.checks.push(check.clone());
+        Ok(check)
+    }
 }

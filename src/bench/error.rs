@@ -114,87 +114,138 @@ pub fn run(
     mut progress: impl FnMut(usize, usize, &str),
     mut on_rows: impl FnMut(&[ErrorRow]),
 ) -> Result<Vec<ErrorRow>, RuntimeError> {
-    let scene = ceiling_scene();
-    let reference = (CEILING as f64 / RANGE as f64).powi(2);
-    let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
-    let graph = cfg.root.join("graph/ao.ron");
+    let bench = AoBench {
+        gpu,
+        cfg,
+        scene: ceiling_scene(),
+        reference: (CEILING as f64 / RANGE as f64).powi(2),
+        project: Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") },
+        graph: cfg.root.join("graph/ao.ron"),
+    };
     let rays: Vec<i64> = std::iter::successors(Some(1i64), |r| Some(r * 2)).take_while(|r| *r <= cfg.max_rays).collect();
     let total = cfg.backends.len() * SCHEMES.len() * rays.len();
     let mut rows = Vec::new();
     for &backend in &cfg.backends {
         for &(sampling, scheme) in &SCHEMES {
             for &n in &rays {
-                let mut images: Vec<Vec<f64>> = Vec::new();
-                let mut ms = Vec::new();
-                let mut flip = nv_flip::FlipPool::new();
-                for seed in 0..cfg.seeds {
-                    let mut options = gpu.compile_options_for(backend);
-                    for (name, value) in [
-                        ("rays", ParamValue::Int(n)),
-                        ("range", ParamValue::Float(RANGE as f64)),
-                        ("range_scale", ParamValue::Float(0.0)),
-                        ("sampling", ParamValue::Int(scheme)),
-                        ("seed", ParamValue::Int(seed as i64)),
-                    ] {
-                        options.params.insert(("ao".into(), name.into()), value);
-                    }
-                    let plan = compile_with(&graph, &project, cfg.size, &options)?;
-                    // The AO node's passes: its rays (ao/ao) and the sum of each pixel's lanes.
-                    if !plan.passes.iter().any(|p| p.node == "ao") {
-                        return Err(RuntimeError::Gpu("graph/ao.ron has no pass of node ao".into()));
-                    }
-                    let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
-                    let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
-                    let mut exec = Executor::new(gpu, plan, &scene)?;
-                    let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
-                    ms.extend(frames.iter().map(|f| super::nodes_ms(&exec, f, &["ao"])));
-                    let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
-                    let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
-                    let grey = |v: f64| {
-                        let c = (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
-                        [c, c, c]
-                    };
-                    let test: Vec<u8> = values.iter().flat_map(|v| grey(v[0] as f64)).collect();
-                    let reference_image: Vec<u8> = values.iter().flat_map(|_| grey(reference)).collect();
-                    let (w, h) = cfg.size;
-                    let error_map = nv_flip::flip(
-                        nv_flip::FlipImageRgb8::with_data(w, h, &reference_image),
-                        nv_flip::FlipImageRgb8::with_data(w, h, &test),
-                        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-                    );
-                    flip.update_with_image(&error_map);
-                    // Floor pixels only (every pixel, with this camera).
-                    images.push(values.iter().zip(&positions).filter(|(_, p)| p[3] != 0.0 && p[1].abs() < 1e-3).map(|(v, _)| v[0] as f64).collect());
-                }
-                let pixels = images.iter().map(Vec::len).min().unwrap_or(0);
-                if pixels == 0 {
-                    return Err(RuntimeError::Gpu("bench error: no floor pixel in the AO image".into()));
-                }
-                let samples = (pixels * images.len()) as f64;
-                let errors = || images.iter().flat_map(|img| img[..pixels].iter().map(|v| v - reference));
-                let rmse = (errors().map(|e| e * e).sum::<f64>() / samples).sqrt();
-                let relmse = errors().map(|e| e * e / (reference * reference + 1e-2)).sum::<f64>() / samples;
-                let bias = errors().sum::<f64>() / samples;
-                let seeds = images.len() as f64;
-                let variance = if images.len() > 1 {
-                    (0..pixels)
-                        .map(|p| {
-                            let mean = images.iter().map(|img| img[p]).sum::<f64>() / seeds;
-                            images.iter().map(|img| (img[p] - mean).powi(2)).sum::<f64>() / (seeds - 1.0)
-                        })
-                        .sum::<f64>()
-                        / pixels as f64
-                } else {
-                    0.0
-                };
-                let (flip_mean, flip_p99) = (flip.mean() as f64, flip.get_percentile(0.99, false) as f64);
-                rows.push(ErrorRow { backend, sampling, rays: n, ao_ms: median(&mut ms), rmse, relmse, bias, variance, flip_mean, flip_p99 });
+                rows.push(bench.row(backend, (sampling, scheme), n)?);
                 on_rows(&rows);
                 progress(rows.len(), total, &format!("{backend}: {sampling}, {n} rays/pixel"));
             }
         }
     }
     Ok(rows)
+}
+
+/// The AO pass of `graph/ao.ron` on the closed-form scene, against its reference.
+struct AoBench<'a> {
+    gpu: &'a Gpu,
+    cfg: &'a ErrorConfig,
+    /// [`ceiling_scene`].
+    scene: Scene,
+    /// The exact unoccluded fraction.
+    reference: f64,
+    project: Project,
+    /// `graph/ao.ron`.
+    graph: PathBuf,
+}
+
+/// One seed's run of the AO pass: its GPU times and the AO of the floor's pixels.
+struct AoSeed {
+    /// GPU milliseconds of the AO node, one per timed frame.
+    ms: Vec<f64>,
+    /// The AO of every floor pixel.
+    floor: Vec<f64>,
+}
+
+impl AoBench<'_> {
+    /// The row of `n` rays per pixel with the `(name, value)` sampling scheme on `backend`,
+    /// over every seed.
+    fn row(&self, backend: Backend, (sampling, scheme): (&'static str, i64), n: i64) -> Result<ErrorRow, RuntimeError> {
+        let mut images: Vec<Vec<f64>> = Vec::new();
+        let mut ms = Vec::new();
+        let mut flip = nv_flip::FlipPool::new();
+        for seed in 0..self.cfg.seeds {
+            let run = self.seed(backend, scheme, n, seed, &mut flip)?;
+            ms.extend(run.ms);
+            images.push(run.floor);
+        }
+        let (rmse, relmse, bias, variance) = error_statistics(&images, self.reference)?;
+        let (flip_mean, flip_p99) = (flip.mean() as f64, flip.get_percentile(0.99, false) as f64);
+        Ok(ErrorRow { backend, sampling, rays: n, ao_ms: median(&mut ms), rmse, relmse, bias, variance, flip_mean, flip_p99 })
+    }
+
+    /// Runs the AO pass with one seed; adds its image's FLIP against the reference to `flip`.
+    fn seed(&self, backend: Backend, scheme: i64, n: i64, seed: u32, flip: &mut nv_flip::FlipPool) -> Result<AoSeed, RuntimeError> {
+        let (gpu, cfg, scene) = (self.gpu, self.cfg, &self.scene);
+        let mut options = gpu.compile_options_for(backend);
+        for (name, value) in [
+            ("rays", ParamValue::Int(n)),
+            ("range", ParamValue::Float(RANGE as f64)),
+            ("range_scale", ParamValue::Float(0.0)),
+            ("sampling", ParamValue::Int(scheme)),
+            ("seed", ParamValue::Int(seed as i64)),
+        ] {
+            options.params.insert(("ao".into(), name.into()), value);
+        }
+        let plan = compile_with(&self.graph, &self.project, cfg.size, &options)?;
+        // The AO node's passes: its rays (ao/ao) and the sum of each pixel's lanes.
+        if !plan.passes.iter().any(|p| p.node == "ao") {
+            return Err(RuntimeError::Gpu("graph/ao.ron has no pass of node ao".into()));
+        }
+        let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
+        let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
+        let mut exec = Executor::new(gpu, plan, scene)?;
+        let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+        let ms = frames.iter().map(|f| super::nodes_ms(&exec, f, &["ao"])).collect();
+        let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
+        let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
+        let test: Vec<u8> = values.iter().flat_map(|v| grey(v[0] as f64)).collect();
+        let reference_image: Vec<u8> = values.iter().flat_map(|_| grey(self.reference)).collect();
+        let (w, h) = cfg.size;
+        let error_map = nv_flip::flip(
+            nv_flip::FlipImageRgb8::with_data(w, h, &reference_image),
+            nv_flip::FlipImageRgb8::with_data(w, h, &test),
+            nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+        );
+        flip.update_with_image(&error_map);
+        // Floor pixels only (every pixel, with this camera).
+        let floor = values.iter().zip(&positions).filter(|(_, p)| p[3] != 0.0 && p[1].abs() < 1e-3).map(|(v, _)| v[0] as f64).collect();
+        Ok(AoSeed { ms, floor })
+    }
+}
+
+/// An AO value shown as sRGB grey.
+fn grey(v: f64) -> [u8; 3] {
+    let c = (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+    [c, c, c]
+}
+
+/// RMSE, relMSE, bias and variance (over seeds, mean over pixels) of the seeds' floor images
+/// against `reference`, over the pixels every image has.
+fn error_statistics(images: &[Vec<f64>], reference: f64) -> Result<(f64, f64, f64, f64), RuntimeError> {
+    let pixels = images.iter().map(Vec::len).min().unwrap_or(0);
+    if pixels == 0 {
+        return Err(RuntimeError::Gpu("bench error: no floor pixel in the AO image".into()));
+    }
+    let samples = (pixels * images.len()) as f64;
+    let errors = || images.iter().flat_map(|img| img[..pixels].iter().map(|v| v - reference));
+    let rmse = (errors().map(|e| e * e).sum::<f64>() / samples).sqrt();
+    let relmse = errors().map(|e| e * e / (reference * reference + 1e-2)).sum::<f64>() / samples;
+    let bias = errors().sum::<f64>() / samples;
+    let seeds = images.len() as f64;
+    let variance = if images.len() > 1 {
+        (0..pixels)
+            .map(|p| {
+                let mean = images.iter().map(|img| img[p]).sum::<f64>() / seeds;
+                images.iter().map(|img| (img[p] - mean).powi(2)).sum::<f64>() / (seeds - 1.0)
+            })
+            .sum::<f64>()
+            / pixels as f64
+    } else {
+        0.0
+    };
+    Ok((rmse, relmse, bias, variance))
 }
 
 /// A pass's GPU milliseconds in a frame (the frame's wall time without timestamp queries).
@@ -500,88 +551,35 @@ pub struct ShadowMapRow {
 pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, backend: Backend) -> Result<Vec<ShadowMapRow>, RuntimeError> {
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let layer_text = read_text(&project.layers_dir.join("shadow_map.ron"))?;
-    let size_decl = "size: Absolute(2048, 2048)";
-    if !layer_text.contains(size_decl) {
-        return Err(RuntimeError::Gpu(format!("layers/shadow_map.ron no longer declares `{size_decl}`: the sweep cannot size its copies")));
+    if !layer_text.contains(SHADOW_MAP_SIZE) {
+        return Err(RuntimeError::Gpu(format!("layers/shadow_map.ron no longer declares `{SHADOW_MAP_SIZE}`: the sweep cannot size its copies")));
     }
     let mut rows = Vec::new();
     for name in &sweep.scenes {
         let (mut scene, _) = crate::scene::open(name, &crate::scene::LoadOptions { textures: false, ..Default::default() })?;
         scene.light.ambient = 0.0;
         scene.point_light = None;
-        // The truth: the ray-traced shadow mask over the rasterized G-buffer.
-        let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
-        let text = read_text(&cfg.root.join("graph/hybrid.ron"))?
-            .replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ")
-            .replace("\"reflection\": Layer(", "\"reflection\": Layer(enabled: false, ");
-        let truth_dir = SweepDir::new("truth")?;
-        let truth_graph = truth_dir.0.join("hybrid.ron");
-        std::fs::write(&truth_graph, text).map_err(|source| RuntimeError::Output { path: truth_graph.clone(), source })?;
-        let plan = compile_with(&truth_graph, &project, sweep.size, &options)?;
-        let rt_pass =
-            plan.passes.iter().position(|p| p.name == "shadow/shadow").ok_or_else(|| RuntimeError::Gpu("graph/hybrid.ron has no pass shadow/shadow".into()))?;
-        let resource = |plan: &crate::graph::Plan, name: &str| plan.resource_by_name(name).ok_or_else(|| RuntimeError::Gpu(format!("no resource {name}")));
-        let (shadow_id, geo_id, pos_id) = (resource(&plan, "shadow.shadow")?, resource(&plan, "gbuffer.geo_normal")?, resource(&plan, "gbuffer.position")?);
-        let mut exec = Executor::new(gpu, plan, &scene)?;
-        let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
-        let rt_shadow_ms = median(&mut frames.iter().map(|f| pass_ms(f, rt_pass)).collect::<Vec<_>>());
-        let truth = exec.read_texture_f32(gpu, shadow_id)?.2;
-        let geo = exec.read_texture_f32(gpu, geo_id)?.2;
-        let positions = exec.read_texture_f32(gpu, pos_id)?.2;
-        let l = scene.light.direction.normalize();
-        let faces_light: Vec<bool> = geo.iter().zip(&positions).map(|(n, p)| p[3] != 0.0 && Vec3::new(n[0], n[1], n[2]).dot(l) > 0.0).collect();
-        drop(exec);
-
+        let truth = shadow_truth(gpu, cfg, sweep, backend, &project, &scene)?;
         for &resolution in &sweep.resolutions {
             let dir = SweepDir::new(&format!("sm{resolution}"))?;
             dir.copy_files_of(&project.layers_dir)?;
             let sized_layer = dir.0.join("shadow_map.ron");
-            std::fs::write(&sized_layer, layer_text.replace(size_decl, &format!("size: Absolute({resolution}, {resolution})")))
+            std::fs::write(&sized_layer, layer_text.replace(SHADOW_MAP_SIZE, &format!("size: Absolute({resolution}, {resolution})")))
                 .map_err(|source| RuntimeError::Output { path: sized_layer, source })?;
-            let sized = Project { layers_dir: dir.0.clone(), shaders_dir: project.shaders_dir.clone() };
-            let raster = cfg.root.join("graph/raster.ron");
-            let render = |shadows: bool, bias: f64, offset: f64| -> Result<(Vec<[f32; 4]>, f64), RuntimeError> {
-                let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
-                for (param, value) in [
-                    ("shadows", ParamValue::Bool(shadows)),
-                    ("shadow_bias", ParamValue::Float(bias)),
-                    ("normal_offset", ParamValue::Float(offset)),
-                    ("pcf", ParamValue::Int(0)),
-                ] {
-                    options.params.insert(("forward".into(), param.into()), value);
-                }
-                let plan = compile_with(&raster, &sized, sweep.size, &options)?;
-                let pass = plan
-                    .passes
-                    .iter()
-                    .position(|p| p.name == "shadow_map/shadow_map")
-                    .ok_or_else(|| RuntimeError::Gpu("graph/raster.ron has no pass shadow_map/shadow_map".into()))?;
-                let color = resource(&plan, "forward.color")?;
-                let mut exec = Executor::new(gpu, plan, &scene)?;
-                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
-                let ms = median(&mut frames.iter().map(|f| pass_ms(f, pass)).collect::<Vec<_>>());
-                Ok((exec.read_texture_f32(gpu, color)?.2, ms))
+            let raster = RasterShadows {
+                gpu,
+                cfg,
+                sweep,
+                backend,
+                scene: &scene,
+                project: Project { layers_dir: dir.0.clone(), shaders_dir: project.shaders_dir.clone() },
+                graph: cfg.root.join("graph/raster.ron"),
             };
-            let (unshadowed, _) = render(false, 0.0, 0.0)?;
-            let brightness = |c: &[f32; 4]| c[0] as f64 + c[1] as f64 + c[2] as f64;
+            let (unshadowed, _) = raster.render(false, 0.0, 0.0)?;
             for &normal_offset in &sweep.normal_offsets {
                 for &bias in &sweep.biases {
-                    let (shadowed, shadow_map_ms) = render(true, bias, normal_offset)?;
-                    let (mut lit, mut dark, mut false_shadow, mut false_lit) = (0usize, 0usize, 0usize, 0usize);
-                    for i in 0..truth.len() {
-                        let full = brightness(&unshadowed[i]);
-                        if !faces_light[i] || full <= 1e-3 {
-                            continue;
-                        }
-                        let map_lit = brightness(&shadowed[i]) / full > 0.5;
-                        if truth[i][0] == 1.0 {
-                            lit += 1;
-                            false_shadow += !map_lit as usize;
-                        } else {
-                            dark += 1;
-                            false_lit += map_lit as usize;
-                        }
-                    }
+                    let (shadowed, shadow_map_ms) = raster.render(true, bias, normal_offset)?;
+                    let ShadowCounts { lit, dark, false_shadow, false_lit } = ShadowCounts::compare(&truth, &unshadowed, &shadowed);
                     if lit == 0 || dark == 0 {
                         return Err(RuntimeError::Gpu(format!(
                             "bench error: {name} has {lit} lit and {dark} shadowed pixels facing the light; both are needed"
@@ -597,13 +595,137 @@ pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, bac
                         false_shadow: false_shadow as f64 / lit as f64,
                         false_lit: false_lit as f64 / dark as f64,
                         shadow_map_ms,
-                        rt_shadow_ms,
+                        rt_shadow_ms: truth.rt_shadow_ms,
                     });
                 }
             }
         }
     }
     Ok(rows)
+}
+
+/// The shadow-map size `layers/shadow_map.ron` declares; the sweep's copies replace it.
+const SHADOW_MAP_SIZE: &str = "size: Absolute(2048, 2048)";
+
+/// The resource `name` of `plan`.
+fn plan_resource(plan: &crate::graph::Plan, name: &str) -> Result<usize, RuntimeError> {
+    plan.resource_by_name(name).ok_or_else(|| RuntimeError::Gpu(format!("no resource {name}")))
+}
+
+/// The truth of the shadow-map sweep on one scene: the ray-traced shadow mask, and which pixels
+/// face the light.
+struct ShadowTruth {
+    /// The shadow mask of the hybrid graph (1 where the shadow ray reaches the light).
+    mask: Vec<[f32; 4]>,
+    /// Pixels whose surface (rasterized, not background) faces the light.
+    faces_light: Vec<bool>,
+    /// GPU milliseconds of the ray-traced shadow pass (median).
+    rt_shadow_ms: f64,
+}
+
+/// The ray-traced shadow mask over the rasterized G-buffer: `graph/hybrid.ron` with AO and
+/// reflections off.
+fn shadow_truth(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, backend: Backend, project: &Project, scene: &Scene) -> Result<ShadowTruth, RuntimeError> {
+    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+    let text = read_text(&cfg.root.join("graph/hybrid.ron"))?
+        .replace("\"ao\": Layer(", "\"ao\": Layer(enabled: false, ")
+        .replace("\"reflection\": Layer(", "\"reflection\": Layer(enabled: false, ");
+    let truth_dir = SweepDir::new("truth")?;
+    let truth_graph = truth_dir.0.join("hybrid.ron");
+    std::fs::write(&truth_graph, text).map_err(|source| RuntimeError::Output { path: truth_graph.clone(), source })?;
+    let plan = compile_with(&truth_graph, project, sweep.size, &options)?;
+    let rt_pass =
+        plan.passes.iter().position(|p| p.name == "shadow/shadow").ok_or_else(|| RuntimeError::Gpu("graph/hybrid.ron has no pass shadow/shadow".into()))?;
+    let (shadow_id, geo_id, pos_id) =
+        (plan_resource(&plan, "shadow.shadow")?, plan_resource(&plan, "gbuffer.geo_normal")?, plan_resource(&plan, "gbuffer.position")?);
+    let mut exec = Executor::new(gpu, plan, scene)?;
+    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+    let rt_shadow_ms = median(&mut frames.iter().map(|f| pass_ms(f, rt_pass)).collect::<Vec<_>>());
+    let mask = exec.read_texture_f32(gpu, shadow_id)?.2;
+    let geo = exec.read_texture_f32(gpu, geo_id)?.2;
+    let positions = exec.read_texture_f32(gpu, pos_id)?.2;
+    let l = scene.light.direction.normalize();
+    let faces_light: Vec<bool> = geo.iter().zip(&positions).map(|(n, p)| p[3] != 0.0 && Vec3::new(n[0], n[1], n[2]).dot(l) > 0.0).collect();
+    Ok(ShadowTruth { mask, faces_light, rt_shadow_ms })
+}
+
+/// The raster graph (`graph/raster.ron`) with one shadow-map size (the layers of `project`),
+/// the ambient light off and the hard filter.
+struct RasterShadows<'a> {
+    gpu: &'a Gpu,
+    cfg: &'a ErrorConfig,
+    sweep: &'a ShadowMapSweep,
+    backend: Backend,
+    scene: &'a Scene,
+    /// The layers with the sized `shadow_map.ron`.
+    project: Project,
+    /// `graph/raster.ron`.
+    graph: PathBuf,
+}
+
+impl RasterShadows<'_> {
+    /// The forward pass's colour with shadows on or off at `bias` and normal `offset`, and the
+    /// shadow-map pass's GPU milliseconds (median).
+    fn render(&self, shadows: bool, bias: f64, offset: f64) -> Result<(Vec<[f32; 4]>, f64), RuntimeError> {
+        let (gpu, cfg, scene) = (self.gpu, self.cfg, self.scene);
+        let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(self.backend) };
+        for (param, value) in [
+            ("shadows", ParamValue::Bool(shadows)),
+            ("shadow_bias", ParamValue::Float(bias)),
+            ("normal_offset", ParamValue::Float(offset)),
+            ("pcf", ParamValue::Int(0)),
+        ] {
+            options.params.insert(("forward".into(), param.into()), value);
+        }
+        let plan = compile_with(&self.graph, &self.project, self.sweep.size, &options)?;
+        let pass = plan
+            .passes
+            .iter()
+            .position(|p| p.name == "shadow_map/shadow_map")
+            .ok_or_else(|| RuntimeError::Gpu("graph/raster.ron has no pass shadow_map/shadow_map".into()))?;
+        let color = plan_resource(&plan, "forward.color")?;
+        let mut exec = Executor::new(gpu, plan, scene)?;
+        let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+        let ms = median(&mut frames.iter().map(|f| pass_ms(f, pass)).collect::<Vec<_>>());
+        Ok((exec.read_texture_f32(gpu, color)?.2, ms))
+    }
+}
+
+/// The shadow map's answers against the truth's, over the pixels facing the light and lit
+/// without shadows.
+struct ShadowCounts {
+    /// Pixels the rays light.
+    lit: usize,
+    /// Pixels the rays shadow.
+    dark: usize,
+    /// Lit by the rays, shadowed by the map.
+    false_shadow: usize,
+    /// Shadowed by the rays, lit by the map.
+    false_lit: usize,
+}
+
+impl ShadowCounts {
+    /// Counts over the forward pass's colour without shadows (`unshadowed`) and with them:
+    /// their ratio is the map's visibility.
+    fn compare(truth: &ShadowTruth, unshadowed: &[[f32; 4]], shadowed: &[[f32; 4]]) -> Self {
+        let brightness = |c: &[f32; 4]| c[0] as f64 + c[1] as f64 + c[2] as f64;
+        let (mut lit, mut dark, mut false_shadow, mut false_lit) = (0usize, 0usize, 0usize, 0usize);
+        for i in 0..truth.mask.len() {
+            let full = brightness(&unshadowed[i]);
+            if !truth.faces_light[i] || full <= 1e-3 {
+                continue;
+            }
+            let map_lit = brightness(&shadowed[i]) / full > 0.5;
+            if truth.mask[i][0] == 1.0 {
+                lit += 1;
+                false_shadow += !map_lit as usize;
+            } else {
+                dark += 1;
+                false_lit += map_lit as usize;
+            }
+        }
+        Self { lit, dark, false_shadow, false_lit }
+    }
 }
 
 /// A scratch directory for the sweep's layer copies, removed on drop.

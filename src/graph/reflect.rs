@@ -381,23 +381,7 @@ pub fn reflect(path: &Path, shader_root: &Path, referenced_from: &Location) -> R
 /// [`reflect`] with include substitutions.
 pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<ShaderInfo, GraphError> {
     let source = ShaderSource::load(path, shader_root, referenced_from, aliases)?;
-    let mut module = naga::front::wgsl::parse_str(&source.text).map_err(|e| {
-        let offset = e.labels().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
-        let labels: Vec<String> = e.labels().map(|(_, l)| l.to_string()).filter(|l| !l.is_empty()).collect();
-        let mut err = GraphError::new(
-            ErrorKind::ShaderInvalid,
-            source.locate(offset),
-            format!(
-                "WGSL does not {}: {}{}",
-                if is_syntax_error(e.message()) { "parse" } else { "validate" },
-                e.message(),
-                if labels.is_empty() { String::new() } else { format!(" ({})", labels.join("; ")) }
-            ),
-        )
-        .help("fix the WGSL at this line");
-        err = err.note(referenced_from.clone(), "shader used by this pass");
-        err
-    })?;
+    let mut module = naga::front::wgsl::parse_str(&source.text).map_err(|e| parse_error(&e, &source, referenced_from))?;
     // Compute entry points as written (their workgroup sizes size the dispatch), before a
     // ray-tracing module's are made ray-generation shaders.
     let compute_sizes: Vec<(String, [u32; 3])> =
@@ -410,9 +394,36 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
                 .help("the rt-pipeline back-end runs a trace pass's compute entry point as a ray-generation shader")
         })?;
     }
+    let info = validate(&module, &source, referenced_from)?;
+    let bindings = reflect_bindings(&module, &source);
+    let entry_points = reflect_entry_points(&module, &compute_sizes);
+    let overrides = module.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect();
+    let ray_tracing = ray_tracing.then(|| RayTracingModule { module: std::sync::Arc::new(module), info: std::sync::Arc::new(info) });
+    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points, overrides, ray_tracing })
+}
+
+/// The error of a WGSL file naga's front end rejects, at the first label's line.
+fn parse_error(e: &naga::front::wgsl::ParseError, source: &ShaderSource, referenced_from: &Location) -> GraphError {
+    let offset = e.labels().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
+    let labels: Vec<String> = e.labels().map(|(_, l)| l.to_string()).filter(|l| !l.is_empty()).collect();
+    let err = GraphError::new(
+        ErrorKind::ShaderInvalid,
+        source.locate(offset),
+        format!(
+            "WGSL does not {}: {}{}",
+            if is_syntax_error(e.message()) { "parse" } else { "validate" },
+            e.message(),
+            if labels.is_empty() { String::new() } else { format!(" ({})", labels.join("; ")) }
+        ),
+    )
+    .help("fix the WGSL at this line");
+    err.note(referenced_from.clone(), "shader used by this pass")
+}
+
+/// naga's validation of `module`; an error names the whole chain of causes, at the first span's line.
+fn validate(module: &naga::Module, source: &ShaderSource, referenced_from: &Location) -> Result<naga::valid::ModuleInfo, GraphError> {
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
-    let validated = validator.validate(&module);
-    if let Err(e) = &validated {
+    validator.validate(module).map_err(|e| {
         let offset = e.spans().next().and_then(|(span, _)| span.to_range()).map(|r| r.start).unwrap_or(0);
         let mut chain = e.as_inner().to_string();
         let mut inner: Option<&dyn std::error::Error> = std::error::Error::source(e.as_inner());
@@ -421,105 +432,124 @@ pub fn reflect_with(path: &Path, shader_root: &Path, referenced_from: &Location,
             chain.push_str(&s.to_string());
             inner = s.source();
         }
-        return Err(GraphError::new(ErrorKind::ShaderInvalid, source.locate(offset), format!("WGSL does not validate: {chain}"))
+        GraphError::new(ErrorKind::ShaderInvalid, source.locate(offset), format!("WGSL does not validate: {chain}"))
             .note(referenced_from.clone(), "shader used by this pass")
-            .help("fix the WGSL at this line"));
-    }
+            .help("fix the WGSL at this line")
+    })
+}
 
+/// The module's `@group @binding` globals, in declaration order.
+fn reflect_bindings(module: &naga::Module, source: &ShaderSource) -> Vec<ShaderBinding> {
     let mut bindings = Vec::new();
     for (handle, var) in module.global_variables.iter() {
         let Some(rb) = &var.binding else { continue };
         let name = var.name.clone().unwrap_or_default();
         let span = module.global_variables.get_span(handle);
         let location = source.locate(span.to_range().map(|r| r.start).unwrap_or(0));
-        let ty = &module.types[var.ty];
-        let kind = match (&var.space, &ty.inner) {
-            (naga::AddressSpace::Handle, naga::TypeInner::Image { dim, arrayed, class }) => match class {
-                naga::ImageClass::Sampled { kind, .. } => BindingKind::SampledTexture { dim: *dim, arrayed: *arrayed, kind: *kind },
-                naga::ImageClass::Depth { .. } => BindingKind::DepthTexture,
-                naga::ImageClass::Storage { format, access } => BindingKind::StorageTexture { format: *format, access: *access },
-                _ => BindingKind::Other(global_type_name(&module, var.space, &ty.inner)),
-            },
-            (naga::AddressSpace::Handle, naga::TypeInner::Sampler { comparison }) => BindingKind::Sampler { comparison: *comparison },
-            (naga::AddressSpace::Handle, naga::TypeInner::AccelerationStructure { .. }) => BindingKind::AccelerationStructure,
-            (naga::AddressSpace::Handle, naga::TypeInner::BindingArray { base, size: naga::ArraySize::Dynamic })
-                if matches!(
-                    module.types[*base].inner,
-                    naga::TypeInner::Image {
-                        dim: naga::ImageDimension::D2,
-                        arrayed: false,
-                        class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. }
-                    }
-                ) =>
-            {
-                BindingKind::TextureBindingArray
-            }
-            (naga::AddressSpace::Uniform, inner) => {
-                let mut members = Vec::new();
-                if let naga::TypeInner::Struct { members: ms, .. } = inner {
-                    for m in ms {
-                        let (scalar, components) = match &module.types[m.ty].inner {
-                            naga::TypeInner::Scalar(s) => (Some(s.kind), 1),
-                            naga::TypeInner::Vector { size, scalar } => (Some(scalar.kind), *size as u32),
-                            _ => (None, 0),
-                        };
-                        members.push(UniformMember { name: m.name.clone().unwrap_or_default(), offset: m.offset, scalar, components });
-                    }
-                }
-                BindingKind::Uniform { size: inner.size(module.to_ctx()), members, type_name: ty.name.clone() }
-            }
-            (naga::AddressSpace::Storage { access }, inner) => BindingKind::Storage {
-                read_only: !access.contains(naga::StorageAccess::STORE),
-                min_size: match inner {
-                    naga::TypeInner::Array { size: naga::ArraySize::Dynamic, stride, .. } => *stride,
-                    other => other.size(module.to_ctx()),
-                },
-            },
-            (space, inner) => BindingKind::Other(global_type_name(&module, *space, inner)),
-        };
+        let kind = binding_kind(module, var);
         bindings.push(ShaderBinding { name, group: rb.group, binding: rb.binding, kind, location });
     }
+    bindings
+}
 
+/// What the global `var` binds.
+fn binding_kind(module: &naga::Module, var: &naga::GlobalVariable) -> BindingKind {
+    let ty = &module.types[var.ty];
+    match (&var.space, &ty.inner) {
+        (naga::AddressSpace::Handle, naga::TypeInner::Image { dim, arrayed, class }) => match class {
+            naga::ImageClass::Sampled { kind, .. } => BindingKind::SampledTexture { dim: *dim, arrayed: *arrayed, kind: *kind },
+            naga::ImageClass::Depth { .. } => BindingKind::DepthTexture,
+            naga::ImageClass::Storage { format, access } => BindingKind::StorageTexture { format: *format, access: *access },
+            _ => BindingKind::Other(global_type_name(module, var.space, &ty.inner)),
+        },
+        (naga::AddressSpace::Handle, naga::TypeInner::Sampler { comparison }) => BindingKind::Sampler { comparison: *comparison },
+        (naga::AddressSpace::Handle, naga::TypeInner::AccelerationStructure { .. }) => BindingKind::AccelerationStructure,
+        (naga::AddressSpace::Handle, naga::TypeInner::BindingArray { base, size: naga::ArraySize::Dynamic })
+            if matches!(
+                module.types[*base].inner,
+                naga::TypeInner::Image {
+                    dim: naga::ImageDimension::D2,
+                    arrayed: false,
+                    class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. }
+                }
+            ) =>
+        {
+            BindingKind::TextureBindingArray
+        }
+        (naga::AddressSpace::Uniform, inner) => {
+            BindingKind::Uniform { size: inner.size(module.to_ctx()), members: uniform_members(module, inner), type_name: ty.name.clone() }
+        }
+        (naga::AddressSpace::Storage { access }, inner) => BindingKind::Storage {
+            read_only: !access.contains(naga::StorageAccess::STORE),
+            min_size: match inner {
+                naga::TypeInner::Array { size: naga::ArraySize::Dynamic, stride, .. } => *stride,
+                other => other.size(module.to_ctx()),
+            },
+        },
+        (space, inner) => BindingKind::Other(global_type_name(module, *space, inner)),
+    }
+}
+
+/// The scalar and vector members of a uniform struct (none for a uniform of another type).
+fn uniform_members(module: &naga::Module, inner: &naga::TypeInner) -> Vec<UniformMember> {
+    let mut members = Vec::new();
+    if let naga::TypeInner::Struct { members: ms, .. } = inner {
+        for m in ms {
+            let (scalar, components) = match &module.types[m.ty].inner {
+                naga::TypeInner::Scalar(s) => (Some(s.kind), 1),
+                naga::TypeInner::Vector { size, scalar } => (Some(scalar.kind), *size as u32),
+                _ => (None, 0),
+            };
+            members.push(UniformMember { name: m.name.clone().unwrap_or_default(), offset: m.offset, scalar, components });
+        }
+    }
+    members
+}
+
+/// The module's entry points; a compute one keeps the workgroup size it was written with
+/// (`compute_sizes`), also where it became a ray-generation shader.
+fn reflect_entry_points(module: &naga::Module, compute_sizes: &[(String, [u32; 3])]) -> Vec<EntryPointInfo> {
     let mut entry_points = Vec::new();
     for ep in &module.entry_points {
-        let mut locations = Vec::new();
-        let mut collect = |binding: &Option<naga::Binding>, ty: naga::Handle<naga::Type>| {
-            if let Some(naga::Binding::Location { location, .. }) = binding {
-                locations.push(*location);
-            } else if binding.is_none() {
-                if let naga::TypeInner::Struct { members, .. } = &module.types[ty].inner {
-                    for m in members {
-                        if let Some(naga::Binding::Location { location, .. }) = &m.binding {
-                            locations.push(*location);
-                        }
-                    }
-                }
-            }
-        };
-        match ep.stage {
-            naga::ShaderStage::Vertex => {
-                for arg in &ep.function.arguments {
-                    collect(&arg.binding, arg.ty);
-                }
-            }
-            naga::ShaderStage::Fragment => {
-                if let Some(result) = &ep.function.result {
-                    collect(&result.binding, result.ty);
-                }
-            }
-            _ => {}
-        }
-        locations.sort_unstable();
+        let locations = io_locations(module, ep);
         let workgroup_size = compute_sizes.iter().find(|(n, _)| *n == ep.name).map(|(_, s)| *s).unwrap_or(ep.workgroup_size);
         entry_points.push(EntryPointInfo { name: ep.name.clone(), stage: ep.stage, workgroup_size, locations });
     }
-    let overrides = module.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect();
-    let ray_tracing = match (ray_tracing, validated) {
-        (true, Ok(info)) => Some(RayTracingModule { module: std::sync::Arc::new(module), info: std::sync::Arc::new(info) }),
-        _ => None,
-    };
+    entry_points
+}
 
-    Ok(ShaderInfo { path: path.to_path_buf(), source, bindings, entry_points, overrides, ray_tracing })
+/// The vertex input locations of a vertex entry point, or the colour output locations of a
+/// fragment one (sorted); none for other stages.
+fn io_locations(module: &naga::Module, ep: &naga::EntryPoint) -> Vec<u32> {
+    let mut locations = Vec::new();
+    let mut collect = |binding: &Option<naga::Binding>, ty: naga::Handle<naga::Type>| {
+        if let Some(naga::Binding::Location { location, .. }) = binding {
+            locations.push(*location);
+        } else if binding.is_none() {
+            if let naga::TypeInner::Struct { members, .. } = &module.types[ty].inner {
+                for m in members {
+                    if let Some(naga::Binding::Location { location, .. }) = &m.binding {
+                        locations.push(*location);
+                    }
+                }
+            }
+        }
+    };
+    match ep.stage {
+        naga::ShaderStage::Vertex => {
+            for arg in &ep.function.arguments {
+                collect(&arg.binding, arg.ty);
+            }
+        }
+        naga::ShaderStage::Fragment => {
+            if let Some(result) = &ep.function.result {
+                collect(&result.binding, result.ty);
+            }
+        }
+        _ => {}
+    }
+    locations.sort_unstable();
+    locations
 }
 
 #[cfg(test)]

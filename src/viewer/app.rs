@@ -200,12 +200,7 @@ impl App {
                 self.view = View::Output;
                 println!("mode: {} ({n} passes)", Mode::from(m).label());
             }),
-            Action::Backend(name) => name.parse::<Backend>().and_then(|b| {
-                if !gpu.backends.contains(&b) {
-                    return Err(format!("this adapter cannot run the {b} back-end"));
-                }
-                self.session.set_backend(gpu, b).map(|n| println!("back-end: {b} ({n} passes)"))
-            }),
+            Action::Backend(name) => self.set_backend(&name),
             Action::Param { node, name, value } => self.session.set_param(gpu, &node, &name, value).map(|_| println!("parameter {node}.{name} = {value:?}")),
             Action::Enable { node, on } => self.session.set_enabled(gpu, &node, on).map(|_| println!("node {node}: {}", if on { "on" } else { "off" })),
             Action::ResetHistoryOnMove(on) => {
@@ -213,22 +208,9 @@ impl App {
                 println!("reset the history when the camera moves: {}", if on { "on" } else { "off" });
                 Ok(())
             }
-            Action::SelectPass(pass) => match self.session.plan().and_then(|p| ui::pass_texture(p, &pass)) {
-                Some(resource) => {
-                    self.select(Some(pass.clone()), resource.clone());
-                    println!("showing {resource} (pass {pass})");
-                    Ok(())
-                }
-                None => Err(format!("no kept pass `{pass}` writing a texture")),
-            },
+            Action::SelectPass(pass) => self.select_pass(pass),
             Action::SelectResource(resource) => {
-                // Keep the pass selected when the resource is one it writes.
-                let pass = match &self.view {
-                    View::Resource { pass, .. } => pass.clone(),
-                    View::Output => None,
-                };
-                self.select(pass, resource.clone());
-                println!("showing {resource}");
+                self.select_resource(resource);
                 Ok(())
             }
             Action::ShowOutput => {
@@ -236,14 +218,10 @@ impl App {
                 self.mapping = None;
                 Ok(())
             }
-            Action::Preset(name) => self.session.scene.preset(&name).map(|c| {
-                let speed = self.fly.speed;
-                self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
-            }),
+            Action::Preset(name) => self.session.scene.preset(&name).map(|c| self.fly_from(&c)),
             Action::Camera { position, target } => {
                 let c = Camera { position: position.into(), target: target.into(), ..self.fly.camera() };
-                let speed = self.fly.speed;
-                self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+                self.fly_from(&c);
                 Ok(())
             }
             Action::Screenshot(path) => self.screenshot(&path),
@@ -252,24 +230,10 @@ impl App {
                 Ok(())
             }
             Action::Record => {
-                let mut track = Track::new(RECORD_FPS);
-                track.record(0.0, &self.fly.camera());
-                self.track = TrackState::Recording { track, seconds: 0.0 };
+                self.record();
                 Ok(())
             }
-            Action::SaveTrack(path) => match std::mem::take(&mut self.track) {
-                TrackState::Recording { mut track, seconds } => {
-                    // The camera where recording stopped is the last key.
-                    if seconds > track.duration() {
-                        track.record(seconds, &self.fly.camera());
-                    }
-                    track.save(&path).map(|_| println!("track saved to {} ({} keys)", path.display(), track.keys.len())).map_err(|e| e.to_string())
-                }
-                other => {
-                    self.track = other;
-                    Err("not recording".into())
-                }
-            },
+            Action::SaveTrack(path) => self.save_track(&path),
             Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
             Action::Play(on) => {
                 self.session.clock.playing = on && self.session.clock.clip.is_playing();
@@ -287,11 +251,7 @@ impl App {
                 Ok(())
             }
             Action::Speed(x) => Err(format!("animation speed {x}: give a number of at least 0")),
-            Action::Clip(name) => crate::viewer::clock::AnimationClock::new(&self.session.scene, &name.parse().unwrap_or_default(), 0.0).map(|c| {
-                let fixed = self.session.clock.fixed_step;
-                self.session.clock = crate::viewer::clock::AnimationClock { fixed_step: fixed, ..c };
-                println!("animation clip {name}");
-            }),
+            Action::Clip(name) => self.set_clip(&name),
             Action::Quit => {
                 self.exit = true;
                 Ok(())
@@ -300,6 +260,78 @@ impl App {
         if let Err(e) = result {
             self.log(format!("error: {e}"));
         }
+    }
+
+    /// Switches the traversal back-end, if the adapter can run it.
+    fn set_backend(&mut self, name: &str) -> Result<(), String> {
+        let gpu = &self.gpu;
+        name.parse::<Backend>().and_then(|b| {
+            if !gpu.backends.contains(&b) {
+                return Err(format!("this adapter cannot run the {b} back-end"));
+            }
+            self.session.set_backend(gpu, b).map(|n| println!("back-end: {b} ({n} passes)"))
+        })
+    }
+
+    /// Shows the first texture `pass` writes.
+    fn select_pass(&mut self, pass: String) -> Result<(), String> {
+        match self.session.plan().and_then(|p| ui::pass_texture(p, &pass)) {
+            Some(resource) => {
+                self.select(Some(pass.clone()), resource.clone());
+                println!("showing {resource} (pass {pass})");
+                Ok(())
+            }
+            None => Err(format!("no kept pass `{pass}` writing a texture")),
+        }
+    }
+
+    /// Shows `resource`, keeping the pass selected (the resource may be one it writes).
+    fn select_resource(&mut self, resource: String) {
+        let pass = match &self.view {
+            View::Resource { pass, .. } => pass.clone(),
+            View::Output => None,
+        };
+        self.select(pass, resource.clone());
+        println!("showing {resource}");
+    }
+
+    /// Flies on from camera `c`, at the speed flown so far.
+    fn fly_from(&mut self, c: &Camera) {
+        let speed = self.fly.speed;
+        self.fly = FlyCamera { speed, ..FlyCamera::from_camera(c, 1.0) };
+    }
+
+    /// Starts recording a track at the current camera.
+    fn record(&mut self) {
+        let mut track = Track::new(RECORD_FPS);
+        track.record(0.0, &self.fly.camera());
+        self.track = TrackState::Recording { track, seconds: 0.0 };
+    }
+
+    /// Stops recording and saves the track to `path`.
+    fn save_track(&mut self, path: &std::path::Path) -> Result<(), String> {
+        match std::mem::take(&mut self.track) {
+            TrackState::Recording { mut track, seconds } => {
+                // The camera where recording stopped is the last key.
+                if seconds > track.duration() {
+                    track.record(seconds, &self.fly.camera());
+                }
+                track.save(path).map(|_| println!("track saved to {} ({} keys)", path.display(), track.keys.len())).map_err(|e| e.to_string())
+            }
+            other => {
+                self.track = other;
+                Err("not recording".into())
+            }
+        }
+    }
+
+    /// Plays the clip `name` (by name, index or `all`), keeping the clock's fixed step.
+    fn set_clip(&mut self, name: &str) -> Result<(), String> {
+        crate::viewer::clock::AnimationClock::new(&self.session.scene, &name.parse().unwrap_or_default(), 0.0).map(|c| {
+            let fixed = self.session.clock.fixed_step;
+            self.session.clock = crate::viewer::clock::AnimationClock { fixed_step: fixed, ..c };
+            println!("animation clip {name}");
+        })
     }
 
     fn select(&mut self, pass: Option<String>, resource: String) {
@@ -375,8 +407,7 @@ impl App {
                 let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds);
                 if *seconds > track.duration() {
                     // Fly on from where the track ends.
-                    let speed = self.fly.speed;
-                    self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+                    self.fly_from(&c);
                     self.track = TrackState::Idle;
                 }
                 c

@@ -278,70 +278,14 @@ fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions:
 fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
     let session = f.session;
     egui::Window::new("Profiler").default_pos([16.0, 210.0]).show(ctx, |ui| {
-        ui.label(f.gpu.describe());
-        ui.label(format!(
-            "back-end {}  |  {}",
-            session.backend(),
-            session.graph_file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
-        ));
         let rows = pass_rows(f);
-        let max = rows.iter().filter_map(|r| r.2).fold(0.0f64, f64::max).max(1e-9);
-        let total: f64 = rows.iter().filter_map(|r| r.2).sum();
-        let wall = session.frames.back().map(|t| t.frame_ms).unwrap_or(0.0);
-        ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames.len()));
-        let frames: Vec<_> = session.frames.iter().cloned().collect();
-        ui.label(RichText::new(format!("outside the passes: {}", FramePhases::describe(&FramePhases::medians(&frames)))).small());
+        profiler_totals(ui, f, &rows);
         let selected = match f.view {
             View::Resource { pass, .. } => pass.clone(),
             View::Output => None,
         };
-        let report = &session.report;
-        egui::Grid::new("passes").striped(true).show(ui, |ui| {
-            for h in ["pass (click: show its output)", "GPU ms", "median", "mean", "min", "max", "CPU ms", "rays/px", "GR/s"] {
-                ui.label(RichText::new(h).small());
-            }
-            ui.end_row();
-            let cell = |ui: &mut egui::Ui, v: Option<f64>, digits: usize| {
-                ui.label(RichText::new(v.map(|v| format!("{v:.digits$}")).unwrap_or_default()).monospace().size(11.0))
-            };
-            for (i, (name, _, gpu)) in rows.iter().enumerate() {
-                if ui.selectable_label(selected.as_deref() == Some(name), name).clicked() {
-                    actions.push(Action::SelectPass(name.clone()));
-                }
-                let frac = (gpu.unwrap_or(0.0) / max) as f32;
-                let (rect, _) = ui.allocate_exact_size(egui::vec2(90.0, 10.0), egui::Sense::hover());
-                ui.painter().rect_filled(egui::Rect::from_min_size(rect.min, egui::vec2(90.0 * frac, 10.0)), 2.0, Color32::from_rgb(90, 170, 255));
-                let p = report.as_ref().and_then(|r| r.passes.get(i));
-                let g = p.and_then(|p| p.gpu_ms.as_ref());
-                cell(ui, g.map(|g| g.median), 3);
-                cell(ui, g.map(|g| g.mean), 3);
-                cell(ui, g.map(|g| g.min), 3);
-                cell(ui, g.map(|g| g.max), 3);
-                cell(ui, p.and_then(|p| p.cpu_ms.as_ref()).map(|c| c.median), 3);
-                cell(ui, p.and_then(|p| p.rays_per_pixel), 2);
-                cell(ui, p.and_then(|p| p.grays_per_s), 3);
-                ui.end_row();
-            }
-        });
-        ui.horizontal_wrapped(|ui| {
-            if ui.selectable_label(matches!(f.view, View::Output), "output").clicked() {
-                actions.push(Action::ShowOutput);
-            }
-            // Every texture the selected pass writes (a G-buffer pass has several), and the
-            // history textures it reads.
-            let Some(plan) = session.plan() else { return };
-            let Some(pass) = selected.as_ref().and_then(|s| plan.passes.iter().find(|p| &p.name == s)) else { return };
-            let histories = pass.reads.iter().filter(|(_, r)| plan.resources[*r].history_of.is_some());
-            for (_, r) in pass.writes.iter().chain(histories) {
-                let res = &plan.resources[*r];
-                if matches!(res.decl, ResourceDecl::Texture(_)) {
-                    let shown = matches!(f.view, View::Resource { resource, .. } if *resource == res.name);
-                    if ui.selectable_label(shown, &res.name).clicked() {
-                        actions.push(Action::SelectResource(res.name.clone()));
-                    }
-                }
-            }
-        });
+        pass_table(ui, f, &rows, selected.as_deref(), actions);
+        pass_textures(ui, f, selected.as_deref(), actions);
         if let Some(plan) = session.plan() {
             ui.label(format!("culled: {}", if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") }));
             ui.label(format!("transient memory: {}", memory(session, plan)));
@@ -356,20 +300,93 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
         animation_controls(ui, session, actions);
         let builds = session.frames.back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
         ui.label(format!("acceleration structures this frame: {builds}"));
-        // Frame-time history: GPU total per frame over the window.
-        let history: Vec<f64> = session.frames.iter().map(|t| t.gpu_ms.as_ref().map(|g| g.iter().sum()).unwrap_or(t.frame_ms)).collect();
-        let peak = history.iter().copied().fold(1e-9f64, f64::max);
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(360.0, 50.0), egui::Sense::hover());
-        ui.painter().rect_filled(rect, 2.0, Color32::from_black_alpha(120));
-        let n = super::session::STATS_WINDOW as f32;
-        let points: Vec<egui::Pos2> = history
-            .iter()
-            .enumerate()
-            .map(|(i, ms)| egui::pos2(rect.left() + rect.width() * i as f32 / n, rect.bottom() - rect.height() * (*ms / peak) as f32))
-            .collect();
-        ui.painter().add(egui::Shape::line(points, egui::Stroke::new(1.5, Color32::from_rgb(120, 220, 120))));
-        ui.label(format!("frame GPU time, last {} frames (peak {peak:.2} ms)", history.len()));
+        frame_time_history(ui, session);
     });
+}
+
+/// The profiler's head: adapter, back-end and graph file, the passes' GPU total and the frame's
+/// wall time, and the frame's time outside the passes.
+fn profiler_totals(ui: &mut egui::Ui, f: &Frame, rows: &[(String, String, Option<f64>)]) {
+    let session = f.session;
+    ui.label(f.gpu.describe());
+    ui.label(format!("back-end {}  |  {}", session.backend(), session.graph_file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()));
+    let total: f64 = rows.iter().filter_map(|r| r.2).sum();
+    let wall = session.frames.back().map(|t| t.frame_ms).unwrap_or(0.0);
+    ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames.len()));
+    let frames: Vec<_> = session.frames.iter().cloned().collect();
+    ui.label(RichText::new(format!("outside the passes: {}", FramePhases::describe(&FramePhases::medians(&frames)))).small());
+}
+
+/// The table of passes: a name to click (showing its output), a bar of its GPU time against the
+/// slowest pass's, and its times and rays.
+fn pass_table(ui: &mut egui::Ui, f: &Frame, rows: &[(String, String, Option<f64>)], selected: Option<&str>, actions: &mut Vec<Action>) {
+    let max = rows.iter().filter_map(|r| r.2).fold(0.0f64, f64::max).max(1e-9);
+    let report = &f.session.report;
+    egui::Grid::new("passes").striped(true).show(ui, |ui| {
+        for h in ["pass (click: show its output)", "GPU ms", "median", "mean", "min", "max", "CPU ms", "rays/px", "GR/s"] {
+            ui.label(RichText::new(h).small());
+        }
+        ui.end_row();
+        let cell = |ui: &mut egui::Ui, v: Option<f64>, digits: usize| {
+            ui.label(RichText::new(v.map(|v| format!("{v:.digits$}")).unwrap_or_default()).monospace().size(11.0))
+        };
+        for (i, (name, _, gpu)) in rows.iter().enumerate() {
+            if ui.selectable_label(selected == Some(name), name).clicked() {
+                actions.push(Action::SelectPass(name.clone()));
+            }
+            let frac = (gpu.unwrap_or(0.0) / max) as f32;
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(90.0, 10.0), egui::Sense::hover());
+            ui.painter().rect_filled(egui::Rect::from_min_size(rect.min, egui::vec2(90.0 * frac, 10.0)), 2.0, Color32::from_rgb(90, 170, 255));
+            let p = report.as_ref().and_then(|r| r.passes.get(i));
+            let g = p.and_then(|p| p.gpu_ms.as_ref());
+            cell(ui, g.map(|g| g.median), 3);
+            cell(ui, g.map(|g| g.mean), 3);
+            cell(ui, g.map(|g| g.min), 3);
+            cell(ui, g.map(|g| g.max), 3);
+            cell(ui, p.and_then(|p| p.cpu_ms.as_ref()).map(|c| c.median), 3);
+            cell(ui, p.and_then(|p| p.rays_per_pixel), 2);
+            cell(ui, p.and_then(|p| p.grays_per_s), 3);
+            ui.end_row();
+        }
+    });
+}
+
+/// `output`, then every texture the selected pass writes (a G-buffer pass has several) and the
+/// history textures it reads, each shown when clicked.
+fn pass_textures(ui: &mut egui::Ui, f: &Frame, selected: Option<&str>, actions: &mut Vec<Action>) {
+    ui.horizontal_wrapped(|ui| {
+        if ui.selectable_label(matches!(f.view, View::Output), "output").clicked() {
+            actions.push(Action::ShowOutput);
+        }
+        let Some(plan) = f.session.plan() else { return };
+        let Some(pass) = selected.and_then(|s| plan.passes.iter().find(|p| p.name == s)) else { return };
+        let histories = pass.reads.iter().filter(|(_, r)| plan.resources[*r].history_of.is_some());
+        for (_, r) in pass.writes.iter().chain(histories) {
+            let res = &plan.resources[*r];
+            if matches!(res.decl, ResourceDecl::Texture(_)) {
+                let shown = matches!(f.view, View::Resource { resource, .. } if *resource == res.name);
+                if ui.selectable_label(shown, &res.name).clicked() {
+                    actions.push(Action::SelectResource(res.name.clone()));
+                }
+            }
+        }
+    });
+}
+
+/// Frame-time history: GPU total per frame over the window, as a line under its peak.
+fn frame_time_history(ui: &mut egui::Ui, session: &Session) {
+    let history: Vec<f64> = session.frames.iter().map(|t| t.gpu_ms.as_ref().map(|g| g.iter().sum()).unwrap_or(t.frame_ms)).collect();
+    let peak = history.iter().copied().fold(1e-9f64, f64::max);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(360.0, 50.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, Color32::from_black_alpha(120));
+    let n = super::session::STATS_WINDOW as f32;
+    let points: Vec<egui::Pos2> = history
+        .iter()
+        .enumerate()
+        .map(|(i, ms)| egui::pos2(rect.left() + rect.width() * i as f32 / n, rect.bottom() - rect.height() * (*ms / peak) as f32))
+        .collect();
+    ui.painter().add(egui::Shape::line(points, egui::Stroke::new(1.5, Color32::from_rgb(120, 220, 120))));
+    ui.label(format!("frame GPU time, last {} frames (peak {peak:.2} ms)", history.len()));
 }
 
 fn parameters_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
@@ -439,67 +456,15 @@ fn parameters_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) 
 fn graph_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
     let Some(plan) = f.session.plan() else { return };
     egui::Window::new("Graph").anchor(egui::Align2::RIGHT_BOTTOM, [-12.0, -12.0]).default_open(false).show(ctx, |ui| {
-        let producer = |r: usize| plan.passes.iter().position(|p| p.writes.iter().any(|(_, w)| *w == r));
-        let mut depth = vec![0usize; plan.passes.len()];
-        for (i, p) in plan.passes.iter().enumerate() {
-            depth[i] = p.reads.iter().filter_map(|(_, r)| producer(*r)).filter(|&j| j < i).map(|j| depth[j] + 1).max().unwrap_or(0);
-        }
-        let columns = depth.iter().max().map_or(1, |d| d + 1);
-        let (box_w, box_h, gap_x, gap_y) = (150.0, 34.0, 40.0, 14.0);
-        let mut rows = vec![0usize; columns];
-        let slots: Vec<(usize, usize)> = depth
-            .iter()
-            .map(|&d| {
-                rows[d] += 1;
-                (d, rows[d] - 1)
-            })
-            .collect();
-        let height = rows.iter().max().copied().unwrap_or(1) as f32 * (box_h + gap_y);
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(columns as f32 * (box_w + gap_x), height), egui::Sense::hover());
-        let at = |i: usize| {
-            let (c, r) = slots[i];
-            egui::Rect::from_min_size(rect.min + egui::vec2(c as f32 * (box_w + gap_x), r as f32 * (box_h + gap_y)), egui::vec2(box_w, box_h))
-        };
+        let layout = GraphLayout::new(ui, plan);
         let responses: Vec<egui::Response> =
-            (0..plan.passes.len()).map(|i| ui.interact(at(i), ui.scope_id().with(("pass", i)), egui::Sense::click())).collect();
+            (0..plan.passes.len()).map(|i| ui.interact(layout.at(i), ui.scope_id().with(("pass", i)), egui::Sense::click())).collect();
         let hovered = responses.iter().position(|r| r.hovered());
         let painter = ui.painter();
-        // One arrow per resource a pass reads from another pass; the hovered pass's edges are
-        // highlighted and named.
-        for (i, p) in plan.passes.iter().enumerate() {
-            for (_, r) in &p.reads {
-                if let Some(j) = producer(*r).filter(|&j| j != i) {
-                    let (a, b) = (at(j).right_center(), at(i).left_center());
-                    let lit = hovered == Some(i) || hovered == Some(j);
-                    let color = if lit { Color32::from_rgb(255, 200, 90) } else { Color32::GRAY };
-                    painter.arrow(a, b - a, egui::Stroke::new(if lit { 2.0 } else { 1.0 }, color));
-                    if lit {
-                        painter.text(a + (b - a) * 0.5, egui::Align2::CENTER_BOTTOM, &plan.resources[*r].name, egui::FontId::proportional(10.0), color);
-                    }
-                }
-            }
-        }
-        // History reads: from this frame's writer of the kept resource to the reader, dashed.
-        for (i, p) in plan.passes.iter().enumerate() {
-            for (_, r) in &p.reads {
-                let Some(j) = plan.resources[*r].history_of.and_then(producer) else { continue };
-                let (a, b) = (at(j).center_bottom(), at(i).center_bottom());
-                let lit = hovered == Some(i) || hovered == Some(j);
-                let color = if lit { Color32::from_rgb(140, 220, 255) } else { Color32::from_rgb(110, 150, 170) };
-                let below = egui::vec2(0.0, box_h * 0.4 + gap_y * 0.3);
-                let path = [a, a + below, b + below, b];
-                painter.extend(egui::Shape::dashed_line(&path, egui::Stroke::new(if lit { 2.0 } else { 1.0 }, color), 5.0, 3.0));
-                painter.text(
-                    a + below + (b - a) * 0.5,
-                    egui::Align2::CENTER_TOP,
-                    format!("{} (next frame)", plan.resources[*r].name),
-                    egui::FontId::proportional(10.0),
-                    color,
-                );
-            }
-        }
+        layout.draw_reads(painter, plan, hovered);
+        layout.draw_history_reads(painter, plan, hovered);
         for (i, (p, resp)) in plan.passes.iter().zip(&responses).enumerate() {
-            let r = at(i);
+            let r = layout.at(i);
             painter.rect_filled(r, 4.0, if resp.hovered() { Color32::from_rgb(60, 90, 140) } else { Color32::from_rgb(40, 60, 95) });
             painter.text(r.center(), egui::Align2::CENTER_CENTER, format!("{}\n{}", p.name, p.kind.name()), egui::FontId::proportional(11.0), Color32::WHITE);
             if resp.clicked() {
@@ -520,4 +485,92 @@ fn graph_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
             if plan.culled.is_empty() { "none".into() } else { plan.culled.join(", ") }
         ));
     });
+}
+
+/// Width and height of a pass's box in the graph window, and the gaps between columns and rows.
+const BOX_W: f32 = 150.0;
+const BOX_H: f32 = 34.0;
+const GAP_X: f32 = 40.0;
+const GAP_Y: f32 = 14.0;
+
+/// The pass that writes resource `r`.
+fn producer(plan: &Plan, r: usize) -> Option<usize> {
+    plan.passes.iter().position(|p| p.writes.iter().any(|(_, w)| *w == r))
+}
+
+/// Where the graph window draws each pass: a column per dependency depth, the passes of a depth
+/// one under the other.
+struct GraphLayout {
+    /// The area taken in the window.
+    rect: egui::Rect,
+    /// (column, row) of each pass.
+    slots: Vec<(usize, usize)>,
+}
+
+impl GraphLayout {
+    /// Lays out the plan's passes and takes the space they need from `ui`.
+    fn new(ui: &mut egui::Ui, plan: &Plan) -> Self {
+        let mut depth = vec![0usize; plan.passes.len()];
+        for (i, p) in plan.passes.iter().enumerate() {
+            depth[i] = p.reads.iter().filter_map(|(_, r)| producer(plan, *r)).filter(|&j| j < i).map(|j| depth[j] + 1).max().unwrap_or(0);
+        }
+        let columns = depth.iter().max().map_or(1, |d| d + 1);
+        let mut rows = vec![0usize; columns];
+        let slots: Vec<(usize, usize)> = depth
+            .iter()
+            .map(|&d| {
+                rows[d] += 1;
+                (d, rows[d] - 1)
+            })
+            .collect();
+        let height = rows.iter().max().copied().unwrap_or(1) as f32 * (BOX_H + GAP_Y);
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(columns as f32 * (BOX_W + GAP_X), height), egui::Sense::hover());
+        Self { rect, slots }
+    }
+
+    /// The box of pass `i`.
+    fn at(&self, i: usize) -> egui::Rect {
+        let (c, r) = self.slots[i];
+        egui::Rect::from_min_size(self.rect.min + egui::vec2(c as f32 * (BOX_W + GAP_X), r as f32 * (BOX_H + GAP_Y)), egui::vec2(BOX_W, BOX_H))
+    }
+
+    /// One arrow per resource a pass reads from another pass; the hovered pass's edges are
+    /// highlighted and named.
+    fn draw_reads(&self, painter: &egui::Painter, plan: &Plan, hovered: Option<usize>) {
+        for (i, p) in plan.passes.iter().enumerate() {
+            for (_, r) in &p.reads {
+                if let Some(j) = producer(plan, *r).filter(|&j| j != i) {
+                    let (a, b) = (self.at(j).right_center(), self.at(i).left_center());
+                    let lit = hovered == Some(i) || hovered == Some(j);
+                    let color = if lit { Color32::from_rgb(255, 200, 90) } else { Color32::GRAY };
+                    painter.arrow(a, b - a, egui::Stroke::new(if lit { 2.0 } else { 1.0 }, color));
+                    if lit {
+                        painter.text(a + (b - a) * 0.5, egui::Align2::CENTER_BOTTOM, &plan.resources[*r].name, egui::FontId::proportional(10.0), color);
+                    }
+                }
+            }
+        }
+    }
+
+    /// History reads: from this frame's writer of the kept resource to the reader, dashed.
+    fn draw_history_reads(&self, painter: &egui::Painter, plan: &Plan, hovered: Option<usize>) {
+        for (i, p) in plan.passes.iter().enumerate() {
+            for (_, r) in &p.reads {
+                let Some(j) = plan.resources[*r].history_of.and_then(|h| producer(plan, h)) else { continue };
+                let (a, b) = (self.at(j).center_bottom(), self.at(i).center_bottom());
+                let lit = hovered == Some(i) || hovered == Some(j);
+                let color = if lit { Color32::from_rgb(140, 220, 255) } else { Color32::from_rgb(110, 150, 170) };
+                let below = egui::vec2(0.0, BOX_H * 0.4 + GAP_Y * 0.3);
+                let path = [a, a + below, b + below, b];
+                painter.extend(egui::Shape::dashed_line(&path, egui::Stroke::new(if lit { 2.0 } else { 1.0 }, color), 5.0, 3.0));
+                painter.text(
+                    a + below + (b - a) * 0.5,
+                    egui::Align2::CENTER_TOP,
+                    format!("{} (next frame)", plan.resources[*r].name),
+                    egui::FontId::proportional(10.0),
+                    color,
+                );
+            }
+        }
+    }
 }
