@@ -623,7 +623,7 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
         return None;
     }
     if cfg.method == SplitMethod::Median || depth >= MEDIAN_FALLBACK_DEPTH {
-        return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+        return leaf_or_median(prims, centroids, cfg.max_leaf_size);
     }
     if n <= EXACT_SPLIT_PRIMS {
         return exact_split(prims, bounds, centroids, cfg.max_leaf_size);
@@ -635,36 +635,66 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
     let map = BinMap::new(&maps, bins);
     if maps.iter().all(Option::is_none) {
         // All centroids coincide: no plane separates them.
-        return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+        return leaf_or_median(prims, centroids, cfg.max_leaf_size);
     }
     let parallel: Box<Bins>;
     let binned: &Bins = if n >= PARALLEL_BINNING {
-        // On the heap (7 KB a set): rayon's joins and work stealing nest the frames of many
-        // nodes' builds on one worker's stack, whose default 2 MiB overflowed on 7.1M
-        // triangles with 16 workers.
-        parallel = prims
-            .par_chunks(PARALLEL_BINNING / 4)
-            .map(|c| {
-                let mut b = Box::new(Bins::new());
-                b.add(c, &map, bins);
-                b
-            })
-            .reduce(
-                || Box::new(Bins::new()),
-                |mut a, b| {
-                    a.absorb(&b);
-                    a
-                },
-            );
+        parallel = bin_in_parallel(prims, &map, bins);
         &parallel
     } else {
         scratch.reset(bins);
         scratch.add(prims, &map, bins);
         scratch
     };
+    let Some((best_cost, axis, plane)) = cheapest_plane(binned, &maps, bins) else {
+        return leaf_or_median(prims, centroids, cfg.max_leaf_size);
+    };
     let node_area = bounds.surface_area();
-    // Best (cost of the children, axis, number of bins on the left), with half areas: the
-    // traversal term is the same for every split and is added once below.
+    let cost = TRAVERSAL_COST * node_area + INTERSECTION_COST * 2.0 * best_cost;
+    let leaf_cost = INTERSECTION_COST * node_area * n as f32;
+    if n <= cfg.max_leaf_size && leaf_cost <= cost {
+        return None;
+    }
+    if maps[axis].is_none() {
+        return Some(median_split(prims, centroids));
+    }
+    Some(partition_at_plane(prims, centroids, (&map, binned, bins), axis, plane))
+}
+
+/// A leaf when `prims` fit in one, else the object median split.
+fn leaf_or_median(prims: &mut [Work], centroids: &Box3A, max_leaf_size: usize) -> Option<Split> {
+    if prims.len() <= max_leaf_size {
+        None
+    } else {
+        Some(median_split(prims, centroids))
+    }
+}
+
+/// `prims` binned by `map` into `bins` bins, in chunks binned in parallel and then added up.
+fn bin_in_parallel(prims: &[Work], map: &BinMap, bins: usize) -> Box<Bins> {
+    // On the heap (7 KB a set): rayon's joins and work stealing nest the frames of many
+    // nodes' builds on one worker's stack, whose default 2 MiB overflowed on 7.1M
+    // triangles with 16 workers.
+    prims
+        .par_chunks(PARALLEL_BINNING / 4)
+        .map(|c| {
+            let mut b = Box::new(Bins::new());
+            b.add(c, map, bins);
+            b
+        })
+        .reduce(
+            || Box::new(Bins::new()),
+            |mut a, b| {
+                a.absorb(&b);
+                a
+            },
+        )
+}
+
+/// The cheapest plane between bins over the axes with a mapping: (cost of the children with
+/// half areas, axis, number of bins on the left); `None` when no plane leaves primitives on
+/// both sides. The traversal term is the same for every split and is left to the caller.
+fn cheapest_plane(binned: &Bins, maps: &[Option<(f32, f32)>; 3], bins: usize) -> Option<(f32, usize, usize)> {
     let (mut best_cost, mut best_axis, mut best_plane) = (f32::INFINITY, usize::MAX, 0);
     let mut right_cost = [0.0f32; MAX_BINS];
     let total = binned.count[0][..bins].iter().sum::<u32>();
@@ -688,27 +718,23 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
             }
         }
     }
-    if best_axis == usize::MAX {
-        return if n <= cfg.max_leaf_size { None } else { Some(median_split(prims, centroids)) };
-    }
-    let (cost, axis, plane) = (TRAVERSAL_COST * node_area + INTERSECTION_COST * 2.0 * best_cost, best_axis, best_plane);
-    let leaf_cost = INTERSECTION_COST * node_area * n as f32;
-    if n <= cfg.max_leaf_size && leaf_cost <= cost {
-        return None;
-    }
-    if maps[axis].is_none() {
-        return Some(median_split(prims, centroids));
-    }
-    // The same bins as the binning pass, so each side gets exactly the primitives counted,
-    // and each side's box is the union of its bins' boxes.
+    (best_axis != usize::MAX).then_some((best_cost, best_axis, best_plane))
+}
+
+/// Partitions `prims` at `plane` on `axis` with the same bins as the binning pass (`binning`:
+/// the mapping, the bins and their number), so each side gets exactly the primitives counted,
+/// and each side's box is the union of its bins' boxes.
+fn partition_at_plane(prims: &mut [Work], centroids: &Box3A, binning: (&BinMap, &Bins, usize), axis: usize, plane: usize) -> Split {
+    let (map, binned, bins) = binning;
+    let n = prims.len();
     let (mid, left_centroids, right_centroids) = partition(prims, |p| map.bin_of(p, axis) < plane);
     if mid == 0 || mid == n {
         // Cannot happen with the same mapping as the binning pass; stay safe anyway.
-        return Some(median_split(prims, centroids));
+        return median_split(prims, centroids);
     }
     let side = |bins: &[Box3A]| bins.iter().fold(Box3A::EMPTY, |a, b| a.union(b));
     let boxes = &binned.bounds[axis];
-    Some(Split { mid, left: (side(&boxes[..plane]), left_centroids), right: (side(&boxes[plane..bins]), right_centroids) })
+    Split { mid, left: (side(&boxes[..plane]), left_centroids), right: (side(&boxes[plane..bins]), right_centroids) }
 }
 
 /// Nodes of at most this many primitives evaluate the SAH at every boundary between their
@@ -756,7 +782,7 @@ fn exact_split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, max_leaf_s
     }
     if best_axis == usize::MAX {
         // All centroids coincide: no plane separates them.
-        return if n <= max_leaf_size { None } else { Some(median_split(prims, centroids)) };
+        return leaf_or_median(prims, centroids, max_leaf_size);
     }
     let node_area = bounds.surface_area();
     let cost = TRAVERSAL_COST * node_area + INTERSECTION_COST * 2.0 * best_cost;

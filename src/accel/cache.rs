@@ -193,6 +193,20 @@ struct UnitKey {
     hash: u64,
 }
 
+/// The alpha flags and content hashes of a scene that an update compares with the last one's.
+struct SceneKeys {
+    /// Per mesh: whether an alpha-tested instance uses it.
+    tested_meshes: Vec<bool>,
+    /// Per instance: whether it is alpha-tested.
+    tested: Vec<bool>,
+    /// Per mesh: its [`mesh_hash`].
+    mesh_hashes: Vec<u64>,
+    /// Per instance: its mesh, transform and alpha flag, hashed.
+    instances: Vec<u64>,
+    /// The BLAS units.
+    units: Vec<UnitKey>,
+}
+
 struct ComputeState {
     /// The two levels (`None` in the merged layout).
     accel: Option<SceneAccel>,
@@ -533,6 +547,59 @@ impl AccelCache {
         let scene = &*posed;
         let deform_key = scene.deformation_key();
         self.packed_stale |= self.update_alpha(device, queue, scene)?;
+        let keys = self.scene_keys(scene, deform_key)?;
+        let fresh = matches!(self.state, State::Empty);
+        let changed: Vec<usize> = (0..keys.units.len()).filter(|&u| fresh || self.units.get(u) != Some(&keys.units[u])).collect();
+        let instances_changed = fresh || keys.instances != self.instances;
+        let same_instance_set =
+            !fresh && self.instances.len() == keys.instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
+        let mut report = BuildReport { blas_count: keys.units.len(), hash_ms: start.elapsed().as_secs_f64() * 1e3, ..Default::default() };
+        if changed.is_empty() && !instances_changed {
+            report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+            return Ok(report);
+        }
+        // Everything below writes the arrays (a build, a refit, new instances).
+        self.packed_stale = true;
+        // The merged layout when only instances moved or meshes deformed (their triangles the
+        // same): a GPU refit, no build, while the policy allows.
+        let deforming = scene.deforming_meshes();
+        let meshes_hash = self.refit_keeps_hash(scene, &keys, &deforming);
+        let refittable = match &self.state {
+            State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
+            _ => false,
+        };
+        let growth = self.sah_growth();
+        let refit = refittable && self.policy.refits(growth, &self.ledger);
+        report.deformed_meshes = if deform_key != self.deformed { deforming.len() } else { 0 };
+        report.sah_growth = growth;
+        self.deformed = deform_key;
+        let built = if refit { 0 } else { changed.len() };
+        report.blas_built = built;
+        report.blas_reused = keys.units.len() - built;
+        self.total_blas_builds += built;
+        let SceneKeys { tested_meshes, tested, mesh_hashes, instances, units } = keys;
+        match self.backend {
+            Backend::Compute if self.merge => {
+                report.rebuilt_for_quality = refittable && !refit;
+                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash: deform_key, refit, gpu_deformed };
+                self.update_compute_merged(device, queue, encoder, scene, change, &mut report)?
+            }
+            Backend::Compute => self.update_compute(device, queue, scene, (&units, &changed), same_instance_set, &mut report)?,
+            Backend::RayQuery => self.update_ray_query(device, encoder, scene, (&units, &changed), (&tested, &tested_meshes), &mut report)?,
+            Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
+        }
+        self.total_blas_builds -= report.blas_refits; // counted as builds above
+        self.units = units;
+        self.instances = instances;
+        self.instance_meshes = scene.instances.iter().map(|i| i.mesh).collect();
+        report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        log::debug!("accel: {}", report.describe());
+        Ok(report)
+    }
+
+    /// The alpha flags and content hashes of `scene` an update compares with the last one's;
+    /// fails for an instance of a mesh the scene does not have.
+    fn scene_keys(&mut self, scene: &Scene, deform_key: Option<u64>) -> Result<SceneKeys, RuntimeError> {
         // Whether a unit holds alpha-tested geometry is part of its key (the driver back-ends
         // build it non-opaque; the merged layout's triangles carry the flag).
         let tested_meshes = super::alpha::tested_meshes(scene);
@@ -561,67 +628,30 @@ impl AccelCache {
                 scene.meshes.len()
             )));
         }
-        let fresh = matches!(self.state, State::Empty);
-        let changed: Vec<usize> = (0..units.len()).filter(|&u| fresh || self.units.get(u) != Some(&units[u])).collect();
-        let instances_changed = fresh || instances != self.instances;
-        let same_instance_set =
-            !fresh && self.instances.len() == instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
-        let mut report = BuildReport { blas_count: units.len(), hash_ms: start.elapsed().as_secs_f64() * 1e3, ..Default::default() };
-        if changed.is_empty() && !instances_changed {
-            report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
-            return Ok(report);
-        }
-        // Everything below writes the arrays (a build, a refit, new instances).
-        self.packed_stale = true;
-        // The merged layout when only instances moved or meshes deformed (their triangles the
-        // same): a GPU refit, no build, while the policy allows.
-        let tested_words: Vec<u64> = tested.iter().map(|&t| t as u64).collect();
-        let deforming = scene.deforming_meshes();
-        let topology: Vec<u64> =
-            mesh_hashes.iter().enumerate().map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes[m]) } else { h }).collect();
-        let meshes_hash = hash_words(
-            hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
-            bytemuck::cast_slice(&tested_words),
-        );
-        let refittable = match &self.state {
-            State::Compute(c) if self.merge => c.refit.as_ref().is_some_and(|(r, meshes)| *meshes == meshes_hash && r.applies_to(scene)),
-            _ => false,
-        };
-        let growth = self.sah_growth();
-        let refit = refittable && self.policy.refits(growth, &self.ledger);
-        report.deformed_meshes = if deform_key != self.deformed { deforming.len() } else { 0 };
-        report.sah_growth = growth;
-        self.deformed = deform_key;
-        let built = if refit { 0 } else { changed.len() };
-        report.blas_built = built;
-        report.blas_reused = units.len() - built;
-        self.total_blas_builds += built;
-        match self.backend {
-            Backend::Compute if self.merge => {
-                report.rebuilt_for_quality = refittable && !refit;
-                let change = MergedChange { mesh_hashes: &mesh_hashes, meshes_hash, deformed_hash: deform_key, refit, gpu_deformed };
-                self.update_compute_merged(device, queue, encoder, scene, change, &mut report)?
-            }
-            Backend::Compute => self.update_compute(device, queue, scene, &units, &changed, same_instance_set, &mut report)?,
-            Backend::RayQuery => self.update_ray_query(device, encoder, scene, &units, &changed, &tested, &tested_meshes, &mut report)?,
-            Backend::RtPipeline => self.update_rt_pipeline(device, scene, &units, &changed, &mut report)?,
-        }
-        self.total_blas_builds -= report.blas_refits; // counted as builds above
-        self.units = units;
-        self.instances = instances;
-        self.instance_meshes = scene.instances.iter().map(|i| i.mesh).collect();
-        report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
-        log::debug!("accel: {}", report.describe());
-        Ok(report)
+        Ok(SceneKeys { tested_meshes, tested, mesh_hashes, instances, units })
     }
 
+    /// The hash of what a refit of the merged layout keeps: the `deforming` meshes' topology,
+    /// the other meshes' content, which mesh each instance is and its alpha flag.
+    fn refit_keeps_hash(&self, scene: &Scene, keys: &SceneKeys, deforming: &[usize]) -> u64 {
+        let tested_words: Vec<u64> = keys.tested.iter().map(|&t| t as u64).collect();
+        let topology: Vec<u64> =
+            keys.mesh_hashes.iter().enumerate().map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes[m]) } else { h }).collect();
+        hash_words(
+            hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
+            bytemuck::cast_slice(&tested_words),
+        )
+    }
+
+    /// The two-level layout: the changed `units` get a new BLAS (or a CPU refit, for a
+    /// deforming mesh), then the TLAS is rebuilt, or only refitted when the instances moved and
+    /// nothing else changed.
     fn update_compute(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &Scene,
-        units: &[UnitKey],
-        changed: &[usize],
+        (units, changed): (&[UnitKey], &[usize]),
         same_instance_set: bool,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
@@ -633,26 +663,48 @@ impl AccelCache {
         // Instances moved, nothing else: refit the TLAS in place. (Any other change keeps
         // `old`: its BLASes of unchanged units are reused below.)
         let old = match old {
-            Some(mut c) if changed.is_empty() && same_instance_set => {
-                let refitted = c.accel.as_mut().is_some_and(|a| a.refit_instances(scene).is_ok());
-                if let Some(accel) = c.accel.as_ref().filter(|_| refitted) {
-                    report.tlas = TlasWork::Refit;
-                    let flat = flatten(scene, accel);
-                    report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
-                    self.state = State::Compute(c);
-                    return Ok(());
-                }
-                Some(c)
-            }
+            Some(c) if changed.is_empty() && same_instance_set => match self.refit_tlas(device, queue, scene, c, report) {
+                None => return Ok(()),
+                kept => kept,
+            },
             old => old,
         };
+        let blases = self.update_blases(scene, (units, changed), old.as_ref(), &opts, report);
+        let accel = self.two_level_accel(scene, units, blases, &opts, report);
+        report.tlas = TlasWork::Rebuild;
+        let flat = flatten(scene, &accel);
+        self.install(device, queue, scene, old, Some(accel), &flat, report)
+    }
+
+    /// Refits the TLAS of `c` in place for `scene`'s instance transforms, uploads the arrays
+    /// and makes it the current state (`None`); `Some(c)` unchanged if it cannot be refitted.
+    fn refit_tlas(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, mut c: ComputeState, report: &mut BuildReport) -> Option<ComputeState> {
+        let refitted = c.accel.as_mut().is_some_and(|a| a.refit_instances(scene).is_ok());
+        if let Some(accel) = c.accel.as_ref().filter(|_| refitted) {
+            report.tlas = TlasWork::Refit;
+            let flat = flatten(scene, accel);
+            report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
+            self.state = State::Compute(c);
+            return None;
+        }
+        Some(c)
+    }
+
+    /// The BLAS of every unit: `old`'s for the unchanged ones; for the `changed` ones, a
+    /// deforming mesh's BLAS (same triangles, moved vertices) is refitted on the CPU while the
+    /// policy allows its SAH growth over its build's cost (the cost policy keeps no ledger per
+    /// BLAS: its SAH threshold decides); others are built.
+    fn update_blases(
+        &mut self,
+        scene: &Scene,
+        (units, changed): (&[UnitKey], &[usize]),
+        old: Option<&ComputeState>,
+        opts: &AccelOptions,
+        report: &mut BuildReport,
+    ) -> Vec<Blas> {
         let t0 = Instant::now();
-        let mut old_blases = old.as_ref().and_then(|c| c.accel.as_ref()).map(|a| a.blases.clone()).unwrap_or_default();
-        old_blases.resize_with(units.len(), Blas::default);
-        let mut blases = old_blases;
-        // A deforming mesh's BLAS (same triangles, moved vertices) is refitted on the CPU
-        // while the policy allows its SAH growth over its build's cost (the cost policy keeps
-        // no ledger per BLAS: its SAH threshold decides); others are built.
+        let mut blases = old.and_then(|c| c.accel.as_ref()).map(|a| a.blases.clone()).unwrap_or_default();
+        blases.resize_with(units.len(), Blas::default);
         let deforming = scene.deforming_meshes();
         self.unit_built_sah.resize(units.len(), 0.0);
         let refitted: Vec<usize> = changed
@@ -687,6 +739,12 @@ impl AccelCache {
             .filter(|&&u| self.unit_built_sah[u] > 0.0)
             .map(|&u| blases[u].bvh.sah_cost() as f64 / self.unit_built_sah[u])
             .fold(None, |a: Option<f64>, g| Some(a.map_or(g, |a| a.max(g))));
+        blases
+    }
+
+    /// The two levels over `blases` (one per unit): each instance's BLAS and transform, and
+    /// the TLAS built over their world bounds.
+    fn two_level_accel(&self, scene: &Scene, units: &[UnitKey], blases: Vec<Blas>, opts: &AccelOptions, report: &mut BuildReport) -> SceneAccel {
         let instance_transforms: Vec<_> = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
         let instance_blas: Vec<Option<u32>> = scene
             .instances
@@ -713,7 +771,7 @@ impl AccelCache {
             report.blas_sah = Some(blases.iter().map(|b| b.bvh.sah_cost() as f64 * b.bvh.prim_order.len() as f64).sum::<f64>() / tris);
         }
         report.tlas_sah = (!tlas.bvh.is_empty()).then(|| tlas.bvh.sah_cost() as f64);
-        let accel = SceneAccel {
+        SceneAccel {
             blases,
             blas_mesh: units.iter().map(|k| Some(k.mesh)).collect(),
             instance_blas,
@@ -721,10 +779,7 @@ impl AccelCache {
             tlas,
             dedup: self.dedup,
             build_time: std::time::Duration::ZERO,
-        };
-        report.tlas = TlasWork::Rebuild;
-        let flat = flatten(scene, &accel);
-        self.install(device, queue, scene, old, Some(accel), &flat, report)
+        }
     }
 
     /// Checks that `flat` fits the device, uploads it into `old`'s buffers (or new ones) and
@@ -956,16 +1011,16 @@ impl AccelCache {
         data.len() as u64
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// The ray-query back-end: new BLAS for the `changed` units (non-opaque where alpha-tested:
+    /// `tested` per instance, `tested_meshes` per mesh), then the TLAS's instances written and
+    /// the builds recorded into `encoder` (wgpu rebuilds the TLAS).
     fn update_ray_query(
         &mut self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         scene: &Scene,
-        units: &[UnitKey],
-        changed: &[usize],
-        tested: &[bool],
-        tested_meshes: &[bool],
+        (units, changed): (&[UnitKey], &[usize]),
+        (tested, tested_meshes): (&[bool], &[bool]),
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
@@ -992,8 +1047,26 @@ impl AccelCache {
             let alpha = if self.dedup { tested_meshes[units[u].mesh] } else { tested[u] };
             blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u, !alpha);
         }
-        let needed = (scene.instances.len() as u32).max(1);
-        let (mut tlas, capacity) = match old_tlas {
+        let (mut tlas, capacity) = self.rq_tlas(device, old_tlas, (scene.instances.len() as u32).max(1));
+        for i in 0..capacity as usize {
+            tlas[i] = scene.instances.get(i).and_then(|inst| {
+                let b = blases[if self.dedup { inst.mesh } else { i }].as_ref()?;
+                instance_transform(&inst.transform)?;
+                let m = inst.transform;
+                let rows = [0, 1, 2].map(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], m.w_axis[r]]);
+                Some(wgpu::TlasInstance::new(&b.blas, bytemuck::cast(rows), i as u32, 0xff))
+            });
+        }
+        record_rq_builds(encoder, &blases, changed, &tlas);
+        report.tlas = TlasWork::Rebuild;
+        self.state = State::RayQuery(RayQueryState { blases, tlas, capacity });
+        Ok(())
+    }
+
+    /// The ray-query TLAS and its capacity: `old` if it holds `needed` instances, else a new
+    /// one (a new generation) for the next power of two.
+    fn rq_tlas(&mut self, device: &wgpu::Device, old: Option<(wgpu::Tlas, u32)>, needed: u32) -> (wgpu::Tlas, u32) {
+        match old {
             Some((t, cap)) if cap >= needed => (t, cap),
             _ => {
                 self.generation += 1;
@@ -1006,38 +1079,7 @@ impl AccelCache {
                 });
                 (t, cap)
             }
-        };
-        for i in 0..capacity as usize {
-            tlas[i] = scene.instances.get(i).and_then(|inst| {
-                let b = blases[if self.dedup { inst.mesh } else { i }].as_ref()?;
-                instance_transform(&inst.transform)?;
-                let m = inst.transform;
-                let rows = [0, 1, 2].map(|r| [m.x_axis[r], m.y_axis[r], m.z_axis[r], m.w_axis[r]]);
-                Some(wgpu::TlasInstance::new(&b.blas, bytemuck::cast(rows), i as u32, 0xff))
-            });
         }
-        let entries: Vec<wgpu::BlasBuildEntry> = changed
-            .iter()
-            .filter_map(|&u| blases[u].as_ref())
-            .map(|b| wgpu::BlasBuildEntry {
-                blas: &b.blas,
-                geometry: wgpu::BlasGeometries::TriangleGeometries(vec![wgpu::BlasTriangleGeometry {
-                    size: &b.size,
-                    vertex_buffer: &b.vertices,
-                    first_vertex: 0,
-                    vertex_stride: 12,
-                    index_buffer: Some(&b.indices),
-                    first_index: Some(0),
-                    transform_buffer: None,
-                    transform_buffer_offset: None,
-                }]),
-            })
-            .collect();
-        encoder.build_acceleration_structures(entries.iter(), [&tlas]);
-        drop(entries);
-        report.tlas = TlasWork::Rebuild;
-        self.state = State::RayQuery(RayQueryState { blases, tlas, capacity });
-        Ok(())
     }
 
     /// The rt-pipeline back-end: new BLAS for the changed units, then TLAS and the geometry
@@ -1257,6 +1299,29 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Opt
         wgpu::BlasGeometrySizeDescriptors::Triangles { descriptors: vec![size.clone()] },
     );
     Some(RqBlas { blas, vertices, indices: index_buf, size })
+}
+
+/// Records the builds of the `changed` units' ray-query BLASes (those with a valid triangle)
+/// and of `tlas`.
+fn record_rq_builds(encoder: &mut wgpu::CommandEncoder, blases: &[Option<RqBlas>], changed: &[usize], tlas: &wgpu::Tlas) {
+    let entries: Vec<wgpu::BlasBuildEntry> = changed
+        .iter()
+        .filter_map(|&u| blases[u].as_ref())
+        .map(|b| wgpu::BlasBuildEntry {
+            blas: &b.blas,
+            geometry: wgpu::BlasGeometries::TriangleGeometries(vec![wgpu::BlasTriangleGeometry {
+                size: &b.size,
+                vertex_buffer: &b.vertices,
+                first_vertex: 0,
+                vertex_stride: 12,
+                index_buffer: Some(&b.indices),
+                first_index: Some(0),
+                transform_buffer: None,
+                transform_buffer_offset: None,
+            }]),
+        })
+        .collect();
+    encoder.build_acceleration_structures(entries.iter(), [tlas]);
 }
 
 /// The trace module's bindings that `cache` holds in wgpu buffers for trace pass number

@@ -263,225 +263,110 @@ impl GpuBlasBuilder {
         result
     }
 
+    /// The build over the first `n` records of `tris_in`, waited for: the sort, the first
+    /// rounds and the finish in one submission, more rounds until one cluster is left, then
+    /// the layout.
     fn build_unscoped(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris_in: &wgpu::Buffer, n: usize) -> Result<GpuBlas, GpuBuildError> {
         if n == 0 || n > MAX_GPU_BUILD_TRIANGLES {
             return Err(GpuBuildError::Size(n));
         }
-        let n32 = n as u32;
-        let padded = n.next_power_of_two().max(SORT_BLOCK as usize) as u64;
-        let nodes = 2 * n as u64 - 1;
-        let storage = wgpu::BufferUsages::STORAGE;
-        let scratch = |label: &str, bytes: u64| {
-            device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes.max(16), usage: storage, mapped_at_creation: false })
-        };
-        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
-
-        // Params records: 0 the base, 1 and 2 the rounds of each parity, then the sort's steps.
-        // (k, j, kind): the global steps of each stage two at a time (an odd one alone), then
-        // the steps below SORT_BLOCK in workgroup memory.
-        let mut sort_steps: Vec<(u32, u32, SortStep)> = Vec::new();
-        let mut k = 2 * SORT_BLOCK as u64;
-        while k <= padded {
-            let mut j = k / 2;
-            while j >= SORT_BLOCK as u64 {
-                if j >= 2 * SORT_BLOCK as u64 {
-                    sort_steps.push((k as u32, j as u32, SortStep::Pair));
-                    j /= 4;
-                } else {
-                    sort_steps.push((k as u32, j as u32, SortStep::Single));
-                    j /= 2;
-                }
-            }
-            sort_steps.push((k as u32, SORT_BLOCK / 2, SortStep::Block));
-            k *= 2;
-        }
-        let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
-        let finish = std::env::var("RAYGRAPH_GPU_BUILD_FINISH").ok().and_then(|v| v.parse().ok()).unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS);
-        let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
-        let local = std::env::var("RAYGRAPH_GPU_BUILD_LOCAL").ok().and_then(|v| v.parse().ok()).unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS);
-        let radius = std::env::var("RAYGRAPH_GPU_BUILD_RADIUS").ok().and_then(|v| v.parse().ok()).unwrap_or(SEARCH_RADIUS).clamp(1, RADIUS);
-        put(0, [n32, local, 0, 0, finish, radius, 0, 0]);
-        put(1, [n32, 0, 0, 0, finish, radius, 0, 0]);
-        put(2, [n32, 0, 0, 1, finish, radius, 0, 0]);
-        for (s, &(k, j, _)) in sort_steps.iter().enumerate() {
-            put(3 + s, [n32, k, j, 0, finish, radius, 0, 0]);
-        }
-        let params = init("gpu build params", &params, wgpu::BufferUsages::UNIFORM);
-
-        let mut state = [0u32; 16];
-        state[..3].fill(u32::MAX);
-        state[6] = n32;
-        let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC);
-        let (gx, gy) = groups_for(n as u64);
-        let out_usage = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        let out_nodes = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("BLAS nodes (GPU-built)"),
-            size: nodes * 32,
-            usage: out_usage,
-            mapped_at_creation: false,
-        });
-        let out_tris = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("triangles (GPU-built)"),
-            size: n as u64 * 48,
-            usage: out_usage,
-            mapped_at_creation: false,
-        });
-        let parents = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("BLAS parents (GPU-built)"),
-            size: nodes * 4,
-            usage: storage | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let leaf_order = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("leaf order (GPU-built)"),
-            size: n as u64 * 4,
-            usage: storage | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let buffers = [
-            scratch("gpu build keys", padded * 4),
-            scratch("gpu build values", padded * 4),
-            scratch("gpu build node boxes", nodes * 32),
-            scratch("gpu build node links", nodes * 16),
-            scratch("gpu build clusters a", n as u64 * 4),
-            scratch("gpu build clusters b", n as u64 * 4),
-            scratch("gpu build nearest", n as u64 * 4),
-            scratch("gpu build tile status", (gx as u64 * gy as u64) * 4),
-            scratch("gpu build offsets", nodes * 4),
-        ];
-        let [keys, vals, node_box, node_link, clusters_a, clusters_b, nearest, tile_status, offsets] = &buffers;
-        let bind = |clusters_in: &wgpu::Buffer, clusters_out: &wgpu::Buffer| {
-            fn b(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-                wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
-            }
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("gpu build"),
-                layout: &self.group0,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &params, offset: 0, size: wgpu::BufferSize::new(32) }),
-                    },
-                    b(1, tris_in),
-                    b(2, keys),
-                    b(3, vals),
-                    b(4, &state),
-                    b(5, node_box),
-                    b(6, node_link),
-                    b(7, clusters_in),
-                    b(8, clusters_out),
-                    b(9, nearest),
-                    b(10, tile_status),
-                    b(11, offsets),
-                    b(12, &out_nodes),
-                    b(13, &out_tris),
-                    b(14, &parents),
-                    b(15, &leaf_order),
-                ],
-            })
-        };
-        let even = bind(clusters_a, clusters_b);
-        let odd = bind(clusters_b, clusters_a);
-        let slot = |s: u64| (s * PARAMS_STRIDE) as u32;
+        let shape = BuildShape::new(n);
+        let sort_steps = sort_steps(shape.padded);
+        let tuning = Tuning::from_env();
+        let buffers = BuildBuffers::new(device, &shape, &tuning.params(shape.n32, &sort_steps));
+        let [_, _, _, _, clusters_a, clusters_b, ..] = &buffers.scratch;
+        let even = buffers.bind(device, &self.group0, tris_in, clusters_a, clusters_b);
+        let odd = buffers.bind(device, &self.group0, tris_in, clusters_b, clusters_a);
 
         let mut timer = Timer::new(device, queue);
         // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
         // (each leaves about 83% of them on the atrium) and the finish.
-        let after_local = n as f64 * local as f64 / FINISH_CLUSTERS as f64;
-        let first_rounds = if after_local > finish as f64 { ((after_local / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 1 } else { 0 };
         let mut rounds = 0u32;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build") });
-        let direct = |pass: &mut wgpu::ComputePass, pipeline, invocations: u64| {
-            let (x, y) = groups_for(invocations);
-            pass.set_pipeline(pipeline);
-            pass.dispatch_workgroups(x, y, 1);
-        };
-        {
-            let mut pass = timer.pass(&mut encoder, Phase::Sort);
-            pass.set_bind_group(0, &even, &[slot(0)]);
-            direct(&mut pass, &self.prim_boxes, n as u64);
-            direct(&mut pass, &self.morton, padded);
-            pass.set_pipeline(&self.sort_block);
-            let blocks = padded / SORT_BLOCK as u64;
-            let block_groups = (blocks.min(32768) as u32, blocks.div_ceil(32768) as u32);
-            pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
-            for (s, &(_, _, step)) in sort_steps.iter().enumerate() {
-                pass.set_bind_group(0, &even, &[slot(3 + s as u64)]);
-                match step {
-                    SortStep::Block => {
-                        pass.set_pipeline(&self.sort_block_merge);
-                        pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
-                    }
-                    SortStep::Single => direct(&mut pass, &self.sort_step, padded / 2),
-                    SortStep::Pair => direct(&mut pass, &self.sort_step_pair, padded / 4),
-                }
-            }
-        }
+        self.record_sort(&mut timer.pass(&mut encoder, Phase::Sort), &even, &shape, &sort_steps);
         {
             let mut pass = timer.pass(&mut encoder, Phase::Rounds);
             pass.set_bind_group(0, &even, &[slot(0)]);
             pass.set_pipeline(&self.ploc_local);
             pass.dispatch_workgroups(n.div_ceil(FINISH_CLUSTERS as usize) as u32, 1, 1);
-            for _ in 0..first_rounds {
-                self.record_round(&mut pass, rounds, [&even, &odd], slot, (gx, gy));
+            for _ in 0..tuning.first_rounds(n) {
+                self.record_round(&mut pass, rounds, [&even, &odd], shape.groups);
                 rounds += 1;
             }
         }
         self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), &even, slot(1));
         timer.resolve(&mut encoder);
         queue.submit([encoder.finish()]);
-        // More rounds until one cluster is left (a round merges at least the closest pair).
+        self.run_remaining_rounds(device, queue, &mut timer, &buffers.state, [&even, &odd], (rounds, shape.groups))?;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build layout") });
+        self.record_layout(&mut timer.pass(&mut encoder, Phase::Layout), &even, &shape);
+        timer.resolve(&mut encoder);
+        queue.submit([encoder.finish()]);
+        finished_blas(device, queue, buffers, &shape, &timer)
+    }
+
+    /// Leaf boxes, Morton codes and their bitonic sort (`sort_steps` after the first blocks).
+    fn record_sort(&self, pass: &mut wgpu::ComputePass, even: &wgpu::BindGroup, shape: &BuildShape, sort_steps: &[(u32, u32, SortStep)]) {
+        let padded = shape.padded;
+        pass.set_bind_group(0, even, &[slot(0)]);
+        dispatch_for(pass, &self.prim_boxes, shape.n as u64);
+        dispatch_for(pass, &self.morton, padded);
+        pass.set_pipeline(&self.sort_block);
+        let blocks = padded / SORT_BLOCK as u64;
+        let block_groups = (blocks.min(32768) as u32, blocks.div_ceil(32768) as u32);
+        pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
+        for (s, &(_, _, step)) in sort_steps.iter().enumerate() {
+            pass.set_bind_group(0, even, &[slot(3 + s as u64)]);
+            match step {
+                SortStep::Block => {
+                    pass.set_pipeline(&self.sort_block_merge);
+                    pass.dispatch_workgroups(block_groups.0, block_groups.1, 1);
+                }
+                SortStep::Single => dispatch_for(pass, &self.sort_step, padded / 2),
+                SortStep::Pair => dispatch_for(pass, &self.sort_step_pair, padded / 4),
+            }
+        }
+    }
+
+    /// More rounds, four and the finish per submission, until one cluster is left (a round
+    /// merges at least the closest pair); `(rounds, groups)`: the rounds recorded so far and
+    /// the workgroups of one.
+    fn run_remaining_rounds(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        timer: &mut Timer,
+        state: &wgpu::Buffer,
+        bind: [&wgpu::BindGroup; 2],
+        (mut rounds, groups): (u32, (u32, u32)),
+    ) -> Result<(), GpuBuildError> {
         loop {
-            if read_u32s(device, queue, &state, 0, 16)?[6] <= 1 {
-                break;
+            if read_u32s(device, queue, state, 0, 16)?[6] <= 1 {
+                return Ok(());
             }
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build rounds") });
             {
                 let mut pass = timer.pass(&mut encoder, Phase::Rounds);
                 for _ in 0..4 {
-                    self.record_round(&mut pass, rounds, [&even, &odd], slot, (gx, gy));
+                    self.record_round(&mut pass, rounds, bind, groups);
                     rounds += 1;
                 }
             }
-            self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), &even, slot(1));
+            self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), bind[0], slot(1));
             timer.resolve(&mut encoder);
             queue.submit([encoder.finish()]);
         }
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build layout") });
-        {
-            let mut pass = timer.pass(&mut encoder, Phase::Layout);
-            pass.set_bind_group(0, &even, &[slot(0)]);
-            let (x, y) = groups_for(nodes);
-            pass.set_pipeline(&self.layout_offsets);
-            pass.dispatch_workgroups(x, y, 1);
-            let (x, y) = groups_for(n as u64);
-            pass.set_pipeline(&self.layout_write);
-            pass.dispatch_workgroups(x, y, 1);
-        }
-        timer.resolve(&mut encoder);
-        queue.submit([encoder.finish()]);
-        let state = read_u32s(device, queue, &state, 0, 16)?;
-        let depth = state[9];
-        if depth as usize >= MAX_TREE_DEPTH {
-            return Err(GpuBuildError::TooDeep(depth));
-        }
-        let phase_ms = timer.phase_ms(device, queue)?;
-        let gpu_ms = phase_ms.map(|p| p.iter().sum());
-        let (root_cost, root_area) = (f32::from_bits(state[12]) as f64, f32::from_bits(state[13]) as f64);
-        let sah_cost = if root_area > 0.0 { root_cost / root_area } else { INTERSECTION_COST as f64 * n as f64 };
-        Ok(GpuBlas {
-            nodes: out_nodes,
-            triangles: out_tris,
-            parents,
-            leaf_order,
-            node_count: nodes as u32,
-            triangle_count: n32,
-            depth,
-            sah_cost,
-            rounds: state[10],
-            gpu_ms,
-            phase_ms,
-        })
+    }
+
+    /// The depth-first offsets of every node, then the traversal's layout.
+    fn record_layout(&self, pass: &mut wgpu::ComputePass, even: &wgpu::BindGroup, shape: &BuildShape) {
+        pass.set_bind_group(0, even, &[slot(0)]);
+        let (x, y) = groups_for(shape.nodes);
+        pass.set_pipeline(&self.layout_offsets);
+        pass.dispatch_workgroups(x, y, 1);
+        let (x, y) = groups_for(shape.n as u64);
+        pass.set_pipeline(&self.layout_write);
+        pass.dispatch_workgroups(x, y, 1);
     }
 
     /// The finish: one workgroup, from at most `finish` clusters to the root.
@@ -494,7 +379,7 @@ impl GpuBlasBuilder {
     /// One PLOC round: nearest neighbours; then merges and the survivors compacted in order
     /// into the other cluster array. Dispatched for all clusters (`groups`); a round with
     /// nothing to do returns at once.
-    fn record_round(&self, pass: &mut wgpu::ComputePass, round: u32, bind: [&wgpu::BindGroup; 2], slot: impl Fn(u64) -> u32, groups: (u32, u32)) {
+    fn record_round(&self, pass: &mut wgpu::ComputePass, round: u32, bind: [&wgpu::BindGroup; 2], groups: (u32, u32)) {
         let parity = (round % 2) as usize;
         pass.set_bind_group(0, bind[parity], &[slot(1 + parity as u64)]);
         pass.set_pipeline(&self.ploc_nearest);
@@ -502,6 +387,221 @@ impl GpuBlasBuilder {
         pass.set_pipeline(&self.ploc_merge);
         pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
+}
+
+/// The dynamic offset of params record `s`.
+fn slot(s: u64) -> u32 {
+    (s * PARAMS_STRIDE) as u32
+}
+
+/// Sets `pipeline` and dispatches it for `invocations` threads ([`groups_for`]).
+fn dispatch_for(pass: &mut wgpu::ComputePass, pipeline: &wgpu::ComputePipeline, invocations: u64) {
+    let (x, y) = groups_for(invocations);
+    pass.set_pipeline(pipeline);
+    pass.dispatch_workgroups(x, y, 1);
+}
+
+/// The sizes of one build over `n` triangles.
+struct BuildShape {
+    n: usize,
+    n32: u32,
+    /// Keys sorted: `n` padded to a power of two, at least one sort block.
+    padded: u64,
+    /// Nodes of the tree, `2 n - 1`.
+    nodes: u64,
+    /// Workgroups of a dispatch over every triangle (or cluster).
+    groups: (u32, u32),
+}
+
+impl BuildShape {
+    fn new(n: usize) -> Self {
+        Self { n, n32: n as u32, padded: n.next_power_of_two().max(SORT_BLOCK as usize) as u64, nodes: 2 * n as u64 - 1, groups: groups_for(n as u64) }
+    }
+}
+
+/// The bitonic sort's dispatches after the first blocks, as (k, j, kind): the global steps of
+/// each stage two at a time (an odd one alone), then the steps below [`SORT_BLOCK`] in
+/// workgroup memory.
+fn sort_steps(padded: u64) -> Vec<(u32, u32, SortStep)> {
+    let mut sort_steps: Vec<(u32, u32, SortStep)> = Vec::new();
+    let mut k = 2 * SORT_BLOCK as u64;
+    while k <= padded {
+        let mut j = k / 2;
+        while j >= SORT_BLOCK as u64 {
+            if j >= 2 * SORT_BLOCK as u64 {
+                sort_steps.push((k as u32, j as u32, SortStep::Pair));
+                j /= 4;
+            } else {
+                sort_steps.push((k as u32, j as u32, SortStep::Single));
+                j /= 2;
+            }
+        }
+        sort_steps.push((k as u32, SORT_BLOCK / 2, SortStep::Block));
+        k *= 2;
+    }
+    sort_steps
+}
+
+/// The build's clusters per finish and per local segment and its search radius, from the
+/// environment's overrides (for measuring) or the defaults.
+struct Tuning {
+    finish: u32,
+    local: u32,
+    radius: u32,
+}
+
+impl Tuning {
+    fn from_env() -> Self {
+        let var = |name: &str| std::env::var(name).ok().and_then(|v| v.parse().ok());
+        Self {
+            finish: var("RAYGRAPH_GPU_BUILD_FINISH").unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS),
+            local: var("RAYGRAPH_GPU_BUILD_LOCAL").unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS),
+            radius: var("RAYGRAPH_GPU_BUILD_RADIUS").unwrap_or(SEARCH_RADIUS).clamp(1, RADIUS),
+        }
+    }
+
+    /// The params records, [`PARAMS_STRIDE`] apart: 0 the base, 1 and 2 the rounds of each
+    /// parity, then the sort's steps.
+    fn params(&self, n32: u32, sort_steps: &[(u32, u32, SortStep)]) -> Vec<u8> {
+        let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
+        let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
+        let (local, finish, radius) = (self.local, self.finish, self.radius);
+        put(0, [n32, local, 0, 0, finish, radius, 0, 0]);
+        put(1, [n32, 0, 0, 0, finish, radius, 0, 0]);
+        put(2, [n32, 0, 0, 1, finish, radius, 0, 0]);
+        for (s, &(k, j, _)) in sort_steps.iter().enumerate() {
+            put(3 + s, [n32, k, j, 0, finish, radius, 0, 0]);
+        }
+        params
+    }
+
+    /// The rounds recorded with the first submission for `n` triangles: enough to bring the
+    /// clusters left by the local rounds down to `finish` at about 83% left per round.
+    fn first_rounds(&self, n: usize) -> u32 {
+        let (local, finish) = (self.local, self.finish);
+        let after_local = n as f64 * local as f64 / FINISH_CLUSTERS as f64;
+        if after_local > finish as f64 {
+            ((after_local / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 1
+        } else {
+            0
+        }
+    }
+}
+
+/// A build's buffers: its parameters and state, the tree it writes and its scratch arrays.
+struct BuildBuffers {
+    params: wgpu::Buffer,
+    state: wgpu::Buffer,
+    out_nodes: wgpu::Buffer,
+    out_tris: wgpu::Buffer,
+    parents: wgpu::Buffer,
+    leaf_order: wgpu::Buffer,
+    /// Keys, values, node boxes, node links, clusters a and b, nearest, tile status, offsets.
+    scratch: [wgpu::Buffer; 9],
+}
+
+impl BuildBuffers {
+    fn new(device: &wgpu::Device, shape: &BuildShape, params: &[u8]) -> Self {
+        let storage = wgpu::BufferUsages::STORAGE;
+        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let buffer =
+            |label: &str, size: u64, usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false });
+        let scratch = |label: &str, bytes: u64| buffer(label, bytes.max(16), storage);
+        let (n, nodes, padded, (gx, gy)) = (shape.n as u64, shape.nodes, shape.padded, shape.groups);
+        let params = init("gpu build params", params, wgpu::BufferUsages::UNIFORM);
+        let mut state = [0u32; 16];
+        state[..3].fill(u32::MAX);
+        state[6] = shape.n32;
+        let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC);
+        let out_usage = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        Self {
+            params,
+            state,
+            out_nodes: buffer("BLAS nodes (GPU-built)", nodes * 32, out_usage),
+            out_tris: buffer("triangles (GPU-built)", n * 48, out_usage),
+            parents: buffer("BLAS parents (GPU-built)", nodes * 4, storage | wgpu::BufferUsages::COPY_SRC),
+            leaf_order: buffer("leaf order (GPU-built)", n * 4, storage | wgpu::BufferUsages::COPY_SRC),
+            scratch: [
+                scratch("gpu build keys", padded * 4),
+                scratch("gpu build values", padded * 4),
+                scratch("gpu build node boxes", nodes * 32),
+                scratch("gpu build node links", nodes * 16),
+                scratch("gpu build clusters a", n * 4),
+                scratch("gpu build clusters b", n * 4),
+                scratch("gpu build nearest", n * 4),
+                scratch("gpu build tile status", (gx as u64 * gy as u64) * 4),
+                scratch("gpu build offsets", nodes * 4),
+            ],
+        }
+    }
+
+    /// The bind group over these buffers, reading clusters from `clusters_in` and writing the
+    /// survivors to `clusters_out`.
+    fn bind(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        tris_in: &wgpu::Buffer,
+        clusters_in: &wgpu::Buffer,
+        clusters_out: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        fn b(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+        }
+        let [keys, vals, node_box, node_link, _, _, nearest, tile_status, offsets] = &self.scratch;
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gpu build"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &self.params, offset: 0, size: wgpu::BufferSize::new(32) }),
+                },
+                b(1, tris_in),
+                b(2, keys),
+                b(3, vals),
+                b(4, &self.state),
+                b(5, node_box),
+                b(6, node_link),
+                b(7, clusters_in),
+                b(8, clusters_out),
+                b(9, nearest),
+                b(10, tile_status),
+                b(11, offsets),
+                b(12, &self.out_nodes),
+                b(13, &self.out_tris),
+                b(14, &self.parents),
+                b(15, &self.leaf_order),
+            ],
+        })
+    }
+}
+
+/// The finished tree: reads back the build's state (depth, rounds, the root's cost) and the
+/// timestamps; fails for a tree deeper than the traversal stack.
+fn finished_blas(device: &wgpu::Device, queue: &wgpu::Queue, buffers: BuildBuffers, shape: &BuildShape, timer: &Timer) -> Result<GpuBlas, GpuBuildError> {
+    let state = read_u32s(device, queue, &buffers.state, 0, 16)?;
+    let depth = state[9];
+    if depth as usize >= MAX_TREE_DEPTH {
+        return Err(GpuBuildError::TooDeep(depth));
+    }
+    let phase_ms = timer.phase_ms(device, queue)?;
+    let gpu_ms = phase_ms.map(|p| p.iter().sum());
+    let (root_cost, root_area) = (f32::from_bits(state[12]) as f64, f32::from_bits(state[13]) as f64);
+    let sah_cost = if root_area > 0.0 { root_cost / root_area } else { INTERSECTION_COST as f64 * shape.n as f64 };
+    Ok(GpuBlas {
+        nodes: buffers.out_nodes,
+        triangles: buffers.out_tris,
+        parents: buffers.parents,
+        leaf_order: buffers.leaf_order,
+        node_count: shape.nodes as u32,
+        triangle_count: shape.n32,
+        depth,
+        sah_cost,
+        rounds: state[10],
+        gpu_ms,
+        phase_ms,
+    })
 }
 
 /// Reads `count` words of `buffer` from word `first`, waiting for the GPU.

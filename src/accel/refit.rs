@@ -131,6 +131,92 @@ pub struct MergedRefit {
     usable: Vec<bool>,
 }
 
+/// The bindings of `refit_treelets` after the parameters (binding 0, a uniform with a dynamic
+/// offset) and whether each is read-only: nodes, triangles, object vertices, transforms, level
+/// nodes, TLAS nodes, level ranges, treelets.
+const PLANNED_BINDINGS: [(u32, bool); 8] = [(1, false), (2, false), (3, true), (4, true), (5, true), (6, false), (7, true), (8, true)];
+
+/// The buffers a [`MergedRefit`] makes for itself (the merged arrays are the cache's).
+struct PlannedArrays {
+    object_vertices: wgpu::Buffer,
+    transforms: wgpu::Buffer,
+    level_nodes: wgpu::Buffer,
+    level_ranges: wgpu::Buffer,
+    treelets: wgpu::Buffer,
+    params: wgpu::Buffer,
+}
+
+impl PlannedArrays {
+    /// The refit's input vertices `object`, zeroed transforms for `scene`'s instances, the
+    /// treelet plan and the parameter records `params`.
+    fn new(device: &wgpu::Device, scene: &Scene, object: &[[u32; 4]], plan: &TreeletPlan, params: &[u8]) -> Self {
+        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        Self {
+            object_vertices: init("refit object vertices", bytemuck::cast_slice(object), storage),
+            transforms: init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST),
+            level_nodes: init("refit level nodes", bytemuck::cast_slice(&plan.nodes), storage),
+            level_ranges: init("refit level ranges", bytemuck::cast_slice(&plan.levels), storage),
+            treelets: init("refit treelets", bytemuck::cast_slice(&plan.treelets), storage),
+            params: init("refit params", params, wgpu::BufferUsages::UNIFORM),
+        }
+    }
+
+    /// The bind group of `refit_treelets` over these buffers and the cache's `buffers` (tlas
+    /// nodes, instances, blas nodes, triangles).
+    fn bind_group(&self, device: &wgpu::Device, layout: &wgpu::BindGroupLayout, buffers: &[wgpu::Buffer; 4]) -> wgpu::BindGroup {
+        let params = wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &self.params, offset: 0, size: wgpu::BufferSize::new(16) }),
+        };
+        let resources = [&buffers[2], &buffers[3], &self.object_vertices, &self.transforms, &self.level_nodes, &buffers[0], &self.level_ranges, &self.treelets];
+        let entries: Vec<_> = std::iter::once(params)
+            .chain(PLANNED_BINDINGS.iter().zip(resources).map(|(&(binding, _), b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }))
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("refit"), layout, entries: &entries })
+    }
+}
+
+/// Workgroups (treelets) per dispatch of `plan`: the subtree treelets, then the top one.
+fn treelet_dispatches(plan: &TreeletPlan) -> Vec<u32> {
+    let subtrees = plan.treelets.len() as u32 - plan.has_top as u32;
+    [subtrees, plan.has_top as u32].into_iter().filter(|&n| n > 0).collect()
+}
+
+/// The `Params` record of each dispatch, `stride` bytes apart: its first treelet and whether
+/// it is the last dispatch.
+fn dispatch_params(dispatches: &[u32], stride: u64) -> Vec<u8> {
+    let mut params = vec![0u8; stride as usize * dispatches.len()];
+    let mut first = 0;
+    for (k, &n) in dispatches.iter().enumerate() {
+        let record = [first, (k + 1 == dispatches.len()) as u32, 0, 0];
+        params[k * stride as usize..][..16].copy_from_slice(bytemuck::cast_slice(&record));
+        first += n;
+    }
+    params
+}
+
+/// The layout and pipeline of `refit_treelets`.
+fn planned_pipeline(device: &wgpu::Device) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("refit.wgsl"), source: wgpu::ShaderSource::Wgsl(REFIT_WGSL.into()) });
+    let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: binding == 0, min_binding_size: None },
+        count: None,
+    };
+    let entries: Vec<_> = std::iter::once(buffer(0, wgpu::BufferBindingType::Uniform))
+        .chain(PLANNED_BINDINGS.iter().map(|&(binding, read_only)| buffer(binding, wgpu::BufferBindingType::Storage { read_only })))
+        .collect();
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("refit"), entries: &entries });
+    let pipeline_layout =
+        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+    let pipeline = compute_pipeline(device, "refit", &pipeline_layout, &module, "refit_treelets");
+    (layout, pipeline)
+}
+
 impl MergedRefit {
     /// The refit of `flat` (the merged layout of `scene`) in the cache's `buffers` (tlas nodes,
     /// instances, blas nodes, triangles); `None` for an empty tree.
@@ -141,78 +227,17 @@ impl MergedRefit {
         let object = object_vertices(scene, flat);
         let max_nodes = TREELET_NODES.max(flat.blas_nodes.len().div_ceil(60_000));
         let plan = plan_treelets(&flat.blas_nodes, max_nodes);
-        let subtrees = plan.treelets.len() as u32 - plan.has_top as u32;
-        let dispatches: Vec<u32> = [subtrees, plan.has_top as u32].into_iter().filter(|&n| n > 0).collect();
+        let dispatches = treelet_dispatches(&plan);
         let params_stride = device.limits().min_uniform_buffer_offset_alignment.max(16) as u64;
-        let mut params = vec![0u8; params_stride as usize * dispatches.len()];
-        let mut first = 0;
-        for (k, &n) in dispatches.iter().enumerate() {
-            let record = [first, (k + 1 == dispatches.len()) as u32, 0, 0];
-            params[k * params_stride as usize..][..16].copy_from_slice(bytemuck::cast_slice(&record));
-            first += n;
-        }
-        let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
-        };
-        let storage = wgpu::BufferUsages::STORAGE;
-        let object_vertices = init("refit object vertices", bytemuck::cast_slice(&object), storage);
-        let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
-        let level_nodes = init("refit level nodes", bytemuck::cast_slice(&plan.nodes), storage);
-        let level_ranges = init("refit level ranges", bytemuck::cast_slice(&plan.levels), storage);
-        let treelets = init("refit treelets", bytemuck::cast_slice(&plan.treelets), storage);
-        let params = init("refit params", &params, wgpu::BufferUsages::UNIFORM);
-
-        let module =
-            device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("refit.wgsl"), source: wgpu::ShaderSource::Wgsl(REFIT_WGSL.into()) });
-        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: binding == 0, min_binding_size: None },
-            count: None,
-        };
-        let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let ro = wgpu::BufferBindingType::Storage { read_only: true };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("refit"),
-            entries: &[
-                buffer(0, wgpu::BufferBindingType::Uniform),
-                buffer(1, rw),
-                buffer(2, rw),
-                buffer(3, ro),
-                buffer(4, ro),
-                buffer(5, ro),
-                buffer(6, rw),
-                buffer(7, ro),
-                buffer(8, ro),
-            ],
-        });
-        let pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        let pipeline = compute_pipeline(device, "refit", &pipeline_layout, &module, "refit_treelets");
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("refit"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding { buffer: &params, offset: 0, size: wgpu::BufferSize::new(16) }),
-                },
-                wgpu::BindGroupEntry { binding: 1, resource: buffers[2].as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: buffers[3].as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: object_vertices.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: transforms.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 5, resource: level_nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 6, resource: buffers[0].as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 7, resource: level_ranges.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 8, resource: treelets.as_entire_binding() },
-            ],
-        });
+        let arrays = PlannedArrays::new(device, scene, &object, &plan, &dispatch_params(&dispatches, params_stride));
+        let (layout, pipeline) = planned_pipeline(device);
+        let bind_group = arrays.bind_group(device, &layout, buffers);
         let usable = usable_instances(scene);
         Some(Self {
             pipeline,
             bind_group,
-            transforms,
-            object_vertices,
+            transforms: arrays.transforms,
+            object_vertices: arrays.object_vertices,
             nodes: buffers[2].clone(),
             node_count: flat.blas_nodes.len() as u32,
             params_stride,
