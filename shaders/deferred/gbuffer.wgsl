@@ -1,10 +1,10 @@
 // The Deferred layer's G-buffer from the rasterizer's visibility buffer
 // (visibility/visibility.wgsl): per pixel, the camera ray through the pixel centre meets the
 // triangle kept there (common/visible_hit.wgsl), and the surface at that hit is written as
-// primary rays write theirs (rt/primary.wgsl, common/surface.wgsl: every material input,
-// textures at the mip level of the pixel's ray cone). Hybrid and full ray tracing then differ
-// only in which triangle each pixel shows. `deferred/deferred.wgsl` writes the same channels
-// in the fragment stage.
+// primary rays write theirs (common/primary_rays.wgsl, common/surface.wgsl: every material
+// input, textures at the mip level of the pixel's ray cone). Hybrid and full ray tracing then
+// differ only in which triangle each pixel shows. `deferred/deferred.wgsl` writes the same
+// channels in the fragment stage.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"

@@ -1,9 +1,9 @@
 // The rt_blend layer: the BLEND surfaces in front of each pixel's G-buffer surface composited
 // front to back over the resolved image (common/hit_lighting.wgsl's composite_blend). The
-// pixel's ray is the primary ray of rt/primary.wgsl (the rasterizer's sample position), cut
-// just short of the G-buffer surface; textures are read at the mip level of the pixel's ray
-// cone. The image is premultiplied (the sky, a = 0, shows through what the surfaces leave
-// uncovered). Without BLEND materials (SCENE_BLEND false) the image is copied through.
+// pixel's ray is the primary ray of common/primary_rays.wgsl (the rasterizer's sample
+// position), cut just short of the G-buffer surface; textures are read at the mip level of the
+// pixel's ray cone. The image is premultiplied (the sky, a = 0, shows through what the surfaces
+// leave uncovered). Without BLEND materials (SCENE_BLEND false) the image is copied through.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
