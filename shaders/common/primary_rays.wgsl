@@ -6,8 +6,8 @@
 // neighbouring pixels' rays), as the rasterizer's derivatives pick. Back faces of single-sided
 // materials are culled, as the rasterizer culls them: the ray goes on past them
 // (common/primary_hit.wgsl).
-// Declares the scene's bindings 0 to 6; the main shader declares the storage textures it
-// writes (from binding 7) and what a pixel stores:
+// The scene's bindings 0 to 6 come with common/scene_bindings.wgsl; the main shader declares
+// the storage textures it writes (from binding 7) and what a pixel stores:
 //   fn primary_output_size() -> vec2<u32>           the size of the textures written
 //   fn store_primary_hit(p: vec2<u32>, s: Surface, instance: u32)
 //                                                    pixel `p` shows surface `s` of instance
@@ -16,18 +16,11 @@
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
+//#include "common/scene_bindings.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "trace/trace.wgsl"
 //#include "common/surface.wgsl"
 //#include "common/primary_hit.wgsl"
-
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
-@group(0) @binding(3) var<storage, read> scene_meshes: array<MeshRecord>;
-@group(0) @binding(4) var<storage, read> scene_indices: array<u32>;
-@group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
-@group(0) @binding(6) var linear_sampler: sampler;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {

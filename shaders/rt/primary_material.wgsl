@@ -3,6 +3,7 @@
 //#include "common/primary_rays.wgsl"
 //#include "common/gbuffer_store_material.wgsl"
 
+// Bindings 0 to 6: the frame and the scene (common/primary_rays.wgsl).
 @group(0) @binding(7) var material: texture_storage_2d<rgba8unorm, write>;
 @group(0) @binding(8) var emissive: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(9) var lobes: texture_storage_2d<rgba32uint, write>;

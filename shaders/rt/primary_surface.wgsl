@@ -5,6 +5,7 @@
 //#include "common/primary_rays.wgsl"
 //#include "common/gbuffer_store_surface.wgsl"
 
+// Bindings 0 to 6: the frame and the scene (common/primary_rays.wgsl).
 @group(0) @binding(7) var position: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(9) var geo_normal: texture_storage_2d<rgba16float, write>;
