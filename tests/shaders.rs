@@ -52,9 +52,14 @@ fn included_files_report_their_own_lines() {
     let f = root.join("forward/shade.wgsl");
     let info = reflect(&f, &root, &Location::file_start(&f)).unwrap();
     let text = std::fs::read_to_string(&f).unwrap();
+    let params = info.binding("params").unwrap();
+    assert!(params.location.file.ends_with("forward/shade.wgsl"));
+    assert_eq!(params.location.line, common::line_of(&text, "var<uniform> params"));
+    // A binding declared in an include names the include's line.
     let frame = info.binding("frame").unwrap();
-    assert!(frame.location.file.ends_with("forward/shade.wgsl"));
-    assert_eq!(frame.location.line, common::line_of(&text, "var<uniform> frame"));
+    assert!(frame.location.file.ends_with("common/scene_bindings.wgsl"), "{}", frame.location);
+    let bindings = std::fs::read_to_string(root.join("common/scene_bindings.wgsl")).unwrap();
+    assert_eq!(frame.location.line, common::line_of(&bindings, "var<uniform> frame"));
     // An offset inside the appended include maps back into the include.
     let offset = info.source.text.find("struct Instance").unwrap();
     let loc = info.source.locate(offset);

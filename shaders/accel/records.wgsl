@@ -35,7 +35,7 @@ struct Params {
 // The builder's input records: v0, prim, v1, instance, v2, flags (`GpuTriangle`).
 @group(0) @binding(6) var<storage, read_write> records: array<vec4<u32>>;
 // Per record, its three object-space vertices (the tree refit's input), each with its index
-// into `vertices` in w (where shaders/accel/deform.wgsl gathers deformed positions from).
+// into `vertices` in w (where shaders/accel/gather_positions.wgsl gathers deformed positions from).
 @group(0) @binding(7) var<storage, read_write> object_vertices: array<vec4<u32>>;
 
 const GROUP: u32 = 256u;

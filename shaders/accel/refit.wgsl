@@ -31,7 +31,7 @@ struct Params {
 // Triangle i: [3i] = (v0, prim), [3i + 1] = (v1, instance), [3i + 2] = (v2, flags).
 @group(0) @binding(2) var<storage, read_write> triangles: array<vec4<f32>>;
 // Triangle i's object-space vertices: [3i], [3i + 1], [3i + 2] (w: the vertex's index, for
-// shaders/accel/deform.wgsl).
+// shaders/accel/gather_positions.wgsl).
 @group(0) @binding(3) var<storage, read> object_vertices: array<vec4<f32>>;
 // Scene instance j's object-to-world rows: [3j], [3j + 1], [3j + 2].
 @group(0) @binding(4) var<storage, read> transforms: array<vec4<f32>>;

@@ -1,9 +1,10 @@
 // The alpha test's texture read (docs/ARCHITECTURE.md, "Alpha-tested geometry"), shared by the
-// raster side (common/alpha.wgsl) and the trace side (trace/alpha.wgsl): the alpha channel of
-// a scene texture at mip level 0, bilinear, wrapped per axis as the base colour slot's sampler
-// wraps (`wrap`: bits 0-1 S, 2-3 T; 0 repeat, 1 clamp to edge, 2 mirrored repeat), read texel
-// by texel (textureLoad: no sampler, and the CPU references in src/accel/alpha.rs do the same
-// arithmetic). A texel is kept when base_color.a x that alpha >= the cutoff.
+// raster side (common/raster_alpha_test.wgsl) and the trace side (trace/alpha.wgsl): the alpha
+// channel of a scene texture at mip level 0, bilinear, wrapped per axis as the base colour
+// slot's sampler wraps (`wrap`: bits 0-1 S, 2-3 T; 0 repeat, 1 clamp to edge, 2 mirrored
+// repeat), read texel by texel (textureLoad: no sampler, and the CPU references in
+// src/accel/alpha.rs do the same arithmetic). A texel is kept when base_color.a x that alpha >=
+// the cutoff.
 //#include "common/scene_textures_texels.wgsl"
 
 // Texel index `f` (a whole number) of an axis `n` texels long, wrapped by `mode`.

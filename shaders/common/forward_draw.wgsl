@@ -12,9 +12,8 @@
 //#include "common/scene_textures.wgsl"
 //#include "common/lighting.wgsl"
 //#include "common/material_inputs.wgsl"
-//#include "common/raster_visibility.wgsl"
 //#include "common/forward_shading.wgsl"
-//#include "common/scene_vertex.wgsl"
+//#include "common/scene_fragment.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -28,14 +27,6 @@
 @group(0) @binding(10) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(11) var<storage, read> scene_meshes: array<MeshRecord>;
 @group(0) @binding(12) var<storage, read> scene_vertices: array<SceneVertex>;
-
-// The material inputs of a fragment, read as the raster G-buffer reads them
-// (deferred/deferred.wgsl, common/material_inputs.wgsl): back faces of single-sided materials
-// culled, those of double-sided ones with reversed normals. Takes derivatives (the normal map's
-// frame, the face normal and the shadow maps' receiver plane): call in uniform control flow.
-fn fragment_surface(in: VertexOut, front_facing: bool) -> RasterSurface {
-    return raster_surface(scene_instances[in.instance], front_facing, in.local, in.uv, in.uv1, in.color, in.normal);
-}
 
 // The linear HDR radiance of fragment `in` with surface `r`. The geometric normal decides the
 // shadow offset direction, so smooth shading normals do not push points into neighbouring

@@ -56,7 +56,7 @@ struct BlendComposite {
     hit: Hit,
 }
 
-// Composites the translucent surfaces `ray` meets (common/blend.wgsl: at most BLEND_LAYERS;
+// Composites the translucent surfaces `ray` meets (common/ray_blend.wgsl: at most BLEND_LAYERS;
 // back faces of single-sided materials passed as the rasterizer culls them) until its first
 // other surface. `cone_start` and `cone_spread`: the ray cone's width is cone_start + cone_spread x
 // distance (textures' mip level, as the ray's own surface takes it).

@@ -1,10 +1,10 @@
 // The closest surface a primary ray sees, back faces of single-sided materials culled as the
-// rasterizer culls them (rt/primary.wgsl, and the two passes of layers/primary_split.ron), and
+// rasterizer culls them (common/primary_rays.wgsl, the kernel of the primary-ray passes), and
 // BLEND surfaces passed (the G-buffer holds the first opaque surface; the rt_blend layer
-// composites the translucent ones in front of it, common/blend.wgsl).
+// composites the translucent ones in front of it, common/ray_blend.wgsl).
 // Needs the main shader to declare the scene's instances and materials and to include
 // trace/trace.wgsl.
-//#include "common/blend.wgsl"
+//#include "common/ray_blend.wgsl"
 
 // How many culled back faces and BLEND surfaces a primary ray passes before it gives up (a
 // miss).

@@ -1,13 +1,13 @@
 // Which rasterized fragments of the scene are kept, the same visibility the rays have: texels
-// the alpha test cuts are discarded (common/alpha.wgsl). Back faces of single-sided materials
-// (glTF doubleSided false) never reach the fragment stage: the executor culls them in the
-// rasterizer (`cull_back_faces`, src/runtime/raster.rs). Also the surface inputs a kept fragment
-// shades with, read alike by the G-buffer (deferred/deferred.wgsl) and forward shading
-// (forward/forward.wgsl).
-// Needs common/scene.wgsl and `scene_materials`, like common/alpha.wgsl, and
+// the alpha test cuts are discarded (common/raster_alpha_test.wgsl). Back faces of single-sided
+// materials (glTF doubleSided false) never reach the fragment stage: the executor culls them in
+// the rasterizer (`cull_back_faces`, src/runtime/raster.rs). Also the surface inputs a kept
+// fragment shades with, read alike by the G-buffer (deferred/deferred.wgsl) and forward shading
+// (forward/forward.wgsl), through common/scene_fragment.wgsl.
+// Needs common/scene.wgsl and `scene_materials`, like common/raster_alpha_test.wgsl, and
 // common/scene_textures.wgsl.
 //#include "common/material_inputs.wgsl"
-//#include "common/alpha.wgsl"
+//#include "common/raster_alpha_test.wgsl"
 //#include "common/texture_sampling.wgsl"
 //#include "common/surface_lobes.wgsl"
 

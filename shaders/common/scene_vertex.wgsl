@@ -1,6 +1,7 @@
 // The vertex stage of the raster passes that draw the scene's materials (the G-buffer,
 // deferred/deferred.wgsl, and forward shading, common/forward_draw.wgsl): world and
-// object-space positions, the world normal, both uv sets and the vertex colour of each vertex.
+// object-space positions, the world normal, both uv sets and the vertex colour of each vertex
+// (their fragment stages read it through common/scene_fragment.wgsl).
 // Needs `frame`, `scene_instances`, `scene_meshes` and `scene_vertices` declared by the pass.
 //#include "common/vertex_extras.wgsl"
 

@@ -1,8 +1,8 @@
 // One shadow ray per light, shared by rt/shadow.wgsl and the reflection hits; BLEND surfaces
-// on it let part of the light through (common/blend.wgsl). Needs common/lighting.wgsl,
+// on it let part of the light through (common/ray_blend.wgsl). Needs common/lighting.wgsl,
 // common/sampling.wgsl and trace/trace.wgsl.
 //#include "common/ray_offset.wgsl"
-//#include "common/blend.wgsl"
+//#include "common/ray_blend.wgsl"
 
 // How much of the shadow-terminator offset `offset` (common/material_inputs.wgsl) a shadow ray
 // towards `l` leaves from, for shading normal `n` and geometric normal `geo`: all of it where the

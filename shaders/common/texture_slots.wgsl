@@ -1,9 +1,9 @@
 // A material's texture slots (common/scene.wgsl `Material`): their sampler bits and their
 // KHR_texture_transform, read alike by the sampled reads (common/texture_sampling.wgsl) and
-// the alpha test's texel reads (common/alpha.wgsl). Each function takes the material's index
-// and reads only the words it needs from `scene_materials` (a copy of the whole record would
-// carry its ten transform rows along). Needs common/scene.wgsl included and `scene_materials`
-// declared.
+// the alpha test's texel reads (common/raster_alpha_test.wgsl). Each function takes the
+// material's index and reads only the words it needs from `scene_materials` (a copy of the
+// whole record would carry its ten transform rows along). Needs common/scene.wgsl included and
+// `scene_materials` declared.
 
 const SLOT_BASE: u32 = 0u;
 const SLOT_METALLIC_ROUGHNESS: u32 = 1u;

@@ -3,14 +3,13 @@
 // object-space position, transformed), albedo, material, emission and occlusion. Normals face
 // the camera. The rasterizer culls back faces of single-sided materials (`cull_back_faces`);
 // those of double-sided ones (glTF `doubleSided`) get reversed normals, as primary rays do
-// (rt/primary.wgsl).
+// (common/primary_rays.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/material_inputs.wgsl"
-//#include "common/raster_visibility.wgsl"
 //#include "common/gbuffer_lobes.wgsl"
-//#include "common/scene_vertex.wgsl"
+//#include "common/scene_fragment.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -33,7 +32,7 @@ struct GBuffer {
 // The fragment's G-buffer channels (discarded fragments never return).
 fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     let inst = scene_instances[in.instance];
-    let s = raster_surface(inst, front_facing, in.local, in.uv, in.uv1, in.color, in.normal);
+    let s = scene_fragment_surface(in, front_facing);
     var out: GBuffer;
     // w: the instance + 1 (0 is the sky), as common/gbuffer_store.wgsl writes it.
     out.position = vec4<f32>(in.world, f32(in.instance + 1u));
@@ -52,7 +51,7 @@ fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuffer {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
+    if !scene_fragment_kept(in) {
         discard;
     }
     return gbuffer_of(in, front_facing);
@@ -75,7 +74,7 @@ struct GBufferMaterial {
 
 @fragment
 fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferSurface {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
+    if !scene_fragment_kept(in) {
         discard;
     }
     let g = gbuffer_of(in, front_facing);
@@ -84,7 +83,7 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuff
 
 @fragment
 fn fs_material(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBufferMaterial {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
+    if !scene_fragment_kept(in) {
         discard;
     }
     let g = gbuffer_of(in, front_facing);
@@ -93,7 +92,7 @@ fn fs_material(in: VertexOut, @builtin(front_facing) front_facing: bool) -> GBuf
 
 @fragment
 fn fs_lobes(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<u32> {
-    if !raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a) {
+    if !scene_fragment_kept(in) {
         discard;
     }
     return gbuffer_of(in, front_facing).lobes;

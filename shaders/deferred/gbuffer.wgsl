@@ -1,25 +1,20 @@
 // The Deferred layer's G-buffer from the rasterizer's visibility buffer
 // (visibility/visibility.wgsl): per pixel, the camera ray through the pixel centre meets the
 // triangle kept there (common/visible_hit.wgsl), and the surface at that hit is written as
-// primary rays write theirs (rt/primary.wgsl, common/surface.wgsl: every material input,
-// textures at the mip level of the pixel's ray cone). Hybrid and full ray tracing then differ
-// only in which triangle each pixel shows. `deferred/deferred.wgsl` writes the same channels
-// in the fragment stage.
+// primary rays write theirs (common/primary_rays.wgsl, common/surface.wgsl: every material
+// input, textures at the mip level of the pixel's ray cone). Hybrid and full ray tracing then
+// differ only in which triangle each pixel shows. `deferred/deferred.wgsl` writes the same
+// channels in the fragment stage.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
+//#include "common/scene_bindings.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/surface.wgsl"
 //#include "common/visible_hit.wgsl"
 //#include "common/gbuffer_store.wgsl"
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
-@group(0) @binding(3) var<storage, read> scene_meshes: array<MeshRecord>;
-@group(0) @binding(4) var<storage, read> scene_indices: array<u32>;
-@group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
-@group(0) @binding(6) var linear_sampler: sampler;
+// Bindings 0 to 6: the frame and the scene (common/scene_bindings.wgsl).
 @group(0) @binding(7) var visibility: texture_2d<u32>;
 @group(0) @binding(8) var position: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(9) var normal: texture_storage_2d<rgba16float, write>;

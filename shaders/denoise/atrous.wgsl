@@ -1,7 +1,7 @@
 // The à-trous steps of layers/atrous.ron: `source` filtered into `result` with taps 1, 2, 4 or
-// 8 pixels apart (one entry point per step; common/atrous.wgsl).
+// 8 pixels apart (one entry point per step; common/atrous_step.wgsl).
 //#include "common/frame.wgsl"
-//#include "common/atrous.wgsl"
+//#include "common/atrous_step.wgsl"
 
 //#include "common/atrous_params.wgsl"
 

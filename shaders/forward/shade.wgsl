@@ -10,6 +10,7 @@
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
+//#include "common/scene_bindings.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/lighting.wgsl"
 //#include "common/surface.wgsl"
@@ -17,13 +18,7 @@
 //#include "common/forward_shading.wgsl"
 //#include "common/translucent_over.wgsl"
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
-@group(0) @binding(3) var<storage, read> scene_meshes: array<MeshRecord>;
-@group(0) @binding(4) var<storage, read> scene_indices: array<u32>;
-@group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
-@group(0) @binding(6) var linear_sampler: sampler;
+// Bindings 0 to 6: the frame and the scene (common/scene_bindings.wgsl).
 @group(0) @binding(7) var<uniform> params: Params;
 @group(0) @binding(8) var shadow_map: texture_depth_2d;
 @group(0) @binding(9) var shadow_map_1: texture_depth_2d;

@@ -1,8 +1,8 @@
 // The translucent surfaces of the raster image (glTF BLEND, and transmissive ones, thin-walled),
 // drawn after the opaque ones, back to front by the centre of each instance's bounds, each
 // fragment shaded as forward/forward.wgsl shades one (common/forward_draw.wgsl) with coverage
-// c (common/alpha.wgsl's material_coverage). The executor's `translucent` pass draws only the
-// translucent instances (src/runtime/raster.rs) into two targets cleared to 0:
+// c (common/raster_alpha_test.wgsl's material_coverage). The executor's `translucent` pass draws
+// only the translucent instances (src/runtime/raster.rs) into two targets cleared to 0:
 //   - `translucent`: radiance x c with premultiplied-alpha blending (the layer's radiance and
 //     coverage);
 //   - `translucent_filter`: one minus the product of the surfaces' transmittances t (blended
@@ -30,7 +30,7 @@ struct TranslucentOut {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> TranslucentOut {
-    let r = fragment_surface(in, front_facing);
+    let r = scene_fragment_surface(in, front_facing);
     let material = scene_instances[in.instance].material;
     let c = clamp(material_coverage(material, in.uv, in.color.a), 0.0, 1.0);
     if in.clip.z >= textureLoad(depth, vec2<i32>(in.clip.xy), 0) || c <= 0.0 {

@@ -11,7 +11,7 @@
 //#include "common/ray_offset.wgsl"
 //#include "common/sampling.wgsl"
 //#include "trace/trace.wgsl"
-//#include "common/blend.wgsl"
+//#include "common/ray_blend.wgsl"
 //#include "common/ao_params.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -41,7 +41,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let frame_offset = select(0u, frame.frame_index, params.per_frame != 0u);
     var state = pcg_hash(pixel.x ^ pcg_hash(pixel.y ^ pcg_hash(params.seed + 0x9e3779b9u + frame_offset * 0x85ebca6bu)));
     // Each ray counts by how much of it gets through: 1 or 0, or the transmittance of the
-    // BLEND surfaces it meets (common/blend.wgsl).
+    // BLEND surfaces it meets (common/ray_blend.wgsl).
     var open = 0.0;
     // Every lane runs the same number of rounds, so the lanes of a subgroup trace together.
     let rounds = (params.rays + AO_LANES - 1u) / AO_LANES;

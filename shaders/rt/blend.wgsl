@@ -1,12 +1,13 @@
 // The rt_blend layer: the BLEND surfaces in front of each pixel's G-buffer surface composited
 // front to back over the resolved image (common/hit_lighting.wgsl's composite_blend). The
-// pixel's ray is the primary ray of rt/primary.wgsl (the rasterizer's sample position), cut
-// just short of the G-buffer surface; textures are read at the mip level of the pixel's ray
-// cone. The image is premultiplied (the sky, a = 0, shows through what the surfaces leave
-// uncovered). Without BLEND materials (SCENE_BLEND false) the image is copied through.
+// pixel's ray is the primary ray of common/primary_rays.wgsl (the rasterizer's sample
+// position), cut just short of the G-buffer surface; textures are read at the mip level of the
+// pixel's ray cone. The image is premultiplied (the sky, a = 0, shows through what the surfaces
+// leave uncovered). Without BLEND materials (SCENE_BLEND false) the image is copied through.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"
+//#include "common/scene_bindings.wgsl"
 //#include "common/scene_textures.wgsl"
 //#include "common/ray_offset.wgsl"
 //#include "common/sampling.wgsl"
@@ -16,13 +17,7 @@
 //#include "common/shadow_ray.wgsl"
 //#include "common/hit_lighting.wgsl"
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
-@group(0) @binding(3) var<storage, read> scene_meshes: array<MeshRecord>;
-@group(0) @binding(4) var<storage, read> scene_indices: array<u32>;
-@group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
-@group(0) @binding(6) var linear_sampler: sampler;
+// Bindings 0 to 6: the frame and the scene (common/scene_bindings.wgsl).
 @group(0) @binding(7) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(8) var position: texture_2d<f32>;
 @group(0) @binding(9) var hdr: texture_2d<f32>;

@@ -1,40 +1,24 @@
-// Primary rays (rt/primary.wgsl) writing the surface half of the G-buffer: `position`,
+// Primary rays (common/primary_rays.wgsl) writing the surface half of the G-buffer: `position`,
 // `normal`, `geo_normal`, `albedo`. With rt/primary_material.wgsl, the primary rays of a device
 // with fewer than the six storage textures per stage rt/primary.wgsl writes
 // (layers/primary_split.ron): each pass traces the same rays.
-//#include "common/frame.wgsl"
-//#include "common/camera.wgsl"
-//#include "common/scene.wgsl"
-//#include "common/scene_textures.wgsl"
-//#include "trace/trace.wgsl"
-//#include "common/surface.wgsl"
-//#include "common/primary_hit.wgsl"
+//#include "common/primary_rays.wgsl"
 //#include "common/gbuffer_store_surface.wgsl"
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(2) var<storage, read> scene_materials: array<Material>;
-@group(0) @binding(3) var<storage, read> scene_meshes: array<MeshRecord>;
-@group(0) @binding(4) var<storage, read> scene_indices: array<u32>;
-@group(0) @binding(5) var<storage, read> scene_vertices: array<SceneVertex>;
-@group(0) @binding(6) var linear_sampler: sampler;
+// Bindings 0 to 6: the frame and the scene (common/primary_rays.wgsl).
 @group(0) @binding(7) var position: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(9) var geo_normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var albedo: texture_storage_2d<rgba8unorm, write>;
 
-@compute @workgroup_size(8, 8)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(position);
-    if id.x >= size.x || id.y >= size.y {
-        return;
-    }
-    let ray = Ray(camera_origin(id.xy), 0.0, camera_dir(id.xy), 3.0e38);
-    let hit = closest_visible(ray);
-    if hit.instance == NO_HIT {
-        store_gbuffer_surface_miss(id.xy);
-    } else {
-        store_gbuffer_surface(id.xy, surface_at_cone(ray, hit, camera_cone_width(id.xy, hit.t)), hit.instance);
-    }
-    trace_flush_stats();
+fn primary_output_size() -> vec2<u32> {
+    return textureDimensions(position);
+}
+
+fn store_primary_hit(p: vec2<u32>, s: Surface, instance: u32) {
+    store_gbuffer_surface(p, s, instance);
+}
+
+fn store_primary_miss(p: vec2<u32>) {
+    store_gbuffer_surface_miss(p);
 }

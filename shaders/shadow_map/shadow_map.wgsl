@@ -3,12 +3,12 @@
 // slot (`vs_slot0` .. `vs_slot3`, one pass each in layers/shadow_map.ron); the pass of a
 // slot no light uses is not recorded (`shadow_slot`), and would draw nothing (every vertex is
 // clipped). Alpha-tested materials drop the texels the alpha
-// test cuts (common/alpha.wgsl, the test of every mode). The pass writes only its depth
+// test cuts (common/raster_alpha_test.wgsl, the test of every mode). The pass writes only its depth
 // attachment, so the fragment stage has no colour outputs.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures_texels.wgsl"
-//#include "common/alpha.wgsl"
+//#include "common/raster_alpha_test.wgsl"
 //#include "common/vertex_extras.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;

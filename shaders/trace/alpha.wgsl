@@ -8,8 +8,8 @@
 //     base_color.a x the vertex colours' alpha x the base texture's level-0 bilinear alpha (its slot's wrap modes) at the
 //     interpolated, transformed TEXCOORD_0 is >= the material's cutoff (BLEND: 1/256, its
 //     least coverage: a BLEND surface is translucent, composited by the passes through
-//     common/blend.wgsl). Same arithmetic as the raster side (common/alpha.wgsl) and the CPU
-//     references (src/accel/alpha.rs).
+//     common/ray_blend.wgsl). Same arithmetic as the raster side
+//     (common/raster_alpha_test.wgsl) and the CPU references (src/accel/alpha.rs).
 //   trace_transmittance_passes(instance, primitive, bary) -> bool
 //     For a candidate of a transmittance ray: true where the ray passes it (the alpha test
 //     rejects it, or a BLEND surface whose coverage is taken out of the private

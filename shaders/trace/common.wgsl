@@ -5,7 +5,7 @@
 //                               what gets through [t_min, t_max]: the product of one minus
 //                               the coverage of the BLEND surfaces passed (trace/alpha.wgsl's
 //                               trace_transmittance_passes), 0 at an opaque one; one any-hit
-//                               traversal, counted as one any-hit ray (common/blend.wgsl)
+//                               traversal, counted as one any-hit ray (common/ray_blend.wgsl)
 //   trace_closest_flags(ray, flags), trace_any_flags(ray, flags)
 //                               the same with per-ray flags (TRACE_CULL_BACK_FACES)
 //   trace_flush_stats()         adds this invocation's ray counts to the GPU counters; call it

@@ -2,7 +2,7 @@
 //! rebuild. A skinned or morphed mesh keeps its triangles from frame to frame, so the merged
 //! tree can be refitted instead of rebuilt: the meshes' current positions (on the GPU, in the
 //! layout of [`crate::accel::gpu_records`]) are gathered into the refit's object-space input
-//! (`shaders/accel/deform.wgsl`) and the refit recomputes every box. A refitted tree keeps the
+//! (`shaders/accel/gather_positions.wgsl`) and the refit recomputes every box. A refitted tree keeps the
 //! topology built for other positions, so its quality falls as the meshes move; the
 //! [`SahProbe`] measures the refitted tree's SAH cost on the GPU after every refit (one
 //! reduction, a few words read back with the frame's ray counters), and [`RefitPolicy`]
@@ -14,7 +14,7 @@ use crate::gpu_util::{compute_pipeline, map_read_async, readback_buffer, storage
 use wgpu::util::DeviceExt;
 
 /// The gather kernel's WGSL.
-pub const DEFORM_WGSL: &str = include_str!("../../shaders/accel/deform.wgsl");
+pub const DEFORM_WGSL: &str = include_str!("../../shaders/accel/gather_positions.wgsl");
 /// The SAH reduction's WGSL.
 pub const SAH_WGSL: &str = include_str!("../../shaders/accel/sah.wgsl");
 

@@ -278,7 +278,7 @@ impl MergedRefit {
 
 /// Object-space vertices in the triangles' (leaf) order, each with its index among all meshes'
 /// vertices (mesh by mesh, as [`crate::accel::gpu_records`] lays them out) in w: where
-/// `shaders/accel/deform.wgsl` gathers a deformed position from ([`NO_VERTEX`] for none).
+/// `shaders/accel/gather_positions.wgsl` gathers a deformed position from ([`NO_VERTEX`] for none).
 fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
     let mut first_vertex = Vec::with_capacity(scene.meshes.len());
     let mut next = 0u64;

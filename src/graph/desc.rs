@@ -531,7 +531,7 @@ pub struct PassDesc {
     /// `SceneRaster` only: instances of BLEND materials are not drawn (a G-buffer of the
     /// opaque surfaces, over which the `rt_blend` layer composites the translucent ones by
     /// ray tracing), or that a `translucent` pass blends over them. Default `false`: they are drawn
-    /// screen-door (`shaders/common/alpha.wgsl`), as the shadow maps draw them.
+    /// screen-door (`shaders/common/raster_alpha_test.wgsl`), as the shadow maps draw them.
     #[serde(default)]
     pub skip_blend: bool,
     /// `SceneRaster` only: the pass draws the translucent instances alone (BLEND or

@@ -13,7 +13,7 @@
 //!   surface it sees is a front face, and the depth written is the same as with both sides
 //!   drawn.
 //! - Alpha test: a shader that declares the pipeline constant [`ALPHA_TEST_CONSTANT`]
-//!   (`shaders/common/alpha.wgsl`) gets it false for the instances of opaque materials, so
+//!   (`shaders/common/raster_alpha_test.wgsl`) gets it false for the instances of opaque materials, so
 //!   their fragment stage has no discard and keeps early depth testing; only alpha-tested
 //!   materials pay for the test.
 //!

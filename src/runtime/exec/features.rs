@@ -14,7 +14,7 @@ use crate::scene::Scene;
 pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
 
 /// `shaders/common/scene_features.wgsl`: some material is translucent. It compiles the passes'
-/// handling of translucent surfaces in (`shaders/common/blend.wgsl`: skipped by primary rays,
+/// handling of translucent surfaces in (`shaders/common/ray_blend.wgsl`: skipped by primary rays,
 /// attenuating shadow rays, composited; the raster translucent layer's read).
 pub const BLEND_CONSTANT: &str = "SCENE_BLEND";
 
