@@ -5,7 +5,7 @@
 // leaves, and emission. Each mode supplies only the visibility
 // of each light (shadow maps or shadow rays) and the AO.
 //
-// Lights are records of `scene_lights` (`frame.light_count` of them; src/scene/gpu.rs):
+// Lights are records of `scene_lights` (`frame.light_count` of them; src/runtime/scene_upload.rs):
 // directional, point and spot, with glTF KHR_lights_punctual's range window
 // clamp(1 - (d/range)^4, 0, 1)^2 / d^2 and cone falloff
 // clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1)^2. Intensities are a linear
