@@ -7,7 +7,7 @@
 //! so a failure never leaves a partial file.
 
 use super::gltf_import::SceneError;
-use super::{AlphaMode, Camera, LightKind, Lobes, Material, Mipmaps, PunctualLight, Scene, SlotSampling, Wrap};
+use super::{AlphaMode, Camera, LightKind, Lobes, Material, Mipmaps, PunctualLight, Scene, SlotSampling, TextureImage, Wrap};
 use glam::{Mat3, Quat, Vec3};
 use gltf::json;
 use json::validation::Checked::Valid;
@@ -71,151 +71,202 @@ fn accessor(
 
 /// Encodes the scene as GLB bytes.
 pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
-    use json::accessor::{ComponentType as C, Type as T};
     let mut root = json::Root::default();
     let buffer = root.push(json::Buffer { byte_length: USize64(0), extensions: None, extras: Default::default(), name: None, uri: None });
     let mut w = BinWriter { bin: Vec::new() };
+    let textures = scene.textures.iter().map(|t| png_texture(&mut root, &mut w, buffer, t)).collect::<Result<Vec<_>, String>>()?;
+    let materials = materials_json(&mut root, scene, &textures);
+    let mut nodes = instance_nodes(&mut root, &mut w, buffer, scene, &materials);
+    for (name, camera) in &scene.presets {
+        nodes.push(camera_node(&mut root, name, camera));
+    }
+    nodes.extend(light_nodes(&mut root, scene));
+    let s = root.push(json::Scene { name: Some(scene.name.clone()), nodes, extensions: None, extras: Default::default() });
+    root.scene = Some(s);
+    glb_bytes(root, w, scene)
+}
 
-    // Textures as PNG images inside the buffer.
-    let mut textures = Vec::new();
-    for t in &scene.textures {
-        let img =
-            image::RgbaImage::from_raw(t.width, t.height, t.rgba.to_vec()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
-        let mut png = Vec::new();
-        img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
-        let view = w.view(&mut root, buffer, &png, None);
-        let image = root.push(json::Image {
-            buffer_view: Some(view),
-            mime_type: Some(json::image::MimeType("image/png".into())),
-            name: Some(t.name.clone()),
-            uri: None,
-            extensions: None,
-            extras: Default::default(),
-        });
-        textures.push(root.push(json::Texture { name: Some(t.name.clone()), sampler: None, source: image, extensions: None, extras: Default::default() }));
+/// A texture as a PNG image inside the buffer, with its glTF image and texture.
+fn png_texture(root: &mut json::Root, w: &mut BinWriter, buffer: json::Index<json::Buffer>, t: &TextureImage) -> Result<json::Index<json::Texture>, String> {
+    let img =
+        image::RgbaImage::from_raw(t.width, t.height, t.rgba.to_vec()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
+    let mut png = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    let view = w.view(root, buffer, &png, None);
+    let image = root.push(json::Image {
+        buffer_view: Some(view),
+        mime_type: Some(json::image::MimeType("image/png".into())),
+        name: Some(t.name.clone()),
+        uri: None,
+        extensions: None,
+        extras: Default::default(),
+    });
+    Ok(root.push(json::Texture { name: Some(t.name.clone()), sampler: None, source: image, extensions: None, extras: Default::default() }))
+}
+
+/// The glTF textures of the scene's textures: the plain one of each, and one per (texture,
+/// sampler bits) where a slot's sampler is not glTF's default ([`sampled_textures`]).
+struct GltfTextures<'a> {
+    plain: &'a [json::Index<json::Texture>],
+    sampled: std::collections::HashMap<(usize, u32), json::Index<json::Texture>>,
+}
+
+impl GltfTextures<'_> {
+    /// The glTF texture of scene texture `i` with `m`'s slot `slot`'s sampler.
+    fn of(&self, m: &Material, i: usize, slot: usize) -> json::Index<json::Texture> {
+        self.sampled.get(&(i, m.sampling[slot].sampler_bits())).copied().unwrap_or(self.plain[i])
     }
-    let sampled = sampled_textures(&mut root, scene, &textures);
-    let mut materials = Vec::new();
-    for m in scene.materials.iter() {
-        // The glTF texture of scene texture `i` with slot `slot`'s sampler.
-        let texture = |i: usize, slot: usize| sampled.get(&(i, m.sampling[slot].sampler_bits())).copied().unwrap_or(textures[i]);
-        let info = |t: Option<usize>, slot: usize| {
-            t.map(|i| json::texture::Info { index: texture(i, slot), tex_coord: m.sampling[slot].tex_coord, extensions: None, extras: Default::default() })
-        };
-        let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
-            AlphaMode::Opaque => (json::material::AlphaMode::Opaque, None),
-            AlphaMode::Mask(c) => (json::material::AlphaMode::Mask, Some(json::material::AlphaCutoff(c))),
-            AlphaMode::Blend => (json::material::AlphaMode::Blend, None),
-        };
-        let (emissive, emissive_strength) = emissive_factor(m);
-        let lobes = lobe_extensions(&m.lobes, |k| info(m.lobes.textures[k], 5 + k).and_then(|i| serde_json::to_value(i).ok()));
-        for name in lobes.keys() {
-            if !root.extensions_used.contains(name) {
-                root.extensions_used.push(name.clone());
-            }
-        }
-        materials.push(root.push(json::Material {
-            name: Some(m.name.clone()),
-            alpha_mode: Valid(alpha_mode),
-            alpha_cutoff,
-            double_sided: m.double_sided,
-            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-                base_color_factor: json::material::PbrBaseColorFactor(m.base_color),
-                base_color_texture: info(m.texture, 0),
-                metallic_factor: json::material::StrengthFactor(m.metallic),
-                roughness_factor: json::material::StrengthFactor(m.roughness),
-                metallic_roughness_texture: info(m.metallic_roughness_texture, 1),
-                extensions: None,
-                extras: Default::default(),
-            },
-            normal_texture: m.normal_texture.map(|i| json::material::NormalTexture {
-                index: texture(i, 2),
-                scale: m.normal_scale,
-                tex_coord: m.sampling[2].tex_coord,
-                extensions: None,
-                extras: Default::default(),
-            }),
-            occlusion_texture: m.occlusion_texture.map(|i| json::material::OcclusionTexture {
-                index: texture(i, 3),
-                strength: json::material::StrengthFactor(m.occlusion_strength),
-                tex_coord: m.sampling[3].tex_coord,
-                extensions: None,
-                extras: Default::default(),
-            }),
-            emissive_texture: info(m.emissive_texture, 4),
-            emissive_factor: json::material::EmissiveFactor(emissive),
-            extensions: (emissive_strength.is_some() || m.unlit || !lobes.is_empty()).then(|| json::extensions::material::Material {
-                emissive_strength: emissive_strength.map(|strength| json::extensions::material::EmissiveStrength {
-                    emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
-                }),
-                unlit: m.unlit.then_some(json::extensions::material::Unlit {}),
-                others: lobes,
-                ..Default::default()
-            }),
-            ..Default::default()
-        }));
+
+    /// The texture info of `m`'s slot `slot` holding `t`.
+    fn info(&self, m: &Material, t: Option<usize>, slot: usize) -> Option<json::texture::Info> {
+        t.map(|i| json::texture::Info { index: self.of(m, i, slot), tex_coord: m.sampling[slot].tex_coord, extensions: None, extras: Default::default() })
     }
+}
+
+/// Every material, and the material extensions they use named in `extensionsUsed`.
+fn materials_json(root: &mut json::Root, scene: &Scene, textures: &[json::Index<json::Texture>]) -> Vec<json::Index<json::Material>> {
+    let textures = GltfTextures { plain: textures, sampled: sampled_textures(root, scene, textures) };
+    let materials = scene.materials.iter().map(|m| material_json(root, m, &textures)).collect();
     if scene.materials.iter().any(|m| emissive_factor(m).1.is_some()) {
         root.extensions_used.push("KHR_materials_emissive_strength".into());
     }
     if scene.materials.iter().any(|m| m.unlit) {
         root.extensions_used.push("KHR_materials_unlit".into());
     }
+    materials
+}
 
-    // Meshes. The material goes with the primitive, so a mesh used with several materials
-    // is written once per (mesh, material) pair.
+/// One material, its lobe extensions named in `extensionsUsed`.
+fn material_json(root: &mut json::Root, m: &Material, textures: &GltfTextures) -> json::Index<json::Material> {
+    let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
+        AlphaMode::Opaque => (json::material::AlphaMode::Opaque, None),
+        AlphaMode::Mask(c) => (json::material::AlphaMode::Mask, Some(json::material::AlphaCutoff(c))),
+        AlphaMode::Blend => (json::material::AlphaMode::Blend, None),
+    };
+    let (emissive, emissive_strength) = emissive_factor(m);
+    let lobes = lobe_extensions(&m.lobes, |k| textures.info(m, m.lobes.textures[k], 5 + k).and_then(|i| serde_json::to_value(i).ok()));
+    for name in lobes.keys() {
+        if !root.extensions_used.contains(name) {
+            root.extensions_used.push(name.clone());
+        }
+    }
+    root.push(json::Material {
+        name: Some(m.name.clone()),
+        alpha_mode: Valid(alpha_mode),
+        alpha_cutoff,
+        double_sided: m.double_sided,
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(m.base_color),
+            base_color_texture: textures.info(m, m.texture, 0),
+            metallic_factor: json::material::StrengthFactor(m.metallic),
+            roughness_factor: json::material::StrengthFactor(m.roughness),
+            metallic_roughness_texture: textures.info(m, m.metallic_roughness_texture, 1),
+            extensions: None,
+            extras: Default::default(),
+        },
+        normal_texture: m.normal_texture.map(|i| json::material::NormalTexture {
+            index: textures.of(m, i, 2),
+            scale: m.normal_scale,
+            tex_coord: m.sampling[2].tex_coord,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        occlusion_texture: m.occlusion_texture.map(|i| json::material::OcclusionTexture {
+            index: textures.of(m, i, 3),
+            strength: json::material::StrengthFactor(m.occlusion_strength),
+            tex_coord: m.sampling[3].tex_coord,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        emissive_texture: textures.info(m, m.emissive_texture, 4),
+        emissive_factor: json::material::EmissiveFactor(emissive),
+        extensions: (emissive_strength.is_some() || m.unlit || !lobes.is_empty()).then(|| json::extensions::material::Material {
+            emissive_strength: emissive_strength.map(|strength| json::extensions::material::EmissiveStrength {
+                emissive_strength: json::extensions::material::EmissiveStrengthFactor(strength),
+            }),
+            unlit: m.unlit.then_some(json::extensions::material::Unlit {}),
+            others: lobes,
+            ..Default::default()
+        }),
+        ..Default::default()
+    })
+}
+
+/// One node per instance (with its matrix, none for the identity). The material goes with
+/// the primitive, so a mesh used with several materials is written once per (mesh, material)
+/// pair.
+fn instance_nodes(
+    root: &mut json::Root,
+    w: &mut BinWriter,
+    buffer: json::Index<json::Buffer>,
+    scene: &Scene,
+    materials: &[json::Index<json::Material>],
+) -> Vec<json::Index<json::Node>> {
     let mut gltf_mesh: std::collections::HashMap<(usize, usize), json::Index<json::Mesh>> = Default::default();
     let mut nodes = Vec::new();
     for inst in scene.instances.iter() {
         let key = (inst.mesh, inst.material);
-        gltf_mesh.entry(key).or_insert_with(|| {
-            let mesh = &scene.meshes[inst.mesh];
-            let attributes = mesh_attributes(&mut root, &mut w, buffer, mesh);
-            let vi = w.view(&mut root, buffer, bytemuck::cast_slice(&mesh.indices), Some(json::buffer::Target::ElementArrayBuffer));
-            let ia = accessor(&mut root, vi, mesh.indices.len(), C::U32, T::Scalar, None);
-
-            root.push(json::Mesh {
-                name: Some(mesh.name.clone()),
-                primitives: vec![json::mesh::Primitive {
-                    attributes,
-                    extensions: None,
-                    extras: Default::default(),
-                    indices: Some(ia),
-                    material: Some(materials[inst.material]),
-                    mode: Valid(json::mesh::Mode::Triangles),
-                    targets: None,
-                }],
-                weights: None,
-                extensions: None,
-                extras: Default::default(),
-            })
-        });
+        let mesh = *gltf_mesh.entry(key).or_insert_with(|| mesh_json(root, w, buffer, &scene.meshes[inst.mesh], materials[inst.material]));
         let matrix = inst.transform.to_cols_array();
         nodes.push(root.push(json::Node {
-            mesh: Some(gltf_mesh[&key]),
+            mesh: Some(mesh),
             matrix: if inst.transform == glam::Mat4::IDENTITY { None } else { Some(matrix) },
             ..Default::default()
         }));
     }
-    for (name, camera) in &scene.presets {
-        nodes.push(camera_node(&mut root, name, camera));
+    nodes
+}
+
+/// A mesh with one triangle primitive of `material`: its attributes and indices written into
+/// the buffer.
+fn mesh_json(
+    root: &mut json::Root,
+    w: &mut BinWriter,
+    buffer: json::Index<json::Buffer>,
+    mesh: &super::Mesh,
+    material: json::Index<json::Material>,
+) -> json::Index<json::Mesh> {
+    use json::accessor::{ComponentType as C, Type as T};
+    let attributes = mesh_attributes(root, w, buffer, mesh);
+    let vi = w.view(root, buffer, bytemuck::cast_slice(&mesh.indices), Some(json::buffer::Target::ElementArrayBuffer));
+    let ia = accessor(root, vi, mesh.indices.len(), C::U32, T::Scalar, None);
+    root.push(json::Mesh {
+        name: Some(mesh.name.clone()),
+        primitives: vec![json::mesh::Primitive {
+            attributes,
+            extensions: None,
+            extras: Default::default(),
+            indices: Some(ia),
+            material: Some(material),
+            mode: Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        }],
+        weights: None,
+        extensions: None,
+        extras: Default::default(),
+    })
+}
+
+/// The file's lights as nodes, and as `KHR_lights_punctual` in the root (none without lights).
+fn light_nodes(root: &mut json::Root, scene: &Scene) -> Vec<json::Index<json::Node>> {
+    if scene.lights.is_empty() {
+        return Vec::new();
     }
-    if !scene.lights.is_empty() {
-        for (i, light) in scene.lights.iter().enumerate() {
-            nodes.push(light_node(&mut root, i, light));
-        }
-        let lights = scene.lights.iter().map(light_json).collect();
-        root.extensions =
-            Some(json::extensions::root::Root { khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights }), ..Default::default() });
-        root.extensions_used.push("KHR_lights_punctual".into());
-    }
-    let s = root.push(json::Scene { name: Some(scene.name.clone()), nodes, extensions: None, extras: Default::default() });
-    root.scene = Some(s);
+    let nodes = scene.lights.iter().enumerate().map(|(i, light)| light_node(root, i, light)).collect();
+    let lights = scene.lights.iter().map(light_json).collect();
+    root.extensions =
+        Some(json::extensions::root::Root { khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights }), ..Default::default() });
+    root.extensions_used.push("KHR_lights_punctual".into());
+    nodes
+}
+
+/// The finished document as GLB bytes: the buffer padded to 4 bytes, the JSON with the
+/// texture transforms.
+fn glb_bytes(mut root: json::Root, mut w: BinWriter, scene: &Scene) -> Result<Vec<u8>, String> {
     while !w.bin.len().is_multiple_of(4) {
         w.bin.push(0);
     }
     root.buffers[0].byte_length = USize64::from(w.bin.len());
-
     let json_string = with_texture_transforms(&root, scene)?;
     let glb = gltf::binary::Glb {
         header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },

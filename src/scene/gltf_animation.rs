@@ -296,87 +296,100 @@ where
 /// One clip: its channels read and checked (key times finite and increasing, outputs finite,
 /// output counts matching the keys).
 fn animation(input: &RigInput, a: &gltf::Animation, target_counts: &[usize], repairs: &mut RigRepairs) -> Result<Animation, RigError> {
-    use gltf::accessor::{DataType as T, Dimensions as D};
-    use gltf::animation::util::ReadOutputs;
     let name = a.name().map(str::to_string).unwrap_or_else(|| format!("animation {}", a.index()));
     let mut channels = Vec::new();
     for (c, ch) in a.channels().enumerate() {
         let err = |m: String| rig_error(format!("animation `{name}` channel {c}: {m}"));
-        let sampler = ch.sampler();
-        let node = ch.target().node().index();
-        let target = match ch.target().property() {
-            gltf::animation::Property::Translation => ChannelTarget::Translation,
-            gltf::animation::Property::Rotation => ChannelTarget::Rotation,
-            gltf::animation::Property::Scale => ChannelTarget::Scale,
-            gltf::animation::Property::MorphTargetWeights => ChannelTarget::Weights,
-        };
-        let width = match target {
-            ChannelTarget::Translation | ChannelTarget::Scale => 3,
-            ChannelTarget::Rotation => 4,
-            ChannelTarget::Weights => target_counts[node],
-        };
-        if width == 0 {
-            repairs.dropped_channels += 1;
-            continue;
-        }
-        let interpolation = match sampler.interpolation() {
-            gltf::animation::Interpolation::Linear => Interpolation::Linear,
-            gltf::animation::Interpolation::Step => Interpolation::Step,
-            gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-        };
-        let (input_acc, output_acc) = (sampler.input(), sampler.output());
-        if input_acc.data_type() != T::F32 || input_acc.dimensions() != D::Scalar {
-            return Err(err(format!(
-                "input accessor {} is {:?} {:?}; glTF requires Scalar F32 key times",
-                input_acc.index(),
-                input_acc.dimensions(),
-                input_acc.data_type()
-            )));
-        }
-        let expected_dims = match target {
-            ChannelTarget::Translation | ChannelTarget::Scale => D::Vec3,
-            ChannelTarget::Rotation => D::Vec4,
-            ChannelTarget::Weights => D::Scalar,
-        };
-        let float_only = matches!(target, ChannelTarget::Translation | ChannelTarget::Scale);
-        if output_acc.dimensions() != expected_dims || (float_only && output_acc.data_type() != T::F32) || output_acc.data_type() == T::U32 {
-            return Err(err(format!(
-                "output accessor {} is {:?} {:?}; a {target:?} channel needs {expected_dims:?}",
-                output_acc.index(),
-                output_acc.dimensions(),
-                output_acc.data_type()
-            )));
-        }
-        let keys = input_acc.count();
-        let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 } * if target == ChannelTarget::Weights { width } else { 1 };
-        if keys == 0 || output_acc.count() != keys * per_key {
-            return Err(err(format!(
-                "the sampler's output accessor {} has {} elements, but {keys} key times need {} ({per_key} per key)",
-                output_acc.index(),
-                output_acc.count(),
-                keys * per_key
-            )));
-        }
-        let reader = ch.reader(|b| input.buffers.get(b.index()).map(|d| &d.0[..]));
-        let times: Vec<f32> = reader.read_inputs().map(|i| i.collect()).unwrap_or_default();
-        if let Some(k) = times.iter().position(|t| !t.is_finite()) {
-            return Err(err(format!("key time {k} is {}", times[k])));
-        }
-        if let Some(k) = (1..times.len()).find(|&k| times[k] <= times[k - 1]) {
-            return Err(err(format!("key time {k} ({}) does not come after key {} ({})", times[k], k - 1, times[k - 1])));
-        }
-        let values: Vec<f32> = match reader.read_outputs() {
-            Some(ReadOutputs::Translations(it)) | Some(ReadOutputs::Scales(it)) => it.flatten().collect(),
-            Some(ReadOutputs::Rotations(r)) => r.into_f32().flatten().collect(),
-            Some(ReadOutputs::MorphTargetWeights(w)) => w.into_f32().collect(),
-            None => return Err(err("the sampler's output cannot be read".into())),
-        };
-        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
-            let floats_per_key = values.len() / keys;
-            return Err(err(format!("keyframe value {k} (key {}) is {}", k / floats_per_key, values[k])));
-        }
-        channels.push(Channel { node, target, interpolation, times, values, width });
+        channels.extend(channel(input, &ch, target_counts, repairs).map_err(err)?);
     }
     let duration = channels.iter().filter_map(|c| c.times.last()).fold(0.0f32, |a, &b| a.max(b));
     Ok(Animation { name, channels, duration })
+}
+
+/// One channel read and checked; `None` for a `weights` channel on a node without morph
+/// targets (counted as dropped). The error says what is wrong with the channel.
+fn channel(input: &RigInput, ch: &gltf::animation::Channel, target_counts: &[usize], repairs: &mut RigRepairs) -> Result<Option<Channel>, String> {
+    use gltf::animation::util::ReadOutputs;
+    let sampler = ch.sampler();
+    let node = ch.target().node().index();
+    let target = match ch.target().property() {
+        gltf::animation::Property::Translation => ChannelTarget::Translation,
+        gltf::animation::Property::Rotation => ChannelTarget::Rotation,
+        gltf::animation::Property::Scale => ChannelTarget::Scale,
+        gltf::animation::Property::MorphTargetWeights => ChannelTarget::Weights,
+    };
+    let width = match target {
+        ChannelTarget::Translation | ChannelTarget::Scale => 3,
+        ChannelTarget::Rotation => 4,
+        ChannelTarget::Weights => target_counts[node],
+    };
+    if width == 0 {
+        repairs.dropped_channels += 1;
+        return Ok(None);
+    }
+    let interpolation = match sampler.interpolation() {
+        gltf::animation::Interpolation::Linear => Interpolation::Linear,
+        gltf::animation::Interpolation::Step => Interpolation::Step,
+        gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+    };
+    let keys = check_sampler(&sampler, target, width, interpolation)?;
+    let reader = ch.reader(|b| input.buffers.get(b.index()).map(|d| &d.0[..]));
+    let times: Vec<f32> = reader.read_inputs().map(|i| i.collect()).unwrap_or_default();
+    if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+        return Err(format!("key time {k} is {}", times[k]));
+    }
+    if let Some(k) = (1..times.len()).find(|&k| times[k] <= times[k - 1]) {
+        return Err(format!("key time {k} ({}) does not come after key {} ({})", times[k], k - 1, times[k - 1]));
+    }
+    let values: Vec<f32> = match reader.read_outputs() {
+        Some(ReadOutputs::Translations(it)) | Some(ReadOutputs::Scales(it)) => it.flatten().collect(),
+        Some(ReadOutputs::Rotations(r)) => r.into_f32().flatten().collect(),
+        Some(ReadOutputs::MorphTargetWeights(w)) => w.into_f32().collect(),
+        None => return Err("the sampler's output cannot be read".into()),
+    };
+    if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+        let floats_per_key = values.len() / keys;
+        return Err(format!("keyframe value {k} (key {}) is {}", k / floats_per_key, values[k]));
+    }
+    Ok(Some(Channel { node, target, interpolation, times, values, width }))
+}
+
+/// The number of keys of a channel's sampler, once its accessors are checked: Scalar F32 key
+/// times, outputs of the target's type, and as many of them as the keys need.
+fn check_sampler(sampler: &gltf::animation::Sampler, target: ChannelTarget, width: usize, interpolation: Interpolation) -> Result<usize, String> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    let (input_acc, output_acc) = (sampler.input(), sampler.output());
+    if input_acc.data_type() != T::F32 || input_acc.dimensions() != D::Scalar {
+        return Err(format!(
+            "input accessor {} is {:?} {:?}; glTF requires Scalar F32 key times",
+            input_acc.index(),
+            input_acc.dimensions(),
+            input_acc.data_type()
+        ));
+    }
+    let expected_dims = match target {
+        ChannelTarget::Translation | ChannelTarget::Scale => D::Vec3,
+        ChannelTarget::Rotation => D::Vec4,
+        ChannelTarget::Weights => D::Scalar,
+    };
+    let float_only = matches!(target, ChannelTarget::Translation | ChannelTarget::Scale);
+    if output_acc.dimensions() != expected_dims || (float_only && output_acc.data_type() != T::F32) || output_acc.data_type() == T::U32 {
+        return Err(format!(
+            "output accessor {} is {:?} {:?}; a {target:?} channel needs {expected_dims:?}",
+            output_acc.index(),
+            output_acc.dimensions(),
+            output_acc.data_type()
+        ));
+    }
+    let keys = input_acc.count();
+    let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 } * if target == ChannelTarget::Weights { width } else { 1 };
+    if keys == 0 || output_acc.count() != keys * per_key {
+        return Err(format!(
+            "the sampler's output accessor {} has {} elements, but {keys} key times need {} ({per_key} per key)",
+            output_acc.index(),
+            output_acc.count(),
+            keys * per_key
+        ));
+    }
+    Ok(keys)
 }

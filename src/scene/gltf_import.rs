@@ -426,85 +426,13 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
     let mut report = ImportReport::default();
     let buffers = load_buffers(path, base, &gltf)?;
     notes::collect(&gltf.document, &raw, &mut report);
-
-    let mut loader = TextureLoader {
-        path,
-        doc: &gltf.document,
-        raw: &raw,
-        base,
-        buffers: &buffers,
-        load: options.textures,
-        textures: Vec::new(),
-        loaded: HashMap::new(),
-        checker: HashMap::new(),
-    };
-    let mut materials: Vec<Material> = gltf.document.materials().map(|m| loader.material(&m, &mut report)).collect();
-    for m in materials.iter().filter(|m| m.lobes.textures[crate::scene::LOBE_TRANSMISSION].is_some() && !m.transmission_texture_drawn()) {
-        report.ignored_features.push(format!(
-            "material `{}`: KHR_materials_transmission transmissionTexture (drawn only where it reads the base colour's uv, TEXCOORD_0 through the same transform; transmissionFactor alone is read)",
-            m.name
-        ));
-    }
-    report.images_used = Some(images_used(&gltf.document, &raw));
-    let textures = std::mem::take(&mut loader.textures);
-    let mut default_material = None; // added for the first primitive without a material
-
-    // Meshes: one raygraph mesh per glTF primitive.
-    let mut meshes: Vec<Mesh> = Vec::new();
-    let mut primitives_of_mesh: Vec<Vec<(usize, usize)>> = Vec::new(); // (mesh, material)
-    let mut mesh_primitive: Vec<(usize, usize)> = Vec::new(); // per scene mesh: glTF mesh, primitive
-    for mesh in gltf.document.meshes() {
-        let mut prims = Vec::new();
-        let mesh_name = mesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {}", mesh.index()));
-        for prim in mesh.primitives() {
-            let mode = prim.mode();
-            if !matches!(mode, gltf::mesh::Mode::Triangles | gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan) {
-                report.skipped_primitives += 1;
-                report.warn(format!("{}: mesh `{mesh_name}` primitive {}: mode {:?} is not triangles; skipped", path.display(), prim.index(), prim.mode()));
-                continue;
-            }
-            let prim_err = |message: String| SceneError::Primitive { path: path.to_path_buf(), mesh: mesh_name.clone(), primitive: prim.index(), message };
-            let material = match prim.material().index() {
-                Some(m) => m,
-                None => *default_material.get_or_insert_with(|| {
-                    report.default_material = true;
-                    materials.push(Material::diffuse("default", [0.8, 0.8, 0.8, 1.0], None));
-                    materials.len() - 1
-                }),
-            };
-            let (m, non_finite) = primitive_mesh(&prim, &buffers, materials[material].normal_texture.is_some()).map_err(prim_err)?;
-            report.non_finite_triangles += non_finite;
-            report.degenerate_triangles += count_degenerate(&m.vertices, &m.indices);
-            meshes.push(Mesh { name: format!("{mesh_name}/{}", prim.index()), ..m });
-            mesh_primitive.push((mesh.index(), prim.index()));
-            prims.push((meshes.len() - 1, material));
-        }
-        primitives_of_mesh.push(prims);
-    }
-    if report.non_finite_triangles > 0 {
-        report.warn(format!("{}: dropped {} triangles with NaN or infinite positions", path.display(), report.non_finite_triangles));
-    }
-    if report.degenerate_triangles > 0 {
-        report.warn(format!("{}: {} zero-area triangles (left out of acceleration structures)", path.display(), report.degenerate_triangles));
-    }
-
+    let source = Source { path, doc: &gltf.document, raw: &raw, base, buffers: &buffers };
+    let (mut materials, textures) = load_materials(&source, options.textures, &mut report);
+    let FileMeshes { mut meshes, primitives_of_mesh, mesh_primitive } = read_meshes(&source, &mut materials, &mut report)?;
     let roots = scene_roots(path, &gltf.document, options.gltf_scene.as_deref(), &mut report)?;
     let mut placed = walk_nodes(path, roots, &primitives_of_mesh, &mut report)?;
     let rig_input = super::gltf_animation::RigInput { doc: &gltf.document, buffers: &buffers, mesh_primitive: &mesh_primitive };
-    let rig = match super::gltf_animation::rig(&rig_input, &mut meshes, &mut placed.instances, &placed.instance_nodes) {
-        Ok(Some((rig, repairs))) => {
-            for w in repairs.warnings() {
-                report.warn(format!("{}: {w}", path.display()));
-            }
-            report.rig_repairs = repairs;
-            Some(rig)
-        }
-        Ok(None) => None,
-        Err(super::gltf_animation::RigError::Rig(message)) => return Err(SceneError::Rig { path: path.to_path_buf(), message }),
-        Err(super::gltf_animation::RigError::Primitive { mesh, primitive, message }) => {
-            return Err(SceneError::Primitive { path: path.to_path_buf(), mesh, primitive, message })
-        }
-    };
+    let rig = read_rig(path, &rig_input, &mut meshes, &mut placed, &mut report)?;
     if placed.instances.is_empty() && meshes.is_empty() {
         return Err(SceneError::Empty { path: path.to_path_buf() });
     }
@@ -529,6 +457,110 @@ pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(S
     report.file_cameras = file.len();
     (scene.camera, scene.presets) = camera_presets(&scene, file);
     Ok((scene, report))
+}
+
+/// The file being read: its name (for messages), its document and JSON, the folder its
+/// relative uris are read from, and its buffers.
+#[derive(Clone, Copy)]
+struct Source<'a> {
+    path: &'a Path,
+    doc: &'a gltf::Document,
+    /// The JSON as a tree ([`raw_json`]), for what the `gltf` crate does not read.
+    raw: &'a Value,
+    base: &'a Path,
+    buffers: &'a [gltf::buffer::Data],
+}
+
+/// The file's materials, and the textures their slots use (none unless `load`).
+fn load_materials(source: &Source, load: bool, report: &mut ImportReport) -> (Vec<Material>, Vec<TextureImage>) {
+    let (doc, raw) = (source.doc, source.raw);
+    let mut loader = TextureLoader { source: *source, load, textures: Vec::new(), loaded: HashMap::new(), checker: HashMap::new() };
+    let materials: Vec<Material> = doc.materials().map(|m| loader.material(&m, report)).collect();
+    for m in materials.iter().filter(|m| m.lobes.textures[crate::scene::LOBE_TRANSMISSION].is_some() && !m.transmission_texture_drawn()) {
+        report.ignored_features.push(format!(
+            "material `{}`: KHR_materials_transmission transmissionTexture (drawn only where it reads the base colour's uv, TEXCOORD_0 through the same transform; transmissionFactor alone is read)",
+            m.name
+        ));
+    }
+    report.images_used = Some(images_used(doc, raw));
+    (materials, loader.textures)
+}
+
+/// The file's meshes: one raygraph mesh per glTF triangle primitive.
+struct FileMeshes {
+    meshes: Vec<Mesh>,
+    /// Per glTF mesh, its primitives as (scene mesh, material).
+    primitives_of_mesh: Vec<Vec<(usize, usize)>>,
+    /// Per scene mesh, the (glTF mesh, primitive) it came from.
+    mesh_primitive: Vec<(usize, usize)>,
+}
+
+/// Reads every triangle primitive (skipping others with a warning); a primitive without a
+/// material gets a `default` one, added to `materials` the first time.
+fn read_meshes(source: &Source, materials: &mut Vec<Material>, report: &mut ImportReport) -> Result<FileMeshes, SceneError> {
+    let path = source.path;
+    let mut out = FileMeshes { meshes: Vec::new(), primitives_of_mesh: Vec::new(), mesh_primitive: Vec::new() };
+    let mut default_material = None; // added for the first primitive without a material
+    for mesh in source.doc.meshes() {
+        let mut prims = Vec::new();
+        let mesh_name = mesh.name().map(str::to_string).unwrap_or_else(|| format!("mesh {}", mesh.index()));
+        for prim in mesh.primitives() {
+            let mode = prim.mode();
+            if !matches!(mode, gltf::mesh::Mode::Triangles | gltf::mesh::Mode::TriangleStrip | gltf::mesh::Mode::TriangleFan) {
+                report.skipped_primitives += 1;
+                report.warn(format!("{}: mesh `{mesh_name}` primitive {}: mode {:?} is not triangles; skipped", path.display(), prim.index(), prim.mode()));
+                continue;
+            }
+            let prim_err = |message: String| SceneError::Primitive { path: path.to_path_buf(), mesh: mesh_name.clone(), primitive: prim.index(), message };
+            let material = match prim.material().index() {
+                Some(m) => m,
+                None => *default_material.get_or_insert_with(|| {
+                    report.default_material = true;
+                    materials.push(Material::diffuse("default", [0.8, 0.8, 0.8, 1.0], None));
+                    materials.len() - 1
+                }),
+            };
+            let (m, non_finite) = primitive_mesh(&prim, source.buffers, materials[material].normal_texture.is_some()).map_err(prim_err)?;
+            report.non_finite_triangles += non_finite;
+            report.degenerate_triangles += count_degenerate(&m.vertices, &m.indices);
+            out.meshes.push(Mesh { name: format!("{mesh_name}/{}", prim.index()), ..m });
+            out.mesh_primitive.push((mesh.index(), prim.index()));
+            prims.push((out.meshes.len() - 1, material));
+        }
+        out.primitives_of_mesh.push(prims);
+    }
+    if report.non_finite_triangles > 0 {
+        report.warn(format!("{}: dropped {} triangles with NaN or infinite positions", path.display(), report.non_finite_triangles));
+    }
+    if report.degenerate_triangles > 0 {
+        report.warn(format!("{}: {} zero-area triangles (left out of acceleration structures)", path.display(), report.degenerate_triangles));
+    }
+    Ok(out)
+}
+
+/// The file's rig, where it has one (its repairs logged and counted in `report`); a rig error
+/// becomes the file's.
+fn read_rig(
+    path: &Path,
+    input: &super::gltf_animation::RigInput,
+    meshes: &mut Vec<Mesh>,
+    placed: &mut Placed,
+    report: &mut ImportReport,
+) -> Result<Option<super::animation::Rig>, SceneError> {
+    match super::gltf_animation::rig(input, meshes, &mut placed.instances, &placed.instance_nodes) {
+        Ok(Some((rig, repairs))) => {
+            for w in repairs.warnings() {
+                report.warn(format!("{}: {w}", path.display()));
+            }
+            report.rig_repairs = repairs;
+            Ok(Some(rig))
+        }
+        Ok(None) => Ok(None),
+        Err(super::gltf_animation::RigError::Rig(message)) => Err(SceneError::Rig { path: path.to_path_buf(), message }),
+        Err(super::gltf_animation::RigError::Primitive { mesh, primitive, message }) => {
+            Err(SceneError::Primitive { path: path.to_path_buf(), mesh, primitive, message })
+        }
+    }
 }
 
 /// The file's JSON as a tree (for extensions the `gltf` crate drops); `Null` if unreadable
@@ -698,13 +730,9 @@ where
 /// Loads each image once and fills material texture slots, with the slot's fallback where an
 /// image cannot be loaded (see [`TextureSlot::fallback`]).
 struct TextureLoader<'a> {
-    path: &'a Path,
-    doc: &'a gltf::Document,
-    /// The file's JSON (for `KHR_texture_transform`, which the `gltf` crate does not read on
+    /// The file (its JSON for `KHR_texture_transform`, which the `gltf` crate does not read on
     /// every slot).
-    raw: &'a Value,
-    base: &'a Path,
-    buffers: &'a [gltf::buffer::Data],
+    source: Source<'a>,
     /// Whether to load textures at all (the active graph samples some).
     load: bool,
     textures: Vec<TextureImage>,
@@ -725,7 +753,7 @@ impl TextureLoader<'_> {
         mat.occlusion_strength = m.occlusion_texture().map_or(mat.occlusion_strength, |o| o.strength());
         let strength = m.emissive_strength().unwrap_or(1.0);
         mat.emissive = m.emissive_factor().map(|c| c * strength);
-        let (doc, raw) = (self.doc, self.raw);
+        let (doc, raw) = (self.source.doc, self.source.raw);
         let material_json = m.index().map_or(&Value::Null, |i| &raw["materials"][i]);
         mat.lobes = material_lobes(material_json);
         for (slot, texture, tex_coord) in material_slots(m).into_iter().chain(lobe_slots(doc, material_json)) {
@@ -759,8 +787,13 @@ impl TextureLoader<'_> {
             Ok(t) => return Some(t),
             Err(reason) => reason,
         };
-        let name = image_name(self.doc, &image);
-        report.warn(format!("{}: material {material} {} texture: image `{name}` {reason}; fallback: {}", self.path.display(), slot.name(), slot.fallback()));
+        let name = image_name(self.source.doc, &image);
+        report.warn(format!(
+            "{}: material {material} {} texture: image `{name}` {reason}; fallback: {}",
+            self.source.path.display(),
+            slot.name(),
+            slot.fallback()
+        ));
         report.texture_fallbacks.push(TextureFallback { material: material.to_string(), slot, image: name.clone(), reason });
         if slot != TextureSlot::BaseColor {
             return None;
@@ -777,13 +810,13 @@ impl TextureLoader<'_> {
         if let Some(r) = self.loaded.get(&image.index()) {
             return r.clone();
         }
-        let name = image_name(self.doc, image);
+        let name = image_name(self.source.doc, image);
         // glTF requires a uri or a bufferView with a mimeType; `Image::source` unwraps them.
-        let json = self.doc.as_json().images.get(image.index());
+        let json = self.source.doc.as_json().images.get(image.index());
         let result = if !json.is_some_and(|j| j.uri.is_some() || j.buffer_view.is_some() && j.mime_type.is_some()) {
             Err("has neither a uri nor a bufferView with a mimeType".to_string())
         } else {
-            match gltf::image::Data::from_source(image.source(), Some(self.base), self.buffers) {
+            match gltf::image::Data::from_source(image.source(), Some(self.source.base), self.source.buffers) {
                 Ok(data) => {
                     use gltf::image::Format as F;
                     if matches!(data.format, F::R16 | F::R16G16 | F::R16G16B16 | F::R16G16B16A16) {
