@@ -21,6 +21,8 @@ fn code_only(source: &str) -> String {
             rest.iter().position(|c| *c == '\n').unwrap_or(rest.len())
         } else if rest.starts_with(&['/', '*']) {
             block_comment_len(rest)
+        } else if !after_ident && rest.starts_with(&['b', '\'']) {
+            char_len(&rest[1..]) + 1
         } else if !after_ident && (rest[0] == '"' || rest[0] == 'r' || rest[0] == 'b') {
             string_len(rest)
         } else if !after_ident && rest[0] == '\'' {
@@ -209,7 +211,7 @@ fn every_function_of_the_web_build_is_short() {
 
 #[test]
 fn counts_from_fn_line_to_closing_brace_ignoring_literals_and_comments() {
-    let source = "fn short() {\n    let s = \"}}}\";\n    let c = '}';\n    // }\n    /* { */\n}\n\nfn declared();\nfn long<'a>(x: [u8; 2]) -> &'a str {\n    let r = r#\"{\"#;\n    \"\"\n}\n";
+    let source = "fn short() {\n    let s = \"}}}\";\n    let c = '}';\n    let q = b'\"';\n    // }\n    /* { */\n}\n\nfn declared();\nfn long<'a>(x: [u8; 2]) -> &'a str {\n    let r = r#\"{\"#;\n    \"\"\n}\n";
     let found = functions(source);
-    assert_eq!(found, vec![(1, "short".to_string(), 6), (9, "long".to_string(), 4)]);
+    assert_eq!(found, vec![(1, "short".to_string(), 7), (10, "long".to_string(), 4)]);
 }

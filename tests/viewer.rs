@@ -71,12 +71,11 @@ fn run_script(x: &XServer, dir: &Path, steps: &str, args: &[&str]) -> (Vec<Strin
     (out, log)
 }
 
-#[test]
-fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
-    let x = XServer::start();
-    let dir = common::gltf_doc::temp_dir("viewer-script");
+/// The viewer script of [`script_switches_mode_sets_a_parameter_and_shows_a_pass`]: screenshots
+/// and the recorded track go to `dir`.
+fn script_steps(dir: &Path) -> String {
     let shot = |name: &str| dir.join(name).display().to_string();
-    let steps = format!(
+    format!(
         r#"(frame: 2, action: Screenshot("{overlay}")),
                 (frame: 3, action: Overlay(false)),
                 (frame: 4, action: Screenshot("{raster}")),
@@ -104,7 +103,35 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
         ao_off = shot("ao_off.png"),
         track = shot("track.ron"),
         compute = shot("compute.png"),
-    );
+    )
+}
+
+/// After the script's AO steps: the parameter reached the running graph and the inspector shows
+/// the AO texture.
+fn check_ao_inspection(dir: &Path, full_rt: &image::RgbaImage) {
+    let text = |name: &str| std::fs::read_to_string(dir.join(format!("{name}.png.overlay.txt"))).unwrap();
+    // The parameter reached the running graph, the clicked pass's texture is shown (`ao/sum`,
+    // the AO layer's pass that writes `ao.ao`; `ao/ao` writes the lanes' partial sums).
+    let ao = text("ao_overlay");
+    for needle in ["mode: full RT", "view: ao.ao", "ao.rays = 3", "ao/ao: GPU", "gbuffer/primary: GPU", "rays/px"] {
+        assert!(ao.contains(needle), "overlay after the script's steps lacks `{needle}`:\n{ao}");
+    }
+    // The running AO pass traces at most 3 rays per pixel now (8 before).
+    let ao_line = ao.lines().find(|l| l.trim_start().starts_with("ao/ao:")).unwrap();
+    let per_px: f64 = ao_line.split_whitespace().collect::<Vec<_>>().windows(2).find(|w| w[1] == "rays/px").map(|w| w[0].parse().unwrap()).unwrap();
+    assert!(per_px > 0.0 && per_px <= 3.0, "AO rays per pixel after setting 3 rays: {ao_line}");
+    // AO is one value per pixel: the inspector shows it grey, unlike the shaded frame.
+    let img = load(&dir.join("ao.png"));
+    let grey = img.pixels().filter(|p| p[0].abs_diff(p[1]) <= 2 && p[1].abs_diff(p[2]) <= 2).count() as f64 / (img.width() * img.height()) as f64;
+    assert!(grey > 0.95, "the AO texture is shown as grey ({:.1}% grey pixels)", grey * 100.0);
+    assert!(mean_abs_diff(&img, full_rt) > 5.0, "the viewport shows the AO texture, not the output");
+}
+
+#[test]
+fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
+    let x = XServer::start();
+    let dir = common::gltf_doc::temp_dir("viewer-script");
+    let steps = script_steps(&dir);
     let (_, log) = run_script(&x, &dir, &steps, &["default", "--mode", "raster", "--width", "320", "--height", "180"]);
 
     // The overlay lists the running plan's passes with their timings, the adapter and back-end.
@@ -125,21 +152,7 @@ fn script_switches_mode_sets_a_parameter_and_shows_a_pass() {
     let d = mean_abs_diff(&without, &full_rt);
     assert!(d > 0.5, "raster and full RT frames differ (mean |diff| {d:.2})");
 
-    // The parameter reached the running graph, the clicked pass's texture is shown (`ao/sum`,
-    // the AO layer's pass that writes `ao.ao`; `ao/ao` writes the lanes' partial sums).
-    let ao = text("ao_overlay");
-    for needle in ["mode: full RT", "view: ao.ao", "ao.rays = 3", "ao/ao: GPU", "gbuffer/primary: GPU", "rays/px"] {
-        assert!(ao.contains(needle), "overlay after the script's steps lacks `{needle}`:\n{ao}");
-    }
-    // The running AO pass traces at most 3 rays per pixel now (8 before).
-    let ao_line = ao.lines().find(|l| l.trim_start().starts_with("ao/ao:")).unwrap();
-    let per_px: f64 = ao_line.split_whitespace().collect::<Vec<_>>().windows(2).find(|w| w[1] == "rays/px").map(|w| w[0].parse().unwrap()).unwrap();
-    assert!(per_px > 0.0 && per_px <= 3.0, "AO rays per pixel after setting 3 rays: {ao_line}");
-    // AO is one value per pixel: the inspector shows it grey, unlike the shaded frame.
-    let img = load(&dir.join("ao.png"));
-    let grey = img.pixels().filter(|p| p[0].abs_diff(p[1]) <= 2 && p[1].abs_diff(p[2]) <= 2).count() as f64 / (img.width() * img.height()) as f64;
-    assert!(grey > 0.95, "the AO texture is shown as grey ({:.1}% grey pixels)", grey * 100.0);
-    assert!(mean_abs_diff(&img, &full_rt) > 5.0, "the viewport shows the AO texture, not the output");
+    check_ao_inspection(&dir, &full_rt);
 
     // Switching the effect off culls its passes.
     let off = text("ao_off");
