@@ -3,12 +3,12 @@
 use bytemuck::{Pod, Zeroable};
 
 /// Shadow-map slots of the raster mode (`shadow_map` layer: one 2048² depth texture each).
-pub const SHADOW_MAP_SLOTS: usize = 4;
+pub(crate) const SHADOW_MAP_SLOTS: usize = 4;
 
 /// Mirrors `struct Frame` in `shaders/common/frame.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct FrameUniforms {
+pub(crate) struct FrameUniforms {
     /// World to clip space.
     pub(crate) view_proj: [[f32; 4]; 4],
     /// Clip to world space.
@@ -38,7 +38,7 @@ pub struct FrameUniforms {
 }
 
 /// Light kinds of [`LightUniforms::kind`].
-pub const LIGHT_DIRECTIONAL: u32 = 0;
+pub(crate) const LIGHT_DIRECTIONAL: u32 = 0;
 /// A point light (position, range).
 pub(crate) const LIGHT_POINT: u32 = 1;
 /// A spot light (position, direction, cones).
@@ -47,7 +47,7 @@ pub(crate) const LIGHT_SPOT: u32 = 2;
 /// Mirrors `struct Light` in `shaders/common/lighting.wgsl`: one record of `scene_lights`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct LightUniforms {
+pub(crate) struct LightUniforms {
     /// World position (point and spot lights).
     pub position: [f32; 3],
     /// [`LIGHT_DIRECTIONAL`], [`LIGHT_POINT`] or [`LIGHT_SPOT`].
@@ -74,7 +74,7 @@ pub struct LightUniforms {
 /// Mirrors `struct Instance` in `shaders/common/scene.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct InstanceUniforms {
+pub(crate) struct InstanceUniforms {
     /// Object to world space.
     pub(crate) model: [[f32; 4]; 4],
     /// Inverse-transpose of the model matrix (for normals).
@@ -91,7 +91,7 @@ pub struct InstanceUniforms {
 /// `scene_textures`: layer 0 is plain white, and 0 in `normal_texture` means "no normal map".
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct MaterialUniforms {
+pub(crate) struct MaterialUniforms {
     /// Linear base colour and alpha.
     pub(crate) base_color: [f32; 4],
     /// Linear emitted radiance (factor times strength).
@@ -134,8 +134,8 @@ pub struct MaterialUniforms {
     pub(crate) uv_transforms: [[f32; 4]; 2 * MATERIAL_TEXTURE_SLOTS],
     /// ((ior - 1) / (ior + 1))² x the specular colour factor (rgb) and the specular factor (a),
     /// which the shaders make the dielectric reflectance with the lobe textures
-    /// (`shaders/common/surface_lobes.wgsl`, as [`crate::scene::Lobes::dielectric_f0`] without
-    /// them); read only with [`MATERIAL_LOBES`].
+    /// (`shaders/common/surface_lobes.wgsl`: min(that, 1) x the specular factor x the
+    /// textures' texels); read only with [`MATERIAL_LOBES`].
     pub(crate) specular: [f32; 4],
     /// The clear coat's weight and perceptual roughness, the transmission factor and the
     /// coverage factor of a transmissive material ([`crate::scene::Material::coverage_factor`]);
@@ -147,7 +147,7 @@ pub struct MaterialUniforms {
 
 /// A material's texture slots (`crate::scene::TEXTURE_SLOTS`): glTF's five and the lobe
 /// extensions' six.
-pub const MATERIAL_TEXTURE_SLOTS: usize = 11;
+pub(crate) const MATERIAL_TEXTURE_SLOTS: usize = 11;
 
 /// Material flag: both faces are lit and never culled.
 pub(crate) const MATERIAL_DOUBLE_SIDED: u32 = 1;

@@ -6,7 +6,7 @@
 //! transmissive). Its alpha is `base_color.a` x the vertex colours' alpha (`COLOR_0`) x the
 //! base texture's alpha. A BLEND
 //! surface is translucent: the traversal keeps its hits wherever its coverage is at least
-//! [`BLEND_MIN_COVERAGE`] (a texel below it is empty), and the passes composite it
+//! `crate::scene::BLEND_MIN_COVERAGE` (a texel below it is empty), and the passes composite it
 //! (`shaders/common/blend.wgsl`: skipped by primary rays, attenuating shadow and AO rays by one
 //! minus its coverage, composited front to back over the opaque surface behind it). A hit is kept when `base_color.a` x the base texture's alpha, read at mip level 0 with
 //! bilinear filtering and the base colour slot's wrap modes at the interpolated TEXCOORD_0
@@ -20,24 +20,22 @@ use crate::scene::{Material, Scene, SlotSampling, TextureImage, Wrap, LOBE_TRANS
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
 
-pub use crate::scene::BLEND_MIN_COVERAGE;
-
 /// Bit of a record's second word that marks a BLEND instance (`TRACE_ALPHA_BLEND`).
-pub const ALPHA_BLEND_BIT: u32 = 1 << 28;
+pub(crate) const ALPHA_BLEND_BIT: u32 = 1 << 28;
 
 /// Bit of a record's second word that marks an instance whose transmission texture is drawn
 /// (`TRACE_ALPHA_TRANSMISSION`): its fourth word is then the index of a word holding the
 /// texture's layer and wrap bits, the transmitted share and the cutoff.
-pub const ALPHA_TRANSMISSION_BIT: u32 = 1 << 29;
+pub(crate) const ALPHA_TRANSMISSION_BIT: u32 = 1 << 29;
 
 /// The cutoff of an alpha-tested material, `None` for an opaque one
-/// ([`Material::alpha_cutoff`]).
+/// (`Material::alpha_cutoff`).
 pub fn cutoff(m: &Material) -> Option<f32> {
     m.alpha_cutoff()
 }
 
 /// Whether scene instance `i` runs the alpha test (its material is alpha-tested).
-pub fn instance_tested(scene: &Scene, i: usize) -> bool {
+pub(crate) fn instance_tested(scene: &Scene, i: usize) -> bool {
     scene.instances.get(i).and_then(|inst| scene.materials.get(inst.material)).is_some_and(|m| cutoff(m).is_some())
 }
 
@@ -129,7 +127,7 @@ pub fn bilinear_alpha(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling)
 }
 
 /// [`bilinear_alpha`] of channel `channel` (0 red to 3 alpha; a data texture, read as stored).
-pub fn bilinear_channel(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling, channel: usize) -> f64 {
+pub(crate) fn bilinear_channel(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling, channel: usize) -> f64 {
     let (w, h) = (img.width as usize, img.height as usize);
     if w == 0 || h == 0 || img.rgba.len() < w * h * 4 {
         return 1.0;
@@ -153,7 +151,7 @@ pub fn visible(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> b
     excess(scene, instance, prim, bary).is_none_or(|e| e >= 0.0)
 }
 
-/// The coverage of a translucent surface at such a hit ([`Material::coverage_factor`] x texture
+/// The coverage of a translucent surface at such a hit (`Material::coverage_factor` x texture
 /// alpha, times 1 - the transmitted share x the transmission texel where that texture is
 /// drawn), `None` where the instance's material is not translucent: `trace_blend_coverage` in
 /// `shaders/trace/alpha.wgsl`.
@@ -181,7 +179,7 @@ fn hit_uv(mesh: &crate::scene::Mesh, prim: usize, bary: [f64; 2], sampling: &Slo
 
 /// `base_color.a` x texture alpha minus the cutoff at such a hit (kept when >= 0), `None` where
 /// the instance is not alpha-tested.
-pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
+pub(crate) fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
     let inst = scene.instances.get(instance)?;
     let m = scene.materials.get(inst.material)?;
     let cutoff = cutoff(m)?;

@@ -21,16 +21,16 @@
 //! cost(leaf)  = C_isect * A(node) * N(node)
 //! ```
 //!
-//! with [`TRAVERSAL_COST`] `C_trav = 1` and [`INTERSECTION_COST`] `C_isect = 1` (a box test and
+//! with `TRAVERSAL_COST` `C_trav = 1` and `INTERSECTION_COST` `C_isect = 1` (a box test and
 //! a primitive test cost about the same in a compute-shader traversal; only the ratio matters).
 //! A node becomes a leaf when it holds at most `max_leaf_size` (4) primitives and the leaf is no
-//! more expensive than the best split. Nodes of at least [`FINE_BINNING_PRIMS`] primitives use
-//! `bins` (48) bins, smaller nodes at most [`SMALL_NODE_BINS`] (16), and nodes of fewer
+//! more expensive than the best split. Nodes of at least `FINE_BINNING_PRIMS` primitives use
+//! `bins` (48) bins, smaller nodes at most `SMALL_NODE_BINS` (16), and nodes of fewer
 //! primitives than that as many bins as primitives: the large nodes near the root decide most
-//! of the tree's cost, and there are few of them. Nodes of at most [`EXACT_SPLIT_PRIMS`] (8)
+//! of the tree's cost, and there are few of them. Nodes of at most `EXACT_SPLIT_PRIMS` (8)
 //! primitives, most nodes of a tree, skip the bins and evaluate every object split (primitives
 //! sorted by centroid on each axis). When all centroids coincide, and for every node at depth
-//! [`MEDIAN_FALLBACK_DEPTH`] (24) or deeper, the node is split at the object median of its
+//! `MEDIAN_FALLBACK_DEPTH` (24) or deeper, the node is split at the object median of its
 //! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
 //! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
 //! suffices, and one of 48 up to 2^26 primitives. (SAH trees of real scenes are far shallower:
@@ -55,22 +55,22 @@ use std::time::Duration;
 use web_time::Instant;
 
 /// SAH cost of visiting an interior node (testing its two children's boxes).
-pub const TRAVERSAL_COST: f32 = 1.0;
+pub(crate) const TRAVERSAL_COST: f32 = 1.0;
 /// SAH cost of one ray-primitive test.
-pub const INTERSECTION_COST: f32 = 1.0;
+pub(crate) const INTERSECTION_COST: f32 = 1.0;
 /// Default maximum number of primitives in a leaf.
-pub const MAX_LEAF_SIZE: usize = 4;
+pub(crate) const MAX_LEAF_SIZE: usize = 4;
 /// Largest `max_leaf_size` the builder accepts: the GPU traversal packs a node's primitive
 /// count into 3 bits (see `crate::accel::layout`).
-pub const MAX_LEAF_LIMIT: usize = 7;
+pub(crate) const MAX_LEAF_LIMIT: usize = 7;
 /// Default number of SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives.
-pub const DEFAULT_BINS: usize = 48;
+pub(crate) const DEFAULT_BINS: usize = 48;
 /// Most SAH bins per axis of a node of fewer than [`FINE_BINNING_PRIMS`] primitives.
-pub const SMALL_NODE_BINS: usize = 16;
+pub(crate) const SMALL_NODE_BINS: usize = 16;
 /// Nodes of at least this many primitives get all of [`BuildConfig::bins`].
-pub const FINE_BINNING_PRIMS: usize = 1024;
+pub(crate) const FINE_BINNING_PRIMS: usize = 1024;
 /// Nodes at this depth or deeper are split at the object median instead of by SAH.
-pub const MEDIAN_FALLBACK_DEPTH: usize = 24;
+pub(crate) const MEDIAN_FALLBACK_DEPTH: usize = 24;
 /// Upper bound on the depth (root = 0) of any tree this builder makes; a nearer-first
 /// traversal pushes at most one node per level, so a stack of this many entries suffices.
 pub const MAX_TREE_DEPTH: usize = 64;
@@ -138,7 +138,7 @@ impl Aabb {
     }
 
     /// Surface area; 0 for an empty box.
-    pub fn surface_area(&self) -> f32 {
+    pub(crate) fn surface_area(&self) -> f32 {
         if self.is_empty() {
             return 0.0;
         }
@@ -183,10 +183,10 @@ pub enum SplitMethod {
 pub struct BuildConfig {
     /// How nodes are split.
     pub method: SplitMethod,
-    /// SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives (clamped to
-    /// 2..=[`MAX_BINS`]); smaller nodes use at most [`SMALL_NODE_BINS`] of them.
+    /// SAH bins per axis of nodes of at least `FINE_BINNING_PRIMS` primitives (clamped to
+    /// 2..=`MAX_BINS`); smaller nodes use at most `SMALL_NODE_BINS` of them.
     pub bins: usize,
-    /// Maximum primitives per leaf (clamped to 1..=[`MAX_LEAF_LIMIT`]).
+    /// Maximum primitives per leaf (clamped to 1..=`MAX_LEAF_LIMIT`).
     pub max_leaf_size: usize,
     /// Subtrees with at least this many primitives are built in parallel.
     pub parallel_threshold: usize,
@@ -299,11 +299,6 @@ impl Bvh {
             }
         }
         max
-    }
-
-    /// Number of leaves.
-    pub fn leaf_count(&self) -> usize {
-        self.nodes.iter().filter(|n| n.is_leaf()).count()
     }
 
     /// Recomputes every node's box bottom-up from `bounds_of(id)` of its primitives, keeping
@@ -541,7 +536,7 @@ struct Split {
 }
 
 /// Upper bound of [`BuildConfig::bins`].
-pub const MAX_BINS: usize = 64;
+pub(crate) const MAX_BINS: usize = 64;
 
 /// Nodes with at least this many primitives bin them in parallel.
 const PARALLEL_BINNING: usize = 16 * 1024;
@@ -714,7 +709,7 @@ fn split(prims: &mut [Work], bounds: &Box3A, centroids: &Box3A, depth: usize, cf
 /// Nodes of at most this many primitives evaluate the SAH at every boundary between their
 /// primitives sorted by centroid, on each axis, instead of binning: exact, and cheaper than
 /// setting up bins for a handful of primitives (most nodes of a tree are this small).
-pub const EXACT_SPLIT_PRIMS: usize = 8;
+pub(crate) const EXACT_SPLIT_PRIMS: usize = 8;
 
 /// Stable insertion sort of `order[..keys.len()]` (indices into `keys`) by key.
 fn sorted_order(keys: &[f32], order: &mut [u8; EXACT_SPLIT_PRIMS]) {
@@ -866,7 +861,7 @@ pub enum TriangleStatus {
 }
 
 /// Classifies the triangle of object-space vertices `v`.
-pub fn triangle_status(v: &[Vec3; 3]) -> TriangleStatus {
+pub(crate) fn triangle_status(v: &[Vec3; 3]) -> TriangleStatus {
     if !(v[0].is_finite() && v[1].is_finite() && v[2].is_finite()) {
         return TriangleStatus::NonFinite;
     }
@@ -913,7 +908,7 @@ pub fn instance_transform(m: &Mat4) -> Option<DAffine3> {
 /// The world-space box of object box `b` under `xf`, computed in f64 from the 8 corners and
 /// widened by a relative 1e-5 so that it conservatively contains the f32 traversal's view of
 /// the instance. [`Aabb::EMPTY`] for an empty or non-finite box.
-pub fn instance_world_bounds(b: &Aabb, xf: &DAffine3) -> Aabb {
+pub(crate) fn instance_world_bounds(b: &Aabb, xf: &DAffine3) -> Aabb {
     if b.is_empty() || !b.is_finite() {
         return Aabb::EMPTY;
     }
@@ -1253,7 +1248,7 @@ impl SceneAccel {
 /// mesh's own indices, a triangle the compute back-end leaves out (degenerate, non-finite, bad
 /// index) as (0, 0, 0), so primitive indices stay the mesh's own; non-finite positions zeroed.
 /// `None` if no triangle is valid.
-pub fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
+pub(crate) fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
     let tris = mesh.triangle_count();
     let mut indices = Vec::with_capacity(tris * 3);
     let mut valid = 0;

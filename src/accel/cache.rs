@@ -34,7 +34,7 @@ use rayon::prelude::*;
 use web_time::Instant;
 
 /// Slots of the `accel_stats` buffer (see `shaders/trace/common.wgsl`).
-pub const STAT_SLOTS: usize = 4;
+pub(crate) const STAT_SLOTS: usize = 4;
 
 /// Ray counts of one frame, read from the GPU counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -323,7 +323,7 @@ pub enum MergedBuilder {
     /// The CPU binned-SAH builder ([`crate::accel::bvh`]).
     Cpu,
     /// The GPU PLOC builder ([`crate::accel::gpu_build`]) for at least
-    /// [`GPU_BUILD_MIN_TRIANGLES`] triangles, the CPU below that or if the GPU build fails.
+    /// `GPU_BUILD_MIN_TRIANGLES` triangles, the CPU below that or if the GPU build fails.
     Gpu,
     /// The first build on the CPU, every later rebuild (a structural change) as [`Self::Gpu`]:
     /// a static scene keeps the CPU's tree, which traces faster (the atrium's Stress test
@@ -335,7 +335,7 @@ pub enum MergedBuilder {
 /// Below this many triangles the CPU builds the merged BLAS faster than the GPU builder's
 /// fixed cost of a few dispatches and read-backs (on the H100: 12 triangles 0.07 ms on the
 /// GPU against 0.01 on the CPU; 3,920 triangles 0.6 against 2.4 ms).
-pub const GPU_BUILD_MIN_TRIANGLES: usize = 1024;
+pub(crate) const GPU_BUILD_MIN_TRIANGLES: usize = 1024;
 
 impl AccelCache {
     /// A cache for `backend`, with ray counters for `trace_passes` passes.
@@ -417,7 +417,7 @@ impl AccelCache {
     /// Where the executor's GPU deformation writes every mesh's positions (`None`: no GPU
     /// deformation). A scene posed for the GPU is refitted and rebuilt on the GPU from them;
     /// a CPU build poses a copy of the scene on the CPU.
-    pub fn set_device_positions(&mut self, positions: Option<wgpu::Buffer>) {
+    pub(crate) fn set_device_positions(&mut self, positions: Option<wgpu::Buffer>) {
         self.device_positions = positions;
         self.seen = None;
     }
@@ -425,7 +425,7 @@ impl AccelCache {
     /// Makes the pipelines that refits and GPU rebuilds of a changing scene need now (at
     /// start-up) instead of in the first frame that needs them (a compile of up to a second
     /// on the H100 the first time a driver sees them).
-    pub fn prepare_for_changes(&mut self, device: &wgpu::Device) {
+    pub(crate) fn prepare_for_changes(&mut self, device: &wgpu::Device) {
         if !self.merge || self.backend != Backend::Compute {
             return;
         }
@@ -460,7 +460,7 @@ impl AccelCache {
 
     /// Reads the SAH measurement of the frame that has just finished (the executor calls this
     /// after each frame).
-    pub async fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
+    pub(crate) async fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
         match &mut self.probe {
             Some(p) => p.read(device).await,
             None => Ok(()),
@@ -469,7 +469,7 @@ impl AccelCache {
 
     /// The trace passes' GPU milliseconds of the frame that has just finished, for the ledger
     /// of [`RefitPolicy::Cost`] (the executor calls this after each frame with timestamps).
-    pub fn note_trace_ms(&mut self, trace_ms: f64) {
+    pub(crate) fn note_trace_ms(&mut self, trace_ms: f64) {
         let growth = self.sah_growth();
         self.ledger.note_frame(trace_ms, growth);
     }
@@ -1078,7 +1078,7 @@ impl AccelCache {
     /// The rt-pipeline back-end's build of the last update, recorded through wgpu-hal in a
     /// command buffer of its own: submit it after the update's encoder and before anything
     /// that traces (the executor does, between the `Accel` node's timestamps).
-    pub fn take_pending(&mut self) -> Option<wgpu::CommandBuffer> {
+    pub(crate) fn take_pending(&mut self) -> Option<wgpu::CommandBuffer> {
         self.pending.take()
     }
 
@@ -1093,7 +1093,7 @@ impl AccelCache {
     /// Binds the compute back-end's arrays as one packed buffer (`accel_packed`) from now on,
     /// for a device with few storage buffers per stage ([`super::packed`]); the executor then
     /// calls [`AccelCache::record_packing`] after every update.
-    pub fn pack_arrays(&mut self) {
+    pub(crate) fn pack_arrays(&mut self) {
         self.packed.get_or_insert_with(PackedArrays::default);
     }
 
@@ -1101,7 +1101,7 @@ impl AccelCache {
     /// [`AccelCache::update`], before any trace) when the update wrote them; nothing without
     /// [`AccelCache::pack_arrays`] or on another back-end. A larger packed buffer starts a new
     /// generation.
-    pub fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) -> Result<(), RuntimeError> {
+    pub(crate) fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) -> Result<(), RuntimeError> {
         let (Some(packed), State::Compute(c)) = (self.packed.as_mut(), &self.state) else { return Ok(()) };
         let [tlas, instances, blas, triangles] = &c.buffers;
         if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha], self.packed_stale)? {
@@ -1111,13 +1111,13 @@ impl AccelCache {
         Ok(())
     }
 
-    /// Bytes of the packed arrays' buffer ([`AccelCache::pack_arrays`]; 0 without).
+    /// Bytes of the packed arrays' buffer (`AccelCache::pack_arrays`; 0 without).
     pub fn packed_bytes(&self) -> u64 {
         self.packed.as_ref().map_or(0, PackedArrays::size)
     }
 
     /// The buffer of ray counters and the byte range of trace pass number `window`'s counters.
-    pub fn stats_window(&self, window: u32) -> (&wgpu::Buffer, u64, u64) {
+    pub(crate) fn stats_window(&self, window: u32) -> (&wgpu::Buffer, u64, u64) {
         (&self.stats, self.stats_stride * window.min(self.stats_windows - 1) as u64, (STAT_SLOTS * 4) as u64)
     }
 
@@ -1145,17 +1145,17 @@ impl AccelCache {
     }
 
     /// Zeroes the ray counters (start of a frame).
-    pub fn clear_stats(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn clear_stats(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.stats, 0, None);
     }
 
     /// Copies the ray counters for [`AccelCache::read_stats`] (end of a frame).
-    pub fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, self.stats.size());
     }
 
     /// The ray counts of each trace pass in the last submitted frame (after it completed).
-    pub async fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
+    pub(crate) async fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
         let data = map_read_async(device, self.stats_readback.slice(..)).await?;
         let words: &[u32] = bytemuck::cast_slice(&data);
         let per = (self.stats_stride / 4) as usize;
@@ -1262,7 +1262,7 @@ fn rq_blas(device: &wgpu::Device, mesh: &Mesh, unit: usize, opaque: bool) -> Opt
 /// The trace module's bindings that `cache` holds in wgpu buffers for trace pass number
 /// `window` (its counter window; [`AccelCache::binding`]) as the `rt-pipeline` back-end takes
 /// them ([`super::rt_pipeline::AccelBuffers`]).
-pub fn cache_buffers(cache: &AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<std::num::NonZeroU64>)> + '_ {
+pub(crate) fn cache_buffers(cache: &AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<std::num::NonZeroU64>)> + '_ {
     move |name| match cache.binding(name, window)? {
         wgpu::BindingResource::Buffer(b) => Some((b.buffer.clone(), b.offset, b.size)),
         _ => None,

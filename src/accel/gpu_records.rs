@@ -18,7 +18,7 @@ use crate::scene::{Mesh, Scene};
 use wgpu::util::DeviceExt;
 
 /// The records kernel's WGSL.
-pub const RECORDS_WGSL: &str = include_str!("../../shaders/accel/records.wgsl");
+pub(crate) const RECORDS_WGSL: &str = include_str!("../../shaders/accel/records.wgsl");
 
 const GROUP: u64 = 256;
 /// The first index of a triangle with an index out of its mesh's range (the WGSL's `BAD_INDEX`).

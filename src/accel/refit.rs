@@ -18,7 +18,7 @@ use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
 /// The refit kernel (part of the back-end, not of any graph).
-pub const REFIT_WGSL: &str = include_str!("../../shaders/accel/refit.wgsl");
+pub(crate) const REFIT_WGSL: &str = include_str!("../../shaders/accel/refit.wgsl");
 
 /// Subtrees of at most this many nodes are treelets (one workgroup each); the nodes above them
 /// form the top treelet. Raised for trees so large that the treelets would pass the dispatch
@@ -222,13 +222,6 @@ impl MergedRefit {
         })
     }
 
-    /// Whether `scene` differs from the merged one only in where its instances are (same
-    /// meshes, same instances of them, every transform as usable as before): the caller checks
-    /// the meshes, this the transforms.
-    pub fn applies_to(&self, scene: &Scene) -> bool {
-        usable_instances(scene) == self.usable
-    }
-
     /// Writes `scene`'s transforms and records the refit of the merged arrays.
     pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
         write_transforms(queue, &self.transforms, scene);
@@ -241,12 +234,12 @@ impl MergedRefit {
     }
 
     /// Tree levels.
-    pub fn level_count(&self) -> usize {
+    pub(crate) fn level_count(&self) -> usize {
         self.levels
     }
 
     /// Dispatches per refit.
-    pub fn dispatch_count(&self) -> usize {
+    pub(crate) fn dispatch_count(&self) -> usize {
         self.dispatches.len()
     }
 }
@@ -280,7 +273,7 @@ fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
 }
 
 /// No vertex to gather from: the gather index of a leaf slot without a triangle.
-pub const NO_VERTEX: u32 = u32::MAX;
+pub(crate) const NO_VERTEX: u32 = u32::MAX;
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {
     scene.instances.iter().map(|i| scene.meshes.get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
@@ -295,9 +288,10 @@ pub enum Refit {
 }
 
 impl Refit {
-    /// Whether `scene` differs from the merged one only in where its instances are (see
-    /// [`MergedRefit::applies_to`]).
-    pub fn applies_to(&self, scene: &Scene) -> bool {
+    /// Whether `scene` differs from the refitted one only in where its instances are (same
+    /// meshes, same instances of them, every transform as usable as before): the caller checks
+    /// the meshes, this the transforms.
+    pub(crate) fn applies_to(&self, scene: &Scene) -> bool {
         let usable = match self {
             Refit::Planned(r) => &r.usable,
             Refit::Tree(r) => &r.usable,
@@ -330,7 +324,7 @@ impl Refit {
     }
 
     /// Tree levels.
-    pub fn level_count(&self) -> usize {
+    pub(crate) fn level_count(&self) -> usize {
         match self {
             Refit::Planned(r) => r.level_count(),
             Refit::Tree(r) => r.depth as usize + 1,
@@ -338,7 +332,7 @@ impl Refit {
     }
 
     /// Dispatches per refit.
-    pub fn dispatch_count(&self) -> usize {
+    pub(crate) fn dispatch_count(&self) -> usize {
         match self {
             Refit::Planned(r) => r.dispatch_count(),
             Refit::Tree(_) => 2,

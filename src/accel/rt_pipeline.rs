@@ -10,7 +10,7 @@
 //!   carry the scene instance index as custom data and hit group 0 (opaque instances forced
 //!   opaque), and the object-space positions and indices the closest-hit shader reads to
 //!   compute barycentrics (naga's closest-hit stage has no hit attributes).
-//! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
+//! - `RtPass`: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
 //!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
 //!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, its any-hit shader as patched
 //!   SPIR-V (`any_hit`: the alpha test, which only non-opaque geometry reaches), bind groups
@@ -23,7 +23,7 @@
 //! submits in order between wgpu's (`Queue::submit` of several command buffers executes them
 //! in order on one queue). wgpu does not see what those command buffers touch, so the contract
 //! is explicit:
-//! 1. before a trace, the caller's wgpu encoder calls [`RtPass::transition`]: wgpu moves every
+//! 1. before a trace, the caller's wgpu encoder calls `RtPass::transition`: wgpu moves every
 //!    texture and buffer the pass binds into the state (and Vulkan image layout) the hal bind
 //!    groups were made for, and records that state in its tracker;
 //! 2. the hal command buffer starts with a memory barrier from all earlier commands' writes to
@@ -745,7 +745,7 @@ impl Drop for RtAccel {
 }
 
 /// A trace pass as a ray-tracing pipeline (see the module docs).
-pub struct RtPass {
+pub(crate) struct RtPass {
     device: wgpu::Device,
     queue: wgpu::Queue,
     label: String,
@@ -1169,7 +1169,7 @@ impl RtPass {
     /// Binds group `g` (not the trace module's) to other resources of the same layout: the
     /// batch tracer's ray and result buffers change with every batch. The old bind group is
     /// destroyed once the device is idle.
-    pub fn set_group(&mut self, g: u32, bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
+    pub(crate) fn set_group(&mut self, g: u32, bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
         if g == self.accel_group || g as usize >= self.groups.len() {
             return Err(RuntimeError::Gpu(format!("pass {}: group {g} cannot be rebound", self.label)));
         }
@@ -1193,7 +1193,7 @@ impl RtPass {
 
     /// Binds the trace module's group to `accel` and to the cache's buffers `cache` names
     /// (again whenever the cache replaces its acceleration structures).
-    pub fn bind_accel(&mut self, accel: &RtAccel, cache: &AccelBuffers) -> Result<(), RuntimeError> {
+    pub(crate) fn bind_accel(&mut self, accel: &RtAccel, cache: &AccelBuffers) -> Result<(), RuntimeError> {
         let (bg, mut extra) = self.make_group(self.accel_group, Some((accel, cache)))?;
         self.accel_objects.destroy(&self.device);
         // The cache's buffers stay alive as long as the bind group that names them.
@@ -1215,7 +1215,7 @@ impl RtPass {
     /// call therefore writes zeros through the queue (before the frame's commands, and not a
     /// `clear_texture`, which wgpu does not count as initializing) into every texture and
     /// marked buffer the pass writes.
-    pub fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
+    pub(crate) fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
         if !self.initialized.swap(true, std::sync::atomic::Ordering::Relaxed) {
             for b in &self.bindings {
                 match &b.resource {

@@ -366,7 +366,7 @@ pub struct GpuBuildRow {
     pub(crate) triangles: usize,
     /// GPU milliseconds of the build (median, min).
     pub(crate) gpu_ms: Option<(f64, f64)>,
-    /// Median GPU milliseconds of each [`crate::accel::gpu_build::Phase`].
+    /// Median GPU milliseconds of each `crate::accel::gpu_build::Phase`.
     pub phase_ms: Option<[f64; 4]>,
     /// Nearest-neighbour rounds of the build.
     pub(crate) rounds: u32,
@@ -382,7 +382,7 @@ pub struct GpuBuildRow {
     /// on the GPU builder, nothing read back but a few words (median): `update` after a mesh
     /// edit (hashing, merging, input records, build, the TLAS words), then the submission and
     /// the wait for the GPU. `None` where the cache builds the scene on the CPU (fewer than
-    /// [`crate::accel::cache::GPU_BUILD_MIN_TRIANGLES`] triangles).
+    /// `crate::accel::cache::GPU_BUILD_MIN_TRIANGLES` triangles).
     pub cache_rebuild_ms: Option<f64>,
     /// Of that rebuild (medians): the change detection (`BuildReport::hash_ms`, which also
     /// counts the alpha flags' update before it), the whole `update` call

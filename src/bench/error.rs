@@ -28,12 +28,12 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 /// Ceiling height and AO ray length: the reference unoccluded fraction is `(H / R)^2`.
-pub const CEILING: f32 = 0.5;
+pub(crate) const CEILING: f32 = 0.5;
 /// AO ray length of the closed-form scene.
 pub(crate) const RANGE: f32 = 1.0;
 
 /// The sampling schemes of `layers/rt_ao.ron` (its `sampling` parameter).
-pub const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
+pub(crate) const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
 
 /// Settings of `raygraph bench error`.
 #[derive(Debug, Clone)]

@@ -44,7 +44,7 @@ pub struct RaysConfig {
     /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
     /// Fractions of the frame each scene is also measured at: its camera moved along its view
-    /// axis until its surfaces cover that fraction of the pixels ([`coverage_view`]).
+    /// axis until its surfaces cover that fraction of the pixels (`coverage_view`).
     pub coverages: Vec<f64>,
 }
 
@@ -222,7 +222,7 @@ pub const STRESS_PRESET: &str = "stress";
 /// The camera preset a scene names its Miss (inside) view with.
 pub const MISS_INSIDE_PRESET: &str = "miss_inside";
 /// A Stress row must hit with at least this fraction of its rays.
-pub const STRESS_MIN_HITS: f64 = 0.99;
+pub(crate) const STRESS_MIN_HITS: f64 = 0.99;
 /// The probe that derives a Stress view: frame size and rays per pixel, the hit fraction it
 /// asks for (above [`STRESS_MIN_HITS`], as the probe sees fewer rays), and how many times the
 /// field of view is halved at most.

@@ -43,7 +43,7 @@ fn camera_rays(camera: &Camera, size: (u32, u32), stride: u32) -> Vec<Ray> {
 }
 
 /// The merged layout of `scene`, as `Accel(merge: true)` builds it.
-pub fn merged_layout(scene: &Scene) -> GpuAccel {
+pub(crate) fn merged_layout(scene: &Scene) -> GpuAccel {
     let (mesh, origin) = merge_instances(scene);
     merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
 }

@@ -11,7 +11,7 @@
 //!   (`compute`: the CPU builder, flattening and upload; `rt-pipeline`: recording the driver's
 //!   build) and GPU milliseconds (`rt-pipeline`: the driver's build; `compute`: the copies);
 //! - the GPU builder's kernels for the merged layout (`compute` only, up to its
-//!   [`crate::accel::gpu_build::MAX_GPU_BUILD_TRIANGLES`]);
+//!   `crate::accel::gpu_build::MAX_GPU_BUILD_TRIANGLES`);
 //! - GPU memory per triangle: the device allocator's live bytes after the first frame, minus
 //!   before the executor was made, minus the graph's own textures and buffers;
 //! - the scene workload frame's wall and GPU milliseconds (medians after the warm-up).

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// Include substitutions chosen by the device and back-end: `//#include "a.wgsl"` reads the
 /// file the map gives for `a.wgsl` instead (for example the bindless variant of
 /// `common/scene_textures.wgsl`, or the active back-end's `trace/trace.wgsl`).
-pub type IncludeAliases = std::collections::BTreeMap<String, String>;
+pub(crate) type IncludeAliases = std::collections::BTreeMap<String, String>;
 
 /// Name of the synthetic segment holding hoisted `enable` directives.
 const ENABLE_SEGMENT: &str = "<enable directives>";
@@ -99,7 +99,7 @@ impl ShaderSource {
     /// Whether the main file and every include are raygraph's built-in copies, byte for byte
     /// (embedded, or files on disk identical to them): part of the program rather than of a
     /// project a user edits.
-    pub fn is_builtin(&self) -> bool {
+    pub(crate) fn is_builtin(&self) -> bool {
         self.builtin
     }
 
@@ -301,7 +301,7 @@ impl std::fmt::Debug for RayTracingModule {
 }
 
 /// Whether `stage` belongs to a ray-tracing pipeline.
-pub fn is_ray_tracing_stage(stage: naga::ShaderStage) -> bool {
+pub(crate) fn is_ray_tracing_stage(stage: naga::ShaderStage) -> bool {
     matches!(stage, naga::ShaderStage::RayGeneration | naga::ShaderStage::Miss | naga::ShaderStage::ClosestHit | naga::ShaderStage::AnyHit)
 }
 
@@ -338,7 +338,7 @@ pub fn compute_to_ray_generation(module: &mut naga::Module) -> Result<(), String
 
 impl ShaderInfo {
     /// Whether the module declares the pipeline-overridable constant `name`.
-    pub fn has_override(&self, name: &str) -> bool {
+    pub(crate) fn has_override(&self, name: &str) -> bool {
         self.overrides.iter().any(|o| o == name)
     }
 

@@ -303,7 +303,7 @@ impl BatchTracer {
 
     /// [`BatchTracer::closest`] with the trace interface's per-ray `flags` on every ray
     /// (`trace_closest_flags`).
-    pub fn closest_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
+    pub(crate) fn closest_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
         let (raw, stats, _) = self.run(gpu, rays, 0, flags)?;
         let hits = raw
             .iter()
@@ -321,14 +321,14 @@ impl BatchTracer {
 
     /// [`BatchTracer::any`] with the trace interface's per-ray `flags` on every ray
     /// (`trace_any_flags`).
-    pub fn any_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<bool>, RayStats), RuntimeError> {
+    pub(crate) fn any_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<bool>, RayStats), RuntimeError> {
         let (raw, stats, _) = self.run(gpu, rays, 1, flags)?;
         Ok((raw.iter().map(|r| r.flags & 1 != 0).collect(), stats))
     }
 
     /// Traces `rays` for their closest hits and returns the counters and the dispatch's GPU
     /// milliseconds (timestamp queries; `None` without them).
-    pub fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
+    pub(crate) fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
         let (_, stats, ms) = self.run(gpu, rays, 0, TraceFlags::NONE)?;
         Ok((stats, ms))
     }

@@ -14,7 +14,7 @@ use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
 /// The deformation kernel's WGSL.
-pub const DEFORM_WGSL: &str = include_str!("../../shaders/anim/deform.wgsl");
+pub(crate) const DEFORM_WGSL: &str = include_str!("../../shaders/anim/deform.wgsl");
 
 /// Per deforming mesh: what the kernel's `Params` hold, and the frame data it needs.
 struct MeshJob {
@@ -25,7 +25,7 @@ struct MeshJob {
 }
 
 /// The GPU objects of one scene's deformation.
-pub struct GpuDeform {
+pub(crate) struct GpuDeform {
     pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
     params_stride: u64,

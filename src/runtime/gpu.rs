@@ -10,12 +10,12 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// How long one submission may run before the run ends with [`RuntimeError::GpuTimeout`].
-pub const DEFAULT_GPU_TIMEOUT: Duration = Duration::from_secs(10);
+pub(crate) const DEFAULT_GPU_TIMEOUT: Duration = Duration::from_secs(10);
 /// The default on a software adapter (lavapipe), which runs a frame a hundred times slower.
-pub const DEFAULT_CPU_ADAPTER_TIMEOUT: Duration = Duration::from_secs(120);
+pub(crate) const DEFAULT_CPU_ADAPTER_TIMEOUT: Duration = Duration::from_secs(120);
 
 /// The default GPU deadline of `info`'s adapter.
-pub fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
+pub(crate) fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
     if info.device_type == wgpu::DeviceType::Cpu {
         DEFAULT_CPU_ADAPTER_TIMEOUT
     } else {
@@ -44,7 +44,7 @@ pub struct Gpu {
     pub texture_binding_arrays: bool,
     /// The compute back-end's arrays are bound as one packed storage buffer
     /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
-    /// per stage than a trace pass with separate arrays binds ([`SEPARATE_ARRAYS_STORAGE_BUFFERS`];
+    /// per stage than a trace pass with separate arrays binds (`SEPARATE_ARRAYS_STORAGE_BUFFERS`;
     /// a browser's WebGPU allows 8 by default).
     pub packed_accel_arrays: bool,
     /// The traversal back-end chosen at start-up, and why.
@@ -57,7 +57,7 @@ pub struct Gpu {
     /// as wgpu and the driver are concerned, when frame N of an executor starts.
     pub inject_device_loss_at: Option<u32>,
     /// The GPU deadline: the longest a wait for submitted work may take (`--gpu-timeout`;
-    /// [`default_gpu_timeout`]). A wait that runs past it fails with
+    /// `default_gpu_timeout`). A wait that runs past it fails with
     /// [`RuntimeError::GpuTimeout`], and so does every later [`Gpu::check`].
     pub gpu_timeout: Duration,
     /// Called with the error of a wait that ran past the deadline, before it is returned.
@@ -112,12 +112,12 @@ const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgp
 /// vertices, lights: `shaders/rt/reflection.wgsl`, `gi.wgsl`, `forward/shade.wgsl`), four arrays,
 /// the ray counters and the alpha words. Packed, the four arrays and the alpha words are one
 /// buffer: 8, WebGPU's default limit.
-pub const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
+pub(crate) const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
 
 /// Storage textures per stage of a compute pass that writes the whole G-buffer
 /// (`shaders/common/gbuffer_store.wgsl`: position, normal, geometric normal, albedo, material,
 /// emissive, lobes).
-pub const GBUFFER_STORAGE_TEXTURES: u32 = 7;
+pub(crate) const GBUFFER_STORAGE_TEXTURES: u32 = 7;
 
 /// Bytes per sample of the fragment-stage G-buffer's colour attachments
 /// (`layers/deferred_fragment.ron`), as WebGPU counts them: 16 + 8 + 8 for position and the two
@@ -125,7 +125,7 @@ pub const GBUFFER_STORAGE_TEXTURES: u32 = 7;
 pub const GBUFFER_ATTACHMENT_BYTES: u32 = 72;
 
 /// Most scene textures in a binding array.
-pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
+pub(crate) const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
 /// Whether scene textures are bound as a binding array on a device with `features` and
 /// `limits` (never with `RAYGRAPH_NO_BINDLESS` set).
@@ -391,7 +391,7 @@ impl Gpu {
     /// (`layers/forward.ron`) becomes forward shading in the fragment stage
     /// (`layers/forward_fragment.ron`).
     ///
-    /// With fewer than [`GBUFFER_STORAGE_TEXTURES`] storage textures per stage (a browser's
+    /// With fewer than `GBUFFER_STORAGE_TEXTURES` storage textures per stage (a browser's
     /// WebGPU allows four by default), the G-buffer is not written by one compute pass: the
     /// rasterized one comes from the fragment stage (`layers/deferred_fragment.ron`), and
     /// primary rays write it in two passes (`layers/primary_split.ron`). Where the fragment
@@ -480,7 +480,7 @@ impl Gpu {
 
     /// Turns an error caught by an error scope into the error to report: the device's loss if
     /// it is lost (every later call fails with it), out of memory as such, else `context: e`.
-    pub fn scope_error(&self, context: &str, e: wgpu::Error) -> RuntimeError {
+    pub(crate) fn scope_error(&self, context: &str, e: wgpu::Error) -> RuntimeError {
         if let Err(lost @ RuntimeError::DeviceLost { .. }) = self.check() {
             return lost;
         }
@@ -543,7 +543,7 @@ impl GpuScopes {
     }
 
     /// [`GpuScopes::finish`] as a future (the frame's; it resolves at once natively).
-    pub async fn finish_async(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
+    pub(crate) async fn finish_async(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
         let Self { validation, oom } = self;
         let (validation, oom) = (validation.pop(), oom.pop());
         let (validation, oom) = (validation.await, oom.await);
@@ -569,7 +569,7 @@ pub fn include_aliases(texture_binding_arrays: bool) -> crate::graph::reflect::I
 
 /// The include substitutions of the compute back-end's packed arrays
 /// ([`Gpu::packed_accel_arrays`]).
-pub fn packed_arrays_aliases() -> crate::graph::reflect::IncludeAliases {
+pub(crate) fn packed_arrays_aliases() -> crate::graph::reflect::IncludeAliases {
     let mut a = crate::graph::reflect::IncludeAliases::new();
     a.insert("trace/compute_arrays.wgsl".into(), "trace/compute_arrays_packed.wgsl".into());
     a.insert("trace/alpha_words.wgsl".into(), "trace/alpha_words_packed.wgsl".into());

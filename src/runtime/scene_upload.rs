@@ -19,7 +19,7 @@ use wgpu::util::DeviceExt;
 
 /// One indexed draw per instance.
 #[derive(Debug, Clone)]
-pub struct Draw {
+pub(crate) struct Draw {
     /// The instance's mesh in the index buffer.
     pub(crate) indices: std::ops::Range<u32>,
     /// Added to each index: the mesh's first vertex.
@@ -79,10 +79,10 @@ pub struct GpuScene {
     /// The material textures.
     pub textures: Option<SceneTextures>,
     /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
-    /// by [`GpuScene::write_lights`].
+    /// by `GpuScene::write_lights`.
     pub lights: Option<wgpu::Buffer>,
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
-    /// [`GpuScene::write_motion`].
+    /// `GpuScene::write_motion`.
     pub motion: Option<wgpu::Buffer>,
     /// One draw per instance, for raster passes.
     pub(crate) draws: Vec<Draw>,
@@ -95,7 +95,7 @@ pub struct GpuScene {
 }
 
 /// Side of the square layers of the texture array.
-pub const TEXTURE_SIZE: u32 = 256;
+pub(crate) const TEXTURE_SIZE: u32 = 256;
 /// Mip levels of the texture array (down to 1x1).
 pub const TEXTURE_MIPS: u32 = TEXTURE_SIZE.ilog2() + 1;
 
@@ -542,7 +542,7 @@ fn instance_records(scene: &Scene) -> Vec<InstanceUniforms> {
 impl GpuScene {
     /// Rewrites the instance records in place (transforms changed, nothing else). Returns
     /// false if there is no instance buffer or its size no longer matches.
-    pub fn write_instances(&self, queue: &wgpu::Queue, scene: &Scene) -> bool {
+    pub(crate) fn write_instances(&self, queue: &wgpu::Queue, scene: &Scene) -> bool {
         let Some(buffer) = &self.instances else { return false };
         let records = instance_records(scene);
         let bytes: &[u8] = bytemuck::cast_slice(&records);
@@ -557,7 +557,7 @@ impl GpuScene {
 impl GpuScene {
     /// Rewrites the vertices of the meshes `meshes` in place (their vertex counts unchanged).
     /// Returns false if there is no vertex buffer or a mesh no longer fits its range.
-    pub fn write_vertices(&self, queue: &wgpu::Queue, scene: &Scene, meshes: &[usize]) -> bool {
+    pub(crate) fn write_vertices(&self, queue: &wgpu::Queue, scene: &Scene, meshes: &[usize]) -> bool {
         let Some(buffer) = &self.vertices else { return false };
         let stride = std::mem::size_of::<Vertex>() as u64;
         for &m in meshes {
@@ -575,7 +575,7 @@ impl GpuScene {
 
     /// Rewrites the previous transforms (`scene_motion`). Returns false if there is no such
     /// buffer or its size no longer matches.
-    pub fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {
+    pub(crate) fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {
         let Some(buffer) = &self.motion else { return false };
         let records: Vec<[[f32; 4]; 4]> = transforms.iter().map(|m| m.to_cols_array_2d()).collect();
         let bytes: &[u8] = bytemuck::cast_slice(&records);
@@ -588,7 +588,7 @@ impl GpuScene {
 
     /// Rewrites the light records. Returns false if there is no light buffer or its size no
     /// longer matches.
-    pub fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
+    pub(crate) fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
         let Some(buffer) = &self.lights else { return false };
         let bytes: &[u8] = bytemuck::cast_slice(records);
         if records.is_empty() || bytes.len() as u64 != buffer.size() {
@@ -602,7 +602,7 @@ impl GpuScene {
 /// The GPU form of a scene's lights: one record per light and the view-projection of each
 /// raster shadow-map slot in use.
 #[derive(Debug, Clone, Default)]
-pub struct LightRecords {
+pub(crate) struct LightRecords {
     /// One record per light.
     pub(crate) records: Vec<LightUniforms>,
     /// The view-projection of each shadow-map slot in use.
@@ -617,7 +617,7 @@ pub struct LightRecords {
 /// orthographic projection along the light over the scene's sphere; spot, a perspective
 /// projection over its outer cone from its position to the far side of the sphere (or its
 /// range). Point lights get none.
-pub fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
+pub(crate) fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
     let mut out = LightRecords::default();
     for light in lights {
         let direction = light.direction.try_normalize().unwrap_or(Vec3::NEG_Y);
@@ -680,7 +680,7 @@ fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radiu
 /// a texture by its size and the address of its pixels (a replaced image is seen, pixels
 /// edited in place are not).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct SceneContent {
+pub(crate) struct SceneContent {
     /// The hash of everything but the instance transforms and the deforming meshes' vertices.
     pub(crate) structure: u64,
     /// The hash of the instance transforms.

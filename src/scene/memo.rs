@@ -1,5 +1,5 @@
 //! Change detection without reading data: values computed once per mesh content (content
-//! hashes, bounds: [`MeshMemo`]), and a whole scene kept by pointer ([`SceneSnapshot`]), so a
+//! hashes, bounds: `MeshMemo`), and a whole scene kept by pointer (`SceneSnapshot`), so a
 //! frame of a static scene costs one pointer comparison per mesh and a few per scene.
 //!
 //! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut`. A memo keeps a
@@ -17,7 +17,7 @@ use std::sync::Arc;
 /// pose time). While a snapshot holds them, an edit through `Arc::make_mut` cannot reuse their
 /// allocations, so [`SceneSnapshot::matches`] is exact.
 #[derive(Debug, Clone)]
-pub struct SceneSnapshot {
+pub(crate) struct SceneSnapshot {
     meshes: Vec<Arc<Mesh>>,
     materials: Arc<Vec<Material>>,
     instances: Arc<Vec<Instance>>,
@@ -70,7 +70,7 @@ impl SceneSnapshot {
 
 /// A value per mesh, kept while the mesh is the same `Arc`.
 #[derive(Debug, Default)]
-pub struct MeshMemo<T> {
+pub(crate) struct MeshMemo<T> {
     entries: Vec<Option<(Arc<Mesh>, T)>>,
 }
 

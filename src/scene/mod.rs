@@ -118,14 +118,14 @@ impl SlotSampling {
 
     /// The wrap modes alone: [`SlotSampling::sampler_bits`]' bits 0-3 (what the alpha test
     /// reads).
-    pub fn wrap_bits(&self) -> u32 {
+    pub(crate) fn wrap_bits(&self) -> u32 {
         self.sampler_bits() & 15
     }
 
     /// The sampler as 8 bits (`shaders/common/texture_sampling.wgsl`): bits 0-1 wrap S, 2-3
     /// wrap T (0 repeat, 1 clamp, 2 mirror), 4 magnification NEAREST, 5 minification NEAREST,
     /// 6-7 the mipmap mode (0 linear, 1 nearest, 2 none). 0 is glTF's default sampler.
-    pub fn sampler_bits(&self) -> u32 {
+    pub(crate) fn sampler_bits(&self) -> u32 {
         let wrap = |w: Wrap| match w {
             Wrap::Repeat => 0,
             Wrap::ClampToEdge => 1,
@@ -185,16 +185,16 @@ pub struct Material {
 
 /// A material's texture slots: glTF's five (base colour, metallic-roughness, normal, occlusion,
 /// emissive) and the six of the lobe extensions ([`Lobes::textures`]).
-pub const TEXTURE_SLOTS: usize = crate::uniforms::MATERIAL_TEXTURE_SLOTS;
+pub(crate) const TEXTURE_SLOTS: usize = crate::uniforms::MATERIAL_TEXTURE_SLOTS;
 
 /// The slots of [`Lobes::textures`], counted from the first lobe slot (slot 5 of a material).
-pub const LOBE_SPECULAR: usize = 0;
+pub(crate) const LOBE_SPECULAR: usize = 0;
 /// `specularColorTexture` (sRGB).
 pub const LOBE_SPECULAR_COLOR: usize = 1;
 /// `clearcoatTexture` (red).
 pub const LOBE_CLEARCOAT: usize = 2;
 /// `clearcoatRoughnessTexture` (green).
-pub const LOBE_CLEARCOAT_ROUGHNESS: usize = 3;
+pub(crate) const LOBE_CLEARCOAT_ROUGHNESS: usize = 3;
 /// `clearcoatNormalTexture` (tangent space, like the normal map).
 pub const LOBE_CLEARCOAT_NORMAL: usize = 4;
 /// `transmissionTexture` (red).
@@ -225,7 +225,7 @@ pub struct Lobes {
     /// (alpha), `specularColorTexture` (rgb, sRGB), `clearcoatTexture` (red),
     /// `clearcoatRoughnessTexture` (green), `clearcoatNormalTexture` (the coat's own normal
     /// map; without one the coat follows the surface's normal before the base's normal map),
-    /// `transmissionTexture` (red); indexed by [`LOBE_SPECULAR`] and the constants after it.
+    /// `transmissionTexture` (red); indexed by `LOBE_SPECULAR` and the constants after it.
     pub textures: [Option<usize>; 6],
 }
 
@@ -245,15 +245,10 @@ impl Default for Lobes {
 }
 
 impl Lobes {
-    /// The dielectric part's reflectance at normal incidence (KHR_materials_specular):
-    /// min(((ior - 1) / (ior + 1))² x specular colour, 1) x specular factor; 0.04 by default.
-    pub fn dielectric_f0(&self) -> [f32; 3] {
-        self.tinted_reflectance().map(|t| (t.min(1.0) * self.specular as f64) as f32)
-    }
-
-    /// ((ior - 1) / (ior + 1))² x specular colour: [`Lobes::dielectric_f0`] before the clamp and
-    /// the specular factor, which the shaders apply with the lobe textures' texels.
-    pub fn tinted_reflectance(&self) -> [f64; 3] {
+    /// ((ior - 1) / (ior + 1))² x specular colour: the dielectric part's reflectance at normal
+    /// incidence (KHR_materials_specular; 0.04 by default) before the clamp to 1 and the specular
+    /// factor, which the shaders apply with the lobe textures' texels.
+    pub(crate) fn tinted_reflectance(&self) -> [f64; 3] {
         let r = ((self.ior as f64 - 1.0) / (self.ior as f64 + 1.0)).powi(2);
         self.specular_color.map(|c| r * c as f64)
     }
@@ -269,7 +264,7 @@ impl Material {
     /// The cutoff of an alpha-tested material, `None` for an opaque one: MASK's own; BLEND's
     /// [`BLEND_MIN_COVERAGE`] (a texel below it is empty); 0 for a transmissive one whatever its
     /// alpha mode (its surface is always hit: even one that lets everything through reflects).
-    pub fn alpha_cutoff(&self) -> Option<f32> {
+    pub(crate) fn alpha_cutoff(&self) -> Option<f32> {
         match self.alpha_mode {
             AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
             _ if self.lobes.transmission > 0.0 => Some(0.0),
@@ -293,7 +288,7 @@ impl Material {
 
     /// The share of the light that passes a transmissive surface where its transmission
     /// texel is 1: transmission x (1 - metallic); 0 for other materials.
-    pub fn transmitted_share(&self) -> f32 {
+    pub(crate) fn transmitted_share(&self) -> f32 {
         self.lobes.transmission * (1.0 - self.metallic)
     }
 
@@ -301,7 +296,7 @@ impl Material {
     /// times the base texture's alpha): `base_color.a` x (1 - transmission x (1 - metallic)),
     /// and where the transmission texture is drawn, `base_color.a` (the texel then scales the
     /// transmitted share: [`Material::transmission_texture_drawn`]).
-    pub fn coverage_factor(&self) -> f32 {
+    pub(crate) fn coverage_factor(&self) -> f32 {
         if self.transmission_texture_drawn() {
             return self.base_color[3];
         }
@@ -311,7 +306,7 @@ impl Material {
     /// Every slot's texture in the order of [`gltf_import::TextureSlot`] and of
     /// [`Material::sampling`]: base colour, metallic-roughness, normal, occlusion, emissive,
     /// then [`Lobes::textures`].
-    pub fn slot_textures(&self) -> [Option<usize>; TEXTURE_SLOTS] {
+    pub(crate) fn slot_textures(&self) -> [Option<usize>; TEXTURE_SLOTS] {
         let core = [self.texture, self.metallic_roughness_texture, self.normal_texture, self.occlusion_texture, self.emissive_texture];
         std::array::from_fn(|slot| if slot < 5 { core[slot] } else { self.lobes.textures[slot - 5] })
     }
@@ -342,7 +337,7 @@ impl Material {
 
 /// The least coverage (`base_color.a` x texture alpha) a BLEND texel needs to be hit at all:
 /// below it the texel is empty (under one 8-bit step of what it would add).
-pub const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
+pub(crate) const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
 
 /// One placement of a mesh.
 #[derive(Debug, Clone)]
@@ -556,7 +551,7 @@ impl Scene {
 
     /// Drops every texture and every material's reference to one (for graphs that sample
     /// none).
-    pub fn strip_textures(&mut self) {
+    pub(crate) fn strip_textures(&mut self) {
         self.textures.clear();
         for m in self.materials_mut().iter_mut() {
             m.texture = None;
@@ -568,7 +563,7 @@ impl Scene {
     }
 
     /// How many lights [`Scene::effective_lights`] returns (without building them).
-    pub fn effective_light_count(&self) -> usize {
+    pub(crate) fn effective_light_count(&self) -> usize {
         if self.lights.is_empty() {
             1 + usize::from(self.point_light.is_some())
         } else {
@@ -623,7 +618,7 @@ impl Scene {
 
     /// World-space bounds of all instances, given each mesh's bounds (`mesh_bounds`, one per
     /// mesh, as [`Mesh::bounds`] gives them; a memo of them spares reading the vertices).
-    pub fn bounds_from(&self, mesh_bounds: &[Bounds]) -> Bounds {
+    pub(crate) fn bounds_from(&self, mesh_bounds: &[Bounds]) -> Bounds {
         let mut b = Bounds::EMPTY;
         for inst in self.instances.iter() {
             let Some(&mb) = mesh_bounds.get(inst.mesh) else { continue };

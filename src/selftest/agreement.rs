@@ -28,7 +28,7 @@ pub const SCENES: [(&str, usize); 4] = [("box", 400), ("organic", 400), ("defaul
 /// 1.5x the largest measured over the three back-ends on lavapipe (Mesa 25.0.7, 2026-11-29:
 /// box 8.8%, organic 7.9%, default 11.9%, atrium 4.0%, all on `compute`). More means the
 /// traversal misses or adds hits near edges beyond f32 rounding.
-pub fn edge_share_bound(scene: &str) -> f64 {
+pub(crate) fn edge_share_bound(scene: &str) -> f64 {
     match scene {
         "box" => 0.13,
         "organic" => 0.12,

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 /// The clock of a scene's animation.
 #[derive(Debug, Clone)]
-pub struct AnimationClock {
+pub(crate) struct AnimationClock {
     /// The clips that play (rest: the scene has no animation).
     pub clip: ClipSet,
     /// Seconds into the clip.
@@ -40,7 +40,7 @@ impl AnimationClock {
     }
 
     /// Moves time on by one frame (when playing), wrapping at the clip's end.
-    pub fn tick(&mut self, scene: &Scene) {
+    pub(crate) fn tick(&mut self, scene: &Scene) {
         let now = Instant::now();
         let dt = match (self.fixed_step, self.last) {
             (Some(step), _) => step,
@@ -55,7 +55,7 @@ impl AnimationClock {
     }
 
     /// Jumps to `time` seconds (wrapped into the clip).
-    pub fn seek(&mut self, scene: &Scene, time: f32) {
+    pub(crate) fn seek(&mut self, scene: &Scene, time: f32) {
         let d = self.duration(scene);
         self.time = if d > 0.0 && time.is_finite() { time.rem_euclid(d) } else { 0.0 };
     }

@@ -22,13 +22,13 @@ pub struct Mapping {
 impl Mapping {
     /// Values shown as they are (the graph's output: display-encoded unless it is an sRGB
     /// format, whose texels read back linear).
-    pub fn identity(format: Format) -> Self {
+    pub(crate) fn identity(format: Format) -> Self {
         Self { scale: [1.0; 4], bias: [0.0; 4], channels: format.texel_layout().0 as u32, encode_srgb: format == Format::Rgba8UnormSrgb }
     }
 
     /// Each channel's finite range over `texels` stretched to [0, 1] (a constant channel maps
     /// to its value clamped), shown linear.
-    pub fn auto_range(format: Format, texels: &[[f32; 4]]) -> Self {
+    pub(crate) fn auto_range(format: Format, texels: &[[f32; 4]]) -> Self {
         let mut lo = [f32::INFINITY; 4];
         let mut hi = [f32::NEG_INFINITY; 4];
         for t in texels {
@@ -65,7 +65,7 @@ impl Mapping {
 }
 
 /// The texture format of a planned texture resource.
-pub fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
+pub(crate) fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
     match &exec.plan().resources.get(r)?.decl {
         ResourceDecl::Texture(t) => Some(t.format),
         _ => None,

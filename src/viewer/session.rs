@@ -17,12 +17,12 @@ use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
 /// Frames kept for the overlay's statistics.
-pub const STATS_WINDOW: usize = 120;
+pub(crate) const STATS_WINDOW: usize = 120;
 
 /// A layer node of the graph file, for the parameters panel: its parameters as declared (with
 /// the values in effect) and whether it is switched on.
 #[derive(Debug, Clone)]
-pub struct NodeControls {
+pub(crate) struct NodeControls {
     pub(crate) node: String,
     pub(crate) layer: String,
     pub(crate) enabled: bool,
@@ -56,7 +56,7 @@ impl Snapshot {
 
 /// What happened when the files changed.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Reload {
+pub(crate) enum Reload {
     /// A new plan runs.
     Reloaded {
         /// The new plan's passes.
@@ -166,7 +166,7 @@ impl Session {
     /// previous executor stays. The viewer allocates every resource on its own (no reuse), so
     /// that any texture can be inspected after the frame; `reuse_bytes` is what the same plan
     /// takes with reuse.
-    pub fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
+    pub(crate) fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
         let mut options = self.options.clone();
         // Overrides of nodes or parameters the files no longer have (or that are switched
         // off) wait until they are there again, rather than failing every compile.
@@ -195,7 +195,7 @@ impl Session {
     }
 
     /// Checks the watched files (at most every `interval`) and compiles again if any changed.
-    pub fn poll_reload(&mut self, gpu: &Gpu, interval: std::time::Duration) -> Option<Reload> {
+    pub(crate) fn poll_reload(&mut self, gpu: &Gpu, interval: std::time::Duration) -> Option<Reload> {
         if self.last_poll.elapsed() < interval {
             return None;
         }
@@ -244,7 +244,7 @@ impl Session {
     }
 
     /// Switches the traversal back-end (the same graph compiled for it).
-    pub fn set_backend(&mut self, gpu: &Gpu, backend: Backend) -> Result<usize, String> {
+    pub(crate) fn set_backend(&mut self, gpu: &Gpu, backend: Backend) -> Result<usize, String> {
         let previous = self.options.backend;
         self.options.backend = backend;
         self.recompile(gpu).inspect_err(|_| self.options.backend = previous)
@@ -277,7 +277,7 @@ impl Session {
     }
 
     /// Switches an effect (a layer node) on or off: a new plan without (or with) its passes.
-    pub fn set_enabled(&mut self, gpu: &Gpu, node: &str, on: bool) -> Result<(), String> {
+    pub(crate) fn set_enabled(&mut self, gpu: &Gpu, node: &str, on: bool) -> Result<(), String> {
         let previous = self.options.enabled.insert(node.to_string(), on);
         self.recompile(gpu).map(|_| ()).inspect_err(|_| {
             match previous {
@@ -291,7 +291,7 @@ impl Session {
     /// The graph file's layer nodes with their parameter declarations and values in effect
     /// (read from the files, so switched-off nodes are listed too), as of the last compile or
     /// parameter change.
-    pub fn controls(&self) -> &[NodeControls] {
+    pub(crate) fn controls(&self) -> &[NodeControls] {
         &self.controls
     }
 

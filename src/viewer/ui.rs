@@ -63,14 +63,14 @@ fn script_mode(m: Mode) -> ScriptMode {
 }
 
 /// The first texture a pass writes (what clicking it shows).
-pub fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
+pub(crate) fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
     let p = plan.passes.iter().find(|p| p.name == pass)?;
     p.writes.iter().map(|(_, r)| &plan.resources[*r]).find(|r| matches!(r.decl, ResourceDecl::Texture(_))).map(|r| r.name.clone())
 }
 
 /// One line per pass of the profiler: name, kind, GPU ms (mean / median / min / max), CPU ms,
 /// rays per pixel, GigaRays/s.
-pub fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
+pub(crate) fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
     let Some(report) = &f.session.report else { return Vec::new() };
     report
         .passes
@@ -99,7 +99,7 @@ pub fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
 
 /// The overlay as text (written beside screenshots, so an automated run can check what the
 /// overlay showed).
-pub fn overlay_text(f: &Frame) -> String {
+pub(crate) fn overlay_text(f: &Frame) -> String {
     let mut s = String::new();
     let session = f.session;
     let _ = writeln!(s, "adapter: {}", f.gpu.describe());

@@ -51,7 +51,7 @@ impl RtAccel {
 
 /// A trace pass as a ray-tracing pipeline: none can be made here ([`RtPass::new`] fails), so
 /// no value of this type exists.
-pub enum RtPass {}
+pub(crate) enum RtPass {}
 
 impl RtPass {
     /// Fails: there is no Vulkan device to make the pipeline on.
@@ -70,17 +70,17 @@ impl RtPass {
     }
 
     /// Unreachable: no `RtPass` exists.
-    pub fn set_group(&mut self, _g: u32, _bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
+    pub(crate) fn set_group(&mut self, _g: u32, _bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
         match *self {}
     }
 
     /// Unreachable: no `RtPass` exists.
-    pub fn bind_accel(&mut self, _accel: &RtAccel, _cache: &AccelBuffers) -> Result<(), RuntimeError> {
+    pub(crate) fn bind_accel(&mut self, _accel: &RtAccel, _cache: &AccelBuffers) -> Result<(), RuntimeError> {
         match *self {}
     }
 
     /// Unreachable: no `RtPass` exists.
-    pub fn transition(&self, _encoder: &mut wgpu::CommandEncoder, _stats: &wgpu::Buffer) {
+    pub(crate) fn transition(&self, _encoder: &mut wgpu::CommandEncoder, _stats: &wgpu::Buffer) {
         match *self {}
     }
 

@@ -51,7 +51,7 @@ pub(super) struct PassBindings {
 impl PassBindings {
     /// The layout entries of each bind group, group `g` at index `g` (a group with no
     /// bindings is empty).
-    pub fn layout_groups(&self) -> Vec<Vec<wgpu::BindGroupLayoutEntry>> {
+    pub(crate) fn layout_groups(&self) -> Vec<Vec<wgpu::BindGroupLayoutEntry>> {
         let count = self.layout_entries.iter().map(|(g, _)| g + 1).max().unwrap_or(0);
         (0..count).map(|g| self.layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect()).collect()
     }

@@ -25,7 +25,6 @@ mod slots;
 mod trace;
 
 pub use features::{SceneFeatures, TRACE_ALPHA_CONSTANT};
-pub use readback::read_texture_async;
 #[cfg(not(target_arch = "wasm32"))]
 pub use readback::{read_texture, write_png};
 

@@ -30,7 +30,7 @@ impl Executor {
     }
 
     /// [`Executor::read_texture_rgba8`] as a future.
-    pub async fn read_texture_rgba8_async(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
+    pub(crate) async fn read_texture_rgba8_async(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
         let (w, h, format, data) = self.read_texture_bytes(gpu, r).await?;
         if format.bytes_per_texel() != 4 || format.is_uint() {
             return Err(RuntimeError::Gpu(format!("{} is {format:?}, not an 8-bit RGBA texture", self.plan.resources[r].name)));
@@ -103,7 +103,7 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Res
 }
 
 /// [`read_texture`] as a future.
-pub async fn read_texture_async(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
+pub(crate) async fn read_texture_async(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
     let (w, h) = (texture.width(), texture.height());
     let row = w * texel_bytes;
     let padded = row.div_ceil(256) * 256;
