@@ -38,11 +38,11 @@ pub struct SoakConfig {
     /// Built-in scene name or glTF path.
     pub scene: String,
     /// Frames to run.
-    pub(crate) frames: u32,
+    pub frames: u32,
     /// Frames per cycle (at least 16).
-    pub(crate) cycle: u32,
+    pub cycle: u32,
     /// Frame size.
-    pub(crate) size: (u32, u32),
+    pub size: (u32, u32),
     /// Folder holding `graph/`, `layers/` and `shaders/` (copied before the run).
     pub root: PathBuf,
     /// The graph that runs at every check, and the one swapped in for part of each cycle

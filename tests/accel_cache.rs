@@ -48,7 +48,7 @@ fn the_cache_builds_only_what_changed() {
         assert_eq!((r.blas_built, r.tlas), (0, expected), "{backend}: {r:?}");
         let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
         assert!(!r.built_anything(), "{backend}: {r:?}");
-        assert_eq!(exec.accel().unwrap().total_blas_builds, scene.meshes.len() + 1);
+        assert_eq!(exec.accel().unwrap().total_blas_builds(), scene.meshes.len() + 1);
         // The moved instance is where the rays now find it: the picture changed.
         println!("{backend}: {}", r.describe());
     }

@@ -159,7 +159,7 @@ pub struct BuildPrim {
     /// The primitive's box.
     pub bounds: Aabb,
     /// The id the builder carries into [`Bvh::prim_order`].
-    pub(crate) id: u32,
+    pub id: u32,
 }
 
 impl BuildPrim {
@@ -1110,7 +1110,7 @@ pub struct SceneAccel {
     /// The top level over the instances.
     pub tlas: Tlas,
     /// Whether BLASes are shared per mesh ([`AccelOptions::dedup`]).
-    pub(crate) dedup: bool,
+    pub dedup: bool,
     /// Wall time of [`SceneAccel::build`].
     pub build_time: Duration,
 }

@@ -99,18 +99,18 @@ pub struct BuildReport {
     /// builds on the GPU inside the `Accel` pass's timestamps).
     pub blas_ms: f64,
     /// CPU milliseconds of the TLAS build.
-    pub(crate) tlas_ms: f64,
+    pub tlas_ms: f64,
     /// SAH cost of the built BVHs, triangle-weighted over the BLASes, and of the TLAS (compute).
     pub blas_sah: Option<f64>,
     /// SAH cost of the TLAS.
-    pub(crate) tlas_sah: Option<f64>,
+    pub tlas_sah: Option<f64>,
     /// The merged BLAS was refitted on the GPU (inside the `Accel` pass's timestamps).
     pub blas_refit: bool,
     /// The merged BLAS was built on the GPU ([`crate::accel::gpu_build`]); `blas_ms` is then
     /// the wall time until its arrays were in place, `blas_gpu_ms` the build's GPU time.
     pub blas_gpu_built: bool,
     /// GPU milliseconds of the merged BLAS's GPU build.
-    pub(crate) blas_gpu_ms: Option<f64>,
+    pub blas_gpu_ms: Option<f64>,
     /// Deforming meshes whose positions changed in this update.
     pub deformed_meshes: usize,
     /// Two-level layout: BLASes of deforming meshes refitted on the CPU instead of built.
@@ -278,7 +278,7 @@ pub struct AccelCache {
     /// Changes whenever the GPU objects bound by trace passes are replaced.
     generation: u64,
     /// Total BLAS builds since creation (tests read it).
-    pub total_blas_builds: usize,
+    total_blas_builds: usize,
     /// Who builds the merged layout's BLAS on a rebuild, and the GPU builder once made.
     merged_builder: MergedBuilder,
     gpu_builder: Option<GpuBlasBuilder>,
@@ -315,6 +315,13 @@ pub struct AccelCache {
     /// Every mesh's positions as the executor's GPU deformation writes them
     /// ([`crate::runtime::deform::GpuDeform::positions`]), for scenes posed for the GPU.
     device_positions: Option<wgpu::Buffer>,
+}
+
+impl AccelCache {
+    /// Total BLAS builds since creation (tests read it).
+    pub fn total_blas_builds(&self) -> usize {
+        self.total_blas_builds
+    }
 }
 
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).

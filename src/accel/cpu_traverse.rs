@@ -213,22 +213,22 @@ pub(crate) fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
 #[derive(Debug, Clone, Copy)]
 pub struct WatertightRay {
     /// Origin.
-    pub(crate) org: Vec3,
+    org: Vec3,
     /// Direction.
-    pub(crate) dir: Vec3,
+    dir: Vec3,
     /// The axis of the largest `|dir|` component, and the two others (swapped when
     /// `dir[kz] < 0` to keep the winding).
-    pub kx: usize,
+    kx: usize,
     /// The second axis.
-    pub(crate) ky: usize,
+    ky: usize,
     /// The third axis.
-    pub(crate) kz: usize,
+    kz: usize,
     /// Shear `dir[kx] / dir[kz]`, `dir[ky] / dir[kz]` and scale `1 / dir[kz]`.
-    pub sx: f32,
+    sx: f32,
     /// Shear `dir[ky] / dir[kz]`.
-    pub(crate) sy: f32,
+    sy: f32,
     /// Scale `1 / dir[kz]`.
-    pub(crate) sz: f32,
+    sz: f32,
 }
 
 impl WatertightRay {
@@ -372,9 +372,9 @@ impl TraversalCounts {
 #[derive(Debug, Clone, Copy)]
 pub struct CpuTraverser<'a> {
     /// The structure traversed.
-    pub(crate) accel: &'a GpuAccel,
+    accel: &'a GpuAccel,
     /// The scene `accel` was built from, for the alpha test (none: no alpha test).
-    pub scene: Option<&'a crate::scene::Scene>,
+    scene: Option<&'a crate::scene::Scene>,
 }
 
 impl<'a> CpuTraverser<'a> {

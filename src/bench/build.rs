@@ -31,7 +31,7 @@ pub struct BuildBenchConfig {
     /// The back-ends measured.
     pub backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
-    pub(crate) root: PathBuf,
+    pub root: PathBuf,
 }
 
 impl BuildBenchConfig {
@@ -57,28 +57,28 @@ impl BuildBenchConfig {
 #[derive(Debug, Clone)]
 pub struct BuildRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// N of the N×N×N copies.
-    pub(crate) factor: u32,
+    pub factor: u32,
     /// Triangles of all copies.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// Milliseconds of the BLAS builds.
-    pub(crate) blas_ms: Option<f64>,
+    pub blas_ms: Option<f64>,
     /// Milliseconds of the TLAS build.
-    pub(crate) tlas_ms: Option<f64>,
+    pub tlas_ms: Option<f64>,
     /// Until the structure was usable on the GPU (CPU build, flattening and upload; or the GPU
     /// build), milliseconds.
     pub total_ms: f64,
     /// SAH cost of the BLASes.
-    pub(crate) blas_sah: Option<f64>,
+    pub blas_sah: Option<f64>,
     /// SAH cost of the TLAS.
-    pub(crate) tlas_sah: Option<f64>,
+    pub tlas_sah: Option<f64>,
     /// GPU milliseconds of tracing the camera rays.
-    pub(crate) trace_ms: Option<f64>,
+    pub trace_ms: Option<f64>,
     /// Millions of rays per second of that trace.
-    pub(crate) mrays_per_s: Option<f64>,
+    pub mrays_per_s: Option<f64>,
 }
 
 /// Camera rays through a `w`×`h` grid from the scene's default camera.
@@ -125,7 +125,7 @@ pub fn run(
                 // Warm-up until the trace time settles: pipeline, caches and clocks.
                 WarmUp::for_gpu(gpu, 1).until_settled(|| tracer.time_closest(gpu, &rays).map(|(_, ms)| ms.unwrap_or(0.0)))?;
                 let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
-                let b = &tracer.build;
+                let b = tracer.build_report();
                 let cpu_builder = backend == Backend::Compute;
                 rows.push(BuildRow {
                     scene: name.clone(),
@@ -134,7 +134,7 @@ pub fn run(
                     backend,
                     blas_ms: cpu_builder.then_some(b.blas_ms),
                     tlas_ms: cpu_builder.then_some(b.tlas_ms),
-                    total_ms: tracer.build_wall_ms,
+                    total_ms: tracer.build_wall_ms(),
                     blas_sah: b.blas_sah,
                     tlas_sah: b.tlas_sah,
                     trace_ms,
@@ -241,13 +241,13 @@ pub fn plots(dir: &Path, rows: &[BuildRow]) -> Result<Vec<PathBuf>, String> {
 #[derive(Debug, Clone)]
 pub struct RefitRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Triangles of the merged layout.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// Tree levels, and the refit's dispatches (large levels one each, runs of small ones one).
     pub levels: usize,
     /// Dispatches of the refit.
-    pub(crate) dispatches: usize,
+    pub dispatches: usize,
     /// CPU milliseconds of the first build (merge and binned-SAH build).
     pub rebuild_ms: f64,
     /// GPU milliseconds of the `Accel` pass on the refitted frames (median, min).
@@ -361,17 +361,17 @@ pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
 #[derive(Debug, Clone)]
 pub struct GpuBuildRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Triangles of the merged layout.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// GPU milliseconds of the build (median, min).
-    pub(crate) gpu_ms: Option<(f64, f64)>,
+    pub gpu_ms: Option<(f64, f64)>,
     /// Median GPU milliseconds of each `crate::accel::gpu_build::Phase`.
     pub phase_ms: Option<[f64; 4]>,
     /// Nearest-neighbour rounds of the build.
-    pub(crate) rounds: u32,
+    pub rounds: u32,
     /// Depth of the deepest leaf.
-    pub(crate) depth: u32,
+    pub depth: u32,
     /// CPU milliseconds of `Blas::build` of the merged mesh (median of 3).
     pub cpu_ms: f64,
     /// Wall milliseconds of the input records, the build and a read-back of the whole tree
@@ -390,9 +390,9 @@ pub struct GpuBuildRow {
     /// time until the built arrays were in place (`BuildReport::blas_ms`), milliseconds.
     pub cache_rebuild_parts: Option<[f64; 3]>,
     /// SAH cost of the GPU-built tree.
-    pub(crate) gpu_sah: f64,
+    pub gpu_sah: f64,
     /// SAH cost of the CPU-built tree.
-    pub(crate) cpu_sah: f64,
+    pub cpu_sah: f64,
 }
 
 /// `builds` GPU builds of every scene of `cfg`'s merged layout.
@@ -572,9 +572,9 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
 #[derive(Debug, Clone)]
 pub struct CpuBuildRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Triangles of the merged mesh.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// rayon's worker threads.
     pub threads: usize,
     /// The first build in the process (fresh memory: page faults included).
@@ -582,13 +582,13 @@ pub struct CpuBuildRow {
     /// Median and minimum of the builds after it.
     pub median_ms: f64,
     /// Minimum milliseconds of the builds after the first.
-    pub(crate) min_ms: f64,
+    pub min_ms: f64,
     /// Builds timed.
-    pub(crate) builds: u32,
+    pub builds: u32,
     /// SAH cost of the tree.
-    pub(crate) sah: f64,
+    pub sah: f64,
     /// Depth of the deepest leaf.
-    pub(crate) depth: usize,
+    pub depth: usize,
 }
 
 /// `builds` CPU builds of every scene of `cfg`'s merged mesh.

@@ -43,15 +43,15 @@ pub struct ErrorConfig {
     /// Rays per pixel run: 1, 2, 4, ... up to this.
     pub max_rays: i64,
     /// Seeds per ray count.
-    pub(crate) seeds: u32,
+    pub seeds: u32,
     /// Untimed frames before the timed ones of every seed (the GPU's clocks rise under load).
     pub warmup: u32,
     /// Timed frames per seed.
-    pub(crate) frames: u32,
+    pub frames: u32,
     /// The back-ends measured.
     pub backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
-    pub(crate) root: PathBuf,
+    pub root: PathBuf,
 }
 
 impl ErrorConfig {
@@ -70,26 +70,26 @@ impl ErrorConfig {
 #[derive(Debug, Clone)]
 pub struct ErrorRow {
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// The sampling scheme ([`SCHEMES`]).
-    pub(crate) sampling: &'static str,
+    pub sampling: &'static str,
     /// AO rays per pixel.
-    pub(crate) rays: i64,
+    pub rays: i64,
     /// GPU milliseconds of the AO pass.
-    pub(crate) ao_ms: f64,
+    pub ao_ms: f64,
     /// Root mean square error against the closed form.
-    pub(crate) rmse: f64,
+    pub rmse: f64,
     /// Relative mean square error.
-    pub(crate) relmse: f64,
+    pub relmse: f64,
     /// Mean error (bias).
-    pub(crate) bias: f64,
+    pub bias: f64,
     /// Variance over seeds.
-    pub(crate) variance: f64,
+    pub variance: f64,
     /// FLIP (NVIDIA's perceptual difference, `nv-flip`) of the AO images shown as grey against
     /// the reference grey: mean and 99th percentile over all pixels of all seeds.
     pub flip_mean: f64,
     /// 99th percentile of FLIP.
-    pub(crate) flip_p99: f64,
+    pub flip_p99: f64,
 }
 
 /// The floor, the ceiling (a floor turned over, facing down) and a camera between them looking
@@ -326,24 +326,24 @@ pub fn plots(dir: &Path, rows: &[ErrorRow]) -> Result<Vec<PathBuf>, String> {
 #[derive(Debug, Clone)]
 pub struct HybridRow {
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// With the scene's textures, or with every material's constant colour only.
     pub textures: bool,
     /// GPU milliseconds of a hybrid frame.
-    pub(crate) hybrid_ms: f64,
+    pub hybrid_ms: f64,
     /// GPU milliseconds of a full-RT frame.
-    pub(crate) full_rt_ms: f64,
+    pub full_rt_ms: f64,
     /// Over the 8-bit RGB output: RMSE (in 8-bit units), the fraction of pixels with a channel
     /// differing by more than 8, and FLIP (mean, 99th percentile).
     pub rmse: f64,
     /// Fraction of pixels with a channel differing by more than 8.
-    pub(crate) differing: f64,
+    pub differing: f64,
     /// Mean FLIP.
-    pub(crate) flip_mean: f64,
+    pub flip_mean: f64,
     /// 99th percentile of FLIP.
-    pub(crate) flip_p99: f64,
+    pub flip_p99: f64,
 }
 
 /// Hybrid against full RT on `scenes` at `size`, on every back-end of `cfg`.
@@ -434,7 +434,7 @@ pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
 #[derive(Debug, Clone)]
 pub struct ShadowMapSweep {
     /// The scenes.
-    pub(crate) scenes: Vec<String>,
+    pub scenes: Vec<String>,
     /// Frame size.
     pub size: (u32, u32),
     /// Shadow-map sizes (square texels): copies of `layers/shadow_map.ron` with that size.
@@ -469,25 +469,25 @@ impl ShadowMapSweep {
 #[derive(Debug, Clone)]
 pub struct ShadowMapRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Shadow-map size, texels.
-    pub(crate) resolution: u32,
+    pub resolution: u32,
     /// The `shadow_bias`.
-    pub(crate) bias: f64,
+    pub bias: f64,
     /// The `normal_offset`.
-    pub(crate) normal_offset: f64,
+    pub normal_offset: f64,
     /// Pixels the rays light.
-    pub(crate) lit_pixels: usize,
+    pub lit_pixels: usize,
     /// Pixels the rays shadow.
-    pub(crate) shadowed_pixels: usize,
+    pub shadowed_pixels: usize,
     /// Shadowed by the map among the pixels the rays light.
-    pub(crate) false_shadow: f64,
+    pub false_shadow: f64,
     /// Lit by the map among the pixels the rays shadow.
-    pub(crate) false_lit: f64,
+    pub false_lit: f64,
     /// GPU ms of the shadow-map pass (median), and of the ray-traced shadow pass it replaces.
     pub shadow_map_ms: f64,
     /// GPU milliseconds of the ray-traced shadow pass.
-    pub(crate) rt_shadow_ms: f64,
+    pub rt_shadow_ms: f64,
 }
 
 /// The shadow-map visibility of every pixel of the raster graph (`graph/raster.ron`) with the

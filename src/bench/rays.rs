@@ -32,7 +32,7 @@ pub struct RaysConfig {
     pub frames: u32,
     /// Untimed frames before each measurement at least (the warm-up goes on until the frame
     /// time settles: [`crate::runtime::warm_up`]).
-    pub(crate) warmup: u32,
+    pub warmup: u32,
     /// AO rays per pixel.
     pub ao_rays: i64,
     /// AO ray length as a fraction of the scene's bounding radius (`rt_ao`'s `range_scale`).
@@ -40,7 +40,7 @@ pub struct RaysConfig {
     /// Primary rays per pixel of the Miss and Stress tests.
     pub primary_rays: i64,
     /// The back-ends measured.
-    pub(crate) backends: Vec<Backend>,
+    pub backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
     /// Fractions of the frame each scene is also measured at: its camera moved along its view
@@ -93,19 +93,19 @@ pub struct RaysRow {
     /// The camera: the scene's own, a named preset, or how it was derived.
     pub camera: String,
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// Frames per second.
-    pub(crate) fps: f64,
+    pub fps: f64,
     /// GPU milliseconds per frame (the sum of the passes' timestamps).
-    pub(crate) gpu_ms: f64,
+    pub gpu_ms: f64,
     /// Wall-clock milliseconds per frame (recording, submission and the wait for the GPU).
-    pub(crate) wall_ms: f64,
+    pub wall_ms: f64,
     /// Rays traced per frame.
-    pub(crate) rays_per_frame: u64,
+    pub rays_per_frame: u64,
     /// Rays per pixel.
-    pub(crate) rays_per_pixel: f64,
+    pub rays_per_pixel: f64,
     /// GigaRays per second.
-    pub(crate) grays_per_s: f64,
+    pub grays_per_s: f64,
     /// Fraction of rays that hit.
     pub hit_fraction: f64,
     /// The raster graph's frame rate on the same view (scene rows).

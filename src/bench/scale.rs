@@ -66,7 +66,8 @@ pub struct ScaleRow {
     pub step: String,
     /// Unique triangles.
     pub triangles: usize,
-    pub(crate) backend: Backend,
+    /// The back-end traced with.
+    pub backend: Backend,
     /// GigaRays/s of the scene workload.
     pub workload_grays: f64,
     /// GigaRays/s of Stress.

@@ -10,7 +10,7 @@ use std::fmt;
 #[serde(deny_unknown_fields, rename = "Graph")]
 pub(crate) struct GraphDesc {
     /// The resource presented as the frame's image, as `"node.output"`.
-    pub output: String,
+    pub(crate) output: String,
     /// The graph's nodes by name.
     pub(crate) nodes: BTreeMap<String, NodeDesc>,
 }
@@ -115,10 +115,10 @@ fn write_float(f: &mut fmt::Formatter<'_>, x: f64) -> fmt::Result {
 pub struct LayerDesc {
     /// Resources the layer reads from other nodes.
     #[serde(default)]
-    pub(crate) inputs: BTreeMap<String, ResourceDecl>,
+    pub inputs: BTreeMap<String, ResourceDecl>,
     /// Resources the layer gives other nodes.
     #[serde(default)]
-    pub(crate) outputs: BTreeMap<String, ResourceDecl>,
+    pub outputs: BTreeMap<String, ResourceDecl>,
     /// Resources private to the layer, written by one of its passes and read by another.
     #[serde(default)]
     pub transients: BTreeMap<String, ResourceDecl>,
@@ -138,9 +138,9 @@ pub struct LayerDesc {
     pub bypass: BTreeMap<String, String>,
     /// Parameters a graph file may set.
     #[serde(default)]
-    pub(crate) params: BTreeMap<String, ParamDecl>,
+    pub params: BTreeMap<String, ParamDecl>,
     /// The layer's passes, in order.
-    pub(crate) passes: Vec<PassDesc>,
+    pub passes: Vec<PassDesc>,
 }
 
 /// A declared resource: a texture, a buffer, or the acceleration structure.
@@ -194,10 +194,10 @@ impl ResourceDecl {
 #[serde(deny_unknown_fields)]
 pub struct TextureDecl {
     /// The texel format.
-    pub(crate) format: Format,
+    pub format: Format,
     /// The size, relative to the frame by default.
     #[serde(default)]
-    pub(crate) size: SizeDecl,
+    pub size: SizeDecl,
     /// For a layer input: the value it reads (a 1x1 texture) when its producer is switched
     /// off or it is not connected. Inputs without one must be connected.
     #[serde(default)]
@@ -214,7 +214,7 @@ pub struct BufferDecl {
 
 /// Texture size, relative to the frame or absolute.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-pub(crate) enum SizeDecl {
+pub enum SizeDecl {
     /// A fraction of the frame size (1.0 = full resolution).
     Relative(f32),
     /// A size in texels.
@@ -485,11 +485,11 @@ impl ParamDecl {
 /// One GPU pass of a layer.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Pass")]
-pub(crate) struct PassDesc {
+pub struct PassDesc {
     /// The pass's name, unique in its layer.
-    pub(crate) name: String,
+    pub name: String,
     /// What kind of GPU work it is.
-    pub(crate) kind: PassKind,
+    pub kind: PassKind,
     /// WGSL file, relative to the `shaders/` directory beside the layers directory (none for
     /// `Rust` passes).
     #[serde(default)]
@@ -510,7 +510,7 @@ pub(crate) struct PassDesc {
     pub writes: Vec<String>,
     /// How many workgroups a compute pass dispatches.
     #[serde(default)]
-    pub(crate) dispatch: Dispatch,
+    pub dispatch: Dispatch,
     /// `SceneRaster` only: the rasterizer culls the back faces of single-sided materials (the
     /// default; glTF `doubleSided` materials are drawn on both sides, and mirroring instance
     /// transforms are accounted for). `false` draws both sides of every material.

@@ -18,10 +18,10 @@ pub struct FileText {
     /// The disk path, or `<built-in>/<relative path>` for an embedded copy.
     pub path: PathBuf,
     /// The file's text.
-    pub(crate) text: String,
+    pub text: String,
     /// The text is the built-in copy's, byte for byte (read from the binary, or a file on
     /// disk identical to it).
-    pub(crate) builtin: bool,
+    pub builtin: bool,
 }
 
 /// The built-in text of a relative path such as `layers/forward.ron`.

@@ -19,7 +19,7 @@ const ENABLE_SEGMENT: &str = "<enable directives>";
 #[derive(Debug, Clone)]
 pub struct ShaderSource {
     /// The assembled WGSL.
-    pub text: String,
+    text: String,
     /// (file, byte offset where its text starts in `text`)
     segments: Vec<(PathBuf, usize)>,
     /// Every file of it is raygraph's built-in copy, byte for byte ([`ShaderSource::is_builtin`]).
@@ -27,6 +27,11 @@ pub struct ShaderSource {
 }
 
 impl ShaderSource {
+    /// The assembled WGSL.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
     /// Reads `path`; lines `//#include "rel/path.wgsl"` name files relative to `shader_root`.
     pub fn load(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<Self, GraphError> {
         let mut src = ShaderSource { text: String::new(), segments: Vec::new(), builtin: true };
@@ -228,11 +233,11 @@ pub(crate) fn access_name(access: naga::StorageAccess) -> &'static str {
 #[derive(Debug, Clone, PartialEq)]
 pub struct UniformMember {
     /// The member's name.
-    pub(crate) name: String,
+    pub name: String,
     /// Byte offset in the struct.
-    pub(crate) offset: u32,
+    pub offset: u32,
     /// Its scalar type (`None` for matrices, arrays and structs).
-    pub(crate) scalar: Option<naga::ScalarKind>,
+    pub scalar: Option<naga::ScalarKind>,
     /// Number of scalar components (1 for scalars, N for vecN); 0 for anything else.
     pub components: u32,
 }
@@ -256,11 +261,11 @@ pub struct ShaderBinding {
 #[derive(Debug, Clone)]
 pub struct EntryPointInfo {
     /// The function's name.
-    pub(crate) name: String,
+    pub name: String,
     /// Its stage.
-    pub(crate) stage: naga::ShaderStage,
+    pub stage: naga::ShaderStage,
     /// `@workgroup_size` (compute; 0s otherwise).
-    pub(crate) workgroup_size: [u32; 3],
+    pub workgroup_size: [u32; 3],
     /// Vertex input locations (vertex stage) or colour output locations (fragment stage).
     pub locations: Vec<u32>,
 }
@@ -269,7 +274,7 @@ pub struct EntryPointInfo {
 #[derive(Debug, Clone)]
 pub struct ShaderInfo {
     /// The file reflected.
-    pub(crate) path: PathBuf,
+    pub path: PathBuf,
     /// Its assembled text.
     pub source: ShaderSource,
     /// The global bindings.

@@ -69,9 +69,21 @@ pub struct BatchTracer {
     tracer: Tracer,
     timer: Option<crate::runtime::profiler::GpuTimer>,
     /// What building the scene's acceleration structure did.
-    pub build: BuildReport,
+    build: BuildReport,
     /// Wall milliseconds of the build, from the start of the update until the GPU finished it.
-    pub build_wall_ms: f64,
+    build_wall_ms: f64,
+}
+
+impl BatchTracer {
+    /// What building the scene's acceleration structure did.
+    pub fn build_report(&self) -> &BuildReport {
+        &self.build
+    }
+
+    /// Wall milliseconds of the build, from the start of the update until the GPU finished it.
+    pub fn build_wall_ms(&self) -> f64 {
+        self.build_wall_ms
+    }
 }
 
 /// How the batch is traced.
@@ -263,7 +275,7 @@ fn compute_tracer(
     // The batch tracer is part of the program (tests, benches), not of a project: its loops are
     // the traversal's and its own ray loop, all of which end (`ShaderOrigin::BuiltInTraversal`).
     let groups = [entries0.to_vec(), textures.entries, accel.entries];
-    let (module, constants) = gpu.traversal_module("batch.wgsl", &info.source.text, "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
+    let (module, constants) = gpu.traversal_module("batch.wgsl", info.source.text(), "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
     let pipeline = crate::gpu_util::compute_pipeline_with(device, "batch", &pipeline_layout, &module, "cs_main", &constants);
     Ok(Tracer::Compute { pipeline, layout0, texture_group: textures.group, accel_group: accel.group })
 }

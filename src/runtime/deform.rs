@@ -33,9 +33,17 @@ pub(crate) struct GpuDeform {
     jobs: Vec<MeshJob>,
     /// Every mesh's positions (`vec4<f32>`), one mesh after another: the deforming meshes'
     /// rewritten every frame, the others as uploaded.
-    pub positions: wgpu::Buffer,
+    positions: wgpu::Buffer,
     /// The pose last deformed to.
     last: Option<PoseTime>,
+}
+
+impl GpuDeform {
+    /// Every mesh's positions (`vec4<f32>`), one mesh after another: the deforming meshes'
+    /// rewritten every frame, the others as uploaded.
+    pub(crate) fn positions(&self) -> &wgpu::Buffer {
+        &self.positions
+    }
 }
 
 fn vec4(v: [f32; 3]) -> [f32; 4] {

@@ -172,17 +172,17 @@ pub(crate) struct RenderSpec {
     pub(crate) targets: Vec<Option<wgpu::ColorTargetState>>,
     /// Vertex attributes the vertex stage reads from the scene's vertex buffer; `None` for a
     /// fullscreen pass (no vertex buffer).
-    pub scene_attributes: Option<Vec<wgpu::VertexAttribute>>,
+    pub(crate) scene_attributes: Option<Vec<wgpu::VertexAttribute>>,
     pub(crate) depth: bool,
     /// The shader declares [`ALPHA_TEST_CONSTANT`].
-    pub alpha_switch: bool,
+    pub(crate) alpha_switch: bool,
     /// The scene's feature constants the shader declares, with their values
     /// (`crate::runtime::exec::features`).
-    pub scene_constants: Vec<(&'static str, f64)>,
+    pub(crate) scene_constants: Vec<(&'static str, f64)>,
     /// The fragment stage does nothing but the alpha test: a built-in shader (its files
     /// raygraph's own, byte for byte) with the alpha switch and no colour targets, such as the
     /// shadow maps'. Its opaque draw classes get a depth-only pipeline, no fragment stage at all.
-    pub fragment_only_alpha_tests: bool,
+    pub(crate) fragment_only_alpha_tests: bool,
 }
 
 impl RenderSpec {

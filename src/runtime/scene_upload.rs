@@ -27,11 +27,11 @@ pub(crate) struct Draw {
     /// The instance's index (`instance_index` in the shader).
     pub(crate) instance: u32,
     /// Centre of the mesh's bounds, object space (for ordering draws by distance).
-    pub local_center: Vec3,
+    pub(crate) local_center: Vec3,
     /// The mesh's object-space bounds when it is closed and wound outwards
     /// (`scene::topology`); `None` when it is not, or when the plan does not ask
     /// (`SceneUsage::closed_meshes`).
-    pub closed_bounds: Option<Bounds>,
+    pub(crate) closed_bounds: Option<Bounds>,
 }
 
 /// The scene's textures as the graph's shaders bind them.
@@ -609,7 +609,7 @@ pub(crate) struct LightRecords {
     pub(crate) shadow_view_proj: Vec<Mat4>,
     /// Lights without a shadow map in raster mode: point lights, and directional or spot
     /// lights beyond the `SHADOW_MAP_SLOTS` first.
-    pub unshadowed_in_raster: usize,
+    pub(crate) unshadowed_in_raster: usize,
 }
 
 /// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first

@@ -183,7 +183,7 @@ impl App {
         let shader =
             crate::graph::files::read(&self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
         let display = Display::new(&self.gpu, self.opts.size, &shader.text);
-        let display_id = renderer.register_native_texture(&self.gpu.device, &display.view, wgpu::FilterMode::Linear);
+        let display_id = renderer.register_native_texture(&self.gpu.device, display.view(), wgpu::FilterMode::Linear);
         Ok(WindowState { window, surface, config, egui_ctx, egui_state, renderer, display, display_id })
     }
 
@@ -237,13 +237,13 @@ impl App {
                 Ok(())
             }
             Action::Preset(name) => self.session.scene.preset(&name).map(|c| {
-                let speed = self.fly.speed;
-                self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+                let speed = self.fly.speed();
+                self.fly = FlyCamera::from_camera(&c, 1.0).with_speed(speed);
             }),
             Action::Camera { position, target } => {
                 let c = Camera { position: position.into(), target: target.into(), ..self.fly.camera() };
-                let speed = self.fly.speed;
-                self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+                let speed = self.fly.speed();
+                self.fly = FlyCamera::from_camera(&c, 1.0).with_speed(speed);
                 Ok(())
             }
             Action::Screenshot(path) => self.screenshot(&path),
@@ -375,8 +375,8 @@ impl App {
                 let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds);
                 if *seconds > track.duration() {
                     // Fly on from where the track ends.
-                    let speed = self.fly.speed;
-                    self.fly = FlyCamera { speed, ..FlyCamera::from_camera(&c, 1.0) };
+                    let speed = self.fly.speed();
+                    self.fly = FlyCamera::from_camera(&c, 1.0).with_speed(speed);
                     self.track = TrackState::Idle;
                 }
                 c

@@ -11,8 +11,10 @@ use crate::runtime::{Executor, Gpu};
 /// How a texture's values become display colours.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Mapping {
-    pub(crate) scale: [f32; 4],
-    pub(crate) bias: [f32; 4],
+    /// Per channel, the factor a value is multiplied by (`value * scale + bias`, clamped to [0, 1]).
+    pub scale: [f32; 4],
+    /// Per channel, the offset added after the scale.
+    pub bias: [f32; 4],
     /// Channels of the format (1: grey, 2: red/green, 3-4: colour).
     pub channels: u32,
     /// The values are linear and get sRGB-encoded for display.
@@ -74,15 +76,22 @@ pub(crate) fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
 
 /// The display texture, its egui id and the GPU mapping pass.
 pub struct Display {
-    pub(crate) size: (u32, u32),
-    pub(crate) texture: wgpu::Texture,
-    pub(crate) view: wgpu::TextureView,
+    size: (u32, u32),
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     /// A copy of the shown texture (same format, sampled), made again when the format or size
     /// changes.
     source: Option<(wgpu::TextureFormat, (u32, u32), wgpu::Texture)>,
+}
+
+impl Display {
+    /// The view of the display texture (what the overlay shows).
+    pub(crate) fn view(&self) -> &wgpu::TextureView {
+        &self.view
+    }
 }
 
 const UNIFORM_BYTES: u64 = 48;

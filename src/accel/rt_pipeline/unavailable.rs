@@ -22,10 +22,15 @@ pub fn live_hal_objects() -> isize {
 /// Acceleration structures of the `rt-pipeline` back-end: never built here.
 pub struct RtAccel {
     /// Instances in the TLAS: none.
-    pub instance_count: usize,
+    instance_count: usize,
 }
 
 impl RtAccel {
+    /// Instances in the TLAS: none.
+    pub fn instance_count(&self) -> usize {
+        self.instance_count
+    }
+
     /// An empty set; [`RtAccel::update`] fails.
     pub fn new(_device: &wgpu::Device) -> Self {
         Self { instance_count: 0 }

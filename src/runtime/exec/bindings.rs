@@ -272,5 +272,5 @@ pub(super) fn shader_module(gpu: &Gpu, pass: &PlannedPass) -> wgpu::ShaderModule
         _ if pass.shader.source.is_builtin() => ShaderOrigin::BuiltInLayer,
         _ => ShaderOrigin::Project,
     };
-    gpu.shader_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, origin)
+    gpu.shader_module(&pass.shader.path.display().to_string(), pass.shader.source.text(), origin)
 }

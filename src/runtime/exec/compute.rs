@@ -14,7 +14,7 @@ impl Executor {
         let constants = self.features.constants(pass);
         let (module, constants) = if pass.kind == PassKind::Trace {
             let groups = bindings.layout_groups();
-            gpu.traversal_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, &pass.entry, ShaderOrigin::TracePass, &constants, &groups)
+            gpu.traversal_module(&pass.shader.path.display().to_string(), pass.shader.source.text(), &pass.entry, ShaderOrigin::TracePass, &constants, &groups)
         } else {
             (shader_module(gpu, pass), constants)
         };

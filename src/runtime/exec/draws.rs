@@ -37,9 +37,16 @@ pub(super) struct PassDraws {
     /// The draw commands, in recording order.
     args: Vec<DrawIndexedIndirectArgs>,
     /// Runs of `args` drawn with one variant.
-    pub(super) runs: Vec<(DrawClass, Range<u32>)>,
+    runs: Vec<(DrawClass, Range<u32>)>,
     /// `args` on the device.
     buffer: Option<wgpu::Buffer>,
+}
+
+impl PassDraws {
+    /// Runs of `args` drawn with one variant.
+    pub(super) fn runs(&self) -> &[(DrawClass, Range<u32>)] {
+        &self.runs
+    }
 }
 
 /// Where a pass's draws come from this frame.

@@ -413,7 +413,7 @@ impl Executor {
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             return Ok(());
         }
-        let nothing_translucent = self.plan.passes[i].translucent && self.draws.pass(i).is_none_or(|d| d.runs.is_empty());
+        let nothing_translucent = self.plan.passes[i].translucent && self.draws.pass(i).is_none_or(|d| d.runs().is_empty());
         if nothing_translucent || self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
             self.record_empty_timed_pass(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);

@@ -36,7 +36,7 @@ impl Executor {
         rp.set_vertex_buffer(0, vertices.slice(..));
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let Some(draws) = self.draws.pass(i) else { return Ok(()) };
-        for (class, run) in &draws.runs {
+        for (class, run) in draws.runs() {
             let pipeline = pipelines.variant(*class).ok_or_else(|| RuntimeError::Gpu(format!("no pipeline was made for draw class {class:?}")))?;
             rp.set_pipeline(pipeline);
             draws.record_run(&mut rp, run);

@@ -106,7 +106,7 @@ impl Executor {
     pub(super) fn make_deform(&mut self, gpu: &Gpu, scene: &Scene) {
         self.deform = self.scene.as_ref().and_then(|uploaded| crate::runtime::deform::GpuDeform::new(&gpu.device, scene, uploaded));
         if let Some(cache) = self.accel.as_mut() {
-            cache.set_device_positions(self.deform.as_ref().map(|d| d.positions.clone()));
+            cache.set_device_positions(self.deform.as_ref().map(|d| d.positions().clone()));
             if scene.rig.as_ref().is_some_and(|r| r.is_animated()) {
                 cache.prepare_for_changes(&gpu.device);
             }

@@ -148,14 +148,19 @@ const MIN_DOUBLE_AREA: f32 = 1e-8;
 /// Positions, uvs and triangles; normals are derived from the winding when finished.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct MeshBuilder {
-    pub pos: Vec<Vec3>,
-    pub uv: Vec<Vec2>,
-    pub idx: Vec<u32>,
+    pos: Vec<Vec3>,
+    uv: Vec<Vec2>,
+    idx: Vec<u32>,
     /// Pairs of vertices at the same position whose normals are averaged (texture seams).
     seams: Vec<(u32, u32)>,
 }
 
 impl MeshBuilder {
+    /// The triangles' vertex indices, three per triangle.
+    pub(crate) fn idx(&self) -> &[u32] {
+        &self.idx
+    }
+
     pub fn new() -> Self {
         Self::default()
     }
