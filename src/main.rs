@@ -483,8 +483,8 @@ impl Deadline {
     fn open_gpu(&self, backend: Option<Backend>) -> Result<Gpu> {
         let timeout = self.duration()?;
         let mut gpu = Gpu::with_backend(backend)?;
-        gpu.gpu_timeout = timeout.unwrap_or(gpu.gpu_timeout);
-        gpu.on_gpu_timeout = Some(exit_after_gpu_timeout);
+        gpu.set_gpu_timeout(timeout.unwrap_or(gpu.gpu_timeout()));
+        gpu.set_on_gpu_timeout(exit_after_gpu_timeout);
         Ok(gpu)
     }
 }
@@ -784,7 +784,7 @@ fn run(cli: Cli) -> Result<()> {
             println!("adapter: {}", gpu.describe());
             let backends = match backend {
                 Some(b) => vec![b],
-                None => gpu.backends.clone(),
+                None => gpu.backends().to_vec(),
             };
             let root = PathBuf::from(".");
             let mut cfg = timing.apply(if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) });
@@ -817,7 +817,7 @@ fn run(cli: Cli) -> Result<()> {
             use raygraph::bench::scale::{self as scale_bench, ScaleConfig};
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
-            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends().to_vec());
             let root = PathBuf::from(".");
             let rays = timing.apply(if quick { RaysConfig::quick(&root, backends) } else { RaysConfig::paper(&root, backends) });
             let mut cfg = ScaleConfig::full(rays);
@@ -837,7 +837,7 @@ fn run(cli: Cli) -> Result<()> {
             use raygraph::bench::build::{self as build_bench, BuildBenchConfig};
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
-            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends().to_vec());
             let root = PathBuf::from(".");
             let mut cfg = if quick { BuildBenchConfig::quick(&root, backends) } else { BuildBenchConfig::paper(&root, backends) };
             if let Some(s) = scenes {
@@ -876,7 +876,7 @@ fn run(cli: Cli) -> Result<()> {
                 track: track.clone(),
                 size: (width.unwrap_or(w), height.unwrap_or(h)),
                 stride: if quick { 60 } else { 1 },
-                backends: backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone()),
+                backends: backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends().to_vec()),
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
@@ -921,7 +921,7 @@ fn run(cli: Cli) -> Result<()> {
             use raygraph::bench::error::{self as error_bench, ErrorConfig};
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
-            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone());
+            let backends = backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends().to_vec());
             bench_filters(&gpu, quick, &filter_args, *backends.first().context("no back-end")?, &out)?;
             if filters_only {
                 return Ok(());
@@ -985,7 +985,7 @@ fn run(cli: Cli) -> Result<()> {
                 size: (width.unwrap_or(w), height.unwrap_or(h)),
                 max_bounces,
                 frames,
-                backends: backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone()),
+                backends: backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends().to_vec()),
                 root: PathBuf::from("."),
             };
             let info = raygraph::bench::RunInfo::new(&std::env::args().collect::<Vec<_>>().join(" "), &gpu, cfg.size);
@@ -998,7 +998,7 @@ fn run(cli: Cli) -> Result<()> {
             anyhow::ensure!(width > 0 && height > 0 && width <= 16384 && height <= 16384, "--width and --height must be between 1 and 16384");
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
-            let backend = backend.unwrap_or(gpu.selection.backend);
+            let backend = backend.unwrap_or(gpu.selection().backend);
             let mut loaded = Vec::new();
             for item in scenes.split(',').map(str::trim).filter(|s| !s.is_empty()) {
                 // `NAME=SCENE` names the images; a bare scene is named by its file stem.
@@ -1052,7 +1052,7 @@ fn run(cli: Cli) -> Result<()> {
             graph::compile::compile_with(&graph_file, &project, (width, height), &switches(Default::default()))?;
             let gpu = deadline.open_gpu(backend)?;
             println!("adapter: {}", gpu.describe());
-            let largest = gpu.device.limits().max_texture_dimension_2d;
+            let largest = gpu.device().limits().max_texture_dimension_2d;
             anyhow::ensure!(
                 width <= largest && height <= largest,
                 "--width {width} --height {height}: this adapter's largest 2D texture is {largest} pixels on a side"
@@ -1140,7 +1140,7 @@ fn run_soak(gpu: &Gpu, cfg: &raygraph::soak::SoakConfig, log: Option<&Path>) -> 
     use raygraph::soak::{self, Check};
     let mut lines = vec![
         format!("adapter: {}", gpu.describe()),
-        format!("back-end: {}", cfg.backend.unwrap_or(gpu.selection.backend)),
+        format!("back-end: {}", cfg.backend.unwrap_or(gpu.selection().backend)),
         cfg.describe(),
         Check::log_header(),
     ];

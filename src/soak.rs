@@ -108,7 +108,7 @@ pub struct LiveObjects {
 impl LiveObjects {
     /// The counts of `gpu`'s instance (`None` where wgpu has no report).
     pub fn of(gpu: &Gpu) -> Option<Self> {
-        let report = gpu.instance.generate_report()?;
+        let report = gpu.instance().generate_report()?;
         let hub = report.hub_report();
         Some(Self {
             buffers: hub.buffers.num_kept_from_user,
@@ -152,7 +152,7 @@ pub struct GpuMemory {
 impl GpuMemory {
     /// The report of `gpu`'s device (`None` where the back-end has no allocator report).
     pub fn of(gpu: &Gpu) -> Option<Self> {
-        let report = gpu.device.generate_allocator_report()?;
+        let report = gpu.device().generate_allocator_report()?;
         Some(Self { allocated: report.total_allocated_bytes, reserved: report.total_reserved_bytes })
     }
 

@@ -268,7 +268,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
 /// Reads `len` elements of the cache's array `name` (an `accel_*` binding) back from the GPU.
 fn cache_array<T: bytemuck::Pod>(gpu: &Gpu, cache: &raygraph::accel::cache::AccelCache, name: &str, len: usize) -> Vec<T> {
     let Some(wgpu::BindingResource::Buffer(b)) = cache.binding(name, 0) else { panic!("the cache binds no buffer `{name}`") };
-    let bytes = raygraph::accel::gpu_build::read_bytes(&gpu.device, &gpu.queue, b.buffer, 0, (len * std::mem::size_of::<T>()) as u64).unwrap();
+    let bytes = raygraph::accel::gpu_build::read_bytes(gpu.device(), gpu.queue(), b.buffer, 0, (len * std::mem::size_of::<T>()) as u64).unwrap();
     bytemuck::cast_slice(&bytes).to_vec()
 }
 
@@ -335,12 +335,12 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
         inst.transform = Mat4::from_translation(Vec3::new(1.5 * k as f32, 0.2, 0.0)) * inst.transform;
         scene.instances_mut().push(inst);
     }
-    let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
+    let mut cache = AccelCache::new(gpu.device(), Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::GpuRebuilds);
     let update = |cache: &mut AccelCache, scene: &raygraph::scene::Scene| {
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let r = cache.update(&gpu.device, &gpu.queue, &mut encoder, scene).unwrap();
-        gpu.queue.submit([encoder.finish()]);
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        let r = cache.update(gpu.device(), gpu.queue(), &mut encoder, scene).unwrap();
+        gpu.queue().submit([encoder.finish()]);
         r
     };
     let first = update(&mut cache, &scene);
@@ -352,11 +352,11 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     // The builder over the records made on the GPU (tests/gpu_build.rs checks them against
     // `merged_triangles`, to a few ulps of the transform's terms on lavapipe).
     let hashes: Vec<u64> = scene.meshes.iter().map(|m| raygraph::accel::cache::mesh_hash(m)).collect();
-    let mut maker = raygraph::accel::gpu_records::GpuRecordMaker::new(&gpu.device);
-    let records = maker.make(&gpu.device, &gpu.queue, &scene, (&hashes, None), u32::MAX).unwrap().unwrap();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
-    let built = builder.build_records(&gpu.device, &gpu.queue, &records.records, records.count as usize).unwrap();
-    let (nodes, tris) = built.read_back(&gpu.device, &gpu.queue).unwrap();
+    let mut maker = raygraph::accel::gpu_records::GpuRecordMaker::new(gpu.device());
+    let records = maker.make(gpu.device(), gpu.queue(), &scene, (&hashes, None), u32::MAX).unwrap().unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
+    let built = builder.build_records(gpu.device(), gpu.queue(), &records.records, records.count as usize).unwrap();
+    let (nodes, tris) = built.read_back(gpu.device(), gpu.queue()).unwrap();
     let bound_nodes: Vec<GpuBvhNode> = cache_array(&gpu, &cache, "accel_blas_nodes", nodes.len());
     let bound_tris: Vec<GpuTriangle> = cache_array(&gpu, &cache, "accel_triangles", tris.len());
     assert!(bound_tris == tris, "the traversal binds the triangles the builder writes");

@@ -234,7 +234,7 @@ fn assert_same<T: PartialEq + std::fmt::Debug>(what: &str, got: &[T], want: &[T]
 
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    assert!(gpu.texture_binding_arrays, "lavapipe has texture binding arrays; CI must exercise both texture paths");
+    assert!(gpu.texture_binding_arrays(), "lavapipe has texture binding arrays; CI must exercise both texture paths");
     gpu
 }
 
@@ -270,14 +270,14 @@ fn stacked_rays() -> (Vec<Ray>, Vec<Ray>, Vec<Option<u32>>) {
 /// paths) against the analytic answer.
 fn batch_matches_the_analytic_answer(backend: Backend) {
     let mut gpu = gpu();
-    assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
+    assert!(gpu.backends().contains(&backend), "lavapipe has back-end {backend}; CI must test it");
     let scene = scene();
     let (primary, shadow, ao) = expected();
     let stacked = stacked_scene();
     let (down, up, stacked_hits) = stacked_rays();
     let layouts: &[bool] = if backend == Backend::RayQuery { &[false] } else { &[false, true] };
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         for &merge in layouts {
             let what = format!("{backend}{}, {}", if merge { " merged" } else { "" }, if bindless { "binding array" } else { "texture array" });
             let t = BatchTracer::with_settings(&gpu, backend, &scene, &common::repo().join("shaders"), AccelSettings { dedup: true, merge }).unwrap();
@@ -447,7 +447,7 @@ fn raster_gbuffer_cuts_out_the_checker() {
     let mut gpu = gpu();
     let (scene, want, p) = graph_setup();
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         let raster = gbuffer_surfaces(&gpu, &p.root.join("graph/hybrid.ron"), gpu.compile_options_for(Backend::Compute), &scene);
         assert_same(&format!("raster G-buffer, binding array {bindless}"), &raster, &want);
         // The forward pass (raster graph), from its depth buffer: the cleared value where
@@ -487,11 +487,11 @@ fn raster_gbuffer_cuts_out_the_checker() {
 /// ([`raster_gbuffer_cuts_out_the_checker`]) pixel for pixel.
 fn gbuffers_match(backend: Backend) {
     let mut gpu = gpu();
-    assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
+    assert!(gpu.backends().contains(&backend), "lavapipe has back-end {backend}; CI must test it");
     let (scene, want, p) = graph_setup();
     let graphs: &[&str] = if backend == Backend::RayQuery { &["full_rt_two_level"] } else { &["full_rt", "full_rt_two_level"] };
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         for graph in graphs {
             let traced = gbuffer_surfaces(&gpu, &p.root.join(format!("graph/{graph}.ron")), gpu.compile_options_for(backend), &scene);
             assert_same(&format!("primary-ray G-buffer {backend} ({graph}), binding array {bindless}"), &traced, &want);

@@ -329,7 +329,7 @@ fn gpu_deformation_matches_the_cpu_reference() {
             exec.render(&gpu, &camera(), &scene).unwrap();
             let cpu = scene.with_meshes_posed();
             let uploaded = exec.uploaded_scene().unwrap();
-            let bytes = read_bytes(&gpu.device, &gpu.queue, uploaded.vertices.as_ref().unwrap(), 0, uploaded.vertices.as_ref().unwrap().size()).unwrap();
+            let bytes = read_bytes(gpu.device(), gpu.queue(), uploaded.vertices.as_ref().unwrap(), 0, uploaded.vertices.as_ref().unwrap().size()).unwrap();
             let gpu_vertices: &[raygraph::scene::Vertex] = bytemuck::cast_slice(&bytes);
             let mut base = 0;
             for (m, mesh) in cpu.meshes.iter().enumerate() {

@@ -180,7 +180,7 @@ fn outside_panel(x: u32, y: u32) -> bool {
 }
 
 fn backends(gpu: &Gpu) -> Vec<Backend> {
-    gpu.backends.clone()
+    gpu.backends().to_vec()
 }
 
 #[test]

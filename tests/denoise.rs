@@ -388,7 +388,7 @@ fn after_a_fast_turn_the_filtered_shadows_are_no_worse_than_the_unfiltered_ones(
     use raygraph::graph::desc::ParamValue;
     let gpu = gpu();
     let scene = raygraph::scene::open("default", &Default::default()).unwrap().0;
-    let mut options = gpu.compile_options_for(gpu.backends[0]);
+    let mut options = gpu.compile_options_for(gpu.backends()[0]);
     options.reuse = false;
     // The other effects of bench error's filter part, and their filters.
     for effect in raygraph::bench::filters::EFFECTS.iter().filter(|e| e.node != "shadow") {

@@ -22,8 +22,8 @@ fn gpu() -> Gpu {
 }
 
 fn read_back(gpu: &Gpu, b: &GpuBlas) -> (Vec<GpuBvhNode>, Vec<GpuTriangle>) {
-    let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).unwrap();
-    let tris = read_bytes(&gpu.device, &gpu.queue, &b.triangles, 0, b.triangle_count as u64 * 48).unwrap();
+    let nodes = read_bytes(gpu.device(), gpu.queue(), &b.nodes, 0, b.node_count as u64 * 32).unwrap();
+    let tris = read_bytes(gpu.device(), gpu.queue(), &b.triangles, 0, b.triangle_count as u64 * 48).unwrap();
     (bytemuck::cast_slice(&nodes).to_vec(), bytemuck::cast_slice(&tris).to_vec())
 }
 
@@ -73,7 +73,7 @@ fn check_layout(name: &str, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &
 /// and for the unused slots inside leaves), each triangle's index in the input; and the SAH
 /// cost the build reports against the read-back tree's.
 fn check_refit_inputs(gpu: &Gpu, name: &str, built: &GpuBlas, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &[GpuTriangle]) {
-    let parents = read_bytes(&gpu.device, &gpu.queue, &built.parents, 0, nodes.len() as u64 * 4).unwrap();
+    let parents = read_bytes(gpu.device(), gpu.queue(), &built.parents, 0, nodes.len() as u64 * 4).unwrap();
     let parents: &[u32] = bytemuck::cast_slice(&parents);
     let mut expected = vec![0u32; nodes.len()];
     let mut stack = vec![0usize];
@@ -85,7 +85,7 @@ fn check_refit_inputs(gpu: &Gpu, name: &str, built: &GpuBlas, nodes: &[GpuBvhNod
         }
     }
     assert!(parents == expected, "{name}: parents");
-    let order = read_bytes(&gpu.device, &gpu.queue, &built.leaf_order, 0, tris.len() as u64 * 4).unwrap();
+    let order = read_bytes(gpu.device(), gpu.queue(), &built.leaf_order, 0, tris.len() as u64 * 4).unwrap();
     let order: &[u32] = bytemuck::cast_slice(&order);
     assert!(tris.iter().zip(order).all(|(t, &o)| input.get(o as usize) == Some(t)), "{name}: leaf order");
     let sah = layout_sah_cost(nodes);
@@ -107,7 +107,7 @@ fn soup(n: usize, seed: u64, spread: f32) -> Vec<GpuTriangle> {
 #[test]
 fn small_and_degenerate_inputs_give_valid_trees() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     let mut cases: Vec<(String, Vec<GpuTriangle>)> =
         [1, 2, 3, 4, 5, 17, 1000, 1025, 5000].iter().map(|&n| (format!("soup of {n}"), soup(n, n as u64, 10.0))).collect();
     // Every centroid in one place: all Morton codes equal.
@@ -129,7 +129,7 @@ fn small_and_degenerate_inputs_give_valid_trees() {
     ));
     for (name, input) in &cases {
         let scopes = gpu.scopes();
-        let built = builder.build(&gpu.device, &gpu.queue, input).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let built = builder.build(gpu.device(), gpu.queue(), input).unwrap_or_else(|e| panic!("{name}: {e}"));
         scopes.finish(&gpu, name).unwrap();
         let (nodes, tris) = read_back(&gpu, &built);
         let depth = check_layout(name, &nodes, &tris, input);
@@ -155,11 +155,11 @@ fn atrium_rays(scene: &Scene, count: usize) -> Vec<Ray> {
 #[test]
 fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the_same_hits() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     let scene = builtin("atrium", 0).unwrap();
     let (merged, origin) = merge_instances(&scene);
     let input = merged_triangles(&merged, &origin);
-    let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
+    let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
     let (nodes, tris) = read_back(&gpu, &built);
     check_layout("atrium", &nodes, &tris, &input);
     check_refit_inputs(&gpu, "atrium", &built, &nodes, &tris, &input);
@@ -194,12 +194,12 @@ fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the
 #[test]
 fn an_organic_mesh_and_a_box_build_on_the_gpu() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     for name in ["box", "organic"] {
         let scene = builtin(name, 0).unwrap();
         let (merged, origin) = merge_instances(&scene);
         let input = merged_triangles(&merged, &origin);
-        let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
+        let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
         let (nodes, tris) = read_back(&gpu, &built);
         check_layout(name, &nodes, &tris, &input);
         let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
@@ -251,11 +251,11 @@ fn record_test_scene() -> Scene {
 /// to plain f32 arithmetic (four roundings: 1-ulp differences where the terms cancel).
 fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what: &str) -> usize {
     let hashes: Vec<u64> = scene.meshes.iter().map(|m| mesh_hash(m)).collect();
-    let made = maker.make(&gpu.device, &gpu.queue, scene, (&hashes, None), u32::MAX).unwrap().expect("records");
+    let made = maker.make(gpu.device(), gpu.queue(), scene, (&hashes, None), u32::MAX).unwrap().expect("records");
     let (merged, origin) = merge_instances(scene);
     let expected = merged_triangles(&merged, &origin);
     assert_eq!(made.count as usize, expected.len(), "{what}: record count");
-    let bytes = read_bytes(&gpu.device, &gpu.queue, &made.records, 0, 48 * made.count as u64).unwrap();
+    let bytes = read_bytes(gpu.device(), gpu.queue(), &made.records, 0, 48 * made.count as u64).unwrap();
     let records: &[GpuTriangle] = bytemuck::cast_slice(&bytes);
     let mut identical = 0;
     for (k, (got, want)) in records.iter().zip(&expected).enumerate() {
@@ -273,7 +273,7 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
         }
     }
     println!("{what}: {identical} of {} world vertices bit-identical to the CPU's", 3 * records.len());
-    let object = read_bytes(&gpu.device, &gpu.queue, &made.object_vertices, 0, 48 * made.count as u64).unwrap();
+    let object = read_bytes(gpu.device(), gpu.queue(), &made.object_vertices, 0, 48 * made.count as u64).unwrap();
     // xyz: the object-space vertex; w: its index among all meshes' vertices (mesh by mesh).
     let object: &[[u32; 4]] = bytemuck::cast_slice(&object);
     for (k, want) in expected.iter().enumerate() {
@@ -296,7 +296,7 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
 #[test]
 fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
     let gpu = gpu();
-    let mut maker = GpuRecordMaker::new(&gpu.device);
+    let mut maker = GpuRecordMaker::new(gpu.device());
     let mut scene = record_test_scene();
     let first = check_gpu_records(&gpu, &mut maker, &scene, "first");
     // One vertex of the small mesh moved: only that mesh is written again.

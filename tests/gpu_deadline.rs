@@ -26,7 +26,7 @@ fn assert_names_the_fog_pass(message: &str) {
 fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
     let (project, graph) = common::endless_fog::project();
     let mut gpu = common::gpu();
-    gpu.gpu_timeout = DEADLINE;
+    gpu.set_gpu_timeout(DEADLINE);
     let plan = compile::compile_with(&graph, &project.project(), (16, 16), &gpu.compile_options()).unwrap();
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();

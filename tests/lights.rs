@@ -183,7 +183,7 @@ fn graph(mode: Mode) -> (common::TempProject, std::path::PathBuf) {
 fn configurations(gpu: &Gpu) -> Vec<(Mode, Backend)> {
     let mut out = vec![(Mode::Raster, Backend::Compute)];
     for mode in [Mode::Hybrid, Mode::FullRt] {
-        out.extend(Backend::ALL.into_iter().filter(|b| gpu.backends.contains(b)).map(|b| (mode, b)));
+        out.extend(Backend::ALL.into_iter().filter(|b| gpu.backends().contains(b)).map(|b| (mode, b)));
     }
     out
 }
@@ -454,7 +454,7 @@ fn emissive_surfaces_glow_with_every_light_off() {
     let project = common::TempProject::with_repo_files();
     let graph_file = project.write("graph/test.ron", &text);
     let cam = camera();
-    for backend in Backend::ALL.into_iter().filter(|b| gpu.backends.contains(b)) {
+    for backend in Backend::ALL.into_iter().filter(|b| gpu.backends().contains(b)) {
         let mut exec = executor(&gpu, &graph_file, backend, &s);
         exec.render(&gpu, &s.camera, &s).unwrap();
         let reflection = channel(&gpu, &exec, "reflection.reflection");

@@ -23,7 +23,7 @@ static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
+    assert!(gpu.backends().contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
     gpu
 }
 

@@ -173,7 +173,7 @@ fn the_any_hit_shader_is_valid_spirv() {
 fn alpha_quads_cut_out_the_same_texels_on_rt_pipeline_as_on_compute() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines");
+    assert!(gpu.backends().contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines");
     let scene = alpha_scene();
     let (down, up, expected) = rays();
     let start = live_hal_objects();

@@ -37,7 +37,7 @@ fn the_rust_pass_inverts_what_the_wgsl_pass_drew() {
     let table = raygraph::runtime::profiler::pass_table(&names, std::slice::from_ref(&timings), 1);
     assert!(table.contains("invert/invert") && table.contains("rust"), "{table}");
     assert_eq!(timings.cpu_ms.len(), 2);
-    if gpu.timestamps {
+    if gpu.timestamps() {
         let gpu_ms = timings.gpu_ms.as_ref().expect("timestamps are on");
         assert_eq!(gpu_ms.len(), 2);
         assert!(gpu_ms.iter().all(|ms| ms.is_finite() && *ms >= 0.0), "{gpu_ms:?}");

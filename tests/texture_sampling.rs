@@ -120,7 +120,7 @@ fn check_scene(name: &str, scene: &Scene, sampling: &SlotSampling, producers: &[
     assert!(want.iter().filter(|w| w.is_some()).count() > (size * size / 2) as usize, "{name}: most pixels are checked");
     let mut gpu = gpu();
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         for &(graph, layers) in producers {
             let got = albedo(&gpu, scene, graph, layers, size);
             // The G-buffer's albedo is 8-bit linear: half a step is 1/510.
@@ -263,7 +263,7 @@ fn vertex_colours_multiply_the_base_colour() {
     std::sync::Arc::make_mut(&mut scene.meshes[0]).extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
     let size = 48u32;
     let mut gpu = gpu();
-    gpu.texture_binding_arrays = true;
+    gpu.set_texture_binding_arrays(true);
     for (graph, layers) in PRODUCERS {
         let got = albedo(&gpu, &scene, graph, layers, size);
         let mut worst = 0.0f32;

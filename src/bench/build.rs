@@ -401,7 +401,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
     use crate::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlasBuilder};
     use crate::accel::layout::{merge, merge_instances, GpuBvhNode};
     let fail = |e: crate::accel::gpu_build::GpuBuildError| RuntimeError::Gpu(format!("bench build: GPU builder: {e}"));
-    let builder = GpuBlasBuilder::new(&gpu.device).map_err(fail)?;
+    let builder = GpuBlasBuilder::new(gpu.device()).map_err(fail)?;
     let mut rows = Vec::new();
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
@@ -421,13 +421,13 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         let (mut times, mut phases, mut walls, mut last) = (Vec::new(), vec![Vec::new(); 4], Vec::new(), None);
         // Warm-up until the build's kernel time settles (clocks, caches).
         WarmUp::for_gpu(gpu, 1).until_settled(|| {
-            let b = builder.build(&gpu.device, &gpu.queue, &input).map_err(fail)?;
+            let b = builder.build(gpu.device(), gpu.queue(), &input).map_err(fail)?;
             Ok::<f64, RuntimeError>(b.gpu_ms.unwrap_or(0.0))
         })?;
         // The kernels timed back to back (a read-back between them would leave the GPU idle
         // for tens of milliseconds and its clocks falling), then the wall time with read-backs.
         for _ in 0..builds.max(1) {
-            let b = builder.build(&gpu.device, &gpu.queue, &input).map_err(fail)?;
+            let b = builder.build(gpu.device(), gpu.queue(), &input).map_err(fail)?;
             times.extend(b.gpu_ms);
             for (all, ms) in phases.iter_mut().zip(b.phase_ms.into_iter().flatten()) {
                 all.push(ms);
@@ -435,13 +435,13 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         }
         for _ in 0..builds.max(1) {
             let t = std::time::Instant::now();
-            let b = builder.build(&gpu.device, &gpu.queue, &merged_triangles(&merged, &origin)).map_err(fail)?;
-            b.read_back(&gpu.device, &gpu.queue).map_err(fail)?;
+            let b = builder.build(gpu.device(), gpu.queue(), &merged_triangles(&merged, &origin)).map_err(fail)?;
+            b.read_back(gpu.device(), gpu.queue()).map_err(fail)?;
             walls.push(t.elapsed().as_secs_f64() * 1e3);
             last = Some(b);
         }
         let Some(b) = last else { continue };
-        let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).map_err(fail)?;
+        let nodes = read_bytes(gpu.device(), gpu.queue(), &b.nodes, 0, b.node_count as u64 * 32).map_err(fail)?;
         let nodes: &[GpuBvhNode] = bytemuck::cast_slice(&nodes);
         let min = times.iter().copied().fold(f64::INFINITY, f64::min);
         let rebuild = cache_rebuild_ms(gpu, &scene, builds.max(1))?;
@@ -471,7 +471,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
 /// [`AccelCache`]: crate::accel::cache::AccelCache
 fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64, [f64; 3])>, RuntimeError> {
     use crate::accel::cache::{AccelCache, AccelSettings, BuildReport, MergedBuilder};
-    let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
+    let mut cache = AccelCache::new(gpu.device(), Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::Gpu);
     let mut scene = scene.clone();
     let mut k = 0u32;
@@ -482,10 +482,10 @@ fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64
         }
         k += 1;
         let t = std::time::Instant::now();
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bench cache rebuild") });
-        let report = cache.update(&gpu.device, &gpu.queue, &mut encoder, &scene)?;
-        gpu.queue.submit([encoder.finish()]);
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RuntimeError::Gpu(format!("bench build: cache rebuild: {e}")))?;
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bench cache rebuild") });
+        let report = cache.update(gpu.device(), gpu.queue(), &mut encoder, &scene)?;
+        gpu.queue().submit([encoder.finish()]);
+        gpu.device().poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RuntimeError::Gpu(format!("bench build: cache rebuild: {e}")))?;
         Ok((t.elapsed().as_secs_f64() * 1e3, report))
     };
     // The first update makes the pipelines (and may build on the CPU: then nothing to time).

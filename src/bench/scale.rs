@@ -88,8 +88,8 @@ pub struct ScaleRow {
 
 /// The device allocator's live bytes, once freed resources are released.
 fn allocated(gpu: &Gpu) -> Option<u64> {
-    let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
-    gpu.device.generate_allocator_report().map(|r| r.total_allocated_bytes)
+    let _ = gpu.device().poll(wgpu::PollType::wait_indefinitely());
+    gpu.device().generate_allocator_report().map(|r| r.total_allocated_bytes)
 }
 
 /// The scene workload on `scene` with `backend`: the first frame's build and memory, then the
@@ -129,10 +129,10 @@ fn gpu_builder_ms(gpu: &Gpu, scene: &Scene) -> Result<f64, String> {
     if scene.triangle_count() > MAX_GPU_BUILD_TRIANGLES {
         return Err(format!("over the GPU builder's {MAX_GPU_BUILD_TRIANGLES} triangles"));
     }
-    let builder = GpuBlasBuilder::new(&gpu.device).map_err(|e| e.to_string())?;
+    let builder = GpuBlasBuilder::new(gpu.device()).map_err(|e| e.to_string())?;
     let (merged, origin) = crate::accel::layout::merge_instances(scene);
     let input = merged_triangles(&merged, &origin);
-    let mut build = || builder.build(&gpu.device, &gpu.queue, &input).map(|b| b.gpu_ms.unwrap_or(f64::NAN)).map_err(|e| e.to_string());
+    let mut build = || builder.build(gpu.device(), gpu.queue(), &input).map(|b| b.gpu_ms.unwrap_or(f64::NAN)).map_err(|e| e.to_string());
     crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).until_settled(&mut build)?;
     let mut times = vec![build()?, build()?, build()?];
     Ok(median(&mut times))

@@ -71,7 +71,7 @@ pub fn run(
     }
     let mut rows = Vec::new();
     for (k, (mode, graph, backend)) in runs.iter().enumerate() {
-        let options = gpu.compile_options_for(backend.unwrap_or(gpu.selection.backend));
+        let options = gpu.compile_options_for(backend.unwrap_or(gpu.selection().backend));
         let plan = compile_with(&cfg.root.join(graph), &project, cfg.size, &options)?;
         let mut exec = Executor::new(gpu, plan, &scene)?;
         let timings = super::timed_frames(gpu, &mut exec, &scene, 1, frames.len() as u32, |i| {

@@ -28,46 +28,137 @@ pub(crate) fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
 pub struct Gpu {
     /// The instance (surfaces are made from it; [`wgpu::Instance::generate_report`] counts
     /// live objects).
-    pub instance: wgpu::Instance,
+    instance: wgpu::Instance,
     /// The adapter the device is on.
-    pub adapter: wgpu::Adapter,
+    adapter: wgpu::Adapter,
     /// The device.
-    pub device: wgpu::Device,
+    device: wgpu::Device,
     /// The device's queue.
-    pub queue: wgpu::Queue,
+    queue: wgpu::Queue,
     /// The adapter's name, type, back-end and driver.
-    pub(crate) info: wgpu::AdapterInfo,
+    info: wgpu::AdapterInfo,
     /// Timestamp queries at pass boundaries are available.
-    pub timestamps: bool,
+    timestamps: bool,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
     /// one texture per element instead of as one resampled texture array.
-    pub texture_binding_arrays: bool,
+    texture_binding_arrays: bool,
     /// The compute back-end's arrays are bound as one packed storage buffer
     /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
     /// per stage than a trace pass with separate arrays binds (`SEPARATE_ARRAYS_STORAGE_BUFFERS`;
     /// a browser's WebGPU allows 8 by default).
-    pub packed_accel_arrays: bool,
+    packed_accel_arrays: bool,
     /// The traversal back-end chosen at start-up, and why.
-    pub selection: Selection,
+    selection: Selection,
     /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
-    pub backends: Vec<Backend>,
+    backends: Vec<Backend>,
     /// Device loss and errors raised outside any error scope, as wgpu reported them.
     faults: Arc<Mutex<Faults>>,
     /// Test hook (`RAYGRAPH_INJECT_DEVICE_LOSS=N`): the device is destroyed, a real loss as far
     /// as wgpu and the driver are concerned, when frame N of an executor starts.
-    pub inject_device_loss_at: Option<u32>,
+    inject_device_loss_at: Option<u32>,
     /// The GPU deadline: the longest a wait for submitted work may take (`--gpu-timeout`;
     /// `default_gpu_timeout`). A wait that runs past it fails with
     /// [`RuntimeError::GpuTimeout`], and so does every later [`Gpu::check`].
-    pub gpu_timeout: Duration,
+    gpu_timeout: Duration,
     /// Called with the error of a wait that ran past the deadline, before it is returned.
     /// Releasing a GPU object after that can block in the driver (lavapipe waits for the stuck
     /// work), so a program that only reports the error and stops ends the process here; the
     /// command line does. Without it the caller must not drop its GPU objects (leak them).
-    pub on_gpu_timeout: Option<fn(&RuntimeError)>,
+    on_gpu_timeout: Option<fn(&RuntimeError)>,
     /// How the compute back-end's trace modules are written without their traversal stack's
     /// clear ([`super::trace_spirv`]); `None` where wgpu compiles them from WGSL.
-    pub(crate) trace_spirv: Option<TraceSpirv>,
+    trace_spirv: Option<TraceSpirv>,
+}
+
+impl Gpu {
+    /// The instance (surfaces are made from it; [`wgpu::Instance::generate_report`] counts
+    /// live objects).
+    pub fn instance(&self) -> &wgpu::Instance {
+        &self.instance
+    }
+
+    /// The adapter the device is on.
+    pub fn adapter(&self) -> &wgpu::Adapter {
+        &self.adapter
+    }
+
+    /// The device.
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The device's queue.
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// The adapter's name, type, back-end and driver.
+    pub(crate) fn info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    /// Timestamp queries at pass boundaries are available.
+    pub fn timestamps(&self) -> bool {
+        self.timestamps
+    }
+
+    /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
+    /// one texture per element instead of as one resampled texture array.
+    pub fn texture_binding_arrays(&self) -> bool {
+        self.texture_binding_arrays
+    }
+
+    /// Binds scene textures as a binding array (`true`) or as one resampled texture array
+    /// (`false`, which every device can): tests render both ways. `true` only on a device with
+    /// the features [`Gpu::device_descriptor`] asks for binding arrays.
+    pub fn set_texture_binding_arrays(&mut self, on: bool) {
+        self.texture_binding_arrays = on;
+    }
+
+    /// The compute back-end's arrays are bound as one packed storage buffer
+    /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
+    /// per stage than a trace pass with separate arrays binds (`SEPARATE_ARRAYS_STORAGE_BUFFERS`;
+    /// a browser's WebGPU allows 8 by default).
+    pub fn packed_accel_arrays(&self) -> bool {
+        self.packed_accel_arrays
+    }
+
+    /// The traversal back-end chosen at start-up, and why.
+    pub fn selection(&self) -> &Selection {
+        &self.selection
+    }
+
+    /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
+    pub fn backends(&self) -> &[Backend] {
+        &self.backends
+    }
+
+    /// Test hook (`RAYGRAPH_INJECT_DEVICE_LOSS=N`): the device is destroyed, a real loss as far
+    /// as wgpu and the driver are concerned, when frame N of an executor starts.
+    pub(crate) fn inject_device_loss_at(&self) -> Option<u32> {
+        self.inject_device_loss_at
+    }
+
+    /// The GPU deadline: the longest a wait for submitted work may take (`--gpu-timeout`;
+    /// `default_gpu_timeout`). A wait that runs past it fails with
+    /// [`RuntimeError::GpuTimeout`], and so does every later [`Gpu::check`].
+    pub fn gpu_timeout(&self) -> Duration {
+        self.gpu_timeout
+    }
+
+    /// Sets the GPU deadline ([`Gpu::gpu_timeout`]).
+    pub fn set_gpu_timeout(&mut self, timeout: Duration) {
+        self.gpu_timeout = timeout;
+    }
+
+    /// Sets what is called with the error of a wait that ran past the deadline, before it is
+    /// returned. Releasing a GPU object after that can block in the driver (lavapipe waits for
+    /// the stuck work), so a program that only reports the error and stops ends the process
+    /// here; the command line does. Without it the caller must not drop its GPU objects (leak
+    /// them).
+    pub fn set_on_gpu_timeout(&mut self, on_timeout: fn(&RuntimeError)) {
+        self.on_gpu_timeout = Some(on_timeout);
+    }
 }
 
 #[derive(Debug, Default)]

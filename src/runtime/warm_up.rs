@@ -39,7 +39,7 @@ impl WarmUp {
 
     /// The policy for `gpu`'s adapter, with at least `min_frames` frames.
     pub fn for_gpu(gpu: &Gpu, min_frames: u32) -> WarmUp {
-        let base = if gpu.info.device_type == wgpu::DeviceType::Cpu { WarmUp::SOFTWARE } else { WarmUp::GPU };
+        let base = if gpu.info().device_type == wgpu::DeviceType::Cpu { WarmUp::SOFTWARE } else { WarmUp::GPU };
         WarmUp { min_frames: base.min_frames.max(min_frames), ..base }
     }
 

@@ -61,7 +61,7 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     let script = opts.script.as_deref().map(Script::load).transpose()?;
     let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
     let mut gpu = Gpu::open(opts.backend, Some(Box::new(event_loop.owned_display_handle()))).map_err(|e| e.to_string())?;
-    gpu.gpu_timeout = opts.gpu_timeout.unwrap_or(gpu.gpu_timeout);
+    gpu.set_gpu_timeout(opts.gpu_timeout.unwrap_or(gpu.gpu_timeout()));
     println!("adapter: {}", gpu.describe());
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
@@ -76,7 +76,7 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
         (b.max - b.min).length() * 0.5
     };
     let mode = opts.graph.is_none().then_some(opts.mode);
-    let backend = gpu.selection.backend;
+    let backend = gpu.selection().backend;
     let choice = opts.animation.as_deref().map(|a| a.parse().unwrap_or_default()).unwrap_or_default();
     let mut clock = super::clock::AnimationClock::new(&scene, &choice, opts.time)?;
     // Scripted and counted runs advance the clock by a fixed step per frame.
@@ -154,8 +154,8 @@ impl App {
         let (w, h) = self.opts.size;
         let attrs = Window::default_attributes().with_title("raygraph").with_inner_size(winit::dpi::PhysicalSize::new(w, h));
         let window = Arc::new(event_loop.create_window(attrs).map_err(|e| format!("cannot open a window: {e}"))?);
-        let surface = self.gpu.instance.create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
-        let caps = surface.get_capabilities(&self.gpu.adapter);
+        let surface = self.gpu.instance().create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
+        let caps = surface.get_capabilities(self.gpu.adapter());
         // egui draws into an 8-bit gamma-space target; screenshots read these two back.
         let format = caps
             .formats
@@ -166,10 +166,10 @@ impl App {
         let size = window.inner_size();
         let automated = self.opts.frames.is_some() || self.script.is_some();
         let mut config =
-            surface.get_default_config(&self.gpu.adapter, size.width.max(1), size.height.max(1)).ok_or("the adapter cannot present to this window")?;
+            surface.get_default_config(self.gpu.adapter(), size.width.max(1), size.height.max(1)).ok_or("the adapter cannot present to this window")?;
         config.format = format;
         config.present_mode = if automated { wgpu::PresentMode::AutoNoVsync } else { wgpu::PresentMode::AutoVsync };
-        surface.configure(&self.gpu.device, &config);
+        surface.configure(self.gpu.device(), &config);
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -177,13 +177,13 @@ impl App {
             &window,
             Some(window.scale_factor() as f32),
             None,
-            Some(self.gpu.device.limits().max_texture_dimension_2d as usize),
+            Some(self.gpu.device().limits().max_texture_dimension_2d as usize),
         );
-        let mut renderer = egui_wgpu::Renderer::new(&self.gpu.device, format, egui_wgpu::RendererOptions::default());
+        let mut renderer = egui_wgpu::Renderer::new(self.gpu.device(), format, egui_wgpu::RendererOptions::default());
         let shader =
             crate::graph::files::read(&self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
         let display = Display::new(&self.gpu, self.opts.size, &shader.text);
-        let display_id = renderer.register_native_texture(&self.gpu.device, display.view(), wgpu::FilterMode::Linear);
+        let display_id = renderer.register_native_texture(self.gpu.device(), display.view(), wgpu::FilterMode::Linear);
         Ok(WindowState { window, surface, config, egui_ctx, egui_state, renderer, display, display_id })
     }
 
@@ -201,7 +201,7 @@ impl App {
                 println!("mode: {} ({n} passes)", Mode::from(m).label());
             }),
             Action::Backend(name) => name.parse::<Backend>().and_then(|b| {
-                if !gpu.backends.contains(&b) {
+                if !gpu.backends().contains(&b) {
                     return Err(format!("this adapter cannot run the {b} back-end"));
                 }
                 self.session.set_backend(gpu, b).map(|n| println!("back-end: {b} ({n} passes)"))
@@ -313,7 +313,7 @@ impl App {
         let ws = self.window.as_mut().ok_or("no window")?;
         let gpu = &self.gpu;
         let (w, h) = (ws.config.width, ws.config.height);
-        let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        let target = gpu.device().create_texture(&wgpu::TextureDescriptor {
             label: Some("viewer screenshot"),
             size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
             mip_level_count: 1,
@@ -458,7 +458,7 @@ impl App {
                 let size = ws.window.inner_size();
                 ws.config.width = size.width.max(1);
                 ws.config.height = size.height.max(1);
-                ws.surface.configure(&gpu.device, &ws.config);
+                ws.surface.configure(gpu.device(), &ws.config);
                 return;
             }
         };
@@ -467,7 +467,7 @@ impl App {
         ws.egui_state.handle_platform_output(&ws.window, std::mem::take(&mut out.platform_output));
         let view = surface_texture.texture.create_view(&Default::default());
         draw_egui(gpu, ws, &mut out, &view);
-        gpu.queue.present(surface_texture);
+        gpu.queue().present(surface_texture);
         for a in actions {
             self.apply(a);
         }
@@ -515,11 +515,11 @@ fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &mut egui::FullOutput, target
     let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [ws.config.width, ws.config.height], pixels_per_point: out.pixels_per_point };
     for (id, deltas) in std::mem::take(&mut out.textures_delta.set) {
         for delta in &deltas {
-            ws.renderer.update_texture(&gpu.device, &gpu.queue, id, delta);
+            ws.renderer.update_texture(gpu.device(), gpu.queue(), id, delta);
         }
     }
-    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer overlay") });
-    let extra = ws.renderer.update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &screen);
+    let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer overlay") });
+    let extra = ws.renderer.update_buffers(gpu.device(), gpu.queue(), &mut encoder, &jobs, &screen);
     {
         let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("viewer overlay"),
@@ -536,7 +536,7 @@ fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &mut egui::FullOutput, target
         });
         ws.renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
     }
-    gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
+    gpu.queue().submit(extra.into_iter().chain([encoder.finish()]));
     for id in std::mem::take(&mut out.textures_delta.free) {
         ws.renderer.free_texture(&id);
     }
@@ -580,7 +580,7 @@ impl ApplicationHandler for App {
             WindowEvent::Resized(size) => {
                 ws.config.width = size.width.max(1);
                 ws.config.height = size.height.max(1);
-                ws.surface.configure(&self.gpu.device, &ws.config);
+                ws.surface.configure(self.gpu.device(), &ws.config);
             }
             WindowEvent::RedrawRequested => {
                 self.redraw();

@@ -98,7 +98,7 @@ const UNIFORM_BYTES: u64 = 48;
 
 impl Display {
     pub(crate) fn new(gpu: &Gpu, size: (u32, u32), shader_source: &str) -> Self {
-        let device = &gpu.device;
+        let device = gpu.device();
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("viewer display"),
             size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
@@ -170,7 +170,7 @@ impl Display {
         let texture = exec.texture(r).ok_or("the texture is not allocated")?;
         let wgpu_format = format.to_wgpu();
         if !matches!(&self.source, Some((f, e, _)) if *f == wgpu_format && *e == extent) {
-            let t = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            let t = gpu.device().create_texture(&wgpu::TextureDescriptor {
                 label: Some("viewer inspected copy"),
                 size: wgpu::Extent3d { width: extent.0, height: extent.1, depth_or_array_layers: 1 },
                 mip_level_count: 1,
@@ -189,9 +189,9 @@ impl Display {
         }
         words[32..36].copy_from_slice(&mapping.channels.to_le_bytes());
         words[36..40].copy_from_slice(&(mapping.encode_srgb as u32).to_le_bytes());
-        gpu.queue.write_buffer(&self.uniforms, 0, &words);
+        gpu.queue().write_buffer(&self.uniforms, 0, &words);
         let source_view = source.create_view(&Default::default());
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let group = gpu.device().create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("viewer visualize"),
             layout: &self.layout,
             entries: &[
@@ -200,7 +200,7 @@ impl Display {
                 wgpu::BindGroupEntry { binding: 2, resource: self.uniforms.as_entire_binding() },
             ],
         });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer visualize") });
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer visualize") });
         encoder.copy_texture_to_texture(
             texture.as_image_copy(),
             source.as_image_copy(),
@@ -212,7 +212,7 @@ impl Display {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(self.size.0.div_ceil(8), self.size.1.div_ceil(8), 1);
         }
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
         Ok(())
     }
 
@@ -229,7 +229,7 @@ impl Display {
                 rgba[o..o + 4].copy_from_slice(&px);
             }
         }
-        gpu.queue.write_texture(
+        gpu.queue().write_texture(
             self.texture.as_image_copy(),
             &rgba,
             wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(dw * 4), rows_per_image: None },

@@ -235,7 +235,7 @@ fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions:
         });
         ui.horizontal(|ui| {
             ui.label("back-end");
-            for b in &f.gpu.backends {
+            for b in f.gpu.backends() {
                 if ui.selectable_label(f.session.backend() == *b, b.to_string()).clicked() && f.session.backend() != *b {
                     actions.push(Action::Backend(b.to_string()));
                 }

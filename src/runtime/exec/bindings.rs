@@ -175,7 +175,7 @@ impl Executor {
             builtins::DEBUG_COUNTERS => out.buffers.push((at, self.debug_counters.clone())),
             builtins::PARAMS => {
                 let BindingKind::Uniform { size, members, .. } = &b.kind else { unreachable!() };
-                let buf = create_params_buffer(&gpu.device, pass, members, *size as u64);
+                let buf = create_params_buffer(gpu.device(), pass, members, *size as u64);
                 out.params_members = Some((*size as u64, members.clone()));
                 out.params_buffer = Some((at, buf));
             }
@@ -201,7 +201,7 @@ impl Executor {
     /// module group, bound per frame from the acceleration-structure cache; and the pipeline
     /// layout over them.
     pub(super) fn create_bind_groups(&self, gpu: &Gpu, pass: &PlannedPass, bindings: &PassBindings) -> PassLayout {
-        let device = &gpu.device;
+        let device = gpu.device();
         let shader = &pass.shader;
         let group_count = shader.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
         let entries = self.binding_resources(pass, bindings);

@@ -19,7 +19,7 @@ impl Executor {
             (shader_module(gpu, pass), constants)
         };
         let (colors, depth) = self.attachments(pass);
-        let p = compute_pipeline_with(&gpu.device, &pass.name, &layout.layout, &module, &pass.entry, &constants);
+        let p = compute_pipeline_with(gpu.device(), &pass.name, &layout.layout, &module, &pass.entry, &constants);
         let PassLayout { bind_groups, accel_layout, .. } = layout;
         PassRuntime {
             bind_groups,

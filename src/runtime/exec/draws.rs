@@ -89,7 +89,7 @@ impl DrawInputs {
             pass.key = Some(key);
         }
         for (class, _) in &pass.runs {
-            source.pipelines.prepare(&gpu.device, &[Some(*class)]);
+            source.pipelines.prepare(gpu.device(), &[Some(*class)]);
         }
     }
 
@@ -150,12 +150,12 @@ impl PassDraws {
     /// Writes `args` to the indirect buffer (a larger one when they outgrew it), where the
     /// device draws indirect.
     fn upload(&mut self, gpu: &crate::runtime::gpu::Gpu) {
-        if !indirect_draws(&gpu.device) || self.args.is_empty() {
+        if !indirect_draws(gpu.device()) || self.args.is_empty() {
             return;
         }
         let bytes: Vec<u8> = self.args.iter().flat_map(|a| a.as_bytes().iter().copied()).collect();
         if self.buffer.as_ref().is_none_or(|b| b.size() < bytes.len() as u64) {
-            self.buffer = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            self.buffer = Some(gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("scene draws"),
                 size: bytes.len() as u64,
                 usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
@@ -163,7 +163,7 @@ impl PassDraws {
             }));
         }
         if let Some(buffer) = &self.buffer {
-            gpu.queue.write_buffer(buffer, 0, &bytes);
+            gpu.queue().write_buffer(buffer, 0, &bytes);
         }
     }
 

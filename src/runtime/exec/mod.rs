@@ -200,9 +200,9 @@ impl Executor {
     pub fn with_rust_passes(gpu: &Gpu, plan: Plan, scene: &Scene, rust_passes: RustPasses) -> Result<Self, RuntimeError> {
         let scope = gpu.scopes();
         let slots = Self::allocate_slots(gpu, &plan)?;
-        let (frame_uniforms, debug_counters) = Self::builtin_buffers(&gpu.device);
+        let (frame_uniforms, debug_counters) = Self::builtin_buffers(gpu.device());
         let scene_gpu = Self::upload_scene(gpu, &plan, scene)?;
-        let samplers = Self::samplers(&gpu.device);
+        let samplers = Self::samplers(gpu.device());
         let accel = Self::accel_cache(gpu, &plan);
         let mut content_memo = crate::scene::memo::MeshMemo::new();
         let scene_content = if scene_gpu.is_some() { SceneContent::of(scene, &mut content_memo) } else { SceneContent::default() };
@@ -234,8 +234,8 @@ impl Executor {
         exec.make_deform(gpu, scene);
         exec.history = history::HistoryState::of_plan(&exec.plan);
         exec.rebuild_passes(gpu)?;
-        if gpu.timestamps {
-            exec.timer = Some(GpuTimer::new(&gpu.device, &gpu.queue, exec.plan.passes.len() as u32));
+        if gpu.timestamps() {
+            exec.timer = Some(GpuTimer::new(gpu.device(), gpu.queue(), exec.plan.passes.len() as u32));
         }
         let (w, h) = exec.plan.frame_size;
         let context = format!(
@@ -335,10 +335,10 @@ impl Executor {
         let mut phases = FramePhases { scene_ms: ms(t), ..Default::default() };
         let t = Instant::now();
         let uniforms = self.frame_uniforms(gpu, camera, scene)?;
-        gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
+        gpu.queue().write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
         let scope = gpu.scopes();
         let mut frame = FrameRecording {
-            encoder: gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") }),
+            encoder: gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") }),
             command_buffers: Vec::new(),
             cpu_ms: Vec::with_capacity(self.passes.len()),
             accel_report: None,
@@ -370,7 +370,7 @@ impl Executor {
         phases.wait_ms = ms(t);
         let t = Instant::now();
         if let Some(cache) = self.accel.as_mut() {
-            cache.read_probe(&gpu.device).await?;
+            cache.read_probe(gpu.device()).await?;
         }
         let mut timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
         timings.phases = FramePhases { readback_ms: ms(t), ..phases };
@@ -440,20 +440,20 @@ impl Executor {
             cache.copy_stats(&mut encoder);
         }
         command_buffers.push(encoder.finish());
-        gpu.queue.submit(command_buffers);
+        gpu.queue().submit(command_buffers);
     }
 
     /// The finished frame's timings: GPU milliseconds per pass, CPU milliseconds, and the ray
     /// counters (one window per trace pass, in schedule order).
     async fn frame_timings(&self, gpu: &Gpu, start: Instant, cpu_ms: Vec<f64>, accel_report: Option<(BuildReport, f64)>) -> Result<FrameTimings, RuntimeError> {
         let gpu_ms = match &self.timer {
-            Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32).await?),
+            Some(t) => Some(t.read(gpu.device(), self.passes.len() as u32).await?),
             None => None,
         };
         let mut pass_rays = vec![None; self.plan.passes.len()];
         let mut rays = None;
         if let Some(cache) = &self.accel {
-            let windows = cache.read_stats(&gpu.device).await?;
+            let windows = cache.read_stats(gpu.device()).await?;
             let trace_passes = self.plan.passes.iter().enumerate().filter(|(_, p)| p.kind == PassKind::Trace).map(|(i, _)| i);
             for (i, stats) in trace_passes.zip(&windows) {
                 pass_rays[i] = Some(*stats);
