@@ -329,7 +329,7 @@ fn gpu_deformation_matches_the_cpu_reference() {
             exec.render(&gpu, &camera(), &scene).unwrap();
             let cpu = scene.with_meshes_posed();
             let uploaded = exec.uploaded_scene().unwrap();
-            let bytes = read_bytes(gpu.device(), gpu.queue(), uploaded.vertices.as_ref().unwrap(), 0, uploaded.vertices.as_ref().unwrap().size()).unwrap();
+            let bytes = read_bytes(gpu.device(), gpu.queue(), uploaded.vertices().unwrap(), 0, uploaded.vertices().unwrap().size()).unwrap();
             let gpu_vertices: &[raygraph::scene::Vertex] = bytemuck::cast_slice(&bytes);
             let mut base = 0;
             for (m, mesh) in cpu.meshes.iter().enumerate() {
@@ -366,7 +366,7 @@ fn a_static_scene_pays_nothing() {
     let gpu = gpu();
     for (name, mut scene) in [("default", raygraph::scene::builtin::default_scene()), ("spinner (nodes only)", animated("spinner"))] {
         let mut exec = executor(&gpu, "graph/hybrid.ron", Some(Backend::Compute), &scene);
-        let vertices = exec.uploaded_scene().unwrap().vertices.as_ref().unwrap().usage();
+        let vertices = exec.uploaded_scene().unwrap().vertices().unwrap().usage();
         assert!(!vertices.contains(wgpu::BufferUsages::COPY_DST), "{name}: {vertices:?}");
         let reports: Vec<BuildReport> = (0..3)
             .map(|_| {

@@ -95,17 +95,15 @@ fn only_what_the_graph_reads_is_uploaded() {
     let scene = builtin::default_scene();
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
     let up = exec.uploaded_scene().expect("the scene is drawn");
-    assert!(up.textures.is_none() && up.materials.is_none(), "no textures or materials uploaded");
-    assert!(up.vertices.is_some() && up.instances.is_some());
+    assert!(up.textures().is_none() && up.materials().is_none(), "no textures or materials uploaded");
+    assert!(up.vertices().is_some() && up.instances().is_some());
 
     // The raster graph samples textures: they are uploaded with their mip chain.
     let graph = common::repo().join("graph/raster.ron");
     let plan = compile(&graph, &Project::beside_graph(&graph), (32, 32)).unwrap();
     assert!(plan.scene_usage().textures && plan.scene_usage().materials);
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures.as_ref() else {
-        panic!("the default options bind a texture array")
-    };
+    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures() else { panic!("the default options bind a texture array") };
     assert_eq!(texture.depth_or_array_layers(), scene.textures.len() as u32 + 1);
     assert_eq!(texture.mip_level_count(), raygraph::runtime::scene_upload::TEXTURE_MIPS);
 }
@@ -122,7 +120,7 @@ fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
     for options in [raygraph::graph::compile::CompileOptions::default(), gpu.compile_options()] {
         let plan = raygraph::graph::compile::compile_with(&graph, &Project::beside_graph(&graph), (160, 90), &options).unwrap();
         let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-        match exec.uploaded_scene().unwrap().textures.as_ref().unwrap() {
+        match exec.uploaded_scene().unwrap().textures().unwrap() {
             SceneTextures::Array { .. } => assert!(options.includes.is_empty()),
             SceneTextures::Separate { views, .. } => assert_eq!(views.len(), scene.textures.len() + 1),
         }

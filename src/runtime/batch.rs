@@ -149,7 +149,7 @@ fn scene_textures(gpu: &Gpu, scene: &Scene, info: &reflect::ShaderInfo) -> Resul
     let array = b.kind == reflect::BindingKind::TextureBindingArray;
     let usage = SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
     let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), scene, usage)?;
-    let textures = uploaded.textures.as_ref().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
+    let textures = uploaded.textures().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
     let ty = wgpu::BindingType::Texture {
         sample_type: wgpu::TextureSampleType::Float { filterable: true },
         view_dimension: if array { wgpu::TextureViewDimension::D2 } else { wgpu::TextureViewDimension::D2Array },

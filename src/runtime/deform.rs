@@ -86,7 +86,7 @@ impl Packed {
                 }
             }
             let joints = deformer.skin.as_ref().and_then(|s| rig.skins.get(s.skin)).map_or(0, |s| s.joints.len());
-            let first_vertex = *uploaded.base_vertices.get(deformer.mesh)?;
+            let first_vertex = *uploaded.base_vertices().get(deformer.mesh)?;
             let (rest, targets) = (deformer.rest.len() as u32, deformer.targets.len() as u32);
             let at = [shape_at, influences_at, p.frame_vec4s, weight_vec4s].map(|x| x as u32);
             let params = [first_vertex, rest, targets, normals as u32, sets as u32, at[0], at[1], at[2], at[3], 0, 0, 0];
@@ -134,7 +134,7 @@ impl GpuDeform {
     /// for a scene without them or a plan that uploads no vertices.
     pub fn new(device: &wgpu::Device, scene: &Scene, uploaded: &GpuScene) -> Option<Self> {
         let rig = scene.rig.as_ref().filter(|r| !r.deformers.is_empty())?;
-        let vertices = uploaded.vertices.as_ref()?;
+        let vertices = uploaded.vertices()?;
         let packed = Packed::of(rig, uploaded)?;
         let storage = wgpu::BufferUsages::STORAGE;
         let init = |label: &str, contents: &[u8], usage| {

@@ -66,32 +66,97 @@ impl SceneTextures {
 /// A scene on the GPU: the parts a plan reads ([`SceneUsage`]), uploaded.
 pub struct GpuScene {
     /// Every mesh's vertices, one after another.
-    pub vertices: Option<wgpu::Buffer>,
+    vertices: Option<wgpu::Buffer>,
     /// Every mesh's indices, one after another.
-    pub(crate) indices: Option<wgpu::Buffer>,
+    indices: Option<wgpu::Buffer>,
     /// Instance records (`scene_instances`).
-    pub instances: Option<wgpu::Buffer>,
+    instances: Option<wgpu::Buffer>,
     /// Material records (`scene_materials`).
-    pub materials: Option<wgpu::Buffer>,
+    materials: Option<wgpu::Buffer>,
     /// Per mesh: first index, base vertex, index count, where its extras start in the vertex
     /// buffer (`scene_meshes`; `MESH_NO_EXTRAS` without colours or second uvs).
-    pub meshes: Option<wgpu::Buffer>,
+    meshes: Option<wgpu::Buffer>,
     /// The material textures.
-    pub textures: Option<SceneTextures>,
+    textures: Option<SceneTextures>,
     /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
     /// by `GpuScene::write_lights`.
-    pub lights: Option<wgpu::Buffer>,
+    lights: Option<wgpu::Buffer>,
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
     /// `GpuScene::write_motion`.
-    pub motion: Option<wgpu::Buffer>,
+    motion: Option<wgpu::Buffer>,
     /// One draw per instance, for raster passes.
-    pub(crate) draws: Vec<Draw>,
+    draws: Vec<Draw>,
     /// Per mesh, its first vertex in `vertices`.
-    pub(crate) base_vertices: Vec<u32>,
+    base_vertices: Vec<u32>,
     /// What was uploaded.
-    pub usage: SceneUsage,
+    usage: SceneUsage,
     /// Bytes uploaded.
-    pub bytes: u64,
+    bytes: u64,
+}
+
+impl GpuScene {
+    /// Every mesh's vertices, one after another.
+    pub fn vertices(&self) -> Option<&wgpu::Buffer> {
+        self.vertices.as_ref()
+    }
+
+    /// Every mesh's indices, one after another.
+    pub(crate) fn indices(&self) -> Option<&wgpu::Buffer> {
+        self.indices.as_ref()
+    }
+
+    /// Instance records (`scene_instances`).
+    pub fn instances(&self) -> Option<&wgpu::Buffer> {
+        self.instances.as_ref()
+    }
+
+    /// Material records (`scene_materials`).
+    pub fn materials(&self) -> Option<&wgpu::Buffer> {
+        self.materials.as_ref()
+    }
+
+    /// Per mesh: first index, base vertex, index count, where its extras start in the vertex
+    /// buffer (`scene_meshes`; `MESH_NO_EXTRAS` without colours or second uvs).
+    pub fn meshes(&self) -> Option<&wgpu::Buffer> {
+        self.meshes.as_ref()
+    }
+
+    /// The material textures.
+    pub fn textures(&self) -> Option<&SceneTextures> {
+        self.textures.as_ref()
+    }
+
+    /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
+    /// by `GpuScene::write_lights`.
+    pub fn lights(&self) -> Option<&wgpu::Buffer> {
+        self.lights.as_ref()
+    }
+
+    /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
+    /// `GpuScene::write_motion`.
+    pub fn motion(&self) -> Option<&wgpu::Buffer> {
+        self.motion.as_ref()
+    }
+
+    /// One draw per instance, for raster passes.
+    pub(crate) fn draws(&self) -> &[Draw] {
+        &self.draws
+    }
+
+    /// Per mesh, its first vertex in `vertices`.
+    pub(crate) fn base_vertices(&self) -> &[u32] {
+        &self.base_vertices
+    }
+
+    /// What was uploaded.
+    pub fn usage(&self) -> SceneUsage {
+        self.usage
+    }
+
+    /// Bytes uploaded.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
 }
 
 /// Side of the square layers of the texture array.

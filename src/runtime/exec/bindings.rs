@@ -91,7 +91,7 @@ impl Executor {
             let ty = self.binding_type(pass, b)?;
             let count = match b.kind {
                 BindingKind::TextureBindingArray => {
-                    Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures.as_ref())?.count()).expect("white texture is always there"))
+                    Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures())?.count()).expect("white texture is always there"))
                 }
                 _ => None,
             };
@@ -179,14 +179,14 @@ impl Executor {
                 out.params_members = Some((*size as u64, members.clone()));
                 out.params_buffer = Some((at, buf));
             }
-            builtins::SCENE_INSTANCES => out.buffers.push((at, self.scene_part(|s| s.instances.as_ref())?.clone())),
-            builtins::SCENE_MATERIALS => out.buffers.push((at, self.scene_part(|s| s.materials.as_ref())?.clone())),
-            builtins::SCENE_VERTICES => out.buffers.push((at, self.scene_part(|s| s.vertices.as_ref())?.clone())),
-            builtins::SCENE_INDICES => out.buffers.push((at, self.scene_part(|s| s.indices.as_ref())?.clone())),
-            builtins::SCENE_MESHES => out.buffers.push((at, self.scene_part(|s| s.meshes.as_ref())?.clone())),
-            builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights.as_ref())?.clone())),
-            builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion.as_ref())?.clone())),
-            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+            builtins::SCENE_INSTANCES => out.buffers.push((at, self.scene_part(|s| s.instances())?.clone())),
+            builtins::SCENE_MATERIALS => out.buffers.push((at, self.scene_part(|s| s.materials())?.clone())),
+            builtins::SCENE_VERTICES => out.buffers.push((at, self.scene_part(|s| s.vertices())?.clone())),
+            builtins::SCENE_INDICES => out.buffers.push((at, self.scene_part(|s| s.indices())?.clone())),
+            builtins::SCENE_MESHES => out.buffers.push((at, self.scene_part(|s| s.meshes())?.clone())),
+            builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights())?.clone())),
+            builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion())?.clone())),
+            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => out.views.push((at, view.clone())),
                 SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => out.view_arrays.push((at, v.clone())),
                 _ => return Err(RuntimeError::Gpu(format!("pass {}: scene textures were uploaded in the other layout than the shader binds", pass.name))),

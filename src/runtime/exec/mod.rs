@@ -242,7 +242,7 @@ impl Executor {
             "creating the graph's GPU objects ({} of textures and buffers in {} slots for a {w}x{h} frame, {} of scene data)",
             crate::graph::compile::fmt_bytes(exec.plan.bytes_with_reuse()),
             exec.plan.slots.len(),
-            crate::graph::compile::fmt_bytes(exec.scene.as_ref().map_or(0, |s| s.bytes))
+            crate::graph::compile::fmt_bytes(exec.scene.as_ref().map_or(0, |s| s.bytes()))
         );
         scope.finish(gpu, &context)?;
         Ok(exec)
@@ -386,7 +386,7 @@ impl Executor {
     /// ([`draws`]: kept while the scene and the camera's position stay; a shadow-map pass's
     /// classes from its slot's light), and every pass's attachment views.
     fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, uniforms: &crate::uniforms::FrameUniforms) -> FrameInputs<'a> {
-        let draws = self.scene.as_ref().map_or(&[][..], |s| &s.draws[..]);
+        let draws = self.scene.as_ref().map_or(&[][..], |s| s.draws());
         for (i, (pass, planned)) in self.passes.iter_mut().zip(&self.plan.passes).enumerate() {
             let Pipeline::Scene(pipelines) = &mut pass.pipeline else { continue };
             let light_view_proj = planned

@@ -30,7 +30,7 @@ impl Executor {
         inputs: &FrameInputs,
     ) -> Result<(), RuntimeError> {
         let mut rp = self.begin_render_pass(encoder, i, &inputs.views[i]);
-        let (Some(vertices), Some(indices)) = (self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok()) else {
+        let (Some(vertices), Some(indices)) = (self.scene_part(|s| s.vertices()).ok(), self.scene_part(|s| s.indices()).ok()) else {
             return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", self.plan.passes[i].name)));
         };
         rp.set_vertex_buffer(0, vertices.slice(..));

@@ -19,7 +19,7 @@ impl Executor {
             return Ok(None);
         }
         let s = GpuScene::upload(gpu.device(), gpu.queue(), scene, plan.scene_usage)?;
-        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes);
+        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes());
         Ok(Some(s))
     }
 
@@ -79,7 +79,7 @@ impl Executor {
             // Deformed on the CPU: uploaded; left to the GPU: `record_deform` writes them.
             let cpu_deformed = scene.posed.is_none_or(|p| p.meshes_deformed) || self.deform.is_none();
             let vertices_ok = content.deformed == self.scene_content.deformed
-                || uploaded.vertices.is_none()
+                || uploaded.vertices().is_none()
                 || !cpu_deformed
                 || uploaded.write_vertices(gpu.queue(), scene, &scene.deforming_meshes());
             if instances_ok && vertices_ok {
@@ -96,7 +96,7 @@ impl Executor {
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
         scope.finish(gpu, "uploading the changed scene")?;
-        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
+        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes()));
         self.scene_content = content;
         Ok(())
     }
@@ -127,7 +127,7 @@ impl Executor {
     /// read while the instances stay the same `Arc`).
     fn write_motion(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
         use std::sync::Arc;
-        let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion.is_some()) else { return Ok(()) };
+        let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion().is_some()) else { return Ok(()) };
         let current = Arc::clone(&scene.instances);
         let previous = self.history.instances.replace(Arc::clone(&current));
         let motion = match previous {
@@ -160,7 +160,7 @@ impl Executor {
         for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
             *slot = m.to_cols_array_2d();
         }
-        if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights.is_some()) {
+        if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights().is_some()) {
             if !uploaded.write_lights(gpu.queue(), &lights.records) {
                 return Err(RuntimeError::Gpu("the light buffer does not match the scene's lights".into()));
             }

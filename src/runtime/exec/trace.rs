@@ -96,14 +96,14 @@ impl Executor {
             builtins::FRAME => buffer(&self.frame_uniforms),
             builtins::DEBUG_COUNTERS => buffer(&self.debug_counters),
             builtins::PARAMS => buffer(&bindings.params_buffer.as_ref().expect("made for the params binding").1),
-            builtins::SCENE_INSTANCES => buffer(self.scene_part(|s| s.instances.as_ref())?),
-            builtins::SCENE_MATERIALS => buffer(self.scene_part(|s| s.materials.as_ref())?),
-            builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices.as_ref())?),
-            builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices.as_ref())?),
-            builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes.as_ref())?),
-            builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights.as_ref())?),
-            builtins::SCENE_MOTION => buffer(self.scene_part(|s| s.motion.as_ref())?),
-            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+            builtins::SCENE_INSTANCES => buffer(self.scene_part(|s| s.instances())?),
+            builtins::SCENE_MATERIALS => buffer(self.scene_part(|s| s.materials())?),
+            builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices())?),
+            builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices())?),
+            builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes())?),
+            builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights())?),
+            builtins::SCENE_MOTION => buffer(self.scene_part(|s| s.motion())?),
+            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { texture, view } => {
                     RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
                 }
