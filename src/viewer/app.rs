@@ -81,11 +81,11 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     let mut clock = super::clock::AnimationClock::new(&scene, &choice, opts.time)?;
     // Scripted and counted runs advance the clock by a fixed step per frame.
     if opts.script.is_some() || opts.frames.is_some() {
-        clock.fixed_step = Some(1.0 / 60.0);
+        clock.set_fixed_step(Some(1.0 / 60.0));
     }
     let mut session = Session::new(&gpu, &root, graph_file, mode, backend, opts.size, scene)?;
-    session.clock = clock;
-    println!("graph: {} ({} passes), back-end {}", session.graph_file.display(), session.plan().map_or(0, |p| p.passes.len()), session.backend());
+    session.set_clock(clock);
+    println!("graph: {} ({} passes), back-end {}", session.graph_file().display(), session.plan().map_or(0, |p| p.passes.len()), session.backend());
     let mut app = App {
         fly: FlyCamera::from_camera(&camera, radius),
         opts,
@@ -181,7 +181,7 @@ impl App {
         );
         let mut renderer = egui_wgpu::Renderer::new(self.gpu.device(), format, egui_wgpu::RendererOptions::default());
         let shader =
-            crate::graph::files::read(&self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
+            crate::graph::files::read(&self.session.root().join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
         let display = Display::new(&self.gpu, self.opts.size, &shader.text);
         let display_id = renderer.register_native_texture(self.gpu.device(), display.view(), wgpu::FilterMode::Linear);
         Ok(WindowState { window, surface, config, egui_ctx, egui_state, renderer, display, display_id })
@@ -209,7 +209,7 @@ impl App {
             Action::Param { node, name, value } => self.session.set_param(gpu, &node, &name, value).map(|_| println!("parameter {node}.{name} = {value:?}")),
             Action::Enable { node, on } => self.session.set_enabled(gpu, &node, on).map(|_| println!("node {node}: {}", if on { "on" } else { "off" })),
             Action::ResetHistoryOnMove(on) => {
-                self.session.reset_history_on_move = on;
+                self.session.set_reset_history_on_move(on);
                 println!("reset the history when the camera moves: {}", if on { "on" } else { "off" });
                 Ok(())
             }
@@ -236,7 +236,7 @@ impl App {
                 self.mapping = None;
                 Ok(())
             }
-            Action::Preset(name) => self.session.scene.preset(&name).map(|c| {
+            Action::Preset(name) => self.session.scene().preset(&name).map(|c| {
                 let speed = self.fly.speed();
                 self.fly = FlyCamera::from_camera(&c, 1.0).with_speed(speed);
             }),
@@ -272,24 +272,25 @@ impl App {
             },
             Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
             Action::Play(on) => {
-                self.session.clock.playing = on && self.session.clock.clip.is_playing();
-                println!("animation: {}", if self.session.clock.playing { "playing" } else { "paused" });
+                let playing = on && self.session.clock().clip().is_playing();
+                self.session.clock_mut().set_playing(playing);
+                println!("animation: {}", if self.session.clock().playing() { "playing" } else { "paused" });
                 Ok(())
             }
             Action::Seek(t) => {
-                self.session.clock.seek(&self.session.scene, t);
-                println!("animation at {:.3} s", self.session.clock.time);
+                self.session.seek(t);
+                println!("animation at {:.3} s", self.session.clock().time());
                 Ok(())
             }
             Action::Speed(x) if x.is_finite() && x >= 0.0 => {
-                self.session.clock.speed = x;
+                self.session.clock_mut().set_speed(x);
                 println!("animation speed {x}x");
                 Ok(())
             }
             Action::Speed(x) => Err(format!("animation speed {x}: give a number of at least 0")),
-            Action::Clip(name) => crate::viewer::clock::AnimationClock::new(&self.session.scene, &name.parse().unwrap_or_default(), 0.0).map(|c| {
-                let fixed = self.session.clock.fixed_step;
-                self.session.clock = crate::viewer::clock::AnimationClock { fixed_step: fixed, ..c };
+            Action::Clip(name) => crate::viewer::clock::AnimationClock::new(&self.session.scene(), &name.parse().unwrap_or_default(), 0.0).map(|mut c| {
+                c.set_fixed_step(self.session.clock().fixed_step());
+                self.session.set_clock(c);
                 println!("animation clip {name}");
             }),
             Action::Quit => {
@@ -342,7 +343,7 @@ impl App {
     /// error (the overlay's error line, printed by `raygraph view`); the window's surface is
     /// leaked, since releasing it waits for the device to go idle.
     fn stop_after_gpu_timeout(&mut self) {
-        let error = self.session.error.clone().unwrap_or_else(|| "a frame ran past the GPU deadline".into());
+        let error = self.session.error().unwrap_or("a frame ran past the GPU deadline").to_string();
         self.result = Err(error);
         self.exit = true;
         std::mem::forget(self.window.take());
@@ -363,7 +364,7 @@ impl App {
         match self.session.poll_reload(&self.gpu, Duration::from_millis(200)) {
             Some(Reload::Reloaded { passes }) => {
                 self.mapping = None;
-                self.log(format!("reloaded {} ({passes} passes)", self.session.graph_file.display()));
+                self.log(format!("reloaded {} ({passes} passes)", self.session.graph_file().display()));
             }
             Some(Reload::Failed(e)) => self.log(format!("reload failed, the last good graph keeps running: {e}")),
             None => {}
@@ -372,7 +373,7 @@ impl App {
         let camera = match &mut self.track {
             TrackState::Playing { track, seconds } => {
                 *seconds += dt;
-                let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds);
+                let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds());
                 if *seconds > track.duration() {
                     // Fly on from where the track ends.
                     let speed = self.fly.speed();
@@ -395,12 +396,12 @@ impl App {
             }
         };
         // Wherever the camera flies, the scene stays between its clip planes.
-        let camera = camera.fit_clip_planes(self.session.scene_bounds);
+        let camera = camera.fit_clip_planes(self.session.scene_bounds());
         if let Err(e) = self.session.render(&self.gpu, &camera) {
-            if self.session.error.as_deref() != Some(e.as_str()) {
+            if self.session.error() != Some(e.as_str()) {
                 self.log(format!("frame failed: {e}"));
             }
-            self.session.error = Some(e);
+            self.session.set_error(Some(e));
         }
         if self.gpu.timed_out() {
             self.stop_after_gpu_timeout();
@@ -480,7 +481,7 @@ fn overlay_frame<'a>(session: &'a Session, gpu: &'a Gpu, view: &'a View, track: 
         session,
         gpu,
         view,
-        presets: &session.scene.presets,
+        presets: &session.scene().presets,
         recording: matches!(track, TrackState::Recording { .. }),
         playing: matches!(track, TrackState::Playing { .. }),
     }

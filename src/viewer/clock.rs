@@ -11,19 +11,64 @@ use std::time::Instant;
 #[derive(Debug, Clone)]
 pub(crate) struct AnimationClock {
     /// The clips that play (rest: the scene has no animation).
-    pub clip: ClipSet,
+    clip: ClipSet,
     /// Seconds into the clip.
-    pub time: f32,
+    time: f32,
     /// Whether time runs.
-    pub playing: bool,
+    playing: bool,
     /// Seconds of clip per second of wall time.
-    pub speed: f32,
+    speed: f32,
     /// Seconds per frame instead of the wall clock (scripted runs).
-    pub fixed_step: Option<f32>,
-    pub(crate) last: Option<Instant>,
+    fixed_step: Option<f32>,
+    last: Option<Instant>,
 }
 
 impl AnimationClock {
+    /// The clips that play (rest: the scene has no animation).
+    pub(crate) fn clip(&self) -> ClipSet {
+        self.clip
+    }
+
+    /// Seconds into the clip.
+    pub(crate) fn time(&self) -> f32 {
+        self.time
+    }
+
+    /// Whether time runs.
+    pub(crate) fn playing(&self) -> bool {
+        self.playing
+    }
+
+    /// Runs (`true`) or stops time.
+    pub(crate) fn set_playing(&mut self, on: bool) {
+        self.playing = on;
+    }
+
+    /// Seconds of clip per second of wall time.
+    pub(crate) fn speed(&self) -> f32 {
+        self.speed
+    }
+
+    /// Sets the seconds of clip per second of wall time.
+    pub(crate) fn set_speed(&mut self, speed: f32) {
+        self.speed = speed;
+    }
+
+    /// Seconds per frame instead of the wall clock (scripted runs).
+    pub(crate) fn fixed_step(&self) -> Option<f32> {
+        self.fixed_step
+    }
+
+    /// Advances by `step` seconds per frame instead of the wall clock (`None`: the wall clock).
+    pub(crate) fn set_fixed_step(&mut self, step: Option<f32>) {
+        self.fixed_step = step;
+    }
+
+    /// A clock at the rest pose, stopped (until the scene's own clock replaces it).
+    pub(crate) fn at_rest() -> Self {
+        Self { clip: ClipSet::Rest, time: 0.0, playing: false, speed: 1.0, fixed_step: None, last: None }
+    }
+
     /// The clock of `scene`'s clip `choice`, at `start` seconds, playing.
     pub fn new(scene: &Scene, choice: &ClipChoice, start: f32) -> Result<Self, String> {
         let clip = match &scene.rig {
