@@ -173,7 +173,7 @@ pub fn executor(gpu: &Gpu, graph_file: &Path, passes: RustPasses) -> anyhow::Res
 pub fn render(gpu: &Gpu, graph_file: &Path) -> anyhow::Result<(image::RgbaImage, FrameTimings, Executor)> {
     let mut exec = executor(gpu, graph_file, rust_passes())?;
     let scene = default_scene();
-    let timings = exec.render(gpu, &scene.camera, &scene)?;
+    let timings = exec.render(gpu, scene.camera(), &scene)?;
     Ok((exec.read_output(gpu)?, timings, exec))
 }
 

@@ -220,7 +220,7 @@ impl WindowRenderer {
             }
         };
         let gpu = &self.gpu;
-        self.exec.render(gpu, &self.scene.camera, &self.scene)?;
+        self.exec.render(gpu, self.scene.camera(), &self.scene)?;
         self.presenter.present(gpu, &self.exec, &surface_texture.texture)?;
         gpu.queue().present(surface_texture);
         Ok(true)

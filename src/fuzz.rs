@@ -69,17 +69,17 @@ pub fn scene_file(bytes: &[u8]) -> Result<(), String> {
     let (mut scene, _) = crate::scene::load::open(path.to_str().expect("a UTF-8 scratch path"), &Default::default()).map_err(|e| e.to_string())?;
     // Every clip posed at a few times, meshes deformed on the CPU: every position finite or
     // dropped by the builds below, never a panic.
-    let clips = scene.rig.as_ref().map_or(0, |r| r.animations.len());
+    let clips = scene.rig().map_or(0, |r| r.animations.len());
     for clip in 0..clips.min(4) {
         for time in [0.0, 0.37, 1e6, f32::NAN] {
             scene.pose(Some(clip), time);
         }
     }
     let two_level = flatten(&scene, &SceneAccel::build(&scene, &AccelOptions::default()));
-    crate::accel::cache::check_fits(&scene.name, &two_level, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
+    crate::accel::cache::check_fits(scene.name(), &two_level, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
     let (mesh, origin) = merge_instances(&scene);
     let merged = merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()));
-    crate::accel::cache::check_fits(&scene.name, &merged, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
+    crate::accel::cache::check_fits(scene.name(), &merged, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
     let _ = scene.bounds();
     Ok(())
 }

@@ -623,14 +623,14 @@ impl ViewArgs {
             anyhow::bail!("--time {}: give a finite number of seconds", self.time.unwrap_or_default());
         }
         let choice = self.animation.as_deref().map(|a| a.parse::<ClipChoice>().unwrap_or_default()).unwrap_or_default();
-        let Some(rig) = scene.rig.clone() else {
-            anyhow::ensure!(self.animation.is_none(), "--animation {}: scene `{}` has no animations", self.animation.as_deref().unwrap_or(""), scene.name);
+        let Some(rig) = scene.rig().cloned() else {
+            anyhow::ensure!(self.animation.is_none(), "--animation {}: scene `{}` has no animations", self.animation.as_deref().unwrap_or(""), scene.name());
             if self.time.is_some() {
-                eprintln!("note: scene `{}` has no animations; --time changes nothing", scene.name);
+                eprintln!("note: scene `{}` has no animations; --time changes nothing", scene.name());
             }
             return Ok(());
         };
-        let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name))?;
+        let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name()))?;
         if let Some(t) = time.filter(|_| clip.is_playing()) {
             scene.pose_for_gpu(clip, t);
             println!("animation `{}` at {t:.3} s", rig.describe(clip));
@@ -757,13 +757,13 @@ fn run(cli: Cli) -> Result<()> {
             let (s, _) = scene::open(&scene, &LoadOptions { textures: true, seed, gltf_scene: gltf.gltf_scene })?;
             let s = copies.apply(s);
             raygraph::scene::export::write_glb(&s, &out)?;
-            println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes.len(), s.textures.len());
+            println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes().len(), s.textures().len());
         }
         Command::Scene { command: SceneCommand::Orbit { scene, out, seconds } } => {
             let (s, _) = scene::open(&scene, &LoadOptions { textures: false, ..Default::default() })?;
             let b = s.bounds();
             let radius = 0.5 * b.diagonal().max(1e-3);
-            let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera.fov_y.to_degrees());
+            let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera().fov_y.to_degrees());
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
@@ -1072,16 +1072,16 @@ fn run(cli: Cli) -> Result<()> {
                 println!(
                     "scene duplicated {n}x{n}x{n}: {} triangles, {} meshes, {} instances",
                     scene.triangle_count(),
-                    scene.meshes.len(),
-                    scene.instances.len()
+                    scene.meshes().len(),
+                    scene.instances().len()
                 );
             }
             let track = view.track.as_deref().map(Track::load).transpose()?;
             view.pose(&mut scene, track.as_ref())?;
             let camera = match (&view.camera, &track) {
                 (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
-                (None, Some(track)) => track.camera_at_frame(view.track_frame, &scene.camera).fit_clip_planes(scene.bounds()),
-                (None, None) => scene.camera,
+                (None, Some(track)) => track.camera_at_frame(view.track_frame, scene.camera()).fit_clip_planes(scene.bounds()),
+                (None, None) => *scene.camera(),
             };
             let sized = output_height(width, asked_height, &camera);
             if sized != height {
@@ -1102,7 +1102,7 @@ fn run(cli: Cli) -> Result<()> {
             let img = exec.read_output(&gpu)?;
             write_png(&out, &img)?;
             let names: Vec<(String, &'static str)> = exec.plan().passes().iter().map(|p| (p.name.clone(), p.kind.name())).collect();
-            println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name);
+            println!("graph {} on scene `{}` at {width}x{height}", graph_file.display(), scene.name());
             print!("{}", pass_table(&names, &timings, width as u64 * height as u64));
             if let Some(dir) = &report {
                 let r = raygraph::runtime::report::Report::new(&names, width as u64 * height as u64, &timings);

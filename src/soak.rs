@@ -324,22 +324,21 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
         if p < c / 4 {
             let phase = f as f32 * 0.37;
             let offset = Vec3::new(phase.sin(), 0.0, phase.cos()) * (0.05 * radius);
-            for (inst, orig) in scene.instances_mut().iter_mut().zip(base.instances.iter()) {
+            for (inst, orig) in scene.instances_mut().iter_mut().zip(base.instances().iter()) {
                 inst.transform = Mat4::from_translation(offset) * orig.transform;
             }
             report.moved_frames += 1;
         } else if p == c / 4 {
-            for (inst, orig) in scene.instances_mut().iter_mut().zip(base.instances.iter()) {
+            for (inst, orig) in scene.instances_mut().iter_mut().zip(base.instances().iter()) {
                 inst.transform = orig.transform;
             }
-            scene.meshes.push(sphere.clone().into());
-            let mesh = scene.meshes.len() - 1;
+            let mesh = scene.push_mesh(sphere.clone());
             let at = Mat4::from_translation(b.center() + Vec3::Y * (0.25 * radius)) * Mat4::from_scale(Vec3::splat(0.2 * radius));
             scene.instances_mut().push(crate::scene::Instance { mesh, material: 0, transform: at });
             report.meshes_added += 1;
         } else if p == c / 2 {
             scene.instances_mut().pop();
-            scene.meshes.pop();
+            scene.pop_mesh();
             report.meshes_removed += 1;
         } else if p == 5 * c / 8 || p == 7 * c / 8 {
             current = 1 - current;
@@ -364,7 +363,7 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
             exec = Executor::new(gpu, compile(&graphs[current])?, &scene)?;
             report.shader_fixes += 1;
         }
-        exec.render(gpu, &scene.camera, &scene)?;
+        exec.render(gpu, scene.camera(), &scene)?;
         report.frames = f + 1;
         if p == c - 1 {
             let finite = match exec.plan().resource_by_name(&cfg.hdr_resource) {

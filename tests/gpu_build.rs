@@ -222,14 +222,14 @@ fn an_organic_mesh_and_a_box_build_on_the_gpu() {
 fn record_test_scene() -> Scene {
     use glam::{Mat4, Quat};
     let mut scene = builtin("organic", 0).unwrap();
-    let base = scene.instances[0].clone();
+    let base = scene.instances()[0].clone();
     let mut odd = Mesh::default();
     for p in [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [f32::NAN, 0.0, 0.0], [0.3, 0.7, 1.1]] {
         odd.vertices.push(Vertex { position: p, ..Default::default() });
     }
     odd.indices = vec![0, 1, 2, 0, 1, 3, 0, 0, 1, 0, 1, 9, 1, 2, 4, 2, 2, 2];
-    scene.meshes.push(odd.into());
-    let odd_mesh = scene.meshes.len() - 1;
+    scene.push_mesh(odd);
+    let odd_mesh = scene.meshes().len() - 1;
     let transforms = [
         Mat4::from_scale_rotation_translation(Vec3::new(-1.0, 1.0, 1.0), Quat::from_rotation_y(0.7), Vec3::new(123.456, -7.25, 0.1)),
         Mat4::from_scale_rotation_translation(Vec3::new(0.37, 2.9, 1.3), Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.2), Vec3::new(-3.3, 1e3, 17.0)),
@@ -250,7 +250,7 @@ fn record_test_scene() -> Scene {
 /// f64 result once; the kernel carries the sum in two f32s, which lavapipe's compiler reduces
 /// to plain f32 arithmetic (four roundings: 1-ulp differences where the terms cancel).
 fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what: &str) -> usize {
-    let hashes: Vec<u64> = scene.meshes.iter().map(|m| mesh_hash(m)).collect();
+    let hashes: Vec<u64> = scene.meshes().iter().map(|m| mesh_hash(m)).collect();
     let made = maker.make(gpu.device(), gpu.queue(), scene, (&hashes, None), u32::MAX).unwrap().expect("records");
     let (merged, origin) = merge_instances(scene);
     let expected = merged_triangles(&merged, &origin);
@@ -260,9 +260,9 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
     let mut identical = 0;
     for (k, (got, want)) in records.iter().zip(&expected).enumerate() {
         assert_eq!((got.instance, got.prim, got.flags), (want.instance, want.prim, want.flags), "{what}: record {k}");
-        let inst = &scene.instances[want.instance as usize];
+        let inst = &scene.instances()[want.instance as usize];
         let rows = raygraph::accel::layout::affine_rows(&raygraph::accel::bvh::instance_transform(&inst.transform).unwrap());
-        let object = raygraph::accel::bvh::mesh_triangle(&scene.meshes[inst.mesh], want.prim as usize).unwrap();
+        let object = raygraph::accel::bvh::mesh_triangle(&scene.meshes()[inst.mesh], want.prim as usize).unwrap();
         for (c, (g, w)) in [got.v0, got.v1, got.v2].iter().zip([want.v0, want.v1, want.v2]).enumerate() {
             for r in 0..3 {
                 let terms = (0..3).map(|j| (rows[r][j] * object[c][j]).abs()).sum::<f32>() + rows[r][3].abs();
@@ -277,9 +277,9 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
     // xyz: the object-space vertex; w: its index among all meshes' vertices (mesh by mesh).
     let object: &[[u32; 4]] = bytemuck::cast_slice(&object);
     for (k, want) in expected.iter().enumerate() {
-        let m = scene.instances[want.instance as usize].mesh;
-        let mesh = &scene.meshes[m];
-        let first_vertex: usize = scene.meshes[..m].iter().map(|m| m.vertices.len()).sum();
+        let m = scene.instances()[want.instance as usize].mesh;
+        let mesh = &scene.meshes()[m];
+        let first_vertex: usize = scene.meshes()[..m].iter().map(|m| m.vertices.len()).sum();
         let verts = raygraph::accel::bvh::mesh_triangle(mesh, want.prim as usize).unwrap();
         for c in 0..3 {
             let id = (first_vertex + mesh.indices[3 * want.prim as usize + c] as usize) as u32;
@@ -300,13 +300,13 @@ fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
     let mut scene = record_test_scene();
     let first = check_gpu_records(&gpu, &mut maker, &scene, "first");
     // One vertex of the small mesh moved: only that mesh is written again.
-    let odd = scene.meshes.len() - 1;
-    std::sync::Arc::make_mut(&mut scene.meshes[odd]).vertices[4].position[2] = 0.0;
+    let odd = scene.meshes().len() - 1;
+    scene.mesh_mut(odd).vertices[4].position[2] = 0.0;
     let edit = check_gpu_records(&gpu, &mut maker, &scene, "after an edit");
     // 80 bytes per usable instance: the two under the singular transform are left out.
-    let instance_bytes = 80 * (scene.instances.len() - 2);
+    let instance_bytes = 80 * (scene.instances().len() - 2);
     assert_eq!(edit, instance_bytes + 5 * 16 + 18 * 4, "an edit uploads the instances and the edited mesh (first build: {first} bytes)");
     // A triangle added to the small mesh: the meshes are laid out again.
-    std::sync::Arc::make_mut(&mut scene.meshes[odd]).indices.extend([0, 2, 4]);
+    scene.mesh_mut(odd).indices.extend([0, 2, 4]);
     check_gpu_records(&gpu, &mut maker, &scene, "after a new triangle");
 }

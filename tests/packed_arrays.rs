@@ -34,7 +34,7 @@ fn render(gpu: &Gpu, mode: Mode) -> Result<image::RgbaImage, String> {
     let plan = graph::compile::compile_with(graph_file, &Project::beside_graph(graph_file), SIZE, &gpu.compile_options()).map_err(|e| e.to_string())?;
     let (scene, _): (Scene, _) = raygraph::scene::open("atrium", &LoadOptions { textures: plan.scene_usage().textures, ..Default::default() }).unwrap();
     let mut exec = Executor::new(gpu, plan, &scene).map_err(|e| e.to_string())?;
-    exec.render(gpu, &scene.camera, &scene).map_err(|e| e.to_string())?;
+    exec.render(gpu, scene.camera(), &scene).map_err(|e| e.to_string())?;
     if let Some(bytes) = exec.accel().map(|a| a.packed_bytes()).filter(|b| *b > 0) {
         println!("{}: packed arrays {bytes} bytes, {:.1} per triangle", mode.label(), bytes as f64 / scene.triangle_count() as f64);
     }

@@ -130,7 +130,7 @@ struct Tolerance {
 fn check_agreement(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), backend: Backend, min_pixels: usize, limits: &[Tolerance]) -> (GBuffer, GBuffer) {
     let raster = gbuffer(gpu, "graph/hybrid.ron", backend, scene, size);
     let traced = gbuffer(gpu, "graph/full_rt.ron", backend, scene, size);
-    let eye = scene.camera.position;
+    let eye = scene.camera().position;
     let pixels = interior(&raster, &traced, eye);
     println!("{what} ({backend:?}, {}x{}): {} interior pixels", size.0, size.1, pixels.len());
     assert!(pixels.len() >= min_pixels, "{what}: only {} interior pixels", pixels.len());
@@ -239,7 +239,7 @@ fn metallic_roughness_gbuffers_agree_and_follow_gltf_conventions() {
         let what = format!("metallic-roughness scene, {}", if arrays { "binding array" } else { "texture array" });
         let (raster, traced) = check_agreement(&gpu, &what, &scene, size, backend, 4000, &limits);
         for (name, centre) in &probes {
-            let (x, y) = pixel_of(&scene.camera, size, *centre);
+            let (x, y) = pixel_of(scene.camera(), size, *centre);
             for (mode, g) in [("hybrid", &raster), ("full RT", &traced)] {
                 let (normal, material, emissive) = (v3(g.at(1, x, y)).normalize(), g.at(4, x, y), g.at(5, x, y));
                 let tilt = |axis: Vec3, scale: f32| {

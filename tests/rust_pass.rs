@@ -46,7 +46,7 @@ fn the_rust_pass_inverts_what_the_wgsl_pass_drew() {
     // Its parameter reaches it: amount 0 leaves the gradient as it is.
     assert!(exec.set_param(&gpu, "invert", "amount", ParamValue::Float(0.0)).unwrap());
     let scene = raygraph::scene::builtin::default_scene();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     assert_eq!(exec.read_output(&gpu).unwrap(), gradient);
 }
 

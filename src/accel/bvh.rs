@@ -1119,12 +1119,12 @@ impl SceneAccel {
     /// Builds both levels for `scene`.
     pub fn build(scene: &Scene, opts: &AccelOptions) -> SceneAccel {
         let start = Instant::now();
-        let mesh_blases: Vec<Blas> = scene.meshes.par_iter().map(|m| Blas::build(m, &opts.build)).collect();
+        let mesh_blases: Vec<Blas> = scene.meshes().par_iter().map(|m| Blas::build(m, &opts.build)).collect();
         let (blases, blas_mesh): (Vec<Blas>, Vec<Option<usize>>) = if opts.dedup {
-            (mesh_blases, (0..scene.meshes.len()).map(Some).collect())
+            (mesh_blases, (0..scene.meshes().len()).map(Some).collect())
         } else {
             scene
-                .instances
+                .instances()
                 .iter()
                 .map(|inst| match mesh_blases.get(inst.mesh) {
                     Some(b) => (b.clone(), Some(inst.mesh)),
@@ -1141,10 +1141,10 @@ impl SceneAccel {
             dedup: opts.dedup,
             build_time: Duration::ZERO,
         };
-        accel.instance_transforms = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
-        accel.instance_blas = (0..scene.instances.len())
+        accel.instance_transforms = scene.instances().iter().map(|i| instance_transform(&i.transform)).collect();
+        accel.instance_blas = (0..scene.instances().len())
             .map(|i| {
-                let b = if accel.dedup { scene.instances[i].mesh } else { i };
+                let b = if accel.dedup { scene.instances()[i].mesh } else { i };
                 let usable = accel.instance_transforms[i].is_some() && accel.blases.get(b).is_some_and(|bl| !bl.is_empty());
                 usable.then_some(b as u32)
             })
@@ -1176,11 +1176,11 @@ impl SceneAccel {
 
     /// Refits the TLAS after instances moved (same instances and meshes, new transforms).
     pub fn refit_instances(&mut self, scene: &Scene) -> Result<(), AccelError> {
-        if scene.instances.len() != self.instance_blas.len() {
-            return Err(AccelError::InstanceCountChanged { expected: self.instance_blas.len(), found: scene.instances.len() });
+        if scene.instances().len() != self.instance_blas.len() {
+            return Err(AccelError::InstanceCountChanged { expected: self.instance_blas.len(), found: scene.instances().len() });
         }
-        let mut transforms = Vec::with_capacity(scene.instances.len());
-        for (i, inst) in scene.instances.iter().enumerate() {
+        let mut transforms = Vec::with_capacity(scene.instances().len());
+        for (i, inst) in scene.instances().iter().enumerate() {
             let xf = instance_transform(&inst.transform);
             let expected_blas = if self.dedup { inst.mesh } else { i };
             if xf.is_some() != self.instance_transforms[i].is_some()
@@ -1203,12 +1203,12 @@ impl SceneAccel {
     /// Refits every BLAS to its mesh's current vertices, then the TLAS (moved vertices and
     /// instances, same triangles).
     pub fn refit_meshes(&mut self, scene: &Scene) -> Result<(), AccelError> {
-        if self.dedup && scene.meshes.len() != self.blases.len() {
-            return Err(AccelError::MeshCountChanged { expected: self.blases.len(), found: scene.meshes.len() });
+        if self.dedup && scene.meshes().len() != self.blases.len() {
+            return Err(AccelError::MeshCountChanged { expected: self.blases.len(), found: scene.meshes().len() });
         }
         for (blas, mesh) in self.blases.iter().zip(&self.blas_mesh) {
             if let Some(m) = mesh {
-                let found = scene.meshes.get(*m).map_or(0, |m| m.triangle_count());
+                let found = scene.meshes().get(*m).map_or(0, |m| m.triangle_count());
                 if found != blas.triangle_count {
                     return Err(AccelError::MeshChanged { mesh: *m, expected: blas.triangle_count, found });
                 }
@@ -1218,7 +1218,7 @@ impl SceneAccel {
             .blases
             .par_iter_mut()
             .zip(&self.blas_mesh)
-            .map(|(blas, mesh)| match mesh.and_then(|m| scene.meshes.get(m).map(|mm| (m, mm))) {
+            .map(|(blas, mesh)| match mesh.and_then(|m| scene.meshes().get(m).map(|mm| (m, mm))) {
                 Some((m, mm)) => blas.refit(mm, m),
                 None => Ok(()),
             })

@@ -400,7 +400,7 @@ impl AccelCache {
         if bytes.len() as u64 > max {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}`: the alpha test's uv data takes {} bytes in one storage binding, the device allows {max}\n  help: use fewer alpha-tested meshes",
-                scene.name,
+                scene.name(),
                 bytes.len()
             )));
         }
@@ -495,7 +495,7 @@ impl AccelCache {
     }
 
     fn instance_meshes_of(&self, scene: &Scene) -> Vec<u64> {
-        scene.instances.iter().map(|i| i.mesh as u64).collect()
+        scene.instances().iter().map(|i| i.mesh as u64).collect()
     }
 
     /// Changes whenever the GPU objects trace passes bind are replaced: bind groups made before must be made again.
@@ -535,7 +535,8 @@ impl AccelCache {
         let start = Instant::now();
         // The GPU-deformed merged layout reads the device's positions; every other path (and
         // any CPU build) the meshes posed on the CPU.
-        let gpu_deformed = self.merge && self.backend == Backend::Compute && self.device_positions.is_some() && scene.posed.is_some_and(|p| !p.meshes_deformed);
+        let gpu_deformed =
+            self.merge && self.backend == Backend::Compute && self.device_positions.is_some() && scene.posed().is_some_and(|p| !p.meshes_deformed);
         let posed = if gpu_deformed { std::borrow::Cow::Borrowed(scene) } else { scene.with_meshes_posed() };
         let scene = &*posed;
         let deform_key = scene.deformation_key();
@@ -543,9 +544,9 @@ impl AccelCache {
         // Whether a unit holds alpha-tested geometry is part of its key (the driver back-ends
         // build it non-opaque; the merged layout's triangles carry the flag).
         let tested_meshes = super::alpha::tested_meshes(scene);
-        let tested: Vec<bool> = (0..scene.instances.len()).map(|i| super::alpha::instance_tested(scene, i)).collect();
-        let mesh_hashes: Vec<u64> = self.mesh_memo.values(&scene.meshes, mesh_hash);
-        let instances: Vec<u64> = scene.instances.iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
+        let tested: Vec<bool> = (0..scene.instances().len()).map(|i| super::alpha::instance_tested(scene, i)).collect();
+        let mesh_hashes: Vec<u64> = self.mesh_memo.values(scene.meshes(), mesh_hash);
+        let instances: Vec<u64> = scene.instances().iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
         let units: Vec<UnitKey> = if self.merge {
             // One unit, the whole scene: any change rebuilds it (or refits it, below).
             let unit = hash_words(hash_words(2, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&instances));
@@ -554,25 +555,25 @@ impl AccelCache {
             mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash: hash ^ tested_meshes[mesh] as u64 }).collect()
         } else {
             scene
-                .instances
+                .instances()
                 .iter()
                 .zip(&tested)
                 .map(|(i, &t)| UnitKey { mesh: i.mesh, hash: mesh_hashes.get(i.mesh).copied().unwrap_or(0) ^ t as u64 })
                 .collect()
         };
-        if let Some(bad) = scene.instances.iter().position(|i| i.mesh >= scene.meshes.len()) {
+        if let Some(bad) = scene.instances().iter().position(|i| i.mesh >= scene.meshes().len()) {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}`: instance {bad} refers to mesh {} of {}",
-                scene.name,
-                scene.instances[bad].mesh,
-                scene.meshes.len()
+                scene.name(),
+                scene.instances()[bad].mesh,
+                scene.meshes().len()
             )));
         }
         let fresh = matches!(self.state, State::Empty);
         let changed: Vec<usize> = (0..units.len()).filter(|&u| fresh || self.units.get(u) != Some(&units[u])).collect();
         let instances_changed = fresh || instances != self.instances;
         let same_instance_set =
-            !fresh && self.instances.len() == instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
+            !fresh && self.instances.len() == instances.len() && scene.instances().iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
         let mut report = BuildReport { blas_count: units.len(), hash_ms: start.elapsed().as_secs_f64() * 1e3, ..Default::default() };
         if changed.is_empty() && !instances_changed {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -585,7 +586,7 @@ impl AccelCache {
         let tested_words: Vec<u64> = tested.iter().map(|&t| t as u64).collect();
         let deforming = scene.deforming_meshes();
         let topology: Vec<u64> =
-            mesh_hashes.iter().enumerate().map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes[m]) } else { h }).collect();
+            mesh_hashes.iter().enumerate().map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes()[m]) } else { h }).collect();
         let meshes_hash = hash_words(
             hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
             bytemuck::cast_slice(&tested_words),
@@ -616,7 +617,7 @@ impl AccelCache {
         self.total_blas_builds -= report.blas_refits; // counted as builds above
         self.units = units;
         self.instances = instances;
-        self.instance_meshes = scene.instances.iter().map(|i| i.mesh).collect();
+        self.instance_meshes = scene.instances().iter().map(|i| i.mesh).collect();
         report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         log::debug!("accel: {}", report.describe());
         Ok(report)
@@ -670,17 +671,17 @@ impl AccelCache {
                 let growth = (built_sah > 0.0).then(|| blas.bvh.sah_cost() as f64 / built_sah);
                 deforming.binary_search(&mesh).is_ok()
                     && !blas.is_empty()
-                    && blas.triangle_count == scene.meshes[mesh].triangle_count()
+                    && blas.triangle_count == scene.meshes()[mesh].triangle_count()
                     && self.policy.refits(growth, &RebuildLedger::default())
             })
             .collect();
         for &u in &refitted {
-            if blases[u].refit(&scene.meshes[units[u].mesh], units[u].mesh).is_err() {
+            if blases[u].refit(&scene.meshes()[units[u].mesh], units[u].mesh).is_err() {
                 blases[u] = Blas::default(); // unreachable: the triangle counts were checked
             }
         }
         let to_build: Vec<usize> = changed.iter().copied().filter(|u| !refitted.contains(u)).collect();
-        let built: Vec<(usize, Blas)> = to_build.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
+        let built: Vec<(usize, Blas)> = to_build.par_iter().map(|&u| (u, Blas::build(&scene.meshes()[units[u].mesh], &opts.build))).collect();
         report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
         report.blas_built = built.len();
         report.blas_refits = refitted.len();
@@ -694,9 +695,9 @@ impl AccelCache {
             .filter(|&&u| self.unit_built_sah[u] > 0.0)
             .map(|&u| blases[u].bvh.sah_cost() as f64 / self.unit_built_sah[u])
             .fold(None, |a: Option<f64>, g| Some(a.map_or(g, |a| a.max(g))));
-        let instance_transforms: Vec<_> = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
+        let instance_transforms: Vec<_> = scene.instances().iter().map(|i| instance_transform(&i.transform)).collect();
         let instance_blas: Vec<Option<u32>> = scene
-            .instances
+            .instances()
             .iter()
             .enumerate()
             .map(|(i, inst)| {
@@ -747,7 +748,7 @@ impl AccelCache {
         flat: &GpuAccel,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
-        check_fits(&scene.name, flat, device.limits().max_storage_buffer_binding_size)?;
+        check_fits(scene.name(), flat, device.limits().max_storage_buffer_binding_size)?;
         let mut buffers = match old {
             Some(c) => c.buffers,
             None => {
@@ -871,7 +872,7 @@ impl AccelCache {
         let top = merged_accel(Vec::new(), Vec::new());
         let (nodes, tris) = (built.node_count as usize, built.triangle_count as usize);
         let arrays = [("BLAS nodes", nodes, 32 * nodes), ("triangles", tris, 48 * tris), ("TLAS nodes", 1, 32), ("instances", 1, 112)];
-        check_arrays(&scene.name, &arrays, device.limits().max_storage_buffer_binding_size)?;
+        check_arrays(scene.name(), &arrays, device.limits().max_storage_buffer_binding_size)?;
         let mut buffers = match old {
             Some(c) => c.buffers,
             None => new_accel_buffers(device),
@@ -976,11 +977,11 @@ impl AccelCache {
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
-        if scene.instances.len() > MAX_CUSTOM_DATA {
+        if scene.instances().len() > MAX_CUSTOM_DATA {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}` has {} instances; the ray-query back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
-                scene.name,
-                scene.instances.len()
+                scene.name(),
+                scene.instances().len()
             )));
         }
         let old = match std::mem::replace(&mut self.state, State::Empty) {
@@ -997,9 +998,9 @@ impl AccelCache {
         // instance of the mesh).
         for &u in changed {
             let alpha = if self.dedup { tested_meshes[units[u].mesh] } else { tested[u] };
-            blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u, !alpha);
+            blases[u] = rq_blas(device, &scene.meshes()[units[u].mesh], u, !alpha);
         }
-        let needed = (scene.instances.len() as u32).max(1);
+        let needed = (scene.instances().len() as u32).max(1);
         let (mut tlas, capacity) = match old_tlas {
             Some((t, cap)) if cap >= needed => (t, cap),
             _ => {
@@ -1015,7 +1016,7 @@ impl AccelCache {
             }
         };
         for i in 0..capacity as usize {
-            tlas[i] = scene.instances.get(i).and_then(|inst| {
+            tlas[i] = scene.instances().get(i).and_then(|inst| {
                 let b = blases[if self.dedup { inst.mesh } else { i }].as_ref()?;
                 instance_transform(&inst.transform)?;
                 let m = inst.transform;
@@ -1066,7 +1067,7 @@ impl AccelCache {
         };
         let unit_meshes: Vec<usize> = units.iter().map(|u| u.mesh).collect();
         let dedup = self.dedup;
-        let unit_of = |i: usize| if dedup { scene.instances[i].mesh } else { i };
+        let unit_of = |i: usize| if dedup { scene.instances()[i].mesh } else { i };
         let result = rt.update(scene, &unit_meshes, &unit_of, changed, self.merge);
         self.generation += 1;
         // After a failure the structures are gone (RtAccel::update) and the cache starts over:

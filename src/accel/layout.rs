@@ -228,7 +228,7 @@ pub fn affine_rows(a: &DAffine3) -> [[f32; 4]; 3] {
 
 /// Flattens `accel` (built from `scene`) into the GPU layout.
 pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
-    let mut out = flatten_meshes(&scene.meshes, accel);
+    let mut out = flatten_meshes(scene.meshes(), accel);
     for inst in &mut out.instances {
         if inst.instance_id != NO_INSTANCE && super::alpha::instance_tested(scene, inst.instance_id as usize) {
             inst.flags = INSTANCE_ALPHA;
@@ -342,10 +342,10 @@ pub struct TriangleOrigin {
 /// stays shared (the watertight test needs that). Instances with an unusable transform or mesh
 /// are left out; a triangle with an out-of-range index keeps an out-of-range index.
 pub fn merge_instances(scene: &Scene) -> (Mesh, Vec<TriangleOrigin>) {
-    let mut mesh = Mesh { name: format!("{} (merged)", scene.name), vertices: Vec::new(), indices: Vec::new(), tangents: None, extras: None };
+    let mut mesh = Mesh { name: format!("{} (merged)", scene.name()), vertices: Vec::new(), indices: Vec::new(), tangents: None, extras: None };
     let mut origin = Vec::new();
-    for (i, inst) in scene.instances.iter().enumerate() {
-        let (Some(src), Some(xf)) = (scene.meshes.get(inst.mesh), instance_transform(&inst.transform)) else { continue };
+    for (i, inst) in scene.instances().iter().enumerate() {
+        let (Some(src), Some(xf)) = (scene.meshes().get(inst.mesh), instance_transform(&inst.transform)) else { continue };
         let base = mesh.vertices.len() as u64;
         mesh.vertices.extend(src.vertices.iter().map(|v| {
             let p = xf.transform_point3(glam::DVec3::from(v.position.map(f64::from)));

@@ -80,8 +80,8 @@ impl Reference {
     /// The reference of `scene`: its triangles in world space, in f64.
     pub fn new(scene: &Scene) -> Self {
         let mut tris = Vec::new();
-        for (i, inst) in scene.instances.iter().enumerate() {
-            let (Some(xf), Some(mesh)) = (instance_transform(&inst.transform), scene.meshes.get(inst.mesh)) else { continue };
+        for (i, inst) in scene.instances().iter().enumerate() {
+            let (Some(xf), Some(mesh)) = (instance_transform(&inst.transform), scene.meshes().get(inst.mesh)) else { continue };
             let mirrored = xf.matrix3.determinant() < 0.0;
             let alpha = super::alpha::instance_tested(scene, i);
             for t in 0..mesh.triangle_count() {

@@ -156,7 +156,7 @@ impl MergedRefit {
         };
         let storage = wgpu::BufferUsages::STORAGE;
         let object_vertices = init("refit object vertices", bytemuck::cast_slice(&object), storage);
-        let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
+        let transforms = init("refit transforms", &vec![0u8; 48 * scene.instances().len().max(1)], storage | wgpu::BufferUsages::COPY_DST);
         let level_nodes = init("refit level nodes", bytemuck::cast_slice(&plan.nodes), storage);
         let level_ranges = init("refit level ranges", bytemuck::cast_slice(&plan.levels), storage);
         let treelets = init("refit treelets", bytemuck::cast_slice(&plan.treelets), storage);
@@ -248,20 +248,20 @@ impl MergedRefit {
 /// vertices (mesh by mesh, as [`crate::accel::gpu_records`] lays them out) in w: where
 /// `shaders/accel/deform.wgsl` gathers a deformed position from ([`NO_VERTEX`] for none).
 fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
-    let mut first_vertex = Vec::with_capacity(scene.meshes.len());
+    let mut first_vertex = Vec::with_capacity(scene.meshes().len());
     let mut next = 0u64;
-    for m in &scene.meshes {
+    for m in scene.meshes() {
         first_vertex.push(next);
         next += m.vertices.len() as u64;
     }
     let mut object = Vec::with_capacity(flat.triangles.len() * 3);
     for t in &flat.triangles {
-        let mesh = scene.instances.get(t.instance as usize).map(|i| i.mesh).filter(|_| t.prim != NO_PRIM);
-        let verts = mesh.and_then(|m| super::bvh::mesh_triangle(&scene.meshes[m], t.prim as usize));
+        let mesh = scene.instances().get(t.instance as usize).map(|i| i.mesh).filter(|_| t.prim != NO_PRIM);
+        let verts = mesh.and_then(|m| super::bvh::mesh_triangle(&scene.meshes()[m], t.prim as usize));
         match (mesh, verts) {
             (Some(m), Some(verts)) => {
                 let index = |c: usize| {
-                    let id = first_vertex[m] + scene.meshes[m].indices[3 * t.prim as usize + c] as u64;
+                    let id = first_vertex[m] + scene.meshes()[m].indices[3 * t.prim as usize + c] as u64;
                     u32::try_from(id).unwrap_or(NO_VERTEX)
                 };
                 object.extend((0..3).map(|c| [verts[c].x.to_bits(), verts[c].y.to_bits(), verts[c].z.to_bits(), index(c)]));
@@ -276,7 +276,7 @@ fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
 pub(crate) const NO_VERTEX: u32 = u32::MAX;
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {
-    scene.instances.iter().map(|i| scene.meshes.get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
+    scene.instances().iter().map(|i| scene.meshes().get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
 }
 
 /// The merged layout's GPU refit, for a tree built on the CPU or on the GPU.
@@ -419,7 +419,7 @@ impl TreeRefit {
         let storage = wgpu::BufferUsages::STORAGE;
         let transforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("refit transforms"),
-            contents: &vec![0u8; 48 * scene.instances.len().max(1)],
+            contents: &vec![0u8; 48 * scene.instances().len().max(1)],
             usage: storage | wgpu::BufferUsages::COPY_DST,
         });
         let box_keys = device.create_buffer(&wgpu::BufferDescriptor {
@@ -456,7 +456,7 @@ impl TreeRefit {
 
 /// Writes `scene`'s object-to-world rows per instance (zero rows where a transform is unusable).
 fn write_transforms(queue: &wgpu::Queue, transforms: &wgpu::Buffer, scene: &Scene) {
-    let rows: Vec<[[f32; 4]; 3]> = scene.instances.iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
+    let rows: Vec<[[f32; 4]; 3]> = scene.instances().iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
     if !rows.is_empty() {
         queue.write_buffer(transforms, 0, bytemuck::cast_slice(&rows));
     }

@@ -386,7 +386,7 @@ fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -
             packed.spans.resize(unit_meshes.len(), None);
             return packed;
         };
-        let alpha: Vec<bool> = (0..scene.instances.len()).map(|i| alpha_tested(scene, i)).collect();
+        let alpha: Vec<bool> = (0..scene.instances().len()).map(|i| alpha_tested(scene, i)).collect();
         let mut geometries = Vec::new();
         for opaque in [true, false] {
             let first = (packed.indices.len() / 3) as u32;
@@ -405,13 +405,13 @@ fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -
         packed.spans.push(Some(geometries));
     } else {
         let mut unit_alpha = vec![false; unit_meshes.len()];
-        for i in (0..scene.instances.len()).filter(|&i| alpha_tested(scene, i)) {
+        for i in (0..scene.instances().len()).filter(|&i| alpha_tested(scene, i)) {
             if let Some(a) = unit_alpha.get_mut(unit_of_instance(i)) {
                 *a = true;
             }
         }
         for (u, &mesh) in unit_meshes.iter().enumerate() {
-            let Some((p, i)) = scene.meshes.get(mesh).and_then(|m| super::bvh::driver_triangles(m)) else {
+            let Some((p, i)) = scene.meshes().get(mesh).and_then(|m| super::bvh::driver_triangles(m)) else {
                 packed.spans.push(None);
                 continue;
             };
@@ -422,7 +422,7 @@ fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn Fn(usize) -
             packed.indices.extend(i.iter().map(|&x| x + base));
         }
         packed.first_triangles =
-            (0..scene.instances.len()).map(|i| packed.spans.get(unit_of_instance(i)).and_then(|s| s.as_ref()).map_or(0, |g| g[0].first)).collect();
+            (0..scene.instances().len()).map(|i| packed.spans.get(unit_of_instance(i)).and_then(|s| s.as_ref()).map_or(0, |g| g[0].first)).collect();
     }
     packed.spans.resize(unit_meshes.len(), None);
     packed
@@ -473,11 +473,11 @@ impl RtAccel {
     ) -> Result<(usize, wgpu::CommandBuffer), RuntimeError> {
         // Custom data has 24 bits, and the largest value marks the merged layout's instance.
         const MAX_CUSTOM_DATA: usize = MERGED_INSTANCE as usize - 1;
-        if scene.instances.len() > MAX_CUSTOM_DATA {
+        if scene.instances().len() > MAX_CUSTOM_DATA {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}` has {} instances; the rt-pipeline back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
-                scene.name,
-                scene.instances.len()
+                scene.name(),
+                scene.instances().len()
             )));
         }
         let device = self.device.clone();
@@ -628,7 +628,7 @@ impl RtAccel {
                 instance_bytes.extend(tlas_instance(d, identity, MERGED_INSTANCE, blas_address, false));
                 instance_count += 1;
             }
-            for (i, inst) in scene.instances.iter().enumerate().filter(|_| !merged) {
+            for (i, inst) in scene.instances().iter().enumerate().filter(|_| !merged) {
                 let Some(Some(blas)) = blases.get(unit_of_instance(i)) else { continue };
                 if super::bvh::instance_transform(&inst.transform).is_none() {
                     continue;

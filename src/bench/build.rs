@@ -83,8 +83,8 @@ pub struct BuildRow {
 
 /// Camera rays through a `w`×`h` grid from the scene's default camera.
 fn camera_rays(scene: &Scene, size: (u32, u32)) -> Vec<GpuRay> {
-    let origin = scene.camera.position.into();
-    scene.camera.ray_dirs(size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
+    let origin = scene.camera().position.into();
+    scene.camera().ray_dirs(size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
 }
 
 /// `on_rows` sees the rows finished so far after each one (to keep the results folder current).
@@ -263,7 +263,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let graph = cfg.root.join("graph/bench_primary.ron");
     // `rt/primary_n.wgsl` casts perspective rays only (src/bench/rays.rs says why).
-    let primary_camera = |scene: &crate::scene::Scene| crate::scene::Camera { orthographic: None, ..scene.camera };
+    let primary_camera = |scene: &crate::scene::Scene| crate::scene::Camera { orthographic: None, ..*scene.camera() };
     let mut options = gpu.compile_options_for(Backend::Compute);
     options.params.insert(("primary".into(), "rays".into()), crate::graph::desc::ParamValue::Int(1));
     let mut rows = Vec::new();
@@ -276,7 +276,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
         let rebuild_ms = first.accel.as_ref().map(|r| r.blas_ms).unwrap_or(0.0);
         WarmUp::for_gpu(gpu, 1).run(gpu, &mut exec, &scene, &primary_camera(&scene))?;
         let radius = 0.5 * scene.bounds().diagonal();
-        let base: Vec<_> = scene.instances.iter().map(|i| i.transform).collect();
+        let base: Vec<_> = scene.instances().iter().map(|i| i.transform).collect();
         let (mut gpu_ms, mut cpu_ms) = (Vec::new(), Vec::new());
         for f in 0..frames.max(1) {
             let offset = glam::Vec3::new((f as f32 * 0.7).sin(), 0.0, (f as f32 * 0.7).cos()) * (1e-3 * radius);
@@ -477,8 +477,8 @@ fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64
     let mut k = 0u32;
     // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
     let mut rebuild = || -> Result<(f64, BuildReport), RuntimeError> {
-        if let Some(v) = scene.meshes.iter_mut().find_map(|m| std::sync::Arc::make_mut(m).vertices.first_mut()) {
-            v.position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
+        if let Some(i) = scene.meshes().iter().position(|m| !m.vertices.is_empty()) {
+            scene.mesh_mut(i).vertices[0].position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
         }
         k += 1;
         let t = std::time::Instant::now();

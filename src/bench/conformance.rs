@@ -64,7 +64,7 @@ pub struct Alignment {
 /// the file's camera when `report` counts one, else the bounds from the front.
 pub fn comparison_view(scene: &Scene, report: &ImportReport, aspect: f32) -> Camera {
     if report.file_cameras > 0 {
-        return scene.camera;
+        return *scene.camera();
     }
     let bounds = crate::scene::gltf_import::animated_bounds(scene);
     front_fit(bounds, aspect)

@@ -96,14 +96,14 @@ pub struct ErrorRow {
 /// down: every pixel sees the floor.
 pub fn ceiling_scene() -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "parallel ceiling".into();
-    s.meshes = vec![builtin::plane("floor", 400.0, 1.0).into()];
+    s.set_name("parallel ceiling");
+    s.set_meshes(vec![builtin::plane("floor", 400.0, 1.0)]);
     s.strip_textures();
     let ceiling = Mat4::from_translation(Vec3::new(0.0, CEILING, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }].into();
-    s.camera = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
-    s.presets = vec![("default".into(), s.camera)];
-    s.point_light = None;
+    s.set_instances(vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }]);
+    *s.camera_mut() = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
+    *s.presets_mut() = vec![("default".into(), *s.camera())];
+    s.set_point_light(None);
     s
 }
 
@@ -146,7 +146,7 @@ pub fn run(
                     let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
                     let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
                     let mut exec = Executor::new(gpu, plan, &scene)?;
-                    let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+                    let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
                     ms.extend(frames.iter().map(|f| super::nodes_ms(&exec, f, &["ao"])));
                     let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
                     let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
@@ -358,7 +358,7 @@ pub fn run_hybrid(gpu: &Gpu, cfg: &ErrorConfig, scenes: &[&str], size: (u32, u32
             for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
                 let plan = compile_with(&cfg.root.join(graph), &project, size, &gpu.compile_options_for(backend))?;
                 let mut exec = Executor::new(gpu, plan, &scene)?;
-                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
                 let mut ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
                 times.push(median(&mut ms));
                 images.push(exec.read_output(gpu)?);
@@ -507,8 +507,8 @@ pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, bac
     let mut rows = Vec::new();
     for name in &sweep.scenes {
         let (mut scene, _) = crate::scene::open(name, &crate::scene::LoadOptions { textures: false, ..Default::default() })?;
-        scene.light.ambient = 0.0;
-        scene.point_light = None;
+        scene.light_mut().ambient = 0.0;
+        scene.set_point_light(None);
         // The truth: the ray-traced shadow mask over the rasterized G-buffer.
         let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
         let text = read_text(&cfg.root.join("graph/hybrid.ron"))?
@@ -523,12 +523,12 @@ pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, bac
         let resource = |plan: &crate::graph::Plan, name: &str| plan.resource_by_name(name).ok_or_else(|| RuntimeError::Gpu(format!("no resource {name}")));
         let (shadow_id, geo_id, pos_id) = (resource(&plan, "shadow.shadow")?, resource(&plan, "gbuffer.geo_normal")?, resource(&plan, "gbuffer.position")?);
         let mut exec = Executor::new(gpu, plan, &scene)?;
-        let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+        let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
         let rt_shadow_ms = median(&mut frames.iter().map(|f| pass_ms(f, rt_pass)).collect::<Vec<_>>());
         let truth = exec.read_texture_f32(gpu, shadow_id)?.2;
         let geo = exec.read_texture_f32(gpu, geo_id)?.2;
         let positions = exec.read_texture_f32(gpu, pos_id)?.2;
-        let l = scene.light.direction.normalize();
+        let l = scene.light().direction.normalize();
         let faces_light: Vec<bool> = geo.iter().zip(&positions).map(|(n, p)| p[3] != 0.0 && Vec3::new(n[0], n[1], n[2]).dot(l) > 0.0).collect();
         drop(exec);
 
@@ -558,7 +558,7 @@ pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, bac
                     .ok_or_else(|| RuntimeError::Gpu("graph/raster.ron has no pass shadow_map/shadow_map".into()))?;
                 let color = resource(&plan, "forward.color")?;
                 let mut exec = Executor::new(gpu, plan, &scene)?;
-                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
                 let ms = median(&mut frames.iter().map(|f| pass_ms(f, pass)).collect::<Vec<_>>());
                 Ok((exec.read_texture_f32(gpu, color)?.2, ms))
             };

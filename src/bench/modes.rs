@@ -42,7 +42,7 @@ pub(crate) fn render_mode(
     let path = root.join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), size, &options)?;
     let mut exec = Executor::new(gpu, plan, scene)?;
-    exec.render(gpu, &scene.camera, scene)?;
+    exec.render(gpu, scene.camera(), scene)?;
     exec.read_output(gpu)
 }
 

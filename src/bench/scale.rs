@@ -100,9 +100,9 @@ fn workload(gpu: &Gpu, cfg: &RaysConfig, project: &Project, scene: &Scene, backe
     let accel_pass = plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild);
     let before = allocated(gpu);
     let mut exec = Executor::new(gpu, plan, scene)?;
-    let first = exec.render(gpu, &scene.camera, scene)?;
+    let first = exec.render(gpu, scene.camera(), scene)?;
     let bytes = allocated(gpu).zip(before).map(|(after, before)| after.saturating_sub(before).saturating_sub(graph_bytes));
-    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
     let mut gpu_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
     let mut wall_ms: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
     let mut traced: Vec<f64> = frames.iter().map(|f| f.rays.map_or(0, |r| r.traced()) as f64).collect();
@@ -154,7 +154,8 @@ pub fn run(
     for (k, (name, n)) in cfg.steps.iter().enumerate() {
         let (base, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
         // The copies' own camera frames the whole grid; the original's stays inside copy 0.
-        let scene = Scene { camera: base.camera, ..crate::scene::duplicate::duplicate(&base, *n, false) };
+        let mut scene = crate::scene::duplicate::duplicate(&base, *n, false);
+        *scene.camera_mut() = *base.camera();
         let step = format!("{name} x{n}");
         let stress = rays::stress_camera(gpu, &primary, &project, &scene)?;
         for (b, &backend) in rc.backends.iter().enumerate() {

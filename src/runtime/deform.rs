@@ -133,7 +133,7 @@ impl GpuDeform {
     /// The deformation of `scene`'s deforming meshes into `uploaded`'s vertex buffer; `None`
     /// for a scene without them or a plan that uploads no vertices.
     pub fn new(device: &wgpu::Device, scene: &Scene, uploaded: &GpuScene) -> Option<Self> {
-        let rig = scene.rig.as_ref().filter(|r| !r.deformers.is_empty())?;
+        let rig = scene.rig().filter(|r| !r.deformers.is_empty())?;
         let vertices = uploaded.vertices()?;
         let packed = Packed::of(rig, uploaded)?;
         let storage = wgpu::BufferUsages::STORAGE;
@@ -150,7 +150,7 @@ impl GpuDeform {
             params[k * params_stride as usize..][..48].copy_from_slice(bytemuck::cast_slice(&job.params));
         }
         let params = init("deform params", &params, wgpu::BufferUsages::UNIFORM);
-        let rest_positions: Vec<[f32; 4]> = scene.meshes.iter().flat_map(|m| crate::accel::gpu_records::mesh_vertices(m)).collect();
+        let rest_positions: Vec<[f32; 4]> = scene.meshes().iter().flat_map(|m| crate::accel::gpu_records::mesh_vertices(m)).collect();
         let positions = init("deformed positions", bytemuck::cast_slice(&rest_positions), storage | wgpu::BufferUsages::COPY_DST);
         let (layout, pipeline) = deform_pipeline(device);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -174,7 +174,7 @@ impl GpuDeform {
     /// Records the deformation to `scene`'s pose where it was left to the GPU and differs from
     /// the last one; returns whether it recorded anything.
     pub fn record(&mut self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) -> bool {
-        let (Some(rig), Some(pose)) = (scene.rig.as_ref(), scene.posed) else { return false };
+        let (Some(rig), Some(pose)) = (scene.rig(), scene.posed()) else { return false };
         if pose.meshes_deformed || self.last == Some(pose) {
             return false;
         }

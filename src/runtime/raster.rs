@@ -75,10 +75,10 @@ impl InstanceClass {
     /// One per scene instance, in order; `draws` (one per instance, from the upload) tell
     /// which meshes are closed.
     pub(crate) fn of_scene(scene: &Scene, draws: &[Draw]) -> Vec<InstanceClass> {
-        (0..scene.instances.len())
+        (0..scene.instances().len())
             .map(|i| {
-                let inst = &scene.instances[i];
-                let material = scene.materials.get(inst.material);
+                let inst = &scene.instances()[i];
+                let material = scene.materials().get(inst.material);
                 let double_sided = material.is_some_and(|m| m.double_sided);
                 let alpha_tested = crate::accel::alpha::instance_tested(scene, i);
                 let closed_bounds = draws.get(i).filter(|d| d.instance as usize == i && !alpha_tested).and_then(|d| d.closed_bounds);
@@ -123,8 +123,9 @@ fn corners(b: &crate::scene::Bounds) -> [glam::Vec3; 8] {
 /// The order in which `draws` are recorded: nearest first (to `eye`, by the world-space centre
 /// of each instance's mesh bounds); draws of instances `scene` does not have go last.
 pub(crate) fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usize> {
-    let distance =
-        |d: &Draw| scene.instances.get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye));
+    let distance = |d: &Draw| {
+        scene.instances().get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye))
+    };
     let keys: Vec<f32> = draws.iter().map(distance).collect();
     let mut order: Vec<usize> = (0..draws.len()).collect();
     order.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
@@ -301,7 +302,7 @@ mod tests {
     #[test]
     fn draws_go_nearest_first() {
         let mut scene = crate::scene::builtin::default_scene();
-        let mesh = scene.instances[0].mesh;
+        let mesh = scene.instances()[0].mesh;
         *scene.instances_mut() = [5.0f32, -1.0, 2.0]
             .iter()
             .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })

@@ -2,11 +2,12 @@
 //! hashes, bounds: `MeshMemo`), and a whole scene kept by pointer (`SceneSnapshot`), so a
 //! frame of a static scene costs one pointer comparison per mesh and a few per scene.
 //!
-//! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut`. A memo keeps a
-//! clone of the `Arc` of each mesh it computed a value from, so an edited mesh is always a new
-//! allocation (`make_mut` copies a shared mesh before the edit): the same pointer means the same
-//! content, and a frame of a static scene costs one pointer comparison per mesh. The memo keeps
-//! the meshes it last saw alive until its next call.
+//! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut` (its fields
+//! are private: `Scene::mesh_mut`, `Scene::materials_mut` and `Scene::instances_mut` do it). A
+//! memo keeps a clone of the `Arc` of each mesh it computed a value from, so an edited mesh is
+//! always a new allocation (`make_mut` copies a shared mesh before the edit): the same pointer
+//! means the same content, and a frame of a static scene costs one pointer comparison per mesh.
+//! The memo keeps the meshes it last saw alive until its next call.
 
 use super::{Instance, Material, Mesh, Scene};
 use rayon::prelude::*;

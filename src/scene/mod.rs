@@ -378,38 +378,43 @@ pub struct Light {
 }
 
 /// A scene on the CPU: meshes, materials, instances, textures, cameras and lights.
+///
+/// Its parts are read through accessors and edited through methods: meshes, materials and
+/// instances only through [`Scene::mesh_mut`], [`Scene::materials_mut`],
+/// [`Scene::instances_mut`] and the setters that replace them, so that an edited part is always
+/// a new allocation and change detection ([`memo`]) can compare pointers.
 #[derive(Debug, Clone)]
 pub struct Scene {
     /// The scene's name (built-in name or file stem).
-    pub name: String,
-    /// The meshes instances place, each behind an `Arc`: edit one through `Arc::make_mut`
-    /// (or [`Scene::mesh_mut`]), so that an edited mesh is a new allocation ([`memo`]).
-    pub meshes: Vec<std::sync::Arc<Mesh>>,
+    name: String,
+    /// The meshes instances place, each behind an `Arc`: edit one through [`Scene::mesh_mut`]
+    /// (`Arc::make_mut`), so that an edited mesh is a new allocation ([`memo`]).
+    meshes: Vec<std::sync::Arc<Mesh>>,
     /// The materials instances use, behind one `Arc`: edit them through
     /// [`Scene::materials_mut`], so that the same pointer means the same materials.
-    pub materials: std::sync::Arc<Vec<Material>>,
+    materials: std::sync::Arc<Vec<Material>>,
     /// Placements of meshes with a material, behind one `Arc`: edit them through
     /// [`Scene::instances_mut`] (a moved instance is a new allocation of the list).
-    pub instances: std::sync::Arc<Vec<Instance>>,
+    instances: std::sync::Arc<Vec<Instance>>,
     /// Images that materials index.
-    pub textures: Vec<TextureImage>,
+    textures: Vec<TextureImage>,
     /// The default view.
-    pub camera: Camera,
+    camera: Camera,
     /// Named static views (the paper's static-camera tests); the first is `camera`.
-    pub presets: Vec<(String, Camera)>,
+    presets: Vec<(String, Camera)>,
     /// The default sun and sky, lighting scenes without lights of their own.
-    pub light: Light,
+    light: Light,
     /// An optional point light (besides the directional `light`).
-    pub point_light: Option<PointLight>,
+    point_light: Option<PointLight>,
     /// The file's own lights (glTF `KHR_lights_punctual`), in world space. Empty: the scene is
     /// lit by `light` (and `point_light`); see [`Scene::effective_lights`].
-    pub lights: Vec<PunctualLight>,
+    lights: Vec<PunctualLight>,
     /// The file's node hierarchy, clips, skins and deforming meshes, where it has clips or
     /// deforming meshes ([`Scene::pose`]); `None` for a scene that never moves by itself.
-    pub rig: Option<std::sync::Arc<animation::Rig>>,
+    rig: Option<std::sync::Arc<animation::Rig>>,
     /// The time the rig was last posed at, and whether the deforming meshes' vertices here
     /// hold that pose (`None`: never posed since loading, or no rig).
-    pub posed: Option<animation::PoseTime>,
+    posed: Option<animation::PoseTime>,
 }
 
 /// What kind of punctual light, with the parameters only that kind has.
@@ -524,10 +529,79 @@ impl Mesh {
 }
 
 impl Scene {
+    /// An empty scene called `name`, seen from `camera`: no meshes, materials, instances,
+    /// textures, presets or lights of its own, lit by the default sun ([`Light::default`]).
+    /// Parts are added through [`Scene::push_mesh`], [`Scene::materials_mut`] and
+    /// [`Scene::instances_mut`].
+    pub fn new(name: impl Into<String>, camera: Camera) -> Self {
+        Self {
+            name: name.into(),
+            meshes: Vec::new(),
+            materials: Default::default(),
+            instances: Default::default(),
+            textures: Vec::new(),
+            camera,
+            presets: Vec::new(),
+            light: Light::default(),
+            point_light: None,
+            lights: Vec::new(),
+            rig: None,
+            posed: None,
+        }
+    }
+
+    /// The scene's name (built-in name or file stem).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Renames the scene.
+    pub fn set_name(&mut self, name: impl Into<String>) {
+        self.name = name.into();
+    }
+
+    /// The meshes instances place, each behind an `Arc` (edit one through [`Scene::mesh_mut`]).
+    pub fn meshes(&self) -> &[std::sync::Arc<Mesh>] {
+        &self.meshes
+    }
+
+    /// Mesh `index`, for editing: a copy when it is shared ([`memo`]).
+    pub fn mesh_mut(&mut self, index: usize) -> &mut Mesh {
+        std::sync::Arc::make_mut(&mut self.meshes[index])
+    }
+
+    /// Replaces every mesh (instances keep their mesh indices); a mesh given as an `Arc` is
+    /// shared, not copied.
+    pub fn set_meshes<M: Into<std::sync::Arc<Mesh>>>(&mut self, meshes: impl IntoIterator<Item = M>) {
+        self.meshes = meshes.into_iter().map(Into::into).collect();
+    }
+
+    /// Adds `mesh` after the others and returns its index.
+    pub fn push_mesh(&mut self, mesh: impl Into<std::sync::Arc<Mesh>>) -> usize {
+        self.meshes.push(mesh.into());
+        self.meshes.len() - 1
+    }
+
+    /// Removes the last mesh and returns it (an instance still placing it then places
+    /// nothing).
+    pub fn pop_mesh(&mut self) -> Option<std::sync::Arc<Mesh>> {
+        self.meshes.pop()
+    }
+
+    /// The materials instances use (edit them through [`Scene::materials_mut`]).
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
     /// The materials, for editing: a copy when the list is shared (with a memo or a copy of
     /// the scene), so that whoever kept the old `Arc` sees the change as a new pointer.
     pub fn materials_mut(&mut self) -> &mut Vec<Material> {
         std::sync::Arc::make_mut(&mut self.materials)
+    }
+
+    /// Placements of meshes with a material (edit them through [`Scene::instances_mut`]).
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
     }
 
     /// The instances, for editing (moved, added, removed): a copy when the list is shared, as
@@ -536,9 +610,94 @@ impl Scene {
         std::sync::Arc::make_mut(&mut self.instances)
     }
 
-    /// Mesh `index`, for editing: a copy when it is shared ([`memo`]).
-    pub fn mesh_mut(&mut self, index: usize) -> &mut Mesh {
-        std::sync::Arc::make_mut(&mut self.meshes[index])
+    /// Replaces every instance.
+    pub fn set_instances(&mut self, instances: Vec<Instance>) {
+        self.instances = instances.into();
+    }
+
+    /// The instances' `Arc`: a clone of it kept until the next frame tells whether they moved
+    /// (an edit through [`Scene::instances_mut`] makes a new one).
+    pub(crate) fn instances_arc(&self) -> &std::sync::Arc<Vec<Instance>> {
+        &self.instances
+    }
+
+    /// Images that materials index.
+    pub fn textures(&self) -> &[TextureImage] {
+        &self.textures
+    }
+
+    /// The images, for editing (a material's texture index must stay in range).
+    pub fn textures_mut(&mut self) -> &mut Vec<TextureImage> {
+        &mut self.textures
+    }
+
+    /// The default view.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// The default view, for editing.
+    pub fn camera_mut(&mut self) -> &mut Camera {
+        &mut self.camera
+    }
+
+    /// Named static views (the paper's static-camera tests); the first is the default view.
+    pub fn presets(&self) -> &[(String, Camera)] {
+        &self.presets
+    }
+
+    /// The named static views, for editing.
+    pub fn presets_mut(&mut self) -> &mut Vec<(String, Camera)> {
+        &mut self.presets
+    }
+
+    /// The default sun and sky, lighting scenes without lights of their own.
+    pub fn light(&self) -> &Light {
+        &self.light
+    }
+
+    /// The default sun and sky, for editing.
+    pub fn light_mut(&mut self) -> &mut Light {
+        &mut self.light
+    }
+
+    /// An optional point light (besides the directional [`Scene::light`]).
+    pub fn point_light(&self) -> Option<&PointLight> {
+        self.point_light.as_ref()
+    }
+
+    /// Sets the optional point light (`None`: removes it).
+    pub fn set_point_light(&mut self, light: Option<PointLight>) {
+        self.point_light = light;
+    }
+
+    /// The file's own lights (glTF `KHR_lights_punctual`), in world space. Empty: the scene is
+    /// lit by [`Scene::light`] (and [`Scene::point_light`]); see [`Scene::effective_lights`].
+    pub fn lights(&self) -> &[PunctualLight] {
+        &self.lights
+    }
+
+    /// The scene's own lights, for editing.
+    pub fn lights_mut(&mut self) -> &mut Vec<PunctualLight> {
+        &mut self.lights
+    }
+
+    /// The file's node hierarchy, clips, skins and deforming meshes, where it has clips or
+    /// deforming meshes ([`Scene::pose`]); `None` for a scene that never moves by itself.
+    pub fn rig(&self) -> Option<&std::sync::Arc<animation::Rig>> {
+        self.rig.as_ref()
+    }
+
+    /// Replaces the rig (`None`: the scene no longer moves by itself); the meshes keep their
+    /// vertices until the scene is posed again.
+    pub fn set_rig(&mut self, rig: Option<std::sync::Arc<animation::Rig>>) {
+        self.rig = rig;
+    }
+
+    /// The time the rig was last posed at, and whether the deforming meshes' vertices here
+    /// hold that pose (`None`: never posed since loading, or no rig).
+    pub fn posed(&self) -> Option<animation::PoseTime> {
+        self.posed
     }
 
     /// The preset called `name`, or an error listing the presets there are.

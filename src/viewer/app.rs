@@ -69,7 +69,7 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
         crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed, gltf_scene: opts.gltf_scene.clone() }).map_err(|e| e.to_string())?;
     let camera = match &opts.camera {
         Some(name) => scene.preset(name)?,
-        None => scene.camera,
+        None => *scene.camera(),
     };
     let radius = {
         let b = scene.bounds();
@@ -288,7 +288,7 @@ impl App {
                 Ok(())
             }
             Action::Speed(x) => Err(format!("animation speed {x}: give a number of at least 0")),
-            Action::Clip(name) => crate::viewer::clock::AnimationClock::new(&self.session.scene(), &name.parse().unwrap_or_default(), 0.0).map(|mut c| {
+            Action::Clip(name) => crate::viewer::clock::AnimationClock::new(self.session.scene(), &name.parse().unwrap_or_default(), 0.0).map(|mut c| {
                 c.set_fixed_step(self.session.clock().fixed_step());
                 self.session.set_clock(c);
                 println!("animation clip {name}");
@@ -481,7 +481,7 @@ fn overlay_frame<'a>(session: &'a Session, gpu: &'a Gpu, view: &'a View, track: 
         session,
         gpu,
         view,
-        presets: &session.scene().presets,
+        presets: session.scene().presets(),
         recording: matches!(track, TrackState::Recording { .. }),
         playing: matches!(track, TrackState::Playing { .. }),
     }

@@ -71,17 +71,17 @@ impl AnimationClock {
 
     /// The clock of `scene`'s clip `choice`, at `start` seconds, playing.
     pub fn new(scene: &Scene, choice: &ClipChoice, start: f32) -> Result<Self, String> {
-        let clip = match &scene.rig {
+        let clip = match &scene.rig() {
             Some(rig) => rig.clip(choice)?,
             None if matches!(choice, ClipChoice::First | ClipChoice::All) => ClipSet::Rest,
-            None => return Err(format!("scene `{}` has no animations", scene.name)),
+            None => return Err(format!("scene `{}` has no animations", scene.name())),
         };
         Ok(Self { clip, time: start, playing: clip.is_playing(), speed: 1.0, fixed_step: None, last: None })
     }
 
     /// The clip's length in seconds (0 without one).
     pub fn duration(&self, scene: &Scene) -> f32 {
-        scene.rig.as_ref().map_or(0.0, |rig| rig.duration(self.clip))
+        scene.rig().map_or(0.0, |rig| rig.duration(self.clip))
     }
 
     /// Moves time on by one frame (when playing), wrapping at the clip's end.
@@ -107,7 +107,7 @@ impl AnimationClock {
 
     /// One line for the overlay, for a scene with a clip.
     pub fn describe(&self, scene: &Scene) -> Option<String> {
-        let name = scene.rig.as_ref().filter(|_| self.clip.is_playing())?.describe(self.clip);
+        let name = scene.rig().filter(|_| self.clip.is_playing())?.describe(self.clip);
         let state = if self.playing { format!("playing at {:.2}x", self.speed) } else { "paused".into() };
         Some(format!("animation: `{name}` at {:.3} of {:.2} s, {state}", self.time, self.duration(scene)))
     }

@@ -71,7 +71,7 @@ pub(crate) fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
 /// One line per pass of the profiler: name, kind, GPU ms (mean / median / min / max), CPU ms,
 /// rays per pixel, GigaRays/s.
 pub(crate) fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
-    let Some(report) = &f.session.report() else { return Vec::new() };
+    let Some(report) = f.session.report() else { return Vec::new() };
     report
         .passes
         .iter()
@@ -140,7 +140,7 @@ pub(crate) fn overlay_text(f: &Frame) -> String {
             let _ = writeln!(s, "{line}");
         }
     }
-    if let Some(line) = session.clock().describe(&session.scene()) {
+    if let Some(line) = session.clock().describe(session.scene()) {
         let _ = writeln!(s, "{line}");
     }
     if let Some(a) = session.frames().back().and_then(|t| t.accel.as_ref()) {
@@ -154,15 +154,15 @@ pub(crate) fn overlay_text(f: &Frame) -> String {
 
 /// Play/pause, the time slider (scrubbing), the speed and the clip, for a scene with clips.
 fn animation_controls(ui: &mut egui::Ui, session: &Session, actions: &mut Vec<Action>) {
-    let (Some(line), Some(rig)) = (session.clock().describe(&session.scene()), session.scene().rig.as_ref()) else { return };
+    let (Some(line), Some(rig)) = (session.clock().describe(session.scene()), session.scene().rig()) else { return };
     ui.label(line);
     ui.horizontal(|ui| {
-        let clock = &session.clock();
+        let clock = session.clock();
         if ui.button(if clock.playing() { "pause" } else { "play" }).clicked() {
             actions.push(Action::Play(!clock.playing()));
         }
         let mut t = clock.time();
-        if ui.add(egui::Slider::new(&mut t, 0.0..=clock.duration(&session.scene())).text("s")).changed() {
+        if ui.add(egui::Slider::new(&mut t, 0.0..=clock.duration(session.scene())).text("s")).changed() {
             actions.push(Action::Seek(t));
         }
         let mut speed = clock.speed();
@@ -295,7 +295,7 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
             View::Resource { pass, .. } => pass.clone(),
             View::Output => None,
         };
-        let report = &session.report();
+        let report = session.report();
         egui::Grid::new("passes").striped(true).show(ui, |ui| {
             for h in ["pass (click: show its output)", "GPU ms", "median", "mean", "min", "max", "CPU ms", "rays/px", "GR/s"] {
                 ui.label(RichText::new(h).small());

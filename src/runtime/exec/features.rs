@@ -58,10 +58,10 @@ impl SceneFeatures {
     /// The features of `scene`'s instances: each material's and mesh's found once, then one
     /// pass over the instances that stops when every feature is in use (made every frame).
     pub fn of(scene: &Scene) -> Self {
-        let material_bits: Vec<u8> = scene.materials.iter().map(Self::material_bits).collect();
-        let mesh_bits: Vec<u8> = scene.meshes.iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
+        let material_bits: Vec<u8> = scene.materials().iter().map(Self::material_bits).collect();
+        let mesh_bits: Vec<u8> = scene.meshes().iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
         let mut bits = 0u8;
-        for inst in scene.instances.iter() {
+        for inst in scene.instances().iter() {
             bits |= material_bits.get(inst.material).copied().unwrap_or(0) | mesh_bits.get(inst.mesh).copied().unwrap_or(0);
             if bits == Self::ALL_BITS {
                 break;
@@ -75,7 +75,7 @@ impl SceneFeatures {
             custom_sampling: on(Self::CUSTOM_SAMPLING),
             vertex_extras: on(Self::VERTEX_EXTRAS),
             unlit: on(Self::UNLIT),
-            orthographic: scene.camera.orthographic.is_some(),
+            orthographic: scene.camera().orthographic.is_some(),
         }
     }
 

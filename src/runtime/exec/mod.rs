@@ -323,7 +323,7 @@ impl Executor {
         // A pose left to the GPU, without a GPU deformation here (a plan that uploads no
         // vertices): deformed on the CPU instead.
         let posed;
-        let scene = if self.deform.is_none() && scene.posed.is_some_and(|p| !p.meshes_deformed) {
+        let scene = if self.deform.is_none() && scene.posed().is_some_and(|p| !p.meshes_deformed) {
             posed = scene.with_meshes_posed();
             &*posed
         } else {

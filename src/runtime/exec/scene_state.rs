@@ -19,7 +19,7 @@ impl Executor {
             return Ok(None);
         }
         let s = GpuScene::upload(gpu.device(), gpu.queue(), scene, plan.scene_usage)?;
-        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes());
+        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name(), plan.scene_usage.describe(), scene.triangle_count(), s.bytes());
         Ok(Some(s))
     }
 
@@ -43,7 +43,7 @@ impl Executor {
             return self.use_features(gpu, self.features.with_camera(camera));
         }
         self.sync_scene(gpu, scene, camera)?;
-        let b = scene.bounds_from(&self.bounds_memo.values(&scene.meshes, crate::scene::Mesh::bounds));
+        let b = scene.bounds_from(&self.bounds_memo.values(scene.meshes(), crate::scene::Mesh::bounds));
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
         self.seen = Some(crate::scene::memo::SceneSnapshot::of(scene));
         self.scene_generation += 1;
@@ -77,7 +77,7 @@ impl Executor {
         if content.structure == self.scene_content.structure {
             let instances_ok = content.transforms == self.scene_content.transforms || uploaded.write_instances(gpu.queue(), scene);
             // Deformed on the CPU: uploaded; left to the GPU: `record_deform` writes them.
-            let cpu_deformed = scene.posed.is_none_or(|p| p.meshes_deformed) || self.deform.is_none();
+            let cpu_deformed = scene.posed().is_none_or(|p| p.meshes_deformed) || self.deform.is_none();
             let vertices_ok = content.deformed == self.scene_content.deformed
                 || uploaded.vertices().is_none()
                 || !cpu_deformed
@@ -96,7 +96,7 @@ impl Executor {
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
         scope.finish(gpu, "uploading the changed scene")?;
-        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes()));
+        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name(), self.scene.as_ref().map_or(0, |s| s.bytes()));
         self.scene_content = content;
         Ok(())
     }
@@ -107,7 +107,7 @@ impl Executor {
         self.deform = self.scene.as_ref().and_then(|uploaded| crate::runtime::deform::GpuDeform::new(gpu.device(), scene, uploaded));
         if let Some(cache) = self.accel.as_mut() {
             cache.set_device_positions(self.deform.as_ref().map(|d| d.positions().clone()));
-            if scene.rig.as_ref().is_some_and(|r| r.is_animated()) {
+            if scene.rig().is_some_and(|r| r.is_animated()) {
                 cache.prepare_for_changes(gpu.device());
             }
         }
@@ -128,7 +128,7 @@ impl Executor {
     fn write_motion(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
         use std::sync::Arc;
         let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion().is_some()) else { return Ok(()) };
-        let current = Arc::clone(&scene.instances);
+        let current = Arc::clone(scene.instances_arc());
         let previous = self.history.instances.replace(Arc::clone(&current));
         let motion = match previous {
             Some(previous) if self.history.valid && previous.len() == current.len() => previous,
@@ -181,7 +181,7 @@ impl Executor {
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
             scene_sphere: center.extend(radius).into(),
             shadow_view_proj,
-            ambient: scene.light.ambient,
+            ambient: scene.light().ambient,
             light_count: lights.records.len() as u32,
             shadow_count: lights.shadow_view_proj.len() as u32,
             frame_index: self.frame_index,
