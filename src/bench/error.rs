@@ -71,7 +71,7 @@ impl ErrorConfig {
 pub struct ErrorRow {
     /// The back-end.
     pub backend: Backend,
-    /// The sampling scheme ([`SCHEMES`]).
+    /// The sampling scheme: `white` or `r2` (the `sampling` parameter of `layers/rt_ao.ron`).
     pub sampling: &'static str,
     /// AO rays per pixel.
     pub rays: i64,

@@ -524,7 +524,7 @@ impl Gpu {
 
     /// Waits for all submitted work for at most [`Gpu::gpu_timeout`]; past it, the error
     /// names the work as `work()` describes it ("frame 3: passes ..."). The device stays busy
-    /// after a timeout: end the run without releasing GPU objects ([`Gpu::on_gpu_timeout`]).
+    /// after a timeout: end the run without releasing GPU objects ([`Gpu::set_on_gpu_timeout`]).
     pub fn wait_for(&self, work: impl FnOnce() -> String) -> Result<(), RuntimeError> {
         let waited = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(self.gpu_timeout) });
         if let Err(wgpu::PollError::Timeout) = waited {
