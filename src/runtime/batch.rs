@@ -340,6 +340,7 @@ impl BatchTracer {
 
     /// Traces `rays` for their closest hits and returns the counters and the dispatch's GPU
     /// milliseconds (timestamp queries; `None` without them).
+    #[cfg(feature = "cli")]
     pub(crate) fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
         let (_, stats, ms) = self.run(gpu, rays, 0, TraceFlags::NONE)?;
         Ok((stats, ms))

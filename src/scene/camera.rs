@@ -47,6 +47,7 @@ impl Default for Camera {
 impl Camera {
     /// The camera `factor` times as far from its target along its view axis (closer below 1),
     /// its far plane moved back as far, its near plane kept.
+    #[cfg(feature = "cli")]
     pub(crate) fn moved_back(&self, factor: f32) -> Camera {
         let offset = self.position - self.target;
         let position = self.target + offset * factor;
