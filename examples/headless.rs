@@ -37,6 +37,6 @@ fn render(mode: Mode) -> anyhow::Result<image::RgbaImage> {
     let options = LoadOptions { textures: plan.scene_usage().textures, ..LoadOptions::default() };
     let (scene, _report) = raygraph::scene::open("default", &options)?;
     let mut exec = Executor::new(&gpu, plan, &scene)?;
-    exec.render(&gpu, &scene.camera, &scene)?;
+    exec.render(&gpu, scene.camera(), &scene)?;
     Ok(exec.read_output(&gpu)?)
 }

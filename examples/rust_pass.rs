@@ -88,7 +88,7 @@ pub struct Invert {
 
 impl RustPass for Invert {
     fn build(&mut self, gpu: &Gpu, io: &RustPassIo) -> Result<(), RustPassError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let module =
             device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("invert"), source: wgpu::ShaderSource::Wgsl(INVERT_SHADER.into()) });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -128,7 +128,7 @@ impl RustPass for Invert {
         };
         let mut words = [0f32; 4];
         words[0] = amount;
-        gpu.queue.write_buffer(settings, 0, &words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>());
+        gpu.queue().write_buffer(settings, 0, &words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>());
         let size = io.texture("inverted")?.texture.size();
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(io.pass_name()), timestamp_writes: None });
         pass.set_pipeline(pipeline);
@@ -173,7 +173,7 @@ pub fn executor(gpu: &Gpu, graph_file: &Path, passes: RustPasses) -> anyhow::Res
 pub fn render(gpu: &Gpu, graph_file: &Path) -> anyhow::Result<(image::RgbaImage, FrameTimings, Executor)> {
     let mut exec = executor(gpu, graph_file, rust_passes())?;
     let scene = default_scene();
-    let timings = exec.render(gpu, &scene.camera, &scene)?;
+    let timings = exec.render(gpu, scene.camera(), &scene)?;
     Ok((exec.read_output(gpu)?, timings, exec))
 }
 

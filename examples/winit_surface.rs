@@ -179,9 +179,9 @@ impl WindowRenderer {
         // a view without the sRGB conversion.
         let size = window.inner_size();
         let mut config =
-            surface.get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1)).context("the adapter cannot present to this window")?;
+            surface.get_default_config(gpu.adapter(), size.width.max(1), size.height.max(1)).context("the adapter cannot present to this window")?;
         config.view_formats = vec![config.format.remove_srgb_suffix()];
-        surface.configure(&gpu.device, &config);
+        surface.configure(gpu.device(), &config);
         let presenter = Presenter::new(&gpu, config.format);
 
         let textures = graph_plan(&gpu, mode, (config.width, config.height))?.scene_usage().textures;
@@ -197,7 +197,7 @@ impl WindowRenderer {
             return Ok(());
         }
         (self.config.width, self.config.height) = size;
-        self.surface.configure(&self.gpu.device, &self.config);
+        self.surface.configure(self.gpu.device(), &self.config);
         self.exec = Executor::new(&self.gpu, graph_plan(&self.gpu, self.mode, size)?, &self.scene)?;
         Ok(())
     }
@@ -212,7 +212,7 @@ impl WindowRenderer {
                 // event came, so configure at the size it has now.
                 let size = self.window.inner_size();
                 if (size.width.max(1), size.height.max(1)) == (self.config.width, self.config.height) {
-                    self.surface.configure(&self.gpu.device, &self.config);
+                    self.surface.configure(self.gpu.device(), &self.config);
                 } else {
                     self.resize(size)?;
                 }
@@ -220,9 +220,9 @@ impl WindowRenderer {
             }
         };
         let gpu = &self.gpu;
-        self.exec.render(gpu, &self.scene.camera, &self.scene)?;
+        self.exec.render(gpu, self.scene.camera(), &self.scene)?;
         self.presenter.present(gpu, &self.exec, &surface_texture.texture)?;
-        gpu.queue.present(surface_texture);
+        gpu.queue().present(surface_texture);
         Ok(true)
     }
 }

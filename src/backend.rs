@@ -34,7 +34,7 @@ impl Backend {
     }
 
     /// The WGSL module that implements `trace/trace.wgsl` for this back-end.
-    pub fn trace_module(self) -> &'static str {
+    pub(crate) fn trace_module(self) -> &'static str {
         match self {
             Backend::RayQuery => "trace/ray_query.wgsl",
             Backend::Compute => "trace/compute.wgsl",

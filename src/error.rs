@@ -22,7 +22,7 @@ impl Location {
     }
 
     /// Location of byte `offset` inside `text`.
-    pub fn at_offset(file: &Path, text: &str, offset: usize) -> Self {
+    pub(crate) fn at_offset(file: &Path, text: &str, offset: usize) -> Self {
         let offset = offset.min(text.len());
         let prefix = &text[..offset];
         let line = prefix.matches('\n').count() as u32 + 1;

@@ -18,9 +18,9 @@ use std::path::{Path, PathBuf};
 
 /// The binding size the scene target checks the flattened arrays against (the WebGPU default
 /// storage-binding limit, 128 MiB).
-pub const FUZZ_MAX_BINDING: u64 = 128 << 20;
+pub(crate) const FUZZ_MAX_BINDING: u64 = 128 << 20;
 /// Frames of a fuzzed track that are evaluated.
-pub const FUZZ_TRACK_FRAMES: u32 = 256;
+pub(crate) const FUZZ_TRACK_FRAMES: u32 = 256;
 
 /// A temporary folder private to this process, created on first use.
 fn scratch() -> &'static Path {
@@ -39,7 +39,7 @@ fn write(name: &str, bytes: &[u8]) -> PathBuf {
 }
 
 /// The project's own layers and shaders (the source tree this crate was built from).
-pub fn source_project() -> Project {
+pub(crate) fn source_project() -> Project {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     Project { layers_dir: root.join("layers"), shaders_dir: root.join("shaders") }
 }
@@ -62,29 +62,29 @@ pub fn layer_file(bytes: &[u8]) -> Result<(), String> {
 
 /// A glTF or GLB file, imported, then everything the acceleration-structure cache does with
 /// it before an upload: both layouts built and flattened, and their arrays sized against
-/// [`FUZZ_MAX_BINDING`].
+/// `FUZZ_MAX_BINDING`.
 pub fn scene_file(bytes: &[u8]) -> Result<(), String> {
     let ext = if bytes.starts_with(b"glTF") { "glb" } else { "gltf" };
     let path = write(&format!("scene.{ext}"), bytes);
     let (mut scene, _) = crate::scene::load::open(path.to_str().expect("a UTF-8 scratch path"), &Default::default()).map_err(|e| e.to_string())?;
     // Every clip posed at a few times, meshes deformed on the CPU: every position finite or
     // dropped by the builds below, never a panic.
-    let clips = scene.rig.as_ref().map_or(0, |r| r.animations.len());
+    let clips = scene.rig().map_or(0, |r| r.animations.len());
     for clip in 0..clips.min(4) {
         for time in [0.0, 0.37, 1e6, f32::NAN] {
             scene.pose(Some(clip), time);
         }
     }
     let two_level = flatten(&scene, &SceneAccel::build(&scene, &AccelOptions::default()));
-    crate::accel::cache::check_fits(&scene.name, &two_level, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
+    crate::accel::cache::check_fits(scene.name(), &two_level, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
     let (mesh, origin) = merge_instances(&scene);
     let merged = merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()));
-    crate::accel::cache::check_fits(&scene.name, &merged, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
+    crate::accel::cache::check_fits(scene.name(), &merged, FUZZ_MAX_BINDING).map_err(|e| e.to_string())?;
     let _ = scene.bounds();
     Ok(())
 }
 
-/// A camera track file, loaded and played for [`FUZZ_TRACK_FRAMES`] frames; every camera it
+/// A camera track file, loaded and played for `FUZZ_TRACK_FRAMES` frames; every camera it
 /// gives must be finite.
 pub fn track_file(bytes: &[u8]) -> Result<(), String> {
     let path = write("track.ron", bytes);

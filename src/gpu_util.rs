@@ -6,7 +6,7 @@ use crate::error::RuntimeError;
 
 /// Where a shader module's source comes from, which decides its runtime checks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ShaderOrigin {
+pub(crate) enum ShaderOrigin {
     /// A file of a project that is not a trace pass: every layer pass's shader, and anything
     /// else read from a shaders directory a user can edit. All of wgpu's runtime checks,
     /// naga's loop bounding included.
@@ -41,12 +41,18 @@ impl ShaderOrigin {
 }
 
 /// A compute pipeline running `entry` of `module` with an explicit layout.
-pub fn compute_pipeline(device: &wgpu::Device, label: &str, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, entry: &str) -> wgpu::ComputePipeline {
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
     compute_pipeline_with(device, label, layout, module, entry, &[])
 }
 
 /// [`compute_pipeline`] with values for the module's pipeline-overridable constants.
-pub fn compute_pipeline_with(
+pub(crate) fn compute_pipeline_with(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::PipelineLayout,
@@ -65,7 +71,7 @@ pub fn compute_pipeline_with(
 }
 
 /// A storage buffer that shaders write, that can be cleared and copied out.
-pub fn storage_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+pub(crate) fn storage_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
@@ -75,7 +81,7 @@ pub fn storage_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Bu
 }
 
 /// A buffer to copy GPU data into and map for reading.
-pub fn readback_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+pub(crate) fn readback_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
@@ -85,14 +91,14 @@ pub fn readback_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::B
 }
 
 /// A [`storage_buffer`] and a [`readback_buffer`] of the same size (labelled `LABEL readback`).
-pub fn storage_with_readback(device: &wgpu::Device, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+pub(crate) fn storage_with_readback(device: &wgpu::Device, label: &str, size: u64) -> (wgpu::Buffer, wgpu::Buffer) {
     (storage_buffer(device, label, size), readback_buffer(device, &format!("{label} readback"), size))
 }
 
 /// Maps a buffer slice for reading; the future resolves once the map is done. Native: waits
 /// for it at once ([`map_read`]). In a browser, which cannot block: awaits the map's callback,
 /// which the browser runs from its event loop.
-pub async fn map_read_async<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
+pub(crate) async fn map_read_async<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
     #[cfg(not(target_arch = "wasm32"))]
     {
         map_read(device, slice)
@@ -148,7 +154,7 @@ mod web_map {
 
 /// Maps a buffer slice for reading and waits for it.
 #[cfg(not(target_arch = "wasm32"))]
-pub fn map_read<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
+pub(crate) fn map_read<'a>(device: &wgpu::Device, slice: wgpu::BufferSlice<'a>) -> Result<wgpu::BufferView, RuntimeError> {
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);

@@ -38,11 +38,11 @@ pub struct SoakConfig {
     /// Built-in scene name or glTF path.
     pub scene: String,
     /// Frames to run.
-    pub(crate) frames: u32,
+    pub frames: u32,
     /// Frames per cycle (at least 16).
-    pub(crate) cycle: u32,
+    pub cycle: u32,
     /// Frame size.
-    pub(crate) size: (u32, u32),
+    pub size: (u32, u32),
     /// Folder holding `graph/`, `layers/` and `shaders/` (copied before the run).
     pub root: PathBuf,
     /// The graph that runs at every check, and the one swapped in for part of each cycle
@@ -108,7 +108,7 @@ pub struct LiveObjects {
 impl LiveObjects {
     /// The counts of `gpu`'s instance (`None` where wgpu has no report).
     pub fn of(gpu: &Gpu) -> Option<Self> {
-        let report = gpu.instance.generate_report()?;
+        let report = gpu.instance().generate_report()?;
         let hub = report.hub_report();
         Some(Self {
             buffers: hub.buffers.num_kept_from_user,
@@ -152,7 +152,7 @@ pub struct GpuMemory {
 impl GpuMemory {
     /// The report of `gpu`'s device (`None` where the back-end has no allocator report).
     pub fn of(gpu: &Gpu) -> Option<Self> {
-        let report = gpu.device.generate_allocator_report()?;
+        let report = gpu.device().generate_allocator_report()?;
         Some(Self { allocated: report.total_allocated_bytes, reserved: report.total_reserved_bytes })
     }
 
@@ -303,7 +303,7 @@ pub fn run(gpu: &Gpu, cfg: &SoakConfig, mut on_check: impl FnMut(&Check, &SoakRe
     for f in 0..cfg.frames {
         let p = f % c;
         soak.change(f, p)?;
-        soak.exec.render(gpu, &soak.scene.camera, &soak.scene)?;
+        soak.exec.render(gpu, &soak.scene.camera(), &soak.scene)?;
         soak.report.frames = f + 1;
         if p == c - 1 {
             let check = soak.check(f)?;
@@ -383,7 +383,7 @@ impl<'a> Soak<'a> {
             self.add_sphere();
         } else if p == c / 2 {
             self.scene.instances_mut().pop();
-            self.scene.meshes.pop();
+            self.scene.pop_mesh();
             self.report.meshes_removed += 1;
         } else if p == 5 * c / 8 || p == 7 * c / 8 {
             self.current = 1 - self.current;
@@ -403,7 +403,7 @@ impl<'a> Soak<'a> {
     fn move_instances(&mut self, f: u32) {
         let phase = f as f32 * 0.37;
         let offset = Vec3::new(phase.sin(), 0.0, phase.cos()) * (0.05 * self.radius);
-        for (inst, orig) in self.scene.instances_mut().iter_mut().zip(self.base.instances.iter()) {
+        for (inst, orig) in self.scene.instances_mut().iter_mut().zip(self.base.instances().iter()) {
             inst.transform = Mat4::from_translation(offset) * orig.transform;
         }
         self.report.moved_frames += 1;
@@ -411,11 +411,10 @@ impl<'a> Soak<'a> {
 
     /// Puts the instances back in place and adds the sphere and an instance of it.
     fn add_sphere(&mut self) {
-        for (inst, orig) in self.scene.instances_mut().iter_mut().zip(self.base.instances.iter()) {
+        for (inst, orig) in self.scene.instances_mut().iter_mut().zip(self.base.instances().iter()) {
             inst.transform = orig.transform;
         }
-        self.scene.meshes.push(self.sphere.clone().into());
-        let mesh = self.scene.meshes.len() - 1;
+        let mesh = self.scene.push_mesh(self.sphere.clone());
         let at = Mat4::from_translation(self.center + Vec3::Y * (0.25 * self.radius)) * Mat4::from_scale(Vec3::splat(0.2 * self.radius));
         self.scene.instances_mut().push(crate::scene::Instance { mesh, material: 0, transform: at });
         self.report.meshes_added += 1;

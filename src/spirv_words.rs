@@ -32,7 +32,7 @@ pub fn string(words: &[u32]) -> String {
 }
 
 /// The first word of an instruction of `count` words.
-pub fn word0(op: Op, count: usize) -> u32 {
+pub(crate) fn word0(op: Op, count: usize) -> u32 {
     ((count as u32) << 16) | op as u32
 }
 

@@ -3,42 +3,42 @@
 use bytemuck::{Pod, Zeroable};
 
 /// Shadow-map slots of the raster mode (`shadow_map` layer: one 2048² depth texture each).
-pub const SHADOW_MAP_SLOTS: usize = 4;
+pub(crate) const SHADOW_MAP_SLOTS: usize = 4;
 
 /// Mirrors `struct Frame` in `shaders/common/frame.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct FrameUniforms {
+pub(crate) struct FrameUniforms {
     /// World to clip space.
     pub(crate) view_proj: [[f32; 4]; 4],
     /// Clip to world space.
     pub(crate) inv_view_proj: [[f32; 4]; 4],
     /// xyz camera position; w 1 for a perspective camera, 0 for an orthographic one.
-    pub camera_pos: [f32; 4],
+    pub(crate) camera_pos: [f32; 4],
     /// width, height, 1/width, 1/height.
-    pub resolution: [f32; 4],
+    pub(crate) resolution: [f32; 4],
     /// xyz scene bounds centre, w half diagonal (ray lengths and offsets scale with it).
-    pub scene_sphere: [f32; 4],
+    pub(crate) scene_sphere: [f32; 4],
     /// View-projection of each raster shadow-map slot (see [`LightUniforms::shadow_map`]).
-    pub shadow_view_proj: [[[f32; 4]; 4]; SHADOW_MAP_SLOTS],
+    pub(crate) shadow_view_proj: [[[f32; 4]; 4]; SHADOW_MAP_SLOTS],
     /// Intensity of the sky's ambient light (`Scene::light.ambient`).
-    pub ambient: f32,
+    pub(crate) ambient: f32,
     /// Number of records in `scene_lights`.
-    pub light_count: u32,
+    pub(crate) light_count: u32,
     /// Number of shadow-map slots in use.
-    pub shadow_count: u32,
+    pub(crate) shadow_count: u32,
     /// Frame counter (seeds the per-frame sample sequences).
     pub(crate) frame_index: u32,
     /// 1 when history resources hold the previous frame, 0 on the first frame of an executor
     /// and on a camera cut (`runtime::exec::history`).
-    pub history_valid: u32,
+    pub(crate) history_valid: u32,
     pub(crate) _pad: [u32; 3],
     /// The previous frame's world to clip space (this frame's on a frame without history).
     pub(crate) prev_view_proj: [[f32; 4]; 4],
 }
 
 /// Light kinds of [`LightUniforms::kind`].
-pub const LIGHT_DIRECTIONAL: u32 = 0;
+pub(crate) const LIGHT_DIRECTIONAL: u32 = 0;
 /// A point light (position, range).
 pub(crate) const LIGHT_POINT: u32 = 1;
 /// A spot light (position, direction, cones).
@@ -47,26 +47,26 @@ pub(crate) const LIGHT_SPOT: u32 = 2;
 /// Mirrors `struct Light` in `shaders/common/lighting.wgsl`: one record of `scene_lights`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct LightUniforms {
+pub(crate) struct LightUniforms {
     /// World position (point and spot lights).
-    pub position: [f32; 3],
+    pub(crate) position: [f32; 3],
     /// [`LIGHT_DIRECTIONAL`], [`LIGHT_POINT`] or [`LIGHT_SPOT`].
-    pub kind: u32,
+    pub(crate) kind: u32,
     /// Unit direction the light shines in (from the light towards the scene).
-    pub direction: [f32; 3],
+    pub(crate) direction: [f32; 3],
     /// Distance where the light's influence ends; 0: infinite.
-    pub range: f32,
+    pub(crate) range: f32,
     /// Linear colour times intensity (glTF lux or candela, used as a linear scale).
-    pub radiance: [f32; 3],
+    pub(crate) radiance: [f32; 3],
     /// Cosine of the spot cone's inner angle (full intensity inside).
-    pub cos_inner: f32,
+    pub(crate) cos_inner: f32,
     /// Cosine of the spot cone's outer angle (no light outside).
-    pub cos_outer: f32,
+    pub(crate) cos_outer: f32,
     /// Raster shadow-map slot (index into `Frame::shadow_view_proj`), -1: none.
-    pub shadow_map: i32,
+    pub(crate) shadow_map: i32,
     /// World length of the shadow map's depth range (far - near), so a depth bias given as a
     /// fraction of it is a world distance.
-    pub shadow_depth_range: f32,
+    pub(crate) shadow_depth_range: f32,
     /// Padding to the WGSL struct's size.
     pub(crate) _pad: u32,
 }
@@ -74,15 +74,15 @@ pub struct LightUniforms {
 /// Mirrors `struct Instance` in `shaders/common/scene.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct InstanceUniforms {
+pub(crate) struct InstanceUniforms {
     /// Object to world space.
     pub(crate) model: [[f32; 4]; 4],
     /// Inverse-transpose of the model matrix (for normals).
-    pub normal_matrix: [[f32; 4]; 4],
+    pub(crate) normal_matrix: [[f32; 4]; 4],
     /// Index into `scene_materials`.
-    pub material: u32,
+    pub(crate) material: u32,
     /// Index of the mesh in the scene.
-    pub mesh: u32,
+    pub(crate) mesh: u32,
     /// Padding to the WGSL struct's size.
     pub(crate) _pad: [u32; 2],
 }
@@ -91,7 +91,7 @@ pub struct InstanceUniforms {
 /// `scene_textures`: layer 0 is plain white, and 0 in `normal_texture` means "no normal map".
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct MaterialUniforms {
+pub(crate) struct MaterialUniforms {
     /// Linear base colour and alpha.
     pub(crate) base_color: [f32; 4],
     /// Linear emitted radiance (factor times strength).
@@ -103,11 +103,11 @@ pub struct MaterialUniforms {
     /// Scale of the normal map's xy.
     pub(crate) normal_scale: f32,
     /// Alpha-mask cutoff (0 unless the material is alpha-tested).
-    pub alpha_cutoff: f32,
+    pub(crate) alpha_cutoff: f32,
     /// [`MATERIAL_DOUBLE_SIDED`] | [`MATERIAL_ALPHA_MASK`] | [`MATERIAL_ALPHA_BLEND`] |
     /// [`MATERIAL_UNLIT`] | [`MATERIAL_UV_TRANSFORM`] |
     /// [`MATERIAL_SAMPLERS`] | [`MATERIAL_LOBES`] | [`MATERIAL_TRANSMISSION`].
-    pub flags: u32,
+    pub(crate) flags: u32,
     /// Layer of the base colour texture.
     pub(crate) base_texture: u32,
     /// Layer of the metallic-roughness texture (glTF: roughness in g, metalness in b).
@@ -117,7 +117,7 @@ pub struct MaterialUniforms {
     /// Layer of the emissive texture.
     pub(crate) emissive_texture: u32,
     /// Layer of the occlusion texture (0: none, occlusion 1).
-    pub occlusion_texture: u32,
+    pub(crate) occlusion_texture: u32,
     /// How much the occlusion texture darkens ambient light, 0..1.
     pub(crate) occlusion_strength: f32,
     /// Each texture slot's sampler, 8 bits a slot ([`crate::scene::SlotSampling::sampler_bits`]):
@@ -134,8 +134,8 @@ pub struct MaterialUniforms {
     pub(crate) uv_transforms: [[f32; 4]; 2 * MATERIAL_TEXTURE_SLOTS],
     /// ((ior - 1) / (ior + 1))² x the specular colour factor (rgb) and the specular factor (a),
     /// which the shaders make the dielectric reflectance with the lobe textures
-    /// (`shaders/common/surface_lobes.wgsl`, as [`crate::scene::Lobes::dielectric_f0`] without
-    /// them); read only with [`MATERIAL_LOBES`].
+    /// (`shaders/common/surface_lobes.wgsl`: min(that, 1) x the specular factor x the
+    /// textures' texels); read only with [`MATERIAL_LOBES`].
     pub(crate) specular: [f32; 4],
     /// The clear coat's weight and perceptual roughness, the transmission factor and the
     /// coverage factor of a transmissive material ([`crate::scene::Material::coverage_factor`]);
@@ -147,7 +147,7 @@ pub struct MaterialUniforms {
 
 /// A material's texture slots (`crate::scene::TEXTURE_SLOTS`): glTF's five and the lobe
 /// extensions' six.
-pub const MATERIAL_TEXTURE_SLOTS: usize = 11;
+pub(crate) const MATERIAL_TEXTURE_SLOTS: usize = 11;
 
 /// Material flag: both faces are lit and never culled.
 pub(crate) const MATERIAL_DOUBLE_SIDED: u32 = 1;

@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::Path;
 
 /// The sRGB transfer function, linear [0, 1] to display-encoded [0, 1].
-pub fn linear_to_srgb(x: f64) -> f64 {
+pub(crate) fn linear_to_srgb(x: f64) -> f64 {
     if x <= 0.0031308 {
         12.92 * x
     } else {
@@ -14,7 +14,7 @@ pub fn linear_to_srgb(x: f64) -> f64 {
     }
 }
 
-/// The inverse of [`linear_to_srgb`]: an 8-bit sRGB-encoded value to linear [0, 1].
+/// The inverse of `linear_to_srgb`: an 8-bit sRGB-encoded value to linear [0, 1].
 pub fn srgb_to_linear(c: u8) -> f32 {
     let c = c as f32 / 255.0;
     if c <= 0.04045 {
@@ -87,7 +87,7 @@ impl SplitMix64 {
 /// A fast 64-bit hash of plain data (not cryptographic; a change detector): the content hashes
 /// of the acceleration-structure cache and of the scene-change detection
 /// ([`crate::runtime::scene_upload::SceneContent`]).
-pub fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
+pub(crate) fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
     let mut h = seed ^ 0x9E37_79B9_7F4A_7C15 ^ bytes.len() as u64;
     let mut chunks = bytes.chunks_exact(8);
     for c in &mut chunks {

@@ -31,24 +31,24 @@ fn the_cache_builds_only_what_changed() {
     for backend in Backend::ALL {
         let mut scene = default_scene();
         let mut exec = executor(&gpu, &graph, backend, (32, 24));
-        let first = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
-        assert_eq!((first.blas_built, first.tlas), (scene.meshes.len(), TlasWork::Rebuild), "{backend}: the first frame builds everything");
+        let first = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
+        assert_eq!((first.blas_built, first.tlas), (scene.meshes().len(), TlasWork::Rebuild), "{backend}: the first frame builds everything");
         for _ in 0..4 {
-            let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+            let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
             assert!(!r.built_anything(), "{backend}: an unchanged scene builds nothing: {r:?}");
         }
         // Edit one mesh (the sphere, used by two instances): one BLAS.
-        std::sync::Arc::make_mut(&mut scene.meshes[2]).vertices[5].position[1] += 0.05;
-        let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
-        assert_eq!((r.blas_built, r.blas_reused, r.tlas), (1, scene.meshes.len() - 1, TlasWork::Rebuild), "{backend}: {r:?}");
+        scene.mesh_mut(2).vertices[5].position[1] += 0.05;
+        let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
+        assert_eq!((r.blas_built, r.blas_reused, r.tlas), (1, scene.meshes().len() - 1, TlasWork::Rebuild), "{backend}: {r:?}");
         // Move one instance: the TLAS only.
-        scene.instances_mut()[1].transform = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0)) * scene.instances[1].transform;
-        let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+        scene.instances_mut()[1].transform = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0)) * scene.instances()[1].transform;
+        let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
         let expected = if backend == Backend::Compute { TlasWork::Refit } else { TlasWork::Rebuild };
         assert_eq!((r.blas_built, r.tlas), (0, expected), "{backend}: {r:?}");
-        let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+        let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
         assert!(!r.built_anything(), "{backend}: {r:?}");
-        assert_eq!(exec.accel().unwrap().total_blas_builds, scene.meshes.len() + 1);
+        assert_eq!(exec.accel().unwrap().total_blas_builds(), scene.meshes().len() + 1);
         // The moved instance is where the rays now find it: the picture changed.
         println!("{backend}: {}", r.describe());
     }
@@ -60,11 +60,11 @@ fn deduplication_shares_one_blas_per_mesh() {
     let p = common::TempProject::with_repo_files();
     let text = std::fs::read_to_string(common::repo().join("graph/ao.ron")).unwrap();
     let scene = default_scene();
-    for (dedup, expected) in [(true, scene.meshes.len()), (false, scene.instances.len())] {
+    for (dedup, expected) in [(true, scene.meshes().len()), (false, scene.instances().len())] {
         let graph = p.write("graph/ao.ron", &text.replace("Accel()", &format!("Accel(dedup: {dedup})")));
         for backend in Backend::ALL {
             let mut exec = executor(&gpu, &graph, backend, (16, 16));
-            let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+            let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
             assert_eq!(r.blas_count, expected, "{backend}, dedup {dedup}: {r:?}");
             assert_eq!(r.blas_built, expected);
         }
@@ -94,7 +94,7 @@ fn graphs_that_do_not_trace_build_nothing() {
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     assert!(exec.accel().is_none());
-    assert!(exec.render(&gpu, &scene.camera, &scene).unwrap().rays.is_none());
+    assert!(exec.render(&gpu, scene.camera(), &scene).unwrap().rays.is_none());
 }
 
 /// Metric: the images are identical, byte for byte, between the back-ends (the same rays from
@@ -111,7 +111,7 @@ fn the_ao_graph_draws_the_same_picture_on_every_back_end() {
     let mut rays = Vec::new();
     for backend in Backend::ALL {
         let mut exec = executor(&gpu, &graph, backend, (96, 64));
-        let t = exec.render(&gpu, &scene.camera, &scene).unwrap();
+        let t = exec.render(&gpu, scene.camera(), &scene).unwrap();
         rays.push(t.rays.unwrap());
         images.push(exec.read_output(&gpu).unwrap());
     }
@@ -155,7 +155,7 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     let mut images = Vec::new();
     for graph in [common::repo().join("graph/ao.ron"), merged_graph.clone()] {
         let mut exec = executor(&gpu, &graph, Backend::Compute, (96, 64));
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
         images.push(exec.read_output(&gpu).unwrap());
     }
     let (rmse, outliers) = difference(&images[0], &images[1]);
@@ -163,30 +163,30 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     assert!(rmse == 0.0 && outliers == 0, "RMSE {rmse}, {outliers} outliers");
 
     let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (32, 24));
-    let first = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+    let first = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
     assert_eq!((first.blas_count, first.blas_built, first.tlas), (1, 1, TlasWork::Rebuild), "{first:?}");
-    let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+    let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
     assert!(!r.built_anything(), "an unchanged scene builds nothing: {r:?}");
     // Moved instances: refitted on the GPU, nothing built; the picture is the one a fresh
     // build of the moved scene draws (same metric), after one move and after several.
     let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     for step in 1..=3 {
         for (k, inst) in scene.instances_mut().iter_mut().enumerate() {
             inst.transform = Mat4::from_translation(Vec3::new(0.05 * k as f32, 0.15, -0.1 * step as f32)) * inst.transform;
         }
-        let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+        let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
         assert!(r.blas_refit && r.blas_built == 0 && r.tlas == TlasWork::Refit, "moved instances refit the merged BVH: {r:?}");
         let refitted = exec.read_output(&gpu).unwrap();
         let mut fresh = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
-        fresh.render(&gpu, &scene.camera, &scene).unwrap();
+        fresh.render(&gpu, scene.camera(), &scene).unwrap();
         let (rmse, outliers) = difference(&refitted, &fresh.read_output(&gpu).unwrap());
         println!("after {step} moves, refitted vs rebuilt: RMSE {rmse:.3}, {outliers} outlier pixels");
         assert!(rmse == 0.0 && outliers == 0, "after {step} moves: RMSE {rmse}, {outliers} outliers");
     }
     // A structural change (an instance removed) rebuilds.
     scene.instances_mut().pop();
-    let r = exec.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
+    let r = exec.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
     assert_eq!((r.blas_built, r.tlas, r.blas_refit), (1, TlasWork::Rebuild, false), "a removed instance rebuilds the merged BVH: {r:?}");
 
     // `organic` is larger than one treelet (refit::TREELET_NODES), so its refit has both
@@ -194,14 +194,14 @@ fn the_merged_layout_rebuilds_on_change_and_draws_the_same_picture() {
     // fresh build draws.
     let mut organic = raygraph::scene::load::builtin("organic", 0).unwrap();
     let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
-    exec.render(&gpu, &organic.camera, &organic).unwrap();
+    exec.render(&gpu, organic.camera(), &organic).unwrap();
     let (levels, dispatches) = exec.accel().unwrap().refit_shape().unwrap();
     assert_eq!(dispatches, 2, "organic: subtree treelets, then the top one ({levels} levels)");
-    organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
-    let r = exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances()[0].transform;
+    let r = exec.render(&gpu, organic.camera(), &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit, "{r:?}");
     let mut fresh = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
-    fresh.render(&gpu, &organic.camera, &organic).unwrap();
+    fresh.render(&gpu, organic.camera(), &organic).unwrap();
     let (rmse, outliers) = difference(&exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
     println!("organic turned and moved, refitted vs rebuilt: RMSE {rmse:.3}, {outliers} outlier pixels ({levels} levels, {dispatches} dispatches)");
     assert!(rmse == 0.0 && outliers == 0, "organic: RMSE {rmse}, {outliers} outliers");
@@ -222,7 +222,7 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     let render = |scene: &raygraph::scene::Scene, builder: MergedBuilder| {
         let mut exec = executor(&gpu, &merged_graph, Backend::Compute, (96, 64));
         exec.accel_mut().unwrap().set_merged_builder(builder);
-        let r = exec.render(&gpu, &scene.camera, scene).unwrap().accel.unwrap();
+        let r = exec.render(&gpu, scene.camera(), scene).unwrap().accel.unwrap();
         (exec, r)
     };
     let (cpu_exec, cpu) = render(&organic, MergedBuilder::Cpu);
@@ -236,8 +236,8 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     assert!(rmse == 0.0 && outliers == 0, "RMSE {rmse}, {outliers} outliers");
 
     // Moved: refitted (from the builder's parents: the tree never comes back to the CPU).
-    organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances[0].transform;
-    let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    organic.instances_mut()[0].transform = Mat4::from_rotation_y(0.3) * Mat4::from_translation(Vec3::new(0.1, -0.05, 0.0)) * organic.instances()[0].transform;
+    let r = gpu_exec.render(&gpu, organic.camera(), &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
     let (fresh, _) = render(&organic, MergedBuilder::Cpu);
     let (rmse, outliers) = difference(&gpu_exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
@@ -246,14 +246,14 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
 
     // An edited mesh: rebuilt, on the GPU again.
     let (mut rebuilds, first) = render(&organic, MergedBuilder::GpuRebuilds);
-    for v in std::sync::Arc::make_mut(&mut organic.meshes[0]).vertices.iter_mut() {
+    for v in organic.mesh_mut(0).vertices.iter_mut() {
         v.position[1] *= 1.1;
     }
-    let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    let r = gpu_exec.render(&gpu, organic.camera(), &organic).unwrap().accel.unwrap();
     assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild, "{r:?}");
     // Moved after that rebuild: refitted, it draws what a CPU build of the moved scene draws.
-    organic.instances_mut()[0].transform = Mat4::from_rotation_x(-0.2) * Mat4::from_translation(Vec3::new(-0.1, 0.05, 0.05)) * organic.instances[0].transform;
-    let r = gpu_exec.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    organic.instances_mut()[0].transform = Mat4::from_rotation_x(-0.2) * Mat4::from_translation(Vec3::new(-0.1, 0.05, 0.05)) * organic.instances()[0].transform;
+    let r = gpu_exec.render(&gpu, organic.camera(), &organic).unwrap().accel.unwrap();
     assert!(r.blas_refit && !r.blas_gpu_built, "{r:?}");
     let (fresh, _) = render(&organic, MergedBuilder::Cpu);
     let (rmse, outliers) = difference(&gpu_exec.read_output(&gpu).unwrap(), &fresh.read_output(&gpu).unwrap());
@@ -261,14 +261,14 @@ fn the_merged_layout_built_on_the_gpu_draws_what_the_cpu_built_one_draws() {
     assert!(rmse == 0.0 && outliers == 0, "rebuilt and refitted: RMSE {rmse}, {outliers} outliers");
     // GpuRebuilds (the executor's choice on a real GPU): the first build on the CPU, the
     // rebuild after the edit on the GPU.
-    let r = rebuilds.render(&gpu, &organic.camera, &organic).unwrap().accel.unwrap();
+    let r = rebuilds.render(&gpu, organic.camera(), &organic).unwrap().accel.unwrap();
     assert!(!first.blas_gpu_built && r.blas_gpu_built, "{first:?} / {r:?}");
 }
 
 /// Reads `len` elements of the cache's array `name` (an `accel_*` binding) back from the GPU.
 fn cache_array<T: bytemuck::Pod>(gpu: &Gpu, cache: &raygraph::accel::cache::AccelCache, name: &str, len: usize) -> Vec<T> {
     let Some(wgpu::BindingResource::Buffer(b)) = cache.binding(name, 0) else { panic!("the cache binds no buffer `{name}`") };
-    let bytes = raygraph::accel::gpu_build::read_bytes(&gpu.device, &gpu.queue, b.buffer, 0, (len * std::mem::size_of::<T>()) as u64).unwrap();
+    let bytes = raygraph::accel::gpu_build::read_bytes(gpu.device(), gpu.queue(), b.buffer, 0, (len * std::mem::size_of::<T>()) as u64).unwrap();
     bytemuck::cast_slice(&bytes).to_vec()
 }
 
@@ -331,32 +331,32 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     let mut scene = raygraph::scene::load::builtin("organic", 0).unwrap();
     // Three instances of the mesh, each moved by its own transform below.
     for k in 1..3 {
-        let mut inst = scene.instances[0].clone();
+        let mut inst = scene.instances()[0].clone();
         inst.transform = Mat4::from_translation(Vec3::new(1.5 * k as f32, 0.2, 0.0)) * inst.transform;
         scene.instances_mut().push(inst);
     }
-    let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
+    let mut cache = AccelCache::new(gpu.device(), Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::GpuRebuilds);
     let update = |cache: &mut AccelCache, scene: &raygraph::scene::Scene| {
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let r = cache.update(&gpu.device, &gpu.queue, &mut encoder, scene).unwrap();
-        gpu.queue.submit([encoder.finish()]);
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        let r = cache.update(gpu.device(), gpu.queue(), &mut encoder, scene).unwrap();
+        gpu.queue().submit([encoder.finish()]);
         r
     };
     let first = update(&mut cache, &scene);
     assert!(!first.blas_gpu_built, "the first build is the CPU's: {first:?}");
-    std::sync::Arc::make_mut(&mut scene.meshes[0]).vertices[0].position[1] += 0.01;
+    scene.mesh_mut(0).vertices[0].position[1] += 0.01;
     let r = update(&mut cache, &scene);
     assert!(r.blas_gpu_built && r.tlas == TlasWork::Rebuild && !r.blas_refit, "an edited mesh rebuilds on the GPU: {r:?}");
 
     // The builder over the records made on the GPU (tests/gpu_build.rs checks them against
     // `merged_triangles`, to a few ulps of the transform's terms on lavapipe).
-    let hashes: Vec<u64> = scene.meshes.iter().map(|m| raygraph::accel::cache::mesh_hash(m)).collect();
-    let mut maker = raygraph::accel::gpu_records::GpuRecordMaker::new(&gpu.device);
-    let records = maker.make(&gpu.device, &gpu.queue, &scene, (&hashes, None), u32::MAX).unwrap().unwrap();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
-    let built = builder.build_records(&gpu.device, &gpu.queue, &records.records, records.count as usize).unwrap();
-    let (nodes, tris) = built.read_back(&gpu.device, &gpu.queue).unwrap();
+    let hashes: Vec<u64> = scene.meshes().iter().map(|m| raygraph::accel::cache::mesh_hash(m)).collect();
+    let mut maker = raygraph::accel::gpu_records::GpuRecordMaker::new(gpu.device());
+    let records = maker.make(gpu.device(), gpu.queue(), &scene, (&hashes, None), u32::MAX).unwrap().unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
+    let built = builder.build_records(gpu.device(), gpu.queue(), &records.records, records.count as usize).unwrap();
+    let (nodes, tris) = built.read_back(gpu.device(), gpu.queue()).unwrap();
     let bound_nodes: Vec<GpuBvhNode> = cache_array(&gpu, &cache, "accel_blas_nodes", nodes.len());
     let bound_tris: Vec<GpuTriangle> = cache_array(&gpu, &cache, "accel_triangles", tris.len());
     assert!(bound_tris == tris, "the traversal binds the triangles the builder writes");

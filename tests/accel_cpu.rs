@@ -64,8 +64,8 @@ fn mesh(name: &str, positions: &[[f32; 3]], indices: &[u32]) -> Mesh {
 /// material, camera and light.
 fn scene_with(name: &str, meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Scene {
     let mut s = box_scene();
-    s.name = name.into();
-    s.meshes = meshes.into_iter().map(Into::into).collect();
+    s.set_name(name);
+    s.set_meshes(meshes);
     *s.instances_mut() = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect();
     s
 }
@@ -73,16 +73,16 @@ fn scene_with(name: &str, meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Sce
 /// `scene` restricted to the instances of `meshes` (meshes renumbered).
 fn subset(scene: &Scene, meshes: &[usize]) -> Scene {
     let mut s = scene.clone();
-    s.name = format!("{}-subset", scene.name);
-    s.meshes = meshes.iter().map(|&m| scene.meshes[m].clone()).collect();
-    *s.instances_mut() = scene.instances.iter().filter_map(|i| meshes.iter().position(|&m| m == i.mesh).map(|k| Instance { mesh: k, ..i.clone() })).collect();
+    s.set_name(format!("{}-subset", scene.name()));
+    s.set_meshes(meshes.iter().map(|&m| scene.meshes()[m].clone()));
+    *s.instances_mut() = scene.instances().iter().filter_map(|i| meshes.iter().position(|&m| m == i.mesh).map(|k| Instance { mesh: k, ..i.clone() })).collect();
     s
 }
 
 /// box + two transformed copies of the organic head (rotation, non-uniform scale, translation).
 fn multi_scene() -> Scene {
-    let head = Mesh::clone(&organic().meshes.remove(0));
-    let cube = Mesh::clone(&box_scene().meshes.remove(0));
+    let head = Mesh::clone(&organic().meshes()[0]);
+    let cube = Mesh::clone(&box_scene().meshes()[0]);
     scene_with(
         "multi",
         vec![head, cube],
@@ -109,8 +109,8 @@ struct WorldTri {
 
 fn world_triangles(scene: &Scene) -> Vec<WorldTri> {
     let mut out = Vec::new();
-    for inst in scene.instances.iter() {
-        let m = &scene.meshes[inst.mesh];
+    for inst in scene.instances().iter() {
+        let m = &scene.meshes()[inst.mesh];
         for t in m.indices.chunks_exact(3) {
             let v = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[t[k] as usize].position)));
             if (v[1] - v[0]).cross(v[2] - v[0]).length() > 0.0 {
@@ -287,7 +287,7 @@ fn check_agreement_with(scene: &Scene, accel: GpuAccel, n: usize, seed: u64) -> 
     let start = Instant::now();
     let refs = reference.closest_many(&plain);
     let t_ref = start.elapsed();
-    println!("{}: {} rays, {} reference triangles; traversal {t_trav:?}, reference {t_ref:?}", scene.name, plain.len(), reference.triangle_count());
+    println!("{}: {} rays, {} reference triangles; traversal {t_trav:?}, reference {t_ref:?}", scene.name(), plain.len(), reference.triangle_count());
     let mut tallies: HashMap<&str, Tally> = HashMap::new();
     for (i, (cat, ray)) in rays.iter().enumerate() {
         classify(tallies.entry(cat).or_default(), &reference, ray, hits[i], refs[i]);
@@ -317,23 +317,23 @@ fn check_agreement_with(scene: &Scene, accel: GpuAccel, n: usize, seed: u64) -> 
         // edge or vertex may pick either neighbour (the reference takes the first in scene
         // order), so only unexplained disagreements are errors there.
         let bound = if matches!(cat, "vertex" | "edge") { 1.0 } else { 0.01 };
-        assert!(rate <= bound, "{}: {cat}: at-edge disagreement rate {rate} above {bound}", scene.name);
+        assert!(rate <= bound, "{}: {cat}: at-edge disagreement rate {rate} above {bound}", scene.name());
         // Depth ties come from coincident surfaces (the atrium's two-sided pieces are pairs of
         // opposite-facing triangles in the same place); the reference keeps the first in scene
         // order, the traversal the last tested.
-        assert!(t.depth_tie as f64 <= 0.05 * t.rays as f64, "{}: {cat}: {} depth ties", scene.name, t.depth_tie);
+        assert!(t.depth_tie as f64 <= 0.05 * t.rays as f64, "{}: {cat}: {} depth ties", scene.name(), t.depth_tie);
         bad.extend(t.bad.iter().take(5).map(|b| format!("{cat}: {b}")));
     }
-    assert!(bad.is_empty(), "{}: unexplained disagreements with the reference:\n{}", scene.name, bad.join("\n"));
+    assert!(bad.is_empty(), "{}: unexplained disagreements with the reference:\n{}", scene.name(), bad.join("\n"));
     // Any-hit agrees with closest-hit, with the interval ending at, and just before, the hit.
     let any = trav.any_many(&plain);
     for (i, ray) in plain.iter().enumerate() {
-        assert_eq!(any[i], hits[i].is_some(), "{}: any-hit {} but closest-hit {:?} for {ray:?}", scene.name, any[i], hits[i]);
+        assert_eq!(any[i], hits[i].is_some(), "{}: any-hit {} but closest-hit {:?} for {ray:?}", scene.name(), any[i], hits[i]);
         if let Some(h) = hits[i] {
             // (Not exactly at t: a box's entry distance and a triangle's t inside it round
             // differently, by up to a few ulps of the coordinates.)
-            assert!(trav.any(&Ray { t_max: h.t * 1.001, ..*ray }), "{}: any-hit misses the closest hit for {ray:?}", scene.name);
-            assert!(!trav.any(&Ray { t_max: h.t * 0.999, ..*ray }), "{}: any-hit finds something before the closest hit for {ray:?}", scene.name);
+            assert!(trav.any(&Ray { t_max: h.t * 1.001, ..*ray }), "{}: any-hit misses the closest hit for {ray:?}", scene.name());
+            assert!(!trav.any(&Ray { t_max: h.t * 0.999, ..*ray }), "{}: any-hit finds something before the closest hit for {ray:?}", scene.name());
         }
     }
     // The reference's any-hit agrees with its closest-hit.
@@ -401,22 +401,26 @@ fn no_nan(n: &GpuBvhNode) -> bool {
 
 /// Invariants of the flattened arrays: non-empty, indices in range, no NaN, root at 0.
 fn check_gpu_accel(a: &GpuAccel, scene: &Scene) {
-    assert!(!a.blas_nodes.is_empty() && !a.triangles.is_empty() && !a.tlas_nodes.is_empty() && !a.instances.is_empty(), "{}: a GPU array is empty", scene.name);
+    assert!(
+        !a.blas_nodes.is_empty() && !a.triangles.is_empty() && !a.tlas_nodes.is_empty() && !a.instances.is_empty(),
+        "{}: a GPU array is empty",
+        scene.name()
+    );
     for (nodes, prims, what) in [(&a.blas_nodes, a.triangles.len(), "BLAS"), (&a.tlas_nodes, a.instances.len(), "TLAS")] {
         for (i, n) in nodes.iter().enumerate() {
-            assert!(no_nan(n), "{}: {what} node {i} has a NaN box", scene.name);
+            assert!(no_nan(n), "{}: {what} node {i} has a NaN box", scene.name());
             if n.count > 0 {
-                assert!((n.left_or_first + n.count) as usize <= prims, "{}: {what} leaf {i} out of range", scene.name);
+                assert!((n.left_or_first + n.count) as usize <= prims, "{}: {what} leaf {i} out of range", scene.name());
             } else {
-                assert!(n.left_or_first as usize + 1 < nodes.len(), "{}: {what} node {i} children out of range", scene.name);
-                assert!(n.left_or_first as usize > i, "{}: {what} node {i} children before it", scene.name);
+                assert!(n.left_or_first as usize + 1 < nodes.len(), "{}: {what} node {i} children out of range", scene.name());
+                assert!(n.left_or_first as usize > i, "{}: {what} node {i} children before it", scene.name());
             }
         }
     }
     for inst in a.instances.iter() {
         assert!((inst.blas_root as usize) < a.blas_nodes.len());
         assert!(inst.world_to_object.iter().chain(&inst.object_to_world).flatten().all(|x| x.is_finite()));
-        assert!(inst.instance_id == NO_INSTANCE || (inst.instance_id as usize) < scene.instances.len());
+        assert!(inst.instance_id == NO_INSTANCE || (inst.instance_id as usize) < scene.instances().len());
     }
     for t in &a.triangles {
         assert!(t.prim == NO_PRIM || [t.v0, t.v1, t.v2].iter().flatten().all(|x| x.is_finite()));
@@ -441,7 +445,7 @@ fn gpu_layout_sizes_offsets_and_matrix_order() {
     );
     // Row-major 3x4: the translation is the last column of each row.
     let xf = Mat4::from_scale_rotation_translation(Vec3::new(2.0, 1.0, 1.0), Quat::from_rotation_z(std::f32::consts::FRAC_PI_2), Vec3::new(3.0, 4.0, 5.0));
-    let s = scene_with("one", vec![Mesh::clone(&box_scene().meshes.remove(0))], &[(0, xf)]);
+    let s = scene_with("one", vec![Mesh::clone(&box_scene().meshes()[0])], &[(0, xf)]);
     let a = GpuAccel::build(&s, &AccelOptions::default());
     let inst = a.instances[0];
     assert_eq!(inst.instance_id, 0);
@@ -470,11 +474,11 @@ fn bvh_invariants_box_organic_and_tlas() {
     for scene in [box_scene(), organic(), multi_scene()] {
         let accel = SceneAccel::build(&scene, &AccelOptions::default());
         for (i, blas) in accel.blases.iter().enumerate() {
-            check_blas(&format!("{}/{}", scene.name, scene.meshes[i].name), blas, &scene.meshes[i]);
+            check_blas(&format!("{}/{}", scene.name(), scene.meshes()[i].name), blas, &scene.meshes()[i]);
             assert_eq!(blas.dropped(), 0);
         }
-        let ids: HashSet<u32> = (0..scene.instances.len() as u32).collect();
-        check_bvh(&format!("{}/tlas", scene.name), &accel.tlas.bvh, &ids, |id| accel.tlas.instance_bounds[id as usize], 4);
+        let ids: HashSet<u32> = (0..scene.instances().len() as u32).collect();
+        check_bvh(&format!("{}/tlas", scene.name()), &accel.tlas.bvh, &ids, |id| accel.tlas.instance_bounds[id as usize], 4);
         check_gpu_accel(&flatten(&scene, &accel), &scene);
     }
     // Many identical boxes (no centroid spread) and a long thin run still split to <= 4.
@@ -492,7 +496,7 @@ fn bvh_invariants_box_organic_and_tlas() {
 #[test]
 fn sah_beats_median_split_on_organic() {
     let scene = organic();
-    let m = &scene.meshes[0];
+    let m = &scene.meshes()[0];
     let sah = Blas::build(m, &BuildConfig::default());
     let median = Blas::build(m, &BuildConfig { method: SplitMethod::Median, ..Default::default() });
     check_blas("organic/median", &median, m);
@@ -518,21 +522,21 @@ fn atrium_build_time_structure_and_sah() {
         "atrium: generated in {:?}: {} triangles in {} instances of {} meshes",
         start.elapsed(),
         scene.triangle_count(),
-        scene.instances.len(),
-        scene.meshes.len()
+        scene.instances().len(),
+        scene.meshes().len()
     );
     let accel = SceneAccel::build(&scene, &AccelOptions::default());
-    let unique: usize = scene.meshes.iter().map(|m| m.triangle_count()).sum();
+    let unique: usize = scene.meshes().iter().map(|m| m.triangle_count()).sum();
     println!(
         "atrium: two-level build (one BLAS per mesh, {unique} distinct triangles, TLAS over {} instances) in {:?}",
-        scene.instances.len(),
+        scene.instances().len(),
         accel.build_time
     );
     for (i, blas) in accel.blases.iter().enumerate() {
-        check_blas(&format!("atrium/{}", scene.meshes[i].name), blas, &scene.meshes[i]);
+        check_blas(&format!("atrium/{}", scene.meshes()[i].name), blas, &scene.meshes()[i]);
     }
     assert_eq!(accel.dropped_triangles(), (0, 0, 0));
-    let ids: HashSet<u32> = (0..scene.instances.len() as u32).collect();
+    let ids: HashSet<u32> = (0..scene.instances().len() as u32).collect();
     check_bvh("atrium/tlas", &accel.tlas.bvh, &ids, |id| accel.tlas.instance_bounds[id as usize], 4);
     let start = Instant::now();
     let gpu = flatten(&scene, &accel);
@@ -550,8 +554,8 @@ fn atrium_build_time_structure_and_sah() {
 
     // All 262k instanced triangles baked into one world-space mesh: one big BLAS.
     let mut flat = Mesh { name: "atrium_flat".into(), ..Default::default() };
-    for inst in scene.instances.iter() {
-        let m = &scene.meshes[inst.mesh];
+    for inst in scene.instances().iter() {
+        let m = &scene.meshes()[inst.mesh];
         let base = flat.vertices.len() as u32;
         flat.vertices.extend(m.vertices.iter().map(|v| Vertex { position: inst.transform.transform_point3(Vec3::from(v.position)).into(), ..*v }));
         flat.indices.extend(m.indices.iter().map(|i| i + base));
@@ -579,7 +583,7 @@ fn atrium_build_time_structure_and_sah() {
     let reference = Reference::new(&scene);
     let trav = CpuTraverser::new(&gpu);
     let mut rng = Rng(7);
-    let cam = scene.camera.position;
+    let cam = scene.camera().position;
     let b = scene.bounds();
     let rays: Vec<Ray> = (0..48)
         .map(|_| {
@@ -622,7 +626,7 @@ fn traversal_agrees_with_reference_atrium_meshes() {
     let full = atrium(1);
     let pick: Vec<usize> = ["column_ground_0", "lantern_a", "curtain_0", "rose_window_tracery", "bench", "cornice"]
         .iter()
-        .map(|n| full.meshes.iter().position(|m| m.name == *n).unwrap_or_else(|| panic!("atrium has no mesh {n}")))
+        .map(|n| full.meshes().iter().position(|m| m.name == *n).unwrap_or_else(|| panic!("atrium has no mesh {n}")))
         .collect();
     let scene = subset(&full, &pick);
     check_agreement(&scene, 200, 4);
@@ -640,7 +644,7 @@ fn merged_layout_agrees_with_reference_and_two_levels() {
     // A mirrored instance: its triangles wind the other way in world space.
     let mirror = Mat4::from_translation(Vec3::new(-1.0, 1.5, 2.0)) * Mat4::from_scale(Vec3::new(-0.8, 0.8, 0.8));
     scene.instances_mut().push(Instance { mesh: 0, material: 0, transform: mirror });
-    let mirrored = scene.instances.len() as u32 - 1;
+    let mirrored = scene.instances().len() as u32 - 1;
     let (_, rays, two_level) = check_agreement(&scene, 250, 5);
     let (accel, _, merged_hits) = check_agreement_with(&scene, merged(&scene), 250, 5);
     assert_eq!((accel.instances.len(), accel.tlas_nodes.len()), (1, 1), "one instance under a one-leaf TLAS");
@@ -677,8 +681,8 @@ fn merged_layout_agrees_with_reference_and_two_levels() {
 fn check_watertight(scene: &Scene, instance: usize, inside_object: &[Vec3]) -> usize {
     let accel = GpuAccel::build(scene, &AccelOptions::default());
     let trav = CpuTraverser::new(&accel);
-    let inst = &scene.instances[instance];
-    let m = &scene.meshes[inst.mesh];
+    let inst = &scene.instances()[instance];
+    let m = &scene.meshes()[inst.mesh];
     let xf = inst.transform;
     let pos: Vec<Vec3> = m.vertices.iter().map(|v| xf.transform_point3(Vec3::from(v.position))).collect();
     let mut edges = HashSet::new();
@@ -706,10 +710,10 @@ fn check_watertight(scene: &Scene, instance: usize, inside_object: &[Vec3]) -> u
         }
     }
     let any = trav.any_many(&rays);
-    assert!(any.iter().all(|&a| a), "{}: an any-hit ray escaped", scene.name);
+    assert!(any.iter().all(|&a| a), "{}: an any-hit ray escaped", scene.name());
     println!(
         "{}: {} rays from {} inside points at {} vertices and {} edge midpoints: {} escaped",
-        scene.name,
+        scene.name(),
         rays.len(),
         inside_object.len(),
         pos.len(),
@@ -719,7 +723,7 @@ fn check_watertight(scene: &Scene, instance: usize, inside_object: &[Vec3]) -> u
     assert!(
         escaped.is_empty(),
         "{}: {} of {} rays not stopped:\n{}",
-        scene.name,
+        scene.name(),
         escaped.len(),
         rays.len(),
         escaped.iter().take(10).cloned().collect::<Vec<_>>().join("\n")
@@ -807,7 +811,7 @@ fn refit_after_moving_instances_matches_rebuild() {
     scene.instances_mut()[1].transform = Mat4::from_scale_rotation_translation(Vec3::splat(0.8), Quat::from_rotation_x(1.0), Vec3::new(-1.0, 2.5, 1.0));
     scene.instances_mut()[3].transform = Mat4::from_translation(Vec3::new(0.0, 0.0, -3.0));
     accel.refit_instances(&scene).expect("refit");
-    let ids: HashSet<u32> = (0..scene.instances.len() as u32).collect();
+    let ids: HashSet<u32> = (0..scene.instances().len() as u32).collect();
     check_bvh("refit tlas", &accel.tlas.bvh, &ids, |id| accel.tlas.instance_bounds[id as usize], 4);
     let refitted = flatten(&scene, &accel);
     let rebuilt = GpuAccel::build(&scene, &AccelOptions::default());
@@ -818,12 +822,12 @@ fn refit_after_moving_instances_matches_rebuild() {
     assert!(a.iter().filter(|h| h.is_some_and(|h| h.instance_id == 1)).count() > 20, "the moved instance is hit");
     // Moving vertices: refit the BLASes too.
     let before = scene.clone();
-    for v in &mut std::sync::Arc::make_mut(&mut scene.meshes[0]).vertices {
+    for v in &mut scene.mesh_mut(0).vertices {
         let p = Vec3::from(v.position);
         v.position = (p * Vec3::new(1.2, 0.9, 1.0) + Vec3::new(0.0, 0.1 * p.x.sin(), 0.0)).into();
     }
     accel.refit_meshes(&scene).expect("refit meshes");
-    check_blas("refit blas", &accel.blases[0], &scene.meshes[0]);
+    check_blas("refit blas", &accel.blases[0], &scene.meshes()[0]);
     let refitted = flatten(&scene, &accel);
     let rebuilt = GpuAccel::build(&scene, &AccelOptions::default());
     let a = CpuTraverser::new(&refitted).closest_many(&rays);
@@ -833,14 +837,14 @@ fn refit_after_moving_instances_matches_rebuild() {
     assert!(a.iter().zip(&old).any(|(x, y)| x != y), "moving the vertices changes some hits");
     // Refit refuses changes that need a rebuild.
     let mut more = scene.clone();
-    let first = more.instances[0].clone();
+    let first = more.instances()[0].clone();
     more.instances_mut().push(first);
     assert_eq!(accel.refit_instances(&more), Err(AccelError::InstanceCountChanged { expected: 4, found: 5 }));
     let mut nan = scene.clone();
     nan.instances_mut()[2].transform = Mat4::from_translation(Vec3::splat(f32::NAN));
     assert_eq!(accel.refit_instances(&nan), Err(AccelError::InstanceChanged(2)));
     let mut fewer = scene.clone();
-    std::sync::Arc::make_mut(&mut fewer.meshes[0]).indices.truncate(30);
+    fewer.mesh_mut(0).indices.truncate(30);
     assert!(matches!(accel.refit_meshes(&fewer), Err(AccelError::MeshChanged { mesh: 0, .. })));
     // A failed refit leaves the structure as it was.
     same_hits("after failed refits", &CpuTraverser::new(&flatten(&scene, &accel)).closest_many(&rays), &a);
@@ -853,20 +857,20 @@ fn deduplication_off_gives_one_blas_per_instance() {
     let off_accel = SceneAccel::build(&scene, &AccelOptions { dedup: false, ..Default::default() });
     let off = flatten(&scene, &off_accel);
     check_gpu_accel(&off, &scene);
-    assert_eq!(on.blas_roots.len(), scene.meshes.len());
-    assert_eq!(off.blas_roots.len(), scene.instances.len());
-    assert_eq!(off_accel.blases.len(), scene.instances.len());
+    assert_eq!(on.blas_roots.len(), scene.meshes().len());
+    assert_eq!(off.blas_roots.len(), scene.instances().len());
+    assert_eq!(off_accel.blases.len(), scene.instances().len());
     let per_mesh: Vec<usize> = scene
-        .meshes
+        .meshes()
         .iter()
         .map(|m| SceneAccel::build(&scene_with("m", vec![Mesh::clone(m)], &[(0, Mat4::IDENTITY)]), &AccelOptions::default()).blases[0].bvh.nodes.len())
         .collect();
     assert_eq!(on.blas_nodes.len(), per_mesh.iter().sum::<usize>());
-    assert_eq!(off.blas_nodes.len(), scene.instances.iter().map(|i| per_mesh[i.mesh]).sum::<usize>());
+    assert_eq!(off.blas_nodes.len(), scene.instances().iter().map(|i| per_mesh[i.mesh]).sum::<usize>());
     let roots: HashSet<u32> = off.instances.iter().map(|i| i.blas_root).collect();
-    assert_eq!(roots.len(), scene.instances.len(), "every instance has its own BLAS");
+    assert_eq!(roots.len(), scene.instances().len(), "every instance has its own BLAS");
     let shared: HashSet<u32> = on.instances.iter().map(|i| i.blas_root).collect();
-    assert_eq!(shared.len(), scene.meshes.len(), "instances of a mesh share its BLAS");
+    assert_eq!(shared.len(), scene.meshes().len(), "instances of a mesh share its BLAS");
     println!(
         "dedup on: {} BLAS nodes, {} triangles; off: {} BLAS nodes, {} triangles",
         on.blas_nodes.len(),
@@ -894,7 +898,7 @@ fn trace_all(scene: &Scene, rays: &[Ray]) -> Vec<Option<Hit>> {
         check_gpu_accel(&gpu, scene);
         results.push(CpuTraverser::new(&gpu).closest_many(rays));
     }
-    assert_eq!(results[0], results[1], "{}: de-duplication changes hits", scene.name);
+    assert_eq!(results[0], results[1], "{}: de-duplication changes hits", scene.name());
     // The merged layout finds the same triangles (its world-space vertices round differently,
     // so t may differ in the last bits).
     let merged_hits = CpuTraverser::new(&merged(scene)).closest_many(rays);
@@ -903,15 +907,15 @@ fn trace_all(scene: &Scene, rays: &[Ray]) -> Vec<Option<Hit>> {
             a.map(|h| (h.instance_id, h.prim, h.front_face)),
             b.map(|h| (h.instance_id, h.prim, h.front_face)),
             "{}: merged layout, ray {i}",
-            scene.name
+            scene.name()
         );
         if let (Some(a), Some(b)) = (a, b) {
-            assert!((a.t - b.t).abs() <= 1e-5 * a.t.max(1.0), "{}: merged layout, ray {i}: t {} vs {}", scene.name, a.t, b.t);
+            assert!((a.t - b.t).abs() <= 1e-5 * a.t.max(1.0), "{}: merged layout, ray {i}: t {} vs {}", scene.name(), a.t, b.t);
         }
     }
     let reference = Reference::new(scene).closest_many(rays);
     for (h, r) in results[0].iter().zip(&reference) {
-        assert_eq!(h.map(|h| (h.instance_id, h.prim)), r.map(|r| (r.instance_id, r.prim)), "{}: traversal and reference disagree", scene.name);
+        assert_eq!(h.map(|h| (h.instance_id, h.prim)), r.map(|r| (r.instance_id, r.prim)), "{}: traversal and reference disagree", scene.name());
     }
     results.swap_remove(0)
 }
@@ -966,12 +970,12 @@ fn empty_and_degenerate_scenes_trace_as_misses() {
     let rays = probe_rays();
     let misses = |s: &Scene| {
         let hits = trace_all(s, &rays);
-        assert!(hits.iter().all(|h| h.is_none()), "{}: something was hit", s.name);
+        assert!(hits.iter().all(|h| h.is_none()), "{}: something was hit", s.name());
     };
     // No meshes, no instances.
     misses(&scene_with("empty", vec![], &[]));
     // Meshes but no instances.
-    misses(&scene_with("no instances", vec![Mesh::clone(&box_scene().meshes.remove(0))], &[]));
+    misses(&scene_with("no instances", vec![Mesh::clone(&box_scene().meshes()[0])], &[]));
     // An empty mesh.
     misses(&scene_with("empty mesh", vec![mesh("none", &[], &[])], &[(0, Mat4::IDENTITY)]));
     // Only degenerate triangles: collinear, repeated vertices, a tiny one that underflows.
@@ -986,7 +990,7 @@ fn empty_and_degenerate_scenes_trace_as_misses() {
     assert_eq!((blas.dropped_non_finite, blas.dropped_bad_index, blas.bvh.nodes.len()), (2, 1, 0));
     misses(&scene_with("nan", vec![nan.clone(), degenerate], &[(0, Mat4::IDENTITY), (1, Mat4::IDENTITY)]));
     // Unusable instances: bad mesh index, NaN, singular and infinite transforms.
-    let cube = Mesh::clone(&box_scene().meshes.remove(0));
+    let cube = Mesh::clone(&box_scene().meshes()[0]);
     let bad = [
         (7, Mat4::IDENTITY),
         (0, Mat4::from_translation(Vec3::splat(f32::NAN))),
@@ -1060,22 +1064,22 @@ fn refit_treelets_cover_every_node_children_first() {
                 }
             }
             if !(plan.has_top && t + 1 == plan.treelets.len()) {
-                assert!(size <= TREELET_NODES, "{}: treelet {t} has {size} nodes", scene.name);
+                assert!(size <= TREELET_NODES, "{}: treelet {t} has {size} nodes", scene.name());
             }
         }
-        assert!(seen.iter().all(|&k| k == 1), "{}: every node exactly once", scene.name);
+        assert!(seen.iter().all(|&k| k == 1), "{}: every node exactly once", scene.name());
         let top = plan.treelets.len() - 1;
         for (i, n) in nodes.iter().enumerate().filter(|(_, n)| n.count == 0) {
             for c in [n.left_or_first as usize, n.left_or_first as usize + 1] {
                 let (tp, lp) = when[i];
                 let (tc, lc) = when[c];
                 let before = (tc == tp && lc < lp) || (plan.has_top && tp == top && tc != top);
-                assert!(before, "{}: node {i} ({tp}, {lp}) is refitted before its child {c} ({tc}, {lc})", scene.name);
+                assert!(before, "{}: node {i} ({tp}, {lp}) is refitted before its child {c} ({tc}, {lc})", scene.name());
             }
         }
         println!(
             "{}: {} nodes, {} levels deep, {} treelets{}",
-            scene.name,
+            scene.name(),
             nodes.len(),
             plan.depth,
             plan.treelets.len(),

@@ -73,9 +73,9 @@ fn quad_mesh(name: &str, x: [f32; 2], y: [f32; 2], z: f32) -> Mesh {
 
 fn scene() -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "alpha checker".into();
-    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0), quad_mesh("plane", [-1.5, 0.0], [-1.5, 1.5], -1.0)].into_iter().map(Into::into).collect();
-    s.textures = vec![checker_alpha()];
+    s.set_name("alpha checker");
+    s.set_meshes(vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0), quad_mesh("plane", [-1.5, 0.0], [-1.5, 1.5], -1.0)]);
+    *s.textures_mut() = vec![checker_alpha()];
     let textured = |name: &str, a: f32, mode| Material { alpha_mode: mode, ..Material::diffuse(name, [1.0, 1.0, 1.0, a], Some(0)) };
     *s.materials_mut() = vec![
         textured("mask", 1.0, AlphaMode::Mask(0.5)),
@@ -90,7 +90,7 @@ fn scene() -> Scene {
             [Instance { mesh: 0, material: i, transform: at }, Instance { mesh: 1, material: 4, transform: at }]
         })
         .collect();
-    s.lights.clear();
+    s.lights_mut().clear();
     s
 }
 
@@ -234,7 +234,7 @@ fn assert_same<T: PartialEq + std::fmt::Debug>(what: &str, got: &[T], want: &[T]
 
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    assert!(gpu.texture_binding_arrays, "lavapipe has texture binding arrays; CI must exercise both texture paths");
+    assert!(gpu.texture_binding_arrays(), "lavapipe has texture binding arrays; CI must exercise both texture paths");
     gpu
 }
 
@@ -247,11 +247,11 @@ fn stacked_scene() -> Scene {
     for a in std::sync::Arc::make_mut(&mut inverted.rgba).iter_mut().skip(3).step_by(4) {
         *a = 255 - *a;
     }
-    s.textures.push(inverted);
+    s.textures_mut().push(inverted);
     s.materials_mut().push(Material { alpha_mode: AlphaMode::Mask(0.5), ..Material::diffuse("inverted", [1.0; 4], Some(1)) });
     *s.instances_mut() = vec![
         Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },
-        Instance { mesh: 0, material: s.materials.len() - 1, transform: Mat4::from_translation(Vec3::new(0.0, 0.0, 0.5)) },
+        Instance { mesh: 0, material: s.materials().len() - 1, transform: Mat4::from_translation(Vec3::new(0.0, 0.0, 0.5)) },
     ];
     s
 }
@@ -270,14 +270,14 @@ fn stacked_rays() -> (Vec<Ray>, Vec<Ray>, Vec<Option<u32>>) {
 /// paths) against the analytic answer.
 fn batch_matches_the_analytic_answer(backend: Backend) {
     let mut gpu = gpu();
-    assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
+    assert!(gpu.backends().contains(&backend), "lavapipe has back-end {backend}; CI must test it");
     let scene = scene();
     let (primary, shadow, ao) = expected();
     let stacked = stacked_scene();
     let (down, up, stacked_hits) = stacked_rays();
     let layouts: &[bool] = if backend == Backend::RayQuery { &[false] } else { &[false, true] };
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         for &merge in layouts {
             let what = format!("{backend}{}, {}", if merge { " merged" } else { "" }, if bindless { "binding array" } else { "texture array" });
             let t = BatchTracer::with_settings(&gpu, backend, &scene, &common::repo().join("shaders"), AccelSettings { dedup: true, merge }).unwrap();
@@ -365,12 +365,12 @@ fn only_alpha_tested_instances_are_flagged() {
     // Opaque scenes: no flag anywhere, one opaque record for the trace module, no uvs.
     for scene in [builtin::default_scene(), raygraph::scene::procedural::atrium(1)] {
         let accel = GpuAccel::build(&scene, &AccelOptions::default());
-        assert!(accel.instances.iter().all(|i| i.flags == 0) && accel.triangles.iter().all(|t| t.flags == 0), "{}", scene.name);
+        assert!(accel.instances.iter().all(|i| i.flags == 0) && accel.triangles.iter().all(|t| t.flags == 0), "{}", scene.name());
         let (mesh, origin) = merge_instances(&scene);
         let merged = merge(&mesh, &origin, raygraph::accel::bvh::Blas::build(&mesh, &Default::default()));
-        assert!(merged.triangles.iter().all(|t| t.flags & TRI_ALPHA == 0), "{}", scene.name);
-        assert_eq!(alpha::gpu_words(&scene), [[alpha::ALPHA_OPAQUE; 4]], "{}", scene.name);
-        assert!(alpha::tested_meshes(&scene).iter().all(|&t| !t), "{}", scene.name);
+        assert!(merged.triangles.iter().all(|t| t.flags & TRI_ALPHA == 0), "{}", scene.name());
+        assert_eq!(alpha::gpu_words(&scene), [[alpha::ALPHA_OPAQUE; 4]], "{}", scene.name());
+        assert!(alpha::tested_meshes(&scene).iter().all(|&t| !t), "{}", scene.name());
     }
 }
 
@@ -404,7 +404,7 @@ fn gbuffer_executor(gpu: &Gpu, path: &std::path::Path, options: CompileOptions, 
 
 /// Renders `scene` with `exec` and classifies the G-buffer's position per pixel.
 fn rendered_surfaces(gpu: &Gpu, exec: &mut Executor, scene: &Scene) -> Vec<Surface> {
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     let r = exec.plan().resource_by_name("gbuffer.position").unwrap();
     let pos = exec.read_texture_f32(gpu, r).unwrap().2;
     pos.iter()
@@ -423,8 +423,8 @@ fn rendered_surfaces(gpu: &Gpu, exec: &mut Executor, scene: &Scene) -> Vec<Surfa
 /// with the shipped graphs plus full_rt with a two-level `Accel` (it ships merged).
 fn graph_setup() -> (Scene, Vec<Surface>, common::TempProject) {
     let mut scene = scene();
-    scene.camera = camera();
-    let want: Vec<Surface> = ReferenceRenderer::camera_rays(&scene.camera, IMAGE).iter().map(|r| classify(r.origin, r.dir)).collect();
+    *scene.camera_mut() = camera();
+    let want: Vec<Surface> = ReferenceRenderer::camera_rays(scene.camera(), IMAGE).iter().map(|r| classify(r.origin, r.dir)).collect();
     let count = |f: fn(&Surface) -> bool| want.iter().filter(|x| f(x)).count();
     let counts = (count(|s| matches!(s, Surface::Quad(_))), count(|s| matches!(s, Surface::Plane(_))), count(|s| *s == Surface::Miss));
     assert_eq!(counts, (1024, 1312, 2272), "analytic (quad, plane, miss) pixels");
@@ -447,7 +447,7 @@ fn raster_gbuffer_cuts_out_the_checker() {
     let mut gpu = gpu();
     let (scene, want, p) = graph_setup();
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         let raster = gbuffer_surfaces(&gpu, &p.root.join("graph/hybrid.ron"), gpu.compile_options_for(Backend::Compute), &scene);
         assert_same(&format!("raster G-buffer, binding array {bindless}"), &raster, &want);
         // The forward pass (raster graph), from its depth buffer: the cleared value where
@@ -456,7 +456,7 @@ fn raster_gbuffer_cuts_out_the_checker() {
         let path = p.root.join("graph/raster.ron");
         let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
         let mut exec = Executor::new(&gpu, compile_with(&path, &Project::beside_graph(&path), IMAGE, &options).unwrap(), &scene).unwrap();
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
         let depth: Vec<f32> = exec.read_texture_f32(&gpu, exec.plan().resource_by_name("forward/depth").unwrap()).unwrap().2.iter().map(|d| d[0]).collect();
         let kind = |s: &Surface| match s {
             Surface::Quad(_) => 0,
@@ -487,11 +487,11 @@ fn raster_gbuffer_cuts_out_the_checker() {
 /// ([`raster_gbuffer_cuts_out_the_checker`]) pixel for pixel.
 fn gbuffers_match(backend: Backend) {
     let mut gpu = gpu();
-    assert!(gpu.backends.contains(&backend), "lavapipe has back-end {backend}; CI must test it");
+    assert!(gpu.backends().contains(&backend), "lavapipe has back-end {backend}; CI must test it");
     let (scene, want, p) = graph_setup();
     let graphs: &[&str] = if backend == Backend::RayQuery { &["full_rt_two_level"] } else { &["full_rt", "full_rt_two_level"] };
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         for graph in graphs {
             let traced = gbuffer_surfaces(&gpu, &p.root.join(format!("graph/{graph}.ron")), gpu.compile_options_for(backend), &scene);
             assert_same(&format!("primary-ray G-buffer {backend} ({graph}), binding array {bindless}"), &traced, &want);
@@ -580,13 +580,13 @@ fn an_executor_compiles_the_alpha_test_in_when_its_scene_gains_alpha() {
 /// its transform (x -> -x about its centre: same place, reversed winding, same front side).
 fn facing_scene(double_sided: bool) -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "facing".into();
-    s.meshes = vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0)].into_iter().map(Into::into).collect();
-    s.textures.clear();
+    s.set_name("facing");
+    s.set_meshes(vec![quad_mesh("quad", [-1.0, 1.0], [-1.0, 1.0], 0.0)]);
+    s.textures_mut().clear();
     *s.materials_mut() = vec![Material { double_sided, ..Material::diffuse("quad", [0.8, 0.8, 0.8, 1.0], None) }];
     let mirrored = Mat4::from_translation(Vec3::new(SPACING, 0.0, 0.0)) * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: mirrored }];
-    s.lights.clear();
+    s.lights_mut().clear();
     s
 }
 
@@ -603,11 +603,11 @@ fn raster_culling_shows_the_sides_the_rays_see() {
     for double_sided in [false, true] {
         for behind in [false, true] {
             let mut scene = facing_scene(double_sided);
-            scene.camera = camera();
+            *scene.camera_mut() = camera();
             if behind {
-                scene.camera.position.z = -scene.camera.position.z;
+                scene.camera_mut().position.z = -scene.camera_mut().position.z;
             }
-            let want: Vec<Surface> = ReferenceRenderer::camera_rays(&scene.camera, IMAGE)
+            let want: Vec<Surface> = ReferenceRenderer::camera_rays(scene.camera(), IMAGE)
                 .iter()
                 .map(|r| {
                     let (o, d) = (r.origin.as_dvec3(), r.dir.as_dvec3());

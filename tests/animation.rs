@@ -73,7 +73,7 @@ fn posed_scenes_render_as_their_static_twins() {
         let mut images = Vec::new();
         for time in times {
             let mut scene = animated(name);
-            let clip = scene.rig.as_ref().unwrap().clip(&Default::default()).unwrap();
+            let clip = scene.rig().unwrap().clip(&Default::default()).unwrap();
             scene.pose(clip, time);
             let still = twin(name, time);
             for graph in ["graph/hybrid.ron", "graph/raster.ron"] {
@@ -143,7 +143,7 @@ fn bad_animation_data_fails_with_errors_naming_the_file() {
     let (scene, report) = raygraph::scene::open(path.to_str().unwrap(), &LoadOptions::default()).unwrap();
     assert_eq!(report.rig_repairs.renormalised_weights, 1);
     assert!(report.warnings.iter().any(|w| w.contains("1 vertices' skin weights did not sum to one")), "{:?}", report.warnings);
-    let skin = scene.rig.as_ref().unwrap().deformers[0].skin.as_ref().unwrap();
+    let skin = scene.rig().unwrap().deformers[0].skin.as_ref().unwrap();
     assert_eq!(&skin.weights[..4], &[0.5, 0.5, 0.0, 0.0], "vertex 0's weights (2, 2) normalised");
 }
 
@@ -151,7 +151,7 @@ fn bad_animation_data_fails_with_errors_naming_the_file() {
 fn clips_are_chosen_by_name_or_index_and_loop() {
     use raygraph::scene::animation::{ClipChoice, ClipSet};
     let scene = animated("spinner");
-    let rig = scene.rig.as_ref().unwrap();
+    let rig = scene.rig().unwrap();
     assert_eq!(rig.clip(&"hop".parse::<ClipChoice>().unwrap()), Ok(ClipSet::One(1)));
     assert_eq!(rig.clip(&"0".parse::<ClipChoice>().unwrap()), Ok(ClipSet::One(0)));
     let err = rig.clip(&"walk".parse::<ClipChoice>().unwrap()).unwrap_err();
@@ -207,7 +207,7 @@ fn the_cache_refits_deforming_meshes_until_the_tree_degrades() {
     scene.pose(Some(0), 0.0);
     exec.render(&gpu, &camera(), &scene).unwrap();
     let mut moved = scene.clone();
-    moved.instances_mut()[0].transform = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 1e-3)) * moved.instances[0].transform;
+    moved.instances_mut()[0].transform = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 1e-3)) * moved.instances()[0].transform;
     exec.render(&gpu, &camera(), &moved).unwrap();
     exec.render(&gpu, &camera(), &moved).unwrap();
     let g = exec.accel().unwrap().sah_growth().unwrap();
@@ -247,7 +247,7 @@ fn against_reference(gpu: &Gpu, exec: &Executor, scene: &Scene, camera: &Camera,
     let surfaces: Vec<Option<SurfacePoint>> = (0..pos.len())
         .map(|i| (pos[i][3] != 0.0).then(|| SurfacePoint { position: xyz(pos[i]), geo_normal: xyz(geo[i]), normal: xyz(normal[i]), shadow_offset: geo[i][3] }))
         .collect();
-    for (i, s) in renderer.shadow(&surfaces, &scene.light, None).iter().enumerate() {
+    for (i, s) in renderer.shadow(&surfaces, scene.light(), None).iter().enumerate() {
         let Some(s) = s else { continue };
         compared += 1;
         wrong += ((shadow[i][0] == 1.0) != s.sun.value && s.sun.margin >= MARGIN) as usize;
@@ -303,12 +303,12 @@ fn every_back_end_agrees_with_the_f64_reference_after_100_refit_frames() {
 fn skinned_and_morphed() -> Scene {
     use raygraph::scene::animation::MorphTarget;
     let mut scene = animated("skinned_cylinder");
-    let mut rig = (**scene.rig.as_ref().unwrap()).clone();
+    let mut rig = (**scene.rig().unwrap()).clone();
     let deformer = &mut rig.deformers[0];
     let positions = deformer.rest.iter().map(|v| Vec3::new(0.1 * v.position[1] / 2.0, 0.0, 0.0)).collect();
     deformer.targets.push(MorphTarget { positions, normals: None });
     rig.nodes[deformer.node].weights = vec![0.7];
-    scene.rig = Some(std::sync::Arc::new(rig));
+    scene.set_rig(Some(std::sync::Arc::new(rig)));
     scene
 }
 
@@ -329,10 +329,10 @@ fn gpu_deformation_matches_the_cpu_reference() {
             exec.render(&gpu, &camera(), &scene).unwrap();
             let cpu = scene.with_meshes_posed();
             let uploaded = exec.uploaded_scene().unwrap();
-            let bytes = read_bytes(&gpu.device, &gpu.queue, uploaded.vertices.as_ref().unwrap(), 0, uploaded.vertices.as_ref().unwrap().size()).unwrap();
+            let bytes = read_bytes(gpu.device(), gpu.queue(), uploaded.vertices().unwrap(), 0, uploaded.vertices().unwrap().size()).unwrap();
             let gpu_vertices: &[raygraph::scene::Vertex] = bytemuck::cast_slice(&bytes);
             let mut base = 0;
-            for (m, mesh) in cpu.meshes.iter().enumerate() {
+            for (m, mesh) in cpu.meshes().iter().enumerate() {
                 let deforming = scene.deforming_meshes().contains(&m);
                 for (k, v) in mesh.vertices.iter().enumerate() {
                     let g = gpu_vertices[base + k];
@@ -348,8 +348,8 @@ fn gpu_deformation_matches_the_cpu_reference() {
                 }
                 base += mesh.vertices.len();
             }
-            let rest = &scene.rig.as_ref().unwrap().deformers[0].rest;
-            let moved = cpu.meshes[scene.deforming_meshes()[0]].vertices.iter().zip(rest).filter(|(a, b)| a.position != b.position).count();
+            let rest = &scene.rig().unwrap().deformers[0].rest;
+            let moved = cpu.meshes()[scene.deforming_meshes()[0]].vertices.iter().zip(rest).filter(|(a, b)| a.position != b.position).count();
             assert!(moved > 10, "{name} at {time} s: the pose moves vertices ({moved})");
         }
         println!("{name}: GPU against CPU deformation: positions within {worst_p:.2e} of the largest coordinate, normals within {worst_n:.2e}");
@@ -366,7 +366,7 @@ fn a_static_scene_pays_nothing() {
     let gpu = gpu();
     for (name, mut scene) in [("default", raygraph::scene::builtin::default_scene()), ("spinner (nodes only)", animated("spinner"))] {
         let mut exec = executor(&gpu, "graph/hybrid.ron", Some(Backend::Compute), &scene);
-        let vertices = exec.uploaded_scene().unwrap().vertices.as_ref().unwrap().usage();
+        let vertices = exec.uploaded_scene().unwrap().vertices().unwrap().usage();
         assert!(!vertices.contains(wgpu::BufferUsages::COPY_DST), "{name}: {vertices:?}");
         let reports: Vec<BuildReport> = (0..3)
             .map(|_| {

@@ -68,8 +68,8 @@ fn glass_material(lit: bool) -> Material {
 fn vertex_alpha_scene() -> Scene {
     let mut s = panel_scene();
     s.materials_mut()[1].base_color[3] = 1.0;
-    let corners = s.meshes[1].vertices.len();
-    std::sync::Arc::make_mut(&mut s.meshes[1]).extras = Some(vec![VertexExtra { color: [1.0, 1.0, 1.0, COVERAGE], ..Default::default() }; corners]);
+    let corners = s.meshes()[1].vertices.len();
+    s.mesh_mut(1).extras = Some(vec![VertexExtra { color: [1.0, 1.0, 1.0, COVERAGE], ..Default::default() }; corners]);
     s
 }
 
@@ -89,7 +89,7 @@ fn transmission_texture_scene() -> Scene {
     let mut m = Material { double_sided: true, unlit: true, ..Material::diffuse("textured glass", [1.0, 0.0, 0.0, 1.0], None) };
     m.lobes.transmission = 1.0;
     m.lobes.textures[raygraph::scene::LOBE_TRANSMISSION] = Some(0);
-    s.textures =
+    *s.textures_mut() =
         vec![raygraph::scene::TextureImage { name: "transmission".into(), width: 2, height: 2, rgba: std::sync::Arc::new([153, 0, 0, 255].repeat(4)) }];
     s.materials_mut()[1] = m;
     s
@@ -98,7 +98,7 @@ fn transmission_texture_scene() -> Scene {
 /// The panel scene with a green 40% panel half a unit behind the red one, the same size.
 fn stacked_scene() -> Scene {
     let mut s = panel_scene();
-    s.meshes.push(quad("green panel", 1.0, 0.5).into());
+    s.push_mesh(quad("green panel", 1.0, 0.5));
     s.materials_mut().push(Material {
         alpha_mode: AlphaMode::Blend,
         double_sided: true,
@@ -144,13 +144,13 @@ fn panel_errors(hdr: &[[f32; 4]], over: Vec3) -> (f32, usize, f32) {
 /// The panel over the wall, seen from +z: the panel covers the middle half of the image.
 fn panel_scene() -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "blend panel".into();
-    s.meshes = vec![quad("wall", 4.0, 0.0), quad("panel", 1.0, 1.0)].into_iter().map(Into::into).collect();
+    s.set_name("blend panel");
+    s.set_meshes(vec![quad("wall", 4.0, 0.0), quad("panel", 1.0, 1.0)]);
     *s.materials_mut() = vec![Material { unlit: true, ..Material::diffuse("wall", [0.0, 0.0, 1.0, 1.0], None) }, panel_material(false)];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
-    s.textures.clear();
+    s.textures_mut().clear();
     // 5 units from the panel, whose half-width 1 then spans half the image's height.
-    s.camera = Camera {
+    *s.camera_mut() = Camera {
         position: Vec3::new(0.0, 0.0, 6.0),
         target: Vec3::ZERO,
         up: Vec3::Y,
@@ -180,7 +180,7 @@ fn outside_panel(x: u32, y: u32) -> bool {
 }
 
 fn backends(gpu: &Gpu) -> Vec<Backend> {
-    gpu.backends.clone()
+    gpu.backends().to_vec()
 }
 
 #[test]
@@ -221,7 +221,7 @@ fn raster_blends_the_panels_over_the_wall_after_the_opaque_surfaces_in_both_forw
             let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
             assert!(plan.passes().iter().any(|p| p.name == "forward/translucent" && p.translucent), "{layer}: a translucent pass");
             let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-            exec.render(&gpu, &scene.camera, &scene).unwrap();
+            exec.render(&gpu, scene.camera(), &scene).unwrap();
             let hdr = channel(&gpu, &exec, "forward.color");
             let (worst_in, n_in, worst_out) = panel_errors(&hdr, over);
             println!("raster ({layer}), {what}: {n_in} pixels behind the panel, largest error {worst_in:.5}; beside it {worst_out:.5}");
@@ -236,29 +236,29 @@ fn raster_blends_the_panels_over_the_wall_after_the_opaque_surfaces_in_both_forw
 #[test]
 fn the_cpu_reads_the_transmission_texture_into_the_coverage_as_the_gpu_does() {
     let scene = transmission_texture_scene();
-    assert!(scene.materials[1].transmission_texture_drawn());
+    assert!(scene.materials()[1].transmission_texture_drawn());
     let coverage = raygraph::accel::alpha::blend_coverage(&scene, 1, 0, [0.25, 0.25]).expect("a translucent panel");
     assert!((coverage - 0.4).abs() < 1e-6, "1 - 1 x 0.6: {coverage}");
     let mut other_uv = scene.clone();
     other_uv.materials_mut()[1].sampling[5 + raygraph::scene::LOBE_TRANSMISSION].tex_coord = 1;
-    assert!(!other_uv.materials[1].transmission_texture_drawn(), "a texture on another uv set is not drawn");
+    assert!(!other_uv.materials()[1].transmission_texture_drawn(), "a texture on another uv set is not drawn");
 }
 
 /// A lit floor (y = 0) under a sun straight above, `panels` BLEND panels over all of x < 0, the
 /// first 1 above it, the others 0.5 apart above that; seen from above (image right is +x).
 fn shadow_scene(panels: usize, transmissive: bool) -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "blend shadow".into();
+    s.set_name("blend shadow");
     let flat = Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2);
     let over_left = |y: f32| Mat4::from_translation(Vec3::new(-4.0, y, 0.0)) * flat;
-    s.meshes = vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)].into_iter().map(Into::into).collect();
+    s.set_meshes(vec![quad("floor", 4.0, 0.0), quad("panel", 4.0, 0.0)]);
     *s.materials_mut() = vec![Material::diffuse("floor", [0.8, 0.8, 0.8, 1.0], None), if transmissive { glass_material(true) } else { panel_material(true) }];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: flat }, Instance { mesh: 1, material: 1, transform: over_left(1.0) }];
     for i in 1..panels {
         s.instances_mut().push(Instance { mesh: 1, material: 1, transform: over_left(1.0 + 0.5 * i as f32) });
     }
-    s.textures.clear();
-    s.lights = vec![PunctualLight {
+    s.textures_mut().clear();
+    *s.lights_mut() = vec![PunctualLight {
         name: "sun".into(),
         kind: LightKind::Directional,
         position: Vec3::ZERO,
@@ -266,7 +266,7 @@ fn shadow_scene(panels: usize, transmissive: bool) -> Scene {
         color: Vec3::ONE,
         intensity: 3.0,
     }];
-    s.camera = Camera {
+    *s.camera_mut() = Camera {
         position: Vec3::new(0.0, 10.0, 0.0),
         target: Vec3::ZERO,
         up: Vec3::NEG_Z,
@@ -317,12 +317,12 @@ fn shadows_through_blend_panels_let_one_minus_their_coverage_through_on_every_ba
 fn a_scene_without_blend_materials_traces_its_shadow_rays_as_any_hit_rays() {
     let gpu = gpu();
     let scene = builtin::default_scene();
-    assert!(scene.materials.iter().all(|m| m.alpha_mode != AlphaMode::Blend));
+    assert!(scene.materials().iter().all(|m| m.alpha_mode != AlphaMode::Blend));
     let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
     let path = repo().join("graph/hybrid.ron");
     let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let frame = exec.render(&gpu, &scene.camera, &scene).unwrap();
+    let frame = exec.render(&gpu, scene.camera(), &scene).unwrap();
     let names: Vec<String> = exec.plan().passes().iter().map(|p| p.name.clone()).collect();
     let rays_of = |pass: &str| frame.pass_rays[names.iter().position(|n| n == pass).unwrap()].expect("a trace pass counts its rays");
     let (shadow, blend) = (rays_of("shadow/shadow"), rays_of("blend/blend"));

@@ -58,7 +58,7 @@ fn render_writes_a_png_and_prints_the_pass_table() {
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = raygraph::runtime::Executor::new(&gpu, plan, &scene).unwrap();
     for _ in 0..2 {
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
     }
     let library = exec.read_output(&gpu).unwrap();
     let differing = img.pixels().zip(library.pixels()).filter(|(a, b)| a != b).count();

@@ -73,7 +73,7 @@ fn accumulating_a_still_frame_converges_to_the_closed_form_ambient_occlusion() {
     let sigma = (EXPECTED * (1.0 - EXPECTED) / RAYS).sqrt();
     let mut rows = Vec::new();
     for frame in 1..=64u32 {
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
         if frame.is_power_of_two() {
             let (mean, rms) = stats(&common::channel(&gpu, &exec, "ao_temporal.accumulated"));
             let (_, single) = stats(&common::channel(&gpu, &exec, "ao.ao"));
@@ -116,7 +116,7 @@ fn under_a_moving_camera_the_accumulated_error_stays_bounded_and_unbiased() {
     let (gpu, scene) = (gpu(), raygraph::bench::error::ceiling_scene());
     let mut exec = ceiling_executor(&gpu, &scene, &moving_graph());
     let sigma = (EXPECTED * (1.0 - EXPECTED) / RAYS).sqrt();
-    let mut camera = scene.camera;
+    let mut camera = *scene.camera();
     for frame in 1..=48u32 {
         exec.render(&gpu, &camera, &scene).unwrap();
         camera.position.x += MOTION;
@@ -209,7 +209,7 @@ fn filter_once_with(fill_wgsl: &str, params: &str) -> (Vec<[f32; 4]>, Vec<[f32; 
     let plan = raygraph::graph::compile::compile(&path, &p.project(), (W, H)).unwrap_or_else(|e| panic!("{e}"));
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     (common::channel(&gpu, &exec, "filter.filtered"), common::channel(&gpu, &exec, "gbuffer.position"))
 }
 
@@ -286,7 +286,7 @@ fn render_switched(graph: &str, off: &[&str], frames: usize) -> (Vec<String>, Ve
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     for _ in 0..frames {
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
     }
     (passes, exec.read_output(&gpu).unwrap().into_raw())
 }
@@ -388,7 +388,7 @@ fn after_a_fast_turn_the_filtered_shadows_are_no_worse_than_the_unfiltered_ones(
     use raygraph::graph::desc::ParamValue;
     let gpu = gpu();
     let scene = raygraph::scene::open("default", &Default::default()).unwrap().0;
-    let mut options = gpu.compile_options_for(gpu.backends[0]);
+    let mut options = gpu.compile_options_for(gpu.backends()[0]);
     options.reuse = false;
     // The other effects of bench error's filter part, and their filters.
     for effect in raygraph::bench::filters::EFFECTS.iter().filter(|e| e.node != "shadow") {
@@ -403,7 +403,7 @@ fn after_a_fast_turn_the_filtered_shadows_are_no_worse_than_the_unfiltered_ones(
     let project = raygraph::graph::compile::Project::beside_graph(&path);
     let plan = raygraph::graph::compile::compile_with(&path, &project, (64, 36), &options).unwrap_or_else(|e| panic!("{e}"));
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let camera = scene.camera;
+    let camera = *scene.camera();
     let horizontal = 2.0 * ((camera.fov_y * 0.5).tan() * 64.0 / 36.0).atan();
     let turned = |fraction: f32| {
         let rotation = glam::Mat3::from_axis_angle(camera.up.normalize(), 0.4 * horizontal * fraction);

@@ -25,17 +25,17 @@ const ALBEDO: f32 = 0.5;
 
 fn furnace() -> Scene {
     let mut s = default_scene();
-    s.name = "furnace".into();
-    s.meshes = vec![cube("room")].into_iter().map(Into::into).collect();
-    s.textures = Vec::new();
+    s.set_name("furnace");
+    s.set_meshes(vec![cube("room")]);
+    *s.textures_mut() = Vec::new();
     let mut m = Material::diffuse("wall", [ALBEDO, ALBEDO, ALBEDO, 1.0], None);
     m.emissive = [E; 3];
     m.double_sided = true;
     m.roughness = 1.0;
     *s.materials_mut() = vec![m];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_scale(Vec3::splat(4.0)) }];
-    s.light.ambient = 0.0;
-    s.camera = Camera::look(Vec3::new(0.3, 0.2, 1.2), Vec3::new(-0.5, -0.4, -1.0), 70.0, 0.01, 100.0);
+    s.light_mut().ambient = 0.0;
+    *s.camera_mut() = Camera::look(Vec3::new(0.3, 0.2, 1.2), Vec3::new(-0.5, -0.4, -1.0), 70.0, 0.01, 100.0);
     s
 }
 
@@ -79,7 +79,7 @@ fn render(gi_enabled: bool) -> (Texels, Texels, Option<Texels>) {
     let scene = furnace();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     for _ in 0..2 {
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
     }
     (common::channel(&gpu, &exec, "resolve.hdr"), common::channel(&gpu, &exec, "gbuffer.position"), gi_enabled.then(|| common::channel(&gpu, &exec, "gi.gi")))
 }
@@ -136,7 +136,7 @@ fn disk_rim() -> Vec<Vec3> {
 
 fn emitter_scene() -> Scene {
     let mut s = default_scene();
-    s.name = "disk over a floor".into();
+    s.set_name("disk over a floor");
     let v = |p: Vec3, n: Vec3| Vertex { position: p.into(), normal: n.into(), uv: [0.0, 0.0] };
     let floor = Mesh {
         name: "floor".into(),
@@ -149,15 +149,15 @@ fn emitter_scene() -> Scene {
     vertices.extend(disk_rim().into_iter().map(|p| v(p, Vec3::NEG_Y)));
     let indices = (0..DISK_SIDES as u32).flat_map(|i| [0, 1 + i, 1 + (i + 1) % DISK_SIDES as u32]).collect();
     let disk = Mesh { name: "disk".into(), vertices, indices, tangents: None, extras: None };
-    s.meshes = vec![floor, disk].into_iter().map(Into::into).collect();
-    s.textures = Vec::new();
+    s.set_meshes(vec![floor, disk]);
+    *s.textures_mut() = Vec::new();
     let mut emitter = Material::diffuse("emitter", [DISK_E, DISK_E, DISK_E, 1.0], None);
     emitter.unlit = true;
     emitter.double_sided = true;
     *s.materials_mut() = vec![Material::diffuse("floor", [0.5, 0.5, 0.5, 1.0], None), emitter];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
     // No light: the disk is the only source the GI rays can find.
-    s.lights = vec![PunctualLight {
+    *s.lights_mut() = vec![PunctualLight {
         name: "off".into(),
         kind: LightKind::Directional,
         position: Vec3::ZERO,
@@ -165,8 +165,8 @@ fn emitter_scene() -> Scene {
         color: Vec3::ONE,
         intensity: 0.0,
     }];
-    s.light.ambient = 0.0;
-    s.camera = Camera::look(Vec3::new(0.0, 0.6, 3.2), Vec3::new(0.0, 0.0, 0.0), 70.0, 0.01, 100.0);
+    s.light_mut().ambient = 0.0;
+    *s.camera_mut() = Camera::look(Vec3::new(0.0, 0.6, 3.2), Vec3::new(0.0, 0.0, 0.0), 70.0, 0.01, 100.0);
     s
 }
 
@@ -205,7 +205,7 @@ fn under_a_finite_emitter_the_gi_is_its_radiance_times_the_form_factor() {
     let plan = raygraph::graph::compile::compile(&path, &p.project(), (W, H)).unwrap_or_else(|e| panic!("{e}"));
     let scene = emitter_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     let (gi, position) = (common::channel(&gpu, &exec, "gi.gi"), common::channel(&gpu, &exec, "gbuffer.position"));
     let rim = disk_rim();
     // The two laws differ most near the disk: the sampling law is judged on the pixels that see

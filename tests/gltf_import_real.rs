@@ -59,13 +59,13 @@ fn load_with_missing(slot: TextureSlot) -> (Material, ImportReport, Scene) {
     let w = r.warnings.iter().find(|w| w.contains("missing.png")).expect("a warning for the slot");
     assert!(w.contains("doc.gltf") && w.contains("`m`") && w.contains(slot.name()) && w.contains(slot.fallback()), "{w}");
     assert_eq!(r.images_used, Some(if slot == TextureSlot::BaseColor { 1 } else { 2 }), "the missing image counts as used");
-    (s.materials[0].clone(), r, s)
+    (s.materials()[0].clone(), r, s)
 }
 
 #[test]
 fn a_missing_base_colour_image_becomes_the_magenta_checker() {
     let (m, _, s) = load_with_missing(TextureSlot::BaseColor);
-    let t = &s.textures[m.texture.expect("the base colour slot keeps a texture")];
+    let t = &s.textures()[m.texture.expect("the base colour slot keeps a texture")];
     assert_eq!(&t.rgba[0..4], &[255, 0, 255, 255], "magenta marks the missing texture");
     assert_eq!(m.emissive, [1.0, 0.5, 0.25], "other slots untouched");
 }
@@ -75,29 +75,29 @@ fn a_missing_metallic_roughness_image_leaves_the_factors_alone() {
     let (m, _, s) = load_with_missing(TextureSlot::MetallicRoughness);
     assert_eq!(m.metallic_roughness_texture, None);
     assert_eq!((m.metallic, m.roughness), (1.0, 1.0), "the glTF default factors");
-    assert_eq!(s.textures.len(), 1, "only the base colour image; no checker was made");
+    assert_eq!(s.textures().len(), 1, "only the base colour image; no checker was made");
 }
 
 #[test]
 fn a_missing_normal_map_gives_the_flat_normal() {
     let (m, _, s) = load_with_missing(TextureSlot::Normal);
     assert_eq!(m.normal_texture, None);
-    assert!(s.meshes[0].tangents.is_none(), "no normal map, so no generated tangents");
-    assert_eq!(s.textures.len(), 1);
+    assert!(s.meshes()[0].tangents.is_none(), "no normal map, so no generated tangents");
+    assert_eq!(s.textures().len(), 1);
 }
 
 #[test]
 fn a_missing_occlusion_image_gives_occlusion_one() {
     let (m, _, s) = load_with_missing(TextureSlot::Occlusion);
     assert_eq!(m.occlusion_texture, None);
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
 }
 
 #[test]
 fn a_missing_emissive_image_turns_the_emission_off() {
     let (m, _, s) = load_with_missing(TextureSlot::Emissive);
     assert_eq!((m.emissive_texture, m.emissive), (None, [0.0; 3]));
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
 }
 
 #[test]
@@ -105,7 +105,7 @@ fn a_missing_lobe_extension_image_leaves_its_factor_alone() {
     for (k, slot) in TextureSlot::ALL[5..].iter().enumerate() {
         let (m, _, s) = load_with_missing(*slot);
         assert_eq!(m.lobes.textures[k], None, "{slot:?}");
-        assert_eq!(s.textures.len(), 1, "{slot:?}: only the base colour image; no checker was made");
+        assert_eq!(s.textures().len(), 1, "{slot:?}: only the base colour image; no checker was made");
     }
 }
 
@@ -118,8 +118,8 @@ fn one_missing_image_in_two_slots_is_one_missing_image_and_two_fallbacks() {
     let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!((r.missing_images, r.texture_fallbacks.len(), r.images_used), (1, 2, Some(1)));
-    assert_eq!(s.materials[0].normal_texture, None);
-    assert!(s.materials[0].texture.is_some());
+    assert_eq!(s.materials()[0].normal_texture, None);
+    assert!(s.materials()[0].texture.is_some());
     says(&info::describe(&s, Some(&r)), &["textures    1 (images the materials use: 0 loaded, 1 missing", "fallbacks   2\n"]);
 }
 
@@ -136,9 +136,9 @@ fn occlusion_and_emissive_strength_are_imported() {
     d.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
     let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
     let _ = std::fs::remove_dir_all(&dir);
-    let m = &s.materials[0];
+    let m = &s.materials()[0];
     assert_eq!(m.occlusion_strength, 0.25);
-    assert_eq!(&s.textures[m.occlusion_texture.unwrap()].rgba[0..4], &[200, 0, 0, 255]);
+    assert_eq!(&s.textures()[m.occlusion_texture.unwrap()].rgba[0..4], &[200, 0, 0, 255]);
     assert_eq!(m.emissive, [4.0, 2.0, 1.0], "emissiveFactor x emissiveStrength");
     assert!(r.ignored_features.is_empty(), "both are read: {:?}", r.ignored_features);
 }
@@ -181,10 +181,10 @@ fn every_kind_of_punctual_light_is_imported_in_world_space() {
     let dir = temp_dir("lights");
     let (s, r) = load(&lights_document().write_glb(&dir, "lights"));
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(s.lights.len(), 3);
+    assert_eq!(s.lights().len(), 3);
     assert!(r.ignored_features.is_empty(), "{:?}", r.ignored_features);
     // The parent turns -z into -x; the spot's own turn makes its -z +y first.
-    let [sun, point, spot] = [&s.lights[0], &s.lights[1], &s.lights[2]];
+    let [sun, point, spot] = [&s.lights()[0], &s.lights()[1], &s.lights()[2]];
     assert_eq!((sun.name.as_str(), sun.kind), ("sun", LightKind::Directional));
     assert!(near(sun.direction, Vec3::NEG_X), "{}", sun.direction);
     assert_eq!((sun.color, sun.intensity), (Vec3::new(1.0, 0.9, 0.8), 3.0));
@@ -193,7 +193,7 @@ fn every_kind_of_punctual_light_is_imported_in_world_space() {
     assert_eq!((point.color, point.intensity), (Vec3::ONE, 40.0), "glTF's default colour");
     assert_eq!(spot.kind, LightKind::Spot { range: Some(10.0), inner_cone: 0.2, outer_cone: 0.6 });
     assert!(near(spot.position, Vec3::new(1.0, 2.0, 3.0)) && near(spot.direction, Vec3::Y), "{} {}", spot.position, spot.direction);
-    assert_eq!(s.effective_lights(), s.lights, "the file's lights replace the default sun");
+    assert_eq!(s.effective_lights(), s.lights(), "the file's lights replace the default sun");
     let text = info::describe(&s, Some(&r));
     says(&text, &["lights      3 from the file: sun (directional), bulb (point), cone (spot)"]);
 }
@@ -203,10 +203,10 @@ fn a_file_without_lights_keeps_the_default_sun() {
     let dir = temp_dir("no-lights");
     let (s, _) = load(&triangle_with(json!({})).write_glb(&dir, "plain"));
     let _ = std::fs::remove_dir_all(&dir);
-    assert!(s.lights.is_empty());
+    assert!(s.lights().is_empty());
     let sun = s.effective_lights();
     assert_eq!(sun.len(), 1);
-    assert!(near(sun[0].direction, -s.light.direction));
+    assert!(near(sun[0].direction, -s.light().direction));
 }
 
 /// Two perspective cameras and an orthographic one: `hero` at (0, 1, 5) looking down -z; an
@@ -231,14 +231,14 @@ fn the_files_cameras_become_presets_and_the_first_is_the_default_view() {
     let dir = temp_dir("cameras");
     let (s, r) = load(&cameras_document().write_glb(&dir, "cams"));
     let _ = std::fs::remove_dir_all(&dir);
-    let names: Vec<&str> = s.presets.iter().map(|(n, _)| n.as_str()).collect();
+    let names: Vec<&str> = s.presets().iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(
         names,
         ["hero", "side", "plan", "front", "top"],
         "the file's cameras named by camera, then by node; then the built-in presets (the file's `side` takes the built-in one's place)"
     );
     assert_eq!(s.preset("plan").unwrap().orthographic, Some(1.0));
-    assert_eq!(s.camera, s.presets[0].1, "the first is the default view");
+    assert_eq!(*s.camera(), s.presets()[0].1, "the first is the default view");
     let hero = s.preset("hero").unwrap();
     let want = Mat4::look_at_rh(Vec3::new(0.0, 1.0, 5.0), Vec3::new(0.0, 1.0, 4.0), Vec3::Y);
     assert!(hero.view().abs_diff_eq(want, 1e-5), "{:?}", hero.view());
@@ -269,7 +269,7 @@ fn camera_names_are_made_unique_and_unnamed_ones_numbered() {
     d.node(json!({"camera": 1}), true);
     let (s, _) = load(&d.write_glb(&dir, "names"));
     let _ = std::fs::remove_dir_all(&dir);
-    let names: Vec<&str> = s.presets.iter().map(|(n, _)| n.as_str()).collect();
+    let names: Vec<&str> = s.presets().iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["a", "a-2", "camera1", "front", "top", "side"]);
 }
 
@@ -278,7 +278,7 @@ fn a_file_without_cameras_keeps_the_automatic_presets() {
     let dir = temp_dir("no-cameras");
     let (s, r) = load(&triangle_with(json!({})).write_glb(&dir, "plain"));
     let _ = std::fs::remove_dir_all(&dir);
-    let names: Vec<&str> = s.presets.iter().map(|(n, _)| n.as_str()).collect();
+    let names: Vec<&str> = s.presets().iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["front", "top", "side"]);
     assert_eq!(r.file_cameras, 0);
 }
@@ -300,8 +300,8 @@ fn scene_info_lists_what_is_approximated_or_ignored_per_material_and_extension()
     d.json["meshes"][0]["name"] = json!("tri");
     let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(s.materials[0].sampling[0].wrap_t, raygraph::scene::Wrap::MirroredRepeat);
-    assert_eq!(s.materials[0].sampling[0].transform, Some([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
+    assert_eq!(s.materials()[0].sampling[0].wrap_t, raygraph::scene::Wrap::MirroredRepeat);
+    assert_eq!(s.materials()[0].sampling[0].transform, Some([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
     assert_eq!(
         r.approximated,
         ["material `coat`: alphaMode BLEND is blended in hybrid and full RT (up to 8 surfaces a ray, in depth order), in raster after the opaque surfaces with instances sorted back to front (not the triangles of one mesh), screen-door in raster shadow maps"]
@@ -331,7 +331,7 @@ fn a_16_bit_image_is_rounded_to_8_bits_and_says_so() {
     let (s, r) = load(&d.write_gltf_external(&dir, "doc"));
     let _ = std::fs::remove_dir_all(&dir);
     // 511 / 65535 x 255 = 1.99 (the high byte would give 1); 32832 / 65535 x 255 = 127.75.
-    assert_eq!(&s.textures[0].rgba[0..4], &[2, 128, 0, 255], "each channel rounded to the nearest 8-bit value");
+    assert_eq!(&s.textures()[0].rgba[0..4], &[2, 128, 0, 255], "each channel rounded to the nearest 8-bit value");
     assert_eq!(r.approximated, ["image `deep.png`: 16-bit channels rounded to 8 bits (textures are stored as RGBA8)"]);
 }
 
@@ -364,23 +364,23 @@ fn export_round_trips_lights_cameras_occlusion_and_emissive_strength() {
     let (back, r) = load(&out);
     let _ = std::fs::remove_dir_all(&dir);
     assert!(r.ignored_features.is_empty() && r.warnings.is_empty(), "{r:?}");
-    assert_eq!(back.lights.len(), s.lights.len());
-    for (a, b) in s.lights.iter().zip(&back.lights) {
+    assert_eq!(back.lights().len(), s.lights().len());
+    for (a, b) in s.lights().iter().zip(back.lights()) {
         assert_eq!((&a.name, a.kind, a.color, a.intensity), (&b.name, b.kind, b.color, b.intensity));
         assert!(near(a.direction, b.direction), "{}: {} vs {}", a.name, a.direction, b.direction);
         if a.kind != LightKind::Directional {
             assert!(near(a.position, b.position), "{}: {} vs {}", a.name, a.position, b.position);
         }
     }
-    assert_eq!(s.presets.iter().map(|p| &p.0).collect::<Vec<_>>(), back.presets.iter().map(|p| &p.0).collect::<Vec<_>>());
-    for ((name, a), (_, b)) in s.presets.iter().zip(&back.presets) {
+    assert_eq!(s.presets().iter().map(|p| &p.0).collect::<Vec<_>>(), back.presets().iter().map(|p| &p.0).collect::<Vec<_>>());
+    for ((name, a), (_, b)) in s.presets().iter().zip(back.presets()) {
         assert!(a.view().abs_diff_eq(b.view(), 1e-5), "{name}: {:?} vs {:?}", a.view(), b.view());
         assert_eq!((a.fov_y, a.near, a.far), (b.fov_y, b.near, b.far), "{name}");
     }
-    let (m, mb) = (&s.materials[0], &back.materials[0]);
+    let (m, mb) = (&s.materials()[0], &back.materials()[0]);
     assert_eq!(mb.emissive, [8.0, 4.0, 0.0]);
     assert_eq!((mb.emissive, mb.occlusion_strength), (m.emissive, m.occlusion_strength));
-    assert_eq!(back.textures[mb.occlusion_texture.unwrap()].rgba, s.textures[m.occlusion_texture.unwrap()].rgba);
+    assert_eq!(back.textures()[mb.occlusion_texture.unwrap()].rgba, s.textures()[m.occlusion_texture.unwrap()].rgba);
 }
 
 fn real_asset(rel: &str) -> (Scene, ImportReport, String) {
@@ -391,25 +391,25 @@ fn real_asset(rel: &str) -> (Scene, ImportReport, String) {
 }
 
 fn alpha_counts(s: &Scene) -> (usize, usize, usize) {
-    let count = |f: fn(&AlphaMode) -> bool| s.materials.iter().filter(|m| f(&m.alpha_mode)).count();
+    let count = |f: fn(&AlphaMode) -> bool| s.materials().iter().filter(|m| f(&m.alpha_mode)).count();
     (count(|a| *a == AlphaMode::Opaque), count(|a| matches!(a, AlphaMode::Mask(_))), count(|a| *a == AlphaMode::Blend))
 }
 
 #[test]
 fn smallpine_reports_its_missing_atlas_normal_map_and_its_blended_leaves() {
     let (s, r, text) = real_asset("smallpine/scene.gltf");
-    assert_eq!((s.triangle_count(), s.meshes.len(), s.materials.len()), (1650, 2, 2));
-    assert_eq!((r.images_used, r.missing_images, s.textures.len()), (Some(5), 1, 4), "5 images used, the normal map missing");
+    assert_eq!((s.triangle_count(), s.meshes().len(), s.materials().len()), (1650, 2, 2));
+    assert_eq!((r.images_used, r.missing_images, s.textures().len()), (Some(5), 1, 4), "5 images used, the normal map missing");
     assert_eq!(alpha_counts(&s), (1, 0, 1));
     let f = &r.texture_fallbacks;
     assert_eq!(f.len(), 1);
     assert_eq!((f[0].material.as_str(), f[0].slot, f[0].image.as_str()), ("`M_TreeAtlas`", TextureSlot::Normal, "textures/M_TreeAtlas_normal.png"));
-    let atlas = s.materials.iter().find(|m| m.name == "M_TreeAtlas").unwrap();
+    let atlas = s.materials().iter().find(|m| m.name == "M_TreeAtlas").unwrap();
     assert_eq!(atlas.normal_texture, None, "the flat normal, not the magenta checker read as a normal map");
     assert_eq!(atlas.occlusion_texture, atlas.metallic_roughness_texture, "one packed image in two slots");
     assert!(atlas.texture.is_some() && atlas.occlusion_texture.is_some());
     assert!(text.contains("ignored     nothing"), "TEXCOORD_1 is read: {text}");
-    assert!(s.meshes.iter().all(|m| m.extras.is_some()), "both meshes carry TEXCOORD_1");
+    assert!(s.meshes().iter().all(|m| m.extras.is_some()), "both meshes carry TEXCOORD_1");
     says(
         &text,
         &[
@@ -427,10 +427,10 @@ fn smallpine_reports_its_missing_atlas_normal_map_and_its_blended_leaves() {
 #[test]
 fn damaged_helmet_reports_five_textures_and_imports_every_slot() {
     let (s, r, text) = real_asset("DamagedHelmet/DamagedHelmet.glb");
-    assert_eq!((s.triangle_count(), s.meshes.len(), s.materials.len()), (15_452, 1, 1));
-    assert_eq!((r.images_used, r.missing_images, s.textures.len()), (Some(5), 0, 5));
+    assert_eq!((s.triangle_count(), s.meshes().len(), s.materials().len()), (15_452, 1, 1));
+    assert_eq!((r.images_used, r.missing_images, s.textures().len()), (Some(5), 0, 5));
     assert_eq!(alpha_counts(&s), (1, 0, 0));
-    let m = &s.materials[0];
+    let m = &s.materials()[0];
     let slots = [m.texture, m.metallic_roughness_texture, m.normal_texture, m.occlusion_texture, m.emissive_texture];
     let mut distinct: Vec<usize> = slots.iter().map(|t| t.expect("every slot filled")).collect();
     distinct.sort_unstable();

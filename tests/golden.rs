@@ -35,7 +35,7 @@ fn raster_graph_matches_reference_image() {
     println!("adapter: {}", gpu.describe());
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     let img = exec.read_output(&gpu).unwrap();
 
     let reference_path = common::repo().join("assets/reference/raster_160x90.png");

@@ -22,8 +22,8 @@ fn gpu() -> Gpu {
 }
 
 fn read_back(gpu: &Gpu, b: &GpuBlas) -> (Vec<GpuBvhNode>, Vec<GpuTriangle>) {
-    let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).unwrap();
-    let tris = read_bytes(&gpu.device, &gpu.queue, &b.triangles, 0, b.triangle_count as u64 * 48).unwrap();
+    let nodes = read_bytes(gpu.device(), gpu.queue(), &b.nodes, 0, b.node_count as u64 * 32).unwrap();
+    let tris = read_bytes(gpu.device(), gpu.queue(), &b.triangles, 0, b.triangle_count as u64 * 48).unwrap();
     (bytemuck::cast_slice(&nodes).to_vec(), bytemuck::cast_slice(&tris).to_vec())
 }
 
@@ -73,7 +73,7 @@ fn check_layout(name: &str, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &
 /// and for the unused slots inside leaves), each triangle's index in the input; and the SAH
 /// cost the build reports against the read-back tree's.
 fn check_refit_inputs(gpu: &Gpu, name: &str, built: &GpuBlas, nodes: &[GpuBvhNode], tris: &[GpuTriangle], input: &[GpuTriangle]) {
-    let parents = read_bytes(&gpu.device, &gpu.queue, &built.parents, 0, nodes.len() as u64 * 4).unwrap();
+    let parents = read_bytes(gpu.device(), gpu.queue(), &built.parents, 0, nodes.len() as u64 * 4).unwrap();
     let parents: &[u32] = bytemuck::cast_slice(&parents);
     let mut expected = vec![0u32; nodes.len()];
     let mut stack = vec![0usize];
@@ -85,7 +85,7 @@ fn check_refit_inputs(gpu: &Gpu, name: &str, built: &GpuBlas, nodes: &[GpuBvhNod
         }
     }
     assert!(parents == expected, "{name}: parents");
-    let order = read_bytes(&gpu.device, &gpu.queue, &built.leaf_order, 0, tris.len() as u64 * 4).unwrap();
+    let order = read_bytes(gpu.device(), gpu.queue(), &built.leaf_order, 0, tris.len() as u64 * 4).unwrap();
     let order: &[u32] = bytemuck::cast_slice(&order);
     assert!(tris.iter().zip(order).all(|(t, &o)| input.get(o as usize) == Some(t)), "{name}: leaf order");
     let sah = layout_sah_cost(nodes);
@@ -107,7 +107,7 @@ fn soup(n: usize, seed: u64, spread: f32) -> Vec<GpuTriangle> {
 #[test]
 fn small_and_degenerate_inputs_give_valid_trees() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     let mut cases: Vec<(String, Vec<GpuTriangle>)> =
         [1, 2, 3, 4, 5, 17, 1000, 1025, 5000].iter().map(|&n| (format!("soup of {n}"), soup(n, n as u64, 10.0))).collect();
     // Every centroid in one place: all Morton codes equal.
@@ -129,7 +129,7 @@ fn small_and_degenerate_inputs_give_valid_trees() {
     ));
     for (name, input) in &cases {
         let scopes = gpu.scopes();
-        let built = builder.build(&gpu.device, &gpu.queue, input).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let built = builder.build(gpu.device(), gpu.queue(), input).unwrap_or_else(|e| panic!("{name}: {e}"));
         scopes.finish(&gpu, name).unwrap();
         let (nodes, tris) = read_back(&gpu, &built);
         let depth = check_layout(name, &nodes, &tris, input);
@@ -155,11 +155,11 @@ fn atrium_rays(scene: &Scene, count: usize) -> Vec<Ray> {
 #[test]
 fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the_same_hits() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     let scene = builtin("atrium", 0).unwrap();
     let (merged, origin) = merge_instances(&scene);
     let input = merged_triangles(&merged, &origin);
-    let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
+    let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
     let (nodes, tris) = read_back(&gpu, &built);
     check_layout("atrium", &nodes, &tris, &input);
     check_refit_inputs(&gpu, "atrium", &built, &nodes, &tris, &input);
@@ -194,12 +194,12 @@ fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the
 #[test]
 fn an_organic_mesh_and_a_box_build_on_the_gpu() {
     let gpu = gpu();
-    let builder = GpuBlasBuilder::new(&gpu.device).unwrap();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     for name in ["box", "organic"] {
         let scene = builtin(name, 0).unwrap();
         let (merged, origin) = merge_instances(&scene);
         let input = merged_triangles(&merged, &origin);
-        let built = builder.build(&gpu.device, &gpu.queue, &input).unwrap();
+        let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
         let (nodes, tris) = read_back(&gpu, &built);
         check_layout(name, &nodes, &tris, &input);
         let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
@@ -222,14 +222,14 @@ fn an_organic_mesh_and_a_box_build_on_the_gpu() {
 fn record_test_scene() -> Scene {
     use glam::{Mat4, Quat};
     let mut scene = builtin("organic", 0).unwrap();
-    let base = scene.instances[0].clone();
+    let base = scene.instances()[0].clone();
     let mut odd = Mesh::default();
     for p in [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [f32::NAN, 0.0, 0.0], [0.3, 0.7, 1.1]] {
         odd.vertices.push(Vertex { position: p, ..Default::default() });
     }
     odd.indices = vec![0, 1, 2, 0, 1, 3, 0, 0, 1, 0, 1, 9, 1, 2, 4, 2, 2, 2];
-    scene.meshes.push(odd.into());
-    let odd_mesh = scene.meshes.len() - 1;
+    scene.push_mesh(odd);
+    let odd_mesh = scene.meshes().len() - 1;
     let transforms = [
         Mat4::from_scale_rotation_translation(Vec3::new(-1.0, 1.0, 1.0), Quat::from_rotation_y(0.7), Vec3::new(123.456, -7.25, 0.1)),
         Mat4::from_scale_rotation_translation(Vec3::new(0.37, 2.9, 1.3), Quat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.2), Vec3::new(-3.3, 1e3, 17.0)),
@@ -250,19 +250,19 @@ fn record_test_scene() -> Scene {
 /// f64 result once; the kernel carries the sum in two f32s, which lavapipe's compiler reduces
 /// to plain f32 arithmetic (four roundings: 1-ulp differences where the terms cancel).
 fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what: &str) -> usize {
-    let hashes: Vec<u64> = scene.meshes.iter().map(|m| mesh_hash(m)).collect();
-    let made = maker.make(&gpu.device, &gpu.queue, scene, (&hashes, None), u32::MAX).unwrap().expect("records");
+    let hashes: Vec<u64> = scene.meshes().iter().map(|m| mesh_hash(m)).collect();
+    let made = maker.make(gpu.device(), gpu.queue(), scene, (&hashes, None), u32::MAX).unwrap().expect("records");
     let (merged, origin) = merge_instances(scene);
     let expected = merged_triangles(&merged, &origin);
     assert_eq!(made.count as usize, expected.len(), "{what}: record count");
-    let bytes = read_bytes(&gpu.device, &gpu.queue, &made.records, 0, 48 * made.count as u64).unwrap();
+    let bytes = read_bytes(gpu.device(), gpu.queue(), &made.records, 0, 48 * made.count as u64).unwrap();
     let records: &[GpuTriangle] = bytemuck::cast_slice(&bytes);
     let mut identical = 0;
     for (k, (got, want)) in records.iter().zip(&expected).enumerate() {
         assert_eq!((got.instance, got.prim, got.flags), (want.instance, want.prim, want.flags), "{what}: record {k}");
-        let inst = &scene.instances[want.instance as usize];
+        let inst = &scene.instances()[want.instance as usize];
         let rows = raygraph::accel::layout::affine_rows(&raygraph::accel::bvh::instance_transform(&inst.transform).unwrap());
-        let object = raygraph::accel::bvh::mesh_triangle(&scene.meshes[inst.mesh], want.prim as usize).unwrap();
+        let object = raygraph::accel::bvh::mesh_triangle(&scene.meshes()[inst.mesh], want.prim as usize).unwrap();
         for (c, (g, w)) in [got.v0, got.v1, got.v2].iter().zip([want.v0, want.v1, want.v2]).enumerate() {
             for r in 0..3 {
                 let terms = (0..3).map(|j| (rows[r][j] * object[c][j]).abs()).sum::<f32>() + rows[r][3].abs();
@@ -273,13 +273,13 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
         }
     }
     println!("{what}: {identical} of {} world vertices bit-identical to the CPU's", 3 * records.len());
-    let object = read_bytes(&gpu.device, &gpu.queue, &made.object_vertices, 0, 48 * made.count as u64).unwrap();
+    let object = read_bytes(gpu.device(), gpu.queue(), &made.object_vertices, 0, 48 * made.count as u64).unwrap();
     // xyz: the object-space vertex; w: its index among all meshes' vertices (mesh by mesh).
     let object: &[[u32; 4]] = bytemuck::cast_slice(&object);
     for (k, want) in expected.iter().enumerate() {
-        let m = scene.instances[want.instance as usize].mesh;
-        let mesh = &scene.meshes[m];
-        let first_vertex: usize = scene.meshes[..m].iter().map(|m| m.vertices.len()).sum();
+        let m = scene.instances()[want.instance as usize].mesh;
+        let mesh = &scene.meshes()[m];
+        let first_vertex: usize = scene.meshes()[..m].iter().map(|m| m.vertices.len()).sum();
         let verts = raygraph::accel::bvh::mesh_triangle(mesh, want.prim as usize).unwrap();
         for c in 0..3 {
             let id = (first_vertex + mesh.indices[3 * want.prim as usize + c] as usize) as u32;
@@ -296,17 +296,17 @@ fn check_gpu_records(gpu: &Gpu, maker: &mut GpuRecordMaker, scene: &Scene, what:
 #[test]
 fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
     let gpu = gpu();
-    let mut maker = GpuRecordMaker::new(&gpu.device);
+    let mut maker = GpuRecordMaker::new(gpu.device());
     let mut scene = record_test_scene();
     let first = check_gpu_records(&gpu, &mut maker, &scene, "first");
     // One vertex of the small mesh moved: only that mesh is written again.
-    let odd = scene.meshes.len() - 1;
-    std::sync::Arc::make_mut(&mut scene.meshes[odd]).vertices[4].position[2] = 0.0;
+    let odd = scene.meshes().len() - 1;
+    scene.mesh_mut(odd).vertices[4].position[2] = 0.0;
     let edit = check_gpu_records(&gpu, &mut maker, &scene, "after an edit");
     // 80 bytes per usable instance: the two under the singular transform are left out.
-    let instance_bytes = 80 * (scene.instances.len() - 2);
+    let instance_bytes = 80 * (scene.instances().len() - 2);
     assert_eq!(edit, instance_bytes + 5 * 16 + 18 * 4, "an edit uploads the instances and the edited mesh (first build: {first} bytes)");
     // A triangle added to the small mesh: the meshes are laid out again.
-    std::sync::Arc::make_mut(&mut scene.meshes[odd]).indices.extend([0, 2, 4]);
+    scene.mesh_mut(odd).indices.extend([0, 2, 4]);
     check_gpu_records(&gpu, &mut maker, &scene, "after a new triangle");
 }

@@ -26,12 +26,12 @@ fn assert_names_the_fog_pass(message: &str) {
 fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
     let (project, graph) = common::endless_fog::project();
     let mut gpu = common::gpu();
-    gpu.gpu_timeout = DEADLINE;
+    gpu.set_gpu_timeout(DEADLINE);
     let plan = compile::compile_with(&graph, &project.project(), (16, 16), &gpu.compile_options()).unwrap();
     let scene = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     let start = Instant::now();
-    let Err(err) = exec.render(&gpu, &scene.camera, &scene) else { panic!("a frame that never ends must fail") };
+    let Err(err) = exec.render(&gpu, scene.camera(), &scene) else { panic!("a frame that never ends must fail") };
     let waited = start.elapsed();
     println!("{err}\n(after {waited:?})");
     assert!(matches!(err, RuntimeError::GpuTimeout { .. }), "{err:?}");
@@ -40,7 +40,7 @@ fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
     assert!(gpu.timed_out());
     // The device is still busy: every later frame fails at once with the same error.
     let start = Instant::now();
-    let Err(again) = exec.render(&gpu, &scene.camera, &scene) else { panic!("the device is still busy") };
+    let Err(again) = exec.render(&gpu, scene.camera(), &scene) else { panic!("the device is still busy") };
     assert!(start.elapsed() < Duration::from_secs(1), "{:?}", start.elapsed());
     assert_eq!(again.to_string(), err.to_string());
     // Releasing objects the stuck work uses can block in the driver: the run ends here.

@@ -37,7 +37,7 @@ fn culled_pass_is_neither_allocated_nor_executed() {
     let gpu = gpu();
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     let counters = exec.read_debug_counters(&gpu).unwrap();
     let pixels = W * H;
     assert_eq!(counters[0], pixels, "fill ran once per pixel");
@@ -64,7 +64,7 @@ fn texture_reuse_saves_memory_and_renders_the_same_image() {
     let mut images = Vec::new();
     for plan in [reused, separate] {
         let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
         images.push(exec.read_output(&gpu).unwrap());
     }
     assert_eq!(images[0].dimensions(), (W, H));
@@ -90,7 +90,7 @@ fn every_pass_gets_a_gpu_timestamp_when_the_adapter_has_them() {
     let gpu = gpu();
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let t = exec.render(&gpu, &scene.camera, &scene).unwrap();
+    let t = exec.render(&gpu, scene.camera(), &scene).unwrap();
     assert_eq!(t.cpu_ms.len(), n);
     // lavapipe has timestamp queries; CI runs there, so this must hold.
     let gpu_ms = t.gpu_ms.expect("lavapipe reports timestamp queries");
@@ -114,7 +114,7 @@ fn a_fullscreen_pass_draws_what_the_compute_pass_writes() {
         let kinds: Vec<_> = plan.passes().iter().filter(|p| p.node == "out").map(|p| p.kind).collect();
         println!("{}: out pass {kinds:?}", graph.display());
         let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
         images.push(exec.read_output(&gpu).unwrap());
     }
     assert_eq!(images[0].dimensions(), (W, H));

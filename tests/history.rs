@@ -174,7 +174,7 @@ fn the_executor_swaps_the_textures_every_frame_and_the_history_is_valid_between_
     let plan = p.compile("count.ron", GRAPH).unwrap_or_else(|e| panic!("{e}"));
     let count = resource(&plan, "counter.count");
     let scene = default_scene();
-    let mut camera = scene.camera;
+    let mut camera = *scene.camera();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
     let mut textures = Vec::new();
     for frame in 1..=4 {

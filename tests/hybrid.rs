@@ -19,20 +19,9 @@ use raygraph::scene::{Camera, Light, Material, Mesh, Scene};
 
 /// A scene of (mesh, material, transform) parts.
 fn scene(parts: Vec<(Mesh, Material, Mat4)>, camera: Camera, light_dir: Vec3) -> Scene {
-    let mut s = Scene {
-        name: "test".into(),
-        meshes: Vec::new(),
-        materials: Default::default(),
-        instances: Default::default(),
-        textures: Vec::new(),
-        camera,
-        presets: vec![("test".into(), camera)],
-        light: Light { direction: light_dir.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 },
-        point_light: None,
-        lights: Vec::new(),
-        rig: None,
-        posed: None,
-    };
+    let mut s = Scene::new("test", camera);
+    s.presets_mut().push(("test".into(), camera));
+    *s.light_mut() = Light { direction: light_dir.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 };
     common::add_parts(&mut s, parts);
     s
 }
@@ -59,7 +48,7 @@ fn run(gpu: &Gpu, graph: &std::path::Path, backend: Backend, scene: &Scene, size
     let options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
     let plan = compile_with(graph, &Project::beside_graph(graph), size, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    let t = exec.render(gpu, &scene.camera, scene).unwrap();
+    let t = exec.render(gpu, scene.camera(), scene).unwrap();
     (exec, t)
 }
 
@@ -196,7 +185,7 @@ fn the_point_light_shadow_follows_its_analytic_outline() {
         cam,
         Vec3::Y,
     );
-    s.point_light = Some(raygraph::scene::PointLight { position: light, color: Vec3::ONE, intensity: 10.0 });
+    s.set_point_light(Some(raygraph::scene::PointLight { position: light, color: Vec3::ONE, intensity: 10.0 }));
     let graph = common::repo().join("graph/hybrid.ron");
     for backend in Backend::ALL {
         let size = (64u32, 48u32);
@@ -435,7 +424,7 @@ fn a_switched_off_effect_is_culled_and_reads_its_fallback() {
     assert!(plan.resource_by_name("resolve/ao (fallback)").is_some_and(|r| plan.resources()[r].extent == (1, 1)));
     let s = raygraph::scene::builtin::default_scene();
     let mut exec = Executor::new(&gpu, plan, &s).unwrap();
-    let t = exec.render(&gpu, &s.camera, &s).unwrap();
+    let t = exec.render(&gpu, s.camera(), &s).unwrap();
     let full = compile_with(
         &common::repo().join("graph/hybrid.ron"),
         &Project::beside_graph(&common::repo().join("graph/hybrid.ron")),

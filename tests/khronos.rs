@@ -29,7 +29,7 @@ fn open_with(name: &str, options: &LoadOptions) -> (Scene, raygraph::scene::Impo
 fn grey_and_alpha_images_decode_as_grey_with_their_alpha() {
     let (scene, _) = open_with("TextureEncodingTest", &LoadOptions::default());
     for label in ["TestLabels.png", "SlotLabels.png"] {
-        let texture = scene.textures.iter().find(|t| t.name == label).unwrap_or_else(|| panic!("no texture {label}"));
+        let texture = scene.textures().iter().find(|t| t.name == label).unwrap_or_else(|| panic!("no texture {label}"));
         let want = image::open(repo().join("assets/khronos/TextureEncodingTest/glTF").join(label)).unwrap();
         assert!(matches!(want.color(), image::ColorType::La8), "{label} is a grey+alpha PNG");
         let want = want.to_rgba8();
@@ -61,9 +61,9 @@ fn the_default_scene_is_drawn_and_any_other_can_be_chosen_by_index_or_name() {
 #[test]
 fn every_file_camera_and_the_built_in_presets_are_listed() {
     let (scene, report) = open_with("Cameras", &LoadOptions::default());
-    let names: Vec<&str> = scene.presets.iter().map(|(n, _)| n.as_str()).collect();
+    let names: Vec<&str> = scene.presets().iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["camera0", "camera1", "front", "top", "side"]);
-    assert_eq!(scene.camera, scene.presets[0].1, "the file's first camera is the default view");
+    assert_eq!(*scene.camera(), scene.presets()[0].1, "the file's first camera is the default view");
     let ortho = scene.preset("camera1").unwrap();
     assert_eq!(ortho.orthographic, Some(1.0), "ymag");
     assert_eq!((ortho.near, ortho.far), (0.01, 100.0), "the file's znear and zfar");
@@ -121,7 +121,7 @@ fn every_clip_at_once_poses_each_node_as_its_own_clip_does() {
     // InterpolationTest: nine clips, each driving one node (step, linear and cubic-spline
     // translation, rotation and scale).
     let (scene, _) = open_with("InterpolationTest", &LoadOptions::default());
-    let rig = scene.rig.as_ref().expect("a rig");
+    let rig = scene.rig().expect("a rig");
     assert_eq!(rig.animations.len(), 9);
     for t in [0.0, 0.4, 1.3, 2.7] {
         let all = rig.pose(ClipSet::All, t);
@@ -141,7 +141,7 @@ fn every_clip_at_once_poses_each_node_as_its_own_clip_does() {
 fn the_default_view_frames_the_whole_animation_from_the_front() {
     let (scene, _) = open_with("InterpolationTest", &LoadOptions::default());
     let bounds = raygraph::scene::gltf_import::animated_bounds(&scene);
-    let c = scene.camera;
+    let c = *scene.camera();
     let dir = (c.target - c.position).normalize();
     assert!((dir - glam::Vec3::NEG_Z).length() < 1e-6, "looks down -Z: {dir}");
     // Every corner of the animated bounds is inside the view frustum.
@@ -178,7 +178,7 @@ fn channels(scene: &Scene, graph: &str, resources: &[&str], size: (u32, u32)) ->
     let path = repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
     let mut exec = Executor::new(&gpu, plan, scene).unwrap();
-    exec.render(&gpu, &scene.camera, scene).unwrap();
+    exec.render(&gpu, scene.camera(), scene).unwrap();
     resources.iter().map(|r| common::channel(&gpu, &exec, r)).collect()
 }
 
@@ -196,12 +196,12 @@ fn texture_settings_tests_single_sided_quad_is_culled_and_still_casts_its_shadow
     // is still geometry: it shadows the check mark behind it from the scene's default sun,
     // which is why that cell reads darker than in the reference screenshot (drawn unshadowed).
     let (mut scene, _) = open_with("TextureSettingsTest", &LoadOptions::default());
-    assert!(scene.lights.is_empty(), "lit by the default sun");
+    assert!(scene.lights().is_empty(), "lit by the default sun");
     // The Test column's cells (file x 0 to 0.9) of the single-sided row (file z 2.09 to 2.99)
     // and of the double-sided row (1.07 to 1.97).
     for (row, centre_y, nearer_drawn) in [("single-sided", 2.54, false), ("double-sided", 1.52, true)] {
         let centre = glam::Vec3::new(0.45, centre_y, 0.05);
-        scene.camera = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.0), centre, 8.0, 0.05, 100.0);
+        *scene.camera_mut() = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.0), centre, 8.0, 0.05, 100.0);
         let size = (9, 9);
         let middle = (4 * size.0 + 4) as usize;
         for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
@@ -219,7 +219,7 @@ fn texture_settings_tests_single_sided_quad_is_culled_and_still_casts_its_shadow
 #[test]
 fn unlit_materials_show_their_base_colour_in_every_mode() {
     let (scene, report) = open_with("UnlitTest", &LoadOptions::default());
-    assert!(scene.materials.iter().all(|m| m.unlit));
+    assert!(scene.materials().iter().all(|m| m.unlit));
     let listed = info::describe(&scene, Some(&report));
     assert!(!listed.contains("KHR_materials_unlit"), "nothing about unlit is approximated or ignored: {listed}");
     let colours = [glam::Vec3::new(1.0, 0.217_637_64, 0.0), glam::Vec3::new(0.0, 0.217_637_64, 1.0)];
@@ -267,15 +267,15 @@ fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_b
     for m in scene.materials_mut().iter_mut() {
         m.unlit = true;
     }
-    let blend = scene.materials.iter().position(|m| m.name == "MatBlend").expect("the BLEND material");
+    let blend = scene.materials().iter().position(|m| m.name == "MatBlend").expect("the BLEND material");
     let panel = scene
-        .instances
+        .instances()
         .iter()
-        .position(|i| i.material == blend && scene.meshes[i.mesh].indices.len() == 6 && scene.meshes[i.mesh].name.contains("TestBlend"))
+        .position(|i| i.material == blend && scene.meshes()[i.mesh].indices.len() == 6 && scene.meshes()[i.mesh].name.contains("TestBlend"))
         .expect("the BLEND panel");
     // The panel fills the frame's middle: look at it straight on from 3.5 in front.
-    let centre = scene.instances[panel].transform.transform_point3(glam::Vec3::new(0.0, 1.035, 0.0));
-    scene.camera = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.5), centre, 40.0, 0.05, 100.0);
+    let centre = scene.instances()[panel].transform.transform_point3(glam::Vec3::new(0.0, 1.035, 0.0));
+    *scene.camera_mut() = Camera::look(centre + glam::Vec3::new(0.0, 0.0, 3.5), centre, 40.0, 0.05, 100.0);
     let size = (48, 64);
     let composite = hdr(&scene, "graph/full_rt.ron", "blend.color", size);
     let mut opaque = scene.clone();
@@ -288,7 +288,7 @@ fn alpha_blend_mode_tests_blend_panel_composites_its_alpha_ramp_over_what_lies_b
     let accel = raygraph::accel::layout::GpuAccel::build(&scene, &Default::default());
     let cpu = raygraph::accel::cpu_traverse::CpuTraverser::with_scene(&accel, &scene);
     let (mut checked, mut worst, mut covers) = (0, 0.0f32, (1.0f64, 0.0f64));
-    for (i, (origin, dir)) in scene.camera.rays(size, 1).into_iter().enumerate() {
+    for (i, (origin, dir)) in scene.camera().rays(size, 1).into_iter().enumerate() {
         let Some(hit) = cpu.closest(&raygraph::accel::cpu_traverse::Ray::new(origin, dir)) else { continue };
         if hit.instance_id as usize != panel {
             continue;
@@ -329,10 +329,10 @@ fn alpha_blend_mode_tests_mask_panels_are_cut_at_their_cutoffs_as_the_cpu_alpha_
         let accel = raygraph::accel::layout::GpuAccel::build(scene, &Default::default());
         let cpu = raygraph::accel::cpu_traverse::CpuTraverser::with_scene(&accel, scene);
         let ray = |(origin, dir)| cpu.closest(&raygraph::accel::cpu_traverse::Ray::new(origin, dir)).map(|h| h.instance_id as usize);
-        scene.camera.rays(size, 1).into_iter().map(ray).collect()
+        scene.camera().rays(size, 1).into_iter().map(ray).collect()
     };
     let first = first_hits(&scene);
-    let mode = |i: usize| scene.materials[scene.instances[i].material].alpha_mode;
+    let mode = |i: usize| scene.materials()[scene.instances()[i].material].alpha_mode;
     // The pixels a MASK panel covers but cuts: its first hit with the panels made opaque.
     let mut opaque = scene.clone();
     for m in opaque.materials_mut().iter_mut().filter(|m| matches!(m.alpha_mode, raygraph::scene::AlphaMode::Mask(_))) {

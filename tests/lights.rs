@@ -37,20 +37,10 @@ fn camera() -> Camera {
 
 /// A floor (y = 0, 16 units wide) and optional extra parts, lit by `lights`, no ambient light.
 fn scene(lights: Vec<PunctualLight>, extra: Vec<(Mesh, Material, Mat4)>) -> Scene {
-    let mut s = Scene {
-        name: "lights".into(),
-        meshes: Vec::new(),
-        materials: Default::default(),
-        instances: Default::default(),
-        textures: Vec::new(),
-        camera: camera(),
-        presets: vec![("test".into(), camera())],
-        light: Light { ambient: 0.0, ..Light::default() },
-        point_light: None,
-        lights,
-        rig: None,
-        posed: None,
-    };
+    let mut s = Scene::new("lights", camera());
+    s.presets_mut().push(("test".into(), camera()));
+    *s.light_mut() = Light { ambient: 0.0, ..Light::default() };
+    *s.lights_mut() = lights;
     common::add_parts(&mut s, std::iter::once((plane("floor", 16.0, 1.0), grey(), Mat4::IDENTITY)).chain(extra));
     s
 }
@@ -183,7 +173,7 @@ fn graph(mode: Mode) -> (common::TempProject, std::path::PathBuf) {
 fn configurations(gpu: &Gpu) -> Vec<(Mode, Backend)> {
     let mut out = vec![(Mode::Raster, Backend::Compute)];
     for mode in [Mode::Hybrid, Mode::FullRt] {
-        out.extend(Backend::ALL.into_iter().filter(|b| gpu.backends.contains(b)).map(|b| (mode, b)));
+        out.extend(Backend::ALL.into_iter().filter(|b| gpu.backends().contains(b)).map(|b| (mode, b)));
     }
     out
 }
@@ -203,7 +193,7 @@ struct Frame {
 }
 
 fn render(gpu: &Gpu, exec: &mut Executor, mode: Mode, scene: &Scene) -> Frame {
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     let points = floor_points();
     if mode == Mode::Raster {
         let color = channel(gpu, exec, "forward.color");
@@ -246,7 +236,7 @@ fn check_direct(frame: &Frame, lights: &[PunctualLight], visible: impl Fn(Vec3) 
 fn check_floor_color(gpu: &Gpu, mode: Mode, backend: Backend, s: &Scene, want: impl Fn(Vec3) -> Vec3, what: &str) {
     let (_p, graph_file) = graph(mode);
     let mut exec = executor(gpu, &graph_file, backend, s);
-    exec.render(gpu, &s.camera, s).unwrap();
+    exec.render(gpu, s.camera(), s).unwrap();
     let color = channel(gpu, &exec, if mode == Mode::Raster { "forward.color" } else { "resolve.hdr" });
     let mut checked = 0;
     for (i, p) in floor_points().into_iter().enumerate() {
@@ -351,7 +341,7 @@ fn every_light_casts_its_own_shadow() {
         (C - cam.position - d * along).length() > R + margin
     };
     let classify = |raster: bool| {
-        let lights = s.lights.clone();
+        let lights = s.lights().to_vec();
         move |p: Vec3| -> Option<Vec<bool>> {
             if !shows_floor(p) {
                 return None;
@@ -379,11 +369,11 @@ fn every_light_casts_its_own_shadow() {
         let mut exec = executor(&gpu, &graph, backend, &s);
         let frame = render(&gpu, &mut exec, mode, &s);
         let what = format!("{mode:?}/{backend}");
-        let (worst, checked) = check_direct(&frame, &s.lights, classify(mode == Mode::Raster), &what);
+        let (worst, checked) = check_direct(&frame, s.lights(), classify(mode == Mode::Raster), &what);
         println!("{what}: direct light of {checked} floor pixels within {worst:.2e} of the closed form");
         assert!(checked > 800, "{what}: {checked} pixels checked");
         let Some(mask) = &frame.mask else { continue };
-        for (l, light) in s.lights.iter().enumerate() {
+        for (l, light) in s.lights().iter().enumerate() {
             let (mut shadowed, mut lit) = (0, 0);
             for (i, p) in points.iter().enumerate() {
                 let Some(p) = p.filter(|p| shows_floor(*p)) else { continue };
@@ -409,17 +399,17 @@ fn every_light_casts_its_own_shadow() {
 fn a_scene_without_lights_is_lit_by_the_default_sun() {
     let gpu = gpu();
     let (mut s, _) = raygraph::scene::open("default", &raygraph::scene::LoadOptions::default()).unwrap();
-    s.point_light = Some(raygraph::scene::PointLight { position: Vec3::new(1.0, 2.5, 1.0), color: Vec3::new(1.0, 0.8, 0.6), intensity: 4.0 });
-    assert!(s.lights.is_empty());
+    s.set_point_light(Some(raygraph::scene::PointLight { position: Vec3::new(1.0, 2.5, 1.0), color: Vec3::new(1.0, 0.8, 0.6), intensity: 4.0 }));
+    assert!(s.lights().is_empty());
     let mut explicit = s.clone();
-    explicit.lights = s.effective_lights();
-    assert_eq!(explicit.lights.len(), 2);
-    assert_eq!(explicit.lights[0].kind, LightKind::Directional);
+    *explicit.lights_mut() = s.effective_lights();
+    assert_eq!(explicit.lights().len(), 2);
+    assert_eq!(explicit.lights()[0].kind, LightKind::Directional);
     for (mode, backend) in configurations(&gpu).into_iter().filter(|(_, b)| *b == Backend::Compute) {
         let (_p, graph) = graph(mode);
         let image = |scene: &Scene| {
             let mut exec = executor(&gpu, &graph, backend, scene);
-            exec.render(&gpu, &scene.camera, scene).unwrap();
+            exec.render(&gpu, scene.camera(), scene).unwrap();
             exec.read_output(&gpu).unwrap()
         };
         let (default, given) = (image(&s), image(&explicit));
@@ -454,9 +444,9 @@ fn emissive_surfaces_glow_with_every_light_off() {
     let project = common::TempProject::with_repo_files();
     let graph_file = project.write("graph/test.ron", &text);
     let cam = camera();
-    for backend in Backend::ALL.into_iter().filter(|b| gpu.backends.contains(b)) {
+    for backend in Backend::ALL.into_iter().filter(|b| gpu.backends().contains(b)) {
         let mut exec = executor(&gpu, &graph_file, backend, &s);
-        exec.render(&gpu, &s.camera, &s).unwrap();
+        exec.render(&gpu, s.camera(), &s).unwrap();
         let reflection = channel(&gpu, &exec, "reflection.reflection");
         let mut seen = 0;
         for (i, p) in floor_points().into_iter().enumerate() {
@@ -508,9 +498,9 @@ fn a_gltf_files_punctual_lights_match_the_closed_forms() {
     let path = d.write_glb(&dir, "lights");
     let (mut scene, _) = raygraph::scene::open(path.to_str().unwrap(), &raygraph::scene::LoadOptions::default()).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(scene.lights.len(), 2, "the file's two lights");
-    scene.camera = camera();
-    scene.light.ambient = 0.0;
+    assert_eq!(scene.lights().len(), 2, "the file's two lights");
+    *scene.camera_mut() = camera();
+    scene.light_mut().ambient = 0.0;
     let written = [point(Vec3::new(0.0, 2.0, 0.0), 8.0, None), spot(Vec3::new(0.5, 3.0, 0.5), Vec3::new(0.5, 0.0, 0.5), 30.0, 15.0, 25.0)];
     for (mode, backend) in [(Mode::Raster, Backend::Compute), (Mode::Hybrid, Backend::Compute)] {
         let (_p, graph) = graph(mode);
@@ -532,9 +522,9 @@ fn the_occlusion_texture_scales_the_ambient_term_in_every_mode() {
     let ambient = 0.35;
     for (occlusion, with_texture) in [(1.0f32, false), (0.5, true)] {
         let mut s = scene(vec![directional(Vec3::NEG_Y, 0.0)], vec![]);
-        s.light.ambient = ambient;
+        s.light_mut().ambient = ambient;
         if with_texture {
-            s.textures.push(raygraph::scene::TextureImage { name: "black".into(), width: 1, height: 1, rgba: vec![0, 0, 0, 255].into() });
+            s.textures_mut().push(raygraph::scene::TextureImage { name: "black".into(), width: 1, height: 1, rgba: vec![0, 0, 0, 255].into() });
             s.materials_mut()[0].occlusion_texture = Some(0);
             s.materials_mut()[0].occlusion_strength = 0.5;
         }

@@ -24,20 +24,19 @@ const SIZE: (u32, u32) = (33, 33);
 
 fn plate_scene(lobes: Lobes) -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "plate".into();
+    s.set_name("plate");
     let v = |x: f32, y: f32| Vertex { position: [x, y, 0.0], normal: [0.0, 0.0, 1.0], uv: [0.0, 0.0] };
-    s.meshes = vec![Mesh {
+    s.set_meshes([Mesh {
         name: "plate".into(),
         vertices: vec![v(-4.0, -4.0), v(4.0, -4.0), v(4.0, 4.0), v(-4.0, 4.0)],
         indices: vec![0, 1, 2, 0, 2, 3],
         tangents: None,
         extras: None,
-    }
-    .into()];
+    }]);
     *s.materials_mut() = vec![Material { roughness: 0.05, lobes, ..Material::diffuse("plate", [0.0, 0.0, 0.0, 1.0], None) }];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
-    s.textures.clear();
-    s.lights = vec![PunctualLight {
+    s.textures_mut().clear();
+    *s.lights_mut() = vec![PunctualLight {
         name: "off".into(),
         kind: LightKind::Directional,
         position: Vec3::ZERO,
@@ -45,7 +44,7 @@ fn plate_scene(lobes: Lobes) -> Scene {
         color: Vec3::ONE,
         intensity: 0.0,
     }];
-    s.camera = Camera {
+    *s.camera_mut() = Camera {
         position: Vec3::new(0.0, 0.0, 5.0),
         target: Vec3::ZERO,
         up: Vec3::Y,
@@ -110,11 +109,11 @@ fn the_lobe_textures_multiply_their_factors_and_the_coat_follows_its_normal_map_
     let sky = [0.475f64, 0.525, 0.625];
     let factors = Lobes { ior: 1.8, specular: 0.9, specular_color: [1.0, 0.8, 1.5], clearcoat: 0.8, clearcoat_roughness: 0.5, ..Default::default() };
     let mut scene = plate_scene(factors);
-    for v in &mut std::sync::Arc::make_mut(&mut scene.meshes[0]).vertices {
+    for v in &mut scene.mesh_mut(0).vertices {
         v.uv = [(v.position[0] + 4.0) / 8.0, (4.0 - v.position[1]) / 8.0];
     }
     let (half, colour, normal_texel) = (128u8, [255u8, 188, 128], [238u8, 128, 191]);
-    scene.textures = vec![
+    *scene.textures_mut() = vec![
         flat_texture("specular", [0, 0, 0, half]),
         flat_texture("specular colour", [colour[0], colour[1], colour[2], 255]),
         flat_texture("clearcoat", [half, 0, 0, 255]),
@@ -170,7 +169,7 @@ fn the_importer_reads_the_lobe_factors_and_textures_and_the_export_writes_them_b
     d.json["extensionsUsed"] = serde_json::json!(["KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_transmission"]);
     let path = d.write_gltf_embedded(&dir, "lacquer");
     let (scene, report) = raygraph::scene::open(path.to_str().unwrap(), &Default::default()).unwrap();
-    let lobes = scene.materials[0].lobes;
+    let lobes = scene.materials()[0].lobes;
     let factors = Lobes {
         ior: 1.7,
         specular: 0.6,
@@ -185,18 +184,18 @@ fn the_importer_reads_the_lobe_factors_and_textures_and_the_export_writes_them_b
     let read: Vec<usize> = (0..6).filter(|&k| lobes.textures[k].is_some()).collect();
     assert_eq!(read, [LOBE_SPECULAR_COLOR, LOBE_CLEARCOAT, LOBE_CLEARCOAT_NORMAL, LOBE_TRANSMISSION], "the lobe textures are read");
     // The transmission texture reads the base colour's uv (TEXCOORD_0, no transform): drawn.
-    assert!(scene.materials[0].transmission_texture_drawn());
+    assert!(scene.materials()[0].transmission_texture_drawn());
     assert!(report.ignored_features.is_empty(), "{:?}", report.ignored_features);
     // On TEXCOORD_1 it is kept but not drawn, and said so.
     d.json["materials"][0]["extensions"]["KHR_materials_transmission"]["transmissionTexture"]["texCoord"] = serde_json::json!(1);
     let other = d.write_gltf_embedded(&dir, "lacquer_uv1");
     let (uv1, uv1_report) = raygraph::scene::open(other.to_str().unwrap(), &Default::default()).unwrap();
-    assert!(!uv1.materials[0].transmission_texture_drawn());
+    assert!(!uv1.materials()[0].transmission_texture_drawn());
     assert!(uv1_report.ignored_features.iter().any(|f| f.contains("transmissionTexture")), "{:?}", uv1_report.ignored_features);
     let out = dir.join("again.glb");
     raygraph::scene::export::write_glb(&scene, &out).unwrap();
     let (again, _) = raygraph::scene::open(out.to_str().unwrap(), &Default::default()).unwrap();
-    let back = again.materials[0].lobes;
+    let back = again.materials()[0].lobes;
     assert_eq!(Lobes { textures: [None; 6], ..back }, factors, "the export writes the factors back");
     assert_eq!((0..6).filter(|&k| back.textures[k].is_some()).collect::<Vec<_>>(), read, "and the textures");
     let _ = std::fs::remove_dir_all(&dir);

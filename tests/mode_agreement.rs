@@ -88,7 +88,7 @@ fn every_khronos_model_looks_the_same_in_every_mode_from_its_reference_view() {
         let reference = ["png", "jpg", "gif"].iter().map(|ext| root.join(format!("{name}/screenshot/screenshot.{ext}"))).find(|p| p.exists()).unwrap();
         let (w, h) = image::image_dimensions(&reference).unwrap_or((128, 128));
         let size = conformance::frame_size(w, h, 128);
-        scene.camera = conformance::comparison_view(&scene, &report, size.0 as f32 / size.1 as f32);
+        *scene.camera_mut() = conformance::comparison_view(&scene, &report, size.0 as f32 / size.1 as f32);
         check(&gpu, &name, &scene, size, KHRONOS_LIMITS);
     }
 }

@@ -65,9 +65,9 @@ fn project() -> TempProject {
 /// A grey floor 20 wide at y = 0 and, where given, a unit sphere at `ball`.
 fn scene(ball: Option<Vec3>) -> Scene {
     let mut s = default_scene();
-    s.name = "motion test".into();
-    s.meshes = vec![plane("floor", 20.0, 1.0), sphere("ball", 48, 96)].into_iter().map(Into::into).collect();
-    s.textures = Vec::new();
+    s.set_name("motion test");
+    s.set_meshes(vec![plane("floor", 20.0, 1.0), sphere("ball", 48, 96)]);
+    *s.textures_mut() = Vec::new();
     *s.materials_mut() = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     if let Some(c) = ball {

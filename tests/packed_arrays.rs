@@ -34,7 +34,7 @@ fn render(gpu: &Gpu, mode: Mode) -> Result<image::RgbaImage, String> {
     let plan = graph::compile::compile_with(graph_file, &Project::beside_graph(graph_file), SIZE, &gpu.compile_options()).map_err(|e| e.to_string())?;
     let (scene, _): (Scene, _) = raygraph::scene::open("atrium", &LoadOptions { textures: plan.scene_usage().textures, ..Default::default() }).unwrap();
     let mut exec = Executor::new(gpu, plan, &scene).map_err(|e| e.to_string())?;
-    exec.render(gpu, &scene.camera, &scene).map_err(|e| e.to_string())?;
+    exec.render(gpu, scene.camera(), &scene).map_err(|e| e.to_string())?;
     if let Some(bytes) = exec.accel().map(|a| a.packed_bytes()).filter(|b| *b > 0) {
         println!("{}: packed arrays {bytes} bytes, {:.1} per triangle", mode.label(), bytes as f64 / scene.triangle_count() as f64);
     }
@@ -45,8 +45,8 @@ fn render(gpu: &Gpu, mode: Mode) -> Result<image::RgbaImage, String> {
 fn packed_arrays_render_as_separate_ones() {
     let separate = device_with(|a| Gpu::device_descriptor(a).required_limits);
     let packed = device_with(|a| wgpu::Limits { max_storage_buffers_per_shader_stage: 8, ..Gpu::device_descriptor(a).required_limits });
-    assert!(!separate.packed_accel_arrays, "the adapter's own limits allow separate arrays");
-    assert!(packed.packed_accel_arrays, "8 storage buffers per stage select the packed arrays");
+    assert!(!separate.packed_accel_arrays(), "the adapter's own limits allow separate arrays");
+    assert!(packed.packed_accel_arrays(), "8 storage buffers per stage select the packed arrays");
     for mode in [Mode::Hybrid, Mode::FullRt] {
         let a = render(&separate, mode).unwrap_or_else(|e| panic!("{}, separate arrays: {e}", mode.label()));
         let b = render(&packed, mode).unwrap_or_else(|e| panic!("{}, packed arrays: {e}", mode.label()));
@@ -96,7 +96,7 @@ fn split_primary_rays_render_as_one_pass() {
 #[test]
 fn webgpu_default_limits_run_every_mode() {
     let gpu = device_with(|_| wgpu::Limits::default());
-    assert!(gpu.packed_accel_arrays);
+    assert!(gpu.packed_accel_arrays());
     assert_eq!(gpu.layer_aliases().get("deferred").map(String::as_str), Some("deferred_split"));
     let native = device_with(|a| Gpu::device_descriptor(a).required_limits);
     let raster = render(&gpu, Mode::Raster).expect("raster at WebGPU's default limits");

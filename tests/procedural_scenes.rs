@@ -12,42 +12,42 @@ use std::ops::RangeInclusive;
 fn check_counts(s: &Scene, tris: RangeInclusive<usize>, meshes: RangeInclusive<usize>, textures: RangeInclusive<usize>) {
     println!(
         "{}: {} triangles, {} meshes, {} textures, {} materials, {} instances",
-        s.name,
+        s.name(),
         s.triangle_count(),
-        s.meshes.len(),
-        s.textures.len(),
-        s.materials.len(),
-        s.instances.len()
+        s.meshes().len(),
+        s.textures().len(),
+        s.materials().len(),
+        s.instances().len()
     );
-    assert!(tris.contains(&s.triangle_count()), "{}: {} triangles, want {:?}", s.name, s.triangle_count(), tris);
-    assert!(meshes.contains(&s.meshes.len()), "{}: {} meshes, want {:?}", s.name, s.meshes.len(), meshes);
-    assert!(textures.contains(&s.textures.len()), "{}: {} textures, want {:?}", s.name, s.textures.len(), textures);
+    assert!(tris.contains(&s.triangle_count()), "{}: {} triangles, want {:?}", s.name(), s.triangle_count(), tris);
+    assert!(meshes.contains(&s.meshes().len()), "{}: {} meshes, want {:?}", s.name(), s.meshes().len(), meshes);
+    assert!(textures.contains(&s.textures().len()), "{}: {} textures, want {:?}", s.name(), s.textures().len(), textures);
 }
 
 fn check_references(s: &Scene) {
-    for inst in s.instances.iter() {
-        assert!(inst.mesh < s.meshes.len() && inst.material < s.materials.len());
-        assert!(inst.transform.is_finite() && inst.transform.determinant() > 0.0, "{}: instance transform must be finite and not mirror", s.name);
+    for inst in s.instances().iter() {
+        assert!(inst.mesh < s.meshes().len() && inst.material < s.materials().len());
+        assert!(inst.transform.is_finite() && inst.transform.determinant() > 0.0, "{}: instance transform must be finite and not mirror", s.name());
     }
-    for m in s.materials.iter() {
+    for m in s.materials().iter() {
         for t in [m.texture, m.metallic_roughness_texture, m.normal_texture, m.emissive_texture].into_iter().flatten() {
-            assert!(t < s.textures.len(), "{}: material {} uses texture {t}", s.name, m.name);
+            assert!(t < s.textures().len(), "{}: material {} uses texture {t}", s.name(), m.name);
         }
     }
-    for t in &s.textures {
-        assert!((64..=256).contains(&t.width) && (64..=256).contains(&t.height), "{}: texture {} is {}x{}", s.name, t.name, t.width, t.height);
+    for t in s.textures() {
+        assert!((64..=256).contains(&t.width) && (64..=256).contains(&t.height), "{}: texture {} is {}x{}", s.name(), t.name, t.width, t.height);
         assert_eq!(t.rgba.len(), (t.width * t.height * 4) as usize);
     }
     // Every mesh is placed and every texture is used by some material.
-    for i in 0..s.meshes.len() {
-        assert!(s.instances.iter().any(|inst| inst.mesh == i), "{}: mesh {} has no instance", s.name, s.meshes[i].name);
+    for i in 0..s.meshes().len() {
+        assert!(s.instances().iter().any(|inst| inst.mesh == i), "{}: mesh {} has no instance", s.name(), s.meshes()[i].name);
     }
-    for i in 0..s.textures.len() {
+    for i in 0..s.textures().len() {
         assert!(
-            s.materials.iter().any(|m| m.texture == Some(i) || m.metallic_roughness_texture == Some(i)),
+            s.materials().iter().any(|m| m.texture == Some(i) || m.metallic_roughness_texture == Some(i)),
             "{}: texture {} is unused",
-            s.name,
-            s.textures[i].name
+            s.name(),
+            s.textures()[i].name
         );
     }
 }
@@ -81,30 +81,30 @@ fn check_mesh(scene: &str, m: &Mesh) {
 
 fn check_scene(s: &Scene) {
     check_references(s);
-    for m in &s.meshes {
-        check_mesh(&s.name, m);
+    for m in s.meshes() {
+        check_mesh(s.name(), m);
     }
-    assert!(s.light.direction.is_normalized());
-    assert!(s.camera.position.is_finite() && s.camera.position != s.camera.target);
+    assert!(s.light().direction.is_normalized());
+    assert!(s.camera().position.is_finite() && s.camera().position != s.camera().target);
 }
 
 #[test]
 fn box_scene_matches_table_1() {
     let s = box_scene();
-    assert_eq!(s.name, "box");
+    assert_eq!(s.name(), "box");
     check_counts(&s, 12..=12, 1..=1, 2..=2);
-    assert_eq!(s.instances.len(), 1);
+    assert_eq!(s.instances().len(), 1);
     check_scene(&s);
 }
 
 #[test]
 fn organic_scene_is_a_closed_consistently_wound_mesh() {
     let s = organic();
-    assert_eq!(s.name, "organic");
+    assert_eq!(s.name(), "organic");
     check_counts(&s, 3800..=4100, 1..=1, 2..=2);
-    assert_eq!(s.instances.len(), 1);
+    assert_eq!(s.instances().len(), 1);
     check_scene(&s);
-    let m = &s.meshes[0];
+    let m = &s.meshes()[0];
     // Positions are shared: no two vertices at the same place.
     let mut seen = HashMap::new();
     for (i, v) in m.vertices.iter().enumerate() {
@@ -140,7 +140,7 @@ fn atrium_scene_matches_table_1() {
     let start = std::time::Instant::now();
     let s = atrium(ATRIUM_DEFAULT_SEED);
     println!("atrium generated in {:?}", start.elapsed());
-    assert_eq!(s.name, "atrium");
+    assert_eq!(s.name(), "atrium");
     check_counts(&s, 250_000..=275_000, 95..=110, 65..=75);
     check_scene(&s);
     // Roughly 30 x 14 x 12 m, y up, floor at 0, no roof over the courtyard.
@@ -148,7 +148,7 @@ fn atrium_scene_matches_table_1() {
     let size = b.max - b.min;
     assert!((29.0..=32.0).contains(&size.x) && (13.0..=16.0).contains(&size.z) && (11.5..=13.0).contains(&size.y), "bounds {b:?}");
     assert!(b.min.y.abs() < 1e-3);
-    let sky = s.light.direction;
+    let sky = s.light().direction;
     assert!(sky.y > 0.5 && sky.y < 0.99, "the light comes from above at an angle");
 }
 
@@ -157,26 +157,26 @@ fn atrium_is_deterministic_and_seed_dependent() {
     let a = atrium(1);
     let b = atrium(1);
     let c = atrium(2);
-    assert_eq!(a.meshes.len(), b.meshes.len());
-    for (x, y) in a.meshes.iter().zip(&b.meshes) {
+    assert_eq!(a.meshes().len(), b.meshes().len());
+    for (x, y) in a.meshes().iter().zip(b.meshes()) {
         assert!(x.vertices == y.vertices && x.indices == y.indices, "mesh {} differs between runs", x.name);
     }
-    for (x, y) in a.textures.iter().zip(&b.textures) {
+    for (x, y) in a.textures().iter().zip(b.textures()) {
         assert!(x.rgba == y.rgba, "texture {} differs between runs", x.name);
     }
-    let same_vertices = a.meshes.iter().zip(&c.meshes).all(|(x, y)| x.vertices == y.vertices);
+    let same_vertices = a.meshes().iter().zip(c.meshes()).all(|(x, y)| x.vertices == y.vertices);
     assert!(!same_vertices, "atrium(2) must differ from atrium(1)");
-    assert!(a.textures.iter().zip(&c.textures).any(|(x, y)| x.rgba != y.rgba));
+    assert!(a.textures().iter().zip(c.textures()).any(|(x, y)| x.rgba != y.rgba));
     // The structure does not depend on the seed.
     assert_eq!(a.triangle_count(), c.triangle_count());
-    assert_eq!((a.meshes.len(), a.textures.len(), a.instances.len()), (c.meshes.len(), c.textures.len(), c.instances.len()));
+    assert_eq!((a.meshes().len(), a.textures().len(), a.instances().len()), (c.meshes().len(), c.textures().len(), c.instances().len()));
 }
 
 #[test]
 fn by_name_knows_every_scene() {
     for name in NAMES {
         let s = by_name(name).unwrap_or_else(|| panic!("{name}"));
-        assert_eq!(&s.name, name);
+        assert_eq!(s.name(), *name);
     }
     assert!(by_name("sponza").is_none());
 }

@@ -95,17 +95,17 @@ Graph(
 /// (centre, radius), under a directional light towards `light`, seen by `camera`.
 fn scene(sphere_at: Option<(Vec3, f32)>, light: Vec3, camera: Camera) -> Scene {
     let mut s = default_scene();
-    s.name = "shadow test".into();
-    s.meshes = vec![plane("floor", 2.0 * FLOOR_HALF, 1.0), sphere("ball", 48, 96)].into_iter().map(Into::into).collect();
-    s.textures = Vec::new();
+    s.set_name("shadow test");
+    s.set_meshes(vec![plane("floor", 2.0 * FLOOR_HALF, 1.0), sphere("ball", 48, 96)]);
+    *s.textures_mut() = Vec::new();
     *s.materials_mut() = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
     *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
     if let Some((c, r)) = sphere_at {
         s.instances_mut().push(Instance { mesh: 1, material: 0, transform: Mat4::from_scale_rotation_translation(Vec3::splat(r), glam::Quat::IDENTITY, c) });
     }
-    s.light = Light { direction: light.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
-    s.camera = camera;
-    s.presets = vec![("main".into(), camera)];
+    *s.light_mut() = Light { direction: light.normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
+    *s.camera_mut() = camera;
+    *s.presets_mut() = vec![("main".into(), camera)];
     s
 }
 
@@ -326,7 +326,7 @@ fn culling_closed_meshes_in_shadow_maps_changes_no_pixel() {
         [("sun", Vec::new()), ("spot above", vec![spot(Vec3::new(0.5, 4.0, 0.0))]), ("spot inside", vec![spot(centre)])];
     for (name, lights) in cases {
         let mut s = scene(Some((centre, radius)), Vec3::new(0.3, 1.0, -0.2), camera);
-        s.lights = lights;
+        *s.lights_mut() = lights;
         let a = culling.render(&gpu, true, &s, &camera);
         let b = both_sides.render(&gpu, true, &s, &camera);
         let lit = culling.render(&gpu, false, &s, &camera);

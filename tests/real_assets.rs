@@ -130,7 +130,7 @@ struct Tolerance {
 fn check_agreement(gpu: &Gpu, what: &str, scene: &Scene, size: (u32, u32), backend: Backend, min_pixels: usize, limits: &[Tolerance]) -> (GBuffer, GBuffer) {
     let raster = gbuffer(gpu, "graph/hybrid.ron", backend, scene, size);
     let traced = gbuffer(gpu, "graph/full_rt.ron", backend, scene, size);
-    let eye = scene.camera.position;
+    let eye = scene.camera().position;
     let pixels = interior(&raster, &traced, eye);
     println!("{what} ({backend:?}, {}x{}): {} interior pixels", size.0, size.1, pixels.len());
     assert!(pixels.len() >= min_pixels, "{what}: only {} interior pixels", pixels.len());
@@ -217,7 +217,7 @@ fn pixel_of(camera: &Camera, size: (u32, u32), p: Vec3) -> (u32, u32) {
 #[test]
 fn metallic_roughness_gbuffers_agree_and_follow_gltf_conventions() {
     let mut gpu = gpu();
-    let bindless = gpu.texture_binding_arrays;
+    let bindless = gpu.texture_binding_arrays();
     let (scene, probes) = metallic_roughness_scene();
     let size = (128, 96);
     // Smooth textures: the mip-level choice moves filtered values little. Normals: the normal
@@ -234,12 +234,12 @@ fn metallic_roughness_gbuffers_agree_and_follow_gltf_conventions() {
         Tolerance { name: "emissive", tolerance: 0.01, share: 0.0 },
         Tolerance { name: "occlusion", tolerance: 0.03, share: 0.01 },
     ];
-    for (backend, arrays) in gpu.backends.clone().into_iter().flat_map(|b| [(b, bindless), (b, false)]) {
-        gpu.texture_binding_arrays = arrays;
+    for (backend, arrays) in gpu.backends().to_vec().into_iter().flat_map(|b| [(b, bindless), (b, false)]) {
+        gpu.set_texture_binding_arrays(arrays);
         let what = format!("metallic-roughness scene, {}", if arrays { "binding array" } else { "texture array" });
         let (raster, traced) = check_agreement(&gpu, &what, &scene, size, backend, 4000, &limits);
         for (name, centre) in &probes {
-            let (x, y) = pixel_of(&scene.camera, size, *centre);
+            let (x, y) = pixel_of(scene.camera(), size, *centre);
             for (mode, g) in [("hybrid", &raster), ("full RT", &traced)] {
                 let (normal, material, emissive) = (v3(g.at(1, x, y)).normalize(), g.at(4, x, y), g.at(5, x, y));
                 let tilt = |axis: Vec3, scale: f32| {

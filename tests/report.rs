@@ -320,7 +320,7 @@ fn a_rendered_frame_accounts_for_its_time_outside_the_passes() {
     let scene = raygraph::scene::builtin::default_scene();
     let exec_frames: Vec<FrameTimings> = {
         let mut exec = common::modes::render_graph(&gpu, "graph/hybrid.ron", raygraph::backend::Backend::Compute, &scene, (32, 24));
-        (0..3).map(|_| exec.render(&gpu, &scene.camera, &scene).unwrap()).collect()
+        (0..3).map(|_| exec.render(&gpu, scene.camera(), &scene).unwrap()).collect()
     };
     for f in &exec_frames {
         let parts = f.phases.parts();

@@ -23,7 +23,7 @@ static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn gpu() -> Gpu {
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
+    assert!(gpu.backends().contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines; CI must test the rt-pipeline back-end");
     gpu
 }
 
@@ -85,8 +85,8 @@ fn the_first_and_later_frames_match_compute_in_hybrid_and_full_rt() {
         let mut compute = executor(&gpu, graph, Backend::Compute, &scene);
         let mut rt = executor(&gpu, graph, Backend::RtPipeline, &scene);
         for frame in 0..3 {
-            let tc = compute.render(&gpu, &scene.camera, &scene).unwrap();
-            let tr = rt.render(&gpu, &scene.camera, &scene).unwrap();
+            let tc = compute.render(&gpu, scene.camera(), &scene).unwrap();
+            let tr = rt.render(&gpu, scene.camera(), &scene).unwrap();
             assert_eq!(tc.rays.unwrap().traced(), tr.rays.unwrap().traced(), "{graph} frame {frame}: the same rays");
             assert_eq!(tc.rays.unwrap().hits, tr.rays.unwrap().hits, "{graph} frame {frame}: the same hits");
             for ((name, a), (_, b)) in channels(&gpu, &compute, names).iter().zip(channels(&gpu, &rt, names)) {
@@ -123,15 +123,15 @@ fn a_moving_instance_is_followed_frame_by_frame() {
             Executor::new(&gpu, plan, &scene).unwrap()
         };
         let (mut compute, mut rt) = (open(Backend::Compute), open(Backend::RtPipeline));
-        let first = rt.render(&gpu, &scene.camera, &scene).unwrap().accel.unwrap();
-        assert_eq!(first.blas_built, if merged { 1 } else { scene.meshes.len() }, "the first frame builds every BLAS");
+        let first = rt.render(&gpu, scene.camera(), &scene).unwrap().accel.unwrap();
+        assert_eq!(first.blas_built, if merged { 1 } else { scene.meshes().len() }, "the first frame builds every BLAS");
         let accel_pass = rt.plan().passes().iter().position(|p| p.kind == raygraph::graph::desc::PassKind::AccelBuild).unwrap();
         let mut outputs = Vec::new();
         let mut build_ms = Vec::new();
         for step in 0..3 {
-            scene.instances_mut()[0].transform = glam::Mat4::from_translation(glam::vec3(0.3 * (step + 1) as f32, 0.0, 0.0)) * scene.instances[0].transform;
-            compute.render(&gpu, &scene.camera, &scene).unwrap();
-            let t = rt.render(&gpu, &scene.camera, &scene).unwrap();
+            scene.instances_mut()[0].transform = glam::Mat4::from_translation(glam::vec3(0.3 * (step + 1) as f32, 0.0, 0.0)) * scene.instances()[0].transform;
+            compute.render(&gpu, scene.camera(), &scene).unwrap();
+            let t = rt.render(&gpu, scene.camera(), &scene).unwrap();
             build_ms.push(t.gpu_ms.as_ref().map(|ms| ms[accel_pass]).unwrap());
             let accel = t.accel.unwrap();
             let expected = if merged { 1 } else { 0 };
@@ -146,7 +146,7 @@ fn a_moving_instance_is_followed_frame_by_frame() {
         // The build runs between the `Accel` node's timestamps: a frame that builds takes
         // longer there than one that does not (asserted where a BLAS of 4,430 triangles is
         // built, 7x the empty pass on lavapipe; two levels rebuild only a 3-instance TLAS).
-        let still_ms = (0..3).map(|_| rt.render(&gpu, &scene.camera, &scene).unwrap().gpu_ms.unwrap()[accel_pass]).fold(f64::INFINITY, f64::min);
+        let still_ms = (0..3).map(|_| rt.render(&gpu, scene.camera(), &scene).unwrap().gpu_ms.unwrap()[accel_pass]).fold(f64::INFINITY, f64::min);
         println!("{}: accel GPU ms with a build {build_ms:?}, without {still_ms}", graph.display());
         build_ms.sort_by(f64::total_cmp);
         assert!(!merged || build_ms[1] > still_ms, "{}: the build is not inside the Accel node's timestamps", graph.display());
@@ -173,14 +173,14 @@ fn executors_come_and_go_without_leaks() {
         let graph = if round == 1 { common::repo().join("graph/ao.ron") } else { two_level.clone() };
         let plan = compile_with(&graph, &Project::beside_graph(&graph), SIZE, &gpu.compile_options_for(Backend::RtPipeline)).unwrap();
         let mut rt = Executor::new(&gpu, plan, &scene).unwrap();
-        rt.render(&gpu, &scene.camera, &scene).unwrap();
+        rt.render(&gpu, scene.camera(), &scene).unwrap();
         let image = rt.read_output(&gpu).unwrap();
         assert!(first.get_or_insert_with(|| image.clone()) == &image, "a new executor draws another picture");
         // The last mesh and its instances go: one BLAS fewer.
-        let last = scene.meshes.len() - 1;
+        let last = scene.meshes().len() - 1;
         scene.instances_mut().retain(|i| i.mesh != last);
-        scene.meshes.pop();
-        let t = rt.render(&gpu, &scene.camera, &scene).unwrap();
+        scene.pop_mesh();
+        let t = rt.render(&gpu, scene.camera(), &scene).unwrap();
         assert!(t.rays.unwrap().traced() > 0);
         assert!(live_hal_objects() > before, "the executor holds hal objects");
     }

@@ -49,14 +49,14 @@ fn alpha_scene() -> Scene {
         }
     }
     let mut scene = raygraph::scene::builtin::default_scene();
-    scene.name = "alpha quads".into();
-    scene.textures = vec![TextureImage { name: "checker alpha".into(), width: CELLS, height: CELLS, rgba: rgba.into() }];
+    scene.set_name("alpha quads");
+    *scene.textures_mut() = vec![TextureImage { name: "checker alpha".into(), width: CELLS, height: CELLS, rgba: rgba.into() }];
     let mut cutout = Material::diffuse("cutout", [1.0; 4], Some(0));
     cutout.alpha_mode = AlphaMode::Mask(0.5);
     *scene.materials_mut() = vec![cutout, Material::diffuse("opaque", [1.0; 4], None)];
     let mut backdrop = quad();
     backdrop.name = "backdrop".into();
-    scene.meshes = vec![quad(), backdrop].into_iter().map(Into::into).collect();
+    scene.set_meshes(vec![quad(), backdrop]);
     let at = |x: f32| glam::Mat4::from_translation(glam::Vec3::new(x, 0.0, 0.0));
     *scene.instances_mut() = vec![
         Instance { mesh: 0, material: 0, transform: at(0.0) },
@@ -173,7 +173,7 @@ fn the_any_hit_shader_is_valid_spirv() {
 fn alpha_quads_cut_out_the_same_texels_on_rt_pipeline_as_on_compute() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let gpu = Gpu::new().expect("a Vulkan adapter (lavapipe in CI) is required");
-    assert!(gpu.backends.contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines");
+    assert!(gpu.backends().contains(&Backend::RtPipeline), "lavapipe >= 24.1 has ray-tracing pipelines");
     let scene = alpha_scene();
     let (down, up, expected) = rays();
     let start = live_hal_objects();
@@ -228,9 +228,9 @@ fn only_alpha_tested_geometry_is_non_opaque() {
         for (scene, non_opaque) in [(raygraph::scene::builtin::default_scene(), 0), (alpha_scene(), 1)] {
             let plan = compile_with(&graph, &Project::beside_graph(&graph), (64, 48), &gpu.compile_options_for(Backend::RtPipeline)).unwrap();
             let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-            exec.render(&gpu, &scene.camera, &scene).unwrap();
+            exec.render(&gpu, scene.camera(), &scene).unwrap();
             let rt = exec.accel().and_then(|c| c.rt_accel()).expect("the rt-pipeline structures");
-            assert_eq!(rt.non_opaque_geometries(), non_opaque, "{} on {}", scene.name, graph.display());
+            assert_eq!(rt.non_opaque_geometries(), non_opaque, "{} on {}", scene.name(), graph.display());
         }
     }
     assert_eq!(live_hal_objects(), start, "hal objects left after the executors were dropped");

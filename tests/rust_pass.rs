@@ -37,7 +37,7 @@ fn the_rust_pass_inverts_what_the_wgsl_pass_drew() {
     let table = raygraph::runtime::profiler::pass_table(&names, std::slice::from_ref(&timings), 1);
     assert!(table.contains("invert/invert") && table.contains("rust"), "{table}");
     assert_eq!(timings.cpu_ms.len(), 2);
-    if gpu.timestamps {
+    if gpu.timestamps() {
         let gpu_ms = timings.gpu_ms.as_ref().expect("timestamps are on");
         assert_eq!(gpu_ms.len(), 2);
         assert!(gpu_ms.iter().all(|ms| ms.is_finite() && *ms >= 0.0), "{gpu_ms:?}");
@@ -46,7 +46,7 @@ fn the_rust_pass_inverts_what_the_wgsl_pass_drew() {
     // Its parameter reaches it: amount 0 leaves the gradient as it is.
     assert!(exec.set_param(&gpu, "invert", "amount", ParamValue::Float(0.0)).unwrap());
     let scene = raygraph::scene::builtin::default_scene();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     assert_eq!(exec.read_output(&gpu).unwrap(), gradient);
 }
 

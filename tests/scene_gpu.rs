@@ -38,7 +38,7 @@ fn a_written_gltf_renders_through_the_raster_graph() {
     let graph = common::repo().join("graph/raster.ron");
     let plan = compile(&graph, &Project::beside_graph(&graph), (96, 64)).unwrap();
     let (mut scene, _) = gltf_import::load(&path, &LoadOptions { textures: plan.scene_usage().textures, ..Default::default() }).unwrap();
-    scene.light.direction = Vec3::Z; // light from the camera's side
+    scene.light_mut().direction = Vec3::Z; // light from the camera's side
     let camera = Camera::look(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 50.0, 0.1, 100.0);
     let gpu = gpu();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
@@ -95,18 +95,16 @@ fn only_what_the_graph_reads_is_uploaded() {
     let scene = builtin::default_scene();
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
     let up = exec.uploaded_scene().expect("the scene is drawn");
-    assert!(up.textures.is_none() && up.materials.is_none(), "no textures or materials uploaded");
-    assert!(up.vertices.is_some() && up.instances.is_some());
+    assert!(up.textures().is_none() && up.materials().is_none(), "no textures or materials uploaded");
+    assert!(up.vertices().is_some() && up.instances().is_some());
 
     // The raster graph samples textures: they are uploaded with their mip chain.
     let graph = common::repo().join("graph/raster.ron");
     let plan = compile(&graph, &Project::beside_graph(&graph), (32, 32)).unwrap();
     assert!(plan.scene_usage().textures && plan.scene_usage().materials);
     let exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures.as_ref() else {
-        panic!("the default options bind a texture array")
-    };
-    assert_eq!(texture.depth_or_array_layers(), scene.textures.len() as u32 + 1);
+    let Some(SceneTextures::Array { texture, .. }) = exec.uploaded_scene().unwrap().textures() else { panic!("the default options bind a texture array") };
+    assert_eq!(texture.depth_or_array_layers(), scene.textures().len() as u32 + 1);
     assert_eq!(texture.mip_level_count(), raygraph::runtime::scene_upload::TEXTURE_MIPS);
 }
 
@@ -115,18 +113,18 @@ fn only_what_the_graph_reads_is_uploaded() {
 #[test]
 fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
     let gpu = gpu();
-    assert!(gpu.texture_binding_arrays, "lavapipe has texture binding arrays; CI must exercise them");
+    assert!(gpu.texture_binding_arrays(), "lavapipe has texture binding arrays; CI must exercise them");
     let graph = common::repo().join("graph/raster.ron");
     let scene = builtin::default_scene();
     let mut images = Vec::new();
     for options in [raygraph::graph::compile::CompileOptions::default(), gpu.compile_options()] {
         let plan = raygraph::graph::compile::compile_with(&graph, &Project::beside_graph(&graph), (160, 90), &options).unwrap();
         let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-        match exec.uploaded_scene().unwrap().textures.as_ref().unwrap() {
+        match exec.uploaded_scene().unwrap().textures().unwrap() {
             SceneTextures::Array { .. } => assert!(options.includes.is_empty()),
-            SceneTextures::Separate { views, .. } => assert_eq!(views.len(), scene.textures.len() + 1),
+            SceneTextures::Separate { views, .. } => assert_eq!(views.len(), scene.textures().len() + 1),
         }
-        exec.render(&gpu, &scene.camera, &scene).unwrap();
+        exec.render(&gpu, scene.camera(), &scene).unwrap();
         images.push(exec.read_output(&gpu).unwrap());
     }
     let sq: f64 = images[0].pixels().zip(images[1].pixels()).flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2))).sum();
@@ -140,12 +138,12 @@ fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
 #[test]
 fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     let gpu = gpu();
-    let limit = gpu.device.limits().max_texture_array_layers;
+    let limit = gpu.device().limits().max_texture_array_layers;
     let mut scene: Scene = builtin::default_scene();
     let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
-    scene.textures = vec![tiny; limit as usize + 5];
+    *scene.textures_mut() = vec![tiny; limit as usize + 5];
     let usage = raygraph::scene::usage::SceneUsage { textures: true, ..Default::default() };
-    let err = match GpuScene::upload(&gpu.device, &gpu.queue, &scene, usage) {
+    let err = match GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage) {
         Ok(_) => panic!("{} texture layers uploaded with a limit of {limit}", limit + 6),
         Err(e) => e.to_string(),
     };
@@ -163,21 +161,21 @@ fn the_executor_follows_a_changing_scene() {
     let size = (80, 48);
     let base = builtin::default_scene();
     let mut moved = base.clone();
-    moved.instances_mut()[0].transform = glam::Mat4::from_translation(Vec3::new(0.4, 0.2, -0.3)) * moved.instances[0].transform;
+    moved.instances_mut()[0].transform = glam::Mat4::from_translation(Vec3::new(0.4, 0.2, -0.3)) * moved.instances()[0].transform;
     let mut added = base.clone();
-    added.meshes.push(builtin::sphere("added", 8, 16).into());
-    let mesh = added.meshes.len() - 1;
+    added.push_mesh(builtin::sphere("added", 8, 16));
+    let mesh = added.meshes().len() - 1;
     added.instances_mut().push(raygraph::scene::Instance {
         mesh,
         material: 0,
-        transform: glam::Mat4::from_translation(base.camera.target + Vec3::Y * 0.3) * glam::Mat4::from_scale(Vec3::splat(0.6)),
+        transform: glam::Mat4::from_translation(base.camera().target + Vec3::Y * 0.3) * glam::Mat4::from_scale(Vec3::splat(0.6)),
     });
     for graph in ["graph/raster.ron", "graph/hybrid.ron"] {
         let path = common::repo().join(graph);
         let project = Project::beside_graph(&path);
         let plan = || raygraph::graph::compile::compile_with(&path, &project, size, &gpu.compile_options()).unwrap();
         let render = |exec: &mut Executor, scene: &Scene| {
-            exec.render(&gpu, &scene.camera, scene).unwrap();
+            exec.render(&gpu, scene.camera(), scene).unwrap();
             exec.read_output(&gpu).unwrap()
         };
         let mut exec = Executor::new(&gpu, plan(), &base).unwrap();

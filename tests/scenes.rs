@@ -82,15 +82,15 @@ fn full_document(dir: &Path) -> Doc {
 }
 
 fn check_full_document(s: &Scene, r: &raygraph::scene::ImportReport) {
-    assert_eq!(s.meshes.len(), 4, "one mesh per triangle primitive (the lines primitive is skipped)");
+    assert_eq!(s.meshes().len(), 4, "one mesh per triangle primitive (the lines primitive is skipped)");
     assert_eq!(r.skipped_primitives, 1);
-    assert_eq!(s.instances.len(), 5, "mesh A is instanced twice, not copied");
+    assert_eq!(s.instances().len(), 5, "mesh A is instanced twice, not copied");
     assert_eq!(s.triangle_count(), 2 + 2 + 1 + 1 + 1);
-    assert_eq!(s.textures.len(), 3, "three distinct images (one used twice)");
-    assert_eq!(s.materials.len(), 4, "three materials and the default");
+    assert_eq!(s.textures().len(), 3, "three distinct images (one used twice)");
+    assert_eq!(s.materials().len(), 4, "three materials and the default");
 
     // Transforms through the hierarchy.
-    let a: Vec<_> = s.instances.iter().filter(|i| s.meshes[i.mesh].triangle_count() == 2).collect();
+    let a: Vec<_> = s.instances().iter().filter(|i| s.meshes()[i.mesh].triangle_count() == 2).collect();
     assert_eq!(a.len(), 2);
     assert_eq!(a[0].mesh, a[1].mesh);
     let corner = |t: &Mat4| t.transform_point3(Vec3::new(1.0, 1.0, 0.0));
@@ -101,30 +101,30 @@ fn check_full_document(s: &Scene, r: &raygraph::scene::ImportReport) {
     for want in [corner(&expect1), corner(&expect2)] {
         assert!(got.iter().any(|g| g.distance(want) < 1e-5), "want {want}, got {got:?}");
     }
-    let b = s.instances.iter().find(|i| s.materials[i.material].name == "glass").unwrap();
+    let b = s.instances().iter().find(|i| s.materials()[i.material].name == "glass").unwrap();
     assert!(b.transform.transform_point3(Vec3::ZERO).distance(Vec3::new(0.0, 0.0, -5.0)) < 1e-6);
 
     // Materials.
-    let full = s.materials.iter().find(|m| m.name == "full").unwrap();
+    let full = s.materials().iter().find(|m| m.name == "full").unwrap();
     assert_eq!(full.base_color, [0.5, 0.25, 1.0, 1.0]);
     assert_eq!((full.metallic, full.roughness, full.normal_scale), (0.75, 0.125, 0.5));
     assert_eq!(full.emissive, [1.0, 0.5, 0.0]);
     assert_eq!(full.alpha_mode, AlphaMode::Mask(0.3));
     assert!(full.double_sided);
     assert_eq!(full.texture, full.emissive_texture, "one image, one texture");
-    let base = &s.textures[full.texture.unwrap()];
+    let base = &s.textures()[full.texture.unwrap()];
     assert_eq!((base.width, base.height), (4, 4));
     assert_eq!(&base.rgba[0..4], &[255, 0, 0, 255]);
-    let mr = &s.textures[full.metallic_roughness_texture.unwrap()];
+    let mr = &s.textures()[full.metallic_roughness_texture.unwrap()];
     assert_eq!(&mr.rgba[0..4], &[0, 128, 255, 255]);
-    let normal = &s.textures[full.normal_texture.unwrap()];
+    let normal = &s.textures()[full.normal_texture.unwrap()];
     assert_eq!(&normal.rgba[0..4], &[128, 128, 255, 255], "the embedded image decodes");
-    assert_eq!(s.materials.iter().find(|m| m.name == "glass").unwrap().alpha_mode, AlphaMode::Blend);
+    assert_eq!(s.materials().iter().find(|m| m.name == "glass").unwrap().alpha_mode, AlphaMode::Blend);
 
     // Attributes.
     let mesh_of = |mat: &str, tris: usize| {
-        let i = s.instances.iter().find(|i| s.materials[i.material].name == mat && s.meshes[i.mesh].triangle_count() == tris).unwrap();
-        &s.meshes[i.mesh]
+        let i = s.instances().iter().find(|i| s.materials()[i.material].name == mat && s.meshes()[i.mesh].triangle_count() == tris).unwrap();
+        &s.meshes()[i.mesh]
     };
     let ma = mesh_of("full", 2);
     assert_eq!(ma.tangents.as_ref().unwrap()[0], [1.0, 0.0, 0.0, 1.0], "tangents read as given");
@@ -139,10 +139,10 @@ fn check_full_document(s: &Scene, r: &raygraph::scene::ImportReport) {
     assert_eq!(mc.vertices[2].uv, [0.0, 1.0], "normalized u8 uv");
     let tc = mc.tangents.as_ref().expect("tangents generated for a normal-mapped mesh");
     assert!(Vec3::new(tc[0][0], tc[0][1], tc[0][2]).distance(Vec3::X) < 1e-5, "tangent follows +u: {:?}", tc[0]);
-    let md = s.meshes.iter().find(|m| m.indices == vec![0, 1, 2] && m.vertices[1].position == [0.0, 1.0, 0.0]).expect("non-indexed mesh D");
+    let md = s.meshes().iter().find(|m| m.indices == vec![0, 1, 2] && m.vertices[1].position == [0.0, 1.0, 0.0]).expect("non-indexed mesh D");
     assert!(Vec3::from(md.vertices[0].normal).distance(Vec3::X) < 1e-6);
-    let default_mat = s.instances.iter().find(|i| i.mesh == s.meshes.iter().position(|m| std::ptr::eq(m, md)).unwrap()).unwrap().material;
-    assert_eq!(s.materials[default_mat].name, "default");
+    let default_mat = s.instances().iter().find(|i| i.mesh == s.meshes().iter().position(|m| std::ptr::eq(m, md)).unwrap()).unwrap().material;
+    assert_eq!(s.materials()[default_mat].name, "default");
 }
 
 #[test]
@@ -162,19 +162,19 @@ fn a_graph_without_textures_loads_none() {
     let dir = temp_dir("gltf-notex");
     let path = full_document(&dir).write_glb(&dir, "doc");
     let (s, r) = gltf_import::load(&path, &LoadOptions { textures: false, ..Default::default() }).unwrap();
-    assert!(s.textures.is_empty());
-    assert!(s.materials.iter().all(|m| m.texture.is_none() && m.normal_texture.is_none()));
+    assert!(s.textures().is_empty());
+    assert!(s.materials().iter().all(|m| m.texture.is_none() && m.normal_texture.is_none()));
     assert_eq!(r.textures_not_loaded, 4, "base, metallic-roughness, normal and emissive references");
     let (atrium, r) = open("box", &LoadOptions { textures: false, ..Default::default() }).unwrap();
-    assert!(atrium.textures.is_empty() && r.textures_not_loaded > 0);
+    assert!(atrium.textures().is_empty() && r.textures_not_loaded > 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// World-space triangles of a scene, sorted, as bit patterns rounded to 1e-5.
 fn world_triangles(s: &Scene) -> Vec<[i64; 9]> {
     let mut out = Vec::new();
-    for inst in s.instances.iter() {
-        let m = &s.meshes[inst.mesh];
+    for inst in s.instances().iter() {
+        let m = &s.meshes()[inst.mesh];
         for t in m.indices.chunks_exact(3) {
             let mut tri = [0i64; 9];
             for (k, &i) in t.iter().enumerate() {
@@ -201,16 +201,16 @@ fn built_in_scenes_export_and_import_back_to_the_same_triangles() {
         println!(
             "{name}: {} triangles, {} meshes, {} textures -> {} bytes",
             s.triangle_count(),
-            s.meshes.len(),
-            s.textures.len(),
+            s.meshes().len(),
+            s.textures().len(),
             std::fs::metadata(&path).unwrap().len()
         );
         assert_eq!(back.triangle_count(), s.triangle_count(), "{name}");
-        assert_eq!(back.textures.len(), s.textures.len(), "{name}");
-        assert_eq!(back.instances.len(), s.instances.len(), "{name}");
+        assert_eq!(back.textures().len(), s.textures().len(), "{name}");
+        assert_eq!(back.instances().len(), s.instances().len(), "{name}");
         assert_eq!(report.non_finite_triangles + report.skipped_primitives + report.missing_images, 0);
         assert!(world_triangles(&back) == world_triangles(&s), "{name}: triangles differ after the round trip");
-        for (a, b) in s.textures.iter().zip(&back.textures) {
+        for (a, b) in s.textures().iter().zip(back.textures()) {
             assert!(a.rgba == b.rgba, "{name}: texture {} changed", a.name);
         }
     }
@@ -223,11 +223,11 @@ fn duplication_copies_the_scene_on_a_grid_with_and_without_shared_meshes() {
     let shared = duplicate(&s, 3, true);
     let owned = duplicate(&s, 3, false);
     for d in [&shared, &owned] {
-        assert_eq!(d.instances.len(), 27 * s.instances.len());
+        assert_eq!(d.instances().len(), 27 * s.instances().len());
         assert_eq!(d.triangle_count(), 27 * s.triangle_count());
     }
-    assert_eq!(shared.meshes.len(), s.meshes.len(), "de-duplication on: copies share meshes");
-    assert_eq!(owned.meshes.len(), 27 * s.meshes.len(), "de-duplication off: every copy owns its meshes");
+    assert_eq!(shared.meshes().len(), s.meshes().len(), "de-duplication on: copies share meshes");
+    assert_eq!(owned.meshes().len(), 27 * s.meshes().len(), "de-duplication off: every copy owns its meshes");
     assert_eq!(world_triangles(&shared), world_triangles(&owned));
     // Copies do not overlap: the grid spans 3 extents plus gaps on every axis.
     let (b, g) = (s.bounds(), shared.bounds());
@@ -240,13 +240,13 @@ fn duplication_copies_the_scene_on_a_grid_with_and_without_shared_meshes() {
 fn camera_presets_are_named_and_unknown_ones_are_listed() {
     for name in raygraph::scene::load::BUILTIN_NAMES {
         let (s, _) = open(name, &LoadOptions { textures: false, ..Default::default() }).unwrap();
-        assert!(s.presets.len() >= 3, "{name}");
-        assert_eq!(s.presets[0].1, s.camera, "{name}: the first preset is the default camera");
-        for (n, c) in &s.presets {
+        assert!(s.presets().len() >= 3, "{name}");
+        assert_eq!(s.presets()[0].1, *s.camera(), "{name}: the first preset is the default camera");
+        for (n, c) in s.presets() {
             assert!(c.position.is_finite() && c.position.distance(c.target) > 1e-3, "{name}/{n}");
         }
         let err = s.preset("nowhere").unwrap_err();
-        assert!(err.contains(&s.presets[0].0), "{err}");
+        assert!(err.contains(&s.presets()[0].0), "{err}");
     }
 }
 
@@ -373,7 +373,7 @@ fn missing_or_undecodable_images_warn_and_use_a_visible_fallback() {
     assert_eq!(r.missing_images, 2);
     assert_eq!(r.warnings.iter().filter(|w| w.contains("fallback")).count(), 2, "{:?}", r.warnings);
     assert_eq!(s.triangle_count(), 1, "loading went on");
-    let fallback = &s.textures[s.materials[0].texture.unwrap()];
+    let fallback = &s.textures()[s.materials()[0].texture.unwrap()];
     assert_eq!(&fallback.rgba[0..4], &[255, 0, 255, 255], "magenta marks the missing texture");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -397,7 +397,7 @@ fn nan_and_infinite_positions_drop_their_triangles_and_zero_area_ones_are_counte
     assert_eq!(r.non_finite_triangles, 2);
     assert_eq!(r.degenerate_triangles, 1);
     assert_eq!(s.triangle_count(), 3, "NaN/Inf triangles dropped, the zero-area one kept for drawing");
-    for m in &s.meshes {
+    for m in s.meshes() {
         for v in &m.vertices {
             assert!(v.position.iter().chain(&v.normal).chain(&v.uv).all(|c| c.is_finite()), "a non-finite value would be uploaded: {v:?}");
         }

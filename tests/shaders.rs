@@ -61,7 +61,7 @@ fn included_files_report_their_own_lines() {
     let bindings = std::fs::read_to_string(root.join("common/scene_bindings.wgsl")).unwrap();
     assert_eq!(frame.location.line, common::line_of(&bindings, "var<uniform> frame"));
     // An offset inside the appended include maps back into the include.
-    let offset = info.source.text.find("struct Instance").unwrap();
+    let offset = info.source.text().find("struct Instance").unwrap();
     let loc = info.source.locate(offset);
     assert!(loc.file.ends_with("common/scene.wgsl"), "{loc}");
     let inc = std::fs::read_to_string(root.join("common/scene.wgsl")).unwrap();

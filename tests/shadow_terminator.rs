@@ -21,14 +21,14 @@ const SIZE: (u32, u32) = (96, 96);
 /// side so the terminator crosses the visible half), the camera on +z.
 fn sphere_scene() -> Scene {
     let mut scene = raygraph::scene::builtin::default_scene();
-    scene.meshes = vec![raygraph::scene::builtin::sphere("low-poly sphere", 6, 8)].into_iter().map(Into::into).collect();
+    scene.set_meshes(vec![raygraph::scene::builtin::sphere("low-poly sphere", 6, 8)]);
     *scene.materials_mut() = vec![Material::diffuse("white", [0.8, 0.8, 0.8, 1.0], None)];
     *scene.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_rotation_y(0.3) }];
-    scene.textures.clear();
-    scene.lights.clear();
-    scene.point_light = None;
-    scene.light = Light { direction: Vec3::new(1.0, 0.15, -0.1).normalize(), ..scene.light };
-    scene.camera = Camera::look(Vec3::new(0.0, 0.0, 3.2), Vec3::ZERO, 45.0, 0.1, 10.0);
+    scene.textures_mut().clear();
+    scene.lights_mut().clear();
+    scene.set_point_light(None);
+    *scene.light_mut() = Light { direction: Vec3::new(1.0, 0.15, -0.1).normalize(), ..*scene.light() };
+    *scene.camera_mut() = Camera::look(Vec3::new(0.0, 0.0, 3.2), Vec3::ZERO, 45.0, 0.1, 10.0);
     scene
 }
 
@@ -40,7 +40,7 @@ fn run(gpu: &Gpu, scene: &Scene, graph: &str, off: &[&str]) -> Executor {
     let path = repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     exec
 }
 
@@ -72,7 +72,7 @@ fn fringe(surfaces: &[Option<SurfacePoint>], sun: Vec3, shadowed: impl Fn(usize)
 fn smooth_low_poly_surfaces_have_no_shadow_terminator_fringe() {
     let gpu = gpu();
     let scene = sphere_scene();
-    let sun = scene.light.direction;
+    let sun = scene.light().direction;
     let reference = ReferenceRenderer::new(&scene);
     for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
         let exec = run(&gpu, &scene, graph, &["ao", "reflection"]);
@@ -81,9 +81,9 @@ fn smooth_low_poly_surfaces_have_no_shadow_terminator_fringe() {
         let (facing, gpu_share) = fringe(&surfaces, sun, |i| mask[i][0] < 0.5);
         // The same rays in f64 from the same surfaces, and from the surfaces without the offset
         // (what the shadow pass traced before it).
-        let with = reference.shadow(&surfaces, &scene.light, None);
+        let with = reference.shadow(&surfaces, scene.light(), None);
         let flat: Vec<Option<SurfacePoint>> = surfaces.iter().map(|s| s.map(|s| SurfacePoint { shadow_offset: 0.0, ..s })).collect();
-        let without = reference.shadow(&flat, &scene.light, None);
+        let without = reference.shadow(&flat, scene.light(), None);
         let (_, with_share) = fringe(&surfaces, sun, |i| with[i].is_some_and(|p| !p.sun.value));
         let (_, without_share) = fringe(&surfaces, sun, |i| without[i].is_some_and(|p| !p.sun.value));
         println!(
@@ -109,7 +109,7 @@ fn a_lone_convex_mesh_shades_as_if_unshadowed_and_raster_is_measured_beside_it()
     // terminator band beside it (ACCURACY.md, "Shadow terminator").
     let gpu = gpu();
     let scene = sphere_scene();
-    let sun = scene.light.direction;
+    let sun = scene.light().direction;
     let exec = run(&gpu, &scene, "graph/hybrid.ron", &["ao", "reflection"]);
     let shadowed = channel(&gpu, &exec, "resolve.hdr");
     let unshadowed = channel(&gpu, &run(&gpu, &scene, "graph/hybrid.ron", &["ao", "reflection", "shadow"]), "resolve.hdr");

@@ -22,14 +22,14 @@ const FRAMES: usize = 64;
 
 fn scene(camera: Camera) -> Scene {
     let mut s = default_scene();
-    s.name = "soft shadow test".into();
-    s.meshes = vec![plane("floor", 12.0, 1.0), sphere("ball", 64, 128)].into_iter().map(Into::into).collect();
-    s.textures = Vec::new();
+    s.set_name("soft shadow test");
+    s.set_meshes(vec![plane("floor", 12.0, 1.0), sphere("ball", 64, 128)]);
+    *s.textures_mut() = Vec::new();
     *s.materials_mut() = vec![Material::diffuse("grey", [0.8, 0.8, 0.8, 1.0], None)];
     *s.instances_mut() =
         vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 0, transform: Mat4::from_translation(CENTRE) }];
-    s.light = Light { direction: Vec3::Y, color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
-    s.camera = camera;
+    *s.light_mut() = Light { direction: Vec3::Y, color: Vec3::ONE, intensity: 3.0, ambient: 0.35 };
+    *s.camera_mut() = camera;
     s
 }
 
@@ -56,7 +56,7 @@ fn masks(graph_text: &str, scene: &Scene, frames: usize) -> Vec<Vec<u8>> {
     let mut exec = Executor::new(&gpu, plan, scene).unwrap();
     (0..frames)
         .map(|_| {
-            exec.render(&gpu, &scene.camera, scene).unwrap();
+            exec.render(&gpu, scene.camera(), scene).unwrap();
             exec.read_output(&gpu).unwrap().pixels().map(|p| p[0]).collect()
         })
         .collect()
@@ -180,7 +180,7 @@ fn a_rectangle_light_gives_the_penumbra_of_the_uncovered_area() {
     let size = (4.0, 0.5);
     let camera = Camera::look(Vec3::new(0.0, 7.0, 5.0), Vec3::ZERO, 50.0, 0.05, 100.0);
     let mut s = scene(camera);
-    s.lights = vec![raygraph::scene::PunctualLight {
+    *s.lights_mut() = vec![raygraph::scene::PunctualLight {
         name: "panel".into(),
         kind: raygraph::scene::LightKind::Point { range: None },
         position: light,

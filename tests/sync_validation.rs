@@ -41,7 +41,7 @@ fn check(what: &str, out: &Output) {
 fn the_three_modes_on_every_back_end_have_no_synchronization_hazard() {
     let out_png = common::gltf_doc::temp_dir("sync").join("x.png");
     let gpu = common::gpu();
-    for backend in gpu.backends.iter().map(|b| b.to_string()) {
+    for backend in gpu.backends().iter().map(|b| b.to_string()) {
         for mode in ["raster", "hybrid", "full-rt"] {
             let out = run_synchronized(&[
                 "render",

@@ -42,12 +42,12 @@ fn quad_scene(sampling: SlotSampling) -> Scene {
     let mut material = Material::diffuse("sampled", [1.0; 4], Some(0));
     material.sampling[0] = sampling;
     let mut scene = raygraph::scene::builtin::default_scene();
-    scene.meshes = vec![mesh.into()];
+    scene.set_meshes([mesh]);
     *scene.materials_mut() = vec![material];
     *scene.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
-    scene.textures = vec![checker()];
-    scene.rig = None;
-    scene.camera = Camera { orthographic: Some(0.5), ..Camera::look(Vec3::new(0.5, 0.5, 2.0), Vec3::new(0.5, 0.5, 0.0), 45.0, 0.5, 4.0) };
+    *scene.textures_mut() = vec![checker()];
+    scene.set_rig(None);
+    *scene.camera_mut() = Camera { orthographic: Some(0.5), ..Camera::look(Vec3::new(0.5, 0.5, 2.0), Vec3::new(0.5, 0.5, 0.0), 45.0, 0.5, 4.0) };
     scene
 }
 
@@ -98,7 +98,7 @@ fn albedo(gpu: &raygraph::runtime::Gpu, scene: &Scene, graph: &str, layers: &[(&
     let path = repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), (size, size), &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     common::channel(gpu, &exec, "gbuffer.albedo")
 }
 
@@ -120,7 +120,7 @@ fn check_scene(name: &str, scene: &Scene, sampling: &SlotSampling, producers: &[
     assert!(want.iter().filter(|w| w.is_some()).count() > (size * size / 2) as usize, "{name}: most pixels are checked");
     let mut gpu = gpu();
     for bindless in [true, false] {
-        gpu.texture_binding_arrays = bindless;
+        gpu.set_texture_binding_arrays(bindless);
         for &(graph, layers) in producers {
             let got = albedo(&gpu, scene, graph, layers, size);
             // The G-buffer's albedo is 8-bit linear: half a step is 1/510.
@@ -165,7 +165,7 @@ fn the_khronos_samplers_and_transforms_are_imported() {
         raygraph::scene::open(path.to_str().unwrap(), &LoadOptions::default()).unwrap()
     };
     let (scene, report) = open("TextureSettingsTest");
-    let base = |name: &str| scene.materials.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("no material {name}")).sampling[0];
+    let base = |name: &str| scene.materials().iter().find(|m| m.name == name).unwrap_or_else(|| panic!("no material {name}")).sampling[0];
     assert_eq!((base("TextureClampMaterialT").wrap_s, base("TextureClampMaterialT").wrap_t), (Wrap::Repeat, Wrap::ClampToEdge));
     assert_eq!((base("TextureMirrorMaterialS").wrap_s, base("TextureMirrorMaterialS").wrap_t), (Wrap::MirroredRepeat, Wrap::Repeat));
     // minFilter 9986, NEAREST_MIPMAP_LINEAR; magFilter 9729, LINEAR.
@@ -174,18 +174,18 @@ fn the_khronos_samplers_and_transforms_are_imported() {
     assert!(!report.ignored_features.iter().any(|f| f.contains("sampler")), "{:?}", report.ignored_features);
 
     let (scene, _) = open("MultiUVTest");
-    assert_eq!((scene.materials[0].sampling[4].tex_coord, scene.materials[0].sampling[0].tex_coord), (1, 0), "emissive reads TEXCOORD_1");
-    assert!(scene.meshes[0].extras.as_ref().is_some_and(|e| e.iter().any(|x| x.uv1 != [0.0; 2])), "the mesh's TEXCOORD_1");
+    assert_eq!((scene.materials()[0].sampling[4].tex_coord, scene.materials()[0].sampling[0].tex_coord), (1, 0), "emissive reads TEXCOORD_1");
+    assert!(scene.meshes()[0].extras.as_ref().is_some_and(|e| e.iter().any(|x| x.uv1 != [0.0; 2])), "the mesh's TEXCOORD_1");
     let (scene, _) = open("VertexColorTest");
-    let coloured = scene.meshes.iter().filter_map(|m| m.extras.as_ref()).flatten().filter(|x| x.color != [1.0; 4]).count();
+    let coloured = scene.meshes().iter().filter_map(|m| m.extras.as_ref()).flatten().filter(|x| x.color != [1.0; 4]).count();
     assert!(coloured > 0, "COLOR_0 read");
 
     let (scene, report) = open("TextureTransformTest");
     assert!(!report.ignored_features.iter().any(|f| f.contains("KHR_texture_transform")), "{:?}", report.ignored_features);
-    let transformed = scene.materials.iter().filter(|m| m.sampling[0].transform.is_some()).count();
+    let transformed = scene.materials().iter().filter(|m| m.sampling[0].transform.is_some()).count();
     assert_eq!(transformed, 6, "Offset U, V, UV, Rotation, Scale, All");
     // `All`: offset (-0.2, -0.1), rotation 0.3, scale 1.5: translation x rotation x scale.
-    let all = scene.materials.iter().find(|m| m.name == "All").unwrap().sampling[0].transform.unwrap();
+    let all = scene.materials().iter().find(|m| m.name == "All").unwrap().sampling[0].transform.unwrap();
     let (sin, cos) = 0.3f32.sin_cos();
     let want = [[1.5 * cos, 1.5 * sin, -0.2], [-1.5 * sin, 1.5 * cos, -0.1]];
     for (row, want_row) in all.iter().zip(want) {
@@ -194,7 +194,7 @@ fn the_khronos_samplers_and_transforms_are_imported() {
         }
     }
     // An offset moves the uv by itself.
-    let moved = scene.materials.iter().find(|m| m.name == "Offset U").unwrap().sampling[0].apply([0.25, 0.5]);
+    let moved = scene.materials().iter().find(|m| m.name == "Offset U").unwrap().sampling[0].apply([0.25, 0.5]);
     assert_eq!(moved, [0.75, 0.5]);
 }
 
@@ -211,14 +211,14 @@ fn export_keeps_samplers_transforms_and_unlit() {
     m.sampling[3] = SlotSampling { transform: Some([[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]), ..Default::default() };
     m.unlit = true;
     let extras: Vec<VertexExtra> = (0..4).map(|i| VertexExtra { uv1: [i as f32, 0.5], color: [0.25 * i as f32, 1.0, 0.5, 1.0], _pad: [0.0; 2] }).collect();
-    std::sync::Arc::make_mut(&mut scene.meshes[0]).extras = Some(extras);
+    scene.mesh_mut(0).extras = Some(extras);
     let dir = std::env::temp_dir().join(format!("raygraph-export-sampling-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("sampled.glb");
     raygraph::scene::export::write_glb(&scene, &path).unwrap();
     let (back, report) = raygraph::scene::open(path.to_str().unwrap(), &LoadOptions::default()).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    let (a, b) = (&scene.materials[0], &back.materials[0]);
+    let (a, b) = (&scene.materials()[0], &back.materials()[0]);
     assert!(b.unlit);
     // The samplers and transforms are read; only what unlit leaves out is listed.
     assert_eq!(report.ignored_features, ["material `sampled`: occlusion, emission (KHR_materials_unlit draws the base colour only)"]);
@@ -235,7 +235,7 @@ fn export_keeps_samplers_transforms_and_unlit() {
             (p, q) => assert_eq!(p, q, "slot {slot}"),
         }
     }
-    assert_eq!(scene.meshes[0].extras, back.meshes[0].extras, "COLOR_0 and TEXCOORD_1");
+    assert_eq!(scene.meshes()[0].extras, back.meshes()[0].extras, "COLOR_0 and TEXCOORD_1");
 }
 
 #[test]
@@ -244,7 +244,7 @@ fn a_slot_reads_the_second_texture_coordinates_it_names() {
     // G-buffer too (its vertex stage reads the mesh's extras).
     let sampling = SlotSampling { tex_coord: 1, ..nearest(Wrap::MirroredRepeat, Wrap::Repeat) };
     let mut scene = quad_scene(sampling);
-    let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
+    let mesh = scene.mesh_mut(0);
     mesh.extras = Some(mesh.vertices.iter().map(|v| VertexExtra { uv1: v.uv, ..Default::default() }).collect());
     for v in &mut mesh.vertices {
         v.uv = [0.1, 0.1];
@@ -260,10 +260,10 @@ fn vertex_colours_multiply_the_base_colour() {
     scene.materials_mut()[0].texture = None;
     scene.materials_mut()[0].base_color = [1.0, 0.5, 1.0, 1.0];
     let corners = [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.5, 0.5, 0.5, 1.0]];
-    std::sync::Arc::make_mut(&mut scene.meshes[0]).extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
+    scene.mesh_mut(0).extras = Some(corners.iter().map(|&color| VertexExtra { color, ..Default::default() }).collect());
     let size = 48u32;
     let mut gpu = gpu();
-    gpu.texture_binding_arrays = true;
+    gpu.set_texture_binding_arrays(true);
     for (graph, layers) in PRODUCERS {
         let got = albedo(&gpu, &scene, graph, layers, size);
         let mut worst = 0.0f32;
@@ -276,7 +276,7 @@ fn vertex_colours_multiply_the_base_colour() {
             }
             let (tri, w) = if x > y { ([0, 1, 2], [1.0 - x, x - y, y]) } else { ([0, 2, 3], [1.0 - y, x, y - x]) };
             for c in 0..3 {
-                let want = scene.materials[0].base_color[c] * (0..3).map(|k| w[k] * corners[tri[k]][c]).sum::<f32>();
+                let want = scene.materials()[0].base_color[c] * (0..3).map(|k| w[k] * corners[tri[k]][c]).sum::<f32>();
                 worst = worst.max((got[p][c] - want).abs());
             }
         }

@@ -66,7 +66,7 @@ fn tone_map(exposure: f64, with_sky: bool) -> (Vec<[f32; 4]>, image::RgbaImage) 
     let gpu = gpu();
     let scene = default_scene();
     let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    exec.render(&gpu, &scene.camera, &scene).unwrap();
+    exec.render(&gpu, scene.camera(), &scene).unwrap();
     let (_, _, texels) = exec.read_texture_f32(&gpu, hdr).unwrap();
     (texels, exec.read_texture_rgba8(&gpu, color).unwrap())
 }

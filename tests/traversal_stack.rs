@@ -22,7 +22,7 @@ fn render(gpu: &Gpu, graph: &str, scene: &Scene) -> Vec<u8> {
     let path = common::repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     exec.read_output(gpu).unwrap().into_raw()
 }
 

@@ -38,8 +38,14 @@ fn rows() -> Vec<RooflineRow> {
         ("helmet", "assets/gltf/DamagedHelmet/DamagedHelmet.glb"),
         ("pine", "assets/gltf/smallpine/scene.gltf"),
     ];
-    let mut rows: Vec<RooflineRow> =
-        scenes.iter().map(|(label, name)| roofline::scene_workload(&Scene { name: label.to_string(), ..scene(name) }, STRIDE, AO_RAYS, bandwidth)).collect();
+    let mut rows: Vec<RooflineRow> = scenes
+        .iter()
+        .map(|(label, name)| {
+            let mut s = scene(name);
+            s.set_name(*label);
+            roofline::scene_workload(&s, STRIDE, AO_RAYS, bandwidth)
+        })
+        .collect();
     let atrium = scene("atrium");
     let miss = raygraph::bench::rays::miss_outside_camera(&atrium);
     rows.push(roofline::primary_workload("Miss (outside)", &atrium, &miss, STRIDE, bandwidth));

@@ -39,7 +39,7 @@ fn make_an_invalid_vulkan_call() {
     // makes one, is destroyed at once and never used. The size of 0 is the point: the
     // validation layer must stop the process before the call reaches the driver.
     unsafe {
-        let hal = gpu.device.as_hal::<wgpu::hal::api::Vulkan>().expect("the Vulkan back-end");
+        let hal = gpu.device().as_hal::<wgpu::hal::api::Vulkan>().expect("the Vulkan back-end");
         let raw = hal.raw_device();
         let info = ash::vk::BufferCreateInfo::default().size(0).usage(ash::vk::BufferUsageFlags::STORAGE_BUFFER);
         if let Ok(buffer) = raw.create_buffer(&info, None) {

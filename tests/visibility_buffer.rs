@@ -33,7 +33,7 @@ fn render(gpu: &Gpu, scene: &Scene, options: &CompileOptions) -> (Vec<String>, i
     let plan = compile_with(&graph, &Project::beside_graph(&graph), SIZE, options).unwrap();
     let passes = plan.passes().iter().map(|p| p.name.clone()).collect();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     (passes, exec.read_output(gpu).unwrap())
 }
 
@@ -78,7 +78,7 @@ fn gbuffer(gpu: &Gpu, scene: &Scene, options: &CompileOptions, channel: &str) ->
     let options = CompileOptions { reuse: false, ..options.clone() };
     let plan = compile_with(&graph, &Project::beside_graph(&graph), SIZE, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     common::channel(gpu, &exec, channel)
 }
 

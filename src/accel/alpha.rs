@@ -20,32 +20,30 @@ use crate::scene::{Material, Scene, SlotSampling, TextureImage, Wrap, LOBE_TRANS
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
 pub const ALPHA_OPAQUE: u32 = u32::MAX;
 
-pub use crate::scene::BLEND_MIN_COVERAGE;
-
 /// Bit of a record's second word that marks a BLEND instance (`TRACE_ALPHA_BLEND`).
-pub const ALPHA_BLEND_BIT: u32 = 1 << 28;
+pub(crate) const ALPHA_BLEND_BIT: u32 = 1 << 28;
 
 /// Bit of a record's second word that marks an instance whose transmission texture is drawn
 /// (`TRACE_ALPHA_TRANSMISSION`): its fourth word is then the index of a word holding the
 /// texture's layer and wrap bits, the transmitted share and the cutoff.
-pub const ALPHA_TRANSMISSION_BIT: u32 = 1 << 29;
+pub(crate) const ALPHA_TRANSMISSION_BIT: u32 = 1 << 29;
 
 /// The cutoff of an alpha-tested material, `None` for an opaque one
-/// ([`Material::alpha_cutoff`]).
+/// (`Material::alpha_cutoff`).
 pub fn cutoff(m: &Material) -> Option<f32> {
     m.alpha_cutoff()
 }
 
 /// Whether scene instance `i` runs the alpha test (its material is alpha-tested).
-pub fn instance_tested(scene: &Scene, i: usize) -> bool {
-    scene.instances.get(i).and_then(|inst| scene.materials.get(inst.material)).is_some_and(|m| cutoff(m).is_some())
+pub(crate) fn instance_tested(scene: &Scene, i: usize) -> bool {
+    scene.instances().get(i).and_then(|inst| scene.materials().get(inst.material)).is_some_and(|m| cutoff(m).is_some())
 }
 
 /// Per mesh, whether an alpha-tested instance uses it (a mesh used by both kinds counts as
 /// alpha-tested: the driver back-ends build it non-opaque).
 pub fn tested_meshes(scene: &Scene) -> Vec<bool> {
-    let mut out = vec![false; scene.meshes.len()];
-    for (i, inst) in scene.instances.iter().enumerate() {
+    let mut out = vec![false; scene.meshes().len()];
+    for (i, inst) in scene.instances().iter().enumerate() {
         if instance_tested(scene, i) {
             if let Some(m) = out.get_mut(inst.mesh) {
                 *m = true;
@@ -59,15 +57,15 @@ pub fn tested_meshes(scene: &Scene) -> Vec<bool> {
 /// instance, then the uvs of every mesh an alpha-tested instance uses, two words per triangle.
 /// A scene without alpha-tested instances is one opaque record (never read).
 pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
-    let tested: Vec<bool> = (0..scene.instances.len()).map(|i| instance_tested(scene, i)).collect();
+    let tested: Vec<bool> = (0..scene.instances().len()).map(|i| instance_tested(scene, i)).collect();
     if !tested.iter().any(|&t| t) {
         return vec![[ALPHA_OPAQUE; 4]];
     }
-    let mut words = vec![[ALPHA_OPAQUE; 4]; scene.instances.len()];
+    let mut words = vec![[ALPHA_OPAQUE; 4]; scene.instances().len()];
     // Per (mesh, the base slot's uv transform): where its uvs start.
     let mut uv_base: std::collections::HashMap<(usize, Option<[u32; 6]>), u32> = Default::default();
-    for (i, inst) in scene.instances.iter().enumerate() {
-        let (true, Some(mesh), Some(m)) = (tested[i], scene.meshes.get(inst.mesh), scene.materials.get(inst.material)) else { continue };
+    for (i, inst) in scene.instances().iter().enumerate() {
+        let (true, Some(mesh), Some(m)) = (tested[i], scene.meshes().get(inst.mesh), scene.materials().get(inst.material)) else { continue };
         let sampling = &m.sampling[0];
         let key = (inst.mesh, sampling.transform.map(|[a, b]| [a[0], a[1], a[2], b[0], b[1], b[2]].map(f32::to_bits)));
         let base = *uv_base.entry(key).or_insert_with(|| {
@@ -129,7 +127,7 @@ pub fn bilinear_alpha(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling)
 }
 
 /// [`bilinear_alpha`] of channel `channel` (0 red to 3 alpha; a data texture, read as stored).
-pub fn bilinear_channel(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling, channel: usize) -> f64 {
+pub(crate) fn bilinear_channel(img: &TextureImage, uv: [f64; 2], sampling: &SlotSampling, channel: usize) -> f64 {
     let (w, h) = (img.width as usize, img.height as usize);
     if w == 0 || h == 0 || img.rgba.len() < w * h * 4 {
         return 1.0;
@@ -153,19 +151,19 @@ pub fn visible(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> b
     excess(scene, instance, prim, bary).is_none_or(|e| e >= 0.0)
 }
 
-/// The coverage of a translucent surface at such a hit ([`Material::coverage_factor`] x texture
+/// The coverage of a translucent surface at such a hit (`Material::coverage_factor` x texture
 /// alpha, times 1 - the transmitted share x the transmission texel where that texture is
 /// drawn), `None` where the instance's material is not translucent: `trace_blend_coverage` in
 /// `shaders/trace/alpha.wgsl`.
 pub fn blend_coverage(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
-    let inst = scene.instances.get(instance)?;
-    let m = scene.materials.get(inst.material)?;
+    let inst = scene.instances().get(instance)?;
+    let m = scene.materials().get(inst.material)?;
     if !m.translucent() {
         return None;
     }
     let coverage = excess(scene, instance, prim, bary)? + cutoff(m).unwrap_or(0.0) as f64;
-    let texture = m.lobes.textures[LOBE_TRANSMISSION].and_then(|t| scene.textures.get(t)).filter(|_| m.transmission_texture_drawn());
-    let Some((img, mesh)) = texture.zip(scene.meshes.get(inst.mesh)) else { return Some(coverage) };
+    let texture = m.lobes.textures[LOBE_TRANSMISSION].and_then(|t| scene.textures().get(t)).filter(|_| m.transmission_texture_drawn());
+    let Some((img, mesh)) = texture.zip(scene.meshes().get(inst.mesh)) else { return Some(coverage) };
     let uv = hit_uv(mesh, prim, bary, &m.sampling[0]);
     Some(coverage * (1.0 - m.transmitted_share() as f64 * bilinear_channel(img, uv, &m.sampling[5 + LOBE_TRANSMISSION], 0)))
 }
@@ -181,15 +179,15 @@ fn hit_uv(mesh: &crate::scene::Mesh, prim: usize, bary: [f64; 2], sampling: &Slo
 
 /// `base_color.a` x texture alpha minus the cutoff at such a hit (kept when >= 0), `None` where
 /// the instance is not alpha-tested.
-pub fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
-    let inst = scene.instances.get(instance)?;
-    let m = scene.materials.get(inst.material)?;
+pub(crate) fn excess(scene: &Scene, instance: usize, prim: usize, bary: [f64; 2]) -> Option<f64> {
+    let inst = scene.instances().get(instance)?;
+    let m = scene.materials().get(inst.material)?;
     let cutoff = cutoff(m)?;
-    let mesh = scene.meshes.get(inst.mesh)?;
+    let mesh = scene.meshes().get(inst.mesh)?;
     let sampling = &m.sampling[0];
     let w = [1.0 - bary[0] - bary[1], bary[0], bary[1]];
     let p = hit_uv(mesh, prim, bary, sampling);
-    let tex = m.texture.and_then(|t| scene.textures.get(t)).map_or(1.0, |img| bilinear_alpha(img, p, sampling));
+    let tex = m.texture.and_then(|t| scene.textures().get(t)).map_or(1.0, |img| bilinear_alpha(img, p, sampling));
     let factor = if m.translucent() { m.coverage_factor() } else { m.base_color[3] };
     // The vertex colours' alpha (COLOR_0), interpolated from the records' 8-bit copies.
     let corner = |k: usize| mesh.indices.get(3 * prim + k).map_or(1.0, |&i| vertex_alpha_byte(mesh, i) as f64 / 255.0);

@@ -21,16 +21,16 @@
 //! cost(leaf)  = C_isect * A(node) * N(node)
 //! ```
 //!
-//! with [`TRAVERSAL_COST`] `C_trav = 1` and [`INTERSECTION_COST`] `C_isect = 1` (a box test and
+//! with `TRAVERSAL_COST` `C_trav = 1` and `INTERSECTION_COST` `C_isect = 1` (a box test and
 //! a primitive test cost about the same in a compute-shader traversal; only the ratio matters).
 //! A node becomes a leaf when it holds at most `max_leaf_size` (4) primitives and the leaf is no
-//! more expensive than the best split. Nodes of at least [`FINE_BINNING_PRIMS`] primitives use
-//! `bins` (48) bins, smaller nodes at most [`SMALL_NODE_BINS`] (16), and nodes of fewer
+//! more expensive than the best split. Nodes of at least `FINE_BINNING_PRIMS` primitives use
+//! `bins` (48) bins, smaller nodes at most `SMALL_NODE_BINS` (16), and nodes of fewer
 //! primitives than that as many bins as primitives: the large nodes near the root decide most
-//! of the tree's cost, and there are few of them. Nodes of at most [`EXACT_SPLIT_PRIMS`] (8)
+//! of the tree's cost, and there are few of them. Nodes of at most `EXACT_SPLIT_PRIMS` (8)
 //! primitives, most nodes of a tree, skip the bins and evaluate every object split (primitives
 //! sorted by centroid on each axis). When all centroids coincide, and for every node at depth
-//! [`MEDIAN_FALLBACK_DEPTH`] (24) or deeper, the node is split at the object median of its
+//! `MEDIAN_FALLBACK_DEPTH` (24) or deeper, the node is split at the object median of its
 //! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
 //! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
 //! suffices, and one of 48 up to 2^26 primitives. (SAH trees of real scenes are far shallower:
@@ -55,22 +55,22 @@ use std::time::Duration;
 use web_time::Instant;
 
 /// SAH cost of visiting an interior node (testing its two children's boxes).
-pub const TRAVERSAL_COST: f32 = 1.0;
+pub(crate) const TRAVERSAL_COST: f32 = 1.0;
 /// SAH cost of one ray-primitive test.
-pub const INTERSECTION_COST: f32 = 1.0;
+pub(crate) const INTERSECTION_COST: f32 = 1.0;
 /// Default maximum number of primitives in a leaf.
-pub const MAX_LEAF_SIZE: usize = 4;
+pub(crate) const MAX_LEAF_SIZE: usize = 4;
 /// Largest `max_leaf_size` the builder accepts: the GPU traversal packs a node's primitive
 /// count into 3 bits (see `crate::accel::layout`).
-pub const MAX_LEAF_LIMIT: usize = 7;
+pub(crate) const MAX_LEAF_LIMIT: usize = 7;
 /// Default number of SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives.
-pub const DEFAULT_BINS: usize = 48;
+pub(crate) const DEFAULT_BINS: usize = 48;
 /// Most SAH bins per axis of a node of fewer than [`FINE_BINNING_PRIMS`] primitives.
-pub const SMALL_NODE_BINS: usize = 16;
+pub(crate) const SMALL_NODE_BINS: usize = 16;
 /// Nodes of at least this many primitives get all of [`BuildConfig::bins`].
-pub const FINE_BINNING_PRIMS: usize = 1024;
+pub(crate) const FINE_BINNING_PRIMS: usize = 1024;
 /// Nodes at this depth or deeper are split at the object median instead of by SAH.
-pub const MEDIAN_FALLBACK_DEPTH: usize = 24;
+pub(crate) const MEDIAN_FALLBACK_DEPTH: usize = 24;
 /// Upper bound on the depth (root = 0) of any tree this builder makes; a nearer-first
 /// traversal pushes at most one node per level, so a stack of this many entries suffices.
 pub const MAX_TREE_DEPTH: usize = 64;
@@ -138,7 +138,7 @@ impl Aabb {
     }
 
     /// Surface area; 0 for an empty box.
-    pub fn surface_area(&self) -> f32 {
+    pub(crate) fn surface_area(&self) -> f32 {
         if self.is_empty() {
             return 0.0;
         }
@@ -159,7 +159,7 @@ pub struct BuildPrim {
     /// The primitive's box.
     pub bounds: Aabb,
     /// The id the builder carries into [`Bvh::prim_order`].
-    pub(crate) id: u32,
+    pub id: u32,
 }
 
 impl BuildPrim {
@@ -183,10 +183,10 @@ pub enum SplitMethod {
 pub struct BuildConfig {
     /// How nodes are split.
     pub method: SplitMethod,
-    /// SAH bins per axis of nodes of at least [`FINE_BINNING_PRIMS`] primitives (clamped to
-    /// 2..=[`MAX_BINS`]); smaller nodes use at most [`SMALL_NODE_BINS`] of them.
+    /// SAH bins per axis of nodes of at least `FINE_BINNING_PRIMS` primitives (clamped to
+    /// 2..=`MAX_BINS`); smaller nodes use at most `SMALL_NODE_BINS` of them.
     pub bins: usize,
-    /// Maximum primitives per leaf (clamped to 1..=[`MAX_LEAF_LIMIT`]).
+    /// Maximum primitives per leaf (clamped to 1..=`MAX_LEAF_LIMIT`).
     pub max_leaf_size: usize,
     /// Subtrees with at least this many primitives are built in parallel.
     pub parallel_threshold: usize,
@@ -299,11 +299,6 @@ impl Bvh {
             }
         }
         max
-    }
-
-    /// Number of leaves.
-    pub fn leaf_count(&self) -> usize {
-        self.nodes.iter().filter(|n| n.is_leaf()).count()
     }
 
     /// Recomputes every node's box bottom-up from `bounds_of(id)` of its primitives, keeping
@@ -541,7 +536,7 @@ struct Split {
 }
 
 /// Upper bound of [`BuildConfig::bins`].
-pub const MAX_BINS: usize = 64;
+pub(crate) const MAX_BINS: usize = 64;
 
 /// Nodes with at least this many primitives bin them in parallel.
 const PARALLEL_BINNING: usize = 16 * 1024;
@@ -740,7 +735,7 @@ fn partition_at_plane(prims: &mut [Work], centroids: &Box3A, binning: (&BinMap, 
 /// Nodes of at most this many primitives evaluate the SAH at every boundary between their
 /// primitives sorted by centroid, on each axis, instead of binning: exact, and cheaper than
 /// setting up bins for a handful of primitives (most nodes of a tree are this small).
-pub const EXACT_SPLIT_PRIMS: usize = 8;
+pub(crate) const EXACT_SPLIT_PRIMS: usize = 8;
 
 /// Stable insertion sort of `order[..keys.len()]` (indices into `keys`) by key.
 fn sorted_order(keys: &[f32], order: &mut [u8; EXACT_SPLIT_PRIMS]) {
@@ -892,7 +887,7 @@ pub enum TriangleStatus {
 }
 
 /// Classifies the triangle of object-space vertices `v`.
-pub fn triangle_status(v: &[Vec3; 3]) -> TriangleStatus {
+pub(crate) fn triangle_status(v: &[Vec3; 3]) -> TriangleStatus {
     if !(v[0].is_finite() && v[1].is_finite() && v[2].is_finite()) {
         return TriangleStatus::NonFinite;
     }
@@ -939,7 +934,7 @@ pub fn instance_transform(m: &Mat4) -> Option<DAffine3> {
 /// The world-space box of object box `b` under `xf`, computed in f64 from the 8 corners and
 /// widened by a relative 1e-5 so that it conservatively contains the f32 traversal's view of
 /// the instance. [`Aabb::EMPTY`] for an empty or non-finite box.
-pub fn instance_world_bounds(b: &Aabb, xf: &DAffine3) -> Aabb {
+pub(crate) fn instance_world_bounds(b: &Aabb, xf: &DAffine3) -> Aabb {
     if b.is_empty() || !b.is_finite() {
         return Aabb::EMPTY;
     }
@@ -1141,7 +1136,7 @@ pub struct SceneAccel {
     /// The top level over the instances.
     pub tlas: Tlas,
     /// Whether BLASes are shared per mesh ([`AccelOptions::dedup`]).
-    pub(crate) dedup: bool,
+    pub dedup: bool,
     /// Wall time of [`SceneAccel::build`].
     pub build_time: Duration,
 }
@@ -1150,12 +1145,12 @@ impl SceneAccel {
     /// Builds both levels for `scene`.
     pub fn build(scene: &Scene, opts: &AccelOptions) -> SceneAccel {
         let start = Instant::now();
-        let mesh_blases: Vec<Blas> = scene.meshes.par_iter().map(|m| Blas::build(m, &opts.build)).collect();
+        let mesh_blases: Vec<Blas> = scene.meshes().par_iter().map(|m| Blas::build(m, &opts.build)).collect();
         let (blases, blas_mesh): (Vec<Blas>, Vec<Option<usize>>) = if opts.dedup {
-            (mesh_blases, (0..scene.meshes.len()).map(Some).collect())
+            (mesh_blases, (0..scene.meshes().len()).map(Some).collect())
         } else {
             scene
-                .instances
+                .instances()
                 .iter()
                 .map(|inst| match mesh_blases.get(inst.mesh) {
                     Some(b) => (b.clone(), Some(inst.mesh)),
@@ -1172,10 +1167,10 @@ impl SceneAccel {
             dedup: opts.dedup,
             build_time: Duration::ZERO,
         };
-        accel.instance_transforms = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
-        accel.instance_blas = (0..scene.instances.len())
+        accel.instance_transforms = scene.instances().iter().map(|i| instance_transform(&i.transform)).collect();
+        accel.instance_blas = (0..scene.instances().len())
             .map(|i| {
-                let b = if accel.dedup { scene.instances[i].mesh } else { i };
+                let b = if accel.dedup { scene.instances()[i].mesh } else { i };
                 let usable = accel.instance_transforms[i].is_some() && accel.blases.get(b).is_some_and(|bl| !bl.is_empty());
                 usable.then_some(b as u32)
             })
@@ -1207,11 +1202,11 @@ impl SceneAccel {
 
     /// Refits the TLAS after instances moved (same instances and meshes, new transforms).
     pub fn refit_instances(&mut self, scene: &Scene) -> Result<(), AccelError> {
-        if scene.instances.len() != self.instance_blas.len() {
-            return Err(AccelError::InstanceCountChanged { expected: self.instance_blas.len(), found: scene.instances.len() });
+        if scene.instances().len() != self.instance_blas.len() {
+            return Err(AccelError::InstanceCountChanged { expected: self.instance_blas.len(), found: scene.instances().len() });
         }
-        let mut transforms = Vec::with_capacity(scene.instances.len());
-        for (i, inst) in scene.instances.iter().enumerate() {
+        let mut transforms = Vec::with_capacity(scene.instances().len());
+        for (i, inst) in scene.instances().iter().enumerate() {
             let xf = instance_transform(&inst.transform);
             let expected_blas = if self.dedup { inst.mesh } else { i };
             if xf.is_some() != self.instance_transforms[i].is_some()
@@ -1234,12 +1229,12 @@ impl SceneAccel {
     /// Refits every BLAS to its mesh's current vertices, then the TLAS (moved vertices and
     /// instances, same triangles).
     pub fn refit_meshes(&mut self, scene: &Scene) -> Result<(), AccelError> {
-        if self.dedup && scene.meshes.len() != self.blases.len() {
-            return Err(AccelError::MeshCountChanged { expected: self.blases.len(), found: scene.meshes.len() });
+        if self.dedup && scene.meshes().len() != self.blases.len() {
+            return Err(AccelError::MeshCountChanged { expected: self.blases.len(), found: scene.meshes().len() });
         }
         for (blas, mesh) in self.blases.iter().zip(&self.blas_mesh) {
             if let Some(m) = mesh {
-                let found = scene.meshes.get(*m).map_or(0, |m| m.triangle_count());
+                let found = scene.meshes().get(*m).map_or(0, |m| m.triangle_count());
                 if found != blas.triangle_count {
                     return Err(AccelError::MeshChanged { mesh: *m, expected: blas.triangle_count, found });
                 }
@@ -1249,7 +1244,7 @@ impl SceneAccel {
             .blases
             .par_iter_mut()
             .zip(&self.blas_mesh)
-            .map(|(blas, mesh)| match mesh.and_then(|m| scene.meshes.get(m).map(|mm| (m, mm))) {
+            .map(|(blas, mesh)| match mesh.and_then(|m| scene.meshes().get(m).map(|mm| (m, mm))) {
                 Some((m, mm)) => blas.refit(mm, m),
                 None => Ok(()),
             })
@@ -1279,7 +1274,7 @@ impl SceneAccel {
 /// mesh's own indices, a triangle the compute back-end leaves out (degenerate, non-finite, bad
 /// index) as (0, 0, 0), so primitive indices stay the mesh's own; non-finite positions zeroed.
 /// `None` if no triangle is valid.
-pub fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
+pub(crate) fn driver_triangles(mesh: &Mesh) -> Option<(Vec<[f32; 3]>, Vec<u32>)> {
     let tris = mesh.triangle_count();
     let mut indices = Vec::with_capacity(tris * 3);
     let mut valid = 0;

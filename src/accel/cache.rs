@@ -34,7 +34,7 @@ use rayon::prelude::*;
 use web_time::Instant;
 
 /// Slots of the `accel_stats` buffer (see `shaders/trace/common.wgsl`).
-pub const STAT_SLOTS: usize = 4;
+pub(crate) const STAT_SLOTS: usize = 4;
 
 /// Ray counts of one frame, read from the GPU counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -99,18 +99,18 @@ pub struct BuildReport {
     /// builds on the GPU inside the `Accel` pass's timestamps).
     pub blas_ms: f64,
     /// CPU milliseconds of the TLAS build.
-    pub(crate) tlas_ms: f64,
+    pub tlas_ms: f64,
     /// SAH cost of the built BVHs, triangle-weighted over the BLASes, and of the TLAS (compute).
     pub blas_sah: Option<f64>,
     /// SAH cost of the TLAS.
-    pub(crate) tlas_sah: Option<f64>,
+    pub tlas_sah: Option<f64>,
     /// The merged BLAS was refitted on the GPU (inside the `Accel` pass's timestamps).
     pub blas_refit: bool,
     /// The merged BLAS was built on the GPU ([`crate::accel::gpu_build`]); `blas_ms` is then
     /// the wall time until its arrays were in place, `blas_gpu_ms` the build's GPU time.
     pub blas_gpu_built: bool,
     /// GPU milliseconds of the merged BLAS's GPU build.
-    pub(crate) blas_gpu_ms: Option<f64>,
+    pub blas_gpu_ms: Option<f64>,
     /// Deforming meshes whose positions changed in this update.
     pub deformed_meshes: usize,
     /// Two-level layout: BLASes of deforming meshes refitted on the CPU instead of built.
@@ -292,7 +292,7 @@ pub struct AccelCache {
     /// Changes whenever the GPU objects bound by trace passes are replaced.
     generation: u64,
     /// Total BLAS builds since creation (tests read it).
-    pub total_blas_builds: usize,
+    total_blas_builds: usize,
     /// Who builds the merged layout's BLAS on a rebuild, and the GPU builder once made.
     merged_builder: MergedBuilder,
     gpu_builder: Option<GpuBlasBuilder>,
@@ -331,13 +331,20 @@ pub struct AccelCache {
     device_positions: Option<wgpu::Buffer>,
 }
 
+impl AccelCache {
+    /// Total BLAS builds since creation (tests read it).
+    pub fn total_blas_builds(&self) -> usize {
+        self.total_blas_builds
+    }
+}
+
 /// Who builds the merged layout's BLAS when it is rebuilt (a refit stays on the GPU either way).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MergedBuilder {
     /// The CPU binned-SAH builder ([`crate::accel::bvh`]).
     Cpu,
     /// The GPU PLOC builder ([`crate::accel::gpu_build`]) for at least
-    /// [`GPU_BUILD_MIN_TRIANGLES`] triangles, the CPU below that or if the GPU build fails.
+    /// `GPU_BUILD_MIN_TRIANGLES` triangles, the CPU below that or if the GPU build fails.
     Gpu,
     /// The first build on the CPU, every later rebuild (a structural change) as [`Self::Gpu`]:
     /// a static scene keeps the CPU's tree, which traces faster (the atrium's Stress test
@@ -349,7 +356,7 @@ pub enum MergedBuilder {
 /// Below this many triangles the CPU builds the merged BLAS faster than the GPU builder's
 /// fixed cost of a few dispatches and read-backs (on the H100: 12 triangles 0.07 ms on the
 /// GPU against 0.01 on the CPU; 3,920 triangles 0.6 against 2.4 ms).
-pub const GPU_BUILD_MIN_TRIANGLES: usize = 1024;
+pub(crate) const GPU_BUILD_MIN_TRIANGLES: usize = 1024;
 
 impl AccelCache {
     /// A cache for `backend`, with ray counters for `trace_passes` passes.
@@ -407,7 +414,7 @@ impl AccelCache {
         if bytes.len() as u64 > max {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}`: the alpha test's uv data takes {} bytes in one storage binding, the device allows {max}\n  help: use fewer alpha-tested meshes",
-                scene.name,
+                scene.name(),
                 bytes.len()
             )));
         }
@@ -431,7 +438,7 @@ impl AccelCache {
     /// Where the executor's GPU deformation writes every mesh's positions (`None`: no GPU
     /// deformation). A scene posed for the GPU is refitted and rebuilt on the GPU from them;
     /// a CPU build poses a copy of the scene on the CPU.
-    pub fn set_device_positions(&mut self, positions: Option<wgpu::Buffer>) {
+    pub(crate) fn set_device_positions(&mut self, positions: Option<wgpu::Buffer>) {
         self.device_positions = positions;
         self.seen = None;
     }
@@ -439,7 +446,7 @@ impl AccelCache {
     /// Makes the pipelines that refits and GPU rebuilds of a changing scene need now (at
     /// start-up) instead of in the first frame that needs them (a compile of up to a second
     /// on the H100 the first time a driver sees them).
-    pub fn prepare_for_changes(&mut self, device: &wgpu::Device) {
+    pub(crate) fn prepare_for_changes(&mut self, device: &wgpu::Device) {
         if !self.merge || self.backend != Backend::Compute {
             return;
         }
@@ -474,7 +481,7 @@ impl AccelCache {
 
     /// Reads the SAH measurement of the frame that has just finished (the executor calls this
     /// after each frame).
-    pub async fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
+    pub(crate) async fn read_probe(&mut self, device: &wgpu::Device) -> Result<(), RuntimeError> {
         match &mut self.probe {
             Some(p) => p.read(device).await,
             None => Ok(()),
@@ -483,7 +490,7 @@ impl AccelCache {
 
     /// The trace passes' GPU milliseconds of the frame that has just finished, for the ledger
     /// of [`RefitPolicy::Cost`] (the executor calls this after each frame with timestamps).
-    pub fn note_trace_ms(&mut self, trace_ms: f64) {
+    pub(crate) fn note_trace_ms(&mut self, trace_ms: f64) {
         let growth = self.sah_growth();
         self.ledger.note_frame(trace_ms, growth);
     }
@@ -502,7 +509,7 @@ impl AccelCache {
     }
 
     fn instance_meshes_of(&self, scene: &Scene) -> Vec<u64> {
-        scene.instances.iter().map(|i| i.mesh as u64).collect()
+        scene.instances().iter().map(|i| i.mesh as u64).collect()
     }
 
     /// Changes whenever the GPU objects trace passes bind are replaced: bind groups made before must be made again.
@@ -542,7 +549,8 @@ impl AccelCache {
         let start = Instant::now();
         // The GPU-deformed merged layout reads the device's positions; every other path (and
         // any CPU build) the meshes posed on the CPU.
-        let gpu_deformed = self.merge && self.backend == Backend::Compute && self.device_positions.is_some() && scene.posed.is_some_and(|p| !p.meshes_deformed);
+        let gpu_deformed =
+            self.merge && self.backend == Backend::Compute && self.device_positions.is_some() && scene.posed().is_some_and(|p| !p.meshes_deformed);
         let posed = if gpu_deformed { std::borrow::Cow::Borrowed(scene) } else { scene.with_meshes_posed() };
         let scene = &*posed;
         let deform_key = scene.deformation_key();
@@ -552,7 +560,7 @@ impl AccelCache {
         let changed: Vec<usize> = (0..keys.units.len()).filter(|&u| fresh || self.units.get(u) != Some(&keys.units[u])).collect();
         let instances_changed = fresh || keys.instances != self.instances;
         let same_instance_set =
-            !fresh && self.instances.len() == keys.instances.len() && scene.instances.iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
+            !fresh && self.instances.len() == keys.instances.len() && scene.instances().iter().zip(&self.instance_meshes).all(|(i, m)| i.mesh == *m);
         let mut report = BuildReport { blas_count: keys.units.len(), hash_ms: start.elapsed().as_secs_f64() * 1e3, ..Default::default() };
         if changed.is_empty() && !instances_changed {
             report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -591,7 +599,7 @@ impl AccelCache {
         self.total_blas_builds -= report.blas_refits; // counted as builds above
         self.units = units;
         self.instances = instances;
-        self.instance_meshes = scene.instances.iter().map(|i| i.mesh).collect();
+        self.instance_meshes = scene.instances().iter().map(|i| i.mesh).collect();
         report.cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         log::debug!("accel: {}", report.describe());
         Ok(report)
@@ -603,9 +611,9 @@ impl AccelCache {
         // Whether a unit holds alpha-tested geometry is part of its key (the driver back-ends
         // build it non-opaque; the merged layout's triangles carry the flag).
         let tested_meshes = super::alpha::tested_meshes(scene);
-        let tested: Vec<bool> = (0..scene.instances.len()).map(|i| super::alpha::instance_tested(scene, i)).collect();
-        let mesh_hashes: Vec<u64> = self.mesh_memo.values(&scene.meshes, mesh_hash);
-        let instances: Vec<u64> = scene.instances.iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
+        let tested: Vec<bool> = (0..scene.instances().len()).map(|i| super::alpha::instance_tested(scene, i)).collect();
+        let mesh_hashes: Vec<u64> = self.mesh_memo.values(&scene.meshes(), mesh_hash);
+        let instances: Vec<u64> = scene.instances().iter().zip(&tested).map(|(i, &t)| instance_hash(i, t)).collect();
         let units: Vec<UnitKey> = if self.merge {
             // One unit, the whole scene: any change rebuilds it (or refits it, below).
             let unit = hash_words(hash_words(2, bytemuck::cast_slice(&mesh_hashes)), bytemuck::cast_slice(&instances));
@@ -614,18 +622,18 @@ impl AccelCache {
             mesh_hashes.iter().enumerate().map(|(mesh, &hash)| UnitKey { mesh, hash: hash ^ tested_meshes[mesh] as u64 }).collect()
         } else {
             scene
-                .instances
+                .instances()
                 .iter()
                 .zip(&tested)
                 .map(|(i, &t)| UnitKey { mesh: i.mesh, hash: mesh_hashes.get(i.mesh).copied().unwrap_or(0) ^ t as u64 })
                 .collect()
         };
-        if let Some(bad) = scene.instances.iter().position(|i| i.mesh >= scene.meshes.len()) {
+        if let Some(bad) = scene.instances().iter().position(|i| i.mesh >= scene.meshes().len()) {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}`: instance {bad} refers to mesh {} of {}",
-                scene.name,
-                scene.instances[bad].mesh,
-                scene.meshes.len()
+                scene.name(),
+                scene.instances()[bad].mesh,
+                scene.meshes().len()
             )));
         }
         Ok(SceneKeys { tested_meshes, tested, mesh_hashes, instances, units })
@@ -635,8 +643,12 @@ impl AccelCache {
     /// the other meshes' content, which mesh each instance is and its alpha flag.
     fn refit_keeps_hash(&self, scene: &Scene, keys: &SceneKeys, deforming: &[usize]) -> u64 {
         let tested_words: Vec<u64> = keys.tested.iter().map(|&t| t as u64).collect();
-        let topology: Vec<u64> =
-            keys.mesh_hashes.iter().enumerate().map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes[m]) } else { h }).collect();
+        let topology: Vec<u64> = keys
+            .mesh_hashes
+            .iter()
+            .enumerate()
+            .map(|(m, &h)| if deforming.binary_search(&m).is_ok() { topology_hash(&scene.meshes()[m]) } else { h })
+            .collect();
         hash_words(
             hash_words(hash_words(3, bytemuck::cast_slice(&topology)), bytemuck::cast_slice(&self.instance_meshes_of(scene))),
             bytemuck::cast_slice(&tested_words),
@@ -715,17 +727,17 @@ impl AccelCache {
                 let growth = (built_sah > 0.0).then(|| blas.bvh.sah_cost() as f64 / built_sah);
                 deforming.binary_search(&mesh).is_ok()
                     && !blas.is_empty()
-                    && blas.triangle_count == scene.meshes[mesh].triangle_count()
+                    && blas.triangle_count == scene.meshes()[mesh].triangle_count()
                     && self.policy.refits(growth, &RebuildLedger::default())
             })
             .collect();
         for &u in &refitted {
-            if blases[u].refit(&scene.meshes[units[u].mesh], units[u].mesh).is_err() {
+            if blases[u].refit(&scene.meshes()[units[u].mesh], units[u].mesh).is_err() {
                 blases[u] = Blas::default(); // unreachable: the triangle counts were checked
             }
         }
         let to_build: Vec<usize> = changed.iter().copied().filter(|u| !refitted.contains(u)).collect();
-        let built: Vec<(usize, Blas)> = to_build.par_iter().map(|&u| (u, Blas::build(&scene.meshes[units[u].mesh], &opts.build))).collect();
+        let built: Vec<(usize, Blas)> = to_build.par_iter().map(|&u| (u, Blas::build(&scene.meshes()[units[u].mesh], &opts.build))).collect();
         report.blas_ms = t0.elapsed().as_secs_f64() * 1e3;
         report.blas_built = built.len();
         report.blas_refits = refitted.len();
@@ -745,9 +757,9 @@ impl AccelCache {
     /// The two levels over `blases` (one per unit): each instance's BLAS and transform, and
     /// the TLAS built over their world bounds.
     fn two_level_accel(&self, scene: &Scene, units: &[UnitKey], blases: Vec<Blas>, opts: &AccelOptions, report: &mut BuildReport) -> SceneAccel {
-        let instance_transforms: Vec<_> = scene.instances.iter().map(|i| instance_transform(&i.transform)).collect();
+        let instance_transforms: Vec<_> = scene.instances().iter().map(|i| instance_transform(&i.transform)).collect();
         let instance_blas: Vec<Option<u32>> = scene
-            .instances
+            .instances()
             .iter()
             .enumerate()
             .map(|(i, inst)| {
@@ -795,7 +807,7 @@ impl AccelCache {
         flat: &GpuAccel,
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
-        check_fits(&scene.name, flat, device.limits().max_storage_buffer_binding_size)?;
+        check_fits(scene.name(), flat, device.limits().max_storage_buffer_binding_size)?;
         let mut buffers = match old {
             Some(c) => c.buffers,
             None => {
@@ -919,7 +931,7 @@ impl AccelCache {
         let top = merged_accel(Vec::new(), Vec::new());
         let (nodes, tris) = (built.node_count as usize, built.triangle_count as usize);
         let arrays = [("BLAS nodes", nodes, 32 * nodes), ("triangles", tris, 48 * tris), ("TLAS nodes", 1, 32), ("instances", 1, 112)];
-        check_arrays(&scene.name, &arrays, device.limits().max_storage_buffer_binding_size)?;
+        check_arrays(scene.name(), &arrays, device.limits().max_storage_buffer_binding_size)?;
         let mut buffers = match old {
             Some(c) => c.buffers,
             None => new_accel_buffers(device),
@@ -1024,11 +1036,11 @@ impl AccelCache {
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         const MAX_CUSTOM_DATA: usize = 0xFF_FFFF;
-        if scene.instances.len() > MAX_CUSTOM_DATA {
+        if scene.instances().len() > MAX_CUSTOM_DATA {
             return Err(RuntimeError::Gpu(format!(
                 "scene `{}` has {} instances; the ray-query back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
-                scene.name,
-                scene.instances.len()
+                scene.name(),
+                scene.instances().len()
             )));
         }
         let old = match std::mem::replace(&mut self.state, State::Empty) {
@@ -1045,11 +1057,11 @@ impl AccelCache {
         // instance of the mesh).
         for &u in changed {
             let alpha = if self.dedup { tested_meshes[units[u].mesh] } else { tested[u] };
-            blases[u] = rq_blas(device, &scene.meshes[units[u].mesh], u, !alpha);
+            blases[u] = rq_blas(device, &scene.meshes()[units[u].mesh], u, !alpha);
         }
-        let (mut tlas, capacity) = self.rq_tlas(device, old_tlas, (scene.instances.len() as u32).max(1));
+        let (mut tlas, capacity) = self.rq_tlas(device, old_tlas, (scene.instances().len() as u32).max(1));
         for i in 0..capacity as usize {
-            tlas[i] = scene.instances.get(i).and_then(|inst| {
+            tlas[i] = scene.instances().get(i).and_then(|inst| {
                 let b = blases[if self.dedup { inst.mesh } else { i }].as_ref()?;
                 instance_transform(&inst.transform)?;
                 let m = inst.transform;
@@ -1101,7 +1113,7 @@ impl AccelCache {
         };
         let unit_meshes: Vec<usize> = units.iter().map(|u| u.mesh).collect();
         let dedup = self.dedup;
-        let unit_of = |i: usize| if dedup { scene.instances[i].mesh } else { i };
+        let unit_of = |i: usize| if dedup { scene.instances()[i].mesh } else { i };
         let result = rt.update(scene, &unit_meshes, &unit_of, changed, self.merge);
         self.generation += 1;
         // After a failure the structures are gone (RtAccel::update) and the cache starts over:
@@ -1120,7 +1132,7 @@ impl AccelCache {
     /// The rt-pipeline back-end's build of the last update, recorded through wgpu-hal in a
     /// command buffer of its own: submit it after the update's encoder and before anything
     /// that traces (the executor does, between the `Accel` node's timestamps).
-    pub fn take_pending(&mut self) -> Option<wgpu::CommandBuffer> {
+    pub(crate) fn take_pending(&mut self) -> Option<wgpu::CommandBuffer> {
         self.pending.take()
     }
 
@@ -1135,7 +1147,7 @@ impl AccelCache {
     /// Binds the compute back-end's arrays as one packed buffer (`accel_packed`) from now on,
     /// for a device with few storage buffers per stage ([`super::packed`]); the executor then
     /// calls [`AccelCache::record_packing`] after every update.
-    pub fn pack_arrays(&mut self) {
+    pub(crate) fn pack_arrays(&mut self) {
         self.packed.get_or_insert_with(PackedArrays::default);
     }
 
@@ -1143,7 +1155,7 @@ impl AccelCache {
     /// [`AccelCache::update`], before any trace) when the update wrote them; nothing without
     /// [`AccelCache::pack_arrays`] or on another back-end. A larger packed buffer starts a new
     /// generation.
-    pub fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) -> Result<(), RuntimeError> {
+    pub(crate) fn record_packing(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) -> Result<(), RuntimeError> {
         let (Some(packed), State::Compute(c)) = (self.packed.as_mut(), &self.state) else { return Ok(()) };
         let [tlas, instances, blas, triangles] = &c.buffers;
         if packed.record(device, queue, encoder, [tlas, instances, blas, triangles, &self.alpha], self.packed_stale)? {
@@ -1153,13 +1165,13 @@ impl AccelCache {
         Ok(())
     }
 
-    /// Bytes of the packed arrays' buffer ([`AccelCache::pack_arrays`]; 0 without).
+    /// Bytes of the packed arrays' buffer (`AccelCache::pack_arrays`; 0 without).
     pub fn packed_bytes(&self) -> u64 {
         self.packed.as_ref().map_or(0, PackedArrays::size)
     }
 
     /// The buffer of ray counters and the byte range of trace pass number `window`'s counters.
-    pub fn stats_window(&self, window: u32) -> (&wgpu::Buffer, u64, u64) {
+    pub(crate) fn stats_window(&self, window: u32) -> (&wgpu::Buffer, u64, u64) {
         (&self.stats, self.stats_stride * window.min(self.stats_windows - 1) as u64, (STAT_SLOTS * 4) as u64)
     }
 
@@ -1187,17 +1199,17 @@ impl AccelCache {
     }
 
     /// Zeroes the ray counters (start of a frame).
-    pub fn clear_stats(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn clear_stats(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.stats, 0, None);
     }
 
     /// Copies the ray counters for [`AccelCache::read_stats`] (end of a frame).
-    pub fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.copy_buffer_to_buffer(&self.stats, 0, &self.stats_readback, 0, self.stats.size());
     }
 
     /// The ray counts of each trace pass in the last submitted frame (after it completed).
-    pub async fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
+    pub(crate) async fn read_stats(&self, device: &wgpu::Device) -> Result<Vec<RayStats>, RuntimeError> {
         let data = map_read_async(device, self.stats_readback.slice(..)).await?;
         let words: &[u32] = bytemuck::cast_slice(&data);
         let per = (self.stats_stride / 4) as usize;
@@ -1327,7 +1339,7 @@ fn record_rq_builds(encoder: &mut wgpu::CommandEncoder, blases: &[Option<RqBlas>
 /// The trace module's bindings that `cache` holds in wgpu buffers for trace pass number
 /// `window` (its counter window; [`AccelCache::binding`]) as the `rt-pipeline` back-end takes
 /// them ([`super::rt_pipeline::AccelBuffers`]).
-pub fn cache_buffers(cache: &AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<std::num::NonZeroU64>)> + '_ {
+pub(crate) fn cache_buffers(cache: &AccelCache, window: u32) -> impl Fn(&str) -> Option<(wgpu::Buffer, u64, Option<std::num::NonZeroU64>)> + '_ {
     move |name| match cache.binding(name, window)? {
         wgpu::BindingResource::Buffer(b) => Some((b.buffer.clone(), b.offset, b.size)),
         _ => None,

@@ -3,12 +3,12 @@
 //!
 //! For every ray:
 //!
-//! 1. Invalid rays miss ([`ray_is_valid`]: non-finite origin or direction, zero direction,
+//! 1. Invalid rays miss (`ray_is_valid`: non-finite origin or direction, zero direction,
 //!    negative or non-finite `t_min`, `t_max < t_min`).
 //! 2. The reciprocal direction is taken after replacing every component with
-//!    `|d| < DIR_EPSILON` by `copysign(DIR_EPSILON, d)` ([`safe_reciprocal`]), so that no
+//!    `|d| < DIR_EPSILON` by `copysign(DIR_EPSILON, d)` (`safe_reciprocal`), so that no
 //!    infinity (and so no `0 * inf = NaN`) ever appears in a slab test.
-//! 3. Slab test ([`slab_test`], with the per-ray constants of [`SlabRay`]): per axis
+//! 3. Slab test (`slab_test`, with the per-ray constants of `SlabRay`): per axis
 //!    `t = b * inv + c` for the box's min and max planes `b`, where `c = -o * inv` moved
 //!    outwards by a bound on its rounding error and on that of the product (the WGSL's `fma`,
 //!    which a driver may evaluate split); the near plane is `min` if the reciprocal is >= 0,
@@ -20,7 +20,7 @@
 //!    the test is monotone, so the results are the same); then loop: at a leaf, test its instances in order;
 //!    at an interior node test both children's boxes against the current closest `t`, continue
 //!    with the nearer (left on a tie) and push the farther; pop when nothing is left. The stack
-//!    is a fixed array of [`TRAVERSAL_STACK_SIZE`] entries per level; a push onto a full stack
+//!    is a fixed array of `TRAVERSAL_STACK_SIZE` entries per level; a push onto a full stack
 //!    is dropped (the builder's depth bound makes that unreachable).
 //! 5. Per instance with a non-zero `mask`: origin and direction are moved to object space with
 //!    `world_to_object` (direction not renormalised, so `t` stays the world `t`), and the BLAS
@@ -30,12 +30,12 @@
 //!    becomes the new closest (so of hits at exactly the same `t` the last one tested wins).
 //!    [`CpuTraverser::any`] returns at the first accepted hit.
 //! 7. The hit's instance is the instance's `instance_id`, or, for the one instance of a merged
-//!    layout ([`MERGED_INSTANCE`]), the triangle's `instance`, with `front_face` flipped where
+//!    layout (`MERGED_INSTANCE`), the triangle's `instance`, with `front_face` flipped where
 //!    the triangle's flags say its transform mirrors.
-//! 8. With [`TraceFlags::CULL_BACK_FACES`], a hit the triangle test accepted is dropped when
-//!    it is on the triangle's back face ([`back_facing`], the WGSL's `trace_back_facing`), and
+//! 8. With `TraceFlags::CULL_BACK_FACES`, a hit the triangle test accepted is dropped when
+//!    it is on the triangle's back face (`back_facing`, the WGSL's `trace_back_facing`), and
 //!    the traversal goes on as if the triangle were not there.
-//! 9. A hit accepted so far on an alpha-tested triangle (the instance's [`INSTANCE_ALPHA`], or
+//! 9. A hit accepted so far on an alpha-tested triangle (the instance's `INSTANCE_ALPHA`, or
 //!    in a merged layout the triangle's [`TRI_ALPHA`]) runs the alpha test
 //!    ([`crate::accel::alpha::visible`], given the scene with [`CpuTraverser::with_scene`]); a
 //!    rejected hit is dropped the same way. Without a scene no alpha test runs.
@@ -49,15 +49,15 @@ use rayon::prelude::*;
 /// Direction components smaller than this in magnitude are replaced by it (with their sign).
 /// A power of two (2^-80), so that its reciprocal and `o * inv` are exact: a ray lying in a
 /// slab's plane gets `t = 0` there exactly.
-pub const DIR_EPSILON: f32 = 8.271_806e-25;
+pub(crate) const DIR_EPSILON: f32 = 8.271_806e-25;
 /// The slab constant's outward slack, relative to `|o * inv|` (2^-21): covers the rounding of
 /// `-o * inv`, of the slack's own addition and of a split `b * inv` (three roundings of about
 /// `|o * inv|` each, 2^-24 apiece).
-pub const SLAB_SLACK: f32 = 4.768_371_6e-7;
+pub(crate) const SLAB_SLACK: f32 = 4.768_371_6e-7;
 /// The far-distance scale of the conservative slab test: 1 + 4 ulps, above Ize's
 /// `1 + 2 * gamma(3)` (`gamma(n) = n u / (1 - n u)`, `u = 2^-24`, about 3 ulps). The WGSL's
 /// `TRACE_WIDEN`.
-pub const T_FAR_SCALE: f32 = 1.000_000_5;
+pub(crate) const T_FAR_SCALE: f32 = 1.000_000_5;
 
 /// A ray: hits are reported for `t_min < t <= t_max`, at `origin + t * dir`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,18 +106,18 @@ pub struct Hit {
 /// Per-ray flags of the trace interface (`TRACE_*` in `shaders/trace/common.wgsl`; the same
 /// bits).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct TraceFlags(pub u32);
+pub(crate) struct TraceFlags(pub u32);
 
 impl TraceFlags {
     /// No flags.
-    pub const NONE: TraceFlags = TraceFlags(0);
+    pub(crate) const NONE: TraceFlags = TraceFlags(0);
     /// Back faces (clockwise seen from the ray origin in object space, [`Hit::front_face`]
     /// false) are not hit. The WGSL's `TRACE_CULL_BACK_FACES`, equal to the ray-query flag
     /// `RAY_FLAG_CULL_BACK_FACING`.
-    pub const CULL_BACK_FACES: TraceFlags = TraceFlags(16);
+    pub(crate) const CULL_BACK_FACES: TraceFlags = TraceFlags(16);
 
     /// Whether [`TraceFlags::CULL_BACK_FACES`] is set.
-    pub fn culls_back_faces(self) -> bool {
+    pub(crate) fn culls_back_faces(self) -> bool {
         self.0 & Self::CULL_BACK_FACES.0 != 0
     }
 }
@@ -125,14 +125,14 @@ impl TraceFlags {
 /// Whether a ray is traced at all (the WGSL's `trace_ray_is_valid`): finite origin and
 /// direction, a non-zero direction, `t_min` finite and not negative (not even -0), `t_max` finite
 /// or +inf, and `t_max >= t_min`. Invalid rays miss.
-pub fn ray_is_valid(ray: &Ray) -> bool {
+pub(crate) fn ray_is_valid(ray: &Ray) -> bool {
     let t_max_ok = ray.t_max.is_finite() || ray.t_max == f32::INFINITY;
     let t_ok = ray.t_min.is_finite() && !ray.t_min.is_sign_negative() && t_max_ok && ray.t_max >= ray.t_min;
     ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO && t_ok
 }
 
 /// `1 / d` per component after replacing tiny components by `copysign(DIR_EPSILON, d)`.
-pub fn safe_reciprocal(d: Vec3) -> Vec3 {
+pub(crate) fn safe_reciprocal(d: Vec3) -> Vec3 {
     let f = |x: f32| 1.0 / if x.abs() < DIR_EPSILON { DIR_EPSILON.copysign(x) } else { x };
     Vec3::new(f(d.x), f(d.y), f(d.z))
 }
@@ -143,7 +143,7 @@ pub fn safe_reciprocal(d: Vec3) -> Vec3 {
 /// outside of the slab, so every box stays conservative for any origin (the translated scenes
 /// of the hard-case suite). The WGSL's `TraceRay::{inv_dir, c_min, c_max}`.
 #[derive(Debug, Clone, Copy)]
-pub struct SlabRay {
+pub(crate) struct SlabRay {
     /// The reciprocal direction.
     pub(crate) inv: Vec3,
     /// `-o * inv`, moved outwards, for the min planes.
@@ -164,7 +164,7 @@ impl SlabRay {
 }
 
 /// The conservative slab test: `Some(t_near)` if `[t_min, t_max]` overlaps the node's box.
-pub fn slab_test(n: &GpuBvhNode, r: &SlabRay, t_min: f32, t_max: f32) -> Option<f32> {
+pub(crate) fn slab_test(n: &GpuBvhNode, r: &SlabRay, t_min: f32, t_max: f32) -> Option<f32> {
     let axis = |a: usize| {
         let t_lo = n.min[a] * r.inv[a] + r.c_min[a];
         let t_hi = n.max[a] * r.inv[a] + r.c_max[a];
@@ -184,18 +184,18 @@ pub fn slab_test(n: &GpuBvhNode, r: &SlabRay, t_min: f32, t_max: f32) -> Option<
 
 /// `shaders/common/ray_offset.wgsl`'s `offset_ray_origin`: `p` moved along `n` by 256 ulps of
 /// its largest coordinate, at least 2^-16 (for rays spawned from surfaces on the CPU).
-pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+pub(crate) fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
     p + n * (p.abs().max_element() * (256.0 / 8_388_608.0)).max(1.0 / 65536.0)
 }
 
 /// Affine 3x4 row-major times a point.
-pub fn transform_point(m: &[[f32; 4]; 3], p: Vec3) -> Vec3 {
+pub(crate) fn transform_point(m: &[[f32; 4]; 3], p: Vec3) -> Vec3 {
     let r = |i: usize| m[i][0] * p.x + m[i][1] * p.y + m[i][2] * p.z + m[i][3];
     Vec3::new(r(0), r(1), r(2))
 }
 
 /// Affine 3x4 row-major times a vector (no translation).
-pub fn transform_vector(m: &[[f32; 4]; 3], d: Vec3) -> Vec3 {
+pub(crate) fn transform_vector(m: &[[f32; 4]; 3], d: Vec3) -> Vec3 {
     let r = |i: usize| m[i][0] * d.x + m[i][1] * d.y + m[i][2] * d.z;
     Vec3::new(r(0), r(1), r(2))
 }
@@ -205,7 +205,7 @@ pub fn transform_vector(m: &[[f32; 4]; 3], d: Vec3) -> Vec3 {
 /// WGSL's `trace_edge` tests (a comparison cannot be fused into an FMA): swapping `p` and `q`
 /// swaps the products bitwise, so both triangles sharing an edge see opposite signs, or both
 /// zero. Here nothing is fused, so the difference has exactly that sign.
-pub fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
+pub(crate) fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
     p.0 * q.1 - p.1 * q.0
 }
 
@@ -213,22 +213,22 @@ pub fn edge_function(p: (f32, f32), q: (f32, f32)) -> f32 {
 #[derive(Debug, Clone, Copy)]
 pub struct WatertightRay {
     /// Origin.
-    pub(crate) org: Vec3,
+    org: Vec3,
     /// Direction.
-    pub(crate) dir: Vec3,
+    dir: Vec3,
     /// The axis of the largest `|dir|` component, and the two others (swapped when
     /// `dir[kz] < 0` to keep the winding).
-    pub kx: usize,
+    kx: usize,
     /// The second axis.
-    pub(crate) ky: usize,
+    ky: usize,
     /// The third axis.
-    pub(crate) kz: usize,
+    kz: usize,
     /// Shear `dir[kx] / dir[kz]`, `dir[ky] / dir[kz]` and scale `1 / dir[kz]`.
-    pub sx: f32,
+    sx: f32,
     /// Shear `dir[ky] / dir[kz]`.
-    pub(crate) sy: f32,
+    sy: f32,
     /// Scale `1 / dir[kz]`.
-    pub(crate) sz: f32,
+    sz: f32,
 }
 
 impl WatertightRay {
@@ -255,7 +255,7 @@ impl WatertightRay {
 
     /// Woop-Benthin-Wald watertight test: translate the vertices to the origin, shear them so
     /// the ray is +z, and evaluate the edge functions `U = E(v1, v2)` (weight of v0),
-    /// `V = E(v2, v0)` (weight of v1), `W = E(v0, v1)` (weight of v2) with [`edge_function`].
+    /// `V = E(v2, v0)` (weight of v1), `W = E(v0, v1)` (weight of v2) with `edge_function`.
     /// Accepted iff none is < 0 or none is > 0 (an exact 0 counts as either sign, so a ray
     /// through a shared edge or vertex hits every triangle around it, never none; with
     /// sign-exact-or-zero f32 edge functions the triangle that truly contains the ray always
@@ -313,7 +313,7 @@ impl WatertightRay {
 /// `trace_back_facing` decides it for back-face culling: `dot((v1 - v0) x (v2 - v0), dir) > 0`
 /// with the direction taken as `row_x x row_y` (a positive multiple of it), flipped where a
 /// merged-layout triangle's instance mirrors, so the facing is the object-space one.
-pub fn back_facing(ray: &WatertightRay, tri: &GpuTriangle) -> bool {
+pub(crate) fn back_facing(ray: &WatertightRay, tri: &GpuTriangle) -> bool {
     let (p0, p1, p2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let (row_x, row_y) = ray.shear_rows();
     ((p1 - p0).cross(p2 - p0).dot(row_x.cross(row_y)) > 0.0) != (tri.flags & TRI_MIRRORED != 0)
@@ -326,7 +326,7 @@ pub fn back_facing(ray: &WatertightRay, tri: &GpuTriangle) -> bool {
 /// `shear` is `(|dir[kx]|, |dir[ky]|)`: the shear term `S_x p_z` of a sheared `x` is
 /// `|dir[kx]|` times the sheared `z`, where PBR bounds it by the sheared `z` itself, which
 /// rejects true hits of grazing rays (and is too small for directions longer than 1).
-pub fn t_error_bound(xy: [(f32, f32); 3], z: [f32; 3], e: [f32; 3], det: f32, shear: (f32, f32)) -> f32 {
+pub(crate) fn t_error_bound(xy: [(f32, f32); 3], z: [f32; 3], e: [f32; 3], det: f32, shear: (f32, f32)) -> f32 {
     let gamma = |n: f32| n * (f32::EPSILON * 0.5) / (1.0 - n * f32::EPSILON * 0.5);
     let max_z = z.iter().fold(0.0f32, |m, v| m.max(v.abs()));
     let max_x = xy.iter().fold(0.0f32, |m, v| m.max(v.0.abs()));
@@ -372,9 +372,9 @@ impl TraversalCounts {
 #[derive(Debug, Clone, Copy)]
 pub struct CpuTraverser<'a> {
     /// The structure traversed.
-    pub(crate) accel: &'a GpuAccel,
+    accel: &'a GpuAccel,
     /// The scene `accel` was built from, for the alpha test (none: no alpha test).
-    pub scene: Option<&'a crate::scene::Scene>,
+    scene: Option<&'a crate::scene::Scene>,
 }
 
 impl<'a> CpuTraverser<'a> {
@@ -399,12 +399,12 @@ impl<'a> CpuTraverser<'a> {
     }
 
     /// [`CpuTraverser::closest`] with per-ray flags (the WGSL's `trace_closest_flags`).
-    pub fn closest_flags(&self, ray: &Ray, flags: TraceFlags) -> Option<Hit> {
+    pub(crate) fn closest_flags(&self, ray: &Ray, flags: TraceFlags) -> Option<Hit> {
         self.trace(ray, false, flags, &mut TraversalCounts::default())
     }
 
     /// [`CpuTraverser::any`] with per-ray flags (the WGSL's `trace_any_flags`).
-    pub fn any_flags(&self, ray: &Ray, flags: TraceFlags) -> bool {
+    pub(crate) fn any_flags(&self, ray: &Ray, flags: TraceFlags) -> bool {
         self.trace(ray, true, flags, &mut TraversalCounts::default()).is_some()
     }
 

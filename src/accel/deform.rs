@@ -4,7 +4,7 @@
 //! layout of [`crate::accel::gpu_records`]) are gathered into the refit's object-space input
 //! (`shaders/accel/gather_positions.wgsl`) and the refit recomputes every box. A refitted tree keeps the
 //! topology built for other positions, so its quality falls as the meshes move; the
-//! [`SahProbe`] measures the refitted tree's SAH cost on the GPU after every refit (one
+//! `SahProbe` measures the refitted tree's SAH cost on the GPU after every refit (one
 //! reduction, a few words read back with the frame's ray counters), and [`RefitPolicy`]
 //! rebuilds once it has grown past a threshold over the builder's cost of the last build. A
 //! scene that does not change never refits and pays for none of this.
@@ -16,7 +16,7 @@ use wgpu::util::DeviceExt;
 /// The gather kernel's WGSL.
 pub const DEFORM_WGSL: &str = include_str!("../../shaders/accel/gather_positions.wgsl");
 /// The SAH reduction's WGSL.
-pub const SAH_WGSL: &str = include_str!("../../shaders/accel/sah.wgsl");
+pub(crate) const SAH_WGSL: &str = include_str!("../../shaders/accel/sah.wgsl");
 
 /// The SAH growth over the builder's cost of the last build past which [`RefitPolicy::Auto`]
 /// rebuilds. Measured with `raygraph bench anim` on the H100 (BENCHMARKS.md, "Animation";
@@ -25,7 +25,7 @@ pub const SAH_WGSL: &str = include_str!("../../shaders/accel/sah.wgsl");
 /// 2) 1.1 came closest to the best policy on both scenes (update plus trace time within 3% of
 /// always rebuilding on atrium-moving, within 6% of always refitting on organic-skinned),
 /// where 1.5 was 19% worse on the atrium.
-pub const REBUILD_SAH_GROWTH: f64 = 1.1;
+pub(crate) const REBUILD_SAH_GROWTH: f64 = 1.1;
 
 /// When the merged layout is refitted and when it is rebuilt.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,7 +40,7 @@ pub enum RefitPolicy {
     /// time of the first frame after the build times the SAH growth over it, summed over the
     /// frames since) reaches what the last rebuild cost; then rebuild ([`RebuildLedger`]).
     /// Without GPU timestamps the ledger has no trace time and `Auto` at
-    /// [`REBUILD_SAH_GROWTH`] decides.
+    /// `REBUILD_SAH_GROWTH` decides.
     Cost,
     /// Refit whenever the topology allows (the tree may degrade without bound).
     AlwaysRefit,
@@ -96,12 +96,12 @@ pub struct RebuildLedger {
 
 impl RebuildLedger {
     /// A build that took `ms` milliseconds: the ledger starts again.
-    pub fn note_build(&mut self, ms: f64) {
+    pub(crate) fn note_build(&mut self, ms: f64) {
         *self = RebuildLedger { rebuild_ms: Some(ms), base_trace_ms: None, regret_ms: 0.0 };
     }
 
     /// A frame that traced for `trace_ms` GPU milliseconds with a tree grown by `growth`.
-    pub fn note_frame(&mut self, trace_ms: f64, growth: Option<f64>) {
+    pub(crate) fn note_frame(&mut self, trace_ms: f64, growth: Option<f64>) {
         match (self.base_trace_ms, growth) {
             (None, _) => self.base_trace_ms = Some(trace_ms),
             (Some(base), Some(g)) => self.regret_ms += base * (g - 1.0).max(0.0),
@@ -110,14 +110,14 @@ impl RebuildLedger {
     }
 
     /// Whether the refits have lost as much trace time as a rebuild costs (`None`: not known).
-    pub fn owes_rebuild(&self) -> Option<bool> {
+    pub(crate) fn owes_rebuild(&self) -> Option<bool> {
         let (rebuild, _) = (self.rebuild_ms?, self.base_trace_ms?);
         Some(self.regret_ms >= rebuild)
     }
 }
 
 /// The gather and SAH pipelines, made once per cache.
-pub struct DeformPipelines {
+pub(crate) struct DeformPipelines {
     gather_layout: wgpu::BindGroupLayout,
     gather: wgpu::ComputePipeline,
     sah_layout: wgpu::BindGroupLayout,
@@ -170,7 +170,7 @@ impl DeformPipelines {
 
     /// Records the gather of the current `positions` into the refit's `object_vertices`
     /// (`count` vertices).
-    pub fn record_gather(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, positions: &wgpu::Buffer, object_vertices: &wgpu::Buffer) {
+    pub(crate) fn record_gather(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, positions: &wgpu::Buffer, object_vertices: &wgpu::Buffer) {
         let count = object_vertices.size() / 16;
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("deform gather"),
@@ -190,7 +190,7 @@ impl DeformPipelines {
 
 /// The SAH cost of one refitted tree, measured on the GPU after every refit (the cost after
 /// the build is the builder's own).
-pub struct SahProbe {
+pub(crate) struct SahProbe {
     bind_group: wgpu::BindGroup,
     partials: wgpu::Buffer,
     readback: wgpu::Buffer,
@@ -260,7 +260,7 @@ impl SahProbe {
     }
 
     /// The latest measured SAH cost.
-    pub fn latest(&self) -> Option<f64> {
+    pub(crate) fn latest(&self) -> Option<f64> {
         self.latest
     }
 }

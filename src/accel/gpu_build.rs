@@ -4,12 +4,12 @@
 //!
 //! The triangles are sorted by the 30-bit Morton code of their box centres (bitonic sort,
 //! blocks of 4096 in workgroup memory). The first rounds run within segments of 1024 leaves in
-//! workgroup memory ([`LOCAL_CLUSTERS`]). Then each round, every cluster finds its nearest
-//! neighbour (the smallest box around both) among the [`SEARCH_RADIUS`] clusters on either side in
+//! workgroup memory (`LOCAL_CLUSTERS`). Then each round, every cluster finds its nearest
+//! neighbour (the smallest box around both) among the `SEARCH_RADIUS` clusters on either side in
 //! that order, mutual nearest neighbours merge into a new node, and the survivors are compacted
 //! in order (one dispatch for both: decoupled look-back over the workgroups). Rounds are
 //! dispatched for all clusters and return at once when there is nothing left to do, so they
-//! are recorded without reading anything back; the last [`FINISH_CLUSTERS`] clusters are
+//! are recorded without reading anything back; the last `FINISH_CLUSTERS` clusters are
 //! merged by one workgroup in workgroup memory. Each new node gets its
 //! SAH cost (the cheaper of a leaf of at most four triangles and its split), so the tree is
 //! collapsed into leaves as it is built. Finally every node walks up to the root to find its
@@ -33,25 +33,25 @@ use crate::scene::Mesh;
 use wgpu::util::DeviceExt;
 
 /// The builder's WGSL.
-pub const BUILD_WGSL: &str = include_str!("../../shaders/accel/build.wgsl");
+pub(crate) const BUILD_WGSL: &str = include_str!("../../shaders/accel/build.wgsl");
 /// Most neighbours searched on either side of a cluster (the WGSL's `RADIUS`, the margin of
 /// the rounds' window in workgroup memory).
-pub const RADIUS: u32 = 16;
+pub(crate) const RADIUS: u32 = 16;
 /// Neighbours searched on either side of a cluster (H100, atrium: 8 builds in 0.84 ms with an
 /// SAH cost 1.066x the CPU build's; 16 in 1.03 ms, 1.080x; 4 in 0.76 ms, 1.072x).
 /// `RAYGRAPH_GPU_BUILD_RADIUS` overrides it, for measuring.
-pub const SEARCH_RADIUS: u32 = 8;
+pub(crate) const SEARCH_RADIUS: u32 = 8;
 /// Clusters at or below which one workgroup finishes the tree (`ploc_finish`, one invocation
 /// per cluster, the clusters in workgroup memory): the last rounds merge few clusters each,
 /// and a dispatch per step would cost more than the work. Also the most the finish holds.
 /// `RAYGRAPH_GPU_BUILD_FINISH` lowers it, for measuring.
-pub const FINISH_CLUSTERS: u32 = 1024;
+pub(crate) const FINISH_CLUSTERS: u32 = 1024;
 /// Clusters each segment of [`FINISH_CLUSTERS`] leaves is reduced to by `ploc_local` (the
 /// first rounds, within the segment, in workgroup memory) before the rounds over all clusters.
 /// `RAYGRAPH_GPU_BUILD_LOCAL` overrides it, for measuring.
-pub const LOCAL_CLUSTERS: u32 = 256;
+pub(crate) const LOCAL_CLUSTERS: u32 = 256;
 /// Most triangles the GPU builder takes (its dispatch sizes and single-workgroup scan).
-pub const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
+pub(crate) const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
 
 const GROUP: u32 = 256;
 /// Keys sorted in workgroup memory per block (the WGSL's `SORT_BLOCK`).
@@ -98,7 +98,7 @@ pub struct GpuBlas {
     pub rounds: u32,
     /// GPU milliseconds of the build's compute passes (None without timestamp queries).
     pub gpu_ms: Option<f64>,
-    /// The same per [`Phase`]: boxes, Morton codes and sort; the rounds; the finish; layout.
+    /// The same per `Phase`: boxes, Morton codes and sort; the rounds; the finish; layout.
     pub phase_ms: Option<[f64; 4]>,
 }
 
@@ -180,7 +180,7 @@ fn groups_for(invocations: u64) -> (u32, u32) {
 
 impl GpuBlasBuilder {
     /// The builder, or why this device cannot run it (its finish needs one workgroup of
-    /// [`FINISH_CLUSTERS`] invocations and 32 KiB of workgroup memory).
+    /// `FINISH_CLUSTERS` invocations and 32 KiB of workgroup memory).
     pub fn new(device: &wgpu::Device) -> Result<Self, GpuBuildError> {
         let l = device.limits();
         if l.max_compute_workgroup_storage_size < 32768
@@ -641,7 +641,7 @@ enum SortStep {
 
 /// The parts of a build the timestamps tell apart.
 #[derive(Debug, Clone, Copy)]
-pub enum Phase {
+pub(crate) enum Phase {
     /// Leaf boxes, Morton codes and their sort.
     Sort = 0,
     /// The PLOC rounds down to [`FINISH_CLUSTERS`].

@@ -18,7 +18,7 @@ use crate::scene::{Mesh, Scene};
 use wgpu::util::DeviceExt;
 
 /// The records kernel's WGSL.
-pub const RECORDS_WGSL: &str = include_str!("../../shaders/accel/records.wgsl");
+pub(crate) const RECORDS_WGSL: &str = include_str!("../../shaders/accel/records.wgsl");
 
 const GROUP: u64 = 256;
 /// The first index of a triangle with an index out of its mesh's range (the WGSL's `BAD_INDEX`).
@@ -81,7 +81,7 @@ fn mesh_indices(mesh: &Mesh) -> Vec<u32> {
 fn mesh_ranges(scene: &Scene) -> Option<Vec<MeshRange>> {
     let (mut vertex, mut triangle) = (0u32, 0u32);
     scene
-        .meshes
+        .meshes()
         .iter()
         .map(|m| {
             let r = MeshRange {
@@ -101,7 +101,7 @@ fn mesh_ranges(scene: &Scene) -> Option<Vec<MeshRange>> {
 fn instance_records(scene: &Scene, ranges: &[MeshRange]) -> Option<(Vec<[u32; 4]>, u32, u32)> {
     let mut words = Vec::new();
     let (mut slots, mut usable) = (0u32, 0u32);
-    for (i, inst) in scene.instances.iter().enumerate() {
+    for (i, inst) in scene.instances().iter().enumerate() {
         let (Some(range), Some(xf)) = (ranges.get(inst.mesh), instance_transform(&inst.transform)) else { continue };
         if range.triangles == 0 {
             continue;
@@ -152,8 +152,8 @@ impl GpuRecordMaker {
         let ranges = mesh_ranges(scene)?;
         let same_layout = self.meshes.as_ref().is_some_and(|m| m.ranges == ranges);
         if !same_layout {
-            let vertices: Vec<[f32; 4]> = scene.meshes.iter().flat_map(|m| mesh_vertices(m)).collect();
-            let indices: Vec<u32> = scene.meshes.iter().flat_map(|m| mesh_indices(m)).collect();
+            let vertices: Vec<[f32; 4]> = scene.meshes().iter().flat_map(|m| mesh_vertices(m)).collect();
+            let indices: Vec<u32> = scene.meshes().iter().flat_map(|m| mesh_indices(m)).collect();
             let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
             let init = |label: &str, bytes: &[u8]| {
                 let contents = if bytes.is_empty() { &[0u8; 16][..] } else { bytes };
@@ -170,7 +170,7 @@ impl GpuRecordMaker {
         }
         let data = self.meshes.as_mut()?;
         let mut bytes = 0;
-        for (m, mesh) in scene.meshes.iter().enumerate() {
+        for (m, mesh) in scene.meshes().iter().enumerate() {
             if data.hashes.get(m) == hashes.get(m) {
                 continue;
             }

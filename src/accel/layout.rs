@@ -16,8 +16,8 @@
 //! index is absolute into its array. A traversal tests both children's boxes when visiting an
 //! interior node (testing the root's box first is an optional early-out). The WGSL reads the
 //! arrays as 16-byte words and carries a node as the descriptor `left_or_first << 3 | count`,
-//! so `count` is at most 7 ([`crate::accel::bvh::MAX_LEAF_LIMIT`]) and every array is shorter
-//! than [`MAX_INDEX`] (no descriptor can then equal the WGSL's `NO_HIT`, `0xffffffff`).
+//! so `count` is at most 7 (`crate::accel::bvh::MAX_LEAF_LIMIT`) and every array is shorter
+//! than `MAX_INDEX` (no descriptor can then equal the WGSL's `NO_HIT`, `0xffffffff`).
 //! Node boxes are the exact bounds widened outward by one ulp plus 1e-20 ([`widen_up`]), so
 //! that a ray with a zero direction component lying exactly in a face plane still enters the
 //! box.
@@ -26,7 +26,7 @@
 //!
 //! An empty BLAS (a mesh with no usable triangle) and an empty TLAS (no usable instance) are a
 //! single *leaf* of `count = 1` with the inverted box `min = +f32::MAX`, `max = -f32::MAX`
-//! ([`EMPTY_BOX_MIN`], [`EMPTY_BOX_MAX`]). A slab test that picks the near/far plane by the sign
+//! (`EMPTY_BOX_MIN`, `EMPTY_BOX_MAX`). A slab test that picks the near/far plane by the sign
 //! of the direction (as [`crate::accel::cpu_traverse`] does) never enters it; one that takes
 //! `min`/`max` of the two slab distances (as the WGSL does) sees an unbounded box, and a
 //! traversal may not test the root's box at all, so the leaf also points at a primitive that
@@ -48,23 +48,23 @@ use bytemuck::{Pod, Zeroable};
 use glam::DAffine3;
 
 /// `min` of an empty node's box.
-pub const EMPTY_BOX_MIN: [f32; 3] = [f32::MAX; 3];
+pub(crate) const EMPTY_BOX_MIN: [f32; 3] = [f32::MAX; 3];
 /// `max` of an empty node's box.
-pub const EMPTY_BOX_MAX: [f32; 3] = [-f32::MAX; 3];
+pub(crate) const EMPTY_BOX_MAX: [f32; 3] = [-f32::MAX; 3];
 /// `prim` of the padding triangle.
 pub const NO_PRIM: u32 = u32::MAX;
 /// `instance_id` of the padding instance.
 pub const NO_INSTANCE: u32 = u32::MAX;
 /// `mask` of every real instance. The padding instance has 0, and the traversals skip instances
 /// with `mask == 0` (a future ray mask would skip `mask & ray_mask == 0`).
-pub const INSTANCE_MASK_ALL: u32 = 0xFF;
+pub(crate) const INSTANCE_MASK_ALL: u32 = 0xFF;
 /// Bound on the length of every GPU array (29 bits of a traversal descriptor, less one).
-pub const MAX_INDEX: usize = (1 << 29) - 1;
+pub(crate) const MAX_INDEX: usize = (1 << 29) - 1;
 
 /// Traversal stack entries per ray (nearer-first traversal pushes at most one node per tree
 /// level; the WGSL's one stack holds the TLAS's entries and then the BLAS's, the CPU mirror
 /// keeps one such stack per level).
-pub const TRAVERSAL_STACK_SIZE: usize = MAX_TREE_DEPTH;
+pub(crate) const TRAVERSAL_STACK_SIZE: usize = MAX_TREE_DEPTH;
 
 /// A BVH node, 32 bytes. See the module docs for the meaning of `left_or_first` and `count`.
 #[repr(C)]
@@ -82,7 +82,7 @@ pub struct GpuBvhNode {
 
 /// An object-space triangle, 48 bytes, in BLAS leaf order. `prim` is the triangle's index in
 /// its mesh (index / 3). In a merged BLAS ([`merge`]) `instance` is the scene instance the
-/// triangle came from and `flags` holds [`TRI_MIRRORED`] and [`TRI_ALPHA`]; both are 0
+/// triangle came from and `flags` holds `TRI_MIRRORED` and [`TRI_ALPHA`]; both are 0
 /// otherwise.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
@@ -97,13 +97,13 @@ pub struct GpuTriangle {
     pub instance: u32,
     /// Third vertex.
     pub v2: [f32; 3],
-    /// [`TRI_MIRRORED`] and [`TRI_ALPHA`] of a merged triangle (0 otherwise).
+    /// `TRI_MIRRORED` and [`TRI_ALPHA`] of a merged triangle (0 otherwise).
     pub flags: u32,
 }
 
 /// `GpuTriangle::flags` bit: the triangle's instance transform mirrors (negative determinant),
 /// so a hit's `front_face` (defined in object space) is the opposite of the world-space winding.
-pub const TRI_MIRRORED: u32 = 1;
+pub(crate) const TRI_MIRRORED: u32 = 1;
 
 /// `GpuTriangle::flags` bit (merged layout): the triangle's instance is alpha-tested
 /// ([`crate::accel::alpha`]), so an accepted hit runs the alpha test.
@@ -111,20 +111,20 @@ pub const TRI_ALPHA: u32 = 2;
 
 /// `GpuInstance::flags` bit (two-level layout): the instance is alpha-tested, so an accepted
 /// hit on its BLAS runs the alpha test.
-pub const INSTANCE_ALPHA: u32 = 1;
+pub(crate) const INSTANCE_ALPHA: u32 = 1;
 
 /// A merged triangle's flags.
-pub fn merged_flags(o: &TriangleOrigin) -> u32 {
+pub(crate) fn merged_flags(o: &TriangleOrigin) -> u32 {
     (if o.mirrored { TRI_MIRRORED } else { 0 }) | if o.alpha { TRI_ALPHA } else { 0 }
 }
 
 /// `GpuInstance::instance_id` of the one instance over a merged BLAS: the hit's instance is
 /// the triangle's `instance`.
-pub const MERGED_INSTANCE: u32 = 0xFFFF_FFFE;
+pub(crate) const MERGED_INSTANCE: u32 = 0xFFFF_FFFE;
 
 /// An instance, 112 bytes. Matrices are row-major 3x4 (see the module docs). `blas_root` is the
 /// absolute index of its BLAS's root in `blas_nodes`; `instance_id` its index in
-/// `Scene::instances`; `flags` holds [`INSTANCE_ALPHA`].
+/// `Scene::instances`; `flags` holds `INSTANCE_ALPHA`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]
 pub struct GpuInstance {
@@ -138,7 +138,7 @@ pub struct GpuInstance {
     pub instance_id: u32,
     /// Visibility mask.
     pub mask: u32,
-    /// [`INSTANCE_ALPHA`] where the instance is alpha-tested.
+    /// `INSTANCE_ALPHA` where the instance is alpha-tested.
     pub flags: u32,
 }
 
@@ -174,12 +174,12 @@ impl GpuAccel {
 }
 
 /// The node of an empty tree: a never-entered leaf of one padding primitive at `first`.
-pub fn empty_node(first: u32) -> GpuBvhNode {
+pub(crate) fn empty_node(first: u32) -> GpuBvhNode {
     GpuBvhNode { min: EMPTY_BOX_MIN, left_or_first: first, max: EMPTY_BOX_MAX, count: 1 }
 }
 
 /// Absolute part of the outward widening of every node box, see [`widen_down`].
-pub const BOX_PAD_ABS: f32 = 1e-20;
+pub(crate) const BOX_PAD_ABS: f32 = 1e-20;
 
 /// `x` moved outward (down) by one ulp past `x - BOX_PAD_ABS`. The traversal replaces a zero
 /// direction component by `+-2^-80`, which moves a ray that lies exactly in a box face plane by
@@ -228,7 +228,7 @@ pub fn affine_rows(a: &DAffine3) -> [[f32; 4]; 3] {
 
 /// Flattens `accel` (built from `scene`) into the GPU layout.
 pub fn flatten(scene: &Scene, accel: &SceneAccel) -> GpuAccel {
-    let mut out = flatten_meshes(&scene.meshes, accel);
+    let mut out = flatten_meshes(scene.meshes(), accel);
     for inst in &mut out.instances {
         if inst.instance_id != NO_INSTANCE && super::alpha::instance_tested(scene, inst.instance_id as usize) {
             inst.flags = INSTANCE_ALPHA;
@@ -342,10 +342,10 @@ pub struct TriangleOrigin {
 /// stays shared (the watertight test needs that). Instances with an unusable transform or mesh
 /// are left out; a triangle with an out-of-range index keeps an out-of-range index.
 pub fn merge_instances(scene: &Scene) -> (Mesh, Vec<TriangleOrigin>) {
-    let mut mesh = Mesh { name: format!("{} (merged)", scene.name), vertices: Vec::new(), indices: Vec::new(), tangents: None, extras: None };
+    let mut mesh = Mesh { name: format!("{} (merged)", scene.name()), vertices: Vec::new(), indices: Vec::new(), tangents: None, extras: None };
     let mut origin = Vec::new();
-    for (i, inst) in scene.instances.iter().enumerate() {
-        let (Some(src), Some(xf)) = (scene.meshes.get(inst.mesh), instance_transform(&inst.transform)) else { continue };
+    for (i, inst) in scene.instances().iter().enumerate() {
+        let (Some(src), Some(xf)) = (scene.meshes().get(inst.mesh), instance_transform(&inst.transform)) else { continue };
         let base = mesh.vertices.len() as u64;
         mesh.vertices.extend(src.vertices.iter().map(|v| {
             let p = xf.transform_point3(glam::DVec3::from(v.position.map(f64::from)));
@@ -385,7 +385,7 @@ pub fn merged_accel(blas_nodes: Vec<GpuBvhNode>, triangles: Vec<GpuTriangle>) ->
 }
 
 /// The GPU layout of a merged scene: one BLAS over [`merge_instances`]'s mesh under a TLAS of
-/// one identity instance ([`MERGED_INSTANCE`]), each triangle carrying its scene instance.
+/// one identity instance (`MERGED_INSTANCE`), each triangle carrying its scene instance.
 pub fn merge(merged: &Mesh, origin: &[TriangleOrigin], blas: Blas) -> GpuAccel {
     let bounds = blas.bounds();
     let usable = !blas.is_empty();

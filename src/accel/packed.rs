@@ -10,7 +10,7 @@ use crate::error::RuntimeError;
 
 /// The packed buffer and the layout last written into its header.
 #[derive(Default)]
-pub struct PackedArrays {
+pub(crate) struct PackedArrays {
     buffer: Option<wgpu::Buffer>,
     bases: [u32; 4],
 }

@@ -4,7 +4,7 @@
 //! Deliberately simple: every triangle of every instance is moved to world space in f64 once,
 //! and every ray is tested against every triangle with Möller–Trumbore in f64 (inclusive on the
 //! edges). No acceleration structure, no culling; only the triangles and instances that the BVH
-//! builder leaves out are skipped, by the same rules ([`triangle_status`],
+//! builder leaves out are skipped, by the same rules (`triangle_status`,
 //! [`instance_transform`]): they do not exist for either side. Batches of rays run in parallel
 //! with rayon.
 //!
@@ -22,7 +22,7 @@
 //!
 //! Alpha-tested instances ([`crate::accel::alpha`]) run the same alpha test on every
 //! candidate hit (f64 barycentrics and bilinear arithmetic): a rejected hit does not exist. In
-//! the margins, a hit whose `base_color.a` x texture alpha lies within [`ALPHA_BAND`] of the
+//! the margins, a hit whose `base_color.a` x texture alpha lies within `ALPHA_BAND` of the
 //! cutoff counts as on an edge (margin 0: the f32 traversals' interpolated uv may land on
 //! either side); any other alpha decision does not limit the margin.
 
@@ -65,7 +65,7 @@ struct RefTriangle {
 
 /// Alpha values within this of the cutoff are on an alpha edge for the margins (module docs):
 /// a quarter of an 8-bit texel step.
-pub const ALPHA_BAND: f64 = 1.0 / 1024.0;
+pub(crate) const ALPHA_BAND: f64 = 1.0 / 1024.0;
 
 /// All usable triangles of a scene in world space, f64.
 #[derive(Debug, Clone, Default)]
@@ -80,8 +80,8 @@ impl Reference {
     /// The reference of `scene`: its triangles in world space, in f64.
     pub fn new(scene: &Scene) -> Self {
         let mut tris = Vec::new();
-        for (i, inst) in scene.instances.iter().enumerate() {
-            let (Some(xf), Some(mesh)) = (instance_transform(&inst.transform), scene.meshes.get(inst.mesh)) else { continue };
+        for (i, inst) in scene.instances().iter().enumerate() {
+            let (Some(xf), Some(mesh)) = (instance_transform(&inst.transform), scene.meshes().get(inst.mesh)) else { continue };
             let mirrored = xf.matrix3.determinant() < 0.0;
             let alpha = super::alpha::instance_tested(scene, i);
             for t in 0..mesh.triangle_count() {
@@ -115,7 +115,7 @@ impl Reference {
     }
 
     /// The closest hit with `t_min < t <= t_max` (the first triangle in scene order on a tie).
-    /// Rays that the traversals reject ([`ray_is_valid`]) miss here too.
+    /// Rays that the traversals reject (`ray_is_valid`) miss here too.
     pub fn closest(&self, ray: &Ray) -> Option<RefHit> {
         if !ray_is_valid(ray) {
             return None;

@@ -17,7 +17,7 @@
 //!
 //! Alpha-tested geometry: the reference runs the same alpha test, and a hit whose alpha
 //! (`base_color.a` x the texture's level-0 bilinear alpha) is within
-//! [`crate::accel::reference::ALPHA_BAND`] of the cutoff has margin 0, so a pixel on an alpha
+//! `crate::accel::reference::ALPHA_BAND` of the cutoff has margin 0, so a pixel on an alpha
 //! edge may go either way; every other alpha decision leaves the margin geometric. The GPU
 //! reads the texture-array fallback's resampled texels, which move alpha edges by a fraction
 //! of a source texel: compare those renders on scenes whose pixels keep clear of alpha edges.
@@ -127,7 +127,7 @@ impl ReferenceRenderer {
     }
 
     /// The shadow mask of `rt_shadow` (`shaders/rt/shadow.wgsl`): from the offset surface point
-    /// (lifted by the part of its shadow-terminator offset [`terminator_lift`] gives)
+    /// (lifted by the part of its shadow-terminator offset `terminator_lift` gives)
     /// one ray towards the directional light (unbounded) and one towards the point light
     /// (stopping at 0.9999 of its distance), each only where the surface faces the light.
     pub fn shadow(&self, surfaces: &[Option<SurfacePoint>], light: &Light, point_light: Option<&PointLight>) -> Vec<Option<ShadowPixel>> {
@@ -203,7 +203,7 @@ impl ReferenceRenderer {
 
 /// How much of a shadow-terminator offset `offset` a shadow ray towards `l` leaves from:
 /// `terminator_lift` in `shaders/common/shadow_ray.wgsl` (Cycles' cutoff 0.1 and blend).
-pub fn terminator_lift(offset: f32, n: Vec3, geo: Vec3, l: Vec3) -> f32 {
+pub(crate) fn terminator_lift(offset: f32, n: Vec3, geo: Vec3, l: Vec3) -> f32 {
     if offset <= 0.0 {
         return 0.0;
     }
@@ -214,7 +214,7 @@ pub fn terminator_lift(offset: f32, n: Vec3, geo: Vec3, l: Vec3) -> f32 {
 
 /// The mirror ray from a surface point seen from `camera_position` (module docs of
 /// [`ReferenceRenderer::mirror`]), in f32 as the shader builds it.
-pub fn mirror_ray(camera_position: Vec3, s: &SurfacePoint) -> Ray {
+pub(crate) fn mirror_ray(camera_position: Vec3, s: &SurfacePoint) -> Ray {
     let n = s.normal.normalize();
     let geo = s.geo_normal.normalize();
     let v = (camera_position - s.position).normalize();
@@ -231,7 +231,7 @@ fn reflect(i: Vec3, n: Vec3) -> Vec3 {
 }
 
 /// `pcg_hash` of `shaders/common/sampling.wgsl`.
-pub fn pcg_hash(v: u32) -> u32 {
+pub(crate) fn pcg_hash(v: u32) -> u32 {
     let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
     let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
     (word >> 22) ^ word
@@ -262,7 +262,7 @@ fn r2_sample(i: u32) -> [f32; 2] {
 }
 
 /// The uniform number pairs of a pixel's AO rays, in the order `ao.wgsl` draws them.
-pub fn ao_numbers(pixel: (u32, u32), settings: &AoSettings) -> Vec<[f32; 2]> {
+pub(crate) fn ao_numbers(pixel: (u32, u32), settings: &AoSettings) -> Vec<[f32; 2]> {
     let rotation = pixel_random2(pixel, settings.seed);
     let mut state = pcg_hash(pixel.0 ^ pcg_hash(pixel.1 ^ pcg_hash(settings.seed.wrapping_add(0x9e37_79b9))));
     (0..settings.rays)
@@ -281,7 +281,7 @@ pub fn ao_numbers(pixel: (u32, u32), settings: &AoSettings) -> Vec<[f32; 2]> {
 }
 
 /// `cosine_hemisphere`: a cosine-weighted direction around unit `n` (basis of Duff et al.).
-pub fn cosine_hemisphere(n: Vec3, u: [f32; 2]) -> Vec3 {
+pub(crate) fn cosine_hemisphere(n: Vec3, u: [f32; 2]) -> Vec3 {
     let r = u[0].sqrt();
     let phi = 6.283_185_5 * u[1];
     let local = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u[0]).max(0.0).sqrt());

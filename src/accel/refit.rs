@@ -18,7 +18,7 @@ use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
 /// The refit kernel (part of the back-end, not of any graph).
-pub const REFIT_WGSL: &str = include_str!("../../shaders/accel/refit.wgsl");
+pub(crate) const REFIT_WGSL: &str = include_str!("../../shaders/accel/refit.wgsl");
 
 /// Subtrees of at most this many nodes are treelets (one workgroup each); the nodes above them
 /// form the top treelet. Raised for trees so large that the treelets would pass the dispatch
@@ -156,7 +156,7 @@ impl PlannedArrays {
         let storage = wgpu::BufferUsages::STORAGE;
         Self {
             object_vertices: init("refit object vertices", bytemuck::cast_slice(object), storage),
-            transforms: init("refit transforms", &vec![0u8; 48 * scene.instances.len().max(1)], storage | wgpu::BufferUsages::COPY_DST),
+            transforms: init("refit transforms", &vec![0u8; 48 * scene.instances().len().max(1)], storage | wgpu::BufferUsages::COPY_DST),
             level_nodes: init("refit level nodes", bytemuck::cast_slice(&plan.nodes), storage),
             level_ranges: init("refit level ranges", bytemuck::cast_slice(&plan.levels), storage),
             treelets: init("refit treelets", bytemuck::cast_slice(&plan.treelets), storage),
@@ -247,13 +247,6 @@ impl MergedRefit {
         })
     }
 
-    /// Whether `scene` differs from the merged one only in where its instances are (same
-    /// meshes, same instances of them, every transform as usable as before): the caller checks
-    /// the meshes, this the transforms.
-    pub fn applies_to(&self, scene: &Scene) -> bool {
-        usable_instances(scene) == self.usable
-    }
-
     /// Writes `scene`'s transforms and records the refit of the merged arrays.
     pub fn record(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
         write_transforms(queue, &self.transforms, scene);
@@ -266,12 +259,12 @@ impl MergedRefit {
     }
 
     /// Tree levels.
-    pub fn level_count(&self) -> usize {
+    pub(crate) fn level_count(&self) -> usize {
         self.levels
     }
 
     /// Dispatches per refit.
-    pub fn dispatch_count(&self) -> usize {
+    pub(crate) fn dispatch_count(&self) -> usize {
         self.dispatches.len()
     }
 }
@@ -280,20 +273,20 @@ impl MergedRefit {
 /// vertices (mesh by mesh, as [`crate::accel::gpu_records`] lays them out) in w: where
 /// `shaders/accel/gather_positions.wgsl` gathers a deformed position from ([`NO_VERTEX`] for none).
 fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
-    let mut first_vertex = Vec::with_capacity(scene.meshes.len());
+    let mut first_vertex = Vec::with_capacity(scene.meshes().len());
     let mut next = 0u64;
-    for m in &scene.meshes {
+    for m in scene.meshes() {
         first_vertex.push(next);
         next += m.vertices.len() as u64;
     }
     let mut object = Vec::with_capacity(flat.triangles.len() * 3);
     for t in &flat.triangles {
-        let mesh = scene.instances.get(t.instance as usize).map(|i| i.mesh).filter(|_| t.prim != NO_PRIM);
-        let verts = mesh.and_then(|m| super::bvh::mesh_triangle(&scene.meshes[m], t.prim as usize));
+        let mesh = scene.instances().get(t.instance as usize).map(|i| i.mesh).filter(|_| t.prim != NO_PRIM);
+        let verts = mesh.and_then(|m| super::bvh::mesh_triangle(&scene.meshes()[m], t.prim as usize));
         match (mesh, verts) {
             (Some(m), Some(verts)) => {
                 let index = |c: usize| {
-                    let id = first_vertex[m] + scene.meshes[m].indices[3 * t.prim as usize + c] as u64;
+                    let id = first_vertex[m] + scene.meshes()[m].indices[3 * t.prim as usize + c] as u64;
                     u32::try_from(id).unwrap_or(NO_VERTEX)
                 };
                 object.extend((0..3).map(|c| [verts[c].x.to_bits(), verts[c].y.to_bits(), verts[c].z.to_bits(), index(c)]));
@@ -305,10 +298,10 @@ fn object_vertices(scene: &Scene, flat: &GpuAccel) -> Vec<[u32; 4]> {
 }
 
 /// No vertex to gather from: the gather index of a leaf slot without a triangle.
-pub const NO_VERTEX: u32 = u32::MAX;
+pub(crate) const NO_VERTEX: u32 = u32::MAX;
 
 fn usable_instances(scene: &Scene) -> Vec<bool> {
-    scene.instances.iter().map(|i| scene.meshes.get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
+    scene.instances().iter().map(|i| scene.meshes().get(i.mesh).is_some() && instance_transform(&i.transform).is_some()).collect()
 }
 
 /// The merged layout's GPU refit, for a tree built on the CPU or on the GPU.
@@ -320,9 +313,10 @@ pub enum Refit {
 }
 
 impl Refit {
-    /// Whether `scene` differs from the merged one only in where its instances are (see
-    /// [`MergedRefit::applies_to`]).
-    pub fn applies_to(&self, scene: &Scene) -> bool {
+    /// Whether `scene` differs from the refitted one only in where its instances are (same
+    /// meshes, same instances of them, every transform as usable as before): the caller checks
+    /// the meshes, this the transforms.
+    pub(crate) fn applies_to(&self, scene: &Scene) -> bool {
         let usable = match self {
             Refit::Planned(r) => &r.usable,
             Refit::Tree(r) => &r.usable,
@@ -355,7 +349,7 @@ impl Refit {
     }
 
     /// Tree levels.
-    pub fn level_count(&self) -> usize {
+    pub(crate) fn level_count(&self) -> usize {
         match self {
             Refit::Planned(r) => r.level_count(),
             Refit::Tree(r) => r.depth as usize + 1,
@@ -363,7 +357,7 @@ impl Refit {
     }
 
     /// Dispatches per refit.
-    pub fn dispatch_count(&self) -> usize {
+    pub(crate) fn dispatch_count(&self) -> usize {
         match self {
             Refit::Planned(r) => r.dispatch_count(),
             Refit::Tree(_) => 2,
@@ -450,7 +444,7 @@ impl TreeRefit {
         let storage = wgpu::BufferUsages::STORAGE;
         let transforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("refit transforms"),
-            contents: &vec![0u8; 48 * scene.instances.len().max(1)],
+            contents: &vec![0u8; 48 * scene.instances().len().max(1)],
             usage: storage | wgpu::BufferUsages::COPY_DST,
         });
         let box_keys = device.create_buffer(&wgpu::BufferDescriptor {
@@ -487,7 +481,7 @@ impl TreeRefit {
 
 /// Writes `scene`'s object-to-world rows per instance (zero rows where a transform is unusable).
 fn write_transforms(queue: &wgpu::Queue, transforms: &wgpu::Buffer, scene: &Scene) {
-    let rows: Vec<[[f32; 4]; 3]> = scene.instances.iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
+    let rows: Vec<[[f32; 4]; 3]> = scene.instances().iter().map(|i| instance_transform(&i.transform).map(|a| affine_rows(&a)).unwrap_or_default()).collect();
     if !rows.is_empty() {
         queue.write_buffer(transforms, 0, bytemuck::cast_slice(&rows));
     }

@@ -10,7 +10,7 @@
 //!   carry the scene instance index as custom data and hit group 0 (opaque instances forced
 //!   opaque), and the object-space positions and indices the closest-hit shader reads to
 //!   compute barycentrics (naga's closest-hit stage has no hit attributes).
-//! - [`RtPass`]: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
+//! - `RtPass`: one trace pass as a ray-tracing pipeline: the pass's compute entry point made
 //!   the ray-generation shader ([`crate::graph::reflect::compute_to_ray_generation`]), the miss
 //!   and closest-hit shaders of `shaders/trace/rt_pipeline.wgsl`, its any-hit shader as patched
 //!   SPIR-V (`any_hit`: the alpha test, which only non-opaque geometry reaches), bind groups
@@ -23,7 +23,7 @@
 //! submits in order between wgpu's (`Queue::submit` of several command buffers executes them
 //! in order on one queue). wgpu does not see what those command buffers touch, so the contract
 //! is explicit:
-//! 1. before a trace, the caller's wgpu encoder calls [`RtPass::transition`]: wgpu moves every
+//! 1. before a trace, the caller's wgpu encoder calls `RtPass::transition`: wgpu moves every
 //!    texture and buffer the pass binds into the state (and Vulkan image layout) the hal bind
 //!    groups were made for, and records that state in its tracker;
 //! 2. the hal command buffer starts with a memory barrier from all earlier commands' writes to

@@ -79,7 +79,7 @@ pub fn run(
     let mut rows = Vec::new();
     for (k, (spec, policy)) in runs.iter().enumerate() {
         let (mut scene, _) = crate::scene::open(spec, &LoadOptions::default())?;
-        let clip = scene.rig.as_ref().filter(|r| r.is_animated()).map(|_| 0);
+        let clip = scene.rig().filter(|r| r.is_animated()).map(|_| 0);
         if clip.is_none() {
             return Err(crate::error::RuntimeError::Gpu(format!("bench anim: scene `{spec}` has no animation")));
         }
@@ -90,7 +90,7 @@ pub fn run(
         if let Some(cache) = exec.accel_mut() {
             cache.set_refit_policy(*policy);
         }
-        let camera = scene.camera;
+        let camera = *scene.camera();
         crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).run(gpu, &mut exec, &scene, &camera)?;
         for frame in 0..cfg.frames {
             let t0 = Instant::now();
@@ -111,7 +111,7 @@ pub fn run(
                 "none"
             };
             rows.push(AnimRow {
-                scene: scene.name.clone(),
+                scene: scene.name().to_string(),
                 policy: policy.name(),
                 frame,
                 pose_ms,

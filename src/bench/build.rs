@@ -31,7 +31,7 @@ pub struct BuildBenchConfig {
     /// The back-ends measured.
     pub backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
-    pub(crate) root: PathBuf,
+    pub root: PathBuf,
 }
 
 impl BuildBenchConfig {
@@ -57,34 +57,34 @@ impl BuildBenchConfig {
 #[derive(Debug, Clone)]
 pub struct BuildRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// N of the N×N×N copies.
-    pub(crate) factor: u32,
+    pub factor: u32,
     /// Triangles of all copies.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// Milliseconds of the BLAS builds.
-    pub(crate) blas_ms: Option<f64>,
+    pub blas_ms: Option<f64>,
     /// Milliseconds of the TLAS build.
-    pub(crate) tlas_ms: Option<f64>,
+    pub tlas_ms: Option<f64>,
     /// Until the structure was usable on the GPU (CPU build, flattening and upload; or the GPU
     /// build), milliseconds.
     pub total_ms: f64,
     /// SAH cost of the BLASes.
-    pub(crate) blas_sah: Option<f64>,
+    pub blas_sah: Option<f64>,
     /// SAH cost of the TLAS.
-    pub(crate) tlas_sah: Option<f64>,
+    pub tlas_sah: Option<f64>,
     /// GPU milliseconds of tracing the camera rays.
-    pub(crate) trace_ms: Option<f64>,
+    pub trace_ms: Option<f64>,
     /// Millions of rays per second of that trace.
-    pub(crate) mrays_per_s: Option<f64>,
+    pub mrays_per_s: Option<f64>,
 }
 
 /// Camera rays through a `w`×`h` grid from the scene's default camera.
 fn camera_rays(scene: &Scene, size: (u32, u32)) -> Vec<GpuRay> {
-    let origin = scene.camera.position.into();
-    scene.camera.ray_dirs(size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
+    let origin = scene.camera().position.into();
+    scene.camera().ray_dirs(size, 1).into_iter().map(|d| GpuRay { origin, t_min: 0.0, dir: d.into(), t_max: 3.0e38 }).collect()
 }
 
 /// `on_rows` sees the rows finished so far after each one (to keep the results folder current).
@@ -125,7 +125,7 @@ pub fn run(
                 // Warm-up until the trace time settles: pipeline, caches and clocks.
                 WarmUp::for_gpu(gpu, 1).until_settled(|| tracer.time_closest(gpu, &rays).map(|(_, ms)| ms.unwrap_or(0.0)))?;
                 let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
-                let b = &tracer.build;
+                let b = tracer.build_report();
                 let cpu_builder = backend == Backend::Compute;
                 rows.push(BuildRow {
                     scene: name.clone(),
@@ -134,7 +134,7 @@ pub fn run(
                     backend,
                     blas_ms: cpu_builder.then_some(b.blas_ms),
                     tlas_ms: cpu_builder.then_some(b.tlas_ms),
-                    total_ms: tracer.build_wall_ms,
+                    total_ms: tracer.build_wall_ms(),
                     blas_sah: b.blas_sah,
                     tlas_sah: b.tlas_sah,
                     trace_ms,
@@ -241,13 +241,13 @@ pub fn plots(dir: &Path, rows: &[BuildRow]) -> Result<Vec<PathBuf>, String> {
 #[derive(Debug, Clone)]
 pub struct RefitRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Triangles of the merged layout.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// Tree levels, and the refit's dispatches (large levels one each, runs of small ones one).
     pub levels: usize,
     /// Dispatches of the refit.
-    pub(crate) dispatches: usize,
+    pub dispatches: usize,
     /// CPU milliseconds of the first build (merge and binned-SAH build).
     pub rebuild_ms: f64,
     /// GPU milliseconds of the `Accel` pass on the refitted frames (median, min).
@@ -263,7 +263,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
     let project = Project { layers_dir: cfg.root.join("layers"), shaders_dir: cfg.root.join("shaders") };
     let graph = cfg.root.join("graph/bench_primary.ron");
     // `rt/primary_n.wgsl` casts perspective rays only (src/bench/rays.rs says why).
-    let primary_camera = |scene: &crate::scene::Scene| crate::scene::Camera { orthographic: None, ..scene.camera };
+    let primary_camera = |scene: &crate::scene::Scene| crate::scene::Camera { orthographic: None, ..*scene.camera() };
     let mut options = gpu.compile_options_for(Backend::Compute);
     options.params.insert(("primary".into(), "rays".into()), crate::graph::desc::ParamValue::Int(1));
     let mut rows = Vec::new();
@@ -276,7 +276,7 @@ pub fn run_refit(gpu: &Gpu, cfg: &BuildBenchConfig, frames: u32) -> Result<Vec<R
         let rebuild_ms = first.accel.as_ref().map(|r| r.blas_ms).unwrap_or(0.0);
         WarmUp::for_gpu(gpu, 1).run(gpu, &mut exec, &scene, &primary_camera(&scene))?;
         let radius = 0.5 * scene.bounds().diagonal();
-        let base: Vec<_> = scene.instances.iter().map(|i| i.transform).collect();
+        let base: Vec<_> = scene.instances().iter().map(|i| i.transform).collect();
         let (mut gpu_ms, mut cpu_ms) = (Vec::new(), Vec::new());
         for f in 0..frames.max(1) {
             let offset = glam::Vec3::new((f as f32 * 0.7).sin(), 0.0, (f as f32 * 0.7).cos()) * (1e-3 * radius);
@@ -361,17 +361,17 @@ pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
 #[derive(Debug, Clone)]
 pub struct GpuBuildRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Triangles of the merged layout.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// GPU milliseconds of the build (median, min).
-    pub(crate) gpu_ms: Option<(f64, f64)>,
-    /// Median GPU milliseconds of each [`crate::accel::gpu_build::Phase`].
+    pub gpu_ms: Option<(f64, f64)>,
+    /// Median GPU milliseconds of each `crate::accel::gpu_build::Phase`.
     pub phase_ms: Option<[f64; 4]>,
     /// Nearest-neighbour rounds of the build.
-    pub(crate) rounds: u32,
+    pub rounds: u32,
     /// Depth of the deepest leaf.
-    pub(crate) depth: u32,
+    pub depth: u32,
     /// CPU milliseconds of `Blas::build` of the merged mesh (median of 3).
     pub cpu_ms: f64,
     /// Wall milliseconds of the input records, the build and a read-back of the whole tree
@@ -382,7 +382,7 @@ pub struct GpuBuildRow {
     /// on the GPU builder, nothing read back but a few words (median): `update` after a mesh
     /// edit (hashing, merging, input records, build, the TLAS words), then the submission and
     /// the wait for the GPU. `None` where the cache builds the scene on the CPU (fewer than
-    /// [`crate::accel::cache::GPU_BUILD_MIN_TRIANGLES`] triangles).
+    /// `crate::accel::cache::GPU_BUILD_MIN_TRIANGLES` triangles).
     pub cache_rebuild_ms: Option<f64>,
     /// Of that rebuild (medians): the change detection (`BuildReport::hash_ms`, which also
     /// counts the alpha flags' update before it), the whole `update` call
@@ -390,9 +390,9 @@ pub struct GpuBuildRow {
     /// time until the built arrays were in place (`BuildReport::blas_ms`), milliseconds.
     pub cache_rebuild_parts: Option<[f64; 3]>,
     /// SAH cost of the GPU-built tree.
-    pub(crate) gpu_sah: f64,
+    pub gpu_sah: f64,
     /// SAH cost of the CPU-built tree.
-    pub(crate) cpu_sah: f64,
+    pub cpu_sah: f64,
 }
 
 /// `builds` GPU builds of every scene of `cfg`'s merged layout.
@@ -401,7 +401,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
     use crate::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlasBuilder};
     use crate::accel::layout::{merge, merge_instances, GpuBvhNode};
     let fail = |e: crate::accel::gpu_build::GpuBuildError| RuntimeError::Gpu(format!("bench build: GPU builder: {e}"));
-    let builder = GpuBlasBuilder::new(&gpu.device).map_err(fail)?;
+    let builder = GpuBlasBuilder::new(gpu.device()).map_err(fail)?;
     let mut rows = Vec::new();
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
@@ -421,13 +421,13 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         let (mut times, mut phases, mut walls, mut last) = (Vec::new(), vec![Vec::new(); 4], Vec::new(), None);
         // Warm-up until the build's kernel time settles (clocks, caches).
         WarmUp::for_gpu(gpu, 1).until_settled(|| {
-            let b = builder.build(&gpu.device, &gpu.queue, &input).map_err(fail)?;
+            let b = builder.build(gpu.device(), gpu.queue(), &input).map_err(fail)?;
             Ok::<f64, RuntimeError>(b.gpu_ms.unwrap_or(0.0))
         })?;
         // The kernels timed back to back (a read-back between them would leave the GPU idle
         // for tens of milliseconds and its clocks falling), then the wall time with read-backs.
         for _ in 0..builds.max(1) {
-            let b = builder.build(&gpu.device, &gpu.queue, &input).map_err(fail)?;
+            let b = builder.build(gpu.device(), gpu.queue(), &input).map_err(fail)?;
             times.extend(b.gpu_ms);
             for (all, ms) in phases.iter_mut().zip(b.phase_ms.into_iter().flatten()) {
                 all.push(ms);
@@ -435,13 +435,13 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         }
         for _ in 0..builds.max(1) {
             let t = std::time::Instant::now();
-            let b = builder.build(&gpu.device, &gpu.queue, &merged_triangles(&merged, &origin)).map_err(fail)?;
-            b.read_back(&gpu.device, &gpu.queue).map_err(fail)?;
+            let b = builder.build(gpu.device(), gpu.queue(), &merged_triangles(&merged, &origin)).map_err(fail)?;
+            b.read_back(gpu.device(), gpu.queue()).map_err(fail)?;
             walls.push(t.elapsed().as_secs_f64() * 1e3);
             last = Some(b);
         }
         let Some(b) = last else { continue };
-        let nodes = read_bytes(&gpu.device, &gpu.queue, &b.nodes, 0, b.node_count as u64 * 32).map_err(fail)?;
+        let nodes = read_bytes(gpu.device(), gpu.queue(), &b.nodes, 0, b.node_count as u64 * 32).map_err(fail)?;
         let nodes: &[GpuBvhNode] = bytemuck::cast_slice(&nodes);
         let min = times.iter().copied().fold(f64::INFINITY, f64::min);
         let rebuild = cache_rebuild_ms(gpu, &scene, builds.max(1))?;
@@ -471,21 +471,21 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
 /// [`AccelCache`]: crate::accel::cache::AccelCache
 fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64, [f64; 3])>, RuntimeError> {
     use crate::accel::cache::{AccelCache, AccelSettings, BuildReport, MergedBuilder};
-    let mut cache = AccelCache::new(&gpu.device, Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
+    let mut cache = AccelCache::new(gpu.device(), Backend::Compute, AccelSettings { dedup: true, merge: true }, 1);
     cache.set_merged_builder(MergedBuilder::Gpu);
     let mut scene = scene.clone();
     let mut k = 0u32;
     // One vertex moved up and down by turns: every update is a rebuild of the whole tree.
     let mut rebuild = || -> Result<(f64, BuildReport), RuntimeError> {
-        if let Some(v) = scene.meshes.iter_mut().find_map(|m| std::sync::Arc::make_mut(m).vertices.first_mut()) {
-            v.position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
+        if let Some(i) = scene.meshes().iter().position(|m| !m.vertices.is_empty()) {
+            scene.mesh_mut(i).vertices[0].position[1] += if k % 2 == 0 { 1e-4 } else { -1e-4 };
         }
         k += 1;
         let t = std::time::Instant::now();
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bench cache rebuild") });
-        let report = cache.update(&gpu.device, &gpu.queue, &mut encoder, &scene)?;
-        gpu.queue.submit([encoder.finish()]);
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RuntimeError::Gpu(format!("bench build: cache rebuild: {e}")))?;
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("bench cache rebuild") });
+        let report = cache.update(gpu.device(), gpu.queue(), &mut encoder, &scene)?;
+        gpu.queue().submit([encoder.finish()]);
+        gpu.device().poll(wgpu::PollType::wait_indefinitely()).map_err(|e| RuntimeError::Gpu(format!("bench build: cache rebuild: {e}")))?;
         Ok((t.elapsed().as_secs_f64() * 1e3, report))
     };
     // The first update makes the pipelines (and may build on the CPU: then nothing to time).
@@ -572,9 +572,9 @@ pub fn gpu_build_csv(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
 #[derive(Debug, Clone)]
 pub struct CpuBuildRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Triangles of the merged mesh.
-    pub(crate) triangles: usize,
+    pub triangles: usize,
     /// rayon's worker threads.
     pub threads: usize,
     /// The first build in the process (fresh memory: page faults included).
@@ -582,13 +582,13 @@ pub struct CpuBuildRow {
     /// Median and minimum of the builds after it.
     pub median_ms: f64,
     /// Minimum milliseconds of the builds after the first.
-    pub(crate) min_ms: f64,
+    pub min_ms: f64,
     /// Builds timed.
-    pub(crate) builds: u32,
+    pub builds: u32,
     /// SAH cost of the tree.
-    pub(crate) sah: f64,
+    pub sah: f64,
     /// Depth of the deepest leaf.
-    pub(crate) depth: usize,
+    pub depth: usize,
 }
 
 /// `builds` CPU builds of every scene of `cfg`'s merged mesh.

@@ -12,7 +12,7 @@
 //!   onto the render where their edges agree best: the normalised cross-correlation of the
 //!   two images' luma gradients, searched over scales and offsets on images an eighth of the
 //!   size, then refined at full size;
-//! - the lighting ([`fit_gains`]): the render's linear colour is scaled per channel by the one
+//! - the lighting (`fit_gains`): the render's linear colour is scaled per channel by the one
 //!   gain that fits it to the reference best (least squares over the model's pixels). The
 //!   lighting differs (a sun and sky against an environment map), so what is compared is what
 //!   a model tests: colours, texture placement, cut-outs, coverage and blending, not brightness.
@@ -46,7 +46,7 @@ pub struct Comparison {
 /// no scale and offset where the two images' edges agree, as for a reference taken from another
 /// view (checked by eye on the 13 still references: every one above it is placed right; some
 /// below it are placed right too).
-pub const PLACED_MIN_SCORE: f32 = 0.45;
+pub(crate) const PLACED_MIN_SCORE: f32 = 0.45;
 
 /// The reference on the render: render pixel p (its centre) shows reference point
 /// `scale x p + offset` (reference pixels); `score` is the edges' normalised cross-correlation.
@@ -64,7 +64,7 @@ pub struct Alignment {
 /// the file's camera when `report` counts one, else the bounds from the front.
 pub fn comparison_view(scene: &Scene, report: &ImportReport, aspect: f32) -> Camera {
     if report.file_cameras > 0 {
-        return scene.camera;
+        return *scene.camera();
     }
     let bounds = crate::scene::gltf_import::animated_bounds(scene);
     front_fit(bounds, aspect)
@@ -111,7 +111,7 @@ pub fn frame_size(width: u32, height: u32, long: u32) -> (u32, u32) {
 }
 
 /// `render` against `reference` placed by `alignment` ([`find_alignment`]), over the pixels of
-/// `mask` (module docs); an error where the alignment's score is below [`PLACED_MIN_SCORE`].
+/// `mask` (module docs); an error where the alignment's score is below `PLACED_MIN_SCORE`.
 pub fn compare(render: &image::RgbaImage, mask: &[bool], reference: &image::RgbaImage, alignment: Alignment) -> Result<Comparison, String> {
     let (w, h) = render.dimensions();
     if !mask.iter().any(|m| *m) {
@@ -282,7 +282,7 @@ pub fn find_alignment(render: &image::RgbaImage, reference: &image::RgbaImage) -
 
 /// Per channel, the gain g minimising the squared difference of g x `ours` and `theirs` over
 /// `pixels` (1 where the render is black there).
-pub fn fit_gains(ours: &[[f32; 3]], theirs: &[[f32; 3]], pixels: &[usize]) -> [f32; 3] {
+pub(crate) fn fit_gains(ours: &[[f32; 3]], theirs: &[[f32; 3]], pixels: &[usize]) -> [f32; 3] {
     std::array::from_fn(|c| {
         let (mut num, mut den) = (0.0f64, 0.0f64);
         for &i in pixels {

@@ -73,7 +73,7 @@ pub fn run(
                 .position(|p| p.name == "reflection/reflection")
                 .ok_or_else(|| crate::error::RuntimeError::Gpu("graph/hybrid.ron has no reflection pass".into()))?;
             let mut exec = Executor::new(gpu, plan, &scene)?;
-            let frames = super::timed_frames(gpu, &mut exec, &scene, 1, cfg.frames, |_| scene.camera)?;
+            let frames = super::timed_frames(gpu, &mut exec, &scene, 1, cfg.frames, |_| *scene.camera())?;
             let mut ms: Vec<f64> = frames.iter().map(|f| f.gpu_ms.as_ref().map(|v| v[pass]).unwrap_or(f.frame_ms)).collect();
             let mut rays: Vec<f64> = frames.iter().map(|f| f.pass_rays[pass].map(|r| r.traced()).unwrap_or(0) as f64).collect();
             let mut frame_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();

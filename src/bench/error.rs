@@ -28,12 +28,12 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 /// Ceiling height and AO ray length: the reference unoccluded fraction is `(H / R)^2`.
-pub const CEILING: f32 = 0.5;
+pub(crate) const CEILING: f32 = 0.5;
 /// AO ray length of the closed-form scene.
 pub(crate) const RANGE: f32 = 1.0;
 
 /// The sampling schemes of `layers/rt_ao.ron` (its `sampling` parameter).
-pub const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
+pub(crate) const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
 
 /// Settings of `raygraph bench error`.
 #[derive(Debug, Clone)]
@@ -43,15 +43,15 @@ pub struct ErrorConfig {
     /// Rays per pixel run: 1, 2, 4, ... up to this.
     pub max_rays: i64,
     /// Seeds per ray count.
-    pub(crate) seeds: u32,
+    pub seeds: u32,
     /// Untimed frames before the timed ones of every seed (the GPU's clocks rise under load).
     pub warmup: u32,
     /// Timed frames per seed.
-    pub(crate) frames: u32,
+    pub frames: u32,
     /// The back-ends measured.
     pub backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
-    pub(crate) root: PathBuf,
+    pub root: PathBuf,
 }
 
 impl ErrorConfig {
@@ -70,40 +70,40 @@ impl ErrorConfig {
 #[derive(Debug, Clone)]
 pub struct ErrorRow {
     /// The back-end.
-    pub(crate) backend: Backend,
-    /// The sampling scheme ([`SCHEMES`]).
-    pub(crate) sampling: &'static str,
+    pub backend: Backend,
+    /// The sampling scheme: `white` or `r2` (the `sampling` parameter of `layers/rt_ao.ron`).
+    pub sampling: &'static str,
     /// AO rays per pixel.
-    pub(crate) rays: i64,
+    pub rays: i64,
     /// GPU milliseconds of the AO pass.
-    pub(crate) ao_ms: f64,
+    pub ao_ms: f64,
     /// Root mean square error against the closed form.
-    pub(crate) rmse: f64,
+    pub rmse: f64,
     /// Relative mean square error.
-    pub(crate) relmse: f64,
+    pub relmse: f64,
     /// Mean error (bias).
-    pub(crate) bias: f64,
+    pub bias: f64,
     /// Variance over seeds.
-    pub(crate) variance: f64,
+    pub variance: f64,
     /// FLIP (NVIDIA's perceptual difference, `nv-flip`) of the AO images shown as grey against
     /// the reference grey: mean and 99th percentile over all pixels of all seeds.
     pub flip_mean: f64,
     /// 99th percentile of FLIP.
-    pub(crate) flip_p99: f64,
+    pub flip_p99: f64,
 }
 
 /// The floor, the ceiling (a floor turned over, facing down) and a camera between them looking
 /// down: every pixel sees the floor.
 pub fn ceiling_scene() -> Scene {
     let mut s = builtin::default_scene();
-    s.name = "parallel ceiling".into();
-    s.meshes = vec![builtin::plane("floor", 400.0, 1.0).into()];
+    s.set_name("parallel ceiling");
+    s.set_meshes(vec![builtin::plane("floor", 400.0, 1.0)]);
     s.strip_textures();
     let ceiling = Mat4::from_translation(Vec3::new(0.0, CEILING, 0.0)) * Mat4::from_rotation_x(std::f32::consts::PI);
-    s.instances = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }].into();
-    s.camera = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
-    s.presets = vec![("default".into(), s.camera)];
-    s.point_light = None;
+    s.set_instances(vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 0, material: 0, transform: ceiling }]);
+    *s.camera_mut() = Camera::look(Vec3::new(0.0, 0.25, 0.0), Vec3::new(0.0, 0.0, 0.001), 40.0, 0.01, 100.0);
+    *s.presets_mut() = vec![("default".into(), *s.camera())];
+    s.set_point_light(None);
     s
 }
 
@@ -196,7 +196,7 @@ impl AoBench<'_> {
         let ao = plan.resource_by_name("ao.ao").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no resource ao.ao".into()))?;
         let position = plan.resource_by_name("gbuffer.position").ok_or_else(|| RuntimeError::Gpu("graph/ao.ron has no gbuffer.position".into()))?;
         let mut exec = Executor::new(gpu, plan, scene)?;
-        let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+        let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
         let ms = frames.iter().map(|f| super::nodes_ms(&exec, f, &["ao"])).collect();
         let (_, _, values) = exec.read_texture_f32(gpu, ao)?;
         let (_, _, positions) = exec.read_texture_f32(gpu, position)?;
@@ -377,24 +377,24 @@ pub fn plots(dir: &Path, rows: &[ErrorRow]) -> Result<Vec<PathBuf>, String> {
 #[derive(Debug, Clone)]
 pub struct HybridRow {
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// With the scene's textures, or with every material's constant colour only.
     pub textures: bool,
     /// GPU milliseconds of a hybrid frame.
-    pub(crate) hybrid_ms: f64,
+    pub hybrid_ms: f64,
     /// GPU milliseconds of a full-RT frame.
-    pub(crate) full_rt_ms: f64,
+    pub full_rt_ms: f64,
     /// Over the 8-bit RGB output: RMSE (in 8-bit units), the fraction of pixels with a channel
     /// differing by more than 8, and FLIP (mean, 99th percentile).
     pub rmse: f64,
     /// Fraction of pixels with a channel differing by more than 8.
-    pub(crate) differing: f64,
+    pub differing: f64,
     /// Mean FLIP.
-    pub(crate) flip_mean: f64,
+    pub flip_mean: f64,
     /// 99th percentile of FLIP.
-    pub(crate) flip_p99: f64,
+    pub flip_p99: f64,
 }
 
 /// Hybrid against full RT on `scenes` at `size`, on every back-end of `cfg`.
@@ -409,7 +409,7 @@ pub fn run_hybrid(gpu: &Gpu, cfg: &ErrorConfig, scenes: &[&str], size: (u32, u32
             for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
                 let plan = compile_with(&cfg.root.join(graph), &project, size, &gpu.compile_options_for(backend))?;
                 let mut exec = Executor::new(gpu, plan, &scene)?;
-                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+                let frames = super::timed_frames(gpu, &mut exec, &scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
                 let mut ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
                 times.push(median(&mut ms));
                 images.push(exec.read_output(gpu)?);
@@ -485,7 +485,7 @@ pub fn hybrid_markdown(info: &RunInfo, rows: &[HybridRow]) -> String {
 #[derive(Debug, Clone)]
 pub struct ShadowMapSweep {
     /// The scenes.
-    pub(crate) scenes: Vec<String>,
+    pub scenes: Vec<String>,
     /// Frame size.
     pub size: (u32, u32),
     /// Shadow-map sizes (square texels): copies of `layers/shadow_map.ron` with that size.
@@ -520,25 +520,25 @@ impl ShadowMapSweep {
 #[derive(Debug, Clone)]
 pub struct ShadowMapRow {
     /// The scene.
-    pub(crate) scene: String,
+    pub scene: String,
     /// Shadow-map size, texels.
-    pub(crate) resolution: u32,
+    pub resolution: u32,
     /// The `shadow_bias`.
-    pub(crate) bias: f64,
+    pub bias: f64,
     /// The `normal_offset`.
-    pub(crate) normal_offset: f64,
+    pub normal_offset: f64,
     /// Pixels the rays light.
-    pub(crate) lit_pixels: usize,
+    pub lit_pixels: usize,
     /// Pixels the rays shadow.
-    pub(crate) shadowed_pixels: usize,
+    pub shadowed_pixels: usize,
     /// Shadowed by the map among the pixels the rays light.
-    pub(crate) false_shadow: f64,
+    pub false_shadow: f64,
     /// Lit by the map among the pixels the rays shadow.
-    pub(crate) false_lit: f64,
+    pub false_lit: f64,
     /// GPU ms of the shadow-map pass (median), and of the ray-traced shadow pass it replaces.
     pub shadow_map_ms: f64,
     /// GPU milliseconds of the ray-traced shadow pass.
-    pub(crate) rt_shadow_ms: f64,
+    pub rt_shadow_ms: f64,
 }
 
 /// The shadow-map visibility of every pixel of the raster graph (`graph/raster.ron`) with the
@@ -557,8 +557,8 @@ pub fn run_shadow_maps(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, bac
     let mut rows = Vec::new();
     for name in &sweep.scenes {
         let (mut scene, _) = crate::scene::open(name, &crate::scene::LoadOptions { textures: false, ..Default::default() })?;
-        scene.light.ambient = 0.0;
-        scene.point_light = None;
+        scene.light_mut().ambient = 0.0;
+        scene.set_point_light(None);
         let truth = shadow_truth(gpu, cfg, sweep, backend, &project, &scene)?;
         for &resolution in &sweep.resolutions {
             let dir = SweepDir::new(&format!("sm{resolution}"))?;
@@ -639,12 +639,12 @@ fn shadow_truth(gpu: &Gpu, cfg: &ErrorConfig, sweep: &ShadowMapSweep, backend: B
     let (shadow_id, geo_id, pos_id) =
         (plan_resource(&plan, "shadow.shadow")?, plan_resource(&plan, "gbuffer.geo_normal")?, plan_resource(&plan, "gbuffer.position")?);
     let mut exec = Executor::new(gpu, plan, scene)?;
-    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
     let rt_shadow_ms = median(&mut frames.iter().map(|f| pass_ms(f, rt_pass)).collect::<Vec<_>>());
     let mask = exec.read_texture_f32(gpu, shadow_id)?.2;
     let geo = exec.read_texture_f32(gpu, geo_id)?.2;
     let positions = exec.read_texture_f32(gpu, pos_id)?.2;
-    let l = scene.light.direction.normalize();
+    let l = scene.light().direction.normalize();
     let faces_light: Vec<bool> = geo.iter().zip(&positions).map(|(n, p)| p[3] != 0.0 && Vec3::new(n[0], n[1], n[2]).dot(l) > 0.0).collect();
     Ok(ShadowTruth { mask, faces_light, rt_shadow_ms })
 }
@@ -685,7 +685,7 @@ impl RasterShadows<'_> {
             .ok_or_else(|| RuntimeError::Gpu("graph/raster.ron has no pass shadow_map/shadow_map".into()))?;
         let color = plan_resource(&plan, "forward.color")?;
         let mut exec = Executor::new(gpu, plan, scene)?;
-        let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+        let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
         let ms = median(&mut frames.iter().map(|f| pass_ms(f, pass)).collect::<Vec<_>>());
         Ok((exec.read_texture_f32(gpu, color)?.2, ms))
     }

@@ -307,7 +307,7 @@ fn flip_between(a: &Signal, b: &Signal, (w, h): (u32, u32), hdr: bool) -> f64 {
 /// The rows of one scene and effect: noisy and filtered at every ray count.
 fn effect_rows(gpu: &Gpu, cfg: &FiltersConfig, scene: &Scene, scene_name: &str, effect: &Effect, reference: &Signal) -> Result<Vec<FilterRow>, RuntimeError> {
     let mut rows = Vec::new();
-    let camera = scene.camera;
+    let camera = *scene.camera();
     let median = crate::runtime::profiler::median;
     let with_filters: Vec<&str> = [effect.node, "motion"].into_iter().chain(effect.filters.iter().copied()).collect();
     for n in effect.ray_counts(cfg) {
@@ -367,7 +367,7 @@ fn track_row(
     let off: &[&str] = if filtered { &[] } else { effect.filters };
     let mut exec = executor(gpu, cfg, scene, effect, off, &[])?;
     let signal = if filtered { effect.filtered } else { effect.signal };
-    let camera = scene.camera;
+    let camera = *scene.camera();
     for _ in 0..cfg.settle_frames {
         exec.render(gpu, &camera, scene)?;
     }
@@ -410,9 +410,9 @@ pub fn run(
     for scene_name in &cfg.scenes {
         let (scene, _) = crate::scene::open(scene_name, &crate::scene::LoadOptions::default())?;
         for effect in &EFFECTS {
-            let reference_still = reference(gpu, cfg, &scene, effect, &scene.camera)?;
+            let reference_still = reference(gpu, cfg, &scene, effect, scene.camera())?;
             rows.extend(effect_rows(gpu, cfg, &scene, scene_name, effect, &reference_still)?);
-            let end = turned(&scene.camera, turn_step(cfg, &scene.camera) * cfg.turn_frames as f32);
+            let end = turned(scene.camera(), turn_step(cfg, scene.camera()) * cfg.turn_frames as f32);
             let reference_end = reference(gpu, cfg, &scene, effect, &end)?;
             for filtered in [false, true] {
                 track.push(track_row(gpu, cfg, &scene, scene_name, effect, (&reference_still, &reference_end), filtered)?);

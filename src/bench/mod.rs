@@ -52,7 +52,7 @@ impl RunInfo {
     }
 
     /// `#`-comment lines for the top of a CSV file.
-    pub fn csv_comment(&self) -> String {
+    pub(crate) fn csv_comment(&self) -> String {
         self.markdown().lines().map(|l| format!("# {}\n", l.trim_start_matches("- "))).collect()
     }
 }
@@ -80,7 +80,7 @@ pub fn results_dir(dir: &Path) -> std::io::Result<PathBuf> {
 
 /// Renders untimed frames until the frame time has settled (at least `warmup`; see
 /// [`crate::runtime::warm_up`]), then `frames` timed ones with the camera `camera_at(i)`.
-pub fn timed_frames(
+pub(crate) fn timed_frames(
     gpu: &crate::runtime::Gpu,
     exec: &mut crate::runtime::Executor,
     scene: &crate::scene::Scene,

@@ -20,7 +20,7 @@ pub const MODES: [(&str, &str); 3] = [("raster", "graph/raster.ron"), ("hybrid",
 
 /// One frame of `graph` on `scene` at `size` through `backend`, with the graph's
 /// technique-specific effects switched off where `effects` is false.
-pub fn render_mode(
+pub(crate) fn render_mode(
     gpu: &Gpu,
     root: &Path,
     graph: &str,
@@ -42,7 +42,7 @@ pub fn render_mode(
     let path = root.join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), size, &options)?;
     let mut exec = Executor::new(gpu, plan, scene)?;
-    exec.render(gpu, &scene.camera, scene)?;
+    exec.render(gpu, scene.camera(), scene)?;
     exec.read_output(gpu)
 }
 

@@ -18,7 +18,7 @@ fn init_font() {
 }
 
 /// One named series of (x, y) points.
-pub struct Series {
+pub(crate) struct Series {
     /// The name in the legend.
     pub(crate) name: String,
     /// The points, in x order.
@@ -26,7 +26,7 @@ pub struct Series {
 }
 
 /// A line plot with points; `x_labels` names integer x positions (categorical axes).
-pub struct LinePlot<'a> {
+pub(crate) struct LinePlot<'a> {
     /// The plot's title.
     pub(crate) title: &'a str,
     /// The x axis's label.

@@ -32,7 +32,7 @@ pub struct RaysConfig {
     pub frames: u32,
     /// Untimed frames before each measurement at least (the warm-up goes on until the frame
     /// time settles: [`crate::runtime::warm_up`]).
-    pub(crate) warmup: u32,
+    pub warmup: u32,
     /// AO rays per pixel.
     pub ao_rays: i64,
     /// AO ray length as a fraction of the scene's bounding radius (`rt_ao`'s `range_scale`).
@@ -40,11 +40,11 @@ pub struct RaysConfig {
     /// Primary rays per pixel of the Miss and Stress tests.
     pub primary_rays: i64,
     /// The back-ends measured.
-    pub(crate) backends: Vec<Backend>,
+    pub backends: Vec<Backend>,
     /// Where `graph/`, `layers/` and `shaders/` are.
     pub root: PathBuf,
     /// Fractions of the frame each scene is also measured at: its camera moved along its view
-    /// axis until its surfaces cover that fraction of the pixels ([`coverage_view`]).
+    /// axis until its surfaces cover that fraction of the pixels (`coverage_view`).
     pub coverages: Vec<f64>,
 }
 
@@ -93,19 +93,19 @@ pub struct RaysRow {
     /// The camera: the scene's own, a named preset, or how it was derived.
     pub camera: String,
     /// The back-end.
-    pub(crate) backend: Backend,
+    pub backend: Backend,
     /// Frames per second.
-    pub(crate) fps: f64,
+    pub fps: f64,
     /// GPU milliseconds per frame (the sum of the passes' timestamps).
-    pub(crate) gpu_ms: f64,
+    pub gpu_ms: f64,
     /// Wall-clock milliseconds per frame (recording, submission and the wait for the GPU).
-    pub(crate) wall_ms: f64,
+    pub wall_ms: f64,
     /// Rays traced per frame.
-    pub(crate) rays_per_frame: u64,
+    pub rays_per_frame: u64,
     /// Rays per pixel.
-    pub(crate) rays_per_pixel: f64,
+    pub rays_per_pixel: f64,
     /// GigaRays per second.
-    pub(crate) grays_per_s: f64,
+    pub grays_per_s: f64,
     /// Fraction of rays that hit.
     pub hit_fraction: f64,
     /// The raster graph's frame rate on the same view (scene rows).
@@ -172,7 +172,7 @@ fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured,
     let pixels = cfg.size.0 as f64 * cfg.size.1 as f64;
     RaysRow {
         test: test.into(),
-        scene: view.scene.name.clone(),
+        scene: view.scene.name().to_string(),
         camera: view.described.clone(),
         rays_by_pass,
         backend,
@@ -222,7 +222,7 @@ pub const STRESS_PRESET: &str = "stress";
 /// The camera preset a scene names its Miss (inside) view with.
 pub const MISS_INSIDE_PRESET: &str = "miss_inside";
 /// A Stress row must hit with at least this fraction of its rays.
-pub const STRESS_MIN_HITS: f64 = 0.99;
+pub(crate) const STRESS_MIN_HITS: f64 = 0.99;
 /// The probe that derives a Stress view: frame size and rays per pixel, the hit fraction it
 /// asks for (above [`STRESS_MIN_HITS`], as the probe sees fewer rays), and how many times the
 /// field of view is halved at most.
@@ -246,7 +246,7 @@ fn coverage_view<'a>(gpu: &Gpu, primary: &Path, project: &Project, scene: &'a Sc
     let mut options = gpu.compile_options();
     options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(1));
     let mut exec = Executor::new(gpu, compile_with(primary, project, COVERAGE_PROBE_SIZE, &options)?, scene)?;
-    let base = Camera { orthographic: None, ..scene.camera };
+    let base = Camera { orthographic: None, ..*scene.camera() };
     let (mut scale, mut covered) = (1.0f64, 0.0);
     for _ in 0..COVERAGE_MOVES {
         let camera = base.moved_back(scale as f32);
@@ -260,7 +260,7 @@ fn coverage_view<'a>(gpu: &Gpu, primary: &Path, project: &Project, scene: &'a Sc
     }
     Err(crate::error::RuntimeError::NotTheTest(format!(
         "no view of `{}` covering {:.1}% of the frame: moving its camera along its view axis ended at {:.1}%",
-        scene.name,
+        scene.name(),
         coverage * 100.0,
         covered * 100.0
     )))
@@ -285,24 +285,24 @@ fn stress_view<'a>(gpu: &Gpu, primary: &Path, project: &Project, scene: &'a Scen
     options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(PROBE_RAYS));
     let mut exec = Executor::new(gpu, compile_with(primary, project, PROBE_SIZE, &options)?, scene)?;
     let mut best = 0.0f64;
-    let mut camera = scene.camera;
+    let mut camera = *scene.camera();
     for k in 0..=STRESS_NARROWINGS {
         // The primary-ray kernel (`rt/primary_n.wgsl`) casts perspective rays only (each ray's
         // origin set up per ray cost its Miss rows 6-10% on the H200): a file whose first
         // camera is orthographic is narrowed as a perspective camera at its place.
-        camera = Camera { fov_y: scene.camera.fov_y / 2f32.powi(k), orthographic: None, ..scene.camera };
+        camera = Camera { fov_y: scene.camera().fov_y / 2f32.powi(k), orthographic: None, ..*scene.camera() };
         let frame = exec.render(gpu, &camera, scene)?;
         let hits = frame.rays.map_or(0.0, |r| r.hits as f64 / r.traced().max(1) as f64);
         if hits >= PROBE_MIN_HITS {
             let described = format!("derived: the scene's camera narrowed to {:.1} deg", camera.fov_y.to_degrees());
-            log::info!("Stress on `{}`: no `{STRESS_PRESET}` camera preset, so {described}", scene.name);
+            log::info!("Stress on `{}`: no `{STRESS_PRESET}` camera preset, so {described}", scene.name());
             return Ok(View { scene, camera, described });
         }
         best = best.max(hits);
     }
     Err(crate::error::RuntimeError::NotTheTest(format!(
         "no Stress view on `{}`: it has no `{STRESS_PRESET}` camera preset, and its camera narrowed down to {:.2} deg hits with {:.1}% of its rays at best ({}% needed: a Stress view shows no sky)",
-        scene.name,
+        scene.name(),
         camera.fov_y.to_degrees(),
         100.0 * best,
         100.0 * PROBE_MIN_HITS
@@ -347,7 +347,7 @@ fn ray_tests(
         vec![("Miss (outside)", View { scene, camera: miss_outside_camera(scene), described: "above the scene's box looking up".into() }, Expect::NoHits)];
     match scene.preset(MISS_INSIDE_PRESET) {
         Ok(camera) => views.push(("Miss (inside)", View { scene, camera, described: format!("preset `{MISS_INSIDE_PRESET}`") }, Expect::NoHits)),
-        Err(_) => log::info!("no Miss (inside) row: scene `{}` has no `{MISS_INSIDE_PRESET}` camera preset", scene.name),
+        Err(_) => log::info!("no Miss (inside) row: scene `{}` has no `{MISS_INSIDE_PRESET}` camera preset", scene.name()),
     }
     views.push(("Stress", stress_view(gpu, primary, project, scene)?, Expect::Hits));
     for &backend in &cfg.backends {
@@ -387,11 +387,11 @@ pub fn run(
     let mut last_scene = None;
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: true, ..Default::default() })?;
-        let view = View { scene: &scene, camera: scene.camera, described: "the scene's camera".into() };
-        let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, &scene.camera, cfg)?.gpu_ms;
+        let view = View { scene: &scene, camera: *scene.camera(), described: "the scene's camera".into() };
+        let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, scene.camera(), cfg)?.gpu_ms;
         step(&rows, format!("{name}: raster"));
         for &backend in &cfg.backends {
-            let m = measure(gpu, &workload, &project, &workload_options(gpu, backend, cfg), &scene, &scene.camera, cfg)?;
+            let m = measure(gpu, &workload, &project, &workload_options(gpu, backend, cfg), &scene, scene.camera(), cfg)?;
             rows.push(row(name, &view, backend, cfg, m, Some(1000.0 / raster_ms)));
             step(&rows, format!("{name}: {backend}"));
         }

@@ -43,7 +43,7 @@ fn camera_rays(camera: &Camera, size: (u32, u32), stride: u32) -> Vec<Ray> {
 }
 
 /// The merged layout of `scene`, as `Accel(merge: true)` builds it.
-pub fn merged_layout(scene: &Scene) -> GpuAccel {
+pub(crate) fn merged_layout(scene: &Scene) -> GpuAccel {
     let (mesh, origin) = merge_instances(scene);
     merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
 }
@@ -69,11 +69,11 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
     let mut rays = 0u64;
     let mut rng = crate::util::SplitMix64(1);
     let range = 0.05 * 0.5 * scene.bounds().diagonal();
-    for r in camera_rays(&scene.camera, (2560, 1440), stride) {
+    for r in camera_rays(scene.camera(), (2560, 1440), stride) {
         rays += 1;
         let Some(hit) = tracer.counted(&r, false, &mut counts) else { continue };
-        let inst = &scene.instances[hit.instance_id as usize];
-        let m = &scene.meshes[inst.mesh];
+        let inst = &scene.instances()[hit.instance_id as usize];
+        let m = &scene.meshes()[inst.mesh];
         let v: [Vec3; 3] = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[m.indices[3 * hit.prim as usize + k] as usize].position)));
         let mut n = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
         if n.dot(r.dir) > 0.0 {
@@ -81,7 +81,7 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
         }
         let origin = offset_ray_origin(r.origin + r.dir * hit.t, n);
         rays += 1;
-        tracer.counted(&Ray::new(origin, scene.light.direction), true, &mut counts);
+        tracer.counted(&Ray::new(origin, scene.light().direction), true, &mut counts);
         let (t, b) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));
         for _ in 0..ao_rays {
             let (u, w) = (rng.f(), rng.f());
@@ -91,7 +91,7 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
             tracer.counted(&Ray::with_interval(origin, d, 0.0, range), true, &mut counts);
         }
     }
-    row(&scene.name, rays, &counts, bandwidth)
+    row(scene.name(), rays, &counts, bandwidth)
 }
 
 /// The Miss or Stress test: closest-hit primary rays from `camera`.

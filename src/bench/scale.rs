@@ -11,7 +11,7 @@
 //!   (`compute`: the CPU builder, flattening and upload; `rt-pipeline`: recording the driver's
 //!   build) and GPU milliseconds (`rt-pipeline`: the driver's build; `compute`: the copies);
 //! - the GPU builder's kernels for the merged layout (`compute` only, up to its
-//!   [`crate::accel::gpu_build::MAX_GPU_BUILD_TRIANGLES`]);
+//!   `crate::accel::gpu_build::MAX_GPU_BUILD_TRIANGLES`);
 //! - GPU memory per triangle: the device allocator's live bytes after the first frame, minus
 //!   before the executor was made, minus the graph's own textures and buffers;
 //! - the scene workload frame's wall and GPU milliseconds (medians after the warm-up).
@@ -66,7 +66,8 @@ pub struct ScaleRow {
     pub step: String,
     /// Unique triangles.
     pub triangles: usize,
-    pub(crate) backend: Backend,
+    /// The back-end traced with.
+    pub backend: Backend,
     /// GigaRays/s of the scene workload.
     pub workload_grays: f64,
     /// GigaRays/s of Stress.
@@ -87,8 +88,8 @@ pub struct ScaleRow {
 
 /// The device allocator's live bytes, once freed resources are released.
 fn allocated(gpu: &Gpu) -> Option<u64> {
-    let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
-    gpu.device.generate_allocator_report().map(|r| r.total_allocated_bytes)
+    let _ = gpu.device().poll(wgpu::PollType::wait_indefinitely());
+    gpu.device().generate_allocator_report().map(|r| r.total_allocated_bytes)
 }
 
 /// The scene workload on `scene` with `backend`: the first frame's build and memory, then the
@@ -99,9 +100,9 @@ fn workload(gpu: &Gpu, cfg: &RaysConfig, project: &Project, scene: &Scene, backe
     let accel_pass = plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild);
     let before = allocated(gpu);
     let mut exec = Executor::new(gpu, plan, scene)?;
-    let first = exec.render(gpu, &scene.camera, scene)?;
+    let first = exec.render(gpu, scene.camera(), scene)?;
     let bytes = allocated(gpu).zip(before).map(|(after, before)| after.saturating_sub(before).saturating_sub(graph_bytes));
-    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| scene.camera)?;
+    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *scene.camera())?;
     let mut gpu_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
     let mut wall_ms: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
     let mut traced: Vec<f64> = frames.iter().map(|f| f.rays.map_or(0, |r| r.traced()) as f64).collect();
@@ -128,10 +129,10 @@ fn gpu_builder_ms(gpu: &Gpu, scene: &Scene) -> Result<f64, String> {
     if scene.triangle_count() > MAX_GPU_BUILD_TRIANGLES {
         return Err(format!("over the GPU builder's {MAX_GPU_BUILD_TRIANGLES} triangles"));
     }
-    let builder = GpuBlasBuilder::new(&gpu.device).map_err(|e| e.to_string())?;
+    let builder = GpuBlasBuilder::new(gpu.device()).map_err(|e| e.to_string())?;
     let (merged, origin) = crate::accel::layout::merge_instances(scene);
     let input = merged_triangles(&merged, &origin);
-    let mut build = || builder.build(&gpu.device, &gpu.queue, &input).map(|b| b.gpu_ms.unwrap_or(f64::NAN)).map_err(|e| e.to_string());
+    let mut build = || builder.build(gpu.device(), gpu.queue(), &input).map(|b| b.gpu_ms.unwrap_or(f64::NAN)).map_err(|e| e.to_string());
     crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).until_settled(&mut build)?;
     let mut times = vec![build()?, build()?, build()?];
     Ok(median(&mut times))
@@ -153,7 +154,8 @@ pub fn run(
     for (k, (name, n)) in cfg.steps.iter().enumerate() {
         let (base, _) = crate::scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
         // The copies' own camera frames the whole grid; the original's stays inside copy 0.
-        let scene = Scene { camera: base.camera, ..crate::scene::duplicate::duplicate(&base, *n, false) };
+        let mut scene = crate::scene::duplicate::duplicate(&base, *n, false);
+        *scene.camera_mut() = *base.camera();
         let step = format!("{name} x{n}");
         let stress = rays::stress_camera(gpu, &primary, &project, &scene)?;
         for (b, &backend) in rc.backends.iter().enumerate() {

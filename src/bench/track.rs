@@ -71,11 +71,11 @@ pub fn run(
     }
     let mut rows = Vec::new();
     for (k, (mode, graph, backend)) in runs.iter().enumerate() {
-        let options = gpu.compile_options_for(backend.unwrap_or(gpu.selection.backend));
+        let options = gpu.compile_options_for(backend.unwrap_or(gpu.selection().backend));
         let plan = compile_with(&cfg.root.join(graph), &project, cfg.size, &options)?;
         let mut exec = Executor::new(gpu, plan, &scene)?;
         let timings = super::timed_frames(gpu, &mut exec, &scene, 1, frames.len() as u32, |i| {
-            track.camera_at_frame(frames[i as usize], &scene.camera).fit_clip_planes(bounds)
+            track.camera_at_frame(frames[i as usize], scene.camera()).fit_clip_planes(bounds)
         })?;
         for (f, t) in frames.iter().zip(&timings) {
             let ms = super::frame_gpu_ms(t);

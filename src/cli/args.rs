@@ -30,8 +30,8 @@ impl Deadline {
     pub(crate) fn open_gpu(&self, backend: Option<Backend>) -> Result<Gpu> {
         let timeout = self.duration()?;
         let mut gpu = Gpu::with_backend(backend)?;
-        gpu.gpu_timeout = timeout.unwrap_or(gpu.gpu_timeout);
-        gpu.on_gpu_timeout = Some(exit_after_gpu_timeout);
+        gpu.set_gpu_timeout(timeout.unwrap_or(gpu.gpu_timeout()));
+        gpu.set_on_gpu_timeout(exit_after_gpu_timeout);
         Ok(gpu)
     }
 }
@@ -69,7 +69,7 @@ impl GpuArgs {
 
 /// `backend` alone when one is asked for, else every back-end `gpu` has.
 pub(crate) fn backends(backend: Option<Backend>, gpu: &Gpu) -> Vec<Backend> {
-    backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends.clone())
+    backend.map(|b| vec![b]).unwrap_or_else(|| gpu.backends().to_vec())
 }
 
 /// An error unless `width` and `height` are both between 1 and 16384.

@@ -98,8 +98,8 @@ impl CameraArgs {
         self.pose(scene, track.as_ref())?;
         Ok(match (&self.camera, &track) {
             (Some(name), _) => scene.preset(name).map_err(anyhow::Error::msg)?,
-            (None, Some(track)) => track.camera_at_frame(self.track_frame, &scene.camera).fit_clip_planes(scene.bounds()),
-            (None, None) => scene.camera,
+            (None, Some(track)) => track.camera_at_frame(self.track_frame, scene.camera()).fit_clip_planes(scene.bounds()),
+            (None, None) => *scene.camera(),
         })
     }
 
@@ -112,14 +112,14 @@ impl CameraArgs {
             anyhow::bail!("--time {}: give a finite number of seconds", self.time.unwrap_or_default());
         }
         let choice = self.animation.as_deref().map(|a| a.parse::<ClipChoice>().unwrap_or_default()).unwrap_or_default();
-        let Some(rig) = scene.rig.clone() else {
-            anyhow::ensure!(self.animation.is_none(), "--animation {}: scene `{}` has no animations", self.animation.as_deref().unwrap_or(""), scene.name);
+        let Some(rig) = scene.rig().cloned() else {
+            anyhow::ensure!(self.animation.is_none(), "--animation {}: scene `{}` has no animations", self.animation.as_deref().unwrap_or(""), scene.name());
             if self.time.is_some() {
-                eprintln!("note: scene `{}` has no animations; --time changes nothing", scene.name);
+                eprintln!("note: scene `{}` has no animations; --time changes nothing", scene.name());
             }
             return Ok(());
         };
-        let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name))?;
+        let clip = rig.clip(&choice).map_err(|e| anyhow::anyhow!("--animation: scene `{}`: {e}", scene.name()))?;
         if let Some(t) = time.filter(|_| clip.is_playing()) {
             scene.pose_for_gpu(clip, t);
             println!("animation `{}` at {t:.3} s", rig.describe(clip));
@@ -170,7 +170,7 @@ pub(crate) fn run(args: RenderArgs) -> Result<()> {
     // Graph errors are reported before a device is opened.
     graph.compile((width, height), Default::default())?;
     let gpu = args.gpu.open_gpu()?;
-    let largest = gpu.device.limits().max_texture_dimension_2d;
+    let largest = gpu.device().limits().max_texture_dimension_2d;
     anyhow::ensure!(
         width <= largest && height <= largest,
         "--width {width} --height {height}: this adapter's largest 2D texture is {largest} pixels on a side"
@@ -199,7 +199,7 @@ pub(crate) fn run(args: RenderArgs) -> Result<()> {
     }
     let img = exec.read_output(&gpu)?;
     write_png(&args.out, &img)?;
-    let rendered = Rendered { graph_file: &graph.file, scene: &scene.name, size: (width, height), exec: &exec, timings: &timings };
+    let rendered = Rendered { graph_file: &graph.file, scene: &scene.name(), size: (width, height), exec: &exec, timings: &timings };
     rendered.print(args.report.as_deref())?;
     println!("wrote {}", args.out.display());
     Ok(())
@@ -216,7 +216,7 @@ fn load_scene(args: &RenderArgs, plan: &Plan) -> Result<Scene> {
     if args.copies.duplicate > 1 {
         scene = args.copies.apply(scene);
         let n = args.copies.duplicate;
-        println!("scene duplicated {n}x{n}x{n}: {} triangles, {} meshes, {} instances", scene.triangle_count(), scene.meshes.len(), scene.instances.len());
+        println!("scene duplicated {n}x{n}x{n}: {} triangles, {} meshes, {} instances", scene.triangle_count(), scene.meshes().len(), scene.instances().len());
     }
     Ok(scene)
 }

@@ -64,13 +64,13 @@ pub(crate) fn run(command: SceneCommand) -> Result<()> {
         SceneCommand::Export { scene, out, source } => {
             let (s, _) = source.open(&scene)?;
             raygraph::scene::export::write_glb(&s, &out)?;
-            println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes.len(), s.textures.len());
+            println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes().len(), s.textures().len());
         }
         SceneCommand::Orbit { scene, out, seconds } => {
             let (s, _) = scene::open(&scene, &LoadOptions { textures: false, ..Default::default() })?;
             let b = s.bounds();
             let radius = 0.5 * b.diagonal().max(1e-3);
-            let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera.fov_y.to_degrees());
+            let track = Track::orbit(b.center(), radius * 1.6, radius * 0.5, seconds, 12, s.camera().fov_y.to_degrees());
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }

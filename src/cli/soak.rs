@@ -50,7 +50,7 @@ pub(crate) fn run(args: SoakArgs) -> Result<()> {
 fn run_soak(gpu: &Gpu, cfg: &SoakConfig, log: Option<&Path>) -> Result<()> {
     let mut lines = vec![
         format!("adapter: {}", gpu.describe()),
-        format!("back-end: {}", cfg.backend.unwrap_or(gpu.selection.backend)),
+        format!("back-end: {}", cfg.backend.unwrap_or(gpu.selection().backend)),
         cfg.describe(),
         Check::log_header(),
     ];

@@ -12,33 +12,33 @@ pub(crate) const SCENE_TEXTURES: &str = "scene_textures";
 pub(crate) const SCENE_MATERIALS: &str = "scene_materials";
 /// Every mesh's vertices (`array<SceneVertex>`), indices (`array<u32>`) and ranges
 /// (`array<MeshRecord>`): what a trace pass reads to shade a hit.
-pub const SCENE_VERTICES: &str = "scene_vertices";
+pub(crate) const SCENE_VERTICES: &str = "scene_vertices";
 pub(crate) const SCENE_INDICES: &str = "scene_indices";
 pub(crate) const SCENE_MESHES: &str = "scene_meshes";
 /// The lights (`array<Light>`, `shaders/common/lighting.wgsl`): `Scene::effective_lights()`,
 /// `frame.light_count` of them, rewritten every frame.
-pub const SCENE_LIGHTS: &str = "scene_lights";
+pub(crate) const SCENE_LIGHTS: &str = "scene_lights";
 /// Every instance's model matrix of the previous frame (`array<mat4x4<f32>>`, one per
 /// instance, its current one on a frame without history): what motion vectors are made from.
 /// Rewritten only when it changes.
-pub const SCENE_MOTION: &str = "scene_motion";
+pub(crate) const SCENE_MOTION: &str = "scene_motion";
 /// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
 /// uniform buffers).
-pub const SCENE_TEXTURES_GROUP: u32 = 1;
+pub(crate) const SCENE_TEXTURES_GROUP: u32 = 1;
 pub(crate) const LINEAR_SAMPLER: &str = "linear_sampler";
 pub(crate) const NEAREST_SAMPLER: &str = "nearest_sampler";
 
 /// The bind group of the trace module's bindings (`accel_*`, declared by the back-end's
 /// `trace/*.wgsl`, never by a pass's own shader).
-pub const ACCEL_GROUP: u32 = 2;
+pub(crate) const ACCEL_GROUP: u32 = 2;
 
 /// Whether a binding belongs to the trace module.
-pub fn is_accel_binding(name: &str) -> bool {
+pub(crate) fn is_accel_binding(name: &str) -> bool {
     name.starts_with("accel_")
 }
 
 /// Number of u32 counters in the `debug_counters` buffer.
-pub const DEBUG_COUNTER_COUNT: u32 = 16;
+pub(crate) const DEBUG_COUNTER_COUNT: u32 = 16;
 
 pub(crate) fn frame_uniform_size() -> u32 {
     std::mem::size_of::<FrameUniforms>() as u32

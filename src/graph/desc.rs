@@ -8,16 +8,16 @@ use std::fmt;
 /// A frame: layer instances connected by named outputs, and the output to present.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields, rename = "Graph")]
-pub struct GraphDesc {
+pub(crate) struct GraphDesc {
     /// The resource presented as the frame's image, as `"node.output"`.
-    pub output: String,
+    pub(crate) output: String,
     /// The graph's nodes by name.
     pub(crate) nodes: BTreeMap<String, NodeDesc>,
 }
 
 /// A node of a graph file.
 #[derive(Debug, Clone, Deserialize)]
-pub enum NodeDesc {
+pub(crate) enum NodeDesc {
     /// An instance of a layer file.
     Layer(LayerNode),
     /// The acceleration-structure cache: output `tlas`, built or updated only when the scene
@@ -46,7 +46,7 @@ impl Default for AccelNode {
 /// A node that instantiates a layer file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct LayerNode {
+pub(crate) struct LayerNode {
     /// Layer file name without extension, looked up in the layers directory.
     pub layer: String,
     /// Layer input name -> `"node.output"` that feeds it.
@@ -115,10 +115,10 @@ fn write_float(f: &mut fmt::Formatter<'_>, x: f64) -> fmt::Result {
 pub struct LayerDesc {
     /// Resources the layer reads from other nodes.
     #[serde(default)]
-    pub(crate) inputs: BTreeMap<String, ResourceDecl>,
+    pub inputs: BTreeMap<String, ResourceDecl>,
     /// Resources the layer gives other nodes.
     #[serde(default)]
-    pub(crate) outputs: BTreeMap<String, ResourceDecl>,
+    pub outputs: BTreeMap<String, ResourceDecl>,
     /// Resources private to the layer, written by one of its passes and read by another.
     #[serde(default)]
     pub transients: BTreeMap<String, ResourceDecl>,
@@ -138,9 +138,9 @@ pub struct LayerDesc {
     pub bypass: BTreeMap<String, String>,
     /// Parameters a graph file may set.
     #[serde(default)]
-    pub(crate) params: BTreeMap<String, ParamDecl>,
+    pub params: BTreeMap<String, ParamDecl>,
     /// The layer's passes, in order.
-    pub(crate) passes: Vec<PassDesc>,
+    pub passes: Vec<PassDesc>,
 }
 
 /// A declared resource: a texture, a buffer, or the acceleration structure.
@@ -184,7 +184,7 @@ impl fmt::Display for ResourceDecl {
 
 impl ResourceDecl {
     /// Whether this is a depth texture (a pass's depth attachment rather than a colour one).
-    pub fn is_depth_texture(&self) -> bool {
+    pub(crate) fn is_depth_texture(&self) -> bool {
         matches!(self, ResourceDecl::Texture(t) if t.format.is_depth())
     }
 }
@@ -194,10 +194,10 @@ impl ResourceDecl {
 #[serde(deny_unknown_fields)]
 pub struct TextureDecl {
     /// The texel format.
-    pub(crate) format: Format,
+    pub format: Format,
     /// The size, relative to the frame by default.
     #[serde(default)]
-    pub(crate) size: SizeDecl,
+    pub size: SizeDecl,
     /// For a layer input: the value it reads (a 1x1 texture) when its producer is switched
     /// off or it is not connected. Inputs without one must be connected.
     #[serde(default)]
@@ -315,7 +315,7 @@ impl Format {
     }
 
     /// The WGSL storage-texture format of the same name, where one exists.
-    pub fn to_storage(self) -> Option<naga::StorageFormat> {
+    pub(crate) fn to_storage(self) -> Option<naga::StorageFormat> {
         use naga::StorageFormat as S;
         Some(match self {
             Format::R8Unorm => S::R8Unorm,
@@ -345,7 +345,7 @@ impl Format {
     }
 
     /// Whether a shader may sample it with a filtering sampler.
-    pub fn is_filterable(self) -> bool {
+    pub(crate) fn is_filterable(self) -> bool {
         !matches!(
             self,
             Format::R32Float | Format::Rg32Float | Format::Rgba32Float | Format::R32Uint | Format::Rg32Uint | Format::Rgba32Uint | Format::Depth32Float
@@ -353,7 +353,7 @@ impl Format {
     }
 
     /// The channels of a texel and how each is stored (depth: one f32).
-    pub fn texel_layout(self) -> (usize, TexelKind) {
+    pub(crate) fn texel_layout(self) -> (usize, TexelKind) {
         use TexelKind::*;
         match self {
             Format::R8Unorm => (1, Unorm8),
@@ -373,7 +373,7 @@ impl Format {
 
     /// One texel holding `v` (the channels the format has), for constant textures; `None` for
     /// depth, which cannot be written from the CPU.
-    pub fn encode_texel(self, v: [f32; 4]) -> Option<Vec<u8>> {
+    pub(crate) fn encode_texel(self, v: [f32; 4]) -> Option<Vec<u8>> {
         if self.is_depth() {
             return None;
         }
@@ -400,7 +400,7 @@ impl Format {
 
 /// How each channel of a texel is stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TexelKind {
+pub(crate) enum TexelKind {
     /// 8-bit normalized.
     Unorm8,
     /// 16-bit float.
@@ -487,9 +487,9 @@ impl ParamDecl {
 #[serde(deny_unknown_fields, rename = "Pass")]
 pub struct PassDesc {
     /// The pass's name, unique in its layer.
-    pub(crate) name: String,
+    pub name: String,
     /// What kind of GPU work it is.
-    pub(crate) kind: PassKind,
+    pub kind: PassKind,
     /// WGSL file, relative to the `shaders/` directory beside the layers directory (none for
     /// `Rust` passes).
     #[serde(default)]
@@ -510,7 +510,7 @@ pub struct PassDesc {
     pub writes: Vec<String>,
     /// How many workgroups a compute pass dispatches.
     #[serde(default)]
-    pub(crate) dispatch: Dispatch,
+    pub dispatch: Dispatch,
     /// `SceneRaster` only: the rasterizer culls the back faces of single-sided materials (the
     /// default; glTF `doubleSided` materials are drawn on both sides, and mirroring instance
     /// transforms are accounted for). `false` draws both sides of every material.
@@ -583,7 +583,7 @@ impl PassKind {
     }
 
     /// Whether the pass is recorded as a compute dispatch.
-    pub fn is_compute(self) -> bool {
+    pub(crate) fn is_compute(self) -> bool {
         matches!(self, PassKind::Compute | PassKind::Trace)
     }
 }
@@ -600,7 +600,7 @@ pub enum Dispatch {
 }
 
 /// IEEE half precision from f32 (round to nearest even; overflow to infinity).
-pub fn f32_to_f16(x: f32) -> u16 {
+pub(crate) fn f32_to_f16(x: f32) -> u16 {
     let bits = x.to_bits();
     let sign = ((bits >> 16) & 0x8000) as u16;
     let exp = ((bits >> 23) & 0xff) as i32;
@@ -633,7 +633,7 @@ pub fn f32_to_f16(x: f32) -> u16 {
 }
 
 /// f32 from IEEE half precision.
-pub fn f16_to_f32(h: u16) -> f32 {
+pub(crate) fn f16_to_f32(h: u16) -> f32 {
     let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
     let exp = ((h >> 10) & 0x1f) as i32;
     let mant = (h & 0x3ff) as f32;

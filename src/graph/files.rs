@@ -10,7 +10,7 @@ include!(concat!(env!("OUT_DIR"), "/builtin_files.rs"));
 const BUILTIN_DIRS: [&str; 3] = ["graph", "layers", "shaders"];
 
 /// What the path of a built-in file starts with.
-pub const BUILTIN_PREFIX: &str = "<built-in>";
+pub(crate) const BUILTIN_PREFIX: &str = "<built-in>";
 
 /// A project file's text, and the path its errors name.
 #[derive(Debug, Clone)]
@@ -18,10 +18,10 @@ pub struct FileText {
     /// The disk path, or `<built-in>/<relative path>` for an embedded copy.
     pub path: PathBuf,
     /// The file's text.
-    pub(crate) text: String,
+    pub text: String,
     /// The text is the built-in copy's, byte for byte (read from the binary, or a file on
     /// disk identical to it).
-    pub(crate) builtin: bool,
+    pub builtin: bool,
 }
 
 /// The built-in text of a relative path such as `layers/forward.ron`.
@@ -31,7 +31,7 @@ pub fn builtin(relative: &str) -> Option<&'static str> {
 
 /// The relative path a built-in copy of `path` would have: its part from the last `graph`,
 /// `layers` or `shaders` folder on (`/proj/layers/x.ron` -> `layers/x.ron`).
-pub fn builtin_name(path: &Path) -> Option<String> {
+pub(crate) fn builtin_name(path: &Path) -> Option<String> {
     let mut parts: Vec<String> = Vec::new();
     for c in path.components() {
         match c {
@@ -74,7 +74,7 @@ pub fn exists(path: &Path) -> bool {
 }
 
 /// The stems of the `.ron` files of `dir`, on disk and built in, sorted and without repeats.
-pub fn ron_stems(dir: &Path) -> Vec<String> {
+pub(crate) fn ron_stems(dir: &Path) -> Vec<String> {
     let mut stems: Vec<String> = std::fs::read_dir(dir)
         .map(|d| {
             d.filter_map(|e| e.ok())

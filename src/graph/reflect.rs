@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// Include substitutions chosen by the device and back-end: `//#include "a.wgsl"` reads the
 /// file the map gives for `a.wgsl` instead (for example the bindless variant of
 /// `common/scene_textures.wgsl`, or the active back-end's `trace/trace.wgsl`).
-pub type IncludeAliases = std::collections::BTreeMap<String, String>;
+pub(crate) type IncludeAliases = std::collections::BTreeMap<String, String>;
 
 /// Name of the synthetic segment holding hoisted `enable` directives.
 const ENABLE_SEGMENT: &str = "<enable directives>";
@@ -19,7 +19,7 @@ const ENABLE_SEGMENT: &str = "<enable directives>";
 #[derive(Debug, Clone)]
 pub struct ShaderSource {
     /// The assembled WGSL.
-    pub text: String,
+    text: String,
     /// (file, byte offset where its text starts in `text`)
     segments: Vec<(PathBuf, usize)>,
     /// Every file of it is raygraph's built-in copy, byte for byte ([`ShaderSource::is_builtin`]).
@@ -27,6 +27,11 @@ pub struct ShaderSource {
 }
 
 impl ShaderSource {
+    /// The assembled WGSL.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
     /// Reads `path`; lines `//#include "rel/path.wgsl"` name files relative to `shader_root`.
     pub fn load(path: &Path, shader_root: &Path, referenced_from: &Location, aliases: &IncludeAliases) -> Result<Self, GraphError> {
         let mut src = ShaderSource { text: String::new(), segments: Vec::new(), builtin: true };
@@ -99,7 +104,7 @@ impl ShaderSource {
     /// Whether the main file and every include are raygraph's built-in copies, byte for byte
     /// (embedded, or files on disk identical to them): part of the program rather than of a
     /// project a user edits.
-    pub fn is_builtin(&self) -> bool {
+    pub(crate) fn is_builtin(&self) -> bool {
         self.builtin
     }
 
@@ -228,11 +233,11 @@ pub(crate) fn access_name(access: naga::StorageAccess) -> &'static str {
 #[derive(Debug, Clone, PartialEq)]
 pub struct UniformMember {
     /// The member's name.
-    pub(crate) name: String,
+    pub name: String,
     /// Byte offset in the struct.
-    pub(crate) offset: u32,
+    pub offset: u32,
     /// Its scalar type (`None` for matrices, arrays and structs).
-    pub(crate) scalar: Option<naga::ScalarKind>,
+    pub scalar: Option<naga::ScalarKind>,
     /// Number of scalar components (1 for scalars, N for vecN); 0 for anything else.
     pub components: u32,
 }
@@ -256,11 +261,11 @@ pub struct ShaderBinding {
 #[derive(Debug, Clone)]
 pub struct EntryPointInfo {
     /// The function's name.
-    pub(crate) name: String,
+    pub name: String,
     /// Its stage.
-    pub(crate) stage: naga::ShaderStage,
+    pub stage: naga::ShaderStage,
     /// `@workgroup_size` (compute; 0s otherwise).
-    pub(crate) workgroup_size: [u32; 3],
+    pub workgroup_size: [u32; 3],
     /// Vertex input locations (vertex stage) or colour output locations (fragment stage).
     pub locations: Vec<u32>,
 }
@@ -269,7 +274,7 @@ pub struct EntryPointInfo {
 #[derive(Debug, Clone)]
 pub struct ShaderInfo {
     /// The file reflected.
-    pub(crate) path: PathBuf,
+    pub path: PathBuf,
     /// Its assembled text.
     pub source: ShaderSource,
     /// The global bindings.
@@ -301,7 +306,7 @@ impl std::fmt::Debug for RayTracingModule {
 }
 
 /// Whether `stage` belongs to a ray-tracing pipeline.
-pub fn is_ray_tracing_stage(stage: naga::ShaderStage) -> bool {
+pub(crate) fn is_ray_tracing_stage(stage: naga::ShaderStage) -> bool {
     matches!(stage, naga::ShaderStage::RayGeneration | naga::ShaderStage::Miss | naga::ShaderStage::ClosestHit | naga::ShaderStage::AnyHit)
 }
 
@@ -338,7 +343,7 @@ pub fn compute_to_ray_generation(module: &mut naga::Module) -> Result<(), String
 
 impl ShaderInfo {
     /// Whether the module declares the pipeline-overridable constant `name`.
-    pub fn has_override(&self, name: &str) -> bool {
+    pub(crate) fn has_override(&self, name: &str) -> bool {
         self.overrides.iter().any(|o| o == name)
     }
 

@@ -39,7 +39,7 @@ enum Word {
 
 /// The items of a document in document order (each before its descendants).
 #[derive(Debug, Clone, Default)]
-pub struct RonSpans {
+pub(crate) struct RonSpans {
     items: Vec<Item>,
 }
 

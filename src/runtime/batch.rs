@@ -69,9 +69,21 @@ pub struct BatchTracer {
     tracer: Tracer,
     timer: Option<crate::runtime::profiler::GpuTimer>,
     /// What building the scene's acceleration structure did.
-    pub build: BuildReport,
+    build: BuildReport,
     /// Wall milliseconds of the build, from the start of the update until the GPU finished it.
-    pub build_wall_ms: f64,
+    build_wall_ms: f64,
+}
+
+impl BatchTracer {
+    /// What building the scene's acceleration structure did.
+    pub fn build_report(&self) -> &BuildReport {
+        &self.build
+    }
+
+    /// Wall milliseconds of the build, from the start of the update until the GPU finished it.
+    pub fn build_wall_ms(&self) -> f64 {
+        self.build_wall_ms
+    }
 }
 
 /// How the batch is traced.
@@ -136,8 +148,8 @@ fn scene_textures(gpu: &Gpu, scene: &Scene, info: &reflect::ShaderInfo) -> Resul
     let Some(b) = info.bindings.iter().find(|b| b.name == crate::graph::builtins::SCENE_TEXTURES) else { return Ok(None) };
     let array = b.kind == reflect::BindingKind::TextureBindingArray;
     let usage = SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
-    let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, scene, usage)?;
-    let textures = uploaded.textures.as_ref().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
+    let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), scene, usage)?;
+    let textures = uploaded.textures().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
     let ty = wgpu::BindingType::Texture {
         sample_type: wgpu::TextureSampleType::Float { filterable: true },
         view_dimension: if array { wgpu::TextureViewDimension::D2 } else { wgpu::TextureViewDimension::D2Array },
@@ -155,7 +167,7 @@ fn scene_textures(gpu: &Gpu, scene: &Scene, info: &reflect::ShaderInfo) -> Resul
 /// `shaders/batch/batch.wgsl` reflected with `backend`'s trace module and the device's include
 /// substitutions.
 fn batch_shader(gpu: &Gpu, backend: Backend, shaders_dir: &Path) -> Result<reflect::ShaderInfo, RuntimeError> {
-    let options = CompileOptions { includes: include_aliases(gpu.texture_binding_arrays), backend, ..Default::default() };
+    let options = CompileOptions { includes: include_aliases(gpu.texture_binding_arrays()), backend, ..Default::default() };
     let path = shaders_dir.join("batch/batch.wgsl");
     reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))
 }
@@ -163,13 +175,13 @@ fn batch_shader(gpu: &Gpu, backend: Backend, shaders_dir: &Path) -> Result<refle
 /// `scene`'s acceleration structure built for `backend` and waited for: the cache, what the
 /// build did, and its wall milliseconds.
 fn build_accel(gpu: &Gpu, backend: Backend, scene: &Scene, settings: AccelSettings) -> Result<(AccelCache, BuildReport, f64), RuntimeError> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let start = web_time::Instant::now();
     let mut cache = AccelCache::new(device, backend, settings, 1);
     let mut encoder = device.create_command_encoder(&Default::default());
-    let build = cache.update(device, &gpu.queue, &mut encoder, scene)?;
+    let build = cache.update(device, gpu.queue(), &mut encoder, scene)?;
     // The rt-pipeline back-end's build comes as a command buffer of its own.
-    gpu.queue.submit([encoder.finish()].into_iter().chain(cache.take_pending()));
+    gpu.queue().submit([encoder.finish()].into_iter().chain(cache.take_pending()));
     gpu.wait()?;
     Ok((cache, build, start.elapsed().as_secs_f64() * 1e3))
 }
@@ -183,7 +195,7 @@ fn rt_tracer(
     textures: Option<&SceneTextureBinding>,
     cache: &AccelCache,
 ) -> Result<Tracer, RuntimeError> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let placeholder = |usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some("batch placeholder"), size: 64, usage, mapped_at_creation: false });
     let group0 = rt_group0(&placeholder(wgpu::BufferUsages::UNIFORM), &placeholder(wgpu::BufferUsages::STORAGE), &placeholder(wgpu::BufferUsages::STORAGE));
     let accel = info.bindings.iter().filter(|b| b.group == crate::graph::builtins::ACCEL_GROUP).map(|b| RtBinding {
@@ -193,7 +205,7 @@ fn rt_tracer(
     });
     let texture_binding = textures.map(|t| RtBinding { group: crate::graph::builtins::SCENE_TEXTURES_GROUP, entry: t.entry, resource: t.resource.clone() });
     let bindings = group0.into_iter().chain(texture_binding).chain(accel).collect();
-    let mut pass = RtPass::new(device, &gpu.queue, "batch", module, "cs_main", &Default::default(), bindings, crate::graph::builtins::ACCEL_GROUP)?;
+    let mut pass = RtPass::new(device, gpu.queue(), "batch", module, "cs_main", &Default::default(), bindings, crate::graph::builtins::ACCEL_GROUP)?;
     let built = cache.rt_accel().ok_or_else(|| RuntimeError::Gpu("the rt-pipeline acceleration structure is not built".into()))?;
     pass.bind_accel(built, &crate::accel::cache::cache_buffers(cache, 0))?;
     Ok(Tracer::RayTracing(std::sync::Mutex::new(pass)))
@@ -250,7 +262,7 @@ fn compute_tracer(
     textures: Option<&SceneTextureBinding>,
     cache: &AccelCache,
 ) -> Result<Tracer, RuntimeError> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let entries0 = group0_entries();
     let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("batch"), entries: &entries0 });
     let textures = texture_group(device, textures);
@@ -263,7 +275,7 @@ fn compute_tracer(
     // The batch tracer is part of the program (tests, benches), not of a project: its loops are
     // the traversal's and its own ray loop, all of which end (`ShaderOrigin::BuiltInTraversal`).
     let groups = [entries0.to_vec(), textures.entries, accel.entries];
-    let (module, constants) = gpu.traversal_module("batch.wgsl", &info.source.text, "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
+    let (module, constants) = gpu.traversal_module("batch.wgsl", info.source.text(), "cs_main", crate::gpu_util::ShaderOrigin::BuiltInTraversal, &[], &groups);
     let pipeline = crate::gpu_util::compute_pipeline_with(device, "batch", &pipeline_layout, &module, "cs_main", &constants);
     Ok(Tracer::Compute { pipeline, layout0, texture_group: textures.group, accel_group: accel.group })
 }
@@ -280,13 +292,13 @@ impl BatchTracer {
     /// [`BatchTracer::new`] with the `Accel` node's settings (de-duplication off: one BLAS per
     /// instance; merge: one BVH over all instances, `compute` and `rt-pipeline`).
     pub fn with_settings(gpu: &Gpu, backend: Backend, scene: &Scene, shaders_dir: &Path, settings: AccelSettings) -> Result<Self, RuntimeError> {
-        if !gpu.backends.contains(&backend) {
-            return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info.name)));
+        if !gpu.backends().contains(&backend) {
+            return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info().name)));
         }
         let info = batch_shader(gpu, backend, shaders_dir)?;
         let (cache, build, build_wall_ms) = build_accel(gpu, backend, scene, settings)?;
         let scope = gpu.scopes();
-        let timer = gpu.timestamps.then(|| crate::runtime::profiler::GpuTimer::new(&gpu.device, &gpu.queue, 1));
+        let timer = gpu.timestamps().then(|| crate::runtime::profiler::GpuTimer::new(gpu.device(), gpu.queue(), 1));
         let textures = scene_textures(gpu, scene, &info)?;
         let tracer = match &info.ray_tracing {
             Some(module) => rt_tracer(gpu, module, &info, textures.as_ref(), &cache)?,
@@ -303,7 +315,7 @@ impl BatchTracer {
 
     /// [`BatchTracer::closest`] with the trace interface's per-ray `flags` on every ray
     /// (`trace_closest_flags`).
-    pub fn closest_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
+    pub(crate) fn closest_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<Option<BatchHit>>, RayStats), RuntimeError> {
         let (raw, stats, _) = self.run(gpu, rays, 0, flags)?;
         let hits = raw
             .iter()
@@ -321,20 +333,21 @@ impl BatchTracer {
 
     /// [`BatchTracer::any`] with the trace interface's per-ray `flags` on every ray
     /// (`trace_any_flags`).
-    pub fn any_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<bool>, RayStats), RuntimeError> {
+    pub(crate) fn any_flags(&self, gpu: &Gpu, rays: &[GpuRay], flags: TraceFlags) -> Result<(Vec<bool>, RayStats), RuntimeError> {
         let (raw, stats, _) = self.run(gpu, rays, 1, flags)?;
         Ok((raw.iter().map(|r| r.flags & 1 != 0).collect(), stats))
     }
 
     /// Traces `rays` for their closest hits and returns the counters and the dispatch's GPU
     /// milliseconds (timestamp queries; `None` without them).
-    pub fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
+    #[cfg(feature = "cli")]
+    pub(crate) fn time_closest(&self, gpu: &Gpu, rays: &[GpuRay]) -> Result<(RayStats, Option<f64>), RuntimeError> {
         let (_, stats, ms) = self.run(gpu, rays, 0, TraceFlags::NONE)?;
         Ok((stats, ms))
     }
 
     fn run(&self, gpu: &Gpu, rays: &[GpuRay], mode: u32, flags: TraceFlags) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let n = rays.len().max(1);
         let groups = (n as u32).div_ceil(GROUP);
         let (gx, gy) = if groups <= 65_535 { (groups, 1) } else { (65_535, groups.div_ceil(65_535)) };
@@ -411,14 +424,14 @@ impl BatchTracer {
         size: u64,
         count: usize,
     ) -> Result<(Vec<RawResult>, RayStats, Option<f64>), RuntimeError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         encoder.copy_buffer_to_buffer(results, 0, readback, 0, size);
         self.cache.copy_stats(&mut encoder);
         if let Some(t) = &self.timer {
             t.resolve(&mut encoder, 1);
         }
         command_buffers.push(encoder.finish());
-        gpu.queue.submit(command_buffers);
+        gpu.queue().submit(command_buffers);
         gpu.wait()?;
         let data = map_read(device, readback.slice(..))?;
         let out: Vec<RawResult> = bytemuck::cast_slice::<u8, RawResult>(&data)[..count].to_vec();

@@ -14,7 +14,7 @@ use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
 /// The deformation kernel's WGSL.
-pub const DEFORM_WGSL: &str = include_str!("../../shaders/anim/deform.wgsl");
+pub(crate) const DEFORM_WGSL: &str = include_str!("../../shaders/anim/deform.wgsl");
 
 /// Per deforming mesh: what the kernel's `Params` hold, and the frame data it needs.
 struct MeshJob {
@@ -25,7 +25,7 @@ struct MeshJob {
 }
 
 /// The GPU objects of one scene's deformation.
-pub struct GpuDeform {
+pub(crate) struct GpuDeform {
     pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
     params_stride: u64,
@@ -33,9 +33,17 @@ pub struct GpuDeform {
     jobs: Vec<MeshJob>,
     /// Every mesh's positions (`vec4<f32>`), one mesh after another: the deforming meshes'
     /// rewritten every frame, the others as uploaded.
-    pub positions: wgpu::Buffer,
+    positions: wgpu::Buffer,
     /// The pose last deformed to.
     last: Option<PoseTime>,
+}
+
+impl GpuDeform {
+    /// Every mesh's positions (`vec4<f32>`), one mesh after another: the deforming meshes'
+    /// rewritten every frame, the others as uploaded.
+    pub(crate) fn positions(&self) -> &wgpu::Buffer {
+        &self.positions
+    }
 }
 
 fn vec4(v: [f32; 3]) -> [f32; 4] {
@@ -78,7 +86,7 @@ impl Packed {
                 }
             }
             let joints = deformer.skin.as_ref().and_then(|s| rig.skins.get(s.skin)).map_or(0, |s| s.joints.len());
-            let first_vertex = *uploaded.base_vertices.get(deformer.mesh)?;
+            let first_vertex = *uploaded.base_vertices().get(deformer.mesh)?;
             let (rest, targets) = (deformer.rest.len() as u32, deformer.targets.len() as u32);
             let at = [shape_at, influences_at, p.frame_vec4s, weight_vec4s].map(|x| x as u32);
             let params = [first_vertex, rest, targets, normals as u32, sets as u32, at[0], at[1], at[2], at[3], 0, 0, 0];
@@ -125,8 +133,8 @@ impl GpuDeform {
     /// The deformation of `scene`'s deforming meshes into `uploaded`'s vertex buffer; `None`
     /// for a scene without them or a plan that uploads no vertices.
     pub fn new(device: &wgpu::Device, scene: &Scene, uploaded: &GpuScene) -> Option<Self> {
-        let rig = scene.rig.as_ref().filter(|r| !r.deformers.is_empty())?;
-        let vertices = uploaded.vertices.as_ref()?;
+        let rig = scene.rig().filter(|r| !r.deformers.is_empty())?;
+        let vertices = uploaded.vertices()?;
         let packed = Packed::of(rig, uploaded)?;
         let storage = wgpu::BufferUsages::STORAGE;
         let init = |label: &str, contents: &[u8], usage| {
@@ -142,7 +150,7 @@ impl GpuDeform {
             params[k * params_stride as usize..][..48].copy_from_slice(bytemuck::cast_slice(&job.params));
         }
         let params = init("deform params", &params, wgpu::BufferUsages::UNIFORM);
-        let rest_positions: Vec<[f32; 4]> = scene.meshes.iter().flat_map(|m| crate::accel::gpu_records::mesh_vertices(m)).collect();
+        let rest_positions: Vec<[f32; 4]> = scene.meshes().iter().flat_map(|m| crate::accel::gpu_records::mesh_vertices(m)).collect();
         let positions = init("deformed positions", bytemuck::cast_slice(&rest_positions), storage | wgpu::BufferUsages::COPY_DST);
         let (layout, pipeline) = deform_pipeline(device);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -166,7 +174,7 @@ impl GpuDeform {
     /// Records the deformation to `scene`'s pose where it was left to the GPU and differs from
     /// the last one; returns whether it recorded anything.
     pub fn record(&mut self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder, scene: &Scene) -> bool {
-        let (Some(rig), Some(pose)) = (scene.rig.as_ref(), scene.posed) else { return false };
+        let (Some(rig), Some(pose)) = (scene.rig(), scene.posed()) else { return false };
         if pose.meshes_deformed || self.last == Some(pose) {
             return false;
         }

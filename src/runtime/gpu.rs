@@ -10,12 +10,12 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// How long one submission may run before the run ends with [`RuntimeError::GpuTimeout`].
-pub const DEFAULT_GPU_TIMEOUT: Duration = Duration::from_secs(10);
+pub(crate) const DEFAULT_GPU_TIMEOUT: Duration = Duration::from_secs(10);
 /// The default on a software adapter (lavapipe), which runs a frame a hundred times slower.
-pub const DEFAULT_CPU_ADAPTER_TIMEOUT: Duration = Duration::from_secs(120);
+pub(crate) const DEFAULT_CPU_ADAPTER_TIMEOUT: Duration = Duration::from_secs(120);
 
 /// The default GPU deadline of `info`'s adapter.
-pub fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
+pub(crate) fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
     if info.device_type == wgpu::DeviceType::Cpu {
         DEFAULT_CPU_ADAPTER_TIMEOUT
     } else {
@@ -28,46 +28,137 @@ pub fn default_gpu_timeout(info: &wgpu::AdapterInfo) -> Duration {
 pub struct Gpu {
     /// The instance (surfaces are made from it; [`wgpu::Instance::generate_report`] counts
     /// live objects).
-    pub instance: wgpu::Instance,
+    instance: wgpu::Instance,
     /// The adapter the device is on.
-    pub adapter: wgpu::Adapter,
+    adapter: wgpu::Adapter,
     /// The device.
-    pub device: wgpu::Device,
+    device: wgpu::Device,
     /// The device's queue.
-    pub queue: wgpu::Queue,
+    queue: wgpu::Queue,
     /// The adapter's name, type, back-end and driver.
-    pub(crate) info: wgpu::AdapterInfo,
+    info: wgpu::AdapterInfo,
     /// Timestamp queries at pass boundaries are available.
-    pub timestamps: bool,
+    timestamps: bool,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
     /// one texture per element instead of as one resampled texture array.
-    pub texture_binding_arrays: bool,
+    texture_binding_arrays: bool,
     /// The compute back-end's arrays are bound as one packed storage buffer
     /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
-    /// per stage than a trace pass with separate arrays binds ([`SEPARATE_ARRAYS_STORAGE_BUFFERS`];
+    /// per stage than a trace pass with separate arrays binds (`SEPARATE_ARRAYS_STORAGE_BUFFERS`;
     /// a browser's WebGPU allows 8 by default).
-    pub packed_accel_arrays: bool,
+    packed_accel_arrays: bool,
     /// The traversal back-end chosen at start-up, and why.
-    pub selection: Selection,
+    selection: Selection,
     /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
-    pub backends: Vec<Backend>,
+    backends: Vec<Backend>,
     /// Device loss and errors raised outside any error scope, as wgpu reported them.
     faults: Arc<Mutex<Faults>>,
     /// Test hook (`RAYGRAPH_INJECT_DEVICE_LOSS=N`): the device is destroyed, a real loss as far
     /// as wgpu and the driver are concerned, when frame N of an executor starts.
-    pub inject_device_loss_at: Option<u32>,
+    inject_device_loss_at: Option<u32>,
     /// The GPU deadline: the longest a wait for submitted work may take (`--gpu-timeout`;
-    /// [`default_gpu_timeout`]). A wait that runs past it fails with
+    /// `default_gpu_timeout`). A wait that runs past it fails with
     /// [`RuntimeError::GpuTimeout`], and so does every later [`Gpu::check`].
-    pub gpu_timeout: Duration,
+    gpu_timeout: Duration,
     /// Called with the error of a wait that ran past the deadline, before it is returned.
     /// Releasing a GPU object after that can block in the driver (lavapipe waits for the stuck
     /// work), so a program that only reports the error and stops ends the process here; the
     /// command line does. Without it the caller must not drop its GPU objects (leak them).
-    pub on_gpu_timeout: Option<fn(&RuntimeError)>,
+    on_gpu_timeout: Option<fn(&RuntimeError)>,
     /// How the compute back-end's trace modules are written without their traversal stack's
     /// clear ([`super::trace_spirv`]); `None` where wgpu compiles them from WGSL.
-    pub(crate) trace_spirv: Option<TraceSpirv>,
+    trace_spirv: Option<TraceSpirv>,
+}
+
+impl Gpu {
+    /// The instance (surfaces are made from it; [`wgpu::Instance::generate_report`] counts
+    /// live objects).
+    pub fn instance(&self) -> &wgpu::Instance {
+        &self.instance
+    }
+
+    /// The adapter the device is on.
+    pub fn adapter(&self) -> &wgpu::Adapter {
+        &self.adapter
+    }
+
+    /// The device.
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The device's queue.
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// The adapter's name, type, back-end and driver.
+    pub(crate) fn info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    /// Timestamp queries at pass boundaries are available.
+    pub fn timestamps(&self) -> bool {
+        self.timestamps
+    }
+
+    /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
+    /// one texture per element instead of as one resampled texture array.
+    pub fn texture_binding_arrays(&self) -> bool {
+        self.texture_binding_arrays
+    }
+
+    /// Binds scene textures as a binding array (`true`) or as one resampled texture array
+    /// (`false`, which every device can): tests render both ways. `true` only on a device with
+    /// the features [`Gpu::device_descriptor`] asks for binding arrays.
+    pub fn set_texture_binding_arrays(&mut self, on: bool) {
+        self.texture_binding_arrays = on;
+    }
+
+    /// The compute back-end's arrays are bound as one packed storage buffer
+    /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
+    /// per stage than a trace pass with separate arrays binds (`SEPARATE_ARRAYS_STORAGE_BUFFERS`;
+    /// a browser's WebGPU allows 8 by default).
+    pub fn packed_accel_arrays(&self) -> bool {
+        self.packed_accel_arrays
+    }
+
+    /// The traversal back-end chosen at start-up, and why.
+    pub fn selection(&self) -> &Selection {
+        &self.selection
+    }
+
+    /// Back-ends the device can run (ray queries are enabled whenever the adapter has them).
+    pub fn backends(&self) -> &[Backend] {
+        &self.backends
+    }
+
+    /// Test hook (`RAYGRAPH_INJECT_DEVICE_LOSS=N`): the device is destroyed, a real loss as far
+    /// as wgpu and the driver are concerned, when frame N of an executor starts.
+    pub(crate) fn inject_device_loss_at(&self) -> Option<u32> {
+        self.inject_device_loss_at
+    }
+
+    /// The GPU deadline: the longest a wait for submitted work may take (`--gpu-timeout`;
+    /// `default_gpu_timeout`). A wait that runs past it fails with
+    /// [`RuntimeError::GpuTimeout`], and so does every later [`Gpu::check`].
+    pub fn gpu_timeout(&self) -> Duration {
+        self.gpu_timeout
+    }
+
+    /// Sets the GPU deadline ([`Gpu::gpu_timeout`]).
+    pub fn set_gpu_timeout(&mut self, timeout: Duration) {
+        self.gpu_timeout = timeout;
+    }
+
+    /// Sets what is called with the error of a wait that ran past the deadline, before it is
+    /// returned. Releasing a GPU object after that can block in the driver (lavapipe waits for
+    /// the stuck work), so a program that only reports the error and stops ends the process
+    /// here; the command line does. Without it the caller must not drop its GPU objects (leak
+    /// them).
+    pub fn set_on_gpu_timeout(&mut self, on_timeout: fn(&RuntimeError)) {
+        self.on_gpu_timeout = Some(on_timeout);
+    }
 }
 
 #[derive(Debug, Default)]
@@ -112,12 +203,12 @@ const BINDLESS: wgpu::Features = wgpu::Features::TEXTURE_BINDING_ARRAY.union(wgp
 /// vertices, lights: `shaders/rt/reflection.wgsl`, `gi.wgsl`, `forward/shade.wgsl`), four arrays,
 /// the ray counters and the alpha words. Packed, the four arrays and the alpha words are one
 /// buffer: 8, WebGPU's default limit.
-pub const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
+pub(crate) const SEPARATE_ARRAYS_STORAGE_BUFFERS: u32 = 12;
 
 /// Storage textures per stage of a compute pass that writes the whole G-buffer
 /// (`shaders/common/gbuffer_store.wgsl`: position, normal, geometric normal, albedo, material,
 /// emissive, lobes).
-pub const GBUFFER_STORAGE_TEXTURES: u32 = 7;
+pub(crate) const GBUFFER_STORAGE_TEXTURES: u32 = 7;
 
 /// Bytes per sample of the fragment-stage G-buffer's colour attachments
 /// (`layers/deferred_fragment.ron`), as WebGPU counts them: 16 + 8 + 8 for position and the two
@@ -125,7 +216,7 @@ pub const GBUFFER_STORAGE_TEXTURES: u32 = 7;
 pub const GBUFFER_ATTACHMENT_BYTES: u32 = 72;
 
 /// Most scene textures in a binding array.
-pub const MAX_BINDLESS_TEXTURES: u32 = 4096;
+pub(crate) const MAX_BINDLESS_TEXTURES: u32 = 4096;
 
 /// Whether scene textures are bound as a binding array on a device with `features` and
 /// `limits` (never with `RAYGRAPH_NO_BINDLESS` set).
@@ -391,7 +482,7 @@ impl Gpu {
     /// (`layers/forward.ron`) becomes forward shading in the fragment stage
     /// (`layers/forward_fragment.ron`).
     ///
-    /// With fewer than [`GBUFFER_STORAGE_TEXTURES`] storage textures per stage (a browser's
+    /// With fewer than `GBUFFER_STORAGE_TEXTURES` storage textures per stage (a browser's
     /// WebGPU allows four by default), the G-buffer is not written by one compute pass: the
     /// rasterized one comes from the fragment stage (`layers/deferred_fragment.ron`), and
     /// primary rays write it in two passes (`layers/primary_split.ron`). Where the fragment
@@ -433,7 +524,7 @@ impl Gpu {
 
     /// Waits for all submitted work for at most [`Gpu::gpu_timeout`]; past it, the error
     /// names the work as `work()` describes it ("frame 3: passes ..."). The device stays busy
-    /// after a timeout: end the run without releasing GPU objects ([`Gpu::on_gpu_timeout`]).
+    /// after a timeout: end the run without releasing GPU objects ([`Gpu::set_on_gpu_timeout`]).
     pub fn wait_for(&self, work: impl FnOnce() -> String) -> Result<(), RuntimeError> {
         let waited = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(self.gpu_timeout) });
         if let Err(wgpu::PollError::Timeout) = waited {
@@ -480,7 +571,7 @@ impl Gpu {
 
     /// Turns an error caught by an error scope into the error to report: the device's loss if
     /// it is lost (every later call fails with it), out of memory as such, else `context: e`.
-    pub fn scope_error(&self, context: &str, e: wgpu::Error) -> RuntimeError {
+    pub(crate) fn scope_error(&self, context: &str, e: wgpu::Error) -> RuntimeError {
         if let Err(lost @ RuntimeError::DeviceLost { .. }) = self.check() {
             return lost;
         }
@@ -543,7 +634,7 @@ impl GpuScopes {
     }
 
     /// [`GpuScopes::finish`] as a future (the frame's; it resolves at once natively).
-    pub async fn finish_async(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
+    pub(crate) async fn finish_async(self, gpu: &Gpu, context: &str) -> Result<(), RuntimeError> {
         let Self { validation, oom } = self;
         let (validation, oom) = (validation.pop(), oom.pop());
         let (validation, oom) = (validation.await, oom.await);
@@ -569,7 +660,7 @@ pub fn include_aliases(texture_binding_arrays: bool) -> crate::graph::reflect::I
 
 /// The include substitutions of the compute back-end's packed arrays
 /// ([`Gpu::packed_accel_arrays`]).
-pub fn packed_arrays_aliases() -> crate::graph::reflect::IncludeAliases {
+pub(crate) fn packed_arrays_aliases() -> crate::graph::reflect::IncludeAliases {
     let mut a = crate::graph::reflect::IncludeAliases::new();
     a.insert("trace/compute_arrays.wgsl".into(), "trace/compute_arrays_packed.wgsl".into());
     a.insert("trace/alpha_words.wgsl".into(), "trace/alpha_words_packed.wgsl".into());

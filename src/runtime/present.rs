@@ -34,7 +34,7 @@ impl Presenter {
     /// For surface textures of `format` (an sRGB format is drawn through its non-sRGB view,
     /// which the surface must list among its view formats).
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Self {
-        let device = &gpu.device;
+        let device = gpu.device();
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("present"), source: wgpu::ShaderSource::Wgsl(BLIT_WGSL.into()) });
         let format = format.remove_srgb_suffix();
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -61,7 +61,7 @@ impl Presenter {
         let output = exec.texture(exec.plan().output()).ok_or_else(|| RuntimeError::Gpu("the graph's output is not a texture".into()))?;
         let size = output.size();
         if !self.copy.as_ref().is_some_and(|(t, _)| t.size() == size && t.format() == output.format()) {
-            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            let texture = gpu.device().create_texture(&wgpu::TextureDescriptor {
                 label: Some("graph output copy"),
                 size,
                 mip_level_count: 1,
@@ -71,7 +71,7 @@ impl Presenter {
                 usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
                 view_formats: &[],
             });
-            let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            let bind_group = gpu.device().create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("present"),
                 layout: &self.pipeline.get_bind_group_layout(0),
                 entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&texture.create_view(&Default::default())) }],
@@ -80,7 +80,7 @@ impl Presenter {
         }
         let Some((copy, bind_group)) = &self.copy else { unreachable!("made above") };
         let view = target.create_view(&wgpu::TextureViewDescriptor { format: Some(self.format), ..Default::default() });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });
         encoder.copy_texture_to_texture(output.as_image_copy(), copy.as_image_copy(), size);
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -100,7 +100,7 @@ impl Presenter {
             pass.set_bind_group(0, bind_group, &[]);
             pass.draw(0..3, 0..1);
         }
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
         Ok(())
     }
 }

@@ -5,7 +5,7 @@ use crate::error::RuntimeError;
 use crate::gpu_util::{map_read_async, readback_buffer};
 
 /// Timestamp queries for up to `capacity` passes per frame.
-pub struct GpuTimer {
+pub(crate) struct GpuTimer {
     query_set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
@@ -40,7 +40,7 @@ impl GpuTimer {
 
     /// Only the start of `pass` (for work recorded outside a pass: an empty compute pass
     /// writes it).
-    pub fn begin_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    pub(crate) fn begin_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
             beginning_of_pass_write_index: Some(pass * 2),
@@ -49,7 +49,7 @@ impl GpuTimer {
     }
 
     /// Only the end of `pass`.
-    pub fn end_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    pub(crate) fn end_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
             beginning_of_pass_write_index: None,

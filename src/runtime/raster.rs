@@ -25,11 +25,11 @@ use crate::runtime::scene_upload::Draw;
 use crate::scene::Scene;
 
 /// The pipeline constant that switches the raster alpha test (WGSL `override`).
-pub const ALPHA_TEST_CONSTANT: &str = "RASTER_ALPHA_TEST";
+pub(crate) const ALPHA_TEST_CONSTANT: &str = "RASTER_ALPHA_TEST";
 
 /// What the rasterizer culls for a draw.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Cull {
+pub(crate) enum Cull {
     None,
     Back,
     Front,
@@ -47,19 +47,19 @@ impl Cull {
 
 /// The pipeline variant an instance is drawn with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct DrawClass {
+pub(crate) struct DrawClass {
     pub(crate) cull: Cull,
     pub(crate) alpha_test: bool,
 }
 
 impl DrawClass {
     /// A fullscreen pass's one pipeline: nothing culled, the shader as written.
-    pub const FULLSCREEN: DrawClass = DrawClass { cull: Cull::None, alpha_test: true };
+    pub(crate) const FULLSCREEN: DrawClass = DrawClass { cull: Cull::None, alpha_test: true };
 }
 
 /// What decides an instance's draw class, whatever the pass.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct InstanceClass {
+pub(crate) struct InstanceClass {
     pub(crate) double_sided: bool,
     pub(crate) mirrored: bool,
     pub(crate) alpha_tested: bool,
@@ -74,11 +74,11 @@ pub struct InstanceClass {
 impl InstanceClass {
     /// One per scene instance, in order; `draws` (one per instance, from the upload) tell
     /// which meshes are closed.
-    pub fn of_scene(scene: &Scene, draws: &[Draw]) -> Vec<InstanceClass> {
-        (0..scene.instances.len())
+    pub(crate) fn of_scene(scene: &Scene, draws: &[Draw]) -> Vec<InstanceClass> {
+        (0..scene.instances().len())
             .map(|i| {
-                let inst = &scene.instances[i];
-                let material = scene.materials.get(inst.material);
+                let inst = &scene.instances()[i];
+                let material = scene.materials().get(inst.material);
                 let double_sided = material.is_some_and(|m| m.double_sided);
                 let alpha_tested = crate::accel::alpha::instance_tested(scene, i);
                 let closed_bounds = draws.get(i).filter(|d| d.instance as usize == i && !alpha_tested).and_then(|d| d.closed_bounds);
@@ -96,14 +96,14 @@ impl InstanceClass {
     /// Whether the instance is closed, opaque and wholly beyond the near plane of the light
     /// whose view-projection is `light_view_proj` (wgpu's clip depth: beyond the near plane
     /// is z > 0), so that the light is outside it.
-    pub fn closed_and_beyond_near_plane(&self, light_view_proj: &glam::Mat4) -> bool {
+    pub(crate) fn closed_and_beyond_near_plane(&self, light_view_proj: &glam::Mat4) -> bool {
         self.closed_corners.is_some_and(|corners| corners.iter().all(|c| (*light_view_proj * c.extend(1.0)).z > 0.0))
     }
 
     /// The class of this instance in a pass that culls back faces (`cull_back_faces`) or not,
     /// whose shader can switch the alpha test off (`alpha_switch`) or not; `cull_closed`: a
     /// closed mesh seen from outside, culled whatever its material's sidedness.
-    pub fn draw_class(self, cull_back_faces: bool, alpha_switch: bool, cull_closed: bool) -> DrawClass {
+    pub(crate) fn draw_class(self, cull_back_faces: bool, alpha_switch: bool, cull_closed: bool) -> DrawClass {
         let cull = match (cull_back_faces && !self.double_sided || cull_closed, self.mirrored) {
             (false, _) => Cull::None,
             (true, false) => Cull::Back,
@@ -122,9 +122,10 @@ fn corners(b: &crate::scene::Bounds) -> [glam::Vec3; 8] {
 
 /// The order in which `draws` are recorded: nearest first (to `eye`, by the world-space centre
 /// of each instance's mesh bounds); draws of instances `scene` does not have go last.
-pub fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usize> {
-    let distance =
-        |d: &Draw| scene.instances.get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye));
+pub(crate) fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usize> {
+    let distance = |d: &Draw| {
+        scene.instances().get(d.instance as usize).map_or(f32::INFINITY, |inst| inst.transform.transform_point3(d.local_center).distance_squared(eye))
+    };
     let keys: Vec<f32> = draws.iter().map(distance).collect();
     let mut order: Vec<usize> = (0..draws.len()).collect();
     order.sort_by(|&a, &b| keys[a].total_cmp(&keys[b]));
@@ -133,7 +134,7 @@ pub fn front_to_back(draws: &[Draw], scene: &Scene, eye: glam::Vec3) -> Vec<usiz
 
 /// Which of the scene's instances a `SceneRaster` pass draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DrawnInstances {
+pub(crate) enum DrawnInstances {
     /// Every instance (translucent ones screen-door: the shadow maps).
     All,
     /// The opaque and alpha-tested instances (`skip_blend`).
@@ -144,7 +145,7 @@ pub enum DrawnInstances {
 
 impl DrawnInstances {
     /// What `pass` draws.
-    pub fn of_pass(pass: &crate::graph::compile::PlannedPass) -> Self {
+    pub(crate) fn of_pass(pass: &crate::graph::compile::PlannedPass) -> Self {
         match (pass.translucent, pass.skip_blend) {
             (true, _) => Self::Translucent,
             (false, true) => Self::Opaque,
@@ -163,7 +164,7 @@ impl DrawnInstances {
 }
 
 /// Everything a render pipeline of a pass is made from, but the variant.
-pub struct RenderSpec {
+pub(crate) struct RenderSpec {
     pub(crate) label: String,
     pub(crate) layout: wgpu::PipelineLayout,
     pub(crate) module: wgpu::ShaderModule,
@@ -172,17 +173,17 @@ pub struct RenderSpec {
     pub(crate) targets: Vec<Option<wgpu::ColorTargetState>>,
     /// Vertex attributes the vertex stage reads from the scene's vertex buffer; `None` for a
     /// fullscreen pass (no vertex buffer).
-    pub scene_attributes: Option<Vec<wgpu::VertexAttribute>>,
+    pub(crate) scene_attributes: Option<Vec<wgpu::VertexAttribute>>,
     pub(crate) depth: bool,
     /// The shader declares [`ALPHA_TEST_CONSTANT`].
-    pub alpha_switch: bool,
+    pub(crate) alpha_switch: bool,
     /// The scene's feature constants the shader declares, with their values
     /// (`crate::runtime::exec::features`).
-    pub scene_constants: Vec<(&'static str, f64)>,
+    pub(crate) scene_constants: Vec<(&'static str, f64)>,
     /// The fragment stage does nothing but the alpha test: a built-in shader (its files
     /// raygraph's own, byte for byte) with the alpha switch and no colour targets, such as the
     /// shadow maps'. Its opaque draw classes get a depth-only pipeline, no fragment stage at all.
-    pub fragment_only_alpha_tests: bool,
+    pub(crate) fragment_only_alpha_tests: bool,
 }
 
 impl RenderSpec {
@@ -235,7 +236,7 @@ impl RenderSpec {
 }
 
 /// The pipeline variants of a `SceneRaster` pass, made as draw classes appear.
-pub struct ScenePipelines {
+pub(crate) struct ScenePipelines {
     spec: RenderSpec,
     cull_back_faces: bool,
     cull_closed_back_faces: bool,
@@ -266,7 +267,7 @@ impl ScenePipelines {
     }
 
     /// Creates the variants of `classes` that do not exist yet.
-    pub fn prepare(&mut self, device: &wgpu::Device, classes: &[Option<DrawClass>]) {
+    pub(crate) fn prepare(&mut self, device: &wgpu::Device, classes: &[Option<DrawClass>]) {
         for &class in classes.iter().flatten() {
             if !self.variants.iter().any(|(c, _)| *c == class) {
                 let pipeline = self.spec.create(device, class);
@@ -301,7 +302,7 @@ mod tests {
     #[test]
     fn draws_go_nearest_first() {
         let mut scene = crate::scene::builtin::default_scene();
-        let mesh = scene.instances[0].mesh;
+        let mesh = scene.instances()[0].mesh;
         *scene.instances_mut() = [5.0f32, -1.0, 2.0]
             .iter()
             .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })

@@ -78,7 +78,7 @@ pub struct Report {
     /// Frame wall time (`FrameTimings::frame_ms`).
     pub frame_ms: Option<Summary>,
     /// The frames the statistics are of.
-    pub(crate) frames: Vec<FrameTimings>,
+    pub frames: Vec<FrameTimings>,
 }
 
 /// CSV column names, in order.

@@ -2,9 +2,9 @@
 //! uploaded: one vertex and one index buffer for all meshes, storage buffers of instance,
 //! material, light and previous-transform records, and the textures (element or layer 0 plain
 //! white), one texture per element of a binding array where the device has them, else the
-//! layers of one mipmapped [`TEXTURE_SIZE`]² texture array. Too many textures, or buffers larger
+//! layers of one mipmapped `TEXTURE_SIZE`² texture array. Too many textures, or buffers larger
 //! than the device allows, are an error with the numbers ([`SceneLimitError`]), never a panic.
-//! Also the records' CPU side ([`light_records`]), what an upload depends on ([`SceneContent`])
+//! Also the records' CPU side (`light_records`), what an upload depends on (`SceneContent`)
 //! and the in-place rewrites of a frame.
 
 use crate::scene::usage::{SceneLimitError, SceneUsage};
@@ -19,7 +19,7 @@ use wgpu::util::DeviceExt;
 
 /// One indexed draw per instance.
 #[derive(Debug, Clone)]
-pub struct Draw {
+pub(crate) struct Draw {
     /// The instance's mesh in the index buffer.
     pub(crate) indices: std::ops::Range<u32>,
     /// Added to each index: the mesh's first vertex.
@@ -27,11 +27,11 @@ pub struct Draw {
     /// The instance's index (`instance_index` in the shader).
     pub(crate) instance: u32,
     /// Centre of the mesh's bounds, object space (for ordering draws by distance).
-    pub local_center: Vec3,
+    pub(crate) local_center: Vec3,
     /// The mesh's object-space bounds when it is closed and wound outwards
     /// (`scene::topology`); `None` when it is not, or when the plan does not ask
     /// (`SceneUsage::closed_meshes`).
-    pub closed_bounds: Option<Bounds>,
+    pub(crate) closed_bounds: Option<Bounds>,
 }
 
 /// The scene's textures as the graph's shaders bind them.
@@ -66,36 +66,101 @@ impl SceneTextures {
 /// A scene on the GPU: the parts a plan reads ([`SceneUsage`]), uploaded.
 pub struct GpuScene {
     /// Every mesh's vertices, one after another.
-    pub vertices: Option<wgpu::Buffer>,
+    vertices: Option<wgpu::Buffer>,
     /// Every mesh's indices, one after another.
-    pub(crate) indices: Option<wgpu::Buffer>,
+    indices: Option<wgpu::Buffer>,
     /// Instance records (`scene_instances`).
-    pub instances: Option<wgpu::Buffer>,
+    instances: Option<wgpu::Buffer>,
     /// Material records (`scene_materials`).
-    pub materials: Option<wgpu::Buffer>,
+    materials: Option<wgpu::Buffer>,
     /// Per mesh: first index, base vertex, index count, where its extras start in the vertex
     /// buffer (`scene_meshes`; `MESH_NO_EXTRAS` without colours or second uvs).
-    pub meshes: Option<wgpu::Buffer>,
+    meshes: Option<wgpu::Buffer>,
     /// The material textures.
-    pub textures: Option<SceneTextures>,
+    textures: Option<SceneTextures>,
     /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
-    /// by [`GpuScene::write_lights`].
-    pub lights: Option<wgpu::Buffer>,
+    /// by `GpuScene::write_lights`.
+    lights: Option<wgpu::Buffer>,
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
-    /// [`GpuScene::write_motion`].
-    pub motion: Option<wgpu::Buffer>,
+    /// `GpuScene::write_motion`.
+    motion: Option<wgpu::Buffer>,
     /// One draw per instance, for raster passes.
-    pub(crate) draws: Vec<Draw>,
+    draws: Vec<Draw>,
     /// Per mesh, its first vertex in `vertices`.
-    pub(crate) base_vertices: Vec<u32>,
+    base_vertices: Vec<u32>,
     /// What was uploaded.
-    pub usage: SceneUsage,
+    usage: SceneUsage,
     /// Bytes uploaded.
-    pub bytes: u64,
+    bytes: u64,
+}
+
+impl GpuScene {
+    /// Every mesh's vertices, one after another.
+    pub fn vertices(&self) -> Option<&wgpu::Buffer> {
+        self.vertices.as_ref()
+    }
+
+    /// Every mesh's indices, one after another.
+    pub(crate) fn indices(&self) -> Option<&wgpu::Buffer> {
+        self.indices.as_ref()
+    }
+
+    /// Instance records (`scene_instances`).
+    pub fn instances(&self) -> Option<&wgpu::Buffer> {
+        self.instances.as_ref()
+    }
+
+    /// Material records (`scene_materials`).
+    pub fn materials(&self) -> Option<&wgpu::Buffer> {
+        self.materials.as_ref()
+    }
+
+    /// Per mesh: first index, base vertex, index count, where its extras start in the vertex
+    /// buffer (`scene_meshes`; `MESH_NO_EXTRAS` without colours or second uvs).
+    pub fn meshes(&self) -> Option<&wgpu::Buffer> {
+        self.meshes.as_ref()
+    }
+
+    /// The material textures.
+    pub fn textures(&self) -> Option<&SceneTextures> {
+        self.textures.as_ref()
+    }
+
+    /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
+    /// by `GpuScene::write_lights`.
+    pub fn lights(&self) -> Option<&wgpu::Buffer> {
+        self.lights.as_ref()
+    }
+
+    /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
+    /// `GpuScene::write_motion`.
+    pub fn motion(&self) -> Option<&wgpu::Buffer> {
+        self.motion.as_ref()
+    }
+
+    /// One draw per instance, for raster passes.
+    pub(crate) fn draws(&self) -> &[Draw] {
+        &self.draws
+    }
+
+    /// Per mesh, its first vertex in `vertices`.
+    pub(crate) fn base_vertices(&self) -> &[u32] {
+        &self.base_vertices
+    }
+
+    /// What was uploaded.
+    pub fn usage(&self) -> SceneUsage {
+        self.usage
+    }
+
+    /// Bytes uploaded.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
 }
 
 /// Side of the square layers of the texture array.
-pub const TEXTURE_SIZE: u32 = 256;
+pub(crate) const TEXTURE_SIZE: u32 = 256;
 /// Mip levels of the texture array (down to 1x1).
 pub const TEXTURE_MIPS: u32 = TEXTURE_SIZE.ilog2() + 1;
 
@@ -111,7 +176,7 @@ fn check_count(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str)
 
 fn check_amount(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str, bytes: bool) -> Result<(), SceneLimitError> {
     if needed > allowed {
-        return Err(SceneLimitError { scene: scene.name.clone(), what: what.into(), needed, allowed, bytes, help: help.into() });
+        return Err(SceneLimitError { scene: scene.name().to_string(), what: what.into(), needed, allowed, bytes, help: help.into() });
     }
     Ok(())
 }
@@ -128,7 +193,7 @@ impl GpuScene {
             out.instances = Some(upload.storage_records("instance", instance_records(scene))?);
         }
         if usage.materials {
-            let materials: Vec<MaterialUniforms> = scene.materials.iter().map(material_uniforms).collect();
+            let materials: Vec<MaterialUniforms> = scene.materials().iter().map(material_uniforms).collect();
             out.materials = Some(upload.storage_records("material", materials)?);
         }
         if usage.lights {
@@ -136,7 +201,7 @@ impl GpuScene {
             out.lights = Some(upload.storage_records("light", records)?);
         }
         if usage.motion {
-            let records: Vec<[[f32; 4]; 4]> = scene.instances.iter().map(|i| i.transform.to_cols_array_2d()).collect();
+            let records: Vec<[[f32; 4]; 4]> = scene.instances().iter().map(|i| i.transform.to_cols_array_2d()).collect();
             out.motion = Some(upload.storage_records("previous transform", records)?);
         }
         if usage.textures {
@@ -242,8 +307,8 @@ impl Upload<'_> {
         let scene = self.scene;
         // Meshes' colours and second uvs follow every mesh's vertices where shaders read them.
         let extras = |m: &Mesh| m.extras.as_ref().filter(|e| usage.geometry_storage && e.len() == m.vertices.len()).map_or(0, Vec::len);
-        let vertex_count: usize = scene.meshes.iter().map(|m| m.vertices.len() + extras(m)).sum();
-        let index_count: usize = scene.meshes.iter().map(|m| m.indices.len()).sum();
+        let vertex_count: usize = scene.meshes().iter().map(|m| m.vertices.len() + extras(m)).sum();
+        let index_count: usize = scene.meshes().iter().map(|m| m.indices.len()).sum();
         let vertex_bytes = (vertex_count * std::mem::size_of::<Vertex>()) as u64;
         let help = "use a smaller scene or a lower duplication factor";
         check(scene, "the vertex buffer", vertex_bytes, self.limits.max_buffer_size, help)?;
@@ -253,7 +318,7 @@ impl Upload<'_> {
         let mut indices = Vec::with_capacity(index_count.max(3));
         let mut ranges = Vec::new();
         let mut records: Vec<[u32; 4]> = Vec::new();
-        for mesh in &scene.meshes {
+        for mesh in scene.meshes() {
             records.push([indices.len() as u32, vertices.len() as u32, mesh.indices.len() as u32, MESH_NO_EXTRAS]);
             let first_index = indices.len() as u32;
             let base_vertex = vertices.len() as i32;
@@ -261,7 +326,7 @@ impl Upload<'_> {
             indices.extend_from_slice(&mesh.indices);
             ranges.push((first_index..indices.len() as u32, base_vertex));
         }
-        for (record, mesh) in records.iter_mut().zip(&scene.meshes) {
+        for (record, mesh) in records.iter_mut().zip(scene.meshes()) {
             if let Some(e) = mesh.extras.as_ref().filter(|_| extras(mesh) > 0) {
                 record[3] = vertices.len() as u32;
                 vertices.extend(e.iter().map(|e| bytemuck::cast::<VertexExtra, Vertex>(*e)));
@@ -288,7 +353,7 @@ impl Upload<'_> {
     /// layers of one texture array.
     fn textures(&mut self, binding_array: bool) -> Result<SceneTextures, SceneLimitError> {
         let scene = self.scene;
-        let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures.iter().map(to_image));
+        let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures().iter().map(to_image));
         // Element 0 (white) is colour; the scene's textures follow at index + 1.
         let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
         if binding_array {
@@ -302,7 +367,7 @@ impl Upload<'_> {
     /// One texture per image, each at its own size (at most the device's largest) with its own
     /// mip chain.
     fn separate_textures(&mut self, images: impl Iterator<Item = image::RgbaImage>, data: &[bool]) -> Result<SceneTextures, SceneLimitError> {
-        let count = self.scene.textures.len() as u32 + 1;
+        let count = self.scene.textures().len() as u32 + 1;
         let allowed = self.limits.max_binding_array_elements_per_shader_stage;
         check_count(self.scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
         let (mut textures, mut views) = (Vec::new(), Vec::new());
@@ -326,7 +391,7 @@ impl Upload<'_> {
     /// One sRGB texture array of [`TEXTURE_SIZE`]² layers, an image resampled into each
     /// (by nearest texel where `nearest` says so).
     fn texture_array(&mut self, images: impl Iterator<Item = image::RgbaImage>, data: &[bool], nearest: &[bool]) -> Result<SceneTextures, SceneLimitError> {
-        let count = self.scene.textures.len() as u32 + 1;
+        let count = self.scene.textures().len() as u32 + 1;
         let allowed = self.limits.max_texture_array_layers as u64;
         check(self.scene, "the texture array (one layer per texture, plus white)", count as u64, allowed, "use fewer textures")?;
         let texture = create_texture(self.device, "scene textures", TEXTURE_SIZE, TEXTURE_SIZE, count, TEXTURE_MIPS, TexelEncoding::Colour.format());
@@ -344,17 +409,17 @@ impl Upload<'_> {
 /// One draw per instance, with its mesh's centre and, where `closed_meshes` asks, its bounds
 /// if the mesh is closed and wound outwards and not `deforming`.
 fn instance_draws(scene: &Scene, ranges: &[(std::ops::Range<u32>, i32)], closed_meshes: bool, deforming: &[usize]) -> Vec<Draw> {
-    let bounds: Vec<Bounds> = scene.meshes.iter().map(|m| m.bounds()).collect();
+    let bounds: Vec<Bounds> = scene.meshes().iter().map(|m| m.bounds()).collect();
     let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
     let closed: Vec<Option<Bounds>> = scene
-        .meshes
+        .meshes()
         .iter()
         .zip(&bounds)
         .enumerate()
         .map(|(i, (m, b))| (closed_meshes && !deforming.contains(&i) && crate::scene::topology::is_closed_outward(m)).then_some(*b))
         .collect();
     scene
-        .instances
+        .instances()
         .iter()
         .enumerate()
         .map(|(i, inst)| Draw {
@@ -405,8 +470,8 @@ fn uv_transform_rows(sampling: &[SlotSampling; TEXTURE_SLOTS]) -> [[f32; 4]; 2 *
 /// Which textures a slot samples with NEAREST filtering (resampled to the texture array's size
 /// by nearest texel, so their texels stay sharp).
 fn nearest_textures(scene: &Scene) -> Vec<bool> {
-    let mut nearest = vec![false; scene.textures.len()];
-    for m in scene.materials.iter() {
+    let mut nearest = vec![false; scene.textures().len()];
+    for m in scene.materials().iter() {
         for (t, s) in m.slot_textures().iter().zip(&m.sampling) {
             if let Some(t) = t.filter(|t| *t < nearest.len()) {
                 nearest[t] |= s.mag_nearest || s.min_nearest;
@@ -421,9 +486,9 @@ fn nearest_textures(scene: &Scene) -> Vec<bool> {
 /// linearly). A texture a colour slot also uses stays colour.
 fn data_textures(scene: &Scene) -> Vec<bool> {
     use crate::scene::gltf_import::TextureSlot;
-    let n = scene.textures.len();
+    let n = scene.textures().len();
     let (mut colour, mut data) = (vec![false; n], vec![false; n]);
-    for m in scene.materials.iter() {
+    for m in scene.materials().iter() {
         for (slot, t) in TextureSlot::ALL.iter().zip(m.slot_textures()) {
             if let Some(t) = t.filter(|t| *t < n) {
                 if slot.is_colour() {
@@ -527,7 +592,7 @@ fn downsample(img: &image::RgbaImage, srgb: bool) -> image::RgbaImage {
 
 fn instance_records(scene: &Scene) -> Vec<InstanceUniforms> {
     scene
-        .instances
+        .instances()
         .iter()
         .map(|inst| InstanceUniforms {
             model: inst.transform.to_cols_array_2d(),
@@ -542,7 +607,7 @@ fn instance_records(scene: &Scene) -> Vec<InstanceUniforms> {
 impl GpuScene {
     /// Rewrites the instance records in place (transforms changed, nothing else). Returns
     /// false if there is no instance buffer or its size no longer matches.
-    pub fn write_instances(&self, queue: &wgpu::Queue, scene: &Scene) -> bool {
+    pub(crate) fn write_instances(&self, queue: &wgpu::Queue, scene: &Scene) -> bool {
         let Some(buffer) = &self.instances else { return false };
         let records = instance_records(scene);
         let bytes: &[u8] = bytemuck::cast_slice(&records);
@@ -557,11 +622,11 @@ impl GpuScene {
 impl GpuScene {
     /// Rewrites the vertices of the meshes `meshes` in place (their vertex counts unchanged).
     /// Returns false if there is no vertex buffer or a mesh no longer fits its range.
-    pub fn write_vertices(&self, queue: &wgpu::Queue, scene: &Scene, meshes: &[usize]) -> bool {
+    pub(crate) fn write_vertices(&self, queue: &wgpu::Queue, scene: &Scene, meshes: &[usize]) -> bool {
         let Some(buffer) = &self.vertices else { return false };
         let stride = std::mem::size_of::<Vertex>() as u64;
         for &m in meshes {
-            let (Some(&base), Some(mesh)) = (self.base_vertices.get(m), scene.meshes.get(m)) else { return false };
+            let (Some(&base), Some(mesh)) = (self.base_vertices.get(m), scene.meshes().get(m)) else { return false };
             let end = self.base_vertices.get(m + 1).map_or(buffer.size() / stride, |&b| b as u64);
             if base as u64 + mesh.vertices.len() as u64 > end {
                 return false;
@@ -575,7 +640,7 @@ impl GpuScene {
 
     /// Rewrites the previous transforms (`scene_motion`). Returns false if there is no such
     /// buffer or its size no longer matches.
-    pub fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {
+    pub(crate) fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {
         let Some(buffer) = &self.motion else { return false };
         let records: Vec<[[f32; 4]; 4]> = transforms.iter().map(|m| m.to_cols_array_2d()).collect();
         let bytes: &[u8] = bytemuck::cast_slice(&records);
@@ -588,7 +653,7 @@ impl GpuScene {
 
     /// Rewrites the light records. Returns false if there is no light buffer or its size no
     /// longer matches.
-    pub fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
+    pub(crate) fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
         let Some(buffer) = &self.lights else { return false };
         let bytes: &[u8] = bytemuck::cast_slice(records);
         if records.is_empty() || bytes.len() as u64 != buffer.size() {
@@ -602,14 +667,14 @@ impl GpuScene {
 /// The GPU form of a scene's lights: one record per light and the view-projection of each
 /// raster shadow-map slot in use.
 #[derive(Debug, Clone, Default)]
-pub struct LightRecords {
+pub(crate) struct LightRecords {
     /// One record per light.
     pub(crate) records: Vec<LightUniforms>,
     /// The view-projection of each shadow-map slot in use.
     pub(crate) shadow_view_proj: Vec<Mat4>,
     /// Lights without a shadow map in raster mode: point lights, and directional or spot
     /// lights beyond the `SHADOW_MAP_SLOTS` first.
-    pub unshadowed_in_raster: usize,
+    pub(crate) unshadowed_in_raster: usize,
 }
 
 /// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first
@@ -617,7 +682,7 @@ pub struct LightRecords {
 /// orthographic projection along the light over the scene's sphere; spot, a perspective
 /// projection over its outer cone from its position to the far side of the sphere (or its
 /// range). Point lights get none.
-pub fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
+pub(crate) fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
     let mut out = LightRecords::default();
     for light in lights {
         let direction = light.direction.try_normalize().unwrap_or(Vec3::NEG_Y);
@@ -680,7 +745,7 @@ fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radiu
 /// a texture by its size and the address of its pixels (a replaced image is seen, pixels
 /// edited in place are not).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct SceneContent {
+pub(crate) struct SceneContent {
     /// The hash of everything but the instance transforms and the deforming meshes' vertices.
     pub(crate) structure: u64,
     /// The hash of the instance transforms.
@@ -696,7 +761,7 @@ impl SceneContent {
     pub(crate) fn of(scene: &Scene, memo: &mut crate::scene::memo::MeshMemo<[u64; 2]>) -> Self {
         use crate::util::hash_words;
         let deforming = scene.deforming_meshes();
-        let mesh_hashes = memo.values(&scene.meshes, |m| {
+        let mesh_hashes = memo.values(scene.meshes(), |m| {
             // A deforming mesh's vertices are in `deformed`; its vertex count stays here. The
             // indices and tangents are read once for both.
             let indices = hash_words(4, bytemuck::cast_slice(&m.indices));
@@ -704,19 +769,19 @@ impl SceneContent {
             [hash_words(hash_words(1, bytemuck::cast_slice(&m.vertices)), &rest), hash_words(m.vertices.len() as u64, &rest)]
         });
         let meshes: Vec<u64> = mesh_hashes.iter().enumerate().map(|(i, [whole, shape])| if deforming.contains(&i) { *shape } else { *whole }).collect();
-        let links: Vec<[u64; 2]> = scene.instances.iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
-        let textures: Vec<[u64; 4]> = scene.textures.iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
+        let links: Vec<[u64; 2]> = scene.instances().iter().map(|i| [i.mesh as u64, i.material as u64]).collect();
+        let textures: Vec<[u64; 4]> = scene.textures().iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
         // The materials as the GPU reads them (every field that reaches a pass, texture layers
         // included): hashing their records is cheaper than formatting them.
-        let materials: Vec<MaterialUniforms> = scene.materials.iter().map(material_uniforms).collect();
+        let materials: Vec<MaterialUniforms> = scene.materials().iter().map(material_uniforms).collect();
         structure = hash_words(structure, bytemuck::cast_slice(&materials));
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
         structure = hash_words(structure, bytemuck::cast_slice(&deforming.iter().map(|&i| i as u64).collect::<Vec<_>>()));
         // The light buffer's size (its records are rewritten every frame).
         structure = hash_words(structure, &(scene.effective_light_count() as u64).to_le_bytes());
-        let transforms: Vec<[f32; 16]> = scene.instances.iter().map(|i| i.transform.to_cols_array()).collect();
+        let transforms: Vec<[f32; 16]> = scene.instances().iter().map(|i| i.transform.to_cols_array()).collect();
         Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)), deformed: scene.deformation_key().unwrap_or(0) }
     }
 }

@@ -22,11 +22,11 @@ use spirv::Op;
 use wgpu::hal;
 
 /// The WGSL name of the traversal stack (`shaders/trace/compute.wgsl`).
-pub const TRAVERSAL_STACK: &str = "trace_stack";
+pub(crate) const TRAVERSAL_STACK: &str = "trace_stack";
 
 /// How trace modules are written for one device.
 #[derive(Debug, Clone)]
-pub struct TraceSpirv {
+pub(crate) struct TraceSpirv {
     lang_version: (u8, u8),
     policies: naga::proc::BoundsCheckPolicies,
 }
@@ -35,7 +35,7 @@ impl TraceSpirv {
     /// The writer's options for `device`, or `None` where trace modules are compiled from WGSL
     /// by wgpu (no Vulkan device, no passthrough shaders, or `RAYGRAPH_CLEARED_STACK=1`).
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn for_device(device: &wgpu::Device) -> Option<Self> {
+    pub(crate) fn for_device(device: &wgpu::Device) -> Option<Self> {
         if !device.features().contains(wgpu::Features::PASSTHROUGH_SHADERS) || std::env::var("RAYGRAPH_CLEARED_STACK").is_ok_and(|v| v == "1") {
             return None;
         }
@@ -47,7 +47,7 @@ impl TraceSpirv {
 
     /// On the web: never (WebGPU takes WGSL only).
     #[cfg(target_arch = "wasm32")]
-    pub fn for_device(_device: &wgpu::Device) -> Option<Self> {
+    pub(crate) fn for_device(_device: &wgpu::Device) -> Option<Self> {
         None
     }
 
@@ -92,7 +92,7 @@ impl TraceSpirv {
     }
 
     /// Whether `wgsl` declares the traversal stack (the compute back-end's trace modules do).
-    pub fn applies_to(wgsl: &str) -> bool {
+    pub(crate) fn applies_to(wgsl: &str) -> bool {
         wgsl.contains(&format!("var<private> {TRAVERSAL_STACK}"))
     }
 
@@ -168,7 +168,7 @@ impl TraceSpirv {
 
 /// `words` with the initialiser of the variable named `name` removed (its `OpVariable` loses
 /// its fourth operand). An error if there is no such variable or it has no initialiser.
-pub fn without_initializer(words: &[u32], name: &str) -> Result<Vec<u32>, String> {
+pub(crate) fn without_initializer(words: &[u32], name: &str) -> Result<Vec<u32>, String> {
     let list = instructions(words)?;
     let id = named(&list, name)?;
     let mut out: Vec<u32> = words[..5].to_vec();

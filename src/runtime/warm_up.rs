@@ -35,11 +35,11 @@ impl WarmUp {
     pub const GPU: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.5, max_seconds: 5.0, tolerance: 0.03 };
     /// For a software adapter (lavapipe): no clocks to raise, so only the settling test, within
     /// 10% (CPU frame times are noisier), at most 1 s.
-    pub const SOFTWARE: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.0, max_seconds: 1.0, tolerance: 0.10 };
+    pub(crate) const SOFTWARE: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.0, max_seconds: 1.0, tolerance: 0.10 };
 
     /// The policy for `gpu`'s adapter, with at least `min_frames` frames.
     pub fn for_gpu(gpu: &Gpu, min_frames: u32) -> WarmUp {
-        let base = if gpu.info.device_type == wgpu::DeviceType::Cpu { WarmUp::SOFTWARE } else { WarmUp::GPU };
+        let base = if gpu.info().device_type == wgpu::DeviceType::Cpu { WarmUp::SOFTWARE } else { WarmUp::GPU };
         WarmUp { min_frames: base.min_frames.max(min_frames), ..base }
     }
 
@@ -67,7 +67,7 @@ impl WarmUp {
     /// Runs untimed repetitions of any measured work (`measure` returns its milliseconds: a
     /// build's kernels, a rebuild's wall time) until [`Self::settled`]; returns how many.
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn until_settled<E>(&self, mut measure: impl FnMut() -> Result<f64, E>) -> Result<u32, E> {
+    pub(crate) fn until_settled<E>(&self, mut measure: impl FnMut() -> Result<f64, E>) -> Result<u32, E> {
         let start = Instant::now();
         let mut times = Vec::new();
         loop {

@@ -3,7 +3,7 @@
 //! linear, step or cubic-spline), morph targets and skins, and the pose at a time: node world
 //! matrices, joint matrices and morph weights ([`Pose`]), applied to a scene by
 //! [`crate::scene::Scene::pose`] ([`crate::scene::posing`]). The GPU deformation of the executor ([`crate::runtime`]'s deform pass)
-//! reads the same joint matrices and weights ([`Pose::deform_inputs`]); this module's CPU
+//! reads the same joint matrices and weights (`Pose::deform_inputs`); this module's CPU
 //! deformation ([`Deformer::deform`]) is the reference it is tested against, and what CPU
 //! builders and the f64 reference tracer see.
 
@@ -243,7 +243,7 @@ impl std::str::FromStr for ClipChoice {
 
 impl Rig {
     /// Whether anything moves: a clip with channels.
-    pub fn is_animated(&self) -> bool {
+    pub(crate) fn is_animated(&self) -> bool {
         self.animations.iter().any(|a| !a.channels.is_empty())
     }
 
@@ -347,7 +347,7 @@ impl Rig {
 impl Pose {
     /// The joint matrices of `skin` (world from bind-pose space) and the morph weights that
     /// deform `deformer`.
-    pub fn deform_inputs(&self, rig: &Rig, deformer: &Deformer) -> (Vec<Mat4>, Vec<f32>) {
+    pub(crate) fn deform_inputs(&self, rig: &Rig, deformer: &Deformer) -> (Vec<Mat4>, Vec<f32>) {
         let joints = deformer
             .skin
             .as_ref()
@@ -408,7 +408,7 @@ impl Channel {
 
 /// The linear part that carries normals through `m`: its cofactor matrix (the inverse
 /// transpose times the determinant), signed so a mirroring matrix keeps normals outward.
-pub fn normal_matrix(m: &Mat4) -> Mat3 {
+pub(crate) fn normal_matrix(m: &Mat4) -> Mat3 {
     let a = Mat3::from_mat4(*m);
     let (c0, c1, c2) = (a.x_axis, a.y_axis, a.z_axis);
     let cof = Mat3::from_cols(c1.cross(c2), c2.cross(c0), c0.cross(c1));

@@ -86,7 +86,7 @@ pub fn checker(name: &str, size: u32, cells: u32, a: [u8; 3], b: [u8; 3]) -> Tex
 }
 
 /// A brick pattern texture.
-pub fn bricks(name: &str, size: u32) -> TextureImage {
+pub(crate) fn bricks(name: &str, size: u32) -> TextureImage {
     let mut rgba = Vec::with_capacity((size * size * 4) as usize);
     let rows = 8;
     let bh = size / rows;

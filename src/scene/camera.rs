@@ -47,7 +47,8 @@ impl Default for Camera {
 impl Camera {
     /// The camera `factor` times as far from its target along its view axis (closer below 1),
     /// its far plane moved back as far, its near plane kept.
-    pub fn moved_back(&self, factor: f32) -> Camera {
+    #[cfg(feature = "cli")]
+    pub(crate) fn moved_back(&self, factor: f32) -> Camera {
         let offset = self.position - self.target;
         let position = self.target + offset * factor;
         Camera { position, far: self.far + offset.length() * (factor - 1.0).max(0.0), ..*self }
@@ -104,7 +105,7 @@ impl Camera {
 
     /// Presets for any scene from its bounds: `front` (framing all of it), `top` (looking
     /// down) and `side`.
-    pub fn presets_for(bounds: super::Bounds) -> Vec<(String, Camera)> {
+    pub(crate) fn presets_for(bounds: super::Bounds) -> Vec<(String, Camera)> {
         let front = Self::framing(bounds);
         let d = front.position.distance(front.target);
         let c = bounds.center();

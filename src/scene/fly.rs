@@ -26,19 +26,29 @@ pub struct Motion {
 /// A camera as position, yaw and pitch (radians; yaw 0 looks down -z), moved by [`Motion`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlyCamera {
-    pub(crate) position: Vec3,
-    pub(crate) yaw: f32,
-    pub(crate) pitch: f32,
+    position: Vec3,
+    yaw: f32,
+    pitch: f32,
     /// Units per second.
-    pub speed: f32,
-    pub(crate) fov_y: f32,
-    pub(crate) near: f32,
-    pub(crate) far: f32,
-    pub(crate) orthographic: Option<f32>,
-    pub(crate) aspect_ratio: Option<f32>,
+    speed: f32,
+    fov_y: f32,
+    near: f32,
+    far: f32,
+    orthographic: Option<f32>,
+    aspect_ratio: Option<f32>,
 }
 
 impl FlyCamera {
+    /// Units per second.
+    pub fn speed(&self) -> f32 {
+        self.speed
+    }
+
+    /// The same camera moving at `speed` units per second (a speed kept from another one).
+    pub fn with_speed(self, speed: f32) -> Self {
+        Self { speed, ..self }
+    }
+
     /// Looking where `c` looks; `scene_radius` sets the starting speed (a quarter of the scene
     /// per second).
     pub fn from_camera(c: &Camera, scene_radius: f32) -> Self {

@@ -1,6 +1,6 @@
 //! glTF import of what moves: the node hierarchy, animation clips, skins and morph targets, as
 //! a [`Rig`]. Every accessor is checked before it is read (types, counts, finite values, joint
-//! indices); what cannot be played is a [`RigError`] naming the clip, channel, skin or
+//! indices); what cannot be played is a `RigError` naming the clip, channel, skin or
 //! primitive (the importer adds the file); what can be repaired (weights that do not sum to one, a `weights`
 //! channel on a node without morph targets, an animated node given as a matrix) is counted and
 //! logged.
@@ -20,7 +20,7 @@ pub(super) struct RigInput<'a> {
 
 /// Why a file's animation data cannot be played.
 #[derive(Debug, Clone, PartialEq)]
-pub enum RigError {
+pub(crate) enum RigError {
     /// A clip, channel or skin, named in the message.
     Rig(String),
     /// A primitive's morph targets or skin attributes.

@@ -71,7 +71,7 @@ pub enum SceneError {
         path: PathBuf,
         /// The required extensions raygraph lacks.
         extensions: String,
-        /// The extensions it reads ([`SUPPORTED_EXTENSIONS`]).
+        /// The extensions it reads (`SUPPORTED_EXTENSIONS`).
         supported: String,
     },
     /// The scene asked for with `--gltf-scene` is not in the file.
@@ -124,7 +124,7 @@ impl Default for LoadOptions {
 
 /// The glTF extensions raygraph reads (everything else in `extensionsUsed` is listed as
 /// ignored, and a file that requires anything else is refused).
-pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
@@ -182,7 +182,7 @@ pub enum TextureSlot {
 }
 
 impl TextureSlot {
-    /// Every slot, in the order of [`Material::sampling`] and [`Material::slot_textures`].
+    /// Every slot, in the order of [`Material::sampling`] and `Material::slot_textures`.
     pub const ALL: [TextureSlot; crate::scene::TEXTURE_SLOTS] = [
         TextureSlot::BaseColor,
         TextureSlot::MetallicRoughness,
@@ -246,7 +246,7 @@ impl TextureSlot {
 
     /// Whether the slot's texels are colour (sRGB-encoded): base colour, emissive, specular
     /// colour. The others hold linear data.
-    pub fn is_colour(self) -> bool {
+    pub(crate) fn is_colour(self) -> bool {
         matches!(self, TextureSlot::BaseColor | TextureSlot::Emissive | TextureSlot::SpecularColor)
     }
 }
@@ -313,7 +313,7 @@ impl ImportReport {
 }
 
 /// A magenta/black checker that marks a texture that could not be loaded.
-pub fn fallback_texture(name: &str) -> TextureImage {
+pub(crate) fn fallback_texture(name: &str) -> TextureImage {
     super::builtin::checker(&format!("missing: {name}"), 64, 8, [255, 0, 255], [0, 0, 0])
 }
 
@@ -419,7 +419,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<(Scene, ImportReport),
 /// Loads glTF or GLB `bytes` that were read from `path` (the name errors give; the folder its
 /// relative buffer and image uris are read from). A browser's file picker gives bytes and a
 /// name: a GLB, or a glTF whose buffers and images are embedded.
-pub fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
+pub(crate) fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Result<(Scene, ImportReport), SceneError> {
     let gltf = parse_and_validate(path, bytes)?;
     let raw = raw_json(bytes);
     let base = path.parent().unwrap_or(Path::new("."));
@@ -1308,7 +1308,7 @@ fn to_rgba8(name: &str, data: &gltf::image::Data) -> Result<TextureImage, String
 }
 
 /// Area-weighted vertex normals.
-pub fn generate_normals(vertices: &mut [Vertex], indices: &[u32]) {
+pub(crate) fn generate_normals(vertices: &mut [Vertex], indices: &[u32]) {
     let mut acc = vec![Vec3::ZERO; vertices.len()];
     for t in indices.chunks_exact(3) {
         let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(vertices[i as usize].position));
@@ -1324,7 +1324,7 @@ pub fn generate_normals(vertices: &mut [Vertex], indices: &[u32]) {
 
 /// Per-vertex tangents from UV gradients (accumulated per triangle, Gram-Schmidt against the
 /// normal, handedness in w).
-pub fn generate_tangents(vertices: &[Vertex], indices: &[u32]) -> Vec<[f32; 4]> {
+pub(crate) fn generate_tangents(vertices: &[Vertex], indices: &[u32]) -> Vec<[f32; 4]> {
     let mut tan = vec![Vec3::ZERO; vertices.len()];
     let mut bit = vec![Vec3::ZERO; vertices.len()];
     for t in indices.chunks_exact(3) {
@@ -1358,7 +1358,7 @@ pub fn generate_tangents(vertices: &[Vertex], indices: &[u32]) -> Vec<[f32; 4]> 
 }
 
 /// Triangles whose area is zero (in f32).
-pub fn count_degenerate(vertices: &[Vertex], indices: &[u32]) -> usize {
+pub(crate) fn count_degenerate(vertices: &[Vertex], indices: &[u32]) -> usize {
     indices
         .chunks_exact(3)
         .filter(|t| {

@@ -1,12 +1,13 @@
 //! Change detection without reading data: values computed once per mesh content (content
-//! hashes, bounds: [`MeshMemo`]), and a whole scene kept by pointer ([`SceneSnapshot`]), so a
+//! hashes, bounds: `MeshMemo`), and a whole scene kept by pointer (`SceneSnapshot`), so a
 //! frame of a static scene costs one pointer comparison per mesh and a few per scene.
 //!
-//! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut`. A memo keeps a
-//! clone of the `Arc` of each mesh it computed a value from, so an edited mesh is always a new
-//! allocation (`make_mut` copies a shared mesh before the edit): the same pointer means the same
-//! content, and a frame of a static scene costs one pointer comparison per mesh. The memo keeps
-//! the meshes it last saw alive until its next call.
+//! A scene holds its meshes behind `Arc`s and is edited through `Arc::make_mut` (its fields
+//! are private: `Scene::mesh_mut`, `Scene::materials_mut` and `Scene::instances_mut` do it). A
+//! memo keeps a clone of the `Arc` of each mesh it computed a value from, so an edited mesh is
+//! always a new allocation (`make_mut` copies a shared mesh before the edit): the same pointer
+//! means the same content, and a frame of a static scene costs one pointer comparison per mesh.
+//! The memo keeps the meshes it last saw alive until its next call.
 
 use super::{Instance, Material, Mesh, Scene};
 use rayon::prelude::*;
@@ -17,7 +18,7 @@ use std::sync::Arc;
 /// pose time). While a snapshot holds them, an edit through `Arc::make_mut` cannot reuse their
 /// allocations, so [`SceneSnapshot::matches`] is exact.
 #[derive(Debug, Clone)]
-pub struct SceneSnapshot {
+pub(crate) struct SceneSnapshot {
     meshes: Vec<Arc<Mesh>>,
     materials: Arc<Vec<Material>>,
     instances: Arc<Vec<Instance>>,
@@ -70,7 +71,7 @@ impl SceneSnapshot {
 
 /// A value per mesh, kept while the mesh is the same `Arc`.
 #[derive(Debug, Default)]
-pub struct MeshMemo<T> {
+pub(crate) struct MeshMemo<T> {
     entries: Vec<Option<(Arc<Mesh>, T)>>,
 }
 

@@ -118,14 +118,14 @@ impl SlotSampling {
 
     /// The wrap modes alone: [`SlotSampling::sampler_bits`]' bits 0-3 (what the alpha test
     /// reads).
-    pub fn wrap_bits(&self) -> u32 {
+    pub(crate) fn wrap_bits(&self) -> u32 {
         self.sampler_bits() & 15
     }
 
     /// The sampler as 8 bits (`shaders/common/texture_sampling.wgsl`): bits 0-1 wrap S, 2-3
     /// wrap T (0 repeat, 1 clamp, 2 mirror), 4 magnification NEAREST, 5 minification NEAREST,
     /// 6-7 the mipmap mode (0 linear, 1 nearest, 2 none). 0 is glTF's default sampler.
-    pub fn sampler_bits(&self) -> u32 {
+    pub(crate) fn sampler_bits(&self) -> u32 {
         let wrap = |w: Wrap| match w {
             Wrap::Repeat => 0,
             Wrap::ClampToEdge => 1,
@@ -185,16 +185,16 @@ pub struct Material {
 
 /// A material's texture slots: glTF's five (base colour, metallic-roughness, normal, occlusion,
 /// emissive) and the six of the lobe extensions ([`Lobes::textures`]).
-pub const TEXTURE_SLOTS: usize = crate::uniforms::MATERIAL_TEXTURE_SLOTS;
+pub(crate) const TEXTURE_SLOTS: usize = crate::uniforms::MATERIAL_TEXTURE_SLOTS;
 
 /// The slots of [`Lobes::textures`], counted from the first lobe slot (slot 5 of a material).
-pub const LOBE_SPECULAR: usize = 0;
+pub(crate) const LOBE_SPECULAR: usize = 0;
 /// `specularColorTexture` (sRGB).
 pub const LOBE_SPECULAR_COLOR: usize = 1;
 /// `clearcoatTexture` (red).
 pub const LOBE_CLEARCOAT: usize = 2;
 /// `clearcoatRoughnessTexture` (green).
-pub const LOBE_CLEARCOAT_ROUGHNESS: usize = 3;
+pub(crate) const LOBE_CLEARCOAT_ROUGHNESS: usize = 3;
 /// `clearcoatNormalTexture` (tangent space, like the normal map).
 pub const LOBE_CLEARCOAT_NORMAL: usize = 4;
 /// `transmissionTexture` (red).
@@ -225,7 +225,7 @@ pub struct Lobes {
     /// (alpha), `specularColorTexture` (rgb, sRGB), `clearcoatTexture` (red),
     /// `clearcoatRoughnessTexture` (green), `clearcoatNormalTexture` (the coat's own normal
     /// map; without one the coat follows the surface's normal before the base's normal map),
-    /// `transmissionTexture` (red); indexed by [`LOBE_SPECULAR`] and the constants after it.
+    /// `transmissionTexture` (red); indexed by `LOBE_SPECULAR` and the constants after it.
     pub textures: [Option<usize>; 6],
 }
 
@@ -245,15 +245,10 @@ impl Default for Lobes {
 }
 
 impl Lobes {
-    /// The dielectric part's reflectance at normal incidence (KHR_materials_specular):
-    /// min(((ior - 1) / (ior + 1))² x specular colour, 1) x specular factor; 0.04 by default.
-    pub fn dielectric_f0(&self) -> [f32; 3] {
-        self.tinted_reflectance().map(|t| (t.min(1.0) * self.specular as f64) as f32)
-    }
-
-    /// ((ior - 1) / (ior + 1))² x specular colour: [`Lobes::dielectric_f0`] before the clamp and
-    /// the specular factor, which the shaders apply with the lobe textures' texels.
-    pub fn tinted_reflectance(&self) -> [f64; 3] {
+    /// ((ior - 1) / (ior + 1))² x specular colour: the dielectric part's reflectance at normal
+    /// incidence (KHR_materials_specular; 0.04 by default) before the clamp to 1 and the specular
+    /// factor, which the shaders apply with the lobe textures' texels.
+    pub(crate) fn tinted_reflectance(&self) -> [f64; 3] {
         let r = ((self.ior as f64 - 1.0) / (self.ior as f64 + 1.0)).powi(2);
         self.specular_color.map(|c| r * c as f64)
     }
@@ -269,7 +264,7 @@ impl Material {
     /// The cutoff of an alpha-tested material, `None` for an opaque one: MASK's own; BLEND's
     /// [`BLEND_MIN_COVERAGE`] (a texel below it is empty); 0 for a transmissive one whatever its
     /// alpha mode (its surface is always hit: even one that lets everything through reflects).
-    pub fn alpha_cutoff(&self) -> Option<f32> {
+    pub(crate) fn alpha_cutoff(&self) -> Option<f32> {
         match self.alpha_mode {
             AlphaMode::Blend => Some(BLEND_MIN_COVERAGE),
             _ if self.lobes.transmission > 0.0 => Some(0.0),
@@ -293,7 +288,7 @@ impl Material {
 
     /// The share of the light that passes a transmissive surface where its transmission
     /// texel is 1: transmission x (1 - metallic); 0 for other materials.
-    pub fn transmitted_share(&self) -> f32 {
+    pub(crate) fn transmitted_share(&self) -> f32 {
         self.lobes.transmission * (1.0 - self.metallic)
     }
 
@@ -301,7 +296,7 @@ impl Material {
     /// times the base texture's alpha): `base_color.a` x (1 - transmission x (1 - metallic)),
     /// and where the transmission texture is drawn, `base_color.a` (the texel then scales the
     /// transmitted share: [`Material::transmission_texture_drawn`]).
-    pub fn coverage_factor(&self) -> f32 {
+    pub(crate) fn coverage_factor(&self) -> f32 {
         if self.transmission_texture_drawn() {
             return self.base_color[3];
         }
@@ -311,7 +306,7 @@ impl Material {
     /// Every slot's texture in the order of [`gltf_import::TextureSlot`] and of
     /// [`Material::sampling`]: base colour, metallic-roughness, normal, occlusion, emissive,
     /// then [`Lobes::textures`].
-    pub fn slot_textures(&self) -> [Option<usize>; TEXTURE_SLOTS] {
+    pub(crate) fn slot_textures(&self) -> [Option<usize>; TEXTURE_SLOTS] {
         let core = [self.texture, self.metallic_roughness_texture, self.normal_texture, self.occlusion_texture, self.emissive_texture];
         std::array::from_fn(|slot| if slot < 5 { core[slot] } else { self.lobes.textures[slot - 5] })
     }
@@ -342,7 +337,7 @@ impl Material {
 
 /// The least coverage (`base_color.a` x texture alpha) a BLEND texel needs to be hit at all:
 /// below it the texel is empty (under one 8-bit step of what it would add).
-pub const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
+pub(crate) const BLEND_MIN_COVERAGE: f32 = 1.0 / 256.0;
 
 /// One placement of a mesh.
 #[derive(Debug, Clone)]
@@ -383,38 +378,43 @@ pub struct Light {
 }
 
 /// A scene on the CPU: meshes, materials, instances, textures, cameras and lights.
+///
+/// Its parts are read through accessors and edited through methods: meshes, materials and
+/// instances only through [`Scene::mesh_mut`], [`Scene::materials_mut`],
+/// [`Scene::instances_mut`] and the setters that replace them, so that an edited part is always
+/// a new allocation and change detection ([`memo`]) can compare pointers.
 #[derive(Debug, Clone)]
 pub struct Scene {
     /// The scene's name (built-in name or file stem).
-    pub name: String,
-    /// The meshes instances place, each behind an `Arc`: edit one through `Arc::make_mut`
-    /// (or [`Scene::mesh_mut`]), so that an edited mesh is a new allocation ([`memo`]).
-    pub meshes: Vec<std::sync::Arc<Mesh>>,
+    name: String,
+    /// The meshes instances place, each behind an `Arc`: edit one through [`Scene::mesh_mut`]
+    /// (`Arc::make_mut`), so that an edited mesh is a new allocation ([`memo`]).
+    meshes: Vec<std::sync::Arc<Mesh>>,
     /// The materials instances use, behind one `Arc`: edit them through
     /// [`Scene::materials_mut`], so that the same pointer means the same materials.
-    pub materials: std::sync::Arc<Vec<Material>>,
+    materials: std::sync::Arc<Vec<Material>>,
     /// Placements of meshes with a material, behind one `Arc`: edit them through
     /// [`Scene::instances_mut`] (a moved instance is a new allocation of the list).
-    pub instances: std::sync::Arc<Vec<Instance>>,
+    instances: std::sync::Arc<Vec<Instance>>,
     /// Images that materials index.
-    pub textures: Vec<TextureImage>,
+    textures: Vec<TextureImage>,
     /// The default view.
-    pub camera: Camera,
+    camera: Camera,
     /// Named static views (the paper's static-camera tests); the first is `camera`.
-    pub presets: Vec<(String, Camera)>,
+    presets: Vec<(String, Camera)>,
     /// The default sun and sky, lighting scenes without lights of their own.
-    pub light: Light,
+    light: Light,
     /// An optional point light (besides the directional `light`).
-    pub point_light: Option<PointLight>,
+    point_light: Option<PointLight>,
     /// The file's own lights (glTF `KHR_lights_punctual`), in world space. Empty: the scene is
     /// lit by `light` (and `point_light`); see [`Scene::effective_lights`].
-    pub lights: Vec<PunctualLight>,
+    lights: Vec<PunctualLight>,
     /// The file's node hierarchy, clips, skins and deforming meshes, where it has clips or
     /// deforming meshes ([`Scene::pose`]); `None` for a scene that never moves by itself.
-    pub rig: Option<std::sync::Arc<animation::Rig>>,
+    rig: Option<std::sync::Arc<animation::Rig>>,
     /// The time the rig was last posed at, and whether the deforming meshes' vertices here
     /// hold that pose (`None`: never posed since loading, or no rig).
-    pub posed: Option<animation::PoseTime>,
+    posed: Option<animation::PoseTime>,
 }
 
 /// What kind of punctual light, with the parameters only that kind has.
@@ -529,10 +529,79 @@ impl Mesh {
 }
 
 impl Scene {
+    /// An empty scene called `name`, seen from `camera`: no meshes, materials, instances,
+    /// textures, presets or lights of its own, lit by the default sun ([`Light::default`]).
+    /// Parts are added through [`Scene::push_mesh`], [`Scene::materials_mut`] and
+    /// [`Scene::instances_mut`].
+    pub fn new(name: impl Into<String>, camera: Camera) -> Self {
+        Self {
+            name: name.into(),
+            meshes: Vec::new(),
+            materials: Default::default(),
+            instances: Default::default(),
+            textures: Vec::new(),
+            camera,
+            presets: Vec::new(),
+            light: Light::default(),
+            point_light: None,
+            lights: Vec::new(),
+            rig: None,
+            posed: None,
+        }
+    }
+
+    /// The scene's name (built-in name or file stem).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Renames the scene.
+    pub fn set_name(&mut self, name: impl Into<String>) {
+        self.name = name.into();
+    }
+
+    /// The meshes instances place, each behind an `Arc` (edit one through [`Scene::mesh_mut`]).
+    pub fn meshes(&self) -> &[std::sync::Arc<Mesh>] {
+        &self.meshes
+    }
+
+    /// Mesh `index`, for editing: a copy when it is shared ([`memo`]).
+    pub fn mesh_mut(&mut self, index: usize) -> &mut Mesh {
+        std::sync::Arc::make_mut(&mut self.meshes[index])
+    }
+
+    /// Replaces every mesh (instances keep their mesh indices); a mesh given as an `Arc` is
+    /// shared, not copied.
+    pub fn set_meshes<M: Into<std::sync::Arc<Mesh>>>(&mut self, meshes: impl IntoIterator<Item = M>) {
+        self.meshes = meshes.into_iter().map(Into::into).collect();
+    }
+
+    /// Adds `mesh` after the others and returns its index.
+    pub fn push_mesh(&mut self, mesh: impl Into<std::sync::Arc<Mesh>>) -> usize {
+        self.meshes.push(mesh.into());
+        self.meshes.len() - 1
+    }
+
+    /// Removes the last mesh and returns it (an instance still placing it then places
+    /// nothing).
+    pub fn pop_mesh(&mut self) -> Option<std::sync::Arc<Mesh>> {
+        self.meshes.pop()
+    }
+
+    /// The materials instances use (edit them through [`Scene::materials_mut`]).
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
     /// The materials, for editing: a copy when the list is shared (with a memo or a copy of
     /// the scene), so that whoever kept the old `Arc` sees the change as a new pointer.
     pub fn materials_mut(&mut self) -> &mut Vec<Material> {
         std::sync::Arc::make_mut(&mut self.materials)
+    }
+
+    /// Placements of meshes with a material (edit them through [`Scene::instances_mut`]).
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
     }
 
     /// The instances, for editing (moved, added, removed): a copy when the list is shared, as
@@ -541,9 +610,94 @@ impl Scene {
         std::sync::Arc::make_mut(&mut self.instances)
     }
 
-    /// Mesh `index`, for editing: a copy when it is shared ([`memo`]).
-    pub fn mesh_mut(&mut self, index: usize) -> &mut Mesh {
-        std::sync::Arc::make_mut(&mut self.meshes[index])
+    /// Replaces every instance.
+    pub fn set_instances(&mut self, instances: Vec<Instance>) {
+        self.instances = instances.into();
+    }
+
+    /// The instances' `Arc`: a clone of it kept until the next frame tells whether they moved
+    /// (an edit through [`Scene::instances_mut`] makes a new one).
+    pub(crate) fn instances_arc(&self) -> &std::sync::Arc<Vec<Instance>> {
+        &self.instances
+    }
+
+    /// Images that materials index.
+    pub fn textures(&self) -> &[TextureImage] {
+        &self.textures
+    }
+
+    /// The images, for editing (a material's texture index must stay in range).
+    pub fn textures_mut(&mut self) -> &mut Vec<TextureImage> {
+        &mut self.textures
+    }
+
+    /// The default view.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// The default view, for editing.
+    pub fn camera_mut(&mut self) -> &mut Camera {
+        &mut self.camera
+    }
+
+    /// Named static views (the paper's static-camera tests); the first is the default view.
+    pub fn presets(&self) -> &[(String, Camera)] {
+        &self.presets
+    }
+
+    /// The named static views, for editing.
+    pub fn presets_mut(&mut self) -> &mut Vec<(String, Camera)> {
+        &mut self.presets
+    }
+
+    /// The default sun and sky, lighting scenes without lights of their own.
+    pub fn light(&self) -> &Light {
+        &self.light
+    }
+
+    /// The default sun and sky, for editing.
+    pub fn light_mut(&mut self) -> &mut Light {
+        &mut self.light
+    }
+
+    /// An optional point light (besides the directional [`Scene::light`]).
+    pub fn point_light(&self) -> Option<&PointLight> {
+        self.point_light.as_ref()
+    }
+
+    /// Sets the optional point light (`None`: removes it).
+    pub fn set_point_light(&mut self, light: Option<PointLight>) {
+        self.point_light = light;
+    }
+
+    /// The file's own lights (glTF `KHR_lights_punctual`), in world space. Empty: the scene is
+    /// lit by [`Scene::light`] (and [`Scene::point_light`]); see [`Scene::effective_lights`].
+    pub fn lights(&self) -> &[PunctualLight] {
+        &self.lights
+    }
+
+    /// The scene's own lights, for editing.
+    pub fn lights_mut(&mut self) -> &mut Vec<PunctualLight> {
+        &mut self.lights
+    }
+
+    /// The file's node hierarchy, clips, skins and deforming meshes, where it has clips or
+    /// deforming meshes ([`Scene::pose`]); `None` for a scene that never moves by itself.
+    pub fn rig(&self) -> Option<&std::sync::Arc<animation::Rig>> {
+        self.rig.as_ref()
+    }
+
+    /// Replaces the rig (`None`: the scene no longer moves by itself); the meshes keep their
+    /// vertices until the scene is posed again.
+    pub fn set_rig(&mut self, rig: Option<std::sync::Arc<animation::Rig>>) {
+        self.rig = rig;
+    }
+
+    /// The time the rig was last posed at, and whether the deforming meshes' vertices here
+    /// hold that pose (`None`: never posed since loading, or no rig).
+    pub fn posed(&self) -> Option<animation::PoseTime> {
+        self.posed
     }
 
     /// The preset called `name`, or an error listing the presets there are.
@@ -556,7 +710,7 @@ impl Scene {
 
     /// Drops every texture and every material's reference to one (for graphs that sample
     /// none).
-    pub fn strip_textures(&mut self) {
+    pub(crate) fn strip_textures(&mut self) {
         self.textures.clear();
         for m in self.materials_mut().iter_mut() {
             m.texture = None;
@@ -568,7 +722,7 @@ impl Scene {
     }
 
     /// How many lights [`Scene::effective_lights`] returns (without building them).
-    pub fn effective_light_count(&self) -> usize {
+    pub(crate) fn effective_light_count(&self) -> usize {
         if self.lights.is_empty() {
             1 + usize::from(self.point_light.is_some())
         } else {
@@ -623,7 +777,7 @@ impl Scene {
 
     /// World-space bounds of all instances, given each mesh's bounds (`mesh_bounds`, one per
     /// mesh, as [`Mesh::bounds`] gives them; a memo of them spares reading the vertices).
-    pub fn bounds_from(&self, mesh_bounds: &[Bounds]) -> Bounds {
+    pub(crate) fn bounds_from(&self, mesh_bounds: &[Bounds]) -> Bounds {
         let mut b = Bounds::EMPTY;
         for inst in self.instances.iter() {
             let Some(&mb) = mesh_bounds.get(inst.mesh) else { continue };

@@ -45,7 +45,7 @@ impl Scene {
 
     /// A key that changes whenever the deforming meshes' shape changes: their vertices' hash,
     /// or the pose time when the GPU deforms them; `None` without deforming meshes.
-    pub fn deformation_key(&self) -> Option<u64> {
+    pub(crate) fn deformation_key(&self) -> Option<u64> {
         use crate::util::hash_words;
         let deforming = self.deforming_meshes();
         if deforming.is_empty() {

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 /// Whether `mesh` is closed and wound outwards (see the module docs). Degenerate triangles
 /// (two corners at one position) are left out; an empty mesh is not closed.
-pub fn is_closed_outward(mesh: &Mesh) -> bool {
+pub(crate) fn is_closed_outward(mesh: &Mesh) -> bool {
     let Some(triangles) = welded_triangles(mesh) else { return false };
     if triangles.is_empty() || !edges_paired(&triangles) {
         return false;

@@ -140,7 +140,7 @@ impl Track {
     }
 
     /// The camera at `time` seconds, clamped to the track's ends.
-    pub fn camera_at(&self, time: f32, base: &Camera) -> Camera {
+    pub(crate) fn camera_at(&self, time: f32, base: &Camera) -> Camera {
         let Some(first) = self.keys.first() else { return *base };
         let n = self.keys.len();
         let mut cam = *base;

@@ -28,7 +28,7 @@ pub const SCENES: [(&str, usize); 4] = [("box", 400), ("organic", 400), ("defaul
 /// 1.5x the largest measured over the three back-ends on lavapipe (Mesa 25.0.7, 2026-11-29:
 /// box 8.8%, organic 7.9%, default 11.9%, atrium 4.0%, all on `compute`). More means the
 /// traversal misses or adds hits near edges beyond f32 rounding.
-pub fn edge_share_bound(scene: &str) -> f64 {
+pub(crate) fn edge_share_bound(scene: &str) -> f64 {
     match scene {
         "box" => 0.13,
         "organic" => 0.12,
@@ -45,8 +45,8 @@ pub fn scene(name: &str) -> Result<Scene, String> {
 /// World-space triangles of the scene: (instance, prim, vertices); zero-area ones left out.
 fn world_triangles(s: &Scene) -> Vec<(u32, u32, [Vec3; 3])> {
     let mut out = Vec::new();
-    for (i, inst) in s.instances.iter().enumerate() {
-        let m = &s.meshes[inst.mesh];
+    for (i, inst) in s.instances().iter().enumerate() {
+        let m = &s.meshes()[inst.mesh];
         for (p, t) in m.indices.chunks_exact(3).enumerate() {
             let v = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[t[k] as usize].position)));
             if (v[1] - v[0]).cross(v[2] - v[0]).length_squared() > 0.0 {
@@ -289,9 +289,9 @@ impl ReferenceScene {
 pub fn no_ray_escapes_the_closed_organic_mesh_from_inside(target: &Target, notes: &mut Vec<String>) -> Result<(), String> {
     let (gpu, backend) = (target.gpu, target.variant.backend);
     let s = scene("organic")?;
-    ensure_eq!(s.instances.len(), 1, "organic is one instance");
-    let inst = &s.instances[0];
-    let m = &s.meshes[inst.mesh];
+    ensure_eq!(s.instances().len(), 1, "organic is one instance");
+    let inst = &s.instances()[0];
+    let m = &s.meshes()[inst.mesh];
     let world = |i: u32| inst.transform.transform_point3(Vec3::from(m.vertices[i as usize].position));
     // An interior point: the mean of the vertices (the head is closed and roughly convex there).
     let inside = m.vertices.iter().map(|v| inst.transform.transform_point3(Vec3::from(v.position)).as_dvec3()).sum::<DVec3>() / m.vertices.len() as f64;

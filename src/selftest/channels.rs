@@ -102,23 +102,24 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
 pub fn scenes() -> Result<Vec<Scene>, String> {
     let (default, _) = crate::scene::open("default", &LoadOptions { textures: false, ..Default::default() }).map_err(|e| format!("opening default: {e}"))?;
     let mut small = default.clone();
-    small.name = "small".into();
-    small.meshes = vec![builtin::plane("floor", 8.0, 1.0).into(), builtin::sphere("ball", 16, 32).into(), builtin::cube("box").into()];
+    small.set_name("small");
+    small.set_meshes(vec![builtin::plane("floor", 8.0, 1.0), builtin::sphere("ball", 16, 32), builtin::cube("box")]);
     let wall = Mat4::from_translation(Vec3::new(0.0, 2.0, -2.5)) * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
     let ball = Mat4::from_scale_rotation_translation(Vec3::splat(0.7), Quat::IDENTITY, Vec3::new(0.0, 0.7, 0.0));
     let cube = Mat4::from_rotation_translation(Quat::from_rotation_y(0.5), Vec3::new(-1.4, 0.5, -0.6));
     let mirrored = Mat4::from_scale_rotation_translation(Vec3::new(-0.8, 0.8, 0.8), Quat::from_rotation_y(-0.3), Vec3::new(1.3, 0.4, 0.8));
-    small.instances = [(0, Mat4::IDENTITY), (0, wall), (1, ball), (2, cube), (2, mirrored)]
-        .iter()
-        .map(|&(mesh, transform)| Instance { mesh, material: 0, transform })
-        .collect::<Vec<_>>()
-        .into();
-    small.camera = Camera::look(Vec3::new(2.5, 2.2, 4.0), Vec3::new(0.0, 0.5, 0.0), 50.0, 0.05, 100.0);
-    small.light.direction = Vec3::new(-0.4, 0.8, 0.45).normalize();
+    small.set_instances(
+        [(0, Mat4::IDENTITY), (0, wall), (1, ball), (2, cube), (2, mirrored)]
+            .iter()
+            .map(|&(mesh, transform)| Instance { mesh, material: 0, transform })
+            .collect(),
+    );
+    *small.camera_mut() = Camera::look(Vec3::new(2.5, 2.2, 4.0), Vec3::new(0.0, 0.5, 0.0), 50.0, 0.05, 100.0);
+    small.light_mut().direction = Vec3::new(-0.4, 0.8, 0.45).normalize();
     let mut scenes = vec![default, small];
     for s in &mut scenes {
         let b = s.bounds();
-        s.point_light = Some(PointLight { position: b.center() + Vec3::new(0.3, 0.45, 0.2) * b.diagonal(), color: Vec3::ONE, intensity: 5.0 });
+        s.set_point_light(Some(PointLight { position: b.center() + Vec3::new(0.3, 0.45, 0.2) * b.diagonal(), color: Vec3::ONE, intensity: 5.0 }));
     }
     Ok(scenes)
 }
@@ -208,7 +209,7 @@ fn render(target: &Target, graph: &Path, scene: &Scene) -> Result<Executor, Stri
     let options = CompileOptions { reuse: false, ..gpu.compile_options_for(target.variant.backend) };
     let plan = compile_with(graph, &Project::beside_graph(graph), SIZE, &options).map_err(|e| e.to_string())?;
     let mut exec = Executor::new(gpu, plan, scene).map_err(|e| e.to_string())?;
-    exec.render(gpu, &scene.camera, scene).map_err(|e| e.to_string())?;
+    exec.render(gpu, scene.camera(), scene).map_err(|e| e.to_string())?;
     Ok(exec)
 }
 
@@ -237,7 +238,7 @@ impl ChannelScene {
     pub fn new(scene: Scene, project: &ChannelProject) -> Self {
         let renderer = ReferenceRenderer::new(&scene);
         let settings = AoSettings { rays: AO_RAYS, range: project.range_scale * (0.5 * scene.bounds().diagonal()).max(1e-6), sampling: 1, seed: 0 };
-        let rays = ReferenceRenderer::camera_rays(&scene.camera, SIZE);
+        let rays = ReferenceRenderer::camera_rays(scene.camera(), SIZE);
         let visibility = renderer.visibility(&rays);
         let own_surfaces = renderer.surfaces(&rays, &visibility);
         Self { scene, renderer, settings, rays, visibility, own_surfaces }
@@ -246,7 +247,7 @@ impl ChannelScene {
     /// What the scene is, for the notes.
     pub fn describe(&self) -> String {
         let hit = self.own_surfaces.iter().flatten().count();
-        format!("{}: {} triangles, {hit} of {} pixels hit", self.scene.name, self.renderer.reference.triangle_count(), self.rays.len())
+        format!("{}: {} triangles, {hit} of {} pixels hit", self.scene.name(), self.renderer.reference.triangle_count(), self.rays.len())
     }
 
     /// Primary visibility against the reference's own camera rays; where both hit, the
@@ -277,7 +278,7 @@ impl ChannelScene {
     /// The sun and point-light shadow tallies from the GPU's G-buffer surfaces.
     fn shadows(&self, surfaces: &[Option<SurfacePoint>], shadow: &[[f32; 4]]) -> Result<(Tally, Tally), String> {
         let (mut sun, mut point) = (Tally::default(), Tally::default());
-        for (i, s) in self.renderer.shadow(surfaces, &self.scene.light, self.scene.point_light.as_ref()).iter().enumerate() {
+        for (i, s) in self.renderer.shadow(surfaces, self.scene.light(), self.scene.point_light()).iter().enumerate() {
             let Some(s) = s else { continue };
             sun.add((shadow[i][0] == 1.0) == s.sun.value, s.sun.margin);
             let lit = s.point.ok_or("the scene has a point light")?;
@@ -309,7 +310,7 @@ impl ChannelScene {
     /// The mirror rays' tally.
     fn mirror(&self, surfaces: &[Option<SurfacePoint>], mirror: &[[f32; 4]]) -> Tally {
         let mut mirrored = Tally::default();
-        for (i, m) in self.renderer.mirror(self.scene.camera.position, surfaces).iter().enumerate() {
+        for (i, m) in self.renderer.mirror(self.scene.camera().position, surfaces).iter().enumerate() {
             let Some(m) = m else { continue };
             let gpu_hit = (mirror[i][0] >= 0.0).then(|| (mirror[i][0] as u32, mirror[i][1] as u32));
             mirrored.add(gpu_hit == m.value.map(|h| (h.instance_id, h.prim)), m.margin);
@@ -340,7 +341,7 @@ impl ChannelScene {
         let (sun, point) = self.shadows(&surfaces, &shadow)?;
         let (ao_rays, ao_mean, ao_pixels) = self.ao(&surfaces, &ao);
         let mirrored = self.mirror(&mirror_surfaces, &mirror);
-        let name = &scene.name;
+        let name = scene.name();
         let regathered = (0..pos.len()).filter(|&i| pos[i] != mirror_pos[i]).count();
         notes.push(format!("{name:8} {variant:20} the mirror graph's G-buffer: {regathered} of {} pixels differ from the first graph's", pos.len()));
         let in_shadow = (0..pos.len()).filter(|&i| pos[i][3] != 0.0 && shadow[i][0] == 0.0).count();

@@ -47,10 +47,10 @@ fn mesh(positions: &[Vec3], indices: &[u32]) -> Mesh {
 
 fn scene_of(meshes: Vec<Mesh>, instances: &[(usize, Mat4)]) -> Scene {
     let mut s = crate::scene::builtin::default_scene();
-    s.name = "case".into();
-    s.meshes = meshes.into_iter().map(Into::into).collect();
+    s.set_name("case");
+    s.set_meshes(meshes);
     s.strip_textures();
-    s.instances = instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect::<Vec<_>>().into();
+    s.set_instances(instances.iter().map(|&(mesh, transform)| Instance { mesh, material: 0, transform }).collect());
     s
 }
 
@@ -68,8 +68,8 @@ fn any(gpu: &Gpu, t: &BatchTracer, rays: &[GpuRay]) -> Result<Vec<bool>, String>
 
 /// World-space vertices of the triangle a hit names.
 fn hit_triangle(scene: &Scene, h: &BatchHit) -> [Vec3; 3] {
-    let inst = &scene.instances[h.instance as usize];
-    let m = &scene.meshes[inst.mesh];
+    let inst = &scene.instances()[h.instance as usize];
+    let m = &scene.meshes()[inst.mesh];
     [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[m.indices[3 * h.primitive as usize + k] as usize].position)))
 }
 

@@ -134,7 +134,7 @@ pub fn run(gpu: &Gpu, cfg: &SelftestConfig, mut on_result: impl FnMut(&SuiteResu
 
 /// The reference-channel suite on each target: the project and the reference's primary
 /// answers are made once per scene and compared with every target's frame.
-pub fn channels_suite(targets: &[Target]) -> Vec<SuiteResult> {
+pub(crate) fn channels_suite(targets: &[Target]) -> Vec<SuiteResult> {
     let mut results: Vec<(SuiteResult, Vec<String>)> = targets.iter().map(|t| (start(SUITES[2], t), Vec::new())).collect();
     let runnable = |r: &SuiteResult| r.outcome == Outcome::Passed;
     let runnable_count = results.iter().filter(|(r, _)| runnable(r)).count();
@@ -182,7 +182,7 @@ fn start(suite: &'static str, target: &Target) -> SuiteResult {
 }
 
 /// The hard cases on one target.
-pub fn hard_cases_suite(target: &Target) -> SuiteResult {
+pub(crate) fn hard_cases_suite(target: &Target) -> SuiteResult {
     let begin = Instant::now();
     let mut result = start(SUITES[0], target);
     if result.outcome != Outcome::Passed {
@@ -215,7 +215,7 @@ fn finish(result: &mut SuiteResult, mut failures: Vec<String>) {
 
 /// The agreement suite on each target: the reference's answers are made once per scene and
 /// compared with every target's; then the closed-mesh and invalid-ray cases on each.
-pub fn agreement_suite(targets: &[Target]) -> Vec<SuiteResult> {
+pub(crate) fn agreement_suite(targets: &[Target]) -> Vec<SuiteResult> {
     let mut results: Vec<(SuiteResult, Vec<String>)> = targets.iter().map(|t| (start(SUITES[1], t), Vec::new())).collect();
     let runnable = |r: &SuiteResult| r.outcome == Outcome::Passed;
     let runnable_count = results.iter().filter(|(r, _)| runnable(r)).count();

@@ -52,7 +52,7 @@ impl Target<'_> {
 
     /// Why this target cannot run on its device (`None`: it can).
     pub fn not_applicable(&self) -> Option<String> {
-        if self.gpu.backends.contains(&self.variant.backend) {
+        if self.gpu.backends().contains(&self.variant.backend) {
             return None;
         }
         Some(match self.variant.backend {

@@ -61,7 +61,7 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     let script = opts.script.as_deref().map(Script::load).transpose()?;
     let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
     let mut gpu = Gpu::open(opts.backend, Some(Box::new(event_loop.owned_display_handle()))).map_err(|e| e.to_string())?;
-    gpu.gpu_timeout = opts.gpu_timeout.unwrap_or(gpu.gpu_timeout);
+    gpu.set_gpu_timeout(opts.gpu_timeout.unwrap_or(gpu.gpu_timeout()));
     println!("adapter: {}", gpu.describe());
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
@@ -69,23 +69,23 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
         crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed, gltf_scene: opts.gltf_scene.clone() }).map_err(|e| e.to_string())?;
     let camera = match &opts.camera {
         Some(name) => scene.preset(name)?,
-        None => scene.camera,
+        None => *scene.camera(),
     };
     let radius = {
         let b = scene.bounds();
         (b.max - b.min).length() * 0.5
     };
     let mode = opts.graph.is_none().then_some(opts.mode);
-    let backend = gpu.selection.backend;
+    let backend = gpu.selection().backend;
     let choice = opts.animation.as_deref().map(|a| a.parse().unwrap_or_default()).unwrap_or_default();
     let mut clock = super::clock::AnimationClock::new(&scene, &choice, opts.time)?;
     // Scripted and counted runs advance the clock by a fixed step per frame.
     if opts.script.is_some() || opts.frames.is_some() {
-        clock.fixed_step = Some(1.0 / 60.0);
+        clock.set_fixed_step(Some(1.0 / 60.0));
     }
     let mut session = Session::new(&gpu, &root, graph_file, mode, backend, opts.size, scene)?;
-    session.clock = clock;
-    println!("graph: {} ({} passes), back-end {}", session.graph_file.display(), session.plan().map_or(0, |p| p.passes.len()), session.backend());
+    session.set_clock(clock);
+    println!("graph: {} ({} passes), back-end {}", session.graph_file().display(), session.plan().map_or(0, |p| p.passes.len()), session.backend());
     let mut app = App {
         fly: FlyCamera::from_camera(&camera, radius),
         opts,
@@ -154,8 +154,8 @@ impl App {
         let (w, h) = self.opts.size;
         let attrs = Window::default_attributes().with_title("raygraph").with_inner_size(winit::dpi::PhysicalSize::new(w, h));
         let window = Arc::new(event_loop.create_window(attrs).map_err(|e| format!("cannot open a window: {e}"))?);
-        let surface = self.gpu.instance.create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
-        let caps = surface.get_capabilities(&self.gpu.adapter);
+        let surface = self.gpu.instance().create_surface(window.clone()).map_err(|e| format!("cannot draw into the window: {e}"))?;
+        let caps = surface.get_capabilities(self.gpu.adapter());
         // egui draws into an 8-bit gamma-space target; screenshots read these two back.
         let format = caps
             .formats
@@ -166,10 +166,10 @@ impl App {
         let size = window.inner_size();
         let automated = self.opts.frames.is_some() || self.script.is_some();
         let mut config =
-            surface.get_default_config(&self.gpu.adapter, size.width.max(1), size.height.max(1)).ok_or("the adapter cannot present to this window")?;
+            surface.get_default_config(self.gpu.adapter(), size.width.max(1), size.height.max(1)).ok_or("the adapter cannot present to this window")?;
         config.format = format;
         config.present_mode = if automated { wgpu::PresentMode::AutoNoVsync } else { wgpu::PresentMode::AutoVsync };
-        surface.configure(&self.gpu.device, &config);
+        surface.configure(self.gpu.device(), &config);
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -177,13 +177,13 @@ impl App {
             &window,
             Some(window.scale_factor() as f32),
             None,
-            Some(self.gpu.device.limits().max_texture_dimension_2d as usize),
+            Some(self.gpu.device().limits().max_texture_dimension_2d as usize),
         );
-        let mut renderer = egui_wgpu::Renderer::new(&self.gpu.device, format, egui_wgpu::RendererOptions::default());
+        let mut renderer = egui_wgpu::Renderer::new(self.gpu.device(), format, egui_wgpu::RendererOptions::default());
         let shader =
-            crate::graph::files::read(&self.session.root.join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
+            crate::graph::files::read(&self.session.root().join("shaders/viewer/visualize.wgsl")).map_err(|e| format!("shaders/viewer/visualize.wgsl: {e}"))?;
         let display = Display::new(&self.gpu, self.opts.size, &shader.text);
-        let display_id = renderer.register_native_texture(&self.gpu.device, &display.view, wgpu::FilterMode::Linear);
+        let display_id = renderer.register_native_texture(self.gpu.device(), display.view(), wgpu::FilterMode::Linear);
         Ok(WindowState { window, surface, config, egui_ctx, egui_state, renderer, display, display_id })
     }
 
@@ -204,7 +204,7 @@ impl App {
             Action::Param { node, name, value } => self.session.set_param(gpu, &node, &name, value).map(|_| println!("parameter {node}.{name} = {value:?}")),
             Action::Enable { node, on } => self.session.set_enabled(gpu, &node, on).map(|_| println!("node {node}: {}", if on { "on" } else { "off" })),
             Action::ResetHistoryOnMove(on) => {
-                self.session.reset_history_on_move = on;
+                self.session.set_reset_history_on_move(on);
                 println!("reset the history when the camera moves: {}", if on { "on" } else { "off" });
                 Ok(())
             }
@@ -218,7 +218,7 @@ impl App {
                 self.mapping = None;
                 Ok(())
             }
-            Action::Preset(name) => self.session.scene.preset(&name).map(|c| self.fly_from(&c)),
+            Action::Preset(name) => self.session.scene().preset(&name).map(|c| self.fly_from(&c)),
             Action::Camera { position, target } => {
                 let c = Camera { position: position.into(), target: target.into(), ..self.fly.camera() };
                 self.fly_from(&c);
@@ -236,17 +236,18 @@ impl App {
             Action::SaveTrack(path) => self.save_track(&path),
             Action::PlayTrack(path) => Track::load(&path).map(|track| self.track = TrackState::Playing { track, seconds: 0.0 }).map_err(|e| e.to_string()),
             Action::Play(on) => {
-                self.session.clock.playing = on && self.session.clock.clip.is_playing();
-                println!("animation: {}", if self.session.clock.playing { "playing" } else { "paused" });
+                let playing = on && self.session.clock().clip().is_playing();
+                self.session.clock_mut().set_playing(playing);
+                println!("animation: {}", if self.session.clock().playing() { "playing" } else { "paused" });
                 Ok(())
             }
             Action::Seek(t) => {
-                self.session.clock.seek(&self.session.scene, t);
-                println!("animation at {:.3} s", self.session.clock.time);
+                self.session.seek(t);
+                println!("animation at {:.3} s", self.session.clock().time());
                 Ok(())
             }
             Action::Speed(x) if x.is_finite() && x >= 0.0 => {
-                self.session.clock.speed = x;
+                self.session.clock_mut().set_speed(x);
                 println!("animation speed {x}x");
                 Ok(())
             }
@@ -266,7 +267,7 @@ impl App {
     fn set_backend(&mut self, name: &str) -> Result<(), String> {
         let gpu = &self.gpu;
         name.parse::<Backend>().and_then(|b| {
-            if !gpu.backends.contains(&b) {
+            if !gpu.backends().contains(&b) {
                 return Err(format!("this adapter cannot run the {b} back-end"));
             }
             self.session.set_backend(gpu, b).map(|n| println!("back-end: {b} ({n} passes)"))
@@ -297,8 +298,8 @@ impl App {
 
     /// Flies on from camera `c`, at the speed flown so far.
     fn fly_from(&mut self, c: &Camera) {
-        let speed = self.fly.speed;
-        self.fly = FlyCamera { speed, ..FlyCamera::from_camera(c, 1.0) };
+        let speed = self.fly.speed();
+        self.fly = FlyCamera::from_camera(c, 1.0).with_speed(speed);
     }
 
     /// Starts recording a track at the current camera.
@@ -327,9 +328,9 @@ impl App {
 
     /// Plays the clip `name` (by name, index or `all`), keeping the clock's fixed step.
     fn set_clip(&mut self, name: &str) -> Result<(), String> {
-        crate::viewer::clock::AnimationClock::new(&self.session.scene, &name.parse().unwrap_or_default(), 0.0).map(|c| {
-            let fixed = self.session.clock.fixed_step;
-            self.session.clock = crate::viewer::clock::AnimationClock { fixed_step: fixed, ..c };
+        crate::viewer::clock::AnimationClock::new(self.session.scene(), &name.parse().unwrap_or_default(), 0.0).map(|mut c| {
+            c.set_fixed_step(self.session.clock().fixed_step());
+            self.session.set_clock(c);
             println!("animation clip {name}");
         })
     }
@@ -345,7 +346,7 @@ impl App {
         let ws = self.window.as_mut().ok_or("no window")?;
         let gpu = &self.gpu;
         let (w, h) = (ws.config.width, ws.config.height);
-        let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        let target = gpu.device().create_texture(&wgpu::TextureDescriptor {
             label: Some("viewer screenshot"),
             size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
             mip_level_count: 1,
@@ -374,7 +375,7 @@ impl App {
     /// error (the overlay's error line, printed by `raygraph view`); the window's surface is
     /// leaked, since releasing it waits for the device to go idle.
     fn stop_after_gpu_timeout(&mut self) {
-        let error = self.session.error.clone().unwrap_or_else(|| "a frame ran past the GPU deadline".into());
+        let error = self.session.error().unwrap_or("a frame ran past the GPU deadline").to_string();
         self.result = Err(error);
         self.exit = true;
         std::mem::forget(self.window.take());
@@ -395,7 +396,7 @@ impl App {
         match self.session.poll_reload(&self.gpu, Duration::from_millis(200)) {
             Some(Reload::Reloaded { passes }) => {
                 self.mapping = None;
-                self.log(format!("reloaded {} ({passes} passes)", self.session.graph_file.display()));
+                self.log(format!("reloaded {} ({passes} passes)", self.session.graph_file().display()));
             }
             Some(Reload::Failed(e)) => self.log(format!("reload failed, the last good graph keeps running: {e}")),
             None => {}
@@ -404,7 +405,7 @@ impl App {
         let camera = match &mut self.track {
             TrackState::Playing { track, seconds } => {
                 *seconds += dt;
-                let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds);
+                let c = track.camera_at(*seconds, &self.fly.camera()).fit_clip_planes(self.session.scene_bounds());
                 if *seconds > track.duration() {
                     // Fly on from where the track ends.
                     self.fly_from(&c);
@@ -426,12 +427,12 @@ impl App {
             }
         };
         // Wherever the camera flies, the scene stays between its clip planes.
-        let camera = camera.fit_clip_planes(self.session.scene_bounds);
+        let camera = camera.fit_clip_planes(self.session.scene_bounds());
         if let Err(e) = self.session.render(&self.gpu, &camera) {
-            if self.session.error.as_deref() != Some(e.as_str()) {
+            if self.session.error() != Some(e.as_str()) {
                 self.log(format!("frame failed: {e}"));
             }
-            self.session.error = Some(e);
+            self.session.set_error(Some(e));
         }
         if self.gpu.timed_out() {
             self.stop_after_gpu_timeout();
@@ -489,7 +490,7 @@ impl App {
                 let size = ws.window.inner_size();
                 ws.config.width = size.width.max(1);
                 ws.config.height = size.height.max(1);
-                ws.surface.configure(&gpu.device, &ws.config);
+                ws.surface.configure(gpu.device(), &ws.config);
                 return;
             }
         };
@@ -498,7 +499,7 @@ impl App {
         ws.egui_state.handle_platform_output(&ws.window, std::mem::take(&mut out.platform_output));
         let view = surface_texture.texture.create_view(&Default::default());
         draw_egui(gpu, ws, &mut out, &view);
-        gpu.queue.present(surface_texture);
+        gpu.queue().present(surface_texture);
         for a in actions {
             self.apply(a);
         }
@@ -511,7 +512,7 @@ fn overlay_frame<'a>(session: &'a Session, gpu: &'a Gpu, view: &'a View, track: 
         session,
         gpu,
         view,
-        presets: &session.scene.presets,
+        presets: session.scene().presets(),
         recording: matches!(track, TrackState::Recording { .. }),
         playing: matches!(track, TrackState::Playing { .. }),
     }
@@ -546,11 +547,11 @@ fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &mut egui::FullOutput, target
     let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [ws.config.width, ws.config.height], pixels_per_point: out.pixels_per_point };
     for (id, deltas) in std::mem::take(&mut out.textures_delta.set) {
         for delta in &deltas {
-            ws.renderer.update_texture(&gpu.device, &gpu.queue, id, delta);
+            ws.renderer.update_texture(gpu.device(), gpu.queue(), id, delta);
         }
     }
-    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer overlay") });
-    let extra = ws.renderer.update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &screen);
+    let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer overlay") });
+    let extra = ws.renderer.update_buffers(gpu.device(), gpu.queue(), &mut encoder, &jobs, &screen);
     {
         let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("viewer overlay"),
@@ -567,7 +568,7 @@ fn draw_egui(gpu: &Gpu, ws: &mut WindowState, out: &mut egui::FullOutput, target
         });
         ws.renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
     }
-    gpu.queue.submit(extra.into_iter().chain([encoder.finish()]));
+    gpu.queue().submit(extra.into_iter().chain([encoder.finish()]));
     for id in std::mem::take(&mut out.textures_delta.free) {
         ws.renderer.free_texture(&id);
     }
@@ -611,7 +612,7 @@ impl ApplicationHandler for App {
             WindowEvent::Resized(size) => {
                 ws.config.width = size.width.max(1);
                 ws.config.height = size.height.max(1);
-                ws.surface.configure(&self.gpu.device, &ws.config);
+                ws.surface.configure(self.gpu.device(), &ws.config);
             }
             WindowEvent::RedrawRequested => {
                 self.redraw();

@@ -6,7 +6,7 @@ use crate::scene::track::Track;
 
 /// Recording or playing a camera track.
 #[derive(Debug, Default)]
-pub enum TrackState {
+pub(crate) enum TrackState {
     /// Neither.
     #[default]
     Idle,
@@ -27,4 +27,4 @@ pub enum TrackState {
 }
 
 /// Keys per second while recording.
-pub const RECORD_FPS: f32 = 30.0;
+pub(crate) const RECORD_FPS: f32 = 30.0;

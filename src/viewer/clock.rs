@@ -9,38 +9,83 @@ use std::time::Instant;
 
 /// The clock of a scene's animation.
 #[derive(Debug, Clone)]
-pub struct AnimationClock {
+pub(crate) struct AnimationClock {
     /// The clips that play (rest: the scene has no animation).
-    pub clip: ClipSet,
+    clip: ClipSet,
     /// Seconds into the clip.
-    pub time: f32,
+    time: f32,
     /// Whether time runs.
-    pub playing: bool,
+    playing: bool,
     /// Seconds of clip per second of wall time.
-    pub speed: f32,
+    speed: f32,
     /// Seconds per frame instead of the wall clock (scripted runs).
-    pub fixed_step: Option<f32>,
-    pub(crate) last: Option<Instant>,
+    fixed_step: Option<f32>,
+    last: Option<Instant>,
 }
 
 impl AnimationClock {
+    /// The clips that play (rest: the scene has no animation).
+    pub(crate) fn clip(&self) -> ClipSet {
+        self.clip
+    }
+
+    /// Seconds into the clip.
+    pub(crate) fn time(&self) -> f32 {
+        self.time
+    }
+
+    /// Whether time runs.
+    pub(crate) fn playing(&self) -> bool {
+        self.playing
+    }
+
+    /// Runs (`true`) or stops time.
+    pub(crate) fn set_playing(&mut self, on: bool) {
+        self.playing = on;
+    }
+
+    /// Seconds of clip per second of wall time.
+    pub(crate) fn speed(&self) -> f32 {
+        self.speed
+    }
+
+    /// Sets the seconds of clip per second of wall time.
+    pub(crate) fn set_speed(&mut self, speed: f32) {
+        self.speed = speed;
+    }
+
+    /// Seconds per frame instead of the wall clock (scripted runs).
+    pub(crate) fn fixed_step(&self) -> Option<f32> {
+        self.fixed_step
+    }
+
+    /// Advances by `step` seconds per frame instead of the wall clock (`None`: the wall clock).
+    pub(crate) fn set_fixed_step(&mut self, step: Option<f32>) {
+        self.fixed_step = step;
+    }
+
+    /// A clock at the rest pose, stopped (until the scene's own clock replaces it).
+    pub(crate) fn at_rest() -> Self {
+        Self { clip: ClipSet::Rest, time: 0.0, playing: false, speed: 1.0, fixed_step: None, last: None }
+    }
+
     /// The clock of `scene`'s clip `choice`, at `start` seconds, playing.
     pub fn new(scene: &Scene, choice: &ClipChoice, start: f32) -> Result<Self, String> {
-        let clip = match &scene.rig {
+        let clip = match &scene.rig() {
             Some(rig) => rig.clip(choice)?,
             None if matches!(choice, ClipChoice::First | ClipChoice::All) => ClipSet::Rest,
-            None => return Err(format!("scene `{}` has no animations", scene.name)),
+            None => return Err(format!("scene `{}` has no animations", scene.name())),
         };
         Ok(Self { clip, time: start, playing: clip.is_playing(), speed: 1.0, fixed_step: None, last: None })
     }
 
     /// The clip's length in seconds (0 without one).
     pub fn duration(&self, scene: &Scene) -> f32 {
-        scene.rig.as_ref().map_or(0.0, |rig| rig.duration(self.clip))
+        scene.rig().map_or(0.0, |rig| rig.duration(self.clip))
     }
 
     /// Moves time on by one frame (when playing), wrapping at the clip's end.
-    pub fn tick(&mut self, scene: &Scene) {
+    pub(crate) fn tick(&mut self, scene: &Scene) {
         let now = Instant::now();
         let dt = match (self.fixed_step, self.last) {
             (Some(step), _) => step,
@@ -55,14 +100,14 @@ impl AnimationClock {
     }
 
     /// Jumps to `time` seconds (wrapped into the clip).
-    pub fn seek(&mut self, scene: &Scene, time: f32) {
+    pub(crate) fn seek(&mut self, scene: &Scene, time: f32) {
         let d = self.duration(scene);
         self.time = if d > 0.0 && time.is_finite() { time.rem_euclid(d) } else { 0.0 };
     }
 
     /// One line for the overlay, for a scene with a clip.
     pub fn describe(&self, scene: &Scene) -> Option<String> {
-        let name = scene.rig.as_ref().filter(|_| self.clip.is_playing())?.describe(self.clip);
+        let name = scene.rig().filter(|_| self.clip.is_playing())?.describe(self.clip);
         let state = if self.playing { format!("playing at {:.2}x", self.speed) } else { "paused".into() };
         Some(format!("animation: `{name}` at {:.3} of {:.2} s, {state}", self.time, self.duration(scene)))
     }

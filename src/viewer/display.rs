@@ -11,8 +11,10 @@ use crate::runtime::{Executor, Gpu};
 /// How a texture's values become display colours.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Mapping {
-    pub(crate) scale: [f32; 4],
-    pub(crate) bias: [f32; 4],
+    /// Per channel, the factor a value is multiplied by (`value * scale + bias`, clamped to [0, 1]).
+    pub scale: [f32; 4],
+    /// Per channel, the offset added after the scale.
+    pub bias: [f32; 4],
     /// Channels of the format (1: grey, 2: red/green, 3-4: colour).
     pub channels: u32,
     /// The values are linear and get sRGB-encoded for display.
@@ -22,13 +24,13 @@ pub struct Mapping {
 impl Mapping {
     /// Values shown as they are (the graph's output: display-encoded unless it is an sRGB
     /// format, whose texels read back linear).
-    pub fn identity(format: Format) -> Self {
+    pub(crate) fn identity(format: Format) -> Self {
         Self { scale: [1.0; 4], bias: [0.0; 4], channels: format.texel_layout().0 as u32, encode_srgb: format == Format::Rgba8UnormSrgb }
     }
 
     /// Each channel's finite range over `texels` stretched to [0, 1] (a constant channel maps
     /// to its value clamped), shown linear.
-    pub fn auto_range(format: Format, texels: &[[f32; 4]]) -> Self {
+    pub(crate) fn auto_range(format: Format, texels: &[[f32; 4]]) -> Self {
         let mut lo = [f32::INFINITY; 4];
         let mut hi = [f32::NEG_INFINITY; 4];
         for t in texels {
@@ -65,7 +67,7 @@ impl Mapping {
 }
 
 /// The texture format of a planned texture resource.
-pub fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
+pub(crate) fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
     match &exec.plan().resources.get(r)?.decl {
         ResourceDecl::Texture(t) => Some(t.format),
         _ => None,
@@ -74,9 +76,9 @@ pub fn format_of(exec: &Executor, r: ResourceId) -> Option<Format> {
 
 /// The display texture, its egui id and the GPU mapping pass.
 pub struct Display {
-    pub(crate) size: (u32, u32),
-    pub(crate) texture: wgpu::Texture,
-    pub(crate) view: wgpu::TextureView,
+    size: (u32, u32),
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
@@ -85,11 +87,18 @@ pub struct Display {
     source: Option<(wgpu::TextureFormat, (u32, u32), wgpu::Texture)>,
 }
 
+impl Display {
+    /// The view of the display texture (what the overlay shows).
+    pub(crate) fn view(&self) -> &wgpu::TextureView {
+        &self.view
+    }
+}
+
 const UNIFORM_BYTES: u64 = 48;
 
 impl Display {
     pub(crate) fn new(gpu: &Gpu, size: (u32, u32), shader_source: &str) -> Self {
-        let device = &gpu.device;
+        let device = gpu.device();
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("viewer display"),
             size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
@@ -161,7 +170,7 @@ impl Display {
         let texture = exec.texture(r).ok_or("the texture is not allocated")?;
         let wgpu_format = format.to_wgpu();
         if !matches!(&self.source, Some((f, e, _)) if *f == wgpu_format && *e == extent) {
-            let t = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            let t = gpu.device().create_texture(&wgpu::TextureDescriptor {
                 label: Some("viewer inspected copy"),
                 size: wgpu::Extent3d { width: extent.0, height: extent.1, depth_or_array_layers: 1 },
                 mip_level_count: 1,
@@ -180,9 +189,9 @@ impl Display {
         }
         words[32..36].copy_from_slice(&mapping.channels.to_le_bytes());
         words[36..40].copy_from_slice(&(mapping.encode_srgb as u32).to_le_bytes());
-        gpu.queue.write_buffer(&self.uniforms, 0, &words);
+        gpu.queue().write_buffer(&self.uniforms, 0, &words);
         let source_view = source.create_view(&Default::default());
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let group = gpu.device().create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("viewer visualize"),
             layout: &self.layout,
             entries: &[
@@ -191,7 +200,7 @@ impl Display {
                 wgpu::BindGroupEntry { binding: 2, resource: self.uniforms.as_entire_binding() },
             ],
         });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer visualize") });
+        let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("viewer visualize") });
         encoder.copy_texture_to_texture(
             texture.as_image_copy(),
             source.as_image_copy(),
@@ -203,7 +212,7 @@ impl Display {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(self.size.0.div_ceil(8), self.size.1.div_ceil(8), 1);
         }
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
         Ok(())
     }
 
@@ -220,7 +229,7 @@ impl Display {
                 rgba[o..o + 4].copy_from_slice(&px);
             }
         }
-        gpu.queue.write_texture(
+        gpu.queue().write_texture(
             self.texture.as_image_copy(),
             &rgba,
             wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(dw * 4), rows_per_image: None },

@@ -134,7 +134,7 @@ impl Script {
     }
 
     /// The steps due at `frame`.
-    pub fn due(&self, frame: u64) -> impl Iterator<Item = &Action> {
+    pub(crate) fn due(&self, frame: u64) -> impl Iterator<Item = &Action> {
         self.steps.iter().filter(move |s| s.frame == frame).map(|s| &s.action)
     }
 }

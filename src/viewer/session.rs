@@ -17,12 +17,12 @@ use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
 /// Frames kept for the overlay's statistics.
-pub const STATS_WINDOW: usize = 120;
+pub(crate) const STATS_WINDOW: usize = 120;
 
 /// A layer node of the graph file, for the parameters panel: its parameters as declared (with
 /// the values in effect) and whether it is switched on.
 #[derive(Debug, Clone)]
-pub struct NodeControls {
+pub(crate) struct NodeControls {
     pub(crate) node: String,
     pub(crate) layer: String,
     pub(crate) enabled: bool,
@@ -56,7 +56,7 @@ impl Snapshot {
 
 /// What happened when the files changed.
 #[derive(Debug, Clone, PartialEq)]
-pub enum Reload {
+pub(crate) enum Reload {
     /// A new plan runs.
     Reloaded {
         /// The new plan's passes.
@@ -67,47 +67,146 @@ pub enum Reload {
 }
 
 pub(crate) struct Session {
-    pub(crate) root: PathBuf,
-    pub(crate) graph_file: PathBuf,
-    pub(crate) mode: Option<Mode>,
-    pub(crate) project: Project,
-    pub(crate) options: CompileOptions,
-    pub(crate) size: (u32, u32),
-    pub(crate) scene: Scene,
+    root: PathBuf,
+    graph_file: PathBuf,
+    mode: Option<Mode>,
+    project: Project,
+    options: CompileOptions,
+    size: (u32, u32),
+    scene: Scene,
     /// The scene's bounds over its whole animation (the camera's clip planes are fitted to
     /// them every frame).
-    pub(crate) scene_bounds: crate::scene::Bounds,
+    scene_bounds: crate::scene::Bounds,
     exec: Option<Executor>,
     /// The last compile or frame error (file:line where it has one), shown until a compile
     /// succeeds.
-    pub error: Option<String>,
+    error: Option<String>,
     snapshot: Snapshot,
     last_poll: Instant,
     /// Recent frames of the current plan (cleared when the plan changes).
-    pub frames: VecDeque<FrameTimings>,
-    pub(crate) frame_index: u64,
+    frames: VecDeque<FrameTimings>,
+    frame_index: u64,
     /// Plans compiled since start (1 after the first).
-    pub generation: u64,
+    generation: u64,
     /// Transient memory of the current graph with resource reuse (the viewer runs it without).
-    pub reuse_bytes: Option<u64>,
+    reuse_bytes: Option<u64>,
     /// Per-pass statistics over the rolling window (mean, median, min, max of GPU and CPU ms,
     /// rays per pixel, GigaRays/s), updated by every frame.
-    pub report: Option<Report>,
+    report: Option<Report>,
     controls: Vec<NodeControls>,
     /// Whether a camera move restarts the history (an accumulating graph then converges only
     /// while the camera is still); off, the graph's own reprojection carries it across moves.
-    pub(crate) reset_history_on_move: bool,
+    reset_history_on_move: bool,
     /// The camera of the last frame.
     last_camera: Option<Camera>,
     /// Frames in a row with a valid history (0 on a frame without).
-    pub(crate) history_frames: u64,
+    history_frames: u64,
     /// History resets caused by camera moves since the viewer started.
-    pub(crate) history_resets: u64,
+    history_resets: u64,
     /// The animation's clock; the scene is posed at its time before every frame.
-    pub(crate) clock: super::clock::AnimationClock,
+    clock: super::clock::AnimationClock,
 }
 
 impl Session {
+    /// The project root (the built-in shaders of the viewer are found under it).
+    pub(crate) fn root(&self) -> &Path {
+        &self.root
+    }
+
+    /// The graph file that runs.
+    pub(crate) fn graph_file(&self) -> &Path {
+        &self.graph_file
+    }
+
+    /// The mode whose graph runs (`None`: a graph file of its own).
+    pub(crate) fn mode(&self) -> Option<Mode> {
+        self.mode
+    }
+
+    /// The scene rendered.
+    pub(crate) fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The scene's bounds over its whole animation (the camera's clip planes are fitted to
+    /// them every frame).
+    pub(crate) fn scene_bounds(&self) -> crate::scene::Bounds {
+        self.scene_bounds
+    }
+
+    /// The last compile or frame error (file:line where it has one), shown until a compile
+    /// succeeds.
+    pub(crate) fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// Shows `error` until a compile succeeds (`None`: clears it).
+    pub(crate) fn set_error(&mut self, error: Option<String>) {
+        self.error = error;
+    }
+
+    /// Recent frames of the current plan (cleared when the plan changes).
+    pub(crate) fn frames(&self) -> &VecDeque<FrameTimings> {
+        &self.frames
+    }
+
+    /// Frames rendered since start.
+    pub(crate) fn frame_index(&self) -> u64 {
+        self.frame_index
+    }
+
+    /// Transient memory of the current graph with resource reuse (the viewer runs it without).
+    pub(crate) fn reuse_bytes(&self) -> Option<u64> {
+        self.reuse_bytes
+    }
+
+    /// Per-pass statistics over the rolling window (mean, median, min, max of GPU and CPU ms,
+    /// rays per pixel, GigaRays/s), updated by every frame.
+    pub(crate) fn report(&self) -> Option<&Report> {
+        self.report.as_ref()
+    }
+
+    /// Whether a camera move restarts the history (an accumulating graph then converges only
+    /// while the camera is still); off, the graph's own reprojection carries it across moves.
+    pub(crate) fn reset_history_on_move(&self) -> bool {
+        self.reset_history_on_move
+    }
+
+    /// Sets whether a camera move restarts the history.
+    pub(crate) fn set_reset_history_on_move(&mut self, on: bool) {
+        self.reset_history_on_move = on;
+    }
+
+    /// Frames in a row with a valid history (0 on a frame without).
+    pub(crate) fn history_frames(&self) -> u64 {
+        self.history_frames
+    }
+
+    /// History resets caused by camera moves since the viewer started.
+    pub(crate) fn history_resets(&self) -> u64 {
+        self.history_resets
+    }
+
+    /// The animation's clock; the scene is posed at its time before every frame.
+    pub(crate) fn clock(&self) -> &super::clock::AnimationClock {
+        &self.clock
+    }
+
+    /// Replaces the animation's clock (another clip, or a fixed step).
+    pub(crate) fn set_clock(&mut self, clock: super::clock::AnimationClock) {
+        self.clock = clock;
+    }
+
+    /// The animation's clock, for play, pause and speed.
+    pub(crate) fn clock_mut(&mut self) -> &mut super::clock::AnimationClock {
+        &mut self.clock
+    }
+
+    /// Jumps the animation to `time` seconds (wrapped into the clip).
+    pub(crate) fn seek(&mut self, time: f32) {
+        self.clock.seek(&self.scene, time);
+    }
+
     /// Compiles the graph and instantiates it; an error here is fatal (there is no good plan
     /// to fall back to).
     pub fn new(gpu: &Gpu, root: &Path, graph_file: PathBuf, mode: Option<Mode>, backend: Backend, size: (u32, u32), scene: Scene) -> Result<Self, String> {
@@ -137,14 +236,7 @@ impl Session {
             last_camera: None,
             history_frames: 0,
             history_resets: 0,
-            clock: super::clock::AnimationClock {
-                clip: crate::scene::animation::ClipSet::Rest,
-                time: 0.0,
-                playing: false,
-                speed: 1.0,
-                fixed_step: None,
-                last: None,
-            },
+            clock: super::clock::AnimationClock::at_rest(),
         };
         s.recompile(gpu).map_err(|e| e.to_string())?;
         Ok(s)
@@ -166,7 +258,7 @@ impl Session {
     /// previous executor stays. The viewer allocates every resource on its own (no reuse), so
     /// that any texture can be inspected after the frame; `reuse_bytes` is what the same plan
     /// takes with reuse.
-    pub fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
+    pub(crate) fn recompile(&mut self, gpu: &Gpu) -> Result<usize, String> {
         let mut options = self.options.clone();
         // Overrides of nodes or parameters the files no longer have (or that are switched
         // off) wait until they are there again, rather than failing every compile.
@@ -195,7 +287,7 @@ impl Session {
     }
 
     /// Checks the watched files (at most every `interval`) and compiles again if any changed.
-    pub fn poll_reload(&mut self, gpu: &Gpu, interval: std::time::Duration) -> Option<Reload> {
+    pub(crate) fn poll_reload(&mut self, gpu: &Gpu, interval: std::time::Duration) -> Option<Reload> {
         if self.last_poll.elapsed() < interval {
             return None;
         }
@@ -244,7 +336,7 @@ impl Session {
     }
 
     /// Switches the traversal back-end (the same graph compiled for it).
-    pub fn set_backend(&mut self, gpu: &Gpu, backend: Backend) -> Result<usize, String> {
+    pub(crate) fn set_backend(&mut self, gpu: &Gpu, backend: Backend) -> Result<usize, String> {
         let previous = self.options.backend;
         self.options.backend = backend;
         self.recompile(gpu).inspect_err(|_| self.options.backend = previous)
@@ -277,7 +369,7 @@ impl Session {
     }
 
     /// Switches an effect (a layer node) on or off: a new plan without (or with) its passes.
-    pub fn set_enabled(&mut self, gpu: &Gpu, node: &str, on: bool) -> Result<(), String> {
+    pub(crate) fn set_enabled(&mut self, gpu: &Gpu, node: &str, on: bool) -> Result<(), String> {
         let previous = self.options.enabled.insert(node.to_string(), on);
         self.recompile(gpu).map(|_| ()).inspect_err(|_| {
             match previous {
@@ -291,7 +383,7 @@ impl Session {
     /// The graph file's layer nodes with their parameter declarations and values in effect
     /// (read from the files, so switched-off nodes are listed too), as of the last compile or
     /// parameter change.
-    pub fn controls(&self) -> &[NodeControls] {
+    pub(crate) fn controls(&self) -> &[NodeControls] {
         &self.controls
     }
 
@@ -331,8 +423,8 @@ impl Session {
             self.history_resets += 1;
         }
         self.clock.tick(&self.scene);
-        if self.clock.clip.is_playing() {
-            self.scene.pose_for_gpu(self.clock.clip, self.clock.time);
+        if self.clock.clip().is_playing() {
+            self.scene.pose_for_gpu(self.clock.clip(), self.clock.time());
         }
         let t = exec.render(gpu, camera, &self.scene).map_err(|e| e.to_string())?;
         self.history_frames = if exec.history_valid() { self.history_frames + 1 } else { 0 };

@@ -63,15 +63,15 @@ fn script_mode(m: Mode) -> ScriptMode {
 }
 
 /// The first texture a pass writes (what clicking it shows).
-pub fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
+pub(crate) fn pass_texture(plan: &Plan, pass: &str) -> Option<String> {
     let p = plan.passes.iter().find(|p| p.name == pass)?;
     p.writes.iter().map(|(_, r)| &plan.resources[*r]).find(|r| matches!(r.decl, ResourceDecl::Texture(_))).map(|r| r.name.clone())
 }
 
 /// One line per pass of the profiler: name, kind, GPU ms (mean / median / min / max), CPU ms,
 /// rays per pixel, GigaRays/s.
-pub fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
-    let Some(report) = &f.session.report else { return Vec::new() };
+pub(crate) fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
+    let Some(report) = f.session.report() else { return Vec::new() };
     report
         .passes
         .iter()
@@ -99,13 +99,13 @@ pub fn pass_rows(f: &Frame) -> Vec<(String, String, Option<f64>)> {
 
 /// The overlay as text (written beside screenshots, so an automated run can check what the
 /// overlay showed).
-pub fn overlay_text(f: &Frame) -> String {
+pub(crate) fn overlay_text(f: &Frame) -> String {
     let mut s = String::new();
     let session = f.session;
     let _ = writeln!(s, "adapter: {}", f.gpu.describe());
     let _ = writeln!(s, "back-end: {}", session.backend());
-    let _ = writeln!(s, "graph: {}", session.graph_file.display());
-    let _ = writeln!(s, "mode: {}", session.mode.map(|m| m.label()).unwrap_or("custom graph"));
+    let _ = writeln!(s, "graph: {}", session.graph_file().display());
+    let _ = writeln!(s, "mode: {}", session.mode().map(|m| m.label()).unwrap_or("custom graph"));
     let _ = writeln!(
         s,
         "view: {}",
@@ -114,7 +114,7 @@ pub fn overlay_text(f: &Frame) -> String {
             View::Resource { resource, .. } => resource.clone(),
         }
     );
-    let _ = writeln!(s, "frame: {}", session.frame_index);
+    let _ = writeln!(s, "frame: {}", session.frame_index());
     if let Some(plan) = session.plan() {
         let _ = writeln!(s, "passes:");
         for (name, line, _) in pass_rows(f) {
@@ -140,13 +140,13 @@ pub fn overlay_text(f: &Frame) -> String {
             let _ = writeln!(s, "{line}");
         }
     }
-    if let Some(line) = session.clock.describe(&session.scene) {
+    if let Some(line) = session.clock().describe(session.scene()) {
         let _ = writeln!(s, "{line}");
     }
-    if let Some(a) = session.frames.back().and_then(|t| t.accel.as_ref()) {
+    if let Some(a) = session.frames().back().and_then(|t| t.accel.as_ref()) {
         let _ = writeln!(s, "acceleration structures this frame: {}", a.describe());
     }
-    if let Some(e) = &session.error {
+    if let Some(e) = &session.error() {
         let _ = writeln!(s, "error: {e}");
     }
     s
@@ -154,18 +154,18 @@ pub fn overlay_text(f: &Frame) -> String {
 
 /// Play/pause, the time slider (scrubbing), the speed and the clip, for a scene with clips.
 fn animation_controls(ui: &mut egui::Ui, session: &Session, actions: &mut Vec<Action>) {
-    let (Some(line), Some(rig)) = (session.clock.describe(&session.scene), session.scene.rig.as_ref()) else { return };
+    let (Some(line), Some(rig)) = (session.clock().describe(session.scene()), session.scene().rig()) else { return };
     ui.label(line);
     ui.horizontal(|ui| {
-        let clock = &session.clock;
-        if ui.button(if clock.playing { "pause" } else { "play" }).clicked() {
-            actions.push(Action::Play(!clock.playing));
+        let clock = session.clock();
+        if ui.button(if clock.playing() { "pause" } else { "play" }).clicked() {
+            actions.push(Action::Play(!clock.playing()));
         }
-        let mut t = clock.time;
-        if ui.add(egui::Slider::new(&mut t, 0.0..=clock.duration(&session.scene)).text("s")).changed() {
+        let mut t = clock.time();
+        if ui.add(egui::Slider::new(&mut t, 0.0..=clock.duration(session.scene())).text("s")).changed() {
             actions.push(Action::Seek(t));
         }
-        let mut speed = clock.speed;
+        let mut speed = clock.speed();
         if ui.add(egui::Slider::new(&mut speed, 0.0..=4.0).text("speed")).changed() {
             actions.push(Action::Speed(speed));
         }
@@ -173,11 +173,11 @@ fn animation_controls(ui: &mut egui::Ui, session: &Session, actions: &mut Vec<Ac
     if rig.animations.len() > 1 {
         ui.horizontal(|ui| {
             for (i, a) in rig.animations.iter().enumerate() {
-                if ui.selectable_label(session.clock.clip == crate::scene::animation::ClipSet::One(i), &a.name).clicked() {
+                if ui.selectable_label(session.clock().clip() == crate::scene::animation::ClipSet::One(i), &a.name).clicked() {
                     actions.push(Action::Clip(i.to_string()));
                 }
             }
-            if ui.selectable_label(session.clock.clip == crate::scene::animation::ClipSet::All, "all").clicked() {
+            if ui.selectable_label(session.clock().clip() == crate::scene::animation::ClipSet::All, "all").clicked() {
                 actions.push(Action::Clip("all".into()));
             }
         });
@@ -190,9 +190,9 @@ fn history_line(session: &Session, plan: &crate::graph::compile::Plan) -> Option
     plan.has_history().then(|| {
         format!(
             "history: valid for {} frames; reset by camera moves {} times ({})",
-            session.history_frames,
-            session.history_resets,
-            if session.reset_history_on_move { "resets when the camera moves" } else { "kept across camera moves" }
+            session.history_frames(),
+            session.history_resets(),
+            if session.reset_history_on_move() { "resets when the camera moves" } else { "kept across camera moves" }
         )
     })
 }
@@ -200,7 +200,7 @@ fn history_line(session: &Session, plan: &crate::graph::compile::Plan) -> Option
 /// The plan's transient memory: the viewer allocates each resource on its own so that any
 /// texture can be inspected after the frame.
 fn memory(session: &Session, plan: &Plan) -> String {
-    let with = session.reuse_bytes.map(fmt_bytes).unwrap_or_else(|| "?".into());
+    let with = session.reuse_bytes().map(fmt_bytes).unwrap_or_else(|| "?".into());
     format!("{with} with reuse, {} without (the viewer's allocation)", fmt_bytes(plan.bytes_without_reuse()))
 }
 
@@ -214,7 +214,7 @@ pub fn draw(ctx: &egui::Context, f: &Frame, state: &mut UiState) -> Vec<Action> 
     profiler_window(ctx, f, &mut actions);
     parameters_window(ctx, f, &mut actions);
     graph_window(ctx, f, &mut actions);
-    if let Some(e) = &f.session.error {
+    if let Some(e) = f.session.error() {
         egui::Window::new("Error").anchor(egui::Align2::LEFT_BOTTOM, [12.0, -12.0]).default_width(620.0).show(ctx, |ui| {
             ui.label(RichText::new(e).color(Color32::from_rgb(255, 110, 110)).monospace());
             ui.label("The last graph that compiled keeps running; saving a fixed file reloads it.");
@@ -228,14 +228,14 @@ fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions:
         ui.horizontal(|ui| {
             ui.label("mode");
             for m in Mode::ALL {
-                if ui.selectable_label(f.session.mode == Some(m), m.label()).clicked() && f.session.mode != Some(m) {
+                if ui.selectable_label(f.session.mode() == Some(m), m.label()).clicked() && f.session.mode() != Some(m) {
                     actions.push(Action::Mode(script_mode(m)));
                 }
             }
         });
         ui.horizontal(|ui| {
             ui.label("back-end");
-            for b in &f.gpu.backends {
+            for b in f.gpu.backends() {
                 if ui.selectable_label(f.session.backend() == *b, b.to_string()).clicked() && f.session.backend() != *b {
                     actions.push(Action::Backend(b.to_string()));
                 }
@@ -265,7 +265,7 @@ fn controls_window(ctx: &egui::Context, f: &Frame, state: &mut UiState, actions:
                 actions.push(Action::PlayTrack(state.track_path.clone().into()));
             }
             if ui.button("screenshot").clicked() {
-                actions.push(Action::Screenshot(format!("raygraph-{}.png", f.session.frame_index).into()));
+                actions.push(Action::Screenshot(format!("raygraph-{}.png", f.session.frame_index()).into()));
             }
         });
         ui.label("WASD fly, Q/E down/up, Shift fast, right mouse button look, wheel speed, F1 overlay");
@@ -291,14 +291,14 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
             ui.label(format!("transient memory: {}", memory(session, plan)));
             if let Some(line) = history_line(session, plan) {
                 ui.label(line);
-                let mut on = session.reset_history_on_move;
+                let mut on = session.reset_history_on_move();
                 if ui.checkbox(&mut on, "reset the history when the camera moves").changed() {
                     actions.push(Action::ResetHistoryOnMove(on));
                 }
             }
         }
         animation_controls(ui, session, actions);
-        let builds = session.frames.back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
+        let builds = session.frames().back().and_then(|t| t.accel.as_ref()).map(|a| a.describe()).unwrap_or_else(|| "no acceleration structure".into());
         ui.label(format!("acceleration structures this frame: {builds}"));
         frame_time_history(ui, session);
     });
@@ -309,11 +309,11 @@ fn profiler_window(ctx: &egui::Context, f: &Frame, actions: &mut Vec<Action>) {
 fn profiler_totals(ui: &mut egui::Ui, f: &Frame, rows: &[(String, String, Option<f64>)]) {
     let session = f.session;
     ui.label(f.gpu.describe());
-    ui.label(format!("back-end {}  |  {}", session.backend(), session.graph_file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()));
+    ui.label(format!("back-end {}  |  {}", session.backend(), session.graph_file().file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()));
     let total: f64 = rows.iter().filter_map(|r| r.2).sum();
-    let wall = session.frames.back().map(|t| t.frame_ms).unwrap_or(0.0);
-    ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames.len()));
-    let frames: Vec<_> = session.frames.iter().cloned().collect();
+    let wall = session.frames().back().map(|t| t.frame_ms).unwrap_or(0.0);
+    ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames().len()));
+    let frames: Vec<_> = session.frames().iter().cloned().collect();
     ui.label(RichText::new(format!("outside the passes: {}", FramePhases::describe(&FramePhases::medians(&frames)))).small());
 }
 
@@ -321,7 +321,7 @@ fn profiler_totals(ui: &mut egui::Ui, f: &Frame, rows: &[(String, String, Option
 /// slowest pass's, and its times and rays.
 fn pass_table(ui: &mut egui::Ui, f: &Frame, rows: &[(String, String, Option<f64>)], selected: Option<&str>, actions: &mut Vec<Action>) {
     let max = rows.iter().filter_map(|r| r.2).fold(0.0f64, f64::max).max(1e-9);
-    let report = &f.session.report;
+    let report = &f.session.report();
     egui::Grid::new("passes").striped(true).show(ui, |ui| {
         for h in ["pass (click: show its output)", "GPU ms", "median", "mean", "min", "max", "CPU ms", "rays/px", "GR/s"] {
             ui.label(RichText::new(h).small());
@@ -375,7 +375,7 @@ fn pass_textures(ui: &mut egui::Ui, f: &Frame, selected: Option<&str>, actions: 
 
 /// Frame-time history: GPU total per frame over the window, as a line under its peak.
 fn frame_time_history(ui: &mut egui::Ui, session: &Session) {
-    let history: Vec<f64> = session.frames.iter().map(|t| t.gpu_ms.as_ref().map(|g| g.iter().sum()).unwrap_or(t.frame_ms)).collect();
+    let history: Vec<f64> = session.frames().iter().map(|t| t.gpu_ms.as_ref().map(|g| g.iter().sum()).unwrap_or(t.frame_ms)).collect();
     let peak = history.iter().copied().fold(1e-9f64, f64::max);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(360.0, 50.0), egui::Sense::hover());
     ui.painter().rect_filled(rect, 2.0, Color32::from_black_alpha(120));

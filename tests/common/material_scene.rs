@@ -98,20 +98,10 @@ pub fn metallic_roughness_scene() -> (Scene, Vec<(&'static str, Vec3)>) {
         (plane("card", 1.0, 1.0), single, card_at(-3.2)),
     ];
     let camera = Camera::look(Vec3::new(0.5, 2.6, 4.5), Vec3::new(0.3, 0.2, -0.5), 60.0, 0.05, 200.0);
-    let mut scene = Scene {
-        name: "metallic-roughness".into(),
-        meshes: Vec::new(),
-        materials: Default::default(),
-        instances: Default::default(),
-        textures,
-        camera,
-        presets: vec![("test".into(), camera)],
-        light: Light { direction: Vec3::new(-0.4, 0.8, 0.45).normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 },
-        point_light: None,
-        lights: Vec::new(),
-        rig: None,
-        posed: None,
-    };
+    let mut scene = Scene::new("metallic-roughness", camera);
+    *scene.textures_mut() = textures;
+    scene.presets_mut().push(("test".into(), camera));
+    *scene.light_mut() = Light { direction: Vec3::new(-0.4, 0.8, 0.45).normalize(), color: Vec3::ONE, intensity: 3.0, ambient: 0.3 };
     super::add_parts(&mut scene, parts);
     let probes = vec![
         ("mr", Vec3::new(-1.5, 0.01, 0.8)),

@@ -38,9 +38,9 @@ pub fn open(rel: &str) -> Scene {
 /// Adds each (mesh, material, transform) to `scene` as a new mesh, material and instance.
 pub fn add_parts(scene: &mut Scene, parts: impl IntoIterator<Item = (Mesh, Material, Mat4)>) {
     for (mesh, material, transform) in parts {
-        let instance = Instance { mesh: scene.meshes.len(), material: scene.materials.len(), transform };
+        let instance = Instance { mesh: scene.meshes().len(), material: scene.materials().len(), transform };
         scene.instances_mut().push(instance);
-        scene.meshes.push(mesh.into());
+        scene.push_mesh(mesh);
         scene.materials_mut().push(material);
     }
 }

@@ -23,7 +23,7 @@ pub fn render_without_effects(gpu: &Gpu, graph: &str, backend: Backend, scene: &
     let path = super::repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     exec
 }
 
@@ -34,6 +34,6 @@ pub fn render_graph(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene, siz
     let path = super::repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), size, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    exec.render(gpu, &scene.camera, scene).unwrap();
+    exec.render(gpu, scene.camera(), scene).unwrap();
     exec
 }

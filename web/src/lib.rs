@@ -108,7 +108,7 @@ impl Renderer {
     /// The executor for the current mode, scene and canvas size (its errors name the scene).
     fn executor(&self, mode: Mode, scene: &Scene) -> Result<Executor, String> {
         let plan = plan(&self.gpu, mode, self.size)?;
-        Executor::new(&self.gpu, plan, scene).map_err(|e| format!("{}: {e}", scene.name))
+        Executor::new(&self.gpu, plan, scene).map_err(|e| format!("{}: {e}", scene.name()))
     }
 
     /// Applies the page's input: a new mode or scene gets a new executor (on failure the old
@@ -118,7 +118,7 @@ impl Renderer {
             self.exec = self.executor(self.mode, &scene)?;
             (self.scene_name, self.scene, self.fly, self.clock) = (name, scene, None, 0.0);
         }
-        if self.scene.rig.is_some() {
+        if self.scene.rig().is_some() {
             self.clock += dt;
             self.scene.pose_for_gpu(None, self.clock);
         }
@@ -131,7 +131,7 @@ impl Renderer {
             || [inbox.keys.forward, inbox.keys.back, inbox.keys.left, inbox.keys.right, inbox.keys.up, inbox.keys.down].contains(&true);
         if moved {
             let radius = self.scene.bounds().diagonal() * 0.5;
-            let fly = self.fly.get_or_insert_with(|| FlyCamera::from_camera(&self.scene.camera, radius));
+            let fly = self.fly.get_or_insert_with(|| FlyCamera::from_camera(self.scene.camera(), radius));
             fly.look(inbox.look.0, inbox.look.1);
             fly.scale_speed(inbox.speed_notches);
             fly.advance(&inbox.keys, dt);
@@ -142,7 +142,7 @@ impl Renderer {
 
     /// Renders one frame into the canvas; returns its timings.
     async fn frame(&mut self) -> Result<FrameTimings, String> {
-        let camera = self.fly.map_or(self.scene.camera, |f| f.camera());
+        let camera = self.fly.map_or(*self.scene.camera(), |f| f.camera());
         let timings = self.exec.render_async(&self.gpu, &camera, &self.scene).await.map_err(|e| e.to_string())?;
         let image = self.exec.read_output_async(&self.gpu).await.map_err(|e| e.to_string())?;
         let pixels = web_sys::ImageData::new_with_u8_clamped_array_and_sh(wasm_bindgen::Clamped(image.as_raw()), image.width(), image.height())

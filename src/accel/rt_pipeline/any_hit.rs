@@ -58,7 +58,7 @@ pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entr
 }
 
 /// Applies the two patches of the module docs to a SPIR-V module naga wrote.
-pub fn patch(words: &[u32]) -> Result<Vec<u32>, String> {
+pub(crate) fn patch(words: &[u32]) -> Result<Vec<u32>, String> {
     let list = instructions(words)?;
     let attribute = named(&list, HIT_ATTRIBUTE)?;
     let marker = named(&list, IGNORE_MARKER)?;

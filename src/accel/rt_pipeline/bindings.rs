@@ -53,6 +53,6 @@ pub struct RtBinding {
 }
 
 /// The trace module's bindings that the acceleration-structure cache holds in wgpu buffers
-/// (`accel_stats`'s counter window, `accel_alpha`; [`crate::accel::cache::cache_buffers`]):
+/// (`accel_stats`'s counter window, `accel_alpha`; `crate::accel::cache::cache_buffers`):
 /// by name, the buffer, offset and size, or `None`.
 pub type AccelBuffers<'a> = dyn Fn(&str) -> Option<(wgpu::Buffer, u64, Option<NonZeroU64>)> + 'a;

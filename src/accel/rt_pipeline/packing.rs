@@ -42,7 +42,7 @@ pub(super) fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn 
             packed.spans.resize(unit_meshes.len(), None);
             return packed;
         };
-        let alpha: Vec<bool> = (0..scene.instances.len()).map(|i| alpha_tested(scene, i)).collect();
+        let alpha: Vec<bool> = (0..scene.instances().len()).map(|i| alpha_tested(scene, i)).collect();
         let mut geometries = Vec::new();
         for opaque in [true, false] {
             let first = (packed.indices.len() / 3) as u32;
@@ -61,13 +61,13 @@ pub(super) fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn 
         packed.spans.push(Some(geometries));
     } else {
         let mut unit_alpha = vec![false; unit_meshes.len()];
-        for i in (0..scene.instances.len()).filter(|&i| alpha_tested(scene, i)) {
+        for i in (0..scene.instances().len()).filter(|&i| alpha_tested(scene, i)) {
             if let Some(a) = unit_alpha.get_mut(unit_of_instance(i)) {
                 *a = true;
             }
         }
         for (u, &mesh) in unit_meshes.iter().enumerate() {
-            let Some((p, i)) = scene.meshes.get(mesh).and_then(|m| crate::accel::bvh::driver_triangles(m)) else {
+            let Some((p, i)) = scene.meshes().get(mesh).and_then(|m| crate::accel::bvh::driver_triangles(m)) else {
                 packed.spans.push(None);
                 continue;
             };
@@ -78,7 +78,7 @@ pub(super) fn pack(scene: &Scene, unit_meshes: &[usize], unit_of_instance: &dyn 
             packed.indices.extend(i.iter().map(|&x| x + base));
         }
         packed.first_triangles =
-            (0..scene.instances.len()).map(|i| packed.spans.get(unit_of_instance(i)).and_then(|s| s.as_ref()).map_or(0, |g| g[0].first)).collect();
+            (0..scene.instances().len()).map(|i| packed.spans.get(unit_of_instance(i)).and_then(|s| s.as_ref()).map_or(0, |g| g[0].first)).collect();
     }
     packed.spans.resize(unit_meshes.len(), None);
     packed

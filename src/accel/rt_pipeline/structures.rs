@@ -66,11 +66,11 @@ fn geometry_kinds(g: &Option<Vec<Geometry>>) -> Option<Vec<(u32, bool)>> {
 /// (the largest value marks the merged layout's instance).
 fn check_instance_count(scene: &Scene) -> Result<(), RuntimeError> {
     const MAX_CUSTOM_DATA: usize = MERGED_INSTANCE as usize - 1;
-    if scene.instances.len() > MAX_CUSTOM_DATA {
+    if scene.instances().len() > MAX_CUSTOM_DATA {
         return Err(RuntimeError::Gpu(format!(
             "scene `{}` has {} instances; the rt-pipeline back-end identifies instances in 24 bits (at most {MAX_CUSTOM_DATA}); use --backend compute",
-            scene.name,
-            scene.instances.len()
+            scene.name(),
+            scene.instances().len()
         )));
     }
     Ok(())
@@ -200,7 +200,7 @@ impl UpdateWork {
             instance_bytes.extend(tlas_instance(d, identity, MERGED_INSTANCE, blas_address, false));
             count += 1;
         }
-        for (i, inst) in scene.instances.iter().enumerate().filter(|_| !merged) {
+        for (i, inst) in scene.instances().iter().enumerate().filter(|_| !merged) {
             let Some(Some(blas)) = self.blases.get(unit_of_instance(i)) else { continue };
             if crate::accel::bvh::instance_transform(&inst.transform).is_none() {
                 continue;

@@ -22,10 +22,15 @@ pub fn live_hal_objects() -> isize {
 /// Acceleration structures of the `rt-pipeline` back-end: never built here.
 pub struct RtAccel {
     /// Instances in the TLAS: none.
-    pub instance_count: usize,
+    instance_count: usize,
 }
 
 impl RtAccel {
+    /// Instances in the TLAS: none.
+    pub fn instance_count(&self) -> usize {
+        self.instance_count
+    }
+
     /// An empty set; [`RtAccel::update`] fails.
     pub fn new(_device: &wgpu::Device) -> Self {
         Self { instance_count: 0 }
@@ -51,7 +56,7 @@ impl RtAccel {
 
 /// A trace pass as a ray-tracing pipeline: none can be made here ([`RtPass::new`] fails), so
 /// no value of this type exists.
-pub enum RtPass {}
+pub(crate) enum RtPass {}
 
 impl RtPass {
     /// Fails: there is no Vulkan device to make the pipeline on.
@@ -70,17 +75,17 @@ impl RtPass {
     }
 
     /// Unreachable: no `RtPass` exists.
-    pub fn set_group(&mut self, _g: u32, _bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
+    pub(crate) fn set_group(&mut self, _g: u32, _bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
         match *self {}
     }
 
     /// Unreachable: no `RtPass` exists.
-    pub fn bind_accel(&mut self, _accel: &RtAccel, _cache: &AccelBuffers) -> Result<(), RuntimeError> {
+    pub(crate) fn bind_accel(&mut self, _accel: &RtAccel, _cache: &AccelBuffers) -> Result<(), RuntimeError> {
         match *self {}
     }
 
     /// Unreachable: no `RtPass` exists.
-    pub fn transition(&self, _encoder: &mut wgpu::CommandEncoder, _stats: &wgpu::Buffer) {
+    pub(crate) fn transition(&self, _encoder: &mut wgpu::CommandEncoder, _stats: &wgpu::Buffer) {
         match *self {}
     }
 

@@ -31,7 +31,7 @@ pub(crate) fn run(args: ModesArgs) -> Result<()> {
     let size = (args.width, args.height);
     ensure_size_in_range(args.width, args.height)?;
     let gpu = args.gpu.open_gpu()?;
-    let backend = args.gpu.backend.unwrap_or(gpu.selection.backend);
+    let backend = args.gpu.backend.unwrap_or(gpu.selection().backend);
     let loaded = load_scenes(&args.scenes)?;
     let out = &args.out;
     let dir = raygraph::bench::results_dir(out).with_context(|| format!("could not create {}", out.display()))?;

@@ -32,7 +32,7 @@ impl Project {
 pub struct CompileOptions {
     /// Let identical resources with disjoint lifetimes share memory.
     pub reuse: bool,
-    /// Include substitutions of the device (see [`reflect::IncludeAliases`]).
+    /// Include substitutions of the device (see `reflect::IncludeAliases`).
     pub includes: reflect::IncludeAliases,
     /// Layer substitutions of the device: a node of layer `k` is compiled from the file of
     /// layer `v` instead (a layer the device cannot run, replaced by one with the same

@@ -219,7 +219,8 @@ impl Plan {
     }
 
     /// Whether the plan keeps any texture from frame to frame (a history resource).
-    pub fn has_history(&self) -> bool {
+    #[cfg(feature = "cli")]
+    pub(crate) fn has_history(&self) -> bool {
         self.resources.iter().any(|r| r.history_of.is_some())
     }
 

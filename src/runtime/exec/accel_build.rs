@@ -18,13 +18,13 @@ impl Executor {
         plan.passes.iter().find(|p| p.kind == PassKind::AccelBuild).map(|p| {
             let settings = AccelSettings { dedup: p.accel.as_ref().is_none_or(|a| a.dedup), merge: p.accel.as_ref().is_some_and(|a| a.merge) };
             log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
-            let mut cache = AccelCache::new(&gpu.device, plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
+            let mut cache = AccelCache::new(gpu.device(), plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
             // The GPU builder reads a few words back between its kernels, which a browser cannot
             // wait for within a frame: on the web the CPU builds.
-            if gpu.info.device_type != wgpu::DeviceType::Cpu && !cfg!(target_arch = "wasm32") {
+            if gpu.info().device_type != wgpu::DeviceType::Cpu && !cfg!(target_arch = "wasm32") {
                 cache.set_merged_builder(MergedBuilder::GpuRebuilds);
             }
-            if gpu.packed_accel_arrays && plan.backend == crate::backend::Backend::Compute {
+            if gpu.packed_accel_arrays() && plan.backend == crate::backend::Backend::Compute {
                 cache.pack_arrays();
             }
             cache
@@ -53,13 +53,13 @@ impl Executor {
             drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel begin"), timestamp_writes: t.begin_writes(index) }));
         }
         let t0 = Instant::now();
-        let report = cache.update(&gpu.device, &gpu.queue, encoder, scene)?;
-        cache.record_packing(&gpu.device, &gpu.queue, encoder)?;
+        let report = cache.update(gpu.device(), gpu.queue(), encoder, scene)?;
+        cache.record_packing(gpu.device(), gpu.queue(), encoder)?;
         let ms = t0.elapsed().as_secs_f64() * 1e3;
         // The rt-pipeline back-end's build, recorded through wgpu-hal: submitted between the
         // node's timestamps, before every trace.
         if let Some(build) = cache.take_pending() {
-            let next = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+            let next = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
             command_buffers.push(std::mem::replace(encoder, next).finish());
             command_buffers.push(build);
         }

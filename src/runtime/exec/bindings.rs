@@ -51,7 +51,7 @@ pub(super) struct PassBindings {
 impl PassBindings {
     /// The layout entries of each bind group, group `g` at index `g` (a group with no
     /// bindings is empty).
-    pub fn layout_groups(&self) -> Vec<Vec<wgpu::BindGroupLayoutEntry>> {
+    pub(crate) fn layout_groups(&self) -> Vec<Vec<wgpu::BindGroupLayoutEntry>> {
         let count = self.layout_entries.iter().map(|(g, _)| g + 1).max().unwrap_or(0);
         (0..count).map(|g| self.layout_entries.iter().filter(|(lg, _)| *lg == g).map(|(_, e)| *e).collect()).collect()
     }
@@ -91,7 +91,7 @@ impl Executor {
             let ty = self.binding_type(pass, b)?;
             let count = match b.kind {
                 BindingKind::TextureBindingArray => {
-                    Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures.as_ref())?.count()).expect("white texture is always there"))
+                    Some(std::num::NonZeroU32::new(self.scene_part(|s| s.textures())?.count()).expect("white texture is always there"))
                 }
                 _ => None,
             };
@@ -175,18 +175,18 @@ impl Executor {
             builtins::DEBUG_COUNTERS => out.buffers.push((at, self.debug_counters.clone())),
             builtins::PARAMS => {
                 let BindingKind::Uniform { size, members, .. } = &b.kind else { unreachable!() };
-                let buf = create_params_buffer(&gpu.device, pass, members, *size as u64);
+                let buf = create_params_buffer(gpu.device(), pass, members, *size as u64);
                 out.params_members = Some((*size as u64, members.clone()));
                 out.params_buffer = Some((at, buf));
             }
-            builtins::SCENE_INSTANCES => out.buffers.push((at, self.scene_part(|s| s.instances.as_ref())?.clone())),
-            builtins::SCENE_MATERIALS => out.buffers.push((at, self.scene_part(|s| s.materials.as_ref())?.clone())),
-            builtins::SCENE_VERTICES => out.buffers.push((at, self.scene_part(|s| s.vertices.as_ref())?.clone())),
-            builtins::SCENE_INDICES => out.buffers.push((at, self.scene_part(|s| s.indices.as_ref())?.clone())),
-            builtins::SCENE_MESHES => out.buffers.push((at, self.scene_part(|s| s.meshes.as_ref())?.clone())),
-            builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights.as_ref())?.clone())),
-            builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion.as_ref())?.clone())),
-            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+            builtins::SCENE_INSTANCES => out.buffers.push((at, self.scene_part(|s| s.instances())?.clone())),
+            builtins::SCENE_MATERIALS => out.buffers.push((at, self.scene_part(|s| s.materials())?.clone())),
+            builtins::SCENE_VERTICES => out.buffers.push((at, self.scene_part(|s| s.vertices())?.clone())),
+            builtins::SCENE_INDICES => out.buffers.push((at, self.scene_part(|s| s.indices())?.clone())),
+            builtins::SCENE_MESHES => out.buffers.push((at, self.scene_part(|s| s.meshes())?.clone())),
+            builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights())?.clone())),
+            builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion())?.clone())),
+            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => out.views.push((at, view.clone())),
                 SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => out.view_arrays.push((at, v.clone())),
                 _ => return Err(RuntimeError::Gpu(format!("pass {}: scene textures were uploaded in the other layout than the shader binds", pass.name))),
@@ -201,7 +201,7 @@ impl Executor {
     /// module group, bound per frame from the acceleration-structure cache; and the pipeline
     /// layout over them.
     pub(super) fn create_bind_groups(&self, gpu: &Gpu, pass: &PlannedPass, bindings: &PassBindings) -> PassLayout {
-        let device = &gpu.device;
+        let device = gpu.device();
         let shader = &pass.shader;
         let group_count = shader.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0);
         let entries = self.binding_resources(pass, bindings);
@@ -272,5 +272,5 @@ pub(super) fn shader_module(gpu: &Gpu, pass: &PlannedPass) -> wgpu::ShaderModule
         _ if pass.shader.source.is_builtin() => ShaderOrigin::BuiltInLayer,
         _ => ShaderOrigin::Project,
     };
-    gpu.shader_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, origin)
+    gpu.shader_module(&pass.shader.path.display().to_string(), pass.shader.source.text(), origin)
 }

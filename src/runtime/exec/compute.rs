@@ -14,12 +14,12 @@ impl Executor {
         let constants = self.features.constants(pass);
         let (module, constants) = if pass.kind == PassKind::Trace {
             let groups = bindings.layout_groups();
-            gpu.traversal_module(&pass.shader.path.display().to_string(), &pass.shader.source.text, &pass.entry, ShaderOrigin::TracePass, &constants, &groups)
+            gpu.traversal_module(&pass.shader.path.display().to_string(), pass.shader.source.text(), &pass.entry, ShaderOrigin::TracePass, &constants, &groups)
         } else {
             (shader_module(gpu, pass), constants)
         };
         let (colors, depth) = self.attachments(pass);
-        let p = compute_pipeline_with(&gpu.device, &pass.name, &layout.layout, &module, &pass.entry, &constants);
+        let p = compute_pipeline_with(gpu.device(), &pass.name, &layout.layout, &module, &pass.entry, &constants);
         let PassLayout { bind_groups, accel_layout, .. } = layout;
         PassRuntime {
             bind_groups,

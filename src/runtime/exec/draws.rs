@@ -37,9 +37,16 @@ pub(super) struct PassDraws {
     /// The draw commands, in recording order.
     args: Vec<DrawIndexedIndirectArgs>,
     /// Runs of `args` drawn with one variant.
-    pub(super) runs: Vec<(DrawClass, Range<u32>)>,
+    runs: Vec<(DrawClass, Range<u32>)>,
     /// `args` on the device.
     buffer: Option<wgpu::Buffer>,
+}
+
+impl PassDraws {
+    /// Runs of `args` drawn with one variant.
+    pub(super) fn runs(&self) -> &[(DrawClass, Range<u32>)] {
+        &self.runs
+    }
 }
 
 /// Where a pass's draws come from this frame.
@@ -82,7 +89,7 @@ impl DrawInputs {
             pass.key = Some(key);
         }
         for (class, _) in &pass.runs {
-            source.pipelines.prepare(&gpu.device, &[Some(*class)]);
+            source.pipelines.prepare(gpu.device(), &[Some(*class)]);
         }
     }
 
@@ -143,12 +150,12 @@ impl PassDraws {
     /// Writes `args` to the indirect buffer (a larger one when they outgrew it), where the
     /// device draws indirect.
     fn upload(&mut self, gpu: &crate::runtime::gpu::Gpu) {
-        if !indirect_draws(&gpu.device) || self.args.is_empty() {
+        if !indirect_draws(gpu.device()) || self.args.is_empty() {
             return;
         }
         let bytes: Vec<u8> = self.args.iter().flat_map(|a| a.as_bytes().iter().copied()).collect();
         if self.buffer.as_ref().is_none_or(|b| b.size() < bytes.len() as u64) {
-            self.buffer = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            self.buffer = Some(gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("scene draws"),
                 size: bytes.len() as u64,
                 usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
@@ -156,7 +163,7 @@ impl PassDraws {
             }));
         }
         if let Some(buffer) = &self.buffer {
-            gpu.queue.write_buffer(buffer, 0, &bytes);
+            gpu.queue().write_buffer(buffer, 0, &bytes);
         }
     }
 

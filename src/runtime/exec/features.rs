@@ -16,24 +16,24 @@ pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
 /// `shaders/common/scene_features.wgsl`: some material is translucent. It compiles the passes'
 /// handling of translucent surfaces in (`shaders/common/ray_blend.wgsl`: skipped by primary rays,
 /// attenuating shadow rays, composited; the raster translucent layer's read).
-pub const BLEND_CONSTANT: &str = "SCENE_BLEND";
+pub(crate) const BLEND_CONSTANT: &str = "SCENE_BLEND";
 
 /// `shaders/common/scene_features.wgsl`: some material has its own specular lobes
 /// (`KHR_materials_ior`, `_specular`, `_clearcoat`).
-pub const LOBES_CONSTANT: &str = "SCENE_LOBES";
+pub(crate) const LOBES_CONSTANT: &str = "SCENE_LOBES";
 
 /// `shaders/common/scene_features.wgsl`: some material has a sampler other than glTF's default
 /// or a `KHR_texture_transform`.
-pub const CUSTOM_SAMPLING_CONSTANT: &str = "SCENE_CUSTOM_SAMPLING";
+pub(crate) const CUSTOM_SAMPLING_CONSTANT: &str = "SCENE_CUSTOM_SAMPLING";
 
 /// `shaders/common/scene_features.wgsl`: some drawn mesh has COLOR_0 or TEXCOORD_1.
-pub const VERTEX_EXTRAS_CONSTANT: &str = "SCENE_VERTEX_EXTRAS";
+pub(crate) const VERTEX_EXTRAS_CONSTANT: &str = "SCENE_VERTEX_EXTRAS";
 
 /// `shaders/common/scene_features.wgsl`: some material is unlit (`KHR_materials_unlit`).
-pub const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
+pub(crate) const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
 
 /// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
-pub const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
+pub(crate) const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
 
 /// What the scene's instances use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -50,7 +50,7 @@ pub struct SceneFeatures {
     pub vertex_extras: bool,
     /// Some instance's material is unlit.
     pub unlit: bool,
-    /// The frame's camera is orthographic (set by [`SceneFeatures::with_camera`]).
+    /// The frame's camera is orthographic (set by `SceneFeatures::with_camera`).
     pub orthographic: bool,
 }
 
@@ -58,10 +58,10 @@ impl SceneFeatures {
     /// The features of `scene`'s instances: each material's and mesh's found once, then one
     /// pass over the instances that stops when every feature is in use (made every frame).
     pub fn of(scene: &Scene) -> Self {
-        let material_bits: Vec<u8> = scene.materials.iter().map(Self::material_bits).collect();
-        let mesh_bits: Vec<u8> = scene.meshes.iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
+        let material_bits: Vec<u8> = scene.materials().iter().map(Self::material_bits).collect();
+        let mesh_bits: Vec<u8> = scene.meshes().iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
         let mut bits = 0u8;
-        for inst in scene.instances.iter() {
+        for inst in scene.instances().iter() {
             bits |= material_bits.get(inst.material).copied().unwrap_or(0) | mesh_bits.get(inst.mesh).copied().unwrap_or(0);
             if bits == Self::ALL_BITS {
                 break;
@@ -75,12 +75,12 @@ impl SceneFeatures {
             custom_sampling: on(Self::CUSTOM_SAMPLING),
             vertex_extras: on(Self::VERTEX_EXTRAS),
             unlit: on(Self::UNLIT),
-            orthographic: scene.camera.orthographic.is_some(),
+            orthographic: scene.camera().orthographic.is_some(),
         }
     }
 
     /// The same features with the projection of `camera`, the frame's.
-    pub fn with_camera(self, camera: &crate::scene::Camera) -> Self {
+    pub(crate) fn with_camera(self, camera: &crate::scene::Camera) -> Self {
         Self { orthographic: camera.orthographic.is_some(), ..self }
     }
 

@@ -6,16 +6,16 @@
 //!
 //! The history is valid (`frame.history_valid` = 1) from the second frame of an executor on
 //! (a recompile or a resize makes a new one), until a camera cut: `Executor::camera_cut`,
-//! or a camera that jumps more than [`CUT_DISTANCE`] times the scene's bounding radius, turns
-//! more than [`CUT_ANGLE_DEGREES`] or changes its field of view in one frame.
+//! or a camera that jumps more than `CUT_DISTANCE` times the scene's bounding radius, turns
+//! more than `CUT_ANGLE_DEGREES` or changes its field of view in one frame.
 
 use crate::graph::compile::Plan;
 use crate::scene::Camera;
 
 /// A camera move longer than this fraction of the scene's bounding radius in one frame is a cut.
-pub const CUT_DISTANCE: f32 = 0.25;
+pub(crate) const CUT_DISTANCE: f32 = 0.25;
 /// A camera turn larger than this in one frame is a cut.
-pub const CUT_ANGLE_DEGREES: f32 = 30.0;
+pub(crate) const CUT_ANGLE_DEGREES: f32 = 30.0;
 
 /// The history pairs of a plan and where they stand.
 #[derive(Debug, Default)]

@@ -25,7 +25,6 @@ mod slots;
 mod trace;
 
 pub use features::{SceneFeatures, TRACE_ALPHA_CONSTANT};
-pub use readback::read_texture_async;
 #[cfg(not(target_arch = "wasm32"))]
 pub use readback::{read_texture, write_png};
 
@@ -201,9 +200,9 @@ impl Executor {
     pub fn with_rust_passes(gpu: &Gpu, plan: Plan, scene: &Scene, rust_passes: RustPasses) -> Result<Self, RuntimeError> {
         let scope = gpu.scopes();
         let slots = Self::allocate_slots(gpu, &plan)?;
-        let (frame_uniforms, debug_counters) = Self::builtin_buffers(&gpu.device);
+        let (frame_uniforms, debug_counters) = Self::builtin_buffers(gpu.device());
         let scene_gpu = Self::upload_scene(gpu, &plan, scene)?;
-        let samplers = Self::samplers(&gpu.device);
+        let samplers = Self::samplers(gpu.device());
         let accel = Self::accel_cache(gpu, &plan);
         let mut content_memo = crate::scene::memo::MeshMemo::new();
         let scene_content = if scene_gpu.is_some() { SceneContent::of(scene, &mut content_memo) } else { SceneContent::default() };
@@ -235,15 +234,15 @@ impl Executor {
         exec.make_deform(gpu, scene);
         exec.history = history::HistoryState::of_plan(&exec.plan);
         exec.rebuild_passes(gpu)?;
-        if gpu.timestamps {
-            exec.timer = Some(GpuTimer::new(&gpu.device, &gpu.queue, exec.plan.passes.len() as u32));
+        if gpu.timestamps() {
+            exec.timer = Some(GpuTimer::new(gpu.device(), gpu.queue(), exec.plan.passes.len() as u32));
         }
         let (w, h) = exec.plan.frame_size;
         let context = format!(
             "creating the graph's GPU objects ({} of textures and buffers in {} slots for a {w}x{h} frame, {} of scene data)",
             crate::graph::compile::fmt_bytes(exec.plan.bytes_with_reuse()),
             exec.plan.slots.len(),
-            crate::graph::compile::fmt_bytes(exec.scene.as_ref().map_or(0, |s| s.bytes))
+            crate::graph::compile::fmt_bytes(exec.scene.as_ref().map_or(0, |s| s.bytes()))
         );
         scope.finish(gpu, &context)?;
         Ok(exec)
@@ -324,7 +323,7 @@ impl Executor {
         // A pose left to the GPU, without a GPU deformation here (a plan that uploads no
         // vertices): deformed on the CPU instead.
         let posed;
-        let scene = if self.deform.is_none() && scene.posed.is_some_and(|p| !p.meshes_deformed) {
+        let scene = if self.deform.is_none() && scene.posed().is_some_and(|p| !p.meshes_deformed) {
             posed = scene.with_meshes_posed();
             &*posed
         } else {
@@ -336,10 +335,10 @@ impl Executor {
         let mut phases = FramePhases { scene_ms: ms(t), ..Default::default() };
         let t = Instant::now();
         let uniforms = self.frame_uniforms(gpu, camera, scene)?;
-        gpu.queue.write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
+        gpu.queue().write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
         let scope = gpu.scopes();
         let mut frame = FrameRecording {
-            encoder: gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") }),
+            encoder: gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") }),
             command_buffers: Vec::new(),
             cpu_ms: Vec::with_capacity(self.passes.len()),
             accel_report: None,
@@ -371,7 +370,7 @@ impl Executor {
         phases.wait_ms = ms(t);
         let t = Instant::now();
         if let Some(cache) = self.accel.as_mut() {
-            cache.read_probe(&gpu.device).await?;
+            cache.read_probe(gpu.device()).await?;
         }
         let mut timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
         timings.phases = FramePhases { readback_ms: ms(t), ..phases };
@@ -387,7 +386,7 @@ impl Executor {
     /// ([`draws`]: kept while the scene and the camera's position stay; a shadow-map pass's
     /// classes from its slot's light), and every pass's attachment views.
     fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, uniforms: &crate::uniforms::FrameUniforms) -> FrameInputs<'a> {
-        let draws = self.scene.as_ref().map_or(&[][..], |s| &s.draws[..]);
+        let draws = self.scene.as_ref().map_or(&[][..], |s| s.draws());
         for (i, (pass, planned)) in self.passes.iter_mut().zip(&self.plan.passes).enumerate() {
             let Pipeline::Scene(pipelines) = &mut pass.pipeline else { continue };
             let light_view_proj = planned
@@ -414,7 +413,7 @@ impl Executor {
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             return Ok(());
         }
-        let nothing_translucent = self.plan.passes[i].translucent && self.draws.pass(i).is_none_or(|d| d.runs.is_empty());
+        let nothing_translucent = self.plan.passes[i].translucent && self.draws.pass(i).is_none_or(|d| d.runs().is_empty());
         if nothing_translucent || self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
             self.record_empty_timed_pass(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);
@@ -441,20 +440,20 @@ impl Executor {
             cache.copy_stats(&mut encoder);
         }
         command_buffers.push(encoder.finish());
-        gpu.queue.submit(command_buffers);
+        gpu.queue().submit(command_buffers);
     }
 
     /// The finished frame's timings: GPU milliseconds per pass, CPU milliseconds, and the ray
     /// counters (one window per trace pass, in schedule order).
     async fn frame_timings(&self, gpu: &Gpu, start: Instant, cpu_ms: Vec<f64>, accel_report: Option<(BuildReport, f64)>) -> Result<FrameTimings, RuntimeError> {
         let gpu_ms = match &self.timer {
-            Some(t) => Some(t.read(&gpu.device, self.passes.len() as u32).await?),
+            Some(t) => Some(t.read(gpu.device(), self.passes.len() as u32).await?),
             None => None,
         };
         let mut pass_rays = vec![None; self.plan.passes.len()];
         let mut rays = None;
         if let Some(cache) = &self.accel {
-            let windows = cache.read_stats(&gpu.device).await?;
+            let windows = cache.read_stats(gpu.device()).await?;
             let trace_passes = self.plan.passes.iter().enumerate().filter(|(_, p)| p.kind == PassKind::Trace).map(|(i, _)| i);
             for (i, stats) in trace_passes.zip(&windows) {
                 pass_rays[i] = Some(*stats);

@@ -66,7 +66,7 @@ impl Executor {
             let Some((decl, current)) = pass.params.get_mut(name) else { continue };
             *current = crate::graph::compile::check_param(decl, value).map_err(|(_, msg, _)| msg)?;
             if let Some((buf, size, members)) = &self.passes[i].params {
-                gpu.queue.write_buffer(buf, 0, &encode_params(&pass.params, members, *size));
+                gpu.queue().write_buffer(buf, 0, &encode_params(&pass.params, members, *size));
             }
         }
         Ok(true)

@@ -30,7 +30,7 @@ impl Executor {
     }
 
     /// [`Executor::read_texture_rgba8`] as a future.
-    pub async fn read_texture_rgba8_async(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
+    pub(crate) async fn read_texture_rgba8_async(&self, gpu: &Gpu, r: ResourceId) -> Result<image::RgbaImage, RuntimeError> {
         let (w, h, format, data) = self.read_texture_bytes(gpu, r).await?;
         if format.bytes_per_texel() != 4 || format.is_uint() {
             return Err(RuntimeError::Gpu(format!("{} is {format:?}, not an 8-bit RGBA texture", self.plan.resources[r].name)));
@@ -83,11 +83,11 @@ impl Executor {
     #[cfg(not(target_arch = "wasm32"))]
     pub fn read_debug_counters(&self, gpu: &Gpu) -> Result<Vec<u32>, RuntimeError> {
         let size = crate::graph::builtins::DEBUG_COUNTER_COUNT as u64 * 4;
-        let buf = readback_buffer(&gpu.device, "counter readback", size);
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let buf = readback_buffer(gpu.device(), "counter readback", size);
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.debug_counters, 0, &buf, 0, size);
-        gpu.queue.submit([encoder.finish()]);
-        let data = map_read(&gpu.device, buf.slice(..))?;
+        gpu.queue().submit([encoder.finish()]);
+        let data = map_read(gpu.device(), buf.slice(..))?;
         let v = bytemuck::cast_slice::<u8, u32>(&data).to_vec();
         drop(data);
         buf.unmap();
@@ -103,19 +103,19 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Res
 }
 
 /// [`read_texture`] as a future.
-pub async fn read_texture_async(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
+pub(crate) async fn read_texture_async(gpu: &Gpu, texture: &wgpu::Texture, texel_bytes: u32) -> Result<Vec<u8>, RuntimeError> {
     let (w, h) = (texture.width(), texture.height());
     let row = w * texel_bytes;
     let padded = row.div_ceil(256) * 256;
-    let buf = readback_buffer(&gpu.device, "texture readback", padded as u64 * h as u64);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let buf = readback_buffer(gpu.device(), "texture readback", padded as u64 * h as u64);
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) } },
         wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
     );
-    gpu.queue.submit([encoder.finish()]);
-    let data = map_read_async(&gpu.device, buf.slice(..)).await?;
+    gpu.queue().submit([encoder.finish()]);
+    let data = map_read_async(gpu.device(), buf.slice(..)).await?;
     let mut bytes = Vec::with_capacity((row * h) as usize);
     for y in 0..h as usize {
         bytes.extend_from_slice(&data[y * padded as usize..y * padded as usize + row as usize]);

@@ -30,13 +30,13 @@ impl Executor {
         inputs: &FrameInputs,
     ) -> Result<(), RuntimeError> {
         let mut rp = self.begin_render_pass(encoder, i, &inputs.views[i]);
-        let (Some(vertices), Some(indices)) = (self.scene_part(|s| s.vertices.as_ref()).ok(), self.scene_part(|s| s.indices.as_ref()).ok()) else {
+        let (Some(vertices), Some(indices)) = (self.scene_part(|s| s.vertices()).ok(), self.scene_part(|s| s.indices()).ok()) else {
             return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", self.plan.passes[i].name)));
         };
         rp.set_vertex_buffer(0, vertices.slice(..));
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         let Some(draws) = self.draws.pass(i) else { return Ok(()) };
-        for (class, run) in &draws.runs {
+        for (class, run) in draws.runs() {
             let pipeline = pipelines.variant(*class).ok_or_else(|| RuntimeError::Gpu(format!("no pipeline was made for draw class {class:?}")))?;
             rp.set_pipeline(pipeline);
             draws.record_run(&mut rp, run);

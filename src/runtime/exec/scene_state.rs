@@ -18,8 +18,8 @@ impl Executor {
             log::info!("scene not uploaded: no pass of the graph uses it");
             return Ok(None);
         }
-        let s = GpuScene::upload(&gpu.device, &gpu.queue, scene, plan.scene_usage)?;
-        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name, plan.scene_usage.describe(), scene.triangle_count(), s.bytes);
+        let s = GpuScene::upload(gpu.device(), gpu.queue(), scene, plan.scene_usage)?;
+        log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name(), plan.scene_usage.describe(), scene.triangle_count(), s.bytes());
         Ok(Some(s))
     }
 
@@ -32,9 +32,9 @@ impl Executor {
     /// Before a frame is recorded: the injected device loss (`RAYGRAPH_INJECT_DEVICE_LOSS`), the
     /// device's state, the scene's changes and its bounding sphere.
     pub(super) fn begin_frame(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<(), RuntimeError> {
-        if gpu.inject_device_loss_at == Some(self.frame_index) {
+        if gpu.inject_device_loss_at() == Some(self.frame_index) {
             log::warn!("RAYGRAPH_INJECT_DEVICE_LOSS: destroying the device at frame {}", self.frame_index);
-            gpu.device.destroy();
+            gpu.device().destroy();
         }
         gpu.check()?;
         if self.seen.as_ref().is_some_and(|seen| seen.matches(scene)) {
@@ -43,7 +43,7 @@ impl Executor {
             return self.use_features(gpu, self.features.with_camera(camera));
         }
         self.sync_scene(gpu, scene, camera)?;
-        let b = scene.bounds_from(&self.bounds_memo.values(&scene.meshes, crate::scene::Mesh::bounds));
+        let b = scene.bounds_from(&self.bounds_memo.values(scene.meshes(), crate::scene::Mesh::bounds));
         self.scene_sphere = if b.is_empty() { (glam::Vec3::ZERO, 1.0) } else { (b.center(), (0.5 * b.diagonal()).max(1e-6)) };
         self.seen = Some(crate::scene::memo::SceneSnapshot::of(scene));
         self.scene_generation += 1;
@@ -75,20 +75,20 @@ impl Executor {
         }
         // Moved instances and deformed meshes are rewritten in place.
         if content.structure == self.scene_content.structure {
-            let instances_ok = content.transforms == self.scene_content.transforms || uploaded.write_instances(&gpu.queue, scene);
+            let instances_ok = content.transforms == self.scene_content.transforms || uploaded.write_instances(gpu.queue(), scene);
             // Deformed on the CPU: uploaded; left to the GPU: `record_deform` writes them.
-            let cpu_deformed = scene.posed.is_none_or(|p| p.meshes_deformed) || self.deform.is_none();
+            let cpu_deformed = scene.posed().is_none_or(|p| p.meshes_deformed) || self.deform.is_none();
             let vertices_ok = content.deformed == self.scene_content.deformed
-                || uploaded.vertices.is_none()
+                || uploaded.vertices().is_none()
                 || !cpu_deformed
-                || uploaded.write_vertices(&gpu.queue, scene, &scene.deforming_meshes());
+                || uploaded.write_vertices(gpu.queue(), scene, &scene.deforming_meshes());
             if instances_ok && vertices_ok {
                 self.scene_content = content;
                 return Ok(());
             }
         }
         let scope = gpu.scopes();
-        self.scene = Some(GpuScene::upload(&gpu.device, &gpu.queue, scene, self.plan.scene_usage)?);
+        self.scene = Some(GpuScene::upload(gpu.device(), gpu.queue(), scene, self.plan.scene_usage)?);
         // The new buffers hold the current transforms: `write_motion` writes the previous ones.
         self.history.motion_written = None;
         self.make_deform(gpu, scene);
@@ -96,7 +96,7 @@ impl Executor {
         // The new passes have no accel bind group yet: make the next update re-create them.
         self.accel_generation = u64::MAX;
         scope.finish(gpu, "uploading the changed scene")?;
-        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name, self.scene.as_ref().map_or(0, |s| s.bytes));
+        log::info!("scene `{}` changed: uploaded again ({} bytes)", scene.name(), self.scene.as_ref().map_or(0, |s| s.bytes()));
         self.scene_content = content;
         Ok(())
     }
@@ -104,11 +104,11 @@ impl Executor {
     /// The GPU deformation of `scene`'s deforming meshes into the uploaded scene (none without
     /// them); the acceleration-structure cache reads the positions it writes.
     pub(super) fn make_deform(&mut self, gpu: &Gpu, scene: &Scene) {
-        self.deform = self.scene.as_ref().and_then(|uploaded| crate::runtime::deform::GpuDeform::new(&gpu.device, scene, uploaded));
+        self.deform = self.scene.as_ref().and_then(|uploaded| crate::runtime::deform::GpuDeform::new(gpu.device(), scene, uploaded));
         if let Some(cache) = self.accel.as_mut() {
-            cache.set_device_positions(self.deform.as_ref().map(|d| d.positions.clone()));
-            if scene.rig.as_ref().is_some_and(|r| r.is_animated()) {
-                cache.prepare_for_changes(&gpu.device);
+            cache.set_device_positions(self.deform.as_ref().map(|d| d.positions().clone()));
+            if scene.rig().is_some_and(|r| r.is_animated()) {
+                cache.prepare_for_changes(gpu.device());
             }
         }
     }
@@ -117,7 +117,7 @@ impl Executor {
     /// or the pose has not changed).
     pub(super) fn record_deform(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, scene: &Scene) {
         if let Some(deform) = self.deform.as_mut() {
-            deform.record(&gpu.queue, encoder, scene);
+            deform.record(gpu.queue(), encoder, scene);
         }
     }
 
@@ -127,8 +127,8 @@ impl Executor {
     /// read while the instances stay the same `Arc`).
     fn write_motion(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
         use std::sync::Arc;
-        let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion.is_some()) else { return Ok(()) };
-        let current = Arc::clone(&scene.instances);
+        let Some(uploaded) = self.scene.as_ref().filter(|s| s.motion().is_some()) else { return Ok(()) };
+        let current = Arc::clone(scene.instances_arc());
         let previous = self.history.instances.replace(Arc::clone(&current));
         let motion = match previous {
             Some(previous) if self.history.valid && previous.len() == current.len() => previous,
@@ -137,7 +137,7 @@ impl Executor {
         let transforms = |instances: &[crate::scene::Instance]| instances.iter().map(|i| i.transform).collect::<Vec<glam::Mat4>>();
         let written = self.history.motion_written.as_ref().is_some_and(|w| Arc::ptr_eq(w, &motion) || transforms(w) == transforms(&motion));
         if !written {
-            if !uploaded.write_motion(&gpu.queue, &transforms(&motion)) {
+            if !uploaded.write_motion(gpu.queue(), &transforms(&motion)) {
                 return Err(RuntimeError::Gpu("the previous-transform buffer does not match the scene's instances".into()));
             }
         }
@@ -160,8 +160,8 @@ impl Executor {
         for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
             *slot = m.to_cols_array_2d();
         }
-        if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights.is_some()) {
-            if !uploaded.write_lights(&gpu.queue, &lights.records) {
+        if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights().is_some()) {
+            if !uploaded.write_lights(gpu.queue(), &lights.records) {
                 return Err(RuntimeError::Gpu("the light buffer does not match the scene's lights".into()));
             }
             if !self.warned_unshadowed && lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() {
@@ -181,7 +181,7 @@ impl Executor {
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
             scene_sphere: center.extend(radius).into(),
             shadow_view_proj,
-            ambient: scene.light.ambient,
+            ambient: scene.light().ambient,
             light_count: lights.records.len() as u32,
             shadow_count: lights.shadow_view_proj.len() as u32,
             frame_index: self.frame_index,

@@ -93,7 +93,7 @@ fn create_slot_buffer(device: &wgpu::Device, plan: &Plan, i: usize, size: u64) -
 impl Executor {
     /// One texture or buffer per slot of `plan`, constant textures holding their value.
     pub(super) fn allocate_slots(gpu: &Gpu, plan: &Plan) -> Result<Vec<Physical>, RuntimeError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let slots = plan
             .slots
             .iter()
@@ -107,7 +107,7 @@ impl Executor {
         for (slot, physical) in plan.slots.iter().zip(&slots) {
             if let (Some(value), ResourceDecl::Texture(t), Physical::Texture(texture)) = (slot.constant, &slot.decl, physical) {
                 let texel = t.format.encode_texel(value).ok_or_else(|| RuntimeError::Gpu(format!("a {:?} input cannot have a fallback value", t.format)))?;
-                gpu.queue.write_texture(
+                gpu.queue().write_texture(
                     wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
                     &texel,
                     wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(texel.len() as u32), rows_per_image: Some(1) },

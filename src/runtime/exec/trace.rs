@@ -56,7 +56,7 @@ impl Executor {
             .filter(|(name, _)| *name != super::features::TRACE_ALPHA_CONSTANT)
             .map(|(name, value)| (name.to_string(), value))
             .collect();
-        let rt = RtPass::new(&gpu.device, &gpu.queue, &pass.name, module, &pass.entry, &constants, rt_bindings, builtins::ACCEL_GROUP)?;
+        let rt = RtPass::new(gpu.device(), gpu.queue(), &pass.name, module, &pass.entry, &constants, rt_bindings, builtins::ACCEL_GROUP)?;
         let wg = shader.entry(&pass.entry).map(|e| e.workgroup_size).unwrap_or([1, 1, 1]);
         // The launch grid: one ray-generation invocation per invocation of the compute dispatch.
         let launch = match pass.dispatch {
@@ -96,14 +96,14 @@ impl Executor {
             builtins::FRAME => buffer(&self.frame_uniforms),
             builtins::DEBUG_COUNTERS => buffer(&self.debug_counters),
             builtins::PARAMS => buffer(&bindings.params_buffer.as_ref().expect("made for the params binding").1),
-            builtins::SCENE_INSTANCES => buffer(self.scene_part(|s| s.instances.as_ref())?),
-            builtins::SCENE_MATERIALS => buffer(self.scene_part(|s| s.materials.as_ref())?),
-            builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices.as_ref())?),
-            builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices.as_ref())?),
-            builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes.as_ref())?),
-            builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights.as_ref())?),
-            builtins::SCENE_MOTION => buffer(self.scene_part(|s| s.motion.as_ref())?),
-            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures.as_ref())? {
+            builtins::SCENE_INSTANCES => buffer(self.scene_part(|s| s.instances())?),
+            builtins::SCENE_MATERIALS => buffer(self.scene_part(|s| s.materials())?),
+            builtins::SCENE_VERTICES => buffer(self.scene_part(|s| s.vertices())?),
+            builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices())?),
+            builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes())?),
+            builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights())?),
+            builtins::SCENE_MOTION => buffer(self.scene_part(|s| s.motion())?),
+            builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { texture, view } => {
                     RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
                 }
@@ -124,7 +124,7 @@ impl Executor {
         if let Some(t) = &self.timer {
             drop(frame.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace begin"), timestamp_writes: t.begin_writes(i as u32) }));
         }
-        let next = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let next = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         frame.command_buffers.push(std::mem::replace(&mut frame.encoder, next).finish());
         frame.command_buffers.push(rt.record(pass.groups)?);
         if let Some(t) = &self.timer {
@@ -151,7 +151,7 @@ impl Executor {
                     cache.binding(name, window as u32).ok_or_else(|| RuntimeError::Gpu(format!("the {} back-end has no binding `{name}`", cache.backend())))?;
                 bg_entries.push(wgpu::BindGroupEntry { binding: e.binding, resource });
             }
-            pass.accel_group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));
+            pass.accel_group = Some(gpu.device().create_bind_group(&wgpu::BindGroupDescriptor { label: Some("accel"), layout, entries: &bg_entries }));
         }
         Ok(())
     }

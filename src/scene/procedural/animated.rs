@@ -11,11 +11,11 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 /// Seconds of one loop of either clip.
-pub const LOOP_SECONDS: f32 = 4.0;
+pub(crate) const LOOP_SECONDS: f32 = 4.0;
 
 /// `mesh` with every triangle split into four at its edges' midpoints (shared edges share
 /// their midpoint, so a closed mesh stays closed); normals and uvs averaged.
-pub fn subdivide(mesh: &Mesh) -> Mesh {
+pub(crate) fn subdivide(mesh: &Mesh) -> Mesh {
     let mut vertices = mesh.vertices.clone();
     let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
     let mut midpoint = |a: u32, b: u32, vertices: &mut Vec<Vertex>| {
@@ -49,7 +49,7 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 
 /// The organic head subdivided three times and skinned: joint 0 (the body, still) and joint 1
 /// (the neck, at y = -0.35) that nods 25 degrees and turns 35 degrees over the loop.
-pub fn organic_skinned() -> Scene {
+pub(crate) fn organic_skinned() -> Scene {
     let mut scene = super::organic();
     let mut mesh = Mesh::clone(&scene.meshes[0]);
     for _ in 0..3 {
@@ -99,11 +99,11 @@ pub fn organic_skinned() -> Scene {
 }
 
 /// The number of balls of [`atrium_moving`].
-pub const MOVING_BALLS: usize = 200;
+pub(crate) const MOVING_BALLS: usize = 200;
 
 /// The atrium with [`MOVING_BALLS`] balls orbiting the courtyard (each on its own circle,
 /// height, speed and direction) and spinning; the atrium's own instances stay where they are.
-pub fn atrium_moving(seed: u64) -> Scene {
+pub(crate) fn atrium_moving(seed: u64) -> Scene {
     let mut scene = super::atrium(seed);
     scene.name = "atrium-moving".into();
     let mut nodes: Vec<RigNode> = scene

@@ -42,12 +42,12 @@ impl Rng {
     }
 
     /// An independent generator derived from this one.
-    pub fn fork(&mut self) -> Rng {
+    pub(crate) fn fork(&mut self) -> Rng {
         Rng::new(self.next_u64())
     }
 
     /// A 32-bit seed for the hash noise.
-    pub fn seed32(&mut self) -> u32 {
+    pub(crate) fn seed32(&mut self) -> u32 {
         (self.next_u64() >> 32) as u32
     }
 }
@@ -148,19 +148,24 @@ const MIN_DOUBLE_AREA: f32 = 1e-8;
 /// Positions, uvs and triangles; normals are derived from the winding when finished.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct MeshBuilder {
-    pub pos: Vec<Vec3>,
-    pub uv: Vec<Vec2>,
-    pub idx: Vec<u32>,
+    pos: Vec<Vec3>,
+    uv: Vec<Vec2>,
+    idx: Vec<u32>,
     /// Pairs of vertices at the same position whose normals are averaged (texture seams).
     seams: Vec<(u32, u32)>,
 }
 
 impl MeshBuilder {
+    /// The triangles' vertex indices, three per triangle.
+    pub(crate) fn idx(&self) -> &[u32] {
+        &self.idx
+    }
+
     pub fn new() -> Self {
         Self::default()
     }
 
-    pub fn vert(&mut self, p: Vec3, uv: Vec2) -> u32 {
+    pub(crate) fn vert(&mut self, p: Vec3, uv: Vec2) -> u32 {
         debug_assert!(p.is_finite() && uv.is_finite(), "non-finite vertex {p} {uv}");
         self.pos.push(p);
         self.uv.push(uv);
@@ -216,7 +221,7 @@ impl MeshBuilder {
     }
 
     /// Flips the triangles from `first_index` on if their summed normal points away from `dir`.
-    pub fn face_towards(&mut self, first_index: usize, dir: Vec3) {
+    pub(crate) fn face_towards(&mut self, first_index: usize, dir: Vec3) {
         let mut sum = Vec3::ZERO;
         for t in self.idx[first_index..].chunks_exact(3) {
             let (a, b, c) = (self.pos[t[0] as usize], self.pos[t[1] as usize], self.pos[t[2] as usize]);
@@ -232,7 +237,7 @@ impl MeshBuilder {
     /// A flat patch origin + u*eu + v*ev facing `facing`, with `nu` x `nv` cells and uvs of
     /// `uv_per_m` repeats per metre.
     #[allow(clippy::too_many_arguments)]
-    pub fn patch(&mut self, origin: Vec3, eu: Vec3, ev: Vec3, nu: u32, nv: u32, uv_per_m: f32, facing: Vec3) {
+    pub(crate) fn patch(&mut self, origin: Vec3, eu: Vec3, ev: Vec3, nu: u32, nv: u32, uv_per_m: f32, facing: Vec3) {
         let first = self.idx.len();
         let (lu, lv) = (eu.length() * uv_per_m, ev.length() * uv_per_m);
         self.grid(nu.max(1), nv.max(1), false, |u, v| (origin + u * eu + v * ev, Vec2::new(u * lu, (1.0 - v) * lv)));
@@ -240,7 +245,7 @@ impl MeshBuilder {
     }
 
     /// An axis-aligned box with outward faces, cells at most `cell` metres across.
-    pub fn cuboid(&mut self, min: Vec3, max: Vec3, cell: f32, uv_per_m: f32) {
+    pub(crate) fn cuboid(&mut self, min: Vec3, max: Vec3, cell: f32, uv_per_m: f32) {
         let d = max - min;
         let n = |l: f32| ((l / cell).ceil() as u32).max(1);
         let (x, y, z) = (Vec3::new(d.x, 0.0, 0.0), Vec3::new(0.0, d.y, 0.0), Vec3::new(0.0, 0.0, d.z));
@@ -255,7 +260,7 @@ impl MeshBuilder {
     /// A surface of revolution about +y. `profile` is (radius, height), ordered so that the
     /// outside lies to its right (bottom centre, out, up the side, in to the top centre). A
     /// repeated point makes a crease. `radius_at(angle, profile_index)` scales the radius.
-    pub fn lathe_with(&mut self, profile: &[Vec2], segments: u32, uv_u: f32, uv_v: f32, mut radius_at: impl FnMut(f32, usize) -> f32) {
+    pub(crate) fn lathe_with(&mut self, profile: &[Vec2], segments: u32, uv_u: f32, uv_v: f32, mut radius_at: impl FnMut(f32, usize) -> f32) {
         let mut cum = vec![0.0f32; profile.len()];
         for k in 1..profile.len() {
             cum[k] = cum[k - 1] + profile[k].distance(profile[k - 1]);
@@ -269,7 +274,7 @@ impl MeshBuilder {
         });
     }
 
-    pub fn lathe(&mut self, profile: &[Vec2], segments: u32, uv_u: f32, uv_v: f32) {
+    pub(crate) fn lathe(&mut self, profile: &[Vec2], segments: u32, uv_u: f32, uv_v: f32) {
         self.lathe_with(profile, segments, uv_u, uv_v, |_, _| 1.0);
     }
 
@@ -333,7 +338,7 @@ impl MeshBuilder {
     }
 
     /// Applies `f` to every position from vertex `first` on.
-    pub fn map_positions(&mut self, first: usize, mut f: impl FnMut(Vec3) -> Vec3) {
+    pub(crate) fn map_positions(&mut self, first: usize, mut f: impl FnMut(Vec3) -> Vec3) {
         for p in &mut self.pos[first..] {
             *p = f(*p);
         }

@@ -116,7 +116,7 @@ pub(super) fn arch_panel(radius: f32, height: f32, t: f32, arc_segments: u32, ri
     };
     let mut b = MeshBuilder::new();
     for (z, facing) in [(t / 2.0, Vec3::Z), (-t / 2.0, -Vec3::Z)] {
-        let first = b.idx.len();
+        let first = b.idx().len();
         b.grid(n, rings, false, |u, v| {
             let k = (u * n as f32).round() as u32;
             let p = inner(k).lerp(outer(k), v);
@@ -124,7 +124,7 @@ pub(super) fn arch_panel(radius: f32, height: f32, t: f32, arc_segments: u32, ri
         });
         b.face_towards(first, facing);
     }
-    let first = b.idx.len();
+    let first = b.idx().len();
     let depth = 3;
     let arc_len = PI * radius;
     b.grid(n, depth, false, |u, v| {
@@ -387,7 +387,7 @@ pub(super) fn door_leaf() -> MeshBuilder {
     let door_prof: Vec<Vec2> = std::iter::once(Vec2::new(0.0, 0.0)).chain(arc_xy(Vec3::ZERO, 1.05, PI, 0.0, 24).iter().map(|p| Vec2::new(p.x, p.y))).collect();
     b.patch(Vec3::new(-1.05, 0.0, 0.06), Vec3::new(2.1, 0.0, 0.0), Vec3::new(0.0, 3.0, 0.0), 14, 20, 0.5, Vec3::Z);
     let c = b.vert(Vec3::new(0.0, 3.0, 0.06), Vec2::new(0.5, 0.0));
-    let first = b.idx.len();
+    let first = b.idx().len();
     let ring: Vec<u32> = door_prof[1..].iter().map(|p| b.vert(Vec3::new(p.x, 3.0 + p.y, 0.06), Vec2::new(0.5 + p.x * 0.5, -p.y * 0.5))).collect();
     for w in ring.windows(2) {
         b.tri(c, w[0], w[1]);
