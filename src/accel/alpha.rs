@@ -6,7 +6,7 @@
 //! transmissive). Its alpha is `base_color.a` x the vertex colours' alpha (`COLOR_0`) x the
 //! base texture's alpha. A BLEND
 //! surface is translucent: the traversal keeps its hits wherever its coverage is at least
-//! [`BLEND_MIN_COVERAGE`] (a texel below it is empty), and the passes composite it
+//! `crate::scene::BLEND_MIN_COVERAGE` (a texel below it is empty), and the passes composite it
 //! (`shaders/common/ray_blend.wgsl`: skipped by primary rays, attenuating shadow and AO rays by one
 //! minus its coverage, composited front to back over the opaque surface behind it). A hit is kept when `base_color.a` x the base texture's alpha, read at mip level 0 with
 //! bilinear filtering and the base colour slot's wrap modes at the interpolated TEXCOORD_0

@@ -14,7 +14,7 @@ use crate::gpu_util::{compute_pipeline, map_read_async, readback_buffer, storage
 use wgpu::util::DeviceExt;
 
 /// The gather kernel's WGSL.
-pub const DEFORM_WGSL: &str = include_str!("../../shaders/accel/gather_positions.wgsl");
+pub(crate) const DEFORM_WGSL: &str = include_str!("../../shaders/accel/gather_positions.wgsl");
 /// The SAH reduction's WGSL.
 pub(crate) const SAH_WGSL: &str = include_str!("../../shaders/accel/sah.wgsl");
 

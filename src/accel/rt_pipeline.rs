@@ -41,7 +41,7 @@
 //! destroyed once the device is idle, staged device buffers), `packing.rs` (the scene's
 //! triangles as the builds read them), `structures.rs` ([`RtAccel`] and its update),
 //! `pipeline.rs` (a pass's pipeline and shader binding table), `bind_group.rs` (a pass's hal
-//! bind groups) and `pass.rs` ([`RtPass`]).
+//! bind groups) and `pass.rs` (`RtPass`).
 
 mod any_hit;
 mod bind_group;
@@ -55,5 +55,5 @@ mod structures;
 pub use any_hit::{any_hit_spirv, binding_map as any_hit_binding_map};
 pub use bindings::{AccelBuffers, RtBinding, RtResource};
 pub use hal_objects::live_hal_objects;
-pub use pass::RtPass;
+pub(crate) use pass::RtPass;
 pub use structures::RtAccel;

@@ -123,7 +123,7 @@ pub(crate) struct DuplicateArgs {
     pub(crate) duplicate: u32,
     /// With --duplicate: give every copy its own meshes (unique triangles, nothing instanced).
     #[arg(long)]
-    no_dedup: bool,
+    pub(crate) no_dedup: bool,
 }
 
 impl DuplicateArgs {

@@ -70,7 +70,7 @@ fn accessor(
 }
 
 /// Encodes the scene as GLB bytes.
-pub fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
+pub(crate) fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
     let mut root = json::Root::default();
     let buffer = root.push(json::Buffer { byte_length: USize64(0), extensions: None, extras: Default::default(), name: None, uri: None });
     let mut w = BinWriter { bin: Vec::new() };

@@ -13,7 +13,7 @@ use wgpu::hal;
 use wgpu::hal::CommandEncoder as _;
 
 /// A trace pass as a ray-tracing pipeline (see the module docs).
-pub struct RtPass {
+pub(crate) struct RtPass {
     device: wgpu::Device,
     queue: wgpu::Queue,
     label: String,
@@ -94,7 +94,7 @@ impl RtPass {
     /// Binds group `g` (not the trace module's) to other resources of the same layout: the
     /// batch tracer's ray and result buffers change with every batch. The old bind group is
     /// destroyed once the device is idle.
-    pub fn set_group(&mut self, g: u32, bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
+    pub(crate) fn set_group(&mut self, g: u32, bindings: Vec<RtBinding>) -> Result<(), RuntimeError> {
         if g == self.accel_group || g as usize >= self.groups.len() {
             return Err(RuntimeError::Gpu(format!("pass {}: group {g} cannot be rebound", self.label)));
         }
@@ -118,7 +118,7 @@ impl RtPass {
 
     /// Binds the trace module's group to `accel` and to the cache's buffers `cache` names
     /// (again whenever the cache replaces its acceleration structures).
-    pub fn bind_accel(&mut self, accel: &RtAccel, cache: &AccelBuffers) -> Result<(), RuntimeError> {
+    pub(crate) fn bind_accel(&mut self, accel: &RtAccel, cache: &AccelBuffers) -> Result<(), RuntimeError> {
         let (bg, mut extra) = self.make_group(self.accel_group, Some((accel, cache)))?;
         self.accel_objects.destroy(&self.device);
         // The cache's buffers stay alive as long as the bind group that names them.
@@ -140,7 +140,7 @@ impl RtPass {
     /// call therefore writes zeros through the queue (before the frame's commands, and not a
     /// `clear_texture`, which wgpu does not count as initializing) into every texture and
     /// marked buffer the pass writes.
-    pub fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
+    pub(crate) fn transition(&self, encoder: &mut wgpu::CommandEncoder, stats: &wgpu::Buffer) {
         if !self.initialized.swap(true, std::sync::atomic::Ordering::Relaxed) {
             for b in &self.bindings {
                 match &b.resource {

@@ -28,7 +28,7 @@ pub struct RtAccel {
     /// owners (`accel_positions`, `accel_indices`, `accel_first_triangle`, `accel_owners`).
     geometry: Vec<HalBuffer>,
     /// Instances in the TLAS (those whose unit has a BLAS and whose transform is finite).
-    pub instance_count: usize,
+    instance_count: usize,
     /// What the last update replaced, and its staging and scratch memory: destroyed at the
     /// next update or on drop, once the device is idle (the build's command buffer is
     /// submitted by the caller, with the frame).

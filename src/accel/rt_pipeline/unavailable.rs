@@ -20,20 +20,12 @@ pub fn live_hal_objects() -> isize {
 }
 
 /// Acceleration structures of the `rt-pipeline` back-end: never built here.
-pub struct RtAccel {
-    /// Instances in the TLAS: none.
-    instance_count: usize,
-}
+pub struct RtAccel {}
 
 impl RtAccel {
-    /// Instances in the TLAS: none.
-    pub fn instance_count(&self) -> usize {
-        self.instance_count
-    }
-
     /// An empty set; [`RtAccel::update`] fails.
     pub fn new(_device: &wgpu::Device) -> Self {
-        Self { instance_count: 0 }
+        Self {}
     }
 
     /// Fails: there is no Vulkan device to build on.
