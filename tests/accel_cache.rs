@@ -383,27 +383,40 @@ fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
         let refitted = merged_accel(nodes, tris);
         let (merged, origin) = merge_instances(&scene);
         let cpu_built = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
-        let (through_refit, through_cpu) = (CpuTraverser::new(&refitted), CpuTraverser::new(&cpu_built));
-        let reference = Reference::new(&scene);
-        let b = scene.bounds();
-        let mut rng = raygraph::util::SplitMix64(step);
-        let (mut robust, mut hits) = (0, 0);
-        for k in 0..400 {
-            let ray = Ray::new(b.min + (b.max - b.min) * Vec3::new(rng.f(), rng.f(), rng.f()), rng.dir());
-            let (want, margin) = reference.closest_with_margin(&ray);
-            if margin < 1e-4 {
-                continue;
-            }
-            robust += 1;
-            hits += want.is_some() as usize;
-            for (what, got) in [("refitted", through_refit.closest(&ray)), ("CPU-built", through_cpu.closest(&ray))] {
-                assert_eq!(got.map(|h| (h.instance_id, h.prim)), want.map(|w| (w.instance_id, w.prim)), "step {step} ray {k}: the {what} tree's hit");
-                if let (Some(g), Some(w)) = (got, want) {
-                    assert!((g.t as f64 - w.t).abs() <= 1e-4 * w.t.max(1.0), "step {step} ray {k}: the {what} tree's t {} against {}", g.t, w.t);
-                }
+        rays_hit_what_the_reference_hits(&scene, &refitted, &cpu_built, step);
+    }
+}
+
+/// 400 random rays through the refitted tree and the CPU-built tree of the moved `scene` hit
+/// what the f64 reference hits (rays within 1e-4 of an edge skipped).
+fn rays_hit_what_the_reference_hits(
+    scene: &raygraph::scene::Scene,
+    refitted: &raygraph::accel::layout::GpuAccel,
+    cpu_built: &raygraph::accel::layout::GpuAccel,
+    step: u64,
+) {
+    use raygraph::accel::cpu_traverse::{CpuTraverser, Ray};
+    use raygraph::accel::reference::Reference;
+    let (through_refit, through_cpu) = (CpuTraverser::new(refitted), CpuTraverser::new(cpu_built));
+    let reference = Reference::new(scene);
+    let b = scene.bounds();
+    let mut rng = raygraph::util::SplitMix64(step);
+    let (mut robust, mut hits) = (0, 0);
+    for k in 0..400 {
+        let ray = Ray::new(b.min + (b.max - b.min) * Vec3::new(rng.f(), rng.f(), rng.f()), rng.dir());
+        let (want, margin) = reference.closest_with_margin(&ray);
+        if margin < 1e-4 {
+            continue;
+        }
+        robust += 1;
+        hits += want.is_some() as usize;
+        for (what, got) in [("refitted", through_refit.closest(&ray)), ("CPU-built", through_cpu.closest(&ray))] {
+            assert_eq!(got.map(|h| (h.instance_id, h.prim)), want.map(|w| (w.instance_id, w.prim)), "step {step} ray {k}: the {what} tree's hit");
+            if let (Some(g), Some(w)) = (got, want) {
+                assert!((g.t as f64 - w.t).abs() <= 1e-4 * w.t.max(1.0), "step {step} ray {k}: the {what} tree's t {} against {}", g.t, w.t);
             }
         }
-        println!("step {step}: {robust} of 400 rays away from edges, {hits} hits; refitted, CPU-built and reference agree");
-        assert!(robust >= 360 && hits >= 100, "step {step}: {robust} robust rays, {hits} hits");
     }
+    println!("step {step}: {robust} of 400 rays away from edges, {hits} hits; refitted, CPU-built and reference agree");
+    assert!(robust >= 360 && hits >= 100, "step {step}: {robust} robust rays, {hits} hits");
 }

@@ -1,6 +1,7 @@
-//! Every function stays readable: no function in `src/` (the library and the command line) or in
-//! `web/src/` is longer than [`MAX_LINES`] lines, counted from its `fn` line to its closing brace.
-//! A longer one is named as `file:line fn name (N lines)`.
+//! Every function stays readable: no function in `src/` (the library and the command line),
+//! `web/src/`, `tests/`, `examples/`, the fuzz targets or `build.rs` is longer than [`MAX_LINES`]
+//! lines, counted from its `fn` line to its closing brace. A longer one is named as
+//! `file:line fn name (N lines)`.
 
 use std::path::{Path, PathBuf};
 
@@ -207,6 +208,13 @@ fn every_function_in_src_is_short() {
 #[test]
 fn every_function_of_the_web_build_is_short() {
     assert_short("web/src");
+}
+
+#[test]
+fn every_function_of_the_tests_examples_and_build_script_is_short() {
+    for path in ["tests", "examples", "fuzz/fuzz_targets", "build.rs"] {
+        assert_short(path);
+    }
 }
 
 #[test]
