@@ -67,3 +67,17 @@ fn included_files_report_their_own_lines() {
     let inc = std::fs::read_to_string(root.join("common/scene.wgsl")).unwrap();
     assert_eq!(loc.line, common::line_of(&inc, "struct Instance"));
 }
+
+/// No two files under `shaders/` share a name: an include's name says what it holds, and an
+/// `//#include "common/x.wgsl"` never reads as another folder's `x.wgsl`.
+#[test]
+fn no_two_shader_files_share_a_name() {
+    let mut files = Vec::new();
+    wgsl_files(&common::repo().join("shaders"), &mut files);
+    let mut by_name: std::collections::BTreeMap<String, Vec<String>> = std::collections::BTreeMap::new();
+    for f in &files {
+        by_name.entry(f.file_name().unwrap().to_string_lossy().into_owned()).or_default().push(f.display().to_string());
+    }
+    let clashes: Vec<String> = by_name.values().filter(|paths| paths.len() > 1).map(|paths| paths.join(" and ")).collect();
+    assert!(clashes.is_empty(), "shader files sharing a name; name each for what it holds:\n{}", clashes.join("\n"));
+}
