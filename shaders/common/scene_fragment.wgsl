@@ -11,9 +11,10 @@ fn scene_fragment_kept(in: VertexOut) -> bool {
     return raster_fragment_kept(scene_instances[in.instance], in.uv, in.clip.xy, in.color.a);
 }
 
-// The material inputs of fragment `in`: back faces of single-sided materials culled, those of
+// The material inputs of fragment `in` of instance `inst` (its record, read once by the
+// caller): back faces of single-sided materials culled, those of
 // double-sided ones with reversed normals. Takes derivatives (the normal map's frame, the face
 // normal and the shadow maps' receiver plane): call in uniform control flow.
-fn scene_fragment_surface(in: VertexOut, front_facing: bool) -> RasterSurface {
-    return raster_surface(scene_instances[in.instance], front_facing, in.local, in.uv, in.uv1, in.color, in.normal);
+fn scene_fragment_surface(in: VertexOut, inst: Instance, front_facing: bool) -> RasterSurface {
+    return raster_surface(inst, front_facing, in.local, in.uv, in.uv1, in.color, in.normal);
 }

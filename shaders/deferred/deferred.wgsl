@@ -32,7 +32,7 @@ struct GBuffer {
 // The fragment's G-buffer channels (discarded fragments never return).
 fn gbuffer_of(in: VertexOut, front_facing: bool) -> GBuffer {
     let inst = scene_instances[in.instance];
-    let s = scene_fragment_surface(in, front_facing);
+    let s = scene_fragment_surface(in, inst, front_facing);
     var out: GBuffer;
     // w: the instance + 1 (0 is the sky), as common/gbuffer_store.wgsl writes it.
     out.position = vec4<f32>(in.world, f32(in.instance + 1u));

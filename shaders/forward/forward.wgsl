@@ -9,6 +9,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> @locatio
     if !scene_fragment_kept(in) {
         discard;
     }
-    let r = scene_fragment_surface(in, front_facing);
+    let r = scene_fragment_surface(in, scene_instances[in.instance], front_facing);
     return vec4<f32>(fragment_radiance(in, r), 1.0);
 }

@@ -30,8 +30,9 @@ struct TranslucentOut {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front_facing: bool) -> TranslucentOut {
-    let r = scene_fragment_surface(in, front_facing);
-    let material = scene_instances[in.instance].material;
+    let inst = scene_instances[in.instance];
+    let r = scene_fragment_surface(in, inst, front_facing);
+    let material = inst.material;
     let c = clamp(material_coverage(material, in.uv, in.color.a), 0.0, 1.0);
     if in.clip.z >= textureLoad(depth, vec2<i32>(in.clip.xy), 0) || c <= 0.0 {
         discard;
