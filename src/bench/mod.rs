@@ -12,6 +12,7 @@ pub mod filters;
 pub mod modes;
 pub mod plot;
 pub mod rays;
+pub mod repeat;
 pub mod roofline;
 pub mod scale;
 pub mod track;

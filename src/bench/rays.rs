@@ -114,6 +114,9 @@ pub struct RaysRow {
     pub passes: Vec<(String, f64)>,
     /// Rays per pixel of each trace pass (by ray type: primary, shadow, AO), schedule order.
     pub rays_by_pass: Vec<(String, f64)>,
+    /// The frame's GPU ms on every executor the row was measured on, in order (the row reports
+    /// one of them: [`super::repeat::Repeats::chosen`]).
+    pub executors_ms: Vec<f64>,
 }
 
 /// What one measurement gives: the frame's median GPU ms, median rays and hits per frame, and
@@ -126,10 +129,34 @@ struct Measured {
     passes: Vec<(String, f64)>,
     /// Rays per pixel of each trace pass.
     rays_by_pass: Vec<(String, f64)>,
+    /// The GPU ms of every executor the row was measured on, in order.
+    executors_ms: Vec<f64>,
 }
 
-/// Median GPU milliseconds of a frame (all passes) and of each pass, median rays per frame.
+/// [`measure_once`] on executors built one after the other until two agree
+/// ([`super::repeat::Repeats`]): the chosen measurement, with every executor's GPU ms.
 fn measure(
+    gpu: &Gpu,
+    graph: &Path,
+    project: &Project,
+    options: &CompileOptions,
+    scene: &Scene,
+    camera: &Camera,
+    cfg: &RaysConfig,
+) -> Result<Measured, crate::error::RuntimeError> {
+    let repeats = super::repeat::Repeats::for_gpu(gpu);
+    let (m, executors_ms) = repeats.run(|| {
+        measure_once(gpu, graph, project, options, scene, camera, cfg).map(|m| {
+            let ms = m.gpu_ms;
+            (m, ms)
+        })
+    })?;
+    Ok(Measured { executors_ms, ..m })
+}
+
+/// Median GPU milliseconds of a frame (all passes) and of each pass, median rays per frame,
+/// on one executor.
+fn measure_once(
     gpu: &Gpu,
     graph: &Path,
     project: &Project,
@@ -157,6 +184,7 @@ fn measure(
         hits: median(&mut hits) as u64,
         passes,
         rays_by_pass,
+        executors_ms: Vec::new(),
     })
 }
 
@@ -168,7 +196,7 @@ struct View<'a> {
 }
 
 fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured, rfps: Option<f64>) -> RaysRow {
-    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes, rays_by_pass } = m;
+    let Measured { gpu_ms: ms, wall_ms, rays, hits, passes, rays_by_pass, executors_ms } = m;
     let pixels = cfg.size.0 as f64 * cfg.size.1 as f64;
     RaysRow {
         test: test.into(),
@@ -185,6 +213,7 @@ fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured,
         hit_fraction: if rays > 0 { hits as f64 / rays as f64 } else { 0.0 },
         rfps,
         passes,
+        executors_ms,
     }
 }
 
@@ -427,7 +456,7 @@ pub fn passes_csv(info: &RunInfo, rows: &[RaysRow]) -> String {
 /// What the workload and the columns are, for the results' headers.
 pub fn definitions(cfg: &RaysConfig) -> String {
     format!(
-        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss (outside): rays from above the scene's box pointing away from it; Miss (inside): from the scene's `miss_inside` camera preset, rays that cross the scene and hit nothing; Stress: the scene's `stress` camera preset, or its camera narrowed until it shows no sky; all three (`graph/bench_primary.ron`) with {} jittered primary rays per pixel, on the last scene listed. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled.",
+        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss (outside): rays from above the scene's box pointing away from it; Miss (inside): from the scene's `miss_inside` camera preset, rays that cross the scene and hit nothing; Stress: the scene's `stress` camera preset, or its camera narrowed until it shows no sky; all three (`graph/bench_primary.ron`) with {} jittered primary rays per pixel, on the last scene listed. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled. On a hardware GPU each row is measured on executors built one after the other until two agree within 3% (at most four), and reports the faster of the two (GPU ms per executor: every one in order).",
         cfg.ao_rays, cfg.ao_length, cfg.primary_rays
     )
 }
@@ -436,12 +465,14 @@ pub fn definitions(cfg: &RaysConfig) -> String {
 pub fn csv(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
     let mut s = info.csv_comment();
     let _ = writeln!(s, "# {}", definitions(cfg));
-    s.push_str("test,scene,camera,backend,fps,gpu_ms,wall_ms,rays_per_frame,rays_per_pixel,grays_per_s,hit_fraction,rfps,rays_per_pixel_by_pass\n");
+    s.push_str(
+        "test,scene,camera,backend,fps,gpu_ms,wall_ms,rays_per_frame,rays_per_pixel,grays_per_s,hit_fraction,rfps,rays_per_pixel_by_pass,executors_gpu_ms\n",
+    );
     let field = |t: &str| t.replace(',', ";");
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{},{},{:.4},{:.4},{:.4},{},{:.3},{:.5},{:.4},{},{}",
+            "{},{},{},{},{:.4},{:.4},{:.4},{},{:.3},{:.5},{:.4},{},{},{}",
             field(&r.test),
             field(&r.scene),
             field(&r.camera),
@@ -454,10 +485,16 @@ pub fn csv(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
             r.grays_per_s,
             r.hit_fraction,
             r.rfps.map(|f| format!("{f:.3}")).unwrap_or_default(),
-            by_pass(r, ";")
+            by_pass(r, ";"),
+            executors(r, ";")
         );
     }
     s
+}
+
+/// The GPU ms of every executor a row was measured on, joined by `sep`.
+fn executors(r: &RaysRow, sep: &str) -> String {
+    r.executors_ms.iter().map(|ms| format!("{ms:.3}")).collect::<Vec<_>>().join(sep)
 }
 
 /// A row's rays per pixel by trace pass, `pass=value` joined by `sep`.
@@ -476,12 +513,12 @@ pub fn markdown(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
         _ => "",
     };
     let mut s = format!("# bench rays\n\n{}\n{}\n\n", info.markdown(), definitions(cfg));
-    s.push_str("| test | back-end | FPS | GPU ms | wall ms | rays/pixel | GigaRays/s | hit fraction | RFPS | paper GR/s (RTX 2080 Ti) | scene | camera | rays/pixel by pass |\n");
-    s.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- | --- |\n");
+    s.push_str("| test | back-end | FPS | GPU ms | wall ms | rays/pixel | GigaRays/s | hit fraction | RFPS | paper GR/s (RTX 2080 Ti) | scene | camera | rays/pixel by pass | GPU ms per executor |\n");
+    s.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- | --- | --- |\n");
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.3} | {:.3} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.3} | {:.3} | {} | {} | {} | {} | {} | {} |",
             r.test,
             r.backend,
             r.fps,
@@ -494,7 +531,8 @@ pub fn markdown(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
             paper(&r.test),
             r.scene,
             r.camera,
-            by_pass(r, ", ")
+            by_pass(r, ", "),
+            executors(r, ", ")
         );
     }
     s
