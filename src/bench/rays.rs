@@ -591,6 +591,7 @@ mod tests {
             rfps: None,
             passes: Vec::new(),
             rays_by_pass: Vec::new(),
+            executors_ms: vec![1.0],
         }
     }
 

@@ -11,6 +11,9 @@
 #        (RAYGRAPH_GPU_BUILD_LOCAL 256 = default, 128, 64; RAYGRAPH_GPU_BUILD_FINISH 512).
 #     3. `render --report` of hybrid_denoised, hybrid, raster and full RT on the atrium at
 #        2560x1440 (the CPU phases outside the passes, and every pass's CPU ms).
+#   part executors: six box rows in one process (`--scenes box,box,box,box,box,box`), each on an
+#     executor of its own, per back-end, two processes each, the SM clock sampled every 50 ms:
+#     whether the slow executor of the probe strikes at random within a process.
 set -u
 PART=${1:-probe}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
@@ -39,6 +42,17 @@ if [ "$PART" = probe ]; then
     echo "== render --report, atrium, graph/$g.ron" >> $OUT/r/report.txt
     $RG render --scene atrium --graph graph/$g.ron --backend compute --width 2560 --height 1440 --frames 60 --report $OUT/r/report_$g.md --out /tmp/o.png >> $OUT/r/report.txt 2>&1
   done
+elif [ "$PART" = executors ]; then
+  kill $SMI; mkdir -p /tmp/e && cd /tmp/e
+  nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,utilization.gpu,clocks_throttle_reasons.active --format=csv,noheader -lms 50 > $OUT/clocks.csv & SMI=$!
+  for k in 1 2; do for b in rt-pipeline compute; do
+    date -u +%T.%N; $RG bench rays --scenes box,box,box,box,box,box --backend $b --frames 10 --out /tmp/e/r_${b}_$k > /dev/null 2>&1
+  done; done
+  kill $SMI
+  for k in 1 2; do for b in rt-pipeline compute; do
+    echo "== $b $k"; grep -E "^box," /tmp/e/r_${b}_$k/rays_passes.csv | grep -E "ao/ao|tonemap" | tr '\n' ' '; echo
+  done; done
+  tar czf $OUT/e.tgz r_*; exit 0
 fi
 kill $SMI
 cd $OUT && tar czf results.tgz r && cp r/box.log r/report.txt . 2>/dev/null
