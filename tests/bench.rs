@@ -39,7 +39,8 @@ fn bench_rays_quick_writes_a_complete_table() {
             "grays_per_s",
             "hit_fraction",
             "rfps",
-            "rays_per_pixel_by_pass"
+            "rays_per_pixel_by_pass",
+            "executors_gpu_ms"
         ]
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
@@ -56,6 +57,9 @@ fn bench_rays_quick_writes_a_complete_table() {
         }
         let (gpu_ms, wall_ms): (f64, f64) = (r[5].parse().unwrap(), r[6].parse().unwrap());
         assert!(wall_ms > 0.0 && gpu_ms > 0.0, "both times measured: {r:?}");
+        // lavapipe: one executor a row (src/bench/repeat.rs), the one reported (3 decimals).
+        let executors: Vec<f64> = r[13].split(';').map(|v| v.parse().unwrap()).collect();
+        assert!(executors.len() == 1 && (executors[0] - gpu_ms).abs() <= 0.0006, "{r:?}");
         // Rays per pixel by pass add up to the row's rays per pixel.
         let by_pass: f64 = r[12].split(';').map(|p| p.split_once('=').unwrap().1.parse::<f64>().unwrap()).sum();
         let per_pixel: f64 = r[8].parse().unwrap();
