@@ -1,11 +1,13 @@
 #!/bin/bash
 # The GPU machine's run for issue 35, item 4 (the atrium's GPU rebuild: kernels <= 0.45 ms,
 # cache rebuild <= 1.5 ms of wall time). Two release binaries in one call: .gpu/raygraph-base
-# (before: bitonic sort, two dispatches per round, three waits per cache rebuild) and
-# .gpu/raygraph (after), each from an empty folder of its own; the after binary also with the
-# environment's variants (the old sort, the old rounds, both, a larger local reduction), so
-# every lever is compared in the same session. `bench build --scenes organic,atrium
-# --max-factor 1` each; the gpu_build.md rows are printed last, results in $OUT/results.tgz.
+# (before, 42c239d: bitonic sort, two dispatches per round, three waits per cache rebuild) and
+# .gpu/raygraph (after), each from an empty folder of its own (release builds, gzipped; the
+# Vulkan loader's packages in .gpu/gl/); the after binary also with the environment's variants
+# (the old sort, the old two dispatches per round, rounds dispatched for all triangles, the old
+# sort and rounds together, a larger local reduction), so every lever is compared in the same
+# session. `bench build --scenes organic,atrium --max-factor 1` each; the gpu_build.md rows
+# are printed last, results in $OUT/results.tgz.
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 gunzip -f .gpu/raygraph-base.gz .gpu/raygraph.gz; chmod +x .gpu/raygraph-base .gpu/raygraph
 OLD=$PWD/.gpu/raygraph-base; NEW=$PWD/.gpu/raygraph
@@ -19,6 +21,7 @@ run base_1 $OLD X=1
 run new_1 $NEW X=1
 run new_bitonic_1 $NEW RAYGRAPH_GPU_BUILD_SORT=bitonic
 run new_pair_1 $NEW RAYGRAPH_GPU_BUILD_ROUND=pair
+run new_direct_1 $NEW RAYGRAPH_GPU_BUILD_INDIRECT=0
 run new_old_kernels_1 $NEW RAYGRAPH_GPU_BUILD_SORT=bitonic RAYGRAPH_GPU_BUILD_ROUND=pair
 run new_local128_1 $NEW RAYGRAPH_GPU_BUILD_LOCAL=128
 run new_local64_1 $NEW RAYGRAPH_GPU_BUILD_LOCAL=64
