@@ -12,6 +12,7 @@ use raygraph::accel::cpu_traverse::{CpuTraverser, Ray};
 use raygraph::accel::gpu_build::{layout_sah_cost, merged_triangles, read_bytes, GpuBlas, GpuBlasBuilder};
 use raygraph::accel::gpu_records::GpuRecordMaker;
 use raygraph::accel::layout::{merge, merge_instances, GpuAccel, GpuBvhNode, GpuTriangle};
+use raygraph::accel::radix_sort::GpuRadixSort;
 use raygraph::runtime::Gpu;
 use raygraph::scene::load::builtin;
 use raygraph::scene::{Mesh, Scene, Vertex};
@@ -309,4 +310,67 @@ fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
     // A triangle added to the small mesh: the meshes are laid out again.
     scene.mesh_mut(odd).indices.extend([0, 2, 4]);
     check_gpu_records(&gpu, &mut maker, &scene, "after a new triangle");
+}
+
+/// Sorts `keys` and `vals` (`capacity` pairs; the first `count` sorted) with the GPU radix sort
+/// and reads both arrays back whole.
+fn radix_sorted(gpu: &Gpu, sorter: &GpuRadixSort, keys: &[u32], vals: &[u32], count: u32) -> (Vec<u32>, Vec<u32>) {
+    use wgpu::util::DeviceExt;
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+    let upload = |label: &str, data: &[u32]| {
+        gpu.device().create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytemuck::cast_slice(data), usage })
+    };
+    let (key_buffer, val_buffer) = (upload("test keys", keys), upload("test values", vals));
+    let scopes = gpu.scopes();
+    let job = sorter.job(gpu.device(), &key_buffer, &val_buffer, keys.len() as u32, count);
+    let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("test radix sort") });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("test radix sort"), timestamp_writes: None });
+        sorter.record(&mut pass, &job);
+    }
+    gpu.queue().submit([encoder.finish()]);
+    scopes.finish(gpu, "radix sort").unwrap();
+    let read = |b: &wgpu::Buffer| -> Vec<u32> { bytemuck::cast_slice(&read_bytes(gpu.device(), gpu.queue(), b, 0, 4 * keys.len() as u64).unwrap()).to_vec() };
+    (read(&key_buffer), read(&val_buffer))
+}
+
+/// The GPU radix sort gives what a stable sort on the CPU gives: random keys of a few bits
+/// (many equal) to all 32, sizes around its tile of 2048 keys and past a million, one key; the
+/// values (distinct, not in key order) say where each key came from. Pairs past the count are
+/// left as they were.
+#[test]
+fn the_radix_sort_equals_a_stable_sort() {
+    let gpu = gpu();
+    let sorter = GpuRadixSort::new(gpu.device());
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 16) as u32
+    };
+    let cases: [(usize, usize, u32); 9] = [
+        (1, 1, 32),
+        (2, 2, 1),
+        (2047, 2047, 3),
+        (2048, 2048, 30),
+        (2049, 2049, 9),
+        (5000, 3001, 30),
+        (100_003, 100_003, 17),
+        (100_003, 100_003, 32),
+        ((1 << 20) + 3, (1 << 20) + 3, 30),
+    ];
+    for (capacity, count, bits) in cases {
+        let mask = if bits == 32 { u32::MAX } else { (1u32 << bits) - 1 };
+        let keys: Vec<u32> = (0..capacity).map(|_| next() & mask).collect();
+        let vals: Vec<u32> = (0..capacity as u32).map(|i| i.wrapping_mul(2_654_435_761)).collect();
+        let (got_keys, got_vals) = radix_sorted(&gpu, &sorter, &keys, &vals, count as u32);
+        let mut order: Vec<usize> = (0..count).collect();
+        order.sort_by_key(|&i| keys[i]);
+        let want_keys: Vec<u32> = order.iter().map(|&i| keys[i]).chain(keys[count..].iter().copied()).collect();
+        let want_vals: Vec<u32> = order.iter().map(|&i| vals[i]).chain(vals[count..].iter().copied()).collect();
+        let what = format!("{count} of {capacity} keys of {bits} bits");
+        assert!(got_keys == want_keys, "{what}: keys out of order");
+        assert!(got_vals == want_vals, "{what}: values not in the stable order");
+    }
 }

@@ -10,19 +10,26 @@
 //
 // Entry points, in the order the builder records them:
 //   prim_boxes       the leaves' boxes and costs; the centroid bounds (atomics)
-//   morton           30-bit Morton codes of the centroids, padded to a power of two
+//   morton           30-bit Morton codes of the centroids (padded to a power of two for the
+//                    bitonic sort); then shaders/accel/radix_sort.wgsl sorts them, or:
 //   sort_block       bitonic sort of each block of 4096 keys in workgroup memory
 //   sort_step_pair   two global compare-exchange steps (k, j and j / 2) of the network
 //   sort_step        one global step (k, j), where a stage has an odd number of them
 //   sort_block_merge the steps j < 4096 of stage k in workgroup memory
 //   ploc_local       the first rounds within segments of 1024 leaves in Morton order, in
 //                    workgroup memory; the survivors compacted in order
+//   ploc_round       one round: nearest neighbours, merges and the survivors compacted in
+//                    order into the other cluster array; or, in two dispatches:
 //   ploc_nearest     each cluster's nearest neighbour among params.radius on either side
 //   ploc_merge       mutual nearest neighbours merge into a new node; the survivors move, in
 //                    order, to the other cluster array
+//   ploc_finish      the last rounds in one workgroup
 //   layout_offsets   per node: first triangle in depth-first order, depth, inside a leaf?
 //   layout_write     the traversal's node pairs and the triangles in leaf order; per traversal
 //                    node its parent, per triangle its input index (the GPU refit's inputs)
+//
+// `params.n` and the state's counts are written by the CPU, or copied on the GPU from a count
+// only the GPU knows (the records kernel's), before the first dispatch.
 
 struct Params {
     // Triangles.
@@ -63,6 +70,9 @@ struct Params {
 @group(0) @binding(14) var<storage, read_write> out_parents: array<u32>;
 // Per triangle in leaf order: its index in tris_in.
 @group(0) @binding(15) var<storage, read_write> out_order: array<u32>;
+// The workgroups (x, y, z) of the next round's indirect dispatch, which has the other parity
+// (each parity binds the other's): enough for its clusters, none when the finish takes them.
+@group(0) @binding(16) var<storage, read_write> next_groups: array<u32>;
 
 const NONE: u32 = 0xffffffffu;
 const GROUP: u32 = 256u;
@@ -77,7 +87,8 @@ const BOX_PAD_ABS: f32 = 1e-20;
 // state: centroid bounds as order-preserving integers (0..2 min, 3..5 max); the clusters left
 // (6); the merge's next tile ticket (7); the next new node (8); the deepest leaf (9); rounds
 // that merged (10); the parity whose input array holds the clusters (11); the finished root's
-// SAH cost (12) and box area (13), as f32 bits.
+// SAH cost (12) and box area (13), as f32 bits; the fused rounds' second ticket (14); the
+// triangles, n (15, read back by the CPU).
 const STATE_COUNT: u32 = 6u;
 const STATE_TICKET: u32 = 7u;
 const STATE_NEXT_NODE: u32 = 8u;
@@ -86,6 +97,7 @@ const STATE_ROUNDS: u32 = 10u;
 const STATE_HOLDER: u32 = 11u;
 const STATE_ROOT_COST: u32 = 12u;
 const STATE_ROOT_AREA: u32 = 13u;
+const STATE_TICKET_B: u32 = 14u;
 
 const TILE_AGGREGATE: u32 = 0x40000000u;
 const TILE_PREFIX: u32 = 0x80000000u;
@@ -414,19 +426,20 @@ fn workgroup_inclusive_sum(lid: u32, value: u32) -> u32 {
 }
 
 // Decoupled look-back (Merrill and Garland 2016) for one invocation of tile `tile`, whose own
-// count is `total`: publishes it, sums the tiles before it (flag and value in one atomic word,
-// so no other memory ordering is needed; a tile waits only on tiles that took their ticket
-// before it), publishes the inclusive prefix and returns the exclusive one.
-fn tile_prefix(tile: u32, total: u32) -> u32 {
+// count is `total`, over the tile status words from `region`: publishes it, sums the tiles
+// before it (flag and value in one atomic word, so no other memory ordering is needed; a tile
+// waits only on tiles that took their ticket before it), publishes the inclusive prefix and
+// returns the exclusive one.
+fn tile_prefix(region: u32, tile: u32, total: u32) -> u32 {
     if tile == 0u {
-        atomicStore(&tile_status[0], TILE_PREFIX | total);
+        atomicStore(&tile_status[region], TILE_PREFIX | total);
         return 0u;
     }
-    atomicStore(&tile_status[tile], TILE_AGGREGATE | total);
+    atomicStore(&tile_status[region + tile], TILE_AGGREGATE | total);
     var before = 0u;
     var k = tile - 1u;
     loop {
-        let status = atomicLoad(&tile_status[k]);
+        let status = atomicLoad(&tile_status[region + k]);
         if status == 0u {
             continue;
         }
@@ -436,7 +449,7 @@ fn tile_prefix(tile: u32, total: u32) -> u32 {
         }
         k -= 1u;
     }
-    atomicStore(&tile_status[tile], TILE_PREFIX | (before + total));
+    atomicStore(&tile_status[region + tile], TILE_PREFIX | (before + total));
     return before;
 }
 
@@ -469,14 +482,21 @@ fn ploc_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) gr
         }
         keep = select(1u, 0u, mutual && j < i);
     }
+    compact_survivors(lid, tile, count, 0u, keep, node);
+}
+
+// The survivors of a round's tile `tile` (per invocation: `keep` and its `node`) move, in
+// order, to clusters_out, the tiles before it found by look-back over the tile status words
+// from `region`; the last tile writes the next round's count (call from uniform control flow).
+fn compact_survivors(lid: u32, tile: u32, count: u32, region: u32, keep: u32, node: u32) {
     let upto = workgroup_inclusive_sum(lid, keep);
     if lid == 0u {
         let total = wg_sums[GROUP - 1u];
-        let before = tile_prefix(tile, total);
+        let before = tile_prefix(region, tile, total);
         wg_prefix = before;
         if tile == (count - 1u) / GROUP {
-            let next = before + total;
-            atomicStore(&state[STATE_COUNT], next);
+            write_next_groups(before + total);
+            atomicStore(&state[STATE_COUNT], before + total);
             atomicStore(&state[STATE_HOLDER], 1u - params.parity);
             atomicAdd(&state[STATE_ROUNDS], 1u);
         }
@@ -485,6 +505,108 @@ fn ploc_merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) gr
     if keep == 1u {
         clusters_out[before + upto - 1u] = node;
     }
+}
+
+// The next round's indirect dispatch for `count` clusters (see next_groups).
+fn write_next_groups(count: u32) {
+    next_groups[0] = select(0u, (count + GROUP - 1u) / GROUP, count > params.finish);
+    next_groups[1] = 1u;
+    next_groups[2] = 1u;
+}
+
+// The fused round's window in workgroup memory: the boxes of clusters base - 2 RADIUS ..
+// base + GROUP + 2 RADIUS, and the nearest neighbours of base - RADIUS .. base + GROUP + RADIUS
+// (every cluster a merge of the tile looks at).
+var<workgroup> round_lo: array<vec3<f32>, 320>;
+var<workgroup> round_hi: array<vec3<f32>, 320>;
+var<workgroup> round_near: array<u32, 288>;
+
+// The nearest neighbour of cluster i, whose box is at `w` in the fused round's window (of the
+// tile starting at `base`), among params.radius on either side (as `ploc_nearest`).
+fn window_nearest(i: u32, w: u32, count: u32) -> u32 {
+    let lo = round_lo[w];
+    let hi = round_hi[w];
+    var best = i;
+    var best_area = 3.0e38;
+    let first = max(i32(i) - i32(params.radius), 0);
+    let last = min(i + params.radius, count - 1u);
+    for (var c = u32(first); c <= last; c++) {
+        if c == i {
+            continue;
+        }
+        let a = area(min(lo, round_lo[w + c - i]), max(hi, round_hi[w + c - i]));
+        if nearer(i, c, a, best, best_area) {
+            best_area = a;
+            best = c;
+        }
+    }
+    return best;
+}
+
+// The ticket of the fused rounds' set of tile status words `status_set`.
+fn round_ticket(status_set: u32) -> u32 {
+    return select(STATE_TICKET, STATE_TICKET_B, status_set == 1u);
+}
+
+// One whole round in one dispatch (`ploc_nearest` and `ploc_merge` together): each tile finds
+// the nearest neighbours of its clusters and of RADIUS more on either side in workgroup
+// memory, so it knows which pairs are mutual without another dispatch; merges, then compacts
+// as `ploc_merge`. The rounds use two sets of tile status words and tickets by turns (set
+// `parity`; `ploc_local` used set 0 and leaves the clusters for parity 1, so the first round
+// uses the fresh set 1), each round clearing the set the next one uses.
+@compute @workgroup_size(256)
+fn ploc_round(@builtin(local_invocation_index) lid: u32) {
+    let count = round_count(lid);
+    if count == 0u {
+        return;
+    }
+    let status_set = params.parity;
+    let stride = arrayLength(&tile_status) / 2u;
+    if lid == 0u {
+        wg_prefix = atomicAdd(&state[round_ticket(status_set)], 1u);
+    }
+    let tile = workgroupUniformLoad(&wg_prefix);
+    let base = tile * GROUP;
+    if base >= count {
+        return;
+    }
+    if lid == 0u {
+        atomicStore(&tile_status[(1u - status_set) * stride + tile], 0u);
+        if tile == 0u {
+            atomicStore(&state[round_ticket(1u - status_set)], 0u);
+        }
+    }
+    for (var w = lid; w < GROUP + 4u * RADIUS; w += GROUP) {
+        let c = i32(base + w) - i32(2u * RADIUS);
+        if c >= 0 && u32(c) < count {
+            let node = clusters_in[u32(c)];
+            round_lo[w] = box_lo(node);
+            round_hi[w] = box_hi(node);
+        }
+    }
+    workgroupBarrier();
+    for (var q = lid; q < GROUP + 2u * RADIUS; q += GROUP) {
+        let i = i32(base + q) - i32(RADIUS);
+        if i >= 0 && u32(i) < count {
+            round_near[q] = window_nearest(u32(i), q + RADIUS, count);
+        }
+    }
+    workgroupBarrier();
+    let i = base + lid;
+    var keep = 0u;
+    var node = 0u;
+    if i < count {
+        let j = round_near[lid + RADIUS];
+        let mutual = j != i && round_near[j + RADIUS - base] == i;
+        node = clusters_in[i];
+        if mutual && i < j {
+            let wi = lid + 2u * RADIUS;
+            let wj = j + 2u * RADIUS - base;
+            node = make_node(node, clusters_in[j], min(round_lo[wi], round_lo[wj]), max(round_hi[wi], round_hi[wj]));
+        }
+        keep = select(1u, 0u, mutual && j < i);
+    }
+    compact_survivors(lid, tile, count, status_set * stride, keep, node);
 }
 
 // Makes the new node of nodes a and b (their boxes' union lo, hi) and returns its id.
@@ -618,9 +740,10 @@ fn ploc_local(@builtin(local_invocation_index) i: u32) {
     var rounds = 0u;
     let left = shared_rounds(i, count, params.k, &rounds);
     if i == 0u {
-        let before = tile_prefix(segment, left);
+        let before = tile_prefix(0u, segment, left);
         fin_aux[1023] = before;
         if segment == (params.n - 1u) / FINISH_CAPACITY {
+            write_next_groups(before + left);
             atomicStore(&state[STATE_COUNT], before + left);
             atomicStore(&state[STATE_HOLDER], 1u);
         }
@@ -668,12 +791,18 @@ fn node_count(node: u32) -> u32 {
     return bitcast<u32>(node_box[2u * node].w);
 }
 
+// Whether the rounds and the finish have made the root (the layout is recorded with them and
+// does nothing before; a build with no triangles has none).
+fn tree_finished() -> bool {
+    return atomicLoad(&state[STATE_COUNT]) == 1u;
+}
+
 // Every node walks up to the root: its first triangle in depth-first order is the number of
 // triangles in the left siblings of the subtrees it lies in the right side of.
 @compute @workgroup_size(256)
 fn layout_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let x = gid.x + gid.y * groups.x * GROUP;
-    if x >= 2u * params.n - 1u {
+    if !tree_finished() || x >= 2u * params.n - 1u {
         return;
     }
     var offset = 0u;
@@ -753,7 +882,7 @@ fn write_entry(e: u32, node: u32) {
 fn layout_write(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let t = gid.x + gid.y * groups.x * GROUP;
     let n = params.n;
-    if t >= n {
+    if !tree_finished() || t >= n {
         return;
     }
     if t == 0u {

@@ -20,7 +20,7 @@
 
 use super::bvh::{instance_transform, instance_world_bounds, Aabb, AccelOptions, Blas, SceneAccel, Tlas};
 use super::deform::{DeformPipelines, RebuildLedger, RefitPolicy, SahProbe};
-use super::gpu_build::{GpuBlas, GpuBlasBuilder, MAX_GPU_BUILD_TRIANGLES};
+use super::gpu_build::{GpuBlas, GpuBlasBuilder, GpuBuildError, MAX_GPU_BUILD_TRIANGLES};
 use super::gpu_records::{GpuRecordMaker, GpuRecords};
 use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel};
 use super::packed::PackedArrays;
@@ -982,17 +982,16 @@ impl AccelCache {
         let max_binding = device.limits().max_storage_buffer_binding_size / 48;
         let max_slots = (MAX_GPU_BUILD_TRIANGLES as u64).min(max_binding) as u32;
         let maker = self.record_maker.get_or_insert_with(|| GpuRecordMaker::new(device));
-        let records = match maker.make(device, queue, scene, (mesh_hashes, positions), max_slots) {
-            Ok(Some(r)) if (r.count as usize) >= GPU_BUILD_MIN_TRIANGLES => r,
-            Ok(_) => return None,
-            Err(e) => {
-                log::warn!("accel: the GPU records of the merged layout failed ({e}); building it on the CPU");
-                return None;
-            }
-        };
+        // The records and the build in a row, the survivor count copied on the GPU: one wait,
+        // after the build. Too few survivors (known then) are built again on the CPU.
+        let mut records = maker.record(device, queue, scene, (mesh_hashes, positions), max_slots).filter(|r| r.slots as usize >= GPU_BUILD_MIN_TRIANGLES)?;
         let builder = self.gpu_builder.as_ref()?;
-        match builder.build_records(device, queue, &records.records, records.count as usize) {
-            Ok(built) => Some((built, records)),
+        match builder.build_records_counted(device, queue, &records.records, (&records.count_word, 0), records.slots as usize) {
+            Ok(built) if built.triangle_count as usize >= GPU_BUILD_MIN_TRIANGLES => {
+                records.count = built.triangle_count;
+                Some((built, records))
+            }
+            Ok(_) | Err(GpuBuildError::Size(0)) => None,
             Err(e) => {
                 log::warn!("accel: the GPU build of the merged layout failed ({e}); building it on the CPU");
                 None

@@ -2,32 +2,40 @@
 //! Bounding Volume Hierarchy Construction", 2018) in `shaders/accel/build.wgsl`, for the merged
 //! layout's one large BLAS.
 //!
-//! The triangles are sorted by the 30-bit Morton code of their box centres (bitonic sort,
-//! blocks of 4096 in workgroup memory). The first rounds run within segments of 1024 leaves in
-//! workgroup memory (`LOCAL_CLUSTERS`). Then each round, every cluster finds its nearest
-//! neighbour (the smallest box around both) among the `SEARCH_RADIUS` clusters on either side in
-//! that order, mutual nearest neighbours merge into a new node, and the survivors are compacted
-//! in order (one dispatch for both: decoupled look-back over the workgroups). Rounds are
-//! dispatched for all clusters and return at once when there is nothing left to do, so they
-//! are recorded without reading anything back; the last `FINISH_CLUSTERS` clusters are
-//! merged by one workgroup in workgroup memory. Each new node gets its
-//! SAH cost (the cheaper of a leaf of at most four triangles and its split), so the tree is
-//! collapsed into leaves as it is built. Finally every node walks up to the root to find its
-//! first triangle in depth-first order, and the interior nodes write the traversal's layout
-//! ([`crate::accel::layout`]: children side by side at `1 + 2 k` for the `k`-th merge, boxes
-//! widened outwards as [`crate::accel::layout::widen_down`] does) and the triangles in leaf
-//! order. Unused node slots (inside leaves) stay zero and are never referenced. Beside them go
-//! what the GPU refit needs ([`crate::accel::refit::TreeRefit`]): each node's parent and each
-//! triangle's input index.
+//! The triangles are sorted by the 30-bit Morton code of their box centres, ties in input
+//! order ([`crate::accel::radix_sort`]; `RAYGRAPH_GPU_BUILD_SORT=bitonic` selects the bitonic
+//! network it replaced, which gives the same order, for comparing). The first rounds run
+//! within segments of 1024 leaves in workgroup memory (`LOCAL_CLUSTERS`). Then each round,
+//! every cluster finds its nearest neighbour (the smallest box around both) among the
+//! `SEARCH_RADIUS` clusters on either side in that order, mutual nearest neighbours merge into
+//! a new node, and the survivors are compacted in order: one dispatch per round, each
+//! workgroup finding the nearest neighbours of the clusters its merges look at in workgroup
+//! memory, with decoupled look-back over the workgroups (`RAYGRAPH_GPU_BUILD_ROUND=pair`
+//! selects two dispatches per round, the nearest neighbours in between in memory, for
+//! comparing). Rounds are dispatched for all clusters and return at once when there is nothing
+//! left to do, so they are recorded without reading anything back; the last
+//! `FINISH_CLUSTERS` clusters are merged by one workgroup in workgroup memory. Each new node
+//! gets its SAH cost (the cheaper of a leaf of at most four triangles and its split), so the
+//! tree is collapsed into leaves as it is built. Finally every node walks up to the root to
+//! find its first triangle in depth-first order, and the interior nodes write the traversal's
+//! layout ([`crate::accel::layout`]: children side by side at `1 + 2 k` for the `k`-th merge,
+//! boxes widened outwards as [`crate::accel::layout::widen_down`] does) and the triangles in
+//! leaf order. Unused node slots (inside leaves) stay zero and are never referenced. Beside
+//! them go what the GPU refit needs ([`crate::accel::refit::TreeRefit`]): each node's parent
+//! and each triangle's input index.
 //!
-//! [`GpuBlasBuilder::build`] submits the work, reads back how many clusters are left after the
-//! recorded rounds (recording more if needed), the finished tree's depth and its root's SAH
-//! cost (a few words: the tree stays on the GPU, [`GpuBlas::read_back`] copies it when asked),
-//! and reports the GPU time of its submissions when the adapter has timestamp queries.
+//! [`GpuBlasBuilder::build`] records all of it in one submission (the layout does nothing
+//! until the root exists), then reads back a few words in one wait: the clusters left (in the
+//! rare case that the recorded rounds did not bring them down to the finish's, more rounds and
+//! the layout are submitted and read again), the finished tree's depth, its root's SAH cost
+//! and the build's timestamps, when the adapter has timestamp queries. The tree stays on the
+//! GPU ([`GpuBlas::read_back`] copies it when asked). [`GpuBlasBuilder::build_records_counted`]
+//! takes a triangle count that only the GPU knows, so a cache rebuild waits once.
 
 use super::bvh::MAX_TREE_DEPTH;
 use super::bvh::{classify_mesh_triangle, TriangleStatus, INTERSECTION_COST, TRAVERSAL_COST};
 use super::layout::{merged_flags, GpuBvhNode, GpuTriangle, TriangleOrigin};
+use super::radix_sort::{GpuRadixSort, RadixSortJob};
 use crate::gpu_util::{compute_pipeline, readback_buffer};
 use crate::scene::Mesh;
 use wgpu::util::DeviceExt;
@@ -57,8 +65,12 @@ const GROUP: u32 = 256;
 /// Keys sorted in workgroup memory per block (the WGSL's `SORT_BLOCK`).
 const SORT_BLOCK: u32 = 4096;
 const PARAMS_STRIDE: u64 = 256;
-/// Storage buffers the builder binds (`tris_in` and bindings 2 to 15).
-const STORAGE_BINDINGS: u32 = 15;
+/// Words of the build's state (the WGSL's `state`): the clusters left, the triangles taken.
+const STATE_WORDS: usize = 16;
+const STATE_COUNT: usize = 6;
+const STATE_N: usize = 15;
+/// Storage buffers the builder binds (`tris_in` and bindings 2 to 16).
+const STORAGE_BINDINGS: u32 = 16;
 
 /// Why a GPU build did not produce a tree.
 #[derive(Debug, thiserror::Error)]
@@ -167,9 +179,11 @@ pub struct GpuBlasBuilder {
     ploc_local: wgpu::ComputePipeline,
     ploc_nearest: wgpu::ComputePipeline,
     ploc_merge: wgpu::ComputePipeline,
+    ploc_round: wgpu::ComputePipeline,
     ploc_finish: wgpu::ComputePipeline,
     layout_offsets: wgpu::ComputePipeline,
     layout_write: wgpu::ComputePipeline,
+    radix_sort: GpuRadixSort,
 }
 
 /// Workgroups for `invocations` threads of [`GROUP`], spread over y past 32768 in x.
@@ -221,9 +235,11 @@ impl GpuBlasBuilder {
             ploc_local: pipeline("ploc_local", &layout0),
             ploc_nearest: pipeline("ploc_nearest", &layout0),
             ploc_merge: pipeline("ploc_merge", &layout0),
+            ploc_round: pipeline("ploc_round", &layout0),
             ploc_finish: pipeline("ploc_finish", &layout0),
             layout_offsets: pipeline("layout_offsets", &layout0),
             layout_write: pipeline("layout_write", &layout0),
+            radix_sort: GpuRadixSort::new(device),
             group0,
         })
     }
@@ -240,7 +256,7 @@ impl GpuBlasBuilder {
                 contents,
                 usage: wgpu::BufferUsages::STORAGE,
             });
-            self.build_unscoped(device, queue, &tris_in, tris.len())
+            self.build_unscoped(device, queue, &tris_in, tris.len(), None)
         })
     }
 
@@ -248,7 +264,24 @@ impl GpuBlasBuilder {
     /// [`GpuTriangle`]s, every one usable: [`crate::accel::gpu_records`] makes them on the
     /// GPU) and waits for it.
     pub fn build_records(&self, device: &wgpu::Device, queue: &wgpu::Queue, records: &wgpu::Buffer, count: usize) -> Result<GpuBlas, GpuBuildError> {
-        Self::scoped(device, || self.build_unscoped(device, queue, records, count))
+        Self::scoped(device, || self.build_unscoped(device, queue, records, count, None))
+    }
+
+    /// Builds a BLAS over the records of `records` whose count only the GPU knows: the `u32`
+    /// at byte `offset` of `count` (written by earlier submissions, such as the records
+    /// kernel's), at most `capacity`; waits for it. Nothing is read back before the build: the
+    /// count is copied into the build's parameters on the GPU, its arrays are sized for
+    /// `capacity`, and the one read after it says how many triangles it took
+    /// ([`GpuBlas::triangle_count`]; an empty input is [`GpuBuildError::Size`]).
+    pub fn build_records_counted(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        records: &wgpu::Buffer,
+        (count, offset): (&wgpu::Buffer, u64),
+        capacity: usize,
+    ) -> Result<GpuBlas, GpuBuildError> {
+        Self::scoped(device, || self.build_unscoped(device, queue, records, capacity, Some((count, offset))))
     }
 
     /// `build` within error scopes: a device error is the build's error.
@@ -263,53 +296,78 @@ impl GpuBlasBuilder {
         result
     }
 
-    /// The build over the first `n` records of `tris_in`, waited for: the sort, the first
-    /// rounds and the finish in one submission, more rounds until one cluster is left, then
-    /// the layout.
-    fn build_unscoped(&self, device: &wgpu::Device, queue: &wgpu::Queue, tris_in: &wgpu::Buffer, n: usize) -> Result<GpuBlas, GpuBuildError> {
+    /// The build over the first `n` records of `tris_in` (with `count`, over as many as that
+    /// word says, at most `n`), waited for: everything in one submission (the rounds past the
+    /// last and the layout before the tree is finished do nothing), then one read of the
+    /// build's state and timestamps; more rounds and the layout again in the rare case that
+    /// clusters are left.
+    fn build_unscoped(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tris_in: &wgpu::Buffer,
+        n: usize,
+        count: Option<(&wgpu::Buffer, u64)>,
+    ) -> Result<GpuBlas, GpuBuildError> {
         if n == 0 || n > MAX_GPU_BUILD_TRIANGLES {
             return Err(GpuBuildError::Size(n));
         }
         let shape = BuildShape::new(n);
-        let sort_steps = sort_steps(shape.padded);
         let tuning = Tuning::from_env();
+        let sort_steps = if tuning.sort == SortKind::Bitonic { sort_steps(shape.padded) } else { Vec::new() };
         let buffers = BuildBuffers::new(device, &shape, &tuning.params(shape.n32, &sort_steps));
-        let [_, _, _, _, clusters_a, clusters_b, ..] = &buffers.scratch;
-        let even = buffers.bind(device, &self.group0, tris_in, clusters_a, clusters_b);
-        let odd = buffers.bind(device, &self.group0, tris_in, clusters_b, clusters_a);
+        let [keys, vals, _, _, clusters_a, clusters_b, ..] = &buffers.scratch;
+        let even = buffers.bind(device, &self.group0, tris_in, [clusters_a, clusters_b], &buffers.round_groups[1]);
+        let odd = buffers.bind(device, &self.group0, tris_in, [clusters_b, clusters_a], &buffers.round_groups[0]);
+        let round_dispatch =
+            RoundDispatch { bind: [&even, &odd], groups: shape.groups, fused: tuning.fused, indirect: tuning.indirect.then_some(&buffers.round_groups) };
+        let radix_job = (tuning.sort == SortKind::Radix).then(|| self.radix_sort.job(device, keys, vals, shape.n32, shape.n32));
 
         let mut timer = Timer::new(device, queue);
-        // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
-        // (each leaves about 83% of them on the atrium) and the finish.
-        let mut rounds = 0u32;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build") });
-        self.record_sort(&mut timer.pass(&mut encoder, Phase::Sort), &even, &shape, &sort_steps);
+        if let Some(word) = count {
+            buffers.copy_count(&mut encoder, word, 3 + sort_steps.len() as u64, radix_job.as_ref());
+        }
+        // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
+        // (each leaves about 83% of them on the atrium), the finish and the layout.
+        self.record_sort(&mut timer.pass(&mut encoder, Phase::Sort), &even, &shape, (&sort_steps, radix_job.as_ref()));
+        // `ploc_local` leaves the clusters where a round of parity 1 reads them.
+        let mut rounds = 1u32;
         {
             let mut pass = timer.pass(&mut encoder, Phase::Rounds);
             pass.set_bind_group(0, &even, &[slot(0)]);
             pass.set_pipeline(&self.ploc_local);
             pass.dispatch_workgroups(n.div_ceil(FINISH_CLUSTERS as usize) as u32, 1, 1);
             for _ in 0..tuning.first_rounds(n) {
-                self.record_round(&mut pass, rounds, [&even, &odd], shape.groups);
+                self.record_round(&mut pass, rounds, &round_dispatch);
                 rounds += 1;
             }
         }
         self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), &even, slot(1));
-        timer.resolve(&mut encoder);
-        queue.submit([encoder.finish()]);
-        self.run_remaining_rounds(device, queue, &mut timer, &buffers.state, [&even, &odd], (rounds, shape.groups))?;
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build layout") });
         self.record_layout(&mut timer.pass(&mut encoder, Phase::Layout), &even, &shape);
         timer.resolve(&mut encoder);
         queue.submit([encoder.finish()]);
-        finished_blas(device, queue, buffers, &shape, &timer)
+        let (state, phase_ms) = self.run_remaining_rounds(device, queue, &mut timer, (&buffers.state, &shape), &round_dispatch, rounds)?;
+        finished_blas(buffers, &state, phase_ms)
     }
 
-    /// Leaf boxes, Morton codes and their bitonic sort (`sort_steps` after the first blocks).
-    fn record_sort(&self, pass: &mut wgpu::ComputePass, even: &wgpu::BindGroup, shape: &BuildShape, sort_steps: &[(u32, u32, SortStep)]) {
+    /// Leaf boxes, Morton codes and their sort: by `radix` where there is one, else bitonic
+    /// (`sort_steps` after the first blocks).
+    fn record_sort(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        even: &wgpu::BindGroup,
+        shape: &BuildShape,
+        (sort_steps, radix): (&[(u32, u32, SortStep)], Option<&RadixSortJob>),
+    ) {
         let padded = shape.padded;
         pass.set_bind_group(0, even, &[slot(0)]);
         dispatch_for(pass, &self.prim_boxes, shape.n as u64);
+        if let Some(job) = radix {
+            dispatch_for(pass, &self.morton, shape.n as u64);
+            self.radix_sort.record(pass, job);
+            return;
+        }
         dispatch_for(pass, &self.morton, padded);
         pass.set_pipeline(&self.sort_block);
         let blocks = padded / SORT_BLOCK as u64;
@@ -328,31 +386,39 @@ impl GpuBlasBuilder {
         }
     }
 
-    /// More rounds, four and the finish per submission, until one cluster is left (a round
-    /// merges at least the closest pair); `(rounds, groups)`: the rounds recorded so far and
-    /// the workgroups of one.
+    /// Reads the build's state and timestamps; while more than one cluster is left, records
+    /// four more rounds, the finish and the layout, and reads again (a round merges at least
+    /// the closest pair; four that merge nothing are an error, not a loop); `rounds`: the
+    /// rounds recorded so far. The state words and the phases' milliseconds of the finished build.
     fn run_remaining_rounds(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         timer: &mut Timer,
-        state: &wgpu::Buffer,
-        bind: [&wgpu::BindGroup; 2],
-        (mut rounds, groups): (u32, (u32, u32)),
-    ) -> Result<(), GpuBuildError> {
+        (state, shape): (&wgpu::Buffer, &BuildShape),
+        dispatch: &RoundDispatch,
+        mut rounds: u32,
+    ) -> Result<(Vec<u32>, Option<[f64; 4]>), GpuBuildError> {
+        let mut left = u32::MAX;
         loop {
-            if read_u32s(device, queue, state, 0, 16)?[6] <= 1 {
-                return Ok(());
+            let (words, phase_ms) = timer.read_with_state(device, queue, state)?;
+            if words[STATE_COUNT] <= 1 {
+                return Ok((words, phase_ms));
             }
+            if words[STATE_COUNT] >= left {
+                return Err(GpuBuildError::Device(format!("the rounds made no progress: {left} clusters left")));
+            }
+            left = words[STATE_COUNT];
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build rounds") });
             {
                 let mut pass = timer.pass(&mut encoder, Phase::Rounds);
                 for _ in 0..4 {
-                    self.record_round(&mut pass, rounds, bind, groups);
+                    self.record_round(&mut pass, rounds, dispatch);
                     rounds += 1;
                 }
             }
-            self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), bind[0], slot(1));
+            self.record_finish(&mut timer.pass(&mut encoder, Phase::Finish), dispatch.bind[0], slot(1));
+            self.record_layout(&mut timer.pass(&mut encoder, Phase::Layout), dispatch.bind[0], shape);
             timer.resolve(&mut encoder);
             queue.submit([encoder.finish()]);
         }
@@ -377,16 +443,31 @@ impl GpuBlasBuilder {
     }
 
     /// One PLOC round: nearest neighbours; then merges and the survivors compacted in order
-    /// into the other cluster array. Dispatched for all clusters (`groups`); a round with
+    /// into the other cluster array ([`RoundDispatch`] says how it is dispatched); a round with
     /// nothing to do returns at once.
-    fn record_round(&self, pass: &mut wgpu::ComputePass, round: u32, bind: [&wgpu::BindGroup; 2], groups: (u32, u32)) {
+    fn record_round(&self, pass: &mut wgpu::ComputePass, round: u32, dispatch: &RoundDispatch) {
         let parity = (round % 2) as usize;
-        pass.set_bind_group(0, bind[parity], &[slot(1 + parity as u64)]);
-        pass.set_pipeline(&self.ploc_nearest);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
-        pass.set_pipeline(&self.ploc_merge);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
+        pass.set_bind_group(0, dispatch.bind[parity], &[slot(1 + parity as u64)]);
+        let pipelines: &[&wgpu::ComputePipeline] = if dispatch.fused { &[&self.ploc_round] } else { &[&self.ploc_nearest, &self.ploc_merge] };
+        for pipeline in pipelines {
+            pass.set_pipeline(pipeline);
+            match dispatch.indirect {
+                Some(groups) => pass.dispatch_workgroups_indirect(&groups[parity], 0),
+                None => pass.dispatch_workgroups(dispatch.groups.0, dispatch.groups.1, 1),
+            }
+        }
     }
+}
+
+/// How the rounds are dispatched: the bind group of each parity, the workgroups of a round
+/// over every triangle, whether a round is one dispatch (`ploc_round`) or two (`ploc_nearest`,
+/// `ploc_merge`), and, for indirect dispatches, the workgroups each parity's rounds read
+/// (written by the round before, sized for its clusters) instead of that many.
+struct RoundDispatch<'a> {
+    bind: [&'a wgpu::BindGroup; 2],
+    groups: (u32, u32),
+    fused: bool,
+    indirect: Option<&'a [wgpu::Buffer; 2]>,
 }
 
 /// The dynamic offset of params record `s`.
@@ -442,12 +523,29 @@ fn sort_steps(padded: u64) -> Vec<(u32, u32, SortStep)> {
     sort_steps
 }
 
-/// The build's clusters per finish and per local segment and its search radius, from the
-/// environment's overrides (for measuring) or the defaults.
+/// How the Morton codes are sorted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SortKind {
+    /// [`crate::accel::radix_sort`] (the default).
+    Radix,
+    /// The bitonic network (`RAYGRAPH_GPU_BUILD_SORT=bitonic`, for comparing): keys padded to a
+    /// power of two, blocks of [`SORT_BLOCK`] in workgroup memory, then global steps.
+    Bitonic,
+}
+
+/// The build's clusters per finish and per local segment, its search radius, its sort,
+/// whether a round is one dispatch (`ploc_round`; `RAYGRAPH_GPU_BUILD_ROUND=pair` selects the
+/// two dispatches it replaced, for comparing: the same tree) and whether the rounds' dispatches
+/// are sized on the GPU for the clusters left (`RAYGRAPH_GPU_BUILD_INDIRECT=0` dispatches every
+/// round for all triangles, for comparing), from the environment's overrides (for measuring)
+/// or the defaults.
 struct Tuning {
     finish: u32,
     local: u32,
     radius: u32,
+    sort: SortKind,
+    fused: bool,
+    indirect: bool,
 }
 
 impl Tuning {
@@ -457,6 +555,12 @@ impl Tuning {
             finish: var("RAYGRAPH_GPU_BUILD_FINISH").unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS),
             local: var("RAYGRAPH_GPU_BUILD_LOCAL").unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS),
             radius: var("RAYGRAPH_GPU_BUILD_RADIUS").unwrap_or(SEARCH_RADIUS).clamp(1, RADIUS),
+            sort: match std::env::var("RAYGRAPH_GPU_BUILD_SORT").as_deref() {
+                Ok("bitonic") => SortKind::Bitonic,
+                _ => SortKind::Radix,
+            },
+            fused: std::env::var("RAYGRAPH_GPU_BUILD_ROUND").as_deref() != Ok("pair"),
+            indirect: std::env::var("RAYGRAPH_GPU_BUILD_INDIRECT").as_deref() != Ok("0"),
         }
     }
 
@@ -476,12 +580,14 @@ impl Tuning {
     }
 
     /// The rounds recorded with the first submission for `n` triangles: enough to bring the
-    /// clusters left by the local rounds down to `finish` at about 83% left per round.
+    /// clusters left by the local rounds down to `finish` at about 83% left per round, and two
+    /// more (a round with nothing to do costs a dispatch whose workgroups return at once; one
+    /// too few costs another submission and wait).
     fn first_rounds(&self, n: usize) -> u32 {
         let (local, finish) = (self.local, self.finish);
         let after_local = n as f64 * local as f64 / FINISH_CLUSTERS as f64;
         if after_local > finish as f64 {
-            ((after_local / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 1
+            ((after_local / finish as f64).ln() / 1.2f64.ln()).ceil() as u32 + 3
         } else {
             0
         }
@@ -496,6 +602,8 @@ struct BuildBuffers {
     out_tris: wgpu::Buffer,
     parents: wgpu::Buffer,
     leaf_order: wgpu::Buffer,
+    /// The indirect dispatch of the rounds of each parity (x, y, z workgroups; none at first).
+    round_groups: [wgpu::Buffer; 2],
     /// Keys, values, node boxes, node links, clusters a and b, nearest, tile status, offsets.
     scratch: [wgpu::Buffer; 9],
 }
@@ -508,11 +616,12 @@ impl BuildBuffers {
             |label: &str, size: u64, usage| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false });
         let scratch = |label: &str, bytes: u64| buffer(label, bytes.max(16), storage);
         let (n, nodes, padded, (gx, gy)) = (shape.n as u64, shape.nodes, shape.padded, shape.groups);
-        let params = init("gpu build params", params, wgpu::BufferUsages::UNIFORM);
-        let mut state = [0u32; 16];
+        let params = init("gpu build params", params, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+        let mut state = [0u32; STATE_WORDS];
         state[..3].fill(u32::MAX);
-        state[6] = shape.n32;
-        let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC);
+        state[STATE_COUNT] = shape.n32;
+        state[STATE_N] = shape.n32;
+        let state = init("gpu build state", bytemuck::cast_slice(&state), storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
         let out_usage = storage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
         Self {
             params,
@@ -521,6 +630,7 @@ impl BuildBuffers {
             out_tris: buffer("triangles (GPU-built)", n * 48, out_usage),
             parents: buffer("BLAS parents (GPU-built)", nodes * 4, storage | wgpu::BufferUsages::COPY_SRC),
             leaf_order: buffer("leaf order (GPU-built)", n * 4, storage | wgpu::BufferUsages::COPY_SRC),
+            round_groups: [0, 1].map(|_| init("gpu build round groups", bytemuck::cast_slice(&[0u32, 1, 1, 0]), storage | wgpu::BufferUsages::INDIRECT)),
             scratch: [
                 scratch("gpu build keys", padded * 4),
                 scratch("gpu build values", padded * 4),
@@ -529,21 +639,36 @@ impl BuildBuffers {
                 scratch("gpu build clusters a", n * 4),
                 scratch("gpu build clusters b", n * 4),
                 scratch("gpu build nearest", n * 4),
-                scratch("gpu build tile status", (gx as u64 * gy as u64) * 4),
+                // Two sets: the fused rounds use them by turns.
+                scratch("gpu build tile status", 2 * (gx as u64 * gy as u64) * 4),
                 scratch("gpu build offsets", nodes * 4),
             ],
         }
     }
 
+    /// Copies the triangle count the GPU holds (`word`: buffer, byte offset) into the `slots`
+    /// params records, the state's cluster and triangle counts and the radix sort's count.
+    fn copy_count(&self, encoder: &mut wgpu::CommandEncoder, (buffer, offset): (&wgpu::Buffer, u64), slots: u64, radix: Option<&RadixSortJob>) {
+        for s in 0..slots {
+            encoder.copy_buffer_to_buffer(buffer, offset, &self.params, s * PARAMS_STRIDE, 4);
+        }
+        for word in [STATE_COUNT, STATE_N] {
+            encoder.copy_buffer_to_buffer(buffer, offset, &self.state, 4 * word as u64, 4);
+        }
+        if let Some((sort_state, sort_offset)) = radix.map(RadixSortJob::count_word) {
+            encoder.copy_buffer_to_buffer(buffer, offset, sort_state, sort_offset, 4);
+        }
+    }
+
     /// The bind group over these buffers, reading clusters from `clusters_in` and writing the
-    /// survivors to `clusters_out`.
+    /// survivors to `clusters_out`, the next round's workgroups to `next_groups`.
     fn bind(
         &self,
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
         tris_in: &wgpu::Buffer,
-        clusters_in: &wgpu::Buffer,
-        clusters_out: &wgpu::Buffer,
+        [clusters_in, clusters_out]: [&wgpu::Buffer; 2],
+        next_groups: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
         fn b(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
@@ -572,30 +697,34 @@ impl BuildBuffers {
                 b(13, &self.out_tris),
                 b(14, &self.parents),
                 b(15, &self.leaf_order),
+                b(16, next_groups),
             ],
         })
     }
 }
 
-/// The finished tree: reads back the build's state (depth, rounds, the root's cost) and the
-/// timestamps; fails for a tree deeper than the traversal stack.
-fn finished_blas(device: &wgpu::Device, queue: &wgpu::Queue, buffers: BuildBuffers, shape: &BuildShape, timer: &Timer) -> Result<GpuBlas, GpuBuildError> {
-    let state = read_u32s(device, queue, &buffers.state, 0, 16)?;
+/// The finished tree from the build's state words (`state`: depth, rounds, the triangles it
+/// took, the root's cost) and its phases' milliseconds; fails for an empty input and for a
+/// tree deeper than the traversal stack.
+fn finished_blas(buffers: BuildBuffers, state: &[u32], phase_ms: Option<[f64; 4]>) -> Result<GpuBlas, GpuBuildError> {
+    let n = state[STATE_N];
+    if n == 0 {
+        return Err(GpuBuildError::Size(0));
+    }
     let depth = state[9];
     if depth as usize >= MAX_TREE_DEPTH {
         return Err(GpuBuildError::TooDeep(depth));
     }
-    let phase_ms = timer.phase_ms(device, queue)?;
     let gpu_ms = phase_ms.map(|p| p.iter().sum());
     let (root_cost, root_area) = (f32::from_bits(state[12]) as f64, f32::from_bits(state[13]) as f64);
-    let sah_cost = if root_area > 0.0 { root_cost / root_area } else { INTERSECTION_COST as f64 * shape.n as f64 };
+    let sah_cost = if root_area > 0.0 { root_cost / root_area } else { INTERSECTION_COST as f64 * n as f64 };
     Ok(GpuBlas {
         nodes: buffers.out_nodes,
         triangles: buffers.out_tris,
         parents: buffers.parents,
         leaf_order: buffers.leaf_order,
-        node_count: shape.nodes as u32,
-        triangle_count: shape.n32,
+        node_count: 2 * n - 1,
+        triangle_count: n,
         depth,
         sah_cost,
         rounds: state[10],
@@ -604,17 +733,22 @@ fn finished_blas(device: &wgpu::Device, queue: &wgpu::Queue, buffers: BuildBuffe
     })
 }
 
-/// Reads `count` words of `buffer` from word `first`, waiting for the GPU.
-fn read_u32s(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer, first: u64, count: u64) -> Result<Vec<u32>, GpuBuildError> {
-    let bytes = read_bytes(device, queue, buffer, first * 4, count * 4)?;
-    Ok(bytemuck::cast_slice(&bytes).to_vec())
-}
-
 /// Copies `size` bytes of `buffer` at `offset` back to the CPU.
 pub fn read_bytes(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer, offset: u64, size: u64) -> Result<Vec<u8>, GpuBuildError> {
-    let staging = readback_buffer(device, "gpu build readback", size);
+    read_regions(device, queue, &[(buffer, offset, size)])
+}
+
+/// Copies each (buffer, offset, size) region back to the CPU in one submission and one wait;
+/// their bytes one after another.
+fn read_regions(device: &wgpu::Device, queue: &wgpu::Queue, regions: &[(&wgpu::Buffer, u64, u64)]) -> Result<Vec<u8>, GpuBuildError> {
+    let total = regions.iter().map(|r| r.2).sum();
+    let staging = readback_buffer(device, "gpu build readback", total);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build readback") });
-    encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, size);
+    let mut at = 0;
+    for &(buffer, offset, size) in regions {
+        encoder.copy_buffer_to_buffer(buffer, offset, &staging, at, size);
+        at += size;
+    }
     queue.submit([encoder.finish()]);
     let slice = staging.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
@@ -704,18 +838,27 @@ impl Timer {
         }
     }
 
-    fn phase_ms(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Option<[f64; 4]>, GpuBuildError> {
-        let Some((_, resolve)) = &self.queries else { return Ok(None) };
-        if self.phases.is_empty() || self.phases.len() as u32 >= TIMER_PASSES {
-            return Ok(None);
-        }
+    /// The build's state words and the phases' milliseconds so far (None without timestamp
+    /// queries or past [`TIMER_PASSES`]), in one read.
+    fn read_with_state(&self, device: &wgpu::Device, queue: &wgpu::Queue, state: &wgpu::Buffer) -> Result<(Vec<u32>, Option<[f64; 4]>), GpuBuildError> {
         let stride = wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT;
-        let bytes = read_bytes(device, queue, resolve, 0, stride * self.phases.len() as u64)?;
+        let state_bytes = 4 * STATE_WORDS as u64;
+        let timed = match &self.queries {
+            Some((_, resolve)) if !self.phases.is_empty() && (self.phases.len() as u32) < TIMER_PASSES => Some(resolve),
+            _ => None,
+        };
+        let mut regions = vec![(state, 0, state_bytes)];
+        regions.extend(timed.map(|resolve| (resolve, 0, stride * self.phases.len() as u64)));
+        let bytes = read_regions(device, queue, &regions)?;
+        let words = bytemuck::cast_slice(&bytes[..state_bytes as usize]).to_vec();
+        if timed.is_none() {
+            return Ok((words, None));
+        }
         let mut ms = [0.0; 4];
-        for (c, &phase) in bytes.chunks(stride as usize).zip(&self.phases) {
+        for (c, &phase) in bytes[state_bytes as usize..].chunks(stride as usize).zip(&self.phases) {
             let p: &[u64] = bytemuck::cast_slice(&c[..16]);
             ms[phase as usize] += p[1].saturating_sub(p[0]) as f64 * self.period_ns as f64 * 1e-6;
         }
-        Ok(Some(ms))
+        Ok((words, Some(ms)))
     }
 }

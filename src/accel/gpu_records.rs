@@ -7,8 +7,9 @@
 //! space, drops the ones [`crate::accel::gpu_build::merged_triangles`] drops (the same
 //! classification as [`crate::accel::bvh::classify_mesh_triangle`]) and compacts the rest in
 //! the same order. Beside the records go the survivors' object-space vertices, which the tree
-//! refit ([`crate::accel::refit::TreeRefit`]) binds. The survivor count is the one word read
-//! back.
+//! refit ([`crate::accel::refit::TreeRefit`]) binds. The survivor count is one word on the GPU,
+//! read back ([`GpuRecordMaker::make`]) or left for the builder to copy
+//! ([`GpuRecordMaker::record`]).
 
 use super::bvh::instance_transform;
 use super::gpu_build::{read_bytes, GpuBuildError};
@@ -31,8 +32,11 @@ pub struct GpuRecords {
     pub records: wgpu::Buffer,
     /// Per record, its three object-space vertices as `vec4<f32>`.
     pub object_vertices: wgpu::Buffer,
-    /// Records made (the triangles that survived).
+    /// Records made (the triangles that survived), after [`GpuRecordMaker::make`];
+    /// [`GpuRecordMaker::record`] leaves the most there can be, `slots`, until its count is read.
     pub count: u32,
+    /// The same count on the GPU: a `u32` at byte 0.
+    pub count_word: wgpu::Buffer,
     /// Input slots: the usable instances' triangles before the classification.
     pub slots: u32,
     /// Bytes written to GPU buffers for them (instance records, meshes that changed).
@@ -199,14 +203,29 @@ impl GpuRecordMaker {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &Scene,
-        (hashes, positions): (&[u64], Option<&wgpu::Buffer>),
+        meshes: (&[u64], Option<&wgpu::Buffer>),
         max_slots: u32,
     ) -> Result<Option<GpuRecords>, GpuBuildError> {
-        let Some(mesh_bytes) = self.sync_meshes(device, queue, scene, hashes) else { return Ok(None) };
-        let Some(data) = &self.meshes else { return Ok(None) };
-        let Some((instances, slots, usable)) = instance_records(scene, &data.ranges) else { return Ok(None) };
+        let Some(mut made) = self.record(device, queue, scene, meshes, max_slots) else { return Ok(None) };
+        made.count = bytemuck::pod_read_unaligned::<u32>(&read_bytes(device, queue, &made.count_word, 0, 4)?);
+        Ok(Some(made))
+    }
+
+    /// [`Self::make`] without waiting: the kernel is submitted and its survivor count stays on
+    /// the GPU ([`GpuRecords::count_word`]; [`GpuRecords::count`] is `slots`).
+    pub fn record(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        (hashes, positions): (&[u64], Option<&wgpu::Buffer>),
+        max_slots: u32,
+    ) -> Option<GpuRecords> {
+        let mesh_bytes = self.sync_meshes(device, queue, scene, hashes)?;
+        let data = self.meshes.as_ref()?;
+        let (instances, slots, usable) = instance_records(scene, &data.ranges)?;
         if slots == 0 || slots > max_slots {
-            return Ok(None);
+            return None;
         }
         let groups = (slots as u64).div_ceil(GROUP);
         let (x, y) = (groups.min(32768) as u32, groups.div_ceil(32768) as u32);
@@ -236,8 +255,7 @@ impl GpuRecordMaker {
             pass.dispatch_workgroups(x, y, 1);
         }
         queue.submit([encoder.finish()]);
-        let count = bytemuck::pod_read_unaligned::<u32>(&read_bytes(device, queue, &total, 0, 4)?);
         let bytes_uploaded = mesh_bytes + 16 * instances.len() as u64;
-        Ok(Some(GpuRecords { records, object_vertices, count, slots, bytes_uploaded }))
+        Some(GpuRecords { records, object_vertices, count: slots, count_word: total, slots, bytes_uploaded })
     }
 }

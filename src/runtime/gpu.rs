@@ -300,9 +300,11 @@ impl Gpu {
         }
         // wgpu checks every indirect draw's arguments on the GPU, with CPU work per draw when
         // the pass is recorded (80 ns a draw on the H200's host: 2.5 ms a frame at 29,952
-        // instances, BENCHMARKS.md "Scale"). raygraph's only indirect calls are the scene draws
-        // (`exec::draws`), made on the CPU from the upload's index ranges, so their arguments
-        // are in range by construction; `WGPU_VALIDATION_INDIRECT_CALL=1` turns the check on.
+        // instances, BENCHMARKS.md "Scale"). raygraph's indirect calls are the scene draws
+        // (`exec::draws`), made on the CPU from the upload's index ranges, and the GPU
+        // builder's rounds (`accel::gpu_build`: at most 32768 workgroups in x, 1 in y and z), so
+        // their arguments are in range by construction; `WGPU_VALIDATION_INDIRECT_CALL=1` turns
+        // the check on.
         if std::env::var_os("WGPU_VALIDATION_INDIRECT_CALL").is_none() {
             desc.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
         }

@@ -19,8 +19,8 @@ impl Executor {
             let settings = AccelSettings { dedup: p.accel.as_ref().is_none_or(|a| a.dedup), merge: p.accel.as_ref().is_some_and(|a| a.merge) };
             log::info!("acceleration structures: back-end {}, {}", plan.backend, settings.describe(plan.backend));
             let mut cache = AccelCache::new(gpu.device(), plan.backend, settings, plan.passes.iter().filter(|p| p.kind == PassKind::Trace).count() as u32);
-            // The GPU builder reads a few words back between its kernels, which a browser cannot
-            // wait for within a frame: on the web the CPU builds.
+            // The GPU builder waits for a few words it reads back after its kernels, which a
+            // browser cannot wait for within a frame: on the web the CPU builds.
             if gpu.info().device_type != wgpu::DeviceType::Cpu && !cfg!(target_arch = "wasm32") {
                 cache.set_merged_builder(MergedBuilder::GpuRebuilds);
             }
