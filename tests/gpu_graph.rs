@@ -4,6 +4,7 @@
 mod common;
 use common::fixtures;
 use raygraph::graph::compile::{compile_with, CompileOptions};
+use raygraph::graph::desc::PassKind;
 use raygraph::graph::{compile, Project};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::default_scene;
@@ -119,4 +120,35 @@ fn a_fullscreen_pass_draws_what_the_compute_pass_writes() {
     }
     assert_eq!(images[0].dimensions(), (W, H));
     assert!(images[0] == images[1], "the fragment and compute conversions differ");
+}
+
+/// Consecutive compute nodes recorded into one compute pass, timed by timestamps written
+/// inside it (`Gpu::merges_compute_passes`, lavapipe has them), and one pass per node, the
+/// fallback of a device without them (`RAYGRAPH_PASS_PER_NODE`): every node gets its GPU time
+/// either way, every dispatch a time of its own, and the frames are the same to the byte.
+#[test]
+fn compute_nodes_merged_into_one_pass_keep_a_gpu_time_each_and_the_image() {
+    let mut gpu = gpu();
+    let path = common::repo().join("graph/hybrid_denoised.ron");
+    let scene = default_scene();
+    let mut images = Vec::new();
+    for merged in [true, false] {
+        gpu.set_merge_compute_passes(merged);
+        assert_eq!(gpu.merges_compute_passes(), merged, "lavapipe writes timestamps inside passes");
+        let plan = compile_with(&path, &Project::beside_graph(&path), (W, H), &gpu.compile_options()).unwrap();
+        let dispatches: Vec<bool> = plan.passes().iter().map(|p| matches!(p.kind, PassKind::Compute | PassKind::Trace)).collect();
+        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+        for frame in 0..3 {
+            let t = exec.render(&gpu, scene.camera(), &scene).unwrap();
+            let gpu_ms = t.gpu_ms.expect("lavapipe reports timestamp queries");
+            assert_eq!((gpu_ms.len(), t.cpu_ms.len()), (dispatches.len(), dispatches.len()));
+            assert!(gpu_ms.iter().all(|ms| ms.is_finite() && *ms >= 0.0), "merged {merged}, frame {frame}: {gpu_ms:?}");
+            // An unwritten pair would resolve to zero: each dispatch's pair is its own.
+            for (k, ms) in gpu_ms.iter().enumerate().filter(|(k, _)| dispatches[*k]) {
+                assert!(*ms > 0.0, "merged {merged}, frame {frame}: pass {k} has no GPU time: {gpu_ms:?}");
+            }
+        }
+        images.push(exec.read_output(&gpu).unwrap().into_raw());
+    }
+    assert!(images[0] == images[1], "merging the compute nodes changed the image");
 }

@@ -39,6 +39,9 @@ pub struct Gpu {
     info: wgpu::AdapterInfo,
     /// Timestamp queries at pass boundaries are available.
     timestamps: bool,
+    /// Consecutive compute nodes of a frame are recorded into one compute pass, each between
+    /// timestamps written inside it ([`Gpu::merges_compute_passes`]).
+    merge_compute_passes: bool,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
     /// one texture per element instead of as one resampled texture array.
     texture_binding_arrays: bool,
@@ -100,6 +103,22 @@ impl Gpu {
     /// Timestamp queries at pass boundaries are available.
     pub fn timestamps(&self) -> bool {
         self.timestamps
+    }
+
+    /// Whether executors record consecutive compute nodes (compute passes, trace passes
+    /// dispatched as compute) into one wgpu compute pass, each node between timestamps written
+    /// inside it, and the timestamps of nodes recorded outside a pass straight into the encoder.
+    /// On where the device writes timestamps inside passes and encoders, or has no timestamp
+    /// queries at all; off with `RAYGRAPH_PASS_PER_NODE` set: every node is a pass of its own
+    /// with the timestamps of its descriptor. The GPU time of every node is measured either way.
+    pub fn merges_compute_passes(&self) -> bool {
+        self.merge_compute_passes
+    }
+
+    /// Turns [`Gpu::merges_compute_passes`] on (where the device can) or off, for executors'
+    /// frames from now on: tests record both ways.
+    pub fn set_merge_compute_passes(&mut self, on: bool) {
+        self.merge_compute_passes = on && can_merge_compute_passes(self.device.features());
     }
 
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
@@ -194,6 +213,15 @@ impl Faults {
         }));
         faults
     }
+}
+
+/// Timestamps written inside passes and command encoders (Vulkan has both or neither).
+const TIMESTAMPS_INSIDE: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
+
+/// Whether a device with `features` can record consecutive compute nodes into one pass and
+/// still time each node: it writes timestamps inside passes and encoders, or has none.
+fn can_merge_compute_passes(features: wgpu::Features) -> bool {
+    !features.contains(wgpu::Features::TIMESTAMP_QUERY) || features.contains(TIMESTAMPS_INSIDE)
 }
 
 /// Features that scene texture binding arrays need.
@@ -329,6 +357,10 @@ impl Gpu {
         let mut required_features = wgpu::Features::empty();
         if adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
+            // Consecutive compute nodes timed inside one pass (`Gpu::merges_compute_passes`).
+            if adapter.features().contains(TIMESTAMPS_INSIDE) {
+                required_features |= TIMESTAMPS_INSIDE;
+            }
         }
         let mut required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
         // G-buffers write more than WebGPU's default 32 bytes per pixel.
@@ -398,6 +430,7 @@ impl Gpu {
     ) -> Result<Self, RuntimeError> {
         let info = adapter.get_info();
         let timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let merge_compute_passes = can_merge_compute_passes(device.features()) && std::env::var_os("RAYGRAPH_PASS_PER_NODE").is_none();
         let texture_binding_arrays = bindless_allowed(device.features(), &device.limits());
         let packed_accel_arrays = device.limits().max_storage_buffers_per_shader_stage < SEPARATE_ARRAYS_STORAGE_BUFFERS;
         let selection = backend::select(device.features(), requested).map_err(|message| RuntimeError::Device { adapter: info.name.clone(), message })?;
@@ -436,6 +469,7 @@ impl Gpu {
             queue,
             info,
             timestamps,
+            merge_compute_passes,
             texture_binding_arrays,
             packed_accel_arrays,
             selection,

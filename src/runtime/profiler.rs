@@ -66,6 +66,38 @@ impl GpuTimer {
         })
     }
 
+    /// The query of the start (`end` false) or the end of `pass` (`None` past the capacity).
+    fn query(&self, pass: u32, end: bool) -> Option<u32> {
+        (pass < self.capacity).then_some(pass * 2 + end as u32)
+    }
+
+    /// Writes the start (`end` false) or the end of `pass` inside compute pass `cp`, for nodes
+    /// recorded together in one pass (`Gpu::merges_compute_passes`).
+    pub(crate) fn write_in_pass(&self, cp: &mut wgpu::ComputePass<'_>, pass: u32, end: bool) {
+        if let Some(query) = self.query(pass, end) {
+            cp.write_timestamp(&self.query_set, query);
+        }
+    }
+
+    /// Writes the start (`end` false) or the end of `pass` into `encoder`, outside any pass.
+    pub(crate) fn write_in_encoder(&self, encoder: &mut wgpu::CommandEncoder, pass: u32, end: bool) {
+        if let Some(query) = self.query(pass, end) {
+            encoder.write_timestamp(&self.query_set, query);
+        }
+    }
+
+    /// Marks the start (`end` false) or the end of `pass` for work recorded outside a pass:
+    /// a timestamp written into `encoder` where `in_encoder` (the device writes them there),
+    /// else an empty compute pass `label` that writes it.
+    pub(crate) fn mark(&self, encoder: &mut wgpu::CommandEncoder, pass: u32, end: bool, in_encoder: bool, label: &str) {
+        if in_encoder {
+            self.write_in_encoder(encoder, pass, end);
+            return;
+        }
+        let timestamp_writes = if end { self.end_writes(pass) } else { self.begin_writes(pass) };
+        drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes }));
+    }
+
     /// Records the resolve of `passes` query pairs into the readback buffer.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, passes: u32) {
         let n = passes.min(self.capacity) * 2;

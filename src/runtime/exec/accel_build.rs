@@ -2,13 +2,12 @@
 //! the node's settings, and its update recorded at the node's place in the schedule between a
 //! pair of timestamps (the trace passes then bound to what it built).
 
-use super::{Executor, PassRuntime, Pipeline};
+use super::{Executor, FrameInputs, PassRuntime, Pipeline};
 use crate::accel::cache::{AccelCache, AccelSettings, BuildReport, MergedBuilder};
 use crate::error::RuntimeError;
 use crate::graph::compile::Plan;
 use crate::graph::desc::PassKind;
 use crate::runtime::gpu::Gpu;
-use crate::scene::Scene;
 use web_time::Instant;
 
 impl Executor {
@@ -44,13 +43,14 @@ impl Executor {
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         command_buffers: &mut Vec<wgpu::CommandBuffer>,
-        scene: &Scene,
+        inputs: &FrameInputs,
     ) -> Result<Option<(BuildReport, f64)>, RuntimeError> {
+        let scene = inputs.scene;
         let Some(cache) = self.accel.as_mut() else { return Ok(None) };
         let index = self.plan.passes.iter().position(|p| p.kind == PassKind::AccelBuild).unwrap_or(0) as u32;
         cache.clear_stats(encoder);
         if let Some(t) = &self.timer {
-            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel begin"), timestamp_writes: t.begin_writes(index) }));
+            t.mark(encoder, index, false, inputs.merged, "accel begin");
         }
         let t0 = Instant::now();
         let report = cache.update(gpu.device(), gpu.queue(), encoder, scene)?;
@@ -64,7 +64,7 @@ impl Executor {
             command_buffers.push(build);
         }
         if let Some(t) = &self.timer {
-            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("accel end"), timestamp_writes: t.end_writes(index) }));
+            t.mark(encoder, index, true, inputs.merged, "accel end");
         }
         let generation = cache.generation();
         if generation != self.accel_generation {

@@ -1,13 +1,19 @@
 //! `Compute` passes (and `Trace` passes on the compute and ray-query back-ends, which are
 //! compute dispatches too): the compute pipeline, the dispatch size, and the recorded dispatch.
+//! Where the device writes timestamps inside passes (`Gpu::merges_compute_passes`), a run of
+//! consecutive compute nodes is recorded as one wgpu compute pass, each node's dispatch between
+//! its own pair of timestamps: wgpu orders the dispatches of one pass as it orders passes, so
+//! the frame is the same, with a fraction of the command buffers and barrier sets to encode.
 
 use super::bindings::{shader_module, PassBindings, PassLayout};
-use super::{Executor, PassRuntime, Pipeline};
+use super::{Executor, FrameInputs, PassRuntime, Pipeline};
 use crate::gpu_util::{compute_pipeline_with, ShaderOrigin};
 use crate::graph::builtins;
 use crate::graph::compile::PlannedPass;
 use crate::graph::desc::{Dispatch, PassKind};
 use crate::runtime::gpu::Gpu;
+use std::ops::Range;
+use web_time::Instant;
 
 impl Executor {
     pub(super) fn build_compute_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
@@ -18,18 +24,9 @@ impl Executor {
         } else {
             (shader_module(gpu, pass), constants)
         };
-        let (colors, depth) = self.attachments(pass);
         let p = compute_pipeline_with(gpu.device(), &pass.name, &layout.layout, &module, &pass.entry, &constants);
         let PassLayout { bind_groups, accel_layout, .. } = layout;
-        PassRuntime {
-            bind_groups,
-            accel_layout,
-            colors,
-            depth,
-            groups: self.workgroups(pass),
-            params: bindings.params(),
-            ..PassRuntime::bare(Pipeline::Compute(p))
-        }
+        PassRuntime { bind_groups, accel_layout, groups: self.workgroups(pass), params: bindings.params(), ..PassRuntime::bare(Pipeline::Compute(p)) }
     }
 
     /// The workgroups a compute pass dispatches: the pass's `Groups`, or enough of the shader's
@@ -48,11 +45,53 @@ impl Executor {
     /// Records compute pass `i`: its bind groups (a trace pass's trace module group too) and
     /// the dispatch, between the pass's timestamps.
     pub(super) fn record_compute_pass(&self, encoder: &mut wgpu::CommandEncoder, i: usize, pipeline: &wgpu::ComputePipeline) {
-        let (pass, planned) = (&self.passes[i], &self.plan.passes[i]);
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(&planned.name),
+            label: Some(&self.plan.passes[i].name),
             timestamp_writes: self.timer.as_ref().and_then(|t| t.compute_writes(i as u32)),
         });
+        self.record_dispatch(&mut cp, i, pipeline);
+    }
+
+    /// The end of the run of compute nodes that starts at pass `i` (`i` itself when none
+    /// starts there, or when the frame records one pass per node): compute dispatches, and
+    /// raster passes with nothing to draw this frame (only their timestamps).
+    pub(super) fn compute_run_end(&self, inputs: &FrameInputs, i: usize) -> usize {
+        if !inputs.merged {
+            return i;
+        }
+        let joins = |k: usize| match self.passes[k].pipeline {
+            Pipeline::Compute(_) => true,
+            Pipeline::Render(_) | Pipeline::Scene(_) => self.draws_nothing(inputs, k),
+            Pipeline::AccelBuild | Pipeline::RayTracing(_) | Pipeline::Rust { .. } => false,
+        };
+        (i..self.passes.len()).find(|&k| !joins(k)).unwrap_or(self.passes.len())
+    }
+
+    /// Records passes `run` ([`Executor::compute_run_end`]) as one compute pass, each node
+    /// between its own timestamps written inside it, in a debug group of its name; pushes
+    /// each node's CPU milliseconds to `cpu_ms`.
+    pub(super) fn record_compute_run(&self, encoder: &mut wgpu::CommandEncoder, run: Range<usize>, cpu_ms: &mut Vec<f64>) {
+        let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compute nodes"), timestamp_writes: None });
+        for i in run {
+            let t0 = Instant::now();
+            cp.push_debug_group(&self.plan.passes[i].name);
+            if let Some(t) = &self.timer {
+                t.write_in_pass(&mut cp, i as u32, false);
+            }
+            if let Pipeline::Compute(pipeline) = &self.passes[i].pipeline {
+                self.record_dispatch(&mut cp, i, pipeline);
+            }
+            if let Some(t) = &self.timer {
+                t.write_in_pass(&mut cp, i as u32, true);
+            }
+            cp.pop_debug_group();
+            cpu_ms.push(if matches!(self.passes[i].pipeline, Pipeline::Compute(_)) { t0.elapsed().as_secs_f64() * 1e3 } else { 0.0 });
+        }
+    }
+
+    /// Records compute node `i`'s pipeline, bind groups and dispatch into `cp`.
+    fn record_dispatch(&self, cp: &mut wgpu::ComputePass<'_>, i: usize, pipeline: &wgpu::ComputePipeline) {
+        let pass = &self.passes[i];
         cp.set_pipeline(pipeline);
         for (g, bg) in pass.bind_groups(self.history.swapped).iter().enumerate() {
             cp.set_bind_group(g as u32, bg, &[]);

@@ -12,15 +12,9 @@ impl Executor {
         self.build_render_pass(gpu, pass, layout, bindings, |spec| Pipeline::Render(spec.create(gpu.device(), DrawClass::FULLSCREEN)))
     }
 
-    /// Records fullscreen pass `i`: one triangle into `views`.
-    pub(super) fn record_fullscreen_pass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        i: usize,
-        pipeline: &wgpu::RenderPipeline,
-        views: &(Vec<wgpu::TextureView>, Option<wgpu::TextureView>),
-    ) {
-        let mut rp = self.begin_render_pass(encoder, i, views);
+    /// Records fullscreen pass `i`: one triangle into its attachments.
+    pub(super) fn record_fullscreen_pass(&self, encoder: &mut wgpu::CommandEncoder, i: usize, pipeline: &wgpu::RenderPipeline) {
+        let mut rp = self.begin_render_pass(encoder, i);
         rp.set_pipeline(pipeline);
         rp.draw(0..3, 0..1);
     }

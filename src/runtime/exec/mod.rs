@@ -35,7 +35,7 @@ use super::rust_pass::{RustPass, RustPassIo, RustPasses};
 use crate::accel::cache::{AccelCache, BuildReport, RayStats};
 use crate::accel::rt_pipeline::RtPass;
 use crate::error::RuntimeError;
-use crate::graph::compile::{Plan, PlannedPass, ResourceId};
+use crate::graph::compile::{Plan, PlannedPass};
 use crate::graph::desc::PassKind;
 use crate::graph::reflect::UniformMember;
 use crate::runtime::scene_upload::{GpuScene, SceneContent};
@@ -63,6 +63,9 @@ enum Pipeline {
 /// The layout of a trace module's bind group, its entries and the binding names they have.
 type AccelLayout = (wgpu::BindGroupLayout, Vec<wgpu::BindGroupLayoutEntry>, Vec<String>);
 
+/// A raster pass's colour attachments' views and its depth attachment's.
+type AttachmentViews = (Vec<wgpu::TextureView>, Option<wgpu::TextureView>);
+
 struct PassRuntime {
     pipeline: Pipeline,
     /// One per `@group`, in order; the trace module's group is in `accel_group`.
@@ -74,8 +77,9 @@ struct PassRuntime {
     /// again whenever the cache replaces its GPU objects).
     accel_layout: Option<AccelLayout>,
     accel_group: Option<wgpu::BindGroup>,
-    colors: Vec<ResourceId>,
-    depth: Option<ResourceId>,
+    /// A raster pass's attachment views, made with the pass: with the history pairs in place
+    /// (`[0]`) and exchanged (`[1]`, see `history`). Empty for the other kinds.
+    views: [AttachmentViews; 2],
     groups: [u32; 3],
     /// The pass's `params` uniform buffer and the members written into it (see
     /// [`Executor::set_param`]).
@@ -91,11 +95,15 @@ impl PassRuntime {
             history_bind_groups: None,
             accel_layout: None,
             accel_group: None,
-            colors: Vec::new(),
-            depth: None,
+            views: Default::default(),
             groups: [0; 3],
             params: None,
         }
+    }
+
+    /// The attachment views of a frame where the history pairs are `swapped` or not.
+    fn views(&self, swapped: bool) -> &AttachmentViews {
+        &self.views[swapped as usize]
     }
 
     /// The bind groups to set on a frame where the history pairs are `swapped` or not.
@@ -145,6 +153,8 @@ pub struct Executor {
     /// What the scene uses of the features passes compile out ([`features`]); the passes are
     /// built again when it changes.
     features: features::SceneFeatures,
+    /// The light records of the scene generation they were made for (`scene_state`).
+    lights: Option<(u64, crate::runtime::scene_upload::LightRecords)>,
     /// Whether the warning about lights without a raster shadow map was printed.
     warned_unshadowed: bool,
     /// The Rust passes layer files may name (`PassKind::Rust`).
@@ -172,8 +182,8 @@ struct FrameInputs<'a> {
     scene: &'a Scene,
     /// Shadow maps lights use this frame; passes of the other slots are not drawn.
     shadow_count: u32,
-    /// Per pass: its colour attachments' views and its depth attachment's.
-    views: Vec<(Vec<wgpu::TextureView>, Option<wgpu::TextureView>)>,
+    /// Whether consecutive compute nodes are recorded into one pass ([`Gpu::merges_compute_passes`]).
+    merged: bool,
 }
 
 impl Executor {
@@ -225,6 +235,7 @@ impl Executor {
             scene_generation: 0,
             draws: draws::DrawInputs::default(),
             samplers,
+            lights: None,
             warned_unshadowed: false,
             features: features::SceneFeatures::of(scene),
             rust_passes,
@@ -347,10 +358,7 @@ impl Executor {
         phases.uniforms_ms = ms(t);
         // Before every pass: rasterized and traced passes alike see this frame's shapes.
         self.record_deform(gpu, &mut frame.encoder, scene);
-        for i in 0..self.passes.len() {
-            self.record_pass(gpu, &mut frame, &inputs, i)?;
-        }
-        let FrameInputs { views, .. } = inputs;
+        self.record_passes(gpu, &mut frame, &inputs)?;
         let FrameRecording { encoder, command_buffers, cpu_ms, accel_report } = frame;
         let t = Instant::now();
         self.submit(gpu, encoder, command_buffers);
@@ -359,14 +367,7 @@ impl Executor {
         let t = Instant::now();
         // The GPU deadline (a browser has its own: it loses the device).
         #[cfg(not(target_arch = "wasm32"))]
-        if let Err(e) = gpu.wait_for(|| self.frame_work()) {
-            // The frame's views may still be in use by work past the GPU deadline: releasing
-            // them can block in the driver.
-            std::mem::forget(views);
-            return Err(e);
-        }
-        #[cfg(target_arch = "wasm32")]
-        drop(views);
+        gpu.wait_for(|| self.frame_work())?;
         phases.wait_ms = ms(t);
         let t = Instant::now();
         if let Some(cache) = self.accel.as_mut() {
@@ -384,7 +385,7 @@ impl Executor {
 
     /// What the frame's passes record with: each scene pass's draws brought up to date
     /// ([`draws`]: kept while the scene and the camera's position stay; a shadow-map pass's
-    /// classes from its slot's light), and every pass's attachment views.
+    /// classes from its slot's light).
     fn frame_inputs<'a>(&mut self, gpu: &Gpu, camera: &Camera, scene: &'a Scene, uniforms: &crate::uniforms::FrameUniforms) -> FrameInputs<'a> {
         let draws = self.scene.as_ref().map_or(&[][..], |s| s.draws());
         for (i, (pass, planned)) in self.passes.iter_mut().zip(&self.plan.passes).enumerate() {
@@ -396,15 +397,40 @@ impl Executor {
             let source = draws::PassDrawSource { pipelines, back_to_front: planned.translucent, light_view_proj };
             self.draws.update_pass(gpu, scene, self.scene_generation, draws, camera.position, i, source);
         }
-        let views = self.passes.iter().map(|p| (p.colors.iter().map(|r| self.texture_view(*r)).collect(), p.depth.map(|r| self.texture_view(r)))).collect();
-        FrameInputs { scene, shadow_count: uniforms.shadow_count, views }
+        FrameInputs { scene, shadow_count: uniforms.shadow_count, merged: gpu.merges_compute_passes() }
+    }
+
+    /// Records every pass of the frame in schedule order: each run of consecutive compute nodes
+    /// as one compute pass where `inputs.merged` ([`Executor::compute_run_end`]), the others one
+    /// by one.
+    fn record_passes(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs) -> Result<(), RuntimeError> {
+        let mut i = 0;
+        while i < self.passes.len() {
+            let end = self.compute_run_end(inputs, i);
+            if end > i {
+                self.record_compute_run(&mut frame.encoder, i..end, &mut frame.cpu_ms);
+                i = end;
+            } else {
+                self.record_pass(gpu, frame, inputs, i)?;
+                i += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether pass `i` has nothing to draw this frame: a shadow map no light uses, or a
+    /// translucent pass without translucent instances (`scene_raster`).
+    fn draws_nothing(&self, inputs: &FrameInputs, i: usize) -> bool {
+        let planned = &self.plan.passes[i];
+        let nothing_translucent = planned.translucent && self.draws.pass(i).is_none_or(|d| d.runs().is_empty());
+        nothing_translucent || planned.shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count)
     }
 
     /// Records pass `i` of the frame, and its CPU milliseconds.
     fn record_pass(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs, i: usize) -> Result<(), RuntimeError> {
         let t0 = Instant::now();
         if matches!(self.passes[i].pipeline, Pipeline::AccelBuild) {
-            frame.accel_report = self.update_accel(gpu, &mut frame.encoder, &mut frame.command_buffers, inputs.scene)?;
+            frame.accel_report = self.update_accel(gpu, &mut frame.encoder, &mut frame.command_buffers, inputs)?;
             frame.cpu_ms.push(frame.accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
             return Ok(());
         }
@@ -413,18 +439,17 @@ impl Executor {
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             return Ok(());
         }
-        let nothing_translucent = self.plan.passes[i].translucent && self.draws.pass(i).is_none_or(|d| d.runs().is_empty());
-        if nothing_translucent || self.plan.passes[i].shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count) {
+        if self.draws_nothing(inputs, i) {
             self.record_empty_timed_pass(&mut frame.encoder, i);
             frame.cpu_ms.push(0.0);
             return Ok(());
         }
         match &self.passes[i].pipeline {
             Pipeline::AccelBuild | Pipeline::Rust { .. } => unreachable!("recorded above"),
-            Pipeline::RayTracing(rt) => self.record_rt_pass(gpu, frame, i, rt)?,
+            Pipeline::RayTracing(rt) => self.record_rt_pass(gpu, frame, inputs, i, rt)?,
             Pipeline::Compute(pipeline) => self.record_compute_pass(&mut frame.encoder, i, pipeline),
-            Pipeline::Render(pipeline) => self.record_fullscreen_pass(&mut frame.encoder, i, pipeline, &inputs.views[i]),
-            Pipeline::Scene(pipelines) => self.record_scene_raster_pass(&mut frame.encoder, i, pipelines, inputs)?,
+            Pipeline::Render(pipeline) => self.record_fullscreen_pass(&mut frame.encoder, i, pipeline),
+            Pipeline::Scene(pipelines) => self.record_scene_raster_pass(&mut frame.encoder, i, pipelines)?,
         }
         frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         Ok(())

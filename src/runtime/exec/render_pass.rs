@@ -1,6 +1,7 @@
 //! What `Fullscreen` and `SceneRaster` passes share: the render pipeline's spec from the
-//! pass's shader and attachments, and the render pass each records into (attachments cleared,
-//! the pass's bind groups set, timestamps around it).
+//! pass's shader and attachments, the attachments' views (made with the pass, not per frame),
+//! and the render pass each records into (attachments cleared, the pass's bind groups set,
+//! timestamps around it).
 
 use super::bindings::{shader_module, PassBindings, PassLayout};
 use super::{Executor, PassRuntime, Pipeline};
@@ -57,6 +58,8 @@ impl Executor {
             .collect();
         let PassLayout { layout, bind_groups, accel_layout } = layout;
         let alpha_switch = pass.shader.has_override(crate::runtime::raster::ALPHA_TEST_CONSTANT);
+        let views =
+            [false, true].map(|swapped| (colors.iter().map(|r| self.texture_view_at(*r, swapped)).collect(), depth.map(|r| self.texture_view_at(r, swapped))));
         let spec = RenderSpec {
             label: pass.name.clone(),
             layout,
@@ -70,18 +73,13 @@ impl Executor {
             scene_constants: self.features.constants(pass),
             fragment_only_alpha_tests: alpha_switch && colors.is_empty() && pass.shader.source.is_builtin(),
         };
-        PassRuntime { bind_groups, accel_layout, colors, depth, params: bindings.params(), ..PassRuntime::bare(pipeline(spec)) }
+        PassRuntime { bind_groups, accel_layout, views, params: bindings.params(), ..PassRuntime::bare(pipeline(spec)) }
     }
 
-    /// The render pass of raster pass `i` over `views` (its colour attachments and its depth
-    /// attachment, all cleared), with the pass's bind groups set.
-    pub(super) fn begin_render_pass<'e>(
-        &self,
-        encoder: &'e mut wgpu::CommandEncoder,
-        i: usize,
-        views: &(Vec<wgpu::TextureView>, Option<wgpu::TextureView>),
-    ) -> wgpu::RenderPass<'e> {
-        let (color_views, depth_view) = views;
+    /// The render pass of raster pass `i` over its attachments (all cleared), with the pass's
+    /// bind groups set.
+    pub(super) fn begin_render_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder, i: usize) -> wgpu::RenderPass<'e> {
+        let (color_views, depth_view) = self.passes[i].views(self.history.swapped);
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = color_views
             .iter()
             .map(|v| {

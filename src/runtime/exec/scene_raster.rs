@@ -5,7 +5,7 @@
 //! translucent instances, recorded as an empty pass that keeps its timestamps.
 
 use super::bindings::{PassBindings, PassLayout};
-use super::{Executor, FrameInputs, PassRuntime, Pipeline};
+use super::{Executor, PassRuntime, Pipeline};
 use crate::error::RuntimeError;
 use crate::graph::compile::PlannedPass;
 use crate::graph::desc::PassKind;
@@ -22,14 +22,8 @@ impl Executor {
     /// Records scene raster pass `i`: its runs of draws ([`super::draws`]), each with the
     /// pipeline variant of its class: every variant's draws in the frame's draw order (front to
     /// back), opaque variants first, or in a translucent pass back to front.
-    pub(super) fn record_scene_raster_pass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        i: usize,
-        pipelines: &ScenePipelines,
-        inputs: &FrameInputs,
-    ) -> Result<(), RuntimeError> {
-        let mut rp = self.begin_render_pass(encoder, i, &inputs.views[i]);
+    pub(super) fn record_scene_raster_pass(&self, encoder: &mut wgpu::CommandEncoder, i: usize, pipelines: &ScenePipelines) -> Result<(), RuntimeError> {
+        let mut rp = self.begin_render_pass(encoder, i);
         let (Some(vertices), Some(indices)) = (self.scene_part(|s| s.vertices()).ok(), self.scene_part(|s| s.indices()).ok()) else {
             return Err(RuntimeError::Gpu(format!("pass {} draws the scene, but its geometry was not uploaded", self.plan.passes[i].name)));
         };

@@ -146,20 +146,15 @@ impl Executor {
         Ok(())
     }
 
-    /// The frame uniforms; writes the scene's light records when the plan reads them.
-    pub(super) fn frame_uniforms(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameUniforms, RuntimeError> {
-        let (w, h) = self.plan.frame_size;
-        let vp = camera.view_proj(w as f32 / h as f32);
-        let (center, radius) = self.scene_sphere;
-        let previous_vp = self.history.previous.as_ref().map(|(_, m)| *m);
-        self.history.begin_frame(camera, vp, radius);
-        let prev_view_proj = if self.history.valid { previous_vp.unwrap_or(vp) } else { vp };
-        self.write_motion(gpu, scene)?;
-        let lights = light_records(&scene.effective_lights(), center, radius);
-        let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
-        for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
-            *slot = m.to_cols_array_2d();
+    /// The scene's light records, made and written (where the plan reads them) when the scene
+    /// changed since they were (its generation, `scene::memo`: the lights are part of what it
+    /// compares); a static scene's frame reuses them.
+    fn write_lights(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), RuntimeError> {
+        if self.lights.as_ref().is_some_and(|(generation, _)| *generation == self.scene_generation) {
+            return Ok(());
         }
+        let (center, radius) = self.scene_sphere;
+        let lights = light_records(&scene.effective_lights(), center, radius);
         if let Some(uploaded) = self.scene.as_ref().filter(|s| s.lights().is_some()) {
             if !uploaded.write_lights(gpu.queue(), &lights.records) {
                 return Err(RuntimeError::Gpu("the light buffer does not match the scene's lights".into()));
@@ -172,6 +167,25 @@ impl Executor {
                     lights.records.len()
                 );
             }
+        }
+        self.lights = Some((self.scene_generation, lights));
+        Ok(())
+    }
+
+    /// The frame uniforms; writes the scene's light records when they changed.
+    pub(super) fn frame_uniforms(&mut self, gpu: &Gpu, camera: &Camera, scene: &Scene) -> Result<FrameUniforms, RuntimeError> {
+        let (w, h) = self.plan.frame_size;
+        let vp = camera.view_proj(w as f32 / h as f32);
+        let (center, radius) = self.scene_sphere;
+        let previous_vp = self.history.previous.as_ref().map(|(_, m)| *m);
+        self.history.begin_frame(camera, vp, radius);
+        let prev_view_proj = if self.history.valid { previous_vp.unwrap_or(vp) } else { vp };
+        self.write_motion(gpu, scene)?;
+        self.write_lights(gpu, scene)?;
+        let lights = self.lights.as_ref().map(|(_, lights)| lights).expect("written above");
+        let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
+        for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
+            *slot = m.to_cols_array_2d();
         }
         Ok(FrameUniforms {
             view_proj: vp.to_cols_array_2d(),

@@ -5,7 +5,7 @@
 //! ([`super::compute`]).
 
 use super::bindings::{linear_sampler, nearest_sampler, resource_of, PassBindings};
-use super::{Executor, FrameRecording, PassRuntime, Pipeline};
+use super::{Executor, FrameInputs, FrameRecording, PassRuntime, Pipeline};
 use crate::accel::rt_pipeline::{RtBinding, RtPass, RtResource};
 use crate::error::RuntimeError;
 use crate::graph::builtins;
@@ -117,18 +117,18 @@ impl Executor {
 
     /// Records rt-pipeline trace pass `i`: its resources' transitions, then its own command
     /// buffer between the pass's timestamps.
-    pub(super) fn record_rt_pass(&self, gpu: &Gpu, frame: &mut FrameRecording, i: usize, rt: &RtPass) -> Result<(), RuntimeError> {
+    pub(super) fn record_rt_pass(&self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs, i: usize, rt: &RtPass) -> Result<(), RuntimeError> {
         let (pass, planned) = (&self.passes[i], &self.plan.passes[i]);
         let cache = self.accel.as_ref().ok_or_else(|| RuntimeError::Gpu(format!("pass {} traces rays without an Accel node", planned.name)))?;
         rt.transition(&mut frame.encoder, cache.stats_window(0).0);
         if let Some(t) = &self.timer {
-            drop(frame.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace begin"), timestamp_writes: t.begin_writes(i as u32) }));
+            t.mark(&mut frame.encoder, i as u32, false, inputs.merged, "trace begin");
         }
         let next = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         frame.command_buffers.push(std::mem::replace(&mut frame.encoder, next).finish());
         frame.command_buffers.push(rt.record(pass.groups)?);
         if let Some(t) = &self.timer {
-            drop(frame.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("trace end"), timestamp_writes: t.end_writes(i as u32) }));
+            t.mark(&mut frame.encoder, i as u32, true, inputs.merged, "trace end");
         }
         Ok(())
     }
