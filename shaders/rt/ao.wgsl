@@ -3,12 +3,12 @@
 //
 // A pixel's rays are shared by AO_LANES invocations (the pass runs over `partial`, twice the
 // frame in each axis: texel (2x + i, 2y + j) is lane i + 2j of pixel (x, y)); lane k traces
-// rays k, k + AO_LANES, ... (rt/ao_lane.wgsl) and writes how much of them got through; `sum`
+// rays k, k + AO_LANES, ... (common/ao_lane.wgsl) and writes how much of them got through; `sum`
 // (rt/ao_sum.wgsl) adds a pixel's lanes in order. Four times the invocations keep the GPU busy
 // when few pixels have rays (a model covering a few percent of the frame): BENCHMARKS.md, "AO
 // rays over four lanes". The lanes of sky pixels return at once; layers/rt_ao_compacted.ron
 // and layers/rt_ao_persistent.ron run over a list of the pixels with rays instead.
-//#include "rt/ao_lane.wgsl"
+//#include "common/ao_lane.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;

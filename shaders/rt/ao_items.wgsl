@@ -1,10 +1,10 @@
 // Ambient occlusion over the list of pixels with rays (layers/rt_ao_compacted.ron): item i is
 // lane i % AO_LANES of the pixel at list entry i / AO_LANES (rt/ao_list.wgsl), so the
 // invocations of a workgroup all have rays to trace wherever the pixels lie; items past the
-// list's end return at once. Each item traces what rt/ao.wgsl's lane does (rt/ao_lane.wgsl)
-// and writes the same texel of `partial`, so `sum` gives the same bits.
-//#include "rt/ao_lane.wgsl"
-//#include "rt/ao_item.wgsl"
+// list's end return at once. Each item traces what rt/ao.wgsl's lane does
+// (common/ao_lane.wgsl) and writes the same texel of `partial`, so `sum` gives the same bits.
+//#include "common/ao_lane.wgsl"
+//#include "common/ao_list_item.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;

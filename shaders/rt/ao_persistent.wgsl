@@ -1,10 +1,10 @@
 // Ambient occlusion over the list of pixels with rays by persistent invocations
 // (layers/rt_ao_persistent.ron): a fixed dispatch about the size of what the GPU holds at
-// once, each invocation taking the next (pixel, lane) item (rt/ao_item.wgsl) from the counter
-// `taken` until the list's items are all taken. Item for item the same work and texels as
-// rt/ao_items.wgsl; only who runs it differs.
-//#include "rt/ao_lane.wgsl"
-//#include "rt/ao_item.wgsl"
+// once, each invocation taking the next (pixel, lane) item (common/ao_list_item.wgsl) off the
+// counter `taken` until the list's items are all taken. Item for item the same work and
+// texels as rt/ao_items.wgsl; only who runs it differs.
+//#include "common/ao_lane.wgsl"
+//#include "common/ao_list_item.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;
