@@ -24,7 +24,7 @@ fn render(gpu: &Gpu, scene: &Scene, camera: &Camera) -> Vec<u32> {
     let plan = compile_with(&path, &project, SIZE, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
     exec.render(gpu, camera, scene).unwrap();
-    ["ao.ao", "ao.partial", "shadow.direct"].iter().flat_map(|name| common::channel(gpu, &exec, name)).flat_map(|t| t.map(f32::to_bits)).collect()
+    ["ao.ao", "ao/partial", "shadow.direct"].iter().flat_map(|name| common::channel(gpu, &exec, name)).flat_map(|t| t.map(f32::to_bits)).collect()
 }
 
 #[test]
