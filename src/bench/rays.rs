@@ -18,6 +18,7 @@ use crate::graph::Project;
 use crate::runtime::profiler::median;
 use crate::runtime::{Executor, Gpu};
 use crate::scene::{Camera, LoadOptions, Scene};
+use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -46,6 +47,9 @@ pub struct RaysConfig {
     /// Fractions of the frame each scene is also measured at: its camera moved along its view
     /// axis until its surfaces cover that fraction of the pixels (`coverage_view`).
     pub coverages: Vec<f64>,
+    /// Layer substitutions of the scene workload, `layer -> variant` (`CompileOptions::layers`):
+    /// `rt_ao -> rt_ao_compacted` measures that AO schedule.
+    pub layers: BTreeMap<String, String>,
 }
 
 impl RaysConfig {
@@ -62,6 +66,7 @@ impl RaysConfig {
             backends,
             root: root.to_path_buf(),
             coverages: Vec::new(),
+            layers: BTreeMap::new(),
         }
     }
 
@@ -78,6 +83,7 @@ impl RaysConfig {
             backends,
             root: root.to_path_buf(),
             coverages: Vec::new(),
+            layers: BTreeMap::new(),
         }
     }
 }
@@ -218,9 +224,10 @@ fn row(test: &str, view: &View, backend: Backend, cfg: &RaysConfig, m: Measured,
 }
 
 /// The compile options of the scene workload (`graph/bench_rays.ron`) on `backend`: `cfg`'s AO
-/// rays and length.
+/// rays and length, and its layer substitutions.
 pub(crate) fn workload_options(gpu: &Gpu, backend: Backend, cfg: &RaysConfig) -> CompileOptions {
     let mut options = gpu.compile_options_for(backend);
+    options.layers.extend(cfg.layers.clone());
     options.params.insert(("ao".into(), "rays".into()), ParamValue::Int(cfg.ao_rays));
     options.params.insert(("ao".into(), "range_scale".into()), ParamValue::Float(cfg.ao_length));
     options
@@ -453,12 +460,16 @@ pub fn passes_csv(info: &RunInfo, rows: &[RaysRow]) -> String {
     s
 }
 
-/// What the workload and the columns are, for the results' headers.
+/// What the workload and the columns are, for the results' headers (with the layers the
+/// scene workload substituted, if any).
 pub fn definitions(cfg: &RaysConfig) -> String {
-    format!(
+    let substituted: Vec<String> = cfg.layers.iter().map(|(layer, variant)| format!("`{layer}` compiled from `layers/{variant}.ron`")).collect();
+    let substituted = if substituted.is_empty() { String::new() } else { format!(" Scene workload layers: {}.", substituted.join(", ")) };
+    let text = format!(
         "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss (outside): rays from above the scene's box pointing away from it; Miss (inside): from the scene's `miss_inside` camera preset, rays that cross the scene and hit nothing; Stress: the scene's `stress` camera preset, or its camera narrowed until it shows no sky; all three (`graph/bench_primary.ron`) with {} jittered primary rays per pixel, on the last scene listed. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled. On a hardware GPU each row is measured on executors built one after the other until two agree within 3% (at most four), and reports the faster of the two (GPU ms per executor: every one in order).",
         cfg.ao_rays, cfg.ao_length, cfg.primary_rays
-    )
+    );
+    text + &substituted
 }
 
 /// The table as CSV (with the run header and [`definitions`] as `#` comments).

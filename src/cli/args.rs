@@ -115,6 +115,32 @@ impl TimingArgs {
     }
 }
 
+/// Layer substitutions asked for on the command line (`CompileOptions::layers`).
+#[derive(clap::Args)]
+pub(crate) struct LayerChoice {
+    /// Compile the graph's nodes of layer LAYER from `layers/VARIANT.ron` instead, a layer with
+    /// the same inputs, outputs and parameters (repeatable), e.g. `rt_ao=rt_ao_compacted` or
+    /// `rt_ao=rt_ao_persistent` (the AO schedules).
+    #[arg(long = "use-layer", value_name = "LAYER=VARIANT", value_parser = parse_layer_substitution)]
+    use_layer: Vec<(String, String)>,
+}
+
+impl LayerChoice {
+    /// The substitutions, `layer -> variant`.
+    pub(crate) fn substitutions(&self) -> std::collections::BTreeMap<String, String> {
+        self.use_layer.iter().cloned().collect()
+    }
+}
+
+/// `LAYER=VARIANT`, both non-empty layer names.
+fn parse_layer_substitution(s: &str) -> Result<(String, String), String> {
+    let named = |n: &str| !n.is_empty() && n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    match s.split_once('=') {
+        Some((layer, variant)) if named(layer.trim()) && named(variant.trim()) => Ok((layer.trim().to_string(), variant.trim().to_string())),
+        _ => Err(format!("`{s}`: give LAYER=VARIANT, two layer file names without `.ron` (e.g. rt_ao=rt_ao_compacted)")),
+    }
+}
+
 /// Copies of the scene on a grid.
 #[derive(clap::Args)]
 pub(crate) struct DuplicateArgs {

@@ -1,7 +1,7 @@
 //! `raygraph render`: a scene rendered headless through a graph, the PNG written and the
 //! per-pass timings printed.
 
-use super::args::{DuplicateArgs, GltfSceneArg, GpuArgs};
+use super::args::{DuplicateArgs, GltfSceneArg, GpuArgs, LayerChoice};
 use super::LOG_TARGET;
 use anyhow::{Context, Result};
 use raygraph::graph::compile::{self, CompileOptions};
@@ -61,6 +61,8 @@ pub(crate) struct RenderArgs {
     /// else their input's fallback.
     #[arg(long, value_name = "NODE")]
     off: Vec<String>,
+    #[command(flatten)]
+    layer_choice: LayerChoice,
 }
 
 /// Where the camera is.
@@ -128,12 +130,13 @@ impl CameraArgs {
     }
 }
 
-/// The graph a render compiles: its file, where its layers and shaders are, and the nodes
-/// switched off.
+/// The graph a render compiles: its file, where its layers and shaders are, the nodes
+/// switched off and the layers substituted.
 struct GraphChoice {
     file: PathBuf,
     project: Project,
     off: Vec<String>,
+    layers: std::collections::BTreeMap<String, String>,
 }
 
 impl GraphChoice {
@@ -148,12 +151,14 @@ impl GraphChoice {
         if let Some(s) = &args.shaders {
             project.shaders_dir = s.clone();
         }
-        GraphChoice { file, project, off: args.off.clone() }
+        GraphChoice { file, project, off: args.off.clone(), layers: args.layer_choice.substitutions() }
     }
 
-    /// The plan at `size`, compiled with `options` and the nodes switched off.
+    /// The plan at `size`, compiled with `options`, the nodes switched off and the layers
+    /// substituted.
     fn compile(&self, size: (u32, u32), mut options: CompileOptions) -> Result<Plan> {
         options.enabled.extend(self.off.iter().map(|node| (node.clone(), false)));
+        options.layers.extend(self.layers.clone());
         Ok(compile::compile_with(&self.file, &self.project, size, &options)?)
     }
 }

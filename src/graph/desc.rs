@@ -176,6 +176,7 @@ impl fmt::Display for ResourceDecl {
                 }
                 write!(f, ")")
             }
+            ResourceDecl::Buffer(b) if b.zeroed => write!(f, "Buffer(size: {}, zeroed: true)", b.size),
             ResourceDecl::Buffer(b) => write!(f, "Buffer(size: {})", b.size),
             ResourceDecl::Accel => write!(f, "Accel"),
         }
@@ -210,6 +211,10 @@ pub struct TextureDecl {
 pub struct BufferDecl {
     /// Size in bytes.
     pub size: u64,
+    /// Zeroed every frame just before the pass that writes it runs (counters that a pass
+    /// appends to with atomics). Default `false`: the contents are undefined until written.
+    #[serde(default)]
+    pub zeroed: bool,
 }
 
 /// Texture size, relative to the frame or absolute.

@@ -136,3 +136,17 @@ impl Drop for TempProject {
 pub fn line_of(text: &str, needle: &str) -> u32 {
     text.lines().position(|l| l.contains(needle)).unwrap_or_else(|| panic!("`{needle}` not in text")) as u32 + 1
 }
+
+/// `graph/ao.ron` without its `blend` node (AO and shadows from the G-buffer, resolved), written
+/// to a file of its own; the repository's layers and shaders.
+pub fn ao_graph_without_blend() -> (std::path::PathBuf, Project) {
+    let text = std::fs::read_to_string(repo().join("graph/ao.ron")).unwrap();
+    let start = text.find("        // BLEND surfaces composited").expect("graph/ao.ron has its blend node");
+    let end = text.find("        \"tonemap\"").unwrap();
+    let text = format!("{}{}", &text[..start], &text[end..]).replace("\"hdr\": \"blend.color\"", "\"hdr\": \"resolve.hdr\"");
+    let dir = std::env::temp_dir().join(format!("raygraph-ao-graph-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("ao_without_blend.ron");
+    std::fs::write(&path, text).unwrap();
+    (path, Project { layers_dir: repo().join("layers"), shaders_dir: repo().join("shaders") })
+}

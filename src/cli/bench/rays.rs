@@ -1,7 +1,7 @@
 //! `raygraph bench rays`: the paper's Table 3 (`raygraph::bench::rays`).
 
 use super::output::{run_info, with_progress, write_partial, write_plots, write_results};
-use crate::cli::args::{GpuArgs, TimingArgs};
+use crate::cli::args::{GpuArgs, LayerChoice, TimingArgs};
 use anyhow::Result;
 use raygraph::bench::rays as rays_bench;
 use std::path::PathBuf;
@@ -34,6 +34,8 @@ pub(crate) struct RaysArgs {
     coverage: Vec<f64>,
     #[command(flatten)]
     gpu: GpuArgs,
+    #[command(flatten)]
+    layer_choice: LayerChoice,
     /// Results folder.
     #[arg(long, default_value = "bench-results/rays")]
     out: PathBuf,
@@ -53,6 +55,7 @@ pub(crate) fn run(args: RaysArgs) -> Result<()> {
         anyhow::bail!("--coverage {bad}: give fractions of the frame in (0, 1]");
     }
     cfg.coverages = args.coverage;
+    cfg.layers = args.layer_choice.substitutions();
     let info = run_info(&gpu, cfg.size);
     let out = &args.out;
     // The markdown first: a run interrupted between the two writes leaves the CSV (what

@@ -434,6 +434,7 @@ impl Executor {
             frame.cpu_ms.push(frame.accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
             return Ok(());
         }
+        self.zero_buffers_written(&mut frame.encoder, i);
         if matches!(self.passes[i].pipeline, Pipeline::Rust { .. }) {
             self.record_rust_pass(gpu, &mut frame.encoder, i)?;
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);

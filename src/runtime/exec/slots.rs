@@ -27,6 +27,11 @@ fn used_by_rust_pass(plan: &Plan, s: &Slot) -> bool {
     rust_passes.flat_map(|p| p.reads.iter().chain(&p.writes)).any(|(_, r)| s.members.contains(r))
 }
 
+/// Whether a resource of slot `s` is a buffer declared `zeroed`.
+fn has_zeroed_member(plan: &Plan, s: &Slot) -> bool {
+    s.members.iter().any(|r| matches!(&plan.resources[*r].decl, ResourceDecl::Buffer(b) if b.zeroed))
+}
+
 /// The usages of a texture slot: those of its resources, read back by anyone (tests, the
 /// viewer's pass inspector), written by copies where it is constant or traced into by the
 /// rt-pipeline back-end; every usage its format allows where a Rust pass uses it.
@@ -78,10 +83,11 @@ fn create_slot_buffer(device: &wgpu::Device, plan: &Plan, i: usize, size: u64) -
         label: Some(&slot_label(plan, i)),
         size: size.max(4),
         // The rt-pipeline back-end zeroes what its traces write once through the
-        // queue (RtPass::transition); a Rust pass may copy into its buffers.
+        // queue (RtPass::transition); a Rust pass may copy into its buffers; `zeroed` buffers
+        // are cleared every frame (Executor::zero_buffers_written).
         usage: wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC
-            | if plan.backend == crate::backend::Backend::RtPipeline || used_by_rust_pass(plan, &plan.slots[i]) {
+            | if plan.backend == crate::backend::Backend::RtPipeline || used_by_rust_pass(plan, &plan.slots[i]) || has_zeroed_member(plan, &plan.slots[i]) {
                 wgpu::BufferUsages::COPY_DST
             } else {
                 wgpu::BufferUsages::empty()
@@ -168,6 +174,15 @@ impl Executor {
         }
     }
 
+    /// Clears the `zeroed` buffers pass `i` writes (`BufferDecl::zeroed`), before the pass.
+    pub(super) fn zero_buffers_written(&self, encoder: &mut wgpu::CommandEncoder, i: usize) {
+        for (_, r) in &self.plan.passes[i].writes {
+            if matches!(&self.plan.resources[*r].decl, ResourceDecl::Buffer(b) if b.zeroed) {
+                encoder.clear_buffer(self.buffer(*r), 0, None);
+            }
+        }
+    }
+
     pub(super) fn buffer(&self, r: ResourceId) -> &wgpu::Buffer {
         match &self.slots[self.slot_of(r).expect("kept resource has a slot")] {
             Physical::Buffer(b) => b,
@@ -194,9 +209,10 @@ impl Executor {
     }
 
     /// The textures `pass` writes: its colour attachments (storage textures of a compute pass)
-    /// and its depth attachment.
+    /// and its depth attachment; buffers it writes are neither.
     pub(super) fn attachments(&self, pass: &PlannedPass) -> (Vec<ResourceId>, Option<ResourceId>) {
-        let colors = pass.writes.iter().map(|(_, r)| *r).filter(|r| !self.is_depth(*r)).collect();
+        let is_texture = |r: &ResourceId| matches!(self.plan.resources[*r].decl, ResourceDecl::Texture(_));
+        let colors = pass.writes.iter().map(|(_, r)| *r).filter(|r| is_texture(r) && !self.is_depth(*r)).collect();
         let depth = pass.writes.iter().map(|(_, r)| *r).find(|r| self.is_depth(*r));
         (colors, depth)
     }
