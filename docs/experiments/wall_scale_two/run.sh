@@ -11,6 +11,15 @@
 #        (RAYGRAPH_GPU_BUILD_LOCAL 256 = default, 128, 64; RAYGRAPH_GPU_BUILD_FINISH 512).
 #     3. `render --report` of hybrid_denoised, hybrid, raster and full RT on the atrium at
 #        2560x1440 (the CPU phases outside the passes, and every pass's CPU ms).
+#   part final1: binaries .gpu/raygraph-base (42c239d, before) and .gpu/raygraph (after), each
+#     from an empty folder of its own (its built-in graph, layer and shader files): Table 3
+#     (`bench rays --frames 10`) twice with the new binary and once with the old; `bench build
+#     --scenes organic,atrium --max-factor 1` twice each.
+#   part final2: the real assets with the coverage rows and a 1.93M-triangle file (`bench rays
+#     --scenes HELMET,PINE,helmet_5x5x5 --coverage 0.02,0.05,0.1`), old binary, new binary and
+#     the new binary's AO variant ($AO_VARIANT_ENV); then `render --report` on the atrium
+#     copied 1 and 3 times per axis (262k and 7.1M unique triangles) for the five built-in
+#     graphs, old and new, and 5 times (32.8M) for full RT and raster, new.
 #   part executors: six box rows in one process (`--scenes box,box,box,box,box,box`), each on an
 #     executor of its own, per back-end, two processes each, the SM clock sampled every 50 ms:
 #     whether the slow executor of the probe strikes at random within a process.
