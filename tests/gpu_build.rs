@@ -374,3 +374,64 @@ fn the_radix_sort_equals_a_stable_sort() {
         assert!(got_vals == want_vals, "{what}: values not in the stable order");
     }
 }
+
+/// The tree as a traversal sees it: the nodes reached from the root in depth-first order, left
+/// child first, interior nodes without their children's index (where a pair of children is
+/// placed depends on the order in which the GPU's workgroups merged; the slots inside leaves
+/// are never read).
+fn reachable(nodes: &[GpuBvhNode]) -> Vec<GpuBvhNode> {
+    let (mut out, mut stack) = (Vec::new(), vec![0usize]);
+    while let Some(i) = stack.pop() {
+        out.push(GpuBvhNode { left_or_first: if nodes[i].count == 0 { 0 } else { nodes[i].left_or_first }, ..nodes[i] });
+        if nodes[i].count == 0 {
+            stack.extend([nodes[i].left_or_first as usize + 1, nodes[i].left_or_first as usize]);
+        }
+    }
+    out
+}
+
+/// The builder's variants (`RAYGRAPH_GPU_BUILD_SORT`, `_ROUND`, `_INDIRECT`: kept to compare
+/// their speed on a GPU, with the defaults chosen by that measurement) build the same tree: the
+/// same triangles in the same order, the same nodes in depth-first order. The environment is
+/// read at each build; the variants only ever give the same tree, so another test building
+/// meanwhile is not affected.
+#[test]
+fn every_builder_variant_builds_the_same_tree() {
+    let gpu = gpu();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
+    let input = soup(5000, 11, 10.0);
+    let build = |vars: &[(&str, &str)]| {
+        for (k, v) in vars {
+            std::env::set_var(k, v);
+        }
+        let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
+        for (k, _) in vars {
+            std::env::remove_var(k);
+        }
+        let (nodes, tris) = read_back(&gpu, &built);
+        let nodes = reachable(&nodes);
+        (bytemuck::cast_slice::<GpuBvhNode, u8>(&nodes).to_vec(), bytemuck::cast_slice::<GpuTriangle, u8>(&tris).to_vec(), built.depth)
+    };
+    let default = build(&[]);
+    for vars in [
+        &[][..],
+        &[("RAYGRAPH_GPU_BUILD_SORT", "radix")],
+        &[("RAYGRAPH_GPU_BUILD_SORT", "bitonic")],
+        &[("RAYGRAPH_GPU_BUILD_INDIRECT", "1")],
+        &[("RAYGRAPH_GPU_BUILD_ROUND", "pair")],
+        &[("RAYGRAPH_GPU_BUILD_SORT", "radix"), ("RAYGRAPH_GPU_BUILD_INDIRECT", "1"), ("RAYGRAPH_GPU_BUILD_ROUND", "pair")],
+    ] {
+        let variant = build(vars);
+        let differing = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+        assert!(
+            variant == default,
+            "{vars:?} built another tree than the defaults: {} of {} bytes of the reachable nodes, {} of {} triangle bytes differ, depth {} against {}",
+            differing(&variant.0, &default.0),
+            default.0.len(),
+            differing(&variant.1, &default.1),
+            default.1.len(),
+            variant.2,
+            default.2
+        );
+    }
+}

@@ -3,8 +3,8 @@
 //! layout's one large BLAS.
 //!
 //! The triangles are sorted by the 30-bit Morton code of their box centres, ties in input
-//! order ([`crate::accel::radix_sort`]; `RAYGRAPH_GPU_BUILD_SORT=bitonic` selects the bitonic
-//! network it replaced, which gives the same order, for comparing). The first rounds run
+//! order: [`crate::accel::radix_sort`] above 2^17 keys, a bitonic network below (the same
+//! order; `RAYGRAPH_GPU_BUILD_SORT=radix|bitonic` forces one, for comparing). The first rounds run
 //! within segments of 1024 leaves in workgroup memory (`LOCAL_CLUSTERS`). Then each round,
 //! every cluster finds its nearest neighbour (the smallest box around both) among the
 //! `SEARCH_RADIUS` clusters on either side in that order, mutual nearest neighbours merge into
@@ -313,7 +313,7 @@ impl GpuBlasBuilder {
             return Err(GpuBuildError::Size(n));
         }
         let shape = BuildShape::new(n);
-        let tuning = Tuning::from_env();
+        let tuning = Tuning::from_env(shape.padded);
         let sort_steps = if tuning.sort == SortKind::Bitonic { sort_steps(shape.padded) } else { Vec::new() };
         let buffers = BuildBuffers::new(device, &shape, &tuning.params(shape.n32, &sort_steps));
         let [keys, vals, _, _, clusters_a, clusters_b, ..] = &buffers.scratch;
@@ -523,22 +523,33 @@ fn sort_steps(padded: u64) -> Vec<(u32, u32, SortStep)> {
     sort_steps
 }
 
+/// Keys (padded to a power of two) above which the radix sort replaces the bitonic network.
+/// H200, 2026-11-29 (BENCHMARKS.md, "The GPU rebuild"): the radix sort took 0.192 ms for the
+/// atrium's 262,496 keys (bitonic: 0.240, 2^18 padded) and 0.147 for the organic scene's 3,920
+/// (bitonic: 0.068): a fixed cost of about 0.14 ms in its four passes. Between the two, with
+/// the radix sort's time linear in the keys and the network's in n log^2 n of the padded
+/// count, the network is the faster up to 2^17 padded keys.
+const RADIX_SORT_ABOVE: u64 = 1 << 17;
+
 /// How the Morton codes are sorted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum SortKind {
-    /// [`crate::accel::radix_sort`] (the default).
+    /// [`crate::accel::radix_sort`] (above [`RADIX_SORT_ABOVE`] padded keys, or
+    /// `RAYGRAPH_GPU_BUILD_SORT=radix`).
     Radix,
-    /// The bitonic network (`RAYGRAPH_GPU_BUILD_SORT=bitonic`, for comparing): keys padded to a
-    /// power of two, blocks of [`SORT_BLOCK`] in workgroup memory, then global steps.
+    /// The bitonic network (up to [`RADIX_SORT_ABOVE`], or `RAYGRAPH_GPU_BUILD_SORT=bitonic`):
+    /// keys padded to a power of two, blocks of [`SORT_BLOCK`] in workgroup memory, then global
+    /// steps.
     Bitonic,
 }
 
 /// The build's clusters per finish and per local segment, its search radius, its sort,
 /// whether a round is one dispatch (`ploc_round`; `RAYGRAPH_GPU_BUILD_ROUND=pair` selects the
 /// two dispatches it replaced, for comparing: the same tree) and whether the rounds' dispatches
-/// are sized on the GPU for the clusters left (`RAYGRAPH_GPU_BUILD_INDIRECT=0` dispatches every
-/// round for all triangles, for comparing), from the environment's overrides (for measuring)
-/// or the defaults.
+/// are sized on the GPU for the clusters left (`RAYGRAPH_GPU_BUILD_INDIRECT=1`; by default every
+/// round is dispatched for all triangles and returns at once past the clusters left, which the
+/// H200 ran faster: atrium 0.770 ms a build against 0.801 indirect), from the environment's
+/// overrides (for measuring) or the defaults.
 struct Tuning {
     finish: u32,
     local: u32,
@@ -549,7 +560,7 @@ struct Tuning {
 }
 
 impl Tuning {
-    fn from_env() -> Self {
+    fn from_env(padded: u64) -> Self {
         let var = |name: &str| std::env::var(name).ok().and_then(|v| v.parse().ok());
         Self {
             finish: var("RAYGRAPH_GPU_BUILD_FINISH").unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS),
@@ -557,10 +568,12 @@ impl Tuning {
             radius: var("RAYGRAPH_GPU_BUILD_RADIUS").unwrap_or(SEARCH_RADIUS).clamp(1, RADIUS),
             sort: match std::env::var("RAYGRAPH_GPU_BUILD_SORT").as_deref() {
                 Ok("bitonic") => SortKind::Bitonic,
-                _ => SortKind::Radix,
+                Ok("radix") => SortKind::Radix,
+                _ if padded > RADIX_SORT_ABOVE => SortKind::Radix,
+                _ => SortKind::Bitonic,
             },
             fused: std::env::var("RAYGRAPH_GPU_BUILD_ROUND").as_deref() != Ok("pair"),
-            indirect: std::env::var("RAYGRAPH_GPU_BUILD_INDIRECT").as_deref() != Ok("0"),
+            indirect: std::env::var("RAYGRAPH_GPU_BUILD_INDIRECT").as_deref() == Ok("1"),
         }
     }
 
