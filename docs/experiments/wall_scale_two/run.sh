@@ -26,6 +26,9 @@
 #     after (and after with RAYGRAPH_PASS_PER_NODE=1 for hybrid_denoised), and 5 times (32.8M)
 #     for full RT and raster, after; then the pine with deferred alpha tests
 #     (RAYGRAPH_DEFERRED_ALPHA=2, 4, 8) on `compute`.
+#   part final4: after the fix of the AO schedules' counters (cleared before a run of compute
+#     nodes recorded as one pass): the real assets with the coverage rows on `compute` with the
+#     three AO schedules (`rt_ao`, `rt_ao_compacted`, `rt_ao_persistent`).
 #   part executors: six box rows in one process (`--scenes box,box,box,box,box,box`), each on an
 #     executor of its own, per back-end, two processes each, the SM clock sampled every 50 ms:
 #     whether the slow executor of the probe strikes at random within a process.
@@ -96,6 +99,13 @@ elif [ "$PART" = final3 ]; then
   for n in 0 2 4 8; do
     (cd /tmp/run_new && RAYGRAPH_DEFERRED_ALPHA=$n timeout 100 $RG bench rays --scenes $ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.05 --backend compute --frames 10 --out $OUT/r/pine_defer$n > $OUT/r/pine_defer$n.log 2>&1) || tail -2 $OUT/r/pine_defer$n.log
   done
+elif [ "$PART" = final4 ]; then
+  mkdir -p /tmp/run_new
+  REAL=$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb
+  (cd /tmp/run_new && $RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null)
+  for v in rt_ao rt_ao_compacted rt_ao_persistent; do
+    (cd /tmp/run_new && timeout 150 $RG bench rays --scenes $REAL --coverage 0.02,0.05,0.1 --frames 10 --backend compute --use-layer rt_ao=$v --out $OUT/r/real_$v > $OUT/r/real_$v.log 2>&1) || tail -2 $OUT/r/real_$v.log
+  done
 elif [ "$PART" = executors ]; then
   kill $SMI; mkdir -p /tmp/e && cd /tmp/e
   nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,utilization.gpu,clocks_throttle_reasons.active --format=csv,noheader -lms 50 > $OUT/clocks.csv & SMI=$!
@@ -113,6 +123,6 @@ cd $OUT && tar czf results.tgz r && cp r/box.log r/report.txt . 2>/dev/null
 for f in r/build_*/gpu_build.md; do [ -f $f ] && echo "== $f" && grep -E "^\| (organic|atrium)" $f; done
 [ -f box.log ] && cat box.log; [ -f report.txt ] && grep -E "^==|^total|frame wall|outside the passes" report.txt | head -60
 for f in r/build/*/gpu_build.md; do [ -f $f ] && echo "== $f" && grep -E "^\| (organic|atrium)" $f | cut -d'|' -f2-12; done
-for f in r/t3_* r/real_* r/pine_*; do [ -f $f/rays.md ] && echo "== $f" && grep -E "^\| " $f/rays.md | grep -v -- "---" | cut -d'|' -f2-6,15; done
+for f in r/t3_* r/real_* r/pine_*; do [ -f $f/rays.md ] && echo "== $f" && grep -E "^\| " $f/rays.md | grep -v -- "---" | cut -d'|' -f2-3,5,7,8,15; done
 [ -f r/static.txt ] && grep -E "^==|outside" r/static.txt
 rm -rf r

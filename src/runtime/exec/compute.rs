@@ -67,10 +67,15 @@ impl Executor {
         (i..self.passes.len()).find(|&k| !joins(k)).unwrap_or(self.passes.len())
     }
 
-    /// Records passes `run` ([`Executor::compute_run_end`]) as one compute pass, each node
-    /// between its own timestamps written inside it, in a debug group of its name; pushes
-    /// each node's CPU milliseconds to `cpu_ms`.
+    /// Records passes `run` ([`Executor::compute_run_end`]) as one compute pass (their `zeroed`
+    /// buffers cleared first), each node between its own timestamps written inside it, in a
+    /// debug group of its name; pushes each node's CPU milliseconds to `cpu_ms`.
     pub(super) fn record_compute_run(&self, encoder: &mut wgpu::CommandEncoder, run: Range<usize>, cpu_ms: &mut Vec<f64>) {
+        // A buffer cannot be cleared inside a compute pass: the run's `zeroed` buffers are
+        // cleared before it, which is before each of their writers.
+        for i in run.clone() {
+            self.zero_buffers_written(encoder, i);
+        }
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compute nodes"), timestamp_writes: None });
         for i in run {
             let t0 = Instant::now();
