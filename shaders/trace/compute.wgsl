@@ -15,8 +15,6 @@
 // Alpha test (trace/alpha.wgsl): also only on an accepted hit, when the instance's flags
 // (two-level) or the triangle's (merged layout) say it is alpha-tested; both words come with
 // what the traversal already loads, so opaque geometry pays one untaken branch per accepted hit.
-// With TRACE_DEFERRED_ALPHA > 0 (a pipeline constant, RAYGRAPH_DEFERRED_ALPHA; 0 by default),
-// any-hit rays defer the alpha tests of their candidates (trace_defer_alpha below).
 //#include "trace/common.wgsl"
 //#include "trace/alpha.wgsl"
 
@@ -259,57 +257,6 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
 
 // Traverses one BLAS on top of the TLAS entries already on `trace_stack`. Returns the index of the closest (or, for any-hit, the first) triangle hit, NO_HIT if none;
 // `best` carries t and barycentrics in and out; `sp` is back where it was on return.
-// Deferred alpha tests (TRACE_DEFERRED_ALPHA = N > 0, at most TRACE_DEFERRED_MAX): an any-hit
-// ray notes an alpha-tested candidate (its owner, triangle and barycentrics) and goes on
-// traversing instead of reading the texture there, while the other lanes of its subgroup wait;
-// the noted tests run in the order they were met when N are pending (before the next one is
-// noted) and when the traversal ends without an opaque hit. An opaque hit found meanwhile ends
-// the ray without them. The result is the same: an any-hit ray's traversal does not depend on
-// what its candidates decide (none shortens it), a stop is a stop wherever it is found, and a
-// transmittance ray multiplies its BLEND surfaces in the same order. What it costs: a ray that
-// a candidate would have stopped traverses on.
-override TRACE_DEFERRED_ALPHA: u32 = 0u;
-// The size of trace_deferred (written out there: lavapipe hung on a pass that declared it by
-// this name).
-const TRACE_DEFERRED_MAX: u32 = 8u;
-// (owner instance, triangle, bitcast u, bitcast v) of each noted candidate.
-var<private> trace_deferred: array<vec4<u32>, 8>;
-var<private> trace_deferred_count: u32 = 0u;
-
-// Whether an any-hit ray passes its alpha-tested candidate (`through_blend`: a transmittance
-// ray, which takes a BLEND surface's coverage out of trace_transmitted).
-fn trace_candidate_passes(owner: u32, prim: u32, bary: vec2<f32>, through_blend: bool) -> bool {
-    if through_blend {
-        return trace_transmittance_passes(owner, prim, bary);
-    }
-    return !trace_alpha_visible(owner, prim, bary);
-}
-
-// Runs the noted alpha tests in order and forgets them; true when one stops the ray.
-fn trace_run_deferred(through_blend: bool) -> bool {
-    let count = trace_deferred_count;
-    trace_deferred_count = 0u;
-    for (var k = 0u; k < count; k++) {
-        let c = trace_deferred[k];
-        if !trace_candidate_passes(c.x, c.y, bitcast<vec2<f32>>(c.zw), through_blend) {
-            return true;
-        }
-    }
-    return false;
-}
-
-// Notes a candidate of an any-hit ray, after running the noted ones if N are pending; true
-// when those stop the ray.
-fn trace_defer_alpha(owner: u32, prim: u32, h: TriHit, through_blend: bool) -> bool {
-    var stopped = false;
-    if trace_deferred_count >= min(TRACE_DEFERRED_ALPHA, TRACE_DEFERRED_MAX) {
-        stopped = trace_run_deferred(through_blend);
-    }
-    trace_deferred[trace_deferred_count] = vec4<u32>(owner, prim, bitcast<u32>(h.u), bitcast<u32>(h.v));
-    trace_deferred_count++;
-    return stopped;
-}
-
 // `cull`: back faces are passed through (TRACE_CULL_BACK_FACES). `alpha_instance`: the scene
 // instance if the whole instance is alpha-tested, else NO_HIT (merged triangles carry TRI_ALPHA
 // and their instance themselves); hits the alpha test rejects are passed through.
@@ -331,11 +278,14 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                     let tri_alpha = (tri.flags & TRI_ALPHA) != 0u;
                     if TRACE_ALPHA_TEST && (alpha_instance != NO_HIT || tri_alpha) {
                         let owner = select(alpha_instance, tri.instance, tri_alpha);
-                        if any_hit && TRACE_DEFERRED_ALPHA > 0u {
-                            if !trace_defer_alpha(owner, tri.prim, h, through_blend) {
-                                continue;
-                            }
-                        } else if trace_candidate_passes(owner, tri.prim, vec2<f32>(h.u, h.v), through_blend) {
+                        let bary = vec2<f32>(h.u, h.v);
+                        var passed: bool;
+                        if through_blend {
+                            passed = trace_transmittance_passes(owner, tri.prim, bary);
+                        } else {
+                            passed = !trace_alpha_visible(owner, tri.prim, bary);
+                        }
+                        if passed {
                             continue;
                         }
                     }
@@ -391,7 +341,6 @@ struct TraceResult {
 }
 
 fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> TraceResult {
-    trace_deferred_count = 0u;
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var result = trace_miss();
     var hit_anything = false;
@@ -453,10 +402,6 @@ fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> Trace
         }
         sp--;
         desc = trace_stack[sp];
-    }
-    // An any-hit ray that found no opaque hit: its deferred alpha tests decide.
-    if any_hit && TRACE_DEFERRED_ALPHA > 0u && trace_run_deferred(through_blend) {
-        return TraceResult(result, true);
     }
     return TraceResult(result, hit_anything);
 }

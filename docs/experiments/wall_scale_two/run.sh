@@ -29,6 +29,9 @@
 #   part final4: after the fix of the AO schedules' counters (cleared before a run of compute
 #     nodes recorded as one pass): the real assets with the coverage rows on `compute` with the
 #     three AO schedules (`rt_ao`, `rt_ao_compacted`, `rt_ao_persistent`).
+#   part final5: after the deferred alpha tests were taken out again (the pine 4% slower on
+#     `compute` with them compiled in, off): before and after binaries, `compute` only, the box,
+#     the helmet and the pine (`bench rays --scenes box,HELMET,PINE --frames 10`).
 #   part executors: six box rows in one process (`--scenes box,box,box,box,box,box`), each on an
 #     executor of its own, per back-end, two processes each, the SM clock sampled every 50 ms:
 #     whether the slow executor of the probe strikes at random within a process.
@@ -106,6 +109,13 @@ elif [ "$PART" = final4 ]; then
   for v in rt_ao rt_ao_compacted rt_ao_persistent; do
     (cd /tmp/run_new && timeout 150 $RG bench rays --scenes $REAL --coverage 0.02,0.05,0.1 --frames 10 --backend compute --use-layer rt_ao=$v --out $OUT/r/real_$v > $OUT/r/real_$v.log 2>&1) || tail -2 $OUT/r/real_$v.log
   done
+elif [ "$PART" = final5 ]; then
+  mkdir -p /tmp/run_old /tmp/run_new
+  S=box,$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf
+  for k in new base; do
+    R=$RG; D=/tmp/run_new; [ $k = base ] && R=$OLD && D=/tmp/run_old
+    (cd $D && timeout 100 $R bench rays --scenes $S --backend compute --frames 10 --out $OUT/r/t_$k > $OUT/r/t_$k.log 2>&1) || tail -2 $OUT/r/t_$k.log
+  done
 elif [ "$PART" = executors ]; then
   kill $SMI; mkdir -p /tmp/e && cd /tmp/e
   nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,utilization.gpu,clocks_throttle_reasons.active --format=csv,noheader -lms 50 > $OUT/clocks.csv & SMI=$!
@@ -123,6 +133,6 @@ cd $OUT && tar czf results.tgz r && cp r/box.log r/report.txt . 2>/dev/null
 for f in r/build_*/gpu_build.md; do [ -f $f ] && echo "== $f" && grep -E "^\| (organic|atrium)" $f; done
 [ -f box.log ] && cat box.log; [ -f report.txt ] && grep -E "^==|^total|frame wall|outside the passes" report.txt | head -60
 for f in r/build/*/gpu_build.md; do [ -f $f ] && echo "== $f" && grep -E "^\| (organic|atrium)" $f | cut -d'|' -f2-12; done
-for f in r/t3_* r/real_* r/pine_*; do [ -f $f/rays.md ] && echo "== $f" && grep -E "^\| " $f/rays.md | grep -v -- "---" | cut -d'|' -f2-3,5,7,8,15; done
+for f in r/t3_* r/real_* r/pine_* r/t_*; do [ -f $f/rays.md ] && echo "== $f" && grep -E "^\| " $f/rays.md | grep -v -- "---" | cut -d'|' -f2-3,5,7,8,15; done
 [ -f r/static.txt ] && grep -E "^==|outside" r/static.txt
 rm -rf r

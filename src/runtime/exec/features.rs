@@ -35,27 +35,6 @@ pub(crate) const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
 /// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
 pub(crate) const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
 
-/// `shaders/trace/compute.wgsl`: how many alpha tests an any-hit ray defers (0: none, the
-/// default), set from the environment variable of the same purpose ([`DEFERRED_ALPHA_ENV`]).
-pub(crate) const DEFERRED_ALPHA_CONSTANT: &str = "TRACE_DEFERRED_ALPHA";
-
-/// `RAYGRAPH_DEFERRED_ALPHA=N` (0 to 8): the compute back-end's any-hit rays defer up to N
-/// alpha tests of their candidates (`shaders/trace/compute.wgsl`, same results), to measure.
-pub(crate) const DEFERRED_ALPHA_ENV: &str = "RAYGRAPH_DEFERRED_ALPHA";
-
-/// The deferral asked for in the environment, if any; a value that is not 0 to 8 is reported
-/// and ignored.
-fn deferred_alpha() -> Option<f64> {
-    let value = std::env::var(DEFERRED_ALPHA_ENV).ok()?;
-    match value.trim().parse::<u32>() {
-        Ok(n) if n <= 8 => Some(n as f64),
-        _ => {
-            log::error!("{DEFERRED_ALPHA_ENV}={value}: give a number of alpha tests from 0 to 8; ignored");
-            None
-        }
-    }
-}
-
 /// What the scene's instances use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SceneFeatures {
@@ -139,7 +118,6 @@ impl SceneFeatures {
     pub(crate) fn constants(&self, pass: &PlannedPass) -> Vec<(&'static str, f64)> {
         let projection = (CAMERA_PROJECTION_CONSTANT, if self.orthographic { 2.0 } else { 1.0 });
         let switches = self.all().into_iter().map(|(name, on)| (name, if on { 1.0 } else { 0.0 }));
-        let deferred = deferred_alpha().map(|n| (DEFERRED_ALPHA_CONSTANT, n));
-        switches.chain([projection]).chain(deferred).filter(|(name, _)| pass.shader.has_override(name)).collect()
+        switches.chain([projection]).filter(|(name, _)| pass.shader.has_override(name)).collect()
     }
 }
