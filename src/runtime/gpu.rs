@@ -108,7 +108,7 @@ impl Gpu {
     /// Whether executors record consecutive compute nodes (compute passes, trace passes
     /// dispatched as compute) into one wgpu compute pass, each node between timestamps written
     /// inside it, and the timestamps of nodes recorded outside a pass straight into the encoder.
-    /// On where the device writes timestamps inside passes and encoders, or has no timestamp
+    /// On wherever the device writes timestamps inside passes and encoders, or has no timestamp
     /// queries at all; off with `RAYGRAPH_PASS_PER_NODE` set: every node is a pass of its own
     /// with the timestamps of its descriptor. The GPU time of every node is measured either way.
     pub fn merges_compute_passes(&self) -> bool {
