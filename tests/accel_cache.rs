@@ -323,10 +323,8 @@ fn check_refitted_boxes(nodes: &[raygraph::accel::layout::GpuBvhNode], tris: &[r
 fn a_gpu_rebuild_stays_on_the_gpu_and_refits_to_what_the_moved_scene_traces() {
     use raygraph::accel::bvh::{Blas, BuildConfig};
     use raygraph::accel::cache::{AccelCache, AccelSettings, MergedBuilder};
-    use raygraph::accel::cpu_traverse::{CpuTraverser, Ray};
     use raygraph::accel::gpu_build::{layout_sah_cost, GpuBlasBuilder};
     use raygraph::accel::layout::{merge, merge_instances, merged_accel, GpuBvhNode, GpuTriangle};
-    use raygraph::accel::reference::Reference;
     let gpu = gpu();
     let mut scene = raygraph::scene::load::builtin("organic", 0).unwrap();
     // Three instances of the mesh, each moved by its own transform below.
