@@ -108,8 +108,8 @@ impl Gpu {
     /// Whether executors record consecutive compute nodes (compute passes, trace passes
     /// dispatched as compute) into one wgpu compute pass, each node between timestamps written
     /// inside it, and the timestamps of nodes recorded outside a pass straight into the encoder.
-    /// On wherever the device writes timestamps inside passes and encoders, or has no timestamp
-    /// queries at all; off with `RAYGRAPH_PASS_PER_NODE` set: every node is a pass of its own
+    /// On wherever the device writes timestamps inside passes and encoders; off on a device
+    /// without timestamp queries (the browser's), and with `RAYGRAPH_PASS_PER_NODE` set: every node is a pass of its own
     /// with the timestamps of its descriptor. The GPU time of every node is measured either way.
     pub fn merges_compute_passes(&self) -> bool {
         self.merge_compute_passes
@@ -218,10 +218,11 @@ impl Faults {
 /// Timestamps written inside passes and command encoders (Vulkan has both or neither).
 const TIMESTAMPS_INSIDE: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
 
-/// Whether a device with `features` can record consecutive compute nodes into one pass and
-/// still time each node: it writes timestamps inside passes and encoders, or has none.
+/// Whether a device with `features` records consecutive compute nodes into one pass, each
+/// node timed inside it: it writes timestamps inside passes and encoders. A device without
+/// timestamps (the browser's) keeps one pass per node, the path its page was checked on.
 fn can_merge_compute_passes(features: wgpu::Features) -> bool {
-    !features.contains(wgpu::Features::TIMESTAMP_QUERY) || features.contains(TIMESTAMPS_INSIDE)
+    features.contains(wgpu::Features::TIMESTAMP_QUERY) && features.contains(TIMESTAMPS_INSIDE)
 }
 
 /// Features that scene texture binding arrays need.
