@@ -30,6 +30,7 @@
 //
 // `params.n` and the state's counts are written by the CPU, or copied on the GPU from a count
 // only the GPU knows (the records kernel's), before the first dispatch.
+//#include "common/lookback.wgsl"
 
 struct Params {
     // Triangles.
@@ -98,10 +99,6 @@ const STATE_HOLDER: u32 = 11u;
 const STATE_ROOT_COST: u32 = 12u;
 const STATE_ROOT_AREA: u32 = 13u;
 const STATE_TICKET_B: u32 = 14u;
-
-const TILE_AGGREGATE: u32 = 0x40000000u;
-const TILE_PREFIX: u32 = 0x80000000u;
-const TILE_VALUE: u32 = 0x3fffffffu;
 
 fn float_key(x: f32) -> u32 {
     let b = bitcast<u32>(x);
@@ -425,32 +422,9 @@ fn workgroup_inclusive_sum(lid: u32, value: u32) -> u32 {
     return wg_sums[lid];
 }
 
-// Decoupled look-back (Merrill and Garland 2016) for one invocation of tile `tile`, whose own
-// count is `total`, over the tile status words from `region`: publishes it, sums the tiles
-// before it (flag and value in one atomic word, so no other memory ordering is needed; a tile
-// waits only on tiles that took their ticket before it), publishes the inclusive prefix and
-// returns the exclusive one.
+// Decoupled look-back over consecutive tiles' status words from `region` (lookback.wgsl).
 fn tile_prefix(region: u32, tile: u32, total: u32) -> u32 {
-    if tile == 0u {
-        atomicStore(&tile_status[region], TILE_PREFIX | total);
-        return 0u;
-    }
-    atomicStore(&tile_status[region + tile], TILE_AGGREGATE | total);
-    var before = 0u;
-    var k = tile - 1u;
-    loop {
-        let status = atomicLoad(&tile_status[region + k]);
-        if status == 0u {
-            continue;
-        }
-        before += status & TILE_VALUE;
-        if (status & TILE_PREFIX) != 0u || k == 0u {
-            break;
-        }
-        k -= 1u;
-    }
-    atomicStore(&tile_status[region + tile], TILE_PREFIX | (before + total));
-    return before;
+    return tile_prefix_strided(region, 1u, tile, total);
 }
 
 // Mutual nearest neighbours merge into a new node, and the survivors move, in order, to the

@@ -11,6 +11,7 @@
 //
 // Keys equal in the pass's digit keep their order (the tiles in array order, each tile's split
 // stable), so the sort is stable and its result depends on nothing but its input.
+//#include "common/lookback.wgsl"
 
 struct SortParams {
     // The pass's digit: key >> shift & 0xff.
@@ -42,10 +43,6 @@ const DIGITS: u32 = 256u;
 const PASSES: u32 = 4u;
 const TICKETS: u32 = 1024u;
 const COUNT: u32 = 1028u;
-
-const TILE_AGGREGATE: u32 = 0x40000000u;
-const TILE_PREFIX: u32 = 0x80000000u;
-const TILE_VALUE: u32 = 0x3fffffffu;
 
 var<workgroup> wg_keys: array<u32, 2048>;
 var<workgroup> wg_vals: array<u32, 2048>;
@@ -154,30 +151,10 @@ fn split_tile(lid: u32, nibble: u32) {
     workgroupBarrier();
 }
 
-// Decoupled look-back (as build.wgsl's tile_prefix) for digit `digit` of tile `tile`, whose own
-// count is `total`: the count of that digit in the tiles before it.
+// Decoupled look-back (lookback.wgsl) for digit `digit` of tile `tile`, whose own count is
+// `total`: the count of that digit in the tiles before it.
 fn digit_prefix(tile: u32, digit: u32, total: u32) -> u32 {
-    let region = params.pass_index * params.tiles * DIGITS + digit;
-    if tile == 0u {
-        atomicStore(&tile_status[region], TILE_PREFIX | total);
-        return 0u;
-    }
-    atomicStore(&tile_status[region + tile * DIGITS], TILE_AGGREGATE | total);
-    var before = 0u;
-    var k = tile - 1u;
-    loop {
-        let status = atomicLoad(&tile_status[region + k * DIGITS]);
-        if status == 0u {
-            continue;
-        }
-        before += status & TILE_VALUE;
-        if (status & TILE_PREFIX) != 0u || k == 0u {
-            break;
-        }
-        k -= 1u;
-    }
-    atomicStore(&tile_status[region + tile * DIGITS], TILE_PREFIX | (before + total));
-    return before;
+    return tile_prefix_strided(params.pass_index * params.tiles * DIGITS + digit, DIGITS, tile, total);
 }
 
 // Exclusive sums over the invocations of `a` and `b` into wg_local_start / wg_global_start

@@ -6,13 +6,7 @@
 //#include "common/ao_lane.wgsl"
 //#include "common/ao_list_item.wgsl"
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<uniform> params: Params;
-@group(0) @binding(2) var position: texture_2d<f32>;
-@group(0) @binding(3) var geo_normal: texture_2d<f32>;
-@group(0) @binding(4) var list: texture_2d<u32>;
-@group(0) @binding(5) var<storage, read> listed: array<u32>;
-@group(0) @binding(6) var partial: texture_storage_2d<r32float, write>;
+// Group 0, bindings 0-6: common/ao_list_item.wgsl.
 // [0]: items taken so far (zeroed by the graph before the pass).
 @group(0) @binding(7) var<storage, read_write> taken: array<atomic<u32>>;
 

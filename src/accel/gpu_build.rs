@@ -41,7 +41,7 @@ use crate::scene::Mesh;
 use wgpu::util::DeviceExt;
 
 /// The builder's WGSL.
-pub(crate) const BUILD_WGSL: &str = include_str!("../../shaders/accel/build.wgsl");
+pub(crate) const BUILD_WGSL: &str = concat!(include_str!("../../shaders/common/lookback.wgsl"), include_str!("../../shaders/accel/build.wgsl"));
 /// Most neighbours searched on either side of a cluster (the WGSL's `RADIUS`, the margin of
 /// the rounds' window in workgroup memory).
 pub(crate) const RADIUS: u32 = 16;

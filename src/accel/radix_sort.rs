@@ -9,7 +9,7 @@ use crate::gpu_util::compute_pipeline;
 use wgpu::util::DeviceExt;
 
 /// The sort's WGSL.
-pub(crate) const RADIX_SORT_WGSL: &str = include_str!("../../shaders/accel/radix_sort.wgsl");
+pub(crate) const RADIX_SORT_WGSL: &str = concat!(include_str!("../../shaders/common/lookback.wgsl"), include_str!("../../shaders/accel/radix_sort.wgsl"));
 
 /// Keys per tile (the WGSL's `TILE`).
 const TILE: u64 = 2048;

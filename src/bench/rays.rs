@@ -139,20 +139,21 @@ struct Measured {
     executors_ms: Vec<f64>,
 }
 
+/// What a measurement renders: the graph, compiled with `options`, over `scene` from `camera`.
+pub(crate) struct Workload<'a> {
+    pub graph: &'a Path,
+    pub project: &'a Project,
+    pub options: &'a CompileOptions,
+    pub scene: &'a Scene,
+    pub camera: &'a Camera,
+}
+
 /// [`measure_once`] on executors built one after the other until two agree
 /// ([`super::repeat::Repeats`]): the chosen measurement, with every executor's GPU ms.
-fn measure(
-    gpu: &Gpu,
-    graph: &Path,
-    project: &Project,
-    options: &CompileOptions,
-    scene: &Scene,
-    camera: &Camera,
-    cfg: &RaysConfig,
-) -> Result<Measured, crate::error::RuntimeError> {
+fn measure(gpu: &Gpu, work: &Workload, cfg: &RaysConfig) -> Result<Measured, crate::error::RuntimeError> {
     let repeats = super::repeat::Repeats::for_gpu(gpu);
     let (m, executors_ms) = repeats.run(|| {
-        measure_once(gpu, graph, project, options, scene, camera, cfg).map(|m| {
+        measure_once(gpu, work, cfg).map(|m| {
             let ms = m.gpu_ms;
             (m, ms)
         })
@@ -162,18 +163,11 @@ fn measure(
 
 /// Median GPU milliseconds of a frame (all passes) and of each pass, median rays per frame,
 /// on one executor.
-fn measure_once(
-    gpu: &Gpu,
-    graph: &Path,
-    project: &Project,
-    options: &CompileOptions,
-    scene: &Scene,
-    camera: &Camera,
-    cfg: &RaysConfig,
-) -> Result<Measured, crate::error::RuntimeError> {
-    let plan = compile_with(graph, project, cfg.size, options)?;
-    let mut exec = Executor::new(gpu, plan, scene)?;
-    let frames = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, cfg.frames, |_| *camera)?;
+fn measure_once(gpu: &Gpu, work: &Workload, cfg: &RaysConfig) -> Result<Measured, crate::error::RuntimeError> {
+    let plan = compile_with(work.graph, work.project, cfg.size, work.options)?;
+    let mut exec = Executor::new(gpu, plan, work.scene)?;
+    let camera = *work.camera;
+    let frames = super::timed_frames(gpu, &mut exec, work.scene, cfg.warmup, cfg.frames, |_| camera)?;
     let mut gpu_ms: Vec<f64> = frames.iter().map(super::frame_gpu_ms).collect();
     let mut wall_ms: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
     let mut rays: Vec<f64> = frames.iter().map(|f| f.rays.map(|r| r.traced()).unwrap_or(0) as f64).collect();
@@ -238,18 +232,10 @@ pub(crate) fn stress_camera(gpu: &Gpu, primary: &Path, project: &Project, scene:
     stress_view(gpu, primary, project, scene).map(|v| v.camera)
 }
 
-/// GigaRays/s of `graph` on `scene` from `camera` (median rays over median GPU time), for other
+/// GigaRays/s of a workload (median rays over median GPU time), for other
 /// benches.
-pub(crate) fn measure_rays(
-    gpu: &Gpu,
-    graph: &Path,
-    project: &Project,
-    options: &CompileOptions,
-    scene: &Scene,
-    camera: &Camera,
-    cfg: &RaysConfig,
-) -> Result<f64, crate::error::RuntimeError> {
-    let m = measure(gpu, graph, project, options, scene, camera, cfg)?;
+pub(crate) fn measure_rays(gpu: &Gpu, work: &Workload, cfg: &RaysConfig) -> Result<f64, crate::error::RuntimeError> {
+    let m = measure(gpu, work, cfg)?;
     Ok(super::grays_per_s(m.rays as f64, m.gpu_ms))
 }
 
@@ -390,7 +376,8 @@ fn ray_tests(
         let mut options = gpu.compile_options_for(backend);
         options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(cfg.primary_rays));
         for (test, view, expect) in &views {
-            let m = measure(gpu, primary, project, &options, scene, &view.camera, cfg)?;
+            let work = Workload { graph: primary, project, options: &options, scene, camera: &view.camera };
+            let m = measure(gpu, &work, cfg)?;
             let r = row(test, view, backend, cfg, m, None);
             expect.check(&r)?;
             rows.push(r);
@@ -424,17 +411,21 @@ pub fn run(
     for name in &cfg.scenes {
         let (scene, _) = crate::scene::open(name, &LoadOptions { textures: true, ..Default::default() })?;
         let view = View { scene: &scene, camera: *scene.camera(), described: "the scene's camera".into() };
-        let raster_ms = measure(gpu, &raster, &project, &gpu.compile_options(), &scene, scene.camera(), cfg)?.gpu_ms;
+        let raster_options = gpu.compile_options();
+        let work = Workload { graph: &raster, project: &project, options: &raster_options, scene: &scene, camera: scene.camera() };
+        let raster_ms = measure(gpu, &work, cfg)?.gpu_ms;
         step(&rows, format!("{name}: raster"));
         for &backend in &cfg.backends {
-            let m = measure(gpu, &workload, &project, &workload_options(gpu, backend, cfg), &scene, scene.camera(), cfg)?;
+            let options = workload_options(gpu, backend, cfg);
+            let m = measure(gpu, &Workload { graph: &workload, options: &options, ..work }, cfg)?;
             rows.push(row(name, &view, backend, cfg, m, Some(1000.0 / raster_ms)));
             step(&rows, format!("{name}: {backend}"));
         }
         for &coverage in &cfg.coverages {
             let view = coverage_view(gpu, &primary, &project, &scene, coverage)?;
             for &backend in &cfg.backends {
-                let m = measure(gpu, &workload, &project, &workload_options(gpu, backend, cfg), &scene, &view.camera, cfg)?;
+                let options = workload_options(gpu, backend, cfg);
+                let m = measure(gpu, &Workload { graph: &workload, options: &options, camera: &view.camera, ..work }, cfg)?;
                 rows.push(row(&format!("{name} at {:.0}%", coverage * 100.0), &view, backend, cfg, m, None));
                 step(&rows, format!("{name} at {:.0}%: {backend}", coverage * 100.0));
             }

@@ -187,7 +187,9 @@ fn measure_step(
     let mut row = workload(gpu, cfg, project, scene, backend)?;
     let mut options = gpu.compile_options_for(backend);
     options.params.insert(("primary".into(), "rays".into()), ParamValue::Int(cfg.primary_rays));
-    row.stress_grays = rays::measure_rays(gpu, &cfg.root.join("graph/bench_primary.ron"), project, &options, scene, stress, cfg)?;
+    let primary = cfg.root.join("graph/bench_primary.ron");
+    let work = rays::Workload { graph: &primary, project, options: &options, scene, camera: stress };
+    row.stress_grays = rays::measure_rays(gpu, &work, cfg)?;
     row.gpu_builder = if backend == Backend::Compute { gpu_builder_ms(gpu, scene) } else { Err("the driver builds".into()) };
     Ok(row)
 }
