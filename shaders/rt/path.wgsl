@@ -1,0 +1,192 @@
+// The path-traced reference (layers/rt_path.ron): `samples` paths a pixel, each through a
+// random point of the pixel, of any length (Russian roulette from the fourth vertex on, at most
+// `max_bounces` bounces). At every vertex:
+//   - emission (and an unlit surface's albedo) is added where a path sampled by the BSDF hits it
+//     (emissive triangles are not sampled as lights yet, so they need no MIS weight);
+//   - every punctual light (the sun among them) with its own shadow ray (hit_direct_light:
+//     delta lights, which only next-event estimation can reach);
+//   - the sky (radiance frame.ambient x sky_color, common/lighting.wgsl) by next-event
+//     estimation with a cosine-weighted direction, combined with the BSDF's own sampling by the
+//     power heuristic (multiple importance sampling);
+//   - the next direction from the shared BSDF (common/bsdf_sampling.wgsl).
+// BLEND surfaces are passed with the probability their coverage leaves (tinted by a
+// transmissive one's colour), back faces of single-sided materials always (as every mode
+// culls them). A camera ray that meets nothing leaves the pixel's alpha at 0: the backdrop is
+// the tone map's, as in every mode; `radiance` holds the mean premultiplied radiance and its
+// alpha the share of paths that met geometry. Textures are read at their finest level (width-0
+// ray cones): the pixel's footprint is integrated by the random points within it, not by mip
+// levels.
+//#include "common/scene_bindings.wgsl"
+//#include "common/camera.wgsl"
+//#include "common/scene_textures.wgsl"
+//#include "common/ray_offset.wgsl"
+//#include "common/sampling.wgsl"
+//#include "common/lighting.wgsl"
+//#include "trace/trace.wgsl"
+//#include "common/surface.wgsl"
+//#include "common/shadow_ray.wgsl"
+//#include "common/hit_lighting.wgsl"
+//#include "common/bsdf_sampling.wgsl"
+
+struct Params {
+    samples: u32,
+    max_bounces: u32,
+    seed: u32,
+}
+
+// Bindings 0-6: common/scene_bindings.wgsl.
+@group(0) @binding(7) var<uniform> params: Params;
+@group(0) @binding(8) var<storage, read> scene_lights: array<Light>;
+@group(0) @binding(9) var radiance: texture_storage_2d<rgba32float, write>;
+
+// How many surfaces (back faces of single-sided materials, BLEND surfaces passed) one path
+// segment goes through before it ends.
+const PATH_PASSES: u32 = 16u;
+// Russian roulette starts at this vertex.
+const ROULETTE_FROM: u32 = 3u;
+
+// The sky's radiance towards `dir` (what every mode's ambient term integrates).
+fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
+    return frame.ambient * sky_color(dir);
+}
+
+// Density of the sky's next-event directions at `sp` (cosine-weighted about its normal).
+fn sky_pdf(sp: ShadingPoint, l: vec3<f32>) -> f32 {
+    return max(dot(sp.normal, l), 0.0) / PI;
+}
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    return a2 / max(a2 + b * b, 1e-30);
+}
+
+fn next_random1(state: ptr<function, u32>) -> f32 {
+    *state = pcg_hash(*state);
+    return f32(*state >> 8u) * (1.0 / 16777216.0);
+}
+
+// A segment's hit: the surface a path meets, and the tint of what it passed on the way.
+struct PathHit {
+    hit: Hit,
+    tint: vec3<f32>,
+}
+
+// The closest surface `ray` stops at: back faces of single-sided materials passed, BLEND
+// surfaces passed with probability 1 - coverage.
+fn path_hit(ray_in: Ray, rng: ptr<function, u32>) -> PathHit {
+    var ray = ray_in;
+    var out = PathHit(trace_closest(ray), vec3<f32>(1.0));
+    for (var i = 0u; i < PATH_PASSES; i++) {
+        if out.hit.instance == NO_HIT {
+            return out;
+        }
+        let flags = scene_materials[scene_instances[out.hit.instance].material].flags;
+        let back_culled = !out.hit.front_face && (flags & MATERIAL_DOUBLE_SIDED) == 0u;
+        let coverage = hit_blend_coverage(out.hit);
+        if !back_culled && (coverage < 0.0 || next_random1(rng) < coverage) {
+            return out;
+        }
+        if !back_culled && (flags & MATERIAL_TRANSMISSION) != 0u {
+            out.tint *= surface_at_cone(ray, out.hit, 0.0).albedo;
+        }
+        ray.t_min = blend_past(out.hit.t);
+        out.hit = trace_closest(ray);
+    }
+    // Too many surfaces passed: the path ends here, bringing nothing.
+    out.hit.instance = NO_HIT;
+    out.tint = vec3<f32>(0.0);
+    return out;
+}
+
+// The camera ray through point `u` (in [0, 1)^2) of pixel `p`.
+fn camera_ray_at(p: vec2<u32>, u: vec2<f32>) -> Ray {
+    let ndc = vec2<f32>((f32(p.x) + u.x) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(p.y) + u.y) * frame.resolution.w * 2.0);
+    let near = frame.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
+    let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
+    var origin = frame.camera_pos.xyz;
+    if camera_is_orthographic() {
+        origin = near.xyz / near.w;
+    }
+    return Ray(origin, 0.0, normalize(far.xyz / far.w - origin), 3.0e38);
+}
+
+// The sky's light at `s` by one cosine-weighted next-event direction, MIS-weighted against
+// the BSDF's sampling of the same direction.
+fn sky_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3<f32> {
+    if frame.ambient <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let l = cosine_hemisphere(sp.normal, next_random2(rng));
+    let pdf = sky_pdf(sp, l);
+    if pdf <= 0.0 || dot(l, s.geo_normal) <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let f_cos = bsdf_cos(sp, l);
+    if all(f_cos == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let visible = trace_transmittance(Ray(offset_ray_origin(s.position, s.geo_normal), 0.0, l, 3.0e38));
+    return visible * f_cos * sky_radiance(l) * power_heuristic(pdf, bsdf_pdf(sp, l)) / pdf;
+}
+
+// One path from camera ray `camera`: rgb the radiance it brings, a 1 if it met geometry.
+fn trace_path(camera: Ray, rng: ptr<function, u32>) -> vec4<f32> {
+    var ray = camera;
+    var throughput = vec3<f32>(1.0);
+    var sum = vec3<f32>(0.0);
+    // The shading point the ray left and the BSDF's density of its direction (0: the camera).
+    var from_point: ShadingPoint;
+    var from_pdf = 0.0;
+    for (var bounce = 0u; ; bounce++) {
+        let found = path_hit(ray, rng);
+        throughput *= found.tint;
+        if found.hit.instance == NO_HIT {
+            if bounce == 0u {
+                return vec4<f32>(0.0);
+            }
+            let weight = power_heuristic(from_pdf, sky_pdf(from_point, ray.dir));
+            return vec4<f32>(sum + throughput * sky_radiance(ray.dir) * weight, 1.0);
+        }
+        let s = surface_at_cone(ray, found.hit, 0.0);
+        if s.unlit {
+            return vec4<f32>(sum + throughput * s.albedo, 1.0);
+        }
+        sum += throughput * s.emissive;
+        if bounce >= params.max_bounces {
+            break;
+        }
+        let sp = hit_shading_point(s, -ray.dir);
+        sum += throughput * (hit_direct_light(s, sp) + sky_next_event(s, sp, rng));
+        let b = bsdf_sample(sp, next_random1(rng), next_random2(rng));
+        if b.pdf <= 0.0 || dot(b.dir, s.geo_normal) <= 0.0 {
+            break;
+        }
+        throughput *= b.f_cos / b.pdf;
+        if bounce >= ROULETTE_FROM {
+            let keep = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+            if next_random1(rng) >= keep {
+                break;
+            }
+            throughput /= keep;
+        }
+        from_point = sp;
+        from_pdf = b.pdf;
+        ray = Ray(offset_ray_origin(s.position, s.geo_normal), 0.0, b.dir, 3.0e38);
+    }
+    return vec4<f32>(sum, 1.0);
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(radiance);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    var rng = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed ^ pcg_hash(frame.frame_index))));
+    var sum = vec4<f32>(0.0);
+    for (var i = 0u; i < params.samples; i++) {
+        sum += trace_path(camera_ray_at(id.xy, next_random2(&rng)), &rng);
+    }
+    textureStore(radiance, id.xy, sum / f32(max(params.samples, 1u)));
+    trace_flush_stats();
+}

@@ -1,0 +1,123 @@
+//! The path-traced reference (`graph/reference.ron`: layers `rt_path` and `accumulate`) against
+//! closed forms, on every back-end the adapter has. Materials are pure Lambert
+//! (`KHR_materials_specular` factor 0: no Fresnel, no specular lobe), so the closed forms hold
+//! exactly for the shared BSDF, sampled as a mixture of its two lobes.
+//!
+//! - A furnace: inside a closed box whose walls all emit E and reflect albedo a, the radiance
+//!   is E / (1 - a) everywhere (every bounce, Russian roulette and the accumulation unbiased).
+//! - The sky: a Lambert plane under the sky alone (radiance ambient x sky_color(d), linear in
+//!   d.y from `GROUND` to `ZENITH`) reflects a x ambient x (GROUND + (ZENITH - GROUND) x 5/6):
+//!   the cosine-weighted mean of d.y over the hemisphere is 2/3. This checks the sky's
+//!   next-event estimation and the BSDF's own directions combined by MIS.
+
+mod common;
+
+use common::{gpu, TempProject};
+use glam::{Mat4, Vec3};
+use raygraph::backend::Backend;
+use raygraph::graph::compile::compile_with;
+use raygraph::runtime::{Executor, Gpu};
+use raygraph::scene::builtin::{cube, default_scene, plane};
+use raygraph::scene::{Camera, Instance, Material, Scene};
+
+const W: u32 = 48;
+const H: u32 = 32;
+const E: f32 = 0.2;
+const ALBEDO: f32 = 0.5;
+/// `sky_color` of common/lighting.wgsl at d.y = -1 and +1.
+const GROUND: [f32; 3] = [0.35, 0.3, 0.25];
+const ZENITH: [f32; 3] = [0.6, 0.75, 1.0];
+
+fn lambert(name: &str) -> Material {
+    let mut m = Material::diffuse(name, [ALBEDO, ALBEDO, ALBEDO, 1.0], None);
+    m.roughness = 1.0;
+    m.lobes.specular = 0.0;
+    m
+}
+
+fn furnace() -> Scene {
+    let mut s = default_scene();
+    s.set_name("furnace");
+    s.set_meshes(vec![cube("room")]);
+    *s.textures_mut() = Vec::new();
+    let mut m = lambert("wall");
+    m.emissive = [E; 3];
+    m.double_sided = true;
+    *s.materials_mut() = vec![m];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::from_scale(Vec3::splat(4.0)) }];
+    s.light_mut().ambient = 0.0;
+    *s.camera_mut() = Camera::look(Vec3::new(0.3, 0.2, 1.2), Vec3::new(-0.5, -0.4, -1.0), 70.0, 0.01, 100.0);
+    s
+}
+
+fn sky_plane() -> Scene {
+    let mut s = default_scene();
+    s.set_name("plane under the sky");
+    s.set_meshes(vec![plane("ground", 200.0, 1.0)]);
+    *s.textures_mut() = Vec::new();
+    *s.materials_mut() = vec![lambert("ground")];
+    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }];
+    s.light_mut().intensity = 0.0;
+    s.light_mut().ambient = 1.0;
+    // Looking down: every pixel sees the plane.
+    *s.camera_mut() = Camera::look(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, -1.0, 0.1), 50.0, 0.01, 100.0);
+    s
+}
+
+/// The accumulated radiance of `scene` after `frames` frames of `samples` paths a pixel.
+fn accumulate(gpu: &Gpu, backend: Backend, scene: &Scene, samples: u32, frames: u32) -> Vec<[f32; 4]> {
+    let p = TempProject::with_repo_files();
+    let graph = std::fs::read_to_string(common::repo().join("graph/reference.ron")).unwrap();
+    let graph = graph.replace(r#""path": Layer(layer: "rt_path","#, &format!(r#""path": Layer(layer: "rt_path", params: {{"samples": {samples}}},"#));
+    let path = p.write("graph/reference.ron", &graph);
+    let plan = compile_with(&path, &p.project(), (W, H), &gpu.compile_options_for(backend)).unwrap_or_else(|e| panic!("{e}"));
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    for _ in 0..frames {
+        exec.render(gpu, scene.camera(), scene).unwrap();
+    }
+    common::channel(gpu, &exec, "accumulate.color")
+}
+
+/// Mean, and largest deviation from `expected`, of channel `c` over the pixels.
+fn judge(texels: &[[f32; 4]], c: usize, expected: f32) -> (f32, f32) {
+    let mean = texels.iter().map(|t| t[c]).sum::<f32>() / texels.len() as f32;
+    let worst = texels.iter().map(|t| (t[c] - expected).abs()).fold(0.0f32, f32::max);
+    (mean, worst)
+}
+
+#[test]
+fn in_a_lambert_furnace_every_pixel_converges_to_emission_over_one_minus_albedo() {
+    let gpu = gpu();
+    let expected = E / (1.0 - ALBEDO);
+    for &backend in gpu.backends() {
+        let texels = accumulate(&gpu, backend, &furnace(), 4, 32);
+        assert!(texels.iter().all(|t| t[3] == 1.0), "{backend}: every path meets a wall");
+        let (mean, worst) = judge(&texels, 0, expected);
+        println!("{backend}: furnace mean {mean} (expected {expected}), largest pixel deviation {worst}");
+        // The mean of 1,536 pixels of 128 paths each: its standard error is under 0.1% (the
+        // pixels' own spread, measured below); 0.5% leaves room for the half-float target.
+        assert!((mean - expected).abs() <= 0.005 * expected, "{backend}: furnace mean {mean}, expected {expected}");
+        // Single pixels: 128 paths each (Russian roulette, the lobe mixture's weights); measured
+        // on lavapipe (Mesa 25.0.7), 2026-11-29: largest deviation 0.050, mean 0.40026; the
+        // bound is 2.4x the largest.
+        assert!(worst <= 0.12, "{backend}: a pixel is {worst} from {expected}");
+    }
+}
+
+#[test]
+fn a_lambert_plane_under_the_sky_reflects_albedo_times_the_cosine_weighted_sky() {
+    let gpu = gpu();
+    for &backend in gpu.backends() {
+        let texels = accumulate(&gpu, backend, &sky_plane(), 4, 16);
+        assert!(texels.iter().all(|t| t[3] == 1.0), "{backend}: every pixel shows the plane");
+        for c in 0..3 {
+            let expected = ALBEDO * (GROUND[c] + (ZENITH[c] - GROUND[c]) * 5.0 / 6.0);
+            let (mean, worst) = judge(&texels, c, expected);
+            println!("{backend}: channel {c}: mean {mean} (expected {expected}), largest pixel deviation {worst}");
+            assert!((mean - expected).abs() <= 0.005 * expected, "{backend}: channel {c} mean {mean}, expected {expected}");
+            // Measured on lavapipe, 2026-11-29, 64 paths a pixel: largest deviation 6-7% of the
+            // expected value, means within 0.03%; the bound is 3.5x the largest.
+            assert!(worst <= 0.25 * expected, "{backend}: channel {c}: a pixel is {worst} from {expected}");
+        }
+    }
+}
