@@ -121,3 +121,31 @@ fn a_lambert_plane_under_the_sky_reflects_albedo_times_the_cosine_weighted_sky()
         }
     }
 }
+
+/// `bench truth` on a small scene: a row for every mode and for the path tracer at its time,
+/// each with its image and ꟻLIP map, finite errors, and the reference's own image.
+#[test]
+fn bench_truth_measures_every_mode_and_the_path_tracer_at_its_time() {
+    use raygraph::bench::truth::{self, TruthConfig, TRUTH_MODES};
+    let gpu = gpu();
+    let out = std::env::temp_dir().join(format!("raygraph-truth-{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    let backend = gpu.selection().backend;
+    let cfg = TruthConfig { root: common::repo(), size: (W, H), backend, reference_samples: 4, reference_frames: 8, mode_frames: 2, warmup: 1 };
+    let scenes = vec![("box".to_string(), raygraph::scene::open("box", &Default::default()).unwrap().0)];
+    let rows = truth::run(&gpu, &cfg, &scenes, &out, |_| {}).unwrap();
+    assert_eq!(rows.len(), 2 * TRUTH_MODES.len(), "{rows:?}");
+    for (r, (mode, _, _)) in rows.chunks(2).zip(TRUTH_MODES) {
+        assert_eq!(r[0].mode, mode);
+        assert!(r[1].paths.is_some_and(|p| p >= 1), "{:?}", r[1]);
+        for row in r {
+            assert!(row.rel_mse.is_finite() && row.rel_mse > 0.0 && (0.0..=1.0).contains(&row.flip), "{row:?}");
+            assert!(row.gpu_ms > 0.0 && row.wall_ms > 0.0, "{row:?}");
+        }
+        for file in [format!("box_{mode}.png"), format!("box_{mode}_flip.png")] {
+            assert!(out.join(&file).is_file(), "{file} not written");
+        }
+    }
+    assert!(out.join("box_reference.png").is_file());
+    std::fs::remove_dir_all(&out).ok();
+}

@@ -1,9 +1,14 @@
 // Progressive accumulation (layers/accumulate.ron): the running mean of the signal over every
 // frame since the camera last changed, restarted where the executor has no history or the
-// view-projection moved.
+// view-projection moved, and after `max_frames` frames where it is above 0.
 //#include "common/frame.wgsl"
 
+struct Params {
+    max_frames: u32,
+}
+
 @group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(7) var<uniform> params: Params;
 @group(0) @binding(1) var signal: texture_2d<f32>;
 @group(0) @binding(2) var mean_previous: texture_2d<f32>;
 @group(0) @binding(3) var count_previous: texture_2d<f32>;
@@ -36,6 +41,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if camera_still() {
         n = textureLoad(count_previous, id.xy, 0).r;
         m = textureLoad(mean_previous, id.xy, 0);
+        if params.max_frames > 0u && n >= f32(params.max_frames) {
+            n = 0.0;
+        }
     }
     let next = m + (x - m) / (n + 1.0);
     textureStore(mean, id.xy, next);

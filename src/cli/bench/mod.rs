@@ -11,6 +11,7 @@ pub(crate) mod rays;
 pub(crate) mod roofline;
 pub(crate) mod scale;
 pub(crate) mod track;
+pub(crate) mod truth;
 
 use anyhow::Result;
 
@@ -48,6 +49,10 @@ pub(crate) enum BenchCommand {
     Modes(modes::ModesArgs),
     /// Reflection bounces 1..8 against rays/s.
     Depth(depth::DepthArgs),
+    /// Raster, hybrid, hybrid_denoised and full RT against the path-traced reference
+    /// (`graph/reference.ron`): relMSE and ꟻLIP with GPU and wall ms, the path tracer at each
+    /// mode's time, images and error maps (ACCURACY.md, "Modes against ground truth").
+    Truth(truth::TruthArgs),
 }
 
 /// Runs the bench.
@@ -62,5 +67,6 @@ pub(crate) fn run(command: BenchCommand) -> Result<()> {
         BenchCommand::Roofline(args) => roofline::run(args),
         BenchCommand::Modes(args) => modes::run(args),
         BenchCommand::Depth(args) => depth::run(args),
+        BenchCommand::Truth(args) => truth::run(args),
     }
 }

@@ -42,7 +42,7 @@ pub(crate) fn run(args: ModesArgs) -> Result<()> {
 
 /// The scenes of `--scenes`, each with the name of its images: `NAME=SCENE` names them, a bare
 /// scene is named by its file stem.
-fn load_scenes(list: &str) -> Result<Vec<(String, Scene)>> {
+pub(crate) fn load_scenes(list: &str) -> Result<Vec<(String, Scene)>> {
     let mut loaded = Vec::new();
     for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let (name, spec) = match item.split_once('=') {

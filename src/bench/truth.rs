@@ -1,0 +1,208 @@
+//! `raygraph bench truth`: every mode against the path-traced reference (`graph/reference.ron`)
+//! on the same scene, camera and back-end: relMSE on the linear HDR image the tone map reads
+//! (premultiplied radiance; [`REL_MSE_EPSILON`]), the ꟻLIP mean of the tone-mapped images, and
+//! the mode's GPU and wall ms per frame; plus the path tracer itself at the GPU time of each
+//! mode (equal time: as many paths a pixel as fit, one frame, other random numbers than the
+//! reference's). The modes render `mode_frames` frames of a still camera first, so the filters
+//! of `hybrid_denoised` have converged as they do at rest. Images and ꟻLIP error maps are
+//! written beside the results (ACCURACY.md, "Modes against ground truth").
+
+use crate::backend::Backend;
+use crate::bench::RunInfo;
+use crate::error::RuntimeError;
+use crate::graph::compile::{compile_with, CompileOptions};
+use crate::graph::desc::ParamValue;
+use crate::graph::Project;
+use crate::runtime::{Executor, Gpu};
+use crate::scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// The modes compared: name, graph file (relative to the project root), and the linear HDR
+/// resource its tone map reads.
+pub const TRUTH_MODES: [(&str, &str, &str); 4] = [
+    ("raster", "graph/raster.ron", "forward.color"),
+    ("hybrid", "graph/hybrid.ron", "blend.color"),
+    ("hybrid_denoised", "graph/hybrid_denoised.ron", "blend.color"),
+    ("full_rt", "graph/full_rt.ron", "blend.color"),
+];
+/// The reference graph and its accumulated HDR image.
+pub const REFERENCE_GRAPH: &str = "graph/reference.ron";
+const REFERENCE_HDR: &str = "accumulate.color";
+/// relMSE = mean over pixels and channels of (test - reference)^2 / (reference^2 + epsilon).
+pub const REL_MSE_EPSILON: f64 = 0.01;
+
+/// What `bench truth` runs.
+#[derive(Debug, Clone)]
+pub struct TruthConfig {
+    /// The project root (graph, layers and shaders).
+    pub root: PathBuf,
+    /// Width and height of every image.
+    pub size: (u32, u32),
+    /// The back-end of every ray-traced graph.
+    pub backend: Backend,
+    /// Paths a pixel and frame of the reference.
+    pub reference_samples: u32,
+    /// Timed frames of the reference (its warm-up frames add to its paths too).
+    pub reference_frames: u32,
+    /// Timed frames of each mode, after its warm-up, all with the camera still.
+    pub mode_frames: u32,
+    /// Untimed frames before the timed ones (at least; see `runtime::warm_up`).
+    pub warmup: u32,
+}
+
+/// One mode (or the path tracer at a mode's time) against the reference.
+#[derive(Debug, Clone)]
+pub struct TruthRow {
+    /// The scene's name.
+    pub scene: String,
+    /// The mode, or `path tracer at <mode>'s time`.
+    pub mode: String,
+    /// GPU ms per frame (median of the timed frames).
+    pub gpu_ms: f64,
+    /// Wall ms per frame (median).
+    pub wall_ms: f64,
+    /// relMSE of the HDR image against the reference's.
+    pub rel_mse: f64,
+    /// ꟻLIP mean of the tone-mapped image against the reference's.
+    pub flip: f32,
+    /// Paths a pixel, for the path tracer's rows.
+    pub paths: Option<u32>,
+}
+
+/// A rendered image: its HDR texels, its tone-mapped output and the medians of its frames.
+struct Rendered {
+    hdr: Vec<[f32; 4]>,
+    ldr: image::RgbaImage,
+    gpu_ms: f64,
+    wall_ms: f64,
+}
+
+/// Renders `graph` with `params` on `scene` (warm-up, then `frames` timed frames) and reads its
+/// HDR resource `hdr` and its output.
+fn render(gpu: &Gpu, cfg: &TruthConfig, scene: &Scene, graph: &str, hdr: &str, params: &[(&str, &str, i64)], frames: u32) -> Result<Rendered, RuntimeError> {
+    let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
+    for &(node, param, value) in params {
+        options.params.insert((node.into(), param.into()), ParamValue::Int(value));
+    }
+    let path = cfg.root.join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), cfg.size, &options)?;
+    let resource = plan.resource_by_name(hdr).ok_or_else(|| RuntimeError::Gpu(format!("{}: no resource {hdr} (the tone map's input)", path.display())))?;
+    let mut exec = Executor::new(gpu, plan, scene)?;
+    let timed = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, frames, |_| *scene.camera())?;
+    let mut gpu_ms: Vec<f64> = timed.iter().map(super::frame_gpu_ms).collect();
+    let mut wall_ms: Vec<f64> = timed.iter().map(|f| f.frame_ms).collect();
+    let (_, _, hdr) = exec.read_texture_f32(gpu, resource)?;
+    let ldr = exec.read_output(gpu)?;
+    Ok(Rendered { hdr, ldr, gpu_ms: crate::runtime::profiler::median(&mut gpu_ms), wall_ms: crate::runtime::profiler::median(&mut wall_ms) })
+}
+
+/// relMSE of `test` against `reference` over the RGB channels of every pixel.
+pub fn rel_mse(reference: &[[f32; 4]], test: &[[f32; 4]]) -> f64 {
+    let sum: f64 = reference
+        .iter()
+        .zip(test)
+        .flat_map(|(r, t)| (0..3).map(move |c| (r[c] as f64, t[c] as f64)))
+        .map(|(r, t)| (t - r) * (t - r) / (r * r + REL_MSE_EPSILON))
+        .sum();
+    sum / (3 * reference.len().max(1)) as f64
+}
+
+/// The ꟻLIP error map of `test` against `reference` (nv-flip's default viewing conditions).
+fn flip_map(reference: &image::RgbaImage, test: &image::RgbaImage) -> nv_flip::FlipImageFloat {
+    let rgb = |img: &image::RgbaImage| img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>();
+    let (w, h) = reference.dimensions();
+    nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(reference)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(test)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    )
+}
+
+/// Compares `test` with the reference, writes its image and its ꟻLIP map (magma) into `out`
+/// as `{stem}.png` and `{stem}_flip.png`, and gives its row.
+fn judge(reference: &Rendered, test: &Rendered, scene: &str, mode: String, paths: Option<u32>, out: &Path) -> Result<TruthRow, RuntimeError> {
+    let stem = format!("{scene}_{}", mode.replace(' ', "_").replace('\'', ""));
+    let map = flip_map(&reference.ldr, &test.ldr);
+    let flip = nv_flip::FlipPool::from_image(&map).mean();
+    let colored = map.apply_color_lut(&nv_flip::magma_lut());
+    let (w, h) = reference.ldr.dimensions();
+    let rgba: Vec<u8> = colored.to_vec().chunks(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect();
+    let image = image::RgbaImage::from_raw(w, h, rgba).ok_or_else(|| RuntimeError::Gpu("ꟻLIP map of the wrong size".into()))?;
+    crate::runtime::exec::write_png(&out.join(format!("{stem}_flip.png")), &image)?;
+    crate::runtime::exec::write_png(&out.join(format!("{stem}.png")), &test.ldr)?;
+    let rel_mse = rel_mse(&reference.hdr, &test.hdr);
+    Ok(TruthRow { scene: scene.into(), mode, gpu_ms: test.gpu_ms, wall_ms: test.wall_ms, rel_mse, flip, paths })
+}
+
+/// Every mode of every scene against its reference; `on_row` sees the rows after each one.
+pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path, mut on_row: impl FnMut(&[TruthRow])) -> Result<Vec<TruthRow>, RuntimeError> {
+    let mut rows = Vec::new();
+    let samples = cfg.reference_samples.max(1);
+    for (name, scene) in scenes {
+        let reference = render(gpu, cfg, scene, REFERENCE_GRAPH, REFERENCE_HDR, &[("path", "samples", samples as i64)], cfg.reference_frames)?;
+        crate::runtime::exec::write_png(&out.join(format!("{name}_reference.png")), &reference.ldr)?;
+        let ms_per_path = reference.gpu_ms / samples as f64;
+        for (mode, graph, hdr) in TRUTH_MODES {
+            let test = render(gpu, cfg, scene, graph, hdr, &[], cfg.mode_frames)?;
+            rows.push(judge(&reference, &test, name, mode.into(), None, out)?);
+            on_row(&rows);
+            // The path tracer in the mode's GPU time: one frame of that many paths a pixel.
+            let paths = ((test.gpu_ms / ms_per_path).floor() as u32).max(1);
+            let params = [("path", "samples", paths as i64), ("path", "seed", 1), ("accumulate", "max_frames", 1)];
+            let equal = render(gpu, cfg, scene, REFERENCE_GRAPH, REFERENCE_HDR, &params, cfg.mode_frames)?;
+            rows.push(judge(&reference, &equal, name, format!("path tracer at {mode}'s time"), Some(paths), out)?);
+            on_row(&rows);
+        }
+    }
+    Ok(rows)
+}
+
+/// The results as CSV.
+pub fn csv(info: &RunInfo, rows: &[TruthRow]) -> String {
+    let mut s = info.csv_comment();
+    s.push_str("scene,mode,gpu_ms,wall_ms,rel_mse,flip,paths_per_pixel\n");
+    for r in rows {
+        s.push_str(&format!(
+            "{},{},{:.3},{:.3},{:.6},{:.5},{}\n",
+            r.scene,
+            r.mode,
+            r.gpu_ms,
+            r.wall_ms,
+            r.rel_mse,
+            r.flip,
+            r.paths.map_or(String::new(), |p| p.to_string())
+        ));
+    }
+    s
+}
+
+/// The results as markdown: the run's header and one table.
+pub fn markdown(info: &RunInfo, cfg: &TruthConfig, rows: &[TruthRow]) -> String {
+    let mut s = format!(
+        "# bench truth\n\n{}- back-end: {}\n- reference: `{REFERENCE_GRAPH}`, {} paths a pixel and frame, {} frames at least\n\nrelMSE (linear HDR, epsilon {REL_MSE_EPSILON}) and ꟻLIP mean (tone-mapped) against the reference; GPU and wall ms per frame (medians).\n\n| scene | mode | GPU ms | wall ms | relMSE | ꟻLIP | paths/px |\n| --- | --- | ---: | ---: | ---: | ---: | ---: |\n",
+        info.markdown(),
+        cfg.backend,
+        cfg.reference_samples,
+        cfg.reference_frames
+    );
+    for r in rows {
+        let paths = r.paths.map_or(String::new(), |p| p.to_string());
+        s.push_str(&format!("| {} | {} | {:.3} | {:.3} | {:.5} | {:.4} | {paths} |\n", r.scene, r.mode, r.gpu_ms, r.wall_ms, r.rel_mse, r.flip));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rel_mse_is_zero_for_the_reference_itself_and_follows_its_formula() {
+        let reference = vec![[1.0, 0.0, 0.5, 1.0]; 4];
+        assert_eq!(rel_mse(&reference, &reference), 0.0);
+        let doubled: Vec<[f32; 4]> = reference.iter().map(|t| [2.0 * t[0], 2.0 * t[1], 2.0 * t[2], t[3]]).collect();
+        // Per pixel: 1 / (1 + 0.01), 0, 0.25 / (0.25 + 0.01); alpha is not compared.
+        let expected = (1.0 / 1.01 + 0.25 / 0.26) / 3.0;
+        assert!((rel_mse(&reference, &doubled) - expected).abs() < 1e-12);
+    }
+}
