@@ -4,19 +4,20 @@
 //! pixel, whatever the directions; the resolve adds exactly albedo x E to the image, the
 //! difference between the graph with the `gi` node and with it switched off.
 //!
-//! A finite emitter: a floor under a disk of radiance E (a 48-sided polygon, unlit, facing
-//! down, radius 1 at height 1) and nothing else. The GI at a floor point is E times the
+//! A finite emitter: a floor under a disk of radiance E (a 48-sided polygon, unlit, double-sided,
+//! radius 1 at height 1) and nothing else. The GI at a floor point is E times the
 //! disk's form factor from that point (Lambert's contour integral over the polygon's edges),
 //! which holds only for cosine-weighted directions: uniform hemisphere directions would give
 //! E times the disk's solid angle over 2 pi (0.29 against 0.5 under its centre).
 
 mod common;
 
+use common::disk::{disk_over_floor, disk_rim, form_factor, DISK_HEIGHT};
 use common::{gpu, TempProject};
 use glam::{Mat4, Vec3};
 use raygraph::runtime::Executor;
 use raygraph::scene::builtin::{cube, default_scene};
-use raygraph::scene::{Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, Vertex};
+use raygraph::scene::{Camera, Instance, Material, Scene};
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -114,9 +115,6 @@ fn in_a_furnace_every_pixel_receives_the_walls_emission_and_the_resolve_adds_alb
     assert!(worst_added <= 2.0 * ulp, "the resolve added albedo x GI with an error of {worst_added} (2 units: {})", 2.0 * ulp);
 }
 
-const DISK_SIDES: usize = 48;
-const DISK_HEIGHT: f32 = 1.0;
-const DISK_RADIUS: f32 = 1.0;
 const DISK_E: f32 = 0.5;
 /// Measured on lavapipe (Mesa 25.0.7), 2026-11-29, 256 R2 rays a pixel: largest deviation
 /// 0.0179, mean +0.00004 over 1,856 floor pixels; 3x the largest.
@@ -124,62 +122,11 @@ const WORST_FORM_FACTOR_ERROR: f64 = 0.054;
 /// The form factor above which a pixel counts as near the disk.
 const NEAR: f64 = 0.2;
 
-/// The disk's rim, counter-clockwise seen from below.
-fn disk_rim() -> Vec<Vec3> {
-    (0..DISK_SIDES)
-        .map(|i| {
-            let a = -(i as f32) * std::f32::consts::TAU / DISK_SIDES as f32;
-            Vec3::new(DISK_RADIUS * a.cos(), DISK_HEIGHT, DISK_RADIUS * a.sin())
-        })
-        .collect()
-}
-
 fn emitter_scene() -> Scene {
-    let mut s = default_scene();
-    s.set_name("disk over a floor");
-    let v = |p: Vec3, n: Vec3| Vertex { position: p.into(), normal: n.into(), uv: [0.0, 0.0] };
-    let floor = Mesh {
-        name: "floor".into(),
-        vertices: [(-10.0, -10.0), (10.0, -10.0), (10.0, 10.0), (-10.0, 10.0)].iter().map(|&(x, z)| v(Vec3::new(x, 0.0, z), Vec3::Y)).collect(),
-        indices: vec![0, 2, 1, 0, 3, 2],
-        tangents: None,
-        extras: None,
-    };
-    let mut vertices = vec![v(Vec3::new(0.0, DISK_HEIGHT, 0.0), Vec3::NEG_Y)];
-    vertices.extend(disk_rim().into_iter().map(|p| v(p, Vec3::NEG_Y)));
-    let indices = (0..DISK_SIDES as u32).flat_map(|i| [0, 1 + i, 1 + (i + 1) % DISK_SIDES as u32]).collect();
-    let disk = Mesh { name: "disk".into(), vertices, indices, tangents: None, extras: None };
-    s.set_meshes(vec![floor, disk]);
-    *s.textures_mut() = Vec::new();
     let mut emitter = Material::diffuse("emitter", [DISK_E, DISK_E, DISK_E, 1.0], None);
     emitter.unlit = true;
     emitter.double_sided = true;
-    *s.materials_mut() = vec![Material::diffuse("floor", [0.5, 0.5, 0.5, 1.0], None), emitter];
-    *s.instances_mut() = vec![Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY }, Instance { mesh: 1, material: 1, transform: Mat4::IDENTITY }];
-    // No light: the disk is the only source the GI rays can find.
-    *s.lights_mut() = vec![PunctualLight {
-        name: "off".into(),
-        kind: LightKind::Directional,
-        position: Vec3::ZERO,
-        direction: Vec3::NEG_Y,
-        color: Vec3::ONE,
-        intensity: 0.0,
-    }];
-    s.light_mut().ambient = 0.0;
-    *s.camera_mut() = Camera::look(Vec3::new(0.0, 0.6, 3.2), Vec3::new(0.0, 0.0, 0.0), 70.0, 0.01, 100.0);
-    s
-}
-
-/// The form factor from a floor point `p` (normal +y) to the polygon `rim`.
-fn form_factor(p: Vec3, rim: &[Vec3]) -> f64 {
-    let mut sum = 0.0f64;
-    for i in 0..rim.len() {
-        let a = (rim[i] - p).as_dvec3().normalize();
-        let b = (rim[(i + 1) % rim.len()] - p).as_dvec3().normalize();
-        let c = a.cross(b);
-        sum += a.dot(b).clamp(-1.0, 1.0).acos() * c.y / c.length();
-    }
-    (sum / std::f64::consts::TAU).abs()
+    disk_over_floor(emitter, Material::diffuse("floor", [0.5, 0.5, 0.5, 1.0], None))
 }
 
 /// The polygon's solid angle from `p` over 2 pi: what uniform hemisphere directions would find.

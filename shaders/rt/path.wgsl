@@ -1,8 +1,9 @@
 // The path-traced reference (layers/rt_path.ron): `samples` paths a pixel, each through a
 // random point of the pixel, of any length (Russian roulette from the fourth vertex on, at most
 // `max_bounces` bounces). At every vertex:
-//   - emission (and an unlit surface's albedo) is added where a path sampled by the BSDF hits it
-//     (emissive triangles are not sampled as lights yet, so they need no MIS weight);
+//   - the emissive triangles (common/emitters.wgsl) by next-event estimation of one triangle
+//     picked by power and a uniform point on it, combined by the power heuristic with the
+//     emission the BSDF's own directions hit (an unlit surface's albedo counts whole);
 //   - every punctual light (the sun among them) with its own shadow ray (hit_direct_light:
 //     delta lights, which only next-event estimation can reach);
 //   - the sky (radiance frame.ambient x sky_color, common/lighting.wgsl) by next-event
@@ -27,6 +28,7 @@
 //#include "common/shadow_ray.wgsl"
 //#include "common/hit_lighting.wgsl"
 //#include "common/bsdf_sampling.wgsl"
+//#include "common/emitters.wgsl"
 
 struct Params {
     samples: u32,
@@ -38,6 +40,7 @@ struct Params {
 @group(0) @binding(7) var<uniform> params: Params;
 @group(0) @binding(8) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(9) var radiance: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(10) var<storage, read> scene_emitters: array<u32>;
 
 // How many surfaces (back faces of single-sided materials, BLEND surfaces passed) one path
 // segment goes through before it ends.
@@ -129,6 +132,53 @@ fn sky_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3
     return visible * f_cos * sky_radiance(l) * power_heuristic(pdf, bsdf_pdf(sp, l)) / pdf;
 }
 
+// The density (solid angle, seen from `origin`) with which next-event estimation picks the point
+// `at` on `instance`'s triangle `primitive`; 0 for a triangle that is no emitter.
+fn emitter_pdf(instance: u32, primitive: u32, origin: vec3<f32>, at: vec3<f32>) -> f32 {
+    let probability = hit_emitter_probability(instance, primitive);
+    if probability <= 0.0 {
+        return 0.0;
+    }
+    let n2 = instance_triangle_normal(instance, primitive);
+    let to = at - origin;
+    let cosine = abs(dot(normalize(n2), normalize(to)));
+    return probability * dot(to, to) / max(0.5 * length(n2) * cosine, 1e-30);
+}
+
+// The light of one emissive triangle picked by power at `s` (one point, one shadow ray),
+// MIS-weighted against the BSDF's sampling of the same direction.
+fn emitter_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3<f32> {
+    if emitter_count() == 0u {
+        return vec3<f32>(0.0);
+    }
+    let record = emitter_record(emitter_pick(next_random1(rng)));
+    let instance = scene_emitters[record];
+    let primitive = scene_emitters[record + 1u];
+    let u = next_random2(rng);
+    let r = sqrt(u.x);
+    let bary = vec2<f32>(r * (1.0 - u.y), r * u.y);
+    let corners = instance_triangle(instance, primitive);
+    let at = corners[0] * (1.0 - bary.x - bary.y) + corners[1] * bary.x + corners[2] * bary.y;
+    let origin = offset_ray_origin(s.position, s.geo_normal);
+    let to = at - origin;
+    let d = length(to);
+    let l = to / max(d, 1e-30);
+    let front = dot(l, instance_triangle_normal(instance, primitive)) < 0.0;
+    let material = scene_materials[scene_instances[instance].material];
+    if d <= 0.0 || dot(l, s.geo_normal) <= 0.0 || (!front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u) {
+        return vec3<f32>(0.0);
+    }
+    let f_cos = bsdf_cos(sp, l);
+    let pdf = emitter_pdf(instance, primitive, origin, at);
+    if all(f_cos == vec3<f32>(0.0)) || pdf <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let light = Hit(d, instance, primitive, bary, front);
+    let emission = surface_at_cone(Ray(origin, 0.0, l, d), light, 0.0).emissive;
+    let visible = trace_transmittance(Ray(origin, 0.0, l, d * 0.9999));
+    return visible * f_cos * emission * power_heuristic(pdf, bsdf_pdf(sp, l)) / pdf;
+}
+
 // One path from camera ray `camera`: rgb the radiance it brings, a 1 if it met geometry.
 fn trace_path(camera: Ray, rng: ptr<function, u32>) -> vec4<f32> {
     var ray = camera;
@@ -151,12 +201,16 @@ fn trace_path(camera: Ray, rng: ptr<function, u32>) -> vec4<f32> {
         if s.unlit {
             return vec4<f32>(sum + throughput * s.albedo, 1.0);
         }
-        sum += throughput * s.emissive;
+        var emitted = 1.0;
+        if bounce > 0u {
+            emitted = power_heuristic(from_pdf, emitter_pdf(found.hit.instance, found.hit.primitive, ray.origin, s.position));
+        }
+        sum += throughput * s.emissive * emitted;
         if bounce >= params.max_bounces {
             break;
         }
         let sp = hit_shading_point(s, -ray.dir);
-        sum += throughput * (hit_direct_light(s, sp) + sky_next_event(s, sp, rng));
+        sum += throughput * (hit_direct_light(s, sp) + sky_next_event(s, sp, rng) + emitter_next_event(s, sp, rng));
         let b = bsdf_sample(sp, next_random1(rng), next_random2(rng));
         if b.pdf <= 0.0 || dot(b.dir, s.geo_normal) <= 0.0 {
             break;

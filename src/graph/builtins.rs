@@ -18,6 +18,8 @@ pub(crate) const SCENE_MESHES: &str = "scene_meshes";
 /// The lights (`array<Light>`, `shaders/common/lighting.wgsl`): `Scene::effective_lights()`,
 /// `frame.light_count` of them, rewritten every frame.
 pub(crate) const SCENE_LIGHTS: &str = "scene_lights";
+/// The emissive triangles as lights (`array<u32>`, `scene::emitters`): uploaded with the scene.
+pub(crate) const SCENE_EMITTERS: &str = "scene_emitters";
 /// Every instance's model matrix of the previous frame (`array<mat4x4<f32>>`, one per
 /// instance, its current one on a frame without history): what motion vectors are made from.
 /// Rewritten only when it changes.
@@ -57,6 +59,7 @@ pub(crate) fn is_builtin(name: &str) -> bool {
             | SCENE_INDICES
             | SCENE_MESHES
             | SCENE_LIGHTS
+            | SCENE_EMITTERS
             | SCENE_MOTION
             | LINEAR_SAMPLER
             | NEAREST_SAMPLER
@@ -70,6 +73,7 @@ impl SceneUsage {
             SCENE_INSTANCES => self.instances = true,
             SCENE_MATERIALS => self.materials = true,
             SCENE_LIGHTS => self.lights = true,
+            SCENE_EMITTERS => self.emitters = true,
             SCENE_MOTION => self.motion = true,
             SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES => self.geometry_storage = true,
             SCENE_TEXTURES => {

@@ -81,6 +81,8 @@ pub struct GpuScene {
     /// `Scene::effective_lights()` as `LightUniforms` (`scene_lights`), rewritten every frame
     /// by `GpuScene::write_lights`.
     lights: Option<wgpu::Buffer>,
+    /// The emissive triangles as lights (`scene_emitters`, `scene::emitters`).
+    emitters: Option<wgpu::Buffer>,
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
     /// `GpuScene::write_motion`.
     motion: Option<wgpu::Buffer>,
@@ -130,6 +132,11 @@ impl GpuScene {
     /// by `GpuScene::write_lights`.
     pub fn lights(&self) -> Option<&wgpu::Buffer> {
         self.lights.as_ref()
+    }
+
+    /// The emissive triangles as lights (`scene_emitters`, `scene::emitters`).
+    pub fn emitters(&self) -> Option<&wgpu::Buffer> {
+        self.emitters.as_ref()
     }
 
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
@@ -200,6 +207,9 @@ impl GpuScene {
             let records = vec![LightUniforms::default(); scene.effective_light_count()];
             out.lights = Some(upload.storage_records("light", records)?);
         }
+        if usage.emitters {
+            out.emitters = Some(upload.storage_records("emitter word", crate::scene::emitters::emitter_table(scene))?);
+        }
         if usage.motion {
             let records: Vec<[[f32; 4]; 4]> = scene.instances().iter().map(|i| i.transform.to_cols_array_2d()).collect();
             out.motion = Some(upload.storage_records("previous transform", records)?);
@@ -221,6 +231,7 @@ impl GpuScene {
             meshes: None,
             textures: None,
             lights: None,
+            emitters: None,
             motion: None,
             draws: Vec::new(),
             base_vertices: Vec::new(),

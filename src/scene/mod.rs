@@ -6,6 +6,7 @@ pub mod animation;
 pub mod builtin;
 pub mod camera;
 pub mod duplicate;
+pub mod emitters;
 pub mod export;
 pub mod fly;
 pub mod gltf_animation;

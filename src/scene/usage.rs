@@ -19,6 +19,8 @@ pub struct SceneUsage {
     pub geometry_storage: bool,
     /// `scene_lights`.
     pub lights: bool,
+    /// `scene_emitters`: the emissive triangles as lights (`scene::emitters`).
+    pub emitters: bool,
     /// `scene_motion`: the previous frame's instance transforms.
     pub motion: bool,
     /// Which meshes are closed and wound outwards (`scene::topology`), for a pass with
@@ -29,7 +31,7 @@ pub struct SceneUsage {
 impl SceneUsage {
     /// Whether any pass reads the scene.
     pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights || self.motion
+        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights || self.emitters || self.motion
     }
 
     /// A short list for reports, e.g. `geometry, instances, textures`.
@@ -41,6 +43,7 @@ impl SceneUsage {
             (self.materials, "materials"),
             (self.textures, "textures"),
             (self.lights, "lights"),
+            (self.emitters, "emissive triangles"),
             (self.motion, "previous transforms"),
             (self.closed_meshes, "closed meshes (found on the CPU)"),
         ]

@@ -2,6 +2,7 @@
 //! fixtures in `tests/fixtures`, and line lookup for asserting error locations.
 #![allow(dead_code)]
 
+pub mod disk;
 pub mod endless_fog;
 pub mod gltf_doc;
 pub mod material_scene;

@@ -185,6 +185,7 @@ impl Executor {
             builtins::SCENE_INDICES => out.buffers.push((at, self.scene_part(|s| s.indices())?.clone())),
             builtins::SCENE_MESHES => out.buffers.push((at, self.scene_part(|s| s.meshes())?.clone())),
             builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights())?.clone())),
+            builtins::SCENE_EMITTERS => out.buffers.push((at, self.scene_part(|s| s.emitters())?.clone())),
             builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion())?.clone())),
             builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => out.views.push((at, view.clone())),

@@ -102,6 +102,7 @@ impl Executor {
             builtins::SCENE_INDICES => buffer(self.scene_part(|s| s.indices())?),
             builtins::SCENE_MESHES => buffer(self.scene_part(|s| s.meshes())?),
             builtins::SCENE_LIGHTS => buffer(self.scene_part(|s| s.lights())?),
+            builtins::SCENE_EMITTERS => buffer(self.scene_part(|s| s.emitters())?),
             builtins::SCENE_MOTION => buffer(self.scene_part(|s| s.motion())?),
             builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { texture, view } => {
