@@ -108,14 +108,15 @@ fn render_writes_linear_hdr_as_exr_that_tone_maps_to_the_png() {
     assert!(hdr.pixels().all(|p| p.0.iter().all(|c| c.is_finite())), "finite radiance");
     // Linear and scene-referred: the lit floor and the spheres pass 1 (what the PNG clips).
     assert!(hdr.pixels().any(|p| p.0[..3].iter().any(|c| *c > 1.0)), "radiance above 1 somewhere");
-    // Tone-mapped on the CPU, the EXR is the PNG within one 8-bit step (the GPU's pow and
-    // division round apart from the CPU's; measured: at most 1).
+    // Tone-mapped on the CPU, the EXR is the PNG within one 8-bit step (measured on lavapipe:
+    // 0; the step allows for a GPU whose pow and division round apart from the CPU's).
     let mut worst = 0;
     for (x, y, p) in hdr.enumerate_pixels() {
         let want = tone_map(p.0, y, 36);
         let got = ldr.get_pixel(x, y).0;
         worst = worst.max((0..3).map(|i| want[i].abs_diff(got[i])).max().unwrap());
     }
+    println!("tone-mapped EXR against the PNG: at most {worst} 8-bit steps apart");
     assert!(worst <= 1, "the tone-mapped EXR differs from the PNG by {worst} steps");
     for f in [exr, png] {
         let _ = std::fs::remove_file(f);
@@ -142,10 +143,12 @@ fn exr_of_the_cornell_box_shows_its_light_at_its_radiance_and_nothing_else_lit()
     }
     // The light spans 130 x 105 mm at 1.35 m to 1.64 m from the ceiling's front edge: a few
     // pixels at 48x48 (the ceiling hides part of it from the classic camera).
-    assert!(lit >= 4, "{lit} pixels show the light");
-    // Black walls: the box fills the frame but for a thin border outside its front.
     let covered = hdr.pixels().filter(|p| p.0[3] == 1.0).count();
-    assert!(covered * 10 > 9 * 48 * 48, "{covered} of {} pixels show the box", 48 * 48);
+    println!("cornell at 48x48: {lit} pixels show the light, {covered} the box");
+    assert!(lit >= 4, "{lit} pixels show the light");
+    // Black walls: the box fills the frame but for a border about a pixel wide outside its front
+    // (measured: 2116 pixels of 2304, 46 x 46).
+    assert!(covered * 100 > 85 * 48 * 48, "{covered} of {} pixels show the box", 48 * 48);
     let _ = std::fs::remove_file(exr);
     // The other modes render it too (black but for the light).
     let png = temp_out("cornell.png");
