@@ -21,7 +21,7 @@ fn graph_check_prints_the_plan() {
 #[test]
 fn graph_check_of_a_broken_copy_fails_with_a_location() {
     let p = common::TempProject::with_repo_files();
-    let text = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap().replace("\"forward.color\"", "\"forward.colour\"");
+    let text = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap().replace("\"hdr\": \"forward.color\"", "\"hdr\": \"forward.colour\"");
     let path = p.write("graph/raster.ron", &text);
     let out = Command::new(env!("CARGO_BIN_EXE_raygraph")).args(["graph", "check"]).arg(&path).output().unwrap();
     assert!(!out.status.success());
