@@ -8,8 +8,10 @@
 //! 1 and specular factor 0 (`KHR_materials_specular`: no dielectric reflection at any angle),
 //! with the reflectances of Mitsuba's `cbox`. The only light is the emissive quad just below
 //! the ceiling (Mitsuba's radiance); the default sun has intensity 0 and the sky's ambient is 0
-//! (a black environment). The raster and hybrid modes do not light surfaces from emissive ones,
-//! so there the box is black but for the light itself; that is expected. A path tracer lights it.
+//! (a black environment). The raster, hybrid and full-RT graphs do not light surfaces from
+//! emissive ones, so there the box is black but for the light itself; that is expected. The GI
+//! graphs (`graph/hybrid_soft_gi.ron`, `graph/hybrid_denoised.ron`) gather one bounce of its
+//! emission; a path tracer lights it fully.
 
 use crate::scene::{Camera, Instance, Light, Lobes, Material, Mesh, Scene};
 use glam::{Mat4, Vec3};
