@@ -150,6 +150,7 @@ fn exr_of_the_cornell_box_shows_its_light_at_its_radiance_and_nothing_else_lit()
     // (measured: 2116 pixels of 2304, 46 x 46).
     assert!(covered * 100 > 85 * 48 * 48, "{covered} of {} pixels show the box", 48 * 48);
     let _ = std::fs::remove_file(exr);
+    assert!(run_ok(&["scene", "info", "cornell"]).contains("no sun and no sky"), "scene info says what lights it");
     // The other modes render it too (black but for the light).
     let png = temp_out("cornell.png");
     for mode in ["raster", "hybrid"] {
