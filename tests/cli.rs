@@ -21,7 +21,7 @@ fn graph_check_prints_the_plan() {
 #[test]
 fn graph_check_of_a_broken_copy_fails_with_a_location() {
     let p = common::TempProject::with_repo_files();
-    let text = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap().replace("\"forward.color\"", "\"forward.colour\"");
+    let text = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap().replace("\"hdr\": \"forward.color\"", "\"hdr\": \"forward.colour\"");
     let path = p.write("graph/raster.ron", &text);
     let out = Command::new(env!("CARGO_BIN_EXE_raygraph")).args(["graph", "check"]).arg(&path).output().unwrap();
     assert!(!out.status.success());
@@ -73,6 +73,121 @@ fn render_to_an_unwritable_path_fails_cleanly() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("/nonexistent-dir/x.png"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+/// A path under the temp dir for this test process, `tag` in its name.
+fn temp_out(tag: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("raygraph-cli-{}-{tag}", std::process::id()))
+}
+
+/// The tone map of `layers/tonemap.ron` (`shaders/tonemap/tonemap.wgsl`) on the CPU at its
+/// defaults: the sky gradient behind 1 - alpha (row `y` of `height`), exposure 1, the ACES fit,
+/// the sRGB encoding, 8 bits.
+fn tone_map(c: [f32; 4], y: u32, height: u32) -> [u8; 3] {
+    let v = (y as f32 + 0.5) / height as f32;
+    let sky = |i: usize| [0.9f32, 0.85, 0.8][i] * v + [0.35f32, 0.55, 0.9][i] * (1.0 - v);
+    std::array::from_fn(|i| {
+        let x = c[i] + if c[3] < 1.0 { (1.0 - c[3].max(0.0)) * sky(i) } else { 0.0 };
+        let aces = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+        let srgb = if aces <= 0.0031308 { 12.92 * aces } else { 1.055 * aces.powf(1.0 / 2.4) - 0.055 };
+        (srgb * 255.0).round() as u8
+    })
+}
+
+#[test]
+fn render_writes_linear_hdr_as_exr_that_tone_maps_to_the_png() {
+    let (exr, png) = (temp_out("hdr.exr"), temp_out("hdr.png"));
+    for out in [&exr, &png] {
+        let run = raygraph().args(["render", "--width", "64", "--height", "36", "--frames", "1", "--out"]).arg(out).output().unwrap();
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    let hdr = image::open(&exr).unwrap();
+    assert!(matches!(hdr, image::DynamicImage::ImageRgba32F(_)), "RGBA float32: {:?}", hdr.color());
+    let (hdr, ldr) = (hdr.to_rgba32f(), image::open(&png).unwrap().to_rgba8());
+    assert_eq!((hdr.width(), hdr.height()), (64, 36));
+    assert!(hdr.pixels().all(|p| p.0.iter().all(|c| c.is_finite())), "finite radiance");
+    // Linear and scene-referred: the lit floor and the spheres pass 1 (what the PNG clips).
+    assert!(hdr.pixels().any(|p| p.0[..3].iter().any(|c| *c > 1.0)), "radiance above 1 somewhere");
+    // Tone-mapped on the CPU, the EXR is the PNG within one 8-bit step (measured on lavapipe:
+    // 0; the step allows for a GPU whose pow and division round apart from the CPU's).
+    let mut worst = 0;
+    for (x, y, p) in hdr.enumerate_pixels() {
+        let want = tone_map(p.0, y, 36);
+        let got = ldr.get_pixel(x, y).0;
+        worst = worst.max((0..3).map(|i| want[i].abs_diff(got[i])).max().unwrap());
+    }
+    println!("tone-mapped EXR against the PNG: at most {worst} 8-bit steps apart");
+    assert!(worst <= 1, "the tone-mapped EXR differs from the PNG by {worst} steps");
+    for f in [exr, png] {
+        let _ = std::fs::remove_file(f);
+    }
+}
+
+#[test]
+fn exr_of_the_cornell_box_shows_its_light_at_its_radiance_and_nothing_else_lit() {
+    let exr = temp_out("cornell.exr");
+    // Full RT does not light surfaces from emissive ones (a path tracer does): with no sun and
+    // no sky only the light quad has radiance, exactly its emission.
+    run_ok(&["render", "--mode", "full-rt", "--scene", "cornell", "--width", "48", "--frames", "1", "--out", exr.to_str().unwrap()]);
+    let hdr = image::open(&exr).unwrap().to_rgba32f();
+    assert_eq!((hdr.width(), hdr.height()), (48, 48), "the classic camera's square film");
+    let light = raygraph::scene::procedural::CORNELL_LIGHT_RADIANCE;
+    let mut lit = 0;
+    for p in hdr.pixels() {
+        if p.0[..3] == [0.0; 3] {
+            continue;
+        }
+        // Half floats: 11 significant bits.
+        assert!((0..3).all(|i| (p.0[i] - light[i]).abs() <= light[i] / 1024.0), "{:?} is neither black nor the light's {light:?}", p.0);
+        lit += 1;
+    }
+    // The light spans 130 x 105 mm at 1.35 m to 1.64 m from the ceiling's front edge: a few
+    // pixels at 48x48 (the ceiling hides part of it from the classic camera).
+    let covered = hdr.pixels().filter(|p| p.0[3] == 1.0).count();
+    println!("cornell at 48x48: {lit} pixels show the light, {covered} the box");
+    assert!(lit >= 4, "{lit} pixels show the light");
+    // Black walls: the box fills the frame but for a border about a pixel wide outside its front
+    // (measured: 2116 pixels of 2304, 46 x 46).
+    assert!(covered * 100 > 85 * 48 * 48, "{covered} of {} pixels show the box", 48 * 48);
+    let _ = std::fs::remove_file(exr);
+    assert!(run_ok(&["scene", "info", "cornell"]).contains("no sun and no sky"), "scene info says what lights it");
+    // The other modes render it too (black but for the light).
+    let png = temp_out("cornell.png");
+    for mode in ["raster", "hybrid"] {
+        run_ok(&["render", "--mode", mode, "--scene", "cornell", "--width", "32", "--frames", "1", "--out", png.to_str().unwrap()]);
+    }
+    let _ = std::fs::remove_file(png);
+}
+
+#[test]
+fn render_refuses_unknown_extensions_and_graphs_without_hdr_output_and_leaves_no_file() {
+    let run = |args: &[&str], out: &std::path::Path| {
+        let o = raygraph().args(args).args(["--width", "16", "--height", "16", "--frames", "1", "--out"]).arg(out).output().unwrap();
+        assert!(!o.status.success(), "{args:?} {}", out.display());
+        assert!(!out.exists(), "{}: no file after an error", out.display());
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        stderr
+    };
+    let tiff = temp_out("x.tiff");
+    let stderr = run(&["render"], &tiff);
+    assert!(stderr.contains(&tiff.display().to_string()) && stderr.contains(".png") && stderr.contains(".exr"), "{stderr}");
+    // A graph that names no HDR output: the error names the file and what it lacks.
+    let p = common::TempProject::with_repo_files();
+    let text = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap();
+    let without: String = text.lines().filter(|l| !l.contains("hdr_output")).map(|l| format!("{l}\n")).collect();
+    assert_ne!(without, text, "graph/raster.ron names its HDR output");
+    let graph = p.write("graph/no_hdr.ron", &without);
+    let exr = temp_out("no-hdr.exr");
+    let stderr = run(&["render", "--graph", graph.to_str().unwrap()], &exr);
+    assert!(stderr.contains(&graph.display().to_string()) && stderr.contains("hdr_output"), "{stderr}");
+    // The same graph still writes PNGs.
+    let png = temp_out("no-hdr.png");
+    run_ok(&["render", "--graph", graph.to_str().unwrap(), "--width", "16", "--height", "16", "--frames", "1", "--out", png.to_str().unwrap()]);
+    let _ = std::fs::remove_file(png);
+    // An unwritable path fails as for a PNG, naming it.
+    let nowhere = std::path::Path::new("/nonexistent-dir/x.exr");
+    assert!(run(&["render"], nowhere).contains("/nonexistent-dir/x.exr"));
 }
 
 fn run_ok(args: &[&str]) -> String {

@@ -85,6 +85,33 @@ fn unknown_node_output() {
     expect(p.compile("g3.ron", &g), ErrorKind::UnknownOutput, "graph/g3.ron", line_of(&g, "out.rgb"));
 }
 
+/// `hdr_output`: kept to the end of the frame, with the passes that write it, where it names a
+/// float output; an unknown output or a texture that is not float RGBA is an error at its line;
+/// a switched-off node gives none.
+#[test]
+fn hdr_output_names_a_float_output() {
+    let p = TempProject::new();
+    // A second `fill` node that the presented output does not read.
+    let spare = GOOD.replace("    nodes: {", "    nodes: {\n        \"spare\": Layer(layer: \"fill\"),");
+    let with = |hdr: &str| spare.replace("    nodes: {", &format!("    hdr_output: \"{hdr}\",\n    nodes: {{"));
+    let without = p.compile("spare.ron", &spare).unwrap();
+    assert_eq!((without.hdr_output(), without.culled()), (None, &["spare/fill".to_string()][..]), "no field: no HDR output");
+    let plan = p.compile("hdr.ron", &with("spare.color")).expect("a float output");
+    let hdr = plan.hdr_output().expect("the plan has the HDR output");
+    assert_eq!((plan.resources()[hdr].name.as_str(), plan.passes().len()), ("spare.color", 3), "its writer is kept");
+    assert_eq!(plan.resources()[hdr].last_use, plan.passes().len() - 1, "it lives to the end of the frame");
+    assert!(plan.resources()[hdr].usage.copy_src, "it can be read back");
+    let g = with("spare.colour");
+    expect(p.compile("h1.ron", &g), ErrorKind::UnknownOutput, "graph/h1.ron", line_of(&g, "spare.colour"));
+    let g = with("out.color");
+    let e = expect(p.compile("h2.ron", &g), ErrorKind::Unsupported, "graph/h2.ron", line_of(&g, "hdr_output"));
+    assert!(e.to_string().contains("Rgba16Float"), "{e}");
+    let options = raygraph::graph::compile::CompileOptions { enabled: [("spare".to_string(), false)].into(), ..Default::default() };
+    let path = p.write("graph/h3.ron", &with("spare.color"));
+    let off = raygraph::graph::compile::compile_with(&path, &p.project(), (8, 8), &options).unwrap();
+    assert_eq!((off.hdr_output(), off.passes().len()), (None, 2), "its node switched off: no HDR output");
+}
+
 /// A graph of `invert` nodes, each `(name, the node it reads)`, with `out` reading `tail`.
 fn invert_loop(links: &[(&str, &str)], tail: &str) -> String {
     let nodes: String = links.iter().map(|(n, from)| format!("        \"{n}\": Layer(layer: \"invert\", inputs: {{\"src\": \"{from}.dst\"}}),\n")).collect();

@@ -1,7 +1,8 @@
-//! The procedural benchmark scenes (`box`, `organic`, `atrium`): counts within the ranges of
+//! The procedural scenes (`box`, `organic`, `atrium`, `cornell`): counts within the ranges of
 //! the paper's Table 1, valid geometry (indices in range, finite positions, no degenerate
 //! triangles, unit normals, winding agreeing with the normals), a closed and consistently wound
-//! organic mesh, and a deterministic, seed-dependent atrium.
+//! organic mesh, a deterministic, seed-dependent atrium, and a Lambert Cornell box lit by its
+//! light quad alone, closed on five sides.
 
 use glam::{DVec3, Vec3};
 use raygraph::scene::procedural::{atrium, box_scene, by_name, organic, ATRIUM_DEFAULT_SEED, NAMES};
@@ -179,4 +180,61 @@ fn by_name_knows_every_scene() {
         assert_eq!(s.name(), *name);
     }
     assert!(by_name("sponza").is_none());
+}
+
+/// The distance along the ray `origin + t dir` to the nearest triangle of `s` (world space),
+/// if any (Möller-Trumbore, both faces).
+fn nearest_hit(s: &Scene, origin: Vec3, dir: Vec3) -> Option<f32> {
+    let mut nearest: Option<f32> = None;
+    for inst in s.instances().iter() {
+        let m = &s.meshes()[inst.mesh];
+        for t in m.indices.chunks_exact(3) {
+            let p = |i: u32| inst.transform.transform_point3(Vec3::from(m.vertices[i as usize].position));
+            let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+            let (e1, e2) = (b - a, c - a);
+            let q = dir.cross(e2);
+            let det = e1.dot(q);
+            if det.abs() < 1e-12 {
+                continue;
+            }
+            let o = origin - a;
+            let (u, r) = (o.dot(q) / det, o.cross(e1));
+            let v = dir.dot(r) / det;
+            let dist = e2.dot(r) / det;
+            if u >= 0.0 && v >= 0.0 && u + v <= 1.0 && dist > 0.0 && nearest.is_none_or(|n| dist < n) {
+                nearest = Some(dist);
+            }
+        }
+    }
+    nearest
+}
+
+#[test]
+fn cornell_box_is_lambert_lit_by_its_light_quad_alone_and_closed_on_five_sides() {
+    let s = raygraph::scene::procedural::cornell();
+    assert_eq!(s.name(), "cornell");
+    // 5 walls, 2 blocks of 5 faces and the light, 2 triangles a quad; white, red, green, light.
+    check_counts(&s, 32..=32, 8..=8, 0..=0);
+    assert_eq!((s.materials().len(), s.instances().len()), (4, 8));
+    check_scene(&s);
+    for m in s.materials().iter() {
+        assert_eq!((m.metallic, m.roughness, m.lobes.specular, m.texture), (0.0, 1.0, 0.0, None), "{}: Lambert", m.name);
+    }
+    let emissive: Vec<[f32; 3]> = s.materials().iter().map(|m| m.emissive).filter(|e| *e != [0.0; 3]).collect();
+    assert_eq!(emissive, vec![raygraph::scene::procedural::CORNELL_LIGHT_RADIANCE], "one emissive material, the light's");
+    // No sun, no sky, no lights of its own.
+    assert!(s.lights().is_empty() && s.point_light().is_none());
+    assert_eq!((s.light().intensity, s.light().ambient), (0.0, 0.0));
+    assert!(s.effective_lights().iter().all(|l| l.intensity == 0.0));
+    // From points inside, rays towards the floor, ceiling, back and side walls hit within the
+    // box (about 5.6 units a side); towards the open front (-z) they leave it.
+    let b = s.bounds();
+    assert!((b.max - b.min).min_element() > 5.4 && (b.max - b.min).max_element() < 5.7, "{b:?}");
+    for inside in [Vec3::new(1.5, 2.74, 2.8), Vec3::new(1.0, 4.5, 0.5), Vec3::new(4.5, 4.0, 5.0)] {
+        for dir in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z] {
+            let hit = nearest_hit(&s, inside, dir);
+            assert!(hit.is_some_and(|d| d < 5.7), "from {inside} towards {dir}: {hit:?}");
+        }
+        assert_eq!(nearest_hit(&s, inside, Vec3::NEG_Z), None, "from {inside}: the front is open");
+    }
 }

@@ -1,5 +1,6 @@
-//! `raygraph render`: a scene rendered headless through a graph, the PNG written and the
-//! per-pass timings printed.
+//! `raygraph render`: a scene rendered headless through a graph, the image written (a PNG of
+//! the tone-mapped frame, or an OpenEXR of the graph's linear HDR output) and the per-pass
+//! timings printed.
 
 use super::args::{DuplicateArgs, GltfSceneArg, GpuArgs, LayerChoice};
 use super::LOG_TARGET;
@@ -7,7 +8,7 @@ use anyhow::{Context, Result};
 use raygraph::graph::compile::{self, CompileOptions};
 use raygraph::graph::{desc::PassKind, Mode, Plan, Project};
 use raygraph::runtime::profiler::{pass_table, FrameTimings};
-use raygraph::runtime::{exec::write_png, warm_up::WarmUp, Executor};
+use raygraph::runtime::{exec::write_exr, exec::write_png, gpu::Gpu, warm_up::WarmUp, Executor};
 use raygraph::scene::{self, track::Track, Camera, LoadOptions, Scene};
 use std::path::{Path, PathBuf};
 
@@ -24,7 +25,8 @@ pub(crate) struct RenderArgs {
     /// (graph/hybrid.ron), full-rt (graph/full_rt.ron).
     #[arg(long)]
     mode: Option<Mode>,
-    /// A built-in scene (default, box, organic, atrium) or a .gltf/.glb file.
+    /// A built-in scene (default, box, organic, atrium, organic-skinned, atrium-moving, cornell)
+    /// or a .gltf/.glb file.
     #[arg(long, default_value = "default")]
     scene: String,
     #[command(flatten)]
@@ -40,7 +42,9 @@ pub(crate) struct RenderArgs {
     /// camera's `aspectRatio`, or xmag/ymag), else 720]
     #[arg(long)]
     height: Option<u32>,
-    /// Output PNG.
+    /// Output image; its extension picks the format: .png, the tone-mapped (display-referred)
+    /// frame, or .exr, the linear, scene-referred radiance of the graph's `hdr_output` (RGBA
+    /// float32, alpha premultiplied: 0 where nothing was drawn, without the tone map's sky).
     #[arg(long, default_value = "out.png")]
     out: PathBuf,
     /// Frames to time (after untimed frames until the frame time settles); the table shows medians.
@@ -172,8 +176,9 @@ pub(crate) fn run(args: RenderArgs) -> Result<()> {
     let mut height = args.height.unwrap_or(720);
     anyhow::ensure!(width > 0 && height > 0, "--width and --height must be at least 1");
     anyhow::ensure!(args.copies.duplicate >= 1, "--duplicate must be at least 1");
+    let format = OutputFormat::of(&args.out)?;
     // Graph errors are reported before a device is opened.
-    graph.compile((width, height), Default::default())?;
+    format.check_graph(&graph.file, &graph.compile((width, height), Default::default())?)?;
     let gpu = args.gpu.open_gpu()?;
     let largest = gpu.device().limits().max_texture_dimension_2d;
     anyhow::ensure!(
@@ -202,12 +207,56 @@ pub(crate) fn run(args: RenderArgs) -> Result<()> {
     for _ in 0..args.frames.max(1) {
         timings.push(exec.render(&gpu, &camera, &scene)?);
     }
-    let img = exec.read_output(&gpu)?;
-    write_png(&args.out, &img)?;
+    format.write(&args.out, &gpu, &exec)?;
     let rendered = Rendered { graph_file: &graph.file, scene: &scene.name(), size: (width, height), exec: &exec, timings: &timings };
     rendered.print(args.report.as_deref())?;
     println!("wrote {}", args.out.display());
     Ok(())
+}
+
+/// The format of the `--out` image, by its extension.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum OutputFormat {
+    /// The graph output (tone-mapped, 8-bit sRGB).
+    Png,
+    /// The graph's `hdr_output` (linear radiance, RGBA float32).
+    Exr,
+}
+
+impl OutputFormat {
+    /// `.png` or `.exr` (any case); any other extension is an error.
+    fn of(path: &Path) -> Result<OutputFormat> {
+        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => Ok(OutputFormat::Png),
+            Some("exr") => Ok(OutputFormat::Exr),
+            _ => anyhow::bail!("--out {}: the extension picks the format: .png (the tone-mapped frame) or .exr (the linear HDR image)", path.display()),
+        }
+    }
+
+    /// An .exr needs the graph to name its linear HDR image (`hdr_output`), switched on.
+    fn check_graph(self, graph_file: &Path, plan: &Plan) -> Result<()> {
+        anyhow::ensure!(
+            self != OutputFormat::Exr || plan.hdr_output().is_some(),
+            "--out .exr: graph {} has no linear HDR output: it names none (`hdr_output: \"node.output\"`, \
+             the tone map's input) or that node is switched off; add one to the graph file, or write a .png",
+            graph_file.display()
+        );
+        Ok(())
+    }
+
+    /// Reads the image back from `exec` and writes it to `path` (atomically: an error leaves
+    /// no partial file).
+    fn write(self, path: &Path, gpu: &Gpu, exec: &Executor) -> Result<()> {
+        match (self, exec.plan().hdr_output()) {
+            (OutputFormat::Png, _) => write_png(path, &exec.read_output(gpu)?)?,
+            (OutputFormat::Exr, Some(hdr)) => {
+                let (width, height, texels) = exec.read_texture_f32(gpu, hdr)?;
+                write_exr(path, width, height, &texels)?;
+            }
+            (OutputFormat::Exr, None) => anyhow::bail!("--out {}: the plan has no HDR output", path.display()),
+        }
+        Ok(())
+    }
 }
 
 /// The scene of `--scene` with what the plan reads, its import notes logged, copied as asked.

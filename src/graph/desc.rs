@@ -11,8 +11,18 @@ use std::fmt;
 pub(crate) struct GraphDesc {
     /// The resource presented as the frame's image, as `"node.output"`.
     pub(crate) output: String,
+    /// The linear, scene-referred HDR image (`"node.output"`, a float colour texture: the tone
+    /// map's input) that `render --out x.exr` writes, as `hdr_output: "blend.color"`; without
+    /// it the graph has no HDR output.
+    #[serde(default, deserialize_with = "some_string")]
+    pub(crate) hdr_output: Option<String>,
     /// The graph's nodes by name.
     pub(crate) nodes: BTreeMap<String, NodeDesc>,
+}
+
+/// An optional string field written as a plain string (`field: "a.b"`, not `Some("a.b")`).
+fn some_string<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    String::deserialize(d).map(Some)
 }
 
 /// A node of a graph file.

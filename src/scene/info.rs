@@ -119,7 +119,8 @@ fn textures(scene: &Scene, report: Option<&ImportReport>) -> String {
 fn lights(scene: &Scene) -> String {
     if scene.lights.is_empty() {
         let point = if scene.point_light.is_some() { " and the built-in point light" } else { "" };
-        return format!("none in the scene: the default sun{point}");
+        let sun = if scene.light.intensity == 0.0 && scene.light.ambient == 0.0 { "no sun and no sky (emissive surfaces only)" } else { "the default sun" };
+        return format!("none in the scene: {sun}{point}");
     }
     let each: Vec<String> = scene
         .lights

@@ -1,12 +1,13 @@
 //! Opening a scene by name or path: the built-in scenes (`default`, `box`, `organic`,
-//! `atrium`, and the animated `organic-skinned` and `atrium-moving`) or a glTF/GLB file, with only the parts the active graph needs.
+//! `atrium`, the animated `organic-skinned` and `atrium-moving`, and the Cornell box `cornell`)
+//! or a glTF/GLB file, with only the parts the active graph needs.
 
 use super::gltf_import::{self, ImportReport, LoadOptions, SceneError};
 use super::{builtin, procedural, Scene};
 use std::path::Path;
 
 /// Names of the built-in scenes.
-pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium", "organic-skinned", "atrium-moving"];
+pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium", "organic-skinned", "atrium-moving", "cornell"];
 
 /// The built-in scene called `name`.
 pub fn builtin(name: &str, seed: u64) -> Option<Scene> {

@@ -1,4 +1,4 @@
-//! Bypasses of switched-off nodes. An input (or the graph's output) that names an output of a
+//! Bypasses of switched-off nodes. An input (or the graph's output or HDR output) that names an output of a
 //! switched-off node, whose layer declares a `bypass` for that output, is reconnected to what
 //! feeds the node's bypassed input, through chains of switched-off filters: switching off a
 //! denoiser hands its readers the noisy signal. Runs on the graph description before the
@@ -39,6 +39,9 @@ pub(super) fn apply_bypasses(graph: &mut GraphDesc, project: &Project, layers: &
     }
     if let Some(routed) = follow(graph, &bypasses, &graph.output) {
         graph.output = routed;
+    }
+    if let Some(routed) = graph.hdr_output.as_ref().and_then(|hdr| follow(graph, &bypasses, hdr)) {
+        graph.hdr_output = Some(routed);
     }
     Ok(())
 }

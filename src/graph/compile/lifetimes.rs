@@ -44,8 +44,14 @@ pub(super) fn planned_passes(kept: &[usize], nodes: &[ResolvedNode], passes: &[P
 }
 
 /// Sets each resource's usage flags and its first and last use (indices into `planned`); the
-/// output lives to the last pass and is copied out. Returns the resources some kept pass uses.
-pub(super) fn set_lifetimes_and_usage(planned: &[PlannedPass], resources: &mut [PlannedResource], output: ResourceId) -> Vec<ResourceId> {
+/// outputs (`output` and the HDR output `hdr`) live to the last pass and can be copied out.
+/// Returns the resources some kept pass uses.
+pub(super) fn set_lifetimes_and_usage(
+    planned: &[PlannedPass],
+    resources: &mut [PlannedResource],
+    output: ResourceId,
+    hdr: Option<ResourceId>,
+) -> Vec<ResourceId> {
     let mut first: HashMap<ResourceId, usize> = HashMap::new();
     let mut last: HashMap<ResourceId, usize> = HashMap::new();
     for (order, pass) in planned.iter().enumerate() {
@@ -67,8 +73,10 @@ pub(super) fn set_lifetimes_and_usage(planned: &[PlannedPass], resources: &mut [
             }
         }
     }
-    resources[output].usage.copy_src = true;
-    last.insert(output, planned.len().saturating_sub(1));
+    for r in std::iter::once(output).chain(hdr) {
+        resources[r].usage.copy_src = true;
+        last.insert(r, planned.len().saturating_sub(1));
+    }
     // A used history and the resource it keeps trade textures every frame: both live from
     // frame to frame, with the usages of either.
     for h in 0..resources.len() {

@@ -6,8 +6,8 @@
 //!    parameters and the options' overrides;
 //! 2. `connect`: declare every output, transient and history, connect every input to its
 //!    producer;
-//! 3. `schedule`: collect the passes (one producer per resource), find cycles, the output,
-//!    the passes that reach it and their order;
+//! 3. `schedule`: collect the passes (one producer per resource), find cycles, the output
+//!    (and the HDR output), the passes that reach them and their order;
 //! 4. `interface`: reflect every pass's shader and check its interface;
 //! 5. `lifetimes`: the kept passes as [`PlannedPass`]es, each resource's lifetime and usage;
 //! 6. `allocate`: slots, shared by identical resources whose lifetimes do not overlap;
@@ -64,7 +64,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     let shaders = interface::check_shaders(project, options, &nodes, &passes, &resources)?;
 
     let planned = lifetimes::planned_passes(&order.kept, &nodes, &passes, &shaders);
-    let used = lifetimes::set_lifetimes_and_usage(&planned, &mut resources, order.output);
+    let used = lifetimes::set_lifetimes_and_usage(&planned, &mut resources, order.output, order.hdr_output);
     let slots = allocate::allocate_slots(&mut resources, used, options.reuse);
 
     Ok(Plan {
@@ -76,6 +76,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
         resources,
         slots,
         output: order.output,
+        hdr_output: order.hdr_output,
         backend: options.backend,
     })
 }

@@ -151,6 +151,8 @@ pub struct Plan {
     pub(crate) resources: Vec<PlannedResource>,
     pub(crate) slots: Vec<Slot>,
     pub(crate) output: ResourceId,
+    /// The linear HDR image the graph names (`hdr_output`), if any and switched on.
+    pub(crate) hdr_output: Option<ResourceId>,
     /// Which parts of the scene the kept passes draw or read.
     pub(crate) scene_usage: SceneUsage,
     /// The back-end trace passes were compiled for.
@@ -191,6 +193,12 @@ impl Plan {
     /// The resource the graph presents (its `output`).
     pub fn output(&self) -> ResourceId {
         self.output
+    }
+
+    /// The graph's linear, scene-referred HDR image (its `hdr_output`, a float colour texture
+    /// that lives to the end of the frame), if it names one whose node is switched on.
+    pub fn hdr_output(&self) -> Option<ResourceId> {
+        self.hdr_output
     }
 
     /// Which parts of the scene the kept passes draw or read; only these are uploaded.

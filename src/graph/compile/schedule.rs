@@ -158,13 +158,16 @@ fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphE
     Ok(())
 }
 
-/// The passes that reach the graph output, in execution order, and the graph's output.
+/// The passes that reach the graph output (or its HDR output), in execution order, and the
+/// graph's outputs.
 pub(super) struct Schedule {
     /// Indices of the kept passes in a topological order.
     pub(super) kept: Vec<usize>,
     /// Names (`node/pass`) of the passes whose outputs never reach the graph output.
     pub(super) culled: Vec<String>,
     pub(super) output: ResourceId,
+    /// The linear HDR image of `hdr_output`, where the graph names one and its node is on.
+    pub(super) hdr_output: Option<ResourceId>,
 }
 
 /// Checks that every read has a producer, that there is no cycle and that the output exists
@@ -181,7 +184,9 @@ pub(super) fn schedule(
     check_producers(nodes, passes, resources, producers)?;
     let topo = petgraph::algo::toposort(&pg.g, None).map_err(|cycle| cycle_error(&pg.g, cycle.node_id(), gsrc, nodes, passes, resources))?;
     let output = graph_output(graph, gsrc, nodes, resources, producers)?;
-    let reaches = pg.reaching(output, resources);
+    let hdr_output = graph_hdr_output(graph, gsrc, nodes, resources, producers)?;
+    let roots: Vec<ResourceId> = std::iter::once(output).chain(hdr_output).collect();
+    let reaches = pg.reaching(&roots, resources);
     let kept: Vec<usize> = topo
         .iter()
         .filter_map(|v| match pg.g[*v] {
@@ -190,7 +195,7 @@ pub(super) fn schedule(
         })
         .collect();
     let culled: Vec<String> = (0..passes.len()).filter(|p| !reaches[pg.pass_vertex[*p].index()]).map(|p| pass_name(nodes, &passes[p])).collect();
-    Ok(Schedule { kept, culled, output })
+    Ok(Schedule { kept, culled, output, hdr_output })
 }
 
 /// The petgraph graph: an edge from each resource to the passes reading it, and from each pass
@@ -217,12 +222,13 @@ impl PassGraph {
         Self { g, res_vertex, pass_vertex }
     }
 
-    /// For each vertex (by index), whether resource `output` can be reached from it. A
-    /// history resource is reached through the resource it keeps, written a frame earlier:
-    /// whatever writes that is kept too (an edge for this walk only, not for the order).
-    fn reaching(&self, output: ResourceId, resources: &[PlannedResource]) -> Vec<bool> {
+    /// For each vertex (by index), whether one of the resources `roots` (the graph's outputs)
+    /// can be reached from it. A history resource is reached through the resource it keeps,
+    /// written a frame earlier: whatever writes that is kept too (an edge for this walk only,
+    /// not for the order).
+    fn reaching(&self, roots: &[ResourceId], resources: &[PlannedResource]) -> Vec<bool> {
         let mut reaches = vec![false; self.g.node_count()];
-        let mut stack = vec![self.res_vertex[output]];
+        let mut stack: Vec<NodeIndex> = roots.iter().map(|r| self.res_vertex[*r]).collect();
         while let Some(v) = stack.pop() {
             if std::mem::replace(&mut reaches[v.index()], true) {
                 continue;
@@ -309,6 +315,38 @@ fn cycle_error(
     let loc = gsrc.locate(&["nodes", &SourceText::quoted(&first)]);
     GraphError::new(ErrorKind::Cycle, loc, format!("the graph has a cycle: {}", path.join(" -> ")))
         .help("a node's inputs must not depend on its own outputs; break the loop by removing one connection")
+}
+
+/// The resource the graph names as its linear HDR image (`hdr_output`): `None` where it names
+/// none or its node is switched off; else an output of a node, written by a pass, and an
+/// Rgba16Float or Rgba32Float texture.
+fn graph_hdr_output(
+    graph: &GraphDesc,
+    gsrc: &SourceText,
+    nodes: &[ResolvedNode],
+    resources: &[PlannedResource],
+    producers: &Producers,
+) -> Result<Option<ResourceId>, GraphError> {
+    let Some(name) = &graph.hdr_output else { return Ok(None) };
+    let node = name.split_once('.').map_or(name.as_str(), |(node, _)| node);
+    if matches!(graph.nodes.get(node), Some(NodeDesc::Layer(l)) if !l.enabled) {
+        return Ok(None);
+    }
+    let loc = gsrc.locate(&["hdr_output", &SourceText::quoted(name)]);
+    let hdr = output_resource(nodes, name).ok_or_else(|| unknown_output(name, loc.clone(), nodes))?;
+    if !producers.contains_key(&hdr) {
+        return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("graph `hdr_output` `{name}` is never written"))
+            .help("name an output that a pass of its layer writes"));
+    }
+    match &resources[hdr].decl {
+        ResourceDecl::Texture(t) if matches!(t.format, Format::Rgba16Float | Format::Rgba32Float) => Ok(Some(hdr)),
+        other => Err(GraphError::new(
+            ErrorKind::Unsupported,
+            loc,
+            format!("graph `hdr_output` `{name}` is `{other}`; the HDR output must be an Rgba16Float or Rgba32Float texture"),
+        )
+        .help("name the linear HDR image the tone map reads, e.g. `hdr_output: \"blend.color\"`")),
+    }
 }
 
 /// The vertices of a shortest cycle through `start` (breadth-first), `start` first and not repeated.

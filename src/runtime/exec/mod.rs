@@ -26,7 +26,7 @@ mod trace;
 
 pub use features::{SceneFeatures, TRACE_ALPHA_CONSTANT};
 #[cfg(not(target_arch = "wasm32"))]
-pub use readback::{read_texture, write_png};
+pub use readback::{read_texture, write_exr, write_png};
 
 use super::gpu::Gpu;
 use super::profiler::{FramePhases, FrameTimings, GpuTimer};

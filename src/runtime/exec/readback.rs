@@ -1,5 +1,5 @@
 //! Reading the GPU back: the graph output and any kept texture (as RGBA8 or f32 texels), the
-//! debug counters, a whole texture's texels; and the atomic PNG write of an image.
+//! debug counters, a whole texture's texels; and the atomic PNG and OpenEXR writes of an image.
 
 use super::{Executor, Physical};
 use crate::error::RuntimeError;
@@ -133,4 +133,16 @@ pub fn write_png(path: &std::path::Path, img: &image::RgbaImage) -> Result<(), R
     img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .map_err(|e| RuntimeError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
     crate::util::write_atomic(path, &png).map_err(|source| RuntimeError::Output { path: path.to_path_buf(), source })
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+/// Writes `width` x `height` RGBA texels (row-major, as [`Executor::read_texture_f32`] gives
+/// them) as an OpenEXR file of 32-bit float channels, atomically as [`write_png`] does.
+pub fn write_exr(path: &std::path::Path, width: u32, height: u32, texels: &[[f32; 4]]) -> Result<(), RuntimeError> {
+    let encode_error = |message: String| RuntimeError::Encode { path: path.to_path_buf(), message };
+    let img = image::Rgba32FImage::from_raw(width, height, texels.iter().flatten().copied().collect())
+        .ok_or_else(|| encode_error(format!("{} texels for a {width}x{height} image", texels.len())))?;
+    let mut exr = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut exr), image::ImageFormat::OpenExr).map_err(|e| encode_error(e.to_string()))?;
+    crate::util::write_atomic(path, &exr).map_err(|source| RuntimeError::Output { path: path.to_path_buf(), source })
 }

@@ -4,7 +4,8 @@
 //! 262,500 triangles in 103 meshes with 69 textures).
 //!
 //! Two animated variants serve `raygraph bench anim` ([`animated`]): `organic-skinned` and
-//! `atrium-moving`.
+//! `atrium-moving`. The Cornell box ([`cornell`]) is the scene of comparisons with outside
+//! renderers.
 //!
 //! This file owns the scene registry ([`by_name`], [`NAMES`]); `common` the machinery the
 //! scenes share. Every generator is a pure function of its arguments: the same call gives the
@@ -14,6 +15,7 @@ pub mod animated;
 mod atrium;
 mod box_scene;
 mod common;
+mod cornell;
 mod organic;
 
 use super::Scene;
@@ -22,7 +24,10 @@ use super::Scene;
 pub const ATRIUM_DEFAULT_SEED: u64 = 1;
 
 /// The names [`by_name`] accepts.
-pub const NAMES: &[&str] = &["box", "organic", "atrium", "organic-skinned", "atrium-moving"];
+pub const NAMES: &[&str] = &["box", "organic", "atrium", "organic-skinned", "atrium-moving", "cornell"];
+
+/// The emitted radiance of the Cornell box's light quad (linear RGB, Mitsuba's `cbox`).
+pub const CORNELL_LIGHT_RADIANCE: [f32; 3] = cornell::LIGHT_RADIANCE;
 
 /// A cube with two textures (base colour and a roughness map): 12 triangles, 1 mesh.
 pub fn box_scene() -> Scene {
@@ -40,6 +45,12 @@ pub fn atrium(seed: u64) -> Scene {
     atrium::build(seed)
 }
 
+/// The Cornell box: five walls (red left, green right), two white blocks and an emissive light
+/// quad below the ceiling, Lambert materials, no sun and no sky: 32 triangles.
+pub fn cornell() -> Scene {
+    cornell::build()
+}
+
 /// The procedural scene called `name` (one of [`NAMES`]); the atrium uses
 /// [`ATRIUM_DEFAULT_SEED`].
 pub fn by_name(name: &str) -> Option<Scene> {
@@ -49,6 +60,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
         "atrium" => Some(atrium(ATRIUM_DEFAULT_SEED)),
         "organic-skinned" => Some(animated::organic_skinned()),
         "atrium-moving" => Some(animated::atrium_moving(ATRIUM_DEFAULT_SEED)),
+        "cornell" => Some(cornell()),
         _ => None,
     }
 }
