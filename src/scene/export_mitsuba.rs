@@ -322,7 +322,7 @@ fn shapes(w: &mut Writer, scene: &Scene) -> Result<(), SceneError> {
         if mesh.extras.as_ref().is_some_and(|e| e.iter().any(|x| x.color != [1.0; 4])) {
             w.warn(format!("mesh `{}`: its vertex colours are ignored", mesh.name));
         }
-        let file = w.file(&format!("mesh{i}_{}.ply", file_safe(&mesh.name)), &world_ply(mesh, inst.transform))?;
+        let file = w.file(&format!("instance{i}_{}.ply", file_safe(&mesh.name)), &world_ply(mesh, inst.transform))?;
         let emitter = emitter_xml(w, inst.material, m, scene)?;
         let _ = writeln!(
             w.xml,
