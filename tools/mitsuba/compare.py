@@ -109,6 +109,8 @@ def compare(mi, reference, test, out):
     quantiles = np.percentile(relmse_map, [50, 90, 99])
     print(f"relMSE (epsilon {RELMSE_EPSILON}): {relmse_map.mean():.6f} (per pixel: median {quantiles[0]:.2e}, "
           f"90% {quantiles[1]:.2e}, 99% {quantiles[2]:.2e}, max {relmse_map.max():.2e})")
+    trimmed = np.sort(relmse_map.ravel())[: int(relmse_map.size * 0.999)].mean()
+    print(f"relMSE without the 0.1% largest pixels (fireflies): {trimmed:.6f}")
     print(f"HDR-FLIP mean: {flip_mean:.6f}")
     print(f"mean radiance: reference {reference.mean(axis=(0, 1))}, test {test.mean(axis=(0, 1))}")
     return relmse_map.mean(), flip_mean
