@@ -178,8 +178,8 @@ fn builtin_scenes_export_to_mitsuba() {
         let scene = builtin(name);
         let elements = check_export(&scene, &dir);
         let textures = elements.iter().filter(|e| e.name == "texture").count();
-        let expected = scene.materials().iter().map(|m| usize::from(m.texture.is_some()) + usize::from(m.metallic_roughness_texture.is_some())).sum::<usize>();
-        assert_eq!(textures, expected, "{name}: a bitmap per base-colour and metallic-roughness texture");
+        let expected = scene.materials().iter().map(|m| [m.texture, m.metallic_roughness_texture, m.normal_texture].iter().flatten().count()).sum::<usize>();
+        assert_eq!(textures, expected, "{name}: a bitmap per base-colour, metallic-roughness and normal texture");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
@@ -225,5 +225,20 @@ fn what_cannot_be_exported_is_a_clear_error() {
     let missing = dir.join("no-such-folder").join("x.xml");
     let message = write_mitsuba(&builtin("box"), &missing).expect_err("a missing folder").to_string();
     assert!(message.contains("no-such-folder"), "{message}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn normal_maps_wrap_the_bsdf_in_normalmap() {
+    let dir = temp_dir("normals");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/khronos/NormalTangentMirrorTest/glTF/NormalTangentMirrorTest.gltf");
+    let scene = open(path.to_str().unwrap(), &LoadOptions { textures: true, ..Default::default() }).unwrap_or_else(|e| panic!("{e}")).0;
+    let normal_mapped = scene.materials().iter().filter(|m| m.normal_texture.is_some()).count();
+    assert!(normal_mapped > 0, "the asset has normal maps");
+    let elements = check_export(&scene, &dir);
+    let wrappers = elements.iter().filter(|e| e.name == "bsdf" && attr(e, "type") == "normalmap").count();
+    assert_eq!(wrappers, normal_mapped, "a normalmap BSDF per normal-mapped material");
+    let maps: Vec<&Element> = elements.iter().filter(|e| e.name == "texture" && attr(e, "name") == "normalmap").collect();
+    assert_eq!(maps.len(), normal_mapped);
     let _ = std::fs::remove_dir_all(&dir);
 }

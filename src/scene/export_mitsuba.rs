@@ -213,11 +213,12 @@ fn sky(w: &mut Writer, ambient: f32) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// The file names of the textures materials sample as base colour or metallic-roughness
-/// (`None`: not written).
+/// The file names of the textures materials sample as base colour, metallic-roughness or
+/// normal map (`None`: not written).
 fn textures(w: &mut Writer, scene: &Scene) -> Result<Vec<Option<String>>, SceneError> {
-    let used: Vec<bool> =
-        (0..scene.textures().len()).map(|i| scene.materials().iter().any(|m| m.texture == Some(i) || m.metallic_roughness_texture == Some(i))).collect();
+    let used: Vec<bool> = (0..scene.textures().len())
+        .map(|i| scene.materials().iter().any(|m| [m.texture, m.metallic_roughness_texture, m.normal_texture].contains(&Some(i))))
+        .collect();
     let mut names = Vec::new();
     for (i, t) in scene.textures().iter().enumerate() {
         if !used[i] {
@@ -234,8 +235,8 @@ fn textures(w: &mut Writer, scene: &Scene) -> Result<Vec<Option<String>>, SceneE
     Ok(names)
 }
 
-/// Material `i` as a `raygraph` BSDF with id `mat{i}` (inside `twosided` for a double-sided
-/// one), and warnings for what it cannot show.
+/// Material `i` as a `raygraph` BSDF with id `mat{i}` (inside `normalmap` where it has a
+/// normal map, inside `twosided` for a double-sided one), and warnings for what it cannot show.
 fn material(w: &mut Writer, i: usize, m: &Material, textures: &[Option<String>]) {
     material_warnings(w, m);
     let lobes = &m.lobes;
@@ -254,23 +255,24 @@ fn material(w: &mut Writer, i: usize, m: &Material, textures: &[Option<String>])
     if let Some(file) = m.metallic_roughness_texture.and_then(|t| textures[t].as_ref()) {
         body += &bitmap_xml("metallic_roughness_texture", file, &m.sampling[1], true);
     }
-    let name = xml_comment(&m.name);
-    let _ = if m.double_sided {
-        writeln!(
-            w.xml,
-            "    <!-- material `{name}` -->\n    <bsdf type=\"twosided\" id=\"mat{i}\">\n        <bsdf type=\"raygraph\">\n{body}        </bsdf>\n    </bsdf>"
-        )
-    } else {
-        writeln!(w.xml, "    <!-- material `{name}` -->\n    <bsdf type=\"raygraph\" id=\"mat{i}\">\n{body}    </bsdf>")
-    };
+    let mut bsdf = format!("<bsdf type=\"raygraph\">\n{body}</bsdf>");
+    if let Some(file) = m.normal_texture.and_then(|t| textures[t].as_ref()) {
+        let map = bitmap_xml("normalmap", file, &m.sampling[2], true);
+        bsdf = format!("<bsdf type=\"normalmap\">\n{map}{bsdf}\n</bsdf>");
+    }
+    if m.double_sided {
+        bsdf = format!("<bsdf type=\"twosided\">\n{bsdf}\n</bsdf>");
+    }
+    let bsdf = bsdf.replacen("<bsdf type=", &format!("<bsdf id=\"mat{i}\" type="), 1);
+    let _ = writeln!(w.xml, "    <!-- material `{}` -->\n    {bsdf}", xml_comment(&m.name));
 }
 
 /// Warnings for the parts of `m` the export leaves out.
 fn material_warnings(w: &mut Writer, m: &Material) {
     let name = &m.name;
     let mut ignored = Vec::new();
-    if m.normal_texture.is_some() {
-        ignored.push("its normal map");
+    if m.normal_texture.is_some() && m.normal_scale != 1.0 {
+        ignored.push("its normal map's scale (Mitsuba's `normalmap` has none: exported as 1)");
     }
     if m.occlusion_texture.is_some() {
         ignored.push("its occlusion texture (a path tracer computes occlusion)");
@@ -318,6 +320,9 @@ fn shapes(w: &mut Writer, scene: &Scene) -> Result<(), SceneError> {
             .ok_or_else(|| w.error(format!("instance {i} names material {} of {}", inst.material, scene.materials().len())))?;
         if mesh.triangle_count() == 0 {
             return Err(w.error(format!("instance {i}: mesh `{}` has no triangles (Mitsuba loads no empty mesh)", mesh.name)));
+        }
+        if m.normal_texture.is_some() && mesh.tangents.as_ref().is_some_and(|t| t.iter().any(|t| t[3] < 0.0)) {
+            w.warn(format!("mesh `{}`: mirrored uvs (tangent w -1): Mitsuba's `normalmap` takes its frame from the uvs' u direction and the normal, so the normal map's green axis is flipped there", mesh.name));
         }
         if mesh.extras.as_ref().is_some_and(|e| e.iter().any(|x| x.color != [1.0; 4])) {
             w.warn(format!("mesh `{}`: its vertex colours are ignored", mesh.name));
