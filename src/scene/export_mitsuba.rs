@@ -1,6 +1,6 @@
 //! Writes a [`Scene`] as a Mitsuba 3 scene (`scene export SCENE out.xml`): the XML, one binary
 //! PLY per instance (world space: instances flattened), the base-colour and
-//! metallic-roughness textures as PNG, emissive textures and the sky as PFM (linear radiance),
+//! metallic-roughness textures and normal maps as PNG, emissive textures and the sky as PFM (linear radiance),
 //! all beside the XML. Materials use the `raygraph` BSDF that `tools/mitsuba/raygraph_bsdf.py`
 //! registers (raygraph's own Lambert + GGX model); lights are converted from raygraph's
 //! radiance scale (a light of intensity 1 gives irradiance pi). What Mitsuba cannot show the
@@ -322,7 +322,7 @@ fn shapes(w: &mut Writer, scene: &Scene) -> Result<(), SceneError> {
             return Err(w.error(format!("instance {i}: mesh `{}` has no triangles (Mitsuba loads no empty mesh)", mesh.name)));
         }
         if m.normal_texture.is_some() && mesh.tangents.as_ref().is_some_and(|t| t.iter().any(|t| t[3] < 0.0)) {
-            w.warn(format!("mesh `{}`: mirrored uvs (tangent w -1): Mitsuba's `normalmap` takes its frame from the uvs' u direction and the normal, so the normal map's green axis is flipped there", mesh.name));
+            w.warn(format!("mesh `{}`: mirrored uvs (tangent w -1): Mitsuba's `normalmap` builds its frame from the uvs' u direction and the normal, not from the tangents, so the normal map is read with one axis flipped there", mesh.name));
         }
         if mesh.extras.as_ref().is_some_and(|e| e.iter().any(|x| x.color != [1.0; 4])) {
             w.warn(format!("mesh `{}`: its vertex colours are ignored", mesh.name));
