@@ -1,5 +1,5 @@
-//! `raygraph scene`: a scene's statistics, its export as binary glTF, and an orbit camera track
-//! around it.
+//! `raygraph scene`: a scene's statistics, its export as binary glTF or as a Mitsuba 3 scene,
+//! and an orbit camera track around it.
 
 use super::args::{DuplicateArgs, GltfSceneArg};
 use anyhow::Result;
@@ -17,7 +17,8 @@ pub(crate) enum SceneCommand {
         #[command(flatten)]
         source: SceneSource,
     },
-    /// Write a scene (built-in or loaded) as binary glTF.
+    /// Write a scene (built-in or loaded) as binary glTF (OUT.glb), or as a Mitsuba 3 scene
+    /// (OUT.xml, with its PLY meshes and images beside it; tools/mitsuba/).
     Export {
         scene: String,
         out: PathBuf,
@@ -63,8 +64,7 @@ pub(crate) fn run(command: SceneCommand) -> Result<()> {
         }
         SceneCommand::Export { scene, out, source } => {
             let (s, _) = source.open(&scene)?;
-            raygraph::scene::export::write_glb(&s, &out)?;
-            println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes().len(), s.textures().len());
+            export(&s, &out)?;
         }
         SceneCommand::Orbit { scene, out, seconds } => {
             let (s, _) = scene::open(&scene, &LoadOptions { textures: false, ..Default::default() })?;
@@ -74,6 +74,21 @@ pub(crate) fn run(command: SceneCommand) -> Result<()> {
             track.save(&out)?;
             println!("wrote {} ({} key-frames, {} frames at {} fps)", out.display(), track.keys.len(), track.frame_count(), track.fps);
         }
+    }
+    Ok(())
+}
+
+/// Writes `s` to `out`: a Mitsuba 3 scene where its extension is `.xml`, binary glTF otherwise.
+fn export(s: &Scene, out: &std::path::Path) -> Result<()> {
+    if out.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml")) {
+        let e = raygraph::scene::export_mitsuba::write_mitsuba(s, out)?;
+        for w in &e.warnings {
+            eprintln!("warning: {w}");
+        }
+        println!("wrote {} ({} shapes, {} lights, {} files)", out.display(), e.shapes, e.lights, e.files.len());
+    } else {
+        raygraph::scene::export::write_glb(s, out)?;
+        println!("wrote {} ({} triangles, {} meshes, {} textures)", out.display(), s.triangle_count(), s.meshes().len(), s.textures().len());
     }
     Ok(())
 }

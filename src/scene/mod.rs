@@ -8,6 +8,7 @@ pub mod camera;
 pub mod duplicate;
 pub mod emitters;
 pub mod export;
+pub mod export_mitsuba;
 pub mod fly;
 pub mod gltf_animation;
 pub mod gltf_import;
