@@ -183,7 +183,16 @@ fn bench_truth_measures_every_mode_and_the_path_tracer_at_its_time() {
     let out = std::env::temp_dir().join(format!("raygraph-truth-{}", std::process::id()));
     std::fs::create_dir_all(&out).unwrap();
     let backend = gpu.selection().backend;
-    let cfg = TruthConfig { root: common::repo(), size: (W, H), backend, reference_samples: 4, reference_frames: 8, mode_frames: 2, warmup: 1 };
+    let cfg = TruthConfig {
+        root: common::repo(),
+        size: (W, H),
+        backend,
+        reference_samples: 4,
+        reference_frames: 8,
+        mode_frames: 2,
+        warmup: 1,
+        coverages: Vec::new(),
+    };
     let scenes = vec![("box".to_string(), raygraph::scene::open("box", &Default::default()).unwrap().0)];
     let rows = truth::run(&gpu, &cfg, &scenes, &out, |_| {}).unwrap();
     assert_eq!(rows.len(), 2 * TRUTH_MODES.len(), "{rows:?}");

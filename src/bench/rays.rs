@@ -288,6 +288,13 @@ fn coverage_view<'a>(gpu: &Gpu, primary: &Path, project: &Project, scene: &'a Sc
     )))
 }
 
+/// A camera of `scene` that sees it cover `coverage` of the frame (its own camera moved along its
+/// view axis; [`coverage_view`]), for other benches.
+pub(crate) fn coverage_camera(gpu: &Gpu, root: &Path, scene: &Scene, coverage: f64) -> Result<Camera, crate::error::RuntimeError> {
+    let project = Project { layers_dir: root.join("layers"), shaders_dir: root.join("shaders") };
+    Ok(coverage_view(gpu, &root.join("graph/bench_primary.ron"), &project, scene, coverage)?.camera)
+}
+
 /// The camera of the Miss (outside) test: above the scene's box, looking straight up.
 pub fn miss_outside_camera(scene: &Scene) -> Camera {
     let b = scene.bounds();

@@ -14,7 +14,7 @@ use crate::graph::compile::{compile_with, CompileOptions};
 use crate::graph::desc::ParamValue;
 use crate::graph::Project;
 use crate::runtime::{Executor, Gpu};
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
 use std::path::{Path, PathBuf};
 
 /// The modes compared: name, graph file (relative to the project root), and the linear HDR
@@ -48,6 +48,9 @@ pub struct TruthConfig {
     pub mode_frames: u32,
     /// Untimed frames before the timed ones (at least; see `runtime::warm_up`).
     pub warmup: u32,
+    /// Besides each scene's own camera, views that see the scene cover these fractions of the
+    /// frame (its camera moved along its view axis, as `bench rays --coverage`).
+    pub coverages: Vec<f64>,
 }
 
 /// One mode (or the path tracer at a mode's time) against the reference.
@@ -79,7 +82,16 @@ struct Rendered {
 
 /// Renders `graph` with `params` on `scene` (warm-up, then `frames` timed frames) and reads its
 /// HDR resource `hdr` and its output.
-fn render(gpu: &Gpu, cfg: &TruthConfig, scene: &Scene, graph: &str, hdr: &str, params: &[(&str, &str, i64)], frames: u32) -> Result<Rendered, RuntimeError> {
+fn render(
+    gpu: &Gpu,
+    cfg: &TruthConfig,
+    view: &(Scene, Camera),
+    graph: &str,
+    hdr: &str,
+    params: &[(&str, &str, i64)],
+    frames: u32,
+) -> Result<Rendered, RuntimeError> {
+    let (scene, camera) = view;
     let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
     for &(node, param, value) in params {
         options.params.insert((node.into(), param.into()), ParamValue::Int(value));
@@ -88,7 +100,7 @@ fn render(gpu: &Gpu, cfg: &TruthConfig, scene: &Scene, graph: &str, hdr: &str, p
     let plan = compile_with(&path, &Project::beside_graph(&path), cfg.size, &options)?;
     let resource = plan.resource_by_name(hdr).ok_or_else(|| RuntimeError::Gpu(format!("{}: no resource {hdr} (the tone map's input)", path.display())))?;
     let mut exec = Executor::new(gpu, plan, scene)?;
-    let timed = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, frames, |_| *scene.camera())?;
+    let timed = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, frames, |_| *camera)?;
     let mut gpu_ms: Vec<f64> = timed.iter().map(super::frame_gpu_ms).collect();
     let mut wall_ms: Vec<f64> = timed.iter().map(|f| f.frame_ms).collect();
     let (_, _, hdr) = exec.read_texture_f32(gpu, resource)?;
@@ -134,11 +146,24 @@ fn judge(reference: &Rendered, test: &Rendered, scene: &str, mode: String, paths
     Ok(TruthRow { scene: scene.into(), mode, gpu_ms: test.gpu_ms, wall_ms: test.wall_ms, rel_mse, flip, paths })
 }
 
-/// Every mode of every scene against its reference; `on_row` sees the rows after each one.
+/// Every scene from its own camera and at every coverage of `cfg`, named for results.
+fn views(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)]) -> Result<Vec<(String, (Scene, Camera))>, RuntimeError> {
+    let mut out = Vec::new();
+    for (name, scene) in scenes {
+        out.push((name.clone(), (scene.clone(), *scene.camera())));
+        for &coverage in &cfg.coverages {
+            let camera = super::rays::coverage_camera(gpu, &cfg.root, scene, coverage)?;
+            out.push((format!("{name}_at_{:.0}%", coverage * 100.0), (scene.clone(), camera)));
+        }
+    }
+    Ok(out)
+}
+
+/// Every mode of every view against its reference; `on_row` sees the rows after each one.
 pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path, mut on_row: impl FnMut(&[TruthRow])) -> Result<Vec<TruthRow>, RuntimeError> {
     let mut rows = Vec::new();
     let samples = cfg.reference_samples.max(1);
-    for (name, scene) in scenes {
+    for (name, scene) in &views(gpu, cfg, scenes)? {
         let reference = render(gpu, cfg, scene, REFERENCE_GRAPH, REFERENCE_HDR, &[("path", "samples", samples as i64)], cfg.reference_frames)?;
         crate::runtime::exec::write_png(&out.join(format!("{name}_reference.png")), &reference.ldr)?;
         let ms_per_path = reference.gpu_ms / samples as f64;

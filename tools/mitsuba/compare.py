@@ -84,6 +84,9 @@ def read_test(mi, path, shape):
         sys.exit(f"compare.py: {path}: cannot read it as an image: {e}")
     if image.ndim == 2:
         image = np.repeat(image[..., None], 3, axis=2)
+    # raygraph's EXR is premultiplied: alpha is the share of the pixel's paths that met
+    # geometry (0 where the camera sees only the backdrop, which is the tone map's, not the sky).
+    alpha = image[..., 3] if image.shape[2] == 4 else np.ones(image.shape[:2], dtype=np.float32)
     image = image[..., :3]
     if image.shape != shape:
         sys.exit(f"compare.py: {path}: {image.shape[1]}x{image.shape[0]} pixels, the reference has {shape[1]}x{shape[0]} "
@@ -91,7 +94,7 @@ def read_test(mi, path, shape):
     if not np.all(np.isfinite(image)):
         print(f"warning: {path}: {np.count_nonzero(~np.isfinite(image))} values are NaN or infinite (counted as 0)")
         image = np.nan_to_num(image, nan=0.0, posinf=0.0, neginf=0.0)
-    return image
+    return image, alpha
 
 
 def preview(mi, image, path):
@@ -128,7 +131,13 @@ def main():
     mi.Bitmap(reference).write(os.path.join(args.out, "mitsuba.exr"))
     preview(mi, reference, os.path.join(args.out, "mitsuba.png"))
     if args.test:
-        test = read_test(mi, args.test, reference.shape)
+        test, alpha = read_test(mi, args.test, reference.shape)
+        # Only the pixels whose every path met geometry are compared: where camera rays miss,
+        # Mitsuba shows the environment and raygraph the tone map's backdrop (alpha < 1).
+        covered = alpha >= 0.999
+        print(f"compared: the {covered.mean() * 100:.1f}% of pixels fully covered by geometry in raygraph's image")
+        reference = np.where(covered[..., None], reference, 0.0)
+        test = np.where(covered[..., None], test, 0.0)
     else:
         test = render(mi, xml, args, args.against_mitsuba, args.seed + 1)
     compare(mi, reference, test, args.out)

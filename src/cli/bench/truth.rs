@@ -31,6 +31,10 @@ pub(crate) struct TruthArgs {
     /// Untimed frames before the timed ones (at least: the warm-up runs until frame times settle).
     #[arg(long, default_value_t = 16)]
     warmup: u32,
+    /// Comma-separated fractions of the frame: besides each scene's own camera, a view that
+    /// sees it cover that much (e.g. 0.02,0.05,0.1).
+    #[arg(long, value_delimiter = ',')]
+    coverage: Vec<f64>,
     #[command(flatten)]
     gpu: GpuArgs,
     #[arg(long, default_value = "bench-results/truth")]
@@ -49,6 +53,7 @@ pub(crate) fn run(args: TruthArgs) -> Result<()> {
         reference_frames: args.reference_frames,
         mode_frames: args.mode_frames,
         warmup: args.warmup,
+        coverages: args.coverage,
     };
     let scenes = super::modes::load_scenes(&args.scenes)?;
     let out = &args.out;
