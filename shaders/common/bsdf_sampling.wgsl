@@ -15,8 +15,13 @@ struct BsdfSample {
     f_cos: vec3<f32>,
 }
 
-// The BSDF of `s` times the cosine for light arriving from unit `l`.
+// The BSDF of `s` times the cosine for light arriving from unit `l` (0 where `l` is opposite
+// the view, which has no half vector: a shading normal can put both above the surface).
 fn bsdf_cos(s: ShadingPoint, l: vec3<f32>) -> vec3<f32> {
+    let half = l + s.view;
+    if dot(half, half) < 1e-12 {
+        return vec3<f32>(0.0);
+    }
     return light_radiance(s, LightSample(l, vec3<f32>(1.0 / PI), 3.0e38));
 }
 
@@ -47,10 +52,17 @@ fn bsdf_pdf(s: ShadingPoint, l: vec3<f32>) -> f32 {
     }
     let p_spec = specular_probability(s);
     let a = s.roughness * s.roughness;
-    let h = normalize(l + s.view);
-    let n_h = max(dot(s.normal, h), 0.0);
-    let v_h = max(dot(s.view, h), 1e-6);
-    let spec = ggx_half_pdf(n_h, a * a) / (4.0 * v_h);
+    let half = l + s.view;
+    var spec = 0.0;
+    if dot(half, half) >= 1e-12 {
+        // The sampled half vector that reflects the view to `l` is this one or its opposite
+        // (reflect(-v, h) = reflect(-v, -h)): the one about the normal.
+        var h = normalize(half);
+        if dot(s.normal, h) < 0.0 {
+            h = -h;
+        }
+        spec = ggx_half_pdf(dot(s.normal, h), a * a) / (4.0 * max(abs(dot(s.view, h)), 1e-6));
+    }
     return p_spec * spec + (1.0 - p_spec) * n_l / PI;
 }
 

@@ -239,7 +239,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var rng = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed ^ pcg_hash(frame.frame_index))));
     var sum = vec4<f32>(0.0);
     for (var i = 0u; i < params.samples; i++) {
-        sum += trace_path(camera_ray_at(id.xy, next_random2(&rng)), &rng);
+        let path = trace_path(camera_ray_at(id.xy, next_random2(&rng)), &rng);
+        // A path whose value is not finite (an overflow in a throughput) counts as 0: one such
+        // value would stay in the pixel's mean for good.
+        if all(path == path) && all(abs(path) < vec4<f32>(1e30)) {
+            sum += path;
+        }
     }
     textureStore(radiance, id.xy, sum / f32(max(params.samples, 1u)));
     trace_flush_stats();

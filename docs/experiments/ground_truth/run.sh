@@ -33,13 +33,22 @@ case $PART in
     timeout 280 $RG $TRUTH --scenes helmet_5x5x5=/tmp/helmet_5x5x5.glb --coverage 0.05,0.1 --out $OUT/r/helmet_5x5x5 > $OUT/r/helmet_5x5x5.log 2>&1
     ;;
   refs)
+    mkdir -p $OUT/r/refs
     sed 's/"path": Layer(layer: "rt_path", inputs/"path": Layer(layer: "rt_path", params: {"samples": 16}, inputs/' $ROOT/graph/reference.ron > /tmp/empty/reference16.ron
     for s in cornell:256:256 box:256:256 default:256:256 atrium:256:144 helmet=$HELMET:256:144; do
       spec=${s%%:*}; rest=${s#*:}; name=${spec%%=*}; scene=${spec#*=}
-      $RG render --graph /tmp/empty/reference16.ron --backend compute --scene $scene --width ${rest%%:*} --height ${rest#*:} --frames 256 --out $OUT/r/$name.exr > $OUT/r/ref_$name.log 2>&1
-      grep -E "path/path|wall" $OUT/r/ref_$name.log
+      $RG render --graph /tmp/empty/reference16.ron --backend compute --scene $scene --width ${rest%%:*} --height ${rest#*:} --frames 256 --out $OUT/r/refs/$name.exr > $OUT/r/refs/ref_$name.log 2>&1
+      grep -E "path/path|wall" $OUT/r/refs/ref_$name.log
     done
     ;;
 esac
-cd $OUT && tar czf truth_$PART.tgz r && rm -rf r
-for f in $OUT/truth_$PART.tgz; do tar xzf $f -O --wildcards '*.md' 2>/dev/null | grep -E "^\| " | head -80; done
+# One archive per folder (at most 16 MiB a file comes back): the tables, logs, and the images of
+# each scene's own view (the coverage views' and the equal-time path tracer's images stay).
+cd $OUT/r
+for d in */; do
+  d=${d%/}
+  tar czf $OUT/${PART}_$d.tgz --exclude='*_at_*.png' --exclude='*path_tracer*.png' $d
+  grep -hE "^\| " $d/*.md | head -60
+done
+tar czf $OUT/${PART}_logs.tgz --exclude='*/' *.* 2>/dev/null
+cd $OUT && rm -rf r
