@@ -201,6 +201,7 @@ fn bench_truth_measures_every_mode_and_the_path_tracer_at_its_time() {
         assert!(r[1].paths.is_some_and(|p| p >= 1), "{:?}", r[1]);
         for row in r {
             assert!(row.rel_mse.is_finite() && row.rel_mse > 0.0 && (0.0..=1.0).contains(&row.flip), "{row:?}");
+            assert!(row.trimmed_rel_mse <= row.rel_mse, "{row:?}");
             assert!(row.gpu_ms > 0.0 && row.wall_ms > 0.0, "{row:?}");
         }
         for file in [format!("box_{mode}.png"), format!("box_{mode}_flip.png")] {

@@ -30,6 +30,8 @@ pub const REFERENCE_GRAPH: &str = "graph/reference.ron";
 const REFERENCE_HDR: &str = "accumulate.color";
 /// relMSE = mean over pixels and channels of (test - reference)^2 / (reference^2 + epsilon).
 pub const REL_MSE_EPSILON: f64 = 0.01;
+/// The share of the largest pixels the trimmed relMSE leaves out.
+pub const TRIMMED_SHARE: f64 = 0.001;
 
 /// What `bench truth` runs.
 #[derive(Debug, Clone)]
@@ -66,6 +68,8 @@ pub struct TruthRow {
     pub wall_ms: f64,
     /// relMSE of the HDR image against the reference's.
     pub rel_mse: f64,
+    /// The same without the 0.1% largest pixels ([`trimmed_rel_mse`]).
+    pub trimmed_rel_mse: f64,
     /// ꟻLIP mean of the tone-mapped image against the reference's.
     pub flip: f32,
     /// Paths a pixel, for the path tracer's rows.
@@ -108,15 +112,26 @@ fn render(
     Ok(Rendered { hdr, ldr, gpu_ms: crate::runtime::profiler::median(&mut gpu_ms), wall_ms: crate::runtime::profiler::median(&mut wall_ms) })
 }
 
+/// Each pixel's relMSE of `test` against `reference` (the mean over its RGB channels).
+fn pixel_rel_mse(reference: &[[f32; 4]], test: &[[f32; 4]]) -> Vec<f64> {
+    let channel = |r: f64, t: f64| (t - r) * (t - r) / (r * r + REL_MSE_EPSILON);
+    reference.iter().zip(test).map(|(r, t)| (0..3).map(|c| channel(r[c] as f64, t[c] as f64)).sum::<f64>() / 3.0).collect()
+}
+
 /// relMSE of `test` against `reference` over the RGB channels of every pixel.
 pub fn rel_mse(reference: &[[f32; 4]], test: &[[f32; 4]]) -> f64 {
-    let sum: f64 = reference
-        .iter()
-        .zip(test)
-        .flat_map(|(r, t)| (0..3).map(move |c| (r[c] as f64, t[c] as f64)))
-        .map(|(r, t)| (t - r) * (t - r) / (r * r + REL_MSE_EPSILON))
-        .sum();
-    sum / (3 * reference.len().max(1)) as f64
+    let pixels = pixel_rel_mse(reference, test);
+    pixels.iter().sum::<f64>() / pixels.len().max(1) as f64
+}
+
+/// relMSE without the [`TRIMMED_SHARE`] largest pixels: single paths of huge weight
+/// (fireflies: the sun reflected by a metal onto a diffuse surface, which next-event estimation
+/// from the metal finds only rarely) dominate the plain mean of a few paths a pixel.
+pub fn trimmed_rel_mse(reference: &[[f32; 4]], test: &[[f32; 4]]) -> f64 {
+    let mut pixels = pixel_rel_mse(reference, test);
+    pixels.sort_by(|a, b| a.total_cmp(b));
+    let kept = pixels.len() - (pixels.len() as f64 * TRIMMED_SHARE).ceil() as usize;
+    pixels[..kept].iter().sum::<f64>() / kept.max(1) as f64
 }
 
 /// The ꟻLIP error map of `test` against `reference` (nv-flip's default viewing conditions).
@@ -142,8 +157,8 @@ fn judge(reference: &Rendered, test: &Rendered, scene: &str, mode: String, paths
     let image = image::RgbaImage::from_raw(w, h, rgba).ok_or_else(|| RuntimeError::Gpu("ꟻLIP map of the wrong size".into()))?;
     crate::runtime::exec::write_png(&out.join(format!("{stem}_flip.png")), &image)?;
     crate::runtime::exec::write_png(&out.join(format!("{stem}.png")), &test.ldr)?;
-    let rel_mse = rel_mse(&reference.hdr, &test.hdr);
-    Ok(TruthRow { scene: scene.into(), mode, gpu_ms: test.gpu_ms, wall_ms: test.wall_ms, rel_mse, flip, paths })
+    let (rel_mse, trimmed_rel_mse) = (rel_mse(&reference.hdr, &test.hdr), trimmed_rel_mse(&reference.hdr, &test.hdr));
+    Ok(TruthRow { scene: scene.into(), mode, gpu_ms: test.gpu_ms, wall_ms: test.wall_ms, rel_mse, trimmed_rel_mse, flip, paths })
 }
 
 /// Every scene from its own camera and at every coverage of `cfg`, named for results.
@@ -185,18 +200,10 @@ pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path,
 /// The results as CSV.
 pub fn csv(info: &RunInfo, rows: &[TruthRow]) -> String {
     let mut s = info.csv_comment();
-    s.push_str("scene,mode,gpu_ms,wall_ms,rel_mse,flip,paths_per_pixel\n");
+    s.push_str("scene,mode,gpu_ms,wall_ms,rel_mse,trimmed_rel_mse,flip,paths_per_pixel\n");
     for r in rows {
-        s.push_str(&format!(
-            "{},{},{:.3},{:.3},{:.6},{:.5},{}\n",
-            r.scene,
-            r.mode,
-            r.gpu_ms,
-            r.wall_ms,
-            r.rel_mse,
-            r.flip,
-            r.paths.map_or(String::new(), |p| p.to_string())
-        ));
+        let paths = r.paths.map_or(String::new(), |p| p.to_string());
+        s.push_str(&format!("{},{},{:.3},{:.3},{:.6},{:.6},{:.5},{paths}\n", r.scene, r.mode, r.gpu_ms, r.wall_ms, r.rel_mse, r.trimmed_rel_mse, r.flip));
     }
     s
 }
@@ -204,7 +211,7 @@ pub fn csv(info: &RunInfo, rows: &[TruthRow]) -> String {
 /// The results as markdown: the run's header and one table.
 pub fn markdown(info: &RunInfo, cfg: &TruthConfig, rows: &[TruthRow]) -> String {
     let mut s = format!(
-        "# bench truth\n\n{}- back-end: {}\n- reference: `{REFERENCE_GRAPH}`, {} paths a pixel and frame, {} frames at least\n\nrelMSE (linear HDR, epsilon {REL_MSE_EPSILON}) and ꟻLIP mean (tone-mapped) against the reference; GPU and wall ms per frame (medians).\n\n| scene | mode | GPU ms | wall ms | relMSE | ꟻLIP | paths/px |\n| --- | --- | ---: | ---: | ---: | ---: | ---: |\n",
+        "# bench truth\n\n{}- back-end: {}\n- reference: `{REFERENCE_GRAPH}`, {} paths a pixel and frame, {} frames at least\n\nrelMSE (linear HDR, epsilon {REL_MSE_EPSILON}; trimmed: without the 0.1% largest pixels) and ꟻLIP mean (tone-mapped) against the reference; GPU and wall ms per frame (medians).\n\n| scene | mode | GPU ms | wall ms | relMSE | trimmed relMSE | ꟻLIP | paths/px |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         info.markdown(),
         cfg.backend,
         cfg.reference_samples,
@@ -212,7 +219,10 @@ pub fn markdown(info: &RunInfo, cfg: &TruthConfig, rows: &[TruthRow]) -> String 
     );
     for r in rows {
         let paths = r.paths.map_or(String::new(), |p| p.to_string());
-        s.push_str(&format!("| {} | {} | {:.3} | {:.3} | {:.5} | {:.4} | {paths} |\n", r.scene, r.mode, r.gpu_ms, r.wall_ms, r.rel_mse, r.flip));
+        s.push_str(&format!(
+            "| {} | {} | {:.3} | {:.3} | {:.5} | {:.5} | {:.4} | {paths} |\n",
+            r.scene, r.mode, r.gpu_ms, r.wall_ms, r.rel_mse, r.trimmed_rel_mse, r.flip
+        ));
     }
     s
 }
@@ -229,5 +239,16 @@ mod tests {
         // Per pixel: 1 / (1 + 0.01), 0, 0.25 / (0.25 + 0.01); alpha is not compared.
         let expected = (1.0 / 1.01 + 0.25 / 0.26) / 3.0;
         assert!((rel_mse(&reference, &doubled) - expected).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_trimmed_rel_mse_leaves_out_the_largest_pixel_in_a_thousand() {
+        let reference = vec![[1.0, 1.0, 1.0, 1.0]; 1000];
+        let mut test = reference.clone();
+        test[17] = [101.0, 101.0, 101.0, 1.0];
+        test[18] = [2.0, 2.0, 2.0, 1.0];
+        // One firefly of relMSE 10000 / 1.01 against one pixel of 1 / 1.01.
+        assert!((rel_mse(&reference, &test) - 10001.0 / 1.01 / 1000.0).abs() < 1e-9);
+        assert!((trimmed_rel_mse(&reference, &test) - 1.0 / 1.01 / 999.0).abs() < 1e-12);
     }
 }
