@@ -196,7 +196,7 @@ fn bench_truth_measures_every_mode_and_the_path_tracer_at_its_time() {
     let scenes = vec![("box".to_string(), raygraph::scene::open("box", &Default::default()).unwrap().0)];
     let rows = truth::run(&gpu, &cfg, &scenes, &out, |_| {}).unwrap();
     assert_eq!(rows.len(), 2 * TRUTH_MODES.len(), "{rows:?}");
-    for (r, (mode, _, _)) in rows.chunks(2).zip(TRUTH_MODES) {
+    for (r, (mode, _)) in rows.chunks(2).zip(TRUTH_MODES) {
         assert_eq!(r[0].mode, mode);
         assert!(r[1].paths.is_some_and(|p| p >= 1), "{:?}", r[1]);
         for row in r {

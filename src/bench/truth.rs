@@ -17,17 +17,12 @@ use crate::runtime::{Executor, Gpu};
 use crate::scene::{Camera, Scene};
 use std::path::{Path, PathBuf};
 
-/// The modes compared: name, graph file (relative to the project root), and the linear HDR
-/// resource its tone map reads.
-pub const TRUTH_MODES: [(&str, &str, &str); 4] = [
-    ("raster", "graph/raster.ron", "forward.color"),
-    ("hybrid", "graph/hybrid.ron", "blend.color"),
-    ("hybrid_denoised", "graph/hybrid_denoised.ron", "blend.color"),
-    ("full_rt", "graph/full_rt.ron", "blend.color"),
-];
-/// The reference graph and its accumulated HDR image.
+/// The modes compared: name and graph file (relative to the project root); each graph's
+/// `hdr_output` is the linear image compared.
+pub const TRUTH_MODES: [(&str, &str); 4] =
+    [("raster", "graph/raster.ron"), ("hybrid", "graph/hybrid.ron"), ("hybrid_denoised", "graph/hybrid_denoised.ron"), ("full_rt", "graph/full_rt.ron")];
+/// The reference graph.
 pub const REFERENCE_GRAPH: &str = "graph/reference.ron";
-const REFERENCE_HDR: &str = "accumulate.color";
 /// relMSE = mean over pixels and channels of (test - reference)^2 / (reference^2 + epsilon).
 pub const REL_MSE_EPSILON: f64 = 0.01;
 /// The share of the largest pixels the trimmed relMSE leaves out.
@@ -85,16 +80,8 @@ struct Rendered {
 }
 
 /// Renders `graph` with `params` on `scene` (warm-up, then `frames` timed frames) and reads its
-/// HDR resource `hdr` and its output.
-fn render(
-    gpu: &Gpu,
-    cfg: &TruthConfig,
-    view: &(Scene, Camera),
-    graph: &str,
-    hdr: &str,
-    params: &[(&str, &str, i64)],
-    frames: u32,
-) -> Result<Rendered, RuntimeError> {
+/// HDR output (`hdr_output`) and its output.
+fn render(gpu: &Gpu, cfg: &TruthConfig, view: &(Scene, Camera), graph: &str, params: &[(&str, &str, i64)], frames: u32) -> Result<Rendered, RuntimeError> {
     let (scene, camera) = view;
     let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
     for &(node, param, value) in params {
@@ -102,7 +89,7 @@ fn render(
     }
     let path = cfg.root.join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), cfg.size, &options)?;
-    let resource = plan.resource_by_name(hdr).ok_or_else(|| RuntimeError::Gpu(format!("{}: no resource {hdr} (the tone map's input)", path.display())))?;
+    let resource = plan.hdr_output().ok_or_else(|| RuntimeError::Gpu(format!("{}: the graph names no `hdr_output` (its linear HDR image)", path.display())))?;
     let mut exec = Executor::new(gpu, plan, scene)?;
     let timed = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, frames, |_| *camera)?;
     let mut gpu_ms: Vec<f64> = timed.iter().map(super::frame_gpu_ms).collect();
@@ -179,17 +166,17 @@ pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path,
     let mut rows = Vec::new();
     let samples = cfg.reference_samples.max(1);
     for (name, scene) in &views(gpu, cfg, scenes)? {
-        let reference = render(gpu, cfg, scene, REFERENCE_GRAPH, REFERENCE_HDR, &[("path", "samples", samples as i64)], cfg.reference_frames)?;
+        let reference = render(gpu, cfg, scene, REFERENCE_GRAPH, &[("path", "samples", samples as i64)], cfg.reference_frames)?;
         crate::runtime::exec::write_png(&out.join(format!("{name}_reference.png")), &reference.ldr)?;
         let ms_per_path = reference.gpu_ms / samples as f64;
-        for (mode, graph, hdr) in TRUTH_MODES {
-            let test = render(gpu, cfg, scene, graph, hdr, &[], cfg.mode_frames)?;
+        for (mode, graph) in TRUTH_MODES {
+            let test = render(gpu, cfg, scene, graph, &[], cfg.mode_frames)?;
             rows.push(judge(&reference, &test, name, mode.into(), None, out)?);
             on_row(&rows);
             // The path tracer in the mode's GPU time: one frame of that many paths a pixel.
             let paths = ((test.gpu_ms / ms_per_path).floor() as u32).max(1);
             let params = [("path", "samples", paths as i64), ("path", "seed", 1), ("accumulate", "max_frames", 1)];
-            let equal = render(gpu, cfg, scene, REFERENCE_GRAPH, REFERENCE_HDR, &params, cfg.mode_frames)?;
+            let equal = render(gpu, cfg, scene, REFERENCE_GRAPH, &params, cfg.mode_frames)?;
             rows.push(judge(&reference, &equal, name, format!("path tracer at {mode}'s time"), Some(paths), out)?);
             on_row(&rows);
         }
