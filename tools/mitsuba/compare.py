@@ -102,21 +102,23 @@ def preview(mi, image, path):
     mi.Bitmap((ldr * 255.0 + 0.5).astype(np.uint8)).write(path)
 
 
-def compare(mi, reference, test, out):
+def compare(mi, reference, test, out, covered=None):
+    """relMSE over the `covered` pixels (all where None), HDR-FLIP over the whole image."""
     import flip_evaluator
     relmse_map = ((test - reference) ** 2 / (reference ** 2 + RELMSE_EPSILON)).mean(axis=2)
+    judged = relmse_map[covered] if covered is not None else relmse_map.ravel()
     flip_map, flip_mean, _ = flip_evaluator.evaluate(np.maximum(reference, 0.0), np.maximum(test, 0.0), "HDR")
     mi.Bitmap((np.clip(flip_map, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)).write(os.path.join(out, "flip.png"))
     mi.Bitmap(relmse_map.astype(np.float32), mi.Bitmap.PixelFormat.Y).write(os.path.join(out, "relmse.exr"))
     preview(mi, test, os.path.join(out, "test.png"))
-    quantiles = np.percentile(relmse_map, [50, 90, 99])
-    print(f"relMSE (epsilon {RELMSE_EPSILON}): {relmse_map.mean():.6f} (per pixel: median {quantiles[0]:.2e}, "
-          f"90% {quantiles[1]:.2e}, 99% {quantiles[2]:.2e}, max {relmse_map.max():.2e})")
-    trimmed = np.sort(relmse_map.ravel())[: int(relmse_map.size * 0.999)].mean()
+    quantiles = np.percentile(judged, [50, 90, 99])
+    print(f"relMSE (epsilon {RELMSE_EPSILON}) over {judged.size} pixels: {judged.mean():.6f} (per pixel: median {quantiles[0]:.2e}, "
+          f"90% {quantiles[1]:.2e}, 99% {quantiles[2]:.2e}, max {judged.max():.2e})")
+    trimmed = np.sort(judged)[: int(judged.size * 0.999)].mean()
     print(f"relMSE without the 0.1% largest pixels (fireflies): {trimmed:.6f}")
     print(f"HDR-FLIP mean: {flip_mean:.6f}")
     print(f"mean radiance: reference {reference.mean(axis=(0, 1))}, test {test.mean(axis=(0, 1))}")
-    return relmse_map.mean(), flip_mean
+    return judged.mean(), flip_mean
 
 
 def main():
@@ -139,8 +141,8 @@ def main():
         reference = np.where(covered[..., None], reference, 0.0)
         test = np.where(covered[..., None], test, 0.0)
     else:
-        test = render(mi, xml, args, args.against_mitsuba, args.seed + 1)
-    compare(mi, reference, test, args.out)
+        test, covered = render(mi, xml, args, args.against_mitsuba, args.seed + 1), None
+    compare(mi, reference, test, args.out, covered)
     print(f"wrote {args.out}/mitsuba.exr, flip.png, relmse.exr, mitsuba.png, test.png")
 
 
