@@ -11,7 +11,8 @@
 //! (a black environment). The raster, hybrid and full-RT graphs do not light surfaces from
 //! emissive ones, so there the box is black but for the light itself; that is expected. The GI
 //! graphs (`graph/hybrid_soft_gi.ron`, `graph/hybrid_denoised.ron`) gather one bounce of its
-//! emission; a path tracer lights it fully.
+//! emission; the path tracer (`graph/reference.ron`) lights it fully (checked against Mitsuba 3
+//! in `tests/path_tracer.rs`).
 
 use crate::scene::{Camera, Instance, Light, Lobes, Material, Mesh, Scene};
 use glam::{Mat4, Vec3};
