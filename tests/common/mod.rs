@@ -144,7 +144,8 @@ pub fn ao_graph_without_blend() -> (std::path::PathBuf, Project) {
     let text = std::fs::read_to_string(repo().join("graph/ao.ron")).unwrap();
     let start = text.find("        // BLEND surfaces composited").expect("graph/ao.ron has its blend node");
     let end = text.find("        \"tonemap\"").unwrap();
-    let text = format!("{}{}", &text[..start], &text[end..]).replace("\"hdr\": \"blend.color\"", "\"hdr\": \"resolve.hdr\"");
+    // The tone map and the graph's HDR output read the resolve's image instead.
+    let text = format!("{}{}", &text[..start], &text[end..]).replace("\"blend.color\"", "\"resolve.hdr\"");
     let dir = std::env::temp_dir().join(format!("raygraph-ao-graph-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("ao_without_blend.ron");
