@@ -15,20 +15,31 @@ fn camera_is_orthographic() -> bool {
     return frame.camera_pos.w == 0.0;
 }
 
-// The world-space points of pixel `p`'s centre on the near (depth 0) and far (depth 1) planes.
-fn camera_unproject(p: vec2<u32>, depth: f32) -> vec3<f32> {
-    let ndc = vec2<f32>((f32(p.x) + 0.5) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(p.y) + 0.5) * frame.resolution.w * 2.0);
+// The world-space points of the image point `at` (in pixels from the top left corner) on the
+// near (depth 0) and far (depth 1) planes.
+fn camera_unproject_at(at: vec2<f32>, depth: f32) -> vec3<f32> {
+    let ndc = vec2<f32>(at.x * frame.resolution.z * 2.0 - 1.0, 1.0 - at.y * frame.resolution.w * 2.0);
     let q = frame.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
     return q.xyz / q.w;
 }
 
-// Where the camera ray through pixel `p` starts: the camera's position, or the pixel's point
-// on the near plane for an orthographic camera.
-fn camera_origin(p: vec2<u32>) -> vec3<f32> {
+// The world-space points of pixel `p`'s centre on the near (depth 0) and far (depth 1) planes.
+fn camera_unproject(p: vec2<u32>, depth: f32) -> vec3<f32> {
+    return camera_unproject_at(vec2<f32>(f32(p.x) + 0.5, f32(p.y) + 0.5), depth);
+}
+
+// Where the camera ray through image point `at` starts: the camera's position, or the point on
+// the near plane for an orthographic camera.
+fn camera_origin_at(at: vec2<f32>) -> vec3<f32> {
     if camera_is_orthographic() {
-        return camera_unproject(p, 0.0);
+        return camera_unproject_at(at, 0.0);
     }
     return frame.camera_pos.xyz;
+}
+
+// Where the camera ray through pixel `p`'s centre starts (`camera_origin_at`).
+fn camera_origin(p: vec2<u32>) -> vec3<f32> {
+    return camera_origin_at(vec2<f32>(f32(p.x) + 0.5, f32(p.y) + 0.5));
 }
 
 // The world-space direction of the camera ray through the centre of pixel `p`.

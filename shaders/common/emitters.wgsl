@@ -52,35 +52,28 @@ fn hit_emitter_probability(instance: u32, primitive: u32) -> f32 {
     return emitter_probability(first + primitive);
 }
 
-// The object-space corners of triangle `primitive` of `instance`'s mesh.
-fn instance_triangle_object(instance: u32, primitive: u32) -> array<vec3<f32>, 3> {
-    let mesh = scene_meshes[scene_instances[instance].mesh];
+// A triangle of an instance in world space: its corners, and its normal on its
+// counter-clockwise side (object space; the side a ray hitting it `front_face` comes from),
+// twice its area long.
+struct InstanceTriangle {
+    corners: array<vec3<f32>, 3>,
+    normal: vec3<f32>,
+}
+
+// Triangle `primitive` of `instance` (its vertices read once).
+fn instance_triangle(instance: u32, primitive: u32) -> InstanceTriangle {
+    let inst = scene_instances[instance];
+    let mesh = scene_meshes[inst.mesh];
     let first = mesh.first_index + 3u * primitive;
-    var out: array<vec3<f32>, 3>;
+    var local: array<vec3<f32>, 3>;
+    var out: InstanceTriangle;
     for (var k = 0u; k < 3u; k++) {
         let v = scene_vertex(mesh.base_vertex + scene_indices[first + k]);
-        out[k] = vec3<f32>(v.px, v.py, v.pz);
+        local[k] = vec3<f32>(v.px, v.py, v.pz);
+        out.corners[k] = (inst.model * vec4<f32>(local[k], 1.0)).xyz;
     }
-    return out;
-}
-
-// The world-space corners of triangle `primitive` of `instance`.
-fn instance_triangle(instance: u32, primitive: u32) -> array<vec3<f32>, 3> {
-    let model = scene_instances[instance].model;
-    let local = instance_triangle_object(instance, primitive);
-    var out: array<vec3<f32>, 3>;
-    for (var k = 0u; k < 3u; k++) {
-        out[k] = (model * vec4<f32>(local[k], 1.0)).xyz;
-    }
-    return out;
-}
-
-// The world-space normal of `instance`'s triangle `primitive` on its counter-clockwise side
-// (object space; the side a ray hitting it `front_face` comes from), length twice its area.
-fn instance_triangle_normal(instance: u32, primitive: u32) -> vec3<f32> {
-    let local = instance_triangle_object(instance, primitive);
     let n_obj = cross(local[1] - local[0], local[2] - local[0]);
-    let corners = instance_triangle(instance, primitive);
-    let n = normalize((scene_instances[instance].normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
-    return n * length(cross(corners[1] - corners[0], corners[2] - corners[0]));
+    let n = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
+    out.normal = n * length(cross(out.corners[1] - out.corners[0], out.corners[2] - out.corners[0]));
+    return out;
 }

@@ -22,6 +22,12 @@ fn next_random2(state: ptr<function, u32>) -> vec2<f32> {
     return vec2<f32>(f32(a >> 8u), f32(*state >> 8u)) * (1.0 / 16777216.0);
 }
 
+// The next uniform number in [0, 1) of the PCG stream `state`, which it advances.
+fn next_random1(state: ptr<function, u32>) -> f32 {
+    *state = pcg_hash(*state);
+    return f32(*state >> 8u) * (1.0 / 16777216.0);
+}
+
 // `seed`, made new every frame when `per_frame` is set (for layers whose samples a temporal
 // filter accumulates).
 fn frame_seed(seed: u32, frame_index: u32, per_frame: u32) -> u32 {

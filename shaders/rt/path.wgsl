@@ -63,11 +63,6 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     return a2 / max(a2 + b * b, 1e-30);
 }
 
-fn next_random1(state: ptr<function, u32>) -> f32 {
-    *state = pcg_hash(*state);
-    return f32(*state >> 8u) * (1.0 / 16777216.0);
-}
-
 // A segment's hit: the surface a path meets, and the tint of what it passed on the way.
 struct PathHit {
     hit: Hit,
@@ -101,16 +96,10 @@ fn path_hit(ray_in: Ray, rng: ptr<function, u32>) -> PathHit {
     return out;
 }
 
-// The camera ray through point `u` (in [0, 1)^2) of pixel `p`.
-fn camera_ray_at(p: vec2<u32>, u: vec2<f32>) -> Ray {
-    let ndc = vec2<f32>((f32(p.x) + u.x) * frame.resolution.z * 2.0 - 1.0, 1.0 - (f32(p.y) + u.y) * frame.resolution.w * 2.0);
-    let near = frame.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
-    let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
-    var origin = frame.camera_pos.xyz;
-    if camera_is_orthographic() {
-        origin = near.xyz / near.w;
-    }
-    return Ray(origin, 0.0, normalize(far.xyz / far.w - origin), 3.0e38);
+// The camera ray through image point `at` (in pixels from the top left corner).
+fn camera_ray_through(at: vec2<f32>) -> Ray {
+    let origin = camera_origin_at(at);
+    return Ray(origin, 0.0, normalize(camera_unproject_at(at, 1.0) - origin), 3.0e38);
 }
 
 // The sky's light at `s` by one cosine-weighted next-event direction, MIS-weighted against
@@ -132,6 +121,13 @@ fn sky_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3
     return visible * f_cos * sky_radiance(l) * power_heuristic(pdf, bsdf_pdf(sp, l)) / pdf;
 }
 
+// The density (solid angle) of next-event estimation's point at the end of `to` on a triangle
+// picked with `probability` whose normal `n2` is twice its area long.
+fn emitter_density(probability: f32, n2: vec3<f32>, to: vec3<f32>) -> f32 {
+    let cosine = abs(dot(normalize(n2), normalize(to)));
+    return probability * dot(to, to) / max(0.5 * length(n2) * cosine, 1e-30);
+}
+
 // The density (solid angle, seen from `origin`) with which next-event estimation picks the point
 // `at` on `instance`'s triangle `primitive`; 0 for a triangle that is no emitter.
 fn emitter_pdf(instance: u32, primitive: u32, origin: vec3<f32>, at: vec3<f32>) -> f32 {
@@ -139,10 +135,7 @@ fn emitter_pdf(instance: u32, primitive: u32, origin: vec3<f32>, at: vec3<f32>) 
     if probability <= 0.0 {
         return 0.0;
     }
-    let n2 = instance_triangle_normal(instance, primitive);
-    let to = at - origin;
-    let cosine = abs(dot(normalize(n2), normalize(to)));
-    return probability * dot(to, to) / max(0.5 * length(n2) * cosine, 1e-30);
+    return emitter_density(probability, instance_triangle(instance, primitive).normal, at - origin);
 }
 
 // The light of one emissive triangle picked by power at `s` (one point, one shadow ray),
@@ -151,25 +144,27 @@ fn emitter_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> 
     if emitter_count() == 0u {
         return vec3<f32>(0.0);
     }
-    let record = emitter_record(emitter_pick(next_random1(rng)));
+    let picked = emitter_pick(next_random1(rng));
+    let record = emitter_record(picked);
     let instance = scene_emitters[record];
     let primitive = scene_emitters[record + 1u];
     let u = next_random2(rng);
     let r = sqrt(u.x);
     let bary = vec2<f32>(r * (1.0 - u.y), r * u.y);
-    let corners = instance_triangle(instance, primitive);
-    let at = corners[0] * (1.0 - bary.x - bary.y) + corners[1] * bary.x + corners[2] * bary.y;
+    let triangle = instance_triangle(instance, primitive);
+    let at = triangle.corners[0] * (1.0 - bary.x - bary.y) + triangle.corners[1] * bary.x + triangle.corners[2] * bary.y;
     let origin = offset_ray_origin(s.position, s.geo_normal);
     let to = at - origin;
     let d = length(to);
     let l = to / max(d, 1e-30);
-    let front = dot(l, instance_triangle_normal(instance, primitive)) < 0.0;
+    let front = dot(l, triangle.normal) < 0.0;
     let material = scene_materials[scene_instances[instance].material];
     if d <= 0.0 || dot(l, s.geo_normal) <= 0.0 || (!front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u) {
         return vec3<f32>(0.0);
     }
     let f_cos = bsdf_cos(sp, l);
-    let pdf = emitter_pdf(instance, primitive, origin, at);
+    let probability = emitter_probability(picked);
+    let pdf = select(0.0, emitter_density(probability, triangle.normal, to), probability > 0.0);
     if all(f_cos == vec3<f32>(0.0)) || pdf <= 0.0 {
         return vec3<f32>(0.0);
     }
@@ -239,7 +234,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var rng = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed ^ pcg_hash(frame.frame_index))));
     var sum = vec4<f32>(0.0);
     for (var i = 0u; i < params.samples; i++) {
-        let path = trace_path(camera_ray_at(id.xy, next_random2(&rng)), &rng);
+        let path = trace_path(camera_ray_through(vec2<f32>(id.xy) + next_random2(&rng)), &rng);
         // A path whose value is not finite (an overflow in a throughput) counts as 0: one such
         // value would stay in the pixel's mean for good.
         if all(path == path) && all(abs(path) < vec4<f32>(1e30)) {

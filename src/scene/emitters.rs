@@ -21,9 +21,8 @@ fn luminance(c: [f32; 3]) -> f32 {
     0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
-/// The mean linear RGB of an sRGB image.
-fn mean_linear(image: &TextureImage) -> [f32; 3] {
-    let lut: Vec<f64> = (0..=255u8).map(|c| crate::util::srgb_to_linear(c) as f64).collect();
+/// The mean linear RGB of an sRGB image (`lut`: each 8-bit value decoded).
+fn mean_linear(image: &TextureImage, lut: &[f64]) -> [f32; 3] {
     let mut sum = [0.0f64; 3];
     for texel in image.rgba.chunks_exact(4) {
         for c in 0..3 {
@@ -37,6 +36,7 @@ fn mean_linear(image: &TextureImage) -> [f32; 3] {
 /// The mean emitted radiance's luminance of every material (0 for those that emit nothing).
 fn material_emission(scene: &Scene) -> Vec<f32> {
     let mut texture_means: Vec<Option<[f32; 3]>> = vec![None; scene.textures().len()];
+    let lut: Vec<f64> = (0..=255u8).map(|c| crate::util::srgb_to_linear(c) as f64).collect();
     scene
         .materials()
         .iter()
@@ -47,7 +47,7 @@ fn material_emission(scene: &Scene) -> Vec<f32> {
             }
             let mut e = m.emissive;
             if let Some(t) = m.emissive_texture.filter(|&t| t < scene.textures().len()) {
-                let mean = *texture_means[t].get_or_insert_with(|| mean_linear(&scene.textures()[t]));
+                let mean = *texture_means[t].get_or_insert_with(|| mean_linear(&scene.textures()[t], &lut));
                 e = [e[0] * mean[0], e[1] * mean[1], e[2] * mean[2]];
             }
             luminance(e).max(0.0)

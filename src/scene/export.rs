@@ -88,10 +88,7 @@ pub(crate) fn to_glb(scene: &Scene) -> Result<Vec<u8>, String> {
 
 /// A texture as a PNG image inside the buffer, with its glTF image and texture.
 fn png_texture(root: &mut json::Root, w: &mut BinWriter, buffer: json::Index<json::Buffer>, t: &TextureImage) -> Result<json::Index<json::Texture>, String> {
-    let img =
-        image::RgbaImage::from_raw(t.width, t.height, t.rgba.to_vec()).ok_or_else(|| format!("texture `{}` has the wrong amount of pixel data", t.name))?;
-    let mut png = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    let png = t.png(true)?;
     let view = w.view(root, buffer, &png, None);
     let image = root.push(json::Image {
         buffer_view: Some(view),

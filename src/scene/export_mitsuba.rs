@@ -225,11 +225,7 @@ fn textures(w: &mut Writer, scene: &Scene) -> Result<Vec<Option<String>>, SceneE
             names.push(None);
             continue;
         }
-        let rgb: Vec<u8> = t.rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        let img =
-            image::RgbImage::from_raw(t.width, t.height, rgb).ok_or_else(|| w.error(format!("texture `{}` has the wrong amount of pixel data", t.name)))?;
-        let mut png = Vec::new();
-        img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| w.error(format!("texture `{}`: {e}", t.name)))?;
+        let png = t.png(false).map_err(|e| w.error(e))?;
         names.push(Some(w.file(&format!("tex{i}_{}.png", file_safe(&t.name)), &png)?));
     }
     Ok(names)

@@ -366,6 +366,22 @@ pub struct TextureImage {
     pub rgba: std::sync::Arc<Vec<u8>>,
 }
 
+impl TextureImage {
+    /// The image as PNG bytes, RGBA or (without `alpha`) RGB; the error names the texture.
+    pub(crate) fn png(&self, alpha: bool) -> Result<Vec<u8>, String> {
+        let wrong = || format!("texture `{}` has the wrong amount of pixel data", self.name);
+        let img: image::DynamicImage = if alpha {
+            image::RgbaImage::from_raw(self.width, self.height, self.rgba.to_vec()).ok_or_else(wrong)?.into()
+        } else {
+            let rgb = self.rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+            image::RgbImage::from_raw(self.width, self.height, rgb).ok_or_else(wrong)?.into()
+        };
+        let mut png = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| format!("texture `{}`: {e}", self.name))?;
+        Ok(png)
+    }
+}
+
 /// A directional light.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {

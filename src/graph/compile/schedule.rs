@@ -261,6 +261,21 @@ fn check_producers(nodes: &[ResolvedNode], passes: &[PassNode], resources: &[Pla
     Ok(())
 }
 
+/// The resource a graph field (`output`, `hdr_output`) names as `node.output`: an output of a
+/// node, written by a pass; with the field's location for further errors.
+fn named_output(field: &str, name: &str, gsrc: &SourceText, nodes: &[ResolvedNode], producers: &Producers) -> Result<(ResourceId, Location), GraphError> {
+    let loc = gsrc.locate(&[field, &SourceText::quoted(name)]);
+    let id = output_resource(nodes, name).ok_or_else(|| unknown_output(name, loc.clone(), nodes))?;
+    if !producers.contains_key(&id) {
+        let (what, help) = match field {
+            "output" => (format!("graph output `{name}`"), "write the output in one of the layer's passes"),
+            _ => (format!("graph `{field}` `{name}`"), "name an output that a pass of its layer writes"),
+        };
+        return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("{what} is never written")).help(help));
+    }
+    Ok((id, loc))
+}
+
 /// The resource the graph names as its output: an output of a node, written by a pass, and an
 /// Rgba8Unorm or Rgba8UnormSrgb texture.
 fn graph_output(
@@ -270,12 +285,7 @@ fn graph_output(
     resources: &[PlannedResource],
     producers: &Producers,
 ) -> Result<ResourceId, GraphError> {
-    let output_loc = gsrc.locate(&["output", &SourceText::quoted(&graph.output)]);
-    let output = output_resource(nodes, &graph.output).ok_or_else(|| unknown_output(&graph.output, output_loc.clone(), nodes))?;
-    if !producers.contains_key(&output) {
-        return Err(GraphError::new(ErrorKind::NoProducer, output_loc, format!("graph output `{}` is never written", graph.output))
-            .help("write the output in one of the layer's passes"));
-    }
+    let (output, output_loc) = named_output("output", &graph.output, gsrc, nodes, producers)?;
     match &resources[output].decl {
         ResourceDecl::Texture(t) if matches!(t.format, Format::Rgba8Unorm | Format::Rgba8UnormSrgb) => Ok(output),
         other => Err(GraphError::new(
@@ -332,12 +342,7 @@ fn graph_hdr_output(
     if matches!(graph.nodes.get(node), Some(NodeDesc::Layer(l)) if !l.enabled) {
         return Ok(None);
     }
-    let loc = gsrc.locate(&["hdr_output", &SourceText::quoted(name)]);
-    let hdr = output_resource(nodes, name).ok_or_else(|| unknown_output(name, loc.clone(), nodes))?;
-    if !producers.contains_key(&hdr) {
-        return Err(GraphError::new(ErrorKind::NoProducer, loc, format!("graph `hdr_output` `{name}` is never written"))
-            .help("name an output that a pass of its layer writes"));
-    }
+    let (hdr, loc) = named_output("hdr_output", name, gsrc, nodes, producers)?;
     match &resources[hdr].decl {
         ResourceDecl::Texture(t) if matches!(t.format, Format::Rgba16Float | Format::Rgba32Float) => Ok(Some(hdr)),
         other => Err(GraphError::new(
