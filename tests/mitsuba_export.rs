@@ -229,16 +229,24 @@ fn what_cannot_be_exported_is_a_clear_error() {
 }
 
 #[test]
-fn normal_maps_wrap_the_bsdf_in_normalmap() {
+fn normal_maps_go_to_the_raygraph_bsdf_with_their_scale() {
     let dir = temp_dir("normals");
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/khronos/NormalTangentMirrorTest/glTF/NormalTangentMirrorTest.gltf");
     let scene = open(path.to_str().unwrap(), &LoadOptions { textures: true, ..Default::default() }).unwrap_or_else(|e| panic!("{e}")).0;
-    let normal_mapped = scene.materials().iter().filter(|m| m.normal_texture.is_some()).count();
-    assert!(normal_mapped > 0, "the asset has normal maps");
+    let normal_mapped: Vec<f32> = scene.materials().iter().filter(|m| m.normal_texture.is_some()).map(|m| m.normal_scale).collect();
+    assert!(!normal_mapped.is_empty(), "the asset has normal maps");
     let elements = check_export(&scene, &dir);
-    let wrappers = elements.iter().filter(|e| e.name == "bsdf" && attr(e, "type") == "normalmap").count();
-    assert_eq!(wrappers, normal_mapped, "a normalmap BSDF per normal-mapped material");
-    let maps: Vec<&Element> = elements.iter().filter(|e| e.name == "texture" && attr(e, "name") == "normalmap").collect();
-    assert_eq!(maps.len(), normal_mapped);
+    // The plugin applies the map as raygraph's shaders do (mirrored uvs included), so Mitsuba's
+    // own `normalmap` BSDF, which reads mirrored uvs with one axis flipped, is not used.
+    assert!(!elements.iter().any(|e| e.name == "bsdf" && attr(e, "type") == "normalmap"), "no normalmap BSDF");
+    let maps: Vec<usize> = (0..elements.len()).filter(|&i| elements[i].name == "texture" && attr(&elements[i], "name") == "normal_texture").collect();
+    assert_eq!(maps.len(), normal_mapped.len(), "a normal_texture per normal-mapped material");
+    for &i in &maps {
+        let raw = elements[i..].iter().find(|e| e.name == "boolean" && attr(e, "name") == "raw").expect("the texture's raw flag");
+        assert_eq!(attr(raw, "value"), "true", "a normal map is data, not sRGB");
+    }
+    let scales: Vec<f32> =
+        elements.iter().filter(|e| e.name == "float" && attr(e, "name") == "normal_scale").map(|e| attr(e, "value").parse().expect("a number")).collect();
+    assert_eq!(scales, normal_mapped, "each material's normal scale, in order");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -231,8 +231,8 @@ fn textures(w: &mut Writer, scene: &Scene) -> Result<Vec<Option<String>>, SceneE
     Ok(names)
 }
 
-/// Material `i` as a `raygraph` BSDF with id `mat{i}` (inside `normalmap` where it has a
-/// normal map, inside `twosided` for a double-sided one), and warnings for what it cannot show.
+/// Material `i` as a `raygraph` BSDF with id `mat{i}` (its normal map applied by the plugin
+/// itself, as raygraph's shaders apply it; inside `twosided` for a double-sided one), and warnings for what it cannot show.
 fn material(w: &mut Writer, i: usize, m: &Material, textures: &[Option<String>]) {
     material_warnings(w, m);
     let lobes = &m.lobes;
@@ -251,11 +251,11 @@ fn material(w: &mut Writer, i: usize, m: &Material, textures: &[Option<String>])
     if let Some(file) = m.metallic_roughness_texture.and_then(|t| textures[t].as_ref()) {
         body += &bitmap_xml("metallic_roughness_texture", file, &m.sampling[1], true);
     }
-    let mut bsdf = format!("<bsdf type=\"raygraph\">\n{body}</bsdf>");
     if let Some(file) = m.normal_texture.and_then(|t| textures[t].as_ref()) {
-        let map = bitmap_xml("normalmap", file, &m.sampling[2], true);
-        bsdf = format!("<bsdf type=\"normalmap\">\n{map}{bsdf}\n</bsdf>");
+        body += &bitmap_xml("normal_texture", file, &m.sampling[2], true);
+        let _ = writeln!(body, "            <float name=\"normal_scale\" value=\"{}\"/>", m.normal_scale);
     }
+    let mut bsdf = format!("<bsdf type=\"raygraph\">\n{body}</bsdf>");
     if m.double_sided {
         bsdf = format!("<bsdf type=\"twosided\">\n{bsdf}\n</bsdf>");
     }
@@ -267,9 +267,6 @@ fn material(w: &mut Writer, i: usize, m: &Material, textures: &[Option<String>])
 fn material_warnings(w: &mut Writer, m: &Material) {
     let name = &m.name;
     let mut ignored = Vec::new();
-    if m.normal_texture.is_some() && m.normal_scale != 1.0 {
-        ignored.push("its normal map's scale (Mitsuba's `normalmap` has none: exported as 1)");
-    }
     if m.occlusion_texture.is_some() {
         ignored.push("its occlusion texture (a path tracer computes occlusion)");
     }
@@ -316,9 +313,6 @@ fn shapes(w: &mut Writer, scene: &Scene) -> Result<(), SceneError> {
             .ok_or_else(|| w.error(format!("instance {i} names material {} of {}", inst.material, scene.materials().len())))?;
         if mesh.triangle_count() == 0 {
             return Err(w.error(format!("instance {i}: mesh `{}` has no triangles (Mitsuba loads no empty mesh)", mesh.name)));
-        }
-        if m.normal_texture.is_some() && mesh.tangents.as_ref().is_some_and(|t| t.iter().any(|t| t[3] < 0.0)) {
-            w.warn(format!("mesh `{}`: mirrored uvs (tangent w -1): Mitsuba's `normalmap` builds its frame from the uvs' u direction and the normal, not from the tangents, so the normal map is read with one axis flipped there", mesh.name));
         }
         if mesh.extras.as_ref().is_some_and(|e| e.iter().any(|x| x.color != [1.0; 4])) {
             w.warn(format!("mesh `{}`: its vertex colours are ignored", mesh.name));

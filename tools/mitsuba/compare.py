@@ -118,6 +118,12 @@ def compare(mi, reference, test, out, covered=None):
     print(f"relMSE without the 0.1% largest pixels (fireflies): {trimmed:.6f}")
     print(f"HDR-FLIP mean: {flip_mean:.6f}")
     print(f"mean radiance: reference {reference.mean(axis=(0, 1))}, test {test.mean(axis=(0, 1))}")
+    # The same ratio without the pixels the trimmed relMSE leaves out (fireflies of either image).
+    ref_px = reference[covered] if covered is not None else reference.reshape(-1, 3)
+    test_px = test[covered] if covered is not None else test.reshape(-1, 3)
+    kept = np.argsort(judged, kind="stable")[: int(judged.size * 0.999)]
+    ratio = test_px[kept].sum(axis=0) / np.maximum(ref_px[kept].sum(axis=0), 1e-30)
+    print(f"mean radiance ratio test / reference without the 0.1% largest pixels: {ratio}")
     return judged.mean(), flip_mean
 
 

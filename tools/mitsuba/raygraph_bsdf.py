@@ -19,7 +19,14 @@ Parameters (what `raygraph scene export` writes): `base_color` (rgb, linear),
 `base_color_texture` (bitmap, sRGB: multiplies it), `metallic`, `roughness` (floats),
 `metallic_roughness_texture` (bitmap, raw: blue multiplies metallic, green roughness),
 `f0` (rgb: the dielectric reflectance at normal incidence, 0.04 for glTF's core material),
-`f90` (float, 1).
+`f90` (float, 1), `normal_texture` (bitmap, raw) and `normal_scale` (float, 1).
+
+Normal maps are applied here, as apply_normal_map of shaders/common/material_inputs.wgsl does:
+tangent t = dp/du made orthogonal to the shading normal n, bitangent = +-(n x t) on the side of
+decreasing v (glTF's convention, mirrored uvs included), perturbed normal
+normalize(t m.x s + b m.y s + n m.z) with m = 2 texel - 1 and s = `normal_scale`; the shading
+normal itself where the uvs are degenerate. Mitsuba's own `normalmap` builds its bitangent as
+n x t on every triangle, which reads one axis flipped where uvs are mirrored.
 
 The surface is one-sided like raygraph's lighting (n.l <= 0 or n.v <= 0: no reflection);
 the export wraps double-sided materials in `twosided`. Roughness 0 makes D a delta that
@@ -33,6 +40,7 @@ import drjit as dr
 import mitsuba as mi
 
 ALPHA_MIN = 1e-4
+ROUGHNESS_MIN = 0.02
 N_V_MIN = 1e-4
 
 
@@ -60,6 +68,8 @@ class RaygraphBSDF(mi.BSDF):
         self.f90 = scalar("f90", 1.0)
         self.base_color_texture = texture("base_color_texture")
         self.metallic_roughness_texture = texture("metallic_roughness_texture")
+        self.normal_texture = texture("normal_texture")
+        self.normal_scale = scalar("normal_scale", 1.0)
         flags = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
         self.m_components = [mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide,
                              mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide]
@@ -76,6 +86,8 @@ class RaygraphBSDF(mi.BSDF):
             mr = self.metallic_roughness_texture.eval(si, active)
             metallic *= mr[2]
             roughness *= mr[1]
+        # raygraph's surfaces clamp roughness (shaders/common/surface.wgsl, Surface.roughness).
+        roughness = dr.clip(roughness, ROUGHNESS_MIN, 1.0)
         f0 = dr.lerp(self.f0, albedo, metallic)
         f90 = dr.lerp(self.f90, 1.0, metallic)
         return albedo, metallic, roughness, f0, f90
@@ -100,10 +112,50 @@ class RaygraphBSDF(mi.BSDF):
         wd = _luminance((1.0 - f) * (1.0 - metallic) * albedo)
         return dr.clip(ws / dr.maximum(ws + wd, 1e-8), 0.1, 0.9)
 
-    # f(v, l) n.l, and the pdf of sampling l, for local directions v = si.wi and l = wo.
+    # The normal-mapped shading frame (world space); None without a normal map (si.sh_frame).
+    def _frame(self, si, active):
+        if self.normal_texture is None:
+            return None
+        n = si.sh_frame.n
+        texel = self.normal_texture.eval(si, active)
+        m = mi.Vector3f(texel[0], texel[1], texel[2]) * 2.0 - 1.0
+        dpdu, dpdv = si.dp_du, si.dp_dv
+        t_raw = dpdu - n * dr.dot(n, dpdu)
+        usable = (dr.squared_norm(t_raw) > 1e-12 * dr.squared_norm(dpdu)) & (dr.squared_norm(dpdu) > 0.0)
+        t = dr.normalize(t_raw)
+        c = dr.cross(n, t)
+        b = dr.select(dr.dot(c, dpdv) > 0.0, -c, c)
+        p = t * (m.x * self.normal_scale) + b * (m.y * self.normal_scale) + n * m.z
+        usable &= dr.squared_norm(p) > 0.0
+        n_mapped = dr.select(usable, dr.normalize(p), n)
+        return mi.Frame3f(n_mapped)
+
+    # Direction w (local to si.sh_frame) local to `frame` (si.sh_frame itself where None).
+    @staticmethod
+    def _to_frame(si, frame, w):
+        return w if frame is None else frame.to_local(si.sh_frame.to_world(w))
+
+    # Whether wo (local to si.sh_frame) leaves above the geometric surface: raygraph's path
+    # tracer ends a path, and lights nothing, below the triangle's plane (shaders/rt/path.wgsl),
+    # where a normal map or an interpolated normal would let the BSDF reflect into the surface.
+    # The geometric normal is taken on the shading normal's side; a query without one (a zero
+    # si.n: check_bsdf.py's, outside any shape) is above.
+    @staticmethod
+    def _above_geometry(si, wo):
+        g = si.sh_frame.to_local(si.n)
+        g = dr.select(g.z < 0.0, -g, g)
+        return (dr.dot(wo, g) > 0.0) | (dr.squared_norm(si.n) == 0.0)
+
+    # f(v, l) n.l, and the pdf of sampling l, for wo local to si.sh_frame.
     def _eval_pdf(self, si, wo, active):
+        frame = self._frame(si, active)
+        active = active & self._above_geometry(si, wo)
+        value, pdf = self._eval_pdf_local(si, self._to_frame(si, frame, si.wi), self._to_frame(si, frame, wo), active)
+        return dr.select(active, value, 0.0), dr.select(active, pdf, 0.0)
+
+    # f(v, l) n.l, and the pdf of sampling l, for v and l (= wo) local to the shading frame.
+    def _eval_pdf_local(self, si, v, wo, active):
         albedo, metallic, roughness, f0, f90 = self._point(si, active)
-        v = si.wi
         n_l = mi.Frame3f.cos_theta(wo)
         cos_v = mi.Frame3f.cos_theta(v)
         valid = active & (n_l > 0.0) & (cos_v > 0.0)
@@ -136,7 +188,8 @@ class RaygraphBSDF(mi.BSDF):
 
     def sample(self, ctx, si, sample1, sample2, active=True):
         albedo, metallic, roughness, f0, f90 = self._point(si, active)
-        v = si.wi
+        frame = self._frame(si, active)
+        v = self._to_frame(si, frame, si.wi)
         cos_v = mi.Frame3f.cos_theta(v)
         p_spec = self._spec_probability(dr.maximum(cos_v, N_V_MIN), albedo, metallic, f0, f90)
         pick_spec = sample1 < p_spec
@@ -152,10 +205,11 @@ class RaygraphBSDF(mi.BSDF):
         reflected = 2.0 * dr.dot(v, h) * h - v
         cosine = mi.warp.square_to_cosine_hemisphere(sample2)
         wo = dr.select(pick_spec, reflected, cosine)
-        value, pdf = self._eval_pdf(si, wo, active)
+        value, pdf = self._eval_pdf_local(si, v, wo, active)
         ok = active & (cos_v > 0.0) & (mi.Frame3f.cos_theta(wo) > 0.0) & (pdf > 0.0)
         bs = dr.zeros(mi.BSDFSample3f)
-        bs.wo = wo
+        bs.wo = wo if frame is None else si.sh_frame.to_local(frame.to_world(wo))
+        ok &= self._above_geometry(si, bs.wo)
         bs.pdf = dr.select(ok, pdf, 0.0)
         bs.eta = 1.0
         bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.GlossyReflection), mi.UInt32(+mi.BSDFFlags.DiffuseReflection))

@@ -9,8 +9,10 @@
 #   part truth2: the same for the pine (its camera, 2%, 5%, 10%) and the 1.93M-triangle file
 #     (the helmet copied 5x5x5 without de-duplication: its camera, 5%, 10%).
 #   part refs: `render --graph reference (16 paths a frame) --frames 256` (4,096 paths a pixel
-#     and the warm-up's) to linear EXR at 256x256 for cornell, box, default, and at 256x144 for
-#     the atrium and the helmet: the images compare.py checks against Mitsuba 3.
+#     and the warm-up's) to linear EXR at 256x256 for cornell, box, default and Khronos'
+#     NormalTangentMirrorTest, and at 256x144 for the atrium and the helmet: the images
+#     compare.py checks against Mitsuba 3 (docs/experiments/ground_truth/mitsuba.sh renders them
+#     on the local device instead).
 set -u
 PART=${1:-truth1}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
@@ -35,7 +37,8 @@ case $PART in
   refs)
     mkdir -p $OUT/r/refs
     sed 's/"path": Layer(layer: "rt_path", inputs/"path": Layer(layer: "rt_path", params: {"samples": 16}, inputs/' $ROOT/graph/reference.ron > /tmp/empty/reference16.ron
-    for s in cornell:256:256 box:256:256 default:256:256 atrium:256:144 helmet=$HELMET:256:144; do
+    NTMT=$ROOT/assets/khronos/NormalTangentMirrorTest/glTF/NormalTangentMirrorTest.gltf
+    for s in cornell:256:256 box:256:256 default:256:256 atrium:256:144 helmet=$HELMET:256:144 ntmt=$NTMT:256:256; do
       spec=${s%%:*}; rest=${s#*:}; name=${spec%%=*}; scene=${spec#*=}
       $RG render --graph /tmp/empty/reference16.ron --backend compute --scene $scene --width ${rest%%:*} --height ${rest#*:} --frames 256 --out $OUT/r/refs/$name.exr > $OUT/r/refs/ref_$name.log 2>&1
       grep -E "path/path|wall" $OUT/r/refs/ref_$name.log
