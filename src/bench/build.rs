@@ -123,7 +123,7 @@ pub fn run(
                         Err(e) => return Err(e),
                     };
                 // Warm-up until the trace time settles: pipeline, caches and clocks.
-                WarmUp::for_gpu(gpu, 1).until_settled(|| tracer.time_closest(gpu, &rays).map(|(_, ms)| ms.unwrap_or(0.0)))?;
+                WarmUp::for_gpu(gpu, 1).until_settled(gpu, || tracer.time_closest(gpu, &rays).map(|(_, ms)| ms.unwrap_or(0.0)))?;
                 let (stats, trace_ms) = tracer.time_closest(gpu, &rays)?;
                 let b = tracer.build_report();
                 let cpu_builder = backend == Backend::Compute;
@@ -420,7 +420,7 @@ pub fn run_gpu_builds(gpu: &Gpu, cfg: &BuildBenchConfig, builds: u32) -> Result<
         let cpu = merge(&merged, &origin, cpu_blas.unwrap_or_default());
         let (mut times, mut phases, mut walls, mut last) = (Vec::new(), vec![Vec::new(); 4], Vec::new(), None);
         // Warm-up until the build's kernel time settles (clocks, caches).
-        WarmUp::for_gpu(gpu, 1).until_settled(|| {
+        WarmUp::for_gpu(gpu, 1).until_settled(gpu, || {
             let b = builder.build(gpu.device(), gpu.queue(), &input).map_err(fail)?;
             Ok::<f64, RuntimeError>(b.gpu_ms.unwrap_or(0.0))
         })?;
@@ -492,7 +492,7 @@ fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64
     if !rebuild()?.1.blas_gpu_built {
         return Ok(None);
     }
-    WarmUp::for_gpu(gpu, 1).until_settled(|| rebuild().map(|(ms, _)| ms))?;
+    WarmUp::for_gpu(gpu, 1).until_settled(gpu, || rebuild().map(|(ms, _)| ms))?;
     let (mut walls, mut parts) = (Vec::new(), [Vec::new(), Vec::new(), Vec::new()]);
     for _ in 0..builds {
         let (ms, report) = rebuild()?;

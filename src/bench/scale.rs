@@ -132,9 +132,9 @@ fn gpu_builder_ms(gpu: &Gpu, scene: &Scene) -> Result<f64, String> {
     let builder = GpuBlasBuilder::new(gpu.device()).map_err(|e| e.to_string())?;
     let (merged, origin) = crate::accel::layout::merge_instances(scene);
     let input = merged_triangles(&merged, &origin);
-    let mut build = || builder.build(gpu.device(), gpu.queue(), &input).map(|b| b.gpu_ms.unwrap_or(f64::NAN)).map_err(|e| e.to_string());
-    crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).until_settled(&mut build)?;
-    let mut times = vec![build()?, build()?, build()?];
+    let mut build = || builder.build(gpu.device(), gpu.queue(), &input).map(|b| b.gpu_ms.unwrap_or(f64::NAN)).map_err(|e| RuntimeError::Gpu(e.to_string()));
+    crate::runtime::warm_up::WarmUp::for_gpu(gpu, 1).until_settled(gpu, &mut build).map_err(|e| e.to_string())?;
+    let mut times = (0..3).map(|_| build()).collect::<Result<Vec<f64>, RuntimeError>>().map_err(|e| e.to_string())?;
     Ok(median(&mut times))
 }
 

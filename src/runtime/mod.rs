@@ -6,6 +6,8 @@
 // The batch tracer waits for its rays, which a browser's main thread cannot.
 #[cfg(not(target_arch = "wasm32"))]
 pub mod batch;
+#[cfg(not(target_arch = "wasm32"))]
+pub(crate) mod clock_pump;
 pub mod deform;
 pub mod exec;
 pub mod gpu;

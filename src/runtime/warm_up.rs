@@ -7,7 +7,9 @@
 //! 15 ms of work) then left the timed frames to measure the climb back, 1.7-2.3x slow
 //! (BENCHMARKS.md, "The slow executors were idle clocks"). Whether a warm-up is enough is read
 //! from the frames themselves: the median of the last three frame times against the median of
-//! the three before.
+//! the three before. Short frames leave the GPU idle between them, which can hold the clocks at
+//! an intermediate level whose frame times look settled: so on a hardware GPU warm-up starts
+//! with a kernel that keeps it fully busy (`clock_pump`).
 
 use super::gpu::Gpu;
 use super::profiler::FrameTimings;
@@ -25,17 +27,20 @@ pub struct WarmUp {
     pub max_seconds: f64,
     /// Settled: the last three frames' median within this fraction of the three before.
     pub tolerance: f64,
+    /// Seconds of a full-load kernel before the first frame (0: none).
+    pub pump_seconds: f64,
 }
 
 /// Frames compared to decide whether the frame time has settled: two windows of three.
 const WINDOW: usize = 3;
 
 impl WarmUp {
-    /// For a hardware GPU: at least 0.5 s of frames, settled within 3%, at most 5 s.
-    pub const GPU: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.5, max_seconds: 5.0, tolerance: 0.03 };
+    /// For a hardware GPU: 0.3 s of full load, then at least 0.5 s of frames, settled within 3%,
+    /// at most 5 s.
+    pub const GPU: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.5, max_seconds: 5.0, tolerance: 0.03, pump_seconds: 0.3 };
     /// For a software adapter (lavapipe): no clocks to raise, so only the settling test, within
     /// 10% (CPU frame times are noisier), at most 1 s.
-    pub(crate) const SOFTWARE: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.0, max_seconds: 1.0, tolerance: 0.10 };
+    pub(crate) const SOFTWARE: WarmUp = WarmUp { min_frames: 2 * WINDOW as u32, min_seconds: 0.0, max_seconds: 1.0, tolerance: 0.10, pump_seconds: 0.0 };
 
     /// The policy for `gpu`'s adapter, with at least `min_frames` frames.
     pub fn for_gpu(gpu: &Gpu, min_frames: u32) -> WarmUp {
@@ -61,13 +66,17 @@ impl WarmUp {
     /// Renders untimed frames of `exec` with `camera` until [`Self::settled`]; returns how many.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn run(&self, gpu: &Gpu, exec: &mut Executor, scene: &Scene, camera: &Camera) -> Result<u32, RuntimeError> {
-        self.until_settled(|| exec.render(gpu, camera, scene).map(|frame| gpu_ms(&frame)))
+        self.until_settled(gpu, || exec.render(gpu, camera, scene).map(|frame| gpu_ms(&frame)))
     }
 
-    /// Runs untimed repetitions of any measured work (`measure` returns its milliseconds: a
-    /// build's kernels, a rebuild's wall time) until [`Self::settled`]; returns how many.
+    /// Runs untimed repetitions of any measured work on `gpu` (`measure` returns its
+    /// milliseconds: a build's kernels, a rebuild's wall time) until [`Self::settled`], after
+    /// `pump_seconds` of full load; returns how many.
     #[cfg(not(target_arch = "wasm32"))]
-    pub(crate) fn until_settled<E>(&self, mut measure: impl FnMut() -> Result<f64, E>) -> Result<u32, E> {
+    pub(crate) fn until_settled<E: From<RuntimeError>>(&self, gpu: &Gpu, mut measure: impl FnMut() -> Result<f64, E>) -> Result<u32, E> {
+        if self.pump_seconds > 0.0 {
+            super::clock_pump::raise_clocks(gpu, self.pump_seconds)?;
+        }
         let start = Instant::now();
         let mut times = Vec::new();
         loop {

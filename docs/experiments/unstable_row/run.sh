@@ -14,13 +14,13 @@ OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r/unstable
 cd $OUT/r/unstable
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader > device.txt
 mkdir -p /tmp/empty && cd /tmp/empty
-$RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
+$RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > $OUT/r/unstable/export.log 2>&1 || { cat $OUT/r/unstable/export.log; exit 1; }
 nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,power.draw,utilization.gpu,memory.used,clocks_throttle_reasons.active \
   --format=csv -lms 100 > $OUT/r/unstable/smi.csv &
 SMI=$!
 for k in 1 2 3; do
   echo "run $k start $(date +%H:%M:%S.%N)" >> $OUT/r/unstable/marks.txt
-  timeout 150 $RG bench rays --scenes helmet_5x5x5=/tmp/helmet_5x5x5.glb --coverage 0.02 --out $OUT/r/unstable/run$k > $OUT/r/unstable/run$k.log 2>&1
+  timeout 150 $RG bench rays --scenes /tmp/helmet_5x5x5.glb --coverage 0.02 --out $OUT/r/unstable/run$k > $OUT/r/unstable/run$k.log 2>&1
   echo "run $k end $(date +%H:%M:%S.%N)" >> $OUT/r/unstable/marks.txt
   grep -E "at 2%" $OUT/r/unstable/run$k/*.md | head -4
 done
