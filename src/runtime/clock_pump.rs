@@ -37,6 +37,7 @@ const WORKGROUPS: u32 = 2048;
 const SUBMISSION_MS: f64 = 10.0;
 /// Loop iterations of the first submission, doubled until a submission lasts SUBMISSION_MS.
 const FIRST_ITERATIONS: u32 = 256;
+/// Loop iterations at most (far beyond SUBMISSION_MS on any GPU).
 const MAX_ITERATIONS: u32 = 1 << 22;
 
 /// Keeps `gpu` busy for `seconds` of wall time (at least one submission).

@@ -232,7 +232,8 @@ fn textures(w: &mut Writer, scene: &Scene) -> Result<Vec<Option<String>>, SceneE
 }
 
 /// Material `i` as a `raygraph` BSDF with id `mat{i}` (its normal map applied by the plugin
-/// itself, as raygraph's shaders apply it; inside `twosided` for a double-sided one), and warnings for what it cannot show.
+/// itself, as raygraph's shaders apply it; inside `twosided` for a double-sided one), and
+/// warnings for what it cannot show.
 fn material(w: &mut Writer, i: usize, m: &Material, textures: &[Option<String>]) {
     material_warnings(w, m);
     let lobes = &m.lobes;

@@ -29,8 +29,9 @@ normal itself where the uvs are degenerate. Mitsuba's own `normalmap` builds its
 n x t on every triangle, which reads one axis flipped where uvs are mirrored.
 
 The surface is one-sided like raygraph's lighting (n.l <= 0 or n.v <= 0: no reflection);
-the export wraps double-sided materials in `twosided`. Roughness 0 makes D a delta that
-raygraph's formula evaluates to 0 (or NaN at n.h = 1): alpha is clamped to ALPHA_MIN here.
+the export wraps double-sided materials in `twosided`. Roughness is clamped to [0.02, 1] as
+raygraph clamps it (shaders/common/surface.wgsl): below that, a^2 is lost in float precision in
+D's n.h^2 (a^2 - 1) + 1, and the clamp is part of raygraph's surfaces anyway.
 
 Written with Dr.Jit operations only, so it runs in every variant (scalar_rgb, llvm_ad_rgb,
 cuda_ad_rgb). Import this module (after mi.set_variant) before loading an exported scene.
@@ -39,7 +40,6 @@ cuda_ad_rgb). Import this module (after mi.set_variant) before loading an export
 import drjit as dr
 import mitsuba as mi
 
-ALPHA_MIN = 1e-4
 ROUGHNESS_MIN = 0.02
 N_V_MIN = 1e-4
 
@@ -94,7 +94,7 @@ class RaygraphBSDF(mi.BSDF):
 
     @staticmethod
     def _alpha(roughness):
-        return dr.maximum(roughness * roughness, ALPHA_MIN)
+        return roughness * roughness
 
     @staticmethod
     def _ggx_d(n_h, a):
