@@ -21,6 +21,7 @@ use common::disk::{disk_over_floor, disk_rim, form_factor};
 use common::{gpu, TempProject};
 use glam::{Mat4, Vec3};
 use raygraph::backend::Backend;
+use raygraph::bench::truth;
 use raygraph::graph::compile::compile_with;
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::builtin::{cube, default_scene, plane};
@@ -175,7 +176,7 @@ fn under_an_emissive_disk_the_floor_shows_albedo_times_emission_times_the_form_f
 /// each with its image and ꟻLIP map, finite errors, and the reference's own image.
 #[test]
 fn bench_truth_measures_every_mode_and_the_path_tracer_at_its_time() {
-    use raygraph::bench::truth::{self, TruthConfig, TRUTH_MODES};
+    use raygraph::bench::truth::{TruthConfig, TRUTH_MODES};
     let gpu = gpu();
     let out = std::env::temp_dir().join(format!("raygraph-truth-{}", std::process::id()));
     std::fs::create_dir_all(&out).unwrap();
@@ -225,21 +226,14 @@ fn the_cornell_box_matches_mitsuba_3() {
     let scene = raygraph::scene::open("cornell", &Default::default()).unwrap().0;
     let backend = gpu.selection().backend;
     let texels = accumulate_at(&gpu, backend, &scene, (w, h), 16, 32);
-    // Sums of raygraph's and Mitsuba's radiance per channel, and of the relMSE, over the pixels
-    // raygraph covers fully (elsewhere Mitsuba's environment is black, raygraph's backdrop the
-    // tone map's).
-    let (mut sums, mut reference_sums, mut rel_mse, mut n) = ([0.0f64; 3], [0.0f64; 3], 0.0f64, 0usize);
-    for (t, r) in texels.iter().zip(reference.pixels()).filter(|(t, _)| t[3] >= 0.999) {
-        for c in 0..3 {
-            let (t, r) = (t[c] as f64, r[c] as f64);
-            sums[c] += t;
-            reference_sums[c] += r;
-            rel_mse += (t - r).powi(2) / (r * r + 0.01) / 3.0;
-        }
-        n += 1;
-    }
-    let ratios: Vec<f64> = (0..3).map(|c| sums[c] / reference_sums[c]).collect();
-    rel_mse /= n as f64;
+    // The pixels raygraph covers fully (elsewhere Mitsuba's environment is black, raygraph's
+    // backdrop the tone map's): their mean radiance per channel, and bench truth's relMSE.
+    let (covered, covered_reference): (Vec<[f32; 4]>, Vec<[f32; 4]>) =
+        texels.iter().zip(reference.pixels()).filter(|(t, _)| t[3] >= 0.999).map(|(t, r)| (*t, r.0)).unzip();
+    let n = covered.len();
+    let sum = |pixels: &[[f32; 4]], c: usize| pixels.iter().map(|p| p[c] as f64).sum::<f64>();
+    let ratios: Vec<f64> = (0..3).map(|c| sum(&covered, c) / sum(&covered_reference, c)).collect();
+    let rel_mse = truth::rel_mse(&covered_reference, &covered);
     println!("{backend}: {n} pixels; mean radiance over Mitsuba's: {ratios:?}; relMSE {rel_mse:.5}");
     assert!(n as u32 > w * h * 3 / 4, "{n} pixels covered");
     // Measured: 1.0012 / 1.0009 / 1.0009 (the mean's own noise is about 0.05%).

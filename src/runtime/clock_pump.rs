@@ -52,12 +52,7 @@ pub(crate) fn raise_clocks(gpu: &Gpu, seconds: f64) -> Result<(), RuntimeError> 
         compilation_options: Default::default(),
         cache: None,
     });
-    let sink = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("clock pump sink"),
-        size: 4096,
-        usage: wgpu::BufferUsages::STORAGE,
-        mapped_at_creation: false,
-    });
+    let sink = crate::gpu_util::storage_buffer(device, "clock pump sink", 4096);
     let params = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("clock pump iterations"),
         size: 16,

@@ -114,14 +114,14 @@ def compare(mi, reference, test, out, covered=None):
     quantiles = np.percentile(judged, [50, 90, 99])
     print(f"relMSE (epsilon {RELMSE_EPSILON}) over {judged.size} pixels: {judged.mean():.6f} (per pixel: median {quantiles[0]:.2e}, "
           f"90% {quantiles[1]:.2e}, 99% {quantiles[2]:.2e}, max {judged.max():.2e})")
-    trimmed = np.sort(judged)[: int(judged.size * 0.999)].mean()
+    # The pixels the trimmed figures keep: all but the 0.1% of largest relMSE (fireflies of either image).
+    kept = np.argsort(judged, kind="stable")[: int(judged.size * 0.999)]
+    trimmed = judged[kept].mean()
     print(f"relMSE without the 0.1% largest pixels (fireflies): {trimmed:.6f}")
     print(f"HDR-FLIP mean: {flip_mean:.6f}")
     print(f"mean radiance: reference {reference.mean(axis=(0, 1))}, test {test.mean(axis=(0, 1))}")
-    # The same ratio without the pixels the trimmed relMSE leaves out (fireflies of either image).
     ref_px = reference[covered] if covered is not None else reference.reshape(-1, 3)
     test_px = test[covered] if covered is not None else test.reshape(-1, 3)
-    kept = np.argsort(judged, kind="stable")[: int(judged.size * 0.999)]
     ratio = test_px[kept].sum(axis=0) / np.maximum(ref_px[kept].sum(axis=0), 1e-30)
     print(f"mean radiance ratio test / reference without the 0.1% largest pixels: {ratio}")
     return judged.mean(), flip_mean

@@ -150,12 +150,13 @@ class RaygraphBSDF(mi.BSDF):
     def _eval_pdf(self, si, wo, active):
         frame = self._frame(si, active)
         active = active & self._above_geometry(si, wo)
-        value, pdf = self._eval_pdf_local(si, self._to_frame(si, frame, si.wi), self._to_frame(si, frame, wo), active)
-        return dr.select(active, value, 0.0), dr.select(active, pdf, 0.0)
+        point = self._point(si, active)
+        return self._eval_pdf_local(point, self._to_frame(si, frame, si.wi), self._to_frame(si, frame, wo), active)
 
-    # f(v, l) n.l, and the pdf of sampling l, for v and l (= wo) local to the shading frame.
-    def _eval_pdf_local(self, si, v, wo, active):
-        albedo, metallic, roughness, f0, f90 = self._point(si, active)
+    # f(v, l) n.l, and the pdf of sampling l, for v and l (= wo) local to the shading frame, at
+    # the material point `point` (_point); 0 for both where not `active`.
+    def _eval_pdf_local(self, point, v, wo, active):
+        albedo, metallic, roughness, f0, f90 = point
         n_l = mi.Frame3f.cos_theta(wo)
         cos_v = mi.Frame3f.cos_theta(v)
         valid = active & (n_l > 0.0) & (cos_v > 0.0)
@@ -187,7 +188,8 @@ class RaygraphBSDF(mi.BSDF):
         return self._eval_pdf(si, wo, active)
 
     def sample(self, ctx, si, sample1, sample2, active=True):
-        albedo, metallic, roughness, f0, f90 = self._point(si, active)
+        point = self._point(si, active)
+        albedo, metallic, roughness, f0, f90 = point
         frame = self._frame(si, active)
         v = self._to_frame(si, frame, si.wi)
         cos_v = mi.Frame3f.cos_theta(v)
@@ -205,7 +207,7 @@ class RaygraphBSDF(mi.BSDF):
         reflected = 2.0 * dr.dot(v, h) * h - v
         cosine = mi.warp.square_to_cosine_hemisphere(sample2)
         wo = dr.select(pick_spec, reflected, cosine)
-        value, pdf = self._eval_pdf_local(si, v, wo, active)
+        value, pdf = self._eval_pdf_local(point, v, wo, active)
         ok = active & (cos_v > 0.0) & (mi.Frame3f.cos_theta(wo) > 0.0) & (pdf > 0.0)
         bs = dr.zeros(mi.BSDFSample3f)
         bs.wo = wo if frame is None else si.sh_frame.to_local(frame.to_world(wo))
