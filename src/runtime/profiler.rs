@@ -138,6 +138,11 @@ pub struct FramePhases {
     pub wait_ms: f64,
     /// Reading back the timestamps, the ray counters and the SAH probe.
     pub readback_ms: f64,
+    /// Of `submit`: the CPU time of finishing the frame's command buffers (where wgpu encodes
+    /// their passes), summed over the threads that finished them in parallel.
+    pub encode_cpu_ms: f64,
+    /// How many encoders the frame was recorded into ([`crate::runtime::gpu::Gpu::frame_encoders`]).
+    pub encoders: u32,
 }
 
 impl FramePhases {
@@ -150,6 +155,13 @@ impl FramePhases {
     pub fn describe(parts: &[(&str, f64)]) -> String {
         let list: Vec<String> = parts.iter().map(|(name, ms)| format!("{name} {ms:.3}")).collect();
         format!("{} ms", list.join(", "))
+    }
+
+    /// The medians over `frames` of every part and of the encoding's CPU time, in a line.
+    pub fn describe_frames(frames: &[FrameTimings]) -> String {
+        let encode = median(&mut frames.iter().map(|f| f.phases.encode_cpu_ms).collect::<Vec<_>>());
+        let encoders = frames.last().map_or(1, |f| f.phases.encoders);
+        format!("{}; of submit, finishing the command buffers {encode:.3} ms of CPU ({encoders} encoders in parallel)", Self::describe(&Self::medians(frames)))
     }
 
     /// The median of each part over `frames`.
@@ -229,6 +241,6 @@ pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings], pix
     let gpu_total = if frames.iter().all(|f| f.gpu_ms.is_some()) { format!("{gpu_total:>10.3}") } else { format!("{:>10}", "n/a") };
     let _ = writeln!(s, "{:<30} {:<12} {gpu_total} {cpu_total:>10.3}", "total (passes)", "");
     let _ = writeln!(s, "frame wall time (median of {}): {:.3} ms", frames.len(), median(&mut frame));
-    let _ = writeln!(s, "outside the passes (medians): {}", FramePhases::describe(&FramePhases::medians(frames)));
+    let _ = writeln!(s, "outside the passes (medians): {}", FramePhases::describe_frames(frames));
     s
 }

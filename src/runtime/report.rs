@@ -182,7 +182,7 @@ impl Report {
         let _ = writeln!(
             s,
             "outside the passes (medians): {}",
-            crate::runtime::profiler::FramePhases::describe(&crate::runtime::profiler::FramePhases::medians(&self.frames))
+            crate::runtime::profiler::FramePhases::describe_frames(&self.frames)
         );
         s
     }

@@ -314,7 +314,7 @@ fn profiler_totals(ui: &mut egui::Ui, f: &Frame, rows: &[(String, String, Option
     let wall = session.frames().back().map(|t| t.frame_ms).unwrap_or(0.0);
     ui.label(format!("GPU {total:.3} ms (passes, median of {} frames)  |  frame {wall:.2} ms wall", session.frames().len()));
     let frames: Vec<_> = session.frames().iter().cloned().collect();
-    ui.label(RichText::new(format!("outside the passes: {}", FramePhases::describe(&FramePhases::medians(&frames)))).small());
+    ui.label(RichText::new(format!("outside the passes: {}", FramePhases::describe_frames(&frames))).small());
 }
 
 /// The table of passes: a name to click (showing its output), a bar of its GPU time against the
