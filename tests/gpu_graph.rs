@@ -152,26 +152,3 @@ fn compute_nodes_merged_into_one_pass_keep_a_gpu_time_each_and_the_image() {
     }
     assert!(images[0] == images[1], "merging the compute nodes changed the image");
 }
-
-#[test]
-fn a_frame_recorded_into_several_encoders_renders_the_image_of_one() {
-    let mut gpu = gpu();
-    let path = common::repo().join("graph/hybrid_denoised.ron");
-    let scene = default_scene();
-    let mut images = Vec::new();
-    for most in [1, 4] {
-        gpu.set_frame_encoders(most);
-        let plan = compile_with(&path, &Project::beside_graph(&path), (W, H), &gpu.compile_options()).unwrap();
-        let passes = plan.passes().len();
-        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-        for frame in 0..3 {
-            let t = exec.render(&gpu, scene.camera(), &scene).unwrap();
-            // One encoder per worker thread, at most `most`, at least two passes to each.
-            let expected = rayon::current_num_threads().min(most).min(passes / 2).max(1) as u32;
-            assert_eq!(t.phases.encoders, expected, "at most {most} encoders, frame {frame}");
-            assert!(t.phases.encode_cpu_ms > 0.0 && t.phases.encode_cpu_ms.is_finite());
-        }
-        images.push(exec.read_output(&gpu).unwrap().into_raw());
-    }
-    assert!(images[0] == images[1], "recording the frame into several encoders changed the image");
-}

@@ -299,17 +299,20 @@ fn write_all_writes_three_files_atomically() {
 #[test]
 fn the_time_outside_the_passes_is_reported_by_part() {
     // Three frames whose parts differ: the report's line carries each part's median.
-    let phases = [(0.2, 0.03, 0.5, 4.0, 0.1), (0.4, 0.01, 0.7, 6.0, 0.3), (0.3, 0.02, 0.6, 5.0, 0.2)];
+    let phases = [(0.2, 0.03, 0.5, 4.0, 0.1, 0.35), (0.4, 0.01, 0.7, 6.0, 0.3, 0.45), (0.3, 0.02, 0.6, 5.0, 0.2, 0.4)];
     let frames: Vec<FrameTimings> = phases
         .iter()
-        .map(|&(scene_ms, uniforms_ms, submit_ms, wait_ms, readback_ms)| FrameTimings {
-            phases: FramePhases { scene_ms, uniforms_ms, submit_ms, wait_ms, readback_ms },
+        .map(|&(scene_ms, uniforms_ms, submit_ms, wait_ms, readback_ms, finish_ms)| FrameTimings {
+            phases: FramePhases { scene_ms, uniforms_ms, submit_ms, wait_ms, readback_ms, finish_ms },
             ..frame(Some(&[1.0]), &[0.1], 7.0, &[None])
         })
         .collect();
     let report = Report::new(&names(&[("a", "compute")]), 100, &frames);
     let md = report.to_markdown();
-    assert!(md.contains("outside the passes (medians): scene update 0.300, uniforms 0.020, submit 0.600, wait 5.000, read-back 0.200 ms"), "{md}");
+    assert!(
+        md.contains("outside the passes (medians): scene update 0.300, uniforms 0.020, submit 0.600, wait 5.000, read-back 0.200 ms; of submit, finishing the command encoder 0.400 ms"),
+        "{md}"
+    );
     let table = raygraph::runtime::profiler::pass_table(&names(&[("a", "compute")]), &frames, 100);
     assert!(table.contains("outside the passes (medians): scene update 0.300"), "{table}");
 }
@@ -330,5 +333,6 @@ fn a_rendered_frame_accounts_for_its_time_outside_the_passes() {
         // The parts and the passes' recording are disjoint stretches of the frame's wall time.
         assert!(outside + recording <= f.frame_ms + 1e-6, "{parts:?} + recording {recording} > frame {}", f.frame_ms);
         assert!(f.phases.wait_ms > 0.0, "the wait for the GPU is measured");
+        assert!(f.phases.finish_ms > 0.0 && f.phases.finish_ms <= f.phases.submit_ms, "finishing the encoder is part of submit: {:?}", f.phases);
     }
 }

@@ -42,8 +42,6 @@ pub struct Gpu {
     /// Consecutive compute nodes of a frame are recorded into one compute pass, each between
     /// timestamps written inside it ([`Gpu::merges_compute_passes`]).
     merge_compute_passes: bool,
-    /// [`Gpu::frame_encoders`].
-    frame_encoders: usize,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
     /// one texture per element instead of as one resampled texture array.
     texture_binding_arrays: bool,
@@ -115,19 +113,6 @@ impl Gpu {
     /// with the timestamps of its descriptor. The GPU time of every node is measured either way.
     pub fn merges_compute_passes(&self) -> bool {
         self.merge_compute_passes
-    }
-
-    /// At most how many encoders an executor records a frame into, finished in parallel
-    /// (`RAYGRAPH_FRAME_ENCODERS`, default [`DEFAULT_FRAME_ENCODERS`]; 1: one encoder,
-    /// finished on the recording thread). A frame gets fewer on a machine with fewer worker
-    /// threads or a graph of few passes.
-    pub fn frame_encoders(&self) -> usize {
-        self.frame_encoders
-    }
-
-    /// Sets [`Gpu::frame_encoders`] (at least 1) for executors' frames from now on.
-    pub fn set_frame_encoders(&mut self, most: usize) {
-        self.frame_encoders = most.max(1);
     }
 
     /// Turns [`Gpu::merges_compute_passes`] on (where the device can) or off, for executors'
@@ -236,11 +221,6 @@ const TIMESTAMPS_INSIDE: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY_INSIDE
 /// Whether a device with `features` records consecutive compute nodes into one pass, each
 /// node timed inside it: it writes timestamps inside passes and encoders. A device without
 /// timestamps (the browser's) keeps one pass per node, the path its page was checked on.
-/// At most how many encoders a frame is recorded into by default ([`Gpu::frame_encoders`]): past
-/// four, the submission's own per-command-buffer work grows while each encoder's finishing no
-/// longer shrinks much.
-pub const DEFAULT_FRAME_ENCODERS: usize = 4;
-
 fn can_merge_compute_passes(features: wgpu::Features) -> bool {
     features.contains(wgpu::Features::TIMESTAMP_QUERY) && features.contains(TIMESTAMPS_INSIDE)
 }
@@ -491,7 +471,6 @@ impl Gpu {
             info,
             timestamps,
             merge_compute_passes,
-            frame_encoders: std::env::var("RAYGRAPH_FRAME_ENCODERS").ok().and_then(|v| v.parse::<usize>().ok()).unwrap_or(DEFAULT_FRAME_ENCODERS).max(1),
             texture_binding_arrays,
             packed_accel_arrays,
             selection,

@@ -138,11 +138,9 @@ pub struct FramePhases {
     pub wait_ms: f64,
     /// Reading back the timestamps, the ray counters and the SAH probe.
     pub readback_ms: f64,
-    /// Of `submit`: the CPU time of finishing the frame's command buffers (where wgpu encodes
-    /// their passes), summed over the threads that finished them in parallel.
-    pub encode_cpu_ms: f64,
-    /// How many encoders the frame was recorded into ([`crate::runtime::gpu::Gpu::frame_encoders`]).
-    pub encoders: u32,
+    /// Of `submit`: finishing the frame's command encoder, where wgpu encodes its passes
+    /// (validation, resource tracking, the driver's commands).
+    pub finish_ms: f64,
 }
 
 impl FramePhases {
@@ -157,11 +155,10 @@ impl FramePhases {
         format!("{} ms", list.join(", "))
     }
 
-    /// The medians over `frames` of every part and of the encoding's CPU time, in a line.
+    /// The medians over `frames` of every part, and of the finishing inside `submit`, in a line.
     pub fn describe_frames(frames: &[FrameTimings]) -> String {
-        let encode = median(&mut frames.iter().map(|f| f.phases.encode_cpu_ms).collect::<Vec<_>>());
-        let encoders = frames.last().map_or(1, |f| f.phases.encoders);
-        format!("{}; of submit, finishing the command buffers {encode:.3} ms of CPU ({encoders} encoders in parallel)", Self::describe(&Self::medians(frames)))
+        let finish = median(&mut frames.iter().map(|f| f.phases.finish_ms).collect::<Vec<_>>());
+        format!("{}; of submit, finishing the command encoder {finish:.3} ms", Self::describe(&Self::medians(frames)))
     }
 
     /// The median of each part over `frames`.

@@ -179,11 +179,7 @@ impl Report {
             med(self.cpu_total_ms),
             med(self.frame_ms)
         );
-        let _ = writeln!(
-            s,
-            "outside the passes (medians): {}",
-            crate::runtime::profiler::FramePhases::describe_frames(&self.frames)
-        );
+        let _ = writeln!(s, "outside the passes (medians): {}", crate::runtime::profiler::FramePhases::describe_frames(&self.frames));
         s
     }
 

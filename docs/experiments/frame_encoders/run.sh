@@ -1,6 +1,7 @@
 #!/bin/bash
-# The frame recorded into several encoders finished in parallel (src/runtime/exec/commands.rs)
-# against one encoder finished at submission (RAYGRAPH_FRAME_ENCODERS=1), one binary, one
+# The frame recorded into several encoders finished in parallel (src/runtime/exec/commands.rs
+# of commit 495c5d3, taken out after this run: build .gpu/raygraph from that commit) against
+# one encoder finished at submission (RAYGRAPH_FRAME_ENCODERS=1), one binary, one
 # session: `render --report` (2560x1440, 60 frames, `compute`) of the five built-in graphs on
 # the atrium copied 1 and 3 times per axis (262k and 7.1M unique triangles), one encoder and
 # the default one after the other for each row; then full RT and raster on 5 copies per axis

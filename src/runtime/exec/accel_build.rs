@@ -42,7 +42,7 @@ impl Executor {
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        commands: &mut super::commands::FrameCommands,
+        command_buffers: &mut Vec<wgpu::CommandBuffer>,
         inputs: &FrameInputs,
     ) -> Result<Option<(BuildReport, f64)>, RuntimeError> {
         let scene = inputs.scene;
@@ -59,8 +59,9 @@ impl Executor {
         // The rt-pipeline back-end's build, recorded through wgpu-hal: submitted between the
         // node's timestamps, before every trace.
         if let Some(build) = cache.take_pending() {
-            commands.cut(gpu, encoder);
-            commands.push_finished(build);
+            let next = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+            command_buffers.push(std::mem::replace(encoder, next).finish());
+            command_buffers.push(build);
         }
         if let Some(t) = &self.timer {
             t.mark(encoder, index, true, inputs.merged, "accel end");

@@ -10,7 +10,6 @@
 
 mod accel_build;
 mod bindings;
-mod commands;
 mod compute;
 mod draws;
 pub mod features;
@@ -169,9 +168,9 @@ pub struct Executor {
 /// One frame while it is recorded.
 struct FrameRecording {
     encoder: wgpu::CommandEncoder,
-    /// What comes before `encoder`, in submission order: encoders cut between passes, to be
-    /// finished in parallel, and command buffers of their own (rt-pipeline passes).
-    commands: commands::FrameCommands,
+    /// Command buffers before `encoder`'s, in submission order (rt-pipeline passes record
+    /// into command buffers of their own).
+    command_buffers: Vec<wgpu::CommandBuffer>,
     /// CPU milliseconds of recording each pass.
     cpu_ms: Vec<f64>,
     /// The `Accel` node's build report and its CPU milliseconds.
@@ -351,7 +350,7 @@ impl Executor {
         let scope = gpu.scopes();
         let mut frame = FrameRecording {
             encoder: gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") }),
-            commands: commands::FrameCommands::default(),
+            command_buffers: Vec::new(),
             cpu_ms: Vec::with_capacity(self.passes.len()),
             accel_report: None,
         };
@@ -360,9 +359,9 @@ impl Executor {
         // Before every pass: rasterized and traced passes alike see this frame's shapes.
         self.record_deform(gpu, &mut frame.encoder, scene);
         self.record_passes(gpu, &mut frame, &inputs)?;
-        let FrameRecording { encoder, commands, cpu_ms, accel_report } = frame;
+        let FrameRecording { encoder, command_buffers, cpu_ms, accel_report } = frame;
         let t = Instant::now();
-        (phases.encode_cpu_ms, phases.encoders) = self.submit(gpu, encoder, commands)?;
+        phases.finish_ms = self.submit(gpu, encoder, command_buffers);
         scope.finish_async(gpu, "recording the frame").await?;
         phases.submit_ms = ms(t);
         let t = Instant::now();
@@ -403,26 +402,17 @@ impl Executor {
 
     /// Records every pass of the frame in schedule order: each run of consecutive compute nodes
     /// as one compute pass where `inputs.merged` ([`Executor::compute_run_end`]), the others one
-    /// by one, into [`commands::FrameCommands::pieces_for`] encoders of about as many passes
-    /// each (a run of compute nodes cut between two), finished in parallel.
+    /// by one.
     fn record_passes(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs) -> Result<(), RuntimeError> {
-        let count = self.passes.len();
-        let per_piece = count.div_ceil(commands::FrameCommands::pieces_for(count, gpu.frame_encoders()));
-        let mut next_cut = per_piece;
         let mut i = 0;
-        while i < count {
-            // A run of compute nodes is cut too: each piece records its own compute pass.
-            let end = self.compute_run_end(inputs, i).min(next_cut);
+        while i < self.passes.len() {
+            let end = self.compute_run_end(inputs, i);
             if end > i {
                 self.record_compute_run(&mut frame.encoder, i..end, &mut frame.cpu_ms);
                 i = end;
             } else {
                 self.record_pass(gpu, frame, inputs, i)?;
                 i += 1;
-            }
-            if i >= next_cut && i < count {
-                frame.commands.cut(gpu, &mut frame.encoder);
-                next_cut = i + per_piece;
             }
         }
         Ok(())
@@ -440,7 +430,7 @@ impl Executor {
     fn record_pass(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs, i: usize) -> Result<(), RuntimeError> {
         let t0 = Instant::now();
         if matches!(self.passes[i].pipeline, Pipeline::AccelBuild) {
-            frame.accel_report = self.update_accel(gpu, &mut frame.encoder, &mut frame.commands, inputs)?;
+            frame.accel_report = self.update_accel(gpu, &mut frame.encoder, &mut frame.command_buffers, inputs)?;
             frame.cpu_ms.push(frame.accel_report.as_ref().map(|(_, ms)| *ms).unwrap_or(0.0));
             return Ok(());
         }
@@ -466,19 +456,20 @@ impl Executor {
         Ok(())
     }
 
-    /// Resolves the timestamps, copies the ray counters, finishes the frame's command buffers
-    /// and submits them. Returns the CPU milliseconds of finishing them, summed over threads,
-    /// and how many encoders the frame had.
-    fn submit(&self, gpu: &Gpu, mut encoder: wgpu::CommandEncoder, commands: commands::FrameCommands) -> Result<(f64, u32), RuntimeError> {
+    /// Resolves the timestamps, copies the ray counters and submits the frame's command
+    /// buffers. Returns the milliseconds of finishing the last encoder.
+    fn submit(&self, gpu: &Gpu, mut encoder: wgpu::CommandEncoder, mut command_buffers: Vec<wgpu::CommandBuffer>) -> f64 {
         if let Some(timer) = &self.timer {
             timer.resolve(&mut encoder, self.passes.len() as u32);
         }
         if let Some(cache) = &self.accel {
             cache.copy_stats(&mut encoder);
         }
-        let finished = commands.finish(gpu, encoder)?;
-        gpu.queue().submit(finished.command_buffers);
-        Ok((finished.encode_cpu_ms, finished.encoders))
+        let t = Instant::now();
+        command_buffers.push(encoder.finish());
+        let finish_ms = t.elapsed().as_secs_f64() * 1e3;
+        gpu.queue().submit(command_buffers);
+        finish_ms
     }
 
     /// The finished frame's timings: GPU milliseconds per pass, CPU milliseconds, and the ray

@@ -125,8 +125,9 @@ impl Executor {
         if let Some(t) = &self.timer {
             t.mark(&mut frame.encoder, i as u32, false, inputs.merged, "trace begin");
         }
-        frame.commands.cut(gpu, &mut frame.encoder);
-        frame.commands.push_finished(rt.record(pass.groups)?);
+        let next = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        frame.command_buffers.push(std::mem::replace(&mut frame.encoder, next).finish());
+        frame.command_buffers.push(rt.record(pass.groups)?);
         if let Some(t) = &self.timer {
             t.mark(&mut frame.encoder, i as u32, true, inputs.merged, "trace end");
         }
