@@ -25,8 +25,8 @@ for l in 0 0.05; do b driver_len_$l --backend rt-pipeline --ao-length $l; done
 cd $OUT && tar czf results.tgz r
 for d in r/*/; do n=$(basename $d)
   ao=$(grep -E "^atrium,[a-z-]+,ao/ao," $d/rays_passes.csv | cut -d, -f4)
-X
-  st=$(grep -E "^\| Stress " $d/rays.md | cut -d'|' -f4,5 | tr '\n' ' ')
+  row=$(grep -E "^\| atrium " $d/rays.md | cut -d'|' -f5,7,8,9,14)
+  st=$(grep -E "^\| Stress " $d/rays.md | cut -d'|' -f5,8 | tr '\n' ' ')
   echo "$n | AO ms $ao | $row | Stress $st"
 done
 rm -rf r
