@@ -14,6 +14,9 @@
 fn ao_lane_open(pixel: vec2<u32>, lane: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let origin = offset_ray_origin(p, n);
     let range = params.range + params.range_scale * frame.scene_sphere.w;
+    // Every ray of the lane stays within `range` of `origin`: they start together below the
+    // root (trace/common.wgsl).
+    let start = trace_start_within(origin, range);
     let rotation = pixel_random2(pixel, params.seed);
     // With `per_frame`, every frame draws new samples: R2 goes on along its sequence, white
     // noise is seeded again.
@@ -39,7 +42,7 @@ fn ao_lane_open(pixel: vec2<u32>, lane: u32, p: vec3<f32>, n: vec3<f32>) -> f32 
             u = fract(r2_sample(i + frame_offset * params.rays) + rotation);
         }
         if i < params.rays {
-            open += trace_transmittance(Ray(origin, 0.0, cosine_hemisphere(n, u), range));
+            open += trace_transmittance_within(Ray(origin, 0.0, cosine_hemisphere(n, u), range), start, TRACE_FLAGS_NONE);
         }
     }
     return open;

@@ -8,6 +8,14 @@
 //                               traversal, counted as one any-hit ray (common/ray_blend.wgsl)
 //   trace_closest_flags(ray, flags), trace_any_flags(ray, flags)
 //                               the same with per-ray flags (TRACE_CULL_BACK_FACES)
+//   trace_start_within(origin, radius) -> TraceStart
+//   trace_transmittance_within(ray, start, flags) -> f32
+//                               trace_transmittance_flags for rays that stay within `radius`
+//                               of `origin` (AO rays): the compute back-end finds once, for all
+//                               of them, the node under which every triangle they can reach
+//                               lies, and starts each ray there; the same result as
+//                               trace_transmittance_flags (a ray that leaves the sphere's box
+//                               takes the whole traversal). Other back-ends trace from the root.
 //   trace_flush_stats()         adds this invocation's ray counts to the GPU counters; call it
 //                               once at the end of the entry point
 // A pass includes "trace/trace.wgsl"; the back-end chosen at start-up substitutes its module
@@ -17,6 +25,19 @@
 // reach the traversal: they count as invalid and miss.
 
 //#include "common/ray.wgsl"
+
+// Where rays within a sphere start (trace_start_within): the first `count` of `nodes`, nodes
+// of the compute back-end's merged BLAS whose subtrees hold every triangle within reach (none:
+// nothing within reach), or `count` TRACE_START_ROOT (the whole traversal); `lo`, `hi` the box
+// the rays' segments must stay in.
+const TRACE_START_NODES: u32 = 4u;
+struct TraceStart {
+    count: u32,
+    nodes: array<u32, TRACE_START_NODES>,
+    lo: vec3<f32>,
+    hi: vec3<f32>,
+}
+const TRACE_START_ROOT: u32 = 0xffffffffu;
 
 // Per-ray flags of trace_closest_flags / trace_any_flags.
 const TRACE_FLAGS_NONE: u32 = 0u;

@@ -438,3 +438,82 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
     }
     return trace_transmittance_result(trace_impl(ray, true, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any);
 }
+
+// Whether boxes [a_lo, a_hi] and [b_lo, b_hi] overlap.
+fn trace_boxes_overlap(a_lo: vec3<f32>, a_hi: vec3<f32>, b_lo: vec3<f32>, b_hi: vec3<f32>) -> bool {
+    return all(a_lo <= b_hi) && all(b_lo <= a_hi);
+}
+
+// Nodes of the merged BLAS whose subtrees hold every triangle that a ray staying within
+// `radius` of `origin` can hit: from the root, a node whose box does not overlap the sphere's
+// box is dropped (a triangle such a ray hits lies in that box, and in the box of every node
+// that holds it), one with one child overlapping it gives way to that child, one with both to
+// both while there is room for TRACE_START_NODES. The box is widened by 1e-4 of the radius and
+// 1e-6 of the origin's largest coordinate, beyond the rounding of a hit's t.
+// TRACE_START_ROOT where the scene is not one merged instance (two levels, or an alpha-tested
+// instance of its own).
+fn trace_start_within(origin: vec3<f32>, radius: f32) -> TraceStart {
+    let e = radius * 1.0001 + max(max(abs(origin.x), abs(origin.y)), abs(origin.z)) * 1e-6;
+    var start = TraceStart(TRACE_START_ROOT, array<u32, TRACE_START_NODES>(), origin - vec3<f32>(e), origin + vec3<f32>(e));
+    let root = trace_tlas_node(0u);
+    if root.count != 1u || !(radius >= 0.0) {
+        return start;
+    }
+    let inst = trace_instance(root.left_or_first);
+    if inst.instance_id != MERGED_INSTANCE || inst.mask == 0u || (inst.flags & INSTANCE_ALPHA) != 0u {
+        return start;
+    }
+    start.count = select(0u, 1u, trace_boxes_overlap(root.min, root.max, start.lo, start.hi));
+    start.nodes[0] = inst.blas_root;
+    var i = 0u;
+    while i < start.count {
+        let n = trace_blas_node(start.nodes[i]);
+        if n.count > 0u {
+            i++;
+            continue;
+        }
+        let in_l = trace_boxes_overlap(trace_blas_node(n.left_or_first).min, trace_blas_node(n.left_or_first).max, start.lo, start.hi);
+        let in_r = trace_boxes_overlap(trace_blas_node(n.left_or_first + 1u).min, trace_blas_node(n.left_or_first + 1u).max, start.lo, start.hi);
+        if in_l && in_r {
+            if start.count == TRACE_START_NODES {
+                i++;
+                continue;
+            }
+            start.nodes[start.count] = n.left_or_first + 1u;
+            start.count++;
+        }
+        if in_l || in_r {
+            start.nodes[i] = select(n.left_or_first + 1u, n.left_or_first, in_l);
+        } else {
+            start.count--;
+            start.nodes[i] = start.nodes[start.count];
+        }
+    }
+    return start;
+}
+
+fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
+    if start.count == TRACE_START_ROOT {
+        return trace_transmittance_flags(ray, flags);
+    }
+    if !trace_transmittance_starts(ray) {
+        return 1.0;
+    }
+    let cull = (flags & TRACE_CULL_BACK_FACES) != 0u;
+    // A segment in the box: both its ends are (the box is convex). Else the whole traversal.
+    let end = ray.origin + ray.dir * ray.t_max;
+    if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
+        return trace_transmittance_result(trace_impl(ray, true, true, cull).any);
+    }
+    var best = TriHit(ray.t_max, 0.0, 0.0);
+    var sp = 0u;
+    let r = trace_prepare(ray.origin, ray.dir);
+    for (var k = 0u; k < start.count; k++) {
+        let node = start.nodes[k];
+        let h = trace_slab(r, trace_blas_node(node), ray.t_min, best.t);
+        if h.x <= h.y && trace_blas(node, r, ray.t_min, &best, true, true, cull, NO_HIT, &sp) != NO_HIT {
+            return trace_transmittance_result(true);
+        }
+    }
+    return trace_transmittance_result(false);
+}

@@ -1,0 +1,32 @@
+#!/bin/bash
+# AO rays started below the root (trace_start_within, shaders/trace/compute.wgsl): shader-only
+# variants side by side, one binary (the release binary reads `shaders/`, `layers/` and
+# `graph/` from the folder it runs in), one session. Variants, each a folder prepared under
+# .gpu/ before the call: v_base (the shaders before the change), v_k1, v_k4 (the default) and
+# v_k8 (TRACE_START_NODES = 1, 4, 8: how many nodes the rays of a lane start at). `bench rays
+# --scenes atrium,HELMET,PINE --coverage 0.02,0.05 --frames 10 --backend compute` in each, then
+# the driver (`--backend rt-pipeline`, v_base) once, then the base and the default again.
+# Results under $OUT (results.tgz); the rows printed last.
+set -u
+for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
+gunzip -f .gpu/raygraph.gz && chmod +x .gpu/raygraph
+RG=$PWD/.gpu/raygraph; ROOT=$PWD
+OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r
+nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv,noheader
+S=atrium,$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf
+b() { local name=$1 dir=$2; shift 2
+  if [ $SECONDS -gt 500 ]; then echo "skipped: $name"; return; fi
+  (cd $ROOT/.gpu/$dir && timeout 150 $RG bench rays --scenes $S --coverage 0.02,0.05 --frames 10 "$@" --out $OUT/r/$name > $OUT/r/$name.log 2>&1) || tail -2 $OUT/r/$name.log; }
+b base v_base --backend compute
+b k4 v_k4 --backend compute
+b k1 v_k1 --backend compute
+b k8 v_k8 --backend compute
+b driver v_base --backend rt-pipeline
+b base_2 v_base --backend compute
+b k4_2 v_k4 --backend compute
+cd $OUT && tar czf results.tgz r
+for d in r/*/; do n=$(basename $d); echo "== $n"
+  grep -E "^\| " $d/rays.md | grep -vE -- "---|^\| test" | cut -d'|' -f2,5,8 | sed -e 's#/[^ ]*/##'
+  grep -E ",ao/ao," $d/rays_passes.csv | sed -e 's#^/[^,]*/##' | cut -d, -f1,4 | tr '\n' ' '; echo
+done
+rm -rf r
