@@ -30,7 +30,9 @@
 // of the compute back-end's merged BLAS whose subtrees hold every triangle within reach (none:
 // nothing within reach), or `count` TRACE_START_ROOT (the whole traversal); `lo`, `hi` the box
 // the rays' segments must stay in.
-const TRACE_START_NODES: u32 = 4u;
+// One: 4 and 8 nodes took the pine's AO pass 16% and 9% below the root's start but the
+// atrium's and the helmet's at 2% of the frame 10-60% above (H200, PERF.md step 24).
+const TRACE_START_NODES: u32 = 1u;
 struct TraceStart {
     count: u32,
     nodes: array<u32, TRACE_START_NODES>,
