@@ -7,7 +7,11 @@
 # --scenes atrium,HELMET,PINE --coverage 0.02,0.05 --frames 10 --backend compute` in each, then
 # the driver (`--backend rt-pipeline`, v_base) once, then the base and the default again.
 # Results under $OUT (results.tgz); the rows printed last.
+#   `run.sh after`: from the checkout (its shaders: the change, one start node), Table 3
+#   (`bench rays --frames 10`) and the 1.93M-triangle file (the helmet exported 5x5x5 without
+#   instancing) by coverage, both back-ends.
 set -u
+PART=${1:-variants}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 gunzip -f .gpu/raygraph.gz && chmod +x .gpu/raygraph
 RG=$PWD/.gpu/raygraph; ROOT=$PWD
@@ -17,6 +21,11 @@ S=atrium,$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/sma
 b() { local name=$1 dir=$2; shift 2
   if [ $SECONDS -gt 500 ]; then echo "skipped: $name"; return; fi
   (cd $ROOT/.gpu/$dir && timeout 150 $RG bench rays --scenes $S --coverage 0.02,0.05 --frames 10 "$@" --out $OUT/r/$name > $OUT/r/$name.log 2>&1) || tail -2 $OUT/r/$name.log; }
+if [ "$PART" = after ]; then
+  (cd $ROOT && timeout 200 $RG bench rays --frames 10 --out $OUT/r/t3 > $OUT/r/t3.log 2>&1) || tail -2 $OUT/r/t3.log
+  (cd $ROOT && $RG scene export assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null)
+  (cd $ROOT && timeout 200 $RG bench rays --scenes /tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1 --frames 10 --out $OUT/r/file > $OUT/r/file.log 2>&1) || tail -2 $OUT/r/file.log
+else
 b base v_base --backend compute
 b k4 v_k4 --backend compute
 b k1 v_k1 --backend compute
@@ -24,6 +33,7 @@ b k8 v_k8 --backend compute
 b driver v_base --backend rt-pipeline
 b base_2 v_base --backend compute
 b k4_2 v_k4 --backend compute
+fi
 cd $OUT && tar czf results.tgz r
 for d in r/*/; do n=$(basename $d); echo "== $n"
   grep -E "^\| " $d/rays.md | grep -vE -- "---|^\| test" | cut -d'|' -f2,5,8 | sed -e 's#/[^ ]*/##'
