@@ -439,6 +439,11 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
     return trace_transmittance_result(trace_impl(ray, true, true, (flags & TRACE_CULL_BACK_FACES) != 0u).any);
 }
 
+// Whether rays within a sphere start below the root (trace_start_within). The executor turns
+// it off for a scene of few triangles (src/runtime/exec/features.rs), whose AO the per-lane
+// descent slowed; the default keeps it.
+override TRACE_START_BELOW_ROOT: bool = true;
+
 // Whether boxes [a_lo, a_hi] and [b_lo, b_hi] overlap.
 fn trace_boxes_overlap(a_lo: vec3<f32>, a_hi: vec3<f32>, b_lo: vec3<f32>, b_hi: vec3<f32>) -> bool {
     return all(a_lo <= b_hi) && all(b_lo <= a_hi);
@@ -451,12 +456,12 @@ fn trace_boxes_overlap(a_lo: vec3<f32>, a_hi: vec3<f32>, b_lo: vec3<f32>, b_hi: 
 // both while there is room for TRACE_START_NODES. The box is widened by 1e-4 of the radius and
 // 1e-6 of the origin's largest coordinate, beyond the rounding of a hit's t.
 // TRACE_START_ROOT where the scene is not one merged instance (two levels, or an alpha-tested
-// instance of its own).
+// instance of its own), or where TRACE_START_BELOW_ROOT is off.
 fn trace_start_within(origin: vec3<f32>, radius: f32) -> TraceStart {
     let e = radius * 1.0001 + max(max(abs(origin.x), abs(origin.y)), abs(origin.z)) * 1e-6;
     var start = TraceStart(TRACE_START_ROOT, array<u32, TRACE_START_NODES>(), origin - vec3<f32>(e), origin + vec3<f32>(e));
     let root = trace_tlas_node(0u);
-    if root.count != 1u || !(radius >= 0.0) {
+    if !TRACE_START_BELOW_ROOT || root.count != 1u || !(radius >= 0.0) {
         return start;
     }
     let inst = trace_instance(root.left_or_first);

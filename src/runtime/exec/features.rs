@@ -1,7 +1,8 @@
 //! The scene's features as pipeline constants: what the scene uses of the material and mesh
 //! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
 //! samplers and texture transforms, the second uv set and vertex colours, unlit materials) and
-//! the frame camera's projection. Every pass whose module declares one of the constants gets
+//! the frame camera's projection, and whether the scene is large enough for AO rays to start
+//! below the root of its tree. Every pass whose module declares one of the constants gets
 //! its value; the shaders' defaults keep every feature (and read the projection from the
 //! frame), so a pipeline made without them is right for any scene. The passes are built again
 //! when the features change.
@@ -12,6 +13,15 @@ use crate::scene::Scene;
 /// The trace module's pipeline constant that compiles the alpha test into the traversal
 /// (`shaders/trace/alpha.wgsl`).
 pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
+
+/// The compute trace module's pipeline constant that starts rays within a sphere below the root
+/// (`trace_start_within`, `shaders/trace/compute.wgsl`).
+pub(crate) const TRACE_START_CONSTANT: &str = "TRACE_START_BELOW_ROOT";
+
+/// Triangles from which AO rays start below the root: between the two scenes measured (H200,
+/// PERF.md step 24): the box's 12, whose AO pass the start's per-lane descent made 67% slower,
+/// and the organic mesh's 3,920, 8% faster with it.
+pub(crate) const START_BELOW_ROOT_TRIANGLES: usize = 1024;
 
 /// `shaders/common/scene_features.wgsl`: some material is translucent. It compiles the passes'
 /// handling of translucent surfaces in (`shaders/common/ray_blend.wgsl`: skipped by primary rays,
@@ -52,6 +62,8 @@ pub struct SceneFeatures {
     pub unlit: bool,
     /// The frame's camera is orthographic (set by `SceneFeatures::with_camera`).
     pub orthographic: bool,
+    /// The instances draw at least [`START_BELOW_ROOT_TRIANGLES`] triangles.
+    pub start_below_root: bool,
 }
 
 impl SceneFeatures {
@@ -61,9 +73,11 @@ impl SceneFeatures {
         let material_bits: Vec<u8> = scene.materials().iter().map(Self::material_bits).collect();
         let mesh_bits: Vec<u8> = scene.meshes().iter().map(|m| if m.extras.is_some() { Self::VERTEX_EXTRAS } else { 0 }).collect();
         let mut bits = 0u8;
+        let mut triangles = 0usize;
         for inst in scene.instances().iter() {
             bits |= material_bits.get(inst.material).copied().unwrap_or(0) | mesh_bits.get(inst.mesh).copied().unwrap_or(0);
-            if bits == Self::ALL_BITS {
+            triangles += scene.meshes().get(inst.mesh).map_or(0, |m| m.triangle_count());
+            if bits == Self::ALL_BITS && triangles >= START_BELOW_ROOT_TRIANGLES {
                 break;
             }
         }
@@ -76,6 +90,7 @@ impl SceneFeatures {
             vertex_extras: on(Self::VERTEX_EXTRAS),
             unlit: on(Self::UNLIT),
             orthographic: scene.camera().orthographic.is_some(),
+            start_below_root: triangles >= START_BELOW_ROOT_TRIANGLES,
         }
     }
 
@@ -103,9 +118,10 @@ impl SceneFeatures {
     }
 
     /// Every constant with its value.
-    fn all(&self) -> [(&'static str, bool); 6] {
+    fn all(&self) -> [(&'static str, bool); 7] {
         [
             (TRACE_ALPHA_CONSTANT, self.alpha_test),
+            (TRACE_START_CONSTANT, self.start_below_root),
             (BLEND_CONSTANT, self.blend),
             (LOBES_CONSTANT, self.lobes),
             (CUSTOM_SAMPLING_CONSTANT, self.custom_sampling),
