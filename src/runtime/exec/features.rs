@@ -137,3 +137,17 @@ impl SceneFeatures {
         switches.chain([projection]).filter(|(name, _)| pass.shader.has_override(name)).collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ao_rays_start_below_the_root_only_in_scenes_of_many_triangles() {
+        let box_scene = crate::scene::procedural::box_scene();
+        let organic = crate::scene::procedural::organic();
+        assert!(box_scene.triangle_count() < START_BELOW_ROOT_TRIANGLES && organic.triangle_count() >= START_BELOW_ROOT_TRIANGLES);
+        assert!(!SceneFeatures::of(&box_scene).start_below_root);
+        assert!(SceneFeatures::of(&organic).start_below_root);
+    }
+}
