@@ -13,6 +13,9 @@
 #   `run.sh gated`: from the checkout, after the start below the root was turned off for scenes
 #   of fewer than 1024 triangles (the box's AO pass had lost 67% with it): Table 3 and the two
 #   real assets by coverage, `compute` only.
+#   `run.sh k2`: two start nodes a lane (v_k2: the checkout's shaders with TRACE_START_NODES = 2)
+#   against one (v_k1: the checkout's), alternating, `compute`, the three scenes by coverage and
+#   the box.
 set -u
 PART=${1:-variants}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
@@ -24,7 +27,10 @@ S=atrium,$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/sma
 b() { local name=$1 dir=$2; shift 2
   if [ $SECONDS -gt 500 ]; then echo "skipped: $name"; return; fi
   (cd $ROOT/.gpu/$dir && timeout 150 $RG bench rays --scenes $S --coverage 0.02,0.05 --frames 10 "$@" --out $OUT/r/$name > $OUT/r/$name.log 2>&1) || tail -2 $OUT/r/$name.log; }
-if [ "$PART" = gated ]; then
+if [ "$PART" = k2 ]; then
+  S=box,$S
+  b k1 v_k1 --backend compute; b k2 v_k2 --backend compute; b k1_2 v_k1 --backend compute; b k2_2 v_k2 --backend compute
+elif [ "$PART" = gated ]; then
   (cd $ROOT && timeout 200 $RG bench rays --frames 10 --backend compute --out $OUT/r/t3 > $OUT/r/t3.log 2>&1) || tail -2 $OUT/r/t3.log
   (cd $ROOT && timeout 200 $RG bench rays --scenes ${S#atrium,} --coverage 0.02,0.05 --frames 10 --backend compute --out $OUT/r/real > $OUT/r/real.log 2>&1) || tail -2 $OUT/r/real.log
 elif [ "$PART" = after ]; then
