@@ -150,7 +150,7 @@ impl FramePhases {
     }
 
     /// "scene update 0.012, uniforms ..., read-back ... ms" from per-part values.
-    pub fn describe(parts: &[(&str, f64)]) -> String {
+    fn describe(parts: &[(&str, f64)]) -> String {
         let list: Vec<String> = parts.iter().map(|(name, ms)| format!("{name} {ms:.3}")).collect();
         format!("{} ms", list.join(", "))
     }
@@ -162,7 +162,7 @@ impl FramePhases {
     }
 
     /// The median of each part over `frames`.
-    pub fn medians(frames: &[FrameTimings]) -> [(&'static str, f64); 5] {
+    fn medians(frames: &[FrameTimings]) -> [(&'static str, f64); 5] {
         let names = FramePhases::default().parts().map(|(name, _)| name);
         std::array::from_fn(|k| (names[k], median(&mut frames.iter().map(|f| f.phases.parts()[k].1).collect::<Vec<_>>())))
     }
