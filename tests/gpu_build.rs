@@ -105,6 +105,27 @@ fn soup(n: usize, seed: u64, spread: f32) -> Vec<GpuTriangle> {
         .collect()
 }
 
+/// The two builders: H-PLOC (the default) and the PLOC rounds (`RAYGRAPH_GPU_BUILD=ploc`).
+const BUILDERS: [&[(&str, &str)]; 2] = [&[], &[("RAYGRAPH_GPU_BUILD", "ploc")]];
+
+/// Held while a test builds with variables of its own set, or needs the default builder: the
+/// environment is the process's, shared by the tests running at once.
+static ENV: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// `f` with the environment's variables `vars` set (the builder reads them at each build), and
+/// no other test's set meanwhile.
+fn with_env<T>(vars: &[(&str, &str)], f: impl FnOnce() -> T) -> T {
+    let _held = ENV.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    for (k, v) in vars {
+        std::env::set_var(k, v);
+    }
+    let out = f();
+    for (k, _) in vars {
+        std::env::remove_var(k);
+    }
+    out
+}
+
 #[test]
 fn small_and_degenerate_inputs_give_valid_trees() {
     let gpu = gpu();
@@ -128,9 +149,10 @@ fn small_and_degenerate_inputs_give_valid_trees() {
             })
             .collect(),
     ));
-    for (name, input) in &cases {
+    for ((name, input), variant) in cases.iter().flat_map(|c| BUILDERS.iter().map(move |v| (c, v))) {
+        let name = &format!("{name}, {variant:?}");
         let scopes = gpu.scopes();
-        let built = builder.build(gpu.device(), gpu.queue(), input).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let built = with_env(variant, || builder.build(gpu.device(), gpu.queue(), input)).unwrap_or_else(|e| panic!("{name}: {e}"));
         scopes.finish(&gpu, name).unwrap();
         let (nodes, tris) = read_back(&gpu, &built);
         let depth = check_layout(name, &nodes, &tris, input);
@@ -390,48 +412,65 @@ fn reachable(nodes: &[GpuBvhNode]) -> Vec<GpuBvhNode> {
     out
 }
 
+/// The reachable nodes' and the triangles' bytes of a build of `input` with the environment's
+/// `vars`, and its depth.
+fn tree_bytes(gpu: &Gpu, builder: &GpuBlasBuilder, input: &[GpuTriangle], vars: &[(&str, &str)]) -> (Vec<u8>, Vec<u8>, u32) {
+    let built = with_env(vars, || builder.build(gpu.device(), gpu.queue(), input)).unwrap();
+    let (nodes, tris) = read_back(gpu, &built);
+    let nodes = reachable(&nodes);
+    (bytemuck::cast_slice::<GpuBvhNode, u8>(&nodes).to_vec(), bytemuck::cast_slice::<GpuTriangle, u8>(&tris).to_vec(), built.depth)
+}
+
+/// How two [`tree_bytes`] differ, in words.
+fn tree_difference(a: &(Vec<u8>, Vec<u8>, u32), b: &(Vec<u8>, Vec<u8>, u32)) -> String {
+    let differing = |x: &[u8], y: &[u8]| x.iter().zip(y).filter(|(p, q)| p != q).count();
+    format!(
+        "{} of {} bytes of the reachable nodes, {} of {} triangle bytes differ, depth {} against {}",
+        differing(&a.0, &b.0),
+        b.0.len(),
+        differing(&a.1, &b.1),
+        b.1.len(),
+        a.2,
+        b.2
+    )
+}
+
 /// The builder's variants (`RAYGRAPH_GPU_BUILD_SORT`, `_ROUND`, `_INDIRECT`: kept to compare
 /// their speed on a GPU, with the defaults chosen by that measurement) build the same tree: the
-/// same triangles in the same order, the same nodes in depth-first order. The environment is
-/// read at each build; the variants only ever give the same tree, so another test building
-/// meanwhile is not affected.
+/// same triangles in the same order, the same nodes in depth-first order; H-PLOC's with either
+/// sort, the PLOC rounds' (`RAYGRAPH_GPU_BUILD=ploc`) with any of their variants. The
+/// environment is read at each build ([`with_env`]); the tests that build without it accept
+/// either builder's tree.
 #[test]
 fn every_builder_variant_builds_the_same_tree() {
     let gpu = gpu();
     let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
     let input = soup(5000, 11, 10.0);
-    let build = |vars: &[(&str, &str)]| {
-        for (k, v) in vars {
-            std::env::set_var(k, v);
+    let ploc = ("RAYGRAPH_GPU_BUILD", "ploc");
+    let (radix, bitonic) = (("RAYGRAPH_GPU_BUILD_SORT", "radix"), ("RAYGRAPH_GPU_BUILD_SORT", "bitonic"));
+    let (indirect, pair) = (("RAYGRAPH_GPU_BUILD_INDIRECT", "1"), ("RAYGRAPH_GPU_BUILD_ROUND", "pair"));
+    let families: [&[&[(&str, &str)]]; 2] =
+        [&[&[], &[radix], &[bitonic]], &[&[ploc], &[ploc, radix], &[ploc, bitonic], &[ploc, indirect], &[ploc, pair], &[ploc, radix, indirect, pair]]];
+    for family in families {
+        let default = tree_bytes(&gpu, &builder, &input, family[0]);
+        for vars in family {
+            let variant = tree_bytes(&gpu, &builder, &input, vars);
+            assert!(variant == default, "{vars:?} built another tree than its builder's defaults: {}", tree_difference(&variant, &default));
         }
-        let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
-        for (k, _) in vars {
-            std::env::remove_var(k);
-        }
-        let (nodes, tris) = read_back(&gpu, &built);
-        let nodes = reachable(&nodes);
-        (bytemuck::cast_slice::<GpuBvhNode, u8>(&nodes).to_vec(), bytemuck::cast_slice::<GpuTriangle, u8>(&tris).to_vec(), built.depth)
-    };
-    let default = build(&[]);
-    for vars in [
-        &[][..],
-        &[("RAYGRAPH_GPU_BUILD_SORT", "radix")],
-        &[("RAYGRAPH_GPU_BUILD_SORT", "bitonic")],
-        &[("RAYGRAPH_GPU_BUILD_INDIRECT", "1")],
-        &[("RAYGRAPH_GPU_BUILD_ROUND", "pair")],
-        &[("RAYGRAPH_GPU_BUILD_SORT", "radix"), ("RAYGRAPH_GPU_BUILD_INDIRECT", "1"), ("RAYGRAPH_GPU_BUILD_ROUND", "pair")],
-    ] {
-        let variant = build(vars);
-        let differing = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(x, y)| x != y).count();
-        assert!(
-            variant == default,
-            "{vars:?} built another tree than the defaults: {} of {} bytes of the reachable nodes, {} of {} triangle bytes differ, depth {} against {}",
-            differing(&variant.0, &default.0),
-            default.0.len(),
-            differing(&variant.1, &default.1),
-            default.1.len(),
-            variant.2,
-            default.2
-        );
+    }
+}
+
+/// H-PLOC's tree does not depend on how its workgroups were scheduled (which invocation reached
+/// a split second, in what order nodes were numbered): eight builds of the same input are one
+/// tree. A record read before it was visible, or a lost exchange, would show here.
+#[test]
+fn hploc_builds_the_same_tree_every_time() {
+    let gpu = gpu();
+    let builder = GpuBlasBuilder::new(gpu.device()).unwrap();
+    let input = soup(20000, 5, 20.0);
+    let first = tree_bytes(&gpu, &builder, &input, &[]);
+    for run in 1..8 {
+        let again = tree_bytes(&gpu, &builder, &input, &[]);
+        assert!(again == first, "build {run} of the same 20,000 triangles gave another tree: {}", tree_difference(&again, &first));
     }
 }

@@ -585,10 +585,17 @@ fn ploc_round(@builtin(local_invocation_index) lid: u32) {
 
 // Makes the new node of nodes a and b (their boxes' union lo, hi) and returns its id.
 fn make_node(a: u32, b: u32, lo: vec3<f32>, hi: vec3<f32>) -> u32 {
+    let counts = vec2<u32>(bitcast<u32>(node_box[2u * a].w), bitcast<u32>(node_box[2u * b].w));
+    return make_node_from(a, b, counts, vec2<f32>(node_box[2u * a + 1u].w, node_box[2u * b + 1u].w), lo, hi);
+}
+
+// The same for children whose triangle counts and SAH costs the caller holds (H-PLOC's come
+// from other workgroups of the same dispatch, through atomics, not from node_box).
+fn make_node_from(a: u32, b: u32, counts: vec2<u32>, costs: vec2<f32>, lo: vec3<f32>, hi: vec3<f32>) -> u32 {
     let id = params.n + atomicAdd(&state[STATE_NEXT_NODE], 1u);
-    let n = bitcast<u32>(node_box[2u * a].w) + bitcast<u32>(node_box[2u * b].w);
+    let n = counts.x + counts.y;
     let area_ab = area(lo, hi);
-    let split_cost = TRAVERSAL_COST * area_ab + node_box[2u * a + 1u].w + node_box[2u * b + 1u].w;
+    let split_cost = TRAVERSAL_COST * area_ab + costs.x + costs.y;
     let leaf_cost = select(3.0e38, INTERSECTION_COST * area_ab * f32(n), n <= MAX_LEAF);
     let leaf = leaf_cost <= split_cost;
     node_box[2u * id] = vec4<f32>(lo, bitcast<f32>(n));

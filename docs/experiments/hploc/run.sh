@@ -1,0 +1,33 @@
+#!/bin/bash
+# H-PLOC against the PLOC rounds (src/accel/gpu_build.rs, shaders/accel/hploc.wgsl), one release
+# binary, one session: first the builder's tests on this GPU (the release test binary
+# .gpu/gpu_build_test: every tree checked node by node, the atrium's hits against the CPU
+# build's, and H-PLOC's tree the same in eight builds of one input, which a record read before
+# it was visible would break); then `bench build --scenes organic,atrium --max-factor 1` with
+# H-PLOC (the default) and with `RAYGRAPH_GPU_BUILD=ploc`, alternating, twice each, after a
+# warm-up; then the atrium copied 2x2x2 (2.1M triangles) with each. The gpu_build.md rows are
+# printed last, results in $OUT/results.tgz.
+set -u
+for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
+gunzip -f .gpu/raygraph.gz .gpu/gpu_build_test.gz && chmod +x .gpu/raygraph .gpu/gpu_build_test
+RG=$PWD/.gpu/raygraph; ROOT=$PWD
+OUT=${OUT:-/tmp/out}; mkdir -p $OUT/runs
+nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
+# The test binary finds the repository at the path it was built in.
+mkdir -p /work && ln -sfn $ROOT /work/main
+(cd $ROOT && timeout 150 .gpu/gpu_build_test --test-threads 1 > $OUT/runs/tests.log 2>&1); echo "tests exit $?"; grep -E "^test |SAH|test result" $OUT/runs/tests.log
+(cd $ROOT && $RG bench rays --scenes box --backend compute --frames 5 --out /tmp/warm 2>&1 | grep -iE "adapter" | head -1)
+run() { # name max-factor scenes env...
+  local name=$1 factor=$2 scenes=$3; shift 3
+  if [ $SECONDS -gt 480 ]; then echo "skipped: $name"; return; fi
+  (cd $ROOT && env "$@" timeout 150 $RG bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
+}
+run hploc_1 1 organic,atrium X=1
+run ploc_1 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
+run hploc_2 1 organic,atrium X=1
+run ploc_2 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
+run hploc_x2 2 atrium X=1
+run ploc_x2 2 atrium RAYGRAPH_GPU_BUILD=ploc
+head -3 $OUT/runs/hploc_1/gpu_build.md
+for d in $OUT/runs/*/; do n=$(basename $d); grep -E "^\| (organic|atrium)" $d/gpu_build.md | sed "s/^/$n /"; done
+cd $OUT && tar czf results.tgz runs 2>/dev/null; rm -rf runs
