@@ -8,7 +8,7 @@
 // r, r + 1 differ less than those at l - 1, l (`hploc_closer`), else the right child of split
 // l - 1. At a split the first child to arrive leaves its boundary and cluster count there and
 // stops; the second takes the whole range on. A range keeps at most HPLOC_KEEP clusters: when
-// one of more leaves than that is formed, its workgroup loads the two children's clusters (at
+// one of more leaves than that is formed, its team loads the two children's clusters (at
 // most 2 HPLOC_KEEP, one invocation each) and runs PLOC rounds on them (each cluster's nearest
 // neighbour among params.radius on either side, mutual pairs merge, survivors kept in order)
 // until HPLOC_KEEP are left, or one at the root. No workgroup waits on another.
@@ -20,26 +20,32 @@
 // barrier that comes before the exchange handing them on.
 //#include "accel/build.wgsl"
 
-const HPLOC_GROUP: u32 = 32u;
-// Clusters a range keeps: two children's fit the workgroup.
+// A team of HPLOC_TEAM invocations starts at as many leaves and merges one range's clusters
+// at a time; a workgroup holds HPLOC_TEAMS teams, which step together.
+const HPLOC_TEAM: u32 = 32u;
+const HPLOC_TEAMS: u32 = 4u;
+// Clusters a range keeps: two children's fit a team.
 const HPLOC_KEEP: u32 = 16u;
 // A cluster's record: node, box lo, box hi, triangles, SAH cost (f32 bits).
 const HPLOC_RECORD: u32 = 9u;
 
-// The clusters of the task at hand, one per invocation.
-var<workgroup> hp_lo: array<vec3<f32>, 32>;
-var<workgroup> hp_hi: array<vec3<f32>, 32>;
-var<workgroup> hp_node: array<u32, 32>;
-var<workgroup> hp_count: array<u32, 32>;
-var<workgroup> hp_cost: array<f32, 32>;
-var<workgroup> hp_aux: array<u32, 32>;
-// The step's tasks: (first leaf, split, last leaf, left clusters | right clusters << 8 |
-// owner << 16); their number and the invocations still climbing.
-var<workgroup> hp_task: array<vec4<u32>, 32>;
-var<workgroup> hp_tasks: atomic<u32>;
-var<workgroup> hp_climbing: atomic<u32>;
-var<workgroup> hp_step: vec2<u32>;
-var<workgroup> hp_current: vec4<u32>;
+// The clusters of each team's task at hand, one per invocation (team t at 32 t ..).
+var<workgroup> hp_lo: array<vec3<f32>, 128>;
+var<workgroup> hp_hi: array<vec3<f32>, 128>;
+var<workgroup> hp_node: array<u32, 128>;
+var<workgroup> hp_count: array<u32, 128>;
+var<workgroup> hp_cost: array<f32, 128>;
+// Each cluster's nearest neighbour (its index in these arrays).
+var<workgroup> hp_near: array<u32, 128>;
+// Each team's tasks of the step, at 32 t ..: (first leaf, split, last leaf, left clusters |
+// right clusters << 8 | owner << 16); their number; the survivors of a round, one bit each.
+var<workgroup> hp_task: array<vec4<u32>, 128>;
+var<workgroup> hp_tasks: array<atomic<u32>, 4>;
+var<workgroup> hp_keep: array<atomic<u32>, 4>;
+// The step: the most tasks of a team << 8, | 1 if any invocation still climbs.
+var<workgroup> hp_step: atomic<u32>;
+// Teams with merging left after a round.
+var<workgroup> hp_more: atomic<u32>;
 
 fn hploc_record(pos: u32) -> u32 {
     return params.n + HPLOC_RECORD * pos;
@@ -60,7 +66,7 @@ fn hploc_store(pos: u32, node: u32, lo: vec3<f32>, hi: vec3<f32>, count: u32, co
     atomicStore(&tile_status[r + 8u], bitcast<u32>(cost));
 }
 
-// The record at `pos` into the task's cluster k.
+// The record at `pos` into cluster k of the arrays.
 fn hploc_load(pos: u32, k: u32) {
     let r = hploc_record(pos);
     hp_node[k] = atomicLoad(&tile_status[r]);
@@ -113,28 +119,28 @@ fn hploc_climb(range: vec3<u32>) -> vec4<u32> {
     return vec4<u32>(other >> 5u, l - 1u, r, (other & 31u) | (range.z << 8u));
 }
 
-// The nearest neighbour of the task's cluster i among params.radius on either side.
-fn hploc_nearest(i: u32, count: u32) -> u32 {
-    let lo = hp_lo[i];
-    let hi = hp_hi[i];
-    var best = i;
+// The nearest neighbour of a team's cluster `lane` (of `count`, from `base` in the arrays)
+// among params.radius on either side; its index in the arrays.
+fn hploc_nearest(lane: u32, count: u32, base: u32) -> u32 {
+    let lo = hp_lo[base + lane];
+    let hi = hp_hi[base + lane];
+    var best = lane;
     var best_area = 3.0e38;
-    for (var c = u32(max(i32(i) - i32(params.radius), 0)); c <= min(i + params.radius, count - 1u); c++) {
-        if c == i {
+    for (var c = u32(max(i32(lane) - i32(params.radius), 0)); c <= min(lane + params.radius, count - 1u); c++) {
+        if c == lane {
             continue;
         }
-        let a = area(min(lo, hp_lo[c]), max(hi, hp_hi[c]));
-        if nearer(i, c, a, best, best_area) {
+        let a = area(min(lo, hp_lo[base + c]), max(hi, hp_hi[base + c]));
+        if nearer(lane, c, a, best, best_area) {
             best_area = a;
             best = c;
         }
     }
-    return best;
+    return base + best;
 }
 
-// Cluster i of the task (i < count) after a round's merges: merged with its nearest neighbour
-// j when they are mutual and i < j; `keep` 0 when it went into j's. Reads only what the round
-// began with (the caller stores after a barrier).
+// Cluster i of the arrays after a round's merges: merged with its nearest neighbour j when
+// they are mutual and i < j; `keep` 0 when it went into j's.
 struct HplocCluster {
     node: u32,
     lo: vec3<f32>,
@@ -146,8 +152,8 @@ struct HplocCluster {
 
 fn hploc_merged(i: u32) -> HplocCluster {
     var c = HplocCluster(hp_node[i], hp_lo[i], hp_hi[i], hp_count[i], hp_cost[i], 1u);
-    let j = hp_aux[i];
-    let mutual = j != i && hp_aux[j] == i;
+    let j = hp_near[i];
+    let mutual = j != i && hp_near[j] == i;
     if mutual && i < j {
         c.lo = min(c.lo, hp_lo[j]);
         c.hi = max(c.hi, hp_hi[j]);
@@ -159,98 +165,109 @@ fn hploc_merged(i: u32) -> HplocCluster {
     return c;
 }
 
-// PLOC rounds on the task's `count` clusters (call from uniform control flow) until at most
-// `goal` are left; returns how many, and adds the rounds to `rounds`.
+// PLOC rounds on each team's `count` clusters (call from uniform control flow; the teams'
+// counts and goals differ) until at most `goal` are left; returns how many, and adds the
+// team's rounds to `rounds`. Survivors keep their order: each finds its place by counting the
+// survivor bits below its own.
 fn hploc_rounds(i: u32, count_in: u32, goal: u32, rounds: ptr<function, u32>) -> u32 {
+    let team = i / HPLOC_TEAM;
+    let lane = i % HPLOC_TEAM;
     var count = count_in;
+    if lane == 0u && count > goal {
+        atomicAdd(&hp_more, 1u);
+    }
     loop {
-        workgroupBarrier();
-        if count <= goal {
+        if workgroupUniformLoad(&hp_more) == 0u {
             break;
         }
-        *rounds += 1u;
-        if i < count {
-            hp_aux[i] = hploc_nearest(i, count);
+        let merging = count > goal;
+        if i == 0u {
+            atomicStore(&hp_more, 0u);
+        }
+        if lane == 0u {
+            atomicStore(&hp_keep[team], 0u);
+        }
+        if merging && lane < count {
+            hp_near[i] = hploc_nearest(lane, count, i - lane);
         }
         workgroupBarrier();
         var c = HplocCluster(0u, vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0, 0u);
-        if i < count {
+        if merging && lane < count {
             c = hploc_merged(i);
+            atomicOr(&hp_keep[team], c.keep << lane);
         }
         workgroupBarrier();
-        // Inclusive sum of the survivors, then each moves to its place.
-        hp_aux[i] = c.keep;
-        for (var s = 1u; s < HPLOC_GROUP; s <<= 1u) {
-            workgroupBarrier();
-            var add = 0u;
-            if i >= s {
-                add = hp_aux[i - s];
+        if merging {
+            *rounds += 1u;
+            let kept = atomicLoad(&hp_keep[team]);
+            if c.keep == 1u {
+                let k = i - lane + countOneBits(kept & ((1u << lane) - 1u));
+                hp_node[k] = c.node;
+                hp_lo[k] = c.lo;
+                hp_hi[k] = c.hi;
+                hp_count[k] = c.count;
+                hp_cost[k] = c.cost;
             }
-            workgroupBarrier();
-            hp_aux[i] += add;
+            count = countOneBits(kept);
+            if lane == 0u && count > goal {
+                atomicAdd(&hp_more, 1u);
+            }
         }
-        workgroupBarrier();
-        if c.keep == 1u {
-            let k = hp_aux[i] - 1u;
-            hp_node[k] = c.node;
-            hp_lo[k] = c.lo;
-            hp_hi[k] = c.hi;
-            hp_count[k] = c.count;
-            hp_cost[k] = c.cost;
-        }
-        count = workgroupUniformLoad(&hp_aux[HPLOC_GROUP - 1u]);
     }
     return count;
 }
 
-// Task t of the step, by the whole workgroup: the two children's clusters loaded, merged down
-// to HPLOC_KEEP (one at the root) and stored at the range's first leaves. Returns the clusters
-// left and the invocation that owns the range.
+// Task t of each team's tasks of the step (a team with fewer does nothing), by the whole
+// team: the two children's clusters loaded, merged down to HPLOC_KEEP (one at the root) and
+// stored at the range's first leaves. Returns the clusters left and the invocation that owns
+// the range (NONE for a team without a task t).
 fn hploc_task(i: u32, t: u32, rounds: ptr<function, u32>) -> vec2<u32> {
-    if i == 0u {
-        hp_current = hp_task[t];
+    let team = i / HPLOC_TEAM;
+    let lane = i % HPLOC_TEAM;
+    let has = t < atomicLoad(&hp_tasks[team]);
+    var task = vec4<u32>(0u);
+    if has {
+        task = hp_task[team * HPLOC_TEAM + t];
     }
-    let task = workgroupUniformLoad(&hp_current);
     let left = task.w & 255u;
     let count = left + ((task.w >> 8u) & 255u);
-    if i < count {
-        hploc_load(select(task.y + 1u + i - left, task.x + i, i < left), i);
+    if lane < count {
+        hploc_load(select(task.y + 1u + lane - left, task.x + lane, lane < left), i);
     }
-    let root = task.x == 0u && task.z == params.n - 1u;
+    let root = has && task.x == 0u && task.z == params.n - 1u;
     let kept = hploc_rounds(i, count, select(HPLOC_KEEP, 1u, root), rounds);
-    if i < kept {
-        hploc_store(task.x + i, hp_node[i], hp_lo[i], hp_hi[i], hp_count[i], hp_cost[i]);
+    if lane < kept {
+        hploc_store(task.x + lane, hp_node[i], hp_lo[i], hp_hi[i], hp_count[i], hp_cost[i]);
     }
-    if root && i == 0u {
+    if root && lane == 0u {
         atomicStore(&state[STATE_COUNT], 1u);
     }
     workgroupBarrier();
-    return vec2<u32>(kept, task.w >> 16u);
+    return vec2<u32>(kept, select(NONE, task.w >> 16u, has));
 }
 
-// Every climbing invocation climbs one step; those whose new range needs merging queue it as a
-// task. Returns the range the invocation holds now and whether it still climbs (w).
-fn hploc_step_up(i: u32, range_in: vec3<u32>, climbing: bool) -> vec4<u32> {
-    var range = range_in;
-    if !climbing {
-        return vec4<u32>(range, 0u);
-    }
-    let up = hploc_climb(range);
+// A climbing invocation climbs one step; where its new range needs merging it queues it as a
+// task of its team. Returns the range the invocation holds now and whether it still climbs (w).
+fn hploc_step_up(i: u32, range_in: vec3<u32>) -> vec4<u32> {
+    let up = hploc_climb(range_in);
     if up.x == NONE {
-        return vec4<u32>(range, 0u);
+        return vec4<u32>(range_in, 0u);
     }
-    let left = up.w & 255u;
-    range = vec3<u32>(up.x, up.z, left + (up.w >> 8u));
-    atomicAdd(&hp_climbing, 1u);
+    let range = vec3<u32>(up.x, up.z, (up.w & 255u) + ((up.w >> 8u) & 255u));
+    var step = 1u;
     if up.z - up.x + 1u > HPLOC_KEEP || (up.x == 0u && up.z == params.n - 1u) {
-        hp_task[atomicAdd(&hp_tasks, 1u)] = vec4<u32>(up.xyz, up.w | (i << 16u));
+        let team = i / HPLOC_TEAM;
+        let k = atomicAdd(&hp_tasks[team], 1u);
+        hp_task[team * HPLOC_TEAM + k] = vec4<u32>(up.xyz, up.w | (i << 16u));
+        step |= (k + 1u) << 8u;
     }
+    atomicMax(&hp_step, step);
     return vec4<u32>(range, 1u);
 }
 
-@compute @workgroup_size(32)
+@compute @workgroup_size(128)
 fn hploc(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) i: u32) {
-    let first = (wid.x + wid.y * groups.x) * HPLOC_GROUP;
+    let first = (wid.x + wid.y * groups.x) * HPLOC_TEAM * HPLOC_TEAMS;
     if first >= params.n {
         return;
     }
@@ -266,35 +283,42 @@ fn hploc(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups:
         hploc_store(first + i, leaf, box_lo(leaf), box_hi(leaf), 1u, node_box[2u * leaf + 1u].w);
     }
     var rounds = 0u;
+    var stored = true;
     loop {
         // What this workgroup stored is visible before it hands it on.
-        storageBarrier();
+        if stored {
+            storageBarrier();
+        }
         if i == 0u {
-            atomicStore(&hp_tasks, 0u);
-            atomicStore(&hp_climbing, 0u);
+            atomicStore(&hp_step, 0u);
+        }
+        if i % HPLOC_TEAM == 0u {
+            atomicStore(&hp_tasks[i / HPLOC_TEAM], 0u);
         }
         workgroupBarrier();
-        let step = hploc_step_up(i, range, climbing);
-        range = step.xyz;
-        climbing = step.w == 1u;
-        // What the sibling's workgroup stored before its exchange is visible.
-        storageBarrier();
-        workgroupBarrier();
-        if i == 0u {
-            hp_step = vec2<u32>(atomicLoad(&hp_climbing), atomicLoad(&hp_tasks));
+        if climbing {
+            let up = hploc_step_up(i, range);
+            range = up.xyz;
+            climbing = up.w == 1u;
         }
-        let counts = workgroupUniformLoad(&hp_step);
-        for (var t = 0u; t < counts.y; t++) {
+        let step = workgroupUniformLoad(&hp_step);
+        let most = step >> 8u;
+        stored = most > 0u;
+        if stored {
+            // What the siblings' workgroups stored before their exchanges is visible.
+            storageBarrier();
+        }
+        for (var t = 0u; t < most; t++) {
             let done = hploc_task(i, t, &rounds);
             if done.y == i {
                 range.z = done.x;
             }
         }
-        if counts.x == 0u {
+        if step == 0u {
             break;
         }
     }
-    if i == 0u {
+    if i % HPLOC_TEAM == 0u {
         atomicAdd(&state[STATE_ROUNDS], rounds);
     }
 }
