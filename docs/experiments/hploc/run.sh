@@ -7,9 +7,14 @@
 # H-PLOC (the default) and with `RAYGRAPH_GPU_BUILD=ploc`, alternating, twice each, after a
 # warm-up; then the atrium copied 2x2x2 (2.1M triangles) with each. The gpu_build.md rows are
 # printed last, results in $OUT/results.tgz.
+#   `run.sh teams`: the same tests, then the same bench with the four-team H-PLOC (the default,
+#   .gpu/raygraph), an eight-team build of it (.gpu/raygraph-t8: HPLOC_TEAMS = 8, workgroups of
+#   256), the first one-team version (.gpu/raygraph-v1, aef7d39) and the PLOC rounds, in turn,
+#   twice each.
 set -u
+PART=${1:-first}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
-gunzip -f .gpu/raygraph.gz .gpu/gpu_build_test.gz && chmod +x .gpu/raygraph .gpu/gpu_build_test
+gunzip -f .gpu/*.gz && chmod +x .gpu/raygraph* .gpu/gpu_build_test
 RG=$PWD/.gpu/raygraph; ROOT=$PWD
 OUT=${OUT:-/tmp/out}; mkdir -p $OUT/runs
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
@@ -20,14 +25,23 @@ mkdir -p /work && ln -sfn $ROOT /work/main
 run() { # name max-factor scenes env...
   local name=$1 factor=$2 scenes=$3; shift 3
   if [ $SECONDS -gt 480 ]; then echo "skipped: $name"; return; fi
-  (cd $ROOT && env "$@" timeout 150 $RG bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
+  (cd $ROOT && env "$@" timeout 150 ${BIN:-$RG} bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
 }
+if [ "$PART" = teams ]; then
+  for k in 1 2; do
+    run teams4_$k 1 organic,atrium X=1
+    BIN=$ROOT/.gpu/raygraph-t8 run teams8_$k 1 organic,atrium X=1
+    BIN=$ROOT/.gpu/raygraph-v1 run team1_$k 1 organic,atrium X=1
+    run ploc_$k 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
+  done
+else
 run hploc_1 1 organic,atrium X=1
 run ploc_1 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
 run hploc_2 1 organic,atrium X=1
 run ploc_2 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
 run hploc_x2 2 atrium X=1
 run ploc_x2 2 atrium RAYGRAPH_GPU_BUILD=ploc
+fi
 head -3 $OUT/runs/hploc_1/gpu_build.md
 for d in $OUT/runs/*/; do n=$(basename $d); grep -E "^\| (organic|atrium)" $d/gpu_build.md | sed "s/^/$n /"; done
 cd $OUT && tar czf results.tgz runs 2>/dev/null; rm -rf runs
