@@ -12,6 +12,8 @@
 #   256) and the PLOC rounds, in turn, twice each (the one-team version of the first part is
 #   compared through the PLOC rows of each run: with it, the call was past the 64 MiB a call
 #   carries).
+#   `run.sh t1`: the four-team H-PLOC against a one-team build of the same code (.gpu/raygraph-t1:
+#   HPLOC_TEAMS = 1, workgroups of 32) and the PLOC rounds, in turn, twice each.
 set -u
 PART=${1:-first}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
@@ -28,7 +30,13 @@ run() { # name max-factor scenes env...
   if [ $SECONDS -gt 480 ]; then echo "skipped: $name"; return; fi
   (cd $ROOT && env "$@" timeout 150 ${BIN:-$RG} bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
 }
-if [ "$PART" = teams ]; then
+if [ "$PART" = t1 ]; then
+  for k in 1 2; do
+    BIN=$ROOT/.gpu/raygraph-t1 run team1_$k 1 organic,atrium X=1
+    run teams4_$k 1 organic,atrium X=1
+    run ploc_$k 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
+  done
+elif [ "$PART" = teams ]; then
   for k in 1 2; do
     run teams4_$k 1 organic,atrium X=1
     BIN=$ROOT/.gpu/raygraph-t8 run teams8_$k 1 organic,atrium X=1
