@@ -69,7 +69,7 @@ pub(crate) const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
 
 const GROUP: u32 = 256;
 /// Invocations of an `hploc` workgroup (the WGSL's `HPLOC_TEAM` times `HPLOC_TEAMS`).
-const HPLOC_GROUP: u64 = 128;
+const HPLOC_GROUP: u64 = 32;
 /// Words of an H-PLOC cluster record (the WGSL's `HPLOC_RECORD`).
 const HPLOC_RECORD: u64 = 9;
 /// Keys sorted in workgroup memory per block (the WGSL's `SORT_BLOCK`).
