@@ -182,7 +182,7 @@ fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the
     let scene = builtin("atrium", 0).unwrap();
     let (merged, origin) = merge_instances(&scene);
     let input = merged_triangles(&merged, &origin);
-    let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
+    let built = with_env(&[], || builder.build(gpu.device(), gpu.queue(), &input)).unwrap();
     let (nodes, tris) = read_back(&gpu, &built);
     check_layout("atrium", &nodes, &tris, &input);
     check_refit_inputs(&gpu, "atrium", &built, &nodes, &tris, &input);
@@ -190,7 +190,7 @@ fn the_atrium_built_on_the_gpu_is_within_1_1x_of_the_cpu_sah_cost_and_traces_the
     let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
     let (gpu_sah, cpu_sah) = (layout_sah_cost(&nodes), layout_sah_cost(&cpu.blas_nodes));
     println!(
-        "atrium: {} triangles, {} PLOC rounds, depth {}; SAH cost GPU {gpu_sah:.2}, CPU {cpu_sah:.2} ({:.3}x)",
+        "atrium (H-PLOC): {} triangles, {} PLOC rounds, depth {}; SAH cost GPU {gpu_sah:.2}, CPU {cpu_sah:.2} ({:.3}x)",
         input.len(),
         built.rounds,
         built.depth,
@@ -222,7 +222,7 @@ fn an_organic_mesh_and_a_box_build_on_the_gpu() {
         let scene = builtin(name, 0).unwrap();
         let (merged, origin) = merge_instances(&scene);
         let input = merged_triangles(&merged, &origin);
-        let built = builder.build(gpu.device(), gpu.queue(), &input).unwrap();
+        let built = with_env(&[], || builder.build(gpu.device(), gpu.queue(), &input)).unwrap();
         let (nodes, tris) = read_back(&gpu, &built);
         check_layout(name, &nodes, &tris, &input);
         let cpu = merge(&merged, &origin, Blas::build(&merged, &BuildConfig::default()));
