@@ -14,6 +14,10 @@
 #   carries).
 #   `run.sh t1`: the four-team H-PLOC against a one-team build of the same code (.gpu/raygraph-t1:
 #   HPLOC_TEAMS = 1, workgroups of 32) and the PLOC rounds, in turn, twice each.
+#   `run.sh ids`: a round's node ids taken by one atomic per team (the checkout, .gpu/raygraph)
+#   against one atomic per node (.gpu/raygraph-t1, the t1 part's one-team build) and the PLOC
+#   rounds, in turn, twice each; then `bench scale --steps atrium:2,atrium:3 --backend compute
+#   --frames 5` (2.1M and 7.1M unique triangles) with H-PLOC and with the PLOC rounds.
 set -u
 PART=${1:-first}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
@@ -30,7 +34,19 @@ run() { # name max-factor scenes env...
   if [ $SECONDS -gt 480 ]; then echo "skipped: $name"; return; fi
   (cd $ROOT && env "$@" timeout 150 ${BIN:-$RG} bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
 }
-if [ "$PART" = t1 ]; then
+if [ "$PART" = ids ]; then
+  for k in 1 2; do
+    run ids_$k 1 organic,atrium X=1
+    BIN=$ROOT/.gpu/raygraph-t1 run t1_$k 1 organic,atrium X=1
+    run ploc_$k 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
+  done
+  for b in hploc ploc; do
+    if [ $SECONDS -gt 400 ]; then echo "skipped: scale $b"; continue; fi
+    v=X=1; [ $b = ploc ] && v=RAYGRAPH_GPU_BUILD=ploc
+    (cd $ROOT && env $v timeout 100 $RG bench scale --steps atrium:2,atrium:3 --backend compute --frames 5 --out $OUT/runs/scale_$b > $OUT/runs/scale_$b.log 2>&1) || tail -3 $OUT/runs/scale_$b.log
+    grep -E "^\| atrium" $OUT/runs/scale_$b/scale.md | sed "s/^/scale_$b /"
+  done
+elif [ "$PART" = t1 ]; then
   for k in 1 2; do
     BIN=$ROOT/.gpu/raygraph-t1 run team1_$k 1 organic,atrium X=1
     run teams4_$k 1 organic,atrium X=1
