@@ -585,16 +585,14 @@ fn ploc_round(@builtin(local_invocation_index) lid: u32) {
 
 // Makes the new node of nodes a and b (their boxes' union lo, hi) and returns its id.
 fn make_node(a: u32, b: u32, lo: vec3<f32>, hi: vec3<f32>) -> u32 {
-    let id = params.n + atomicAdd(&state[STATE_NEXT_NODE], 1u);
     let counts = vec2<u32>(bitcast<u32>(node_box[2u * a].w), bitcast<u32>(node_box[2u * b].w));
-    write_node(id, a, b, counts, vec2<f32>(node_box[2u * a + 1u].w, node_box[2u * b + 1u].w), lo, hi);
-    return id;
+    return make_node_from(a, b, counts, vec2<f32>(node_box[2u * a + 1u].w, node_box[2u * b + 1u].w), lo, hi);
 }
 
-// Writes node `id` (taken from STATE_NEXT_NODE by the caller) over children a, b with
-// `counts` triangles and SAH costs `costs` (H-PLOC's caller holds them: they come from other
-// workgroups of the same dispatch, through atomics, not from node_box).
-fn write_node(id: u32, a: u32, b: u32, counts: vec2<u32>, costs: vec2<f32>, lo: vec3<f32>, hi: vec3<f32>) {
+// The same for children whose triangle counts and SAH costs the caller holds (H-PLOC's come
+// from other workgroups of the same dispatch, through atomics, not from node_box).
+fn make_node_from(a: u32, b: u32, counts: vec2<u32>, costs: vec2<f32>, lo: vec3<f32>, hi: vec3<f32>) -> u32 {
+    let id = params.n + atomicAdd(&state[STATE_NEXT_NODE], 1u);
     let n = counts.x + counts.y;
     let area_ab = area(lo, hi);
     let split_cost = TRAVERSAL_COST * area_ab + costs.x + costs.y;
@@ -605,6 +603,7 @@ fn write_node(id: u32, a: u32, b: u32, counts: vec2<u32>, costs: vec2<f32>, lo: 
     node_link[id] = vec4<u32>(a, b, NONE, select(0u, 1u, leaf));
     node_link[a].z = id;
     node_link[b].z = id;
+    return id;
 }
 
 // The finish's clusters (at most FINISH_CAPACITY): boxes (lo.xyz, hi.xyz), node ids, and a

@@ -1,7 +1,7 @@
 // H-PLOC (Benthin, Meister, Barczak, Mehalwal, Tsakok, Kensler, "H-PLOC: Hierarchical Parallel
 // Locally-Ordered Clustering for Bounding Volume Hierarchy Construction", HPG 2024): the whole
 // tree from the sorted leaves in one dispatch (`hploc`), in place of `ploc_local`, the rounds
-// and the finish of shaders/accel/build.wgsl, whose bindings and `write_node` it uses.
+// and the finish of shaders/accel/build.wgsl, whose bindings and `make_node_from` it uses.
 //
 // Each invocation starts at a leaf of the Morton order and climbs the radix tree of the codes
 // bottom-up (Apetrei 2014): the leaves [l, r] are the left child of split r when the codes at
@@ -42,9 +42,6 @@ var<workgroup> hp_near: array<u32, 32>;
 var<workgroup> hp_task: array<vec4<u32>, 32>;
 var<workgroup> hp_tasks: array<atomic<u32>, 1>;
 var<workgroup> hp_keep: array<atomic<u32>, 1>;
-// The clusters that make a node in a round, one bit each, and the first node id of the round.
-var<workgroup> hp_make: array<atomic<u32>, 1>;
-var<workgroup> hp_first: array<u32, 1>;
 // The step: the most tasks of a team << 8, | 1 if any invocation still climbs.
 var<workgroup> hp_step: atomic<u32>;
 // Teams with merging left after a round.
@@ -153,44 +150,19 @@ struct HplocCluster {
     keep: u32,
 }
 
-// Whether cluster i makes a node this round (it and its nearest neighbour are mutual, i first).
-fn hploc_makes(i: u32) -> bool {
-    let j = hp_near[i];
-    return j != i && hp_near[j] == i && i < j;
-}
-
-// `id`: the node it makes, if it makes one.
-fn hploc_merged(i: u32, id: u32) -> HplocCluster {
+fn hploc_merged(i: u32) -> HplocCluster {
     var c = HplocCluster(hp_node[i], hp_lo[i], hp_hi[i], hp_count[i], hp_cost[i], 1u);
     let j = hp_near[i];
     let mutual = j != i && hp_near[j] == i;
     if mutual && i < j {
         c.lo = min(c.lo, hp_lo[j]);
         c.hi = max(c.hi, hp_hi[j]);
-        write_node(id, c.node, hp_node[j], vec2<u32>(c.count, hp_count[j]), vec2<f32>(c.cost, hp_cost[j]), c.lo, c.hi);
-        c.node = id;
+        c.node = make_node_from(c.node, hp_node[j], vec2<u32>(c.count, hp_count[j]), vec2<f32>(c.cost, hp_cost[j]), c.lo, c.hi);
         c.count += hp_count[j];
-        c.cost = node_box[2u * id + 1u].w;
+        c.cost = node_box[2u * c.node + 1u].w;
     }
     c.keep = select(1u, 0u, mutual && j < i);
     return c;
-}
-
-// The ids of the nodes a round makes, taken by one atomic per team from STATE_NEXT_NODE
-// (one per node drew every workgroup's merges to one word): the id of cluster i's node, if
-// it makes one (call from uniform control flow).
-fn hploc_node_ids(i: u32, lane: u32, team: u32, merging: bool, count: u32) -> u32 {
-    let makes = merging && lane < count && hploc_makes(i);
-    if makes {
-        atomicOr(&hp_make[team], 1u << lane);
-    }
-    workgroupBarrier();
-    let made = atomicLoad(&hp_make[team]);
-    if lane == 0u && made != 0u {
-        hp_first[team] = params.n + atomicAdd(&state[STATE_NEXT_NODE], countOneBits(made));
-    }
-    workgroupBarrier();
-    return hp_first[team] + countOneBits(made & ((1u << lane) - 1u));
 }
 
 // PLOC rounds on each team's `count` clusters (call from uniform control flow; the teams'
@@ -214,16 +186,14 @@ fn hploc_rounds(i: u32, count_in: u32, goal: u32, rounds: ptr<function, u32>) ->
         }
         if lane == 0u {
             atomicStore(&hp_keep[team], 0u);
-            atomicStore(&hp_make[team], 0u);
         }
         if merging && lane < count {
             hp_near[i] = hploc_nearest(lane, count, i - lane);
         }
         workgroupBarrier();
-        let id = hploc_node_ids(i, lane, team, merging, count);
         var c = HplocCluster(0u, vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0, 0u);
         if merging && lane < count {
-            c = hploc_merged(i, id);
+            c = hploc_merged(i);
             atomicOr(&hp_keep[team], c.keep << lane);
         }
         workgroupBarrier();
