@@ -23,25 +23,29 @@
 // A team of HPLOC_TEAM invocations starts at as many leaves and merges one range's clusters
 // at a time; a workgroup holds HPLOC_TEAMS teams, which step together.
 const HPLOC_TEAM: u32 = 32u;
+// One team a workgroup: on the H200 the atrium's hploc kernel took 0.331-0.350 ms with one, 0.409
+// with four teams and 0.556 with eight (docs/experiments/hploc/run.sh; src/accel/gpu_build.rs's
+// HPLOC_GROUP must match).
 const HPLOC_TEAMS: u32 = 1u;
+const HPLOC_GROUP: u32 = HPLOC_TEAM * HPLOC_TEAMS;
 // Clusters a range keeps: two children's fit a team.
 const HPLOC_KEEP: u32 = 16u;
 // A cluster's record: node, box lo, box hi, triangles, SAH cost (f32 bits).
 const HPLOC_RECORD: u32 = 9u;
 
 // The clusters of each team's task at hand, one per invocation (team t at 32 t ..).
-var<workgroup> hp_lo: array<vec3<f32>, 32>;
-var<workgroup> hp_hi: array<vec3<f32>, 32>;
-var<workgroup> hp_node: array<u32, 32>;
-var<workgroup> hp_count: array<u32, 32>;
-var<workgroup> hp_cost: array<f32, 32>;
+var<workgroup> hp_lo: array<vec3<f32>, HPLOC_GROUP>;
+var<workgroup> hp_hi: array<vec3<f32>, HPLOC_GROUP>;
+var<workgroup> hp_node: array<u32, HPLOC_GROUP>;
+var<workgroup> hp_count: array<u32, HPLOC_GROUP>;
+var<workgroup> hp_cost: array<f32, HPLOC_GROUP>;
 // Each cluster's nearest neighbour (its index in these arrays).
-var<workgroup> hp_near: array<u32, 32>;
+var<workgroup> hp_near: array<u32, HPLOC_GROUP>;
 // Each team's tasks of the step, at 32 t ..: (first leaf, split, last leaf, left clusters |
 // right clusters << 8 | owner << 16); their number; the survivors of a round, one bit each.
-var<workgroup> hp_task: array<vec4<u32>, 32>;
-var<workgroup> hp_tasks: array<atomic<u32>, 1>;
-var<workgroup> hp_keep: array<atomic<u32>, 1>;
+var<workgroup> hp_task: array<vec4<u32>, HPLOC_GROUP>;
+var<workgroup> hp_tasks: array<atomic<u32>, HPLOC_TEAMS>;
+var<workgroup> hp_keep: array<atomic<u32>, HPLOC_TEAMS>;
 // The step: the most tasks of a team << 8, | 1 if any invocation still climbs.
 var<workgroup> hp_step: atomic<u32>;
 // Teams with merging left after a round.
@@ -265,9 +269,9 @@ fn hploc_step_up(i: u32, range_in: vec3<u32>) -> vec4<u32> {
     return vec4<u32>(range, 1u);
 }
 
-@compute @workgroup_size(32)
+@compute @workgroup_size(HPLOC_GROUP)
 fn hploc(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>, @builtin(local_invocation_index) i: u32) {
-    let first = (wid.x + wid.y * groups.x) * HPLOC_TEAM * HPLOC_TEAMS;
+    let first = (wid.x + wid.y * groups.x) * HPLOC_GROUP;
     if first >= params.n {
         return;
     }
