@@ -7,7 +7,7 @@
 
 use glam::{Mat4, Quat, Vec3};
 use raygraph::accel::bvh::{instance_transform, Aabb, AccelError, AccelOptions, Blas, BuildConfig, Bvh, SceneAccel, SplitMethod, MAX_TREE_DEPTH};
-use raygraph::accel::cpu_traverse::{CpuTraverser, Hit, Ray};
+use raygraph::accel::cpu_traverse::{CpuTraverser, Hit, Ray, TraceStart, TraversalCounts};
 use raygraph::accel::layout::{flatten, merge, merge_instances, GpuAccel, GpuBvhNode, GpuInstance, GpuTriangle, NO_INSTANCE, NO_PRIM};
 use raygraph::accel::reference::{RefHit, Reference};
 use raygraph::scene::procedural::{atrium, box_scene, organic};
@@ -1120,4 +1120,42 @@ fn reference_margins_match_their_closed_forms() {
     let (best, margin) = two.closest_with_margin(&down(0.25, 0.25, f32::INFINITY));
     let gap = (-1e-3f32) as f64;
     assert!(best.is_some_and(|h| h.instance_id == 0) && close(margin, -gap), "stacked: {best:?} {margin}");
+}
+
+/// Rays that stay within a sphere, started together below the root (the CPU mirror of the
+/// WGSL's `trace_start_within` and `trace_transmittance_within`), hit exactly what the same
+/// rays traced from the root hit, AO rays of the atrium and the organic mesh from points on
+/// their surfaces, and in the atrium the start saves interior nodes.
+#[test]
+fn rays_started_below_the_root_hit_what_rays_from_the_root_hit() {
+    for scene in [atrium(1), organic()] {
+        let accel = merged(&scene);
+        let tracer = CpuTraverser::new(&accel);
+        let range = 0.05 * 0.5 * scene.bounds().diagonal();
+        let mut rng = Rng(7);
+        let (mut from_root, mut started) = (TraversalCounts::default(), TraversalCounts::default());
+        let (mut hits, mut rays, mut below) = (0, 0, 0);
+        for (_, probe) in make_rays(&scene, 400, 3) {
+            let Some(hit) = tracer.closest(&probe) else { continue };
+            let origin = probe.origin + probe.dir * (hit.t * 0.999);
+            let start = tracer.start_within(origin, range, &mut started);
+            below += matches!(start, TraceStart::Within { node: Some(n), .. } if n != accel.instances[0].blas_root) as u32;
+            for _ in 0..16 {
+                let ray = Ray::with_interval(origin, rng.unit(), 0.0, range);
+                let expected = tracer.counted(&ray, true, &mut from_root).is_some();
+                assert_eq!(tracer.any_within(&ray, &start, &mut started), expected, "{}: a ray from {origin} along {}", scene.name(), ray.dir);
+                (hits, rays) = (hits + expected as u32, rays + 1);
+            }
+        }
+        println!(
+            "{}: {rays} rays, {hits} hits, {below} lanes started below the root; interior nodes {} from the root, {} started",
+            scene.name(),
+            from_root.interior,
+            started.interior
+        );
+        assert!(hits > 0 && hits < rays, "{}: the rays should both hit and miss", scene.name());
+        if scene.name() == "atrium" {
+            assert!(below > 0 && started.interior < from_root.interior, "atrium: the start saved nothing");
+        }
+    }
 }

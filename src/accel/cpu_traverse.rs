@@ -442,12 +442,25 @@ impl<'a> CpuTraverser<'a> {
 
     /// The closest hit in `[ray.t_min, t_far]` within one instance.
     fn trace_instance(&self, inst: &GpuInstance, ray: &Ray, t_far: f32, any_hit: bool, flags: TraceFlags, counts: &mut TraversalCounts) -> Option<Hit> {
+        self.trace_instance_from(inst, inst.blas_root, ray, t_far, (any_hit, flags), counts)
+    }
+
+    /// [`CpuTraverser::trace_instance`] from node `root` of its BLAS.
+    fn trace_instance_from(
+        &self,
+        inst: &GpuInstance,
+        root: u32,
+        ray: &Ray,
+        t_far: f32,
+        (any_hit, flags): (bool, TraceFlags),
+        counts: &mut TraversalCounts,
+    ) -> Option<Hit> {
         let a = self.accel;
         let o = transform_point(&inst.world_to_object, ray.origin);
         let d = transform_vector(&inst.world_to_object, ray.dir);
         let wt = WatertightRay::new(o, d)?;
         let slab = SlabRay::new(o, d);
-        traverse(&a.blas_nodes, inst.blas_root, &slab, (ray.t_min, t_far), any_hit, counts, |k, t_far, counts| {
+        traverse(&a.blas_nodes, root, &slab, (ray.t_min, t_far), any_hit, counts, |k, t_far, counts| {
             let tri = a.triangles.get(k as usize)?;
             counts.triangles += 1;
             Some(self.triangle_hit(inst, tri, &wt, (ray.t_min, t_far), flags))
@@ -473,6 +486,73 @@ impl<'a> CpuTraverser<'a> {
             }
         }
         Some(hit)
+    }
+}
+
+/// Where the rays within a sphere start ([`CpuTraverser::start_within`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TraceStart {
+    /// At the root: the scene is not one merged instance (or the start is off).
+    Root,
+    /// Below it: rays whose segment stays in the box `lo`..`hi` start at `node` of the merged
+    /// instance `instance`'s BLAS (`None`: nothing within reach); other rays at the root.
+    Within {
+        /// The merged instance.
+        instance: u32,
+        /// The start node, if anything lies within reach.
+        node: Option<u32>,
+        /// The box of the sphere.
+        lo: Vec3,
+        /// The box of the sphere.
+        hi: Vec3,
+    },
+}
+
+impl CpuTraverser<'_> {
+    /// The node where rays that stay within `radius` of `origin` start (the WGSL's
+    /// `trace_start_within`, one start node): from the root of the merged instance's BLAS
+    /// down, while only one child's box overlaps the box of the sphere (widened as the WGSL
+    /// widens it). Adds the nodes and the instance it reads to `counts`.
+    pub fn start_within(&self, origin: Vec3, radius: f32, counts: &mut TraversalCounts) -> TraceStart {
+        let a = self.accel;
+        let e = radius * 1.0001 + origin.abs().max_element() * 1e-6;
+        let (lo, hi) = (origin - Vec3::splat(e), origin + Vec3::splat(e));
+        let overlaps = |n: &GpuBvhNode| (0..3).all(|k| n.min[k] <= hi[k] && lo[k] <= n.max[k]);
+        let Some(root) = a.tlas_nodes.first().filter(|r| r.count == 1 && radius >= 0.0) else { return TraceStart::Root };
+        let Some(inst) = a.instances.get(root.left_or_first as usize) else { return TraceStart::Root };
+        if inst.instance_id != MERGED_INSTANCE || inst.mask == 0 || inst.flags & INSTANCE_ALPHA != 0 {
+            return TraceStart::Root;
+        }
+        counts.instances += 1;
+        let mut node = overlaps(root).then_some(inst.blas_root);
+        while let Some(n) = node.and_then(|k| a.blas_nodes.get(k as usize)).filter(|n| n.count == 0) {
+            counts.interior += 1;
+            let (l, r) = (n.left_or_first, n.left_or_first.wrapping_add(1));
+            let inside = |k: u32| a.blas_nodes.get(k as usize).is_some_and(overlaps);
+            node = match (inside(l), inside(r)) {
+                (true, true) => break,
+                (true, false) => Some(l),
+                (false, true) => Some(r),
+                (false, false) => None,
+            };
+        }
+        TraceStart::Within { instance: root.left_or_first, node, lo, hi }
+    }
+
+    /// Whether an any-hit `ray` hits anything, started where `start` says (the WGSL's
+    /// `trace_transmittance_within` for opaque geometry): a ray whose segment leaves the
+    /// start's box takes the whole traversal. Adds what it touched to `counts`.
+    pub fn any_within(&self, ray: &Ray, start: &TraceStart, counts: &mut TraversalCounts) -> bool {
+        let TraceStart::Within { instance, node, lo, hi } = *start else { return self.counted(ray, true, counts).is_some() };
+        if !ray_is_valid(ray) {
+            return false;
+        }
+        let end = ray.origin + ray.dir * ray.t_max;
+        if ray.origin.min(end).cmplt(lo).any() || ray.origin.max(end).cmpgt(hi).any() {
+            return self.counted(ray, true, counts).is_some();
+        }
+        let (Some(node), Some(inst)) = (node, self.accel.instances.get(instance as usize)) else { return false };
+        self.trace_instance_from(inst, node, ray, ray.t_max, (true, TraceFlags::NONE), counts).is_some()
     }
 }
 

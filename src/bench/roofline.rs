@@ -9,10 +9,12 @@
 //! `stride`-th pixel in each direction: a primary ray through the pixel centre; for a hit, one
 //! shadow ray towards the directional light and `ao_rays` cosine-weighted AO rays of length 5%
 //! of the scene's bounding radius (independent random directions), from the hit moved off the
-//! surface as the shaders do; the Miss and Stress tests' primary rays from their cameras.
+//! surface as the shaders do, each lane's quarter of them started together below the root
+//! where the executor does that (scenes of at least 1024 triangles; the start's own loads
+//! counted once per lane); the Miss and Stress tests' primary rays from their cameras.
 
 use crate::accel::bvh::{Blas, BuildConfig};
-use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraversalCounts};
+use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceStart, TraversalCounts};
 use crate::accel::layout::{merge, merge_instances, GpuAccel};
 use crate::scene::{Camera, Scene};
 use glam::Vec3;
@@ -65,6 +67,7 @@ fn row(test: &str, rays: u64, c: &TraversalCounts, bandwidth: f64) -> RooflineRo
 pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) -> RooflineRow {
     let accel = merged_layout(scene);
     let tracer = CpuTraverser::new(&accel);
+    let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
     let mut counts = TraversalCounts::default();
     let mut rays = 0u64;
     let mut rng = crate::util::SplitMix64(1);
@@ -83,16 +86,25 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
         rays += 1;
         tracer.counted(&Ray::new(origin, scene.light().direction), true, &mut counts);
         let (t, b) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));
-        for _ in 0..ao_rays {
+        // A pixel's AO rays go to AO_LANES lanes; a lane's rays start together below the root
+        // where the executor turns that on (`common/ao_lane.wgsl`).
+        let mut start = TraceStart::Root;
+        for i in 0..ao_rays {
+            if i % ao_rays.div_ceil(AO_LANES) == 0 && start_below_root {
+                start = tracer.start_within(origin, range, &mut counts);
+            }
             let (u, w) = (rng.f(), rng.f());
             let (rad, phi) = (u.sqrt(), w * std::f32::consts::TAU);
             let d = (t * (rad * phi.cos()) + b * (rad * phi.sin()) + n * (1.0 - u).max(0.0).sqrt()).normalize();
             rays += 1;
-            tracer.counted(&Ray::with_interval(origin, d, 0.0, range), true, &mut counts);
+            tracer.any_within(&Ray::with_interval(origin, d, 0.0, range), &start, &mut counts);
         }
     }
     row(scene.name(), rays, &counts, bandwidth)
 }
+
+/// Lanes a pixel's AO rays are shared over (the AO layers' `AO_LANES`).
+const AO_LANES: u32 = 4;
 
 /// The Miss or Stress test: closest-hit primary rays from `camera`.
 pub fn primary_workload(test: &str, scene: &Scene, camera: &Camera, stride: u32, bandwidth: f64) -> RooflineRow {
