@@ -18,23 +18,34 @@
 #   against one atomic per node (.gpu/raygraph-t1, the t1 part's one-team build) and the PLOC
 #   rounds, in turn, twice each; then `bench scale --steps atrium:2,atrium:3 --backend compute
 #   --frames 5` (2.1M and 7.1M unique triangles) with H-PLOC and with the PLOC rounds.
+#   `run.sh fence`: a probe, not a builder: the shipped H-PLOC (.gpu/raygraph, the code of
+#   a26bb13) against a build of it whose two device-scope storage barriers are workgroup
+#   barriers (.gpu/raygraph-nofence; without them a record may be read before it is visible,
+#   so its trees are not to be trusted), to see what the barriers cost. No test binary.
 set -u
 PART=${1:-first}
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
-gunzip -f .gpu/*.gz && chmod +x .gpu/raygraph* .gpu/gpu_build_test
+gunzip -f .gpu/*.gz && chmod +x .gpu/raygraph* .gpu/gpu_build_test 2>/dev/null
 RG=$PWD/.gpu/raygraph; ROOT=$PWD
 OUT=${OUT:-/tmp/out}; mkdir -p $OUT/runs
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 # The test binary finds the repository at the path it was built in.
 mkdir -p /work && ln -sfn $ROOT /work/main
-(cd $ROOT && timeout 150 .gpu/gpu_build_test --test-threads 1 > $OUT/runs/tests.log 2>&1); echo "tests exit $?"; grep -E "^test |SAH|test result" $OUT/runs/tests.log
+if [ -x .gpu/gpu_build_test ]; then
+  (cd $ROOT && timeout 150 .gpu/gpu_build_test --test-threads 1 > $OUT/runs/tests.log 2>&1); echo "tests exit $?"; grep -E "^test |SAH|test result" $OUT/runs/tests.log
+fi
 (cd $ROOT && $RG bench rays --scenes box --backend compute --frames 5 --out /tmp/warm 2>&1 | grep -iE "adapter" | head -1)
 run() { # name max-factor scenes env...
   local name=$1 factor=$2 scenes=$3; shift 3
   if [ $SECONDS -gt 480 ]; then echo "skipped: $name"; return; fi
   (cd $ROOT && env "$@" timeout 150 ${BIN:-$RG} bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
 }
-if [ "$PART" = ids ]; then
+if [ "$PART" = fence ]; then
+  for k in 1 2; do
+    run shipped_$k 1 organic,atrium X=1
+    BIN=$ROOT/.gpu/raygraph-nofence run nofence_$k 1 organic,atrium X=1
+  done
+elif [ "$PART" = ids ]; then
   for k in 1 2; do
     run ids_$k 1 organic,atrium X=1
     BIN=$ROOT/.gpu/raygraph-t1 run t1_$k 1 organic,atrium X=1
