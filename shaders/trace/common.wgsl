@@ -26,20 +26,19 @@
 
 //#include "common/ray.wgsl"
 
-// Where rays within a sphere start (trace_start_within): the first `count` of `nodes`, nodes
-// of the compute back-end's merged BLAS whose subtrees hold every triangle within reach (none:
-// nothing within reach), or `count` TRACE_START_ROOT (the whole traversal); `lo`, `hi` the box
-// the rays' segments must stay in.
-// One: 4 and 8 nodes took the pine's AO pass 16% and 9% below the root's start but the
-// atrium's and the helmet's at 2% of the frame 10-60% above (H200, PERF.md step 24).
-const TRACE_START_NODES: u32 = 1u;
+// Where rays within a sphere start (trace_start_within): `node`, a node of the compute
+// back-end's merged BLAS whose subtree holds every triangle within reach, TRACE_START_NONE
+// (nothing within reach) or TRACE_START_ROOT (the whole traversal); `lo`, `hi` the box the
+// rays' segments must stay in. One node: starting at two, four or eight took the pine's AO
+// pass 2-16% lower but the atrium's and the helmet's at 2% of the frame 6-60% higher (H200,
+// PERF.md step 24).
 struct TraceStart {
-    count: u32,
-    nodes: array<u32, TRACE_START_NODES>,
+    node: u32,
     lo: vec3<f32>,
     hi: vec3<f32>,
 }
 const TRACE_START_ROOT: u32 = 0xffffffffu;
+const TRACE_START_NONE: u32 = 0xfffffffeu;
 
 // Per-ray flags of trace_closest_flags / trace_any_flags.
 const TRACE_FLAGS_NONE: u32 = 0u;

@@ -449,17 +449,16 @@ fn trace_boxes_overlap(a_lo: vec3<f32>, a_hi: vec3<f32>, b_lo: vec3<f32>, b_hi: 
     return all(a_lo <= b_hi) && all(b_lo <= a_hi);
 }
 
-// Nodes of the merged BLAS whose subtrees hold every triangle that a ray staying within
-// `radius` of `origin` can hit: from the root, a node whose box does not overlap the sphere's
-// box is dropped (a triangle such a ray hits lies in that box, and in the box of every node
-// that holds it), one with one child overlapping it gives way to that child, one with both to
-// both while there is room for TRACE_START_NODES. The box is widened by 1e-4 of the radius and
-// 1e-6 of the origin's largest coordinate, beyond the rounding of a hit's t.
+// The node of the merged BLAS under which lies every triangle that a ray staying within
+// `radius` of `origin` can hit: from the root down, while only one child's box overlaps the
+// box of that sphere (a triangle such a ray hits lies in that box, and in the box of every node
+// that holds it); where neither does, nothing is within reach. The box is widened by 1e-4 of
+// the radius and 1e-6 of the origin's largest coordinate, beyond the rounding of a hit's t.
 // TRACE_START_ROOT where the scene is not one merged instance (two levels, or an alpha-tested
 // instance of its own), or where TRACE_START_BELOW_ROOT is off.
 fn trace_start_within(origin: vec3<f32>, radius: f32) -> TraceStart {
     let e = radius * 1.0001 + max(max(abs(origin.x), abs(origin.y)), abs(origin.z)) * 1e-6;
-    var start = TraceStart(TRACE_START_ROOT, array<u32, TRACE_START_NODES>(), origin - vec3<f32>(e), origin + vec3<f32>(e));
+    var start = TraceStart(TRACE_START_ROOT, origin - vec3<f32>(e), origin + vec3<f32>(e));
     let root = trace_tlas_node(0u);
     if !TRACE_START_BELOW_ROOT || root.count != 1u || !(radius >= 0.0) {
         return start;
@@ -468,37 +467,26 @@ fn trace_start_within(origin: vec3<f32>, radius: f32) -> TraceStart {
     if inst.instance_id != MERGED_INSTANCE || inst.mask == 0u || (inst.flags & INSTANCE_ALPHA) != 0u {
         return start;
     }
-    start.count = select(0u, 1u, trace_boxes_overlap(root.min, root.max, start.lo, start.hi));
-    start.nodes[0] = inst.blas_root;
-    var i = 0u;
-    while i < start.count {
-        let n = trace_blas_node(start.nodes[i]);
+    start.node = select(TRACE_START_NONE, inst.blas_root, trace_boxes_overlap(root.min, root.max, start.lo, start.hi));
+    while start.node != TRACE_START_NONE {
+        let n = trace_blas_node(start.node);
         if n.count > 0u {
-            i++;
-            continue;
+            break;
         }
-        let in_l = trace_boxes_overlap(trace_blas_node(n.left_or_first).min, trace_blas_node(n.left_or_first).max, start.lo, start.hi);
-        let in_r = trace_boxes_overlap(trace_blas_node(n.left_or_first + 1u).min, trace_blas_node(n.left_or_first + 1u).max, start.lo, start.hi);
+        let l = trace_blas_node(n.left_or_first);
+        let r = trace_blas_node(n.left_or_first + 1u);
+        let in_l = trace_boxes_overlap(l.min, l.max, start.lo, start.hi);
+        let in_r = trace_boxes_overlap(r.min, r.max, start.lo, start.hi);
         if in_l && in_r {
-            if start.count == TRACE_START_NODES {
-                i++;
-                continue;
-            }
-            start.nodes[start.count] = n.left_or_first + 1u;
-            start.count++;
+            break;
         }
-        if in_l || in_r {
-            start.nodes[i] = select(n.left_or_first + 1u, n.left_or_first, in_l);
-        } else {
-            start.count--;
-            start.nodes[i] = start.nodes[start.count];
-        }
+        start.node = select(select(TRACE_START_NONE, n.left_or_first + 1u, in_r), n.left_or_first, in_l);
     }
     return start;
 }
 
 fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
-    if start.count == TRACE_START_ROOT {
+    if start.node == TRACE_START_ROOT {
         return trace_transmittance_flags(ray, flags);
     }
     if !trace_transmittance_starts(ray) {
@@ -510,15 +498,13 @@ fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
     if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
         return trace_transmittance_result(trace_impl(ray, true, true, cull).any);
     }
+    if start.node == TRACE_START_NONE {
+        return trace_transmittance_result(false);
+    }
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var sp = 0u;
     let r = trace_prepare(ray.origin, ray.dir);
-    for (var k = 0u; k < start.count; k++) {
-        let node = start.nodes[k];
-        let h = trace_slab(r, trace_blas_node(node), ray.t_min, best.t);
-        if h.x <= h.y && trace_blas(node, r, ray.t_min, &best, true, true, cull, NO_HIT, &sp) != NO_HIT {
-            return trace_transmittance_result(true);
-        }
-    }
-    return trace_transmittance_result(false);
+    let h = trace_slab(r, trace_blas_node(start.node), ray.t_min, best.t);
+    let stopped = h.x <= h.y && trace_blas(start.node, r, ray.t_min, &best, true, true, cull, NO_HIT, &sp) != NO_HIT;
+    return trace_transmittance_result(stopped);
 }

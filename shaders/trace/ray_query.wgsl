@@ -86,7 +86,7 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
 
 // Rays within a sphere start at the root here (trace/common.wgsl).
 fn trace_start_within(origin: vec3<f32>, radius: f32) -> TraceStart {
-    return TraceStart(TRACE_START_ROOT, array<u32, TRACE_START_NODES>(), origin, origin);
+    return TraceStart(TRACE_START_ROOT, origin, origin);
 }
 
 fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
