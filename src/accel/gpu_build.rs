@@ -8,7 +8,7 @@
 //! order; `RAYGRAPH_GPU_BUILD_SORT=radix|bitonic` forces one, for comparing). H-PLOC then makes
 //! the whole tree in one dispatch (each invocation climbs the codes' radix tree from its leaf;
 //! a range of more than 16 leaves is merged down to 16 clusters by PLOC rounds in its
-//! workgroup, the root to one), H200 atrium 0.62 ms a build against the rounds' 0.77. With
+//! workgroup, the root to one), H200 atrium 0.59-0.61 ms a build against the rounds' 0.77. With
 //! the PLOC rounds instead: the first rounds run
 //! within segments of 1024 leaves in workgroup memory (`LOCAL_CLUSTERS`). Then each round,
 //! every cluster finds its nearest neighbour (the smallest box around both) among the
@@ -64,6 +64,16 @@ pub(crate) const FINISH_CLUSTERS: u32 = 1024;
 /// first rounds, within the segment, in workgroup memory) before the rounds over all clusters.
 /// `RAYGRAPH_GPU_BUILD_LOCAL` overrides it, for measuring.
 pub(crate) const LOCAL_CLUSTERS: u32 = 256;
+/// The builder [`GpuBlasBuilder`] runs, by the environment (`RAYGRAPH_GPU_BUILD=ploc`: the PLOC
+/// rounds; otherwise H-PLOC).
+pub fn builder_name() -> &'static str {
+    if std::env::var("RAYGRAPH_GPU_BUILD").as_deref() == Ok("ploc") {
+        "PLOC rounds"
+    } else {
+        "H-PLOC"
+    }
+}
+
 /// Most triangles the GPU builder takes (its dispatch sizes and single-workgroup scan).
 pub(crate) const MAX_GPU_BUILD_TRIANGLES: usize = 1 << 23;
 
@@ -115,7 +125,8 @@ pub struct GpuBlas {
     /// SAH cost of the tree ([`layout_sah_cost`]'s weights), from the build's own f32 node
     /// costs and unwidened boxes: within a few parts in a million of [`layout_sah_cost`].
     pub sah_cost: f64,
-    /// PLOC rounds that merged anything (the recorded rounds after the last one dispatch no
+    /// H-PLOC: the merging rounds of all its ranges, summed. PLOC rounds: the rounds that
+    /// merged anything (the recorded rounds after the last one dispatch no
     /// work).
     pub rounds: u32,
     /// GPU milliseconds of the build's compute passes (None without timestamp queries).
@@ -340,8 +351,9 @@ impl GpuBlasBuilder {
         if let Some(word) = count {
             buffers.copy_count(&mut encoder, word, 3 + sort_steps.len() as u64, radix_job.as_ref());
         }
-        // Boxes, Morton codes, sort, the first clusters, the rounds down to `finish` clusters
-        // (each leaves about 83% of them on the atrium), the finish and the layout.
+        // Boxes, Morton codes, sort; then H-PLOC and the layout, or the first clusters, the
+        // rounds down to `finish` clusters (each leaves about 83% of them on the atrium), the
+        // finish and the layout.
         self.record_sort(&mut timer.pass(&mut encoder, Phase::Sort), &even, &shape, (&sort_steps, radix_job.as_ref()));
         if tuning.hierarchy {
             return self.finish_hierarchy(device, queue, (encoder, &mut timer), &even, (buffers, &shape));
@@ -617,7 +629,7 @@ impl Tuning {
             },
             fused: std::env::var("RAYGRAPH_GPU_BUILD_ROUND").as_deref() != Ok("pair"),
             indirect: std::env::var("RAYGRAPH_GPU_BUILD_INDIRECT").as_deref() == Ok("1"),
-            hierarchy: std::env::var("RAYGRAPH_GPU_BUILD").as_deref() != Ok("ploc"),
+            hierarchy: builder_name() == "H-PLOC",
         }
     }
 
@@ -835,7 +847,7 @@ enum SortStep {
 pub(crate) enum Phase {
     /// Leaf boxes, Morton codes and their sort.
     Sort = 0,
-    /// The PLOC rounds down to [`FINISH_CLUSTERS`].
+    /// The PLOC rounds down to [`FINISH_CLUSTERS`], or H-PLOC's one dispatch.
     Rounds = 1,
     /// The one-workgroup finish.
     Finish = 2,

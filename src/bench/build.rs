@@ -355,7 +355,7 @@ pub fn refit_csv(info: &RunInfo, rows: &[RefitRow]) -> String {
     s
 }
 
-/// The GPU builder (PLOC, [`crate::accel::gpu_build`]) against the CPU binned-SAH builder on
+/// The GPU builder (H-PLOC or the PLOC rounds, [`crate::accel::gpu_build`]) against the CPU binned-SAH builder on
 /// each scene's merged layout: GPU milliseconds of the build (median and min of `builds`), its
 /// rounds and depth, and both trees' SAH cost.
 #[derive(Debug, Clone)]
@@ -368,7 +368,7 @@ pub struct GpuBuildRow {
     pub gpu_ms: Option<(f64, f64)>,
     /// Median GPU milliseconds of each `crate::accel::gpu_build::Phase`.
     pub phase_ms: Option<[f64; 4]>,
-    /// Nearest-neighbour rounds of the build.
+    /// Nearest-neighbour rounds of the build (H-PLOC: summed over its ranges).
     pub rounds: u32,
     /// Depth of the deepest leaf.
     pub depth: u32,
@@ -506,7 +506,11 @@ fn cache_rebuild_ms(gpu: &Gpu, scene: &Scene, builds: u32) -> Result<Option<(f64
 
 /// The rows as a markdown table, with the run's header.
 pub fn gpu_build_markdown(info: &RunInfo, rows: &[GpuBuildRow]) -> String {
-    let mut s = format!("# bench build: merged layout, GPU builder (PLOC) against the CPU binned-SAH build\n\n{}\n", info.markdown());
+    let mut s = format!(
+        "# bench build: merged layout, GPU builder ({}) against the CPU binned-SAH build\n\n{}\nWith H-PLOC, its one dispatch is the phases' \"rounds\" and the finish is 0; \"rounds\" counts its ranges' merging rounds.\n\n",
+        crate::accel::gpu_build::builder_name(),
+        info.markdown()
+    );
     s.push_str(
         "| scene | triangles | GPU build ms (median) | GPU build ms (min) | sort / rounds / finish / layout ms | rounds | depth | wall ms, build + read-back | cache rebuild wall ms, no read-back | of which hash / update / arrays placed ms | CPU build ms | SAH cost, GPU | SAH cost, CPU | GPU/CPU SAH |\n",
     );
