@@ -439,8 +439,8 @@ fn tree_difference(a: &(Vec<u8>, Vec<u8>, u32), b: &(Vec<u8>, Vec<u8>, u32)) -> 
 /// their speed on a GPU, with the defaults chosen by that measurement) build the same tree: the
 /// same triangles in the same order, the same nodes in depth-first order; H-PLOC's with either
 /// sort, the PLOC rounds' (`RAYGRAPH_GPU_BUILD=ploc`) with any of their variants. The
-/// environment is read at each build ([`with_env`]); the tests that build without it accept
-/// either builder's tree.
+/// environment is read at each build, and every build in this file holds [`ENV`] through
+/// [`with_env`].
 #[test]
 fn every_builder_variant_builds_the_same_tree() {
     let gpu = gpu();
