@@ -210,7 +210,12 @@ pub struct GpuBlasBuilder {
 
 /// Workgroups for `invocations` threads of [`GROUP`], spread over y past 32768 in x.
 fn groups_for(invocations: u64) -> (u32, u32) {
-    let g = invocations.div_ceil(GROUP as u64).max(1);
+    groups_of(invocations, GROUP as u64)
+}
+
+/// Workgroups of `size` invocations for `invocations` threads, spread over y past 32768 in x.
+fn groups_of(invocations: u64, size: u64) -> (u32, u32) {
+    let g = invocations.div_ceil(size).max(1);
     (g.min(32768) as u32, g.div_ceil(32768) as u32)
 }
 
@@ -392,8 +397,8 @@ impl GpuBlasBuilder {
             let mut pass = timer.pass(&mut encoder, Phase::Rounds);
             pass.set_bind_group(0, even, &[slot(0)]);
             pass.set_pipeline(&self.hploc);
-            let groups = (shape.n as u64).div_ceil(HPLOC_GROUP);
-            pass.dispatch_workgroups(groups.min(32768) as u32, groups.div_ceil(32768) as u32, 1);
+            let (x, y) = groups_of(shape.n as u64, HPLOC_GROUP);
+            pass.dispatch_workgroups(x, y, 1);
         }
         self.record_layout(&mut timer.pass(&mut encoder, Phase::Layout), even, shape);
         timer.resolve(&mut encoder);

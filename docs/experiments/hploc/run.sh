@@ -40,17 +40,21 @@ run() { # name max-factor scenes env...
   if [ $SECONDS -gt 480 ]; then echo "skipped: $name"; return; fi
   (cd $ROOT && env "$@" timeout 150 ${BIN:-$RG} bench build --scenes $scenes --max-factor $factor --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
 }
+# Each spec "name|binary under .gpu/ (empty: the checkout's)|environment (empty: none)", in
+# turn, twice: runs name_1, name_2 of `bench build --scenes organic,atrium --max-factor 1`.
+alternate() {
+  for k in 1 2; do
+    for spec in "$@"; do
+      IFS='|' read -r name bin var <<< "$spec"
+      BIN=${bin:+$ROOT/.gpu/$bin} run ${name}_$k 1 organic,atrium ${var:-X=1}
+    done
+  done
+}
+PLOC="ploc||RAYGRAPH_GPU_BUILD=ploc"
 if [ "$PART" = fence ]; then
-  for k in 1 2; do
-    run shipped_$k 1 organic,atrium X=1
-    BIN=$ROOT/.gpu/raygraph-nofence run nofence_$k 1 organic,atrium X=1
-  done
+  alternate "shipped||" "nofence|raygraph-nofence|"
 elif [ "$PART" = ids ]; then
-  for k in 1 2; do
-    run ids_$k 1 organic,atrium X=1
-    BIN=$ROOT/.gpu/raygraph-t1 run t1_$k 1 organic,atrium X=1
-    run ploc_$k 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
-  done
+  alternate "ids||" "t1|raygraph-t1|" "$PLOC"
   for b in hploc ploc; do
     if [ $SECONDS -gt 400 ]; then echo "skipped: scale $b"; continue; fi
     v=X=1; [ $b = ploc ] && v=RAYGRAPH_GPU_BUILD=ploc
@@ -58,25 +62,14 @@ elif [ "$PART" = ids ]; then
     grep -E "^\| atrium" $OUT/runs/scale_$b/scale.md | sed "s/^/scale_$b /"
   done
 elif [ "$PART" = t1 ]; then
-  for k in 1 2; do
-    BIN=$ROOT/.gpu/raygraph-t1 run team1_$k 1 organic,atrium X=1
-    run teams4_$k 1 organic,atrium X=1
-    run ploc_$k 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
-  done
+  alternate "team1|raygraph-t1|" "teams4||" "$PLOC"
 elif [ "$PART" = teams ]; then
-  for k in 1 2; do
-    run teams4_$k 1 organic,atrium X=1
-    BIN=$ROOT/.gpu/raygraph-t8 run teams8_$k 1 organic,atrium X=1
-    run ploc_$k 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
-  done
+  alternate "teams4||" "teams8|raygraph-t8|" "$PLOC"
 else
-run hploc_1 1 organic,atrium X=1
-run ploc_1 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
-run hploc_2 1 organic,atrium X=1
-run ploc_2 1 organic,atrium RAYGRAPH_GPU_BUILD=ploc
-run hploc_x2 2 atrium X=1
-run ploc_x2 2 atrium RAYGRAPH_GPU_BUILD=ploc
+  alternate "hploc||" "$PLOC"
+  run hploc_x2 2 atrium X=1
+  run ploc_x2 2 atrium RAYGRAPH_GPU_BUILD=ploc
 fi
-head -3 $OUT/runs/hploc_1/gpu_build.md
+head -3 $(ls $OUT/runs/*/gpu_build.md | head -1)
 for d in $OUT/runs/*/; do n=$(basename $d); grep -E "^\| (organic|atrium)" $d/gpu_build.md | sed "s/^/$n /"; done
 cd $OUT && tar czf results.tgz runs 2>/dev/null; rm -rf runs
