@@ -369,7 +369,7 @@ fn only_alpha_tested_instances_are_flagged() {
         let (mesh, origin) = merge_instances(&scene);
         let merged = merge(&mesh, &origin, raygraph::accel::bvh::Blas::build(&mesh, &Default::default()));
         assert!(merged.triangles.iter().all(|t| t.flags & TRI_ALPHA == 0), "{}", scene.name());
-        assert_eq!(alpha::gpu_words(&scene), [[alpha::ALPHA_OPAQUE; 4]], "{}", scene.name());
+        assert_eq!(alpha::gpu_words(&scene, &raygraph::scene::texture_pool::texture_refs(&scene, true)), [[alpha::ALPHA_OPAQUE; 4]], "{}", scene.name());
         assert!(alpha::tested_meshes(&scene).iter().all(|&t| !t), "{}", scene.name());
     }
 }

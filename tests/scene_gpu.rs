@@ -122,7 +122,14 @@ fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
         let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
         match exec.uploaded_scene().unwrap().textures().unwrap() {
             SceneTextures::Array { .. } => assert!(options.includes.is_empty()),
-            SceneTextures::Separate { views, .. } => assert_eq!(views.len(), scene.textures().len() + 1),
+            SceneTextures::Pooled { textures, views } => {
+                // One array per size and encoding: the layers hold every texture and white.
+                let pool = raygraph::scene::texture_pool::TexturePool::of(&scene);
+                assert_eq!(views.len(), pool.arrays.len());
+                assert!(pool.arrays.len() < scene.textures().len() + 1, "the default scene's textures share sizes: {}", pool.arrays.len());
+                let layers: u32 = textures.iter().map(|t| t.depth_or_array_layers()).sum();
+                assert_eq!(layers as usize, scene.textures().len() + 1);
+            }
         }
         exec.render(&gpu, scene.camera(), &scene).unwrap();
         images.push(exec.read_output(&gpu).unwrap());

@@ -15,6 +15,7 @@
 //! binding array; the texture-array fallback resamples every texture to 256x256 first, which
 //! moves alpha edges by at most a fraction of a source texel.
 
+use crate::scene::texture_pool::texture_ref;
 use crate::scene::{Material, Scene, SlotSampling, TextureImage, Wrap, LOBE_TRANSMISSION};
 
 /// Record word of an instance that is not alpha-tested (`TRACE_ALPHA_OPAQUE`).
@@ -55,8 +56,9 @@ pub fn tested_meshes(scene: &Scene) -> Vec<bool> {
 
 /// The `accel_alpha` buffer's words (see `shaders/trace/alpha.wgsl`): one record per scene
 /// instance, then the uvs of every mesh an alpha-tested instance uses, two words per triangle.
-/// A scene without alpha-tested instances is one opaque record (never read).
-pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
+/// A scene without alpha-tested instances is one opaque record (never read). Textures are named
+/// by `refs` (`crate::scene::texture_pool::texture_refs`: as the scene's textures are bound).
+pub fn gpu_words(scene: &Scene, refs: &[u32]) -> Vec<[u32; 4]> {
     let tested: Vec<bool> = (0..scene.instances().len()).map(|i| instance_tested(scene, i)).collect();
     if !tested.iter().any(|&t| t) {
         return vec![[ALPHA_OPAQUE; 4]];
@@ -79,13 +81,13 @@ pub fn gpu_words(scene: &Scene) -> Vec<[u32; 4]> {
             }
             b
         });
-        let layer = m.texture.map_or(0, |t| t as u32 + 1);
+        let layer = texture_ref(refs, m.texture);
         let wrap = sampling.wrap_bits();
         let (blend, factor) = if m.translucent() { (ALPHA_BLEND_BIT, m.coverage_factor()) } else { (0, m.base_color[3]) };
         let cutoff = cutoff(m).unwrap_or(0.0).to_bits();
         words[i] = [base, layer | wrap << 24 | blend, factor.to_bits(), cutoff];
         if let (true, Some(t)) = (m.transmission_texture_drawn(), m.lobes.textures[LOBE_TRANSMISSION]) {
-            let transmission = [t as u32 + 1 | m.sampling[5 + LOBE_TRANSMISSION].wrap_bits() << 24, m.transmitted_share().to_bits(), cutoff, 0];
+            let transmission = [texture_ref(refs, Some(t)) | m.sampling[5 + LOBE_TRANSMISSION].wrap_bits() << 24, m.transmitted_share().to_bits(), cutoff, 0];
             words[i][1] |= ALPHA_TRANSMISSION_BIT;
             words[i][3] = words.len() as u32;
             words.push(transmission);

@@ -329,6 +329,8 @@ pub struct AccelCache {
     /// Every mesh's positions as the executor's GPU deformation writes them
     /// ([`crate::runtime::deform::GpuDeform::positions`]), for scenes posed for the GPU.
     device_positions: Option<wgpu::Buffer>,
+    /// Whether the alpha records name textures as pooled ([`AccelCache::set_pooled_textures`]).
+    pooled_textures: bool,
 }
 
 impl AccelCache {
@@ -399,13 +401,24 @@ impl AccelCache {
             deformed: None,
             unit_built_sah: Vec::new(),
             device_positions: None,
+            pooled_textures: false,
+        }
+    }
+
+    /// Whether the scene's textures are bound pooled (`crate::scene::texture_pool`): the alpha
+    /// records name them so. Set by whoever uploads the textures; off until then.
+    pub fn set_pooled_textures(&mut self, pooled: bool) {
+        if self.pooled_textures != pooled {
+            self.pooled_textures = pooled;
+            self.alpha_words.clear();
+            self.seen = None;
         }
     }
 
     /// Rewrites `accel_alpha` if the scene's alpha data changed (a new buffer, and a new
     /// generation, when it outgrows the old one). Returns whether it wrote them.
     fn update_alpha(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<bool, RuntimeError> {
-        let words = super::alpha::gpu_words(scene);
+        let words = super::alpha::gpu_words(scene, &crate::scene::texture_pool::texture_refs(scene, self.pooled_textures));
         if words == self.alpha_words {
             return Ok(false);
         }

@@ -138,7 +138,8 @@ pub enum BindingKind {
         /// The sample type.
         kind: naga::ScalarKind,
     },
-    /// `binding_array<texture_2d<f32>>` (unsized): one texture per element.
+    /// `binding_array<texture_2d_array<f32>>` (unsized): one array texture per element (the
+    /// scene's pooled textures, `crate::scene::texture_pool`).
     TextureBindingArray,
     /// A ray-query acceleration structure.
     AccelerationStructure,
@@ -184,7 +185,7 @@ impl BindingKind {
                 format!("texture_{}{}<{}>", dim.to_wgsl(), if *arrayed { "_array" } else { "" }, sample_type_name(*kind))
             }
             BindingKind::DepthTexture => "texture_depth_2d".into(),
-            BindingKind::TextureBindingArray => "binding_array<texture_2d<f32>>".into(),
+            BindingKind::TextureBindingArray => "binding_array<texture_2d_array<f32>>".into(),
             BindingKind::AccelerationStructure => "acceleration_structure".into(),
             BindingKind::StorageTexture { format, access } => format!("texture_storage_2d<{}, {}>", format.to_wgsl(), access_name(*access)),
             BindingKind::Sampler { comparison } => if *comparison { "sampler_comparison" } else { "sampler" }.into(),
@@ -472,11 +473,7 @@ fn binding_kind(module: &naga::Module, var: &naga::GlobalVariable) -> BindingKin
         (naga::AddressSpace::Handle, naga::TypeInner::BindingArray { base, size: naga::ArraySize::Dynamic })
             if matches!(
                 module.types[*base].inner,
-                naga::TypeInner::Image {
-                    dim: naga::ImageDimension::D2,
-                    arrayed: false,
-                    class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. }
-                }
+                naga::TypeInner::Image { dim: naga::ImageDimension::D2, arrayed: true, class: naga::ImageClass::Sampled { kind: naga::ScalarKind::Float, .. } }
             ) =>
         {
             BindingKind::TextureBindingArray

@@ -138,7 +138,7 @@ struct SceneTextureBinding {
     uploaded: GpuScene,
     /// The layout entry.
     entry: wgpu::BindGroupLayoutEntry,
-    /// The texture array, or the textures of a binding array.
+    /// The texture array, or the array textures of a binding array.
     resource: RtResource,
 }
 
@@ -152,14 +152,14 @@ fn scene_textures(gpu: &Gpu, scene: &Scene, info: &reflect::ShaderInfo) -> Resul
     let textures = uploaded.textures().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
     let ty = wgpu::BindingType::Texture {
         sample_type: wgpu::TextureSampleType::Float { filterable: true },
-        view_dimension: if array { wgpu::TextureViewDimension::D2 } else { wgpu::TextureViewDimension::D2Array },
+        view_dimension: wgpu::TextureViewDimension::D2Array,
         multisampled: false,
     };
     let count = if array { std::num::NonZeroU32::new(textures.count()) } else { None };
     let entry = wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count };
     let resource = match textures {
         SceneTextures::Array { texture, view } => RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE },
-        SceneTextures::Separate { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
+        SceneTextures::Pooled { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
     };
     Ok(Some(SceneTextureBinding { uploaded, entry, resource }))
 }
@@ -172,12 +172,13 @@ fn batch_shader(gpu: &Gpu, backend: Backend, shaders_dir: &Path) -> Result<refle
     reflect::reflect_with(&path, shaders_dir, &Location::file_start(&path), &options.all_includes()).map_err(|e: GraphError| RuntimeError::Graph(e))
 }
 
-/// `scene`'s acceleration structure built for `backend` and waited for: the cache, what the
-/// build did, and its wall milliseconds.
-fn build_accel(gpu: &Gpu, backend: Backend, scene: &Scene, settings: AccelSettings) -> Result<(AccelCache, BuildReport, f64), RuntimeError> {
+/// `scene`'s acceleration structure built for `backend` and waited for (its alpha records
+/// naming `pooled` textures or not): the cache, what the build did, and its wall milliseconds.
+fn build_accel(gpu: &Gpu, backend: Backend, scene: &Scene, settings: AccelSettings, pooled: bool) -> Result<(AccelCache, BuildReport, f64), RuntimeError> {
     let device = gpu.device();
     let start = web_time::Instant::now();
     let mut cache = AccelCache::new(device, backend, settings, 1);
+    cache.set_pooled_textures(pooled);
     let mut encoder = device.create_command_encoder(&Default::default());
     let build = cache.update(device, gpu.queue(), &mut encoder, scene)?;
     // The rt-pipeline back-end's build comes as a command buffer of its own.
@@ -296,7 +297,9 @@ impl BatchTracer {
             return Err(RuntimeError::Gpu(format!("back-end {backend} is not available on {}", gpu.info().name)));
         }
         let info = batch_shader(gpu, backend, shaders_dir)?;
-        let (cache, build, build_wall_ms) = build_accel(gpu, backend, scene, settings)?;
+        // The alpha records name the textures as the trace module binds them.
+        let pooled = info.bindings.iter().any(|b| b.name == crate::graph::builtins::SCENE_TEXTURES && b.kind == reflect::BindingKind::TextureBindingArray);
+        let (cache, build, build_wall_ms) = build_accel(gpu, backend, scene, settings, pooled)?;
         let scope = gpu.scopes();
         let timer = gpu.timestamps().then(|| crate::runtime::profiler::GpuTimer::new(gpu.device(), gpu.queue(), 1));
         let textures = scene_textures(gpu, scene, &info)?;

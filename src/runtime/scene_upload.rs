@@ -7,6 +7,7 @@
 //! Also the records' CPU side (`light_records`), what an upload depends on (`SceneContent`)
 //! and the in-place rewrites of a frame.
 
+use crate::scene::texture_pool::{data_textures, texture_ref, texture_refs, TexturePool, TEXTURE_REF_LAYER_BITS};
 use crate::scene::usage::{SceneLimitError, SceneUsage};
 use crate::scene::{AlphaMode, Bounds, LightKind, Mesh, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, TEXTURE_SLOTS};
 use crate::uniforms::{
@@ -43,22 +44,23 @@ pub enum SceneTextures {
         /// Its view.
         view: wgpu::TextureView,
     },
-    /// One texture per element of a `binding_array<texture_2d<f32>>` (element 0 white), each
-    /// at its own size with its own mip chain.
-    Separate {
-        /// The textures.
+    /// One 2D array texture per element of a `binding_array<texture_2d_array<f32>>`: the
+    /// [`TexturePool`]'s arrays (element 0 starts with white), each at its textures' size with
+    /// its own mip chain.
+    Pooled {
+        /// The array textures.
         textures: Vec<wgpu::Texture>,
-        /// One view of each.
+        /// One view of each, of all its layers.
         views: Vec<wgpu::TextureView>,
     },
 }
 
 impl SceneTextures {
-    /// Number of layers or elements (textures + the white one).
+    /// Number of layers (textures + the white one) or of elements (pooled arrays).
     pub fn count(&self) -> u32 {
         match self {
             SceneTextures::Array { texture, .. } => texture.depth_or_array_layers(),
-            SceneTextures::Separate { views, .. } => views.len() as u32,
+            SceneTextures::Pooled { views, .. } => views.len() as u32,
         }
     }
 }
@@ -200,7 +202,8 @@ impl GpuScene {
             out.instances = Some(upload.storage_records("instance", instance_records(scene))?);
         }
         if usage.materials {
-            let materials: Vec<MaterialUniforms> = scene.materials().iter().map(material_uniforms).collect();
+            let refs = texture_refs(scene, usage.texture_binding_array);
+            let materials: Vec<MaterialUniforms> = scene.materials().iter().map(|m| material_uniforms(m, &refs)).collect();
             out.materials = Some(upload.storage_records("material", materials)?);
         }
         if usage.lights {
@@ -359,44 +362,49 @@ impl Upload<'_> {
         Ok(self.buffer(&format!("scene {what}s"), bytemuck::cast_slice(&records), wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST))
     }
 
-    /// The material textures: element or layer 0 plain white, the scene's textures at their
-    /// index + 1; one texture per element of a binding array if `binding_array`, else the
-    /// layers of one texture array.
+    /// The material textures: a binding array of the [`TexturePool`]'s arrays (one per size
+    /// and encoding) if `binding_array`, else the layers of one texture array (layer 0 plain
+    /// white, the scene's textures at their index + 1).
     fn textures(&mut self, binding_array: bool) -> Result<SceneTextures, SceneLimitError> {
+        if binding_array {
+            return self.pooled_textures();
+        }
         let scene = self.scene;
         let images = std::iter::once(image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4]))).chain(scene.textures().iter().map(to_image));
-        // Element 0 (white) is colour; the scene's textures follow at index + 1.
+        // Layer 0 (white) is colour; the scene's textures follow at index + 1.
         let data: Vec<bool> = std::iter::once(false).chain(data_textures(scene)).collect();
-        if binding_array {
-            self.separate_textures(images, &data)
-        } else {
-            let nearest: Vec<bool> = std::iter::once(false).chain(nearest_textures(scene)).collect();
-            self.texture_array(images, &data, &nearest)
-        }
+        let nearest: Vec<bool> = std::iter::once(false).chain(nearest_textures(scene)).collect();
+        self.texture_array(images, &data, &nearest)
     }
 
-    /// One texture per image, each at its own size (at most the device's largest) with its own
-    /// mip chain.
-    fn separate_textures(&mut self, images: impl Iterator<Item = image::RgbaImage>, data: &[bool]) -> Result<SceneTextures, SceneLimitError> {
-        let count = self.scene.textures().len() as u32 + 1;
-        let allowed = self.limits.max_binding_array_elements_per_shader_stage;
-        check_count(self.scene, "the texture binding array (one element per texture, plus white)", count as u64, allowed as u64, "use fewer textures")?;
+    /// One 2D array texture per [`TexturePool`] array, each at its textures' size (at most the
+    /// device's largest) with its own mip chain.
+    fn pooled_textures(&mut self) -> Result<SceneTextures, SceneLimitError> {
+        let pool = TexturePool::of(self.scene);
+        let allowed = (self.limits.max_binding_array_elements_per_shader_stage as u64).min(1 << (24 - TEXTURE_REF_LAYER_BITS));
+        let what = "the texture binding array (one element per texture size and encoding, and per 256 textures of one)";
+        check_count(self.scene, what, pool.arrays.len() as u64, allowed, "use fewer texture sizes")?;
+        let max = self.limits.max_texture_dimension_2d;
         let (mut textures, mut views) = (Vec::new(), Vec::new());
-        for (i, img) in images.enumerate() {
-            let max = self.limits.max_texture_dimension_2d;
-            let img = if img.width() > max || img.height() > max {
-                image::imageops::resize(&img, img.width().min(max), img.height().min(max), image::imageops::FilterType::Triangle)
-            } else {
-                img
-            };
-            let mips = img.width().max(img.height()).ilog2() + 1;
-            let encoding = if data[i] { TexelEncoding::Data } else { TexelEncoding::Colour };
-            let texture = create_texture(self.device, &format!("scene texture {i}"), img.width(), img.height(), 1, mips, encoding.format());
-            self.bytes += upload_mips(self.queue, &texture, 0, img, encoding);
-            views.push(texture.create_view(&wgpu::TextureViewDescriptor::default()));
+        for (element, array) in pool.arrays.iter().enumerate() {
+            let (width, height) = (array.width.min(max), array.height.min(max));
+            let mips = width.max(height).ilog2() + 1;
+            let encoding = if array.data { TexelEncoding::Data } else { TexelEncoding::Colour };
+            let label = format!("scene textures {element} ({}x{})", array.width, array.height);
+            let texture = create_texture(self.device, &label, width, height, array.layers.len() as u32, mips, encoding.format());
+            for (layer, t) in array.layers.iter().enumerate() {
+                let img = match t {
+                    Some(t) => to_image(&self.scene.textures()[*t]),
+                    None => image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4])),
+                };
+                let img =
+                    if img.dimensions() == (width, height) { img } else { image::imageops::resize(&img, width, height, image::imageops::FilterType::Triangle) };
+                self.bytes += upload_mips(self.queue, &texture, layer as u32, img, encoding);
+            }
+            views.push(texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() }));
             textures.push(texture);
         }
-        Ok(SceneTextures::Separate { textures, views })
+        Ok(SceneTextures::Pooled { textures, views })
     }
 
     /// One sRGB texture array of [`TEXTURE_SIZE`]² layers, an image resampled into each
@@ -490,27 +498,6 @@ fn nearest_textures(scene: &Scene) -> Vec<bool> {
         }
     }
     nearest
-}
-
-/// Which textures hold data rather than colour: those that only data slots use (normal,
-/// metallic-roughness, occlusion and the lobe extensions' but specular colour: glTF stores them
-/// linearly). A texture a colour slot also uses stays colour.
-fn data_textures(scene: &Scene) -> Vec<bool> {
-    use crate::scene::gltf_import::TextureSlot;
-    let n = scene.textures().len();
-    let (mut colour, mut data) = (vec![false; n], vec![false; n]);
-    for m in scene.materials().iter() {
-        for (slot, t) in TextureSlot::ALL.iter().zip(m.slot_textures()) {
-            if let Some(t) = t.filter(|t| *t < n) {
-                if slot.is_colour() {
-                    colour[t] = true;
-                } else {
-                    data[t] = true;
-                }
-            }
-        }
-    }
-    (0..n).map(|t| data[t] && !colour[t]).collect()
 }
 
 /// How a texture's bytes are stored and filtered.
@@ -785,7 +772,10 @@ impl SceneContent {
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
         // The materials as the GPU reads them (every field that reaches a pass, texture layers
         // included): hashing their records is cheaper than formatting them.
-        let materials: Vec<MaterialUniforms> = scene.materials().iter().map(material_uniforms).collect();
+        // (Texture references as the array path numbers them: the textures' sizes, hashed
+        // below, decide the pooled ones.)
+        let refs = texture_refs(scene, false);
+        let materials: Vec<MaterialUniforms> = scene.materials().iter().map(|m| material_uniforms(m, &refs)).collect();
         structure = hash_words(structure, bytemuck::cast_slice(&materials));
         structure = hash_words(structure, bytemuck::cast_slice(&links));
         structure = hash_words(structure, bytemuck::cast_slice(&textures));
@@ -797,9 +787,10 @@ impl SceneContent {
     }
 }
 
-/// The GPU record of material `m` (`scene_materials`).
-fn material_uniforms(m: &crate::scene::Material) -> MaterialUniforms {
-    let layer = |t: Option<usize>| t.map(|t| t as u32 + 1).unwrap_or(0);
+/// The GPU record of material `m` (`scene_materials`), its textures named by `refs`
+/// ([`texture_refs`]).
+fn material_uniforms(m: &crate::scene::Material, refs: &[u32]) -> MaterialUniforms {
+    let layer = |t: Option<usize>| texture_ref(refs, t);
     let samplers = sampler_words(&m.sampling);
     let uv_sets = m.sampling.iter().enumerate().map(|(slot, s)| u32::from(s.tex_coord == 1) << slot).sum::<u32>();
     // Translucent materials (BLEND, transmissive) are hit wherever their coverage reaches

@@ -17,6 +17,7 @@ pub mod load;
 pub mod memo;
 pub mod posing;
 pub mod procedural;
+pub mod texture_pool;
 pub mod topology;
 pub mod track;
 pub mod usage;

@@ -111,7 +111,7 @@ fn raw_handles(bindings: &[&RtBinding], accel: Option<(&RtAccel, &AccelBuffers)>
             RtResource::Textures(list) => {
                 for (t, _) in list {
                     let image = raw_image(t)?;
-                    images.push(BoundImage { image, texture: t.clone(), dimension: wgpu::TextureViewDimension::D2, uses: wgpu::TextureUses::RESOURCE });
+                    images.push(BoundImage { image, texture: t.clone(), dimension: wgpu::TextureViewDimension::D2Array, uses: wgpu::TextureUses::RESOURCE });
                 }
             }
             RtResource::Buffer { buffer, .. } => buffers.push(raw_buffer(buffer)?),

@@ -23,6 +23,7 @@ impl Executor {
             if gpu.info().device_type != wgpu::DeviceType::Cpu && !cfg!(target_arch = "wasm32") {
                 cache.set_merged_builder(MergedBuilder::GpuRebuilds);
             }
+            cache.set_pooled_textures(plan.scene_usage.texture_binding_array);
             if gpu.packed_accel_arrays() && plan.backend == crate::backend::Backend::Compute {
                 cache.pack_arrays();
             }

@@ -130,7 +130,7 @@ impl Executor {
             }
             BindingKind::TextureBindingArray => wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::D2,
+                view_dimension: wgpu::TextureViewDimension::D2Array,
                 multisampled: false,
             },
             BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
@@ -189,7 +189,7 @@ impl Executor {
             builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion())?.clone())),
             builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => out.views.push((at, view.clone())),
-                SceneTextures::Separate { views: v, .. } if b.kind == BindingKind::TextureBindingArray => out.view_arrays.push((at, v.clone())),
+                SceneTextures::Pooled { views: v, .. } if b.kind == BindingKind::TextureBindingArray => out.view_arrays.push((at, v.clone())),
                 _ => return Err(RuntimeError::Gpu(format!("pass {}: scene textures were uploaded in the other layout than the shader binds", pass.name))),
             },
             _ => {}

@@ -108,7 +108,7 @@ impl Executor {
                 SceneTextures::Array { texture, view } => {
                     RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
                 }
-                SceneTextures::Separate { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
+                SceneTextures::Pooled { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
             },
             builtins::LINEAR_SAMPLER => RtResource::Sampler(linear_sampler()),
             builtins::NEAREST_SAMPLER => RtResource::Sampler(nearest_sampler()),
