@@ -43,7 +43,8 @@ pub struct Gpu {
     /// timestamps written inside it ([`Gpu::merges_compute_passes`]).
     merge_compute_passes: bool,
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
-    /// one texture per element instead of as one resampled texture array.
+    /// at their own sizes, pooled (`crate::scene::texture_pool`), instead of as one resampled
+    /// texture array.
     texture_binding_arrays: bool,
     /// The compute back-end's arrays are bound as one packed storage buffer
     /// (`shaders/trace/compute_arrays_packed.wgsl`): the device allows fewer storage buffers
@@ -122,7 +123,8 @@ impl Gpu {
     }
 
     /// Texture binding arrays with non-uniform indexing are enabled: scene textures are bound
-    /// one texture per element instead of as one resampled texture array.
+    /// at their own sizes, pooled (`crate::scene::texture_pool`), instead of as one resampled
+    /// texture array.
     pub fn texture_binding_arrays(&self) -> bool {
         self.texture_binding_arrays
     }
@@ -445,7 +447,7 @@ impl Gpu {
         log::info!(
             "scene textures: {}",
             if texture_binding_arrays {
-                "binding array (one texture per element)"
+                "binding array (one array texture per texture size and encoding)"
             } else {
                 "one 256x256 texture array (set by RAYGRAPH_NO_BINDLESS or missing features)"
             }

@@ -1,8 +1,8 @@
 //! The scene on the GPU ([`GpuScene`]): only the parts a plan reads ([`SceneUsage`]) are
 //! uploaded: one vertex and one index buffer for all meshes, storage buffers of instance,
 //! material, light and previous-transform records, and the textures (element or layer 0 plain
-//! white), one texture per element of a binding array where the device has them, else the
-//! layers of one mipmapped `TEXTURE_SIZE`² texture array. Too many textures, or buffers larger
+//! white), pooled where the device has binding arrays (one array texture per size and encoding,
+//! `crate::scene::texture_pool`), else the layers of one mipmapped `TEXTURE_SIZE`² texture array. Too many textures, or buffers larger
 //! than the device allows, are an error with the numbers ([`SceneLimitError`]), never a panic.
 //! Also the records' CPU side (`light_records`), what an upload depends on (`SceneContent`)
 //! and the in-place rewrites of a frame.

@@ -13,7 +13,8 @@ pub struct SceneUsage {
     pub materials: bool,
     /// `scene_textures` (images are then decoded and uploaded).
     pub textures: bool,
-    /// `scene_textures` is a binding array (one texture per element) rather than a texture array.
+    /// `scene_textures` is a binding array (of pooled array textures, `scene::texture_pool`)
+    /// rather than one texture array.
     pub texture_binding_array: bool,
     /// `scene_vertices`, `scene_indices`, `scene_meshes` (geometry read in shaders).
     pub geometry_storage: bool,
