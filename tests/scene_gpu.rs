@@ -159,6 +159,24 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     assert!(err.contains("default"), "names the scene: {err}");
 }
 
+/// More textures than the device has binding-array elements upload pooled: the limit applies to
+/// the arrays (one per size and encoding, and per 256 textures of one).
+#[test]
+fn more_textures_than_binding_array_elements_upload_pooled() {
+    let gpu = gpu();
+    let limit = gpu.device().limits().max_binding_array_elements_per_shader_stage;
+    let mut scene: Scene = builtin::default_scene();
+    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
+    *scene.textures_mut() = vec![tiny; limit as usize + 5];
+    let usage = raygraph::scene::usage::SceneUsage { textures: true, texture_binding_array: true, ..Default::default() };
+    let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage).expect("pooled upload");
+    let Some(SceneTextures::Pooled { textures, .. }) = uploaded.textures() else { panic!("a binding array was asked for") };
+    // White and the 1x1 textures share arrays of 256 layers.
+    let pool = raygraph::scene::texture_pool::POOL_LAYERS as u32;
+    assert_eq!(textures.len() as u32, (limit + 6).div_ceil(pool), "limit {limit}");
+    assert!(textures.iter().all(|t| t.depth_or_array_layers() <= pool));
+}
+
 /// An executor made for one scene renders a changed scene exactly as a fresh executor made for
 /// the changed scene does: moved instances (records rewritten in place), an added mesh and
 /// instance, and their removal (scene uploaded again), through a raster and a hybrid graph.
