@@ -2,12 +2,13 @@
 //! uploaded: one vertex and one index buffer for all meshes, storage buffers of instance,
 //! material, light and previous-transform records, and the textures (element or layer 0 plain
 //! white), pooled where the device has binding arrays (one array texture per size and encoding,
-//! `crate::scene::texture_pool`), else the layers of one mipmapped `TEXTURE_SIZE`² texture array. Too many textures, or buffers larger
-//! than the device allows, are an error with the numbers ([`SceneLimitError`]), never a panic.
+//! `crate::scene::texture_pool`), else the layers of one mipmapped `TEXTURE_SIZE`² texture
+//! array. Too many textures, or buffers larger than the device allows, are an error with the
+//! numbers ([`SceneLimitError`]), never a panic.
 //! Also the records' CPU side (`light_records`), what an upload depends on (`SceneContent`)
 //! and the in-place rewrites of a frame.
 
-use crate::scene::texture_pool::{data_textures, texture_ref, texture_refs, TexturePool, TEXTURE_REF_LAYER_BITS};
+use crate::scene::texture_pool::{data_textures, texture_ref, texture_refs, TexturePool, POOL_LAYERS, TEXTURE_REF_LAYER_BITS};
 use crate::scene::usage::{SceneLimitError, SceneUsage};
 use crate::scene::{AlphaMode, Bounds, LightKind, Mesh, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, TEXTURE_SLOTS};
 use crate::uniforms::{
@@ -382,8 +383,8 @@ impl Upload<'_> {
     fn pooled_textures(&mut self) -> Result<SceneTextures, SceneLimitError> {
         let pool = TexturePool::of(self.scene);
         let allowed = (self.limits.max_binding_array_elements_per_shader_stage as u64).min(1 << (24 - TEXTURE_REF_LAYER_BITS));
-        let what = "the texture binding array (one element per texture size and encoding, and per 256 textures of one)";
-        check_count(self.scene, what, pool.arrays.len() as u64, allowed, "use fewer texture sizes")?;
+        let what = format!("the texture binding array (one element per texture size and encoding, and per {POOL_LAYERS} textures of one)");
+        check_count(self.scene, &what, pool.arrays.len() as u64, allowed, "use fewer texture sizes")?;
         let max = self.limits.max_texture_dimension_2d;
         let (mut textures, mut views) = (Vec::new(), Vec::new());
         for (element, array) in pool.arrays.iter().enumerate() {
@@ -771,9 +772,9 @@ impl SceneContent {
         let textures: Vec<[u64; 4]> = scene.textures().iter().map(|t| [t.width as u64, t.height as u64, t.rgba.len() as u64, t.rgba.as_ptr() as u64]).collect();
         let mut structure = hash_words(2, bytemuck::cast_slice(&meshes));
         // The materials as the GPU reads them (every field that reaches a pass, texture layers
-        // included): hashing their records is cheaper than formatting them.
-        // (Texture references as the array path numbers them: the textures' sizes, hashed
-        // below, decide the pooled ones.)
+        // included): hashing their records is cheaper than formatting them. Their texture
+        // references as the texture-array path numbers them: the pooled ones follow from those
+        // and the textures' sizes, hashed below.
         let refs = texture_refs(scene, false);
         let materials: Vec<MaterialUniforms> = scene.materials().iter().map(|m| material_uniforms(m, &refs)).collect();
         structure = hash_words(structure, bytemuck::cast_slice(&materials));

@@ -142,6 +142,12 @@ mod tests {
     }
 
     #[test]
+    fn the_shaders_decode_references_with_the_same_bits() {
+        let wgsl = include_str!("../../shaders/common/scene_textures_texels_bindless.wgsl");
+        assert!(wgsl.contains(&format!("const TEXTURE_REF_LAYER_BITS: u32 = {TEXTURE_REF_LAYER_BITS}u;")));
+    }
+
+    #[test]
     fn a_full_array_continues_in_a_new_element() {
         let pool = TexturePool::of(&scene(&vec![8; POOL_LAYERS + 3], &[]));
         let layers: Vec<usize> = pool.arrays.iter().map(|a| a.layers.len()).collect();
