@@ -142,13 +142,19 @@ fn texture_binding_arrays_and_the_texture_array_draw_the_same_picture() {
     assert!(rmse == 0.0, "RMSE {rmse}");
 }
 
+/// The default scene with its textures replaced by `count` white 1x1 ones.
+fn default_scene_with_tiny_textures(count: usize) -> Scene {
+    let mut scene: Scene = builtin::default_scene();
+    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
+    *scene.textures_mut() = vec![tiny; count];
+    scene
+}
+
 #[test]
 fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     let gpu = gpu();
     let limit = gpu.device().limits().max_texture_array_layers;
-    let mut scene: Scene = builtin::default_scene();
-    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
-    *scene.textures_mut() = vec![tiny; limit as usize + 5];
+    let scene = default_scene_with_tiny_textures(limit as usize + 5);
     let usage = raygraph::scene::usage::SceneUsage { textures: true, ..Default::default() };
     let err = match GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage) {
         Ok(_) => panic!("{} texture layers uploaded with a limit of {limit}", limit + 6),
@@ -165,9 +171,7 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
 fn more_textures_than_binding_array_elements_upload_pooled() {
     let gpu = gpu();
     let limit = gpu.device().limits().max_binding_array_elements_per_shader_stage;
-    let mut scene: Scene = builtin::default_scene();
-    let tiny = TextureImage { name: "t".into(), width: 1, height: 1, rgba: vec![255; 4].into() };
-    *scene.textures_mut() = vec![tiny; limit as usize + 5];
+    let scene = default_scene_with_tiny_textures(limit as usize + 5);
     let usage = raygraph::scene::usage::SceneUsage { textures: true, texture_binding_array: true, ..Default::default() };
     let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage).expect("pooled upload");
     let Some(SceneTextures::Pooled { textures, .. }) = uploaded.textures() else { panic!("a binding array was asked for") };
