@@ -5,7 +5,10 @@
 //! back-end the adapter has: the AO output and each lane's
 //! partial sum bit for bit, with part of the frame covered, none of it (an empty list) and all
 //! of it, and on the pine's alpha-tested and BLEND foliage. Two frames each, with the rays each
-//! frame traces, so the list's counters are seen zeroed again before the second.
+//! frame traces, so the list's counters are seen zeroed again before the second. `rt_ao_spread`
+//! (more lanes a pixel where few pixels have rays) traces the same rays: its AO equals rt_ao's
+//! bit for bit where it keeps four lanes (a frame at least a quarter covered), and within the
+//! rounding of a sum in another order where it spreads them.
 
 mod common;
 
@@ -19,6 +22,11 @@ use raygraph::scene::{AlphaMode, Camera, Scene};
 
 const SIZE: (u32, u32) = (40, 30);
 const VARIANTS: [&str; 2] = ["rt_ao_compacted", "rt_ao_persistent"];
+const SPREAD: &str = "rt_ao_spread";
+/// The spread schedule's AO against rt_ao's where it gives a pixel more than four lanes: the
+/// same rays summed in another order differ by a few f32 units in the last place, which the
+/// Rgba16Float output rounds to at most one of its own (2^-11 below 1).
+const SPREAD_TOLERANCE: f32 = 1.0 / 2048.0;
 
 /// What a schedule leaves after its frames: `ao.ao`'s texels, and the lanes' partial sums of
 /// the pixels with rays (`ao/partial` is not written over the sky), all as bits; and the rays
@@ -83,9 +91,25 @@ fn assert_schedules_agree(scene: &Scene, cameras: &[Camera], sampling: i64, what
             assert!(other.partial == lanes.partial, "{what}, {backend}: {variant}'s lane sums differ from rt_ao's");
             assert_eq!(other.rays, lanes.rays, "{what}, {backend}: {variant} traces other rays than rt_ao, frame by frame");
         }
+        assert_spread_agrees(&lanes, &render(&gpu, scene, cameras, backend, SPREAD, sampling), &format!("{what}, {backend}"));
         last = Some(lanes);
     }
     last.expect("the adapter has a back-end")
+}
+
+/// The spread schedule against rt_ao (`lanes`): the same pixels and rays each frame; the same
+/// AO bits where four lanes a pixel remain (a quarter of the frame or more covered), else
+/// within [`SPREAD_TOLERANCE`].
+fn assert_spread_agrees(lanes: &AoBits, spread: &AoBits, what: &str) {
+    assert_eq!(spread.covered, lanes.covered, "{what}: {SPREAD} saw other pixels");
+    assert_eq!(spread.rays, lanes.rays, "{what}: {SPREAD} traces other rays than rt_ao, frame by frame");
+    let four_lanes = 4 * lanes.covered >= (SIZE.0 * SIZE.1) as usize;
+    let worst = lanes.ao.iter().zip(&spread.ao).map(|(a, b)| (f32::from_bits(a[0]) - f32::from_bits(b[0])).abs()).fold(0.0, f32::max);
+    if four_lanes {
+        assert!(lanes.ao == spread.ao, "{what}: {SPREAD} keeps four lanes, yet its AO differs from rt_ao's (by up to {worst})");
+    } else {
+        assert!(worst <= SPREAD_TOLERANCE, "{what}: {SPREAD}'s AO differs from rt_ao's by {worst}");
+    }
 }
 
 /// The share of pixels whose AO is below one (something occludes them).
@@ -133,6 +157,8 @@ fn schedules_agree_through_alpha_tested_and_blend_foliage() {
     let trunk = Camera::look(Vec3::new(0.0, 12.0, 25.0), Vec3::new(0.0, 12.0, 0.0), 35.0, 0.1, 500.0);
     let r = assert_schedules_agree(&scene, &[trunk; 2], 1, "pine's trunk");
     assert!(r.covered > 20 && occluded_share(&r) > 0.01, "the trunk covers pixels, the leaves occlude it: {} px, {:.3}", r.covered, occluded_share(&r));
+    // Under a quarter of the frame: the spread schedule gives each pixel more than four lanes.
+    assert!(4 * r.covered < (SIZE.0 * SIZE.1) as usize, "the trunk covers under a quarter of the frame: {} px", r.covered);
     for m in scene.materials_mut().iter_mut().filter(|m| m.alpha_mode == AlphaMode::Blend) {
         m.alpha_mode = AlphaMode::Mask(0.5);
     }

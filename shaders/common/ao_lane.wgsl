@@ -1,8 +1,9 @@
-// One lane of a pixel's AO rays (layers/rt_ao.ron and its variants): lane k of AO_LANES
-// traces rays k, k + AO_LANES, ... (in rounds: every lane runs the same number, so the lanes
-// of a subgroup trace together) from the offset position `p` along `n`, and returns how much
-// of them got through, added in ray order. Every schedule (rt/ao.wgsl, rt/ao_items.wgsl,
-// rt/ao_persistent.wgsl) calls this, so a (pixel, lane) gives the same bits whoever runs it.
+// One lane of a pixel's AO rays (layers/rt_ao.ron and its variants): lane k of `lanes`
+// traces rays k, k + lanes, ... (in rounds: every lane runs the same number, so the lanes of a
+// subgroup trace together) from the offset position `p` along `n`, and returns how much of
+// them got through, added in ray order. Every schedule (rt/ao.wgsl, rt/ao_items.wgsl,
+// rt/ao_persistent.wgsl, rt/ao_spread.wgsl) calls this, so a (pixel, lane, lanes) gives the
+// same bits whoever runs it, and a ray its own samples whatever the lane count.
 // The includer declares `frame` (common/frame.wgsl) and `params` (common/ao_params.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -12,6 +13,10 @@
 //#include "common/ao_params.wgsl"
 
 fn ao_lane_open(pixel: vec2<u32>, lane: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    return ao_lane_open_of(pixel, lane, AO_LANES, p, n);
+}
+
+fn ao_lane_open_of(pixel: vec2<u32>, lane: u32, lanes: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let origin = offset_ray_origin(p, n);
     let range = params.range + params.range_scale * frame.scene_sphere.w;
     // Every ray of the lane stays within `range` of `origin`: they start together below the
@@ -25,14 +30,14 @@ fn ao_lane_open(pixel: vec2<u32>, lane: u32, p: vec3<f32>, n: vec3<f32>) -> f32 
     // Each ray counts by how much of it gets through: 1 or 0, or the transmittance of the
     // BLEND surfaces it meets (common/ray_blend.wgsl).
     var open = 0.0;
-    let rounds = (params.rays + AO_LANES - 1u) / AO_LANES;
+    let rounds = (params.rays + lanes - 1u) / lanes;
     for (var round = 0u; round < rounds; round++) {
-        let i = round * AO_LANES + lane;
+        let i = round * lanes + lane;
         var u: vec2<f32>;
         if params.sampling == 0u {
             // One stream per pixel, drawn in ray order by every lane: each ray keeps its
-            // numbers (lane k takes the k-th of each AO_LANES draws).
-            for (var k = 0u; k < AO_LANES; k++) {
+            // numbers (lane k takes the k-th of each `lanes` draws).
+            for (var k = 0u; k < lanes; k++) {
                 let drawn = next_random2(&state);
                 if k == lane {
                     u = drawn;
