@@ -1,14 +1,15 @@
-//! The AO layer's schedules give the same bits: `rt_ao` (four lanes a pixel over the frame),
-//! `rt_ao_compacted` (one invocation per (pixel, lane) item of a list of the pixels with rays)
-//! and `rt_ao_persistent` (a fixed dispatch taking items off a counter), substituted for
+//! The AO layer's schedules give the same bits: `rt_ao_four_lanes` (four lanes a pixel over the
+//! frame), `rt_ao_compacted` (one invocation per (pixel, lane) item of a list of the pixels with
+//! rays) and `rt_ao_persistent` (a fixed dispatch taking items off a counter), substituted for
 //! `rt_ao` in `graph/ao.ron` (without its `blend` node, which the AO does not feed), on every
 //! back-end the adapter has: the AO output and each lane's
 //! partial sum bit for bit, with part of the frame covered, none of it (an empty list) and all
 //! of it, and on the pine's alpha-tested and BLEND foliage. Two frames each, with the rays each
-//! frame traces, so the list's counters are seen zeroed again before the second. `rt_ao_spread`
-//! (more lanes a pixel where few pixels have rays) traces the same rays: its AO equals rt_ao's
-//! bit for bit where it keeps four lanes (a frame at least a quarter covered), and within the
-//! rounding of a sum in another order where it spreads them.
+//! frame traces, so the list's counters are seen zeroed again before the second. `rt_ao` itself
+//! (more lanes a pixel where few pixels have rays) traces the same rays: its AO and lane sums
+//! equal the four-lane schedule's bit for bit where it keeps four lanes (a frame at least a
+//! quarter covered), and its AO is within the rounding of a sum in another order where it
+//! spreads them.
 
 mod common;
 
@@ -22,8 +23,9 @@ use raygraph::scene::{AlphaMode, Camera, Scene};
 
 const SIZE: (u32, u32) = (40, 30);
 const VARIANTS: [&str; 2] = ["rt_ao_compacted", "rt_ao_persistent"];
-const SPREAD: &str = "rt_ao_spread";
-/// The spread schedule's AO against rt_ao's where it gives a pixel more than four lanes: the
+const FOUR_LANES: &str = "rt_ao_four_lanes";
+const SPREAD: &str = "rt_ao";
+/// rt_ao's AO against the four-lane schedule's where it gives a pixel more than four lanes: the
 /// same rays summed in another order differ by a few f32 units in the last place, which the
 /// Rgba16Float output rounds to at most one of its own (2^-11 below 1).
 const SPREAD_TOLERANCE: f32 = 1.0 / 2048.0;
@@ -76,20 +78,21 @@ fn read(gpu: &Gpu, exec: &Executor) -> AoBits {
     AoBits { ao: channel(gpu, exec, "ao.ao").into_iter().map(bits).collect(), partial: lanes, covered, rays: Vec::new() }
 }
 
-/// Every variant equals `rt_ao` bit for bit on every back-end, and traces as many rays each
-/// frame; returns `rt_ao`'s result on the last back-end.
+/// Every variant equals `rt_ao_four_lanes` bit for bit on every back-end, and traces as many
+/// rays each frame, and so does `rt_ao` (`assert_spread_agrees`); returns the four-lane
+/// schedule's result on the last back-end.
 fn assert_schedules_agree(scene: &Scene, cameras: &[Camera], sampling: i64, what: &str) -> AoBits {
     let gpu = gpu();
     let mut last = None;
     for &backend in gpu.backends() {
-        let lanes = render(&gpu, scene, cameras, backend, "rt_ao", sampling);
+        let lanes = render(&gpu, scene, cameras, backend, FOUR_LANES, sampling);
         for variant in VARIANTS {
             let other = render(&gpu, scene, cameras, backend, variant, sampling);
             assert_eq!(other.covered, lanes.covered, "{what}, {backend}: {variant} saw other pixels");
             let differing = lanes.ao.iter().zip(&other.ao).filter(|(a, b)| a != b).count();
-            assert_eq!(differing, 0, "{what}, {backend}: {variant}'s AO differs from rt_ao's at {differing} pixels");
-            assert!(other.partial == lanes.partial, "{what}, {backend}: {variant}'s lane sums differ from rt_ao's");
-            assert_eq!(other.rays, lanes.rays, "{what}, {backend}: {variant} traces other rays than rt_ao, frame by frame");
+            assert_eq!(differing, 0, "{what}, {backend}: {variant}'s AO differs from {FOUR_LANES}'s at {differing} pixels");
+            assert!(other.partial == lanes.partial, "{what}, {backend}: {variant}'s lane sums differ from {FOUR_LANES}'s");
+            assert_eq!(other.rays, lanes.rays, "{what}, {backend}: {variant} traces other rays than {FOUR_LANES}, frame by frame");
         }
         assert_spread_agrees(&lanes, &render(&gpu, scene, cameras, backend, SPREAD, sampling), &format!("{what}, {backend}"));
         last = Some(lanes);
@@ -97,18 +100,19 @@ fn assert_schedules_agree(scene: &Scene, cameras: &[Camera], sampling: i64, what
     last.expect("the adapter has a back-end")
 }
 
-/// The spread schedule against rt_ao (`lanes`): the same pixels and rays each frame; the same
-/// AO bits where four lanes a pixel remain (a quarter of the frame or more covered), else
-/// within [`SPREAD_TOLERANCE`].
+/// rt_ao (`spread`) against the four-lane schedule (`lanes`): the same pixels and rays each
+/// frame; the same AO and lane-sum bits where four lanes a pixel remain (a quarter of the
+/// frame or more covered), else the AO within [`SPREAD_TOLERANCE`].
 fn assert_spread_agrees(lanes: &AoBits, spread: &AoBits, what: &str) {
     assert_eq!(spread.covered, lanes.covered, "{what}: {SPREAD} saw other pixels");
-    assert_eq!(spread.rays, lanes.rays, "{what}: {SPREAD} traces other rays than rt_ao, frame by frame");
+    assert_eq!(spread.rays, lanes.rays, "{what}: {SPREAD} traces other rays than {FOUR_LANES}, frame by frame");
     let four_lanes = 4 * lanes.covered >= (SIZE.0 * SIZE.1) as usize;
     let worst = lanes.ao.iter().zip(&spread.ao).map(|(a, b)| (f32::from_bits(a[0]) - f32::from_bits(b[0])).abs()).fold(0.0, f32::max);
     if four_lanes {
-        assert!(lanes.ao == spread.ao, "{what}: {SPREAD} keeps four lanes, yet its AO differs from rt_ao's (by up to {worst})");
+        assert!(lanes.ao == spread.ao, "{what}: {SPREAD} keeps four lanes, yet its AO differs from {FOUR_LANES}'s (by up to {worst})");
+        assert!(lanes.partial == spread.partial, "{what}: {SPREAD} keeps four lanes, yet its lane sums differ from {FOUR_LANES}'s");
     } else {
-        assert!(worst <= SPREAD_TOLERANCE, "{what}: {SPREAD}'s AO differs from rt_ao's by {worst}");
+        assert!(worst <= SPREAD_TOLERANCE, "{what}: {SPREAD}'s AO differs from {FOUR_LANES}'s by {worst}");
     }
 }
 

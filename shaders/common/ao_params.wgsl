@@ -1,5 +1,5 @@
-// The AO layer's parameters (layers/rt_ao.ron), shared by its two passes (rt/ao.wgsl,
-// rt/ao_sum.wgsl), and how many invocations share a pixel's rays.
+// The AO layers' parameters (layers/rt_ao.ron and its variants), shared by their passes, and
+// how many invocations share a pixel's rays in the four-lane schedule.
 struct Params {
     rays: u32,
     range: f32,

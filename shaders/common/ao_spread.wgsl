@@ -1,11 +1,12 @@
-// The spread AO schedule's lane count (layers/rt_ao_spread.ron: rt/ao_spread.wgsl and
-// rt/ao_spread_sum.wgsl compute it alike): how many lanes share one listed pixel's rays this
-// frame. Enough (pixel, lane) items for one an image pixel, as a power of two from AO_LANES
-// (a frame mostly covered: rt_ao's four lanes) up to AO_SPREAD_MAX_LANES, and no more than the
-// rays (rounded up to a power of two). A model covering 2% of the frame gets 64 lanes a pixel:
-// its rays run side by side instead of in a chain of 16 a lane. Item i of the pass is lane
-// i % lanes of list entry i / lanes, stored at texel (i % width, i / width) of `partial` (four
-// texels a pixel: lanes x listed never exceeds them).
+// The AO layer's lane count (layers/rt_ao.ron: rt/ao_spread.wgsl and rt/ao_spread_sum.wgsl
+// compute it alike from the list's length): how many lanes share one pixel's rays this frame.
+// Enough (pixel, lane) items for one an image pixel, as a power of two from AO_LANES up to
+// AO_SPREAD_MAX_LANES, and no more than the rays (rounded up to a power of two). A frame at
+// least a quarter covered keeps AO_LANES and the four lanes' schedule over the image (2x2
+// texels of `partial` a pixel); fewer pixels get more lanes, over the list: a model covering 2%
+// of the frame gets 64 lanes a pixel, its rays side by side instead of in a chain of 16 a lane.
+// In that spread schedule item i is lane i % lanes of list entry i / lanes, stored at texel
+// (i % width, i / width) of `partial` (four texels an image pixel: lanes x listed fits).
 //#include "common/ao_params.wgsl"
 
 const AO_SPREAD_MAX_LANES: u32 = 64u;
@@ -23,7 +24,19 @@ fn ao_power_of_two_at_least(x: u32) -> u32 {
     return 1u << (32u - countLeadingZeros(x - 1u));
 }
 
-// The texel of `partial` holding item `item`.
+// The texel of `partial` holding item `item` of the spread schedule.
 fn ao_spread_texel(item: u32, width: u32) -> vec2<u32> {
     return vec2<u32>(item % width, item / width);
+}
+
+// The spread schedule's item of the invocation at texel `t` of `partial` (of size `size`): the
+// texels numbered 8x8 tile by tile (tiles in row order, texels in row order inside a tile,
+// the edge tiles narrower), so that a full tile's 64 items, one workgroup, are consecutive and
+// every item below size.x * size.y has one invocation.
+fn ao_spread_item(t: vec2<u32>, size: vec2<u32>) -> u32 {
+    let tile = t / 8u;
+    let inside = t % 8u;
+    let tile_height = min(8u, size.y - 8u * tile.y);
+    let tile_width = min(8u, size.x - 8u * tile.x);
+    return 8u * tile.y * size.x + tile_height * 8u * tile.x + inside.y * tile_width + inside.x;
 }

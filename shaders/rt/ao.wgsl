@@ -1,5 +1,7 @@
-// Ambient occlusion: cosine-weighted any-hit rays of bounded length from offset G-buffer
-// positions; V = unoccluded fraction.
+// Ambient occlusion with four lanes a pixel over the frame (layers/rt_ao_four_lanes.ron; the
+// default layer, rt_ao, does the same where a quarter of the frame is covered and spreads the
+// rays over more lanes elsewhere: rt/ao_spread.wgsl): cosine-weighted any-hit rays of bounded
+// length from offset G-buffer positions; V = unoccluded fraction.
 //
 // A pixel's rays are shared by AO_LANES invocations (the pass runs over `partial`, twice the
 // frame in each axis: texel (2x + i, 2y + j) is lane i + 2j of pixel (x, y)); lane k traces

@@ -1,6 +1,6 @@
-// The AO list (layers/rt_ao_compacted.ron, rt_ao_persistent.ron): the pixels that have AO
-// rays (a G-buffer position, not the sky), appended to `list` as x | y << 16, one texel each
-// in row order (entry i at (i % width, i / width)); `listed[0]` counts them. A workgroup
+// The AO list (layers/rt_ao.ron, rt_ao_compacted.ron, rt_ao_persistent.ron): the pixels that
+// have AO rays (a G-buffer position, not the sky), appended to `list` as x | y << 16, one texel
+// each in row order (entry i at (i % width, i / width)); `listed[0]` counts them. A workgroup
 // counts its pixels in workgroup memory and reserves their places with one atomic add on the
 // counter, which the graph zeroes before the pass (`Buffer(zeroed: true)`). The order of the
 // list depends on which workgroup gets there first; what a pixel's lanes compute does not
@@ -13,7 +13,8 @@
 var<workgroup> group_count: atomic<u32>;
 var<workgroup> group_base: u32;
 
-@compute @workgroup_size(8, 8)
+// 16x16: one atomic add on the global counter per 256 pixels.
+@compute @workgroup_size(16, 16)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     let size = textureDimensions(position);
     let inside = id.x < size.x && id.y < size.y;
