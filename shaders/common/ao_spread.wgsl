@@ -1,10 +1,10 @@
 // The AO layer's lane count (layers/rt_ao.ron: rt/ao_spread.wgsl and rt/ao_spread_sum.wgsl
 // compute it alike from the list's length): how many lanes share one pixel's rays this frame.
-// Enough (pixel, lane) items for one every two image pixels, as a power of two from AO_LANES
-// up to AO_SPREAD_MAX_LANES, and no more than the rays (rounded up to a power of two). A frame
-// at least an eighth covered keeps AO_LANES and the four lanes' schedule over the image (2x2
+// Enough (pixel, lane) items for one an image pixel, as a power of two from AO_LANES up to
+// AO_SPREAD_MAX_LANES, and no more than the rays (rounded up to a power of two). A frame at
+// least a quarter covered keeps AO_LANES and the four lanes' schedule over the image (2x2
 // texels of `partial` a pixel); fewer pixels get more lanes, over the list: a model covering 2%
-// of the frame gets 32 lanes a pixel, its 64 rays two a lane instead of in a chain of 16.
+// of the frame gets 64 lanes a pixel, its rays side by side instead of in a chain of 16 a lane.
 // In that spread schedule item i is lane i % lanes of list entry i / lanes, stored at texel
 // (i % width, i / width) of `partial` (four texels an image pixel: lanes x listed fits).
 //#include "common/ao_params.wgsl"
@@ -12,7 +12,7 @@
 const AO_SPREAD_MAX_LANES: u32 = 64u;
 
 fn ao_spread_lanes(listed: u32, pixels: u32, rays: u32) -> u32 {
-    let wanted = (pixels / 2u + max(listed, 1u) - 1u) / max(listed, 1u);
+    let wanted = (pixels + max(listed, 1u) - 1u) / max(listed, 1u);
     let most = max(AO_LANES, min(AO_SPREAD_MAX_LANES, ao_power_of_two_at_least(rays)));
     return clamp(ao_power_of_two_at_least(wanted), AO_LANES, most);
 }

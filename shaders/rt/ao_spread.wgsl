@@ -1,5 +1,5 @@
 // Ambient occlusion (layers/rt_ao.ron), over `partial` (twice the image in each axis), with the
-// lane count of common/ao_spread.wgsl. Four lanes (a frame at least an eighth covered): texel
+// lane count of common/ao_spread.wgsl. Four lanes (a frame at least a quarter covered): texel
 // (2x + i, 2y + j) is lane i + 2j of pixel (x, y), as in rt/ao.wgsl, bit for bit. More lanes:
 // the invocation runs item `ao_spread_item` of the list of pixels with rays (rt/ao_list.wgsl),
 // lane item % lanes of entry item / lanes, and items past the list's end return at once. Each
@@ -24,37 +24,27 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let count = listed[0];
     let image = textureDimensions(position);
     let lanes = ao_spread_lanes(count, image.x * image.y, params.rays);
-    if lanes == AO_LANES {
-        trace_four_lanes(id.xy);
-    } else {
-        trace_spread(ao_spread_item(id.xy, size), lanes, count);
+    var pixel = id.xy / 2u;
+    var lane = (id.x & 1u) | ((id.y & 1u) << 1u);
+    var texel = id.xy;
+    if lanes != AO_LANES {
+        let item = ao_spread_item(id.xy, size);
+        if item >= lanes * count {
+            return;
+        }
+        let entry = item / lanes;
+        let width = textureDimensions(list).x;
+        let packed = textureLoad(list, vec2<u32>(entry % width, entry / width), 0).r;
+        pixel = vec2<u32>(packed & 0xffffu, packed >> 16u);
+        lane = item % lanes;
+        texel = ao_spread_texel(item, size.x);
     }
-    trace_flush_stats();
-}
-
-// Four lanes a pixel: this invocation is lane i + 2j of pixel (x, y) at texel (2x + i, 2y + j).
-fn trace_four_lanes(texel: vec2<u32>) {
-    let pixel = texel / 2u;
     let p = textureLoad(position, pixel, 0);
     if p.w == 0.0 {
         return; // the sky: `sum` writes 1 without reading the lanes
     }
     let n = normalize(textureLoad(geo_normal, pixel, 0).xyz);
-    let open = ao_lane_open(pixel, (texel.x & 1u) | ((texel.y & 1u) << 1u), p.xyz, n);
+    let open = ao_lane_open_of(pixel, lane, lanes, p.xyz, n);
     textureStore(partial, texel, vec4<f32>(open, 0.0, 0.0, 0.0));
-}
-
-// More lanes: item `item` of the list's `count` pixels, each shared by `lanes` lanes.
-fn trace_spread(item: u32, lanes: u32, count: u32) {
-    if item >= lanes * count {
-        return;
-    }
-    let entry = item / lanes;
-    let width = textureDimensions(list).x;
-    let packed = textureLoad(list, vec2<u32>(entry % width, entry / width), 0).r;
-    let pixel = vec2<u32>(packed & 0xffffu, packed >> 16u);
-    let p = textureLoad(position, pixel, 0);
-    let n = normalize(textureLoad(geo_normal, pixel, 0).xyz);
-    let open = ao_lane_open_of(pixel, item % lanes, lanes, p.xyz, n);
-    textureStore(partial, ao_spread_texel(item, textureDimensions(partial).x), vec4<f32>(open, 0.0, 0.0, 0.0));
+    trace_flush_stats();
 }
