@@ -10,7 +10,7 @@
 // when few pixels have rays (a model covering a few percent of the frame): BENCHMARKS.md, "AO
 // rays over four lanes". The lanes of sky pixels return at once; layers/rt_ao_compacted.ron
 // and layers/rt_ao_persistent.ron run over a list of the pixels with rays instead.
-//#include "common/ao_four_lanes.wgsl"
+//#include "common/ao_lane.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;
@@ -24,6 +24,14 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    ao_four_lanes_texel(id.xy);
+    let pixel = id.xy / 2u;
+    let lane = (id.x & 1u) | ((id.y & 1u) << 1u);
+    let p = textureLoad(position, pixel, 0);
+    if p.w == 0.0 {
+        return; // the sky: `sum` writes 1 without reading the lanes
+    }
+    let n = normalize(textureLoad(geo_normal, pixel, 0).xyz);
+    let open = ao_lane_open(pixel, lane, p.xyz, n);
+    textureStore(partial, id.xy, vec4<f32>(open, 0.0, 0.0, 0.0));
     trace_flush_stats();
 }

@@ -1,7 +1,6 @@
-// Ambient occlusion, last pass (layers/rt_ao.ron): a pixel's lanes added in lane order and
-// divided by the ray count; 1 on the sky. Four lanes: invocation (x, y) adds the 2x2 texels of
-// `partial` over its pixel (rt/ao_dense.wgsl), as rt/ao_sum.wgsl. More lanes (rt/ao_spread.wgsl,
-// items in `spread`): invocation (x, y) writes 1 on
+// Ambient occlusion, second pass (layers/rt_ao.ron): a pixel's lanes (rt/ao_spread.wgsl) added
+// in lane order and divided by the ray count; 1 on the sky. Four lanes: invocation (x, y) adds
+// the 2x2 texels over its pixel, as rt/ao_sum.wgsl. More lanes: invocation (x, y) writes 1 on
 // its pixel if it is the sky, and, if list entry y * width + x exists (the list is as wide as
 // the image: that entry's texel is (x, y)), adds that entry's lanes and writes that pixel.
 //#include "common/ao_spread.wgsl"
@@ -12,7 +11,6 @@
 @group(0) @binding(4) var<storage, read> listed: array<u32>;
 @group(0) @binding(5) var partial: texture_2d<f32>;
 @group(0) @binding(6) var ao: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(7) var spread: texture_2d<f32>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -42,9 +40,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let packed = textureLoad(list, id.xy, 0).r;
-    let width = textureDimensions(spread).x;
+    let width = textureDimensions(partial).x;
     for (var lane = 0u; lane < lanes; lane++) {
-        open += textureLoad(spread, ao_spread_texel(entry * lanes + lane, width), 0).r;
+        open += textureLoad(partial, ao_spread_texel(entry * lanes + lane, width), 0).r;
     }
     store_open(vec2<u32>(packed & 0xffffu, packed >> 16u), open);
 }
