@@ -1,5 +1,5 @@
 // Ambient occlusion with four lanes a pixel over the frame (layers/rt_ao_four_lanes.ron; the
-// default layer, rt_ao, does the same where a quarter of the frame is covered and spreads the
+// default layer, rt_ao, does the same where at least a quarter of the frame is covered and spreads the
 // rays over more lanes elsewhere: rt/ao_spread.wgsl): cosine-weighted any-hit rays of bounded
 // length from offset G-buffer positions; V = unoccluded fraction.
 //
