@@ -7,6 +7,7 @@ pub mod builtin;
 pub mod camera;
 pub mod duplicate;
 pub mod emitters;
+pub mod environment;
 pub mod export;
 pub mod export_mitsuba;
 pub mod fly;
