@@ -1,11 +1,11 @@
 // Ambient occlusion (layers/rt_ao.ron), over `partial` (twice the image in each axis), with the
-// lane count of common/ao_spread.wgsl. Four lanes (a frame at least a quarter covered): texel
+// lane count of common/ao_lane_count.wgsl. Four lanes (a frame at least a quarter covered): texel
 // (2x + i, 2y + j) is lane i + 2j of pixel (x, y), as in rt/ao.wgsl, bit for bit. More lanes:
 // the invocation runs item `ao_spread_item` of the list of pixels with rays (rt/ao_list.wgsl),
 // lane item % lanes of entry item / lanes, and items past the list's end return at once. Each
 // ray keeps its samples whatever the lane count (common/ao_lane.wgsl).
 //#include "common/ao_lane.wgsl"
-//#include "common/ao_spread.wgsl"
+//#include "common/ao_lane_count.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> params: Params;

@@ -3,7 +3,7 @@
 // the 2x2 texels over its pixel, as rt/ao_sum.wgsl. More lanes: invocation (x, y) writes 1 on
 // its pixel if it is the sky, and, if list entry y * width + x exists (the list is as wide as
 // the image: that entry's texel is (x, y)), adds that entry's lanes and writes that pixel.
-//#include "common/ao_spread.wgsl"
+//#include "common/ao_lane_count.wgsl"
 
 @group(0) @binding(1) var<uniform> params: Params;
 @group(0) @binding(2) var position: texture_2d<f32>;
