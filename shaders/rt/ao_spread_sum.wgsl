@@ -4,6 +4,7 @@
 // its pixel if it is the sky, and, if list entry y * width + x exists (the list is as wide as
 // the image: that entry's texel is (x, y)), adds that entry's lanes and writes that pixel.
 //#include "common/ao_lane_count.wgsl"
+//#include "common/ao_four_lanes_sum.wgsl"
 
 @group(0) @binding(1) var<uniform> params: Params;
 @group(0) @binding(2) var position: texture_2d<f32>;
@@ -24,15 +25,10 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let count = listed[0];
     let lanes = ao_spread_lanes(count, size.x * size.y, params.rays);
-    var open = 0.0;
     if lanes == AO_LANES {
-        if sky {
-            return;
+        if !sky {
+            store_open(id.xy, ao_four_lanes_open(partial, id.xy));
         }
-        for (var lane = 0u; lane < AO_LANES; lane++) {
-            open += textureLoad(partial, 2u * id.xy + vec2<u32>(lane & 1u, lane >> 1u), 0).r;
-        }
-        store_open(id.xy, open);
         return;
     }
     let entry = id.y * size.x + id.x;
@@ -41,6 +37,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let packed = textureLoad(list, id.xy, 0).r;
     let width = textureDimensions(partial).x;
+    var open = 0.0;
     for (var lane = 0u; lane < lanes; lane++) {
         open += textureLoad(partial, ao_spread_texel(entry * lanes + lane, width), 0).r;
     }

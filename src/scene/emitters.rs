@@ -17,7 +17,7 @@ pub const NO_EMITTERS: u32 = u32::MAX;
 pub const EMITTER_WORDS: usize = 4;
 
 /// Rec. 709 luminance of linear RGB.
-fn luminance(c: [f32; 3]) -> f32 {
+pub(crate) fn luminance(c: [f32; 3]) -> f32 {
     0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 

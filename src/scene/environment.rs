@@ -11,7 +11,8 @@
 //! centre looks along -Z (glTF's forward) and u grows towards +X:
 //! u = 1/2 + atan2(x, -z) / 2π, v = acos(y) / π.
 
-use glam::Vec3;
+use super::emitters::luminance;
+use glam::{Mat3, Vec3};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -89,8 +90,8 @@ impl Environment {
 
     /// The radiance arriving from world direction `dir` (nearest texel), times the intensity.
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
-        let (u, v) = direction_uv(rotate_about_y(dir.normalize_or(Vec3::Y), -self.rotation));
-        Vec3::from(self.texels[texel_index(u, v, self.width, self.height)]) * self.intensity
+        let (texel, _) = texel_of(dir, self.rotation, self.width, self.height);
+        Vec3::from(self.texels[texel]) * self.intensity
     }
 
     /// Every texel's world direction (its centre), radiance (times the intensity) and solid
@@ -149,15 +150,16 @@ impl Environment {
 
 /// `d` turned by `angle` radians about +Y (counter-clockwise seen from above).
 fn rotate_about_y(d: Vec3, angle: f32) -> Vec3 {
-    let (s, c) = angle.sin_cos();
-    Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z)
+    Mat3::from_rotation_y(angle) * d
 }
 
-/// The texel of a `width` x `height` image that (u, v) falls in, row-major.
-fn texel_index(u: f32, v: f32, width: usize, height: usize) -> usize {
+/// The texel of a `width` x `height` map turned by `rotation` that world direction `dir` (any
+/// length) falls in, row-major, and the direction's v.
+fn texel_of(dir: Vec3, rotation: f32, width: usize, height: usize) -> (usize, f32) {
+    let (u, v) = direction_uv(rotate_about_y(dir.normalize_or(Vec3::Y), -rotation));
     let x = ((u * width as f32) as usize).min(width - 1);
     let y = ((v * height as f32) as usize).min(height - 1);
-    y * width + x
+    (y * width + x, v)
 }
 
 /// The irradiance at every normal, tabulated at the centres of a `width` x `width / 2`
@@ -173,16 +175,6 @@ pub struct IrradianceMap {
 }
 
 impl IrradianceMap {
-    /// The grid's size.
-    pub fn size(&self) -> (usize, usize) {
-        (self.width, self.height)
-    }
-
-    /// Its texels, row-major, top row first (the irradiance at each grid normal).
-    pub fn texels(&self) -> &[Vec3] {
-        &self.texels
-    }
-
     /// The irradiance at a surface of normal `n` (any length), interpolated.
     pub fn irradiance(&self, n: Vec3) -> Vec3 {
         let (u, v) = direction_uv(n.normalize_or(Vec3::Y));
@@ -289,20 +281,10 @@ pub struct EnvironmentSampler {
     rotation: f32,
 }
 
-/// Rec. 709 luminance.
-fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
-
 impl EnvironmentSampler {
     /// The sampler of `env`; `None` where the map is black.
     pub fn new(env: &Environment) -> Option<Self> {
-        let weights: Vec<f64> = env
-            .texels
-            .iter()
-            .enumerate()
-            .map(|(i, t)| luminance(*t) as f64 * (((i / env.width) as f64 + 0.5) / env.height as f64 * std::f64::consts::PI).sin())
-            .collect();
+        let weights: Vec<f64> = env.texels_with_directions().map(|(_, radiance, solid_angle)| (luminance(radiance.into()) * solid_angle) as f64).collect();
         let total: f64 = weights.iter().sum();
         if total.is_nan() || total <= 0.0 {
             return None;
@@ -328,8 +310,8 @@ impl EnvironmentSampler {
 
     /// The probability density per steradian of drawing world direction `dir`.
     pub fn pdf(&self, dir: Vec3) -> f32 {
-        let (u, v) = direction_uv(rotate_about_y(dir.normalize_or(Vec3::Y), -self.rotation));
-        self.density(texel_index(u, v, self.width, self.height), v)
+        let (texel, v) = texel_of(dir, self.rotation, self.width, self.height);
+        self.density(texel, v)
     }
 
     /// Texel `texel`'s probability spread uniformly over its (u, v) rectangle, per steradian
