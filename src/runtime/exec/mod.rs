@@ -375,6 +375,9 @@ impl Executor {
         }
         let mut timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
         timings.phases = FramePhases { readback_ms: ms(t), ..phases };
+        // The frame ends after its last part: read last, so a pause of the thread between the
+        // two readings cannot leave the parts longer than the frame.
+        timings.frame_ms = ms(start);
         if let (Some(cache), Some(gpu_ms)) = (self.accel.as_mut(), timings.gpu_ms.as_ref()) {
             let trace_ms: f64 = self.plan.passes.iter().zip(gpu_ms).filter(|(p, _)| p.kind == PassKind::Trace).map(|(_, ms)| ms).sum();
             cache.note_trace_ms(trace_ms);
