@@ -1,5 +1,5 @@
 //! Small helpers: atomic writes shared by every writer of user-visible files, sRGB
-//! conversion, the deterministic random numbers of benches and tests, and the content hash of
+//! conversion and luminance, the deterministic random numbers of benches and tests, and the content hash of
 //! plain data.
 
 use std::io::Write;
@@ -98,4 +98,9 @@ pub(crate) fn hash_words(seed: u64, bytes: &[u8]) -> u64 {
         h = (h ^ b as u64).wrapping_mul(0xC4CE_B9FE_1A85_EC53);
     }
     h ^ (h >> 33)
+}
+
+/// Rec. 709 luminance of linear RGB.
+pub(crate) fn luminance(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }

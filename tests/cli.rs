@@ -348,3 +348,49 @@ fn selftest_verdict_never_counts_not_applicable_as_passed() {
     assert_eq!(failed.line(), "hard-cases on ray-query: FAILED: grazing rays: a ray missed");
     assert_eq!(verdict(&[line(Outcome::Passed), failed]), "selftest failed: 1 passed, 1 failed, 0 not applicable");
 }
+
+#[test]
+fn render_with_an_environment_map_writes_its_backdrop_and_refuses_a_bad_map() {
+    let dir = common::gltf_doc::temp_dir("env-cli");
+    let out_png = dir.join("beach.png");
+    let out = raygraph()
+        .args([
+            "render",
+            "--mode",
+            "hybrid",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--frames",
+            "1",
+            "--env",
+            "assets/env/spiaggia_di_mondello_1k.hdr",
+            "--env-rotation",
+            "-90",
+            "--out",
+        ])
+        .arg(&out_png)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    // The default view's top row is backdrop: the beach's sky, not the analytic sky's tone-map
+    // gradient (whose top row is (0.35, 0.55, 0.9) before the tone curve: blue over red by 0.55).
+    let img = image::open(&out_png).unwrap().to_rgb8();
+    let top: Vec<[u8; 3]> = (0..64).map(|x| img.get_pixel(x, 0).0).collect();
+    let analytic =
+        raygraph().args(["render", "--mode", "hybrid", "--width", "64", "--height", "36", "--frames", "1", "--out"]).arg(dir.join("sky.png")).output().unwrap();
+    assert!(analytic.status.success());
+    let sky = image::open(dir.join("sky.png")).unwrap().to_rgb8();
+    let differing = (0..64).filter(|&x| sky.get_pixel(x, 0).0 != top[x as usize]).count();
+    assert!(differing > 48, "the backdrop is the map's: {differing} of 64 top-row pixels differ from the analytic sky's");
+    for (bad, says) in [("missing.hdr", "missing.hdr"), ("README.md", "not an image format raygraph reads")] {
+        let png = dir.join("bad.png");
+        let out = raygraph().args(["render", "--width", "16", "--height", "16", "--env", bad, "--out"]).arg(&png).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains("environment map") && stderr.contains(says), "{bad}: {stderr}");
+        assert!(!png.exists(), "{bad}: no image is written");
+    }
+    let out = raygraph().args(["render", "--env-intensity", "2"]).output().unwrap();
+    assert!(!out.status.success(), "--env-intensity needs --env");
+}

@@ -18,12 +18,11 @@
 mod common;
 
 use common::disk::{disk_over_floor, disk_rim, form_factor};
-use common::{gpu, TempProject};
+use common::{gpu, judge};
 use glam::{Mat4, Vec3};
 use raygraph::backend::Backend;
 use raygraph::bench::truth;
-use raygraph::graph::compile::compile_with;
-use raygraph::runtime::{Executor, Gpu};
+use raygraph::runtime::Gpu;
 use raygraph::scene::builtin::{cube, default_scene, plane};
 use raygraph::scene::{Camera, Instance, Material, Scene};
 
@@ -78,23 +77,7 @@ fn accumulate(gpu: &Gpu, backend: Backend, scene: &Scene, samples: u32, frames: 
 
 /// [`accumulate`] at `size`.
 fn accumulate_at(gpu: &Gpu, backend: Backend, scene: &Scene, size: (u32, u32), samples: u32, frames: u32) -> Vec<[f32; 4]> {
-    let p = TempProject::with_repo_files();
-    let graph = std::fs::read_to_string(common::repo().join("graph/reference.ron")).unwrap();
-    let graph = graph.replace(r#""path": Layer(layer: "rt_path","#, &format!(r#""path": Layer(layer: "rt_path", params: {{"samples": {samples}}},"#));
-    let path = p.write("graph/reference.ron", &graph);
-    let plan = compile_with(&path, &p.project(), size, &gpu.compile_options_for(backend)).unwrap_or_else(|e| panic!("{e}"));
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
-    for _ in 0..frames {
-        exec.render(gpu, scene.camera(), scene).unwrap();
-    }
-    common::channel(gpu, &exec, "accumulate.color")
-}
-
-/// Mean, and largest deviation from `expected`, of channel `c` over the pixels.
-fn judge(texels: &[[f32; 4]], c: usize, expected: f32) -> (f32, f32) {
-    let mean = texels.iter().map(|t| t[c]).sum::<f32>() / texels.len() as f32;
-    let worst = texels.iter().map(|t| (t[c] - expected).abs()).fold(0.0f32, f32::max);
-    (mean, worst)
+    common::modes::path_traced(gpu, backend, scene, size, samples, frames)
 }
 
 #[test]

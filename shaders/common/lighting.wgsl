@@ -11,9 +11,13 @@
 // clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1)^2. Intensities are a linear
 // radiance scale: a white Lambert surface facing a directional light of intensity 1 (or a point
 // light of intensity 1 at distance 1) has radiance 1.
+// With an environment map (`--env`, common/environment.wgsl) the sky is the map: misses and
+// mirrors show it, the ambient term is its irradiance at the normal (x AO x material occlusion),
+// and modes that trace no reflection ray reflect it at the level of the surface's roughness.
 // Needs the main shader to declare `frame` (common/frame.wgsl).
 //#include "common/gbuffer_material_word.wgsl"
 //#include "common/scene_features.wgsl"
+//#include "common/environment.wgsl"
 //#include "common/lobes.wgsl"
 
 const PI: f32 = 3.14159265359;
@@ -84,7 +88,12 @@ fn shading_lobes(s: ptr<function, ShadingPoint>, lobes: SurfaceLobes) {
     (*s).coat_normal = lobes.coat_normal;
 }
 
+// The sky's colour towards `dir`: the environment map's radiance, or the analytic sky (whose
+// light the ambient term scales by `frame.ambient`).
 fn sky_color(dir: vec3<f32>) -> vec3<f32> {
+    if has_environment() {
+        return environment_radiance(dir);
+    }
     return mix(vec3<f32>(0.35, 0.3, 0.25), vec3<f32>(0.6, 0.75, 1.0), 0.5 + 0.5 * dir.y);
 }
 
@@ -202,6 +211,9 @@ fn reflected_radiance(s: ShadingPoint, incoming: vec3<f32>) -> vec3<f32> {
 // What a mirror shows without occluders: the sky along the mirror direction. Modes that trace
 // no reflection ray there reflect this.
 fn sky_reflection(s: ShadingPoint) -> vec3<f32> {
+    if has_environment() {
+        return environment_reflection(reflect(-s.view, s.normal), s.roughness);
+    }
     return sky_color(reflect(-s.view, s.normal));
 }
 
@@ -212,6 +224,12 @@ fn surface_radiance(s: ShadingPoint, direct: vec3<f32>, ao: f32) -> vec3<f32> {
     if s.unlit {
         return s.albedo;
     }
-    let ambient = frame.ambient * sky_color(s.normal) * s.albedo * (1.0 - s.metallic) * ao * s.occlusion;
+    // The Lambert term of the sky's light: the environment's irradiance / π, or the analytic
+    // sky at the normal (exact for a sky of one colour).
+    var sky = frame.ambient * sky_color(s.normal);
+    if has_environment() {
+        sky = environment_irradiance(s.normal) / PI;
+    }
+    let ambient = sky * s.albedo * (1.0 - s.metallic) * ao * s.occlusion;
     return ambient + direct + s.emissive;
 }

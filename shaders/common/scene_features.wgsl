@@ -14,3 +14,6 @@ override SCENE_CUSTOM_SAMPLING: bool = true;
 override SCENE_VERTEX_EXTRAS: bool = true;
 // Some material is unlit (MATERIAL_UNLIT, KHR_materials_unlit).
 override SCENE_UNLIT: bool = true;
+// An environment map lights the scene (`--env`; common/environment.wgsl). Read together with
+// the bound map's size, so that the default is right without a map too.
+override SCENE_ENVIRONMENT: bool = true;

@@ -7,8 +7,9 @@
 //   - every punctual light (the sun among them) with its own shadow ray (hit_direct_light:
 //     delta lights, which only next-event estimation can reach);
 //   - the sky (radiance frame.ambient x sky_color, common/lighting.wgsl) by next-event
-//     estimation with a cosine-weighted direction, combined with the BSDF's own sampling by the
-//     power heuristic (multiple importance sampling);
+//     estimation with a cosine-weighted direction, or the environment map (`--env`) with a
+//     direction drawn by its luminance (common/environment_sampling.wgsl), combined with the
+//     BSDF's own sampling by the power heuristic (multiple importance sampling);
 //   - the next direction from the shared BSDF (common/bsdf_sampling.wgsl).
 // BLEND surfaces are passed with the probability their coverage leaves (tinted by a
 // transmissive one's colour), back faces of single-sided materials always (as every mode
@@ -29,6 +30,7 @@
 //#include "common/hit_lighting.wgsl"
 //#include "common/bsdf_sampling.wgsl"
 //#include "common/emitters.wgsl"
+//#include "common/environment_sampling.wgsl"
 
 struct Params {
     samples: u32,
@@ -50,12 +52,28 @@ const ROULETTE_FROM: u32 = 3u;
 
 // The sky's radiance towards `dir` (what every mode's ambient term integrates).
 fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
+    if has_environment() {
+        return environment_radiance(dir);
+    }
     return frame.ambient * sky_color(dir);
 }
 
-// Density of the sky's next-event directions at `sp` (cosine-weighted about its normal).
+// Density of the sky's next-event directions at `sp`: the environment map's sampler's, or
+// cosine-weighted about the normal.
 fn sky_pdf(sp: ShadingPoint, l: vec3<f32>) -> f32 {
+    if has_environment() {
+        return environment_pdf(l);
+    }
     return max(dot(sp.normal, l), 0.0) / PI;
+}
+
+// A next-event direction towards the sky at `sp`: drawn from the environment map, or
+// cosine-weighted about the normal.
+fn sky_direction(sp: ShadingPoint, rng: ptr<function, u32>) -> vec3<f32> {
+    if has_environment() {
+        return environment_sample(vec3<f32>(next_random2(rng), next_random1(rng))).dir;
+    }
+    return cosine_hemisphere(sp.normal, next_random2(rng));
 }
 
 fn power_heuristic(a: f32, b: f32) -> f32 {
@@ -105,10 +123,10 @@ fn camera_ray_through(at: vec2<f32>) -> Ray {
 // The sky's light at `s` by one cosine-weighted next-event direction, MIS-weighted against
 // the BSDF's sampling of the same direction.
 fn sky_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3<f32> {
-    if frame.ambient <= 0.0 {
+    if !has_environment() && frame.ambient <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let l = cosine_hemisphere(sp.normal, next_random2(rng));
+    let l = sky_direction(sp, rng);
     let pdf = sky_pdf(sp, l);
     if pdf <= 0.0 || dot(l, s.geo_normal) <= 0.0 {
         return vec3<f32>(0.0);

@@ -1,7 +1,11 @@
 // Tone map: exposure, then the ACES filmic fit (Narkowicz 2015), encoded as sRGB into an 8-bit
 // target (a compute pass: storage textures cannot be sRGB, so the encoding is done here).
 // The image is premultiplied by alpha: the sky gradient shows through 1 - alpha of each texel
-// (all of it where nothing was drawn, a = 0; part of it behind translucent surfaces).
+// (all of it where nothing was drawn, a = 0; part of it behind translucent surfaces); with an
+// environment map (`--env`), the map along each pixel's camera ray.
+//#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
+//#include "common/environment.wgsl"
 
 struct Params {
     exposure: f32,
@@ -11,6 +15,7 @@ struct Params {
 @group(0) @binding(0) var hdr: texture_2d<f32>;
 @group(0) @binding(1) var<uniform> params: Params;
 @group(0) @binding(2) var color: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(3) var<uniform> frame: Frame;
 
 fn aces(x: vec3<f32>) -> vec3<f32> {
     let a = 2.51;
@@ -38,7 +43,11 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (c.a < 1.0 && params.sky != 0u) {
         // Pixel centres, as the fragment stage saw them: v = 0 at the top, 1 at the bottom.
         let v = (f32(id.y) + 0.5) / f32(size.y);
-        linear += (1.0 - max(c.a, 0.0)) * mix(vec3<f32>(0.9, 0.85, 0.8), vec3<f32>(0.35, 0.55, 0.9), 1.0 - v);
+        var backdrop = mix(vec3<f32>(0.9, 0.85, 0.8), vec3<f32>(0.35, 0.55, 0.9), 1.0 - v);
+        if has_environment() {
+            backdrop = environment_radiance_level(camera_dir(id.xy), 0.0);
+        }
+        linear += (1.0 - max(c.a, 0.0)) * backdrop;
     }
     textureStore(color, id.xy, vec4<f32>(srgb_encode(aces(linear * params.exposure)), 1.0));
 }

@@ -171,3 +171,47 @@ pub(crate) struct GltfSceneArg {
     #[arg(long, value_name = "INDEX|NAME")]
     pub(crate) gltf_scene: Option<String>,
 }
+
+/// An environment map lighting the scene in place of the default sun and sky.
+#[derive(clap::Args)]
+pub(crate) struct EnvArgs {
+    /// An equirectangular HDR environment map (Radiance .hdr or OpenEXR .exr, twice as wide as
+    /// high) that lights the scene in place of the default sun and sky; the file's own lights
+    /// stay.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) env: Option<std::path::PathBuf>,
+    /// Scales the environment map's radiance.
+    #[arg(long, default_value_t = 1.0, requires = "env", value_parser = parse_non_negative)]
+    pub(crate) env_intensity: f32,
+    /// Turns the environment map about the up axis (+Y) by this many degrees, counter-clockwise
+    /// seen from above.
+    #[arg(long, default_value_t = 0.0, requires = "env", allow_negative_numbers = true)]
+    pub(crate) env_rotation: f32,
+}
+
+impl EnvArgs {
+    /// The map given, loaded, with its intensity and rotation; `None` without `--env`.
+    pub(crate) fn load(&self) -> Result<Option<raygraph::scene::environment::Environment>> {
+        let Some(path) = &self.env else { return Ok(None) };
+        let mut env = raygraph::scene::environment::Environment::load(path)?;
+        env.intensity = self.env_intensity;
+        env.rotation = self.env_rotation.to_radians();
+        Ok(Some(env))
+    }
+
+    /// Lights `scene` by the map given, if any.
+    pub(crate) fn apply(&self, scene: &mut Scene) -> Result<()> {
+        if let Some(env) = self.load()? {
+            scene.set_environment(Some(env));
+        }
+        Ok(())
+    }
+}
+
+/// A finite number of at least 0.
+fn parse_non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!("`{s}`: give a finite number of at least 0")),
+    }
+}

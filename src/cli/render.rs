@@ -2,7 +2,7 @@
 //! the tone-mapped frame, or an OpenEXR of the graph's linear HDR output) and the per-pass
 //! timings printed.
 
-use super::args::{DuplicateArgs, GltfSceneArg, GpuArgs, LayerChoice};
+use super::args::{DuplicateArgs, EnvArgs, GltfSceneArg, GpuArgs, LayerChoice};
 use super::LOG_TARGET;
 use anyhow::{Context, Result};
 use raygraph::graph::compile::{self, CompileOptions};
@@ -31,6 +31,8 @@ pub(crate) struct RenderArgs {
     scene: String,
     #[command(flatten)]
     copies: DuplicateArgs,
+    #[command(flatten)]
+    env: EnvArgs,
     #[command(flatten)]
     gpu: GpuArgs,
     #[command(flatten)]
@@ -272,6 +274,7 @@ fn load_scene(args: &RenderArgs, plan: &Plan) -> Result<Scene> {
         let n = args.copies.duplicate;
         println!("scene duplicated {n}x{n}x{n}: {} triangles, {} meshes, {} instances", scene.triangle_count(), scene.meshes().len(), scene.instances().len());
     }
+    args.env.apply(&mut scene)?;
     Ok(scene)
 }
 

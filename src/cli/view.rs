@@ -1,6 +1,6 @@
 //! `raygraph view`: the live viewer of `raygraph::viewer`.
 
-use super::args::{ensure_size_in_range, GltfSceneArg, GpuArgs};
+use super::args::{ensure_size_in_range, EnvArgs, GltfSceneArg, GpuArgs};
 use anyhow::Result;
 use raygraph::graph::Mode;
 use raygraph::viewer::ViewerOptions;
@@ -32,6 +32,8 @@ pub(crate) struct ViewArgs {
     seed: u64,
     #[command(flatten)]
     gltf: GltfSceneArg,
+    #[command(flatten)]
+    env: EnvArgs,
     /// Stop after this many frames.
     #[arg(long)]
     frames: Option<u64>,
@@ -74,6 +76,7 @@ pub(crate) fn run(args: ViewArgs) -> Result<()> {
         verbose: args.verbose,
         animation: args.animation,
         time,
+        environment: args.env.load()?,
     };
     raygraph::viewer::run(opts).map_err(anyhow::Error::msg)
 }

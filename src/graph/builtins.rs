@@ -24,6 +24,24 @@ pub(crate) const SCENE_EMITTERS: &str = "scene_emitters";
 /// instance, its current one on a frame without history): what motion vectors are made from.
 /// Rewritten only when it changes.
 pub(crate) const SCENE_MOTION: &str = "scene_motion";
+/// The environment map (`shaders/common/environment.wgsl`, bind group 3): its radiance
+/// (`texture_2d<f32>`, equirectangular, with mips), its irradiance on a grid of normals, its
+/// parameters (uniform), its importance sampler's alias table (`array<vec4<u32>>`,
+/// `shaders/common/environment_sampling.wgsl`) and its sampler. 1x1 stand-ins where the scene
+/// has no map.
+pub(crate) const SCENE_ENVIRONMENT: &str = "scene_environment";
+pub(crate) const SCENE_ENVIRONMENT_IRRADIANCE: &str = "scene_environment_irradiance";
+pub(crate) const SCENE_ENVIRONMENT_PARAMS: &str = "scene_environment_params";
+pub(crate) const SCENE_ENVIRONMENT_TABLE: &str = "scene_environment_table";
+pub(crate) const ENVIRONMENT_SAMPLER: &str = "environment_sampler";
+/// The bind group of the environment map's bindings.
+pub(crate) const ENVIRONMENT_GROUP: u32 = 3;
+
+/// Whether a binding is one of the environment map's (group 3).
+pub(crate) fn is_environment_binding(name: &str) -> bool {
+    matches!(name, SCENE_ENVIRONMENT | SCENE_ENVIRONMENT_IRRADIANCE | SCENE_ENVIRONMENT_PARAMS | SCENE_ENVIRONMENT_TABLE | ENVIRONMENT_SAMPLER)
+}
+
 /// The bind group `scene_textures` lives in (alone: a binding array may not share a group with
 /// uniform buffers).
 pub(crate) const SCENE_TEXTURES_GROUP: u32 = 1;
@@ -61,6 +79,11 @@ pub(crate) fn is_builtin(name: &str) -> bool {
             | SCENE_LIGHTS
             | SCENE_EMITTERS
             | SCENE_MOTION
+            | SCENE_ENVIRONMENT
+            | SCENE_ENVIRONMENT_IRRADIANCE
+            | SCENE_ENVIRONMENT_PARAMS
+            | SCENE_ENVIRONMENT_TABLE
+            | ENVIRONMENT_SAMPLER
             | LINEAR_SAMPLER
             | NEAREST_SAMPLER
     )
@@ -75,6 +98,9 @@ impl SceneUsage {
             SCENE_LIGHTS => self.lights = true,
             SCENE_EMITTERS => self.emitters = true,
             SCENE_MOTION => self.motion = true,
+            SCENE_ENVIRONMENT | SCENE_ENVIRONMENT_IRRADIANCE | SCENE_ENVIRONMENT_PARAMS | SCENE_ENVIRONMENT_TABLE | ENVIRONMENT_SAMPLER => {
+                self.environment = true
+            }
             SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES => self.geometry_storage = true,
             SCENE_TEXTURES => {
                 self.textures = true;

@@ -9,6 +9,7 @@ pub mod batch;
 #[cfg(not(target_arch = "wasm32"))]
 pub(crate) mod clock_pump;
 pub mod deform;
+pub mod environment_upload;
 pub mod exec;
 pub mod gpu;
 pub mod present;

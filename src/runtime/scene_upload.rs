@@ -8,6 +8,7 @@
 //! Also the records' CPU side (`light_records`), what an upload depends on (`SceneContent`)
 //! and the in-place rewrites of a frame.
 
+use crate::runtime::environment_upload::GpuEnvironment;
 use crate::scene::texture_pool::{data_textures, texture_ref, texture_refs, TexturePool, POOL_LAYERS, TEXTURE_REF_LAYER_BITS};
 use crate::scene::usage::{SceneLimitError, SceneUsage};
 use crate::scene::{AlphaMode, Bounds, LightKind, Mesh, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, TEXTURE_SLOTS};
@@ -86,6 +87,8 @@ pub struct GpuScene {
     lights: Option<wgpu::Buffer>,
     /// The emissive triangles as lights (`scene_emitters`, `scene::emitters`).
     emitters: Option<wgpu::Buffer>,
+    /// The environment map (`scene_environment*`; stand-ins without one).
+    environment: Option<GpuEnvironment>,
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
     /// `GpuScene::write_motion`.
     motion: Option<wgpu::Buffer>,
@@ -140,6 +143,11 @@ impl GpuScene {
     /// The emissive triangles as lights (`scene_emitters`, `scene::emitters`).
     pub fn emitters(&self) -> Option<&wgpu::Buffer> {
         self.emitters.as_ref()
+    }
+
+    /// The environment map (`scene_environment*`).
+    pub fn environment(&self) -> Option<&GpuEnvironment> {
+        self.environment.as_ref()
     }
 
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
@@ -214,6 +222,11 @@ impl GpuScene {
         if usage.emitters {
             out.emitters = Some(upload.storage_records("emitter word", crate::scene::emitters::emitter_table(scene))?);
         }
+        if usage.environment {
+            let env = GpuEnvironment::upload(device, queue, scene.environment().map(|e| e.as_ref()));
+            upload.bytes += env.bytes();
+            out.environment = Some(env);
+        }
         if usage.motion {
             let records: Vec<[[f32; 4]; 4]> = scene.instances().iter().map(|i| i.transform.to_cols_array_2d()).collect();
             out.motion = Some(upload.storage_records("previous transform", records)?);
@@ -236,6 +249,7 @@ impl GpuScene {
             textures: None,
             lights: None,
             emitters: None,
+            environment: None,
             motion: None,
             draws: Vec::new(),
             base_vertices: Vec::new(),
@@ -655,7 +669,12 @@ impl GpuScene {
     pub(crate) fn write_lights(&self, queue: &wgpu::Queue, records: &[LightUniforms]) -> bool {
         let Some(buffer) = &self.lights else { return false };
         let bytes: &[u8] = bytemuck::cast_slice(records);
-        if records.is_empty() || bytes.len() as u64 != buffer.size() {
+        if records.is_empty() {
+            // No light (an environment map in place of the sun): the buffer's one stand-in
+            // record stays, unread (`frame.light_count` is 0).
+            return buffer.size() == std::mem::size_of::<LightUniforms>() as u64;
+        }
+        if bytes.len() as u64 != buffer.size() {
             return false;
         }
         queue.write_buffer(buffer, 0, bytes);
@@ -783,6 +802,14 @@ impl SceneContent {
         structure = hash_words(structure, bytemuck::cast_slice(&deforming.iter().map(|&i| i as u64).collect::<Vec<_>>()));
         // The light buffer's size (its records are rewritten every frame).
         structure = hash_words(structure, &(scene.effective_light_count() as u64).to_le_bytes());
+        // The environment map: its size, intensity and rotation, and its texels by their
+        // allocation (never edited in place) and a sparse sample of them (a new map freed into
+        // the same place).
+        if let Some(e) = scene.environment() {
+            let sample: Vec<[f32; 3]> = e.texels().iter().step_by(4099).copied().collect();
+            let words = [e.size().0 as u64, e.texels().as_ptr() as u64, e.intensity.to_bits() as u64, e.rotation.to_bits() as u64];
+            structure = hash_words(hash_words(structure, bytemuck::cast_slice(&words)), bytemuck::cast_slice(&sample));
+        }
         let transforms: Vec<[f32; 16]> = scene.instances().iter().map(|i| i.transform.to_cols_array()).collect();
         Self { structure, transforms: hash_words(3, bytemuck::cast_slice(&transforms)), deformed: scene.deformation_key().unwrap_or(0) }
     }

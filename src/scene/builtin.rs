@@ -145,5 +145,6 @@ pub fn default_scene() -> Scene {
         lights: Vec::new(),
         rig: None,
         posed: None,
+        environment: None,
     }
 }

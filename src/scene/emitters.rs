@@ -16,11 +16,6 @@ pub const NO_EMITTERS: u32 = u32::MAX;
 /// Words per record.
 pub const EMITTER_WORDS: usize = 4;
 
-/// Rec. 709 luminance of linear RGB.
-pub(crate) fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
-
 /// The mean linear RGB of an sRGB image (`lut`: each 8-bit value decoded).
 fn mean_linear(image: &TextureImage, lut: &[f64]) -> [f32; 3] {
     let mut sum = [0.0f64; 3];
@@ -50,7 +45,7 @@ fn material_emission(scene: &Scene) -> Vec<f32> {
                 let mean = *texture_means[t].get_or_insert_with(|| mean_linear(&scene.textures()[t], &lut));
                 e = [e[0] * mean[0], e[1] * mean[1], e[2] * mean[2]];
             }
-            luminance(e).max(0.0)
+            crate::util::luminance(e).max(0.0)
         })
         .collect()
 }

@@ -5,13 +5,13 @@
 //! reads; nine spherical harmonics too, which lose a sun or a studio's lamps:
 //! tests/environment.rs), and an importance sampler over its texels ([`EnvironmentSampler`]:
 //! Vose's alias table by luminance times solid angle, what next-event estimation draws from).
-//! No render pass reads it yet.
+//! The GPU form is `runtime::environment_upload`'s.
 //!
 //! Directions: +Y is up; the image's top row looks up, its bottom row down; its horizontal
 //! centre looks along -Z (glTF's forward) and u grows towards +X:
 //! u = 1/2 + atan2(x, -z) / 2π, v = acos(y) / π.
 
-use super::emitters::luminance;
+use crate::util::luminance;
 use glam::{Mat3, Vec3};
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
@@ -86,6 +86,23 @@ impl Environment {
     /// The image's size in texels.
     pub fn size(&self) -> (usize, usize) {
         (self.width, self.height)
+    }
+
+    /// The texels (linear RGB, without the intensity), row-major, top row first.
+    pub fn texels(&self) -> &[[f32; 3]] {
+        &self.texels
+    }
+
+    /// The map's mip chain: the map, then each level the 2x2 blocks of the one before
+    /// averaged, while the height halves evenly (a 1024 x 512 map: down to 2 x 1).
+    pub fn mip_chain(&self) -> Vec<Environment> {
+        let mut levels = vec![self.clone()];
+        let mut factor = 2;
+        while self.height.is_multiple_of(factor) {
+            levels.push(self.downsampled(factor));
+            factor *= 2;
+        }
+        levels
     }
 
     /// The radiance arriving from world direction `dir` (nearest texel), times the intensity.
@@ -175,6 +192,16 @@ pub struct IrradianceMap {
 }
 
 impl IrradianceMap {
+    /// The grid's size (columns, rows).
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// The irradiance at the grid's normals, row-major, top row (looking up) first.
+    pub fn texels(&self) -> &[Vec3] {
+        &self.texels
+    }
+
     /// The irradiance at a surface of normal `n` (any length), interpolated.
     pub fn irradiance(&self, n: Vec3) -> Vec3 {
         let (u, v) = direction_uv(n.normalize_or(Vec3::Y));
@@ -306,6 +333,13 @@ impl EnvironmentSampler {
         let uv_u = (x as f32 + along.min(1.0 - f32::EPSILON)) / self.width as f32;
         let uv_v = ((y as f32 + u[2]) / self.height as f32).min(1.0);
         (rotate_about_y(uv_direction(uv_u, uv_v), self.rotation), self.density(texel, uv_v))
+    }
+
+    /// The table as the GPU reads it (`scene_environment_table`, common/environment_sampling.wgsl):
+    /// per texel, the probability of keeping its slot (f32 bits), its alias, and its own
+    /// probability of being drawn (f32 bits).
+    pub fn gpu_slots(&self) -> Vec<[u32; 4]> {
+        self.slots.iter().zip(&self.probability).map(|((keep, alias), p)| [keep.to_bits(), *alias, p.to_bits(), 0]).collect()
     }
 
     /// The probability density per steradian of drawing world direction `dir`.

@@ -450,6 +450,7 @@ pub(crate) fn load_bytes(path: &Path, bytes: &[u8], options: &LoadOptions) -> Re
         lights: placed.lights,
         rig: rig.map(std::sync::Arc::new),
         posed: None,
+        environment: None,
     };
     // Skinned meshes are placed by their joints and morph targets take the nodes' weights.
     scene.pose(None, 0.0);

@@ -435,6 +435,9 @@ pub struct Scene {
     /// The time the rig was last posed at, and whether the deforming meshes' vertices here
     /// hold that pose (`None`: never posed since loading, or no rig).
     posed: Option<animation::PoseTime>,
+    /// The environment map that lights the scene in place of the default sun and sky
+    /// (`--env`); `None`: the sun and the analytic sky.
+    environment: Option<std::sync::Arc<environment::Environment>>,
 }
 
 /// What kind of punctual light, with the parameters only that kind has.
@@ -567,6 +570,7 @@ impl Scene {
             lights: Vec::new(),
             rig: None,
             posed: None,
+            environment: None,
         }
     }
 
@@ -681,6 +685,17 @@ impl Scene {
         &mut self.light
     }
 
+    /// The environment map that lights the scene in place of the default sun and sky.
+    pub fn environment(&self) -> Option<&std::sync::Arc<environment::Environment>> {
+        self.environment.as_ref()
+    }
+
+    /// Lights the scene by `environment` in place of the default sun and sky (`None`: the sun
+    /// and sky again). The file's own punctual lights stay.
+    pub fn set_environment(&mut self, environment: Option<environment::Environment>) {
+        self.environment = environment.map(std::sync::Arc::new);
+    }
+
     /// An optional point light (besides the directional [`Scene::light`]).
     pub fn point_light(&self) -> Option<&PointLight> {
         self.point_light.as_ref()
@@ -744,26 +759,28 @@ impl Scene {
     /// How many lights [`Scene::effective_lights`] returns (without building them).
     pub(crate) fn effective_light_count(&self) -> usize {
         if self.lights.is_empty() {
-            1 + usize::from(self.point_light.is_some())
+            usize::from(self.environment.is_none()) + usize::from(self.point_light.is_some())
         } else {
             self.lights.len()
         }
     }
 
     /// The lights that light the scene: the file's own lights, or, when it has none, the
-    /// default sun (`light`) and the optional `point_light`.
+    /// default sun (`light`; not with an environment map, which holds its own sun) and the
+    /// optional `point_light`.
     pub fn effective_lights(&self) -> Vec<PunctualLight> {
         if !self.lights.is_empty() {
             return self.lights.clone();
         }
-        let mut out = vec![PunctualLight {
+        let sun = PunctualLight {
             name: "sun".into(),
             kind: LightKind::Directional,
             position: Vec3::ZERO,
             direction: -self.light.direction,
             color: self.light.color,
             intensity: self.light.intensity,
-        }];
+        };
+        let mut out: Vec<PunctualLight> = self.environment.is_none().then_some(sun).into_iter().collect();
         if let Some(p) = self.point_light {
             out.push(PunctualLight {
                 name: "point".into(),

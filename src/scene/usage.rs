@@ -24,6 +24,9 @@ pub struct SceneUsage {
     pub emitters: bool,
     /// `scene_motion`: the previous frame's instance transforms.
     pub motion: bool,
+    /// `scene_environment*`: the environment map (`runtime::environment_upload`; 1x1
+    /// stand-ins without one).
+    pub environment: bool,
     /// Which meshes are closed and wound outwards (`scene::topology`), for a pass with
     /// `cull_closed_back_faces`: found on the CPU at upload, not uploaded.
     pub closed_meshes: bool,
@@ -32,7 +35,15 @@ pub struct SceneUsage {
 impl SceneUsage {
     /// Whether any pass reads the scene.
     pub fn any(&self) -> bool {
-        self.geometry || self.instances || self.materials || self.textures || self.geometry_storage || self.lights || self.emitters || self.motion
+        self.geometry
+            || self.instances
+            || self.materials
+            || self.textures
+            || self.geometry_storage
+            || self.lights
+            || self.emitters
+            || self.motion
+            || self.environment
     }
 
     /// A short list for reports, e.g. `geometry, instances, textures`.
@@ -46,6 +57,7 @@ impl SceneUsage {
             (self.lights, "lights"),
             (self.emitters, "emissive triangles"),
             (self.motion, "previous transforms"),
+            (self.environment, "environment map"),
             (self.closed_meshes, "closed meshes (found on the CPU)"),
         ]
         .into_iter()

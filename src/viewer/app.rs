@@ -54,6 +54,8 @@ pub struct ViewerOptions {
     pub animation: Option<String>,
     /// Seconds into the clip at the start.
     pub time: f32,
+    /// An environment map lighting the scene in place of the sun and sky (`--env`).
+    pub environment: Option<crate::scene::environment::Environment>,
 }
 
 /// Opens the window and runs until it is closed, the script quits or `--frames` is reached.
@@ -65,8 +67,9 @@ pub fn run(opts: ViewerOptions) -> Result<(), String> {
     println!("adapter: {}", gpu.describe());
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let graph_file = opts.graph.clone().unwrap_or_else(|| root.join(opts.mode.graph()));
-    let (scene, _) =
+    let (mut scene, _) =
         crate::scene::open(&opts.scene, &LoadOptions { textures: true, seed: opts.seed, gltf_scene: opts.gltf_scene.clone() }).map_err(|e| e.to_string())?;
+    scene.set_environment(opts.environment.clone());
     let camera = match &opts.camera {
         Some(name) => scene.preset(name)?,
         None => *scene.camera(),

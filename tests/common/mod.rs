@@ -60,6 +60,13 @@ pub fn khronos_models() -> Vec<String> {
     names
 }
 
+/// Mean, and largest deviation from `expected`, of channel `c` over `texels`.
+pub fn judge(texels: &[[f32; 4]], c: usize, expected: f32) -> (f32, f32) {
+    let mean = texels.iter().map(|t| t[c]).sum::<f32>() / texels.len() as f32;
+    let worst = texels.iter().map(|t| (t[c] - expected).abs()).fold(0.0f32, f32::max);
+    (mean, worst)
+}
+
 /// The texels of the graph resource `name` after a frame (the plan compiled without reuse).
 pub fn channel(gpu: &Gpu, exec: &Executor, name: &str) -> Vec<[f32; 4]> {
     let r = exec.plan().resource_by_name(name).unwrap_or_else(|| panic!("no resource {name}"));

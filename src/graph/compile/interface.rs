@@ -207,6 +207,8 @@ fn check_binding(it: &PassInterface, b: &reflect::ShaderBinding) -> Result<(), G
         builtins::SCENE_TEXTURES_GROUP
     } else if builtins::is_accel_binding(&b.name) {
         builtins::ACCEL_GROUP
+    } else if builtins::is_environment_binding(&b.name) {
+        builtins::ENVIRONMENT_GROUP
     } else {
         0
     };
@@ -214,7 +216,7 @@ fn check_binding(it: &PassInterface, b: &reflect::ShaderBinding) -> Result<(), G
         return Err(it.mismatch(
             format!("binding `{}` is in @group({}); it lives in @group({want_group})", b.name, b.group),
             b.location.clone(),
-            &format!("use @group({want_group}) (bindings live in @group(0), except `scene_textures`, which is in @group(1): a binding array may not share a group with uniform buffers)"),
+            &format!("use @group({want_group}) (bindings live in @group(0), except `scene_textures`, which is in @group(1): a binding array may not share a group with uniform buffers, the trace module's `accel_*` in @group(2) and the environment map's in @group(3): shaders/common/environment.wgsl)"),
         ));
     }
     let read = it.p.reads.iter().find(|(l, _)| *l == b.name);

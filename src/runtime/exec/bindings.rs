@@ -187,6 +187,10 @@ impl Executor {
             builtins::SCENE_LIGHTS => out.buffers.push((at, self.scene_part(|s| s.lights())?.clone())),
             builtins::SCENE_EMITTERS => out.buffers.push((at, self.scene_part(|s| s.emitters())?.clone())),
             builtins::SCENE_MOTION => out.buffers.push((at, self.scene_part(|s| s.motion())?.clone())),
+            builtins::SCENE_ENVIRONMENT => out.views.push((at, self.scene_part(|s| s.environment())?.radiance().1.clone())),
+            builtins::SCENE_ENVIRONMENT_IRRADIANCE => out.views.push((at, self.scene_part(|s| s.environment())?.irradiance().1.clone())),
+            builtins::SCENE_ENVIRONMENT_PARAMS => out.buffers.push((at, self.scene_part(|s| s.environment())?.params().clone())),
+            builtins::SCENE_ENVIRONMENT_TABLE => out.buffers.push((at, self.scene_part(|s| s.environment())?.table().clone())),
             builtins::SCENE_TEXTURES => match self.scene_part(|s| s.textures())? {
                 SceneTextures::Array { view, .. } if b.kind != BindingKind::TextureBindingArray => out.views.push((at, view.clone())),
                 SceneTextures::Pooled { views: v, .. } if b.kind == BindingKind::TextureBindingArray => out.view_arrays.push((at, v.clone())),
@@ -255,6 +259,11 @@ impl Executor {
             match b.name.as_str() {
                 builtins::LINEAR_SAMPLER => entries.push(((b.group, b.binding), wgpu::BindingResource::Sampler(linear))),
                 builtins::NEAREST_SAMPLER => entries.push(((b.group, b.binding), wgpu::BindingResource::Sampler(nearest))),
+                builtins::ENVIRONMENT_SAMPLER => {
+                    if let Some(env) = self.scene.as_ref().and_then(|s| s.environment()) {
+                        entries.push(((b.group, b.binding), wgpu::BindingResource::Sampler(env.sampler())));
+                    }
+                }
                 _ => {}
             }
         }

@@ -99,7 +99,9 @@ impl Executor {
         let pass = &self.passes[i];
         cp.set_pipeline(pipeline);
         for (g, bg) in pass.bind_groups(self.history.swapped).iter().enumerate() {
-            cp.set_bind_group(g as u32, bg, &[]);
+            // A trace pass's own groups skip the trace module's (set below).
+            let index = if pass.accel_layout.is_some() && g as u32 >= builtins::ACCEL_GROUP { g as u32 + 1 } else { g as u32 };
+            cp.set_bind_group(index, bg, &[]);
         }
         if let Some(bg) = &pass.accel_group {
             cp.set_bind_group(builtins::ACCEL_GROUP, bg, &[]);

@@ -1,6 +1,6 @@
 //! The scene's features as pipeline constants: what the scene uses of the material and mesh
 //! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
-//! samplers and texture transforms, the second uv set and vertex colours, unlit materials) and
+//! samplers and texture transforms, the second uv set and vertex colours, unlit materials, an environment map) and
 //! the frame camera's projection, and whether the scene is large enough for AO rays to start
 //! below the root of its tree. Every pass whose module declares one of the constants gets
 //! its value; the shaders' defaults keep every feature (and read the projection from the
@@ -42,6 +42,9 @@ pub(crate) const VERTEX_EXTRAS_CONSTANT: &str = "SCENE_VERTEX_EXTRAS";
 /// `shaders/common/scene_features.wgsl`: some material is unlit (`KHR_materials_unlit`).
 pub(crate) const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
 
+/// `shaders/common/scene_features.wgsl`: the scene is lit by an environment map (`--env`).
+pub(crate) const ENVIRONMENT_CONSTANT: &str = "SCENE_ENVIRONMENT";
+
 /// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
 pub(crate) const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
 
@@ -64,6 +67,8 @@ pub struct SceneFeatures {
     pub orthographic: bool,
     /// The instances draw at least [`START_BELOW_ROOT_TRIANGLES`] triangles.
     pub start_below_root: bool,
+    /// An environment map lights the scene.
+    pub environment: bool,
 }
 
 impl SceneFeatures {
@@ -91,6 +96,7 @@ impl SceneFeatures {
             unlit: on(Self::UNLIT),
             orthographic: scene.camera().orthographic.is_some(),
             start_below_root: triangles >= START_BELOW_ROOT_TRIANGLES,
+            environment: scene.environment().is_some(),
         }
     }
 
@@ -118,7 +124,7 @@ impl SceneFeatures {
     }
 
     /// Every constant with its value.
-    fn all(&self) -> [(&'static str, bool); 7] {
+    fn all(&self) -> [(&'static str, bool); 8] {
         [
             (TRACE_ALPHA_CONSTANT, self.alpha_test),
             (TRACE_START_CONSTANT, self.start_below_root),
@@ -127,6 +133,7 @@ impl SceneFeatures {
             (CUSTOM_SAMPLING_CONSTANT, self.custom_sampling),
             (VERTEX_EXTRAS_CONSTANT, self.vertex_extras),
             (UNLIT_CONSTANT, self.unlit),
+            (ENVIRONMENT_CONSTANT, self.environment),
         ]
     }
 

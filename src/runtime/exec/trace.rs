@@ -110,6 +110,14 @@ impl Executor {
                 }
                 SceneTextures::Pooled { textures, views } => RtResource::Textures(textures.iter().cloned().zip(views.iter().cloned()).collect()),
             },
+            builtins::SCENE_ENVIRONMENT | builtins::SCENE_ENVIRONMENT_IRRADIANCE => {
+                let env = self.scene_part(|s| s.environment())?;
+                let (texture, view) = if b.name == builtins::SCENE_ENVIRONMENT { env.radiance() } else { env.irradiance() };
+                RtResource::Texture { texture: texture.clone(), view: view.clone(), uses: wgpu::TextureUses::RESOURCE }
+            }
+            builtins::SCENE_ENVIRONMENT_PARAMS => buffer(self.scene_part(|s| s.environment())?.params()),
+            builtins::SCENE_ENVIRONMENT_TABLE => buffer(self.scene_part(|s| s.environment())?.table()),
+            builtins::ENVIRONMENT_SAMPLER => RtResource::Sampler(crate::runtime::environment_upload::sampler_descriptor()),
             builtins::LINEAR_SAMPLER => RtResource::Sampler(linear_sampler()),
             builtins::NEAREST_SAMPLER => RtResource::Sampler(nearest_sampler()),
             other => return Err(RuntimeError::Gpu(format!("pass {}: binding `{other}` has no resource", pass.name))),

@@ -466,6 +466,7 @@ impl Atrium {
             lights: Vec::new(),
             rig: None,
             posed: None,
+            environment: None,
         }
     }
 }

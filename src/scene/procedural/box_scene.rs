@@ -58,5 +58,6 @@ pub(super) fn build() -> Scene {
         lights: Vec::new(),
         rig: None,
         posed: None,
+        environment: None,
     }
 }

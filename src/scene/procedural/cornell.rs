@@ -130,5 +130,6 @@ pub(super) fn build() -> Scene {
         lights: Vec::new(),
         rig: None,
         posed: None,
+        environment: None,
     }
 }
