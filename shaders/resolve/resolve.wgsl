@@ -2,8 +2,9 @@
 // such as the H100, a full-screen fragment pass is several times slower): the shading model of
 // common/lighting.wgsl on the G-buffer, with the shadowed direct light of `rt_shadow` (or, when
 // it is switched off, every light unshadowed), sky ambient x AO x material occlusion,
-// reflections x Fresnel (the sky's where no reflection ray was traced) and emission. Inputs that may be 1x1 fallbacks are read at a clamped
-// texel.
+// reflections x Fresnel (the sky's where no reflection ray was traced) and emission; with an
+// environment map, its irradiance x the visibility rt_shadow traced (AO where it traced none).
+// Inputs that may be 1x1 fallbacks are read at a clamped texel.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/lighting.wgsl"
@@ -22,6 +23,7 @@
 @group(0) @binding(10) var hdr: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var gi: texture_2d<f32>;
 @group(0) @binding(12) var lobes: texture_2d<u32>;
+@group(0) @binding(13) var environment: texture_2d<f32>;
 
 fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
@@ -65,7 +67,13 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
             lit += light_radiance(s, light_sample(scene_lights[i], s.position));
         }
     }
-    var color = surface_radiance(s, lit, load(ao, texel).r);
+    var occlusion = load(ao, texel).r;
+    if has_environment() {
+        // The map's visibility where rt_shadow traced it (a = 1) shadows its light instead.
+        let v = load(environment, texel);
+        occlusion = select(occlusion, v.r, v.a > 0.0);
+    }
+    var color = surface_radiance(s, lit, occlusion);
     // Diffuse global illumination (0 without an rt_gi node).
     color += s.albedo * (1.0 - s.metallic) * s.occlusion * load(gi, texel).rgb;
     // Where no reflection ray was traced (a = 0: switched off, or too rough), the sky.

@@ -4,7 +4,11 @@
 // `light_width` and `light_height`, `sun_angle` above 0), each of `rays` rays goes to one random point of it
 // (common/shadow_ray.wgsl): a stochastic estimate of a soft shadow per pixel and light, for the temporal and spatial filters. Writes the
 // shadowed direct light of all lights (common/lighting.wgsl) and a mask of the first four; with
-// `split`, also the unshadowed light and the ratio of the two (layers/rt_shadow.ron).
+// `split`, also the unshadowed light and the ratio of the two (layers/rt_shadow.ron). With an
+// environment map (`--env`), `environment_rays` directions (drawn from its alias table,
+// common/environment_sampling.wgsl, and cosine-weighted) give its visibility: the
+// irradiance-weighted fraction of them that no surface blocks (a ratio estimator: the resolve
+// puts it on the map's irradiance in place of AO).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -14,6 +18,7 @@
 //#include "common/sampling.wgsl"
 //#include "trace/trace.wgsl"
 //#include "common/shadow_ray.wgsl"
+//#include "common/environment_sampling.wgsl"
 
 struct Params {
     light_radius: f32,
@@ -24,6 +29,7 @@ struct Params {
     light_width: f32,
     light_height: f32,
     split: u32,
+    environment_rays: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -41,6 +47,43 @@ struct Params {
 @group(0) @binding(12) var lobes: texture_2d<u32>;
 @group(0) @binding(13) var unshadowed: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(14) var visibility: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(15) var environment: texture_storage_2d<rgba8unorm, write>;
+
+// The environment map's visibility at a point of shading normal `n` and geometric normal
+// `geo`: of `params.environment_rays` directions, the share of their irradiance estimates
+// (cos x luminance / density) whose ray from `origin` no surface blocks (BLEND surfaces by
+// their transmittance). Half the directions (the odd one out included) are drawn from the map,
+// half cosine-weighted about `n`, each weighted by the mixture's density (the balance
+// heuristic): the map's sun gets its rays, and some always lie above the surface. 1 where no
+// direction brings light.
+fn environment_visibility(origin: vec3<f32>, geo: vec3<f32>, n: vec3<f32>, state: ptr<function, u32>) -> f32 {
+    let rays = params.environment_rays;
+    let from_map = f32((rays + 1u) / 2u) / f32(rays);
+    var seen = 0.0;
+    var total = 0.0;
+    for (var k = 0u; k < rays; k++) {
+        var dir = cosine_hemisphere(n, next_random2(state));
+        if k % 2u == 0u {
+            dir = environment_sample(vec3<f32>(next_random2(state), next_random1(state))).dir;
+        }
+        let cos_n = dot(n, dir);
+        let density = from_map * environment_pdf(dir) + (1.0 - from_map) * max(cos_n, 0.0) / PI;
+        if density <= 0.0 || cos_n <= 0.0 || dot(geo, dir) <= 0.0 {
+            continue;
+        }
+        let w = cos_n * dot(environment_radiance(dir), vec3<f32>(0.2126, 0.7152, 0.0722)) / density;
+        total += w;
+        seen += w * trace_transmittance(Ray(origin, 0.0, dir, 3.0e38));
+    }
+    return select(1.0, seen / total, total > 0.0);
+}
+
+// The environment output where the scene has a map: its visibility (r, g, b) and a = 1.
+fn store_environment(id: vec2<u32>, v: f32) {
+    if has_environment() && params.environment_rays > 0u {
+        textureStore(environment, id, vec4<f32>(v, v, v, 1.0));
+    }
+}
 
 // `shadowed` over `unshadowed` per channel; where a channel of `unshadowed` is 0, the ratio of
 // the luminances (the channel's product is 0 either way; this keeps the filters' luminance
@@ -72,6 +115,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(shadow, id.xy, vec4<f32>(1.0));
         textureStore(direct, id.xy, vec4<f32>(0.0));
         store_split(id.xy, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+        store_environment(id.xy, 1.0);
         return;
     }
     let g = textureLoad(geo_normal, id.xy, 0);
@@ -126,5 +170,8 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     // a = 1: the direct light was computed here (the resolve's fallback has a = 0).
     textureStore(direct, id.xy, vec4<f32>(radiance, 1.0));
     store_split(id.xy, radiance, light_alone, 1.0);
+    if has_environment() && params.environment_rays > 0u {
+        store_environment(id.xy, environment_visibility(flat_origin, geo, s.normal, &state));
+    }
     trace_flush_stats();
 }
