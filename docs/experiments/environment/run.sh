@@ -1,6 +1,6 @@
 #!/bin/bash
 # What environment-map lighting costs, and what scenes without a map pay for it: two binaries
-# (.gpu/raygraph-before.gz, the build before environment maps; .gpu/raygraph.gz, with them),
+# (.gpu/raygraph-before.gz: 1006bc8, before environment maps; .gpu/raygraph.gz: with them),
 # built-in files (an empty folder).
 # 1. `bench rays --frames 10` (Table 3's rows, both back-ends) with each binary.
 # 2. `render --graph G --scene atrium --backend compute --width 2560 --height 1440 --frames 60`
