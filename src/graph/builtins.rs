@@ -79,14 +79,9 @@ pub(crate) fn is_builtin(name: &str) -> bool {
             | SCENE_LIGHTS
             | SCENE_EMITTERS
             | SCENE_MOTION
-            | SCENE_ENVIRONMENT
-            | SCENE_ENVIRONMENT_IRRADIANCE
-            | SCENE_ENVIRONMENT_PARAMS
-            | SCENE_ENVIRONMENT_TABLE
-            | ENVIRONMENT_SAMPLER
             | LINEAR_SAMPLER
             | NEAREST_SAMPLER
-    )
+    ) || is_environment_binding(name)
 }
 
 impl SceneUsage {
@@ -98,9 +93,7 @@ impl SceneUsage {
             SCENE_LIGHTS => self.lights = true,
             SCENE_EMITTERS => self.emitters = true,
             SCENE_MOTION => self.motion = true,
-            SCENE_ENVIRONMENT | SCENE_ENVIRONMENT_IRRADIANCE | SCENE_ENVIRONMENT_PARAMS | SCENE_ENVIRONMENT_TABLE | ENVIRONMENT_SAMPLER => {
-                self.environment = true
-            }
+            name if is_environment_binding(name) => self.environment = true,
             SCENE_VERTICES | SCENE_INDICES | SCENE_MESHES => self.geometry_storage = true,
             SCENE_TEXTURES => {
                 self.textures = true;

@@ -42,10 +42,11 @@ impl GpuEnvironment {
     /// Uploads `env` (1x1 stand-ins for `None`).
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, env: Option<&Environment>) -> Self {
         let chain = env.map(Environment::mip_chain).unwrap_or_default();
-        let levels: Vec<Level> = chain.iter().map(|e| Level { size: e.size(), texels: e.texels().to_vec() }).collect();
+        let levels: Vec<Level> = chain.iter().map(|e| Level { size: e.size(), texels: e.texels() }).collect();
         let radiance = half_texture(device, queue, "environment radiance", &levels);
         let grid = env.map(|e| e.irradiance_map(IRRADIANCE_GRID_WIDTH));
-        let grid_level: Vec<Level> = grid.iter().map(|g| Level { size: g.size(), texels: g.texels().iter().map(|t| t.to_array()).collect() }).collect();
+        let grid_texels: Vec<[f32; 3]> = grid.iter().flat_map(|g| g.texels().iter().map(|t| t.to_array())).collect();
+        let grid_level: Vec<Level> = grid.iter().map(|g| Level { size: g.size(), texels: &grid_texels }).collect();
         let irradiance = half_texture(device, queue, "environment irradiance", &grid_level);
         let sampler_table = env.and_then(EnvironmentSampler::new);
         let slots = sampler_table.as_ref().map_or_else(|| vec![[0u32; 4]], EnvironmentSampler::gpu_slots);
@@ -121,14 +122,14 @@ pub fn sampler_descriptor() -> wgpu::SamplerDescriptor<'static> {
 }
 
 /// One mip level's texels (linear RGB, row-major).
-struct Level {
+struct Level<'a> {
     size: (usize, usize),
-    texels: Vec<[f32; 3]>,
+    texels: &'a [[f32; 3]],
 }
 
 /// A half-float RGBA texture of `levels` (one mip each; one black texel for none).
 fn half_texture(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, levels: &[Level]) -> (wgpu::Texture, wgpu::TextureView) {
-    let black = [Level { size: (1, 1), texels: vec![[0.0; 3]] }];
+    let black = [Level { size: (1, 1), texels: &[[0.0; 3]] }];
     let levels = if levels.is_empty() { &black[..] } else { levels };
     let (width, height) = levels[0].size;
     let texture = device.create_texture(&wgpu::TextureDescriptor {

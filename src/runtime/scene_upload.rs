@@ -223,6 +223,10 @@ impl GpuScene {
             out.emitters = Some(upload.storage_records("emitter word", crate::scene::emitters::emitter_table(scene))?);
         }
         if usage.environment {
+            if let Some(e) = scene.environment() {
+                let help = "give a smaller environment map (`--env`): a 1k or 2k map lights a scene as well";
+                check_count(scene, "the environment map's width in texels", e.size().0 as u64, upload.limits.max_texture_dimension_2d as u64, help)?;
+            }
             let env = GpuEnvironment::upload(device, queue, scene.environment().map(|e| e.as_ref()));
             upload.bytes += env.bytes();
             out.environment = Some(env);
