@@ -1,6 +1,6 @@
 // The scene's environment map (`--env`; src/runtime/environment_upload.rs), bind group 3 of
-// every pass that lights surfaces or shows the sky: the radiance (equirectangular, half floats,
-// mips of 2x2 means), the irradiance at every normal on a 64 x 32 grid
+// every pass that lights surfaces or shows the sky: the radiance (equirectangular, half floats;
+// mip level k: prefiltered for GGX roughness k / (levels - 1)), the irradiance at every normal on a 64 x 32 grid
 // (scene::environment::IrradianceMap) and the parameters. A scene without a map binds 1x1
 // stand-ins (width 1) and `SCENE_ENVIRONMENT` (common/scene_features.wgsl) is false there.
 // Directions: +Y up; the map's centre column looks along -Z and u grows towards +X:
@@ -13,7 +13,7 @@ struct EnvironmentParams {
     intensity: f32,
     rotation_cos: f32,
     rotation_sin: f32,
-    // mip levels of scene_environment
+    // mip levels of scene_environment (level k: the map prefiltered for roughness k / (levels - 1))
     levels: f32,
     width: u32,
     height: u32,
@@ -71,8 +71,8 @@ fn environment_radiance(dir: vec3<f32>) -> vec3<f32> {
     return textureLoad(scene_environment, texel, 0).rgb * scene_environment_params.intensity;
 }
 
-// The radiance from world direction `dir` at mip level `level` (0: the map; each level the
-// 2x2 means of the one before), times the intensity.
+// The radiance from world direction `dir` at mip level `level` (0: the map), times the
+// intensity.
 fn environment_radiance_level(dir: vec3<f32>, level: f32) -> vec3<f32> {
     let uv = environment_uv(environment_frame(normalize(dir)));
     let l = clamp(level, 0.0, scene_environment_params.levels - 1.0);
@@ -86,11 +86,20 @@ fn environment_irradiance(n: vec3<f32>) -> vec3<f32> {
     return textureSampleLevel(scene_environment_irradiance, environment_sampler, uv, 0.0).rgb;
 }
 
-// What a surface of roughness `roughness` reflects of the map around the mirror direction
-// `r`: the map at the level whose texels span about the GGX lobe's width (α = roughness², about
-// 2α radians), a box-filtered stand-in for a prefiltered lobe.
-fn environment_reflection(r: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let texel_angle = 2.0 * ENVIRONMENT_PI / f32(scene_environment_params.width);
-    let lobe = max(2.0 * roughness * roughness, 1e-6);
-    return environment_radiance_level(r, log2(max(lobe / texel_angle, 1.0)));
+// The split-sum approximation's first factor (Karis 2013) for a surface of `roughness`: the map
+// prefiltered with the GGX lobe around the mirror direction `r`, read between the two
+// roughness steps about it (scene::environment::Environment::specular_chain).
+fn environment_prefiltered(r: vec3<f32>, roughness: f32) -> vec3<f32> {
+    return environment_radiance_level(r, clamp(roughness, 0.0, 1.0) * (scene_environment_params.levels - 1.0));
+}
+
+// Its second factor, the GGX lobe's directional albedo as a scale and bias of the Fresnel
+// reflectance at normal incidence (`f0 * x + f90 * y`), by Karis's fit for mobile ("Physically
+// Based Shading on Mobile", 2014) rather than a tabulated integral.
+fn environment_brdf_scale_bias(n_v: f32, roughness: f32) -> vec2<f32> {
+    let c0 = vec4<f32>(-1.0, -0.0275, -0.572, 0.022);
+    let c1 = vec4<f32>(1.0, 0.0425, 1.04, -0.04);
+    let r = roughness * c0 + c1;
+    let a004 = min(r.x * r.x, exp2(-9.28 * n_v)) * r.x + r.y;
+    return vec2<f32>(-1.04, 1.04) * a004 + r.zw;
 }

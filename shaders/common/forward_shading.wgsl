@@ -127,5 +127,5 @@ fn forward_radiance(s: ShadingPoint, geo: vec3<f32>, dp1: vec3<f32>, dp2: vec3<f
         }
         direct += radiance;
     }
-    return surface_radiance(s, direct, 1.0) + reflected_radiance(s, sky_reflection(s));
+    return surface_radiance(s, direct, 1.0) + sky_specular(s);
 }

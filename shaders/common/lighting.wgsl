@@ -13,7 +13,7 @@
 // light of intensity 1 at distance 1) has radiance 1.
 // With an environment map (`--env`, common/environment.wgsl) the sky is the map: misses and
 // mirrors show it, the ambient term is its irradiance at the normal (x AO x material occlusion),
-// and modes that trace no reflection ray reflect it at the level of the surface's roughness.
+// and modes that trace no reflection ray reflect it by the split-sum approximation (`sky_specular`).
 // Needs the main shader to declare `frame` (common/frame.wgsl).
 //#include "common/gbuffer_material_word.wgsl"
 //#include "common/scene_features.wgsl"
@@ -208,13 +208,33 @@ fn reflected_radiance(s: ShadingPoint, incoming: vec3<f32>) -> vec3<f32> {
     return base * (1.0 - coat) + coat * incoming;
 }
 
-// What a mirror shows without occluders: the sky along the mirror direction. Modes that trace
-// no reflection ray there reflect this.
+// What a mirror shows without occluders: the sky along the mirror direction.
 fn sky_reflection(s: ShadingPoint) -> vec3<f32> {
-    if has_environment() {
-        return environment_reflection(reflect(-s.view, s.normal), s.roughness);
-    }
     return sky_color(reflect(-s.view, s.normal));
+}
+
+// The sky's specular reflection where no reflection ray is traced: the analytic sky along the
+// mirror direction times the Fresnel term; an environment map by the split-sum approximation
+// (the map prefiltered for the roughness times the lobe's directional albedo; a clear coat's
+// own lobe by its roughness over the base's, as `reflected_radiance` weighs them).
+fn sky_specular(s: ShadingPoint) -> vec3<f32> {
+    if !has_environment() {
+        return reflected_radiance(s, sky_reflection(s));
+    }
+    if s.unlit {
+        return vec3<f32>(0.0);
+    }
+    let n_v = max(dot(s.normal, s.view), 1e-4);
+    let ab = environment_brdf_scale_bias(n_v, s.roughness);
+    let f0 = specular_f0(s.albedo, s.metallic, s.f0);
+    let base = (f0 * ab.x + mix(s.f90, 1.0, s.metallic) * ab.y) * environment_prefiltered(reflect(-s.view, s.normal), s.roughness);
+    if !SCENE_LOBES || s.clearcoat <= 0.0 {
+        return base;
+    }
+    let coat_v = max(dot(s.coat_normal, s.view), 1e-4);
+    let coat_ab = environment_brdf_scale_bias(coat_v, s.clearcoat_roughness);
+    let coat = s.clearcoat * (0.04 * coat_ab.x + coat_ab.y) * environment_prefiltered(reflect(-s.view, s.coat_normal), s.clearcoat_roughness);
+    return base * (1.0 - s.clearcoat * coat_fresnel(coat_v)) + coat;
 }
 
 // The whole shaded colour: sky ambient (x AO x material occlusion, diffuse part only), the

@@ -78,6 +78,10 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
     color += s.albedo * (1.0 - s.metallic) * s.occlusion * load(gi, texel).rgb;
     // Where no reflection ray was traced (a = 0: switched off, or too rough), the sky.
     let r = load(reflection, texel);
-    color += reflected_radiance(s, select(sky_reflection(s), r.rgb, r.a > 0.0));
+    if r.a > 0.0 {
+        color += reflected_radiance(s, r.rgb);
+    } else {
+        color += sky_specular(s);
+    }
     return vec4<f32>(color, 1.0);
 }

@@ -1,12 +1,17 @@
 //! The scene's environment map on the device (`shaders/common/environment.wgsl`, bind group 3
-//! of the passes that read it): the radiance as a half-float equirectangular texture with its
-//! mip chain, the irradiance on a 64 x 32 grid of normals, the importance sampler's alias table
+//! of the passes that read it): the radiance as a half-float equirectangular texture whose mip
+//! levels hold it prefiltered for glossy reflections (`Environment::specular_chain`), the
+//! irradiance on a 64 x 32 grid of normals, the importance sampler's alias table
 //! and the parameters (intensity, rotation). A scene without a map binds 1x1 stand-ins that no
 //! shader reads (`SCENE_ENVIRONMENT` is false there).
 
 use crate::graph::desc::f32_to_f16;
 use crate::scene::environment::{Environment, EnvironmentSampler};
 use wgpu::util::DeviceExt;
+
+/// Mip levels of the radiance texture: the map, then GGX lobes of roughness 0.2, 0.4, ... 1
+/// (fewer for a map too small to halve that often).
+pub const SPECULAR_LEVELS: usize = 6;
 
 /// Columns of the irradiance grid (rows: half as many): scene::environment's tests measure a
 /// 64 x 32 grid within 10% of the exact sums on the two maps of assets/env.
@@ -19,7 +24,7 @@ struct EnvironmentUniforms {
     intensity: f32,
     rotation_cos: f32,
     rotation_sin: f32,
-    /// Mip levels of the radiance texture.
+    /// Mip levels of the radiance texture (its prefiltered roughness steps + 1).
     levels: f32,
     width: u32,
     height: u32,
@@ -41,7 +46,7 @@ pub struct GpuEnvironment {
 impl GpuEnvironment {
     /// Uploads `env` (1x1 stand-ins for `None`).
     pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, env: Option<&Environment>) -> Self {
-        let chain = env.map(Environment::mip_chain).unwrap_or_default();
+        let chain = env.map(|e| e.specular_chain(SPECULAR_LEVELS)).unwrap_or_default();
         let levels: Vec<Level> = chain.iter().map(|e| Level { size: e.size(), texels: e.texels() }).collect();
         let radiance = half_texture(device, queue, "environment radiance", &levels);
         let grid = env.map(|e| e.irradiance_map(IRRADIANCE_GRID_WIDTH));
