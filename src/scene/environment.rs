@@ -4,8 +4,9 @@
 //! irradiance at every normal ([`IrradianceMap`]: a small grid of normals, what a diffuse term
 //! reads; nine spherical harmonics too, which lose a sun or a studio's lamps:
 //! tests/environment.rs), and an importance sampler over its texels ([`EnvironmentSampler`]:
-//! Vose's alias table by luminance times solid angle, what next-event estimation draws from).
-//! The GPU form is `runtime::environment_upload`'s.
+//! Vose's alias table by luminance times solid angle, what next-event estimation draws from),
+//! and the levels prefiltered for glossy reflections (`Environment::specular_chain`). The GPU
+//! form is `runtime::environment_upload`'s.
 //!
 //! Directions: +Y is up; the image's top row looks up, its bottom row down; its horizontal
 //! centre looks along -Z (glTF's forward) and u grows towards +X:
