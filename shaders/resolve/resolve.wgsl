@@ -23,7 +23,6 @@
 @group(0) @binding(10) var hdr: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var gi: texture_2d<f32>;
 @group(0) @binding(12) var lobes: texture_2d<u32>;
-@group(0) @binding(13) var environment: texture_2d<f32>;
 
 fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
@@ -68,10 +67,10 @@ fn shade(texel: vec2<u32>) -> vec4<f32> {
         }
     }
     var occlusion = load(ao, texel).r;
-    if has_environment() {
-        // The map's visibility where rt_shadow traced it (a = 1) shadows its light instead.
-        let v = load(environment, texel);
-        occlusion = select(occlusion, v.r, v.a > 0.0);
+    if has_environment() && d.a >= 2.0 {
+        // The map's visibility, where rt_shadow traced it (a = 2 + visibility), shadows its
+        // light instead.
+        occlusion = d.a - 2.0;
     }
     var color = surface_radiance(s, lit, occlusion);
     // Diffuse global illumination (0 without an rt_gi node).

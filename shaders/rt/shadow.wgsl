@@ -7,8 +7,9 @@
 // `split`, also the unshadowed light and the ratio of the two (layers/rt_shadow.ron). With an
 // environment map (`--env`), `environment_rays` directions (drawn from its alias table,
 // common/environment_sampling.wgsl, and cosine-weighted) give its visibility: the
-// irradiance-weighted fraction of them that no surface blocks (a ratio estimator: the resolve
-// puts it on the map's irradiance in place of AO).
+// irradiance-weighted fraction of them that no surface blocks (a ratio estimator), stored as
+// `direct`'s a = 2 + visibility (WebGPU allows four storage textures a stage); the resolve
+// puts it on the map's irradiance in place of AO.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -47,7 +48,6 @@ struct Params {
 @group(0) @binding(12) var lobes: texture_2d<u32>;
 @group(0) @binding(13) var unshadowed: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(14) var visibility: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(15) var environment: texture_storage_2d<rgba8unorm, write>;
 
 // The environment map's visibility at a point of shading normal `n` and geometric normal
 // `geo`: of `params.environment_rays` directions, the share of their irradiance estimates
@@ -76,13 +76,6 @@ fn environment_visibility(origin: vec3<f32>, geo: vec3<f32>, n: vec3<f32>, state
         seen += w * trace_transmittance(Ray(origin, 0.0, dir, 3.0e38));
     }
     return select(1.0, seen / total, total > 0.0);
-}
-
-// The environment output where the scene has a map: its visibility (r, g, b) and a = 1.
-fn store_environment(id: vec2<u32>, v: f32) {
-    if has_environment() && params.environment_rays > 0u {
-        textureStore(environment, id, vec4<f32>(v, v, v, 1.0));
-    }
 }
 
 // `shadowed` over `unshadowed` per channel; where a channel of `unshadowed` is 0, the ratio of
@@ -115,7 +108,6 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(shadow, id.xy, vec4<f32>(1.0));
         textureStore(direct, id.xy, vec4<f32>(0.0));
         store_split(id.xy, vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
-        store_environment(id.xy, 1.0);
         return;
     }
     let g = textureLoad(geo_normal, id.xy, 0);
@@ -167,11 +159,13 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     textureStore(shadow, id.xy, mask);
-    // a = 1: the direct light was computed here (the resolve's fallback has a = 0).
-    textureStore(direct, id.xy, vec4<f32>(radiance, 1.0));
-    store_split(id.xy, radiance, light_alone, 1.0);
+    // a = 1: the direct light was computed here (the resolve's fallback has a = 0); 2 + the
+    // environment map's visibility where it was traced.
+    var computed = 1.0;
     if has_environment() && params.environment_rays > 0u {
-        store_environment(id.xy, environment_visibility(flat_origin, geo, s.normal, &state));
+        computed = 2.0 + environment_visibility(flat_origin, geo, s.normal, &state);
     }
+    textureStore(direct, id.xy, vec4<f32>(radiance, computed));
+    store_split(id.xy, radiance, light_alone, 1.0);
     trace_flush_stats();
 }
