@@ -170,3 +170,19 @@ pub(crate) const MATERIAL_TRANSMISSION: u32 = 4096;
 /// Material flag: its transmission texture is drawn ([`crate::scene::Material::transmission_texture_drawn`]):
 /// the coverage is `base_color.a` x (1 - transmission x (1 - metallic) x the texel).
 pub(crate) const MATERIAL_TRANSMISSION_TEXTURE: u32 = 8192;
+
+/// Mirrors `EnvironmentParams` in shaders/common/environment.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct EnvironmentUniforms {
+    pub(crate) intensity: f32,
+    pub(crate) rotation_cos: f32,
+    pub(crate) rotation_sin: f32,
+    /// Mip levels of the radiance texture (its prefiltered roughness steps + 1).
+    pub(crate) levels: f32,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    /// 1 where the sampler's table holds the map (0: a black map, nothing to sample).
+    pub(crate) sampled: u32,
+    pub(crate) _pad: u32,
+}

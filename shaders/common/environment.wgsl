@@ -8,7 +8,7 @@
 // by the rotation about +Y (scene::environment).
 //#include "common/scene_features.wgsl"
 
-// Mirrors EnvironmentUniforms in src/runtime/environment_upload.rs.
+// Mirrors EnvironmentUniforms in src/uniforms.rs.
 struct EnvironmentParams {
     intensity: f32,
     rotation_cos: f32,

@@ -7,6 +7,7 @@
 
 use crate::graph::desc::f32_to_f16;
 use crate::scene::environment::{Environment, EnvironmentSampler};
+use crate::uniforms::EnvironmentUniforms;
 use wgpu::util::DeviceExt;
 
 /// Mip levels of the radiance texture: the map, then GGX lobes of roughness 0.2, 0.4, ... 1
@@ -16,22 +17,6 @@ pub const SPECULAR_LEVELS: usize = 6;
 /// Columns of the irradiance grid (rows: half as many): scene::environment's tests measure a
 /// 64 x 32 grid within 10% of the exact sums on the two maps of assets/env.
 pub const IRRADIANCE_GRID_WIDTH: usize = 64;
-
-/// Mirrors `EnvironmentParams` in shaders/common/environment.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct EnvironmentUniforms {
-    intensity: f32,
-    rotation_cos: f32,
-    rotation_sin: f32,
-    /// Mip levels of the radiance texture (its prefiltered roughness steps + 1).
-    levels: f32,
-    width: u32,
-    height: u32,
-    /// 1 where the sampler's table holds the map (0: a black map, nothing to sample).
-    sampled: u32,
-    _pad: u32,
-}
 
 /// The environment's device resources.
 pub struct GpuEnvironment {
