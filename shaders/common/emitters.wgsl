@@ -1,27 +1,41 @@
 // The emissive triangles as lights (src/scene/emitters.rs builds the table; its doc gives the
-// layout): picking one in proportion to its power, a uniform point on it, and the probability
-// of picking the triangle a ray hit. Needs the main shader to declare
-// `scene_emitters: array<u32>` and the scene's instances, meshes, indices and vertices.
+// layout): picking one in proportion to its power, a uniform point on it, its density, and the
+// probability of picking the triangle a ray hit. Each record holds the triangle's world-space
+// corners and mean emission, so this needs only the main shader's
+// `scene_emitters: array<u32>` (rt/path.wgsl, rt/shadow.wgsl).
+
+// Some material emits light (src/runtime/exec/features.rs): without, the passes compile the
+// emitters out.
+override SCENE_EMITTERS: bool = true;
 
 const NO_EMITTERS: u32 = 0xffffffffu;
+// Words per record (`EMITTER_WORDS` in src/scene/emitters.rs).
+const EMITTER_WORDS: u32 = 16u;
 
 fn emitter_count() -> u32 {
+    if !SCENE_EMITTERS {
+        return 0u;
+    }
     return scene_emitters[0];
 }
 
 // The first word of record `i`.
 fn emitter_record(i: u32) -> u32 {
-    return 2u + scene_emitters[1] + 4u * i;
+    return 2u + scene_emitters[1] + EMITTER_WORDS * i;
+}
+
+fn emitter_float(record: u32, k: u32) -> f32 {
+    return bitcast<f32>(scene_emitters[record + k]);
 }
 
 fn emitter_cumulative(i: u32) -> f32 {
-    return bitcast<f32>(scene_emitters[emitter_record(i) + 2u]);
+    return emitter_float(emitter_record(i), 2u);
 }
 
 // The probability of picking record `i` (normalised by the table's last cumulative value, so
 // rounding in the table biases nothing).
 fn emitter_probability(i: u32) -> f32 {
-    return bitcast<f32>(scene_emitters[emitter_record(i) + 3u]) / emitter_cumulative(emitter_count() - 1u);
+    return emitter_float(emitter_record(i), 3u) / emitter_cumulative(emitter_count() - 1u);
 }
 
 // The record whose cumulative range holds `u` (in [0, 1)) times the total: a binary search.
@@ -40,40 +54,47 @@ fn emitter_pick(u: f32) -> u32 {
     return lo;
 }
 
-// The probability of picking triangle `primitive` of `instance` (0 if it is no emitter).
-fn hit_emitter_probability(instance: u32, primitive: u32) -> f32 {
+// The record of triangle `primitive` of `instance` (NO_EMITTERS if its material emits nothing).
+fn hit_emitter(instance: u32, primitive: u32) -> u32 {
     if emitter_count() == 0u || instance >= scene_emitters[1] {
-        return 0.0;
+        return NO_EMITTERS;
     }
     let first = scene_emitters[2u + instance];
     if first == NO_EMITTERS {
-        return 0.0;
+        return NO_EMITTERS;
     }
-    return emitter_probability(first + primitive);
+    return first + primitive;
 }
 
-// A triangle of an instance in world space: its corners, and its normal on its
-// counter-clockwise side (object space; the side a ray hitting it `front_face` comes from),
-// twice its area long.
-struct InstanceTriangle {
+// An emitting triangle: its world-space corners, its normal on its emitting (counter-clockwise)
+// side twice its area long, and its mean emitted radiance.
+struct EmitterTriangle {
     corners: array<vec3<f32>, 3>,
     normal: vec3<f32>,
+    emission: vec3<f32>,
 }
 
-// Triangle `primitive` of `instance` (its vertices read once).
-fn instance_triangle(instance: u32, primitive: u32) -> InstanceTriangle {
-    let inst = scene_instances[instance];
-    let mesh = scene_meshes[inst.mesh];
-    let first = mesh.first_index + 3u * primitive;
-    var local: array<vec3<f32>, 3>;
-    var out: InstanceTriangle;
+fn emitter_triangle(i: u32) -> EmitterTriangle {
+    let r = emitter_record(i);
+    var out: EmitterTriangle;
     for (var k = 0u; k < 3u; k++) {
-        let v = scene_vertex(mesh.base_vertex + scene_indices[first + k]);
-        local[k] = vec3<f32>(v.px, v.py, v.pz);
-        out.corners[k] = (inst.model * vec4<f32>(local[k], 1.0)).xyz;
+        out.corners[k] = vec3<f32>(emitter_float(r, 4u + 3u * k), emitter_float(r, 5u + 3u * k), emitter_float(r, 6u + 3u * k));
     }
-    let n_obj = cross(local[1] - local[0], local[2] - local[0]);
-    let n = normalize((inst.normal_matrix * vec4<f32>(n_obj, 0.0)).xyz);
-    out.normal = n * length(cross(out.corners[1] - out.corners[0], out.corners[2] - out.corners[0]));
+    out.normal = cross(out.corners[1] - out.corners[0], out.corners[2] - out.corners[0]);
+    out.emission = vec3<f32>(emitter_float(r, 13u), emitter_float(r, 14u), emitter_float(r, 15u));
     return out;
+}
+
+// A uniform point of `t` from `u` in [0, 1)^2.
+fn emitter_point(t: EmitterTriangle, u: vec2<f32>) -> vec3<f32> {
+    let r = sqrt(u.x);
+    let b = vec2<f32>(r * (1.0 - u.y), r * u.y);
+    return t.corners[0] * (1.0 - b.x - b.y) + t.corners[1] * b.x + t.corners[2] * b.y;
+}
+
+// The density (solid angle) of next-event estimation's point at the end of `to` on a triangle
+// picked with `probability` whose normal `n2` is twice its area long.
+fn emitter_density(probability: f32, n2: vec3<f32>, to: vec3<f32>) -> f32 {
+    let cosine = abs(dot(normalize(n2), normalize(to)));
+    return probability * dot(to, to) / max(0.5 * length(n2) * cosine, 1e-30);
 }

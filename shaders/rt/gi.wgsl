@@ -16,6 +16,7 @@ struct Params {
     rays: u32,
     per_frame: u32,
     seed: u32,
+    emission: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -33,12 +34,12 @@ struct Params {
 @group(0) @binding(12) var gi: texture_storage_2d<rgba16float, write>;
 
 // The radiance leaving hit surface `s` towards `v`: every light with its own shadow ray, and
-// the emission (no sky ambient: that is the resolve's).
+// the emission where `params.emission` asks for it (no sky ambient: that is the resolve's).
 fn hit_radiance(s: Surface, v: vec3<f32>) -> vec3<f32> {
     if s.unlit {
         return s.albedo;
     }
-    return hit_direct_light(s, hit_shading_point(s, v)) + s.emissive;
+    return hit_direct_light(s, hit_shading_point(s, v)) + select(vec3<f32>(0.0), s.emissive, params.emission != 0u);
 }
 
 @compute @workgroup_size(8, 8)

@@ -139,25 +139,23 @@ fn sky_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3
     return visible * f_cos * sky_radiance(l) * power_heuristic(pdf, bsdf_pdf(sp, l)) / pdf;
 }
 
-// The density (solid angle) of next-event estimation's point at the end of `to` on a triangle
-// picked with `probability` whose normal `n2` is twice its area long.
-fn emitter_density(probability: f32, n2: vec3<f32>, to: vec3<f32>) -> f32 {
-    let cosine = abs(dot(normalize(n2), normalize(to)));
-    return probability * dot(to, to) / max(0.5 * length(n2) * cosine, 1e-30);
-}
-
 // The density (solid angle, seen from `origin`) with which next-event estimation picks the point
 // `at` on `instance`'s triangle `primitive`; 0 for a triangle that is no emitter.
 fn emitter_pdf(instance: u32, primitive: u32, origin: vec3<f32>, at: vec3<f32>) -> f32 {
-    let probability = hit_emitter_probability(instance, primitive);
+    let record = hit_emitter(instance, primitive);
+    if record == NO_EMITTERS {
+        return 0.0;
+    }
+    let probability = emitter_probability(record);
     if probability <= 0.0 {
         return 0.0;
     }
-    return emitter_density(probability, instance_triangle(instance, primitive).normal, at - origin);
+    return emitter_density(probability, emitter_triangle(record).normal, at - origin);
 }
 
 // The light of one emissive triangle picked by power at `s` (one point, one shadow ray),
-// MIS-weighted against the BSDF's sampling of the same direction.
+// MIS-weighted against the BSDF's sampling of the same direction. The emission is the
+// texture's at the point (the table's mean only picks the triangle).
 fn emitter_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> vec3<f32> {
     if emitter_count() == 0u {
         return vec3<f32>(0.0);
@@ -169,8 +167,8 @@ fn emitter_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> 
     let u = next_random2(rng);
     let r = sqrt(u.x);
     let bary = vec2<f32>(r * (1.0 - u.y), r * u.y);
-    let triangle = instance_triangle(instance, primitive);
-    let at = triangle.corners[0] * (1.0 - bary.x - bary.y) + triangle.corners[1] * bary.x + triangle.corners[2] * bary.y;
+    let triangle = emitter_triangle(picked);
+    let at = emitter_point(triangle, u);
     let origin = offset_ray_origin(s.position, s.geo_normal);
     let to = at - origin;
     let d = length(to);
@@ -186,7 +184,11 @@ fn emitter_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> 
     if all(f_cos == vec3<f32>(0.0)) || pdf <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let light = Hit(d, instance, primitive, bary, front);
+    // The barycentrics of the point in the object's corner order (a mirroring transform
+    // swapped the table's last two corners).
+    let inst = scene_instances[instance];
+    let mirrored = determinant(mat3x3<f32>(inst.model[0].xyz, inst.model[1].xyz, inst.model[2].xyz)) < 0.0;
+    let light = Hit(d, instance, primitive, select(bary, bary.yx, mirrored), front);
     let emission = surface_at_cone(Ray(origin, 0.0, l, d), light, 0.0).emissive;
     let visible = trace_transmittance(Ray(origin, 0.0, l, d * 0.9999));
     return visible * f_cos * emission * power_heuristic(pdf, bsdf_pdf(sp, l)) / pdf;

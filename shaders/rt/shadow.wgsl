@@ -9,7 +9,11 @@
 // common/environment_sampling.wgsl, and cosine-weighted) give its visibility: the
 // irradiance-weighted fraction of them that no surface blocks (a ratio estimator), stored as
 // `direct`'s a = 2 + visibility (WebGPU allows four storage textures a stage); the resolve
-// puts it on the map's irradiance in place of AO.
+// puts it on the map's irradiance in place of AO. With emissive triangles (common/emitters.wgsl),
+// `emitter_rays` points on them picked by power, each with its shadow ray, add their light to
+// `direct` (and `unshadowed`): all of it on surfaces rougher than `reflection_roughness`, the
+// diffuse part alone on smoother ones, whose specular part the reflection pass's rays bring
+// (they see the emitters' emission).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -20,6 +24,7 @@
 //#include "trace/trace.wgsl"
 //#include "common/shadow_ray.wgsl"
 //#include "common/environment_sampling.wgsl"
+//#include "common/emitters.wgsl"
 
 struct Params {
     light_radius: f32,
@@ -31,6 +36,8 @@ struct Params {
     light_height: f32,
     split: u32,
     environment_rays: u32,
+    emitter_rays: u32,
+    reflection_roughness: f32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -48,6 +55,7 @@ struct Params {
 @group(0) @binding(12) var lobes: texture_2d<u32>;
 @group(0) @binding(13) var unshadowed: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(14) var visibility: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(15) var<storage, read> scene_emitters: array<u32>;
 
 // The environment map's visibility at a point of shading normal `n` and geometric normal
 // `geo`: of `params.environment_rays` directions, the share of their irradiance estimates
@@ -76,6 +84,60 @@ fn environment_visibility(origin: vec3<f32>, geo: vec3<f32>, n: vec3<f32>, state
         seen += w * trace_transmittance(Ray(origin, 0.0, dir, 3.0e38));
     }
     return select(1.0, seen / total, total > 0.0);
+}
+
+// The diffuse part of `light_radiance` (common/lighting.wgsl) for irradiance `e` from `l`: the
+// base's Lambert lobe, less what its Fresnel term and the clear coat reflect.
+fn diffuse_radiance(s: ShadingPoint, l: vec3<f32>, e: vec3<f32>) -> vec3<f32> {
+    let n_l = dot(s.normal, l);
+    if n_l <= 0.0 || s.unlit {
+        return vec3<f32>(0.0);
+    }
+    let f = point_fresnel(s, max(dot(normalize(l + s.view), s.view), 0.0));
+    var diffuse = (vec3<f32>(1.0) - f) * (1.0 - s.metallic) * s.albedo * e * n_l;
+    if SCENE_LOBES && s.clearcoat > 0.0 {
+        diffuse *= 1.0 - s.clearcoat * coat_fresnel(dot(s.coat_normal, s.view));
+    }
+    return diffuse;
+}
+
+// The emissive triangles' light at `s` (shading normal `s.normal`, lit from the side of
+// `facing`), by `params.emitter_rays` points picked by power, each a ray from `origin`:
+// x the shadowed light, y the unshadowed one (each the mean over the points).
+fn emitter_light(s: ShadingPoint, origin: vec3<f32>, facing: vec3<f32>, state: ptr<function, u32>) -> array<vec3<f32>, 2> {
+    var out = array<vec3<f32>, 2>(vec3<f32>(0.0), vec3<f32>(0.0));
+    let rays = params.emitter_rays;
+    if emitter_count() == 0u || rays == 0u {
+        return out;
+    }
+    let whole = s.roughness > params.reflection_roughness;
+    for (var k = 0u; k < rays; k++) {
+        let picked = emitter_pick(next_random1(state));
+        let t = emitter_triangle(picked);
+        let to = emitter_point(t, next_random2(state)) - origin;
+        let d = length(to);
+        let l = to / max(d, 1e-30);
+        let material = scene_materials[scene_instances[scene_emitters[emitter_record(picked)]].material];
+        let front = dot(l, t.normal) < 0.0;
+        let probability = emitter_probability(picked);
+        if d <= 0.0 || dot(l, facing) <= 0.0 || probability <= 0.0 || (!front && (material.flags & MATERIAL_DOUBLE_SIDED) == 0u) {
+            continue;
+        }
+        // Irradiance at normal incidence in light_radiance's units (a light of `e` lights a
+        // white Lambert surface facing it to e): the radiance over pi x the point's density.
+        let e = t.emission / (PI * emitter_density(probability, t.normal, to));
+        var light = diffuse_radiance(s, l, e);
+        if whole {
+            light = light_radiance(s, LightSample(l, e, d));
+        }
+        if any(light > vec3<f32>(0.0)) {
+            out[0] += light * trace_transmittance(Ray(origin, 0.0, l, d * 0.9999));
+            out[1] += light;
+        }
+    }
+    out[0] /= f32(rays);
+    out[1] /= f32(rays);
+    return out;
 }
 
 // `shadowed` over `unshadowed` per channel; where a channel of `unshadowed` is 0, the ratio of
@@ -158,6 +220,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
+    let emitted = emitter_light(s, flat_origin, facing, &state);
+    radiance += emitted[0];
+    light_alone += emitted[1];
     textureStore(shadow, id.xy, mask);
     // a = 1: the direct light was computed here (the resolve's fallback has a = 0); 2 + the
     // environment map's visibility where it was traced.

@@ -102,25 +102,6 @@ fn vertex_alpha_byte(mesh: &crate::scene::Mesh, i: u32) -> u32 {
     mesh.extras.as_ref().and_then(|e| e.get(i as usize)).map_or(255, |x| (x.color[3].clamp(0.0, 1.0) * 255.0).round() as u32)
 }
 
-/// Texel index `f` (a whole number) of an axis `n` texels long, wrapped by `wrap`:
-/// `alpha_texel_index` in `shaders/common/alpha_read.wgsl`.
-fn texel_index(f: f64, n: usize, wrap: Wrap) -> usize {
-    let n = n as f64;
-    let k = match wrap {
-        Wrap::Repeat => f.rem_euclid(n),
-        Wrap::ClampToEdge => f.clamp(0.0, n - 1.0),
-        Wrap::MirroredRepeat => {
-            let k = f.rem_euclid(2.0 * n);
-            if k >= n {
-                2.0 * n - 1.0 - k
-            } else {
-                k
-            }
-        }
-    };
-    (k.max(0.0) as usize).min(n as usize - 1)
-}
-
 /// Level-0 bilinear alpha of `img` at `uv`, wrapped per axis as `sampling` wraps:
 /// `scene_alpha_level0` in `shaders/common/alpha_read.wgsl`, in f64. A malformed image reads as
 /// opaque (the GPU's fallback texture is).
@@ -138,7 +119,7 @@ pub(crate) fn bilinear_channel(img: &TextureImage, uv: [f64; 2], sampling: &Slot
     let axis = |c: f64, n: usize, wrap: Wrap| {
         let x = c * n as f64 - 0.5;
         let f = x.floor();
-        (texel_index(f, n, wrap), texel_index(f + 1.0, n, wrap), x - f)
+        (wrap.texel_index(f, n), wrap.texel_index(f + 1.0, n), x - f)
     };
     let (x0, x1, wx) = axis(uv[0], w, sampling.wrap_s);
     let (y0, y1, wy) = axis(uv[1], h, sampling.wrap_t);

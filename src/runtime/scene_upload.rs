@@ -655,6 +655,19 @@ impl GpuScene {
         true
     }
 
+    /// Rewrites the emitter table (`scene_emitters`: its triangles moved or were deformed, their
+    /// count unchanged). True where no table is uploaded; false if its size no longer matches.
+    pub(crate) fn write_emitters(&self, queue: &wgpu::Queue, scene: &Scene) -> bool {
+        let Some(buffer) = &self.emitters else { return true };
+        let words = crate::scene::emitters::emitter_table(scene);
+        let bytes: &[u8] = bytemuck::cast_slice(&words);
+        if bytes.len() as u64 != buffer.size() {
+            return false;
+        }
+        queue.write_buffer(buffer, 0, bytes);
+        true
+    }
+
     /// Rewrites the previous transforms (`scene_motion`). Returns false if there is no such
     /// buffer or its size no longer matches.
     pub(crate) fn write_motion(&self, queue: &wgpu::Queue, transforms: &[Mat4]) -> bool {

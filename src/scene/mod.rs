@@ -78,6 +78,27 @@ pub enum Wrap {
     MirroredRepeat,
 }
 
+impl Wrap {
+    /// Texel index `f` (a whole number) of an axis `n` texels long, wrapped
+    /// (`alpha_texel_index` in `shaders/common/alpha_read.wgsl`).
+    pub fn texel_index(self, f: f64, n: usize) -> usize {
+        let n = n as f64;
+        let k = match self {
+            Wrap::Repeat => f.rem_euclid(n),
+            Wrap::ClampToEdge => f.clamp(0.0, n - 1.0),
+            Wrap::MirroredRepeat => {
+                let k = f.rem_euclid(2.0 * n);
+                if k >= n {
+                    2.0 * n - 1.0 - k
+                } else {
+                    k
+                }
+            }
+        };
+        (k.max(0.0) as usize).min(n as usize - 1)
+    }
+}
+
 /// Which mip levels minification reads (from glTF's `minFilter`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Mipmaps {

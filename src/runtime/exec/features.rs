@@ -1,7 +1,7 @@
 //! The scene's features as pipeline constants: what the scene uses of the material and mesh
 //! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
 //! samplers and texture transforms, the second uv set and vertex colours, unlit materials),
-//! whether an environment map lights it, the frame camera's projection, and whether the scene
+//! whether an environment map lights it and whether its emissive triangles are lights, the frame camera's projection, and whether the scene
 //! is large enough for AO rays to start below the root of its tree. Every pass whose module declares one of the constants gets
 //! its value; the shaders' defaults keep every feature (and read the projection from the
 //! frame), so a pipeline made without them is right for any scene. The passes are built again
@@ -45,6 +45,10 @@ pub(crate) const UNLIT_CONSTANT: &str = "SCENE_UNLIT";
 /// `shaders/common/scene_features.wgsl`: the scene is lit by an environment map (`--env`).
 pub(crate) const ENVIRONMENT_CONSTANT: &str = "SCENE_ENVIRONMENT";
 
+/// `shaders/common/emitters.wgsl`: some material emits light (an emissive factor above 0, not
+/// unlit): the emissive triangles are lights.
+pub(crate) const EMITTERS_CONSTANT: &str = "SCENE_EMITTERS";
+
 /// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
 pub(crate) const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
 
@@ -69,6 +73,8 @@ pub struct SceneFeatures {
     pub start_below_root: bool,
     /// An environment map lights the scene.
     pub environment: bool,
+    /// Some instance's material emits light (`scene::emitters`).
+    pub emitters: bool,
 }
 
 impl SceneFeatures {
@@ -97,6 +103,7 @@ impl SceneFeatures {
             orthographic: scene.camera().orthographic.is_some(),
             start_below_root: triangles >= START_BELOW_ROOT_TRIANGLES,
             environment: scene.environment().is_some(),
+            emitters: on(Self::EMITS),
         }
     }
 
@@ -111,7 +118,8 @@ impl SceneFeatures {
     const CUSTOM_SAMPLING: u8 = 8;
     const VERTEX_EXTRAS: u8 = 16;
     const UNLIT: u8 = 32;
-    const ALL_BITS: u8 = 63;
+    const EMITS: u8 = 64;
+    const ALL_BITS: u8 = 127;
 
     /// The features material `m` uses, as bits.
     fn material_bits(m: &crate::scene::Material) -> u8 {
@@ -121,10 +129,11 @@ impl SceneFeatures {
             | flag(m.lobes != crate::scene::Lobes::default(), Self::LOBES)
             | flag(m.sampling.iter().any(|s| s.transform.is_some() || s.sampler_bits() != 0), Self::CUSTOM_SAMPLING)
             | flag(m.unlit, Self::UNLIT)
+            | flag(!m.unlit && crate::util::luminance(m.emissive) > 0.0, Self::EMITS)
     }
 
     /// Every constant with its value.
-    fn all(&self) -> [(&'static str, bool); 8] {
+    fn all(&self) -> [(&'static str, bool); 9] {
         [
             (TRACE_ALPHA_CONSTANT, self.alpha_test),
             (TRACE_START_CONSTANT, self.start_below_root),
@@ -134,6 +143,7 @@ impl SceneFeatures {
             (VERTEX_EXTRAS_CONSTANT, self.vertex_extras),
             (UNLIT_CONSTANT, self.unlit),
             (ENVIRONMENT_CONSTANT, self.environment),
+            (EMITTERS_CONSTANT, self.emitters),
         ]
     }
 

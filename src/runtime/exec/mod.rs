@@ -157,6 +157,8 @@ pub struct Executor {
     lights: Option<(u64, crate::runtime::scene_upload::LightRecords)>,
     /// Whether the warning about lights without a raster shadow map was printed.
     warned_unshadowed: bool,
+    /// Whether the warning about emissive surfaces that light nothing was printed.
+    warned_glow: bool,
     /// The Rust passes layer files may name (`PassKind::Rust`).
     rust_passes: RustPasses,
     /// The history pairs, their swap and the history's validity (`history`).
@@ -237,6 +239,7 @@ impl Executor {
             samplers,
             lights: None,
             warned_unshadowed: false,
+            warned_glow: false,
             features: features::SceneFeatures::of(scene),
             rust_passes,
             history: history::HistoryState::default(),

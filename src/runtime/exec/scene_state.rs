@@ -6,6 +6,7 @@ use super::features::SceneFeatures;
 use super::Executor;
 use crate::error::RuntimeError;
 use crate::graph::compile::Plan;
+use crate::graph::desc::PassKind;
 use crate::runtime::gpu::Gpu;
 use crate::runtime::scene_upload::{light_records, GpuScene, SceneContent};
 use crate::scene::{Camera, Scene};
@@ -82,7 +83,10 @@ impl Executor {
                 || uploaded.vertices().is_none()
                 || !cpu_deformed
                 || uploaded.write_vertices(gpu.queue(), scene, &scene.deforming_meshes());
-            if instances_ok && vertices_ok {
+            // The emitters' world-space corners follow both (written only where a pass binds them).
+            let emitters_ok = (content.transforms == self.scene_content.transforms && content.deformed == self.scene_content.deformed)
+                || uploaded.write_emitters(gpu.queue(), scene);
+            if instances_ok && vertices_ok && emitters_ok {
                 self.scene_content = content;
                 return Ok(());
             }
@@ -168,8 +172,21 @@ impl Executor {
                 );
             }
         }
+        self.warn_of_glow();
         self.lights = Some((self.scene_generation, lights));
         Ok(())
+    }
+
+    /// Once: the scene's emissive surfaces light nothing in a graph that rasterizes it and has no
+    /// pass sampling them (raster mode: they glow; their light is the ray-traced shadow pass's).
+    fn warn_of_glow(&mut self) {
+        let rasterized = self.plan.passes.iter().any(|p| p.kind == PassKind::SceneRaster);
+        if !self.warned_glow && self.features.emitters && rasterized && !self.plan.scene_usage.emitters {
+            self.warned_glow = true;
+            eprintln!(
+                "warning: emissive surfaces glow but light nothing in this graph (raster mode): the ray-traced modes' shadow pass samples them as lights"
+            );
+        }
     }
 
     /// The frame uniforms; writes the scene's light records when they changed.
