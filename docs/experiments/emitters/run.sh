@@ -9,7 +9,8 @@
 #    the passes' GPU ms and the CPU time outside them (the atrium has no emitter).
 # 3. The helmet (an emissive texture: its lit parts are lights) in hybrid, full_rt and
 #    hybrid_denoised with each binary: what the shadow pass's 4 emitter rays a pixel cost.
-# Prints one line a run; the logs go to $OUT/emitters.tgz.
+# `run.sh rays` runs 1, `run.sh frames` 2 and 3 (one device call each). Prints one line a run;
+# the logs go to $OUT/emitters_$1.tgz.
 set -u
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 for b in raygraph raygraph-before; do gunzip -f .gpu/$b.gz; chmod +x .gpu/$b; done
@@ -27,12 +28,13 @@ rays() { local bin=$1 name=$2; shift 2
   (cd /tmp/empty && timeout 200 $ROOT/.gpu/$bin bench rays --frames 10 --out $OUT/r/${name}_$bin "$@" > $OUT/r/${name}_$bin.log 2>&1) || tail -2 $OUT/r/${name}_$bin.log
   echo "== bench rays $name, $bin"; grep -E "^\| " $OUT/r/${name}_$bin/rays.md | grep -v -- "---" | cut -d'|' -f2-5,7,8
 }
-for bin in raygraph-before raygraph; do
+WHAT=${1:-frames}
+[ "$WHAT" = rays ] && for bin in raygraph-before raygraph; do
   late "bench rays $bin" && break
   rays $bin table3
   rays $bin real --scenes $HELMET,$PINE
 done
-for round in 1 2; do
+[ "$WHAT" = frames ] && for round in 1 2; do
   for graph in raster hybrid full_rt hybrid_denoised; do
     for bin in raygraph-before raygraph; do
       late "round $round $graph $bin" && break 3
@@ -40,10 +42,10 @@ for round in 1 2; do
     done
   done
 done
-for graph in hybrid full_rt hybrid_denoised; do
+[ "$WHAT" = frames ] && for graph in hybrid full_rt hybrid_denoised; do
   for bin in raygraph-before raygraph; do
     late "helmet $graph $bin" && break 2
     frame $bin $graph $HELMET $OUT/r/${graph}_helmet_$bin.log
   done
 done
-rm -f $OUT/r/*.png; cd $OUT && tar czf emitters.tgz r && rm -rf r
+rm -f $OUT/r/*.png; cd $OUT && tar czf emitters_$WHAT.tgz r && rm -rf r
