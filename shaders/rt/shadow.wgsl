@@ -13,7 +13,9 @@
 // `emitter_rays` points on them picked by power, each with its shadow ray, add their light to
 // `direct` (and `unshadowed`): all of it on surfaces rougher than `reflection_roughness`, the
 // diffuse part alone on smoother ones, whose specular part the reflection pass's rays bring
-// (they see the emitters' emission).
+// (they see the emitters' emission). With `light_candidates` above 0, one light picked by
+// resampled importance sampling stands for all of them (`pick_light`): one shadow ray a pixel
+// however many lights there are.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -38,6 +40,7 @@ struct Params {
     environment_rays: u32,
     emitter_rays: u32,
     reflection_roughness: f32,
+    light_candidates: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -84,6 +87,83 @@ fn environment_visibility(origin: vec3<f32>, geo: vec3<f32>, n: vec3<f32>, state
         seen += w * trace_transmittance(Ray(origin, 0.0, dir, 3.0e38));
     }
     return select(1.0, seen / total, total > 0.0);
+}
+
+// Where a pixel's shadow rays leave from: its G-buffer position, geometric normal and
+// terminator offset, the flat offset origin, the side lights must be on, the area lights' sizes
+// and the rays a light gets.
+struct ShadowPoint {
+    p: vec3<f32>,
+    geo: vec3<f32>,
+    offset: f32,
+    flat_origin: vec3<f32>,
+    facing: vec3<f32>,
+    sizes: AreaLights,
+    area: bool,
+    samples: u32,
+}
+
+// One light's light at a pixel: shadowed (x the fraction of its rays that reach the point,
+// each by the transmittance of the BLEND surfaces on its way) and unshadowed (written only
+// where some ray reaches it or `split` asks for it).
+struct LightResult {
+    shadowed: vec3<f32>,
+    unshadowed: vec3<f32>,
+    fraction: f32,
+}
+
+fn light_result(i: u32, s: ShadingPoint, at: ShadowPoint, state: ptr<function, u32>) -> LightResult {
+    // Rays towards this light leave from the part of the offset its angle asks for (no work
+    // where there is none: flat triangles, the fragment-stage G-buffer).
+    let origin = shadow_ray_origin(at.flat_origin, at.p, at.geo, s.normal, at.offset, scene_lights[i]);
+    var seen = 0.0;
+    if at.area {
+        for (var k = 0u; k < at.samples; k++) {
+            seen += area_light_transmittance(scene_lights[i], origin, at.facing, at.sizes, next_random2(state));
+        }
+    } else {
+        seen = light_transmittance(scene_lights[i], origin, at.facing);
+    }
+    var out = LightResult(vec3<f32>(0.0), vec3<f32>(0.0), seen / f32(at.samples));
+    if seen > 0.0 || params.split != 0u {
+        // (exactly 1 for an unshadowed hard shadow)
+        out.unshadowed = light_radiance(s, light_sample(scene_lights[i], at.p));
+        out.shadowed = out.fraction * out.unshadowed;
+    }
+    return out;
+}
+
+// A light picked by resampled importance sampling (Talbot et al. 2005): of
+// `params.light_candidates` lights drawn uniformly, one in proportion to the luminance of its
+// unshadowed light at `s`; its weight (the candidates' mean of luminance / density, over the
+// picked one's luminance) makes weight x its light an unbiased estimate of all the lights'.
+// Index NO_LIGHT where no candidate lights the point.
+struct PickedLight {
+    index: u32,
+    weight: f32,
+}
+
+const NO_LIGHT: u32 = 0xffffffffu;
+
+fn pick_light(s: ShadingPoint, p: vec3<f32>, state: ptr<function, u32>) -> PickedLight {
+    let count = frame.light_count;
+    var picked = PickedLight(NO_LIGHT, 0.0);
+    var picked_goal = 0.0;
+    var sum = 0.0;
+    for (var k = 0u; k < params.light_candidates && count > 0u; k++) {
+        let i = min(u32(next_random1(state) * f32(count)), count - 1u);
+        let goal = dot(light_radiance(s, light_sample(scene_lights[i], p)), vec3<f32>(0.2126, 0.7152, 0.0722));
+        let w = goal * f32(count);
+        sum += w;
+        if w > 0.0 && next_random1(state) * sum < w {
+            picked.index = i;
+            picked_goal = goal;
+        }
+    }
+    if picked.index != NO_LIGHT {
+        picked.weight = sum / (f32(params.light_candidates) * picked_goal);
+    }
+    return picked;
 }
 
 // The diffuse part of `light_radiance` (common/lighting.wgsl) for irradiance `e` from `l`: the
@@ -194,29 +274,24 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let sizes = AreaLights(params.light_radius, radians(params.sun_angle) * 0.5, params.light_width, params.light_height);
     let area = sizes.radius > 0.0 || sizes.sun_radius > 0.0 || (sizes.width > 0.0 && sizes.height > 0.0);
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
-    let samples = select(1u, max(params.rays, 1u), area);
-    for (var i = 0u; i < frame.light_count; i++) {
-        // Rays towards this light leave from the part of the offset its angle asks for (no
-        // work where there is none: flat triangles, the fragment-stage G-buffer).
-        let origin = shadow_ray_origin(flat_origin, p.xyz, geo, s.normal, g.w, scene_lights[i]);
-        // The light's samples that reach the point, each counted by the transmittance of the
-        // BLEND surfaces on its way (1 for every sample that reaches it without any).
-        var seen = 0.0;
-        if area {
-            for (var k = 0u; k < samples; k++) {
-                seen += area_light_transmittance(scene_lights[i], origin, facing, sizes, next_random2(&state));
-            }
-        } else {
-            seen = light_transmittance(scene_lights[i], origin, facing);
-        }
-        if seen > 0.0 || params.split != 0u {
-            // The fraction of the light that reaches it (exactly 1 for an unshadowed hard shadow).
-            let fraction = seen / f32(samples);
-            let light = light_radiance(s, light_sample(scene_lights[i], p.xyz));
-            radiance += fraction * light;
-            light_alone += light;
+    let at = ShadowPoint(p.xyz, geo, g.w, flat_origin, facing, sizes, area, select(1u, max(params.rays, 1u), area));
+    if params.light_candidates == 0u {
+        for (var i = 0u; i < frame.light_count; i++) {
+            let r = light_result(i, s, at, &state);
+            radiance += r.shadowed;
+            light_alone += r.unshadowed;
             if i < 4u {
-                mask[i] = fraction;
+                mask[i] = r.fraction;
+            }
+        }
+    } else {
+        let picked = pick_light(s, p.xyz, &state);
+        if picked.index < frame.light_count {
+            let r = light_result(picked.index, s, at, &state);
+            radiance += picked.weight * r.shadowed;
+            light_alone += picked.weight * r.unshadowed;
+            if picked.index < 4u {
+                mask[picked.index] = r.fraction;
             }
         }
     }

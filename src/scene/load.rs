@@ -1,5 +1,6 @@
 //! Opening a scene by name or path: the built-in scenes (`default`, `box`, `organic`,
-//! `atrium`, the animated `organic-skinned` and `atrium-moving`, and the Cornell box `cornell`)
+//! `atrium`, the animated `organic-skinned` and `atrium-moving`, the Cornell box `cornell` and
+//! the many-lights `atrium-lights`)
 //! or a glTF/GLB file, with only the parts the active graph needs.
 
 use super::gltf_import::{self, ImportReport, LoadOptions, SceneError};
@@ -7,7 +8,7 @@ use super::{builtin, procedural, Scene};
 use std::path::Path;
 
 /// Names of the built-in scenes.
-pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium", "organic-skinned", "atrium-moving", "cornell"];
+pub const BUILTIN_NAMES: &[&str] = &["default", "box", "organic", "atrium", "organic-skinned", "atrium-moving", "cornell", "atrium-lights"];
 
 /// The built-in scene called `name`.
 pub fn builtin(name: &str, seed: u64) -> Option<Scene> {
@@ -15,6 +16,7 @@ pub fn builtin(name: &str, seed: u64) -> Option<Scene> {
         "default" => Some(builtin::default_scene()),
         "atrium" => Some(procedural::atrium(seed)),
         "atrium-moving" => Some(procedural::animated::atrium_moving(seed)),
+        "atrium-lights" => Some(procedural::atrium_lights(seed)),
         other => procedural::by_name(other),
     }
 }

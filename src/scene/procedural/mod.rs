@@ -5,7 +5,7 @@
 //!
 //! Two animated variants serve `raygraph bench anim` ([`animated`]): `organic-skinned` and
 //! `atrium-moving`. The Cornell box ([`cornell`]) is the scene of comparisons with outside
-//! renderers.
+//! renderers; `atrium-lights` ([`atrium_lights`]) the many-lights scene.
 //!
 //! This file owns the scene registry ([`by_name`], [`NAMES`]); `common` the machinery the
 //! scenes share. Every generator is a pure function of its arguments: the same call gives the
@@ -13,6 +13,7 @@
 
 pub mod animated;
 mod atrium;
+mod atrium_lights;
 mod box_scene;
 mod common;
 mod cornell;
@@ -24,7 +25,10 @@ use super::Scene;
 pub const ATRIUM_DEFAULT_SEED: u64 = 1;
 
 /// The names [`by_name`] accepts.
-pub const NAMES: &[&str] = &["box", "organic", "atrium", "organic-skinned", "atrium-moving", "cornell"];
+pub const NAMES: &[&str] = &["box", "organic", "atrium", "organic-skinned", "atrium-moving", "cornell", "atrium-lights"];
+
+/// Point lights of [`atrium_lights`].
+pub const ATRIUM_LIGHT_COUNT: usize = atrium_lights::LIGHT_COUNT;
 
 /// The emitted radiance of the Cornell box's light quad (linear RGB, Mitsuba's `cbox`).
 pub const CORNELL_LIGHT_RADIANCE: [f32; 3] = cornell::LIGHT_RADIANCE;
@@ -45,6 +49,12 @@ pub fn atrium(seed: u64) -> Scene {
     atrium::build(seed)
 }
 
+/// The atrium of `seed` at night: [`ATRIUM_LIGHT_COUNT`] coloured point lights and twenty
+/// lanterns whose brass glows (emissive triangles), the sun off and the sky faint.
+pub fn atrium_lights(seed: u64) -> Scene {
+    atrium_lights::build(seed)
+}
+
 /// The Cornell box: five walls (red left, green right), two white blocks and an emissive light
 /// quad below the ceiling, Lambert materials, no sun and no sky: 32 triangles.
 pub fn cornell() -> Scene {
@@ -61,6 +71,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
         "organic-skinned" => Some(animated::organic_skinned()),
         "atrium-moving" => Some(animated::atrium_moving(ATRIUM_DEFAULT_SEED)),
         "cornell" => Some(cornell()),
+        "atrium-lights" => Some(atrium_lights(ATRIUM_DEFAULT_SEED)),
         _ => None,
     }
 }
