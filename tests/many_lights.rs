@@ -1,6 +1,6 @@
-//! Many lights: the built-in `atrium-lights` scene, and `rt_shadow`'s `light_candidates` (one
-//! light a pixel picked by resampled importance sampling stands for all of them) against the
-//! sum over every light with its own shadow ray.
+//! Many lights: the built-in `atrium-lights` scene, and `light_candidates` (one light picked by
+//! resampled importance sampling stands for all of them: `rt_shadow` at every pixel,
+//! `rt_reflection` at its hits) against the sum over every light with its own shadow ray.
 
 mod common;
 
@@ -43,8 +43,10 @@ fn sixteen_lights() -> Scene {
     s.set_name("sixteen lights");
     s.set_meshes(vec![plane("floor", 20.0, 1.0), cube("block")]);
     *s.textures_mut() = Vec::new();
+    // Smooth enough for reflection rays (rt_reflection's max_roughness is 0.5), whose hits
+    // are lit by the lights too.
     let mut m = Material::diffuse("grey", [0.6, 0.6, 0.6, 1.0], None);
-    m.roughness = 0.6;
+    m.roughness = 0.3;
     *s.materials_mut() = vec![m];
     *s.instances_mut() = vec![
         Instance { mesh: 0, material: 0, transform: Mat4::IDENTITY },
@@ -78,12 +80,16 @@ fn sixteen_lights() -> Scene {
     s
 }
 
-/// `resolve.hdr` of graph/hybrid.ron averaged over `frames` frames, with `light_candidates`
-/// (and new random numbers every frame).
-fn mean_image(gpu: &Gpu, scene: &Scene, light_candidates: i64, frames: usize) -> Vec<[f32; 4]> {
+/// `resolve.hdr` of graph/hybrid.ron averaged over `frames` frames, with `light_candidates` in
+/// the shadow pass and at the reflection rays' hits (new picks every frame; mirror reflections,
+/// so that nothing else varies between frames).
+fn mean_image(gpu: &Gpu, scene: &Scene, light_candidates: i64, frames: usize) -> (Vec<[f32; 4]>, usize) {
     let mut options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(gpu.backends()[0]) };
     options.params.insert(("shadow".into(), "light_candidates".into()), ParamValue::Int(light_candidates));
     options.params.insert(("shadow".into(), "per_frame".into()), ParamValue::Bool(true));
+    options.params.insert(("reflection".into(), "light_candidates".into()), ParamValue::Int(light_candidates));
+    options.params.insert(("reflection".into(), "per_frame".into()), ParamValue::Bool(true));
+    options.params.insert(("reflection".into(), "glossy".into()), ParamValue::Bool(false));
     let path = common::repo().join("graph/hybrid.ron");
     let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
@@ -96,23 +102,25 @@ fn mean_image(gpu: &Gpu, scene: &Scene, light_candidates: i64, frames: usize) ->
             }
         }
     }
-    sum
+    let reflecting = common::channel(gpu, &exec, "reflection.reflection").iter().filter(|r| r[3] > 0.0).count();
+    (sum, reflecting)
 }
 
 #[test]
 fn one_light_picked_by_resampling_converges_to_the_sum_over_every_light() {
     let gpu = gpu();
     let scene = sixteen_lights();
-    let every = mean_image(&gpu, &scene, 0, 1);
+    let (every, reflecting) = mean_image(&gpu, &scene, 0, 1);
+    assert!(reflecting > (SIZE.0 * SIZE.1) as usize / 2, "reflection rays at {reflecting} pixels");
     let luma = |t: &[f32; 4]| 0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2];
     // Measured on lavapipe (Mesa 25.0.7), 2026-11-30, 64 frames: 1 candidate (a light drawn
-    // uniformly) mean +0.68%, per-pixel RMS 0.24 of the mean; 8 candidates +0.07%, 0.094. Bounds:
+    // uniformly) mean +0.86%, per-pixel RMS 0.25 of the mean; 8 candidates +0.03%, 0.099. Bounds:
     // the mean within four standard errors (the RMS over the square root of the pixel count,
     // as if pixels were independent: 0.6% and 0.25%), the RMS 3x the measured, and resampling
     // from 8 at most half as noisy as from 1.
     let mut noise = Vec::new();
     for (candidates, max_rms) in [(1, 0.72), (8, 0.28)] {
-        let sampled = mean_image(&gpu, &scene, candidates, FRAMES);
+        let (sampled, _) = mean_image(&gpu, &scene, candidates, FRAMES);
         let (mut sum_every, mut sum_sampled, mut sq, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
         for (a, b) in every.iter().zip(&sampled) {
             if a[3] == 0.0 {

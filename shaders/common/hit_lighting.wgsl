@@ -1,8 +1,9 @@
 // The direct light at a secondary hit, shared by reflection and GI rays and the blended
 // surfaces: the hit as a shading point seen from direction `v`, and every light with its own
 // shadow ray; and the BLEND surfaces along a ray composited front to back. Needs
-// common/lighting.wgsl, common/surface.wgsl, common/shadow_ray.wgsl, and `scene_lights`,
+// common/lighting.wgsl, common/sampling.wgsl, common/surface.wgsl, common/shadow_ray.wgsl, and `scene_lights`,
 // `scene_materials`, `scene_instances` and `frame` declared by the main shader.
+//#include "common/light_pick.wgsl"
 
 fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
     var sp: ShadingPoint;
@@ -19,14 +20,31 @@ fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
     return sp;
 }
 
-// The light of every light that reaches hit `s` (one shadow ray each), reflected towards
-// `sp.view`.
+// How hits are lit: 0, every light with its own shadow ray; above 0, one light picked by
+// resampling from this many candidates (common/light_pick.wgsl) with one ray, drawn from
+// `hit_light_state`. The main shader sets both from its parameters.
+var<private> hit_light_candidates: u32 = 0u;
+var<private> hit_light_state: u32 = 0u;
+
+// The light of every light that reaches hit `s` (one shadow ray each; or of one picked light,
+// `hit_light_candidates`), reflected towards `sp.view`.
 fn hit_direct_light(s: Surface, sp: ShadingPoint) -> vec3<f32> {
     // With a shadow-terminator offset, the shading normal decides which lights the hit faces,
     // and each light's ray leaves from the part of the offset its angle asks for (as
     // rt/shadow.wgsl).
     let facing = shadow_facing(s.geo_normal, s.normal, s.shadow_offset);
     let flat_origin = offset_ray_origin(s.position, s.geo_normal);
+    if hit_light_candidates > 0u {
+        var state = hit_light_state;
+        let picked = pick_light(sp, s.position, hit_light_candidates, &state);
+        hit_light_state = state;
+        if picked.index == NO_LIGHT {
+            return vec3<f32>(0.0);
+        }
+        let light = scene_lights[picked.index];
+        let transmittance = light_transmittance(light, shadow_ray_origin(flat_origin, s.position, s.geo_normal, s.normal, s.shadow_offset, light), facing);
+        return picked.weight * transmittance * light_radiance(sp, light_sample(light, s.position));
+    }
     var direct = vec3<f32>(0.0);
     for (var i = 0u; i < frame.light_count; i++) {
         let origin = shadow_ray_origin(flat_origin, s.position, s.geo_normal, s.normal, s.shadow_offset, scene_lights[i]);

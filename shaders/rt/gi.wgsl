@@ -17,6 +17,7 @@ struct Params {
     per_frame: u32,
     seed: u32,
     emission: u32,
+    light_candidates: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -48,6 +49,10 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
+    // How hits are lit (common/hit_lighting.wgsl): every light, or one picked from
+    // `light_candidates` (new picks every frame with `per_frame`).
+    hit_light_candidates = params.light_candidates;
+    hit_light_state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame) ^ 0x9e3779b9u)));
     let p = textureLoad(position, id.xy, 0);
     if p.w == 0.0 {
         textureStore(gi, id.xy, vec4<f32>(0.0));

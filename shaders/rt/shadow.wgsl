@@ -15,7 +15,7 @@
 // diffuse part alone on smoother ones, whose specular part the reflection pass's rays bring
 // (they see the emitters' emission). With `light_candidates` above 0, one light picked by
 // resampled importance sampling stands for all of them (`pick_light`): one shadow ray a pixel
-// however many lights there are.
+// however many lights there are (common/light_pick.wgsl).
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/ray_offset.wgsl"
@@ -27,6 +27,7 @@
 //#include "common/shadow_ray.wgsl"
 //#include "common/environment_sampling.wgsl"
 //#include "common/emitters.wgsl"
+//#include "common/light_pick.wgsl"
 
 struct Params {
     light_radius: f32,
@@ -131,39 +132,6 @@ fn light_result(i: u32, s: ShadingPoint, at: ShadowPoint, state: ptr<function, u
         out.shadowed = out.fraction * out.unshadowed;
     }
     return out;
-}
-
-// A light picked by resampled importance sampling (Talbot et al. 2005): of
-// `params.light_candidates` lights drawn uniformly, one in proportion to the luminance of its
-// unshadowed light at `s`; its weight (the candidates' mean of luminance / density, over the
-// picked one's luminance) makes weight x its light an unbiased estimate of all the lights'.
-// Index NO_LIGHT where no candidate lights the point.
-struct PickedLight {
-    index: u32,
-    weight: f32,
-}
-
-const NO_LIGHT: u32 = 0xffffffffu;
-
-fn pick_light(s: ShadingPoint, p: vec3<f32>, state: ptr<function, u32>) -> PickedLight {
-    let count = frame.light_count;
-    var picked = PickedLight(NO_LIGHT, 0.0);
-    var picked_goal = 0.0;
-    var sum = 0.0;
-    for (var k = 0u; k < params.light_candidates && count > 0u; k++) {
-        let i = min(u32(next_random1(state) * f32(count)), count - 1u);
-        let goal = dot(light_radiance(s, light_sample(scene_lights[i], p)), vec3<f32>(0.2126, 0.7152, 0.0722));
-        let w = goal * f32(count);
-        sum += w;
-        if w > 0.0 && next_random1(state) * sum < w {
-            picked.index = i;
-            picked_goal = goal;
-        }
-    }
-    if picked.index != NO_LIGHT {
-        picked.weight = sum / (f32(params.light_candidates) * picked_goal);
-    }
-    return picked;
 }
 
 // The diffuse part of `light_radiance` (common/lighting.wgsl) for irradiance `e` from `l`: the
@@ -285,7 +253,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     } else {
-        let picked = pick_light(s, p.xyz, &state);
+        let picked = pick_light(s, p.xyz, params.light_candidates, &state);
         if picked.index < frame.light_count {
             let r = light_result(picked.index, s, at, &state);
             radiance += picked.weight * r.shadowed;
