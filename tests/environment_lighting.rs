@@ -212,3 +212,23 @@ fn glossy_metal_reflects_a_constant_map_by_the_split_sum_as_the_path_tracer_inte
         }
     }
 }
+
+#[test]
+fn a_scene_uploaded_again_keeps_its_prefiltered_map_until_the_map_changes() {
+    use raygraph::runtime::scene_upload::GpuScene;
+    use raygraph::scene::usage::SceneUsage;
+    let gpu = gpu();
+    let usage = SceneUsage { environment: true, ..Default::default() };
+    let upload = |s: &Scene, before: Option<&GpuScene>| GpuScene::upload(gpu.device(), gpu.queue(), s, usage, before).unwrap();
+    let mut s = scene();
+    let first = upload(&s, None);
+    // The same map (shared): its levels, grid and table are the first upload's.
+    let again = upload(&s, Some(&first));
+    assert!(std::ptr::eq(first.environment().unwrap(), again.environment().unwrap()), "the map was prefiltered again");
+    // Another intensity: made anew.
+    let mut brighter = map();
+    brighter.intensity *= 2.0;
+    s.set_environment(Some(brighter));
+    let changed = upload(&s, Some(&again));
+    assert!(!std::ptr::eq(again.environment().unwrap(), changed.environment().unwrap()), "a changed map kept the old levels");
+}

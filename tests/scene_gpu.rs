@@ -156,7 +156,7 @@ fn a_scene_beyond_the_device_limits_is_an_error_with_the_numbers() {
     let limit = gpu.device().limits().max_texture_array_layers;
     let scene = default_scene_with_tiny_textures(limit as usize + 5);
     let usage = raygraph::scene::usage::SceneUsage { textures: true, ..Default::default() };
-    let err = match GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage) {
+    let err = match GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage, None) {
         Ok(_) => panic!("{} texture layers uploaded with a limit of {limit}", limit + 6),
         Err(e) => e.to_string(),
     };
@@ -173,7 +173,7 @@ fn more_textures_than_binding_array_elements_upload_pooled() {
     let limit = gpu.device().limits().max_binding_array_elements_per_shader_stage;
     let scene = default_scene_with_tiny_textures(limit as usize + 5);
     let usage = raygraph::scene::usage::SceneUsage { textures: true, texture_binding_array: true, ..Default::default() };
-    let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage).expect("pooled upload");
+    let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), &scene, usage, None).expect("pooled upload");
     let Some(SceneTextures::Pooled { textures, .. }) = uploaded.textures() else { panic!("a binding array was asked for") };
     // White and the 1x1 textures share arrays of 256 layers.
     let pool = raygraph::scene::texture_pool::POOL_LAYERS as u32;

@@ -148,7 +148,7 @@ fn scene_textures(gpu: &Gpu, scene: &Scene, info: &reflect::ShaderInfo) -> Resul
     let Some(b) = info.bindings.iter().find(|b| b.name == crate::graph::builtins::SCENE_TEXTURES) else { return Ok(None) };
     let array = b.kind == reflect::BindingKind::TextureBindingArray;
     let usage = SceneUsage { textures: true, texture_binding_array: array, ..Default::default() };
-    let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), scene, usage)?;
+    let uploaded = GpuScene::upload(gpu.device(), gpu.queue(), scene, usage, None)?;
     let textures = uploaded.textures().ok_or_else(|| RuntimeError::Gpu("the scene's textures were not uploaded".into()))?;
     let ty = wgpu::BindingType::Texture {
         sample_type: wgpu::TextureSampleType::Float { filterable: true },

@@ -20,6 +20,8 @@ pub const IRRADIANCE_GRID_WIDTH: usize = 64;
 
 /// The environment's device resources.
 pub struct GpuEnvironment {
+    /// The map they were made from: its address, intensity and rotation (`None`: stand-ins).
+    source: Option<(usize, u32, u32)>,
     radiance: (wgpu::Texture, wgpu::TextureView),
     irradiance: (wgpu::Texture, wgpu::TextureView),
     table: wgpu::Buffer,
@@ -28,9 +30,22 @@ pub struct GpuEnvironment {
     bytes: u64,
 }
 
+/// What identifies a map's uploaded form: the map (by address: a scene's map is shared, never
+/// edited in place), its intensity and its rotation.
+fn source_of(env: Option<&std::sync::Arc<Environment>>) -> Option<(usize, u32, u32)> {
+    env.map(|e| (std::sync::Arc::as_ptr(e) as usize, e.intensity.to_bits(), e.rotation.to_bits()))
+}
+
 impl GpuEnvironment {
+    /// Whether these resources were made from `env` (the prefiltering need not run again).
+    pub fn made_from(&self, env: Option<&std::sync::Arc<Environment>>) -> bool {
+        self.source == source_of(env)
+    }
+
     /// Uploads `env` (1x1 stand-ins for `None`).
-    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, env: Option<&Environment>) -> Self {
+    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, env: Option<&std::sync::Arc<Environment>>) -> Self {
+        let source = source_of(env);
+        let env = env.map(|e| e.as_ref());
         let chain = env.map(|e| e.specular_chain(SPECULAR_LEVELS)).unwrap_or_default();
         let levels: Vec<Level> = chain.iter().map(|e| Level { size: e.size(), texels: e.texels() }).collect();
         let radiance = half_texture(device, queue, "environment radiance", &levels);
@@ -63,7 +78,7 @@ impl GpuEnvironment {
         });
         let sampler = device.create_sampler(&sampler_descriptor());
         let texel_bytes: usize = levels.iter().chain(&grid_level).map(|l| l.texels.len() * 8).sum();
-        Self { radiance, irradiance, table, params, sampler, bytes: (texel_bytes + slots.len() * 16) as u64 }
+        Self { source, radiance, irradiance, table, params, sampler, bytes: (texel_bytes + slots.len() * 16) as u64 }
     }
 
     /// The radiance texture and its view (`scene_environment`).

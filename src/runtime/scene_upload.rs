@@ -87,8 +87,9 @@ pub struct GpuScene {
     lights: Option<wgpu::Buffer>,
     /// The emissive triangles as lights (`scene_emitters`, `scene::emitters`).
     emitters: Option<wgpu::Buffer>,
-    /// The environment map (`scene_environment*`; stand-ins without one).
-    environment: Option<GpuEnvironment>,
+    /// The environment map (`scene_environment*`; stand-ins without one), shared with the
+    /// scene uploaded before where the map is the same ([`GpuScene::upload`]).
+    environment: Option<std::sync::Arc<GpuEnvironment>>,
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
     /// `GpuScene::write_motion`.
     motion: Option<wgpu::Buffer>,
@@ -147,7 +148,7 @@ impl GpuScene {
 
     /// The environment map (`scene_environment*`).
     pub fn environment(&self) -> Option<&GpuEnvironment> {
-        self.environment.as_ref()
+        self.environment.as_deref()
     }
 
     /// The previous frame's model matrix per instance (`scene_motion`), rewritten by
@@ -200,8 +201,10 @@ fn check_amount(scene: &Scene, what: &str, needed: u64, allowed: u64, help: &str
 }
 
 impl GpuScene {
-    /// Uploads the parts of `scene` that `usage` names.
-    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, usage: SceneUsage) -> Result<Self, SceneLimitError> {
+    /// Uploads the parts of `scene` that `usage` names; the environment map's prefiltered
+    /// levels, irradiance grid and table are taken from `before` (the scene uploaded last) where
+    /// it was made from the same map.
+    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, usage: SceneUsage, before: Option<&GpuScene>) -> Result<Self, SceneLimitError> {
         let mut upload = Upload { device, queue, scene, limits: device.limits(), bytes: 0 };
         let mut out = GpuScene::empty(usage);
         if usage.geometry || usage.geometry_storage {
@@ -227,7 +230,8 @@ impl GpuScene {
                 let help = "give a smaller environment map (`--env`): a 1k or 2k map lights a scene as well";
                 check_count(scene, "the environment map's width in texels", e.size().0 as u64, upload.limits.max_texture_dimension_2d as u64, help)?;
             }
-            let env = GpuEnvironment::upload(device, queue, scene.environment().map(|e| e.as_ref()));
+            let kept = before.and_then(|b| b.environment.clone()).filter(|e| e.made_from(scene.environment()));
+            let env = kept.unwrap_or_else(|| std::sync::Arc::new(GpuEnvironment::upload(device, queue, scene.environment())));
             upload.bytes += env.bytes();
             out.environment = Some(env);
         }

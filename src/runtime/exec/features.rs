@@ -1,11 +1,12 @@
 //! The scene's features as pipeline constants: what the scene uses of the material and mesh
 //! features a pass can compile out (the alpha test, BLEND, the specular lobes, non-default
 //! samplers and texture transforms, the second uv set and vertex colours, unlit materials),
-//! whether an environment map lights it and whether its emissive triangles are lights, the frame camera's projection, and whether the scene
-//! is large enough for AO rays to start below the root of its tree. Every pass whose module declares one of the constants gets
-//! its value; the shaders' defaults keep every feature (and read the projection from the
-//! frame), so a pipeline made without them is right for any scene. The passes are built again
-//! when the features change.
+//! whether an environment map lights it and whether its emissive triangles are lights, the
+//! frame camera's projection, and whether the scene is large enough for AO rays to start below
+//! the root of its tree. Every pass whose module declares one of the constants gets its value;
+//! the shaders' defaults keep every feature (and read the projection from the frame), so a
+//! pipeline made without them is right for any scene. The passes are built again when the
+//! features change.
 
 use crate::graph::compile::PlannedPass;
 use crate::scene::Scene;

@@ -19,7 +19,7 @@ impl Executor {
             log::info!("scene not uploaded: no pass of the graph uses it");
             return Ok(None);
         }
-        let s = GpuScene::upload(gpu.device(), gpu.queue(), scene, plan.scene_usage)?;
+        let s = GpuScene::upload(gpu.device(), gpu.queue(), scene, plan.scene_usage, None)?;
         log::info!("scene `{}` uploaded ({}): {} triangles, {} bytes", scene.name(), plan.scene_usage.describe(), scene.triangle_count(), s.bytes());
         Ok(Some(s))
     }
@@ -92,7 +92,7 @@ impl Executor {
             }
         }
         let scope = gpu.scopes();
-        self.scene = Some(GpuScene::upload(gpu.device(), gpu.queue(), scene, self.plan.scene_usage)?);
+        self.scene = Some(GpuScene::upload(gpu.device(), gpu.queue(), scene, self.plan.scene_usage, self.scene.as_ref())?);
         // The new buffers hold the current transforms: `write_motion` writes the previous ones.
         self.history.motion_written = None;
         self.make_deform(gpu, scene);
