@@ -34,6 +34,8 @@ fn the_atrium_at_night_has_a_thousand_lights_and_glowing_lanterns() {
     println!("{} lights, {} emitting triangles on {glowing} lanterns", s.lights().len(), table[0]);
     assert_eq!(glowing, 20, "the twenty lanterns glow");
     assert!(table[0] > 1000, "their triangles are lights: {}", table[0]);
+    let info = raygraph::scene::info::describe(&s, None);
+    assert!(info.contains("1024 from the file: light 0 (point),") && info.contains(" and 1016 more"), "scene info names a few lights: {info}");
 }
 
 /// A floor and a block under sixteen coloured point lights (some with a range) and a dim sun,

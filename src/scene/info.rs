@@ -134,7 +134,11 @@ fn lights(scene: &Scene) -> String {
             format!("{} ({kind})", l.name)
         })
         .collect();
-    format!("{} from the file: {}", scene.lights.len(), each.join(", "))
+    // A scene of many lights names the first few.
+    const NAMED: usize = 8;
+    let more = each.len().saturating_sub(NAMED);
+    let rest = if more > 0 { format!(" and {more} more") } else { String::new() };
+    format!("{} from the file: {}{rest}", scene.lights.len(), each[..each.len().min(NAMED)].join(", "))
 }
 
 /// The row of the paper's Table 1 a built-in scene stands in for.
