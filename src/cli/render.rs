@@ -25,8 +25,8 @@ pub(crate) struct RenderArgs {
     /// (graph/hybrid.ron), full-rt (graph/full_rt.ron).
     #[arg(long)]
     mode: Option<Mode>,
-    /// A built-in scene (default, box, organic, atrium, organic-skinned, atrium-moving, cornell)
-    /// or a .gltf/.glb file.
+    /// A built-in scene (default, box, organic, atrium, organic-skinned, atrium-moving, cornell,
+    /// atrium-lights) or a .gltf/.glb file.
     #[arg(long, default_value = "default")]
     scene: String,
     #[command(flatten)]
