@@ -1,8 +1,9 @@
 // The direct light at a secondary hit, shared by reflection and GI rays and the blended
 // surfaces: the hit as a shading point seen from direction `v`, and every light with its own
-// shadow ray; and the BLEND surfaces along a ray composited front to back. Needs
-// common/lighting.wgsl, common/sampling.wgsl, common/surface.wgsl, common/shadow_ray.wgsl, and `scene_lights`,
-// `scene_materials`, `scene_instances` and `frame` declared by the main shader.
+// shadow ray (or one light picked for all, `hit_light_candidates`); and the BLEND surfaces
+// along a ray composited front to back. Needs common/lighting.wgsl, common/sampling.wgsl,
+// common/surface.wgsl, common/shadow_ray.wgsl, and `scene_lights`, `scene_materials`,
+// `scene_instances` and `frame` declared by the main shader.
 //#include "common/light_pick.wgsl"
 
 fn hit_shading_point(s: Surface, v: vec3<f32>) -> ShadingPoint {
