@@ -35,23 +35,23 @@ fn hit_direct_light(s: Surface, sp: ShadingPoint) -> vec3<f32> {
     // rt/shadow.wgsl).
     let facing = shadow_facing(s.geo_normal, s.normal, s.shadow_offset);
     let flat_origin = offset_ray_origin(s.position, s.geo_normal);
-    if hit_light_candidates > 0u {
+    // Every light, or the one picked for all of them: one loop, so that the traversal is
+    // compiled in once (the compute back-end inlines it at every call).
+    let picking = hit_light_candidates > 0u;
+    var picked = PickedLight(0u, 1.0);
+    if picking {
         var state = hit_light_state;
-        let picked = pick_light(sp, s.position, hit_light_candidates, &state);
+        picked = pick_light(sp, s.position, hit_light_candidates, &state);
         hit_light_state = state;
-        if picked.index == NO_LIGHT {
-            return vec3<f32>(0.0);
-        }
-        let light = scene_lights[picked.index];
-        let transmittance = light_transmittance(light, shadow_ray_origin(flat_origin, s.position, s.geo_normal, s.normal, s.shadow_offset, light), facing);
-        return picked.weight * transmittance * light_radiance(sp, light_sample(light, s.position));
     }
+    let lights = select(frame.light_count, select(1u, 0u, picked.index == NO_LIGHT), picking);
     var direct = vec3<f32>(0.0);
-    for (var i = 0u; i < frame.light_count; i++) {
+    for (var k = 0u; k < lights; k++) {
+        let i = select(k, picked.index, picking);
         let origin = shadow_ray_origin(flat_origin, s.position, s.geo_normal, s.normal, s.shadow_offset, scene_lights[i]);
         let transmittance = light_transmittance(scene_lights[i], origin, facing);
         if transmittance > 0.0 {
-            direct += transmittance * light_radiance(sp, light_sample(scene_lights[i], s.position));
+            direct += picked.weight * transmittance * light_radiance(sp, light_sample(scene_lights[i], s.position));
         }
     }
     return direct;

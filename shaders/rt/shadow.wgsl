@@ -243,24 +243,21 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let area = sizes.radius > 0.0 || sizes.sun_radius > 0.0 || (sizes.width > 0.0 && sizes.height > 0.0);
     var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
     let at = ShadowPoint(p.xyz, geo, g.w, flat_origin, facing, sizes, area, select(1u, max(params.rays, 1u), area));
-    if params.light_candidates == 0u {
-        for (var i = 0u; i < frame.light_count; i++) {
-            let r = light_result(i, s, at, &state);
-            radiance += r.shadowed;
-            light_alone += r.unshadowed;
-            if i < 4u {
-                mask[i] = r.fraction;
-            }
-        }
-    } else {
-        let picked = pick_light(s, p.xyz, params.light_candidates, &state);
-        if picked.index < frame.light_count {
-            let r = light_result(picked.index, s, at, &state);
-            radiance += picked.weight * r.shadowed;
-            light_alone += picked.weight * r.unshadowed;
-            if picked.index < 4u {
-                mask[picked.index] = r.fraction;
-            }
+    // Every light, or the one picked for all of them: one loop, so that the traversal is
+    // compiled in once (the compute back-end inlines it at every call).
+    let picking = params.light_candidates > 0u;
+    var picked = PickedLight(0u, 1.0);
+    if picking {
+        picked = pick_light(s, p.xyz, params.light_candidates, &state);
+    }
+    let lights = select(frame.light_count, select(1u, 0u, picked.index == NO_LIGHT), picking);
+    for (var k = 0u; k < lights; k++) {
+        let i = select(k, picked.index, picking);
+        let r = light_result(i, s, at, &state);
+        radiance += picked.weight * r.shadowed;
+        light_alone += picked.weight * r.unshadowed;
+        if i < 4u {
+            mask[i] = r.fraction;
         }
     }
     let emitted = emitter_light(s, flat_origin, facing, &state);
