@@ -124,23 +124,29 @@ fn render_writes_linear_hdr_as_exr_that_tone_maps_to_the_png() {
 }
 
 #[test]
-fn exr_of_the_cornell_box_shows_its_light_at_its_radiance_and_nothing_else_lit() {
+fn exr_of_the_cornell_box_shows_its_light_at_its_radiance_and_the_walls_lit_by_it() {
     let exr = temp_out("cornell.exr");
-    // Full RT does not light surfaces from emissive ones (a path tracer does): with no sun and
-    // no sky only the light quad has radiance, exactly its emission.
+    // With no sun and no sky the light quad is the only source: it shows exactly its emission,
+    // and full RT lights the walls by its triangles (rt_shadow's emitter rays), dimmer than it.
     run_ok(&["render", "--mode", "full-rt", "--scene", "cornell", "--width", "48", "--frames", "1", "--out", exr.to_str().unwrap()]);
     let hdr = image::open(&exr).unwrap().to_rgba32f();
     assert_eq!((hdr.width(), hdr.height()), (48, 48), "the classic camera's square film");
     let light = raygraph::scene::procedural::CORNELL_LIGHT_RADIANCE;
-    let mut lit = 0;
+    // Half floats: 11 significant bits.
+    let is_light = |p: &[f32; 4]| (0..3).all(|i| (p[i] - light[i]).abs() <= light[i] / 1024.0);
+    let (mut lit, mut walls_lit) = (0, 0);
     for p in hdr.pixels() {
-        if p.0[..3] == [0.0; 3] {
-            continue;
+        if is_light(&p.0) {
+            lit += 1;
+        } else if p.0[3] == 1.0 && p.0[..3].iter().sum::<f32>() > 0.0 {
+            assert!((0..3).all(|i| p.0[i] < light[i]), "{:?}: a wall brighter than the light {light:?}", p.0);
+            walls_lit += 1;
         }
-        // Half floats: 11 significant bits.
-        assert!((0..3).all(|i| (p.0[i] - light[i]).abs() <= light[i] / 1024.0), "{:?} is neither black nor the light's {light:?}", p.0);
-        lit += 1;
     }
+    println!("cornell at 48x48: {walls_lit} pixels of wall lit by the quad");
+    // The box but the ceiling (which the quad does not face) and a few noisy pixels sees the
+    // quad: measured 1,445 of 2,304 on lavapipe, 2026-11-30; at least half.
+    assert!(walls_lit * 2 > 48 * 48, "{walls_lit} pixels of wall lit");
     // The light spans 130 x 105 mm at 1.35 m to 1.64 m from the ceiling's front edge: a few
     // pixels at 48x48 (the ceiling hides part of it from the classic camera).
     let covered = hdr.pixels().filter(|p| p.0[3] == 1.0).count();
@@ -151,7 +157,7 @@ fn exr_of_the_cornell_box_shows_its_light_at_its_radiance_and_nothing_else_lit()
     assert!(covered * 100 > 85 * 48 * 48, "{covered} of {} pixels show the box", 48 * 48);
     let _ = std::fs::remove_file(exr);
     assert!(run_ok(&["scene", "info", "cornell"]).contains("no sun and no sky"), "scene info says what lights it");
-    // The other modes render it too (black but for the light).
+    // The other modes render it too (raster: black but for the light).
     let png = temp_out("cornell.png");
     for mode in ["raster", "hybrid"] {
         run_ok(&["render", "--mode", mode, "--scene", "cornell", "--width", "32", "--frames", "1", "--out", png.to_str().unwrap()]);
