@@ -85,10 +85,14 @@ fn emitter_triangle(i: u32) -> EmitterTriangle {
     return out;
 }
 
-// A uniform point of `t` from `u` in [0, 1)^2.
-fn emitter_point(t: EmitterTriangle, u: vec2<f32>) -> vec3<f32> {
+// Barycentrics (of corners 1 and 2) of a uniform point of a triangle, from `u` in [0, 1)^2.
+fn uniform_barycentrics(u: vec2<f32>) -> vec2<f32> {
     let r = sqrt(u.x);
-    let b = vec2<f32>(r * (1.0 - u.y), r * u.y);
+    return vec2<f32>(r * (1.0 - u.y), r * u.y);
+}
+
+// The point of `t` at barycentrics `b` (of its corners 1 and 2).
+fn emitter_point(t: EmitterTriangle, b: vec2<f32>) -> vec3<f32> {
     return t.corners[0] * (1.0 - b.x - b.y) + t.corners[1] * b.x + t.corners[2] * b.y;
 }
 

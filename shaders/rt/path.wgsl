@@ -164,11 +164,9 @@ fn emitter_next_event(s: Surface, sp: ShadingPoint, rng: ptr<function, u32>) -> 
     let record = emitter_record(picked);
     let instance = scene_emitters[record];
     let primitive = scene_emitters[record + 1u];
-    let u = next_random2(rng);
-    let r = sqrt(u.x);
-    let bary = vec2<f32>(r * (1.0 - u.y), r * u.y);
+    let bary = uniform_barycentrics(next_random2(rng));
     let triangle = emitter_triangle(picked);
-    let at = emitter_point(triangle, u);
+    let at = emitter_point(triangle, bary);
     let origin = offset_ray_origin(s.position, s.geo_normal);
     let to = at - origin;
     let d = length(to);

@@ -162,7 +162,7 @@ fn emitter_light(s: ShadingPoint, origin: vec3<f32>, facing: vec3<f32>, state: p
     for (var k = 0u; k < rays; k++) {
         let picked = emitter_pick(next_random1(state));
         let t = emitter_triangle(picked);
-        let to = emitter_point(t, next_random2(state)) - origin;
+        let to = emitter_point(t, uniform_barycentrics(next_random2(state))) - origin;
         let d = length(to);
         let l = to / max(d, 1e-30);
         let material = scene_materials[scene_instances[scene_emitters[emitter_record(picked)]].material];
