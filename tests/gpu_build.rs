@@ -359,11 +359,18 @@ fn radix_sorted(gpu: &Gpu, sorter: &GpuRadixSort, keys: &[u32], vals: &[u32], co
 /// The GPU radix sort gives what a stable sort on the CPU gives: random keys of a few bits
 /// (many equal) to all 32, sizes around its tile of 2048 keys and past a million, one key; the
 /// values (distinct, not in key order) say where each key came from. Pairs past the count are
-/// left as they were.
+/// left as they were. Every tile size `RAYGRAPH_SORT_TILE` offers.
 #[test]
 fn the_radix_sort_equals_a_stable_sort() {
     let gpu = gpu();
-    let sorter = GpuRadixSort::new(gpu.device());
+    for tile in ["2048", "1024", "512", "256"] {
+        let sorter = with_env(&[("RAYGRAPH_SORT_TILE", tile)], || GpuRadixSort::new(gpu.device()));
+        check_radix_sort(&gpu, &sorter, tile);
+    }
+}
+
+/// [`the_radix_sort_equals_a_stable_sort`] for one sorter, made with tiles of `tile` keys.
+fn check_radix_sort(gpu: &Gpu, sorter: &GpuRadixSort, tile: &str) {
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = move || {
         state ^= state << 13;
@@ -386,12 +393,12 @@ fn the_radix_sort_equals_a_stable_sort() {
         let mask = if bits == 32 { u32::MAX } else { (1u32 << bits) - 1 };
         let keys: Vec<u32> = (0..capacity).map(|_| next() & mask).collect();
         let vals: Vec<u32> = (0..capacity as u32).map(|i| i.wrapping_mul(2_654_435_761)).collect();
-        let (got_keys, got_vals) = radix_sorted(&gpu, &sorter, &keys, &vals, count as u32);
+        let (got_keys, got_vals) = radix_sorted(gpu, sorter, &keys, &vals, count as u32);
         let mut order: Vec<usize> = (0..count).collect();
         order.sort_by_key(|&i| keys[i]);
         let want_keys: Vec<u32> = order.iter().map(|&i| keys[i]).chain(keys[count..].iter().copied()).collect();
         let want_vals: Vec<u32> = order.iter().map(|&i| vals[i]).chain(vals[count..].iter().copied()).collect();
-        let what = format!("{count} of {capacity} keys of {bits} bits");
+        let what = format!("{count} of {capacity} keys of {bits} bits, tiles of {tile}");
         assert!(got_keys == want_keys, "{what}: keys out of order");
         assert!(got_vals == want_vals, "{what}: values not in the stable order");
     }

@@ -37,8 +37,10 @@ struct SortParams {
 @group(0) @binding(6) var<storage, read_write> tile_status: array<atomic<u32>>;
 
 const GROUP: u32 = 256u;
-const PER_THREAD: u32 = 8u;
-const TILE: u32 = 2048u;
+// Keys per invocation (1 to 8; src/accel/radix_sort.rs sets it): a tile is GROUP * PER_THREAD
+// keys, at most 2048 (the packed 16-bit counts and the workgroup arrays' sizes).
+override PER_THREAD: u32 = 8u;
+override TILE: u32 = GROUP * PER_THREAD;
 const DIGITS: u32 = 256u;
 const PASSES: u32 = 4u;
 const TICKETS: u32 = 1024u;

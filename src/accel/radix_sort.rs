@@ -5,14 +5,17 @@
 //! keep their input order, so with values in index order the result is what sorting by (key,
 //! value) gives; the GPU builder sorts its Morton codes with it ([`crate::accel::gpu_build`]).
 
-use crate::gpu_util::compute_pipeline;
+use crate::gpu_util::compute_pipeline_with;
 use wgpu::util::DeviceExt;
 
 /// The sort's WGSL.
 pub(crate) const RADIX_SORT_WGSL: &str = concat!(include_str!("../../shaders/common/lookback.wgsl"), include_str!("../../shaders/accel/radix_sort.wgsl"));
 
-/// Keys per tile (the WGSL's `TILE`).
-const TILE: u64 = 2048;
+/// Invocations of a workgroup (the WGSL's `GROUP`).
+const GROUP: u64 = 256;
+/// Keys per tile by default (the WGSL's `TILE`, `GROUP * PER_THREAD`);
+/// `RAYGRAPH_SORT_TILE=256|512|1024|2048` picks another, for comparing.
+const DEFAULT_TILE: u64 = 2048;
 /// Passes of 8 bits (the WGSL's `PASSES`): an even number, so the result lands in the input.
 const PASSES: u64 = 4;
 /// Words of the sort state: the histograms, the tickets, the count (the WGSL's `COUNT`) and
@@ -26,6 +29,8 @@ pub const MAX_RADIX_SORT_PAIRS: u32 = 1 << 26;
 /// The sort's pipelines, made once per device.
 pub struct GpuRadixSort {
     layout: wgpu::BindGroupLayout,
+    /// Keys per tile.
+    tile: u64,
     histogram: wgpu::ComputePipeline,
     scatter: wgpu::ComputePipeline,
 }
@@ -69,15 +74,17 @@ impl GpuRadixSort {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = |name: &str| compute_pipeline(device, name, &pipeline_layout, &module, name);
-        Self { histogram: pipeline("radix_histogram"), scatter: pipeline("radix_scatter"), layout }
+        let tile = tile_from_env();
+        let constants = [("PER_THREAD", (tile / GROUP) as f64)];
+        let pipeline = |name: &str| compute_pipeline_with(device, name, &pipeline_layout, &module, name, &constants);
+        Self { histogram: pipeline("radix_histogram"), scatter: pipeline("radix_scatter"), layout, tile }
     }
 
     /// A sort of the first `count` pairs of `keys` and `vals` (storage buffers of u32 with room
     /// for `capacity` pairs, `count <= capacity <= MAX_RADIX_SORT_PAIRS`), sorted in place.
     pub fn job(&self, device: &wgpu::Device, keys: &wgpu::Buffer, vals: &wgpu::Buffer, capacity: u32, count: u32) -> RadixSortJob {
         let capacity = capacity.clamp(1, MAX_RADIX_SORT_PAIRS) as u64;
-        let tiles = capacity.div_ceil(TILE);
+        let tiles = capacity.div_ceil(self.tile);
         let storage = wgpu::BufferUsages::STORAGE;
         let mut params = vec![0u8; (PARAMS_STRIDE * PASSES) as usize];
         for pass in 0..PASSES {
@@ -124,5 +131,19 @@ impl GpuRadixSort {
             pass.set_bind_group(0, &job.bind[(p % 2) as usize], &[(p * PARAMS_STRIDE) as u32]);
             pass.dispatch_workgroups(job.tiles, 1, 1);
         }
+    }
+}
+
+/// The tile size `RAYGRAPH_SORT_TILE` names (a power of two from 256 to 2048), else the default.
+fn tile_from_env() -> u64 {
+    match std::env::var("RAYGRAPH_SORT_TILE") {
+        Ok(value) => match value.parse::<u64>() {
+            Ok(tile) if tile.is_power_of_two() && (GROUP..=DEFAULT_TILE).contains(&tile) => tile,
+            _ => {
+                log::warn!("RAYGRAPH_SORT_TILE={value}: not 256, 512, 1024 or 2048; the radix sort keeps tiles of {DEFAULT_TILE} keys");
+                DEFAULT_TILE
+            }
+        },
+        Err(_) => DEFAULT_TILE,
     }
 }
