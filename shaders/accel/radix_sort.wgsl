@@ -37,8 +37,8 @@ struct SortParams {
 @group(0) @binding(6) var<storage, read_write> tile_status: array<atomic<u32>>;
 
 const GROUP: u32 = 256u;
-// Keys per invocation (1 to 8; src/accel/radix_sort.rs sets it): a tile is GROUP * PER_THREAD
-// keys, at most 2048 (the packed 16-bit counts and the workgroup arrays' sizes).
+// Keys per invocation (1 to 16; src/accel/radix_sort.rs sets it): a tile is GROUP * PER_THREAD
+// keys, at most 4096 (the workgroup arrays' sizes; the packed counts hold 16 bits).
 override PER_THREAD: u32 = 8u;
 override TILE: u32 = GROUP * PER_THREAD;
 const DIGITS: u32 = 256u;
@@ -46,12 +46,12 @@ const PASSES: u32 = 4u;
 const TICKETS: u32 = 1024u;
 const COUNT: u32 = 1028u;
 
-var<workgroup> wg_keys: array<u32, 2048>;
-var<workgroup> wg_vals: array<u32, 2048>;
+var<workgroup> wg_keys: array<u32, TILE>;
+var<workgroup> wg_vals: array<u32, TILE>;
 // The histogram's counts (PASSES * DIGITS), the scatter's per-digit counts.
 var<workgroup> wg_count: array<atomic<u32>, 1024>;
 // Per invocation, its 16 bucket counts packed two to a word (16 bits each: a tile holds at
-// most 2048 keys): word w of invocation t at w * GROUP + t.
+// most 4096 keys): word w of invocation t at w * GROUP + t.
 var<workgroup> wg_scan: array<u32, 2048>;
 // Per digit: where its keys start in the sorted tile, and where they go in the output.
 var<workgroup> wg_local_start: array<u32, 256>;
@@ -115,8 +115,8 @@ fn packed(words: ptr<function, array<u32, 8>>, b: u32) -> u32 {
 // t * PER_THREAD ..) by the 4 bits of the pass's digit at `nibble`: the keys move to their
 // places in wg_keys / wg_vals.
 fn split_tile(lid: u32, nibble: u32) {
-    var key: array<u32, 8>;
-    var val: array<u32, 8>;
+    var key: array<u32, 16>;
+    var val: array<u32, 16>;
     var mine: array<u32, 8>;
     for (var e = 0u; e < PER_THREAD; e++) {
         key[e] = wg_keys[lid * PER_THREAD + e];

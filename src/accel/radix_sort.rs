@@ -14,8 +14,10 @@ pub(crate) const RADIX_SORT_WGSL: &str = concat!(include_str!("../../shaders/com
 /// Invocations of a workgroup (the WGSL's `GROUP`).
 const GROUP: u64 = 256;
 /// Keys per tile by default (the WGSL's `TILE`, `GROUP * PER_THREAD`);
-/// `RAYGRAPH_SORT_TILE=256|512|1024|2048` picks another, for comparing.
+/// `RAYGRAPH_SORT_TILE=256|512|1024|2048|4096` picks another, for comparing.
 const DEFAULT_TILE: u64 = 2048;
+/// The largest tile the WGSL takes.
+const MAX_TILE: u64 = 4096;
 /// Passes of 8 bits (the WGSL's `PASSES`): an even number, so the result lands in the input.
 const PASSES: u64 = 4;
 /// Words of the sort state: the histograms, the tickets, the count (the WGSL's `COUNT`) and
@@ -53,7 +55,13 @@ impl RadixSortJob {
 }
 
 impl GpuRadixSort {
-    /// Compiles the sort.
+    /// Keys per tile.
+    pub fn tile(&self) -> u64 {
+        self.tile
+    }
+
+    /// Compiles the sort (with tiles of 2,048 keys, or `RAYGRAPH_SORT_TILE`'s where the device's
+    /// workgroup memory holds them).
     pub fn new(device: &wgpu::Device) -> Self {
         let module = device
             .create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("radix_sort.wgsl"), source: wgpu::ShaderSource::Wgsl(RADIX_SORT_WGSL.into()) });
@@ -74,7 +82,7 @@ impl GpuRadixSort {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let tile = tile_from_env();
+        let tile = fitting_tile(tile_from_env(), device.limits().max_compute_workgroup_storage_size);
         let constants = [("PER_THREAD", (tile / GROUP) as f64)];
         let pipeline = |name: &str| compute_pipeline_with(device, name, &pipeline_layout, &module, name, &constants);
         Self { histogram: pipeline("radix_histogram"), scatter: pipeline("radix_scatter"), layout, tile }
@@ -134,13 +142,31 @@ impl GpuRadixSort {
     }
 }
 
-/// The tile size `RAYGRAPH_SORT_TILE` names (a power of two from 256 to 2048), else the default.
+/// Bytes of workgroup memory the scatter uses with tiles of `tile` keys: a key and a value a
+/// key, the 1,024 counts, the 2,048 packed scan words, two 256-entry starts and one word.
+fn workgroup_bytes(tile: u64) -> u64 {
+    8 * tile + 4 * (1024 + 2048 + 2 * 256 + 1)
+}
+
+/// `tile`, or the largest smaller tile whose workgroup memory fits the device's `limit`.
+fn fitting_tile(tile: u64, limit: u32) -> u64 {
+    let mut fitting = tile;
+    while fitting > GROUP && workgroup_bytes(fitting) > limit as u64 {
+        fitting /= 2;
+    }
+    if fitting != tile {
+        log::info!("radix sort: tiles of {tile} keys need {} bytes of workgroup memory, the device has {limit}: tiles of {fitting}", workgroup_bytes(tile));
+    }
+    fitting
+}
+
+/// The tile size `RAYGRAPH_SORT_TILE` names (a power of two from 256 to 4096), else the default.
 fn tile_from_env() -> u64 {
     match std::env::var("RAYGRAPH_SORT_TILE") {
         Ok(value) => match value.parse::<u64>() {
-            Ok(tile) if tile.is_power_of_two() && (GROUP..=DEFAULT_TILE).contains(&tile) => tile,
+            Ok(tile) if tile.is_power_of_two() && (GROUP..=MAX_TILE).contains(&tile) => tile,
             _ => {
-                log::warn!("RAYGRAPH_SORT_TILE={value}: not 256, 512, 1024 or 2048; the radix sort keeps tiles of {DEFAULT_TILE} keys");
+                log::warn!("RAYGRAPH_SORT_TILE={value}: not 256, 512, 1024, 2048 or 4096; the radix sort keeps tiles of {DEFAULT_TILE} keys");
                 DEFAULT_TILE
             }
         },

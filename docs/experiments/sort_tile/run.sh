@@ -4,7 +4,7 @@
 # stable CPU sort at every tile size, every tree checked node by node), then after a warm-up
 # `bench build --scenes organic,atrium --max-factor 1` with tiles of 2048 (the default), 1024,
 # 512 and 256 keys, in turn, twice each. The gpu_build.md rows are printed last, results in
-# $OUT/results.tgz.
+# $OUT/results.tgz. `TILES="2048 4096" run.sh`: those tiles instead.
 set -u
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 gunzip -f .gpu/*.gz && chmod +x .gpu/raygraph* .gpu/gpu_build_test 2>/dev/null
@@ -18,7 +18,7 @@ if [ -x .gpu/gpu_build_test ]; then
 fi
 (cd $ROOT && $RG bench rays --scenes box --backend compute --frames 5 --out /tmp/warm 2>&1 | grep -iE "adapter" | head -1)
 for k in 1 2; do
-  for tile in 2048 1024 512 256; do
+  for tile in ${TILES:-2048 1024 512 256}; do
     name=tile${tile}_$k
     if [ $SECONDS -gt ${DEADLINE:-420} ]; then echo "skipped: $name"; continue; fi
     (cd $ROOT && RAYGRAPH_SORT_TILE=$tile timeout 150 $RG bench build --scenes organic,atrium --max-factor 1 --out $OUT/runs/$name > $OUT/runs/$name.log 2>&1) || tail -3 $OUT/runs/$name.log
