@@ -102,3 +102,19 @@ fn emitter_density(probability: f32, n2: vec3<f32>, to: vec3<f32>) -> f32 {
     let cosine = abs(dot(normalize(n2), normalize(to)));
     return probability * dot(to, to) / max(0.5 * length(n2) * cosine, 1e-30);
 }
+
+// The diffuse part of `light_radiance` (common/lighting.wgsl, which the includer includes) for
+// irradiance `e` from `l`: the base's Lambert lobe, less what its Fresnel term and the clear
+// coat reflect (rt/shadow.wgsl and common/restir.wgsl light smooth surfaces by it).
+fn diffuse_radiance(s: ShadingPoint, l: vec3<f32>, e: vec3<f32>) -> vec3<f32> {
+    let n_l = dot(s.normal, l);
+    if n_l <= 0.0 || s.unlit {
+        return vec3<f32>(0.0);
+    }
+    let f = point_fresnel(s, max(dot(normalize(l + s.view), s.view), 0.0));
+    var diffuse = (vec3<f32>(1.0) - f) * (1.0 - s.metallic) * s.albedo * e * n_l;
+    if SCENE_LOBES && s.clearcoat > 0.0 {
+        diffuse *= 1.0 - s.clearcoat * coat_fresnel(dot(s.coat_normal, s.view));
+    }
+    return diffuse;
+}

@@ -134,21 +134,6 @@ fn light_result(i: u32, s: ShadingPoint, at: ShadowPoint, state: ptr<function, u
     return out;
 }
 
-// The diffuse part of `light_radiance` (common/lighting.wgsl) for irradiance `e` from `l`: the
-// base's Lambert lobe, less what its Fresnel term and the clear coat reflect.
-fn diffuse_radiance(s: ShadingPoint, l: vec3<f32>, e: vec3<f32>) -> vec3<f32> {
-    let n_l = dot(s.normal, l);
-    if n_l <= 0.0 || s.unlit {
-        return vec3<f32>(0.0);
-    }
-    let f = point_fresnel(s, max(dot(normalize(l + s.view), s.view), 0.0));
-    var diffuse = (vec3<f32>(1.0) - f) * (1.0 - s.metallic) * s.albedo * e * n_l;
-    if SCENE_LOBES && s.clearcoat > 0.0 {
-        diffuse *= 1.0 - s.clearcoat * coat_fresnel(dot(s.coat_normal, s.view));
-    }
-    return diffuse;
-}
-
 // The emissive triangles' light at `s` (shading normal `s.normal`, lit from the side of
 // `facing`), by `params.emitter_rays` points picked by power, each a ray from `origin`:
 // x the shadowed light, y the unshadowed one (each the mean over the points).

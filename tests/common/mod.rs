@@ -5,6 +5,7 @@
 pub mod disk;
 pub mod endless_fog;
 pub mod gltf_doc;
+pub mod lights;
 pub mod material_scene;
 pub mod modes;
 pub mod xvfb;

@@ -1,0 +1,64 @@
+// ReSTIR DI, shading (common/restir.wgsl): the light of the sample each pixel's reservoir keeps
+// (after spatial reuse, rt/restir_spatial.wgsl), times its W and its shadow ray's visibility:
+// the pixel's direct light.
+//#include "common/frame.wgsl"
+//#include "common/camera.wgsl"
+//#include "common/ray_offset.wgsl"
+//#include "common/lighting.wgsl"
+//#include "common/scene.wgsl"
+//#include "common/gbuffer_lobes.wgsl"
+//#include "common/sampling.wgsl"
+//#include "common/emitters.wgsl"
+//#include "trace/trace.wgsl"
+//#include "common/shadow_ray.wgsl"
+//#include "common/restir.wgsl"
+//#include "common/restir_visibility.wgsl"
+
+struct Params {
+    candidates: u32,
+    visibility_reuse: u32,
+    temporal: u32,
+    max_history: f32,
+    spatial_samples: u32,
+    spatial_radius: f32,
+    per_frame: u32,
+    seed: u32,
+    reflection_roughness: f32,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var position: texture_2d<f32>;
+@group(0) @binding(3) var geo_normal: texture_2d<f32>;
+@group(0) @binding(4) var normal: texture_2d<f32>;
+@group(0) @binding(5) var albedo: texture_2d<f32>;
+@group(0) @binding(6) var material: texture_2d<f32>;
+@group(0) @binding(7) var lobes: texture_2d<u32>;
+@group(0) @binding(8) var<storage, read> scene_lights: array<Light>;
+@group(0) @binding(9) var<storage, read> scene_instances: array<Instance>;
+@group(0) @binding(10) var<storage, read> scene_materials: array<Material>;
+@group(0) @binding(11) var<storage, read> scene_emitters: array<u32>;
+@group(0) @binding(12) var kept: texture_2d<u32>;
+@group(0) @binding(13) var direct: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(direct);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let at = restir_surface(id.xy);
+    if !at.valid {
+        textureStore(direct, id.xy, vec4<f32>(0.0));
+        return;
+    }
+    let r = reservoir_unpack(textureLoad(kept, id.xy, 0));
+    var light = vec3<f32>(0.0);
+    if r.light != RESTIR_NONE {
+        let toward = restir_light(at, r.light, r.uv);
+        light = toward.radiance * r.weight * restir_visibility(at, r.light, toward);
+    }
+    // a = 1: the direct light was computed here (the resolve's fallback has a = 0).
+    textureStore(direct, id.xy, vec4<f32>(light, 1.0));
+    trace_flush_stats();
+}
