@@ -36,6 +36,7 @@ struct Params {
     samples: u32,
     max_bounces: u32,
     seed: u32,
+    light_candidates: u32,
 }
 
 // Bindings 0-6: common/scene_bindings.wgsl.
@@ -250,6 +251,10 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     var rng = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(params.seed ^ pcg_hash(frame.frame_index))));
+    // Next-event estimation at each vertex (common/hit_lighting.wgsl): every light, or one
+    // picked from `light_candidates`.
+    hit_light_candidates = params.light_candidates;
+    hit_light_state = pcg_hash(rng ^ 0x9e3779b9u);
     var sum = vec4<f32>(0.0);
     for (var i = 0u; i < params.samples; i++) {
         let path = trace_path(camera_ray_through(vec2<f32>(id.xy) + next_random2(&rng)), &rng);

@@ -16,6 +16,7 @@ pub mod repeat;
 pub mod roofline;
 pub mod scale;
 pub mod track;
+pub mod lights;
 pub mod truth;
 
 use std::path::{Path, PathBuf};

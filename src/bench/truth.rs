@@ -72,20 +72,20 @@ pub struct TruthRow {
 }
 
 /// A rendered image: its HDR texels, its tone-mapped output and the medians of its frames.
-struct Rendered {
-    hdr: Vec<[f32; 4]>,
-    ldr: image::RgbaImage,
-    gpu_ms: f64,
-    wall_ms: f64,
+pub(crate) struct Rendered {
+    pub(crate) hdr: Vec<[f32; 4]>,
+    pub(crate) ldr: image::RgbaImage,
+    pub(crate) gpu_ms: f64,
+    pub(crate) wall_ms: f64,
 }
 
 /// Renders `graph` with `params` on `scene` (warm-up, then `frames` timed frames) and reads its
 /// HDR output (`hdr_output`) and its output.
-fn render(gpu: &Gpu, cfg: &TruthConfig, view: &(Scene, Camera), graph: &str, params: &[(&str, &str, i64)], frames: u32) -> Result<Rendered, RuntimeError> {
+pub(crate) fn render(gpu: &Gpu, cfg: &TruthConfig, view: &(Scene, Camera), graph: &str, params: &[(&str, &str, ParamValue)], frames: u32) -> Result<Rendered, RuntimeError> {
     let (scene, camera) = view;
     let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
-    for &(node, param, value) in params {
-        options.params.insert((node.into(), param.into()), ParamValue::Int(value));
+    for (node, param, value) in params {
+        options.params.insert((node.to_string(), param.to_string()), value.clone());
     }
     let path = cfg.root.join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), cfg.size, &options)?;
@@ -134,7 +134,7 @@ fn flip_map(reference: &image::RgbaImage, test: &image::RgbaImage) -> nv_flip::F
 
 /// Compares `test` with the reference, writes its image and its ꟻLIP map (magma) into `out`
 /// as `{stem}.png` and `{stem}_flip.png`, and gives its row.
-fn judge(reference: &Rendered, test: &Rendered, scene: &str, mode: String, paths: Option<u32>, out: &Path) -> Result<TruthRow, RuntimeError> {
+pub(crate) fn judge(reference: &Rendered, test: &Rendered, scene: &str, mode: String, paths: Option<u32>, out: &Path) -> Result<TruthRow, RuntimeError> {
     let stem = format!("{scene}_{}", mode.replace(' ', "_").replace('\'', ""));
     let map = flip_map(&reference.ldr, &test.ldr);
     let flip = nv_flip::FlipPool::from_image(&map).mean();
@@ -166,7 +166,7 @@ pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path,
     let mut rows = Vec::new();
     let samples = cfg.reference_samples.max(1);
     for (name, scene) in &views(gpu, cfg, scenes)? {
-        let reference = render(gpu, cfg, scene, REFERENCE_GRAPH, &[("path", "samples", samples as i64)], cfg.reference_frames)?;
+        let reference = render(gpu, cfg, scene, REFERENCE_GRAPH, &[("path", "samples", ParamValue::Int(samples as i64))], cfg.reference_frames)?;
         crate::runtime::exec::write_png(&out.join(format!("{name}_reference.png")), &reference.ldr)?;
         let ms_per_path = reference.gpu_ms / samples as f64;
         for (mode, graph) in TRUTH_MODES {
@@ -175,7 +175,7 @@ pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path,
             on_row(&rows);
             // The path tracer in the mode's GPU time: one frame of that many paths a pixel.
             let paths = ((test.gpu_ms / ms_per_path).floor() as u32).max(1);
-            let params = [("path", "samples", paths as i64), ("path", "seed", 1), ("accumulate", "max_frames", 1)];
+            let params = [("path", "samples", ParamValue::Int(paths as i64)), ("path", "seed", ParamValue::Int(1)), ("accumulate", "max_frames", ParamValue::Int(1))];
             let equal = render(gpu, cfg, scene, REFERENCE_GRAPH, &params, cfg.mode_frames)?;
             rows.push(judge(&reference, &equal, name, format!("path tracer at {mode}'s time"), Some(paths), out)?);
             on_row(&rows);

@@ -11,6 +11,7 @@ pub(crate) mod rays;
 pub(crate) mod roofline;
 pub(crate) mod scale;
 pub(crate) mod track;
+pub(crate) mod lights;
 pub(crate) mod truth;
 
 use anyhow::Result;
@@ -53,6 +54,11 @@ pub(crate) enum BenchCommand {
     /// (`graph/reference.ron`): relMSE and ꟻLIP with GPU and wall ms, the path tracer at each
     /// mode's time, images and error maps (ACCURACY.md, "Modes against ground truth").
     Truth(truth::TruthArgs),
+    /// The direct light of many lights: every light's shadow ray, one light picked by
+    /// resampling from M candidates (several M), and ReSTIR DI (`graph/hybrid_restir.ron`)
+    /// against the path-traced reference: GPU and wall ms, relMSE, ꟻLIP and flicker on a camera
+    /// track (ACCURACY.md, "Many lights at equal time").
+    Lights(lights::LightsArgs),
 }
 
 /// Runs the bench.
@@ -68,5 +74,6 @@ pub(crate) fn run(command: BenchCommand) -> Result<()> {
         BenchCommand::Modes(args) => modes::run(args),
         BenchCommand::Depth(args) => depth::run(args),
         BenchCommand::Truth(args) => truth::run(args),
+        BenchCommand::Lights(args) => lights::run(args),
     }
 }
