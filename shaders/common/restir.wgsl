@@ -11,9 +11,12 @@
 //
 // A reservoir (one Rgba32Uint texel): the sample (kind << 31 | index, RESTIR_NONE for none),
 // its barycentrics as two 16-bit unorms, its unbiased contribution weight W and its candidate
-// count M. Reservoirs are combined with weights target x W x M and normalised by the summed M
-// (the paper's biased combination: no visibility in the normalisation, so a neighbour across a
-// shadow boundary biases towards darkening less than the unbiased variant's extra rays would).
+// count M. The temporal pass combines a pixel's reservoir with its previous one by weights
+// target x W x M normalised by the summed M; the spatial pass weights each reused sample by the
+// generalised balance heuristic over the surfaces (rt/restir_spatial.wgsl). Both are the biased
+// variant: no shadow ray enters the weights, so a neighbour's sample blocked here, or a sample
+// the visibility reuse dropped there, shifts the estimate (ACCURACY.md, "Many lights at equal
+// time", measures it).
 //
 // Needs the includer's G-buffer bindings (position, geo_normal, normal, albedo, material,
 // lobes), `frame`, `scene_lights`, `scene_emitters`, `scene_instances`, `scene_materials` and

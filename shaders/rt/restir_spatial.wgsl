@@ -1,9 +1,10 @@
 // ReSTIR DI, spatial reuse (common/restir.wgsl): each pixel's reservoir combined
 // with those of `spatial_samples` random pixels within `spatial_radius` whose surfaces are
 // alike (normals within 25 degrees, depths within 10%), each weighted by the generalised
-// balance heuristic over the surfaces' targets (a sample's share is its surface's M x target
-// over the sum over every surface's: a neighbour's sample that is dim there and bright here
-// does not count for more than it is worth, as the M-normalised sum lets it). The combined
+// balance heuristic over the surfaces (a sample's share is its surface's M x what its light
+// brings there over the sum over every surface's: a neighbour's sample that is dim there and
+// bright here does not count for more than it is worth, as the M-normalised sum lets it; with
+// that sum the reservoirs' W grew without bound over the frames in tests/restir.rs). The combined
 // reservoir is kept for the next frame's temporal reuse (as it is: keeping W = 0 where the
 // shading pass's ray is blocked moved tests/restir.rs's mean from +1.5% to -2.2%, the noise
 // unchanged) and shaded by rt/restir_shade.wgsl.
@@ -60,17 +61,20 @@ fn alike(at: RestirSurface, q: vec2<u32>) -> bool {
 // Most neighbours a pixel reuses (the layer's `spatial_samples` maximum).
 const MOST_NEIGHBOURS: u32 = 8u;
 
-// The pixel's own reservoir and its alike neighbours', with their surfaces.
+// The pixel's own reservoir and its alike neighbours', with their surfaces' positions and
+// normals (for the balance heuristic's weights).
 struct Reuse {
-    pixels: array<vec2<u32>, 9>,
     reservoirs: array<Reservoir, 9>,
+    positions: array<vec3<f32>, 9>,
+    normals: array<vec3<f32>, 9>,
     count: u32,
 }
 
 fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function, u32>) -> Reuse {
     var out: Reuse;
-    out.pixels[0] = id;
     out.reservoirs[0] = reservoir_unpack(textureLoad(temporal, id, 0));
+    out.positions[0] = at.s.position;
+    out.normals[0] = at.s.normal;
     out.count = 1u;
     for (var k = 0u; k < min(params.spatial_samples, MOST_NEIGHBOURS); k++) {
         let offset = (next_random2(state) * 2.0 - 1.0) * params.spatial_radius;
@@ -78,22 +82,53 @@ fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function
         if any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size)) || all(vec2<u32>(q) == id) || !alike(at, vec2<u32>(q)) {
             continue;
         }
-        out.pixels[out.count] = vec2<u32>(q);
         out.reservoirs[out.count] = reservoir_unpack(textureLoad(temporal, q, 0));
+        out.positions[out.count] = textureLoad(position, q, 0).xyz;
+        out.normals[out.count] = normalize(textureLoad(normal, q, 0).xyz);
         out.count += 1u;
     }
     return out;
 }
 
-// The gathered reservoirs resampled into one for the pixel (the first surface): sample i's
-// weight is its generalised balance-heuristic share (M_i x target_i over the sum of M_j x
-// target_j over the surfaces j) x its target here x its W; W = the summed weights over the
-// kept sample's target here.
-fn combine(reuse: Reuse, state: ptr<function, u32>) -> Reservoir {
-    var surfaces: array<RestirSurface, 9>;
-    for (var j = 0u; j < reuse.count; j++) {
-        surfaces[j] = restir_surface(reuse.pixels[j]);
+// The balance heuristic's weight of sample `i` of `reuse` among the surfaces: M_i x g_i over
+// the sum of M_j x g_j, where g_j is the luminance of the irradiance the sample's light would
+// bring surface j (its position and normal: no material, no shadows), and for the pixel itself
+// (j = 0) its full target `here`. The weights of the surfaces sum to one whatever g is, so a
+// cheap stand-in for the neighbours' targets keeps the combination's normalisation.
+fn balance_weight(reuse: Reuse, i: u32, here: f32) -> f32 {
+    let r = reuse.reservoirs[i];
+    // The pixel itself by its full target (which the caller has).
+    var all_surfaces = reuse.reservoirs[0].count * here;
+    var own = select(0.0, all_surfaces, i == 0u);
+    if (r.light & RESTIR_EMITTER) == 0u {
+        let light = scene_lights[r.light];
+        for (var j = 1u; j < reuse.count; j++) {
+            let ls = light_sample(light, reuse.positions[j]);
+            let g = reuse.reservoirs[j].count * restir_luminance(ls.e) * max(dot(reuse.normals[j], ls.l), 0.0);
+            all_surfaces += g;
+            own = select(own, g, j == i);
+        }
+    } else {
+        let t = emitter_triangle(r.light & (RESTIR_EMITTER - 1u));
+        let x = emitter_point(t, r.uv);
+        let facing = normalize(t.normal);
+        let radiance = restir_luminance(t.emission);
+        for (var j = 1u; j < reuse.count; j++) {
+            let to = x - reuse.positions[j];
+            let d2 = max(dot(to, to), 1e-12);
+            let l = to * inverseSqrt(d2);
+            let g = reuse.reservoirs[j].count * radiance * abs(dot(l, facing)) / d2 * max(dot(reuse.normals[j], l), 0.0);
+            all_surfaces += g;
+            own = select(own, g, j == i);
+        }
     }
+    return select(0.0, own / all_surfaces, all_surfaces > 0.0);
+}
+
+// The gathered reservoirs resampled into one for the pixel: sample i's weight is its
+// balance-heuristic weight x its target here x its W; W = the summed weights over the kept
+// sample's target here.
+fn combine(at: RestirSurface, reuse: Reuse, state: ptr<function, u32>) -> Reservoir {
     var stream = restir_stream();
     for (var i = 0u; i < reuse.count; i++) {
         let r = reuse.reservoirs[i];
@@ -101,16 +136,8 @@ fn combine(reuse: Reuse, state: ptr<function, u32>) -> Reservoir {
         if r.light == RESTIR_NONE || r.weight <= 0.0 {
             continue;
         }
-        var all_surfaces = 0.0;
-        var own = 0.0;
-        var here = 0.0;
-        for (var j = 0u; j < reuse.count; j++) {
-            let goal = restir_target(surfaces[j], r.light, r.uv);
-            all_surfaces += reuse.reservoirs[j].count * goal;
-            own = select(own, reuse.reservoirs[j].count * goal, j == i);
-            here = select(here, goal, j == 0u);
-        }
-        let w = select(0.0, own / all_surfaces, all_surfaces > 0.0) * here * r.weight;
+        let here = restir_target(at, r.light, r.uv);
+        let w = balance_weight(reuse, i, here) * here * r.weight;
         if w > 0.0 {
             stream.weight_sum += w;
             if next_random1(state) * stream.weight_sum < w {
@@ -138,7 +165,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var r = reservoir_empty();
     if at.valid {
         var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(0x85ebca6bu ^ frame_seed(params.seed, frame.frame_index, params.per_frame))));
-        r = combine(gather(at, id.xy, size, &state), &state);
+        r = combine(at, gather(at, id.xy, size, &state), &state);
     }
     textureStore(reservoirs, id.xy, reservoir_pack(r));
     textureStore(kept, id.xy, reservoir_pack(r));

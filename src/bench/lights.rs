@@ -40,7 +40,7 @@ pub struct LightsConfig {
 pub struct LightsRow {
     /// The scene's name.
     pub scene: String,
-    /// `every light`, `resampling, M = m` or `ReSTIR DI`.
+    /// `every light`, `resampling from m` or `ReSTIR DI`.
     pub estimator: String,
     /// GPU ms per frame (median of the timed frames).
     pub gpu_ms: f64,
@@ -68,7 +68,7 @@ fn estimators(candidates: &[u32]) -> Vec<(String, &'static str, Vec<(&'static st
             ("reflection", "light_candidates", ParamValue::Int(8)),
             ("reflection", "per_frame", ParamValue::Bool(true)),
         ];
-        out.push((format!("resampling, M = {m}"), "graph/hybrid.ron", params));
+        out.push((format!("resampling from {m}"), "graph/hybrid.ron", params));
     }
     out.push(("ReSTIR DI".to_string(), "graph/hybrid_restir.ron", Vec::new()));
     out
@@ -97,7 +97,8 @@ fn flicker(gpu: &Gpu, cfg: &LightsConfig, view: &(Scene, Camera), graph: &str, p
     let plan = compile_with(&path, &Project::beside_graph(&path), cfg.truth.size, &options)?;
     let mut exec = Executor::new(gpu, plan, scene)?;
     crate::runtime::warm_up::WarmUp::for_gpu(gpu, cfg.truth.warmup).run(gpu, &mut exec, scene, camera)?;
-    let luminance = |img: &image::RgbaImage| -> Vec<f64> { img.pixels().map(|p| crate::util::luminance([p[0] as f32, p[1] as f32, p[2] as f32]) as f64 / 255.0).collect() };
+    let luminance =
+        |img: &image::RgbaImage| -> Vec<f64> { img.pixels().map(|p| crate::util::luminance([p[0] as f32, p[1] as f32, p[2] as f32]) as f64 / 255.0).collect() };
     let mut previous: Option<Vec<f64>> = None;
     let mut changes = Vec::new();
     for i in 0..cfg.track_frames.max(2) {
@@ -114,12 +115,21 @@ fn flicker(gpu: &Gpu, cfg: &LightsConfig, view: &(Scene, Camera), graph: &str, p
 }
 
 /// Every estimator on every scene (its own camera); `on_row` sees the rows after each one.
-pub fn run(gpu: &Gpu, cfg: &LightsConfig, scenes: &[(String, Scene)], out: &Path, mut on_row: impl FnMut(&[LightsRow])) -> Result<Vec<LightsRow>, RuntimeError> {
+pub fn run(
+    gpu: &Gpu,
+    cfg: &LightsConfig,
+    scenes: &[(String, Scene)],
+    out: &Path,
+    mut on_row: impl FnMut(&[LightsRow]),
+) -> Result<Vec<LightsRow>, RuntimeError> {
     let mut rows = Vec::new();
     let t = &cfg.truth;
     for (name, scene) in scenes {
         let view = (scene.clone(), *scene.camera());
-        let reference_params = [("path", "samples", ParamValue::Int(t.reference_samples.max(1) as i64)), ("path", "light_candidates", ParamValue::Int(cfg.reference_candidates as i64))];
+        let reference_params = [
+            ("path", "samples", ParamValue::Int(t.reference_samples.max(1) as i64)),
+            ("path", "light_candidates", ParamValue::Int(cfg.reference_candidates as i64)),
+        ];
         let reference = render(gpu, t, &view, REFERENCE_GRAPH, &reference_params, t.reference_frames)?;
         crate::runtime::exec::write_png(&out.join(format!("{name}_reference.png")), &reference.ldr)?;
         let mut every: Option<Rendered> = None;
@@ -183,7 +193,10 @@ pub fn markdown(info: &RunInfo, cfg: &LightsConfig, rows: &[LightsRow]) -> Strin
     for restir in rows.iter().filter(|r| r.estimator == "ReSTIR DI") {
         let equal = rows.iter().filter(|r| r.scene == restir.scene && r.estimator.starts_with("resampling") && r.gpu_ms <= restir.gpu_ms).last();
         s.push_str(&match equal {
-            Some(e) => format!("\n{}: at ReSTIR DI's {:.3} ms, {} ({:.3} ms): relMSE {:.5} against {:.5}, ꟻLIP {:.4} against {:.4}, flicker {:.5} against {:.5}.\n", restir.scene, restir.gpu_ms, e.estimator, e.gpu_ms, e.rel_mse, restir.rel_mse, e.flip, restir.flip, e.flicker, restir.flicker),
+            Some(e) => format!(
+                "\n{}: at ReSTIR DI's {:.3} ms, {} ({:.3} ms): relMSE {:.5} against {:.5}, ꟻLIP {:.4} against {:.4}, flicker {:.5} against {:.5}.\n",
+                restir.scene, restir.gpu_ms, e.estimator, e.gpu_ms, e.rel_mse, restir.rel_mse, e.flip, restir.flip, e.flicker, restir.flicker
+            ),
             None => format!("\n{}: no resampling row took at most ReSTIR DI's {:.3} ms.\n", restir.scene, restir.gpu_ms),
         });
     }

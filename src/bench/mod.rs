@@ -9,6 +9,7 @@ pub mod conformance;
 pub mod depth;
 pub mod error;
 pub mod filters;
+pub mod lights;
 pub mod modes;
 pub mod plot;
 pub mod rays;
@@ -16,7 +17,6 @@ pub mod repeat;
 pub mod roofline;
 pub mod scale;
 pub mod track;
-pub mod lights;
 pub mod truth;
 
 use std::path::{Path, PathBuf};

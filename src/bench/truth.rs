@@ -81,7 +81,14 @@ pub(crate) struct Rendered {
 
 /// Renders `graph` with `params` on `scene` (warm-up, then `frames` timed frames) and reads its
 /// HDR output (`hdr_output`) and its output.
-pub(crate) fn render(gpu: &Gpu, cfg: &TruthConfig, view: &(Scene, Camera), graph: &str, params: &[(&str, &str, ParamValue)], frames: u32) -> Result<Rendered, RuntimeError> {
+pub(crate) fn render(
+    gpu: &Gpu,
+    cfg: &TruthConfig,
+    view: &(Scene, Camera),
+    graph: &str,
+    params: &[(&str, &str, ParamValue)],
+    frames: u32,
+) -> Result<Rendered, RuntimeError> {
     let (scene, camera) = view;
     let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
     for (node, param, value) in params {
@@ -175,7 +182,8 @@ pub fn run(gpu: &Gpu, cfg: &TruthConfig, scenes: &[(String, Scene)], out: &Path,
             on_row(&rows);
             // The path tracer in the mode's GPU time: one frame of that many paths a pixel.
             let paths = ((test.gpu_ms / ms_per_path).floor() as u32).max(1);
-            let params = [("path", "samples", ParamValue::Int(paths as i64)), ("path", "seed", ParamValue::Int(1)), ("accumulate", "max_frames", ParamValue::Int(1))];
+            let params =
+                [("path", "samples", ParamValue::Int(paths as i64)), ("path", "seed", ParamValue::Int(1)), ("accumulate", "max_frames", ParamValue::Int(1))];
             let equal = render(gpu, cfg, scene, REFERENCE_GRAPH, &params, cfg.mode_frames)?;
             rows.push(judge(&reference, &equal, name, format!("path tracer at {mode}'s time"), Some(paths), out)?);
             on_row(&rows);

@@ -32,4 +32,7 @@ for g in graph/hybrid_restir.ron graph/hybrid_m8.ron graph/hybrid_restir.ron gra
 done
 rm -f graph/hybrid_m8.ron
 cat $OUT/r/lights/lights.md
+# The images but the reference's, every light's, resampling from 64 and ReSTIR DI's stay behind (size).
+rm -f $OUT/r/x.png
+cd $OUT/r/lights && ls *.png | grep -vE '^atrium-lights_(reference|every_light|resampling_from_64|ReSTIR_DI)(_flip)?\.png$' | xargs rm -f
 cd $OUT && tar czf restir.tgz r 2>/dev/null; rm -rf r

@@ -5,13 +5,13 @@ pub(crate) mod anim;
 pub(crate) mod build;
 pub(crate) mod depth;
 pub(crate) mod error;
+pub(crate) mod lights;
 pub(crate) mod modes;
 pub(crate) mod output;
 pub(crate) mod rays;
 pub(crate) mod roofline;
 pub(crate) mod scale;
 pub(crate) mod track;
-pub(crate) mod lights;
 pub(crate) mod truth;
 
 use anyhow::Result;
