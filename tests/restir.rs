@@ -100,10 +100,10 @@ fn restir_is_less_noisy_than_resampling_alone_and_close_to_every_light() {
         noise.push(rms);
         bias.push(mean_bias);
     }
-    // Measured on lavapipe (Mesa 25.0.7), 2026-11-30: one frame's RMS 0.295 (ReSTIR DI), 0.494
-    // (spatial reuse alone), 0.297 (without visibility reuse), 0.903 (resampling alone); the
-    // means -1.28%, -0.83%, -1.67% and +0.61%. Bounds: ReSTIR DI at most half as noisy as
-    // resampling alone (3.1x less measured), its spatial reuse alone at most 0.7 of it (0.55
+    // Measured on lavapipe (Mesa 25.0.7), 2026-11-30: one frame's RMS 0.281 (ReSTIR DI), 0.488
+    // (spatial reuse alone), 0.290 (without visibility reuse), 0.903 (resampling alone); the
+    // means +0.27%, -0.82%, +0.58% and +0.61%. Bounds: ReSTIR DI at most half as noisy as
+    // resampling alone (3.2x less measured), its spatial reuse alone at most 0.7 of it (0.54
     // measured). The means of one run wander with its seed: the reservoirs carry samples over
     // frames and neighbours, so their errors do not average out over a still camera's frames
     // (frames 9-64 with seeds 1, 2, 3: -0.86%, -3.90%, +0.12%, and without visibility reuse

@@ -67,7 +67,15 @@ struct Reuse {
     reservoirs: array<Reservoir, 9>,
     positions: array<vec3<f32>, 9>,
     normals: array<vec3<f32>, 9>,
+    // The luminance of each surface's albedo (0 where it is unlit).
+    reflectances: array<f32, 9>,
     count: u32,
+}
+
+// The luminance of the albedo at `q`, 0 where the surface is unlit.
+fn reflectance(q: vec2<u32>) -> f32 {
+    let unlit = gbuffer_unlit(textureLoad(material, q, 0).a);
+    return select(restir_luminance(textureLoad(albedo, q, 0).rgb), 0.0, unlit);
 }
 
 fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function, u32>) -> Reuse {
@@ -85,6 +93,7 @@ fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function
         out.reservoirs[out.count] = reservoir_unpack(textureLoad(temporal, q, 0));
         out.positions[out.count] = textureLoad(position, q, 0).xyz;
         out.normals[out.count] = normalize(textureLoad(normal, q, 0).xyz);
+        out.reflectances[out.count] = reflectance(vec2<u32>(q));
         out.count += 1u;
     }
     return out;
@@ -92,9 +101,14 @@ fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function
 
 // The balance heuristic's weight of sample `i` of `reuse` among the surfaces: M_i x g_i over
 // the sum of M_j x g_j, where g_j is the luminance of the irradiance the sample's light would
-// bring surface j (its position and normal: no material, no shadows), and for the pixel itself
-// (j = 0) its full target `here`. The weights of the surfaces sum to one whatever g is, so a
-// cheap stand-in for the neighbours' targets keeps the combination's normalisation.
+// bring surface j (its position and normal, no shadows) times its albedo's luminance (a Lambert
+// stand-in for its BRDF: 0 where the target is 0 on black and unlit surfaces), and for the
+// pixel itself (j = 0) its full target `here`. The weights of the surfaces sum to one whatever
+// g is, so a cheap stand-in for the neighbours' targets keeps the combination's normalisation;
+// where it is 0 and the target is not (a black surface's specular lobe), or the other way,
+// the estimate shifts (tests/emissive_lights.rs, the emissive disk beside its black occluder:
+// the floor's mean deviation -0.0032 with this stand-in, -0.0046 with the irradiance alone,
+// -0.0016 with every surface's full target, which cost 11 ms at 2560x1440 on the H200).
 fn balance_weight(reuse: Reuse, i: u32, here: f32) -> f32 {
     let r = reuse.reservoirs[i];
     // The pixel itself by its full target (which the caller has).
@@ -104,7 +118,7 @@ fn balance_weight(reuse: Reuse, i: u32, here: f32) -> f32 {
         let light = scene_lights[r.light];
         for (var j = 1u; j < reuse.count; j++) {
             let ls = light_sample(light, reuse.positions[j]);
-            let g = reuse.reservoirs[j].count * restir_luminance(ls.e) * max(dot(reuse.normals[j], ls.l), 0.0);
+            let g = reuse.reservoirs[j].count * reuse.reflectances[j] * restir_luminance(ls.e) * max(dot(reuse.normals[j], ls.l), 0.0);
             all_surfaces += g;
             own = select(own, g, j == i);
         }
@@ -117,7 +131,7 @@ fn balance_weight(reuse: Reuse, i: u32, here: f32) -> f32 {
             let to = x - reuse.positions[j];
             let d2 = max(dot(to, to), 1e-12);
             let l = to * inverseSqrt(d2);
-            let g = reuse.reservoirs[j].count * radiance * abs(dot(l, facing)) / d2 * max(dot(reuse.normals[j], l), 0.0);
+            let g = reuse.reservoirs[j].count * reuse.reflectances[j] * radiance * abs(dot(l, facing)) / d2 * max(dot(reuse.normals[j], l), 0.0);
             all_surfaces += g;
             own = select(own, g, j == i);
         }
