@@ -3,14 +3,17 @@
 // rt/restir_initial.wgsl, rt/restir_temporal.wgsl and rt/restir_spatial.wgsl
 // (layers/restir_di.ron).
 //
-// A light sample is a punctual light (its index) or a point of an emissive triangle (its
-// record and barycentrics). Their domains are disjoint, so a candidate's source density is the
-// chance of its kind times its density within it: a punctual light drawn uniformly, an emitter
-// point by the triangle's power (common/emitters.wgsl) and uniformly on it (area measure). The
-// target function is the luminance of the sample's unshadowed light at the shading point.
+// A light sample is a punctual light (its index), a point of an emissive triangle (its record
+// and barycentrics) or a direction of the environment map (`--env`). Their domains are
+// disjoint, so a candidate's source density is the chance of its kind times its density within
+// it: a punctual light drawn uniformly, an emitter point by the triangle's power
+// (common/emitters.wgsl) and uniformly on it (area measure), a direction from the map's alias
+// table (common/environment_sampling.wgsl; solid angle). The target function is the luminance
+// of the sample's unshadowed light at the shading point (the map's diffuse light alone).
 //
-// A reservoir (one Rgba32Uint texel): the sample (kind << 31 | index, RESTIR_NONE for none),
-// its barycentrics as two 16-bit unorms, its unbiased contribution weight W and its candidate
+// A reservoir (one Rgba32Uint texel): the sample (a punctual light's index, RESTIR_EMITTER |
+// an emitter's record, RESTIR_ENVIRONMENT, or RESTIR_NONE), its barycentrics or direction as two
+// 16-bit unorms, its unbiased contribution weight W and its candidate
 // count M. The temporal pass combines a pixel's reservoir with its previous one by weights
 // target x W x M normalised by the summed M; the spatial pass weights each reused sample by the
 // generalised balance heuristic over the surfaces (rt/restir_spatial.wgsl). Both are the biased
@@ -26,6 +29,22 @@
 
 const RESTIR_NONE: u32 = 0xffffffffu;
 const RESTIR_EMITTER: u32 = 0x80000000u;
+// The environment map: a direction, its octahedral coordinates in the barycentrics' place.
+const RESTIR_ENVIRONMENT: u32 = 0x40000000u;
+
+fn restir_is_punctual(light: u32) -> bool {
+    return light < RESTIR_ENVIRONMENT;
+}
+
+// Whether the environment map is among the sources: a map with its sampling table.
+fn restir_environment() -> bool {
+    return has_environment() && scene_environment_params.sampled != 0u;
+}
+
+// The world direction of an environment sample.
+fn restir_environment_direction(uv: vec2<f32>) -> vec3<f32> {
+    return octahedral_decode(uv * 2.0 - 1.0);
+}
 
 struct Reservoir {
     light: u32,
@@ -100,7 +119,18 @@ fn restir_light(at: RestirSurface, light: u32, uv: vec2<f32>) -> RestirLight {
     if light == RESTIR_NONE {
         return out;
     }
-    if (light & RESTIR_EMITTER) == 0u {
+    if light == RESTIR_ENVIRONMENT {
+        out.l = restir_environment_direction(uv);
+        out.distance = 3.0e38;
+        if dot(out.l, at.facing) > 0.0 {
+            // Per steradian, in light_radiance's units (a solid angle's irradiance over pi); the
+            // diffuse part alone: the reflection pass and the resolve's split sum bring the map's
+            // specular light.
+            out.radiance = diffuse_radiance(at.s, out.l, environment_radiance(out.l) / PI);
+        }
+        return out;
+    }
+    if restir_is_punctual(light) {
         let ls = light_sample(scene_lights[light], at.s.position);
         out.l = ls.l;
         out.distance = ls.distance;

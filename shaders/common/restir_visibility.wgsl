@@ -4,7 +4,7 @@
 
 // Whether the shadow ray from `at` to a sample reaches it (its BLEND surfaces' transmittance).
 fn restir_visibility(at: RestirSurface, light: u32, toward: RestirLight) -> f32 {
-    if (light & RESTIR_EMITTER) == 0u {
+    if restir_is_punctual(light) {
         let origin = shadow_ray_origin(at.flat_origin, at.s.position, at.geo, at.s.normal, at.offset, scene_lights[light]);
         return light_transmittance(scene_lights[light], origin, at.facing);
     }

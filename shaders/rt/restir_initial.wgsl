@@ -1,6 +1,6 @@
 // ReSTIR DI, first pass (common/restir.wgsl): per pixel, `params.candidates` light samples
-// (punctual lights drawn uniformly, emitter points by power; half of each where the scene has
-// both) resampled into one reservoir by the luminance of their unshadowed light; then, with
+// (punctual lights drawn uniformly, emitter points by power, directions of the environment map
+// from its alias table; an equal share of each source the scene has) resampled into one reservoir by the luminance of their unshadowed light; then, with
 // `visibility_reuse`, its sample's shadow ray: a blocked sample's W is 0 before any reuse.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
@@ -12,6 +12,7 @@
 //#include "trace/trace.wgsl"
 //#include "common/shadow_ray.wgsl"
 //#include "common/emitters.wgsl"
+//#include "common/environment_sampling.wgsl"
 //#include "common/restir.wgsl"
 //#include "common/restir_visibility.wgsl"
 
@@ -41,8 +42,8 @@ struct Params {
 @group(0) @binding(11) var<storage, read> scene_emitters: array<u32>;
 @group(0) @binding(12) var candidates: texture_storage_2d<rgba32uint, write>;
 
-// A candidate from the mixture of the two sources, with its density there (area measure for
-// an emitter point).
+// A candidate from the mixture of the sources present (each an equal share), with its density
+// there (area measure for an emitter point, solid angle for a direction of the map).
 struct Candidate {
     light: u32,
     uv: vec2<f32>,
@@ -52,15 +53,23 @@ struct Candidate {
 fn draw_candidate(state: ptr<function, u32>) -> Candidate {
     let lights = frame.light_count;
     let emitters = emitter_count();
-    let punctual_share = select(select(0.5, 1.0, emitters == 0u), 0.0, lights == 0u);
-    if next_random1(state) < punctual_share {
+    let sources = select(0u, 1u, lights > 0u) + select(0u, 1u, emitters > 0u) + select(0u, 1u, restir_environment());
+    let share = 1.0 / f32(max(sources, 1u));
+    let u = next_random1(state);
+    let punctual_share = select(0.0, share, lights > 0u);
+    let emitter_share = select(0.0, share, emitters > 0u);
+    if u < punctual_share {
         let i = min(u32(next_random1(state) * f32(lights)), lights - 1u);
-        return Candidate(i, vec2<f32>(0.0), punctual_share / f32(lights));
+        return Candidate(i, vec2<f32>(0.0), share / f32(lights));
     }
-    let i = emitter_pick(next_random1(state));
-    let uv = uniform_barycentrics(next_random2(state));
-    let area = 0.5 * length(emitter_triangle(i).normal);
-    return Candidate(i | RESTIR_EMITTER, uv, (1.0 - punctual_share) * emitter_probability(i) / max(area, 1e-30));
+    if u < punctual_share + emitter_share {
+        let i = emitter_pick(next_random1(state));
+        let uv = uniform_barycentrics(next_random2(state));
+        let area = 0.5 * length(emitter_triangle(i).normal);
+        return Candidate(i | RESTIR_EMITTER, uv, share * emitter_probability(i) / max(area, 1e-30));
+    }
+    let e = environment_sample(vec3<f32>(next_random2(state), next_random1(state)));
+    return Candidate(RESTIR_ENVIRONMENT, octahedral_encode(e.dir) * 0.5 + 0.5, share * e.pdf);
 }
 
 @compute @workgroup_size(8, 8)
@@ -71,7 +80,7 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let at = restir_surface(id.xy);
     var r = reservoir_empty();
-    if at.valid && (frame.light_count > 0u || emitter_count() > 0u) {
+    if at.valid && (frame.light_count > 0u || emitter_count() > 0u || restir_environment()) {
         var state = pcg_hash(id.x ^ pcg_hash(id.y ^ pcg_hash(frame_seed(params.seed, frame.frame_index, params.per_frame))));
         var stream = restir_stream();
         for (var k = 0u; k < params.candidates; k++) {

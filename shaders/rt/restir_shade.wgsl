@@ -58,7 +58,9 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
         let toward = restir_light(at, r.light, r.uv);
         light = toward.radiance * r.weight * restir_visibility(at, r.light, toward);
     }
-    // a = 1: the direct light was computed here (the resolve's fallback has a = 0).
-    textureStore(direct, id.xy, vec4<f32>(light, 1.0));
+    // a = 1: the direct light was computed here (the resolve's fallback has a = 0); 2 where the
+    // environment map is among the samples (a = 2 + its visibility, as rt_shadow writes it: 0,
+    // for the resolve adds no light of the map's own, which is in `light`).
+    textureStore(direct, id.xy, vec4<f32>(light, select(1.0, 2.0, restir_environment())));
     trace_flush_stats();
 }

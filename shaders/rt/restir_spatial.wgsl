@@ -111,7 +111,15 @@ fn balance_weight(i: u32, here: f32) -> f32 {
     // The pixel itself by its full target (which the caller has).
     var all_surfaces = reuse_reservoirs[0].count * here;
     var own = select(0.0, all_surfaces, i == 0u);
-    if (r.light & RESTIR_EMITTER) == 0u {
+    if r.light == RESTIR_ENVIRONMENT {
+        let l = restir_environment_direction(r.uv);
+        let radiance = restir_luminance(environment_radiance(l)) / PI;
+        for (var j = 1u; j < reuse_count; j++) {
+            let g = reuse_reservoirs[j].count * reuse_reflectances[j] * radiance * max(dot(reuse_normals[j], l), 0.0);
+            all_surfaces += g;
+            own = select(own, g, j == i);
+        }
+    } else if restir_is_punctual(r.light) {
         let light = scene_lights[r.light];
         for (var j = 1u; j < reuse_count; j++) {
             let ls = light_sample(light, reuse_positions[j]);
