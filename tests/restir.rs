@@ -14,15 +14,20 @@ use raygraph::scene::Scene;
 
 const SIZE: (u32, u32) = (48, 32);
 
-/// The `channel` of `graph` over `frames` frames of a still camera, with `params` set.
-fn frames_of(gpu: &Gpu, scene: &Scene, graph: &str, params: &[(&str, &str, ParamValue)], channel: &str, frames: usize) -> Vec<Vec<[f32; 4]>> {
+/// `graph` compiled with `params` set, ready for `scene`.
+fn executor(gpu: &Gpu, scene: &Scene, graph: &str, params: &[(&str, &str, ParamValue)]) -> Executor {
     let mut options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(gpu.backends()[0]) };
     for (node, name, value) in params {
         options.params.insert((node.to_string(), name.to_string()), value.clone());
     }
     let path = common::repo().join(graph);
     let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    Executor::new(gpu, plan, scene).unwrap()
+}
+
+/// The `channel` of `graph` over `frames` frames of a still camera, with `params` set.
+fn frames_of(gpu: &Gpu, scene: &Scene, graph: &str, params: &[(&str, &str, ParamValue)], channel: &str, frames: usize) -> Vec<Vec<[f32; 4]>> {
+    let mut exec = executor(gpu, scene, graph, params);
     (0..frames)
         .map(|_| {
             exec.render(gpu, scene.camera(), scene).unwrap();
@@ -125,13 +130,7 @@ fn track_of(
     channel: &str,
     cameras: &[raygraph::scene::Camera],
 ) -> Vec<Vec<[f32; 4]>> {
-    let mut options = raygraph::graph::compile::CompileOptions { reuse: false, ..gpu.compile_options_for(gpu.backends()[0]) };
-    for (node, name, value) in params {
-        options.params.insert((node.to_string(), name.to_string()), value.clone());
-    }
-    let path = common::repo().join(graph);
-    let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
-    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    let mut exec = executor(gpu, scene, graph, params);
     cameras
         .iter()
         .map(|camera| {
