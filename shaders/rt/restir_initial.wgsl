@@ -13,33 +13,10 @@
 //#include "common/shadow_ray.wgsl"
 //#include "common/emitters.wgsl"
 //#include "common/environment_sampling.wgsl"
+//#include "common/restir_bindings.wgsl"
 //#include "common/restir.wgsl"
 //#include "common/restir_visibility.wgsl"
 
-struct Params {
-    candidates: u32,
-    visibility_reuse: u32,
-    temporal: u32,
-    max_history: f32,
-    spatial_samples: u32,
-    spatial_radius: f32,
-    per_frame: u32,
-    seed: u32,
-    reflection_roughness: f32,
-}
-
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<uniform> params: Params;
-@group(0) @binding(2) var position: texture_2d<f32>;
-@group(0) @binding(3) var geo_normal: texture_2d<f32>;
-@group(0) @binding(4) var normal: texture_2d<f32>;
-@group(0) @binding(5) var albedo: texture_2d<f32>;
-@group(0) @binding(6) var material: texture_2d<f32>;
-@group(0) @binding(7) var lobes: texture_2d<u32>;
-@group(0) @binding(8) var<storage, read> scene_lights: array<Light>;
-@group(0) @binding(9) var<storage, read> scene_instances: array<Instance>;
-@group(0) @binding(10) var<storage, read> scene_materials: array<Material>;
-@group(0) @binding(11) var<storage, read> scene_emitters: array<u32>;
 @group(0) @binding(12) var candidates: texture_storage_2d<rgba32uint, write>;
 
 // A candidate from the mixture of the sources present (each an equal share), with its density
