@@ -48,10 +48,11 @@ var<private> reuse_normals: array<vec3<f32>, 9>;
 var<private> reuse_reflectances: array<f32, 9>;
 var<private> reuse_count: u32;
 
-// The luminance of the albedo at `q`, 0 where the surface is unlit.
+// The luminance of the diffuse albedo at `q` (the albedo less its metallic share), 0 where the
+// surface is unlit.
 fn reflectance(q: vec2<u32>) -> f32 {
-    let unlit = gbuffer_unlit(textureLoad(material, q, 0).a);
-    return select(restir_luminance(textureLoad(albedo, q, 0).rgb), 0.0, unlit);
+    let m = textureLoad(material, q, 0);
+    return select(restir_luminance(textureLoad(albedo, q, 0).rgb) * (1.0 - m.r), 0.0, gbuffer_unlit(m.a));
 }
 
 fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function, u32>) {
@@ -75,12 +76,15 @@ fn gather(at: RestirSurface, id: vec2<u32>, size: vec2<u32>, state: ptr<function
 
 // The balance heuristic's weight of gathered sample `i` among the surfaces: M_i x g_i over
 // the sum of M_j x g_j, where g_j is the luminance of the irradiance the sample's light would
-// bring surface j (its position and normal, no shadows) times its albedo's luminance (a Lambert
-// stand-in for its BRDF: 0 where the target is 0 on black and unlit surfaces), and for the
-// pixel itself (j = 0) its full target `here`. The weights of the surfaces sum to one whatever
-// g is, so a cheap stand-in for the neighbours' targets keeps the combination's normalisation;
-// where it is 0 and the target is not (a black surface's specular lobe), or the other way,
-// the estimate shifts (tests/emissive_lights.rs, the emissive disk beside its black occluder:
+// bring surface j (its position and normal, no shadows) times its diffuse albedo's luminance (a
+// Lambert stand-in for its BRDF: 0 where the target is 0 on black and unlit surfaces), and for
+// the pixel itself (j = 0) its full target `here`. The weights of the surfaces sum to one
+// whatever g is, so a cheap stand-in for the neighbours' targets keeps the combination's
+// normalisation. Where it is far above a neighbour's target, that neighbour's rare samples
+// weigh as if it drew them often: fireflies (the albedo without the metallic share, on the
+// helmet's metal under a map, whose diffuse light is its target there: relMSE 98 against 0.09
+// trimmed); where it is 0 and the target is not (a metal's or a black surface's specular lobe),
+// that neighbour's samples are left out, which costs noise, not the mean. The estimate shifts (tests/emissive_lights.rs, the emissive disk beside its black occluder:
 // the floor's mean deviation -0.0032 with this stand-in, -0.0046 with the irradiance alone,
 // -0.0016 with every surface's full target, which cost 11 ms at 2560x1440 on the H200).
 fn balance_weight(i: u32, here: f32) -> f32 {

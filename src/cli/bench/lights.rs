@@ -2,7 +2,7 @@
 //! reference (`raygraph::bench::lights`).
 
 use super::output::{run_info, write_partial, write_results};
-use crate::cli::args::{ensure_size_in_range, GpuArgs};
+use crate::cli::args::{ensure_size_in_range, EnvArgs, GpuArgs};
 use anyhow::{Context, Result};
 use raygraph::bench::lights::{self, LightsConfig};
 use raygraph::bench::truth::TruthConfig;
@@ -46,6 +46,8 @@ pub(crate) struct LightsArgs {
     #[arg(long, default_value_t = 0.002)]
     track_step: f32,
     #[command(flatten)]
+    env: EnvArgs,
+    #[command(flatten)]
     gpu: GpuArgs,
     #[arg(long, default_value = "bench-results/lights")]
     out: PathBuf,
@@ -72,7 +74,10 @@ pub(crate) fn run(args: LightsArgs) -> Result<()> {
         track_frames: args.track_frames,
         track_step: args.track_step,
     };
-    let scenes = super::modes::load_scenes(&args.scenes)?;
+    let mut scenes = super::modes::load_scenes(&args.scenes)?;
+    for (_, scene) in &mut scenes {
+        args.env.apply(scene)?;
+    }
     let out = &args.out;
     let dir = raygraph::bench::results_dir(out).with_context(|| format!("could not create {}", out.display()))?;
     let info = run_info(&gpu, cfg.truth.size);
