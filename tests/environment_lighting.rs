@@ -154,9 +154,8 @@ fn every_mode_lights_the_plane_by_the_irradiance_grid() {
     }
 }
 
-#[test]
-fn under_a_roof_the_ray_traced_modes_see_none_of_the_map() {
-    let gpu = gpu();
+/// The plane under a parallel roof 1 above it that hides the whole map, seen from between them.
+fn roofed_scene() -> Scene {
     let mut scene = scene();
     scene.set_meshes(vec![plane("ground", 2000.0, 1.0), plane("roof", 2000.0, 1.0)]);
     let mut roof = scene.materials()[0].clone();
@@ -169,6 +168,14 @@ fn under_a_roof_the_ray_traced_modes_see_none_of_the_map() {
     });
     let n = normal();
     *scene.camera_mut() = Camera::look(0.5 * n, -n + Vec3::new(0.0, 0.0, 0.1), 50.0, 0.01, 100.0);
+    scene
+}
+
+#[test]
+fn under_a_roof_the_ray_traced_modes_see_none_of_the_map() {
+    let gpu = gpu();
+    let scene = roofed_scene();
+    let n = normal();
     let open_sky = map().irradiance_map(IRRADIANCE_GRID_WIDTH).irradiance(n) * ALBEDO / PI;
     for &backend in gpu.backends() {
         for graph in ["graph/hybrid.ron", "graph/full_rt.ron"] {
@@ -264,18 +271,7 @@ fn mean_over_frames(
 fn restir_samples_the_map_as_a_light() {
     let gpu = gpu();
     let exact = irradiance_by_texel_areas(&map(), normal()) * ALBEDO / PI;
-    let mut roofed = scene();
-    roofed.set_meshes(vec![plane("ground", 2000.0, 1.0), plane("roof", 2000.0, 1.0)]);
-    let mut roof = roofed.materials()[0].clone();
-    roof.double_sided = true;
-    roofed.materials_mut().push(roof);
-    roofed.instances_mut().push(Instance {
-        mesh: 1,
-        material: 1,
-        transform: Mat4::from_rotation_x(TILT_DEGREES.to_radians()) * Mat4::from_translation(Vec3::Y),
-    });
-    let n = normal();
-    *roofed.camera_mut() = Camera::look(0.5 * n, -n + Vec3::new(0.0, 0.0, 0.1), 50.0, 0.01, 100.0);
+    let roofed = roofed_scene();
     for &backend in gpu.backends() {
         let texels = mean_over_frames(&gpu, "graph/hybrid_restir.ron", backend, &scene(), "resolve.hdr", 16);
         for c in 0..3 {

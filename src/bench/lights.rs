@@ -9,13 +9,11 @@
 //! against every light's image (the estimator's own error: the modes share everything else),
 //! and flicker along a camera track (ACCURACY.md, "Many lights at equal time").
 
-use super::truth::{judge, render, Rendered, TruthConfig, REFERENCE_GRAPH};
+use super::truth::{executor, judge, render, Rendered, TruthConfig, REFERENCE_GRAPH};
 use crate::bench::RunInfo;
 use crate::error::RuntimeError;
-use crate::graph::compile::{compile_with, CompileOptions};
 use crate::graph::desc::ParamValue;
-use crate::graph::Project;
-use crate::runtime::{Executor, Gpu};
+use crate::runtime::Gpu;
 use crate::scene::{Camera, Scene};
 use std::path::Path;
 
@@ -89,13 +87,7 @@ fn track_camera(camera: &Camera, step: f32, i: u32) -> Camera {
 /// camera's motion alone changes; an estimator's excess over it is its flicker.
 fn flicker(gpu: &Gpu, cfg: &LightsConfig, view: &(Scene, Camera), graph: &str, params: &[(&str, &str, ParamValue)]) -> Result<f64, RuntimeError> {
     let (scene, camera) = view;
-    let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.truth.backend) };
-    for (node, param, value) in params {
-        options.params.insert((node.to_string(), param.to_string()), value.clone());
-    }
-    let path = cfg.truth.root.join(graph);
-    let plan = compile_with(&path, &Project::beside_graph(&path), cfg.truth.size, &options)?;
-    let mut exec = Executor::new(gpu, plan, scene)?;
+    let mut exec = executor(gpu, &cfg.truth, scene, graph, params)?;
     crate::runtime::warm_up::WarmUp::for_gpu(gpu, cfg.truth.warmup).run(gpu, &mut exec, scene, camera)?;
     let luminance =
         |img: &image::RgbaImage| -> Vec<f64> { img.pixels().map(|p| crate::util::luminance([p[0] as f32, p[1] as f32, p[2] as f32]) as f64 / 255.0).collect() };

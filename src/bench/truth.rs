@@ -79,6 +79,18 @@ pub(crate) struct Rendered {
     pub(crate) wall_ms: f64,
 }
 
+/// `graph` (relative to the project root) compiled with `params` for `cfg`'s size and back-end,
+/// ready for `scene`.
+pub(crate) fn executor(gpu: &Gpu, cfg: &TruthConfig, scene: &Scene, graph: &str, params: &[(&str, &str, ParamValue)]) -> Result<Executor, RuntimeError> {
+    let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
+    for (node, param, value) in params {
+        options.params.insert((node.to_string(), param.to_string()), value.clone());
+    }
+    let path = cfg.root.join(graph);
+    let plan = compile_with(&path, &Project::beside_graph(&path), cfg.size, &options)?;
+    Executor::new(gpu, plan, scene)
+}
+
 /// Renders `graph` with `params` on `scene` (warm-up, then `frames` timed frames) and reads its
 /// HDR output (`hdr_output`) and its output.
 pub(crate) fn render(
@@ -90,14 +102,11 @@ pub(crate) fn render(
     frames: u32,
 ) -> Result<Rendered, RuntimeError> {
     let (scene, camera) = view;
-    let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(cfg.backend) };
-    for (node, param, value) in params {
-        options.params.insert((node.to_string(), param.to_string()), value.clone());
-    }
-    let path = cfg.root.join(graph);
-    let plan = compile_with(&path, &Project::beside_graph(&path), cfg.size, &options)?;
-    let resource = plan.hdr_output().ok_or_else(|| RuntimeError::Gpu(format!("{}: the graph names no `hdr_output` (its linear HDR image)", path.display())))?;
-    let mut exec = Executor::new(gpu, plan, scene)?;
+    let mut exec = executor(gpu, cfg, scene, graph, params)?;
+    let resource = exec
+        .plan()
+        .hdr_output()
+        .ok_or_else(|| RuntimeError::Gpu(format!("{}: the graph names no `hdr_output` (its linear HDR image)", cfg.root.join(graph).display())))?;
     let timed = super::timed_frames(gpu, &mut exec, scene, cfg.warmup, frames, |_| *camera)?;
     let mut gpu_ms: Vec<f64> = timed.iter().map(super::frame_gpu_ms).collect();
     let mut wall_ms: Vec<f64> = timed.iter().map(|f| f.frame_ms).collect();
