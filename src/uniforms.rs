@@ -2,8 +2,15 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Shadow-map slots of the raster mode (`shadow_map` layer: one 2048² depth texture each).
+/// Shadow-map slots of directional and spot lights in the raster mode (`shadow_map` layer: one
+/// 2048² depth texture each): slots 0 to 3.
 pub(crate) const SHADOW_MAP_SLOTS: usize = 4;
+/// Point lights with a cube shadow map in the raster mode (`shadow_map` layer's `cube`: six
+/// 1024² layers each). Cube map k has slots `SHADOW_MAP_SLOTS + 6k ..`, one per face in the
+/// order +x, -x, +y, -y, +z, -z.
+pub(crate) const CUBE_SHADOW_MAPS: usize = 2;
+/// Every raster shadow slot: the maps', then the cube maps' faces.
+pub(crate) const SHADOW_SLOTS: usize = SHADOW_MAP_SLOTS + 6 * CUBE_SHADOW_MAPS;
 
 /// Mirrors `struct Frame` in `shaders/common/frame.wgsl`.
 #[repr(C)]
@@ -20,13 +27,13 @@ pub(crate) struct FrameUniforms {
     /// xyz scene bounds centre, w half diagonal (ray lengths and offsets scale with it).
     pub(crate) scene_sphere: [f32; 4],
     /// View-projection of each raster shadow-map slot (see [`LightUniforms::shadow_map`]).
-    pub(crate) shadow_view_proj: [[[f32; 4]; 4]; SHADOW_MAP_SLOTS],
+    pub(crate) shadow_view_proj: [[[f32; 4]; 4]; SHADOW_SLOTS],
     /// Intensity of the sky's ambient light (`Scene::light.ambient`).
     pub(crate) ambient: f32,
     /// Number of records in `scene_lights`.
     pub(crate) light_count: u32,
-    /// Number of shadow-map slots in use.
-    pub(crate) shadow_count: u32,
+    /// The shadow slots in use: bit `slot` set where a light has it.
+    pub(crate) shadow_slots: u32,
     /// Frame counter (seeds the per-frame sample sequences).
     pub(crate) frame_index: u32,
     /// 1 when history resources hold the previous frame, 0 on the first frame of an executor
@@ -62,7 +69,8 @@ pub(crate) struct LightUniforms {
     pub(crate) cos_inner: f32,
     /// Cosine of the spot cone's outer angle (no light outside).
     pub(crate) cos_outer: f32,
-    /// Raster shadow-map slot (index into `Frame::shadow_view_proj`), -1: none.
+    /// Raster shadow slot (index into `Frame::shadow_view_proj`), -1: none. A point light's is
+    /// its cube map's first face (`CUBE_SHADOW_MAPS`).
     pub(crate) shadow_map: i32,
     /// World length of the shadow map's depth range (far - near), so a depth bias given as a
     /// fraction of it is a world distance.

@@ -208,6 +208,40 @@ fn two_producers() {
     assert_eq!(e.notes[0].0.line, line_of(layer, r#"name: "first""#), "notes the first producer: {e}");
 }
 
+/// A texture of several layers is written a layer at a time, by render passes that each name
+/// one: a compute pass writing it is refused at the pass, and two passes on one layer are two
+/// producers.
+#[test]
+fn layered_textures_are_written_one_layer_a_pass() {
+    let p = TempProject::new();
+    let layer = r#"Layer(
+    outputs: { "color": Texture(format: Rgba16Float) },
+    transients: { "scratch": Texture(format: Rgba16Float, layers: 2) },
+    params: { "value": Float(default: 1.0, min: 0.0, max: 1.0), "counter": Int(default: 0, min: 0, max: 15) },
+    passes: [
+        Pass(name: "fill", kind: Compute, shader: "test/fill.wgsl", writes: ["color"]),
+        Pass(name: "fill_layers", kind: Compute, shader: "test/fill.wgsl", writes: ["color=scratch"]),
+    ],
+)
+"#;
+    p.write("layers/layered.ron", layer);
+    let g = GOOD.replace(r#"layer: "fill""#, r#"layer: "layered""#);
+    let e = expect(p.compile("g.ron", &g), ErrorKind::Unsupported, "layers/layered.ron", line_of(layer, r#"name: "fill_layers""#));
+    assert!(e.to_string().contains("2 layers"), "{e}");
+
+    let repo = TempProject::with_repo_files();
+    let shadow_layer = std::fs::read_to_string(repo.root.join("layers/shadow_map.ron")).unwrap();
+    let same_layer = shadow_layer.replace(
+        r#"name: "cube_0_nx", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(1)"#,
+        r#"name: "cube_0_nx", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(0)"#,
+    );
+    assert_ne!(same_layer, shadow_layer, "layers/shadow_map.ron no longer draws cube_0_nx into layer 1");
+    repo.write("layers/shadow_map.ron", &same_layer);
+    let raster = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap();
+    let e = expect(repo.compile("g.ron", &raster), ErrorKind::TwoProducers, "layers/shadow_map.ron", line_of(&same_layer, r#"name: "cube_0_nx""#));
+    assert!(e.to_string().contains("(layer 0)"), "{e}");
+}
+
 #[test]
 fn parameter_out_of_range() {
     let p = TempProject::new();

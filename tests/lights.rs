@@ -3,7 +3,7 @@
 //! light at height h (irradiance I cos^3(theta) / h^2), its range window, a spot light's cone
 //! (full inside the inner angle, 0 outside the outer), a directional light (I cos(theta)), two
 //! lights adding up, each light's own shadow (ray-traced for every light; shadow maps for
-//! directional and spot lights in raster, point lights unshadowed there), a scene without
+//! directional and spot lights in raster, cube maps for point lights), a scene without
 //! lights of its own lit as before, a glTF file's own lights, emission with every light off, and
 //! the occlusion texture scaling the ambient term.
 //!
@@ -327,7 +327,7 @@ fn miss_distance(light: &PunctualLight, p: Vec3) -> f32 {
 /// R for the 32x64 tessellation plus one pixel's footprint at ~6 units). Ray-traced modes on
 /// every back-end: rt_shadow's mask of each light and the direct light with each light's
 /// visibility. Raster: the directional and the spot light shadowed by their shadow maps, the
-/// point light (no shadow map) unshadowed.
+/// point light by its cube map.
 #[test]
 fn every_light_casts_its_own_shadow() {
     let gpu = gpu();
@@ -340,7 +340,7 @@ fn every_light_casts_its_own_shadow() {
         let along = (C - cam.position).dot(d).max(0.0);
         (C - cam.position - d * along).length() > R + margin
     };
-    let classify = |raster: bool| {
+    let classify = || {
         let lights = s.lights().to_vec();
         move |p: Vec3| -> Option<Vec<bool>> {
             if !shows_floor(p) {
@@ -350,9 +350,7 @@ fn every_light_casts_its_own_shadow() {
                 .iter()
                 .map(|l| {
                     let d = miss_distance(l, p);
-                    if raster && matches!(l.kind, LightKind::Point { .. }) {
-                        Some(true)
-                    } else if d < R - margin {
+                    if d < R - margin {
                         Some(false)
                     } else if d > R + margin {
                         Some(true)
@@ -369,7 +367,7 @@ fn every_light_casts_its_own_shadow() {
         let mut exec = executor(&gpu, &graph, backend, &s);
         let frame = render(&gpu, &mut exec, mode, &s);
         let what = format!("{mode:?}/{backend}");
-        let (worst, checked) = check_direct(&frame, s.lights(), classify(mode == Mode::Raster), &what);
+        let (worst, checked) = check_direct(&frame, s.lights(), classify(), &what);
         println!("{what}: direct light of {checked} floor pixels within {worst:.2e} of the closed form");
         assert!(checked > 800, "{what}: {checked} pixels checked");
         let Some(mask) = &frame.mask else { continue };

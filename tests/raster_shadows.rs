@@ -54,7 +54,7 @@ Graph(
         "shadow_map": Layer(layer: "shadow_map"),
         "forward": Layer(
             layer: "forward",
-            inputs: {{"shadow_map": "shadow_map.depth", "shadow_map_1": "shadow_map.depth_1", "shadow_map_2": "shadow_map.depth_2", "shadow_map_3": "shadow_map.depth_3"}},
+            inputs: {{"shadow_map": "shadow_map.depth", "shadow_cube": "shadow_map.cube"}},
             params: {{"shadows": {shadows}}},
         ),
         "tonemap": Layer(
@@ -163,6 +163,69 @@ fn look(position: Vec3, target: Vec3) -> Camera {
     Camera::look(position, target, 50.0, 0.05, 100.0)
 }
 
+/// The floor pixels of a sphere scene classified against an analytic shadow outline.
+#[derive(Default)]
+struct Tally {
+    inside: usize,
+    inside_ok: usize,
+    outside: usize,
+    outside_ok: usize,
+    worst_inside_ratio: f64,
+    worst_outside_darkening: i32,
+}
+
+impl Tally {
+    /// Every floor pixel of `img` (shadows on) against `lit_img` (off) whose ray does not pass
+    /// within 1.1 radii of the sphere (`centre`, `radius`): at least `EDGE_MARGIN_PX` pixels
+    /// inside the outline (`to_outline(floor point)`, a world distance on the floor, negative
+    /// inside) it must be shadowed, at least that far outside not darkened at all.
+    fn of(img: &image::RgbaImage, lit_img: &image::RgbaImage, camera: &Camera, (centre, radius): (Vec3, f32), to_outline: impl Fn(Vec3) -> f32) -> Self {
+        let rays = Rays::new(camera);
+        let mut t = Tally::default();
+        for py in 0..H {
+            for px in 0..W {
+                let Some((p, footprint)) = rays.floor_pixel(px, py) else { continue };
+                if rays.passes_near(px, py, centre, 1.1 * radius) {
+                    continue;
+                }
+                let to_outline_px = to_outline(p) as f64 / footprint as f64;
+                let (on, sh) = (rgb_sum(lit_img, px, py), rgb_sum(img, px, py));
+                let ratio = sh as f64 / on.max(1) as f64;
+                if to_outline_px < -EDGE_MARGIN_PX {
+                    t.inside += 1;
+                    t.inside_ok += (ratio < SHADOWED_RATIO) as usize;
+                    t.worst_inside_ratio = t.worst_inside_ratio.max(ratio);
+                } else if to_outline_px > EDGE_MARGIN_PX {
+                    t.outside += 1;
+                    t.outside_ok += (on - sh <= DARKENED_SUM) as usize;
+                    t.worst_outside_darkening = t.worst_outside_darkening.max(on - sh);
+                }
+            }
+        }
+        t
+    }
+
+    fn report(&self, what: &str) {
+        println!(
+            "{what}: {}/{} floor pixels > {EDGE_MARGIN_PX} px inside the shadow shadowed (highest shadowed/lit ratio {:.3}, limit {SHADOWED_RATIO}); \
+             {}/{} pixels > {EDGE_MARGIN_PX} px outside lit (largest darkening {}, limit {DARKENED_SUM})",
+            self.inside_ok, self.inside, self.worst_inside_ratio, self.outside_ok, self.outside, self.worst_outside_darkening
+        );
+    }
+
+    /// Every classified pixel right, with at least `inside` and `outside` of them.
+    fn assert_right(&self, what: &str, inside: usize, outside: usize) {
+        assert!(
+            self.inside > inside && self.outside > outside,
+            "{what}: the view must show the shadow and the floor around it: {} inside, {} outside",
+            self.inside,
+            self.outside
+        );
+        assert_eq!(self.inside_ok, self.inside, "{what}: pixels inside the analytic shadow are lit (highest ratio {:.3})", self.worst_inside_ratio);
+        assert_eq!(self.outside_ok, self.outside, "{what}: pixels outside the analytic shadow are darkened (by up to {})", self.worst_outside_darkening);
+    }
+}
+
 /// (a) A sphere of radius 1 centred 2.5 above the floor, the light straight above: the floor's
 /// shadow is the disc of radius 1 under the sphere's centre. Every floor pixel at least
 /// `EDGE_MARGIN_PX` pixels inside its outline is shadowed, every one at least that far outside
@@ -177,38 +240,29 @@ fn a_sphere_above_the_floor_casts_a_disc_of_its_radius_straight_down() {
         let s = scene(Some((centre, radius)), Vec3::Y, camera);
         let lit_img = graphs.render(&gpu, false, &s, &camera);
         let img = graphs.render(&gpu, true, &s, &camera);
-        let rays = Rays::new(&camera);
-        let (mut inside, mut inside_ok, mut outside, mut outside_ok) = (0usize, 0usize, 0usize, 0usize);
-        let (mut worst_inside_ratio, mut worst_outside_darkening) = (0.0f64, 0i32);
-        for py in 0..H {
-            for px in 0..W {
-                let Some((p, footprint)) = rays.floor_pixel(px, py) else { continue };
-                if rays.passes_near(px, py, centre, 1.1 * radius) {
-                    continue;
-                }
-                let to_outline_px = (Vec3::new(p.x, 0.0, p.z).length() - radius) as f64 / footprint as f64;
-                let (on, sh) = (rgb_sum(&lit_img, px, py), rgb_sum(&img, px, py));
-                let ratio = sh as f64 / on.max(1) as f64;
-                if to_outline_px < -EDGE_MARGIN_PX {
-                    inside += 1;
-                    inside_ok += (ratio < SHADOWED_RATIO) as usize;
-                    worst_inside_ratio = worst_inside_ratio.max(ratio);
-                } else if to_outline_px > EDGE_MARGIN_PX {
-                    outside += 1;
-                    outside_ok += (on - sh <= DARKENED_SUM) as usize;
-                    worst_outside_darkening = worst_outside_darkening.max(on - sh);
-                }
-            }
-        }
-        println!(
-            "camera at {:?}: {inside_ok}/{inside} floor pixels > {EDGE_MARGIN_PX} px inside the disc shadowed (highest shadowed/lit ratio {worst_inside_ratio:.3}, \
-             limit {SHADOWED_RATIO}); {outside_ok}/{outside} pixels > {EDGE_MARGIN_PX} px outside lit (largest darkening {worst_outside_darkening}, limit {DARKENED_SUM})",
-            camera.position
-        );
-        assert!(inside > 300 && outside > 10_000, "the view must show the shadow and the floor around it: {inside} inside, {outside} outside");
-        assert_eq!(inside_ok, inside, "pixels inside the analytic shadow are lit (highest ratio {worst_inside_ratio:.3})");
-        assert_eq!(outside_ok, outside, "pixels outside the analytic shadow are darkened (by up to {worst_outside_darkening})");
+        let tally = Tally::of(&img, &lit_img, &camera, (centre, radius), |p| Vec3::new(p.x, 0.0, p.z).length() - radius);
+        let what = format!("camera at {:?}", camera.position);
+        tally.report(&what);
+        tally.assert_right(&what, 300, 10_000);
     }
+}
+
+/// The floor pixels of `s` (seen by `camera`, with shadows on), how many of them the shadows
+/// darken by more than `DARKENED_SUM`, and the largest darkening.
+fn darkened_floor(graphs: &Graphs, gpu: &Gpu, s: &Scene, camera: &Camera) -> (usize, usize, i32) {
+    let lit_img = graphs.render(gpu, false, s, camera);
+    let img = graphs.render(gpu, true, s, camera);
+    let rays = Rays::new(camera);
+    let (mut floor, mut darkened, mut worst) = (0usize, 0usize, 0i32);
+    for (px, py) in (0..H).flat_map(|y| (0..W).map(move |x| (x, y))) {
+        if rays.floor_pixel(px, py).is_some() {
+            floor += 1;
+            let d = rgb_sum(&lit_img, px, py) - rgb_sum(&img, px, py);
+            darkened += (d > DARKENED_SUM) as usize;
+            worst = worst.max(d);
+        }
+    }
+    (floor, darkened, worst)
 }
 
 /// (b) Shadow acne: a lone floor with nothing above it, lit from straight above, 45 degrees
@@ -233,21 +287,7 @@ fn an_open_floor_has_no_shadow_acne_from_any_view() {
     for light in lights {
         for camera in cameras {
             let s = scene(None, light, camera);
-            let lit_img = graphs.render(&gpu, false, &s, &camera);
-            let img = graphs.render(&gpu, true, &s, &camera);
-            let rays = Rays::new(&camera);
-            let (mut floor, mut darkened, mut worst) = (0usize, 0usize, 0i32);
-            for py in 0..H {
-                for px in 0..W {
-                    if rays.floor_pixel(px, py).is_none() {
-                        continue;
-                    }
-                    floor += 1;
-                    let d = rgb_sum(&lit_img, px, py) - rgb_sum(&img, px, py);
-                    darkened += (d > DARKENED_SUM) as usize;
-                    worst = worst.max(d);
-                }
-            }
+            let (floor, darkened, worst) = darkened_floor(&graphs, &gpu, &s, &camera);
             let zenith = light.normalize().y.acos().to_degrees();
             println!(
                 "light {zenith:.0} deg from the zenith, camera at {:?}: {darkened} of {floor} floor pixels darkened (largest darkening {worst})",
@@ -337,4 +377,115 @@ fn culling_closed_meshes_in_shadow_maps_changes_no_pixel() {
         assert!(shadowed > 500, "{name}: the view must show a shadow ({shadowed} pixels)");
         assert_eq!(differ, 0, "{name}: culling closed meshes changed {differ} pixels");
     }
+}
+
+/// A point light at `position` (a cube shadow map in raster mode while it is among the first
+/// two point lights).
+fn point(position: Vec3, intensity: f32) -> PunctualLight {
+    PunctualLight { name: "point".into(), kind: LightKind::Point { range: None }, position, direction: Vec3::NEG_Y, color: Vec3::ONE, intensity }
+}
+
+/// `scene` lit by the point lights `lights` alone and a dim sky (ambient 0.03 against the sun
+/// scenes' 0.35): a point light's shadow reaches far across the floor, where its inverse-square
+/// light is weak, and `SHADOWED_RATIO` compares a shadowed pixel's ambient light with the lit
+/// one's ambient and direct light.
+fn point_lit(sphere_at: Option<(Vec3, f32)>, lights: Vec<PunctualLight>, camera: Camera) -> Scene {
+    let mut s = scene(sphere_at, Vec3::Y, camera);
+    *s.lights_mut() = lights;
+    s.light_mut().ambient = 0.03;
+    s
+}
+
+/// World distance on the floor from floor point `p` to the outline of the shadow a sphere
+/// (`centre`, `radius`) casts from a point light at `light` (negative inside): the distance
+/// from the centre to the segment from the light to `p`, less the radius, carried out to `p`
+/// along the segment (a lower bound of the distance on the floor, which the slant only
+/// lengthens).
+fn cone_outline(light: Vec3, (centre, radius): (Vec3, f32), p: Vec3) -> f32 {
+    let length = (p - light).length();
+    let u = (p - light) / length;
+    let t = (centre - light).dot(u).clamp(0.0, length);
+    if t <= 0.0 {
+        return f32::INFINITY; // the sphere is behind the light
+    }
+    ((light + u * t).distance(centre) - radius) * length / t
+}
+
+/// (e) Point lights' cube shadow maps: a sphere of radius 0.8 at 1.2 above the floor and a
+/// point light straight above it, beside it and low to the other side, so that the shadow
+/// falls through different faces of the cube map and across their edges. The floor's shadow is
+/// the cone from the light through the sphere ([`cone_outline`]); every floor pixel at least
+/// `EDGE_MARGIN_PX` pixels inside it is shadowed, every one at least that far outside is lit.
+#[test]
+fn a_point_light_casts_the_cone_of_a_sphere_through_its_cube_map() {
+    let gpu = gpu();
+    let graphs = Graphs::new();
+    let sphere_at = (Vec3::new(0.0, 1.2, 0.0), 0.8f32);
+    let lights = [Vec3::new(0.0, 4.0, 0.0), Vec3::new(2.2, 3.0, 1.0), Vec3::new(-1.8, 2.2, -1.4)];
+    let cameras = [look(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO), look(Vec3::new(-7.0, 4.5, -3.0), Vec3::new(0.0, 0.5, 0.0))];
+    for light in lights {
+        for camera in cameras {
+            let s = point_lit(Some(sphere_at), vec![point(light, 30.0)], camera);
+            let lit_img = graphs.render(&gpu, false, &s, &camera);
+            let img = graphs.render(&gpu, true, &s, &camera);
+            let tally = Tally::of(&img, &lit_img, &camera, sphere_at, |p| cone_outline(light, sphere_at, p));
+            let what = format!("point light at {light:?}, camera at {:?}", camera.position);
+            tally.report(&what);
+            tally.assert_right(&what, 300, 10_000);
+        }
+    }
+}
+
+/// (f) Shadow acne under point lights: a lone floor lit by a point light high above it, low
+/// over it (the floor then spans five faces of the cube map, at grazing angles far out) and
+/// off its corner, from three cameras: no floor pixel is darkened at all by the cube map, on a
+/// face or along the edge between two.
+#[test]
+fn an_open_floor_under_a_point_light_has_no_acne_on_any_cube_face() {
+    let gpu = gpu();
+    let graphs = Graphs::new();
+    let lights = [Vec3::new(0.0, 3.0, 0.0), Vec3::new(1.0, 0.6, -0.5), Vec3::new(-4.5, 2.0, 3.5)];
+    let cameras = [
+        look(Vec3::new(0.0, 1.2, 7.0), Vec3::new(0.0, 0.0, 0.0)),
+        look(Vec3::new(5.5, 3.0, 5.5), Vec3::new(0.0, 0.0, 0.0)),
+        look(Vec3::new(0.5, 9.0, 1.0), Vec3::new(0.0, 0.0, 0.0)),
+    ];
+    for light in lights {
+        for camera in cameras {
+            let s = point_lit(None, vec![point(light, 20.0)], camera);
+            let (floor, darkened, worst) = darkened_floor(&graphs, &gpu, &s, &camera);
+            println!("point light at {light:?}, camera at {:?}: {darkened} of {floor} floor pixels darkened (largest {worst})", camera.position);
+            assert!(floor > 10_000, "the view must show the floor ({floor} pixels)");
+            assert_eq!(
+                darkened, 0,
+                "shadow acne: {darkened} of {floor} floor pixels darkened by up to {worst} (light {light:?}, camera {:?})",
+                camera.position
+            );
+        }
+    }
+}
+
+/// (g) The slots: the second point light has a cube map of its own (slots 10-15), and a third
+/// has none (the documented limit: it lights the raster mode unshadowed). The lights other than
+/// the one above the sphere sit under the floor, so they light none of it.
+#[test]
+fn the_second_point_light_has_a_cube_map_and_the_third_none() {
+    let gpu = gpu();
+    let graphs = Graphs::new();
+    let sphere_at = (Vec3::new(0.0, 1.2, 0.0), 0.8f32);
+    let above = Vec3::new(0.0, 4.0, 0.0);
+    let under = |x: f32| point(Vec3::new(x, -3.0, 0.0), 30.0);
+    let camera = look(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO);
+    let mut s = point_lit(Some(sphere_at), vec![under(0.0), point(above, 30.0)], camera);
+    let (img, lit_img) = (graphs.render(&gpu, true, &s, &camera), graphs.render(&gpu, false, &s, &camera));
+    let second = Tally::of(&img, &lit_img, &camera, sphere_at, |p| cone_outline(above, sphere_at, p));
+    second.report("second point light");
+    second.assert_right("second point light", 300, 10_000);
+
+    s.lights_mut().insert(0, under(1.0));
+    let (img, lit_img) = (graphs.render(&gpu, true, &s, &camera), graphs.render(&gpu, false, &s, &camera));
+    let third = Tally::of(&img, &lit_img, &camera, sphere_at, |p| cone_outline(above, sphere_at, p));
+    third.report("third point light");
+    assert!(third.inside > 300, "the view must show where the shadow would be ({} pixels)", third.inside);
+    assert_eq!(third.inside_ok, 0, "a third point light has no cube map, so nothing is shadowed ({} pixels are)", third.inside_ok);
 }

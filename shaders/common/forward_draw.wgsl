@@ -3,8 +3,8 @@
 // bindings of the scene and its lights, the vertex stage, and the radiance of a fragment with
 // the shading model of every mode (common/lighting.wgsl: every light of `scene_lights`, sky
 // ambient x material occlusion, the sky's specular reflection, emission; every material input
-// and texture). A light with a shadow-map slot (`Light::shadow_map`, the first four directional
-// or spot lights) has its direct term multiplied by its shadow-map visibility
+// and texture). A light with a shadow slot (`Light::shadow_map`, the first four directional
+// or spot lights and the first two point lights) has its direct term multiplied by its shadow-map visibility
 // (common/forward_shading.wgsl); other lights are unshadowed.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
@@ -20,13 +20,11 @@
 @group(0) @binding(3) var linear_sampler: sampler;
 @group(0) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(0) @binding(5) var<uniform> params: Params;
-@group(0) @binding(6) var shadow_map: texture_depth_2d;
-@group(0) @binding(7) var shadow_map_1: texture_depth_2d;
-@group(0) @binding(8) var shadow_map_2: texture_depth_2d;
-@group(0) @binding(9) var shadow_map_3: texture_depth_2d;
+@group(0) @binding(6) var shadow_map: texture_depth_2d_array;
 @group(0) @binding(10) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(11) var<storage, read> scene_meshes: array<MeshRecord>;
 @group(0) @binding(12) var<storage, read> scene_vertices: array<SceneVertex>;
+@group(0) @binding(14) var shadow_cube: texture_depth_2d_array;
 
 // The linear HDR radiance of fragment `in` with surface `r`. The geometric normal decides the
 // shadow offset direction, so smooth shading normals do not push points into neighbouring

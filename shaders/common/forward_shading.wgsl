@@ -2,9 +2,10 @@
 // (forward/forward.wgsl) and in a compute pass over the visibility buffer (forward/shade.wgsl):
 // the shading model of every mode (common/lighting.wgsl: every light of `scene_lights`, sky
 // ambient x material occlusion, the sky's specular reflection, emission).
-// A light with a shadow-map slot (`Light::shadow_map`, the first four directional or spot
-// lights) is seen through the `shadow_map` layer's depth textures, drawn through
-// `frame.shadow_view_proj[slot]`:
+// A light with a shadow slot (`Light::shadow_map`: the first four directional or spot lights,
+// a layer of `shadow_map` each, and the first two point lights, six layers of `shadow_cube`
+// each, a cube map's faces) is seen through the `shadow_map` layer's depth textures, drawn
+// through `frame.shadow_view_proj[slot]`:
 // - the receiver point is moved along its geometric normal by `normal_offset` shadow-map
 //   texels (world offset = normal_offset x the world size of one texel at the receiver,
 //   derived from the map's resolution and the light projection, so it follows the scene's size);
@@ -18,7 +19,8 @@
 //   (0 = one hard comparison);
 // - `shadows` off: fully lit, the shadow maps are not read.
 // Needs the main shader to declare `frame`, `params: Params` (the `forward` layer's parameters),
-// `shadow_map` .. `shadow_map_3`, `scene_lights`, and to include common/lighting.wgsl.
+// `shadow_map` and `shadow_cube` (texture_depth_2d_array), `scene_lights`, and to include
+// common/lighting.wgsl.
 
 // The `forward` layer's parameters (layers/forward.ron).
 struct Params {
@@ -44,9 +46,10 @@ fn shadow_coord_delta(c: vec4<f32>, dc: vec4<f32>, size: vec2<f32>) -> vec3<f32>
     return vec3<f32>(d.xy * vec2<f32>(0.5, -0.5) * size, d.z);
 }
 
-// Fraction of the PCF taps of shadow map `map` that see the light, at shadow coordinates `sc`
-// with receiver depth slope `slope` (depth per texel in x and y) and depth bias `bias`.
-fn shadow_pcf(map: texture_depth_2d, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
+// Fraction of the PCF taps of layer `layer` of shadow texture `map` that see the light, at
+// shadow coordinates `sc` with receiver depth slope `slope` (depth per texel in x and y) and
+// depth bias `bias`.
+fn shadow_pcf(map: texture_depth_2d_array, layer: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
     let isize = vec2<i32>(size);
     if sc.z >= 1.0 || any(sc.xy < vec2<f32>(0.0)) || any(sc.xy >= vec2<f32>(size)) {
         return 1.0;
@@ -59,37 +62,41 @@ fn shadow_pcf(map: texture_depth_2d, sc: vec3<f32>, slope: vec2<f32>, bias: f32,
             let t = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), isize - vec2<i32>(1));
             // The receiver plane's depth at the tap's centre.
             let receiver = sc.z + dot(slope, vec2<f32>(t) + vec2<f32>(0.5) - sc.xy) - bias;
-            lit += select(0.0, 1.0, receiver <= textureLoad(map, t, 0));
+            lit += select(0.0, 1.0, receiver <= textureLoad(map, t, layer, 0));
         }
     }
     let taps = f32((2 * r + 1) * (2 * r + 1));
     return lit / taps;
 }
 
-// shadow_pcf on shadow-map slot `slot`, chosen once, outside the taps' loop.
-fn shadow_visibility(slot: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
-    switch slot {
-        case 1: {
-            return shadow_pcf(shadow_map_1, sc, slope, bias, size);
-        }
-        case 2: {
-            return shadow_pcf(shadow_map_2, sc, slope, bias, size);
-        }
-        case 3: {
-            return shadow_pcf(shadow_map_3, sc, slope, bias, size);
-        }
-        default: {
-            return shadow_pcf(shadow_map, sc, slope, bias, size);
-        }
+// The first shadow slot of the point lights' cube maps (src/uniforms.rs CUBE_SHADOW_MAPS).
+const FIRST_CUBE_SLOT: i32 = 4;
+
+// The shadow slot of `light` that sees world point p: its map's, or the face of its cube map
+// along p's major axis from the light (faces +x, -x, +y, -y, +z, -z; each reaches a little
+// past 90 degrees, so filter taps near a face's edge stay in it).
+fn shadow_slot_at(light: Light, p: vec3<f32>) -> i32 {
+    if light.shadow_map < FIRST_CUBE_SLOT {
+        return light.shadow_map;
     }
+    let d = p - light.position;
+    let a = abs(d);
+    var face = select(5, 4, d.z >= 0.0);
+    if a.x >= a.y && a.x >= a.z {
+        face = select(1, 0, d.x >= 0.0);
+    } else if a.y >= a.z {
+        face = select(3, 2, d.y >= 0.0);
+    }
+    return light.shadow_map + face;
 }
 
-// Visibility of `light` (which has a shadow-map slot) at world point p with geometric normal ng
+// Visibility of `light` (which has a shadow slot) at world point p with geometric normal ng
 // and screen-space position differentials dpx, dpy.
 fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, dpy: vec3<f32>) -> f32 {
-    let slot = light.shadow_map;
+    let slot = shadow_slot_at(light, p);
     let m = frame.shadow_view_proj[slot];
-    let size = textureDimensions(shadow_map);
+    let cube = slot >= FIRST_CUBE_SLOT;
+    let size = select(textureDimensions(shadow_map), textureDimensions(shadow_cube), cube);
     let fsize = vec2<f32>(size);
     // World size of one texel at p: the projection maps 2 NDC units onto the map's width; the
     // length of the matrix's first row is clip units per world unit (divided by w in NDC).
@@ -110,7 +117,10 @@ fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, d
     // The bias as a world distance towards the light, carried into depth.
     let towards = light_sample(light, q).l * (params.shadow_bias * light.shadow_depth_range);
     let bias = sc.z - shadow_coord(m * vec4<f32>(q + towards, 1.0), fsize).z;
-    return shadow_visibility(slot, sc, slope, bias, size);
+    if cube {
+        return shadow_pcf(shadow_cube, slot - FIRST_CUBE_SLOT, sc, slope, bias, size);
+    }
+    return shadow_pcf(shadow_map, slot, sc, slope, bias, size);
 }
 
 

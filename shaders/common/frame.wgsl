@@ -9,14 +9,16 @@ struct Frame {
     resolution: vec4<f32>,
     // xyz scene bounds centre, w half diagonal
     scene_sphere: vec4<f32>,
-    // view-projection of each raster shadow-map slot (`Light::shadow_map`)
-    shadow_view_proj: array<mat4x4<f32>, 4>,
+    // view-projection of each raster shadow slot (`Light::shadow_map`): slots 0-3 the shadow
+    // maps of directional and spot lights, then six a cube map of a point light (its faces
+    // +x, -x, +y, -y, +z, -z)
+    shadow_view_proj: array<mat4x4<f32>, 16>,
     // intensity of the sky's ambient light
     ambient: f32,
     // number of records in `scene_lights`
     light_count: u32,
-    // shadow-map slots in use
-    shadow_count: u32,
+    // the shadow slots in use: bit `slot` set where a light has it
+    shadow_slots: u32,
     frame_index: u32,
     // 1 when history resources hold the previous frame; 0 on an executor's first frame and on
     // a camera cut (their contents are then undefined)

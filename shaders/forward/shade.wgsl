@@ -20,15 +20,13 @@
 
 // Bindings 0 to 6: the frame and the scene (common/scene_bindings.wgsl).
 @group(0) @binding(7) var<uniform> params: Params;
-@group(0) @binding(8) var shadow_map: texture_depth_2d;
-@group(0) @binding(9) var shadow_map_1: texture_depth_2d;
-@group(0) @binding(10) var shadow_map_2: texture_depth_2d;
-@group(0) @binding(11) var shadow_map_3: texture_depth_2d;
+@group(0) @binding(8) var shadow_map: texture_depth_2d_array;
 @group(0) @binding(12) var<storage, read> scene_lights: array<Light>;
 @group(0) @binding(13) var visibility: texture_2d<u32>;
 @group(0) @binding(14) var color: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(15) var translucent: texture_2d<f32>;
 @group(0) @binding(16) var translucent_filter: texture_2d<f32>;
+@group(0) @binding(17) var shadow_cube: texture_depth_2d_array;
 
 // The world-space offset from `p` to where the camera ray through pixel `q` meets the plane
 // through `p` with normal `n` (zero where the ray runs along the plane).

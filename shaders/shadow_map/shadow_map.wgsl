@@ -1,15 +1,18 @@
 // Depth of the scene from one light, for shadow maps: every instance through the
-// view-projection of a shadow-map slot (`frame.shadow_view_proj`). One vertex entry point per
-// slot (`vs_slot0` .. `vs_slot3`, one pass each in layers/shadow_map.ron); the pass of a
-// slot no light uses is not recorded (`shadow_slot`), and would draw nothing (every vertex is
-// clipped). Alpha-tested materials drop the texels the alpha
-// test cuts (common/raster_alpha_test.wgsl, the test of every mode). The pass writes only its depth
+// view-projection of a shadow slot (`frame.shadow_view_proj`): a directional or spot light's map,
+// or one face of a point light's cube map. The slot is the pipeline constant SHADOW_SLOT, which
+// the executor sets from the pass's `shadow_slot` (one pass per slot in layers/shadow_map.ron);
+// the pass of a slot no light uses is not recorded, and would draw nothing (every vertex is
+// clipped). Alpha-tested materials drop the texels the alpha test cuts
+// (common/raster_alpha_test.wgsl, the test of every mode). The pass writes only its depth
 // attachment, so the fragment stage has no colour outputs.
 //#include "common/frame.wgsl"
 //#include "common/scene.wgsl"
 //#include "common/scene_textures_texels.wgsl"
 //#include "common/raster_alpha_test.wgsl"
 //#include "common/vertex_extras.wgsl"
+
+override SHADOW_SLOT: u32 = 0u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> scene_instances: array<Instance>;
@@ -26,7 +29,8 @@ struct VertexOut {
     @location(2) alpha: f32,
 }
 
-fn shadow_vertex(slot: u32, position: vec3<f32>, uv: vec2<f32>, instance: u32, vertex: u32) -> VertexOut {
+@vertex
+fn vs_main(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, @builtin(instance_index) instance: u32, @builtin(vertex_index) vertex: u32) -> VertexOut {
     var out: VertexOut;
     out.uv = uv;
     out.material = scene_instances[instance].material;
@@ -35,30 +39,10 @@ fn shadow_vertex(slot: u32, position: vec3<f32>, uv: vec2<f32>, instance: u32, v
         out.alpha = vertex_extras(scene_instances[instance], vertex, uv).color.a;
     }
     out.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0); // beyond the far plane: clipped
-    if slot < frame.shadow_count {
-        out.clip = frame.shadow_view_proj[slot] * (scene_instances[instance].model * vec4<f32>(position, 1.0));
+    if ((frame.shadow_slots >> SHADOW_SLOT) & 1u) != 0u {
+        out.clip = frame.shadow_view_proj[SHADOW_SLOT] * (scene_instances[instance].model * vec4<f32>(position, 1.0));
     }
     return out;
-}
-
-@vertex
-fn vs_slot0(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, @builtin(instance_index) instance: u32, @builtin(vertex_index) vertex: u32) -> VertexOut {
-    return shadow_vertex(0u, position, uv, instance, vertex);
-}
-
-@vertex
-fn vs_slot1(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, @builtin(instance_index) instance: u32, @builtin(vertex_index) vertex: u32) -> VertexOut {
-    return shadow_vertex(1u, position, uv, instance, vertex);
-}
-
-@vertex
-fn vs_slot2(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, @builtin(instance_index) instance: u32, @builtin(vertex_index) vertex: u32) -> VertexOut {
-    return shadow_vertex(2u, position, uv, instance, vertex);
-}
-
-@vertex
-fn vs_slot3(@location(0) position: vec3<f32>, @location(2) uv: vec2<f32>, @builtin(instance_index) instance: u32, @builtin(vertex_index) vertex: u32) -> VertexOut {
-    return shadow_vertex(3u, position, uv, instance, vertex);
 }
 
 @fragment

@@ -174,6 +174,9 @@ impl fmt::Display for ResourceDecl {
                 if t.size != SizeDecl::default() {
                     write!(f, ", size: {}", t.size)?;
                 }
+                if t.layers != 1 {
+                    write!(f, ", layers: {}", t.layers)?;
+                }
                 if let Some((r, g, b, a)) = t.fallback {
                     write!(f, ", fallback: Some((")?;
                     for (i, c) in [r, g, b, a].into_iter().enumerate() {
@@ -209,10 +212,19 @@ pub struct TextureDecl {
     /// The size, relative to the frame by default.
     #[serde(default)]
     pub size: SizeDecl,
+    /// Array layers (default 1). A texture of several is read as a `_2d_array` texture and
+    /// drawn one layer at a time by render passes that name it (`PassDesc::layer`): the faces
+    /// of cube shadow maps.
+    #[serde(default = "one_layer")]
+    pub layers: u32,
     /// For a layer input: the value it reads (a 1x1 texture) when its producer is switched
     /// off or it is not connected. Inputs without one must be connected.
     #[serde(default)]
     pub fallback: Option<(f32, f32, f32, f32)>,
+}
+
+fn one_layer() -> u32 {
+    1
 }
 
 /// A declared storage buffer.
@@ -543,6 +555,11 @@ pub struct PassDesc {
     /// a slot no light has) and its row reads 0 ms.
     #[serde(default)]
     pub shadow_slot: Option<u32>,
+    /// Render passes only: the array layer of its layered attachments the pass draws into
+    /// (`TextureDecl::layers`); attachments of one layer ignore it. A render pass that writes
+    /// a layered texture must name one.
+    #[serde(default)]
+    pub layer: Option<u32>,
     /// `SceneRaster` only: instances of BLEND materials are not drawn (a G-buffer of the
     /// opaque surfaces, over which the `rt_blend` layer composites the translucent ones by
     /// ray tracing), or that a `translucent` pass blends over them. Default `false`: they are drawn

@@ -143,8 +143,11 @@ pub enum BindingKind {
     TextureBindingArray,
     /// A ray-query acceleration structure.
     AccelerationStructure,
-    /// `texture_depth_2d`.
-    DepthTexture,
+    /// `texture_depth_2d`, or `texture_depth_2d_array` where `arrayed`.
+    DepthTexture {
+        /// Whether it is an array texture.
+        arrayed: bool,
+    },
     /// A storage texture.
     StorageTexture {
         /// Its texel format.
@@ -184,7 +187,7 @@ impl BindingKind {
             BindingKind::SampledTexture { dim, arrayed, kind } => {
                 format!("texture_{}{}<{}>", dim.to_wgsl(), if *arrayed { "_array" } else { "" }, sample_type_name(*kind))
             }
-            BindingKind::DepthTexture => "texture_depth_2d".into(),
+            BindingKind::DepthTexture { arrayed } => format!("texture_depth_2d{}", if *arrayed { "_array" } else { "" }),
             BindingKind::TextureBindingArray => "binding_array<texture_2d_array<f32>>".into(),
             BindingKind::AccelerationStructure => "acceleration_structure".into(),
             BindingKind::StorageTexture { format, access } => format!("texture_storage_2d<{}, {}>", format.to_wgsl(), access_name(*access)),
@@ -464,7 +467,7 @@ fn binding_kind(module: &naga::Module, var: &naga::GlobalVariable) -> BindingKin
     match (&var.space, &ty.inner) {
         (naga::AddressSpace::Handle, naga::TypeInner::Image { dim, arrayed, class }) => match class {
             naga::ImageClass::Sampled { kind, .. } => BindingKind::SampledTexture { dim: *dim, arrayed: *arrayed, kind: *kind },
-            naga::ImageClass::Depth { .. } => BindingKind::DepthTexture,
+            naga::ImageClass::Depth { .. } if *dim == naga::ImageDimension::D2 => BindingKind::DepthTexture { arrayed: *arrayed },
             naga::ImageClass::Storage { format, access } => BindingKind::StorageTexture { format: *format, access: *access },
             _ => BindingKind::Other(global_type_name(module, var.space, &ty.inner)),
         },

@@ -12,6 +12,7 @@ pub mod deform;
 pub mod environment_upload;
 pub mod exec;
 pub mod gpu;
+pub(crate) mod light_records;
 pub mod present;
 pub mod profiler;
 pub(crate) mod raster;

@@ -333,7 +333,7 @@ mod tests {
     /// The view-projection of shadow-map slot 0 for `light` in the scene sphere at the origin
     /// of radius 4.
     fn slot_view_proj(light: crate::scene::PunctualLight) -> glam::Mat4 {
-        crate::runtime::scene_upload::light_records(&[light], glam::Vec3::ZERO, 4.0).shadow_view_proj[0]
+        crate::runtime::light_records::light_records(&[light], glam::Vec3::ZERO, 4.0).shadow_view_proj[0]
     }
 
     fn light(kind: crate::scene::LightKind, position: glam::Vec3, direction: glam::Vec3) -> crate::scene::PunctualLight {

@@ -11,11 +11,10 @@
 use crate::runtime::environment_upload::GpuEnvironment;
 use crate::scene::texture_pool::{data_textures, texture_ref, texture_refs, TexturePool, POOL_LAYERS, TEXTURE_REF_LAYER_BITS};
 use crate::scene::usage::{SceneLimitError, SceneUsage};
-use crate::scene::{AlphaMode, Bounds, LightKind, Mesh, PunctualLight, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, TEXTURE_SLOTS};
+use crate::scene::{AlphaMode, Bounds, Mesh, Scene, SlotSampling, TextureImage, Vertex, VertexExtra, TEXTURE_SLOTS};
 use crate::uniforms::{
-    InstanceUniforms, LightUniforms, MaterialUniforms, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK,
-    MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS, MATERIAL_TRANSMISSION, MATERIAL_TRANSMISSION_TEXTURE, MATERIAL_UNLIT, MATERIAL_UV_TRANSFORM,
-    SHADOW_MAP_SLOTS,
+    InstanceUniforms, LightUniforms, MaterialUniforms, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED, MATERIAL_LOBES, MATERIAL_SAMPLERS,
+    MATERIAL_TRANSMISSION, MATERIAL_TRANSMISSION_TEXTURE, MATERIAL_UNLIT, MATERIAL_UV_TRANSFORM,
 };
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
@@ -700,81 +699,6 @@ impl GpuScene {
         }
         queue.write_buffer(buffer, 0, bytes);
         true
-    }
-}
-
-/// The GPU form of a scene's lights: one record per light and the view-projection of each
-/// raster shadow-map slot in use.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct LightRecords {
-    /// One record per light.
-    pub(crate) records: Vec<LightUniforms>,
-    /// The view-projection of each shadow-map slot in use.
-    pub(crate) shadow_view_proj: Vec<Mat4>,
-    /// Lights without a shadow map in raster mode: point lights, and directional or spot
-    /// lights beyond the `SHADOW_MAP_SLOTS` first.
-    pub(crate) unshadowed_in_raster: usize,
-}
-
-/// Records of `lights` for a scene inside the sphere (`center`, `radius`). The first
-/// `SHADOW_MAP_SLOTS` directional and spot lights get a shadow-map slot: directional, an
-/// orthographic projection along the light over the scene's sphere; spot, a perspective
-/// projection over its outer cone from its position to the far side of the sphere (or its
-/// range). Point lights get none.
-pub(crate) fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
-    let mut out = LightRecords::default();
-    for light in lights {
-        let direction = light.direction.try_normalize().unwrap_or(Vec3::NEG_Y);
-        let (kind, range, cos_inner, cos_outer) = match light.kind {
-            LightKind::Directional => (LIGHT_DIRECTIONAL, None, 1.0, 1.0),
-            LightKind::Point { range } => (LIGHT_POINT, range, -1.0, -1.0),
-            LightKind::Spot { range, inner_cone, outer_cone } => (LIGHT_SPOT, range, inner_cone.cos(), outer_cone.cos()),
-        };
-        let shadow = (out.shadow_view_proj.len() < SHADOW_MAP_SLOTS).then(|| shadow_projection(light, direction, center, radius)).flatten();
-        let (shadow_map, shadow_depth_range) = match shadow {
-            Some((view_proj, depth_range)) => {
-                out.shadow_view_proj.push(view_proj);
-                (out.shadow_view_proj.len() as i32 - 1, depth_range)
-            }
-            None => {
-                out.unshadowed_in_raster += 1;
-                (-1, 0.0)
-            }
-        };
-        out.records.push(LightUniforms {
-            position: light.position.into(),
-            kind,
-            direction: direction.into(),
-            range: range.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(0.0),
-            radiance: (light.color * light.intensity).into(),
-            cos_inner,
-            cos_outer,
-            shadow_map,
-            shadow_depth_range,
-            _pad: 0,
-        });
-    }
-    out
-}
-
-/// A shadow map's view-projection and the world length of its depth range, for a light that
-/// has one.
-fn shadow_projection(light: &PunctualLight, direction: Vec3, center: Vec3, radius: f32) -> Option<(Mat4, f32)> {
-    let up = if direction.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
-    match light.kind {
-        LightKind::Directional => {
-            let view = Mat4::look_at_rh(center - direction * radius * 2.0, center, up);
-            Some((Mat4::orthographic_rh(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5) * view, radius * 3.0))
-        }
-        LightKind::Spot { range, outer_cone, .. } => {
-            let distance = (center - light.position).length();
-            let far = (distance + radius).min(range.unwrap_or(f32::INFINITY)).max(radius * 1e-3);
-            let near = (distance - radius).max(far * 1e-3);
-            let fov = (2.0 * outer_cone).clamp(1f32.to_radians(), 170f32.to_radians());
-            let view = Mat4::look_at_rh(light.position, light.position + direction, up);
-            Some((Mat4::perspective_rh(fov, 1.0, near, far) * view, far - near))
-        }
-        LightKind::Point { .. } => None,
     }
 }
 

@@ -47,7 +47,7 @@ pub(super) fn allocate_slots(resources: &mut [PlannedResource], mut used: Vec<Re
 /// Whether two resources could share memory: textures of one format, buffers of one size.
 fn same_shape(a: &ResourceDecl, b: &ResourceDecl) -> bool {
     match (a, b) {
-        (ResourceDecl::Texture(x), ResourceDecl::Texture(y)) => x.format == y.format,
+        (ResourceDecl::Texture(x), ResourceDecl::Texture(y)) => x.format == y.format && x.layers == y.layers,
         (ResourceDecl::Buffer(x), ResourceDecl::Buffer(y)) => x.size == y.size,
         // One acceleration structure per Accel node: never shared.
         _ => false,

@@ -172,7 +172,7 @@ fn source_resource(
     let rid = output_resource(nodes, source).ok_or_else(|| unknown_output(source, loc.clone(), nodes))?;
     let produced = &resources[rid].decl;
     let compatible = match (decl, produced) {
-        (ResourceDecl::Texture(a), ResourceDecl::Texture(b)) => a.format == b.format,
+        (ResourceDecl::Texture(a), ResourceDecl::Texture(b)) => a.format == b.format && a.layers == b.layers,
         (ResourceDecl::Buffer(a), ResourceDecl::Buffer(b)) => a.size <= b.size,
         (ResourceDecl::Accel, ResourceDecl::Accel) => true,
         _ => false,
@@ -226,6 +226,7 @@ fn unconnected_error(all: &[Unconnected]) -> Option<GraphError> {
 
 fn describe_decl(d: &ResourceDecl) -> String {
     match d {
+        ResourceDecl::Texture(t) if t.layers > 1 => format!("a {} texture of {} layers", t.format, t.layers),
         ResourceDecl::Texture(t) => format!("a {} texture", t.format),
         ResourceDecl::Buffer(b) => format!("a buffer of {} bytes", b.size),
         ResourceDecl::Accel => "an acceleration structure".into(),

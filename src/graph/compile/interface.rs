@@ -249,10 +249,13 @@ fn check_binding(it: &PassInterface, b: &reflect::ShaderBinding) -> Result<(), G
 /// What a binding of a resource the pass reads must be, if `b` is not that.
 fn expected_for_read(decl: &ResourceDecl, b: &reflect::ShaderBinding) -> Option<String> {
     match decl {
-        ResourceDecl::Texture(t) if t.format.is_depth() => (b.kind != BindingKind::DepthTexture).then(|| "texture_depth_2d".to_string()),
+        ResourceDecl::Texture(t) if t.format.is_depth() => {
+            let want = BindingKind::DepthTexture { arrayed: t.layers > 1 };
+            (b.kind != want).then(|| want.describe())
+        }
         ResourceDecl::Texture(t) => {
             let kind = if t.format.is_uint() { naga::ScalarKind::Uint } else { naga::ScalarKind::Float };
-            let want = BindingKind::SampledTexture { dim: naga::ImageDimension::D2, arrayed: false, kind };
+            let want = BindingKind::SampledTexture { dim: naga::ImageDimension::D2, arrayed: t.layers > 1, kind };
             (b.kind != want).then(|| want.describe())
         }
         ResourceDecl::Buffer(_) => (!matches!(b.kind, BindingKind::Storage { read_only: true, .. })).then(|| "var<storage, read>".to_string()),

@@ -50,7 +50,7 @@ impl PlannedResource {
     /// Bytes of GPU memory it needs (0 for the acceleration structure, which its cache owns).
     pub fn bytes(&self) -> u64 {
         match &self.decl {
-            ResourceDecl::Texture(t) => self.extent.0 as u64 * self.extent.1 as u64 * t.format.bytes_per_texel(),
+            ResourceDecl::Texture(t) => self.extent.0 as u64 * self.extent.1 as u64 * t.format.bytes_per_texel() * t.layers as u64,
             ResourceDecl::Buffer(b) => b.size,
             // Owned by the acceleration-structure cache, not a transient of the frame.
             ResourceDecl::Accel => 0,
@@ -127,6 +127,8 @@ pub struct PlannedPass {
     pub cull_closed_back_faces: bool,
     /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
     pub shadow_slot: Option<u32>,
+    /// Render passes: the array layer of layered attachments drawn into (`PassDesc::layer`).
+    pub layer: Option<u32>,
     /// `SceneRaster`: BLEND instances are not drawn (`PassDesc::skip_blend`).
     pub skip_blend: bool,
     /// `SceneRaster`: only translucent instances, back to front, blended (`PassDesc::translucent`).
@@ -260,6 +262,7 @@ impl Plan {
         let _ = writeln!(s, "resources:");
         for r in &self.resources {
             let what = match &r.decl {
+                ResourceDecl::Texture(t) if t.layers > 1 => format!("{} {}x{}x{}", t.format, r.extent.0, r.extent.1, t.layers),
                 ResourceDecl::Texture(t) => format!("{} {}x{}", t.format, r.extent.0, r.extent.1),
                 ResourceDecl::Buffer(b) => format!("buffer {} B", b.size),
                 ResourceDecl::Accel => "acceleration structure".to_string(),

@@ -144,6 +144,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             cull_back_faces: true,
             cull_closed_back_faces: false,
             shadow_slot: None,
+            layer: None,
             skip_blend: false,
             translucent: false,
         }],

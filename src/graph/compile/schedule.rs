@@ -1,4 +1,4 @@
-//! Passes and their order: each pass's reads and writes looked up (one producer per resource),
+//! Passes and their order: each pass's reads and writes looked up (one producer per resource, or per layer of a layered texture),
 //! the petgraph graph of pass and resource vertices, cycles reported as their path of nodes,
 //! and the culling and topological order of the passes.
 
@@ -29,23 +29,28 @@ pub(super) struct PassNode {
     pub(super) location: Location,
 }
 
-/// Which pass writes each resource (an index into the passes).
+/// Which pass writes each resource (an index into the passes; of a layered texture, one of them).
 pub(super) type Producers = HashMap<ResourceId, usize>;
 
+/// What one pass at most may write: a resource, and the layer of a layered texture
+/// (`TextureDecl::layers`; 0 for any other).
+type WrittenPart = (ResourceId, u32);
+
 /// Every pass of every node with its reads and writes looked up in the node's `locals`, and
-/// the pass that writes each resource (at most one).
+/// the pass that writes each resource (one; a pass per layer of a layered texture).
 pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, Producers), GraphError> {
     let mut passes = Vec::new();
     let mut producers = Producers::new();
-    let mut producer_loc: HashMap<ResourceId, (Location, String)> = HashMap::new();
+    let mut producer_loc: HashMap<WrittenPart, (Location, String)> = HashMap::new();
     for (ni, node) in nodes.iter().enumerate() {
         for (pi, pass) in node.layer.passes.iter().enumerate() {
             let location = node.layer_src.locate(&["passes", &SourceText::quoted(&pass.name)]);
             let reads = pass.reads.iter().map(|e| pass_resource(node, pass, e, "reads")).collect::<Result<Vec<_>, _>>()?;
             let writes = pass.writes.iter().map(|e| pass_resource(node, pass, e, "writes")).collect::<Result<Vec<_>, _>>()?;
             for w in &writes {
-                check_write(node, pass, &location, w, &reads, &producer_loc)?;
-                producer_loc.insert(w.resource, (location.clone(), pass.name.clone()));
+                let part = (w.resource, if layer_count(node, &w.local) > 1 { pass.layer.unwrap_or(0) } else { 0 });
+                check_write(node, pass, &location, (w, part), &reads, &producer_loc)?;
+                producer_loc.insert(part, (location.clone(), pass.name.clone()));
                 producers.insert(w.resource, passes.len());
             }
             check_pass_options(pass, &location)?;
@@ -92,9 +97,9 @@ fn check_write(
     node: &ResolvedNode,
     pass: &PassDesc,
     location: &Location,
-    w: &PassResource,
+    (w, part): (&PassResource, WrittenPart),
     reads: &[PassResource],
-    producer_loc: &HashMap<ResourceId, (Location, String)>,
+    producer_loc: &HashMap<WrittenPart, (Location, String)>,
 ) -> Result<(), GraphError> {
     let local = &w.local;
     if let Some(source) = node.layer.history.get(local) {
@@ -113,11 +118,15 @@ fn check_write(
         )
         .help("write a new output instead of the input"));
     }
-    if let Some((first_loc, first_pass)) = producer_loc.get(&w.resource) {
+    if let Some((first_loc, first_pass)) = producer_loc.get(&part) {
         return Err(GraphError::new(
             ErrorKind::TwoProducers,
             location.clone(),
-            format!("`{local}` is written by two passes: `{first_pass}` and `{}`", pass.name),
+            format!(
+                "`{local}` is written by two passes: `{first_pass}` and `{}`{}",
+                pass.name,
+                if part.1 > 0 || layer_count(node, local) > 1 { format!(" (layer {})", part.1) } else { String::new() }
+            ),
         )
         .note(first_loc.clone(), "first producer")
         .help("give each pass its own output, or merge the passes"));
@@ -126,7 +135,39 @@ fn check_write(
         return Err(GraphError::new(ErrorKind::TwoProducers, location.clone(), format!("pass `{}` both reads and writes `{local}`", pass.name))
             .help("write into a separate resource (ping-pong) instead"));
     }
-    Ok(())
+    check_layered_write(node, pass, location, local)
+}
+
+/// The array layers of `local`, an output or transient texture of `node`'s layer (1 for
+/// anything else).
+fn layer_count(node: &ResolvedNode, local: &str) -> u32 {
+    match node.layer.outputs.get(local).or_else(|| node.layer.transients.get(local)) {
+        Some(ResourceDecl::Texture(t)) => t.layers,
+        _ => 1,
+    }
+}
+
+/// A layered texture (`TextureDecl::layers`) is written one layer at a time, as the attachment
+/// of a render pass that names a layer it has.
+fn check_layered_write(node: &ResolvedNode, pass: &PassDesc, location: &Location, local: &str) -> Result<(), GraphError> {
+    let decl = node.layer.outputs.get(local).or_else(|| node.layer.transients.get(local));
+    let Some(ResourceDecl::Texture(t)) = decl else { return Ok(()) };
+    if t.layers == 0 {
+        return Err(GraphError::new(ErrorKind::Syntax, location.clone(), format!("`{local}` declares 0 layers")).help("declare at least 1 layer"));
+    }
+    if t.layers == 1 {
+        return Ok(());
+    }
+    let render = matches!(pass.kind, PassKind::SceneRaster | PassKind::Fullscreen);
+    match pass.layer {
+        Some(layer) if render && layer < t.layers => Ok(()),
+        _ => Err(GraphError::new(
+            ErrorKind::Unsupported,
+            location.clone(),
+            format!("pass `{}` writes `{local}`, a texture of {} layers, but is not a render pass with a `layer` below {}", pass.name, t.layers, t.layers),
+        )
+        .help("draw the texture one layer at a time: a SceneRaster or Fullscreen pass per layer, each with `layer: Some(n)`")),
+    }
 }
 
 /// `shadow_slot` only on scene raster passes; `cull_closed_back_faces` only with a slot.
@@ -138,6 +179,20 @@ fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphE
             format!("pass `{}` has a `shadow_slot` but is not a SceneRaster pass", pass.name),
         )
         .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
+    }
+    if pass.shadow_slot.is_some_and(|slot| slot as usize >= crate::uniforms::SHADOW_SLOTS) {
+        return Err(GraphError::new(
+            ErrorKind::Unsupported,
+            location.clone(),
+            format!(
+                "pass `{}` draws shadow slot {}, but there are {} (0 to {})",
+                pass.name,
+                pass.shadow_slot.unwrap_or(0),
+                crate::uniforms::SHADOW_SLOTS,
+                crate::uniforms::SHADOW_SLOTS - 1
+            ),
+        )
+        .help("slots 0-3 are the directional and spot lights' maps, the next six each the faces of a point light's cube map".to_string()));
     }
     if pass.translucent && (pass.kind != PassKind::SceneRaster || pass.skip_blend || pass.shadow_slot.is_some()) {
         return Err(GraphError::new(

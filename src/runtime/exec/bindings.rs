@@ -134,9 +134,11 @@ impl Executor {
                 multisampled: false,
             },
             BindingKind::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
-            BindingKind::DepthTexture => {
-                wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Depth, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false }
-            }
+            BindingKind::DepthTexture { arrayed } => wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Depth,
+                view_dimension: if *arrayed { wgpu::TextureViewDimension::D2Array } else { wgpu::TextureViewDimension::D2 },
+                multisampled: false,
+            },
             BindingKind::StorageTexture { access, .. } => {
                 let r = resource_of(pass, &b.name).expect("checked by the compiler");
                 let ResourceDecl::Texture(t) = &self.plan.resources[r].decl else { unreachable!() };

@@ -53,6 +53,10 @@ pub(crate) const EMITTERS_CONSTANT: &str = "SCENE_EMITTERS";
 /// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
 pub(crate) const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
 
+/// The pipeline constant a shadow pass's shader reads its slot from (`PassDesc::shadow_slot`,
+/// shadow_map/shadow_map.wgsl), so that one entry point serves every slot.
+pub(crate) const SHADOW_SLOT_CONSTANT: &str = "SHADOW_SLOT";
+
 /// What the scene's instances use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SceneFeatures {
@@ -152,7 +156,8 @@ impl SceneFeatures {
     pub(crate) fn constants(&self, pass: &PlannedPass) -> Vec<(&'static str, f64)> {
         let projection = (CAMERA_PROJECTION_CONSTANT, if self.orthographic { 2.0 } else { 1.0 });
         let switches = self.all().into_iter().map(|(name, on)| (name, if on { 1.0 } else { 0.0 }));
-        switches.chain([projection]).filter(|(name, _)| pass.shader.has_override(name)).collect()
+        let slot = pass.shadow_slot.map(|slot| (SHADOW_SLOT_CONSTANT, slot as f64));
+        switches.chain([projection]).chain(slot).filter(|(name, _)| pass.shader.has_override(name)).collect()
     }
 }
 

@@ -154,7 +154,7 @@ pub struct Executor {
     /// built again when it changes.
     features: features::SceneFeatures,
     /// The light records of the scene generation they were made for (`scene_state`).
-    lights: Option<(u64, crate::runtime::scene_upload::LightRecords)>,
+    lights: Option<(u64, crate::runtime::light_records::LightRecords)>,
     /// Whether the warning about lights without a raster shadow map was printed.
     warned_unshadowed: bool,
     /// Whether the warning about emissive surfaces that light nothing was printed.
@@ -182,10 +182,15 @@ struct FrameRecording {
 /// What the passes of one frame record with, beside the executor.
 struct FrameInputs<'a> {
     scene: &'a Scene,
-    /// Shadow maps lights use this frame; passes of the other slots are not drawn.
-    shadow_count: u32,
+    /// Shadow slots lights use this frame (bit `slot`); passes of the other slots are not drawn.
+    shadow_slots: u32,
     /// Whether consecutive compute nodes are recorded into one pass ([`Gpu::merges_compute_passes`]).
     merged: bool,
+}
+
+/// Whether shadow slot `slot` is among those of the mask `slots` (`FrameUniforms::shadow_slots`).
+fn slot_in_use(slots: u32, slot: u32) -> bool {
+    slot < 32 && slots & (1 << slot) != 0
 }
 
 impl Executor {
@@ -398,12 +403,12 @@ impl Executor {
             let Pipeline::Scene(pipelines) = &mut pass.pipeline else { continue };
             let light_view_proj = planned
                 .shadow_slot
-                .filter(|slot| *slot < uniforms.shadow_count)
+                .filter(|slot| slot_in_use(uniforms.shadow_slots, *slot))
                 .map(|slot| glam::Mat4::from_cols_array_2d(&uniforms.shadow_view_proj[slot as usize]));
             let source = draws::PassDrawSource { pipelines, back_to_front: planned.translucent, light_view_proj };
             self.draws.update_pass(gpu, scene, self.scene_generation, draws, camera.position, i, source);
         }
-        FrameInputs { scene, shadow_count: uniforms.shadow_count, merged: gpu.merges_compute_passes() }
+        FrameInputs { scene, shadow_slots: uniforms.shadow_slots, merged: gpu.merges_compute_passes() }
     }
 
     /// Records every pass of the frame in schedule order: each run of consecutive compute nodes
@@ -429,7 +434,7 @@ impl Executor {
     fn draws_nothing(&self, inputs: &FrameInputs, i: usize) -> bool {
         let planned = &self.plan.passes[i];
         let nothing_translucent = planned.translucent && self.draws.pass(i).is_none_or(|d| d.runs().is_empty());
-        nothing_translucent || planned.shadow_slot.is_some_and(|slot| slot >= inputs.shadow_count)
+        nothing_translucent || planned.shadow_slot.is_some_and(|slot| !slot_in_use(inputs.shadow_slots, slot))
     }
 
     /// Records pass `i` of the frame, and its CPU milliseconds.

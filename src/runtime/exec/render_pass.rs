@@ -58,8 +58,9 @@ impl Executor {
             .collect();
         let PassLayout { layout, bind_groups, accel_layout } = layout;
         let alpha_switch = pass.shader.has_override(crate::runtime::raster::ALPHA_TEST_CONSTANT);
-        let views =
-            [false, true].map(|swapped| (colors.iter().map(|r| self.texture_view_at(*r, swapped)).collect(), depth.map(|r| self.texture_view_at(r, swapped))));
+        let views = [false, true].map(|swapped| {
+            (colors.iter().map(|r| self.attachment_view_at(*r, swapped, pass.layer)).collect(), depth.map(|r| self.attachment_view_at(r, swapped, pass.layer)))
+        });
         let spec = RenderSpec {
             label: pass.name.clone(),
             layout,

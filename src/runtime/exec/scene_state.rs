@@ -8,9 +8,10 @@ use crate::error::RuntimeError;
 use crate::graph::compile::Plan;
 use crate::graph::desc::PassKind;
 use crate::runtime::gpu::Gpu;
-use crate::runtime::scene_upload::{light_records, GpuScene, SceneContent};
+use crate::runtime::light_records::light_records;
+use crate::runtime::scene_upload::{GpuScene, SceneContent};
 use crate::scene::{Camera, Scene};
-use crate::uniforms::{FrameUniforms, SHADOW_MAP_SLOTS};
+use crate::uniforms::{FrameUniforms, CUBE_SHADOW_MAPS, SHADOW_MAP_SLOTS};
 
 impl Executor {
     /// The parts of `scene` that `plan` reads, uploaded; `None` when it reads none.
@@ -166,7 +167,7 @@ impl Executor {
             if !self.warned_unshadowed && lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() {
                 self.warned_unshadowed = true;
                 eprintln!(
-                    "warning: lights without a shadow map in raster mode: {} of {} (point lights, and directional or spot lights after the first {SHADOW_MAP_SLOTS}); they light the scene unshadowed",
+                    "warning: lights without a shadow map in raster mode: {} of {} (directional or spot lights after the first {SHADOW_MAP_SLOTS}, point lights after the first {CUBE_SHADOW_MAPS}); they light the scene unshadowed",
                     lights.unshadowed_in_raster,
                     lights.records.len()
                 );
@@ -200,10 +201,7 @@ impl Executor {
         self.write_motion(gpu, scene)?;
         self.write_lights(gpu, scene)?;
         let lights = self.lights.as_ref().map(|(_, lights)| lights).expect("written above");
-        let mut shadow_view_proj = [[[0.0; 4]; 4]; SHADOW_MAP_SLOTS];
-        for (slot, m) in shadow_view_proj.iter_mut().zip(&lights.shadow_view_proj) {
-            *slot = m.to_cols_array_2d();
-        }
+        let shadow_view_proj = lights.shadow_view_proj.map(|m| m.to_cols_array_2d());
         Ok(FrameUniforms {
             view_proj: vp.to_cols_array_2d(),
             inv_view_proj: vp.inverse().to_cols_array_2d(),
@@ -214,7 +212,7 @@ impl Executor {
             shadow_view_proj,
             ambient: scene.light().ambient,
             light_count: lights.records.len() as u32,
-            shadow_count: lights.shadow_view_proj.len() as u32,
+            shadow_slots: lights.shadow_slots,
             frame_index: self.frame_index,
             history_valid: self.history.valid as u32,
             _pad: [0; 3],

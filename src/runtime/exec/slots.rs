@@ -68,7 +68,7 @@ fn create_slot_texture(device: &wgpu::Device, plan: &Plan, i: usize, t: &Texture
     let s = &plan.slots[i];
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(&slot_label(plan, i)),
-        size: wgpu::Extent3d { width: s.extent.0, height: s.extent.1, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d { width: s.extent.0, height: s.extent.1, depth_or_array_layers: t.layers },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -113,12 +113,14 @@ impl Executor {
         for (slot, physical) in plan.slots.iter().zip(&slots) {
             if let (Some(value), ResourceDecl::Texture(t), Physical::Texture(texture)) = (slot.constant, &slot.decl, physical) {
                 let texel = t.format.encode_texel(value).ok_or_else(|| RuntimeError::Gpu(format!("a {:?} input cannot have a fallback value", t.format)))?;
-                gpu.queue().write_texture(
-                    wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
-                    &texel,
-                    wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(texel.len() as u32), rows_per_image: Some(1) },
-                    wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
-                );
+                for layer in 0..t.layers {
+                    gpu.queue().write_texture(
+                        wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, aspect: wgpu::TextureAspect::All },
+                        &texel,
+                        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(texel.len() as u32), rows_per_image: Some(1) },
+                        wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                    );
+                }
             }
         }
         Ok(slots)
@@ -159,11 +161,30 @@ impl Executor {
         self.texture_view_at(r, self.history.swapped)
     }
 
-    /// A view of the texture that holds `r` when the history pairs are `swapped` or not.
+    /// A view of the texture that holds `r` when the history pairs are `swapped` or not (of
+    /// all its layers: a texture of several is viewed as an array).
     pub(super) fn texture_view_at(&self, r: ResourceId, swapped: bool) -> wgpu::TextureView {
         match &self.slots[self.slot_at(r, swapped).expect("kept resource has a slot")] {
             Physical::Texture(t) => t.create_view(&wgpu::TextureViewDescriptor::default()),
             Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
+        }
+    }
+
+    /// A view of `r` as a render pass's attachment: array layer `layer` of a layered texture
+    /// (the pass's `layer`, checked by the compiler), the texture itself otherwise.
+    pub(super) fn attachment_view_at(&self, r: ResourceId, swapped: bool, layer: Option<u32>) -> wgpu::TextureView {
+        let texture = match &self.slots[self.slot_at(r, swapped).expect("kept resource has a slot")] {
+            Physical::Texture(t) => t,
+            Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
+        };
+        match layer.filter(|_| texture.depth_or_array_layers() > 1) {
+            Some(layer) => texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            }),
+            None => texture.create_view(&wgpu::TextureViewDescriptor::default()),
         }
     }
 
