@@ -93,16 +93,18 @@ fn shadow_slot_at(light: Light, p: vec3<f32>) -> i32 {
 // Visibility of `light` (which has a shadow slot) at world point p with geometric normal ng
 // and screen-space position differentials dpx, dpy.
 fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, dpy: vec3<f32>) -> f32 {
-    let slot = shadow_slot_at(light, p);
-    let m = frame.shadow_view_proj[slot];
-    let cube = slot >= FIRST_CUBE_SLOT;
+    let cube = light.shadow_map >= FIRST_CUBE_SLOT;
     let size = select(textureDimensions(shadow_map), textureDimensions(shadow_cube), cube);
     let fsize = vec2<f32>(size);
     // World size of one texel at p: the projection maps 2 NDC units onto the map's width; the
     // length of the matrix's first row is clip units per world unit (divided by w in NDC).
-    let c0 = m * vec4<f32>(p, 1.0);
-    let texel_world = 2.0 * c0.w / (length(vec3<f32>(m[0].x, m[1].x, m[2].x)) * fsize.x);
+    let m0 = frame.shadow_view_proj[shadow_slot_at(light, p)];
+    let c0 = m0 * vec4<f32>(p, 1.0);
+    let texel_world = 2.0 * c0.w / (length(vec3<f32>(m0[0].x, m0[1].x, m0[2].x)) * fsize.x);
     let q = p + ng * (params.normal_offset * texel_world);
+    // The receiver offset may carry a point near a cube face's edge into the next face.
+    let slot = shadow_slot_at(light, q);
+    let m = frame.shadow_view_proj[slot];
     let c = m * vec4<f32>(q, 1.0);
     let sc = shadow_coord(c, fsize);
     let dsx = shadow_coord_delta(c, m * vec4<f32>(dpx, 0.0), fsize);
