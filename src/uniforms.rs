@@ -5,8 +5,8 @@ use bytemuck::{Pod, Zeroable};
 /// Shadow-map slots of directional and spot lights in the raster mode (`shadow_map` layer: one
 /// 2048² depth texture each): slots 0 to 3.
 pub(crate) const SHADOW_MAP_SLOTS: usize = 4;
-/// Point lights with a cube shadow map in the raster mode (`shadow_map` layer's `cube`: six
-/// 1024² layers each). Cube map k has slots `SHADOW_MAP_SLOTS + 6k ..`, one per face in the
+/// Point lights with a cube shadow map in the raster mode, the most powerful (`shadow_map`
+/// layer's `cube`: six 1024² layers each). Cube map k has slots `SHADOW_MAP_SLOTS + 6k ..`, one per face in the
 /// order +x, -x, +y, -y, +z, -z.
 pub(crate) const CUBE_SHADOW_MAPS: usize = 2;
 /// Every raster shadow slot: the maps', then the cube maps' faces.

@@ -465,27 +465,33 @@ fn an_open_floor_under_a_point_light_has_no_acne_on_any_cube_face() {
     }
 }
 
-/// (g) The slots: the second point light has a cube map of its own (slots 10-15), and a third
-/// has none (the documented limit: it lights the raster mode unshadowed). The lights other than
-/// the one above the sphere sit under the floor, so they light none of it.
+/// (g) The slots: the second point light has a cube map of its own (slots 10-15); a third of
+/// the same power has none (the documented limit: it lights the raster mode unshadowed), and a
+/// third more powerful than the others takes one from them. The lights other than the one
+/// above the sphere sit under the floor, so they light none of it.
 #[test]
-fn the_second_point_light_has_a_cube_map_and_the_third_none() {
+fn the_two_most_powerful_point_lights_have_cube_maps() {
     let gpu = gpu();
     let graphs = Graphs::new();
     let sphere_at = (Vec3::new(0.0, 1.2, 0.0), 0.8f32);
     let above = Vec3::new(0.0, 4.0, 0.0);
     let under = |x: f32| point(Vec3::new(x, -3.0, 0.0), 30.0);
     let camera = look(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO);
-    let mut s = point_lit(Some(sphere_at), vec![under(0.0), point(above, 30.0)], camera);
-    let (img, lit_img) = (graphs.render(&gpu, true, &s, &camera), graphs.render(&gpu, false, &s, &camera));
-    let second = Tally::of(&img, &lit_img, &camera, sphere_at, |p| cone_outline(above, sphere_at, p));
+    let tally = |lights: Vec<PunctualLight>| {
+        let s = point_lit(Some(sphere_at), lights, camera);
+        let (img, lit_img) = (graphs.render(&gpu, true, &s, &camera), graphs.render(&gpu, false, &s, &camera));
+        Tally::of(&img, &lit_img, &camera, sphere_at, |p| cone_outline(above, sphere_at, p))
+    };
+    let second = tally(vec![under(0.0), point(above, 30.0)]);
     second.report("second point light");
     second.assert_right("second point light", 300, 10_000);
 
-    s.lights_mut().insert(0, under(1.0));
-    let (img, lit_img) = (graphs.render(&gpu, true, &s, &camera), graphs.render(&gpu, false, &s, &camera));
-    let third = Tally::of(&img, &lit_img, &camera, sphere_at, |p| cone_outline(above, sphere_at, p));
-    third.report("third point light");
+    let third = tally(vec![under(1.0), under(0.0), point(above, 30.0)]);
+    third.report("third point light, of equal power");
     assert!(third.inside > 300, "the view must show where the shadow would be ({} pixels)", third.inside);
     assert_eq!(third.inside_ok, 0, "a third point light has no cube map, so nothing is shadowed ({} pixels are)", third.inside_ok);
+
+    let brightest = tally(vec![under(1.0), under(0.0), point(above, 40.0)]);
+    brightest.report("third point light, the most powerful");
+    brightest.assert_right("third point light, the most powerful", 300, 10_000);
 }

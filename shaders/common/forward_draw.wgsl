@@ -4,7 +4,8 @@
 // the shading model of every mode (common/lighting.wgsl: every light of `scene_lights`, sky
 // ambient x material occlusion, the sky's specular reflection, emission; every material input
 // and texture). A light with a shadow slot (`Light::shadow_map`, the first four directional
-// or spot lights and the first two point lights) has its direct term multiplied by its shadow-map visibility
+// or spot lights and the two most powerful point lights) has its direct term multiplied by its
+// shadow-map visibility
 // (common/forward_shading.wgsl); other lights are unshadowed.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"

@@ -3,7 +3,7 @@
 // the shading model of every mode (common/lighting.wgsl: every light of `scene_lights`, sky
 // ambient x material occlusion, the sky's specular reflection, emission).
 // A light with a shadow slot (`Light::shadow_map`: the first four directional or spot lights,
-// a layer of `shadow_map` each, and the first two point lights, six layers of `shadow_cube`
+// a layer of `shadow_map` each, and the two most powerful point lights, six layers of `shadow_cube`
 // each, a cube map's faces) is seen through the `shadow_map` layer's depth textures, drawn
 // through `frame.shadow_view_proj[slot]`:
 // - the receiver point is moved along its geometric normal by `normal_offset` shadow-map

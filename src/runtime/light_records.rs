@@ -1,7 +1,7 @@
 //! The scene's lights as the GPU reads them: one record per light (`scene_lights`) and the
 //! raster mode's shadow slots, the view-projections the `shadow_map` layer draws through: the
-//! first four directional or spot lights a map each, the first two point lights a cube map's six
-//! faces each.
+//! first four directional or spot lights a map each, the two most powerful point lights a cube
+//! map's six faces each.
 
 use crate::scene::{LightKind, PunctualLight};
 use crate::uniforms::{LightUniforms, CUBE_SHADOW_MAPS, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, SHADOW_MAP_SLOTS, SHADOW_SLOTS};
@@ -18,28 +18,37 @@ pub(crate) struct LightRecords {
     /// The slots in use: bit `slot` set where a light has it.
     pub(crate) shadow_slots: u32,
     /// Lights without a shadow map in raster mode: directional or spot lights beyond the
-    /// `SHADOW_MAP_SLOTS` first, point lights beyond the `CUBE_SHADOW_MAPS` first.
+    /// `SHADOW_MAP_SLOTS` first, point lights but the `CUBE_SHADOW_MAPS` most powerful.
     pub(crate) unshadowed_in_raster: usize,
 }
 
-/// The shadow slots lights are given in order: the first `SHADOW_MAP_SLOTS` directional or
-/// spot lights one each, the first `CUBE_SHADOW_MAPS` point lights a cube map's six.
-#[derive(Default)]
+/// The shadow slots of a scene's lights: the first `SHADOW_MAP_SLOTS` directional or spot
+/// lights one each, in order; the `CUBE_SHADOW_MAPS` most powerful point lights (intensity
+/// times the colour's largest channel; the earlier of two equal) a cube map's six, the cube
+/// maps in the lights' order.
 struct ShadowSlots {
     maps: usize,
-    cubes: usize,
+    /// The indices of the point lights with a cube map, in order.
+    cube_lights: Vec<usize>,
 }
 
 impl ShadowSlots {
-    /// The first slot of `light`'s shadow map and its view-projections, if one is left.
-    fn take(&mut self, light: &PunctualLight, direction: Vec3, center: Vec3, radius: f32) -> Option<(usize, Vec<Mat4>, f32)> {
+    fn new(lights: &[PunctualLight]) -> Self {
+        let mut points: Vec<usize> = (0..lights.len()).filter(|&i| matches!(lights[i].kind, LightKind::Point { .. })).collect();
+        let power = |i: usize| lights[i].intensity * lights[i].color.max_element();
+        // A stable sort: equal powers keep the file's order.
+        points.sort_by(|&a, &b| power(b).total_cmp(&power(a)));
+        points.truncate(CUBE_SHADOW_MAPS);
+        points.sort_unstable();
+        Self { maps: 0, cube_lights: points }
+    }
+
+    /// The first slot of light `i`'s shadow map and its view-projections, if it has one.
+    fn take(&mut self, i: usize, light: &PunctualLight, direction: Vec3, center: Vec3, radius: f32) -> Option<(usize, Vec<Mat4>, f32)> {
         if let LightKind::Point { range } = light.kind {
-            if self.cubes == CUBE_SHADOW_MAPS {
-                return None;
-            }
-            self.cubes += 1;
+            let cube = self.cube_lights.iter().position(|&c| c == i)?;
             let (faces, depth_range) = cube_projections(light.position, range, center, radius);
-            return Some((SHADOW_MAP_SLOTS + 6 * (self.cubes - 1), faces.to_vec(), depth_range));
+            return Some((SHADOW_MAP_SLOTS + 6 * cube, faces.to_vec(), depth_range));
         }
         if self.maps == SHADOW_MAP_SLOTS {
             return None;
@@ -57,15 +66,15 @@ impl ShadowSlots {
 /// ([`cube_projections`]).
 pub(crate) fn light_records(lights: &[PunctualLight], center: Vec3, radius: f32) -> LightRecords {
     let mut out = LightRecords { shadow_view_proj: [Mat4::IDENTITY; SHADOW_SLOTS], ..Default::default() };
-    let mut slots = ShadowSlots::default();
-    for light in lights {
+    let mut slots = ShadowSlots::new(lights);
+    for (i, light) in lights.iter().enumerate() {
         let direction = light.direction.try_normalize().unwrap_or(Vec3::NEG_Y);
         let (kind, range, cos_inner, cos_outer) = match light.kind {
             LightKind::Directional => (LIGHT_DIRECTIONAL, None, 1.0, 1.0),
             LightKind::Point { range } => (LIGHT_POINT, range, -1.0, -1.0),
             LightKind::Spot { range, inner_cone, outer_cone } => (LIGHT_SPOT, range, inner_cone.cos(), outer_cone.cos()),
         };
-        let (shadow_map, shadow_depth_range) = match slots.take(light, direction, center, radius) {
+        let (shadow_map, shadow_depth_range) = match slots.take(i, light, direction, center, radius) {
             Some((first, view_projs, depth_range)) => {
                 for (k, m) in view_projs.into_iter().enumerate() {
                     out.shadow_view_proj[first + k] = m;
@@ -147,6 +156,16 @@ mod tests {
 
     fn light(kind: LightKind, position: Vec3) -> PunctualLight {
         PunctualLight { name: String::new(), kind, position, direction: Vec3::NEG_Y, color: Vec3::ONE, intensity: 1.0 }
+    }
+
+    #[test]
+    fn cubes_go_to_the_two_most_powerful_point_lights_in_the_files_order() {
+        let at = |intensity: f32, red: f32| PunctualLight { intensity, color: Vec3::new(red, 0.5, 0.5), ..light(LightKind::Point { range: None }, Vec3::Y) };
+        // Powers 2, 8, 1.5 (its largest channel 0.5), 8: the second and the fourth.
+        let records = light_records(&[at(2.0, 1.0), at(4.0, 2.0), at(3.0, 0.2), at(8.0, 1.0)], Vec3::ZERO, 4.0);
+        let slots: Vec<i32> = records.records.iter().map(|r| r.shadow_map).collect();
+        assert_eq!(slots, [-1, 4, -1, 10]);
+        assert_eq!(records.unshadowed_in_raster, 2);
     }
 
     #[test]

@@ -167,7 +167,7 @@ impl Executor {
             if !self.warned_unshadowed && lights.unshadowed_in_raster > 0 && self.draws_shadow_maps() {
                 self.warned_unshadowed = true;
                 eprintln!(
-                    "warning: lights without a shadow map in raster mode: {} of {} (directional or spot lights after the first {SHADOW_MAP_SLOTS}, point lights after the first {CUBE_SHADOW_MAPS}); they light the scene unshadowed (a cube map is six draws of the scene a frame: BENCHMARKS.md, \"Raster point-light shadows\")",
+                    "warning: lights without a shadow map in raster mode: {} of {} (directional or spot lights after the first {SHADOW_MAP_SLOTS}, point lights but the {CUBE_SHADOW_MAPS} most powerful); they light the scene unshadowed (a cube map is six draws of the scene a frame: BENCHMARKS.md, \"Raster point-light shadows\")",
                     lights.unshadowed_in_raster,
                     lights.records.len()
                 );
