@@ -209,8 +209,8 @@ fn two_producers() {
 }
 
 /// A texture of several layers is written a layer at a time, by render passes that each name
-/// one: a compute pass writing it is refused at the pass, and two passes on one layer are two
-/// producers.
+/// one: a compute pass writing it is refused at the pass, a texture of 0 or too many layers at
+/// its declaration, and two passes on one layer are two producers.
 #[test]
 fn layered_textures_are_written_one_layer_a_pass() {
     let p = TempProject::new();
@@ -228,6 +228,12 @@ fn layered_textures_are_written_one_layer_a_pass() {
     let g = GOOD.replace(r#"layer: "fill""#, r#"layer: "layered""#);
     let e = expect(p.compile("g.ron", &g), ErrorKind::Unsupported, "layers/layered.ron", line_of(layer, r#"name: "fill_layers""#));
     assert!(e.to_string().contains("2 layers"), "{e}");
+    for count in ["0", "257"] {
+        let none = layer.replace("layers: 2", &format!("layers: {count}"));
+        p.write("layers/layered.ron", &none);
+        let e = expect(p.compile("g.ron", &g), ErrorKind::Syntax, "layers/layered.ron", line_of(&none, r#""scratch""#));
+        assert!(e.to_string().contains(&format!("declares {count} layers")), "{e}");
+    }
 
     let repo = TempProject::with_repo_files();
     let shadow_layer = std::fs::read_to_string(repo.root.join("layers/shadow_map.ron")).unwrap();

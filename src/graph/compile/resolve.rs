@@ -68,19 +68,7 @@ pub(super) fn resolve_layers(
         }
         let layer_src = read_file(&path, None)?;
         let layer: LayerDesc = parse_ron(&layer_src, "layer")?;
-        for (pname, decl) in &layer.params {
-            if let ParamDecl::Enum { default, values } = decl {
-                if !values.contains(default) {
-                    let loc = layer_src.locate(&["params", &SourceText::quoted(pname)]);
-                    return Err(GraphError::new(
-                        ErrorKind::ParamOutOfRange,
-                        loc,
-                        format!("enum parameter `{pname}`: its default `{default}` is not one of its values"),
-                    )
-                    .help(format!("use one of: {}", values.join(", "))));
-                }
-            }
-        }
+        check_declarations(&layer, &layer_src)?;
         let mut params: BTreeMap<String, (ParamDecl, ParamValue)> = layer.params.iter().map(|(k, d)| (k.clone(), (d.clone(), d.default_value()))).collect();
         for (pname, value) in &ln.params {
             let loc = gsrc.locate(&["nodes", &node_anchor, "params", &SourceText::quoted(pname)]);
@@ -96,6 +84,41 @@ pub(super) fn resolve_layers(
         out.push(ResolvedNode { name: name.clone(), layer_name: layer_name.clone(), layer, layer_src, params, locals: HashMap::new(), accel: None });
     }
     Ok(out)
+}
+
+/// The most array layers a texture may declare: the least every device allows
+/// (`wgpu::Limits::max_texture_array_layers`'s default).
+const MAX_TEXTURE_LAYERS: u32 = 256;
+
+/// A layer file's own declarations: each enum parameter's default one of its values, each
+/// texture of 1 to `MAX_TEXTURE_LAYERS` layers.
+fn check_declarations(layer: &LayerDesc, layer_src: &SourceText) -> Result<(), GraphError> {
+    for (pname, decl) in &layer.params {
+        if let ParamDecl::Enum { default, values } = decl {
+            if !values.contains(default) {
+                let loc = layer_src.locate(&["params", &SourceText::quoted(pname)]);
+                return Err(GraphError::new(
+                    ErrorKind::ParamOutOfRange,
+                    loc,
+                    format!("enum parameter `{pname}`: its default `{default}` is not one of its values"),
+                )
+                .help(format!("use one of: {}", values.join(", "))));
+            }
+        }
+    }
+    let declared = [("inputs", &layer.inputs), ("outputs", &layer.outputs), ("transients", &layer.transients)];
+    for (section, decls) in declared {
+        for (name, decl) in decls.iter() {
+            if let ResourceDecl::Texture(t) = decl {
+                if t.layers == 0 || t.layers > MAX_TEXTURE_LAYERS {
+                    let loc = layer_src.locate(&[section, &SourceText::quoted(name)]);
+                    return Err(GraphError::new(ErrorKind::Syntax, loc, format!("texture `{name}` declares {} layers", t.layers))
+                        .help(format!("declare 1 to {MAX_TEXTURE_LAYERS} layers")));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The layer a node names (or the device's substitute for it, `layers`) and its file.

@@ -1,5 +1,6 @@
-//! Passes and their order: each pass's reads and writes looked up (one producer per resource, or per layer of a layered texture),
-//! the petgraph graph of pass and resource vertices, cycles reported as their path of nodes,
+//! Passes and their order: each pass's reads and writes looked up (one producer per resource,
+//! or per layer of a layered texture), the petgraph graph of pass and resource vertices, cycles
+//! reported as their path of nodes,
 //! and the culling and topological order of the passes.
 
 use super::connect::{output_resource, unknown_output};
@@ -152,10 +153,7 @@ fn layer_count(node: &ResolvedNode, local: &str) -> u32 {
 fn check_layered_write(node: &ResolvedNode, pass: &PassDesc, location: &Location, local: &str) -> Result<(), GraphError> {
     let decl = node.layer.outputs.get(local).or_else(|| node.layer.transients.get(local));
     let Some(ResourceDecl::Texture(t)) = decl else { return Ok(()) };
-    if t.layers == 0 {
-        return Err(GraphError::new(ErrorKind::Syntax, location.clone(), format!("`{local}` declares 0 layers")).help("declare at least 1 layer"));
-    }
-    if t.layers == 1 {
+    if t.layers <= 1 {
         return Ok(());
     }
     let render = matches!(pass.kind, PassKind::SceneRaster | PassKind::Fullscreen);
@@ -170,7 +168,8 @@ fn check_layered_write(node: &ResolvedNode, pass: &PassDesc, location: &Location
     }
 }
 
-/// `shadow_slot` only on scene raster passes; `cull_closed_back_faces` only with a slot.
+/// `shadow_slot` only on scene raster passes, and below `SHADOW_SLOTS`; `layer` only on render
+/// passes; `cull_closed_back_faces` only with a slot.
 fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphError> {
     if pass.shadow_slot.is_some() && pass.kind != PassKind::SceneRaster {
         return Err(GraphError::new(
@@ -179,6 +178,10 @@ fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphE
             format!("pass `{}` has a `shadow_slot` but is not a SceneRaster pass", pass.name),
         )
         .help("only a pass that draws the scene can draw a shadow map: remove `shadow_slot`".to_string()));
+    }
+    if pass.layer.is_some() && !matches!(pass.kind, PassKind::SceneRaster | PassKind::Fullscreen) {
+        return Err(GraphError::new(ErrorKind::Unsupported, location.clone(), format!("pass `{}` has a `layer` but is not a render pass", pass.name))
+            .help("only SceneRaster and Fullscreen passes draw into one layer of their attachments: remove `layer`".to_string()));
     }
     if pass.shadow_slot.is_some_and(|slot| slot as usize >= crate::uniforms::SHADOW_SLOTS) {
         return Err(GraphError::new(
