@@ -1,7 +1,6 @@
 //! Passes and their order: each pass's reads and writes looked up (one producer per resource,
 //! or per layer of a layered texture), the petgraph graph of pass and resource vertices, cycles
-//! reported as their path of nodes,
-//! and the culling and topological order of the passes.
+//! reported as their path of nodes, and the culling and topological order of the passes.
 
 use super::connect::{output_resource, unknown_output};
 use super::plan::{PlannedResource, ResourceId};
