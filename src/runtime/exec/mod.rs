@@ -452,7 +452,7 @@ impl Executor {
             return Ok(());
         }
         if self.draws_nothing(inputs, i) {
-            self.record_empty_timed_pass(&mut frame.encoder, i);
+            self.record_empty_timed_pass(&mut frame.encoder, i, inputs.merged);
             frame.cpu_ms.push(0.0);
             return Ok(());
         }
