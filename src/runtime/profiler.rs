@@ -11,6 +11,9 @@ pub(crate) struct GpuTimer {
     readback: wgpu::Buffer,
     capacity: u32,
     period_ns: f32,
+    /// This frame's query pair of each pass (`None`: the pass records nothing and reads 0 ms),
+    /// set by [`GpuTimer::skip`]; empty: pass i has pair i.
+    pairs: std::sync::Mutex<Vec<Option<u32>>>,
 }
 
 impl GpuTimer {
@@ -26,49 +29,69 @@ impl GpuTimer {
             mapped_at_creation: false,
         });
         let readback = readback_buffer(device, "timestamp readback", size);
-        Self { query_set, resolve, readback, capacity: capacity.max(1), period_ns: queue.get_timestamp_period() }
+        Self { query_set, resolve, readback, capacity: capacity.max(1), period_ns: queue.get_timestamp_period(), pairs: Default::default() }
+    }
+
+    /// Leaves the passes `skipped[i]` (nothing to record this frame) out of the frame's
+    /// queries: the others take the query pairs in order, so that one resolve reads them all.
+    pub(crate) fn skip(&self, skipped: &[bool]) {
+        *self.pairs.lock().unwrap_or_else(|e| e.into_inner()) = compact_pairs(skipped);
+    }
+
+    /// The query pair of `pass` this frame (`None` past the capacity or for a skipped pass).
+    fn pair(&self, pass: u32) -> Option<u32> {
+        let pairs = self.pairs.lock().unwrap_or_else(|e| e.into_inner());
+        let pair = if pairs.is_empty() { Some(pass) } else { pairs.get(pass as usize).copied().flatten() };
+        pair.filter(|p| *p < self.capacity)
+    }
+
+    /// How many query pairs the frame of `passes` passes writes.
+    fn pairs_written(&self, passes: u32) -> u32 {
+        let pairs = self.pairs.lock().unwrap_or_else(|e| e.into_inner());
+        let written = if pairs.is_empty() { passes } else { pairs.iter().flatten().count() as u32 };
+        written.min(self.capacity)
     }
 
     /// The timestamp writes around compute pass `pass` (`None` past the capacity).
     pub(crate) fn compute_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
+        self.pair(pass).map(|p| wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
-            beginning_of_pass_write_index: Some(pass * 2),
-            end_of_pass_write_index: Some(pass * 2 + 1),
+            beginning_of_pass_write_index: Some(p * 2),
+            end_of_pass_write_index: Some(p * 2 + 1),
         })
     }
 
     /// Only the start of `pass` (for work recorded outside a pass: an empty compute pass
     /// writes it).
     pub(crate) fn begin_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
+        self.pair(pass).map(|p| wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
-            beginning_of_pass_write_index: Some(pass * 2),
+            beginning_of_pass_write_index: Some(p * 2),
             end_of_pass_write_index: None,
         })
     }
 
     /// Only the end of `pass`.
     pub(crate) fn end_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        (pass < self.capacity).then(|| wgpu::ComputePassTimestampWrites {
+        self.pair(pass).map(|p| wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
             beginning_of_pass_write_index: None,
-            end_of_pass_write_index: Some(pass * 2 + 1),
+            end_of_pass_write_index: Some(p * 2 + 1),
         })
     }
 
     /// The timestamp writes around render pass `pass` (`None` past the capacity).
     pub(crate) fn render_writes(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        (pass < self.capacity).then(|| wgpu::RenderPassTimestampWrites {
+        self.pair(pass).map(|p| wgpu::RenderPassTimestampWrites {
             query_set: &self.query_set,
-            beginning_of_pass_write_index: Some(pass * 2),
-            end_of_pass_write_index: Some(pass * 2 + 1),
+            beginning_of_pass_write_index: Some(p * 2),
+            end_of_pass_write_index: Some(p * 2 + 1),
         })
     }
 
     /// The query of the start (`end` false) or the end of `pass` (`None` past the capacity).
     fn query(&self, pass: u32, end: bool) -> Option<u32> {
-        (pass < self.capacity).then_some(pass * 2 + end as u32)
+        self.pair(pass).map(|p| p * 2 + end as u32)
     }
 
     /// Writes the start (`end` false) or the end of `pass` inside compute pass `cp`, for nodes
@@ -98,9 +121,10 @@ impl GpuTimer {
         drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes }));
     }
 
-    /// Records the resolve of `passes` query pairs into the readback buffer.
+    /// Records the resolve of the query pairs a frame of `passes` passes wrote into the
+    /// readback buffer.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, passes: u32) {
-        let n = passes.min(self.capacity) * 2;
+        let n = self.pairs_written(passes) * 2;
         if n == 0 {
             return;
         }
@@ -108,20 +132,36 @@ impl GpuTimer {
         encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, n as u64 * 8);
     }
 
-    /// Reads the GPU milliseconds of each pass (after the frame's submission completed).
+    /// Reads the GPU milliseconds of each pass (after the frame's submission completed; 0 for
+    /// a skipped pass).
     pub async fn read(&self, device: &wgpu::Device, passes: u32) -> Result<Vec<f64>, RuntimeError> {
-        let n = passes.min(self.capacity) as usize;
+        let n = self.pairs_written(passes) as usize;
+        let shown = passes.min(self.capacity);
         if n == 0 {
-            return Ok(Vec::new());
+            return Ok(vec![0.0; shown as usize]);
         }
         let slice = self.readback.slice(..(n as u64 * 16));
         let data = map_read_async(device, slice).await?;
         let ticks: &[u64] = bytemuck::cast_slice(&data);
-        let ms = (0..n).map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6).collect();
+        let pair_ms = |p: u32| ticks[2 * p as usize + 1].saturating_sub(ticks[2 * p as usize]) as f64 * self.period_ns as f64 / 1e6;
+        let ms = (0..shown).map(|pass| self.pair(pass).filter(|p| (*p as usize) < n).map_or(0.0, pair_ms)).collect();
         drop(data);
         self.readback.unmap();
         Ok(ms)
     }
+}
+
+/// The query pair of each pass when the passes `skipped[i]` take none: the others' in order.
+fn compact_pairs(skipped: &[bool]) -> Vec<Option<u32>> {
+    let mut next = 0;
+    skipped
+        .iter()
+        .map(|&skip| {
+            let pair = (!skip).then_some(next);
+            next += u32::from(!skip);
+            pair
+        })
+        .collect()
 }
 
 /// Where a frame's wall time went outside the passes' recording, in milliseconds of the CPU's
@@ -240,4 +280,16 @@ pub fn pass_table(names: &[(String, &'static str)], frames: &[FrameTimings], pix
     let _ = writeln!(s, "frame wall time (median of {}): {:.3} ms", frames.len(), median(&mut frame));
     let _ = writeln!(s, "outside the passes (medians): {}", FramePhases::describe_frames(frames));
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn skipped_passes_take_no_query_pair_and_the_others_take_theirs_in_order() {
+        assert_eq!(compact_pairs(&[false, true, true, false, false, true]), [Some(0), None, None, Some(1), Some(2), None]);
+        assert_eq!(compact_pairs(&[false; 3]), [Some(0), Some(1), Some(2)]);
+        assert_eq!(compact_pairs(&[true; 2]), [None, None]);
+    }
 }

@@ -38,19 +38,6 @@ impl Executor {
         Ok(())
     }
 
-    /// A pass with nothing to draw this frame (a shadow map no light uses, a translucent pass
-    /// without translucent instances): its timestamp pair (0 ms) written into the encoder where
-    /// the device writes them there (`in_encoder`), else by an empty compute pass.
-    pub(super) fn record_empty_timed_pass(&self, encoder: &mut wgpu::CommandEncoder, i: usize, in_encoder: bool) {
-        let Some(t) = &self.timer else { return };
-        if in_encoder {
-            t.write_in_encoder(encoder, i as u32, false);
-            t.write_in_encoder(encoder, i as u32, true);
-            return;
-        }
-        drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&self.plan.passes[i].name), timestamp_writes: t.compute_writes(i as u32) }));
-    }
-
     /// Whether a kept pass draws a shadow map (a `SceneRaster` pass that writes only depth).
     pub(super) fn draws_shadow_maps(&self) -> bool {
         self.plan.passes.iter().any(|p| p.kind == PassKind::SceneRaster && p.writes.iter().all(|(_, r)| self.is_depth(*r)))
