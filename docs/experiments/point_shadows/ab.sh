@@ -1,9 +1,10 @@
 #!/bin/bash
 # Raster point-light shadows against the build before them, on the GPU machine: two release
 # binaries (.gpu/raygraph_old.gz, built from c80102b, and .gpu/raygraph_new.gz), each run in an
-# empty folder so that it reads its own built-in graph, layers and shaders. `render --mode raster
-# --frames 60` at 2560x1440 on `compute` of atrium-lights (1,024 point lights; the new build
-# draws cube maps for two) and of the atrium (a sun), alternating old and new, twice. The
+# empty folder so that it reads its own built-in graph, layers and shaders. `render --frames 60`
+# at 2560x1440 on `compute`: raster of atrium-lights (1,024 point lights; the new build draws
+# cube maps for two) and of the atrium (a sun), hybrid of the atrium; old and new alternating,
+# twice. The
 # passes' total, the cube-map faces, the wall time and the CPU time outside the passes in
 # $OUT/point_shadows_ab.tgz; the rows printed last.
 set -u
@@ -13,12 +14,13 @@ ROOT=$PWD; OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r /tmp/ab
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 cd /tmp/ab
 for round in 1 2; do
-  for scene in atrium-lights atrium; do
+  for run in raster:atrium-lights raster:atrium hybrid:atrium; do
+    mode=${run%%:*}; scene=${run#*:}
     for b in old new; do
-      log=$OUT/r/${b}_${scene}_$round.log
-      timeout 150 $ROOT/.gpu/raygraph_$b render --mode raster --scene $scene --backend compute --width 2560 --height 1440 --frames 60 --out /tmp/ab/x.png > $log 2>&1 || tail -3 $log
+      log=$OUT/r/${b}_${mode}_${scene}_$round.log
+      timeout 150 $ROOT/.gpu/raygraph_$b render --mode $mode --scene $scene --backend compute --width 2560 --height 1440 --frames 60 --out /tmp/ab/x.png > $log 2>&1 || tail -3 $log
       faces=$(grep -E "^shadow_map/cube" $log | awk '{s += $3} END {printf "%.3f", s}')
-      echo "== $b $scene round $round: cube faces ${faces} ms"; grep -E "^(total|frame wall|outside)" $log
+      echo "== $b $mode $scene round $round: cube faces ${faces} ms"; grep -E "^(total|frame wall|outside)" $log
     done
   done
 done
