@@ -5,8 +5,7 @@
 // ambient x material occlusion, the sky's specular reflection, emission; every material input
 // and texture). A light with a shadow slot (`Light::shadow_map`, the first four directional
 // or spot lights and the two most powerful point lights) has its direct term multiplied by its
-// shadow-map visibility
-// (common/forward_shading.wgsl); other lights are unshadowed.
+// shadow-map visibility (common/forward_shading.wgsl); other lights are unshadowed.
 //#include "common/frame.wgsl"
 //#include "common/camera.wgsl"
 //#include "common/scene.wgsl"

@@ -3,9 +3,9 @@
 // the shading model of every mode (common/lighting.wgsl: every light of `scene_lights`, sky
 // ambient x material occlusion, the sky's specular reflection, emission).
 // A light with a shadow slot (`Light::shadow_map`: the first four directional or spot lights,
-// a layer of `shadow_map` each, and the two most powerful point lights, six layers of `shadow_cube`
-// each, a cube map's faces) is seen through the `shadow_map` layer's depth textures, drawn
-// through `frame.shadow_view_proj[slot]`:
+// a layer of `shadow_map` each, and the two most powerful point lights, six layers of
+// `shadow_cube` each, a cube map's faces) is seen through the `shadow_map` layer's depth
+// textures, drawn through `frame.shadow_view_proj[slot]`:
 // - the receiver point is moved along its geometric normal by `normal_offset` shadow-map
 //   texels (world offset = normal_offset x the world size of one texel at the receiver,
 //   derived from the map's resolution and the light projection, so it follows the scene's size);
@@ -69,7 +69,7 @@ fn shadow_pcf(map: texture_depth_2d_array, layer: i32, sc: vec3<f32>, slope: vec
     return lit / taps;
 }
 
-// The first shadow slot of the point lights' cube maps (src/uniforms.rs CUBE_SHADOW_MAPS).
+// The first shadow slot of the point lights' cube maps (src/uniforms.rs SHADOW_MAP_SLOTS).
 const FIRST_CUBE_SLOT: i32 = 4;
 
 // The shadow slot of `light` that sees world point p: its map's, or the face of its cube map
