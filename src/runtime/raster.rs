@@ -69,6 +69,9 @@ pub(crate) struct InstanceClass {
     /// For an opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`): the
     /// world-space corners of its bounds.
     pub(crate) closed_corners: Option<[glam::Vec3; 8]>,
+    /// The world-space corners of its mesh's bounds (`Draw::local_bounds`; `None`: never culled
+    /// by a light's frustum).
+    pub(crate) corners: Option<[glam::Vec3; 8]>,
 }
 
 impl InstanceClass {
@@ -81,13 +84,15 @@ impl InstanceClass {
                 let material = scene.materials().get(inst.material);
                 let double_sided = material.is_some_and(|m| m.double_sided);
                 let alpha_tested = crate::accel::alpha::instance_tested(scene, i);
-                let closed_bounds = draws.get(i).filter(|d| d.instance as usize == i && !alpha_tested).and_then(|d| d.closed_bounds);
+                let draw = draws.get(i).filter(|d| d.instance as usize == i);
+                let closed_bounds = draw.filter(|_| !alpha_tested).and_then(|d| d.closed_bounds);
                 InstanceClass {
                     double_sided,
                     mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
                     alpha_tested,
                     blend: material.is_some_and(|m| m.translucent()),
                     closed_corners: closed_bounds.map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
+                    corners: draw.and_then(|d| d.local_bounds).map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
                 }
             })
             .collect()
@@ -98,6 +103,17 @@ impl InstanceClass {
     /// is z > 0), so that the light is outside it.
     pub(crate) fn closed_and_beyond_near_plane(&self, light_view_proj: &glam::Mat4) -> bool {
         self.closed_corners.is_some_and(|corners| corners.iter().all(|c| (*light_view_proj * c.extend(1.0)).z > 0.0))
+    }
+
+    /// Whether the instance lies wholly outside the frustum of `light_view_proj` (every corner
+    /// of its bounds beyond one of the clip volume's six planes; the planes are linear in
+    /// homogeneous clip coordinates, so the box, the corners' hull, is then outside too): the
+    /// rasterizer would clip every triangle of it.
+    pub(crate) fn outside_frustum(&self, light_view_proj: &glam::Mat4) -> bool {
+        let Some(corners) = self.corners else { return false };
+        let clip = corners.map(|c| *light_view_proj * c.extend(1.0));
+        let planes: [fn(glam::Vec4) -> f32; 6] = [|c| c.x + c.w, |c| c.w - c.x, |c| c.y + c.w, |c| c.w - c.y, |c| c.z, |c| c.w - c.z];
+        planes.iter().any(|inside| clip.iter().all(|c| inside(*c) < 0.0))
     }
 
     /// The class of this instance in a pass that culls back faces (`cull_back_faces`) or not,
@@ -259,8 +275,8 @@ impl ScenePipelines {
         instances
             .iter()
             .map(|c| {
-                self.drawn
-                    .draws(c)
+                let outside = light_view_proj.is_some_and(|vp| c.outside_frustum(vp));
+                (self.drawn.draws(c) && !outside)
                     .then(|| c.draw_class(self.cull_back_faces, self.spec.alpha_switch, closed_culling.is_some_and(|vp| c.closed_and_beyond_near_plane(vp))))
             })
             .collect()
@@ -287,7 +303,7 @@ mod tests {
     use super::*;
 
     fn class(double_sided: bool, mirrored: bool, alpha_tested: bool) -> InstanceClass {
-        InstanceClass { double_sided, mirrored, alpha_tested, blend: false, closed_corners: None }
+        InstanceClass { double_sided, mirrored, alpha_tested, blend: false, closed_corners: None, corners: None }
     }
 
     #[test]
@@ -307,8 +323,9 @@ mod tests {
             .iter()
             .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })
             .collect();
-        let draws: Vec<Draw> =
-            (0..4).map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO, closed_bounds: None }).collect();
+        let draws: Vec<Draw> = (0..4)
+            .map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO, local_bounds: None, closed_bounds: None })
+            .collect();
         // Instance 3 does not exist: last.
         assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, 10.0)), vec![0, 2, 1, 3]);
         assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, -10.0)), vec![1, 2, 0, 3]);
@@ -344,7 +361,25 @@ mod tests {
     fn closed_instance(center: glam::Vec3, alpha_tested: bool, double_sided: bool) -> InstanceClass {
         let b = crate::scene::Bounds { min: glam::Vec3::splat(-1.0), max: glam::Vec3::ONE };
         let corners = corners(&b).map(|c| c + center);
-        InstanceClass { double_sided, mirrored: false, alpha_tested, blend: false, closed_corners: (!alpha_tested).then_some(corners) }
+        InstanceClass { double_sided, mirrored: false, alpha_tested, blend: false, closed_corners: (!alpha_tested).then_some(corners), corners: Some(corners) }
+    }
+
+    /// A unit box at `center` through a point light's cube face +x at the origin: inside, beside
+    /// and behind the face, beyond its far plane, and straddling its edge.
+    #[test]
+    fn instances_wholly_outside_a_shadow_slots_frustum_are_culled_and_no_others() {
+        let (faces, _) = crate::runtime::light_records::cube_projections(glam::Vec3::ZERO, None, glam::Vec3::ZERO, 10.0);
+        let plus_x = faces[0];
+        let at = |x: f32, y: f32, z: f32| closed_instance(glam::Vec3::new(x, y, z), false, false);
+        assert!(!at(5.0, 0.0, 0.0).outside_frustum(&plus_x), "in front of the face");
+        assert!(!at(5.0, 5.5, 0.0).outside_frustum(&plus_x), "across the face's edge (45 degrees)");
+        assert!(at(5.0, 8.0, 0.0).outside_frustum(&plus_x), "beyond the edge");
+        assert!(at(-5.0, 0.0, 0.0).outside_frustum(&plus_x), "behind the light");
+        assert!(at(0.0, 0.0, 5.0).outside_frustum(&plus_x), "beside the light, in the +z face");
+        assert!(at(30.0, 0.0, 0.0).outside_frustum(&plus_x), "beyond the far plane (10)");
+        assert!(!at(0.2, 0.0, 0.0).outside_frustum(&plus_x), "around the light: every face draws it");
+        let no_bounds = InstanceClass { corners: None, ..at(-5.0, 0.0, 0.0) };
+        assert!(!no_bounds.outside_frustum(&plus_x), "a deforming mesh is never culled");
     }
 
     #[test]

@@ -30,6 +30,9 @@ pub(crate) struct Draw {
     pub(crate) instance: u32,
     /// Centre of the mesh's bounds, object space (for ordering draws by distance).
     pub(crate) local_center: Vec3,
+    /// The mesh's object-space bounds (a shadow slot's frustum culls the instances wholly
+    /// outside it); `None` for a deforming mesh, whose vertices move, and an empty one.
+    pub(crate) local_bounds: Option<Bounds>,
     /// The mesh's object-space bounds when it is closed and wound outwards
     /// (`scene::topology`); `None` when it is not, or when the plan does not ask
     /// (`SceneUsage::closed_meshes`).
@@ -468,6 +471,7 @@ fn instance_draws(scene: &Scene, ranges: &[(std::ops::Range<u32>, i32)], closed_
             base_vertex: ranges[inst.mesh].1,
             instance: i as u32,
             local_center: centers[inst.mesh],
+            local_bounds: (!deforming.contains(&inst.mesh) && !bounds[inst.mesh].is_empty()).then_some(bounds[inst.mesh]),
             closed_bounds: closed[inst.mesh],
         })
         .collect()
