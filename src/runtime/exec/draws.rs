@@ -2,9 +2,10 @@
 //! the front-to-back order of the draws, and per pass the classes of its instances and its
 //! draw commands, grouped in runs of one pipeline variant and uploaded as indirect commands
 //! (one `multi_draw_indexed_indirect` per run). They are made again only when the scene
-//! changes (the executor's scene generation), when the camera's position moves (the order),
-//! or when a shadow map's light moves (its pass's classes), so a frame of a static scene and
-//! camera records a few calls per pass, whatever the number of instances.
+//! changes (the executor's scene generation), when the camera's position moves (the order; the
+//! classes stay), or when a shadow map's light moves (its pass's classes, with the instances its
+//! frustum culls), so a frame of a static scene and camera records a few calls per pass,
+//! whatever the number of instances.
 //!
 //! A device without indirect draws that set the first instance
 //! (`wgpu::Features::INDIRECT_FIRST_INSTANCE`) draws the same commands one by one.
@@ -34,6 +35,10 @@ pub(super) struct DrawInputs {
 pub(super) struct PassDraws {
     /// (scene generation, order version, the slot light's view-projection) they were made for.
     key: Option<(u64, u64, Option<[f32; 16]>)>,
+    /// Each instance's class in this pass (`None`: not drawn), and the (scene generation, slot
+    /// light's view-projection) it was made for: a camera that moves changes the order alone.
+    classes: Vec<Option<DrawClass>>,
+    classes_key: Option<(u64, Option<[f32; 16]>)>,
     /// The draw commands, in recording order.
     args: Vec<DrawIndexedIndirectArgs>,
     /// Runs of `args` drawn with one variant.
@@ -80,11 +85,15 @@ impl DrawInputs {
         if self.passes.len() <= i {
             self.passes.resize_with(i + 1, PassDraws::default);
         }
-        let key = (generation, self.order_version, source.light_view_proj.map(|m| m.to_cols_array()));
+        let light = source.light_view_proj.map(|m| m.to_cols_array());
+        let key = (generation, self.order_version, light);
         let pass = &mut self.passes[i];
         if pass.key != Some(key) {
-            let classes = source.pipelines.classes(&self.instances, source.light_view_proj.as_ref());
-            (pass.args, pass.runs) = runs(&self.order, draws, &classes, source.back_to_front);
+            if pass.classes_key != Some((generation, light)) {
+                pass.classes = source.pipelines.classes(&self.instances, source.light_view_proj.as_ref());
+                pass.classes_key = Some((generation, light));
+            }
+            (pass.args, pass.runs) = runs(&self.order, draws, &pass.classes, source.back_to_front);
             pass.upload(gpu);
             pass.key = Some(key);
         }
