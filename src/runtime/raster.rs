@@ -66,11 +66,10 @@ pub(crate) struct InstanceClass {
     /// Its material is translucent (BLEND or transmissive: not drawn by passes with
     /// `skip_blend`).
     pub(crate) blend: bool,
-    /// For an opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`): the
-    /// world-space corners of its bounds.
-    pub(crate) closed_corners: Option<[glam::Vec3; 8]>,
+    /// An opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`).
+    pub(crate) closed: bool,
     /// The world-space corners of its mesh's bounds (`Draw::local_bounds`; `None`: never culled
-    /// by a light's frustum).
+    /// by a light's frustum, nor as a closed mesh).
     pub(crate) corners: Option<[glam::Vec3; 8]>,
 }
 
@@ -85,13 +84,12 @@ impl InstanceClass {
                 let double_sided = material.is_some_and(|m| m.double_sided);
                 let alpha_tested = crate::accel::alpha::instance_tested(scene, i);
                 let draw = draws.get(i).filter(|d| d.instance as usize == i);
-                let closed_bounds = draw.filter(|_| !alpha_tested).and_then(|d| d.closed_bounds);
                 InstanceClass {
                     double_sided,
                     mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
                     alpha_tested,
                     blend: material.is_some_and(|m| m.translucent()),
-                    closed_corners: closed_bounds.map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
+                    closed: !alpha_tested && draw.is_some_and(|d| d.closed_bounds.is_some()),
                     corners: draw.and_then(|d| d.local_bounds).map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
                 }
             })
@@ -102,7 +100,8 @@ impl InstanceClass {
     /// whose view-projection is `light_view_proj` (wgpu's clip depth: beyond the near plane
     /// is z > 0), so that the light is outside it.
     pub(crate) fn closed_and_beyond_near_plane(&self, light_view_proj: &glam::Mat4) -> bool {
-        self.closed_corners.is_some_and(|corners| corners.iter().all(|c| (*light_view_proj * c.extend(1.0)).z > 0.0))
+        let corners = self.corners.filter(|_| self.closed);
+        corners.is_some_and(|corners| corners.iter().all(|c| (*light_view_proj * c.extend(1.0)).z > 0.0))
     }
 
     /// Whether the instance lies wholly outside the frustum of `light_view_proj` (every corner
@@ -303,7 +302,7 @@ mod tests {
     use super::*;
 
     fn class(double_sided: bool, mirrored: bool, alpha_tested: bool) -> InstanceClass {
-        InstanceClass { double_sided, mirrored, alpha_tested, blend: false, closed_corners: None, corners: None }
+        InstanceClass { double_sided, mirrored, alpha_tested, blend: false, closed: false, corners: None }
     }
 
     #[test]
@@ -361,7 +360,7 @@ mod tests {
     fn closed_instance(center: glam::Vec3, alpha_tested: bool, double_sided: bool) -> InstanceClass {
         let b = crate::scene::Bounds { min: glam::Vec3::splat(-1.0), max: glam::Vec3::ONE };
         let corners = corners(&b).map(|c| c + center);
-        InstanceClass { double_sided, mirrored: false, alpha_tested, blend: false, closed_corners: (!alpha_tested).then_some(corners), corners: Some(corners) }
+        InstanceClass { double_sided, mirrored: false, alpha_tested, blend: false, closed: !alpha_tested, corners: Some(corners) }
     }
 
     /// A unit box at `center` through a point light's cube face +x at the origin: inside, beside

@@ -150,18 +150,17 @@ fn layer_count(node: &ResolvedNode, local: &str) -> u32 {
 /// A layered texture (`TextureDecl::layers`) is written one layer at a time, as the attachment
 /// of a render pass that names a layer it has.
 fn check_layered_write(node: &ResolvedNode, pass: &PassDesc, location: &Location, local: &str) -> Result<(), GraphError> {
-    let decl = node.layer.outputs.get(local).or_else(|| node.layer.transients.get(local));
-    let Some(ResourceDecl::Texture(t)) = decl else { return Ok(()) };
-    if t.layers <= 1 {
+    let layers = layer_count(node, local);
+    if layers <= 1 {
         return Ok(());
     }
     let render = matches!(pass.kind, PassKind::SceneRaster | PassKind::Fullscreen);
     match pass.layer {
-        Some(layer) if render && layer < t.layers => Ok(()),
+        Some(layer) if render && layer < layers => Ok(()),
         _ => Err(GraphError::new(
             ErrorKind::Unsupported,
             location.clone(),
-            format!("pass `{}` writes `{local}`, a texture of {} layers, but is not a render pass with a `layer` below {}", pass.name, t.layers, t.layers),
+            format!("pass `{}` writes `{local}`, a texture of {layers} layers, but is not a render pass with a `layer` below {layers}", pass.name),
         )
         .help("draw the texture one layer at a time: a SceneRaster or Fullscreen pass per layer, each with `layer: Some(n)`")),
     }

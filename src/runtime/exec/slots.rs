@@ -164,8 +164,13 @@ impl Executor {
     /// A view of the texture that holds `r` when the history pairs are `swapped` or not (of
     /// all its layers: a texture of several is viewed as an array).
     pub(super) fn texture_view_at(&self, r: ResourceId, swapped: bool) -> wgpu::TextureView {
+        self.texture_at(r, swapped).create_view(&wgpu::TextureViewDescriptor::default())
+    }
+
+    /// The texture that holds `r` when the history pairs are `swapped` or not.
+    fn texture_at(&self, r: ResourceId, swapped: bool) -> &wgpu::Texture {
         match &self.slots[self.slot_at(r, swapped).expect("kept resource has a slot")] {
-            Physical::Texture(t) => t.create_view(&wgpu::TextureViewDescriptor::default()),
+            Physical::Texture(t) => t,
             Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
         }
     }
@@ -173,10 +178,7 @@ impl Executor {
     /// A view of `r` as a render pass's attachment: array layer `layer` of a layered texture
     /// (the pass's `layer`, checked by the compiler), the texture itself otherwise.
     pub(super) fn attachment_view_at(&self, r: ResourceId, swapped: bool, layer: Option<u32>) -> wgpu::TextureView {
-        let texture = match &self.slots[self.slot_at(r, swapped).expect("kept resource has a slot")] {
-            Physical::Texture(t) => t,
-            Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
-        };
+        let texture = self.texture_at(r, swapped);
         match layer.filter(|_| texture.depth_or_array_layers() > 1) {
             Some(layer) => texture.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),
@@ -189,10 +191,7 @@ impl Executor {
     }
 
     pub(super) fn slot_texture(&self, r: ResourceId) -> &wgpu::Texture {
-        match &self.slots[self.slot_of(r).expect("kept resource has a slot")] {
-            Physical::Texture(t) => t,
-            Physical::Buffer(_) | Physical::Accel => unreachable!("texture resource mapped to a buffer slot"),
-        }
+        self.texture_at(r, self.history.swapped)
     }
 
     /// Clears the `zeroed` buffers pass `i` writes (`BufferDecl::zeroed`), before the pass.
