@@ -238,14 +238,37 @@ fn layered_textures_are_written_one_layer_a_pass() {
     let repo = TempProject::with_repo_files();
     let shadow_layer = std::fs::read_to_string(repo.root.join("layers/shadow_map.ron")).unwrap();
     let same_layer = shadow_layer.replace(
-        r#"name: "cube_0_nx", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(1)"#,
-        r#"name: "cube_0_nx", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(0)"#,
+        r#"name: "cube_1", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(1)"#,
+        r#"name: "cube_1", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(0)"#,
     );
-    assert_ne!(same_layer, shadow_layer, "layers/shadow_map.ron no longer draws cube_0_nx into layer 1");
+    assert_ne!(same_layer, shadow_layer, "layers/shadow_map.ron no longer draws cube_1 into layer 1");
     repo.write("layers/shadow_map.ron", &same_layer);
     let raster = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap();
-    let e = expect(repo.compile("g.ron", &raster), ErrorKind::TwoProducers, "layers/shadow_map.ron", line_of(&same_layer, r#"name: "cube_0_nx""#));
+    let e = expect(repo.compile("g.ron", &raster), ErrorKind::TwoProducers, "layers/shadow_map.ron", line_of(&same_layer, r#"name: "cube_1""#));
     assert!(e.to_string().contains("(layer 0)"), "{e}");
+}
+
+/// A pass's shadow tiles hold the slots from its `shadow_slot` on: tiles without a slot, or
+/// more tiles than the slots left, or a grid without a column, are refused at the pass.
+#[test]
+fn shadow_tiles_hold_slots_that_exist() {
+    let repo = TempProject::with_repo_files();
+    let shadow_layer = std::fs::read_to_string(repo.root.join("layers/shadow_map.ron")).unwrap();
+    let raster = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap();
+    let cube_1 = r#"shadow_slot: Some(10), shadow_tiles: Some(3, 2)"#;
+    assert!(shadow_layer.contains(cube_1), "layers/shadow_map.ron no longer draws cube_1 as 3 x 2 tiles from slot 10");
+    let cases = [
+        ("cull_closed_back_faces: false, shadow_tiles: Some(3, 2)", "has `shadow_tiles` but no `shadow_slot`"),
+        ("cull_closed_back_faces: true, shadow_slot: Some(10), shadow_tiles: Some(3, 3)", "3 x 3 shadow tiles from slot 10, but there are 16 slots"),
+        ("cull_closed_back_faces: true, shadow_slot: Some(10), shadow_tiles: Some(0, 2)", "0 x 2 shadow tiles from slot 10"),
+    ];
+    for (options, message) in cases {
+        let broken = shadow_layer.replace(&format!("cull_closed_back_faces: true, {cube_1}"), options);
+        assert_ne!(broken, shadow_layer);
+        repo.write("layers/shadow_map.ron", &broken);
+        let e = expect(repo.compile("g.ron", &raster), ErrorKind::Unsupported, "layers/shadow_map.ron", line_of(&broken, r#"name: "cube_1""#));
+        assert!(e.to_string().contains(message), "{message}: {e}");
+    }
 }
 
 #[test]

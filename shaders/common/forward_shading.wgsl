@@ -3,9 +3,9 @@
 // the shading model of every mode (common/lighting.wgsl: every light of `scene_lights`, sky
 // ambient x material occlusion, the sky's specular reflection, emission).
 // A light with a shadow slot (`Light::shadow_map`: the first four directional or spot lights,
-// a layer of `shadow_map` each, and the two most powerful point lights, six layers of
-// `shadow_cube` each, a cube map's faces) is seen through the `shadow_map` layer's depth
-// textures, drawn through `frame.shadow_view_proj[slot]`:
+// a layer of `shadow_map` each, and the two most powerful point lights, a layer of
+// `shadow_cube` each, a cube map's six faces in tiles three a row) is seen through the
+// `shadow_map` layer's depth textures, drawn through `frame.shadow_view_proj[slot]`:
 // - the receiver point is moved along its geometric normal by `normal_offset` shadow-map
 //   texels (world offset = normal_offset x the world size of one texel at the receiver,
 //   derived from the map's resolution and the light projection, so it follows the scene's size);
@@ -46,10 +46,10 @@ fn shadow_coord_delta(c: vec4<f32>, dc: vec4<f32>, size: vec2<f32>) -> vec3<f32>
     return vec3<f32>(d.xy * vec2<f32>(0.5, -0.5) * size, d.z);
 }
 
-// Fraction of the PCF taps of layer `layer` of shadow texture `map` that see the light, at
-// shadow coordinates `sc` with receiver depth slope `slope` (depth per texel in x and y) and
-// depth bias `bias`.
-fn shadow_pcf(map: texture_depth_2d_array, layer: i32, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
+// Fraction of the PCF taps of the `size` texels from `origin` of layer `layer` of shadow
+// texture `map` (a slot's map or tile) that see the light, at shadow coordinates `sc` (texels of
+// the tile) with receiver depth slope `slope` (depth per texel in x and y) and depth bias `bias`.
+fn shadow_pcf(map: texture_depth_2d_array, layer: i32, origin: vec2<i32>, sc: vec3<f32>, slope: vec2<f32>, bias: f32, size: vec2<u32>) -> f32 {
     let isize = vec2<i32>(size);
     if sc.z >= 1.0 || any(sc.xy < vec2<f32>(0.0)) || any(sc.xy >= vec2<f32>(size)) {
         return 1.0;
@@ -62,7 +62,7 @@ fn shadow_pcf(map: texture_depth_2d_array, layer: i32, sc: vec3<f32>, slope: vec
             let t = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), isize - vec2<i32>(1));
             // The receiver plane's depth at the tap's centre.
             let receiver = sc.z + dot(slope, vec2<f32>(t) + vec2<f32>(0.5) - sc.xy) - bias;
-            lit += select(0.0, 1.0, receiver <= textureLoad(map, t, layer, 0));
+            lit += select(0.0, 1.0, receiver <= textureLoad(map, origin + t, layer, 0));
         }
     }
     let taps = f32((2 * r + 1) * (2 * r + 1));
@@ -71,6 +71,10 @@ fn shadow_pcf(map: texture_depth_2d_array, layer: i32, sc: vec3<f32>, slope: vec
 
 // The first shadow slot of the point lights' cube maps (src/uniforms.rs SHADOW_MAP_SLOTS).
 const FIRST_CUBE_SLOT: i32 = 4;
+// A cube map's faces are tiles of its layer of `shadow_cube`, CUBE_COLUMNS a row
+// (layers/shadow_map.ron's `shadow_tiles`).
+const CUBE_COLUMNS: u32 = 3u;
+const CUBE_ROWS: u32 = 2u;
 
 // The shadow slot of `light` that sees world point p: its map's, or the face of its cube map
 // along p's major axis from the light (faces +x, -x, +y, -y, +z, -z; each reaches a little
@@ -94,7 +98,7 @@ fn shadow_slot_at(light: Light, p: vec3<f32>) -> i32 {
 // and screen-space position differentials dpx, dpy.
 fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, dpy: vec3<f32>) -> f32 {
     let cube = light.shadow_map >= FIRST_CUBE_SLOT;
-    let size = select(textureDimensions(shadow_map), textureDimensions(shadow_cube), cube);
+    let size = select(textureDimensions(shadow_map), textureDimensions(shadow_cube) / vec2<u32>(CUBE_COLUMNS, CUBE_ROWS), cube);
     let fsize = vec2<f32>(size);
     // World size of one texel at p: the projection maps 2 NDC units onto the map's width; the
     // length of the matrix's first row is clip units per world unit (divided by w in NDC).
@@ -120,9 +124,11 @@ fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, d
     let towards = light_sample(light, q).l * (params.shadow_bias * light.shadow_depth_range);
     let bias = sc.z - shadow_coord(m * vec4<f32>(q + towards, 1.0), fsize).z;
     if cube {
-        return shadow_pcf(shadow_cube, slot - FIRST_CUBE_SLOT, sc, slope, bias, size);
+        let face = u32(slot - light.shadow_map);
+        let origin = vec2<i32>(vec2<u32>(face % CUBE_COLUMNS, face / CUBE_COLUMNS) * size);
+        return shadow_pcf(shadow_cube, (light.shadow_map - FIRST_CUBE_SLOT) / 6, origin, sc, slope, bias, size);
     }
-    return shadow_pcf(shadow_map, slot, sc, slope, bias, size);
+    return shadow_pcf(shadow_map, slot, vec2<i32>(0), sc, slope, bias, size);
 }
 
 

@@ -555,6 +555,14 @@ pub struct PassDesc {
     /// a slot no light has) and its row reads 0 ms.
     #[serde(default)]
     pub shadow_slot: Option<u32>,
+    /// With `shadow_slot`: (columns, rows): the pass draws columns x rows slots from
+    /// `shadow_slot` on in one render pass, slot `shadow_slot + k` into tile (k % columns,
+    /// k / columns) of its attachments, each tile a viewport of (width / columns, height /
+    /// rows) texels, row 0 at the top (a cube map's six faces side by side: one render pass
+    /// instead of six, whose encoding is most of a frame's CPU time). The pass is recorded when
+    /// a light uses any of its slots; a tile whose slot none uses is cleared and left so.
+    #[serde(default)]
+    pub shadow_tiles: Option<(u32, u32)>,
     /// Render passes only: the array layer of its layered attachments the pass draws into
     /// (`TextureDecl::layers`); attachments of one layer ignore it. A render pass that writes
     /// a layered texture must name one.

@@ -24,6 +24,11 @@
 use crate::runtime::scene_upload::Draw;
 use crate::scene::Scene;
 
+/// The pipeline constant a shadow pass's shader reads its slot from (`PassDesc::shadow_slot`,
+/// shadow_map/shadow_map.wgsl), so that one entry point serves every slot; a pass of shadow
+/// tiles has a pipeline per tile, each with its own slot.
+pub(crate) const SHADOW_SLOT_CONSTANT: &str = "SHADOW_SLOT";
+
 /// The pipeline constant that switches the raster alpha test (WGSL `override`).
 pub(crate) const ALPHA_TEST_CONSTANT: &str = "RASTER_ALPHA_TEST";
 
@@ -202,9 +207,15 @@ pub(crate) struct RenderSpec {
 }
 
 impl RenderSpec {
-    /// The pipeline of one variant.
-    pub fn create(&self, device: &wgpu::Device, class: DrawClass) -> wgpu::RenderPipeline {
+    /// The pipeline of one variant, for tile `tile` of a pass of shadow tiles (its slot the
+    /// pass's plus `tile`; 0 otherwise).
+    pub fn create(&self, device: &wgpu::Device, class: DrawClass, tile: u32) -> wgpu::RenderPipeline {
         let mut constants = self.scene_constants.clone();
+        for (name, value) in constants.iter_mut() {
+            if *name == SHADOW_SLOT_CONSTANT {
+                *value += f64::from(tile);
+            }
+        }
         if self.alpha_switch {
             constants.push((ALPHA_TEST_CONSTANT, if class.alpha_test { 1.0 } else { 0.0 }));
         }
@@ -256,7 +267,8 @@ pub(crate) struct ScenePipelines {
     cull_back_faces: bool,
     cull_closed_back_faces: bool,
     drawn: DrawnInstances,
-    variants: Vec<(DrawClass, wgpu::RenderPipeline)>,
+    /// By (tile, class): a pass of shadow tiles has a pipeline per tile, each reading its slot.
+    variants: Vec<((u32, DrawClass), wgpu::RenderPipeline)>,
 }
 
 impl ScenePipelines {
@@ -281,19 +293,19 @@ impl ScenePipelines {
             .collect()
     }
 
-    /// Creates the variants of `classes` that do not exist yet.
-    pub(crate) fn prepare(&mut self, device: &wgpu::Device, classes: &[Option<DrawClass>]) {
+    /// Creates the variants of `classes` for tile `tile` that do not exist yet.
+    pub(crate) fn prepare(&mut self, device: &wgpu::Device, tile: u32, classes: &[Option<DrawClass>]) {
         for &class in classes.iter().flatten() {
-            if !self.variants.iter().any(|(c, _)| *c == class) {
-                let pipeline = self.spec.create(device, class);
-                self.variants.push((class, pipeline));
+            if !self.variants.iter().any(|(key, _)| *key == (tile, class)) {
+                let pipeline = self.spec.create(device, class, tile);
+                self.variants.push(((tile, class), pipeline));
             }
         }
     }
 
-    /// The variant of `class`, once made.
-    pub fn variant(&self, class: DrawClass) -> Option<&wgpu::RenderPipeline> {
-        self.variants.iter().find(|(c, _)| *c == class).map(|(_, p)| p)
+    /// The variant of `class` for tile `tile`, once made.
+    pub fn variant(&self, tile: u32, class: DrawClass) -> Option<&wgpu::RenderPipeline> {
+        self.variants.iter().find(|(key, _)| *key == (tile, class)).map(|(_, p)| p)
     }
 }
 

@@ -33,6 +33,7 @@ pub(super) fn planned_passes(kept: &[usize], nodes: &[ResolvedNode], passes: &[P
                 cull_back_faces: pass.cull_back_faces,
                 cull_closed_back_faces: pass.cull_closed_back_faces,
                 shadow_slot: pass.shadow_slot,
+                shadow_tiles: pass.shadow_tiles,
                 layer: pass.layer,
                 skip_blend: pass.skip_blend,
                 translucent: pass.translucent,

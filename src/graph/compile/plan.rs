@@ -127,6 +127,9 @@ pub struct PlannedPass {
     pub cull_closed_back_faces: bool,
     /// `SceneRaster`: the shadow-map slot the pass draws (`PassDesc::shadow_slot`).
     pub shadow_slot: Option<u32>,
+    /// `SceneRaster` with a shadow slot: the (columns, rows) of slots it draws side by side
+    /// (`PassDesc::shadow_tiles`).
+    pub shadow_tiles: Option<(u32, u32)>,
     /// Render passes: the array layer of layered attachments drawn into (`PassDesc::layer`).
     pub layer: Option<u32>,
     /// `SceneRaster`: BLEND instances are not drawn (`PassDesc::skip_blend`).
@@ -159,6 +162,20 @@ pub struct Plan {
     pub(crate) scene_usage: SceneUsage,
     /// The back-end trace passes were compiled for.
     pub(crate) backend: Backend,
+}
+
+impl PlannedPass {
+    /// The shadow-map slots the pass draws, in tile order: `shadow_slot` and the slots after
+    /// it that its `shadow_tiles` hold (none without a slot).
+    pub fn shadow_slots(&self) -> std::ops::Range<u32> {
+        let tiles = self.shadow_tiles.map_or(1, |(columns, rows)| columns * rows);
+        self.shadow_slot.map_or(0..0, |slot| slot..slot + tiles)
+    }
+
+    /// The tiles of the pass's attachments, (columns, rows): (1, 1) without `shadow_tiles`.
+    pub fn tile_grid(&self) -> (u32, u32) {
+        self.shadow_tiles.unwrap_or((1, 1))
+    }
 }
 
 impl Plan {

@@ -167,6 +167,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             cull_back_faces: true,
             cull_closed_back_faces: false,
             shadow_slot: None,
+            shadow_tiles: None,
             layer: None,
             skip_blend: false,
             translucent: false,

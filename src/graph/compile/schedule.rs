@@ -211,6 +211,31 @@ fn check_pass_options(pass: &PassDesc, location: &Location) -> Result<(), GraphE
         )
         .help("the culling needs the light a shadow map is drawn from: add `shadow_slot`, or set `cull_back_faces` instead".to_string()));
     }
+    check_shadow_tiles(pass, location)
+}
+
+/// `shadow_tiles` only with a `shadow_slot`, at least one column and row, and every slot of
+/// its tiles below `SHADOW_SLOTS`.
+fn check_shadow_tiles(pass: &PassDesc, location: &Location) -> Result<(), GraphError> {
+    let Some((columns, rows)) = pass.shadow_tiles else { return Ok(()) };
+    let Some(slot) = pass.shadow_slot else {
+        return Err(GraphError::new(ErrorKind::Unsupported, location.clone(), format!("pass `{}` has `shadow_tiles` but no `shadow_slot`", pass.name))
+            .help("tiles hold the slots from the pass's `shadow_slot` on: add `shadow_slot`, or remove `shadow_tiles`".to_string()));
+    };
+    let last = u64::from(slot) + u64::from(columns) * u64::from(rows);
+    if columns == 0 || rows == 0 || last > crate::uniforms::SHADOW_SLOTS as u64 {
+        return Err(GraphError::new(
+            ErrorKind::Unsupported,
+            location.clone(),
+            format!(
+                "pass `{}` draws {columns} x {rows} shadow tiles from slot {slot}, but there are {} slots (0 to {})",
+                pass.name,
+                crate::uniforms::SHADOW_SLOTS,
+                crate::uniforms::SHADOW_SLOTS - 1
+            ),
+        )
+        .help("give at least one column and one row, and no more tiles than the slots from `shadow_slot` to the last".to_string()));
+    }
     Ok(())
 }
 

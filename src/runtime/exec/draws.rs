@@ -26,8 +26,9 @@ pub(super) struct DrawInputs {
     order_key: Option<(u64, [f32; 3])>,
     order_version: u64,
     order: Vec<usize>,
-    /// Per pass, by index in the plan (default for passes that draw no scene).
-    passes: Vec<PassDraws>,
+    /// Per pass, by index in the plan (none for passes that draw no scene), per tile of a pass
+    /// of shadow tiles (one otherwise).
+    passes: Vec<Vec<PassDraws>>,
 }
 
 /// One pass's draws.
@@ -59,7 +60,9 @@ pub(super) struct PassDrawSource<'a> {
     pub(super) pipelines: &'a mut ScenePipelines,
     /// Whether the pass draws back to front (a translucent pass).
     pub(super) back_to_front: bool,
-    /// The view-projection of the pass's shadow-map slot, where a light uses it this frame.
+    /// The tile of a pass of shadow tiles (0 otherwise).
+    pub(super) tile: u32,
+    /// The view-projection of the tile's shadow-map slot, where a light uses it this frame.
     pub(super) light_view_proj: Option<glam::Mat4>,
 }
 
@@ -69,8 +72,9 @@ impl DrawInputs {
         self.passes.clear();
     }
 
-    /// Brings the draws of pass `i` up to date for a frame of `scene` (generation
-    /// `generation`) seen from `eye`; makes the pipeline variants its runs need.
+    /// Brings the draws of pass `i` (of its tile `source.tile`) up to date for a frame of
+    /// `scene` (generation `generation`) seen from `eye`; makes the pipeline variants its runs
+    /// need.
     pub(super) fn update_pass(
         &mut self,
         gpu: &crate::runtime::gpu::Gpu,
@@ -83,11 +87,16 @@ impl DrawInputs {
     ) {
         self.update_scene(scene, generation, draws, eye);
         if self.passes.len() <= i {
-            self.passes.resize_with(i + 1, PassDraws::default);
+            self.passes.resize_with(i + 1, Vec::new);
+        }
+        let tiles = &mut self.passes[i];
+        let tile = source.tile as usize;
+        if tiles.len() <= tile {
+            tiles.resize_with(tile + 1, PassDraws::default);
         }
         let light = source.light_view_proj.map(|m| m.to_cols_array());
         let key = (generation, self.order_version, light);
-        let pass = &mut self.passes[i];
+        let pass = &mut tiles[tile];
         if pass.key != Some(key) {
             if pass.classes_key != Some((generation, light)) {
                 pass.classes = source.pipelines.classes(&self.instances, source.light_view_proj.as_ref());
@@ -98,13 +107,13 @@ impl DrawInputs {
             pass.key = Some(key);
         }
         for (class, _) in &pass.runs {
-            source.pipelines.prepare(gpu.device(), &[Some(*class)]);
+            source.pipelines.prepare(gpu.device(), source.tile, &[Some(*class)]);
         }
     }
 
-    /// The draws of pass `i` (none before its first update).
-    pub(super) fn pass(&self, i: usize) -> Option<&PassDraws> {
-        self.passes.get(i)
+    /// The draws of tile `tile` of pass `i` (none before its first update).
+    pub(super) fn pass(&self, i: usize, tile: u32) -> Option<&PassDraws> {
+        self.passes.get(i).and_then(|tiles| tiles.get(tile as usize))
     }
 
     /// The instances' classes for scene generation `generation`, and the draw order from `eye`.

@@ -9,6 +9,7 @@
 //! features change.
 
 use crate::graph::compile::PlannedPass;
+use crate::runtime::raster::SHADOW_SLOT_CONSTANT;
 use crate::scene::Scene;
 
 /// The trace module's pipeline constant that compiles the alpha test into the traversal
@@ -52,10 +53,6 @@ pub(crate) const EMITTERS_CONSTANT: &str = "SCENE_EMITTERS";
 
 /// `shaders/common/camera.wgsl`: the frame camera's projection (1 perspective, 2 orthographic).
 pub(crate) const CAMERA_PROJECTION_CONSTANT: &str = "CAMERA_PROJECTION";
-
-/// The pipeline constant a shadow pass's shader reads its slot from (`PassDesc::shadow_slot`,
-/// shadow_map/shadow_map.wgsl), so that one entry point serves every slot.
-pub(crate) const SHADOW_SLOT_CONSTANT: &str = "SHADOW_SLOT";
 
 /// What the scene's instances use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -9,7 +9,7 @@ use crate::runtime::raster::DrawClass;
 
 impl Executor {
     pub(super) fn build_fullscreen_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
-        self.build_render_pass(gpu, pass, layout, bindings, |spec| Pipeline::Render(spec.create(gpu.device(), DrawClass::FULLSCREEN)))
+        self.build_render_pass(gpu, pass, layout, bindings, |spec| Pipeline::Render(spec.create(gpu.device(), DrawClass::FULLSCREEN, 0)))
     }
 
     /// Records fullscreen pass `i`: one triangle into its attachments.

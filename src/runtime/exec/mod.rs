@@ -401,12 +401,16 @@ impl Executor {
         let draws = self.scene.as_ref().map_or(&[][..], |s| s.draws());
         for (i, (pass, planned)) in self.passes.iter_mut().zip(&self.plan.passes).enumerate() {
             let Pipeline::Scene(pipelines) = &mut pass.pipeline else { continue };
-            let light_view_proj = planned
-                .shadow_slot
-                .filter(|slot| slot_in_use(uniforms.shadow_slots, *slot))
-                .map(|slot| glam::Mat4::from_cols_array_2d(&uniforms.shadow_view_proj[slot as usize]));
-            let source = draws::PassDrawSource { pipelines, back_to_front: planned.translucent, light_view_proj };
-            self.draws.update_pass(gpu, scene, self.scene_generation, draws, camera.position, i, source);
+            let (columns, rows) = planned.tile_grid();
+            for tile in 0..columns * rows {
+                let light_view_proj = planned
+                    .shadow_slot
+                    .map(|slot| slot + tile)
+                    .filter(|slot| slot_in_use(uniforms.shadow_slots, *slot))
+                    .map(|slot| glam::Mat4::from_cols_array_2d(&uniforms.shadow_view_proj[slot as usize]));
+                let source = draws::PassDrawSource { pipelines: &mut *pipelines, back_to_front: planned.translucent, tile, light_view_proj };
+                self.draws.update_pass(gpu, scene, self.scene_generation, draws, camera.position, i, source);
+            }
         }
         FrameInputs { scene, shadow_slots: uniforms.shadow_slots, merged: gpu.merges_compute_passes() }
     }
@@ -432,12 +436,14 @@ impl Executor {
         Ok(())
     }
 
-    /// Whether pass `i` has nothing to draw this frame: a shadow map no light uses, or a
+    /// Whether pass `i` has nothing to draw this frame: shadow slots no light uses, or a
     /// translucent pass without translucent instances (`scene_raster`).
     fn draws_nothing(&self, inputs: &FrameInputs, i: usize) -> bool {
         let planned = &self.plan.passes[i];
-        let nothing_translucent = planned.translucent && self.draws.pass(i).is_none_or(|d| d.runs().is_empty());
-        nothing_translucent || planned.shadow_slot.is_some_and(|slot| !slot_in_use(inputs.shadow_slots, slot))
+        let nothing_translucent = planned.translucent && self.draws.pass(i, 0).is_none_or(|d| d.runs().is_empty());
+        let mut slots = planned.shadow_slots();
+        let no_slot_in_use = planned.shadow_slot.is_some() && !slots.any(|slot| slot_in_use(inputs.shadow_slots, slot));
+        nothing_translucent || no_slot_in_use
     }
 
     /// Records pass `i` of the frame, and its CPU milliseconds.
@@ -464,7 +470,7 @@ impl Executor {
             Pipeline::RayTracing(rt) => self.record_rt_pass(gpu, frame, inputs, i, rt)?,
             Pipeline::Compute(pipeline) => self.record_compute_pass(&mut frame.encoder, i, pipeline),
             Pipeline::Render(pipeline) => self.record_fullscreen_pass(&mut frame.encoder, i, pipeline),
-            Pipeline::Scene(pipelines) => self.record_scene_raster_pass(&mut frame.encoder, i, pipelines)?,
+            Pipeline::Scene(pipelines) => self.record_scene_raster_pass(&mut frame.encoder, i, pipelines, inputs.shadow_slots)?,
         }
         frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         Ok(())
