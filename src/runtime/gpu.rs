@@ -2,6 +2,7 @@
 //! uses (timestamp queries) requested only where the adapter has them, the GPU deadline every
 //! wait runs under, and the runtime checks of each shader module by its origin.
 
+use super::gpu_wait::{GpuWait, WaitMode};
 use crate::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
 use crate::gpu_util::ShaderOrigin;
@@ -72,6 +73,8 @@ pub struct Gpu {
     /// How the compute back-end's trace modules are written without their traversal stack's
     /// clear ([`super::trace_spirv`]); `None` where wgpu compiles them from WGSL.
     trace_spirv: Option<TraceSpirv>,
+    /// How a wait for submitted work waits ([`super::gpu_wait`]).
+    wait: GpuWait,
 }
 
 impl Gpu {
@@ -460,6 +463,7 @@ impl Gpu {
             );
         }
         let gpu_timeout = default_gpu_timeout(&info);
+        let wait = GpuWait::new(WaitMode::from_env().map_err(RuntimeError::Gpu)?);
         let trace_spirv = TraceSpirv::for_device(&device);
         log::info!(
             "traversal stack: {}",
@@ -482,6 +486,7 @@ impl Gpu {
             gpu_timeout,
             on_gpu_timeout: None,
             trace_spirv,
+            wait,
         };
         gpu.log_layer_aliases();
         Ok(gpu)
@@ -565,7 +570,7 @@ impl Gpu {
     /// names the work as `work()` describes it ("frame 3: passes ..."). The device stays busy
     /// after a timeout: end the run without releasing GPU objects ([`Gpu::set_on_gpu_timeout`]).
     pub fn wait_for(&self, work: impl FnOnce() -> String) -> Result<(), RuntimeError> {
-        let waited = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(self.gpu_timeout) });
+        let waited = self.wait.wait(&self.device, self.gpu_timeout);
         if let Err(wgpu::PollError::Timeout) = waited {
             let (seconds, work) = (self.gpu_timeout.as_secs_f64(), work());
             if let Ok(mut f) = self.faults.lock() {

@@ -1,4 +1,4 @@
-//! The GPU runtime: device context ([`gpu`]), the scene's upload ([`scene_upload`]), plan
+//! The GPU runtime: device context ([`gpu`]) and how it waits ([`gpu_wait`]), the scene's upload ([`scene_upload`]), plan
 //! executor ([`exec`]), GPU skinning and morphing ([`deform`]), pass timing
 //! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`]),
 //! the warm-up before timed frames ([`warm_up`]) and rays traced outside any graph ([`batch`]).
@@ -12,6 +12,7 @@ pub mod deform;
 pub mod environment_upload;
 pub mod exec;
 pub mod gpu;
+pub mod gpu_wait;
 pub(crate) mod light_records;
 pub mod present;
 pub mod profiler;
