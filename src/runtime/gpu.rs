@@ -463,7 +463,8 @@ impl Gpu {
             );
         }
         let gpu_timeout = default_gpu_timeout(&info);
-        let wait = GpuWait::new(WaitMode::from_env().map_err(RuntimeError::Gpu)?);
+        let wait = GpuWait::new(WaitMode::from_env(info.device_type).map_err(RuntimeError::Gpu)?);
+        log::info!("waiting for the GPU: {:?} (RAYGRAPH_GPU_WAIT)", wait.mode());
         let trace_spirv = TraceSpirv::for_device(&device);
         log::info!(
             "traversal stack: {}",

@@ -1,11 +1,15 @@
-//! How the host waits for a submission: blocked in the driver, or blocked until shortly before
-//! the GPU is expected to finish and then polling (`RAYGRAPH_GPU_WAIT`).
+//! How the host waits for a submission: polling the device until its queue is empty (the
+//! default on a GPU), blocked in the driver (the default on a CPU adapter such as lavapipe,
+//! whose threads need the cores), or blocked until shortly before the GPU is expected to finish
+//! and then polling. `RAYGRAPH_GPU_WAIT=spin|block|tail|tail:<ms>` chooses.
 //!
 //! A frame waits for the GPU before the next is recorded. Blocked for the whole wait, the
 //! host's core idles, and the work after it (the next frame's recording, wgpu's encoding at
-//! `CommandEncoder::finish`, the submission) runs slower the longer the wait was: on the H200's
-//! host the same raster frame's time outside its passes grew with the GPU time it waited for
-//! (BENCHMARKS.md, "Waiting for the GPU").
+//! `CommandEncoder::finish`, the submission) runs up to 2.5x slower, the more so the longer the
+//! wait: on the H200's host hybrid_denoised's time outside its passes was 0.43-0.48 ms blocked
+//! and 0.17-0.20 polling, and frames ended 0.5 ms sooner; polling only the last 0.5 ms did not
+//! help (BENCHMARKS.md, "Waiting for the GPU"). Polling keeps one core busy while the GPU
+//! works.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -36,12 +40,21 @@ impl WaitMode {
         }
     }
 
-    /// `RAYGRAPH_GPU_WAIT`'s mode, or blocking where it is unset; an unknown value is an error
-    /// naming the variable.
-    pub fn from_env() -> Result<Self, String> {
+    /// How an adapter of `device_type` waits by default: blocked on a CPU adapter (its own
+    /// threads do the GPU's work on the host's cores), polling otherwise.
+    pub fn default_for(device_type: wgpu::DeviceType) -> Self {
+        match device_type {
+            wgpu::DeviceType::Cpu => Self::Block,
+            _ => Self::Spin,
+        }
+    }
+
+    /// `RAYGRAPH_GPU_WAIT`'s mode, or `default_for(device_type)` where it is unset; an unknown
+    /// value is an error naming the variable.
+    pub fn from_env(device_type: wgpu::DeviceType) -> Result<Self, String> {
         match std::env::var("RAYGRAPH_GPU_WAIT") {
-            Err(_) => Ok(Self::Block),
-            Ok(text) => Self::parse(&text).ok_or_else(|| format!("RAYGRAPH_GPU_WAIT={text}: expected block, spin, tail or tail:<ms>")),
+            Err(_) => Ok(Self::default_for(device_type)),
+            Ok(text) => Self::parse(&text).ok_or_else(|| format!("RAYGRAPH_GPU_WAIT={text}: expected spin, block, tail or tail:<ms>")),
         }
     }
 }
@@ -116,5 +129,12 @@ mod tests {
         for bad in ["tail:", "tail:-1", "tail:nan", "Block", "wait", ""] {
             assert_eq!(WaitMode::parse(bad), None, "{bad}");
         }
+    }
+
+    #[test]
+    fn a_gpu_polls_and_a_cpu_adapter_blocks() {
+        assert_eq!(WaitMode::default_for(wgpu::DeviceType::DiscreteGpu), WaitMode::Spin);
+        assert_eq!(WaitMode::default_for(wgpu::DeviceType::IntegratedGpu), WaitMode::Spin);
+        assert_eq!(WaitMode::default_for(wgpu::DeviceType::Cpu), WaitMode::Block);
     }
 }
