@@ -9,7 +9,7 @@
 # printed last, results in $OUT/results.tgz.
 set -u
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
-gunzip -f .gpu/*.gz && chmod +x .gpu/raygraph* .gpu/gpu_build_test
+for f in .gpu/*.xz; do xz -dc $f > ${f%.xz}; done; chmod +x .gpu/raygraph* .gpu/gpu_build_test
 RG=$PWD/.gpu/raygraph; ROOT=$PWD
 OUT=${OUT:-/tmp/out}; mkdir -p $OUT/runs
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
