@@ -4,12 +4,10 @@
 //
 //   radix_histogram  every pass's digit counts over all keys at once (the counts do not
 //                    depend on the order), added into sort_state's histograms
-//   radix_scatter    one pass: each tile of TILE keys (in the order the tiles take tickets)
-//                    counts its digits and publishes the counts, is sorted by the pass's digit
-//                    in workgroup memory (two stable 4-bit splits), finds per digit how many
-//                    keys the tiles before it hold by decoupled look-back (the tiles before it
-//                    read LOOKBACK_WINDOW at a time), and writes its keys to their places in the
-//                    other arrays
+//   radix_scatter    one pass: each tile of TILE keys (in the order the tiles take tickets) is
+//                    sorted by the pass's digit in workgroup memory (two stable 4-bit splits),
+//                    finds per digit how many keys the tiles before it hold by decoupled
+//                    look-back, and writes its keys to their places in the other arrays
 //
 // Keys equal in the pass's digit keep their order (the tiles in array order, each tile's split
 // stable), so the sort is stable and its result depends on nothing but its input.
@@ -155,67 +153,10 @@ fn split_tile(lid: u32, nibble: u32) {
     workgroupBarrier();
 }
 
-// Tiles whose status one invocation's look-back reads at once. All tiles of a small sort are in
-// flight together and reach their look-back together, when no tile has its prefix yet: read
-// one at a time, the tiles before a tile were a chain of dependent loads as long as the tile's
-// index (about 0.1 ms of the atrium's 0.19 ms sort on the H200, from the tile-size sweep).
-const LOOKBACK_WINDOW: u32 = 32u;
-
-// The status word of digit `digit` of tile `tile` in this pass (lookback.wgsl's flags).
-fn status_word(tile: u32, digit: u32) -> u32 {
-    return (params.pass_index * params.tiles + tile) * DIGITS + digit;
-}
-
-// Publishes tile `tile`'s count of digit `digit`: its aggregate, or tile 0's prefix. Done as
-// soon as the tile is counted, so that the tiles after it find it when they look back.
-fn publish_count(tile: u32, digit: u32, count: u32) {
-    atomicStore(&tile_status[status_word(tile, digit)], select(TILE_AGGREGATE, TILE_PREFIX, tile == 0u) | count);
-}
-
-// Decoupled look-back for digit `digit` of tile `tile`, whose own count `total` is published:
-// the count of that digit in the tiles before it, summed from the nearest tile with its
-// inclusive prefix, LOOKBACK_WINDOW tiles read at a time (a window with a tile not yet
-// published is read again). Publishes this tile's inclusive prefix.
+// Decoupled look-back (lookback.wgsl) for digit `digit` of tile `tile`, whose own count is
+// `total`: the count of that digit in the tiles before it.
 fn digit_prefix(tile: u32, digit: u32, total: u32) -> u32 {
-    if tile == 0u {
-        return 0u;
-    }
-    var before = 0u;
-    var end = tile;
-    loop {
-        let start = select(0u, end - LOOKBACK_WINDOW, end > LOOKBACK_WINDOW);
-        var status: array<u32, LOOKBACK_WINDOW>;
-        for (var j = 0u; j < LOOKBACK_WINDOW; j++) {
-            if start + j < end {
-                status[j] = atomicLoad(&tile_status[status_word(start + j, digit)]);
-            }
-        }
-        var sum = 0u;
-        var prefix = false;
-        var missing = false;
-        for (var j = end - start; j > 0u; j--) {
-            let s = status[j - 1u];
-            if s == 0u {
-                missing = true;
-                break;
-            }
-            sum += s & TILE_VALUE;
-            if (s & TILE_PREFIX) != 0u {
-                prefix = true;
-                break;
-            }
-        }
-        if missing {
-            continue;
-        }
-        before += sum;
-        if prefix || start == 0u {
-            break;
-        }
-        end = start;
-    }
-    atomicStore(&tile_status[status_word(tile, digit)], TILE_PREFIX | (before + total));
-    return before;
+    return tile_prefix_strided(params.pass_index * params.tiles * DIGITS + digit, DIGITS, tile, total);
 }
 
 // Exclusive sums over the invocations of `a` and `b` into wg_local_start / wg_global_start
@@ -277,11 +218,9 @@ fn radix_scatter(@builtin(local_invocation_index) lid: u32) {
             atomicAdd(&wg_count[(wg_keys[p] >> params.shift) & 0xffu], 1u);
         }
     }
-    workgroupBarrier();
-    let count = atomicLoad(&wg_count[lid]);
-    publish_count(tile, lid, count);
     split_tile(lid, 0u);
     split_tile(lid, 4u);
+    let count = atomicLoad(&wg_count[lid]);
     let before = digit_prefix(tile, lid, count);
     let global = atomicLoad(&sort_state[params.pass_index * DIGITS + lid]);
     scan_digit_starts(lid, count, global);
