@@ -336,7 +336,7 @@ fn records_made_on_the_gpu_equal_the_cpu_merged_records() {
 
 /// Sorts `keys` and `vals` (`capacity` pairs; the first `count` sorted) with the GPU radix sort
 /// and reads both arrays back whole.
-fn radix_sorted(gpu: &Gpu, sorter: &GpuRadixSort, keys: &[u32], vals: &[u32], count: u32) -> (Vec<u32>, Vec<u32>) {
+fn radix_sorted(gpu: &Gpu, sorter: &GpuRadixSort, keys: &[u32], vals: &[u32], (count, key_bits): (u32, u32)) -> (Vec<u32>, Vec<u32>) {
     use wgpu::util::DeviceExt;
     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
     let upload = |label: &str, data: &[u32]| {
@@ -344,7 +344,7 @@ fn radix_sorted(gpu: &Gpu, sorter: &GpuRadixSort, keys: &[u32], vals: &[u32], co
     };
     let (key_buffer, val_buffer) = (upload("test keys", keys), upload("test values", vals));
     let scopes = gpu.scopes();
-    let job = sorter.job(gpu.device(), &key_buffer, &val_buffer, keys.len() as u32, count);
+    let job = sorter.job(gpu.device(), &key_buffer, &val_buffer, (keys.len() as u32, count), key_bits);
     let mut encoder = gpu.device().create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("test radix sort") });
     {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("test radix sort"), timestamp_writes: None });
@@ -358,8 +358,9 @@ fn radix_sorted(gpu: &Gpu, sorter: &GpuRadixSort, keys: &[u32], vals: &[u32], co
 
 /// The GPU radix sort gives what a stable sort on the CPU gives: random keys of a few bits
 /// (many equal) to all 32, sizes around its tile of 2048 keys and past a million, one key; the
-/// values (distinct, not in key order) say where each key came from. Pairs past the count are
-/// left as they were. Every tile size `RAYGRAPH_SORT_TILE` offers.
+/// values (distinct, not in key order) say where each key came from, and each sort makes as many
+/// passes of 8 bits as its keys' bits need (one to four: after one or three the result is copied
+/// back). Pairs past the count are left as they were. Every tile size `RAYGRAPH_SORT_TILE` offers.
 #[test]
 fn the_radix_sort_equals_a_stable_sort() {
     let gpu = gpu();
@@ -383,7 +384,7 @@ fn check_radix_sort(gpu: &Gpu, sorter: &GpuRadixSort, tile: &str) {
         state ^= state << 17;
         (state >> 16) as u32
     };
-    let cases: [(usize, usize, u32); 9] = [
+    let cases: [(usize, usize, u32); 10] = [
         (1, 1, 32),
         (2, 2, 1),
         (2047, 2047, 3),
@@ -391,6 +392,7 @@ fn check_radix_sort(gpu: &Gpu, sorter: &GpuRadixSort, tile: &str) {
         (2049, 2049, 9),
         (5000, 3001, 30),
         (100_003, 100_003, 17),
+        (100_003, 100_003, 24),
         (100_003, 100_003, 32),
         ((1 << 20) + 3, (1 << 20) + 3, 30),
     ];
@@ -398,7 +400,7 @@ fn check_radix_sort(gpu: &Gpu, sorter: &GpuRadixSort, tile: &str) {
         let mask = if bits == 32 { u32::MAX } else { (1u32 << bits) - 1 };
         let keys: Vec<u32> = (0..capacity).map(|_| next() & mask).collect();
         let vals: Vec<u32> = (0..capacity as u32).map(|i| i.wrapping_mul(2_654_435_761)).collect();
-        let (got_keys, got_vals) = radix_sorted(gpu, sorter, &keys, &vals, count as u32);
+        let (got_keys, got_vals) = radix_sorted(gpu, sorter, &keys, &vals, (count as u32, bits));
         let mut order: Vec<usize> = (0..count).collect();
         order.sort_by_key(|&i| keys[i]);
         let want_keys: Vec<u32> = order.iter().map(|&i| keys[i]).chain(keys[count..].iter().copied()).collect();

@@ -10,7 +10,7 @@
 //
 // Entry points, in the order the builder records them:
 //   prim_boxes       the leaves' boxes and costs; the centroid bounds (atomics)
-//   morton           30-bit Morton codes of the centroids (padded to a power of two for the
+//   morton           30-bit (or 24-bit) Morton codes of the centroids (padded to a power of two for the
 //                    bitonic sort); then shaders/accel/radix_sort.wgsl sorts them, or:
 //   sort_block       bitonic sort of each block of 4096 keys in workgroup memory
 //   sort_step_pair   two global compare-exchange steps (k, j and j / 2) of the network
@@ -44,6 +44,8 @@ struct Params {
     finish: u32,
     // Neighbours searched on either side (at most RADIUS, the window's margin).
     radius: u32,
+    // Cells of the Morton grid along each axis (1024 for 30-bit codes, 256 for 24-bit ones).
+    morton_cells: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -185,7 +187,8 @@ fn morton(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     let b = tri_box(i);
     let c = 0.5 * (b[0] + b[1]);
     let extent = max(hi - lo, vec3<f32>(1e-30));
-    let q = vec3<u32>(clamp((c - lo) / extent * 1024.0, vec3<f32>(0.0), vec3<f32>(1023.0)));
+    let cells = f32(params.morton_cells);
+    let q = vec3<u32>(clamp((c - lo) / extent * cells, vec3<f32>(0.0), vec3<f32>(cells - 1.0)));
     keys[i] = (spread_bits(q.x) << 2u) | (spread_bits(q.y) << 1u) | spread_bits(q.z);
     vals[i] = i;
 }

@@ -1,5 +1,6 @@
-// Stable LSD radix sort of (u32 key, u32 value) pairs (src/accel/radix_sort.rs): four passes
-// of 8 bits, onesweep-style (Adinets and Merrill, "Onesweep: A Faster Least Significant Digit
+// Stable LSD radix sort of (u32 key, u32 value) pairs (src/accel/radix_sort.rs): up to four
+// passes of 8 bits (as many as the keys' bits need; after an odd number `radix_copy` puts the
+// result back), onesweep-style (Adinets and Merrill, "Onesweep: A Faster Least Significant Digit
 // Radix Sort for GPUs", 2022).
 //
 //   radix_histogram  every pass's digit counts over all keys at once (the counts do not
@@ -234,6 +235,20 @@ fn radix_scatter(@builtin(local_invocation_index) lid: u32) {
             let out = wg_global_start[d] + p - wg_local_start[d];
             keys_out[out] = key;
             vals_out[out] = wg_vals[p];
+        }
+    }
+}
+
+// After an odd number of passes: the sorted pairs (in the other arrays, bound as the input)
+// copied back into the sort's own arrays (bound as the output), a tile per workgroup.
+@compute @workgroup_size(256)
+fn radix_copy(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let n = sort_count();
+    for (var e = 0u; e < PER_THREAD; e++) {
+        let i = wid.x * TILE + e * GROUP + lid;
+        if i < n {
+            keys_out[i] = keys_in[i];
+            vals_out[i] = vals_in[i];
         }
     }
 }

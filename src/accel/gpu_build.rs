@@ -51,10 +51,17 @@ pub(crate) const BUILD_WGSL: &str =
 /// Most neighbours searched on either side of a cluster (the WGSL's `RADIUS`, the margin of
 /// the rounds' window in workgroup memory).
 pub(crate) const RADIUS: u32 = 16;
-/// Neighbours searched on either side of a cluster (H100, atrium: 8 builds in 0.84 ms with an
-/// SAH cost 1.066x the CPU build's; 16 in 1.03 ms, 1.080x; 4 in 0.76 ms, 1.072x).
-/// `RAYGRAPH_GPU_BUILD_RADIUS` overrides it, for measuring.
+/// Neighbours searched on either side of a cluster by the PLOC rounds (H100, atrium: 8 builds
+/// in 0.84 ms with an SAH cost 1.066x the CPU build's; 16 in 1.03 ms, 1.080x; 4 in 0.76 ms,
+/// 1.072x). `RAYGRAPH_GPU_BUILD_RADIUS` overrides it and [`HPLOC_SEARCH_RADIUS`], for measuring.
 pub(crate) const SEARCH_RADIUS: u32 = 8;
+/// Neighbours searched on either side by H-PLOC's rounds (H200, atrium: tree kernel 0.233 ms
+/// with an SAH cost 1.063x the CPU build's, against 0.331 ms and 1.074x with 8; organic 1.079x
+/// against 1.067x. BENCHMARKS.md, "The GPU rebuild: H-PLOC's search radius").
+pub(crate) const HPLOC_SEARCH_RADIUS: u32 = 4;
+/// Bits of the Morton codes the triangles are sorted by (30, or 24: three passes of the radix
+/// sort instead of four); `RAYGRAPH_GPU_BUILD_MORTON_BITS` overrides it, for measuring.
+pub(crate) const MORTON_BITS: u32 = 30;
 /// Clusters at or below which one workgroup finishes the tree (`ploc_finish`, one invocation
 /// per cluster, the clusters in workgroup memory): the last rounds merge few clusters each,
 /// and a dispatch per step would cost more than the work. Also the most the finish holds.
@@ -349,7 +356,7 @@ impl GpuBlasBuilder {
         let odd = buffers.bind(device, &self.group0, tris_in, [clusters_b, clusters_a], &buffers.round_groups[0]);
         let round_dispatch =
             RoundDispatch { bind: [&even, &odd], groups: shape.groups, fused: tuning.fused, indirect: tuning.indirect.then_some(&buffers.round_groups) };
-        let radix_job = (tuning.sort == SortKind::Radix).then(|| self.radix_sort.job(device, keys, vals, shape.n32, shape.n32));
+        let radix_job = (tuning.sort == SortKind::Radix).then(|| self.radix_sort.job(device, keys, vals, (shape.n32, shape.n32), tuning.morton_bits));
 
         let mut timer = Timer::new(device, queue);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("gpu build") });
@@ -613,6 +620,7 @@ struct Tuning {
     finish: u32,
     local: u32,
     radius: u32,
+    morton_bits: u32,
     sort: SortKind,
     fused: bool,
     indirect: bool,
@@ -622,10 +630,13 @@ struct Tuning {
 impl Tuning {
     fn from_env(padded: u64) -> Self {
         let var = |name: &str| std::env::var(name).ok().and_then(|v| v.parse().ok());
+        let hierarchy = builder_name() == "H-PLOC";
+        let radius = if hierarchy { HPLOC_SEARCH_RADIUS } else { SEARCH_RADIUS };
         Self {
             finish: var("RAYGRAPH_GPU_BUILD_FINISH").unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS),
             local: var("RAYGRAPH_GPU_BUILD_LOCAL").unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS),
-            radius: var("RAYGRAPH_GPU_BUILD_RADIUS").unwrap_or(SEARCH_RADIUS).clamp(1, RADIUS),
+            radius: var("RAYGRAPH_GPU_BUILD_RADIUS").unwrap_or(radius).clamp(1, RADIUS),
+            morton_bits: if var("RAYGRAPH_GPU_BUILD_MORTON_BITS") == Some(24) { 24 } else { MORTON_BITS },
             sort: match std::env::var("RAYGRAPH_GPU_BUILD_SORT").as_deref() {
                 Ok("bitonic") => SortKind::Bitonic,
                 Ok("radix") => SortKind::Radix,
@@ -634,7 +645,7 @@ impl Tuning {
             },
             fused: std::env::var("RAYGRAPH_GPU_BUILD_ROUND").as_deref() != Ok("pair"),
             indirect: std::env::var("RAYGRAPH_GPU_BUILD_INDIRECT").as_deref() == Ok("1"),
-            hierarchy: builder_name() == "H-PLOC",
+            hierarchy,
         }
     }
 
@@ -643,12 +654,12 @@ impl Tuning {
     fn params(&self, n32: u32, sort_steps: &[(u32, u32, SortStep)]) -> Vec<u8> {
         let mut params = vec![0u8; PARAMS_STRIDE as usize * (3 + sort_steps.len())];
         let mut put = |slot: usize, record: [u32; 8]| params[slot * PARAMS_STRIDE as usize..][..32].copy_from_slice(bytemuck::cast_slice(&record));
-        let (local, finish, radius) = (self.local, self.finish, self.radius);
-        put(0, [n32, local, 0, 0, finish, radius, 0, 0]);
-        put(1, [n32, 0, 0, 0, finish, radius, 0, 0]);
-        put(2, [n32, 0, 0, 1, finish, radius, 0, 0]);
+        let (local, finish, radius, cells) = (self.local, self.finish, self.radius, 1 << (self.morton_bits / 3));
+        put(0, [n32, local, 0, 0, finish, radius, cells, 0]);
+        put(1, [n32, 0, 0, 0, finish, radius, cells, 0]);
+        put(2, [n32, 0, 0, 1, finish, radius, cells, 0]);
         for (s, &(k, j, _)) in sort_steps.iter().enumerate() {
-            put(3 + s, [n32, k, j, 0, finish, radius, 0, 0]);
+            put(3 + s, [n32, k, j, 0, finish, radius, cells, 0]);
         }
         params
     }

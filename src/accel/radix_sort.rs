@@ -18,7 +18,8 @@ const GROUP: u64 = 256;
 const DEFAULT_TILE: u64 = 2048;
 /// The largest tile the WGSL takes.
 const MAX_TILE: u64 = 4096;
-/// Passes of 8 bits (the WGSL's `PASSES`): an even number, so the result lands in the input.
+/// Most passes of 8 bits (the WGSL's `PASSES`, the histograms it counts): a job sorts by as many
+/// as its keys' bits need; after an odd number the result is copied back into the input.
 const PASSES: u64 = 4;
 /// Words of the sort state: the histograms, the tickets, the count (the WGSL's `COUNT`) and
 /// padding.
@@ -35,6 +36,7 @@ pub struct GpuRadixSort {
     tile: u64,
     histogram: wgpu::ComputePipeline,
     scatter: wgpu::ComputePipeline,
+    copy: wgpu::ComputePipeline,
 }
 
 /// One sort of pairs held in a key and a value buffer: its parameters, its state (histograms,
@@ -44,6 +46,8 @@ pub struct RadixSortJob {
     state: wgpu::Buffer,
     bind: [wgpu::BindGroup; 2],
     tiles: u32,
+    /// Passes of 8 bits: enough for the keys' bits.
+    passes: u64,
 }
 
 impl RadixSortJob {
@@ -85,12 +89,13 @@ impl GpuRadixSort {
         let tile = fitting_tile(tile_from_env(), device.limits().max_compute_workgroup_storage_size);
         let constants = [("PER_THREAD", (tile / GROUP) as f64)];
         let pipeline = |name: &str| compute_pipeline_with(device, name, &pipeline_layout, &module, name, &constants);
-        Self { histogram: pipeline("radix_histogram"), scatter: pipeline("radix_scatter"), layout, tile }
+        Self { histogram: pipeline("radix_histogram"), scatter: pipeline("radix_scatter"), copy: pipeline("radix_copy"), layout, tile }
     }
 
     /// A sort of the first `count` pairs of `keys` and `vals` (storage buffers of u32 with room
-    /// for `capacity` pairs, `count <= capacity <= MAX_RADIX_SORT_PAIRS`), sorted in place.
-    pub fn job(&self, device: &wgpu::Device, keys: &wgpu::Buffer, vals: &wgpu::Buffer, capacity: u32, count: u32) -> RadixSortJob {
+    /// for `capacity` pairs, `count <= capacity <= MAX_RADIX_SORT_PAIRS`) by their keys' low
+    /// `key_bits` bits (1 to 32; the keys hold no others), sorted in place.
+    pub fn job(&self, device: &wgpu::Device, keys: &wgpu::Buffer, vals: &wgpu::Buffer, (capacity, count): (u32, u32), key_bits: u32) -> RadixSortJob {
         let capacity = capacity.clamp(1, MAX_RADIX_SORT_PAIRS) as u64;
         let tiles = capacity.div_ceil(self.tile);
         let storage = wgpu::BufferUsages::STORAGE;
@@ -126,17 +131,23 @@ impl GpuRadixSort {
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("radix sort"), layout: &self.layout, entries: &entries })
         };
         let bind = [bind([keys, vals], [&alt_keys, &alt_vals]), bind([&alt_keys, &alt_vals], [keys, vals])];
-        RadixSortJob { state, bind, tiles: tiles as u32 }
+        RadixSortJob { state, bind, tiles: tiles as u32, passes: u64::from(key_bits.clamp(1, 32)).div_ceil(8) }
     }
 
-    /// Records `job`'s dispatches into `pass`: the histograms, then the four passes.
+    /// Records `job`'s dispatches into `pass`: the histograms, the job's passes, and after an
+    /// odd number of them the copy back into the input.
     pub fn record(&self, pass: &mut wgpu::ComputePass, job: &RadixSortJob) {
         pass.set_bind_group(0, &job.bind[0], &[0]);
         pass.set_pipeline(&self.histogram);
         pass.dispatch_workgroups(job.tiles, 1, 1);
         pass.set_pipeline(&self.scatter);
-        for p in 0..PASSES {
+        for p in 0..job.passes {
             pass.set_bind_group(0, &job.bind[(p % 2) as usize], &[(p * PARAMS_STRIDE) as u32]);
+            pass.dispatch_workgroups(job.tiles, 1, 1);
+        }
+        if job.passes % 2 == 1 {
+            pass.set_bind_group(0, &job.bind[1], &[0]);
+            pass.set_pipeline(&self.copy);
             pass.dispatch_workgroups(job.tiles, 1, 1);
         }
     }
