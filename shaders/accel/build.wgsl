@@ -24,7 +24,8 @@
 //   ploc_merge       mutual nearest neighbours merge into a new node; the survivors move, in
 //                    order, to the other cluster array
 //   ploc_finish      the last rounds in one workgroup
-//   layout_offsets   per node: first triangle in depth-first order, depth, inside a leaf?
+//   layout_offsets   per triangle, for itself and the nodes it is the leftmost triangle of:
+//                    first triangle in depth-first order, depth, inside a leaf?
 //   layout_write     the traversal's node pairs and the triangles in leaf order; per traversal
 //                    node its parent, per triangle its input index (the GPU refit's inputs)
 //
@@ -781,17 +782,24 @@ fn tree_finished() -> bool {
     return atomicLoad(&state[STATE_COUNT]) == 1u;
 }
 
-// Every node walks up to the root: its first triangle in depth-first order is the number of
-// triangles in the left siblings of the subtrees it lies in the right side of.
+// Every triangle walks up to the root: its place in depth-first order is the number of
+// triangles in the left siblings of the subtrees it lies in the right side of. The ancestors it
+// reaches from left children only (the nodes whose leftmost triangle it is: every node is one
+// triangle's) have the same first triangle, and it writes theirs too, with whether each lies
+// inside a leaf (an ancestor above it collapsed) and, for the leaves of the finished tree, their
+// depth. A walk per triangle, not per node: half the walks of the tree's 2n - 1 nodes.
 @compute @workgroup_size(256)
 fn layout_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let x = gid.x + gid.y * groups.x * GROUP;
-    if !tree_finished() || x >= 2u * params.n - 1u {
+    if !tree_finished() || x >= params.n {
         return;
     }
     var offset = 0u;
-    var inside = false;
     var depth = 0u;
+    // Ancestors reached from left children only; the highest ancestor collapsed into a leaf
+    // (1 the parent; 0: none).
+    var leftmost_of = 0u;
+    var highest_leaf = 0u;
     var child = x;
     var parent = node_link[x].z;
     loop {
@@ -799,25 +807,38 @@ fn layout_offsets(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
             break;
         }
         let link = node_link[parent];
+        depth++;
         if link.y == child {
             offset += node_count(link.x);
+        } else if leftmost_of + 1u == depth {
+            leftmost_of = depth;
         }
-        inside = inside || link.w != 0u;
-        depth++;
+        if link.w != 0u {
+            highest_leaf = depth;
+        }
         child = parent;
         parent = link.z;
     }
-    offsets[x] = offset | select(0u, 0x80000000u, inside);
-    if x < params.n {
-        // A triangle goes to its place in depth-first order.
-        out_tris[3u * offset] = tris_in[3u * x];
-        out_tris[3u * offset + 1u] = tris_in[3u * x + 1u];
-        out_tris[3u * offset + 2u] = tris_in[3u * x + 2u];
-        out_order[offset] = x;
+    // A triangle goes to its place in depth-first order.
+    out_tris[3u * offset] = tris_in[3u * x];
+    out_tris[3u * offset + 1u] = tris_in[3u * x + 1u];
+    out_tris[3u * offset + 2u] = tris_in[3u * x + 2u];
+    out_order[offset] = x;
+    // The triangle (level 0) and the ancestors whose leftmost triangle it is: the first
+    // triangle, inside a leaf or not, and the depth of a leaf of the finished tree (the
+    // traversal's stack holds at most the deepest).
+    var deepest_leaf = 0u;
+    var node = x;
+    for (var level = 0u; level <= leftmost_of; level++) {
+        let inside = highest_leaf > level;
+        offsets[node] = offset | select(0u, 0x80000000u, inside);
+        if !inside && node_link[node].w != 0u {
+            deepest_leaf = max(deepest_leaf, depth - level);
+        }
+        node = node_link[node].z;
     }
-    if !inside && node_link[x].w != 0u {
-        // A leaf of the finished tree: the traversal's stack holds at most its depth.
-        atomicMax(&state[STATE_DEPTH], depth);
+    if deepest_leaf > 0u {
+        atomicMax(&state[STATE_DEPTH], deepest_leaf);
     }
 }
 

@@ -490,10 +490,10 @@ impl GpuBlasBuilder {
         }
     }
 
-    /// The depth-first offsets of every node, then the traversal's layout.
+    /// The depth-first offsets of every node (a walk per triangle), then the traversal's layout.
     fn record_layout(&self, pass: &mut wgpu::ComputePass, even: &wgpu::BindGroup, shape: &BuildShape) {
         pass.set_bind_group(0, even, &[slot(0)]);
-        let (x, y) = groups_for(shape.nodes);
+        let (x, y) = groups_for(shape.n as u64);
         pass.set_pipeline(&self.layout_offsets);
         pass.dispatch_workgroups(x, y, 1);
         let (x, y) = groups_for(shape.n as u64);
