@@ -4,7 +4,7 @@
 # a stable CPU sort with one to four passes at every tile size, every tree checked node by node,
 # H-PLOC's tree the same in eight builds); then `bench build --scenes organic,atrium
 # --max-factor 1` with the checkout's build (.gpu/raygraph: H-PLOC's search radius 4; from
-# 62c5d8b on, the layout's offsets a walk per triangle), the same
+# f2c41d3 on, the layout's offsets a walk per triangle), the same
 # with 24-bit Morton codes (RAYGRAPH_GPU_BUILD_MORTON_BITS=24: three sort passes) and the build
 # before (.gpu/raygraph-old, a08df97: radius 8), in turn, twice each. The gpu_build.md rows are
 # printed last, results in $OUT/results.tgz.
