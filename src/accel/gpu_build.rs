@@ -3,12 +3,13 @@
 //! "Parallel Locally-Ordered Clustering for Bounding Volume Hierarchy Construction", 2018;
 //! `shaders/accel/build.wgsl`) with `RAYGRAPH_GPU_BUILD=ploc`, kept for comparing.
 //!
-//! The triangles are sorted by the 30-bit Morton code of their box centres, ties in input
-//! order: [`crate::accel::radix_sort`] above 2^17 keys, a bitonic network below (the same
+//! The triangles are sorted by the Morton code of their box centres (24 bits up to 2^20
+//! triangles, 30 above: [`SHORT_MORTON_UP_TO`]), ties in input order: [`crate::accel::radix_sort`] above 2^17 keys, a bitonic network below (the same
 //! order; `RAYGRAPH_GPU_BUILD_SORT=radix|bitonic` forces one, for comparing). H-PLOC then makes
 //! the whole tree in one dispatch (each invocation climbs the codes' radix tree from its leaf;
 //! a range of more than 16 leaves is merged down to 16 clusters by PLOC rounds in its
-//! workgroup, the root to one), H200 atrium 0.59-0.61 ms a build against the rounds' 0.77. With
+//! workgroup, each cluster's nearest among 4 on either side: [`HPLOC_SEARCH_RADIUS`], the root
+//! to one), H200 atrium 0.447-0.449 ms a build (with the 24-bit codes) against the rounds' 0.77. With
 //! the PLOC rounds instead: the first rounds run
 //! within segments of 1024 leaves in workgroup memory (`LOCAL_CLUSTERS`). Then each round,
 //! every cluster finds its nearest neighbour (the smallest box around both) among the
@@ -57,11 +58,20 @@ pub(crate) const RADIUS: u32 = 16;
 pub(crate) const SEARCH_RADIUS: u32 = 8;
 /// Neighbours searched on either side by H-PLOC's rounds (H200, atrium: tree kernel 0.233 ms
 /// with an SAH cost 1.063x the CPU build's, against 0.331 ms and 1.074x with 8; organic 1.079x
-/// against 1.067x. BENCHMARKS.md, "The GPU rebuild: H-PLOC's search radius").
+/// against 1.067x. BENCHMARKS.md, "The GPU rebuild within its budget").
 pub(crate) const HPLOC_SEARCH_RADIUS: u32 = 4;
-/// Bits of the Morton codes the triangles are sorted by (30, or 24: three passes of the radix
-/// sort instead of four); `RAYGRAPH_GPU_BUILD_MORTON_BITS` overrides it, for measuring.
+/// Bits of the Morton codes the triangles are sorted by: 24 (a grid of 256 cells an axis, three
+/// passes of the radix sort) up to [`SHORT_MORTON_UP_TO`] padded triangles, where the sort's
+/// fixed cost per pass is a large share (H200, atrium: kernels 0.483 -> 0.447 ms, the tree's SAH
+/// cost 1.066x the CPU build's against 1.063x; BENCHMARKS.md, "The GPU rebuild within its
+/// budget"), 30 (1024 cells, four passes) above, where there are fewer cells a triangle.
+/// `RAYGRAPH_GPU_BUILD_MORTON_BITS=24|30` forces one, for measuring.
+pub(crate) const SHORT_MORTON_BITS: u32 = 24;
+/// Bits of the Morton codes above [`SHORT_MORTON_UP_TO`] padded triangles.
 pub(crate) const MORTON_BITS: u32 = 30;
+/// Padded triangle counts up to which the codes are [`SHORT_MORTON_BITS`] long (16 cells a
+/// triangle or more).
+pub(crate) const SHORT_MORTON_UP_TO: u64 = 1 << 20;
 /// Clusters at or below which one workgroup finishes the tree (`ploc_finish`, one invocation
 /// per cluster, the clusters in workgroup memory): the last rounds merge few clusters each,
 /// and a dispatch per step would cost more than the work. Also the most the finish holds.
@@ -636,7 +646,11 @@ impl Tuning {
             finish: var("RAYGRAPH_GPU_BUILD_FINISH").unwrap_or(FINISH_CLUSTERS).clamp(2, FINISH_CLUSTERS),
             local: var("RAYGRAPH_GPU_BUILD_LOCAL").unwrap_or(LOCAL_CLUSTERS).clamp(1, FINISH_CLUSTERS),
             radius: var("RAYGRAPH_GPU_BUILD_RADIUS").unwrap_or(radius).clamp(1, RADIUS),
-            morton_bits: if var("RAYGRAPH_GPU_BUILD_MORTON_BITS") == Some(24) { 24 } else { MORTON_BITS },
+            morton_bits: match var("RAYGRAPH_GPU_BUILD_MORTON_BITS") {
+                Some(bits @ (SHORT_MORTON_BITS | MORTON_BITS)) => bits,
+                _ if padded <= SHORT_MORTON_UP_TO => SHORT_MORTON_BITS,
+                _ => MORTON_BITS,
+            },
             sort: match std::env::var("RAYGRAPH_GPU_BUILD_SORT").as_deref() {
                 Ok("bitonic") => SortKind::Bitonic,
                 Ok("radix") => SortKind::Radix,
