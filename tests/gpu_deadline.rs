@@ -50,11 +50,31 @@ fn a_shader_that_never_ends_is_a_deadline_error_naming_its_pass() {
 
 #[test]
 fn render_with_a_shader_that_never_ends_exits_with_status_1_and_writes_nothing() {
+    render_past_the_deadline(None);
+}
+
+/// The same while polling for the GPU (`RAYGRAPH_GPU_WAIT=spin`, the default on a GPU adapter)
+/// and while blocked until shortly before the last wait's length (`tail`): the poll loop keeps
+/// the deadline too.
+#[test]
+fn the_deadline_holds_whichever_way_the_host_waits() {
+    for wait in ["spin", "tail:1"] {
+        render_past_the_deadline(Some(wait));
+    }
+}
+
+/// `render` with the endless shader, `RAYGRAPH_GPU_WAIT=wait` where given: status 1 soon after
+/// the deadline, an error naming the pass, and nothing written.
+fn render_past_the_deadline(wait: Option<&str>) {
     let (project, graph) = common::endless_fog::project();
     let out_png = project.root.join("fog.png");
     let report = project.root.join("report");
     let start = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_raygraph"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_raygraph"));
+    if let Some(wait) = wait {
+        command.env("RAYGRAPH_GPU_WAIT", wait);
+    }
+    let out = command
         .current_dir(&project.root)
         .args(["render", "--width", "16", "--height", "16", "--frames", "2", "--gpu-timeout", "2", "--graph"])
         .arg(&graph)
@@ -90,4 +110,34 @@ fn a_gpu_timeout_that_is_not_a_positive_number_is_refused() {
         assert!(!out.status.success(), "--gpu-timeout {bad}: {stderr}");
         assert!(stderr.contains("--gpu-timeout") && !stderr.contains("panicked"), "--gpu-timeout {bad}: {stderr}");
     }
+}
+
+/// Polling for the GPU draws the frames that blocking draws, and an unknown way of waiting is
+/// an error naming the variable.
+#[test]
+fn every_way_of_waiting_draws_the_same_frames() {
+    let render = |wait: &str, out: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_raygraph"))
+            .current_dir(common::repo())
+            .env("RAYGRAPH_GPU_WAIT", wait)
+            .args(["render", "--mode", "hybrid", "--width", "48", "--frames", "2", "--out"])
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    let dir = common::TempProject::new();
+    let images: Vec<Vec<u8>> = ["block", "spin", "tail"]
+        .iter()
+        .map(|wait| {
+            let png = dir.root.join(format!("{wait}.png"));
+            let out = render(wait, &png);
+            assert!(out.status.success(), "{wait}: {}", String::from_utf8_lossy(&out.stderr));
+            std::fs::read(&png).unwrap()
+        })
+        .collect();
+    assert!(images.windows(2).all(|w| w[0] == w[1]), "the images differ between ways of waiting");
+    let out = render("sometimes", &dir.root.join("never.png"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("RAYGRAPH_GPU_WAIT=sometimes") && !stderr.contains("panicked"), "{stderr}");
+    assert!(!dir.root.join("never.png").exists());
 }

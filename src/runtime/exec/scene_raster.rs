@@ -38,9 +38,9 @@ impl Executor {
         };
         rp.set_vertex_buffer(0, vertices.slice(..));
         rp.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-        let extent = self.attachment_extent(planned);
+        let extent = planned.shadow_tiles.map(|_| self.attachment_extent(planned));
         for (tile, slot) in planned.shadow_slots().enumerate() {
-            if planned.shadow_tiles.is_some() {
+            if let Some(extent) = extent {
                 if !super::slot_in_use(slots_in_use, slot) {
                     continue;
                 }
