@@ -249,7 +249,8 @@ fn layered_textures_are_written_one_layer_a_pass() {
 }
 
 /// A pass's shadow tiles hold the slots from its `shadow_slot` on: tiles without a slot, or
-/// more tiles than the slots left, or a grid without a column, are refused at the pass.
+/// more tiles than the slots left, or a grid without a column, or tiles of no texel, are refused
+/// at the pass.
 #[test]
 fn shadow_tiles_hold_slots_that_exist() {
     let repo = TempProject::with_repo_files();
@@ -269,6 +270,14 @@ fn shadow_tiles_hold_slots_that_exist() {
         let e = expect(repo.compile("g.ron", &raster), ErrorKind::Unsupported, "layers/shadow_map.ron", line_of(&broken, r#"name: "cube_1""#));
         assert!(e.to_string().contains(message), "{message}: {e}");
     }
+    let tiny = shadow_layer.replace(
+        r#""cube": Texture(format: Depth32Float, size: Absolute(3072, 2048), layers: 2)"#,
+        r#""cube": Texture(format: Depth32Float, size: Absolute(2, 2), layers: 2)"#,
+    );
+    assert_ne!(tiny, shadow_layer, "layers/shadow_map.ron no longer declares `cube` as 3072x2048, 2 layers");
+    repo.write("layers/shadow_map.ron", &tiny);
+    let e = expect(repo.compile("g.ron", &raster), ErrorKind::Unsupported, "layers/shadow_map.ron", line_of(&tiny, r#"name: "cube_0""#));
+    assert!(e.to_string().contains("3 x 2 shadow tiles into `cube` of 2x2 texels"), "{e}");
 }
 
 #[test]

@@ -59,6 +59,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
     connect::connect_inputs(&graph, &gsrc, &mut nodes, &mut resources)?;
 
     let (passes, producers) = schedule::collect_passes(&nodes)?;
+    schedule::check_tile_sizes(&nodes, &passes, &resources)?;
     let order = schedule::schedule(&graph, &gsrc, &nodes, &passes, &resources, &producers)?;
 
     let shaders = interface::check_shaders(project, options, &nodes, &passes, &resources)?;

@@ -239,6 +239,26 @@ fn check_shadow_tiles(pass: &PassDesc, location: &Location) -> Result<(), GraphE
     Ok(())
 }
 
+/// A pass of shadow tiles has at least one texel a tile in every attachment it draws.
+pub(super) fn check_tile_sizes(nodes: &[ResolvedNode], passes: &[PassNode], resources: &[PlannedResource]) -> Result<(), GraphError> {
+    for p in passes {
+        let pass = &nodes[p.node].layer.passes[p.index];
+        let Some((columns, rows)) = pass.shadow_tiles else { continue };
+        for (local, r) in &p.writes {
+            let (width, height) = resources[*r].extent;
+            if width < columns || height < rows {
+                return Err(GraphError::new(
+                    ErrorKind::Unsupported,
+                    p.location.clone(),
+                    format!("pass `{}` draws {columns} x {rows} shadow tiles into `{local}` of {width}x{height} texels: a tile would be empty", pass.name),
+                )
+                .help("give the texture at least one texel a tile, or fewer tiles"));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The passes that reach the graph output (or its HDR output), in execution order, and the
 /// graph's outputs.
 pub(super) struct Schedule {
