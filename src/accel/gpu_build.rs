@@ -4,13 +4,14 @@
 //! `shaders/accel/build.wgsl`) with `RAYGRAPH_GPU_BUILD=ploc`, kept for comparing.
 //!
 //! The triangles are sorted by the Morton code of their box centres (24 bits up to 2^20
-//! triangles, 30 above: [`SHORT_MORTON_UP_TO`]), ties in input order: [`crate::accel::radix_sort`] above 2^17 keys, a bitonic network below (the same
-//! order; `RAYGRAPH_GPU_BUILD_SORT=radix|bitonic` forces one, for comparing). H-PLOC then makes
+//! triangles, 30 above: [`SHORT_MORTON_UP_TO`]), ties in input order:
+//! [`crate::accel::radix_sort`] above 2^17 keys, a bitonic network below (the same order;
+//! `RAYGRAPH_GPU_BUILD_SORT=radix|bitonic` forces one, for comparing). H-PLOC then makes
 //! the whole tree in one dispatch (each invocation climbs the codes' radix tree from its leaf;
 //! a range of more than 16 leaves is merged down to 16 clusters by PLOC rounds in its
 //! workgroup, each cluster's nearest among 4 on either side: [`HPLOC_SEARCH_RADIUS`], the root
-//! to one), H200 atrium 0.447-0.449 ms a build (with the 24-bit codes) against the rounds' 0.77. With
-//! the PLOC rounds instead: the first rounds run
+//! to one), H200 atrium 0.447-0.449 ms a build (with the 24-bit codes) against the rounds'
+//! 0.77. With the PLOC rounds instead: the first rounds run
 //! within segments of 1024 leaves in workgroup memory (`LOCAL_CLUSTERS`). Then each round,
 //! every cluster finds its nearest neighbour (the smallest box around both) among the
 //! `SEARCH_RADIUS` clusters on either side in that order, mutual nearest neighbours merge into

@@ -1,7 +1,8 @@
-//! The GPU runtime: device context ([`gpu`]) and how it waits ([`gpu_wait`]), the scene's upload ([`scene_upload`]), plan
-//! executor ([`exec`]), GPU skinning and morphing ([`deform`]), pass timing
-//! ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust ([`rust_pass`]),
-//! the warm-up before timed frames ([`warm_up`]) and rays traced outside any graph ([`batch`]).
+//! The GPU runtime: device context ([`gpu`]) and how it waits ([`gpu_wait`]), the scene's
+//! upload ([`scene_upload`]), plan executor ([`exec`]), GPU skinning and morphing ([`deform`]),
+//! pass timing ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust
+//! ([`rust_pass`]), the warm-up before timed frames ([`warm_up`]) and rays traced outside any
+//! graph ([`batch`]).
 
 // The batch tracer waits for its rays, which a browser's main thread cannot.
 #[cfg(not(target_arch = "wasm32"))]

@@ -71,7 +71,7 @@ pub(crate) struct InstanceClass {
     /// Its material is translucent (BLEND or transmissive: not drawn by passes with
     /// `skip_blend`).
     pub(crate) blend: bool,
-    /// An opaque instance of a closed, outward-wound mesh (`Draw::closed_bounds`).
+    /// An opaque instance of a closed, outward-wound mesh (`Draw::closed`).
     pub(crate) closed: bool,
     /// The world-space corners of its mesh's bounds (`Draw::local_bounds`; `None`: never culled
     /// by a light's frustum, nor as a closed mesh).
@@ -94,7 +94,7 @@ impl InstanceClass {
                     mirrored: glam::Mat3::from_mat4(inst.transform).determinant() < 0.0,
                     alpha_tested,
                     blend: material.is_some_and(|m| m.translucent()),
-                    closed: !alpha_tested && draw.is_some_and(|d| d.closed_bounds.is_some()),
+                    closed: !alpha_tested && draw.is_some_and(|d| d.closed),
                     corners: draw.and_then(|d| d.local_bounds).map(|b| corners(&b).map(|c| inst.transform.transform_point3(c))),
                 }
             })
@@ -334,9 +334,8 @@ mod tests {
             .iter()
             .map(|&z| crate::scene::Instance { mesh, material: 0, transform: glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.0, z)) })
             .collect();
-        let draws: Vec<Draw> = (0..4)
-            .map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO, local_bounds: None, closed_bounds: None })
-            .collect();
+        let draws: Vec<Draw> =
+            (0..4).map(|i| Draw { indices: 0..3, base_vertex: 0, instance: i, local_center: glam::Vec3::ZERO, local_bounds: None, closed: false }).collect();
         // Instance 3 does not exist: last.
         assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, 10.0)), vec![0, 2, 1, 3]);
         assert_eq!(front_to_back(&draws, &scene, glam::Vec3::new(0.0, 0.0, -10.0)), vec![1, 2, 0, 3]);

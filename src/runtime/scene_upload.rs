@@ -33,10 +33,9 @@ pub(crate) struct Draw {
     /// The mesh's object-space bounds (a shadow slot's frustum culls the instances wholly
     /// outside it); `None` for a deforming mesh, whose vertices move, and an empty one.
     pub(crate) local_bounds: Option<Bounds>,
-    /// The mesh's object-space bounds when it is closed and wound outwards
-    /// (`scene::topology`); `None` when it is not, or when the plan does not ask
-    /// (`SceneUsage::closed_meshes`).
-    pub(crate) closed_bounds: Option<Bounds>,
+    /// The mesh has `local_bounds` and is closed and wound outwards (`scene::topology`); false
+    /// when the plan does not ask (`SceneUsage::closed_meshes`).
+    pub(crate) closed: bool,
 }
 
 /// The scene's textures as the graph's shaders bind them.
@@ -450,18 +449,14 @@ impl Upload<'_> {
     }
 }
 
-/// One draw per instance, with its mesh's centre and, where `closed_meshes` asks, its bounds
-/// if the mesh is closed and wound outwards and not `deforming`.
+/// One draw per instance, with its mesh's centre, its bounds unless the mesh is `deforming`
+/// or empty, and, where `closed_meshes` asks, whether such a mesh is closed and wound outwards.
 fn instance_draws(scene: &Scene, ranges: &[(std::ops::Range<u32>, i32)], closed_meshes: bool, deforming: &[usize]) -> Vec<Draw> {
     let bounds: Vec<Bounds> = scene.meshes().iter().map(|m| m.bounds()).collect();
     let centers: Vec<Vec3> = bounds.iter().map(|b| if b.is_empty() { Vec3::ZERO } else { b.center() }).collect();
-    let closed: Vec<Option<Bounds>> = scene
-        .meshes()
-        .iter()
-        .zip(&bounds)
-        .enumerate()
-        .map(|(i, (m, b))| (closed_meshes && !deforming.contains(&i) && crate::scene::topology::is_closed_outward(m)).then_some(*b))
-        .collect();
+    let local: Vec<Option<Bounds>> = bounds.iter().enumerate().map(|(i, b)| (!deforming.contains(&i) && !b.is_empty()).then_some(*b)).collect();
+    let closed: Vec<bool> =
+        scene.meshes().iter().zip(&local).map(|(m, b)| closed_meshes && b.is_some() && crate::scene::topology::is_closed_outward(m)).collect();
     scene
         .instances()
         .iter()
@@ -471,8 +466,8 @@ fn instance_draws(scene: &Scene, ranges: &[(std::ops::Range<u32>, i32)], closed_
             base_vertex: ranges[inst.mesh].1,
             instance: i as u32,
             local_center: centers[inst.mesh],
-            local_bounds: (!deforming.contains(&inst.mesh) && !bounds[inst.mesh].is_empty()).then_some(bounds[inst.mesh]),
-            closed_bounds: closed[inst.mesh],
+            local_bounds: local[inst.mesh],
+            closed: closed[inst.mesh],
         })
         .collect()
 }

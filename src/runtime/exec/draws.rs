@@ -214,7 +214,7 @@ mod tests {
     use crate::runtime::raster::Cull;
 
     fn draw(instance: u32) -> Draw {
-        Draw { indices: instance * 3..instance * 3 + 3, base_vertex: 0, instance, local_center: glam::Vec3::ZERO, local_bounds: None, closed_bounds: None }
+        Draw { indices: instance * 3..instance * 3 + 3, base_vertex: 0, instance, local_center: glam::Vec3::ZERO, local_bounds: None, closed: false }
     }
 
     #[test]
