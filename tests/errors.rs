@@ -280,6 +280,57 @@ fn shadow_tiles_hold_slots_that_exist() {
     assert!(e.to_string().contains("3 x 2 shadow tiles into `cube` of 2x2 texels"), "{e}");
 }
 
+/// A pass's `runs_when` names a buffer of its layer, of two words at least, that a pass of
+/// the layer writes, and a finite, non-negative fraction; anything else is refused at the pass.
+#[test]
+fn runs_when_counts_in_a_buffer_the_layer_writes() {
+    let repo = TempProject::with_repo_files();
+    let ao_layer = std::fs::read_to_string(repo.root.join("layers/rt_ao.ron")).unwrap();
+    let graph = std::fs::read_to_string(common::repo().join("graph/ao.ron")).unwrap();
+    let condition = r#"runs_when: Some(AtLeast(buffer: "covered", fraction: 0.125))"#;
+    assert!(ao_layer.contains(condition), "layers/rt_ao.ron no longer runs `ao` when an eighth of the frame is covered");
+    let cases = [
+        (
+            ao_layer.replace(condition, r#"runs_when: Some(AtLeast(buffer: "uncovered", fraction: 0.125))"#),
+            ErrorKind::UnknownOutput,
+            "which layer `rt_ao` does not declare",
+            "\"uncovered\"",
+        ),
+        (
+            ao_layer.replace(condition, r#"runs_when: Some(AtLeast(buffer: "partial", fraction: 0.125))"#),
+            ErrorKind::Unsupported,
+            "`partial` is not a buffer of at least 8 bytes",
+            r#"name: "ao""#,
+        ),
+        (
+            ao_layer.replace(condition, r#"runs_when: Some(AtLeast(buffer: "covered", fraction: -1.0))"#),
+            ErrorKind::Unsupported,
+            "-1 x its whole: not a finite, non-negative fraction",
+            r#"name: "ao""#,
+        ),
+        (
+            ao_layer.replace(r#""covered": Buffer(size: 16, zeroed: true)"#, r#""covered": Buffer(size: 4, zeroed: true)"#),
+            ErrorKind::Unsupported,
+            "`covered` is not a buffer of at least 8 bytes",
+            r#"name: "list""#,
+        ),
+        (
+            ao_layer.replace(r#"writes: ["ao", "covered"]"#, r#"writes: ["ao"]"#),
+            ErrorKind::Unsupported,
+            "no pass of its layer writes `covered`",
+            r#"name: "list""#,
+        ),
+    ];
+    // Each case with the text of the line the error points at: where an unknown buffer is
+    // named, else the first pass whose condition is wrong.
+    for (broken, kind, message, at) in cases {
+        assert_ne!(broken, ao_layer, "{message}: the layer did not change");
+        repo.write("layers/rt_ao.ron", &broken);
+        let e = expect(repo.compile("g.ron", &graph), kind, "layers/rt_ao.ron", line_of(&broken, at));
+        assert!(e.to_string().contains(message), "{message}: {e}");
+    }
+}
+
 #[test]
 fn parameter_out_of_range() {
     let p = TempProject::new();

@@ -18,6 +18,7 @@ fn frame(gpu: Option<&[f64]>, cpu: &[f64], frame_ms: f64, pass_rays: &[Option<Ra
         pass_rays: pass_rays.to_vec(),
         accel: None,
         phases: Default::default(),
+        skipped: vec![false; cpu.len()],
     }
 }
 

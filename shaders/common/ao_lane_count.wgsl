@@ -1,12 +1,11 @@
-// The AO layer's lane count (layers/rt_ao.ron: rt/ao_spread.wgsl and rt/ao_spread_sum.wgsl
-// compute it alike from the list's length): how many lanes share one pixel's rays this frame.
-// Enough (pixel, lane) items for one an image pixel, as a power of two from AO_LANES up to
-// AO_SPREAD_MAX_LANES, and no more than the rays (rounded up to a power of two). A frame at
-// least a quarter covered keeps AO_LANES and the four lanes' schedule over the image (2x2
-// texels of `partial` a pixel); fewer pixels get more lanes, over the list: a model covering 2%
-// of the frame gets 64 lanes a pixel, its rays side by side instead of in a chain of 16 a lane.
-// In that spread schedule item i is lane i % lanes of list entry i / lanes, stored at texel
-// (i % width, i / width) of `partial` (four texels an image pixel: lanes x listed fits).
+// The lane count of the AO layer's spread schedule (layers/rt_ao.ron: rt/ao_spread.wgsl and
+// rt/ao_spread_sum.wgsl compute it alike from the list's length): how many lanes share one
+// listed pixel's rays this frame. Enough (pixel, lane) items for one an image pixel, as a
+// power of two from AO_LANES up to AO_SPREAD_MAX_LANES, and no more than the rays (rounded up
+// to a power of two): a model covering 2% of the frame gets 64 lanes a pixel, its rays side by
+// side instead of in a chain of 16 a lane. Item i is lane i % lanes of list entry i / lanes,
+// stored at texel (i % width, i / width) of `spread` (four texels an image pixel: lanes x
+// listed fits, as lanes < 2 x pixels / listed where that is above AO_LANES).
 //#include "common/ao_params.wgsl"
 
 const AO_SPREAD_MAX_LANES: u32 = 64u;

@@ -1,6 +1,6 @@
 // Ambient occlusion with four lanes a pixel over the frame (layers/rt_ao_four_lanes.ron; the
-// default layer, rt_ao, does the same where at least a quarter of the frame is covered and spreads the
-// rays over more lanes elsewhere: rt/ao_spread.wgsl): cosine-weighted any-hit rays of bounded
+// default layer, rt_ao, runs it after a frame at least an eighth covered and spreads the rays
+// over more lanes after the others: rt/ao_spread.wgsl): cosine-weighted any-hit rays of bounded
 // length from offset G-buffer positions; V = unoccluded fraction.
 //
 // A pixel's rays are shared by AO_LANES invocations (the pass runs over `partial`, twice the

@@ -1,8 +1,11 @@
-// Ambient occlusion, second pass (layers/rt_ao.ron): a pixel's lanes (rt/ao_spread.wgsl) added
-// in lane order and divided by the ray count; 1 on the sky. Four lanes: invocation (x, y) adds
-// the 2x2 texels over its pixel, as rt/ao_sum.wgsl. More lanes: invocation (x, y) writes 1 on
-// its pixel if it is the sky, and, if list entry y * width + x exists (the list is as wide as
-// the image: that entry's texel is (x, y)), adds that entry's lanes and writes that pixel.
+// Ambient occlusion, last pass (layers/rt_ao.ron): a pixel's lanes added in lane order and
+// divided by the ray count; 1 on the sky. In a frame that ran the four lanes (`ao`, rt/ao.wgsl:
+// the list did not run, and `listed` was zeroed), invocation (x, y) adds the 2x2 texels of
+// `partial` over its pixel, as rt/ao_sum.wgsl. In a frame that ran `ao_spread` (a list of
+// pixels with rays; an empty list is all sky), invocation (x, y) adds list entry y * width + x's
+// lanes from `spread` (the list is as wide as the image: that entry's texel is (x, y)) and
+// writes that pixel. Either way it counts the pixels with rays into `covered` (word 0, the
+// whole frame's pixels in word 1): the next frame's `runs_when` picks the schedule from them.
 //#include "common/ao_lane_count.wgsl"
 //#include "common/ao_four_lanes_sum.wgsl"
 
@@ -11,23 +14,42 @@
 @group(0) @binding(3) var list: texture_2d<u32>;
 @group(0) @binding(4) var<storage, read> listed: array<u32>;
 @group(0) @binding(5) var partial: texture_2d<f32>;
-@group(0) @binding(6) var ao: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(6) var spread: texture_2d<f32>;
+@group(0) @binding(7) var ao: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(8) var<storage, read_write> covered: array<atomic<u32>>;
+
+var<workgroup> group_covered: atomic<u32>;
 
 @compute @workgroup_size(8, 8)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     let size = textureDimensions(ao);
-    if id.x >= size.x || id.y >= size.y {
-        return;
+    let inside = id.x < size.x && id.y < size.y;
+    var sky = true;
+    if inside {
+        sky = textureLoad(position, id.xy, 0).w == 0.0;
+        sum_lanes(id.xy, size, sky);
     }
-    let sky = textureLoad(position, id.xy, 0).w == 0.0;
+    if !sky {
+        atomicAdd(&group_covered, 1u);
+    }
+    workgroupBarrier();
+    if local == 0u {
+        atomicAdd(&covered[0], atomicLoad(&group_covered));
+        if all(id.xy == vec2<u32>(0u)) {
+            atomicStore(&covered[1], size.x * size.y);
+        }
+    }
+}
+
+// Writes the AO of pixel `id` (four lanes) or of list entry `id` (spread); 1 where `id` is sky.
+fn sum_lanes(id: vec2<u32>, size: vec2<u32>, sky: bool) {
     if sky {
-        textureStore(ao, id.xy, vec4<f32>(1.0));
+        textureStore(ao, id, vec4<f32>(1.0));
     }
     let count = listed[0];
-    let lanes = ao_spread_lanes(count, size.x * size.y, params.rays);
-    if lanes == AO_LANES {
+    if count == 0u {
         if !sky {
-            store_open(id.xy, ao_four_lanes_open(partial, id.xy));
+            store_open(id, ao_four_lanes_open(partial, id));
         }
         return;
     }
@@ -35,11 +57,12 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if entry >= count {
         return;
     }
-    let packed = textureLoad(list, id.xy, 0).r;
-    let width = textureDimensions(partial).x;
+    let lanes = ao_spread_lanes(count, size.x * size.y, params.rays);
+    let packed = textureLoad(list, id, 0).r;
+    let width = textureDimensions(spread).x;
     var open = 0.0;
     for (var lane = 0u; lane < lanes; lane++) {
-        open += textureLoad(partial, ao_spread_texel(entry * lanes + lane, width), 0).r;
+        open += textureLoad(spread, ao_spread_texel(entry * lanes + lane, width), 0).r;
     }
     store_open(vec2<u32>(packed & 0xffffu, packed >> 16u), open);
 }

@@ -104,8 +104,8 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
 }
 
 /// Lanes a pixel's AO rays are shared over (the AO layers' `AO_LANES`): `rt_ao`'s count
-/// wherever a quarter of the frame or more has AO rays, as in the rows modelled here (it
-/// spreads them over more lanes on frames mostly sky: `shaders/common/ao_lane_count.wgsl`).
+/// after a frame of which an eighth or more had AO rays, as in the rows modelled here (after
+/// frames mostly sky it spreads them over more lanes: `shaders/common/ao_lane_count.wgsl`).
 const AO_LANES: u32 = 4;
 
 /// The Miss or Stress test: closest-hit primary rays from `camera`.

@@ -233,8 +233,9 @@ fn one_layer() -> u32 {
 pub struct BufferDecl {
     /// Size in bytes.
     pub size: u64,
-    /// Zeroed every frame just before the pass that writes it runs (counters that a pass
-    /// appends to with atomics). Default `false`: the contents are undefined until written.
+    /// Zeroed every frame just before the pass that writes it runs, or would run in a frame
+    /// where its `runs_when` keeps it from running (counters that a pass appends to with
+    /// atomics). Default `false`: the contents are undefined until written.
     #[serde(default)]
     pub zeroed: bool,
 }
@@ -586,6 +587,63 @@ pub struct PassDesc {
     /// had; readers compile their use out with `SCENE_BLEND`). Default `false`.
     #[serde(default)]
     pub translucent: bool,
+    /// The pass is recorded only in frames where this holds of a count an earlier frame wrote
+    /// (`runs_when: Some(AtLeast(buffer: "covered", fraction: 0.25))`); in the others it is not
+    /// recorded (what it writes keeps what it had; its row reads 0 ms), as [`RunsWhen`] says.
+    /// Two passes with the opposite conditions on one count are two schedules of the same
+    /// work, each compiled alone. Default: every frame.
+    #[serde(default)]
+    pub runs_when: Option<RunsWhen>,
+}
+
+/// When a pass with `runs_when` is recorded: the first two 32-bit words of `buffer` (one of
+/// the layer's buffers, which one of its passes writes), a count and the whole it is part of
+/// (the pixels with rays, and the pixels), compared as `count < fraction x whole` or its
+/// opposite. The executor reads the words back after each frame and the next frame compares
+/// what came back; before the first frame has come back, and after a recompile, the count is
+/// taken as the whole. Every frame evaluates the conditions once, so all the passes of a frame
+/// see the same count.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub enum RunsWhen {
+    /// The count is below `fraction` x the whole.
+    Below {
+        /// The layer's buffer holding the count (word 0) and the whole (word 1).
+        buffer: String,
+        /// The share of the whole the count is compared with.
+        fraction: f64,
+    },
+    /// The count is at least `fraction` x the whole.
+    AtLeast {
+        /// The layer's buffer holding the count (word 0) and the whole (word 1).
+        buffer: String,
+        /// The share of the whole the count is compared with.
+        fraction: f64,
+    },
+}
+
+impl RunsWhen {
+    /// The buffer holding the count and the whole.
+    pub fn buffer(&self) -> &str {
+        match self {
+            RunsWhen::Below { buffer, .. } | RunsWhen::AtLeast { buffer, .. } => buffer,
+        }
+    }
+
+    /// The share of the whole the count is compared with.
+    pub fn fraction(&self) -> f64 {
+        match self {
+            RunsWhen::Below { fraction, .. } | RunsWhen::AtLeast { fraction, .. } => *fraction,
+        }
+    }
+
+    /// Whether the pass runs with `count` of `whole`.
+    pub fn holds(&self, count: u32, whole: u32) -> bool {
+        let below = f64::from(count) < self.fraction() * f64::from(whole);
+        match self {
+            RunsWhen::Below { .. } => below,
+            RunsWhen::AtLeast { .. } => !below,
+        }
+    }
 }
 
 /// The kind of GPU work of a pass.

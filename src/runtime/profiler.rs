@@ -225,6 +225,9 @@ pub struct FrameTimings {
     pub accel: Option<crate::accel::cache::BuildReport>,
     /// The frame's time outside the passes' recording, by part.
     pub phases: FramePhases,
+    /// Per pass: whether the frame left it out (its `runs_when` did not hold, or it had
+    /// nothing to draw); such a pass's GPU time reads 0.
+    pub skipped: Vec<bool>,
 }
 
 /// The median of `values` (sorts them; NaN for none).

@@ -37,6 +37,7 @@ pub(super) fn planned_passes(kept: &[usize], nodes: &[ResolvedNode], passes: &[P
                 layer: pass.layer,
                 skip_blend: pass.skip_blend,
                 translucent: pass.translucent,
+                runs_when: pass.runs_when.clone().zip(p.runs_when),
                 accel: node.accel.clone(),
                 params: node.params.clone(),
                 location: p.location.clone(),
@@ -75,7 +76,9 @@ pub(super) fn set_lifetimes_and_usage(
             }
         }
     }
-    for r in std::iter::once(output).chain(hdr) {
+    // The counts of `runs_when` are copied out after the last pass: no resource shares them.
+    let counts = planned.iter().filter_map(|p| p.runs_when.as_ref().map(|(_, r)| *r)).filter(|r| first.contains_key(r));
+    for r in std::iter::once(output).chain(hdr).chain(counts.collect::<Vec<_>>()) {
         resources[r].usage.copy_src = true;
         last.insert(r, planned.len().saturating_sub(1));
     }

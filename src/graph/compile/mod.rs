@@ -60,6 +60,7 @@ pub fn compile_with(graph_file: &Path, project: &Project, frame_size: (u32, u32)
 
     let (passes, producers) = schedule::collect_passes(&nodes)?;
     schedule::check_tile_sizes(&nodes, &passes, &resources)?;
+    schedule::check_conditions(&nodes, &passes, &resources)?;
     let order = schedule::schedule(&graph, &gsrc, &nodes, &passes, &resources, &producers)?;
 
     let shaders = interface::check_shaders(project, options, &nodes, &passes, &resources)?;

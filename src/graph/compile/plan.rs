@@ -136,6 +136,9 @@ pub struct PlannedPass {
     pub skip_blend: bool,
     /// `SceneRaster`: only translucent instances, back to front, blended (`PassDesc::translucent`).
     pub translucent: bool,
+    /// The frames the pass is recorded in (`PassDesc::runs_when`), with the resource holding
+    /// the count; `None`: every frame.
+    pub runs_when: Option<(RunsWhen, ResourceId)>,
     /// `AccelBuild`: the settings of its `Accel` node.
     pub accel: Option<AccelNode>,
     /// Parameter values after graph overrides.

@@ -171,6 +171,7 @@ fn accel_node(name: &str, accel: &AccelNode, gsrc: &SourceText) -> ResolvedNode 
             layer: None,
             skip_blend: false,
             translucent: false,
+            runs_when: None,
         }],
     };
     ResolvedNode {

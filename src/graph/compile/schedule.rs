@@ -26,6 +26,8 @@ pub(super) struct PassNode {
     pub(super) index: usize,
     pub(super) reads: Vec<(String, ResourceId)>,
     pub(super) writes: Vec<(String, ResourceId)>,
+    /// The buffer `runs_when` counts in.
+    pub(super) runs_when: Option<ResourceId>,
     pub(super) location: Location,
 }
 
@@ -54,8 +56,9 @@ pub(super) fn collect_passes(nodes: &[ResolvedNode]) -> Result<(Vec<PassNode>, P
                 producers.insert(w.resource, passes.len());
             }
             check_pass_options(pass, &location)?;
+            let runs_when = pass.runs_when.as_ref().map(|c| pass_resource(node, pass, c.buffer(), "runs_when")).transpose()?.map(|r| r.resource);
             let bound = |list: Vec<PassResource>| list.into_iter().map(|a| (a.binding, a.resource)).collect();
-            passes.push(PassNode { node: ni, index: pi, reads: bound(reads), writes: bound(writes), location });
+            passes.push(PassNode { node: ni, index: pi, reads: bound(reads), writes: bound(writes), runs_when, location });
         }
     }
     Ok((passes, producers))
@@ -254,6 +257,37 @@ pub(super) fn check_tile_sizes(nodes: &[ResolvedNode], passes: &[PassNode], reso
                 )
                 .help("give the texture at least one texel a tile, or fewer tiles"));
             }
+        }
+    }
+    Ok(())
+}
+
+/// A pass's `runs_when` counts in a buffer of its layer (of at least two words) that one of the
+/// layer's passes writes, and compares the count with a finite, non-negative fraction.
+pub(super) fn check_conditions(nodes: &[ResolvedNode], passes: &[PassNode], resources: &[PlannedResource]) -> Result<(), GraphError> {
+    for p in passes {
+        let pass = &nodes[p.node].layer.passes[p.index];
+        let (Some(condition), Some(count)) = (&pass.runs_when, p.runs_when) else { continue };
+        let refuse = |message: String, help: &str| Err(GraphError::new(ErrorKind::Unsupported, p.location.clone(), message).help(help.to_string()));
+        let buffer = condition.buffer();
+        if !matches!(&resources[count].decl, ResourceDecl::Buffer(b) if b.size >= 8) {
+            return refuse(
+                format!("pass `{}` runs when a count in `{buffer}` allows, but `{buffer}` is not a buffer of at least 8 bytes", pass.name),
+                "name a buffer whose first two 32-bit words, a count and its whole, a pass of the layer writes",
+            );
+        }
+        if !passes.iter().any(|q| q.node == p.node && q.writes.iter().any(|(_, r)| *r == count)) {
+            return refuse(
+                format!("pass `{}` runs when a count in `{buffer}` allows, but no pass of its layer writes `{buffer}`", pass.name),
+                "add `buffer` to the `writes` of the pass that counts",
+            );
+        }
+        let fraction = condition.fraction();
+        if !fraction.is_finite() || fraction < 0.0 {
+            return refuse(
+                format!("pass `{}` compares its count with {fraction} x its whole: not a finite, non-negative fraction", pass.name),
+                "give `fraction` a value of 0 or more",
+            );
         }
     }
     Ok(())

@@ -54,23 +54,24 @@ impl Executor {
 
     /// The end of the run of compute nodes that starts at pass `i` (`i` itself when none
     /// starts there, or when the frame records one pass per node): compute dispatches, and
-    /// raster passes with nothing to draw this frame (only their timestamps).
+    /// raster and rt-pipeline passes the frame skips (nothing recorded).
     pub(super) fn compute_run_end(&self, inputs: &FrameInputs, i: usize) -> usize {
         if !inputs.merged {
             return i;
         }
         let joins = |k: usize| match self.passes[k].pipeline {
             Pipeline::Compute(_) => true,
-            Pipeline::Render(_) | Pipeline::Scene(_) => self.draws_nothing(inputs, k),
-            Pipeline::AccelBuild | Pipeline::RayTracing(_) | Pipeline::Rust { .. } => false,
+            Pipeline::Render(_) | Pipeline::Scene(_) | Pipeline::RayTracing(_) => inputs.skipped[k],
+            Pipeline::AccelBuild | Pipeline::Rust { .. } => false,
         };
         (i..self.passes.len()).find(|&k| !joins(k)).unwrap_or(self.passes.len())
     }
 
     /// Records passes `run` ([`Executor::compute_run_end`]) as one compute pass (their `zeroed`
     /// buffers cleared first), each node between its own timestamps written inside it, in a
-    /// debug group of its name; pushes each node's CPU milliseconds to `cpu_ms`.
-    pub(super) fn record_compute_run(&self, encoder: &mut wgpu::CommandEncoder, run: Range<usize>, cpu_ms: &mut Vec<f64>) {
+    /// debug group of its name; pushes each node's CPU milliseconds to `cpu_ms`. A pass the
+    /// frame skips records nothing (no timestamps either: `GpuTimer::skip`).
+    pub(super) fn record_compute_run(&self, encoder: &mut wgpu::CommandEncoder, run: Range<usize>, skipped: &[bool], cpu_ms: &mut Vec<f64>) {
         // A buffer cannot be cleared inside a compute pass: the run's `zeroed` buffers are
         // cleared before it, which is before each of their writers.
         for i in run.clone() {
@@ -83,14 +84,15 @@ impl Executor {
             if let Some(t) = &self.timer {
                 t.write_in_pass(&mut cp, i as u32, false);
             }
-            if let Pipeline::Compute(pipeline) = &self.passes[i].pipeline {
-                self.record_dispatch(&mut cp, i, pipeline);
+            match &self.passes[i].pipeline {
+                Pipeline::Compute(pipeline) if !skipped[i] => self.record_dispatch(&mut cp, i, pipeline),
+                _ => {}
             }
             if let Some(t) = &self.timer {
                 t.write_in_pass(&mut cp, i as u32, true);
             }
             cp.pop_debug_group();
-            cpu_ms.push(if matches!(self.passes[i].pipeline, Pipeline::Compute(_)) { t0.elapsed().as_secs_f64() * 1e3 } else { 0.0 });
+            cpu_ms.push(if matches!(self.passes[i].pipeline, Pipeline::Compute(_)) && !skipped[i] { t0.elapsed().as_secs_f64() * 1e3 } else { 0.0 });
         }
     }
 

@@ -5,12 +5,14 @@
 //! record code lives in a file of its own (`compute`, `fullscreen`, `scene_raster`,
 //! `trace`, `accel_build`, `rust`), beside what they share: the slots (`slots`), the
 //! bindings from reflection (`bindings`), the raster kinds' render pass (`render_pass`), the
-//! `params` uniforms (`params`), the scene and frame uniforms (`scene_state`) and reading
-//! textures back (`readback`).
+//! `params` uniforms (`params`), the scene and frame uniforms (`scene_state`), reading
+//! textures back (`readback`) and the counts that decide which passes with `runs_when` a
+//! frame records (`counts`).
 
 mod accel_build;
 mod bindings;
 mod compute;
+mod counts;
 mod draws;
 pub mod features;
 mod fullscreen;
@@ -165,6 +167,8 @@ pub struct Executor {
     history: history::HistoryState,
     /// The GPU deformation of the scene's skinned and morphed meshes, if it has any.
     deform: Option<crate::runtime::deform::GpuDeform>,
+    /// The counts passes with `runs_when` are recorded by, if any pass has one.
+    run_counts: Option<counts::RunCounts>,
 }
 
 /// One frame while it is recorded.
@@ -186,6 +190,8 @@ struct FrameInputs<'a> {
     shadow_slots: u32,
     /// Whether consecutive compute nodes are recorded into one pass ([`Gpu::merges_compute_passes`]).
     merged: bool,
+    /// The passes the frame does not record ([`Executor::passes_skipped`]).
+    skipped: Vec<bool>,
 }
 
 /// Whether shadow slot `slot` is among those of the mask `slots` (`FrameUniforms::shadow_slots`).
@@ -221,6 +227,7 @@ impl Executor {
         let scene_gpu = Self::upload_scene(gpu, &plan, scene)?;
         let samplers = Self::samplers(gpu.device());
         let accel = Self::accel_cache(gpu, &plan);
+        let run_counts = counts::RunCounts::of_plan(gpu.device(), &plan);
         let mut content_memo = crate::scene::memo::MeshMemo::new();
         let scene_content = if scene_gpu.is_some() { SceneContent::of(scene, &mut content_memo) } else { SceneContent::default() };
         let mut exec = Self {
@@ -249,6 +256,7 @@ impl Executor {
             rust_passes,
             history: history::HistoryState::default(),
             deform: None,
+            run_counts,
         };
         exec.make_deform(gpu, scene);
         exec.history = history::HistoryState::of_plan(&exec.plan);
@@ -381,8 +389,12 @@ impl Executor {
         if let Some(cache) = self.accel.as_mut() {
             cache.read_probe(gpu.device()).await?;
         }
+        if let Some(counts) = self.run_counts.as_mut() {
+            counts.read(gpu.device()).await?;
+        }
         let mut timings = self.frame_timings(gpu, start, cpu_ms, accel_report).await?;
         timings.phases = FramePhases { readback_ms: ms(t), ..phases };
+        timings.skipped = inputs.skipped;
         // The frame ends after its last part: read last, so a pause of the thread between the
         // two readings cannot leave the parts longer than the frame.
         timings.frame_ms = ms(start);
@@ -412,7 +424,9 @@ impl Executor {
                 self.draws.update_pass(gpu, scene, self.scene_generation, draws, camera.position, i, source);
             }
         }
-        FrameInputs { scene, shadow_slots: uniforms.shadow_slots, merged: gpu.merges_compute_passes() }
+        let mut inputs = FrameInputs { scene, shadow_slots: uniforms.shadow_slots, merged: gpu.merges_compute_passes(), skipped: Vec::new() };
+        inputs.skipped = self.passes_skipped(&inputs);
+        inputs
     }
 
     /// Records every pass of the frame in schedule order: each run of consecutive compute nodes
@@ -420,13 +434,13 @@ impl Executor {
     /// by one.
     fn record_passes(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs) -> Result<(), RuntimeError> {
         if let Some(timer) = &self.timer {
-            timer.skip(&(0..self.passes.len()).map(|i| self.draws_nothing(inputs, i)).collect::<Vec<_>>());
+            timer.skip(&inputs.skipped);
         }
         let mut i = 0;
         while i < self.passes.len() {
             let end = self.compute_run_end(inputs, i);
             if end > i {
-                self.record_compute_run(&mut frame.encoder, i..end, &mut frame.cpu_ms);
+                self.record_compute_run(&mut frame.encoder, i..end, &inputs.skipped, &mut frame.cpu_ms);
                 i = end;
             } else {
                 self.record_pass(gpu, frame, inputs, i)?;
@@ -446,6 +460,21 @@ impl Executor {
         nothing_translucent || no_slot_in_use
     }
 
+    /// Whether pass `i`'s `runs_when` keeps it from running this frame.
+    fn held_back(&self, i: usize) -> bool {
+        let Some((condition, r)) = &self.plan.passes[i].runs_when else { return false };
+        // Without a count read back (none of the plan's counts has a slot): the count taken as
+        // its whole, as `RunCounts::allow` does before the first frame.
+        let allowed = self.run_counts.as_ref().map_or(condition.holds(1, 1), |c| c.allow(condition, *r));
+        !allowed
+    }
+
+    /// Which passes the frame does not record: held back by `runs_when`, or with nothing to
+    /// draw ([`Executor::draws_nothing`]).
+    fn passes_skipped(&self, inputs: &FrameInputs) -> Vec<bool> {
+        (0..self.passes.len()).map(|i| self.held_back(i) || self.draws_nothing(inputs, i)).collect()
+    }
+
     /// Records pass `i` of the frame, and its CPU milliseconds.
     fn record_pass(&mut self, gpu: &Gpu, frame: &mut FrameRecording, inputs: &FrameInputs, i: usize) -> Result<(), RuntimeError> {
         let t0 = Instant::now();
@@ -460,7 +489,7 @@ impl Executor {
             frame.cpu_ms.push(t0.elapsed().as_secs_f64() * 1e3);
             return Ok(());
         }
-        if self.draws_nothing(inputs, i) {
+        if inputs.skipped[i] {
             // No timestamps either (`GpuTimer::skip`): its row reads 0 ms.
             frame.cpu_ms.push(0.0);
             return Ok(());
@@ -484,6 +513,9 @@ impl Executor {
         }
         if let Some(cache) = &self.accel {
             cache.copy_stats(&mut encoder);
+        }
+        if let Some(counts) = &self.run_counts {
+            counts.copy(&mut encoder, |r| self.buffer(r));
         }
         let t = Instant::now();
         command_buffers.push(encoder.finish());
@@ -510,7 +542,7 @@ impl Executor {
             rays = Some(windows.iter().fold(RayStats::default(), |a, b| a.add(b)));
         }
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
-        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms, rays, pass_rays, accel: accel_report.map(|(r, _)| r), phases: FramePhases::default() })
+        Ok(FrameTimings { gpu_ms, cpu_ms, frame_ms, rays, pass_rays, accel: accel_report.map(|(r, _)| r), phases: FramePhases::default(), skipped: Vec::new() })
     }
 
     /// The work one frame submits, for the GPU deadline's error: its passes in submission
