@@ -92,10 +92,12 @@ fn read(gpu: &Gpu, exec: &Executor) -> AoBits {
 
 /// Every variant equals `rt_ao_four_lanes` bit for bit on every back-end, and traces as many
 /// rays each frame, and so does `rt_ao` (`assert_spread_agrees`); returns the four-lane
-/// schedule's result on the last back-end.
-fn assert_schedules_agree(scene: &Scene, cameras: &[Camera], sampling: i64, what: &str) -> AoBits {
+/// schedule's result on the last back-end, and the AO trace pass `rt_ao` ran in its last
+/// frame (the same on every back-end).
+fn assert_schedules_agree(scene: &Scene, cameras: &[Camera], sampling: i64, what: &str) -> (AoBits, String) {
     let gpu = gpu();
     let mut last = None;
+    let mut last_schedule: Option<Vec<String>> = None;
     for &backend in gpu.backends() {
         let lanes = render(&gpu, scene, cameras, backend, FOUR_LANES, sampling);
         for variant in VARIANTS {
@@ -106,19 +108,22 @@ fn assert_schedules_agree(scene: &Scene, cameras: &[Camera], sampling: i64, what
             assert!(other.partial == lanes.partial, "{what}, {backend}: {variant}'s lane sums differ from {FOUR_LANES}'s");
             assert_eq!(other.rays, lanes.rays, "{what}, {backend}: {variant} traces other rays than {FOUR_LANES}, frame by frame");
         }
-        assert_spread_agrees(&lanes, &render(&gpu, scene, cameras, backend, SPREAD, sampling), &format!("{what}, {backend}"));
+        let (spread, schedules) = render_with_schedules(&gpu, scene, cameras, backend, SPREAD, sampling);
+        let schedule = schedules.last().cloned().unwrap_or_default();
+        assert_spread_agrees(&lanes, &spread, schedule == ["ao/ao"], &format!("{what}, {backend}"));
+        assert!(last_schedule.as_ref().is_none_or(|s| *s == schedule), "{what}, {backend}: another schedule than another back-end's: {schedule:?}");
+        last_schedule = Some(schedule);
         last = Some(lanes);
     }
-    last.expect("the adapter has a back-end")
+    (last.expect("the adapter has a back-end"), last_schedule.unwrap_or_default().join(", "))
 }
 
 /// rt_ao (`spread`) against the four-lane schedule (`lanes`): the same pixels and rays each
-/// frame; the same AO and lane-sum bits where four lanes a pixel remain (an eighth of the
-/// frame or more covered), else the AO within [`SPREAD_TOLERANCE`].
-fn assert_spread_agrees(lanes: &AoBits, spread: &AoBits, what: &str) {
+/// frame; the same AO and lane-sum bits where its last frame ran four lanes, else the AO within
+/// [`SPREAD_TOLERANCE`].
+fn assert_spread_agrees(lanes: &AoBits, spread: &AoBits, four_lanes: bool, what: &str) {
     assert_eq!(spread.covered, lanes.covered, "{what}: {SPREAD} saw other pixels");
     assert_eq!(spread.rays, lanes.rays, "{what}: {SPREAD} traces other rays than {FOUR_LANES}, frame by frame");
-    let four_lanes = 8 * lanes.covered >= (SIZE.0 * SIZE.1) as usize;
     let worst = lanes.ao.iter().zip(&spread.ao).map(|(a, b)| (f32::from_bits(a[0]) - f32::from_bits(b[0])).abs()).fold(0.0, f32::max);
     if four_lanes {
         assert!(lanes.ao == spread.ao, "{what}: {SPREAD} keeps four lanes, yet its AO differs from {FOUR_LANES}'s (by up to {worst})");
@@ -137,7 +142,7 @@ fn occluded_share(r: &AoBits) -> f64 {
 fn schedules_agree_with_the_sky_in_view() {
     let scene = raygraph::scene::builtin::default_scene();
     for sampling in [0, 1] {
-        let r = assert_schedules_agree(&scene, &[*scene.camera(); 2], sampling, &format!("default scene, sampling {sampling}"));
+        let (r, _) = assert_schedules_agree(&scene, &[*scene.camera(); 2], sampling, &format!("default scene, sampling {sampling}"));
         let pixels = (SIZE.0 * SIZE.1) as usize;
         assert!(r.covered > pixels / 4 && r.covered < pixels, "part of the frame is covered: {} of {pixels}", r.covered);
         assert!(occluded_share(&r) > 0.05, "the floor by the cube and spheres is occluded: {:.3}", occluded_share(&r));
@@ -152,7 +157,8 @@ fn schedules_agree_with_a_small_model_in_view() {
     let scene = raygraph::scene::builtin::default_scene();
     let far = Camera::look(Vec3::new(0.0, 6.0, 40.0), Vec3::new(0.0, 0.5, 0.0), 20.0, 0.1, 200.0);
     for sampling in [0, 1] {
-        let r = assert_schedules_agree(&scene, &[far; 2], sampling, &format!("default scene from far, sampling {sampling}"));
+        let (r, schedule) = assert_schedules_agree(&scene, &[far; 2], sampling, &format!("default scene from far, sampling {sampling}"));
+        assert_eq!(schedule, "ao/ao_spread", "the second frame spreads the rays");
         let pixels = (SIZE.0 * SIZE.1) as usize;
         assert!(r.covered > 20 && 8 * r.covered < pixels, "a few pixels covered, under an eighth: {} of {pixels}", r.covered);
         assert!(occluded_share(&r) > 0.005, "something occludes them: {:.4}", occluded_share(&r));
@@ -165,7 +171,7 @@ fn schedules_agree_with_nothing_in_view() {
     // Up into the sky from above every object: the list is empty (after a frame whose list
     // was not).
     let up = Camera::look(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 10.0, 0.5), 50.0, 0.05, 100.0);
-    let r = assert_schedules_agree(&scene, &[*scene.camera(), up], 1, "looking at the sky");
+    let (r, _) = assert_schedules_agree(&scene, &[*scene.camera(), up], 1, "looking at the sky");
     assert_eq!(r.covered, 0, "no pixel has a surface");
     assert!(r.ao.iter().all(|t| f32::from_bits(t[0]) == 1.0), "the sky's AO is 1");
 }
@@ -174,7 +180,8 @@ fn schedules_agree_with_nothing_in_view() {
 fn schedules_agree_with_every_pixel_covered() {
     let scene = raygraph::scene::builtin::default_scene();
     let top = scene.preset("top").unwrap();
-    let r = assert_schedules_agree(&scene, &[top; 2], 1, "top view");
+    let (r, schedule) = assert_schedules_agree(&scene, &[top; 2], 1, "top view");
+    assert_eq!(schedule, "ao/ao", "the second frame runs four lanes");
     assert_eq!(r.covered, (SIZE.0 * SIZE.1) as usize, "the floor fills the frame");
     assert!(occluded_share(&r) > 0.05, "around the cube and spheres the floor is occluded: {:.3}", occluded_share(&r));
 }
@@ -187,14 +194,15 @@ fn schedules_agree_through_alpha_tested_and_blend_foliage() {
     // have AO rays of their own, alpha-tested wherever they meet the atlas.
     let mut scene = common::open("assets/gltf/smallpine/scene.gltf");
     let trunk = Camera::look(Vec3::new(0.0, 12.0, 40.0), Vec3::new(0.0, 12.0, 0.0), 35.0, 0.1, 500.0);
-    let r = assert_schedules_agree(&scene, &[trunk; 2], 1, "pine's trunk");
+    let (r, schedule) = assert_schedules_agree(&scene, &[trunk; 2], 1, "pine's trunk");
+    assert_eq!(schedule, "ao/ao_spread", "the second frame spreads the rays");
     assert!(r.covered > 20 && occluded_share(&r) > 0.01, "the trunk covers pixels, the leaves occlude it: {} px, {:.3}", r.covered, occluded_share(&r));
     // Under an eighth of the frame: the spread schedule gives each pixel more than four lanes.
     assert!(8 * r.covered < (SIZE.0 * SIZE.1) as usize, "the trunk covers under an eighth of the frame: {} px", r.covered);
     for m in scene.materials_mut().iter_mut().filter(|m| m.alpha_mode == AlphaMode::Blend) {
         m.alpha_mode = AlphaMode::Mask(0.5);
     }
-    let r = assert_schedules_agree(&scene, &[*scene.camera(); 2], 1, "pine cut out");
+    let (r, _) = assert_schedules_agree(&scene, &[*scene.camera(); 2], 1, "pine cut out");
     // Measured: 68 pixels, 0.038 of the frame occluded (most of the tree's pixels).
     assert!(r.covered > 20 && occluded_share(&r) > 0.01, "the cut-out pine covers pixels and occludes itself: {} px, {:.3}", r.covered, occluded_share(&r));
 }

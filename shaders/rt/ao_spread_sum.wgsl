@@ -4,8 +4,12 @@
 // `partial` over its pixel, as rt/ao_sum.wgsl. In a frame that ran `ao_spread` (a list of
 // pixels with rays; an empty list is all sky), invocation (x, y) adds list entry y * width + x's
 // lanes from `spread` (the list is as wide as the image: that entry's texel is (x, y)) and
-// writes that pixel. Either way it counts the pixels with rays into `covered` (word 0, the
-// whole frame's pixels in word 1): the next frame's `runs_when` picks the schedule from them.
+// writes that pixel. Either way it counts the pixels with rays of a sample of the frame into
+// `covered`: the 16x16 tiles of even column and row (a quarter of the frame), their pixels
+// with rays in word 0 and their pixels in word 1; the next frame's `runs_when` picks the
+// schedule from them. One global atomic add per counted tile: adding every tile's count to one
+// counter (57,600 adds at 2560x1440 with 8x8 workgroups) doubled the pass's 0.043 ms on the
+// GPU machine (BENCHMARKS.md, "Two AO schedules, picked from the frame before").
 //#include "common/ao_lane_count.wgsl"
 //#include "common/ao_four_lanes_sum.wgsl"
 
@@ -20,8 +24,8 @@
 
 var<workgroup> group_covered: atomic<u32>;
 
-@compute @workgroup_size(8, 8)
-fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) local: u32) {
+@compute @workgroup_size(16, 16)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     let size = textureDimensions(ao);
     let inside = id.x < size.x && id.y < size.y;
     var sky = true;
@@ -29,16 +33,24 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocati
         sky = textureLoad(position, id.xy, 0).w == 0.0;
         sum_lanes(id.xy, size, sky);
     }
-    if !sky {
+    // Uniform in the workgroup: whether its tile is in the sample.
+    let counted = (group.x & 1u) == 0u && (group.y & 1u) == 0u;
+    if counted && !sky {
         atomicAdd(&group_covered, 1u);
     }
     workgroupBarrier();
-    if local == 0u {
+    if counted && local == 0u {
         atomicAdd(&covered[0], atomicLoad(&group_covered));
-        if all(id.xy == vec2<u32>(0u)) {
-            atomicStore(&covered[1], size.x * size.y);
+        if all(group.xy == vec2<u32>(0u)) {
+            atomicStore(&covered[1], sampled_pixels(size.x) * sampled_pixels(size.y));
         }
     }
+}
+
+// How many pixels of an axis of `n` the tiles of even index hold: 16 of every 32, and of the
+// last 32 or fewer, up to 16.
+fn sampled_pixels(n: u32) -> u32 {
+    return (n / 32u) * 16u + min(n % 32u, 16u);
 }
 
 // Writes the AO of pixel `id` (four lanes) or of list entry `id` (spread); 1 where `id` is sky.
