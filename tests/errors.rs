@@ -329,6 +329,11 @@ fn runs_when_counts_in_a_buffer_the_layer_writes() {
         let e = expect(repo.compile("g.ron", &graph), kind, "layers/rt_ao.ron", line_of(&broken, at));
         assert!(e.to_string().contains(message), "{message}: {e}");
     }
+    // The layer as it is compiles, and the plan's report says when each pass runs.
+    repo.write("layers/rt_ao.ron", &ao_layer);
+    let report = repo.compile("g.ron", &graph).expect("layers/rt_ao.ron compiles").report();
+    let ao_line = report.lines().find(|l| l.contains("ao/ao ")).expect("the report lists ao/ao");
+    assert!(ao_line.ends_with("runs when ao/covered of the frame before is at least 0.125 x its whole"), "{ao_line}");
 }
 
 #[test]

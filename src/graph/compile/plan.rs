@@ -268,9 +268,13 @@ impl Plan {
         for (i, p) in self.passes.iter().enumerate() {
             let reads: Vec<&str> = p.reads.iter().map(|(_, r)| self.resources[*r].name.as_str()).collect();
             let writes: Vec<&str> = p.writes.iter().map(|(_, r)| self.resources[*r].name.as_str()).collect();
+            let runs_when = p.runs_when.as_ref().map_or(String::new(), |(condition, r)| {
+                let comparison = if matches!(condition, RunsWhen::Below { .. }) { "below" } else { "at least" };
+                format!("  runs when {} of the frame before is {comparison} {} x its whole", self.resources[*r].name, condition.fraction())
+            });
             let _ = writeln!(
                 s,
-                "  {i:>2}. {:<28} {:<12} {}  reads [{}] writes [{}]",
+                "  {i:>2}. {:<28} {:<12} {}  reads [{}] writes [{}]{runs_when}",
                 p.name,
                 p.kind.name(),
                 p.shader.path.display(),
