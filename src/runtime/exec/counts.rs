@@ -1,13 +1,14 @@
 //! The counts passes' `runs_when` compare (`crate::graph::desc::RunsWhen`): the first two
-//! words of each count buffer (a count and its whole), copied out after a frame's last pass and read back with the frame's
-//! other read-backs; the next frame decides from it which of those passes it records.
+//! words of each count buffer (a count and its whole), copied out after a frame's last pass
+//! and read back with the frame's other read-backs; the next frame decides from them which of
+//! those passes it records.
 
 use crate::error::RuntimeError;
 use crate::gpu_util::{map_read_async, readback_buffer};
 use crate::graph::compile::{Plan, ResourceId};
 use crate::graph::desc::RunsWhen;
 
-/// The count buffers of a plan, a read-back buffer with a word for each, and what came back.
+/// The count buffers of a plan, a read-back buffer with two words for each, and what came back.
 pub(super) struct RunCounts {
     /// The count resources (with a slot), in the order of their words in `readback`.
     resources: Vec<ResourceId>,
