@@ -20,6 +20,15 @@ fn expect(err: Result<raygraph::graph::Plan, GraphError>, kind: ErrorKind, file_
     e
 }
 
+/// Compiles `graph` with layer file `layer` (a path under the project) written as `broken`:
+/// an error of `kind` at the line of `broken` that holds `at`, whose message holds `message`.
+fn expect_in_layer(repo: &TempProject, graph: &str, (layer, broken): (&str, &str), kind: ErrorKind, (at, message): (&str, &str)) -> GraphError {
+    repo.write(layer, broken);
+    let e = expect(repo.compile("g.ron", graph), kind, layer, line_of(broken, at));
+    assert!(e.to_string().contains(message), "{message}: {e}");
+    e
+}
+
 const GOOD: &str = r#"Graph(
     output: "out.color",
     nodes: {
@@ -242,10 +251,9 @@ fn layered_textures_are_written_one_layer_a_pass() {
         r#"name: "cube_1", kind: SceneRaster, shader: "shadow_map/shadow_map.wgsl", writes: ["cube"], layer: Some(0)"#,
     );
     assert_ne!(same_layer, shadow_layer, "layers/shadow_map.ron no longer draws cube_1 into layer 1");
-    repo.write("layers/shadow_map.ron", &same_layer);
     let raster = std::fs::read_to_string(common::repo().join("graph/raster.ron")).unwrap();
-    let e = expect(repo.compile("g.ron", &raster), ErrorKind::TwoProducers, "layers/shadow_map.ron", line_of(&same_layer, r#"name: "cube_1""#));
-    assert!(e.to_string().contains("(layer 0)"), "{e}");
+    let shadow = ("layers/shadow_map.ron", same_layer.as_str());
+    expect_in_layer(&repo, &raster, shadow, ErrorKind::TwoProducers, (r#"name: "cube_1""#, "(layer 0)"));
 }
 
 /// A pass's shadow tiles hold the slots from its `shadow_slot` on: tiles without a slot, or
@@ -266,18 +274,15 @@ fn shadow_tiles_hold_slots_that_exist() {
     for (options, message) in cases {
         let broken = shadow_layer.replace(&format!("cull_closed_back_faces: true, {cube_1}"), options);
         assert_ne!(broken, shadow_layer);
-        repo.write("layers/shadow_map.ron", &broken);
-        let e = expect(repo.compile("g.ron", &raster), ErrorKind::Unsupported, "layers/shadow_map.ron", line_of(&broken, r#"name: "cube_1""#));
-        assert!(e.to_string().contains(message), "{message}: {e}");
+        expect_in_layer(&repo, &raster, ("layers/shadow_map.ron", &broken), ErrorKind::Unsupported, (r#"name: "cube_1""#, message));
     }
     let tiny = shadow_layer.replace(
         r#""cube": Texture(format: Depth32Float, size: Absolute(3072, 2048), layers: 2)"#,
         r#""cube": Texture(format: Depth32Float, size: Absolute(2, 2), layers: 2)"#,
     );
     assert_ne!(tiny, shadow_layer, "layers/shadow_map.ron no longer declares `cube` as 3072x2048, 2 layers");
-    repo.write("layers/shadow_map.ron", &tiny);
-    let e = expect(repo.compile("g.ron", &raster), ErrorKind::Unsupported, "layers/shadow_map.ron", line_of(&tiny, r#"name: "cube_0""#));
-    assert!(e.to_string().contains("3 x 2 shadow tiles into `cube` of 2x2 texels"), "{e}");
+    let message = "3 x 2 shadow tiles into `cube` of 2x2 texels";
+    expect_in_layer(&repo, &raster, ("layers/shadow_map.ron", &tiny), ErrorKind::Unsupported, (r#"name: "cube_0""#, message));
 }
 
 /// A pass's `runs_when` names a buffer of its layer, of two words at least, that a pass of
@@ -325,9 +330,7 @@ fn runs_when_counts_in_a_buffer_the_layer_writes() {
     // named, else the first pass whose condition is wrong.
     for (broken, kind, message, at) in cases {
         assert_ne!(broken, ao_layer, "{message}: the layer did not change");
-        repo.write("layers/rt_ao.ron", &broken);
-        let e = expect(repo.compile("g.ron", &graph), kind, "layers/rt_ao.ron", line_of(&broken, at));
-        assert!(e.to_string().contains(message), "{message}: {e}");
+        expect_in_layer(&repo, &graph, ("layers/rt_ao.ron", &broken), kind, (at, message));
     }
     // The layer as it is compiles, and the plan's report says when each pass runs.
     repo.write("layers/rt_ao.ron", &ao_layer);

@@ -126,7 +126,7 @@ fn light_visibility(light: Light, p: vec3<f32>, ng: vec3<f32>, dpx: vec3<f32>, d
     if cube {
         let face = u32(slot - light.shadow_map);
         let origin = vec2<i32>(vec2<u32>(face % CUBE_COLUMNS, face / CUBE_COLUMNS) * size);
-        return shadow_pcf(shadow_cube, (light.shadow_map - FIRST_CUBE_SLOT) / 6, origin, sc, slope, bias, size);
+        return shadow_pcf(shadow_cube, (light.shadow_map - FIRST_CUBE_SLOT) / i32(CUBE_COLUMNS * CUBE_ROWS), origin, sc, slope, bias, size);
     }
     return shadow_pcf(shadow_map, slot, vec2<i32>(0), sc, slope, bias, size);
 }

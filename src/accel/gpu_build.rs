@@ -507,7 +507,6 @@ impl GpuBlasBuilder {
         let (x, y) = groups_for(shape.n as u64);
         pass.set_pipeline(&self.layout_offsets);
         pass.dispatch_workgroups(x, y, 1);
-        let (x, y) = groups_for(shape.n as u64);
         pass.set_pipeline(&self.layout_write);
         pass.dispatch_workgroups(x, y, 1);
     }

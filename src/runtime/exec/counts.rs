@@ -6,7 +6,6 @@
 use crate::error::RuntimeError;
 use crate::gpu_util::{map_read_async, readback_buffer};
 use crate::graph::compile::{Plan, ResourceId};
-use crate::graph::desc::RunsWhen;
 
 /// The count buffers of a plan, a read-back buffer with two words for each, and what came back.
 pub(super) struct RunCounts {
@@ -34,12 +33,11 @@ impl RunCounts {
         Some(Self { values: vec![None; resources.len()], resources, readback })
     }
 
-    /// Whether `condition` holds of the count in resource `r` as last read back; before one
-    /// came back, or for a count no kept pass writes, the count is taken as its whole.
-    pub(super) fn allow(&self, condition: &RunsWhen, r: ResourceId) -> bool {
-        let k = self.resources.iter().position(|c| *c == r);
-        let (count, whole) = k.and_then(|k| self.values[k]).unwrap_or((1, 1));
-        condition.holds(count, whole)
+    /// The (count, whole) in resource `r` as last read back; `None` before one came back, or
+    /// for a count no kept pass writes.
+    pub(super) fn count(&self, r: ResourceId) -> Option<(u32, u32)> {
+        let k = self.resources.iter().position(|c| *c == r)?;
+        self.values[k]
     }
 
     /// Records the copy of every count and its whole (`buffer_of` a count resource: its

@@ -463,10 +463,9 @@ impl Executor {
     /// Whether pass `i`'s `runs_when` keeps it from running this frame.
     fn held_back(&self, i: usize) -> bool {
         let Some((condition, r)) = &self.plan.passes[i].runs_when else { return false };
-        // Without a count read back (none of the plan's counts has a slot): the count taken as
-        // its whole, as `RunCounts::allow` does before the first frame.
-        let allowed = self.run_counts.as_ref().map_or(condition.holds(1, 1), |c| c.allow(condition, *r));
-        !allowed
+        // Before a count came back, or for one no kept pass writes: the count taken as its whole.
+        let (count, whole) = self.run_counts.as_ref().and_then(|c| c.count(*r)).unwrap_or((1, 1));
+        !condition.holds(count, whole)
     }
 
     /// Which passes the frame does not record: held back by `runs_when`, or with nothing to
