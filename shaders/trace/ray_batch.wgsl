@@ -1,0 +1,141 @@
+// A batch of transmittance rays that share an origin, a reach and a start (a lane's AO rays):
+//   trace_transmittance_batch_within(origin, reach, start, count, flags) -> f32
+//     the sum, in k order, of trace_transmittance_within(Ray(origin, 0, dir_k, reach), start,
+//     flags) for k < count, where dir_k = trace_batch_direction(k), a function the includer
+//     defines; it is called once for each k, in increasing order (it may advance a random
+//     stream).
+// This file is the compute back-end's (a trace pass that includes it includes trace/trace.wgsl
+// first): a ray below the root is traced in one loop that fetches the lane's next ray as soon
+// as its last one is done, so the lanes of a subgroup do not wait for each other's slowest ray
+// after every ray (PERF.md, step 25). Each ray visits the nodes and triangles, in the order,
+// that trace_transmittance_within visits. Other back-ends substitute trace/ray_batch_loop.wgsl.
+
+fn trace_transmittance_batch_within(origin: vec3<f32>, reach: f32, start: TraceStart, count: u32, flags: u32) -> f32 {
+    if start.node == TRACE_START_ROOT {
+        var sum = 0.0;
+        for (var k = 0u; k < count; k++) {
+            sum += trace_transmittance_within(Ray(origin, 0.0, trace_batch_direction(k), reach), start, flags);
+        }
+        return sum;
+    }
+    let cull = (flags & TRACE_CULL_BACK_FACES) != 0u;
+    var sum = 0.0;
+    var next = 0u;
+    var in_flight = false;
+    var r: TraceRay;
+    var desc = 0u;
+    var sp = 0u;
+    loop {
+        if !in_flight {
+            if next == count {
+                break;
+            }
+            let ray = Ray(origin, 0.0, trace_batch_direction(next), reach);
+            next++;
+            let fetched = trace_batch_fetch(ray, start, cull);
+            if fetched.done {
+                sum += fetched.value;
+                continue;
+            }
+            r = fetched.ray;
+            desc = fetched.desc;
+            sp = 0u;
+            in_flight = true;
+        }
+        let n = desc & 7u;
+        let first = desc >> 3u;
+        var stopped = false;
+        if n > 0u {
+            for (var i = first; i < first + n; i++) {
+                if trace_batch_stops(r, trace_tri(i), reach, cull) {
+                    stopped = true;
+                    break;
+                }
+            }
+        } else {
+            let l = trace_blas_node(first);
+            let rn = trace_blas_node(first + 1u);
+            let hl = trace_slab(r, l, 0.0, reach);
+            let hr = trace_slab(r, rn, 0.0, reach);
+            let in_l = hl.x <= hl.y;
+            let in_r = hr.x <= hr.y;
+            let dl = trace_descriptor(l);
+            let dr = trace_descriptor(rn);
+            if in_l && in_r {
+                let near_first = hl.x <= hr.x;
+                if sp < TRACE_STACK {
+                    trace_stack[sp] = select(dl, dr, near_first);
+                    sp += 1u;
+                }
+                desc = select(dr, dl, near_first);
+                continue;
+            }
+            if in_l {
+                desc = dl;
+                continue;
+            }
+            if in_r {
+                desc = dr;
+                continue;
+            }
+        }
+        if stopped || sp == 0u {
+            sum += trace_transmittance_result(stopped);
+            in_flight = false;
+            continue;
+        }
+        sp -= 1u;
+        desc = trace_stack[sp];
+    }
+    return sum;
+}
+
+// A batch ray as fetched: `done` with its transmittance `value` where it needs no traversal
+// below the start (invalid, outside the start's box, nothing within reach, or the start node's
+// box missed); else its constants and the start node's descriptor.
+struct TraceBatchFetch {
+    done: bool,
+    value: f32,
+    ray: TraceRay,
+    desc: u32,
+}
+
+// trace_transmittance_within up to its traversal below the start.
+fn trace_batch_fetch(ray: Ray, start: TraceStart, cull: bool) -> TraceBatchFetch {
+    var f = TraceBatchFetch(true, 1.0, TraceRay(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0)), 0u);
+    if !trace_transmittance_starts(ray) {
+        return f;
+    }
+    let end = ray.origin + ray.dir * ray.t_max;
+    if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
+        f.value = trace_transmittance_result(trace_impl(ray, true, true, cull).any);
+        return f;
+    }
+    if start.node == TRACE_START_NONE {
+        f.value = trace_transmittance_result(false);
+        return f;
+    }
+    f.ray = trace_prepare(ray.origin, ray.dir);
+    let node = trace_blas_node(start.node);
+    let h = trace_slab(f.ray, node, ray.t_min, ray.t_max);
+    if h.x > h.y {
+        f.value = trace_transmittance_result(false);
+        return f;
+    }
+    f.done = false;
+    f.desc = trace_descriptor(node);
+    return f;
+}
+
+// Whether triangle `tri` stops a batch ray (trace_blas's any-hit test through BLEND surfaces:
+// a hit the alpha test rejects, or a BLEND surface that leaves enough getting through, passes).
+fn trace_batch_stops(r: TraceRay, tri: AccelTriangle, reach: f32, cull: bool) -> bool {
+    let h = trace_triangle(r, tri, 0.0, reach);
+    if h.t < 0.0 || (cull && trace_back_facing(r, tri)) {
+        return false;
+    }
+    if TRACE_ALPHA_TEST && (tri.flags & TRI_ALPHA) != 0u {
+        return !trace_transmittance_passes(tri.instance, tri.prim, vec2<f32>(h.u, h.v));
+    }
+    return true;
+}
