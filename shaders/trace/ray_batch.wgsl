@@ -12,11 +12,7 @@
 
 fn trace_transmittance_batch_within(origin: vec3<f32>, reach: f32, start: TraceStart, count: u32, flags: u32) -> f32 {
     if start.node == TRACE_START_ROOT {
-        var sum = 0.0;
-        for (var k = 0u; k < count; k++) {
-            sum += trace_transmittance_within(Ray(origin, 0.0, trace_batch_direction(k), reach), start, flags);
-        }
-        return sum;
+        return trace_batch_one_by_one(origin, reach, start, 0u, count, flags);
     }
     let cull = (flags & TRACE_CULL_BACK_FACES) != 0u;
     var sum = 0.0;
@@ -25,6 +21,11 @@ fn trace_transmittance_batch_within(origin: vec3<f32>, reach: f32, start: TraceS
     var r: TraceRay;
     var desc = 0u;
     var sp = 0u;
+    // A ray whose segment leaves the start's box (none of an AO lane's: their reach is the
+    // box's) needs the whole traversal: the loop stops there, and that ray and the rest are
+    // traced one by one after it, so the loop holds no second traversal.
+    var leaving = false;
+    var leaving_dir = vec3<f32>(0.0);
     loop {
         if !in_flight {
             if next == count {
@@ -32,7 +33,13 @@ fn trace_transmittance_batch_within(origin: vec3<f32>, reach: f32, start: TraceS
             }
             let ray = Ray(origin, 0.0, trace_batch_direction(next), reach);
             next++;
-            let fetched = trace_batch_fetch(ray, start, cull);
+            let end = ray.origin + ray.dir * ray.t_max;
+            if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
+                leaving = true;
+                leaving_dir = ray.dir;
+                break;
+            }
+            let fetched = trace_batch_fetch(ray, start);
             if fetched.done {
                 sum += fetched.value;
                 continue;
@@ -87,12 +94,25 @@ fn trace_transmittance_batch_within(origin: vec3<f32>, reach: f32, start: TraceS
         sp -= 1u;
         desc = trace_stack[sp];
     }
+    if leaving {
+        sum += trace_transmittance_within(Ray(origin, 0.0, leaving_dir, reach), start, flags);
+        sum += trace_batch_one_by_one(origin, reach, start, next, count, flags);
+    }
     return sum;
 }
 
-// A batch ray as fetched: `done` with its transmittance `value` where it needs no traversal
-// below the start (invalid, outside the start's box, nothing within reach, or the start node's
-// box missed); else its constants and the start node's descriptor.
+// The sum of rays first..count of the batch, traced one after another.
+fn trace_batch_one_by_one(origin: vec3<f32>, reach: f32, start: TraceStart, first: u32, count: u32, flags: u32) -> f32 {
+    var sum = 0.0;
+    for (var k = first; k < count; k++) {
+        sum += trace_transmittance_within(Ray(origin, 0.0, trace_batch_direction(k), reach), start, flags);
+    }
+    return sum;
+}
+
+// A batch ray within the start's box as fetched: `done` with its transmittance `value` where it
+// needs no traversal below the start (invalid, nothing within reach, or the start node's box
+// missed); else its constants and the start node's descriptor.
 struct TraceBatchFetch {
     done: bool,
     value: f32,
@@ -100,15 +120,11 @@ struct TraceBatchFetch {
     desc: u32,
 }
 
-// trace_transmittance_within up to its traversal below the start.
-fn trace_batch_fetch(ray: Ray, start: TraceStart, cull: bool) -> TraceBatchFetch {
+// trace_transmittance_within, for a ray within the start's box, up to its traversal below the
+// start.
+fn trace_batch_fetch(ray: Ray, start: TraceStart) -> TraceBatchFetch {
     var f = TraceBatchFetch(true, 1.0, TraceRay(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0)), 0u);
     if !trace_transmittance_starts(ray) {
-        return f;
-    }
-    let end = ray.origin + ray.dir * ray.t_max;
-    if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
-        f.value = trace_transmittance_result(trace_impl(ray, true, true, cull).any);
         return f;
     }
     if start.node == TRACE_START_NONE {
