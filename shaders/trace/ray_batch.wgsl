@@ -26,73 +26,39 @@ fn trace_transmittance_batch_within(origin: vec3<f32>, reach: f32, start: TraceS
     // traced one by one after it, so the loop holds no second traversal.
     var leaving = false;
     var leaving_dir = vec3<f32>(0.0);
+    // Every branch of an iteration ends at the iteration's end (no `continue`, one exit): a
+    // subgroup whose lanes took different branches runs on together from there.
     loop {
-        if !in_flight {
-            if next == count {
-                break;
-            }
+        if !in_flight && next < count {
             let ray = Ray(origin, 0.0, trace_batch_direction(next), reach);
             next++;
             let end = ray.origin + ray.dir * ray.t_max;
             if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
                 leaving = true;
                 leaving_dir = ray.dir;
-                break;
-            }
-            let fetched = trace_batch_fetch(ray, start);
-            if fetched.done {
-                sum += fetched.value;
-                continue;
-            }
-            r = fetched.ray;
-            desc = fetched.desc;
-            sp = 0u;
-            in_flight = true;
-        }
-        let n = desc & 7u;
-        let first = desc >> 3u;
-        var stopped = false;
-        if n > 0u {
-            for (var i = first; i < first + n; i++) {
-                if trace_batch_stops(r, trace_tri(i), reach, cull) {
-                    stopped = true;
-                    break;
+            } else {
+                let fetched = trace_batch_fetch(ray, start);
+                if fetched.done {
+                    sum += fetched.value;
+                } else {
+                    r = fetched.ray;
+                    desc = fetched.desc;
+                    sp = 0u;
+                    in_flight = true;
                 }
             }
-        } else {
-            let l = trace_blas_node(first);
-            let rn = trace_blas_node(first + 1u);
-            let hl = trace_slab(r, l, 0.0, reach);
-            let hr = trace_slab(r, rn, 0.0, reach);
-            let in_l = hl.x <= hl.y;
-            let in_r = hr.x <= hr.y;
-            let dl = trace_descriptor(l);
-            let dr = trace_descriptor(rn);
-            if in_l && in_r {
-                let near_first = hl.x <= hr.x;
-                if sp < TRACE_STACK {
-                    trace_stack[sp] = select(dl, dr, near_first);
-                    sp += 1u;
-                }
-                desc = select(dr, dl, near_first);
-                continue;
-            }
-            if in_l {
-                desc = dl;
-                continue;
-            }
-            if in_r {
-                desc = dr;
-                continue;
-            }
         }
-        if stopped || sp == 0u {
-            sum += trace_transmittance_result(stopped);
-            in_flight = false;
-            continue;
+        if in_flight {
+            let step = trace_batch_step(r, desc, reach, cull, &sp);
+            if step.finished {
+                sum += trace_transmittance_result(step.stopped);
+                in_flight = false;
+            }
+            desc = step.desc;
         }
-        sp -= 1u;
-        desc = trace_stack[sp];
+        if leaving || (!in_flight && next == count) {
+            break;
+        }
     }
     if leaving {
         sum += trace_transmittance_within(Ray(origin, 0.0, leaving_dir, reach), start, flags);
@@ -108,6 +74,63 @@ fn trace_batch_one_by_one(origin: vec3<f32>, reach: f32, start: TraceStart, firs
         sum += trace_transmittance_within(Ray(origin, 0.0, trace_batch_direction(k), reach), start, flags);
     }
     return sum;
+}
+
+// One step of a batch ray's traversal from node `desc`: an interior node's children (the nearer
+// one hit next, the other pushed if hit too) or a leaf's triangles; then, where that gives no
+// node to visit, the stack's top, or the ray `finished` (`stopped` by a triangle, or the
+// stack empty).
+struct TraceBatchStep {
+    desc: u32,
+    finished: bool,
+    stopped: bool,
+}
+
+fn trace_batch_step(r: TraceRay, desc: u32, reach: f32, cull: bool, sp: ptr<function, u32>) -> TraceBatchStep {
+    let n = desc & 7u;
+    let first = desc >> 3u;
+    var step = TraceBatchStep(desc, false, false);
+    var pop = true;
+    if n > 0u {
+        for (var i = first; i < first + n; i++) {
+            if trace_batch_stops(r, trace_tri(i), reach, cull) {
+                step.stopped = true;
+                break;
+            }
+        }
+        pop = !step.stopped;
+    } else {
+        let l = trace_blas_node(first);
+        let rn = trace_blas_node(first + 1u);
+        let hl = trace_slab(r, l, 0.0, reach);
+        let hr = trace_slab(r, rn, 0.0, reach);
+        let in_l = hl.x <= hl.y;
+        let in_r = hr.x <= hr.y;
+        let dl = trace_descriptor(l);
+        let dr = trace_descriptor(rn);
+        if in_l && in_r {
+            let near_first = hl.x <= hr.x;
+            if *sp < TRACE_STACK {
+                trace_stack[*sp] = select(dl, dr, near_first);
+                *sp += 1u;
+            }
+            step.desc = select(dr, dl, near_first);
+            pop = false;
+        } else if in_l || in_r {
+            step.desc = select(dr, dl, in_l);
+            pop = false;
+        }
+    }
+    step.finished = step.stopped;
+    if pop {
+        if *sp == 0u {
+            step.finished = true;
+        } else {
+            *sp -= 1u;
+            step.desc = trace_stack[*sp];
+        }
+    }
+    return step;
 }
 
 // A batch ray within the start's box as fetched: `done` with its transmittance `value` where it

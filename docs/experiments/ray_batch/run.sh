@@ -3,12 +3,14 @@
 # rays one after another, on the GPU machine; one release binary (.gpu/raygraph.xz), each
 # variant's `shaders/`, `layers/` and `graph/` in a folder of its own, read from there:
 #   before       the files of bcf828d (.gpu/before.tgz): rays one by one, before the batch
-#   batch        this checkout's (.gpu/batch.tgz): one loop, a node or a leaf per iteration
+#   batch        this checkout's (.gpu/batch.tgz): one loop, a node or a leaf per iteration,
+#                every branch to the iteration's end
 #   one_by_one   batch with trace/ray_batch_loop.wgsl (the other back-ends' batch: rays one
 #                after another) in place of trace/ray_batch.wgsl
-#   while_while  batch with while_while.patch (interior nodes in an inner loop until a leaf)
-#   flat_ray     batch with flat_ray.patch (the ray's constants in seven variables, not one
-#                struct variable)
+#   blas_fallthrough  batch with blas_fallthrough.patch (trace_blas's interior step without
+#                `continue`: every branch to the loop's end)
+# (The second run's while_while and flat_ray patches are in git at cb45638, with this script as
+# it was.)
 # `run.sh table3 V1,V2,...`: `bench rays --frames 10` (the built-in rows, compute only), the
 # variants alternating, twice. `run.sh real V1,V2`: the helmet, the pine and helmet_5x5x5
 # (1.93M triangles) at their cameras and at 2%, 5% and 10% of the frame, both back-ends; then
@@ -24,7 +26,7 @@ nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 for v in before batch; do mkdir -p /tmp/v/$v && tar xzf .gpu/$v.tgz -C /tmp/v/$v; done
 cp -r /tmp/v/batch /tmp/v/one_by_one
 cp /tmp/v/batch/shaders/trace/ray_batch_loop.wgsl /tmp/v/one_by_one/shaders/trace/ray_batch.wgsl
-for p in while_while flat_ray; do
+for p in blas_fallthrough; do
   cp -r /tmp/v/batch /tmp/v/$p
   (cd /tmp/v/$p && patch -s -p0 < $ROOT/docs/experiments/ray_batch/$p.patch) || { echo "$p.patch did not apply"; exit 1; }
 done
