@@ -10,21 +10,17 @@
 //! and lane sums equal the four-lane schedule's bit for bit where it runs four lanes (the first
 //! frame, and after a frame at least an eighth covered), and its AO is within the rounding of
 //! a sum in another order where it spreads them; which schedule each frame ran follows the
-//! coverage of the frame before. On the compute back-end a lane's rays below the root are one
-//! batch in one traversal loop (`trace/ray_batch.wgsl`): in the merged layout its AO and lane
-//! sums equal, bit for bit, those of the same rays traced one after another
-//! (`trace/ray_batch_loop.wgsl`, the other back-ends' batch).
+//! coverage of the frame before.
 
 mod common;
 
 use common::{ao_graph_without_blend, channel, gpu};
 use glam::Vec3;
 use raygraph::backend::Backend;
-use raygraph::graph::compile::{compile_with, CompileOptions, Project};
+use raygraph::graph::compile::{compile_with, CompileOptions};
 use raygraph::graph::desc::{ParamValue, PassKind};
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::{AlphaMode, Camera, Scene};
-use std::path::Path;
 
 const SIZE: (u32, u32) = (40, 30);
 const VARIANTS: [&str; 2] = ["rt_ao_compacted", "rt_ao_persistent"];
@@ -59,25 +55,13 @@ fn render(gpu: &Gpu, scene: &Scene, cameras: &[Camera], backend: Backend, varian
 
 /// [`render`], and for each frame the names of the AO node's trace passes it recorded.
 fn render_with_schedules(gpu: &Gpu, scene: &Scene, cameras: &[Camera], backend: Backend, variant: &str, sampling: i64) -> (AoBits, Vec<Vec<String>>) {
-    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
-    let (path, project) = ao_graph_without_blend();
-    render_compiled(gpu, scene, cameras, (&path, &project, options), variant, sampling)
-}
-
-/// [`render_with_schedules`] of the graph file `path` of `project`, compiled with `options`.
-fn render_compiled(
-    gpu: &Gpu,
-    scene: &Scene,
-    cameras: &[Camera],
-    (path, project, mut options): (&Path, &Project, CompileOptions),
-    variant: &str,
-    sampling: i64,
-) -> (AoBits, Vec<Vec<String>>) {
+    let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
     if variant != "rt_ao" {
         options.layers.insert("rt_ao".into(), variant.into());
     }
     options.params.insert(("ao".into(), "sampling".into()), ParamValue::Int(sampling));
-    let plan = compile_with(path, project, SIZE, &options).unwrap();
+    let (path, project) = ao_graph_without_blend();
+    let plan = compile_with(&path, &project, SIZE, &options).unwrap();
     let mut exec = Executor::new(gpu, plan, scene).unwrap();
     let (mut rays, mut schedules) = (Vec::new(), Vec::new());
     for camera in cameras {
@@ -243,52 +227,5 @@ fn each_frame_runs_the_schedule_the_coverage_of_the_frame_before_picks() {
         assert_eq!(r.rays, lanes.rays, "{backend}: {SPREAD} traces other rays than {FOUR_LANES}, frame by frame");
         // The last frame (far, after the top view) ran four lanes: the same bits.
         assert!(r.ao == lanes.ao && r.partial == lanes.partial, "{backend}: the four-lane frame's AO differs from {FOUR_LANES}'s");
-    }
-}
-
-/// On the compute back-end, in the merged layout (where a lane's AO rays start below the root),
-/// the batch traced in one loop (`trace/ray_batch.wgsl`) gives the bits, and traces the rays, of
-/// the same rays traced one after another (`trace/ray_batch_loop.wgsl`): on the organic mesh,
-/// the pine's trunk seen through its BLEND cards and the pine cut out (alpha-tested), with both
-/// samplings, under both schedules.
-#[test]
-fn batch_in_one_loop_gives_the_bits_of_rays_one_by_one() {
-    let (path, project) = ao_graph_without_blend();
-    let text = std::fs::read_to_string(&path).unwrap();
-    let merged = path.with_file_name("ao_merged.ron");
-    std::fs::write(&merged, text.replacen("\"accel\": Accel()", "\"accel\": Accel(merge: true)", 1)).unwrap();
-    assert!(std::fs::read_to_string(&merged).unwrap().contains("Accel(merge: true)"), "graph/ao.ron's accel node is merged");
-    let gpu = gpu();
-    let organic = raygraph::scene::procedural::organic();
-    let mut pine = common::open("assets/gltf/smallpine/scene.gltf");
-    let trunk = Camera::look(Vec3::new(0.0, 12.0, 40.0), Vec3::new(0.0, 12.0, 0.0), 35.0, 0.1, 500.0);
-    let mut cases = vec![("organic", organic.clone(), *organic.camera()), ("pine's trunk", pine.clone(), trunk)];
-    for m in pine.materials_mut().iter_mut().filter(|m| m.alpha_mode == AlphaMode::Blend) {
-        m.alpha_mode = AlphaMode::Mask(0.5);
-    }
-    let camera = *pine.camera();
-    cases.push(("pine cut out", pine, camera));
-    for (what, scene, camera) in &cases {
-        assert!(raygraph::runtime::exec::features::SceneFeatures::of(scene).start_below_root, "{what}: AO rays start below the root");
-        for (variant, sampling) in [(FOUR_LANES, 0), (FOUR_LANES, 1), (SPREAD, 1)] {
-            let render = |loop_include: bool| {
-                let mut options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
-                if loop_include {
-                    options.includes.insert("trace/ray_batch.wgsl".into(), "trace/ray_batch_loop.wgsl".into());
-                }
-                render_compiled(&gpu, scene, &[*camera; 2], (&merged, &project, options), variant, sampling).0
-            };
-            let (batch, one_by_one) = (render(false), render(true));
-            let what = format!("{what}, {variant}, sampling {sampling}");
-            assert!(
-                batch.covered > 20 && occluded_share(&batch) > 0.01,
-                "{what}: pixels covered and occluded: {} px, {:.3}",
-                batch.covered,
-                occluded_share(&batch)
-            );
-            assert_eq!(batch.rays, one_by_one.rays, "{what}: the batch traces other rays");
-            assert!(batch.ao == one_by_one.ao, "{what}: the batch's AO differs from the rays one by one");
-            assert!(batch.partial == one_by_one.partial, "{what}: the batch's lane sums differ from the rays one by one");
-        }
     }
 }

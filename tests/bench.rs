@@ -439,7 +439,7 @@ fn bench_roofline_quick_counts_bytes_per_ray() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays"
+        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays,subgroup_share"
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // The quick run's last scene is the organic one: no `miss_inside` preset, so no Miss (inside).
@@ -449,6 +449,9 @@ fn bench_roofline_quick_counts_bytes_per_ray() {
         assert!(v[0] > 0.0, "rays counted: {r:?}");
         // bytes = 64 interior + 48 triangles + 64 instances, per ray.
         assert!((v[5] - (64.0 * v[1] + 48.0 * v[3] + 64.0 * v[4])).abs() <= 0.1 + 1e-3 * v[5], "{r:?}");
+        // Every row's subgroup model: a share of the steps issued.
+        let share: f64 = r[9].parse().unwrap();
+        assert!(share > 0.0 && share <= 1.0, "subgroup share: {r:?}");
     }
     let stress: f64 = rows[3][6].parse().unwrap();
     let miss: f64 = rows[2][6].parse().unwrap();

@@ -12,6 +12,12 @@
 //! surface as the shaders do, each lane's quarter of them started together below the root
 //! where the executor does that (scenes of at least 1024 triangles; the start's own loads
 //! counted once per lane); the Miss and Stress tests' primary rays from their cameras.
+//!
+//! Loads are not the whole of a row's time: the lanes of a subgroup trace their rays together,
+//! and a round of rays lasts as long as its longest ray. [`subgroup_share_ao`] and
+//! [`subgroup_share_primary`] model that on the same CPU counts: lanes laid out as the passes
+//! lay them out (a subgroup of 32), each lane's rays in rounds, the share of a subgroup's
+//! traversal steps (interior nodes and leaves visited) that do work.
 
 use crate::accel::bvh::{Blas, BuildConfig};
 use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceStart, TraversalCounts};
@@ -38,6 +44,36 @@ pub struct RooflineRow {
     pub ceiling: f64,
     /// From a `bench rays` CSV, if given: achieved GigaRays/s.
     pub achieved: Option<f64>,
+    /// The share of a subgroup's traversal steps that do work ([`round_share`]), where modelled.
+    pub subgroup_share: Option<f64>,
+}
+
+/// Lanes of a subgroup on the GPUs this models (NVIDIA's warps).
+pub const SUBGROUP_LANES: usize = 32;
+
+/// The share of a subgroup's traversal steps that do work when its lanes trace their rays in
+/// rounds: `steps[lane][round]` is the steps (interior nodes and leaves visited) of the lane's
+/// ray of that round (0 where it has none), and every round lasts its longest ray for every
+/// lane. 1 for a subgroup without steps.
+pub fn round_share(steps: &[Vec<u64>]) -> f64 {
+    let (useful, issued) = round_steps(steps);
+    share(useful, issued)
+}
+
+/// The steps of [`round_share`] that do work, and those the subgroup issues.
+fn round_steps(steps: &[Vec<u64>]) -> (u64, u64) {
+    let rounds = steps.iter().map(Vec::len).max().unwrap_or(0);
+    let useful: u64 = steps.iter().flatten().sum();
+    let longest: u64 = (0..rounds).map(|k| steps.iter().map(|lane| lane.get(k).copied().unwrap_or(0)).max().unwrap_or(0)).sum();
+    (useful, longest * steps.len() as u64)
+}
+
+fn share(useful: u64, issued: u64) -> f64 {
+    if issued == 0 {
+        1.0
+    } else {
+        useful as f64 / issued as f64
+    }
 }
 
 fn camera_rays(camera: &Camera, size: (u32, u32), stride: u32) -> Vec<Ray> {
@@ -54,6 +90,7 @@ fn row(test: &str, rays: u64, c: &TraversalCounts, bandwidth: f64) -> RooflineRo
     let n = rays.max(1) as f64;
     let bytes_per_ray = c.bytes() as f64 / n;
     RooflineRow {
+        subgroup_share: None,
         test: test.into(),
         rays,
         per_ray: [c.interior as f64 / n, c.leaves as f64 / n, c.triangles as f64 / n, c.instances as f64 / n],
@@ -75,17 +112,9 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
     for r in camera_rays(scene.camera(), (2560, 1440), stride) {
         rays += 1;
         let Some(hit) = tracer.counted(&r, false, &mut counts) else { continue };
-        let inst = &scene.instances()[hit.instance_id as usize];
-        let m = &scene.meshes()[inst.mesh];
-        let v: [Vec3; 3] = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[m.indices[3 * hit.prim as usize + k] as usize].position)));
-        let mut n = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
-        if n.dot(r.dir) > 0.0 {
-            n = -n;
-        }
-        let origin = offset_ray_origin(r.origin + r.dir * hit.t, n);
+        let (origin, n) = ao_origin(scene, &r, &hit);
         rays += 1;
         tracer.counted(&Ray::new(origin, scene.light().direction), true, &mut counts);
-        let (t, b) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));
         // A pixel's AO rays go to AO_LANES lanes; a lane's rays start together below the root
         // where the executor turns that on (`common/ao_lane.wgsl`).
         let mut start = TraceStart::Root;
@@ -93,14 +122,120 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
             if i % ao_rays.div_ceil(AO_LANES) == 0 && start_below_root {
                 start = tracer.start_within(origin, range, &mut counts);
             }
-            let (u, w) = (rng.f(), rng.f());
-            let (rad, phi) = (u.sqrt(), w * std::f32::consts::TAU);
-            let d = (t * (rad * phi.cos()) + b * (rad * phi.sin()) + n * (1.0 - u).max(0.0).sqrt()).normalize();
             rays += 1;
-            tracer.any_within(&Ray::with_interval(origin, d, 0.0, range), &start, &mut counts);
+            tracer.any_within(&Ray::with_interval(origin, cosine_direction(n, &mut rng), 0.0, range), &start, &mut counts);
         }
     }
     row(scene.name(), rays, &counts, bandwidth)
+}
+
+/// Where the AO rays of the primary ray `r`'s `hit` start (the hit moved off the surface as the
+/// shaders move it), and the surface's normal facing the ray.
+fn ao_origin(scene: &Scene, r: &Ray, hit: &crate::accel::cpu_traverse::Hit) -> (Vec3, Vec3) {
+    let inst = &scene.instances()[hit.instance_id as usize];
+    let m = &scene.meshes()[inst.mesh];
+    let v: [Vec3; 3] = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[m.indices[3 * hit.prim as usize + k] as usize].position)));
+    let mut n = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
+    if n.dot(r.dir) > 0.0 {
+        n = -n;
+    }
+    (offset_ray_origin(r.origin + r.dir * hit.t, n), n)
+}
+
+/// A cosine-weighted direction about `n`, from two numbers of `rng`.
+fn cosine_direction(n: Vec3, rng: &mut crate::util::SplitMix64) -> Vec3 {
+    let (t, b) = (n.any_orthonormal_vector(), n.cross(n.any_orthonormal_vector()));
+    let (u, w) = (rng.f(), rng.f());
+    let (rad, phi) = (u.sqrt(), w * std::f32::consts::TAU);
+    (t * (rad * phi.cos()) + b * (rad * phi.sin()) + n * (1.0 - u).max(0.0).sqrt()).normalize()
+}
+
+/// The top left pixels of `blocks` x `blocks` subgroups of `w`x`h` pixels spread over
+/// 2560x1440 (each block's corner a multiple of its size).
+fn subgroup_corners(blocks: u32, (w, h): (u32, u32)) -> impl Iterator<Item = (u32, u32)> {
+    (0..blocks * blocks).map(move |k| {
+        let (bx, by) = (k % blocks, k / blocks);
+        ((bx * 2560 / blocks + 2560 / blocks / 2) / w * w, (by * 1440 / blocks + 1440 / blocks / 2) / h * h)
+    })
+}
+
+/// Traversal steps (interior nodes and leaves) a count holds.
+fn steps(c: &TraversalCounts) -> u64 {
+    c.interior + c.leaves
+}
+
+/// [`round_share`] of the scene workload's AO rays (its bulk): subgroups of 4x2 pixels of
+/// AO_LANES lanes each, as `rt/ao.wgsl` lays its 8x8 workgroups over `partial` (twice the frame
+/// in each axis), `ao_rays` a pixel in rounds of one ray a lane, each lane's rays started where
+/// `scene_workload` starts them; `blocks` x `blocks` subgroups over the frame.
+pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32) -> f64 {
+    let accel = merged_layout(scene);
+    let tracer = CpuTraverser::new(&accel);
+    let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
+    let mut rng = crate::util::SplitMix64(1);
+    let range = 0.05 * 0.5 * scene.bounds().diagonal();
+    let (mut useful, mut issued) = (0u64, 0u64);
+    for (x0, y0) in subgroup_corners(blocks, (4, 2)) {
+        let mut lanes = Vec::with_capacity(SUBGROUP_LANES);
+        for k in 0..8 {
+            let (o, d) = scene.camera().ray_through((2560, 1440), glam::Vec2::new((x0 + k % 4) as f32 + 0.5, (y0 + k / 4) as f32 + 0.5));
+            let r = Ray::new(o, d);
+            let hit = tracer.closest(&r);
+            for _ in 0..AO_LANES {
+                let Some(hit) = &hit else {
+                    lanes.push(Vec::new());
+                    continue;
+                };
+                let (origin, n) = ao_origin(scene, &r, hit);
+                let mut c = TraversalCounts::default();
+                let start = if start_below_root { tracer.start_within(origin, range, &mut c) } else { TraceStart::Root };
+                let lane = (0..ao_rays.div_ceil(AO_LANES))
+                    .map(|_| {
+                        let mut c = TraversalCounts::default();
+                        tracer.any_within(&Ray::with_interval(origin, cosine_direction(n, &mut rng), 0.0, range), &start, &mut c);
+                        steps(&c)
+                    })
+                    .collect();
+                lanes.push(lane);
+            }
+        }
+        let (u, i) = round_steps(&lanes);
+        (useful, issued) = (useful + u, issued + i);
+    }
+    share(useful, issued)
+}
+
+/// [`round_share`] of a primary test (Miss, Stress: `rt/primary_n.wgsl`): subgroups of 8x4
+/// pixels, one lane each, `rays` closest-hit rays a pixel through its R2 points in rounds;
+/// `blocks` x `blocks` subgroups over the frame.
+pub fn subgroup_share_primary(scene: &Scene, camera: &Camera, blocks: u32, rays: u32) -> f64 {
+    let accel = merged_layout(scene);
+    let tracer = CpuTraverser::new(&accel);
+    let (mut useful, mut issued) = (0u64, 0u64);
+    for (x0, y0) in subgroup_corners(blocks, (8, 4)) {
+        let lanes: Vec<Vec<u64>> = (0..SUBGROUP_LANES as u32)
+            .map(|k| {
+                (0..rays)
+                    .map(|i| {
+                        let (o, d) = camera.ray_through((2560, 1440), glam::Vec2::new((x0 + k % 8) as f32, (y0 + k / 8) as f32) + r2_point(i));
+                        let mut c = TraversalCounts::default();
+                        tracer.counted(&Ray::new(o, d), false, &mut c);
+                        steps(&c)
+                    })
+                    .collect()
+            })
+            .collect();
+        let (u, i) = round_steps(&lanes);
+        (useful, issued) = (useful + u, issued + i);
+    }
+    share(useful, issued)
+}
+
+/// The i-th point of the R2 sequence in the unit square (`common/sampling.wgsl`'s r2_sample).
+fn r2_point(i: u32) -> glam::Vec2 {
+    let g = 1.324_717_957_244_746_f64;
+    let k = f64::from(i + 1);
+    glam::Vec2::new((0.5 + k / g).fract() as f32, (0.5 + k / (g * g)).fract() as f32)
 }
 
 /// Lanes a pixel's AO rays are shared over (the AO layers' `AO_LANES`): `rt_ao`'s count
@@ -151,14 +286,18 @@ pub fn markdown(rows: &[RooflineRow], bandwidth: f64, stride: u32) -> String {
         "CPU count of the merged layout's traversal, every {stride}th pixel of 2560x1440 in each direction; bytes = 64 per interior node, 48 per triangle test, 64 per instance entered; ceiling at {:.1} TB/s of L1 bandwidth.\n",
         bandwidth / 1e12
     );
-    s.push_str("| test | rays counted | interior nodes/ray | leaves/ray | triangle tests/ray | instances/ray | bytes/ray | L1 ceiling GR/s | achieved GR/s | achieved/ceiling |\n");
-    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("Subgroup share: the share of a subgroup's traversal steps that do work, its lanes tracing their rays in rounds (32 lanes laid out as the passes lay them; the scene workload's AO rays, the primary tests' rays); the last column divides the achieved fraction by it.\n\n");
+    s.push_str("| test | rays counted | interior nodes/ray | leaves/ray | triangle tests/ray | instances/ray | bytes/ray | L1 ceiling GR/s | achieved GR/s | achieved/ceiling | subgroup share | achieved/(ceiling x share) |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    let or_dash = |v: Option<String>| v.unwrap_or_else(|| "—".into());
     for r in rows {
-        let achieved = r.achieved.map(|a| format!("{a:.2}")).unwrap_or_else(|| "—".into());
-        let frac = r.achieved.map(|a| format!("{:.0}%", 100.0 * a / r.ceiling)).unwrap_or_else(|| "—".into());
+        let achieved = or_dash(r.achieved.map(|a| format!("{a:.2}")));
+        let frac = or_dash(r.achieved.map(|a| format!("{:.0}%", 100.0 * a / r.ceiling)));
+        let share = or_dash(r.subgroup_share.map(|f| format!("{f:.2}")));
+        let within = or_dash(r.achieved.zip(r.subgroup_share).map(|(a, f)| format!("{:.0}%", 100.0 * a / (r.ceiling * f))));
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.0} | {:.1} | {achieved} | {frac} |",
+            "| {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.0} | {:.1} | {achieved} | {frac} | {share} | {within} |",
             r.test, r.rays, r.per_ray[0], r.per_ray[1], r.per_ray[2], r.per_ray[3], r.bytes_per_ray, r.ceiling
         );
     }
@@ -167,11 +306,13 @@ pub fn markdown(rows: &[RooflineRow], bandwidth: f64, stride: u32) -> String {
 
 /// The rows as CSV.
 pub fn csv(rows: &[RooflineRow]) -> String {
-    let mut s = String::from("test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays\n");
+    let mut s = String::from(
+        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays,subgroup_share\n",
+    );
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{:.3},{:.3},{:.3},{:.3},{:.1},{:.3},{}",
+            "{},{},{:.3},{:.3},{:.3},{:.3},{:.1},{:.3},{},{}",
             r.test,
             r.rays,
             r.per_ray[0],
@@ -180,8 +321,25 @@ pub fn csv(rows: &[RooflineRow]) -> String {
             r.per_ray[3],
             r.bytes_per_ray,
             r.ceiling,
-            r.achieved.map(|a| format!("{a:.3}")).unwrap_or_default()
+            r.achieved.map(|a| format!("{a:.3}")).unwrap_or_default(),
+            r.subgroup_share.map(|f| format!("{f:.4}")).unwrap_or_default()
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::round_share;
+
+    #[test]
+    fn a_round_lasts_its_longest_ray() {
+        // Two lanes, two rounds: 1 and 3 steps, then 3 and 1: each round issues 3 steps to
+        // both lanes (12), of which 8 do work.
+        assert!((round_share(&[vec![1, 3], vec![3, 1]]) - 8.0 / 12.0).abs() < 1e-12);
+        // Lanes alike: every step does work; a lane without rays idles through every round.
+        assert_eq!(round_share(&[vec![2, 5], vec![2, 5]]), 1.0);
+        assert!((round_share(&[vec![4], vec![]]) - 0.5).abs() < 1e-12);
+        assert_eq!(round_share(&[]), 1.0);
+    }
 }

@@ -68,18 +68,28 @@ impl Camera {
         let mut rays = Vec::with_capacity(((w / stride.max(1) + 1) * (h / stride.max(1) + 1)) as usize);
         for y in (0..h).step_by(stride.max(1) as usize) {
             for x in (0..w).step_by(stride.max(1) as usize) {
-                let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
-                let far = inv.project_point3(ndc.extend(1.0));
-                rays.push(match self.orthographic {
-                    Some(_) => {
-                        let near = inv.project_point3(ndc.extend(0.0));
-                        (near, (far - near).normalize())
-                    }
-                    None => (self.position, (far - self.position).normalize()),
-                });
+                rays.push(self.ray_with(&inv, (w, h), glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5)));
             }
         }
         rays
+    }
+
+    /// The origin and direction of the ray through `point` (in pixels from the top left corner)
+    /// of a `w`×`h` image, as [`Camera::rays`] gives them.
+    pub fn ray_through(&self, (w, h): (u32, u32), point: glam::Vec2) -> (Vec3, Vec3) {
+        self.ray_with(&self.view_proj(w as f32 / h as f32).inverse(), (w, h), point)
+    }
+
+    fn ray_with(&self, inv_view_proj: &Mat4, (w, h): (u32, u32), point: glam::Vec2) -> (Vec3, Vec3) {
+        let ndc = glam::Vec2::new(point.x / w as f32 * 2.0 - 1.0, 1.0 - point.y / h as f32 * 2.0);
+        let far = inv_view_proj.project_point3(ndc.extend(1.0));
+        match self.orthographic {
+            Some(_) => {
+                let near = inv_view_proj.project_point3(ndc.extend(0.0));
+                (near, (far - near).normalize())
+            }
+            None => (self.position, (far - self.position).normalize()),
+        }
     }
 
     /// A perspective camera at `position` looking at `target`, y up, `fov_y_deg` vertical field

@@ -26,21 +26,29 @@ pub(crate) struct RooflineArgs {
 /// `raygraph bench roofline`: the scene workload on each scene, then the Miss and Stress tests.
 pub(crate) fn run(args: RooflineArgs) -> Result<()> {
     let bandwidth = args.bandwidth.unwrap_or(roofline::H100_L1_BYTES_PER_S);
-    let (stride, ao_rays, scenes): (u32, u32, &[&str]) = if args.quick { (160, 4, &["box", "organic"]) } else { (16, 64, &["box", "organic", "atrium"]) };
+    // The subgroup model: `blocks` x `blocks` subgroups over the frame, `primary_rays` a pixel
+    // for the primary tests (Table 3's 64).
+    let (stride, ao_rays, blocks, primary_rays, scenes): (u32, u32, u32, u32, &[&str]) =
+        if args.quick { (160, 4, 2, 4, &["box", "organic"]) } else { (16, 64, 12, 64, &["box", "organic", "atrium"]) };
     let no_textures = LoadOptions { textures: false, ..Default::default() };
     let mut rows = Vec::new();
     for name in scenes {
         let (s, _) = scene::open(name, &no_textures)?;
-        rows.push(roofline::scene_workload(&s, stride, ao_rays, bandwidth));
+        let mut row = roofline::scene_workload(&s, stride, ao_rays, bandwidth);
+        row.subgroup_share = Some(roofline::subgroup_share_ao(&s, blocks, ao_rays));
+        rows.push(row);
     }
     let (atrium, _) = scene::open(if args.quick { "organic" } else { "atrium" }, &no_textures)?;
-    let miss = miss_outside_camera(&atrium);
-    rows.push(roofline::primary_workload("Miss (outside)", &atrium, &miss, stride, bandwidth));
+    let mut cameras = vec![("Miss (outside)", miss_outside_camera(&atrium))];
     if let Ok(inside) = atrium.preset(MISS_INSIDE_PRESET) {
-        rows.push(roofline::primary_workload("Miss (inside)", &atrium, &inside, stride, bandwidth));
+        cameras.push(("Miss (inside)", inside));
     }
-    let stress = atrium.preset(STRESS_PRESET).map_err(anyhow::Error::msg)?;
-    rows.push(roofline::primary_workload("Stress", &atrium, &stress, stride, bandwidth));
+    cameras.push(("Stress", atrium.preset(STRESS_PRESET).map_err(anyhow::Error::msg)?));
+    for (test, camera) in cameras {
+        let mut row = roofline::primary_workload(test, &atrium, &camera, stride, bandwidth);
+        row.subgroup_share = Some(roofline::subgroup_share_primary(&atrium, &camera, blocks, primary_rays));
+        rows.push(row);
+    }
     if let Some(path) = &args.rays {
         let text = std::fs::read_to_string(path).with_context(|| format!("could not read {}", path.display()))?;
         roofline::with_achieved(&mut rows, &text);

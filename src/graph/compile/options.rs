@@ -69,7 +69,6 @@ impl CompileOptions {
         // `trace/trace.wgsl` itself includes the compute back-end, the default.
         if self.backend != Backend::Compute {
             a.insert(TRACE_INCLUDE.into(), self.backend.trace_module().into());
-            a.insert(TRACE_BATCH_INCLUDE.into(), TRACE_BATCH_LOOP.into());
         }
         a
     }
@@ -77,7 +76,3 @@ impl CompileOptions {
 
 /// The include every trace pass uses; the back-end substitutes its module for it.
 const TRACE_INCLUDE: &str = "trace/trace.wgsl";
-/// The batch of rays a lane traces from one origin (`trace/ray_batch.wgsl`, the compute back-end's
-/// one-loop batch); the other back-ends trace its rays one after another.
-const TRACE_BATCH_INCLUDE: &str = "trace/ray_batch.wgsl";
-const TRACE_BATCH_LOOP: &str = "trace/ray_batch_loop.wgsl";
