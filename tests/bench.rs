@@ -336,7 +336,7 @@ fn an_interrupted_bench_leaves_the_rows_finished_so_far() {
 
 /// `raygraph bench error --quick`: AO against its closed form on every back-end; the RMSE of
 /// white-noise sampling falls with rays per pixel at the Monte Carlo rate (fitted log-log slope
-/// within 0.1 of -0.5) and that of the R2 sequence falls faster; the bias is within noise; FLIP
+/// within 0.1 of -0.5) and those of the R2 sequence and of the net fall faster; the bias is within noise; FLIP
 /// is reported (mean at most the 99th percentile, both in (0, 1]) and falls from 1 to 64 rays.
 #[test]
 fn bench_error_quick_converges_at_the_expected_rates() {
@@ -369,24 +369,29 @@ fn bench_error_quick_converges_at_the_expected_rates() {
     assert_eq!(backends.len(), LAVAPIPE_BACKENDS, "every back-end runs: {backends:?}");
     for b in &backends {
         let slope = |sampling: &str| {
+            // Rows of zero error are left out, as the bench's own fit does: the net is exact here
+            // from 4 rays on (the open directions are those with u.x >= (h/R)^2 = 1/4, a union
+            // of its cells; measured on lavapipe 2026-12-01: RMSE 0 at 4, 8 and 16 rays, 0.0005
+            // and 0.0002 at 32 and 64), which leaves it four rows to fit.
             let pts: Vec<(f64, f64)> = rows
                 .iter()
-                .filter(|r| &r[0] == b && r[1] == sampling)
+                .filter(|r| &r[0] == b && r[1] == sampling && r[4].parse::<f64>().unwrap() > 0.0)
                 .map(|r| (r[2].parse::<f64>().unwrap().ln(), r[4].parse::<f64>().unwrap().ln()))
                 .collect();
-            assert!(pts.len() >= 5, "{b} {sampling}: {} rows", pts.len());
+            assert!(pts.len() >= 4, "{b} {sampling}: {} rows", pts.len());
             let n = pts.len() as f64;
             let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
             pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>()
         };
-        let (white, r2) = (slope("white"), slope("r2"));
-        for sampling in ["white", "r2"] {
+        let (white, r2, net) = (slope("white"), slope("r2"), slope("net"));
+        for sampling in ["white", "r2", "net"] {
             let flip: Vec<f64> = rows.iter().filter(|r| &r[0] == b && r[1] == sampling).map(|r| r[8].parse().unwrap()).collect();
             assert!(flip.last() < flip.first(), "{b} {sampling}: FLIP must fall with more rays: {flip:?}");
         }
-        println!("{b}: slope white {white:.3}, r2 {r2:.3}");
+        println!("{b}: slope white {white:.3}, r2 {r2:.3}, net {net:.3}");
         assert!((white + 0.5).abs() <= 0.1, "{b}: white-noise slope {white}");
         assert!(r2 < white - 0.1, "{b}: the R2 sequence converges faster than white noise ({r2} against {white})");
+        assert!(net < white - 0.1, "{b}: the net converges faster than white noise ({net} against {white})");
         for r in rows.iter().filter(|r| &r[0] == b) {
             let (bias, variance, rays): (f64, f64, f64) = (r[6].parse().unwrap(), r[7].parse().unwrap(), r[2].parse().unwrap());
             assert!(r[3].parse::<f64>().unwrap() > 0.0, "the AO pass was timed: {r:?}");

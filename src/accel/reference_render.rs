@@ -5,7 +5,7 @@
 //!
 //! Every ray is built in f32 exactly as the layer's shader builds it (camera rays as
 //! `shaders/common/camera.wgsl`, shadow rays as `shaders/rt/shadow.wgsl`, AO directions with the
-//! same PCG / R2 numbers and cosine mapping as `shaders/rt/ao.wgsl` and
+//! same PCG / R2 / net numbers and cosine mapping as `shaders/common/ao_lane.wgsl` and
 //! `shaders/common/sampling.wgsl`, reflection rays as the first bounce of
 //! `shaders/rt/reflection.wgsl` for a mirror), from the surface points a G-buffer holds
 //! ([`SurfacePoint`]): either the GPU's own G-buffer, which isolates the trace pass being
@@ -72,7 +72,8 @@ pub struct AoSettings {
     pub rays: u32,
     /// Ray length, world units.
     pub range: f32,
-    /// 0: white noise (PCG per ray), 1: R2 rotated per pixel.
+    /// 0: white noise (PCG per ray), 1: R2 rotated per pixel, 2: a scrambled (0,k,2)-net per
+    /// pixel in cell order ([`net_point`]).
     pub sampling: u32,
     /// Seed of the sample sequence.
     pub seed: u32,
@@ -265,6 +266,7 @@ fn r2_sample(i: u32) -> [f32; 2] {
 pub(crate) fn ao_numbers(pixel: (u32, u32), settings: &AoSettings) -> Vec<[f32; 2]> {
     let rotation = pixel_random2(pixel, settings.seed);
     let mut state = pcg_hash(pixel.0 ^ pcg_hash(pixel.1 ^ pcg_hash(settings.seed.wrapping_add(0x9e37_79b9))));
+    let net_scramble = [pcg_hash(state), pcg_hash(pcg_hash(state))];
     (0..settings.rays)
         .map(|i| {
             if settings.sampling == 0 {
@@ -272,12 +274,40 @@ pub(crate) fn ao_numbers(pixel: (u32, u32), settings: &AoSettings) -> Vec<[f32; 
                 let a = state;
                 state = pcg_hash(state);
                 [unit(a), unit(state)]
+            } else if settings.sampling == 2 {
+                net_point(i, settings.rays, net_scramble)
             } else {
                 let r = r2_sample(i);
                 [fract(r[0] + rotation[0]), fract(r[1] + rotation[1])]
             }
         })
         .collect()
+}
+
+/// `ao_net_point` (`shaders/common/ao_lane.wgsl`): ray `i` of `n`'s point of the pixel's
+/// scrambled Hammersley net, the one in cell `i` (Morton order) of its 2^a x 2^b grid where `n`
+/// is a power of two, else point `i` with its y stratified.
+pub(crate) fn net_point(i: u32, n: u32, scramble: [u32; 2]) -> [f32; 2] {
+    let to_unit = |v: u32| (v >> 8) as f32 * (1.0 / 16_777_216.0);
+    if n <= 1 {
+        return scramble.map(to_unit);
+    }
+    if !n.is_power_of_two() {
+        let y = (i as f32 + to_unit(scramble[1])) / n as f32;
+        return [to_unit(i.reverse_bits() ^ scramble[0]), y.min(0.999_999_94)];
+    }
+    let k = n.trailing_zeros();
+    let (a, b) = (k.div_ceil(2), k / 2);
+    let mut cx = if a > b { ((i >> (k - 1)) & 1) << b } else { 0 };
+    let mut cy = 0;
+    for t in 0..b {
+        cx |= ((i >> (2 * t)) & 1) << t;
+        cy |= ((i >> (2 * t + 1)) & 1) << t;
+    }
+    let low = (cx ^ (scramble[0] >> (32 - a))).reverse_bits() >> (32 - a);
+    let high = if b > 0 { cy ^ (scramble[1] >> (32 - b)) } else { 0 };
+    let j = (high << a) | low;
+    [to_unit(j.reverse_bits() ^ scramble[0]), to_unit((j << (32 - k)) ^ scramble[1])]
 }
 
 /// `cosine_hemisphere`: a cosine-weighted direction around unit `n` (basis of Duff et al.).
@@ -291,4 +321,39 @@ pub(crate) fn cosine_hemisphere(n: Vec3, u: [f32; 2]) -> Vec3 {
     let t = Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
     let bt = Vec3::new(b, s + n.y * n.y * a, -n.y);
     (local.x * t + local.y * bt + local.z * n).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{net_point, pcg_hash};
+
+    #[test]
+    fn the_net_has_one_point_a_cell_visited_in_morton_order() {
+        for n in [2u32, 4, 8, 16, 32, 64, 128, 256, 1024] {
+            let k = n.trailing_zeros();
+            let (a, b) = (k.div_ceil(2), k / 2);
+            for seed in 0..20u32 {
+                let scramble = [pcg_hash(seed), pcg_hash(seed ^ 0x5bd1_e995)];
+                let mut seen = vec![false; n as usize];
+                for i in 0..n {
+                    let p = net_point(i, n, scramble);
+                    assert!(p.iter().all(|v| (0.0..1.0).contains(v)), "n {n}: {p:?}");
+                    let (cx, cy) = ((p[0] * (1u32 << a) as f32) as u32, (p[1] * (1u32 << b) as f32) as u32);
+                    let cell = (cy << a | cx) as usize;
+                    assert!(!seen[cell], "n {n}, seed {seed}: two points in cell ({cx}, {cy})");
+                    seen[cell] = true;
+                    // Ray i's cell is cell i in Morton order: its low bits alternate x and y.
+                    for t in 0..b {
+                        assert_eq!((cx >> t) & 1, (i >> (2 * t)) & 1, "n {n}, ray {i}: x bit {t}");
+                        assert_eq!((cy >> t) & 1, (i >> (2 * t + 1)) & 1, "n {n}, ray {i}: y bit {t}");
+                    }
+                }
+            }
+        }
+        // Not a power of two: y stratified, one point in each row of n.
+        for i in 0..10 {
+            let p = net_point(i, 10, [pcg_hash(1), pcg_hash(2)]);
+            assert_eq!((p[1] * 10.0) as u32, i);
+        }
+    }
 }

@@ -2,7 +2,8 @@
 //! floor under a parallel ceiling at height `h`, with AO rays of length `R`: for cosine-weighted
 //! directions the unoccluded fraction is `(h/R)^2` at every floor point, so the reference is
 //! exact. For every back-end, sampling scheme (`white`: independent numbers per ray; `r2`: the
-//! R2 low-discrepancy sequence, rotated per pixel) and rays per pixel 1, 2, 4, ..., the AO pass
+//! R2 low-discrepancy sequence, rotated per pixel; `net`: a scrambled (0,k,2)-net per pixel, its
+//! rays in cell order) and rays per pixel 1, 2, 4, ..., the AO pass
 //! of `graph/ao.ron` runs with several seeds. A row holds the AO pass's GPU time (median) and,
 //! over all pixels and seeds, the RMSE and relMSE against the reference, the bias (mean error)
 //! and the variance (mean over pixels of the variance across seeds), and FLIP (mean and 99th
@@ -33,7 +34,7 @@ pub(crate) const CEILING: f32 = 0.5;
 pub(crate) const RANGE: f32 = 1.0;
 
 /// The sampling schemes of `layers/rt_ao.ron` (its `sampling` parameter).
-pub(crate) const SCHEMES: [(&str, i64); 2] = [("white", 0), ("r2", 1)];
+pub(crate) const SCHEMES: [(&str, i64); 3] = [("white", 0), ("r2", 1), ("net", 2)];
 
 /// Settings of `raygraph bench error`.
 #[derive(Debug, Clone)]
@@ -324,7 +325,9 @@ pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
     for (b, sampling, slope) in slopes(rows) {
         let _ = writeln!(s, "| {b} | {sampling} | {slope:.3} |");
     }
-    s.push_str("\nEqual error: the fewest rays per pixel (AO ms) reaching each RMSE:\n\n| back-end | RMSE | white | r2 |\n| --- | ---: | ---: | ---: |\n");
+    s.push_str(
+        "\nEqual error: the fewest rays per pixel (AO ms) reaching each RMSE:\n\n| back-end | RMSE | white | r2 | net |\n| --- | ---: | ---: | ---: | ---: |\n",
+    );
     let mut backends: Vec<Backend> = Vec::new();
     for r in rows {
         if !backends.contains(&r.backend) {
@@ -334,10 +337,10 @@ pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
     for &b in &backends {
         for target in [0.1, 0.05, 0.02, 0.01] {
             let cell = |sampling| equal_error(rows, b, sampling, target).map(|(n, ms)| format!("{n} ({ms:.3} ms)")).unwrap_or_else(|| "—".into());
-            let _ = writeln!(s, "| {b} | {target} | {} | {} |", cell("white"), cell("r2"));
+            let _ = writeln!(s, "| {b} | {target} | {} | {} | {} |", cell("white"), cell("r2"), cell("net"));
         }
     }
-    s.push_str("\nEqual time: the lowest RMSE each scheme reaches within a budget of AO pass time (the budgets are the white-noise rows' times):\n\n| back-end | AO ms budget | white RMSE | r2 RMSE |\n| --- | ---: | ---: | ---: |\n");
+    s.push_str("\nEqual time: the lowest RMSE each scheme reaches within a budget of AO pass time (the budgets are the white-noise rows' times):\n\n| back-end | AO ms budget | white RMSE | r2 RMSE | net RMSE |\n| --- | ---: | ---: | ---: | ---: |\n");
     for &b in &backends {
         for budget in rows.iter().filter(|r| r.backend == b && r.sampling == "white").map(|r| r.ao_ms) {
             let best = |sampling: &str| {
@@ -348,7 +351,7 @@ pub fn markdown(info: &RunInfo, rows: &[ErrorRow]) -> String {
                     .map(|x| format!("{x:.5}"))
                     .unwrap_or_else(|| "—".into())
             };
-            let _ = writeln!(s, "| {b} | {budget:.4} | {} | {} |", best("white"), best("r2"));
+            let _ = writeln!(s, "| {b} | {budget:.4} | {} | {} | {} |", best("white"), best("r2"), best("net"));
         }
     }
     s

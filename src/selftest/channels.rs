@@ -12,7 +12,8 @@
 //! distance, a ray end, a second surface at nearly the same depth) is below `MARGIN`, 1e-5 of
 //! the coordinate magnitude (about 80 f32 ulps: the GPU rounds its own camera directions,
 //! normalisations, square roots, sines and cosines, and may fuse multiply-adds). Primary hits
-//! must also lie where the reference's hit is (within 1e-4 of the depth). AO: per pixel the
+//! must also lie where the reference's hit is (within 1e-4 of the depth). AO (the layers'
+//! default sampling, the net, whose numbers the reference mirrors): per pixel the
 //! number of unoccluded rays may differ from the reference's by at most the number of that
 //! pixel's rays within the margin, and the mean absolute difference of the unoccluded fraction
 //! over all pixels must stay below 1e-3. The mirror channel is a test-only trace pass that
@@ -185,7 +186,7 @@ impl ChannelProject {
         let range_scale = 0.2f32;
         let shipped = crate::graph::files::read(&dir.join("graph/full_rt.ron")).map_err(|e| format!("reading graph/full_rt.ron: {e}"))?.text;
         let full_rt = shipped
-            .replace(r#"params: {"rays": 8, "range_scale": 0.05}"#, &format!(r#"params: {{"rays": {AO_RAYS}, "range": 0.0, "range_scale": {range_scale:?}, "sampling": 1}}"#))
+            .replace(r#"params: {"rays": 8, "range_scale": 0.05}"#, &format!(r#"params: {{"rays": {AO_RAYS}, "range": 0.0, "range_scale": {range_scale:?}, "sampling": 2}}"#))
             .replace(
                 r#""resolve": Layer("#,
                 r#""mirror": Layer(layer: "test_mirror_ids", inputs: {"position": "gbuffer.position", "normal": "gbuffer.normal", "geo_normal": "gbuffer.geo_normal", "tlas": "accel.tlas"}),
@@ -237,7 +238,7 @@ impl ChannelScene {
     /// The reference's primary answers for `scene` in `project`'s AO settings.
     pub fn new(scene: Scene, project: &ChannelProject) -> Self {
         let renderer = ReferenceRenderer::new(&scene);
-        let settings = AoSettings { rays: AO_RAYS, range: project.range_scale * (0.5 * scene.bounds().diagonal()).max(1e-6), sampling: 1, seed: 0 };
+        let settings = AoSettings { rays: AO_RAYS, range: project.range_scale * (0.5 * scene.bounds().diagonal()).max(1e-6), sampling: 2, seed: 0 };
         let rays = ReferenceRenderer::camera_rays(scene.camera(), SIZE);
         let visibility = renderer.visibility(&rays);
         let own_surfaces = renderer.surfaces(&rays, &visibility);
