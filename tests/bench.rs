@@ -399,7 +399,9 @@ fn bench_error_quick_converges_at_the_expected_rates() {
             let sigma = (0.25 * 0.75 / rays / 4096.0).sqrt();
             assert!(bias.abs() <= 5.0 * sigma + 1e-4 && variance >= 0.0, "{b}: {r:?}");
             let (flip_mean, flip_p99): (f64, f64) = (r[8].parse().unwrap(), r[9].parse().unwrap());
-            assert!(flip_mean > 0.0 && flip_mean <= flip_p99 && flip_p99 <= 1.0, "FLIP mean and 99th percentile: {r:?}");
+            // FLIP is 0 only where the image is exact (the net's rows of zero error, above).
+            let exact = r[4].parse::<f64>().unwrap() == 0.0;
+            assert!((flip_mean > 0.0 || exact) && flip_mean <= flip_p99 && flip_p99 <= 1.0, "FLIP mean and 99th percentile: {r:?}");
         }
     }
 }

@@ -12,8 +12,8 @@
 //! distance, a ray end, a second surface at nearly the same depth) is below `MARGIN`, 1e-5 of
 //! the coordinate magnitude (about 80 f32 ulps: the GPU rounds its own camera directions,
 //! normalisations, square roots, sines and cosines, and may fuse multiply-adds). Primary hits
-//! must also lie where the reference's hit is (within 1e-4 of the depth). AO (the layers'
-//! default sampling, the net, whose numbers the reference mirrors): per pixel the
+//! must also lie where the reference's hit is (within 1e-4 of the depth). AO (sampling "net",
+//! whose numbers the reference mirrors as it does R2's): per pixel the
 //! number of unoccluded rays may differ from the reference's by at most the number of that
 //! pixel's rays within the margin, and the mean absolute difference of the unoccluded fraction
 //! over all pixels must stay below 1e-3. The mirror channel is a test-only trace pass that
