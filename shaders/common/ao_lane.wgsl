@@ -63,14 +63,6 @@ fn ao_partial_texel(pixel: vec2<u32>, lane: u32) -> vec2<u32> {
     return 2u * pixel + vec2<u32>(lane & 1u, lane >> 1u);
 }
 
-// Sampling 2 ("net"): the pixel's `n` rays take the points of a (0,k,2)-net, the Hammersley set
-// of n = 2^k points (point j = (j's bits reversed, j / n)) with both coordinates' bits XORed with
-// the pixel's `scramble`: every cell of a 2^a x 2^b grid (a = ceil(k/2), b = floor(k/2)) holds one
-// point, and each point is uniform over the square. Ray i takes the point in cell i in Morton
-// order, so that round j of every lane of every pixel of a subgroup samples one small square and
-// their rays point about the same way (PERF.md step 26: the atrium's frame 21% faster than the
-// same rays in index order). For n not a power of two, point i of the scrambled Hammersley set
-// of n (x reversed bits, y stratified), in index order. src/accel/reference_render.rs mirrors it.
 // The even bits of `v` (0, 2, 4, ...) packed into its low half.
 fn ao_even_bits(v: u32) -> u32 {
     var x = v & 0x55555555u;
@@ -80,6 +72,15 @@ fn ao_even_bits(v: u32) -> u32 {
     return (x | (x >> 8u)) & 0x0000ffffu;
 }
 
+// Sampling 2 ("net"): the pixel's `n` rays take the points of a (0,k,2)-net, the Hammersley set
+// of n = 2^k points (point j = (j's bits reversed, j / n)) with both coordinates' bits XORed with
+// the pixel's `scramble`: every cell of a 2^a x 2^b grid (a = ceil(k/2), b = floor(k/2)) holds one
+// point, and each point is uniform over the square. Ray i takes the point in cell i in Morton
+// order, so that round j of every lane of every pixel of a subgroup samples one small square and
+// their rays point about the same way (PERF.md step 26: the atrium's frame 21% faster than the
+// same rays in index order; frames a few percent covered slower than with R2, which stays the
+// default). For n not a power of two, point i of the scrambled Hammersley set
+// of n (x reversed bits, y stratified), in index order. src/accel/reference_render.rs mirrors it.
 fn ao_net_point(i: u32, n: u32, scramble: vec2<u32>) -> vec2<f32> {
     var p: vec2<u32>;
     if n <= 1u {
