@@ -28,7 +28,10 @@ fn ao_lane_open_of(pixel: vec2<u32>, lane: u32, lanes: u32, p: vec3<f32>, n: vec
     let frame_offset = select(0u, frame.frame_index, params.per_frame != 0u);
     var state = pcg_hash(pixel.x ^ pcg_hash(pixel.y ^ pcg_hash(params.seed + 0x9e3779b9u + frame_offset * 0x85ebca6bu)));
     // The net's scramble (sampling 2) from the same seeds: a new net every frame with `per_frame`.
-    let net_scramble = vec2<u32>(pcg_hash(state), pcg_hash(pcg_hash(state)));
+    var net_scramble = vec2<u32>(0u);
+    if params.sampling == 2u {
+        net_scramble = vec2<u32>(pcg_hash(state), pcg_hash(pcg_hash(state)));
+    }
     // Each ray counts by how much of it gets through: 1 or 0, or the transmittance of the
     // BLEND surfaces it meets (common/ray_blend.wgsl).
     var open = 0.0;

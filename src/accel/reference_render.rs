@@ -255,7 +255,7 @@ fn fract(x: f32) -> f32 {
 }
 
 /// `r2_sample`: the i-th point of the R2 sequence (the plastic number's powers in f32).
-fn r2_sample(i: u32) -> [f32; 2] {
+pub(crate) fn r2_sample(i: u32) -> [f32; 2] {
     let g: f32 = 1.324_717_9;
     let step = [1.0 / g, 1.0 / (g * g)];
     let k = (i + 1) as f32;

@@ -22,6 +22,7 @@
 use crate::accel::bvh::{Blas, BuildConfig};
 use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceStart, TraversalCounts};
 use crate::accel::layout::{merge, merge_instances, GpuAccel};
+use crate::accel::reference_render::r2_sample;
 use crate::scene::{Camera, Scene};
 use glam::Vec3;
 use std::fmt::Write;
@@ -180,15 +181,14 @@ pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32) -> f64 {
         for k in 0..8 {
             let (o, d) = scene.camera().ray_through((2560, 1440), glam::Vec2::new((x0 + k % 4) as f32 + 0.5, (y0 + k / 4) as f32 + 0.5));
             let r = Ray::new(o, d);
-            let hit = tracer.closest(&r);
+            let Some(hit) = tracer.closest(&r) else {
+                lanes.extend((0..AO_LANES).map(|_| Vec::new()));
+                continue;
+            };
+            // The pixel's lanes share its origin and their start (each finds the same one).
+            let (origin, n) = ao_origin(scene, &r, &hit);
+            let start = if start_below_root { tracer.start_within(origin, range, &mut TraversalCounts::default()) } else { TraceStart::Root };
             for _ in 0..AO_LANES {
-                let Some(hit) = &hit else {
-                    lanes.push(Vec::new());
-                    continue;
-                };
-                let (origin, n) = ao_origin(scene, &r, hit);
-                let mut c = TraversalCounts::default();
-                let start = if start_below_root { tracer.start_within(origin, range, &mut c) } else { TraceStart::Root };
                 let lane = (0..ao_rays.div_ceil(AO_LANES))
                     .map(|_| {
                         let mut c = TraversalCounts::default();
@@ -206,7 +206,8 @@ pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32) -> f64 {
 }
 
 /// [`round_share`] of a primary test (Miss, Stress: `rt/primary_n.wgsl`): subgroups of 8x4
-/// pixels, one lane each, `rays` closest-hit rays a pixel through its R2 points in rounds;
+/// pixels, one lane each, `rays` closest-hit rays a pixel through its R2 points (the shader's
+/// own f32 sequence, [`r2_sample`]) in rounds;
 /// `blocks` x `blocks` subgroups over the frame.
 pub fn subgroup_share_primary(scene: &Scene, camera: &Camera, blocks: u32, rays: u32) -> f64 {
     let accel = merged_layout(scene);
@@ -217,7 +218,8 @@ pub fn subgroup_share_primary(scene: &Scene, camera: &Camera, blocks: u32, rays:
             .map(|k| {
                 (0..rays)
                     .map(|i| {
-                        let (o, d) = camera.ray_through((2560, 1440), glam::Vec2::new((x0 + k % 8) as f32, (y0 + k / 8) as f32) + r2_point(i));
+                        let (o, d) =
+                            camera.ray_through((2560, 1440), glam::Vec2::new((x0 + k % 8) as f32, (y0 + k / 8) as f32) + glam::Vec2::from(r2_sample(i)));
                         let mut c = TraversalCounts::default();
                         tracer.counted(&Ray::new(o, d), false, &mut c);
                         steps(&c)
@@ -229,13 +231,6 @@ pub fn subgroup_share_primary(scene: &Scene, camera: &Camera, blocks: u32, rays:
         (useful, issued) = (useful + u, issued + i);
     }
     share(useful, issued)
-}
-
-/// The i-th point of the R2 sequence in the unit square (`common/sampling.wgsl`'s r2_sample).
-fn r2_point(i: u32) -> glam::Vec2 {
-    let g = 1.324_717_957_244_746_f64;
-    let k = f64::from(i + 1);
-    glam::Vec2::new((0.5 + k / g).fract() as f32, (0.5 + k / (g * g)).fract() as f32)
 }
 
 /// Lanes a pixel's AO rays are shared over (the AO layers' `AO_LANES`): `rt_ao`'s count
