@@ -36,6 +36,16 @@ fn ao_lane_open_of(pixel: vec2<u32>, lane: u32, lanes: u32, p: vec3<f32>, n: vec
     // BLEND surfaces it meets (common/ray_blend.wgsl).
     var open = 0.0;
     let rounds = (params.rays + lanes - 1u) / lanes;
+    // The net's points a round at a time (ao_net_next_round): the lane's part once, the
+    // round's part updated by the bits that change from one round to the next.
+    let net_by_rounds = params.sampling == 2u && ao_net_by_rounds(params.rays, lanes);
+    var net_lane = vec2<u32>(0u);
+    var net_round = vec2<u32>(0u);
+    var net_rounds_below = vec2<u32>(0u);
+    if net_by_rounds {
+        net_lane = ao_net_bits(lane, params.rays, net_scramble);
+        net_rounds_below = ao_net_low_cells(countTrailingZeros(lanes), params.rays);
+    }
     for (var round = 0u; round < rounds; round++) {
         let i = round * lanes + lane;
         var u: vec2<f32>;
@@ -48,6 +58,11 @@ fn ao_lane_open_of(pixel: vec2<u32>, lane: u32, lanes: u32, p: vec3<f32>, n: vec
                     u = drawn;
                 }
             }
+        } else if net_by_rounds {
+            if round > 0u {
+                net_round = ao_net_next_round(net_round, round, lanes, params.rays, net_rounds_below);
+            }
+            u = ao_net_unit(net_lane ^ net_round);
         } else if params.sampling == 2u {
             u = ao_net_point(i, params.rays, net_scramble);
         } else {
@@ -85,25 +100,62 @@ fn ao_even_bits(v: u32) -> u32 {
 // default). For n not a power of two, point i of the scrambled Hammersley set
 // of n (x reversed bits, y stratified), in index order. src/accel/reference_render.rs mirrors it.
 fn ao_net_point(i: u32, n: u32, scramble: vec2<u32>) -> vec2<f32> {
-    var p: vec2<u32>;
     if n <= 1u {
-        p = scramble;
+        return ao_net_unit(scramble);
     } else if (n & (n - 1u)) != 0u {
         let y = (f32(i) + f32(scramble.y >> 8u) * (1.0 / 16777216.0)) / f32(n);
         return vec2<f32>(f32((reverseBits(i) ^ scramble.x) >> 8u) * (1.0 / 16777216.0), min(y, 0.99999994));
-    } else {
-        let k = countTrailingZeros(n);
-        let a = (k + 1u) / 2u;
-        let b = k / 2u;
-        // Morton order: i's bits 2t and 2t + 1 are the cell's x and y bit t (t < b); for odd k
-        // its top bit is x's bit b.
-        let interleaved = i & ((1u << (2u * b)) - 1u);
-        let cx = ao_even_bits(interleaved) | (((i >> (k - 1u)) & select(0u, 1u, a > b)) << b);
-        let cy = ao_even_bits(interleaved >> 1u);
-        let low = reverseBits(cx ^ (scramble.x >> (32u - a))) >> (32u - a);
-        let high = select(0u, cy ^ (scramble.y >> (32u - max(b, 1u))), b > 0u);
-        let j = (high << a) | low;
-        p = vec2<u32>(reverseBits(j), j << (32u - k)) ^ scramble;
     }
+    return ao_net_unit(ao_net_bits(i, n, scramble));
+}
+
+// A net point's 32-bit fixed-point coordinates as numbers in [0, 1) (24 bits each).
+fn ao_net_unit(p: vec2<u32>) -> vec2<f32> {
     return vec2<f32>(p >> vec2<u32>(8u)) * (1.0 / 16777216.0);
+}
+
+// ao_net_point's bits for n = 2^k >= 2: the point in Morton cell i.
+fn ao_net_bits(i: u32, n: u32, scramble: vec2<u32>) -> vec2<u32> {
+    let k = countTrailingZeros(n);
+    let a = (k + 1u) / 2u;
+    let b = k / 2u;
+    // Morton order: i's bits 2t and 2t + 1 are the cell's x and y bit t (t < b); for odd k
+    // its top bit is x's bit b.
+    let interleaved = i & ((1u << (2u * b)) - 1u);
+    let cx = ao_even_bits(interleaved) | (((i >> (k - 1u)) & select(0u, 1u, a > b)) << b);
+    let cy = ao_even_bits(interleaved >> 1u);
+    let low = reverseBits(cx ^ (scramble.x >> (32u - a))) >> (32u - a);
+    let high = select(0u, cy ^ (scramble.y >> (32u - max(b, 1u))), b > 0u);
+    let j = (high << a) | low;
+    return vec2<u32>(reverseBits(j), j << (32u - k)) ^ scramble;
+}
+
+// Whether a lane's net points can be taken a round at a time: n and the lanes powers of two,
+// at most n lanes.
+fn ao_net_by_rounds(n: u32, lanes: u32) -> bool {
+    return n >= 2u && (n & (n - 1u)) == 0u && lanes >= 1u && (lanes & (lanes - 1u)) == 0u && lanes <= n;
+}
+
+// ao_net_bits is linear over XOR in the cell index and the scramble together (bits are moved,
+// never combined), so the point of cell round * lanes + lane is (the lane's point, scramble
+// included) ^ (cell round * lanes's point, unscrambled): the first once a lane, the second a
+// round at a time. From round r - 1 to r the cell's bits m..m + t flip (m = log2(lanes), t
+// the trailing zeros of r), whose points are those of the cells below 2^(m + t + 1) and below
+// 2^m XORed: ao_net_low_cells, a few operations in place of ao_net_bits' forty.
+fn ao_net_next_round(bits: vec2<u32>, round: u32, lanes: u32, n: u32, rounds_below: vec2<u32>) -> vec2<u32> {
+    let top = countTrailingZeros(lanes) + countTrailingZeros(round) + 1u;
+    return bits ^ ao_net_low_cells(top, n) ^ rounds_below;
+}
+
+// The unscrambled net point of cell 2^c - 1 (the XOR of the points of cells 1, 2, 4, ...,
+// 2^(c - 1)), c <= k: its Morton bits set x's ceil(c/2) lowest bits and y's floor(c/2), which
+// the point puts in x's reversed low field and y's high field of j, as ao_net_bits does.
+fn ao_net_low_cells(c: u32, n: u32) -> vec2<u32> {
+    let k = countTrailingZeros(n);
+    let a = (k + 1u) / 2u;
+    let x_ones = (c + 1u) / 2u;
+    let y_ones = c / 2u;
+    let low = ((1u << a) - 1u) ^ ((1u << (a - x_ones)) - 1u);
+    let j = (((1u << y_ones) - 1u) << a) | low;
+    return vec2<u32>(reverseBits(j), j << (32u - k));
 }
