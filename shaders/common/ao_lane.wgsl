@@ -22,51 +22,52 @@ fn ao_lane_open_of(pixel: vec2<u32>, lane: u32, lanes: u32, p: vec3<f32>, n: vec
     // Every ray of the lane stays within `range` of `origin`: they start together below the
     // root (trace/common.wgsl).
     let start = trace_start_within(origin, range);
-    let rotation = pixel_random2(pixel, params.seed);
     // With `per_frame`, every frame draws new samples: R2 goes on along its sequence, white
     // noise is seeded again.
     let frame_offset = select(0u, frame.frame_index, params.per_frame != 0u);
-    var state = pcg_hash(pixel.x ^ pcg_hash(pixel.y ^ pcg_hash(params.seed + 0x9e3779b9u + frame_offset * 0x85ebca6bu)));
-    // The net's scramble (sampling 2) from the same seeds: a new net every frame with `per_frame`.
-    var net_scramble = vec2<u32>(0u);
-    if params.sampling == 2u {
-        net_scramble = vec2<u32>(pcg_hash(state), pcg_hash(pcg_hash(state)));
+    let first_ray = frame_offset * params.rays;
+    let state = pcg_hash(pixel.x ^ pcg_hash(pixel.y ^ pcg_hash(params.seed + 0x9e3779b9u + frame_offset * 0x85ebca6bu)));
+    // What the sampler carries from ray to ray, two words whatever the sampling (values live
+    // across the trace call cost the lanes the GPU keeps in flight: three more pairs of them
+    // made the atrium's frame 9% slower, PERF.md step 27): white noise its stream's state; R2
+    // the pixel's rotation (as bits); the net (sampling 2) its current ray's point where it
+    // goes a round at a time (ao_net_next_round), else the pixel's scramble.
+    var carried = vec2<u32>(state, 0u);
+    let net_by_rounds = params.sampling == 2u && ao_net_by_rounds(params.rays, lanes);
+    if params.sampling == 1u {
+        carried = bitcast<vec2<u32>>(pixel_random2(pixel, params.seed));
+    } else if params.sampling == 2u {
+        // The net's scramble from the same seeds: a new net every frame with `per_frame`.
+        let scramble = vec2<u32>(pcg_hash(state), pcg_hash(pcg_hash(state)));
+        carried = select(scramble, ao_net_bits(lane, params.rays, scramble), net_by_rounds);
     }
     // Each ray counts by how much of it gets through: 1 or 0, or the transmittance of the
     // BLEND surfaces it meets (common/ray_blend.wgsl).
     var open = 0.0;
     let rounds = (params.rays + lanes - 1u) / lanes;
-    // The net's points a round at a time (ao_net_next_round): the lane's part once, the
-    // round's part updated by the bits that change from one round to the next.
-    let net_by_rounds = params.sampling == 2u && ao_net_by_rounds(params.rays, lanes);
-    var net_lane = vec2<u32>(0u);
-    var net_round = vec2<u32>(0u);
-    var net_rounds_below = vec2<u32>(0u);
-    if net_by_rounds {
-        net_lane = ao_net_bits(lane, params.rays, net_scramble);
-        net_rounds_below = ao_net_low_cells(countTrailingZeros(lanes), params.rays);
-    }
     for (var round = 0u; round < rounds; round++) {
         let i = round * lanes + lane;
         var u: vec2<f32>;
         if params.sampling == 0u {
             // One stream per pixel, drawn in ray order by every lane: each ray keeps its
             // numbers (lane k takes the k-th of each `lanes` draws).
+            var stream = carried.x;
             for (var k = 0u; k < lanes; k++) {
-                let drawn = next_random2(&state);
+                let drawn = next_random2(&stream);
                 if k == lane {
                     u = drawn;
                 }
             }
+            carried.x = stream;
         } else if net_by_rounds {
             if round > 0u {
-                net_round = ao_net_next_round(net_round, round, lanes, params.rays, net_rounds_below);
+                carried = ao_net_next_round(carried, round, lanes, params.rays);
             }
-            u = ao_net_unit(net_lane ^ net_round);
+            u = ao_net_unit(carried);
         } else if params.sampling == 2u {
-            u = ao_net_point(i, params.rays, net_scramble);
+            u = ao_net_point(i, params.rays, carried);
         } else {
-            u = fract(r2_sample(i + frame_offset * params.rays) + rotation);
+            u = fract(r2_sample(i + first_ray) + bitcast<vec2<f32>>(carried));
         }
         if i < params.rays {
             open += trace_transmittance_within(Ray(origin, 0.0, cosine_hemisphere(n, u), range), start, TRACE_FLAGS_NONE);
@@ -142,9 +143,9 @@ fn ao_net_by_rounds(n: u32, lanes: u32) -> bool {
 // round at a time. From round r - 1 to r the cell's bits m..m + t flip (m = log2(lanes), t
 // the trailing zeros of r), whose points are those of the cells below 2^(m + t + 1) and below
 // 2^m XORed: ao_net_low_cells, a few operations in place of ao_net_bits' forty.
-fn ao_net_next_round(bits: vec2<u32>, round: u32, lanes: u32, n: u32, rounds_below: vec2<u32>) -> vec2<u32> {
-    let top = countTrailingZeros(lanes) + countTrailingZeros(round) + 1u;
-    return bits ^ ao_net_low_cells(top, n) ^ rounds_below;
+fn ao_net_next_round(bits: vec2<u32>, round: u32, lanes: u32, n: u32) -> vec2<u32> {
+    let m = countTrailingZeros(lanes);
+    return bits ^ ao_net_low_cells(m + countTrailingZeros(round) + 1u, n) ^ ao_net_low_cells(m, n);
 }
 
 // The unscrambled net point of cell 2^c - 1 (the XOR of the points of cells 1, 2, 4, ...,
