@@ -31,10 +31,19 @@
 //! primitives, most nodes of a tree, skip the bins and evaluate every object split (primitives
 //! sorted by centroid on each axis). When all centroids coincide, and for every node at depth
 //! `MEDIAN_FALLBACK_DEPTH` (24) or deeper, the node is split at the object median of its
-//! longest centroid axis instead. That bounds the depth by `24 + ceil(log2(n / 4))`: 46 for
-//! 2^24 primitives, 54 for 2^32, so a traversal stack of [`MAX_TREE_DEPTH`] (64) entries always
-//! suffices, and one of 48 up to 2^26 primitives. (SAH trees of real scenes are far shallower:
-//! the 262k triangles of the atrium in one BLAS are 24 deep.)
+//! longest centroid axis instead. That bounds the split tree's depth by
+//! `24 + ceil(log2(n / 4))`: 46 for 2^24 primitives, 54 for 2^32, so a traversal stack of
+//! [`MAX_TREE_DEPTH`] (64) entries always suffices. (SAH trees of real scenes are far
+//! shallower: the 262k triangles of the atrium in one BLAS are 24 deep.)
+//!
+//! # Reinsertion
+//!
+//! A binned-SAH tree is then optimised by [`BuildConfig::reinsertion_passes`] (2) passes of
+//! [`crate::accel::reinsert`]: subtrees move to where they lower the SAH cost (the atrium's by
+//! 5%). Leaves keep their primitives and the node count stays; the layout is the one above.
+//! Moves can deepen the tree (the atrium's to 28 levels), but none that would reach
+//! [`MAX_TREE_DEPTH`] is made, so the 64-entry stack still suffices (a 48-entry one no longer
+//! does for every input).
 //!
 //! Subtrees with at least [`BuildConfig::parallel_threshold`] primitives are built with
 //! `rayon::join` and concatenated; smaller ones are built sequentially into one array. Nodes of
@@ -48,6 +57,7 @@
 //! "Builds"): all 262k instanced triangles of the atrium baked into one BLAS in 68–76 ms
 //! (median of 9, after a first build).
 
+use crate::accel::reinsert::{self, Bounds, TreeNode};
 use crate::scene::{Mesh, Scene};
 use glam::{DAffine3, DMat3, DVec3, Mat4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
@@ -71,6 +81,8 @@ pub(crate) const SMALL_NODE_BINS: usize = 16;
 pub(crate) const FINE_BINNING_PRIMS: usize = 1024;
 /// Nodes at this depth or deeper are split at the object median instead of by SAH.
 pub(crate) const MEDIAN_FALLBACK_DEPTH: usize = 24;
+/// Default [`BuildConfig::reinsertion_passes`].
+pub(crate) const REINSERTION_PASSES: usize = 2;
 /// Upper bound on the depth (root = 0) of any tree this builder makes; a nearer-first
 /// traversal pushes at most one node per level, so a stack of this many entries suffices.
 pub const MAX_TREE_DEPTH: usize = 64;
@@ -190,11 +202,21 @@ pub struct BuildConfig {
     pub max_leaf_size: usize,
     /// Subtrees with at least this many primitives are built in parallel.
     pub parallel_threshold: usize,
+    /// Most passes of the insertion-based optimisation after a binned-SAH build
+    /// ([`crate::accel::reinsert`]); 0 keeps the tree as split. The median split is never
+    /// optimised (it is the naive baseline).
+    pub reinsertion_passes: usize,
 }
 
 impl Default for BuildConfig {
     fn default() -> Self {
-        Self { method: SplitMethod::BinnedSah, bins: DEFAULT_BINS, max_leaf_size: MAX_LEAF_SIZE, parallel_threshold: 4096 }
+        Self {
+            method: SplitMethod::BinnedSah,
+            bins: DEFAULT_BINS,
+            max_leaf_size: MAX_LEAF_SIZE,
+            parallel_threshold: 4096,
+            reinsertion_passes: REINSERTION_PASSES,
+        }
     }
 }
 
@@ -247,10 +269,49 @@ impl Bvh {
             bins: cfg.bins.clamp(2, MAX_BINS),
             max_leaf_size: cfg.max_leaf_size.clamp(1, MAX_LEAF_LIMIT),
             parallel_threshold: cfg.parallel_threshold.max(2),
+            reinsertion_passes: cfg.reinsertion_passes,
         };
         let (bounds, centroids) = union_bounds_par(&work, &cfg);
         let nodes = build_subtree(&mut work, 0, 0, &cfg, bounds, centroids).into_nodes();
-        Bvh { nodes, prim_order: work.iter().map(Work::id).collect() }
+        let built = Bvh { nodes, prim_order: work.iter().map(Work::id).collect() };
+        match cfg.method {
+            SplitMethod::BinnedSah => built.reinserted(cfg.reinsertion_passes),
+            SplitMethod::Median => built,
+        }
+    }
+
+    /// The tree after at most `passes` passes of [`crate::accel::reinsert`], leaves and their
+    /// primitives moved along; as it is if that is not cheaper or reaches [`MAX_TREE_DEPTH`].
+    fn reinserted(self, passes: usize) -> Bvh {
+        let input: Vec<TreeNode> = self
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| TreeNode {
+                bounds: Bounds { min: n.bounds.min, max: n.bounds.max },
+                first_child: (!n.is_leaf()).then_some(n.left_or_first),
+                source: i as u32,
+            })
+            .collect();
+        let Some(order) = reinsert::optimize(&input, passes, MAX_TREE_DEPTH) else { return self };
+        let mut prim_order = Vec::with_capacity(self.prim_order.len());
+        let mut node_of = |t: &TreeNode| match t.first_child {
+            Some(first) => BvhNode { bounds: Aabb::new(t.bounds.min, t.bounds.max), left_or_first: first, count: 0 },
+            None => {
+                let leaf = self.nodes[t.source as usize];
+                let first = leaf.left_or_first as usize;
+                let at = prim_order.len() as u32;
+                prim_order.extend_from_slice(&self.prim_order[first..first + leaf.count as usize]);
+                BvhNode { left_or_first: at, ..leaf }
+            }
+        };
+        let nodes = order.iter().map(&mut node_of).collect();
+        let optimized = Bvh { nodes, prim_order };
+        if optimized.depth() < MAX_TREE_DEPTH && optimized.sah_cost() <= self.sah_cost() {
+            optimized
+        } else {
+            self
+        }
     }
 
     /// Whether the tree has no nodes (no usable primitives).

@@ -38,6 +38,7 @@ pub mod radix_sort;
 pub mod reference;
 pub mod reference_render;
 pub mod refit;
+pub(crate) mod reinsert;
 // Vulkan through wgpu-hal; on the web a stand-in whose constructors fail.
 #[cfg_attr(target_arch = "wasm32", path = "rt_pipeline/unavailable.rs")]
 pub mod rt_pipeline;
