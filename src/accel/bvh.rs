@@ -1146,7 +1146,10 @@ impl Tlas {
         let prims: Vec<BuildPrim> =
             instance_bounds.iter().enumerate().filter(|(_, b)| !b.is_empty() && b.is_finite()).map(|(i, b)| BuildPrim::new(*b, i as u32)).collect();
         let dropped = (instance_bounds.len() - prims.len()) as u32;
-        Tlas { bvh: Bvh::build(&prims, cfg), instance_bounds: instance_bounds.to_vec(), dropped_instances: dropped }
+        // No reinsertion: a TLAS is rebuilt whenever instances move, on the frame's wall time,
+        // where the optimisation's 3-4x the build would count; the BLASes it points to have it.
+        let cfg = BuildConfig { reinsertion_passes: 0, ..cfg.clone() };
+        Tlas { bvh: Bvh::build(&prims, &cfg), instance_bounds: instance_bounds.to_vec(), dropped_instances: dropped }
     }
 
     /// Refits to new instance boxes (same instances, moved). Fails if the set of usable
