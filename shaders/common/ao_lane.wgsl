@@ -96,9 +96,9 @@ fn ao_even_bits(v: u32) -> u32 {
 // the pixel's `scramble`: every cell of a 2^a x 2^b grid (a = ceil(k/2), b = floor(k/2)) holds one
 // point, and each point is uniform over the square. Ray i takes the point in cell i in Morton
 // order, so that round j of every lane of every pixel of a subgroup samples one small square and
-// their rays point about the same way (PERF.md step 26: the atrium's frame 21% faster than the
-// same rays in index order; frames a few percent covered slower than with R2, which stays the
-// default). For n not a power of two, point i of the scrambled Hammersley set
+// their rays point about the same way (PERF.md steps 26-27: the atrium's frame 21% faster than
+// the same rays in index order; the layers' default). For n not a power of two, point i of the
+// scrambled Hammersley set
 // of n (x reversed bits, y stratified), in index order. src/accel/reference_render.rs mirrors it.
 fn ao_net_point(i: u32, n: u32, scramble: vec2<u32>) -> vec2<f32> {
     if n <= 1u {

@@ -72,7 +72,7 @@ impl ErrorConfig {
 pub struct ErrorRow {
     /// The back-end.
     pub backend: Backend,
-    /// The sampling scheme: `white` or `r2` (the `sampling` parameter of `layers/rt_ao.ron`).
+    /// The sampling scheme: `white`, `r2` or `net` (the `sampling` parameter of `layers/rt_ao.ron`).
     pub sampling: &'static str,
     /// AO rays per pixel.
     pub rays: i64,
