@@ -64,9 +64,18 @@ impl WarmUp {
     }
 
     /// Renders untimed frames of `exec` with `camera` until [`Self::settled`]; returns how many.
+    /// With a pump, one frame is rendered before it: an executor's first frame builds what it
+    /// needs on the CPU (the BVH: about 2 s for 1.93M triangles on the GPU machine), an idle
+    /// gap that undid the pump's clocks (PERF.md step 28).
     #[cfg(not(target_arch = "wasm32"))]
     pub fn run(&self, gpu: &Gpu, exec: &mut Executor, scene: &Scene, camera: &Camera) -> Result<u32, RuntimeError> {
-        self.until_settled(gpu, || exec.render(gpu, camera, scene).map(|frame| gpu_ms(&frame)))
+        let first = if self.pump_seconds > 0.0 {
+            exec.render(gpu, camera, scene)?;
+            1
+        } else {
+            0
+        };
+        Ok(first + self.until_settled(gpu, || exec.render(gpu, camera, scene).map(|frame| gpu_ms(&frame)))?)
     }
 
     /// Runs untimed repetitions of any measured work on `gpu` (`measure` returns its
