@@ -17,12 +17,13 @@
 //! and a round of rays lasts as long as its longest ray. [`subgroup_share_ao`] and
 //! [`subgroup_share_primary`] model that on the same CPU counts: lanes laid out as the passes
 //! lay them out (a subgroup of 32), each lane's rays in rounds, the share of a subgroup's
-//! traversal steps (interior nodes and leaves visited) that do work.
+//! traversal steps (interior nodes and leaves visited) that do work; the AO rays there take
+//! the directions the shader takes (the AO layers' default sampling, the net).
 
 use crate::accel::bvh::{Blas, BuildConfig};
 use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceStart, TraversalCounts};
 use crate::accel::layout::{merge, merge_instances, GpuAccel};
-use crate::accel::reference_render::r2_sample;
+use crate::accel::reference_render::{ao_numbers, cosine_hemisphere, r2_sample, AoSettings};
 use crate::scene::{Camera, Scene};
 use glam::Vec3;
 use std::fmt::Write;
@@ -167,14 +168,17 @@ fn steps(c: &TraversalCounts) -> u64 {
 
 /// [`round_share`] of the scene workload's AO rays (its bulk): subgroups of 4x2 pixels of
 /// AO_LANES lanes each, as `rt/ao.wgsl` lays its 8x8 workgroups over `partial` (twice the frame
-/// in each axis), `ao_rays` a pixel in rounds of one ray a lane, each lane's rays started where
-/// `scene_workload` starts them; `blocks` x `blocks` subgroups over the frame.
-pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32) -> f64 {
+/// in each axis), `ao_rays` a pixel in rounds of one ray a lane (lane k rays k, k + AO_LANES,
+/// ...), each lane's rays started where `scene_workload` starts them; `blocks` x `blocks`
+/// subgroups over the frame. The directions are the shader's for `sampling` (the AO layers'
+/// parameter: 2, the net, is their default), through the f32 mirror
+/// [`crate::accel::reference_render::ao_numbers`], seed 0 as in `graph/bench_rays.ron`.
+pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32, sampling: u32) -> f64 {
     let accel = merged_layout(scene);
     let tracer = CpuTraverser::new(&accel);
     let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
-    let mut rng = crate::util::SplitMix64(1);
     let range = 0.05 * 0.5 * scene.bounds().diagonal();
+    let settings = AoSettings { rays: ao_rays, range, sampling, seed: 0 };
     let (mut useful, mut issued) = (0u64, 0u64);
     for (x0, y0) in subgroup_corners(blocks, (4, 2)) {
         let mut lanes = Vec::with_capacity(SUBGROUP_LANES);
@@ -188,11 +192,13 @@ pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32) -> f64 {
             // The pixel's lanes share its origin and their start (each finds the same one).
             let (origin, n) = ao_origin(scene, &r, &hit);
             let start = if start_below_root { tracer.start_within(origin, range, &mut TraversalCounts::default()) } else { TraceStart::Root };
-            for _ in 0..AO_LANES {
-                let lane = (0..ao_rays.div_ceil(AO_LANES))
-                    .map(|_| {
+            let numbers = ao_numbers((x0 + k % 4, y0 + k / 4), &settings);
+            for lane in 0..AO_LANES {
+                let rays = (0..ao_rays.div_ceil(AO_LANES)).map(|round| (round * AO_LANES + lane) as usize).filter(|&i| i < numbers.len());
+                let lane = rays
+                    .map(|i| {
                         let mut c = TraversalCounts::default();
-                        tracer.any_within(&Ray::with_interval(origin, cosine_direction(n, &mut rng), 0.0, range), &start, &mut c);
+                        tracer.any_within(&Ray::with_interval(origin, cosine_hemisphere(n, numbers[i]), 0.0, range), &start, &mut c);
                         steps(&c)
                     })
                     .collect();

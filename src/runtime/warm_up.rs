@@ -65,7 +65,7 @@ impl WarmUp {
 
     /// Renders untimed frames of `exec` with `camera` until [`Self::settled`]; returns how many.
     /// With a pump, one frame is rendered before it: an executor's first frame builds what it
-    /// needs on the CPU (the BVH: about 2 s for 1.93M triangles on the GPU machine), an idle
+    /// needs on the CPU (the BVH: 1.9 s for 1.93M triangles on a 2-core machine), an idle
     /// gap that undid the pump's clocks (PERF.md step 28).
     #[cfg(not(target_arch = "wasm32"))]
     pub fn run(&self, gpu: &Gpu, exec: &mut Executor, scene: &Scene, camera: &Camera) -> Result<u32, RuntimeError> {

@@ -35,7 +35,8 @@ pub(crate) fn run(args: RooflineArgs) -> Result<()> {
     for name in scenes {
         let (s, _) = scene::open(name, &no_textures)?;
         let mut row = roofline::scene_workload(&s, stride, ao_rays, bandwidth);
-        row.subgroup_share = Some(roofline::subgroup_share_ao(&s, blocks, ao_rays));
+        // The AO layers' default sampling, the net (index 2).
+        row.subgroup_share = Some(roofline::subgroup_share_ao(&s, blocks, ao_rays, 2));
         rows.push(row);
     }
     let (atrium, _) = scene::open(if args.quick { "organic" } else { "atrium" }, &no_textures)?;
