@@ -464,7 +464,7 @@ pub fn definitions(cfg: &RaysConfig) -> String {
     let substituted: Vec<String> = cfg.layers.iter().map(|(layer, variant)| format!("`{layer}` compiled from `layers/{variant}.ron`")).collect();
     let substituted = if substituted.is_empty() { String::new() } else { format!(" Scene workload layers: {}.", substituted.join(", ")) };
     let text = format!(
-        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss (outside): rays from above the scene's box pointing away from it; Miss (inside): from the scene's `miss_inside` camera preset, rays that cross the scene and hit nothing; Stress: the scene's `stress` camera preset, or its camera narrowed until it shows no sky; all three (`graph/bench_primary.ron`) with {} jittered primary rays per pixel, on the last scene listed. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled. On a hardware GPU each row is measured on executors built one after the other until two agree within 3% (at most four), and reports the faster of the two (GPU ms per executor: every one in order).",
+        "Scene workload (`graph/bench_rays.ron`): per pixel 1 primary ray, and where it hits 1 shadow ray and {} AO rays of length {} x the scene's bounding radius. Miss (outside): rays from above the scene's box pointing away from it; Miss (inside): from the scene's `miss_inside` camera preset, rays that cross the scene and hit nothing; Stress: the scene's `stress` camera preset, or its camera narrowed until it shows no sky; all three (`graph/bench_primary.ron`) with {} jittered primary rays per pixel, on the last scene listed. FPS = 1000 / GPU ms (the sum of the passes' timestamps); wall ms = the frame's wall-clock time (recording, submission, the wait); RFPS = the Rasterization graph's 1000 / GPU ms on the scene's view. Timed frames follow a warm-up that lasts until the frame time has settled. On a hardware GPU each row is measured on executors built one after the other until two agree within 3% (at most four), and reports the faster of the two, or the median of the four when no two agree (GPU ms per executor: every one in order, marked where none agree).",
         cfg.ao_rays, cfg.ao_length, cfg.primary_rays
     );
     text + &substituted
@@ -506,6 +506,15 @@ fn executors(r: &RaysRow, sep: &str) -> String {
     r.executors_ms.iter().map(|ms| format!("{ms:.3}")).collect::<Vec<_>>().join(sep)
 }
 
+/// The markdown's executor cell: every executor's GPU ms, and where several were measured and
+/// no two agreed, a note that the row is their median, not a confirmed figure.
+fn executors_cell(r: &RaysRow) -> String {
+    let repeats = super::repeat::Repeats::GPU;
+    let unconfirmed = r.executors_ms.len() > 1 && !repeats.agreed(&r.executors_ms);
+    let note = if unconfirmed { format!(" (none within {:.0}%: the median)", repeats.tolerance * 100.0) } else { String::new() };
+    executors(r, ", ") + &note
+}
+
 /// A row's rays per pixel by trace pass, `pass=value` joined by `sep`.
 fn by_pass(r: &RaysRow, sep: &str) -> String {
     r.rays_by_pass.iter().map(|(pass, v)| format!("{pass}={v:.2}")).collect::<Vec<_>>().join(sep)
@@ -541,7 +550,7 @@ pub fn markdown(info: &RunInfo, cfg: &RaysConfig, rows: &[RaysRow]) -> String {
             r.scene,
             r.camera,
             by_pass(r, ", "),
-            executors(r, ", ")
+            executors_cell(r)
         );
     }
     s

@@ -60,6 +60,13 @@ impl Repeats {
         None
     }
 
+    /// Whether some two of `ms` agree within the tolerance (a row chosen by the median when
+    /// none do is told apart in the tables: `bench rays` marks it).
+    pub fn agreed(&self, ms: &[f64]) -> bool {
+        let agree = |a: f64, b: f64| (a - b).abs() <= self.tolerance * a.min(b);
+        (0..ms.len()).any(|i| (i + 1..ms.len()).any(|j| agree(ms[i], ms[j])))
+    }
+
     /// Runs `measure` (one executor's measurement and its GPU ms) until [`Self::chosen`] picks
     /// one; returns it and every executor's GPU ms in order.
     pub fn run<T, E>(&self, mut measure: impl FnMut() -> Result<(T, f64), E>) -> Result<(T, Vec<f64>), E> {
@@ -114,6 +121,16 @@ mod tests {
         let p = Repeats::GPU;
         assert_eq!(p.chosen(&[1.0, 2.0, 4.0]), None);
         assert_eq!(p.chosen(&[1.0, 2.0, 4.0, 8.0]), Some(2), "the upper median of four: 4.0");
+    }
+
+    #[test]
+    fn agreed_tells_a_median_row_from_a_confirmed_one() {
+        let p = Repeats::GPU;
+        // helmet_5x5x5 at 2% on the H200, 2026-12-01 07:10 UTC: four executors, none within 3%.
+        assert!(!p.agreed(&[6.720, 9.277, 10.318, 2.282]));
+        assert!(p.agreed(&[2.283, 2.282]));
+        assert!(p.agreed(&[5.876, 1.922, 1.923]));
+        assert!(!p.agreed(&[5.0]), "one executor confirms nothing");
     }
 
     #[test]
