@@ -98,8 +98,8 @@ fn ao_even_bits(v: u32) -> u32 {
 // order, so that round j of every lane of every pixel of a subgroup samples one small square and
 // their rays point about the same way (PERF.md steps 26-27: the atrium's frame 21% faster than
 // the same rays in index order; the layers' default). For n not a power of two, point i of the
-// scrambled Hammersley set
-// of n (x reversed bits, y stratified), in index order. src/accel/reference_render.rs mirrors it.
+// scrambled Hammersley set of n (x reversed bits, y stratified), in index order.
+// src/accel/reference_render.rs mirrors it.
 fn ao_net_point(i: u32, n: u32, scramble: vec2<u32>) -> vec2<f32> {
     if n <= 1u {
         return ao_net_unit(scramble);

@@ -144,10 +144,6 @@ impl PartialOrd for Candidate {
     }
 }
 
-fn area(b: &Bounds) -> f64 {
-    b.area()
-}
-
 impl LinkedTree {
     fn new(nodes: &[TreeNode], depth_limit: usize) -> Self {
         let mut tree = LinkedTree {
@@ -195,7 +191,7 @@ impl LinkedTree {
 
     /// Sum of the interior nodes' areas: the part of the SAH cost that moves change.
     fn cost(&self) -> f64 {
-        (0..self.bounds.len() as u32).filter(|&n| !self.is_leaf(n)).map(|n| area(&self.bounds[n as usize])).sum()
+        (0..self.bounds.len() as u32).filter(|&n| !self.is_leaf(n)).map(|n| self.bounds[n as usize].area()).sum()
     }
 
     /// One pass: a proposal per node from the frozen tree, then the moves that still gain.
@@ -212,7 +208,7 @@ impl LinkedTree {
     fn removal(&self, node: u32) -> Removal {
         let parent = self.parent[node as usize];
         let sibling = self.sibling(node);
-        let mut saving = area(&self.bounds[parent as usize]);
+        let mut saving = self.bounds[parent as usize].area();
         let mut shrunk = Vec::new();
         let (mut below, mut below_box) = (parent, self.bounds[sibling as usize]);
         let mut above = self.parent[parent as usize];
@@ -224,7 +220,7 @@ impl LinkedTree {
             if new_box == old_box {
                 break;
             }
-            saving += area(&old_box) - area(&new_box);
+            saving += old_box.area() - new_box.area();
             shrunk.push((above, new_box));
             (below, below_box, above) = (above, new_box, self.parent[above as usize]);
         }
@@ -246,7 +242,7 @@ impl LinkedTree {
         let removal = self.removal(node);
         let node_box = self.bounds[node as usize];
         let mut search = Search::new(node_box);
-        let mut saving = area(&self.bounds[removal.parent as usize]);
+        let mut saving = self.bounds[removal.parent as usize].area();
         self.search_subtree(&mut search, removal.sibling, saving, true);
         let (mut below, mut above) = (removal.parent, self.parent[removal.parent as usize]);
         let mut level = 0;
@@ -255,9 +251,9 @@ impl LinkedTree {
             let off_path = if a == below { b } else { a };
             self.search_subtree(&mut search, off_path, saving, false);
             if let Some((_, new_box)) = removal.shrunk.get(level) {
-                saving += area(&self.bounds[above as usize]) - area(new_box);
+                saving += self.bounds[above as usize].area() - new_box.area();
             }
-            search.offer(above, saving - area(&self.bounds[above as usize]));
+            search.offer(above, saving - self.bounds[above as usize].area());
             (below, above, level) = (above, self.parent[above as usize], level + 1);
         }
         (search.best_target != NONE).then_some(Proposal { node, target: search.best_target, gain: search.best_gain })
@@ -275,11 +271,11 @@ impl LinkedTree {
             }
             search.expansions_left -= 1;
             let x_box = self.bounds[c.node as usize];
-            let merged = area(&x_box.union(&search.node_box));
+            let merged = x_box.union(&search.node_box).area();
             if !(skip_top && c.node == top) {
                 search.offer(c.node, saving - (c.induced + merged));
             }
-            let induced = c.induced + merged - area(&x_box);
+            let induced = c.induced + merged - x_box.area();
             if !self.is_leaf(c.node) && saving - (induced + search.node_area) > search.best_gain {
                 for child in self.children[c.node as usize] {
                     search.queue.push(Candidate { induced, node: child });
@@ -302,7 +298,7 @@ struct Search {
 
 impl Search {
     fn new(node_box: Bounds) -> Self {
-        let node_area = area(&node_box);
+        let node_area = node_box.area();
         Search { node_box, node_area, best_gain: min_gain(node_area), best_target: NONE, expansions_left: SEARCH_LIMIT, queue: BinaryHeap::new() }
     }
 
@@ -336,7 +332,7 @@ impl LinkedTree {
         // Both `node` and `target` move one level below `target`'s place.
         let deepest = depth + 1 + self.height[node as usize].max(self.height[target as usize]) as usize;
         let fits = deepest < self.depth_limit;
-        if gain <= min_gain(area(&self.bounds[node as usize])) || !fits {
+        if gain <= min_gain(self.bounds[node as usize].area()) || !fits {
             return 0.0;
         }
         self.detach(node);
@@ -359,7 +355,7 @@ impl LinkedTree {
     /// and the depth `target` has then.
     fn insertion_after(&self, removal: &Removal, target: u32) -> (f64, usize) {
         let node_box = self.bounds[removal.node as usize];
-        let mut cost = area(&self.box_after(removal, target).union(&node_box));
+        let mut cost = self.box_after(removal, target).union(&node_box).area();
         let mut depth = 0;
         let mut above = self.parent[target as usize];
         while above != NONE {
@@ -368,7 +364,7 @@ impl LinkedTree {
                 continue;
             }
             let b = self.box_after(removal, above);
-            cost += area(&b.union(&node_box)) - area(&b);
+            cost += b.union(&node_box).area() - b.area();
             depth += 1;
             above = self.parent[above as usize];
         }

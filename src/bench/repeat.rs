@@ -39,7 +39,7 @@ impl Repeats {
     /// another executor is needed: the faster of the closest pair that agrees; with no pair
     /// agreeing after [`Self::max_executors`], the median (the upper one of an even count).
     pub fn chosen(&self, ms: &[f64]) -> Option<usize> {
-        let agree = |a: f64, b: f64| (a - b).abs() <= self.tolerance * a.min(b);
+        let agree = |a, b| self.agree(a, b);
         let mut best: Option<(f64, usize)> = None;
         for i in 0..ms.len() {
             for j in i + 1..ms.len() {
@@ -63,8 +63,12 @@ impl Repeats {
     /// Whether some two of `ms` agree within the tolerance (a row chosen by the median when
     /// none do is told apart in the tables: `bench rays` marks it).
     pub fn agreed(&self, ms: &[f64]) -> bool {
-        let agree = |a: f64, b: f64| (a - b).abs() <= self.tolerance * a.min(b);
-        (0..ms.len()).any(|i| (i + 1..ms.len()).any(|j| agree(ms[i], ms[j])))
+        (0..ms.len()).any(|i| (i + 1..ms.len()).any(|j| self.agree(ms[i], ms[j])))
+    }
+
+    /// Two measurements agree: they differ by at most the tolerance of the faster.
+    fn agree(&self, a: f64, b: f64) -> bool {
+        (a - b).abs() <= self.tolerance * a.min(b)
     }
 
     /// Runs `measure` (one executor's measurement and its GPU ms) until [`Self::chosen`] picks
