@@ -255,194 +255,46 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
     return vec3<f32>(dot(m0, h), dot(m1, h), dot(m2, h));
 }
 
-// A BLAS's grid in blas_quant (src/accel/quantised.rs): a 16-bit value q of a child pair's box
-// stands for the plane base + scale * (1 + q / 65536), exactly; `valid` false where the BLAS
-// is traversed through its exact nodes only.
-struct QuantGrid {
-    base: vec3<f32>,
-    scale: vec3<f32>,
-    valid: bool,
-}
-
-const QUANT_GRID_VALID: u32 = 1u;
-
-// Two children with 16-bit boxes: a.xyz the first's words (min | max << 16, one per axis),
-// (a.w, b.x, b.y) the second's, b.z and b.w their descriptors.
-struct QuantPair {
-    a: vec4<u32>,
-    b: vec4<u32>,
-}
-
-// The slab test's constants on a grid. With f = 1 + q / 65536 the plane is base + scale * f,
-// so t = (base + scale * f - origin) * inv_dir = fma(f, scale * inv_dir, c) with
-// c = (base - origin) * inv_dir: scale is a power of two, so scale * inv_dir is exact, and c
-// is moved outward by 2^-21 |c| (more than the two roundings of base - origin and the
-// product, 2^-23 |c|), as TraceRay's c_min and c_max are.
-struct GridRay {
-    inv: vec3<f32>,
-    c_min: vec3<f32>,
-    c_max: vec3<f32>,
-}
-
-fn trace_grid_ray(r: TraceRay, g: QuantGrid) -> GridRay {
-    let c = (g.base - r.origin) * r.inv_dir;
-    let slack = abs(c) * 4.7683716e-7;
-    let pos = r.inv_dir >= vec3<f32>(0.0);
-    return GridRay(g.scale * r.inv_dir, select(c + slack, c - slack, pos), select(c - slack, c + slack, pos));
-}
-
-// Whether the grid's constants are normal and finite, so that the products above are exact
-// and nothing overflows (rays with extreme directions take the exact nodes).
-fn trace_grid_usable(q: GridRay) -> bool {
-    let a = abs(q.inv);
-    let c = max(abs(q.c_min), abs(q.c_max));
-    return all(a >= vec3<f32>(1e-30)) && all(a <= vec3<f32>(1e30)) && all(c <= vec3<f32>(1e30));
-}
-
-// Entry and exit distances of the ray through the grid box of the three words `w`: f of the
-// low and high halves formed by placing q in an f32's mantissa (bits 7-22 of 1.0).
-fn trace_grid_slab(q: GridRay, w: vec3<u32>, t_min: f32, t_max: f32) -> vec2<f32> {
-    let mantissa = vec3<u32>(0x7fff80u);
-    let one = vec3<u32>(0x3f800000u);
-    let lo = bitcast<vec3<f32>>(((w << vec3<u32>(7u)) & mantissa) | one);
-    let hi = bitcast<vec3<f32>>(((w >> vec3<u32>(9u)) & mantissa) | one);
-    let t1 = fma(lo, q.inv, q.c_min);
-    let t2 = fma(hi, q.inv, q.c_max);
-    let near = min(t1, t2);
-    let far = max(t1, t2);
-    let enter = max(max(near.x, near.y), max(near.z, t_min));
-    let exit = min(min(far.x, far.y), min(far.z, t_max)) * TRACE_WIDEN;
-    return vec2<f32>(enter, exit);
-}
-
-// What a BLAS traversal passes to its leaves: the ray and how hits are taken (trace_blas).
-struct LeafRule {
-    t_min: f32,
-    any_hit: bool,
-    through_blend: bool,
-    cull: bool,
-    alpha_instance: u32,
-}
-
-// Tests the `count` triangles from `first`: the index of the closest one accepted (for any-hit
-// the first), NO_HIT if none; `best` carries t and barycentrics in and out.
-fn trace_leaf(first: u32, count: u32, r: TraceRay, rule: LeafRule, best: ptr<function, TriHit>) -> u32 {
-    var found = NO_HIT;
-    for (var i = first; i < first + count; i++) {
-        let tri = trace_tri(i);
-        let h = trace_triangle(r, tri, rule.t_min, (*best).t);
-        if h.t >= 0.0 && !(rule.cull && trace_back_facing(r, tri)) {
-            let tri_alpha = (tri.flags & TRI_ALPHA) != 0u;
-            if TRACE_ALPHA_TEST && (rule.alpha_instance != NO_HIT || tri_alpha) {
-                let owner = select(rule.alpha_instance, tri.instance, tri_alpha);
-                let bary = vec2<f32>(h.u, h.v);
-                var passed: bool;
-                if rule.through_blend {
-                    passed = trace_transmittance_passes(owner, tri.prim, bary);
-                } else {
-                    passed = !trace_alpha_visible(owner, tri.prim, bary);
-                }
-                if passed {
-                    continue;
-                }
-            }
-            *best = h;
-            found = i;
-            if rule.any_hit {
-                return found;
-            }
-        }
-    }
-    return found;
-}
-
-// Traverses one BLAS from node `start` (its root, or a node below it) on top of the TLAS
-// entries already on `trace_stack`. Returns the index of the closest (or, for any-hit, the
-// first) triangle hit, NO_HIT if none; `best` carries t and barycentrics in and out; `sp` is
-// back where it was on return. The child pairs with 16-bit boxes where the BLAS (root `root`)
-// has a valid grid and the ray's constants on it are usable, else the exact nodes.
-// `rule.cull`: back faces are passed through (TRACE_CULL_BACK_FACES). `rule.alpha_instance`:
-// the scene instance if the whole instance is alpha-tested, else NO_HIT (merged triangles
-// carry TRI_ALPHA and their instance themselves); hits the alpha test rejects are passed
-// through. `rule.through_blend` (with `any_hit`): a BLEND surface the alpha test keeps is
-// passed through, its coverage taken out of trace_transmitted, unless what is left falls
-// below TRACE_TRANSMITTANCE_MIN (then it stops the ray as an opaque one does).
-fn trace_blas(root: u32, start: u32, r: TraceRay, rule: LeafRule, best: ptr<function, TriHit>, sp: ptr<function, u32>) -> u32 {
-    let grid = trace_blas_grid(root);
-    if grid.valid {
-        let q = trace_grid_ray(r, grid);
-        if trace_grid_usable(q) {
-            return trace_blas_quantised(start, r, q, rule, best, sp);
-        }
-    }
-    return trace_blas_exact(start, r, rule, best, sp);
-}
-
-// trace_blas through the child pairs with 16-bit boxes.
-fn trace_blas_quantised(start: u32, r: TraceRay, q: GridRay, rule: LeafRule, best: ptr<function, TriHit>, sp: ptr<function, u32>) -> u32 {
+// Traverses one BLAS on top of the TLAS entries already on `trace_stack`. Returns the index of the closest (or, for any-hit, the first) triangle hit, NO_HIT if none;
+// `best` carries t and barycentrics in and out; `sp` is back where it was on return.
+// `cull`: back faces are passed through (TRACE_CULL_BACK_FACES). `alpha_instance`: the scene
+// instance if the whole instance is alpha-tested, else NO_HIT (merged triangles carry TRI_ALPHA
+// and their instance themselves); hits the alpha test rejects are passed through.
+// `through_blend` (with `any_hit`): a BLEND surface the alpha test keeps is passed through,
+// its coverage taken out of trace_transmitted, unless what is left falls below
+// TRACE_TRANSMITTANCE_MIN (then it stops the ray as an opaque one does).
+fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, through_blend: bool, cull: bool, alpha_instance: u32, sp: ptr<function, u32>) -> u32 {
     let base = *sp;
-    var desc = trace_descriptor(trace_blas_node(start));
+    var desc = trace_descriptor(trace_blas_node(root));
     var found = NO_HIT;
     loop {
         let count = desc & 7u;
         let first = desc >> 3u;
         if count > 0u {
-            let hit = trace_leaf(first, count, r, rule, best);
-            if hit != NO_HIT {
-                found = hit;
-                if rule.any_hit {
-                    *sp = base;
-                    return found;
-                }
-            }
-        } else {
-            let pair = trace_blas_pair(first);
-            let hl = trace_grid_slab(q, pair.a.xyz, rule.t_min, (*best).t);
-            let hr = trace_grid_slab(q, vec3<u32>(pair.a.w, pair.b.xy), rule.t_min, (*best).t);
-            let in_l = hl.x <= hl.y;
-            let in_r = hr.x <= hr.y;
-            if in_l && in_r {
-                let near_first = hl.x <= hr.x;
-                if *sp < TRACE_STACK {
-                    trace_stack[*sp] = select(pair.b.z, pair.b.w, near_first);
-                    *sp += 1u;
-                }
-                desc = select(pair.b.w, pair.b.z, near_first);
-                continue;
-            }
-            if in_l {
-                desc = pair.b.z;
-                continue;
-            }
-            if in_r {
-                desc = pair.b.w;
-                continue;
-            }
-        }
-        if *sp == base {
-            break;
-        }
-        *sp -= 1u;
-        desc = trace_stack[*sp];
-    }
-    return found;
-}
-
-// trace_blas through the exact nodes.
-fn trace_blas_exact(start: u32, r: TraceRay, rule: LeafRule, best: ptr<function, TriHit>, sp: ptr<function, u32>) -> u32 {
-    let base = *sp;
-    var desc = trace_descriptor(trace_blas_node(start));
-    var found = NO_HIT;
-    loop {
-        let count = desc & 7u;
-        let first = desc >> 3u;
-        if count > 0u {
-            let hit = trace_leaf(first, count, r, rule, best);
-            if hit != NO_HIT {
-                found = hit;
-                if rule.any_hit {
-                    *sp = base;
-                    return found;
+            for (var i = first; i < first + count; i++) {
+                let tri = trace_tri(i);
+                let h = trace_triangle(r, tri, t_min, (*best).t);
+                if h.t >= 0.0 && !(cull && trace_back_facing(r, tri)) {
+                    let tri_alpha = (tri.flags & TRI_ALPHA) != 0u;
+                    if TRACE_ALPHA_TEST && (alpha_instance != NO_HIT || tri_alpha) {
+                        let owner = select(alpha_instance, tri.instance, tri_alpha);
+                        let bary = vec2<f32>(h.u, h.v);
+                        var passed: bool;
+                        if through_blend {
+                            passed = trace_transmittance_passes(owner, tri.prim, bary);
+                        } else {
+                            passed = !trace_alpha_visible(owner, tri.prim, bary);
+                        }
+                        if passed {
+                            continue;
+                        }
+                    }
+                    *best = h;
+                    found = i;
+                    if any_hit {
+                        *sp = base;
+                        return found;
+                    }
                 }
             }
         } else {
@@ -450,8 +302,8 @@ fn trace_blas_exact(start: u32, r: TraceRay, rule: LeafRule, best: ptr<function,
             let rn = trace_blas_node(first + 1u);
             // trace_children, written out: continuing from each branch instead of returning a
             // descriptor to test measured 4% faster on the H100 (PERF.md).
-            let hl = trace_slab(r, l, rule.t_min, (*best).t);
-            let hr = trace_slab(r, rn, rule.t_min, (*best).t);
+            let hl = trace_slab(r, l, t_min, (*best).t);
+            let hr = trace_slab(r, rn, t_min, (*best).t);
             let in_l = hl.x <= hl.y;
             let in_r = hr.x <= hr.y;
             let dl = trace_descriptor(l);
@@ -483,77 +335,57 @@ fn trace_blas_exact(start: u32, r: TraceRay, rule: LeafRule, best: ptr<function,
     return found;
 }
 
-// What a traversal found: the closest hit's record and whether anything was hit.
 struct TraceResult {
     hit: Hit,
     any: bool,
 }
 
-// Enters instance `i` (its BLAS on top of the stack at `sp`) with the world ray `world`: its
-// hit, if closer, goes into `found`. Returns whether the traversal is done (an any-hit ray
-// that hit).
-fn trace_enter(i: u32, ray: Ray, world: TraceRay, rule: LeafRule, best: ptr<function, TriHit>, found: ptr<function, TraceResult>, sp: ptr<function, u32>) -> bool {
-    let inst = trace_instance(i);
-    if inst.mask == 0u {
-        return false; // padding instance of an empty scene
-    }
-    // The merged layout's one instance is the identity: the world ray is the object-space ray.
-    let merged = inst.instance_id == MERGED_INSTANCE;
-    var d = ray.dir;
-    var r = world;
-    if !merged {
-        d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
-        r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
-    }
-    var inst_rule = rule;
-    inst_rule.alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
-    let tri = trace_blas(inst.blas_root, inst.blas_root, r, inst_rule, best, sp);
-    if tri == NO_HIT {
-        return false;
-    }
-    (*found).any = true;
-    if rule.any_hit {
-        return true;
-    }
-    let t = trace_tri(tri);
-    let n = cross(t.v1 - t.v0, t.v2 - t.v0);
-    let id = select(inst.instance_id, t.instance, merged);
-    let front = (dot(n, d) < 0.0) != (merged && (t.flags & 1u) != 0u);
-    (*found).hit = Hit((*best).t, id, t.prim, vec2<f32>((*best).u, (*best).v), front);
-    return false;
-}
-
 fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> TraceResult {
     var best = TriHit(ray.t_max, 0.0, 0.0);
-    var found = TraceResult(trace_miss(), false);
-    let rule = LeafRule(ray.t_min, any_hit, through_blend, cull, NO_HIT);
-    var sp = 0u;
+    var result = trace_miss();
+    var hit_anything = false;
+    let world = trace_prepare(ray.origin, ray.dir);
+    // A root that is a leaf (one instance, as in the merged layout) is entered unconditionally
+    // by the loop below; its box is tested here first, so rays that miss the scene stop.
     let root = trace_tlas_node(0u);
     if root.count > 0u {
-        // A TLAS that is one leaf (the merged layout's one instance, a scene of few
-        // instances): its box first, so rays that miss the scene stop, then its instances in
-        // turn, each with the world ray made again, so that nothing of the world ray stays
-        // live through their BLASes (the pairs' constants take those registers).
-        let h = trace_slab(trace_prepare(ray.origin, ray.dir), root, ray.t_min, best.t);
+        let h = trace_slab(world, root, ray.t_min, best.t);
         if h.x > h.y {
-            return TraceResult(found.hit, false);
+            return TraceResult(result, false);
         }
-        for (var i = root.left_or_first; i < root.left_or_first + root.count; i++) {
-            if trace_enter(i, ray, trace_prepare(ray.origin, ray.dir), rule, &best, &found, &sp) {
-                break;
-            }
-        }
-        return found;
     }
-    let world = trace_prepare(ray.origin, ray.dir);
+    var sp = 0u;
     var desc = trace_descriptor(root);
     loop {
         let count = desc & 7u;
         let first = desc >> 3u;
         if count > 0u {
             for (var i = first; i < first + count; i++) {
-                if trace_enter(i, ray, world, rule, &best, &found, &sp) {
-                    return TraceResult(found.hit, true);
+                let inst = trace_instance(i);
+                if inst.mask == 0u {
+                    continue; // padding instance of an empty scene
+                }
+                // The merged layout's one instance is the identity: the world ray is the
+                // object-space ray.
+                let merged = inst.instance_id == MERGED_INSTANCE;
+                var d = ray.dir;
+                var r = world;
+                if !merged {
+                    d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
+                    r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
+                }
+                let alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+                let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, through_blend, cull, alpha_instance, &sp);
+                if tri != NO_HIT {
+                    hit_anything = true;
+                    if any_hit {
+                        return TraceResult(result, true);
+                    }
+                    let t = trace_tri(tri);
+                    let n = cross(t.v1 - t.v0, t.v2 - t.v0);
+                    let id = select(inst.instance_id, t.instance, merged);
+                    let front = (dot(n, d) < 0.0) != (merged && (t.flags & 1u) != 0u);
+                    result = Hit(best.t, id, t.prim, vec2<f32>(best.u, best.v), front);
                 }
             }
         } else {
@@ -571,7 +403,7 @@ fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> Trace
         sp--;
         desc = trace_stack[sp];
     }
-    return found;
+    return TraceResult(result, hit_anything);
 }
 
 fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
@@ -673,10 +505,6 @@ fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
     var sp = 0u;
     let r = trace_prepare(ray.origin, ray.dir);
     let h = trace_slab(r, trace_blas_node(start.node), ray.t_min, best.t);
-    // The merged BLAS's root (its grid) is the TLAS leaf's one instance's, as trace_start_within
-    // found.
-    let root = trace_instance(trace_tlas_node(0u).left_or_first).blas_root;
-    let rule = LeafRule(ray.t_min, true, true, cull, NO_HIT);
-    let stopped = h.x <= h.y && trace_blas(root, start.node, r, rule, &best, &sp) != NO_HIT;
+    let stopped = h.x <= h.y && trace_blas(start.node, r, ray.t_min, &best, true, true, cull, NO_HIT, &sp) != NO_HIT;
     return trace_transmittance_result(stopped);
 }

@@ -7,7 +7,6 @@
 @group(2) @binding(1) var<storage, read> accel_instances: array<vec4<f32>>;
 @group(2) @binding(2) var<storage, read> accel_blas_nodes: array<vec4<f32>>;
 @group(2) @binding(3) var<storage, read> accel_triangles: array<vec4<f32>>;
-@group(2) @binding(5) var<storage, read> accel_blas_quant: array<vec4<u32>>;
 
 fn trace_tlas_node(i: u32) -> AccelNode {
     let a = accel_tlas_nodes[2u * i];
@@ -31,16 +30,4 @@ fn trace_tri(i: u32) -> AccelTriangle {
     let b = accel_triangles[3u * i + 1u];
     let c = accel_triangles[3u * i + 2u];
     return AccelTriangle(a.xyz, bitcast<u32>(a.w), b.xyz, bitcast<u32>(b.w), c.xyz, bitcast<u32>(c.w));
-}
-
-// The grid entry at a BLAS's root in blas_quant (src/accel/quantised.rs).
-fn trace_blas_grid(root: u32) -> QuantGrid {
-    let a = accel_blas_quant[2u * root];
-    let b = accel_blas_quant[2u * root + 1u];
-    return QuantGrid(bitcast<vec3<f32>>(a.xyz), bitcast<vec3<f32>>(b.xyz), a.w == QUANT_GRID_VALID);
-}
-
-// The child pair whose first child is node `first`, with 16-bit boxes.
-fn trace_blas_pair(first: u32) -> QuantPair {
-    return QuantPair(accel_blas_quant[2u * first], accel_blas_quant[2u * first + 1u]);
 }

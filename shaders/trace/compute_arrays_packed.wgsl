@@ -39,12 +39,3 @@ fn trace_tri(i: u32) -> AccelTriangle {
     let c = accel_packed[base + 2u];
     return AccelTriangle(a.xyz, bitcast<u32>(a.w), b.xyz, bitcast<u32>(b.w), c.xyz, bitcast<u32>(c.w));
 }
-
-// The packed buffer holds no pairs with 16-bit boxes: every BLAS is traversed exactly.
-fn trace_blas_grid(root: u32) -> QuantGrid {
-    return QuantGrid(vec3<f32>(0.0), vec3<f32>(0.0), false);
-}
-
-fn trace_blas_pair(first: u32) -> QuantPair {
-    return QuantPair(vec4<u32>(0u), vec4<u32>(0u));
-}

@@ -24,7 +24,6 @@ use super::gpu_build::{GpuBlas, GpuBlasBuilder, GpuBuildError, MAX_GPU_BUILD_TRI
 use super::gpu_records::{GpuRecordMaker, GpuRecords};
 use super::layout::{flatten, merge, merge_instances, merged_accel, GpuAccel};
 use super::packed::PackedArrays;
-use super::quantised::QuantEntry;
 use super::refit::{MergedRefit, Refit, TreeRefit, TreeRefitPipelines};
 use crate::backend::Backend;
 use crate::error::RuntimeError;
@@ -213,9 +212,6 @@ struct ComputeState {
     accel: Option<SceneAccel>,
     /// tlas_nodes, instances, blas_nodes, triangles
     buffers: [wgpu::Buffer; 4],
-    /// blas_quant ([`super::quantised`]): written with the arrays from the CPU; its grids are
-    /// invalid (zeros) wherever the GPU writes the nodes (the GPU builder, a GPU refit).
-    quant: wgpu::Buffer,
     /// The merged layout's GPU refit, and the hash of the meshes it was built from.
     refit: Option<(Refit, u64)>,
 }
@@ -712,7 +708,7 @@ impl AccelCache {
         if let Some(accel) = c.accel.as_ref().filter(|_| refitted) {
             report.tlas = TlasWork::Refit;
             let flat = flatten(scene, accel);
-            report.bytes_uploaded = self.upload(device, queue, (&mut c.buffers, &mut c.quant), &flat);
+            report.bytes_uploaded = self.upload(device, queue, &mut c.buffers, &flat);
             self.state = State::Compute(c);
             return None;
         }
@@ -825,15 +821,15 @@ impl AccelCache {
         report: &mut BuildReport,
     ) -> Result<(), RuntimeError> {
         check_fits(scene.name(), flat, device.limits().max_storage_buffer_binding_size)?;
-        let (mut buffers, mut quant) = match old {
-            Some(c) => (c.buffers, c.quant),
+        let mut buffers = match old {
+            Some(c) => c.buffers,
             None => {
                 self.generation += 1;
                 new_accel_buffers(device)
             }
         };
-        report.bytes_uploaded = self.upload(device, queue, (&mut buffers, &mut quant), flat);
-        self.state = State::Compute(ComputeState { accel, buffers, quant, refit: None });
+        report.bytes_uploaded = self.upload(device, queue, &mut buffers, flat);
+        self.state = State::Compute(ComputeState { accel, buffers, refit: None });
         Ok(())
     }
 
@@ -855,11 +851,6 @@ impl AccelCache {
         };
         // Only instances moved or meshes deformed: refit on the GPU.
         if change.refit {
-            if let Some(c) = old.as_mut().filter(|c| c.refit.is_some()) {
-                // The refit moves the exact nodes only: the merged BLAS (root 0) is traversed
-                // exactly from now on.
-                queue.write_buffer(&c.quant, 0, bytemuck::bytes_of(&QuantEntry::default()));
-            }
             if let Some((refit, _)) = old.as_mut().and_then(|c| c.refit.as_mut()) {
                 self.record_refit(device, queue, encoder, scene, refit, change);
                 report.tlas = TlasWork::Refit;
@@ -954,14 +945,13 @@ impl AccelCache {
         let (nodes, tris) = (built.node_count as usize, built.triangle_count as usize);
         let arrays = [("BLAS nodes", nodes, 32 * nodes), ("triangles", tris, 48 * tris), ("TLAS nodes", 1, 32), ("instances", 1, 112)];
         check_arrays(scene.name(), &arrays, device.limits().max_storage_buffer_binding_size)?;
-        let (mut buffers, mut quant) = match old {
-            Some(c) => (c.buffers, c.quant),
+        let mut buffers = match old {
+            Some(c) => c.buffers,
             None => new_accel_buffers(device),
         };
         let [tlas_nodes, instances, blas_nodes, triangles] = &mut buffers;
         report.bytes_uploaded = self.write_array(device, queue, tlas_nodes, bytemuck::cast_slice(&top.tlas_nodes))
             + self.write_array(device, queue, instances, bytemuck::cast_slice(&top.instances))
-            + self.write_array(device, queue, &mut quant, bytemuck::cast_slice(&top.blas_quant))
             + records.bytes_uploaded;
         *blas_nodes = built.nodes.clone();
         *triangles = built.triangles.clone();
@@ -971,7 +961,7 @@ impl AccelCache {
         encoder.copy_buffer_to_buffer(&buffers[2], 16, &buffers[0], 16, 12);
         let pipelines = self.tree_refit.get_or_insert_with(|| TreeRefitPipelines::new(device));
         let refit = TreeRefit::new(pipelines, scene, &built, &records.object_vertices, &buffers[0]);
-        self.state = State::Compute(ComputeState { accel: None, buffers, quant, refit: Some((Refit::Tree(refit), meshes_hash)) });
+        self.state = State::Compute(ComputeState { accel: None, buffers, refit: Some((Refit::Tree(refit), meshes_hash)) });
         Ok(())
     }
 
@@ -1023,15 +1013,14 @@ impl AccelCache {
     }
 
     /// Writes the flattened arrays, growing buffers (and bumping the generation) as needed.
-    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, (buffers, quant): (&mut [wgpu::Buffer; 4], &mut wgpu::Buffer), flat: &GpuAccel) -> u64 {
+    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, buffers: &mut [wgpu::Buffer; 4], flat: &GpuAccel) -> u64 {
         let data: [&[u8]; 4] = [
             bytemuck::cast_slice(&flat.tlas_nodes),
             bytemuck::cast_slice(&flat.instances),
             bytemuck::cast_slice(&flat.blas_nodes),
             bytemuck::cast_slice(&flat.triangles),
         ];
-        let arrays: u64 = buffers.iter_mut().zip(data).map(|(buf, d)| self.write_array(device, queue, buf, d)).sum();
-        arrays + self.write_array(device, queue, quant, bytemuck::cast_slice(&flat.blas_quant))
+        buffers.iter_mut().zip(data).map(|(buf, d)| self.write_array(device, queue, buf, d)).sum()
     }
 
     /// Writes `data` into `buf`, replacing it by a larger one (a new generation) if it is too
@@ -1214,7 +1203,6 @@ impl AccelCache {
             (State::Compute(c), "accel_instances") => Some(c.buffers[1].as_entire_binding()),
             (State::Compute(c), "accel_blas_nodes") => Some(c.buffers[2].as_entire_binding()),
             (State::Compute(c), "accel_triangles") => Some(c.buffers[3].as_entire_binding()),
-            (State::Compute(c), "accel_blas_quant") => Some(c.quant.as_entire_binding()),
             (State::Compute(_), "accel_packed") => self.packed.as_ref().and_then(PackedArrays::buffer).map(wgpu::Buffer::as_entire_binding),
             (State::RayQuery(r), "accel_tlas") => Some(r.tlas.as_binding()),
             (_, "accel_alpha") => Some(self.alpha.as_entire_binding()),
@@ -1254,7 +1242,6 @@ impl AccelCache {
 pub fn check_fits(scene: &str, flat: &GpuAccel, max_binding: u64) -> Result<(), RuntimeError> {
     let arrays = [
         ("BLAS nodes", flat.blas_nodes.len(), std::mem::size_of_val(flat.blas_nodes.as_slice())),
-        ("quantised BLAS pairs", flat.blas_quant.len(), std::mem::size_of_val(flat.blas_quant.as_slice())),
         ("triangles", flat.triangles.len(), std::mem::size_of_val(flat.triangles.as_slice())),
         ("TLAS nodes", flat.tlas_nodes.len(), std::mem::size_of_val(flat.tlas_nodes.as_slice())),
         ("instances", flat.instances.len(), std::mem::size_of_val(flat.instances.as_slice())),
@@ -1281,11 +1268,10 @@ fn check_arrays(scene: &str, arrays: &[(&str, usize, usize)], max_binding: u64) 
     Ok(())
 }
 
-/// The compute back-end's arrays, empty: tlas nodes, instances, blas nodes, triangles, and
-/// blas_quant (the caller starts a new generation).
-fn new_accel_buffers(device: &wgpu::Device) -> ([wgpu::Buffer; 4], wgpu::Buffer) {
-    let arrays = [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32));
-    (arrays, storage(device, "accel blas quant", 32))
+/// The compute back-end's four arrays, empty: tlas nodes, instances, blas nodes, triangles
+/// (the caller starts a new generation).
+fn new_accel_buffers(device: &wgpu::Device) -> [wgpu::Buffer; 4] {
+    [0, 1, 2, 3].map(|i| storage(device, ["accel tlas nodes", "accel instances", "accel blas nodes", "accel triangles"][i], 32))
 }
 
 /// The size of a storage buffer grown to hold `len` bytes: the next power of two (room for the

@@ -1,12 +1,9 @@
 //! The GPU layout of the two-level BVH that the `compute` back-end's WGSL traverses, and
 //! [`flatten`], which turns a [`SceneAccel`] into it.
 //!
-//! Five storage arrays, all `#[repr(C)]` + [`Pod`], none ever empty:
+//! Four storage arrays, all `#[repr(C)]` + [`Pod`], none ever empty:
 //!
 //! - `blas_nodes: array<GpuBvhNode>`: the BLAS nodes of every BLAS, concatenated.
-//! - `blas_quant: array<QuantEntry>`: the same trees' child pairs with 16-bit boxes, one entry
-//!   per index of `blas_nodes` ([`super::quantised`]); what the WGSL traverses where a BLAS's
-//!   grid is valid.
 //! - `triangles: array<GpuTriangle>`: object-space triangles of every BLAS in leaf order.
 //! - `tlas_nodes: array<GpuBvhNode>`: the TLAS, root at index 0.
 //! - `instances: array<GpuInstance>`: the instances in TLAS leaf order.
@@ -46,7 +43,6 @@
 //! (origin as a point, direction as a vector, not renormalised, so `t` stays the world `t`).
 
 use super::bvh::{instance_transform, mesh_triangle, Aabb, AccelOptions, Blas, Bvh, SceneAccel, Tlas, MAX_TREE_DEPTH};
-use super::quantised::{quantise_blas, QuantEntry};
 use crate::scene::{Mesh, Scene};
 use bytemuck::{Pod, Zeroable};
 use glam::DAffine3;
@@ -151,9 +147,6 @@ pub struct GpuInstance {
 pub struct GpuAccel {
     /// Every BLAS's nodes, one tree after another.
     pub blas_nodes: Vec<GpuBvhNode>,
-    /// Every BLAS's child pairs with 16-bit boxes and its grid, one entry per index of
-    /// `blas_nodes` ([`super::quantised`]).
-    pub blas_quant: Vec<QuantEntry>,
     /// Every BLAS's triangles, in leaf order.
     pub triangles: Vec<GpuTriangle>,
     /// The TLAS's nodes.
@@ -171,10 +164,9 @@ impl GpuAccel {
         flatten(scene, &SceneAccel::build(scene, opts))
     }
 
-    /// Bytes of the five GPU arrays.
+    /// Bytes of the four GPU arrays.
     pub fn byte_size(&self) -> usize {
         std::mem::size_of_val(self.blas_nodes.as_slice())
-            + std::mem::size_of_val(self.blas_quant.as_slice())
             + std::mem::size_of_val(self.triangles.as_slice())
             + std::mem::size_of_val(self.tlas_nodes.as_slice())
             + std::mem::size_of_val(self.instances.as_slice())
@@ -308,12 +300,6 @@ fn flatten_meshes<M: std::borrow::Borrow<Mesh>>(meshes: &[M], accel: &SceneAccel
             out.blas_nodes[n].left_or_first = pad;
         }
     }
-    out.blas_quant = vec![QuantEntry::default(); out.blas_nodes.len()];
-    let exact_only = std::env::var_os("RAYGRAPH_EXACT_BOXES").is_some_and(|v| v == "1");
-    for (i, &root) in out.blas_roots.iter().enumerate().filter(|_| !exact_only) {
-        let end = out.blas_roots.get(i + 1).map_or(out.blas_nodes.len(), |&e| e as usize);
-        quantise_blas(&out.blas_nodes, root as usize, end, &mut out.blas_quant);
-    }
     // The WGSL keeps one stack for both levels: a BLAS's entries go on top of the TLAS's.
     let depth = accel.blases.iter().map(|b| b.bvh.depth()).max().unwrap_or(0) + tlas.depth();
     if depth >= TRAVERSAL_STACK_SIZE {
@@ -392,7 +378,6 @@ pub fn merged_accel(blas_nodes: Vec<GpuBvhNode>, triangles: Vec<GpuTriangle>) ->
             mask: INSTANCE_MASK_ALL,
             flags: 0,
         }],
-        blas_quant: vec![QuantEntry::default(); blas_nodes.len().max(1)],
         blas_nodes,
         triangles,
         blas_roots: vec![0],

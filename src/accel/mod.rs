@@ -34,7 +34,6 @@ pub mod gpu_build;
 pub mod gpu_records;
 pub mod layout;
 pub mod packed;
-pub mod quantised;
 pub mod radix_sort;
 pub mod reference;
 pub mod reference_render;

@@ -1,7 +1,7 @@
 #!/bin/bash
 # PERF.md step 30: what an interior BLAS step's time is made of, by adding to it. Main's files
 # (1f35499) run by the release binary of 6276040, whose trace shaders of main bind no pairs;
-# variants of main's trace/compute.wgsl (.gpu/diag.tgz, one folder each): `alu` (the integer
+# variants of main's trace/compute.wgsl (.gpu/diag.tgz, made by pack.sh from the patches in variants/): `alu` (the integer
 # work the 16-bit pairs of step 29 added, about 25 operations per child, on both children),
 # `alu1` (the same on the left child only) and `loads` (two more 16-byte loads per step, of the
 # node after the pair), each folded into a descriptor through a mask that is zero at run time.
