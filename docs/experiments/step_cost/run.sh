@@ -13,7 +13,8 @@ xz -dc .gpu/raygraph.xz > .gpu/raygraph; chmod +x .gpu/raygraph
 ROOT=$PWD; OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r /tmp/v
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 tar xzf .gpu/diag.tgz -C /tmp/v
-for name in main alu alu1 loads main; do
+# `VARIANTS="a b" run.sh` runs main, those variants and main again (step_ops).
+for name in main ${VARIANTS:-alu alu1 loads} main; do
   n=$name; [ -d $OUT/r/$n ] && n=${name}_2
   if [ $SECONDS -gt ${DEADLINE:-500} ]; then echo "deadline: $n skipped"; continue; fi
   (cd /tmp/v/$name && timeout 150 $ROOT/.gpu/raygraph bench rays --backend compute --frames 10 --out $OUT/r/$n > $OUT/r/$n.log 2>&1) || tail -2 $OUT/r/$n.log
