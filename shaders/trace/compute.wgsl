@@ -145,7 +145,9 @@ fn trace_slab(r: TraceRay, node: AccelNode, t_min: f32, t_max: f32) -> vec2<f32>
 // reads the two children, whose descriptors come with their boxes, so the node itself is never
 // read again.
 fn trace_descriptor(n: AccelNode) -> u32 {
-    return (n.left_or_first << 3u) | n.count;
+    // A shift and an add (one instruction where the GPU has a shift-and-add): count < 8, so
+    // the add is the OR.
+    return (n.left_or_first << 3u) + n.count;
 }
 
 // The descriptor to visit after an interior node whose children `l`, `r` the ray enters over
