@@ -446,7 +446,7 @@ fn bench_roofline_quick_counts_bytes_per_ray() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays,subgroup_share"
+        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays,subgroup_share,interior_per_ray_hit_known"
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // The quick run's last scene is the organic one: no `miss_inside` preset, so no Miss (inside).
@@ -459,7 +459,17 @@ fn bench_roofline_quick_counts_bytes_per_ray() {
         // Every row's subgroup model: a share of the steps issued.
         let share: f64 = r[9].parse().unwrap();
         assert!(share > 0.0 && share <= 1.0, "subgroup share: {r:?}");
+        // The primary tests only: a t_max at the hit from the start keeps a subset of the
+        // nodes (the children's order does not depend on t_max), all of them for rays that miss.
+        let primary = r[0] == "Miss (outside)" || r[0] == "Stress";
+        assert_eq!(r[10].is_empty(), !primary, "hit known: {r:?}");
+        if primary {
+            let known: f64 = r[10].parse().unwrap();
+            assert!(known >= 0.0 && known <= v[1], "hit known: {r:?}");
+        }
     }
+    assert_eq!(rows[2][10], rows[2][2], "Miss (outside)'s rays hit nothing: knowing that changes nothing: {csv}");
+    assert!(rows[3][10].parse::<f64>().unwrap() > 0.0, "Stress's rays descend to their hits: {csv}");
     let stress: f64 = rows[3][6].parse().unwrap();
     let miss: f64 = rows[2][6].parse().unwrap();
     assert!(stress > 100.0 && miss < stress, "all-hit rays load more than all-miss ones: {csv}");

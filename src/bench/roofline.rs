@@ -48,6 +48,10 @@ pub struct RooflineRow {
     pub achieved: Option<f64>,
     /// The share of a subgroup's traversal steps that do work ([`round_share`]), where modelled.
     pub subgroup_share: Option<f64>,
+    /// The primary tests: interior nodes per ray when each ray starts with `t_max` at its own
+    /// closest hit, the fewest this traversal order visits had it known the hit first (a bound
+    /// on what testing a likely hit first, the hit of the ray before, could save).
+    pub known_hit_interior: Option<f64>,
 }
 
 /// Lanes of a subgroup on the GPUs this models (NVIDIA's warps).
@@ -93,6 +97,7 @@ fn row(test: &str, rays: u64, c: &TraversalCounts, bandwidth: f64) -> RooflineRo
     let bytes_per_ray = c.bytes() as f64 / n;
     RooflineRow {
         subgroup_share: None,
+        known_hit_interior: None,
         test: test.into(),
         rays,
         per_ray: [c.interior as f64 / n, c.leaves as f64 / n, c.triangles as f64 / n, c.instances as f64 / n],
@@ -248,12 +253,19 @@ const AO_LANES: u32 = 4;
 pub fn primary_workload(test: &str, scene: &Scene, camera: &Camera, stride: u32, bandwidth: f64) -> RooflineRow {
     let accel = merged_layout(scene);
     let tracer = CpuTraverser::new(&accel);
-    let mut counts = TraversalCounts::default();
+    let (mut counts, mut known) = (TraversalCounts::default(), TraversalCounts::default());
     let rays = camera_rays(camera, (2560, 1440), stride);
     for r in &rays {
-        tracer.counted(r, false, &mut counts);
+        let mut c = TraversalCounts::default();
+        match tracer.counted(r, false, &mut c) {
+            Some(hit) => _ = tracer.counted(&Ray::with_interval(r.origin, r.dir, r.t_min, hit.t), false, &mut known),
+            None => known.add(&c),
+        }
+        counts.add(&c);
     }
-    row(test, rays.len() as u64, &counts, bandwidth)
+    let mut row = row(test, rays.len() as u64, &counts, bandwidth);
+    row.known_hit_interior = Some(known.interior as f64 / rays.len().max(1) as f64);
+    row
 }
 
 /// Fills `achieved` from a `bench rays` CSV (its `compute` rows).
@@ -288,17 +300,19 @@ pub fn markdown(rows: &[RooflineRow], bandwidth: f64, stride: u32) -> String {
         bandwidth / 1e12
     );
     s.push_str("Subgroup share: the share of a subgroup's traversal steps that do work, its lanes tracing their rays in rounds (32 lanes laid out as the passes lay them; the scene workload's AO rays, the primary tests' rays); the last column divides the achieved fraction by it.\n\n");
-    s.push_str("| test | rays counted | interior nodes/ray | leaves/ray | triangle tests/ray | instances/ray | bytes/ray | L1 ceiling GR/s | achieved GR/s | achieved/ceiling | subgroup share | achieved/(ceiling x share) |\n");
-    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    s.push_str("Hit known: the primary tests' interior nodes per ray when each ray starts with its t_max at its own closest hit, the fewest this traversal order visits had it known the hit first.\n\n");
+    s.push_str("| test | rays counted | interior nodes/ray | leaves/ray | triangle tests/ray | instances/ray | bytes/ray | L1 ceiling GR/s | achieved GR/s | achieved/ceiling | subgroup share | achieved/(ceiling x share) | interior nodes/ray, hit known |\n");
+    s.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     let or_dash = |v: Option<String>| v.unwrap_or_else(|| "—".into());
     for r in rows {
         let achieved = or_dash(r.achieved.map(|a| format!("{a:.2}")));
         let frac = or_dash(r.achieved.map(|a| format!("{:.0}%", 100.0 * a / r.ceiling)));
         let share = or_dash(r.subgroup_share.map(|f| format!("{f:.2}")));
         let within = or_dash(r.achieved.zip(r.subgroup_share).map(|(a, f)| format!("{:.0}%", 100.0 * a / (r.ceiling * f))));
+        let known = or_dash(r.known_hit_interior.map(|k| format!("{k:.1}")));
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.0} | {:.1} | {achieved} | {frac} | {share} | {within} |",
+            "| {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.0} | {:.1} | {achieved} | {frac} | {share} | {within} | {known} |",
             r.test, r.rays, r.per_ray[0], r.per_ray[1], r.per_ray[2], r.per_ray[3], r.bytes_per_ray, r.ceiling
         );
     }
@@ -308,12 +322,12 @@ pub fn markdown(rows: &[RooflineRow], bandwidth: f64, stride: u32) -> String {
 /// The rows as CSV.
 pub fn csv(rows: &[RooflineRow]) -> String {
     let mut s = String::from(
-        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays,subgroup_share\n",
+        "test,rays,interior_per_ray,leaves_per_ray,triangles_per_ray,instances_per_ray,bytes_per_ray,ceiling_grays,achieved_grays,subgroup_share,interior_per_ray_hit_known\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{:.3},{:.3},{:.3},{:.3},{:.1},{:.3},{},{}",
+            "{},{},{:.3},{:.3},{:.3},{:.3},{:.1},{:.3},{},{},{}",
             r.test,
             r.rays,
             r.per_ray[0],
@@ -323,7 +337,8 @@ pub fn csv(rows: &[RooflineRow]) -> String {
             r.bytes_per_ray,
             r.ceiling,
             r.achieved.map(|a| format!("{a:.3}")).unwrap_or_default(),
-            r.subgroup_share.map(|f| format!("{f:.4}")).unwrap_or_default()
+            r.subgroup_share.map(|f| format!("{f:.4}")).unwrap_or_default(),
+            r.known_hit_interior.map(|k| format!("{k:.3}")).unwrap_or_default()
         );
     }
     s
