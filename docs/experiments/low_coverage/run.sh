@@ -8,13 +8,7 @@
 # every point that faces it). The helmet and the pine at their cameras and at 2%, 5%, 10% of the
 # frame, `bench rays --frames 10`: main on both back-ends first, the variants and main again on
 # `compute`. One release binary (.gpu/raygraph.xz). Results in $OUT/low_coverage.tgz.
-set -u
-for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
-xz -dc .gpu/raygraph.xz > .gpu/raygraph; chmod +x .gpu/raygraph
-ROOT=$PWD; RG=$ROOT/.gpu/raygraph; OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r /tmp/v
-nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
-tar xzf .gpu/diag.tgz -C /tmp/v
-REAL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.05,0.1"
+. docs/experiments/low_coverage/preamble.sh
 for name in main ${VARIANTS:-alpha_off alpha_twice shadow_notrace} main; do
   n=$name; args="--backend compute"
   if [ -d $OUT/r/$n ]; then n=${name}_2; elif [ $name = main ]; then args=""; fi

@@ -6,13 +6,7 @@
 # and the real assets (the helmet, the pine, at their cameras and at 2%, 5%, 10% of the frame),
 # `bench rays --backend compute --frames 10`, main, the variant, main. One release binary
 # (.gpu/raygraph.xz, built from ad28fc7). Results in $OUT/wide_any.tgz.
-set -u
-for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
-xz -dc .gpu/raygraph.xz > .gpu/raygraph; chmod +x .gpu/raygraph
-ROOT=$PWD; RG=$ROOT/.gpu/raygraph; OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r /tmp/v
-nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
-tar xzf .gpu/diag.tgz -C /tmp/v
-REAL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.05,0.1"
+. docs/experiments/low_coverage/preamble.sh
 for name in main wide_any main; do
   for what in table3 real; do
     n=${name}_$what; [ -d $OUT/r/$n ] && n=${n}_2
