@@ -56,6 +56,12 @@ pub(crate) struct RenderArgs {
     /// Chrome trace (open in Perfetto) into this folder.
     #[arg(long)]
     report: Option<PathBuf>,
+    /// Also write what the driver compiled each trace kernel into (registers, instructions,
+    /// spills: whatever the driver reports through VK_KHR_pipeline_executable_properties) as
+    /// markdown to this file. The compute back-end's kernels, where the device takes them as
+    /// SPIR-V.
+    #[arg(long, value_name = "FILE")]
+    kernel_stats: Option<PathBuf>,
     /// Layers directory (default: `layers/` beside the graph's directory).
     #[arg(long)]
     layers: Option<PathBuf>,
@@ -181,7 +187,10 @@ pub(crate) fn run(args: RenderArgs) -> Result<()> {
     let format = OutputFormat::of(&args.out)?;
     // Graph errors are reported before a device is opened.
     format.check_graph(&graph.file, &graph.compile((width, height), Default::default())?)?;
-    let gpu = args.gpu.open_gpu()?;
+    let mut gpu = args.gpu.open_gpu()?;
+    if args.kernel_stats.is_some() {
+        gpu.record_trace_kernels();
+    }
     let largest = gpu.device().limits().max_texture_dimension_2d;
     anyhow::ensure!(
         width <= largest && height <= largest,
@@ -213,6 +222,32 @@ pub(crate) fn run(args: RenderArgs) -> Result<()> {
     let rendered = Rendered { graph_file: &graph.file, scene: &scene.name(), size: (width, height), exec: &exec, timings: &timings };
     rendered.print(args.report.as_deref())?;
     println!("wrote {}", args.out.display());
+    if let Some(path) = &args.kernel_stats {
+        write_kernel_stats(path, &gpu)?;
+    }
+    Ok(())
+}
+
+/// `--kernel-stats FILE`: the driver's statistics for each trace kernel the executor made, as
+/// markdown, one table per kernel.
+fn write_kernel_stats(path: &Path, gpu: &Gpu) -> Result<()> {
+    let kernels = gpu.recorded_trace_kernels();
+    anyhow::ensure!(
+        !kernels.is_empty(),
+        "--kernel-stats: no trace kernel was written as SPIR-V (the compute back-end's, on a device that takes SPIR-V; the traversal stack: {})",
+        if gpu.traversal_stack_cleared() { "cleared, so the modules were compiled from WGSL" } else { "not cleared" }
+    );
+    let adapter = gpu.adapter().get_info().name;
+    let stats = raygraph::runtime::kernel_stats::kernel_statistics(&adapter, &kernels).map_err(|e| anyhow::anyhow!("--kernel-stats: {e}"))?;
+    let mut md = format!("# Trace kernels as compiled by the driver\n\n- adapter: {adapter}\n- kernels: {}\n", kernels.len());
+    for s in &stats {
+        md += &format!("\n## {} ({})\n\n| statistic | value |\n| --- | ---: |\n", s.label, s.executable);
+        for (name, value) in &s.statistics {
+            md += &format!("| {name} | {value} |\n");
+        }
+    }
+    std::fs::write(path, md).with_context(|| format!("could not write {}", path.display()))?;
+    println!("wrote {}", path.display());
     Ok(())
 }
 

@@ -6,7 +6,7 @@ use super::gpu_wait::{GpuWait, WaitMode};
 use crate::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
 use crate::gpu_util::ShaderOrigin;
-use crate::runtime::trace_spirv::TraceSpirv;
+use crate::runtime::trace_spirv::{TraceKernel, TraceSpirv};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -75,6 +75,9 @@ pub struct Gpu {
     trace_spirv: Option<TraceSpirv>,
     /// How a wait for submitted work waits ([`super::gpu_wait`]).
     wait: GpuWait,
+    /// Every trace module written as SPIR-V from now on, once [`Gpu::record_trace_kernels`]
+    /// has been called (`render --kernel-stats`, [`super::kernel_stats`]).
+    trace_kernels: Option<Mutex<Vec<TraceKernel>>>,
 }
 
 impl Gpu {
@@ -281,6 +284,18 @@ impl Gpu {
         self.trace_spirv.is_none()
     }
 
+    /// Keeps the SPIR-V of every trace module written from now on, for
+    /// [`Gpu::recorded_trace_kernels`]. Only modules written as SPIR-V are kept (the compute
+    /// back-end's, where the device takes SPIR-V: [`Gpu::traversal_stack_cleared`] is false).
+    pub fn record_trace_kernels(&mut self) {
+        self.trace_kernels.get_or_insert_with(|| Mutex::new(Vec::new()));
+    }
+
+    /// The trace modules kept since [`Gpu::record_trace_kernels`], in the order they were made.
+    pub fn recorded_trace_kernels(&self) -> Vec<TraceKernel> {
+        self.trace_kernels.as_ref().map(|log| log.lock().unwrap_or_else(|e| e.into_inner()).clone()).unwrap_or_default()
+    }
+
     /// Compiles the trace modules of executors and batch tracers made from now on from WGSL,
     /// their traversal stack cleared per invocation: the reference the modules without the
     /// clear are tested against.
@@ -303,8 +318,14 @@ impl Gpu {
         groups: &[Vec<wgpu::BindGroupLayoutEntry>],
     ) -> (wgpu::ShaderModule, Vec<(&'c str, f64)>) {
         if let Some(spirv) = self.trace_spirv.as_ref().filter(|_| TraceSpirv::applies_to(wgsl)) {
-            match spirv.module(&self.device, label, wgsl, entry, constants, groups) {
-                Ok(module) => return (module, Vec::new()),
+            match spirv.words(wgsl, entry, constants, groups) {
+                Ok((words, workgroup_size)) => {
+                    if let Some(log) = &self.trace_kernels {
+                        let kernel = TraceKernel { label: label.to_string(), entry: entry.to_string(), words: words.clone(), groups: groups.to_vec() };
+                        log.lock().unwrap_or_else(|e| e.into_inner()).push(kernel);
+                    }
+                    return (TraceSpirv::module_from_words(&self.device, label, entry, words, workgroup_size), Vec::new());
+                }
                 Err(e) => log::warn!("{label}: compiled from WGSL, its traversal stack cleared per invocation ({e})"),
             }
         }
@@ -488,6 +509,7 @@ impl Gpu {
             on_gpu_timeout: None,
             trace_spirv,
             wait,
+            trace_kernels: None,
         };
         gpu.log_layer_aliases();
         Ok(gpu)

@@ -1,6 +1,7 @@
 //! The GPU runtime: device context ([`gpu`]) and how it waits ([`gpu_wait`]), the scene's
 //! upload ([`scene_upload`]), plan executor ([`exec`]), GPU skinning and morphing ([`deform`]),
-//! pass timing ([`profiler`]), per-pass statistics ([`report`]), pass kinds written in Rust
+//! pass timing ([`profiler`]), per-pass statistics ([`report`]), what the driver compiled the trace
+//! kernels into ([`kernel_stats`]), pass kinds written in Rust
 //! ([`rust_pass`]), the warm-up before timed frames ([`warm_up`]) and rays traced outside any
 //! graph ([`batch`]).
 
@@ -14,6 +15,8 @@ pub mod environment_upload;
 pub mod exec;
 pub mod gpu;
 pub mod gpu_wait;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod kernel_stats;
 pub(crate) mod light_records;
 pub mod present;
 pub mod profiler;

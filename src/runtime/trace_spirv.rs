@@ -24,6 +24,20 @@ use wgpu::hal;
 /// The WGSL name of the traversal stack (`shaders/trace/compute.wgsl`).
 pub(crate) const TRAVERSAL_STACK: &str = "trace_stack";
 
+/// A trace kernel as the executor compiled it: the module's label, its entry point, its
+/// SPIR-V words and its pipeline's bind group layouts (group `g` is `groups[g]`).
+#[derive(Debug, Clone)]
+pub struct TraceKernel {
+    /// The module's label (its pass's name).
+    pub label: String,
+    /// The entry point.
+    pub entry: String,
+    /// The SPIR-V given to wgpu.
+    pub words: Vec<u32>,
+    /// The pipeline's bind group layouts, each as the executor listed its entries.
+    pub groups: Vec<Vec<wgpu::BindGroupLayoutEntry>>,
+}
+
 /// How trace modules are written for one device.
 #[derive(Debug, Clone)]
 pub(crate) struct TraceSpirv {
@@ -140,17 +154,9 @@ impl TraceSpirv {
         Ok((without_initializer(&words, TRAVERSAL_STACK)?, workgroup_size))
     }
 
-    /// [`TraceSpirv::words`] as a wgpu shader module.
-    pub fn module(
-        &self,
-        device: &wgpu::Device,
-        label: &str,
-        wgsl: &str,
-        entry: &str,
-        constants: &[(&str, f64)],
-        groups: &[Vec<wgpu::BindGroupLayoutEntry>],
-    ) -> Result<wgpu::ShaderModule, String> {
-        let (words, workgroup_size) = self.words(wgsl, entry, constants, groups)?;
+    /// The words of [`TraceSpirv::words`] (with their entry point's workgroup size) as a wgpu
+    /// shader module.
+    pub fn module_from_words(device: &wgpu::Device, label: &str, entry: &str, words: Vec<u32>, workgroup_size: [u32; 3]) -> wgpu::ShaderModule {
         let entry_point = wgpu::PassthroughShaderEntryPoint { name: entry.into(), workgroup_size: workgroup_size.into() };
         let desc = wgpu::ShaderModuleDescriptorPassthrough {
             label: Some(label),
@@ -162,7 +168,7 @@ impl TraceSpirv {
         // bindings of the pipeline layout it is used with and wgpu-hal's bounds-check policies;
         // the one change, a variable without its initialiser, leaves it valid SPIR-V, and the
         // traversal writes each stack entry before reading it (module docs).
-        Ok(unsafe { device.create_shader_module_passthrough(desc) })
+        unsafe { device.create_shader_module_passthrough(desc) }
     }
 }
 
