@@ -81,3 +81,35 @@ fn batch_hits_without_the_stack_clear_equal_those_with_it() {
         assert_eq!(x.map(|h| (h.t.to_bits(), h.instance, h.primitive)), y.map(|h| (h.t.to_bits(), h.instance, h.primitive)), "ray {i}");
     }
 }
+
+/// `render --kernel-stats`: the executor keeps each trace module it wrote as SPIR-V (the words
+/// given to wgpu, with their entry point and bind group layouts), and the driver's statistics
+/// for them come back, or a clear error where the driver does not offer
+/// VK_KHR_pipeline_executable_properties (lavapipe 25.0.7 does not).
+#[test]
+fn recorded_trace_kernels_are_the_modules_the_executor_wrote() {
+    let mut gpu = common::gpu();
+    if gpu.traversal_stack_cleared() {
+        assert!(std::env::var("RAYGRAPH_CLEARED_STACK").is_ok_and(|v| v == "1"), "lavapipe takes SPIR-V");
+        return;
+    }
+    gpu.record_trace_kernels();
+    let scene = raygraph::scene::open("box", &Default::default()).unwrap().0;
+    render(&gpu, "graph/full_rt.ron", &scene);
+    let kernels = gpu.recorded_trace_kernels();
+    assert!(!kernels.is_empty(), "the full-RT graph's trace passes were recorded");
+    for k in &kernels {
+        assert_eq!(k.words.first(), Some(&0x0723_0203), "{}: SPIR-V words", k.label);
+        assert_eq!(k.entry, "cs_main", "{}", k.label);
+        assert!(!k.groups.is_empty(), "{}: its bind group layouts", k.label);
+    }
+    assert!(kernels.iter().any(|k| k.label.contains("primary")), "the primary rays' kernel: {:?}", kernels.iter().map(|k| &k.label).collect::<Vec<_>>());
+    let name = gpu.adapter().get_info().name;
+    match raygraph::runtime::kernel_stats::kernel_statistics(&name, &kernels) {
+        Ok(stats) => {
+            assert!(stats.len() >= kernels.len(), "an executable per kernel");
+            assert!(stats.iter().all(|s| !s.statistics.is_empty()), "statistics for each");
+        }
+        Err(e) => assert!(e.contains("VK_KHR_pipeline_executable_properties") && e.contains(&name), "a clear error: {e}"),
+    }
+}

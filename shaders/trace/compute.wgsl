@@ -342,14 +342,67 @@ struct TraceResult {
     any: bool,
 }
 
+// Whether the acceleration structure is the merged layout (one identity instance whose BLAS
+// holds every triangle, src/accel/layout.rs `merge`), set by the executor where the plan's
+// `Accel` node merges on this back-end. Each traversal call in a kernel is a copy of its loops,
+// and the driver gives the whole kernel the registers of its worst point: with it, each call
+// is the one BLAS loop, without the two-level code the merged layout never runs (PERF.md step
+// 38: 56 registers a lane in the AO and primary tests' kernels instead of 72-80). The default
+// traverses both levels, right for every layout.
+override TRACE_MERGED: bool = false;
+
+// The hit record of triangle `tri` of the instance `inst_id` hit at `best`; `d` the ray's
+// direction in the instance's space. A merged triangle names its scene instance, and its
+// `flags` bit 0 says that instance mirrors.
+fn trace_hit_record(tri: u32, best: TriHit, d: vec3<f32>, inst_id: u32, merged: bool) -> Hit {
+    let t = trace_tri(tri);
+    let n = cross(t.v1 - t.v0, t.v2 - t.v0);
+    let id = select(inst_id, t.instance, merged);
+    let front = (dot(n, d) < 0.0) != (merged && (t.flags & 1u) != 0u);
+    return Hit(best.t, id, t.prim, vec2<f32>(best.u, best.v), front);
+}
+
 fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> TraceResult {
+    let world = trace_prepare(ray.origin, ray.dir);
+    let root = trace_tlas_node(0u);
+    if TRACE_MERGED {
+        return trace_merged(ray, world, root, any_hit, through_blend, cull);
+    }
+    return trace_levels(ray, world, root, any_hit, through_blend, cull);
+}
+
+// trace_impl in the merged layout (TRACE_MERGED): the root's box (the TLAS's one leaf), then
+// the one instance's BLAS, in world space. The same nodes in the same order as trace_levels.
+fn trace_merged(ray: Ray, world: TraceRay, root: AccelNode, any_hit: bool, through_blend: bool, cull: bool) -> TraceResult {
+    let h = trace_slab(world, root, ray.t_min, ray.t_max);
+    if h.x > h.y {
+        return TraceResult(trace_miss(), false);
+    }
+    let inst = trace_instance(root.left_or_first);
+    if inst.mask == 0u {
+        return TraceResult(trace_miss(), false); // padding instance of an empty scene
+    }
+    var best = TriHit(ray.t_max, 0.0, 0.0);
+    var sp = 0u;
+    let alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+    let tri = trace_blas(inst.blas_root, world, ray.t_min, &best, any_hit, through_blend, cull, alpha_instance, &sp);
+    if tri == NO_HIT {
+        return TraceResult(trace_miss(), false);
+    }
+    if any_hit {
+        return TraceResult(trace_miss(), true);
+    }
+    return TraceResult(trace_hit_record(tri, best, ray.dir, inst.instance_id, true), true);
+}
+
+// trace_impl through both levels: the TLAS from its root `root` and, in each instance the ray
+// enters, its BLAS.
+fn trace_levels(ray: Ray, world: TraceRay, root: AccelNode, any_hit: bool, through_blend: bool, cull: bool) -> TraceResult {
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var result = trace_miss();
     var hit_anything = false;
-    let world = trace_prepare(ray.origin, ray.dir);
-    // A root that is a leaf (one instance, as in the merged layout) is entered unconditionally
-    // by the loop below; its box is tested here first, so rays that miss the scene stop.
-    let root = trace_tlas_node(0u);
+    // A root that is a leaf (one instance) is entered unconditionally by the loop below; its
+    // box is tested here first, so rays that miss the scene stop.
     if root.count > 0u {
         let h = trace_slab(world, root, ray.t_min, best.t);
         if h.x > h.y {
@@ -383,11 +436,7 @@ fn trace_impl(ray: Ray, any_hit: bool, through_blend: bool, cull: bool) -> Trace
                     if any_hit {
                         return TraceResult(result, true);
                     }
-                    let t = trace_tri(tri);
-                    let n = cross(t.v1 - t.v0, t.v2 - t.v0);
-                    let id = select(inst.instance_id, t.instance, merged);
-                    let front = (dot(n, d) < 0.0) != (merged && (t.flags & 1u) != 0u);
-                    result = Hit(best.t, id, t.prim, vec2<f32>(best.u, best.v), front);
+                    result = trace_hit_record(tri, best, d, inst.instance_id, merged);
                 }
             }
         } else {
@@ -488,6 +537,9 @@ fn trace_start_within(origin: vec3<f32>, radius: f32) -> TraceStart {
 }
 
 fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
+    if TRACE_MERGED {
+        return trace_transmittance_merged(ray, start, flags);
+    }
     if start.node == TRACE_START_ROOT {
         return trace_transmittance_flags(ray, flags);
     }
@@ -508,5 +560,37 @@ fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
     let r = trace_prepare(ray.origin, ray.dir);
     let h = trace_slab(r, trace_blas_node(start.node), ray.t_min, best.t);
     let stopped = h.x <= h.y && trace_blas(start.node, r, ray.t_min, &best, true, true, cull, NO_HIT, &sp) != NO_HIT;
+    return trace_transmittance_result(stopped);
+}
+
+// trace_transmittance_within in the merged layout (TRACE_MERGED), with one traversal call:
+// from the start node, or from the instance's BLAS root for rays from the root and rays that
+// leave the start's box (trace_levels would enter that BLAS through the TLAS's one leaf, whose
+// box is the BLAS root's).
+fn trace_transmittance_merged(ray: Ray, start: TraceStart, flags: u32) -> f32 {
+    if !trace_transmittance_starts(ray) {
+        return 1.0;
+    }
+    // A segment in the box: both its ends are (the box is convex).
+    let end = ray.origin + ray.dir * ray.t_max;
+    var node = start.node;
+    if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
+        node = TRACE_START_ROOT;
+    }
+    var alpha_instance = NO_HIT;
+    if node == TRACE_START_ROOT {
+        let inst = trace_instance(trace_tlas_node(0u).left_or_first);
+        node = select(inst.blas_root, TRACE_START_NONE, inst.mask == 0u);
+        alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+    }
+    if node == TRACE_START_NONE {
+        return trace_transmittance_result(false);
+    }
+    var best = TriHit(ray.t_max, 0.0, 0.0);
+    var sp = 0u;
+    let r = trace_prepare(ray.origin, ray.dir);
+    let cull = (flags & TRACE_CULL_BACK_FACES) != 0u;
+    let h = trace_slab(r, trace_blas_node(node), ray.t_min, best.t);
+    let stopped = h.x <= h.y && trace_blas(node, r, ray.t_min, &best, true, true, cull, alpha_instance, &sp) != NO_HIT;
     return trace_transmittance_result(stopped);
 }

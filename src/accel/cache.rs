@@ -361,6 +361,12 @@ pub enum MergedBuilder {
 pub(crate) const GPU_BUILD_MIN_TRIANGLES: usize = 1024;
 
 impl AccelCache {
+    /// Whether the compute back-end traverses the merged layout: one identity instance over one
+    /// BLAS of the whole scene, for every frame of this cache.
+    pub fn merged_layout(&self) -> bool {
+        self.merge && self.backend == Backend::Compute
+    }
+
     /// A cache for `backend`, with ray counters for `trace_passes` passes.
     pub fn new(device: &wgpu::Device, backend: Backend, settings: AccelSettings, trace_passes: u32) -> Self {
         let stats_windows = trace_passes.max(1);

@@ -17,7 +17,11 @@ use web_time::Instant;
 
 impl Executor {
     pub(super) fn build_compute_pass(&self, gpu: &Gpu, pass: &PlannedPass, layout: PassLayout, bindings: PassBindings) -> PassRuntime {
-        let constants = self.features.constants(pass);
+        let mut constants = self.features.constants(pass);
+        let merged = self.accel.as_ref().is_some_and(|a| a.merged_layout());
+        if pass.kind == PassKind::Trace && merged && pass.shader.has_override(super::features::TRACE_MERGED_CONSTANT) {
+            constants.push((super::features::TRACE_MERGED_CONSTANT, 1.0));
+        }
         let (module, constants) = if pass.kind == PassKind::Trace {
             let groups = bindings.layout_groups();
             gpu.traversal_module(&pass.shader.path.display().to_string(), pass.shader.source.text(), &pass.entry, ShaderOrigin::TracePass, &constants, &groups)

@@ -20,6 +20,12 @@ pub const TRACE_ALPHA_CONSTANT: &str = "TRACE_ALPHA_TEST";
 /// (`trace_start_within`, `shaders/trace/compute.wgsl`).
 pub(crate) const TRACE_START_CONSTANT: &str = "TRACE_START_BELOW_ROOT";
 
+/// The compute trace module's pipeline constant that compiles each traversal as the merged
+/// layout's one BLAS loop, without the two-level code (`shaders/trace/compute.wgsl`): set where
+/// the plan's acceleration structure is the merged layout ([`crate::accel::cache::AccelCache::merged_layout`]),
+/// which the scene's features do not decide.
+pub(crate) const TRACE_MERGED_CONSTANT: &str = "TRACE_MERGED";
+
 /// Triangles from which AO rays start below the root: between the two scenes measured (H200,
 /// PERF.md step 24): the box's 12, whose AO pass the start's per-lane descent made 67% slower,
 /// and the organic mesh's 3,920, 8% faster with it.
