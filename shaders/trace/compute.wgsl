@@ -351,6 +351,12 @@ struct TraceResult {
 // traverses both levels, right for every layout.
 override TRACE_MERGED: bool = false;
 
+// The scene instance whose hits run the alpha test, if the whole instance `inst` is
+// alpha-tested (two-level layout), else NO_HIT (trace_blas's `alpha_instance`).
+fn trace_alpha_instance(inst: AccelInstance) -> u32 {
+    return select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+}
+
 // The hit record of triangle `tri` of the instance `inst_id` hit at `best`; `d` the ray's
 // direction in the instance's space. A merged triangle names its scene instance, and its
 // `flags` bit 0 says that instance mirrors.
@@ -384,7 +390,7 @@ fn trace_merged(ray: Ray, world: TraceRay, root: AccelNode, any_hit: bool, throu
     }
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var sp = 0u;
-    let alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+    let alpha_instance = trace_alpha_instance(inst);
     let tri = trace_blas(inst.blas_root, world, ray.t_min, &best, any_hit, through_blend, cull, alpha_instance, &sp);
     if tri == NO_HIT {
         return TraceResult(trace_miss(), false);
@@ -429,7 +435,7 @@ fn trace_levels(ray: Ray, world: TraceRay, root: AccelNode, any_hit: bool, throu
                     d = trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.dir, 0.0);
                     r = trace_prepare(trace_to_object(inst.w2o0, inst.w2o1, inst.w2o2, ray.origin, 1.0), d);
                 }
-                let alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+                let alpha_instance = trace_alpha_instance(inst);
                 let tri = trace_blas(inst.blas_root, r, ray.t_min, &best, any_hit, through_blend, cull, alpha_instance, &sp);
                 if tri != NO_HIT {
                     hit_anything = true;
@@ -547,19 +553,30 @@ fn trace_transmittance_within(ray: Ray, start: TraceStart, flags: u32) -> f32 {
         return 1.0;
     }
     let cull = (flags & TRACE_CULL_BACK_FACES) != 0u;
-    // A segment in the box: both its ends are (the box is convex). Else the whole traversal.
-    let end = ray.origin + ray.dir * ray.t_max;
-    if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
+    if !trace_segment_within(ray, start) {
         return trace_transmittance_result(trace_impl(ray, true, true, cull).any);
     }
     if start.node == TRACE_START_NONE {
         return trace_transmittance_result(false);
     }
+    return trace_transmittance_below(ray, start.node, NO_HIT, cull);
+}
+
+// Whether the segment [0, t_max] of `ray` stays in the start's box: both its ends do (the box
+// is convex).
+fn trace_segment_within(ray: Ray, start: TraceStart) -> bool {
+    let end = ray.origin + ray.dir * ray.t_max;
+    return !(any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi));
+}
+
+// The any-hit traversal of transmittance rays from BLAS node `node` (trace_blas's
+// `alpha_instance`, `cull`), as trace_transmittance_result gives it.
+fn trace_transmittance_below(ray: Ray, node: u32, alpha_instance: u32, cull: bool) -> f32 {
     var best = TriHit(ray.t_max, 0.0, 0.0);
     var sp = 0u;
     let r = trace_prepare(ray.origin, ray.dir);
-    let h = trace_slab(r, trace_blas_node(start.node), ray.t_min, best.t);
-    let stopped = h.x <= h.y && trace_blas(start.node, r, ray.t_min, &best, true, true, cull, NO_HIT, &sp) != NO_HIT;
+    let h = trace_slab(r, trace_blas_node(node), ray.t_min, best.t);
+    let stopped = h.x <= h.y && trace_blas(node, r, ray.t_min, &best, true, true, cull, alpha_instance, &sp) != NO_HIT;
     return trace_transmittance_result(stopped);
 }
 
@@ -571,26 +588,15 @@ fn trace_transmittance_merged(ray: Ray, start: TraceStart, flags: u32) -> f32 {
     if !trace_transmittance_starts(ray) {
         return 1.0;
     }
-    // A segment in the box: both its ends are (the box is convex).
-    let end = ray.origin + ray.dir * ray.t_max;
-    var node = start.node;
-    if any(min(ray.origin, end) < start.lo) || any(max(ray.origin, end) > start.hi) {
-        node = TRACE_START_ROOT;
-    }
+    var node = select(TRACE_START_ROOT, start.node, trace_segment_within(ray, start));
     var alpha_instance = NO_HIT;
     if node == TRACE_START_ROOT {
         let inst = trace_instance(trace_tlas_node(0u).left_or_first);
         node = select(inst.blas_root, TRACE_START_NONE, inst.mask == 0u);
-        alpha_instance = select(NO_HIT, inst.instance_id, (inst.flags & INSTANCE_ALPHA) != 0u);
+        alpha_instance = trace_alpha_instance(inst);
     }
     if node == TRACE_START_NONE {
         return trace_transmittance_result(false);
     }
-    var best = TriHit(ray.t_max, 0.0, 0.0);
-    var sp = 0u;
-    let r = trace_prepare(ray.origin, ray.dir);
-    let cull = (flags & TRACE_CULL_BACK_FACES) != 0u;
-    let h = trace_slab(r, trace_blas_node(node), ray.t_min, best.t);
-    let stopped = h.x <= h.y && trace_blas(node, r, ray.t_min, &best, true, true, cull, alpha_instance, &sp) != NO_HIT;
-    return trace_transmittance_result(stopped);
+    return trace_transmittance_below(ray, node, alpha_instance, (flags & TRACE_CULL_BACK_FACES) != 0u);
 }

@@ -6,7 +6,7 @@ use super::gpu_wait::{GpuWait, WaitMode};
 use crate::backend::{self, Backend, Selection};
 use crate::error::RuntimeError;
 use crate::gpu_util::ShaderOrigin;
-use crate::runtime::trace_spirv::{TraceKernel, TraceSpirv};
+use crate::runtime::trace_spirv::{sorted_by_binding, TraceKernel, TraceSpirv};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -321,7 +321,8 @@ impl Gpu {
             match spirv.words(wgsl, entry, constants, groups) {
                 Ok((words, workgroup_size)) => {
                     if let Some(log) = &self.trace_kernels {
-                        let kernel = TraceKernel { label: label.to_string(), entry: entry.to_string(), words: words.clone(), groups: groups.to_vec() };
+                        let kernel =
+                            TraceKernel { label: label.to_string(), entry: entry.to_string(), words: words.clone(), groups: sorted_by_binding(groups) };
                         log.lock().unwrap_or_else(|e| e.into_inner()).push(kernel);
                     }
                     return (TraceSpirv::module_from_words(&self.device, label, entry, words, workgroup_size), Vec::new());

@@ -183,11 +183,9 @@ impl StatsDevice {
         result
     }
 
-    /// Group `entries` as wgpu-hal lays it out: entries sorted by binding, numbered in that
-    /// order (`crate::spirv_words::binding_map`).
-    fn set_layout(&self, entries: &[wgpu::BindGroupLayoutEntry]) -> Result<vk::DescriptorSetLayout, String> {
-        let mut sorted = entries.to_vec();
-        sorted.sort_by_key(|e| e.binding);
+    /// Group `sorted` (entries sorted by binding, [`TraceKernel::groups`]) as wgpu-hal lays it
+    /// out: entry `i` is binding `i` (`crate::spirv_words::binding_map`).
+    fn set_layout(&self, sorted: &[wgpu::BindGroupLayoutEntry]) -> Result<vk::DescriptorSetLayout, String> {
         let bindings: Vec<vk::DescriptorSetLayoutBinding> = sorted
             .iter()
             .enumerate()

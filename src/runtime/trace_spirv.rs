@@ -34,8 +34,22 @@ pub struct TraceKernel {
     pub entry: String,
     /// The SPIR-V given to wgpu.
     pub words: Vec<u32>,
-    /// The pipeline's bind group layouts, each as the executor listed its entries.
+    /// The pipeline's bind group layouts, each with its entries sorted by binding
+    /// ([`sorted_by_binding`]: entry `i` is Vulkan binding `i`).
     pub groups: Vec<Vec<wgpu::BindGroupLayoutEntry>>,
+}
+
+/// `groups` with each layout's entries sorted by binding, as wgpu-core hands them to wgpu-hal,
+/// which numbers the Vulkan bindings in that order (`crate::spirv_words::binding_map`).
+pub(crate) fn sorted_by_binding(groups: &[Vec<wgpu::BindGroupLayoutEntry>]) -> Vec<Vec<wgpu::BindGroupLayoutEntry>> {
+    groups
+        .iter()
+        .map(|g| {
+            let mut g = g.clone();
+            g.sort_by_key(|e| e.binding);
+            g
+        })
+        .collect()
 }
 
 /// How trace modules are written for one device.
@@ -127,15 +141,7 @@ impl TraceSpirv {
         let constants: naga::back::PipelineConstants = constants.iter().map(|(k, v)| (k.to_string(), *v)).collect();
         let (module, info) = naga::back::pipeline_constants::process_overrides(&module, &info, Some((naga::ShaderStage::Compute, entry)), &constants)
             .map_err(|e| format!("resolving the pipeline constants: {e}"))?;
-        // wgpu-core hands wgpu-hal each layout's entries sorted by binding.
-        let sorted: Vec<Vec<wgpu::BindGroupLayoutEntry>> = groups
-            .iter()
-            .map(|g| {
-                let mut g = g.clone();
-                g.sort_by_key(|e| e.binding);
-                g
-            })
-            .collect();
+        let sorted = sorted_by_binding(groups);
         let options = naga::back::spv::Options {
             lang_version: self.lang_version,
             // DEBUG for the OpName that finds the stack.

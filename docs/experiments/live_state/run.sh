@@ -11,14 +11,6 @@
 # cameras and at 2%, 5%, 10% of the frame) for main, `all` and `merged_extent`; main first and
 # last. One release binary (.gpu/raygraph.xz). Results in $OUT/live_state.tgz.
 . docs/experiments/low_coverage/preamble.sh
-bench() { # bench NAME WHAT
-  local name=$1 what=$2 n=${1}_$2 args=""
-  [ -d $OUT/r/$n ] && n=${n}_2
-  [ $what = real ] && args="$REAL"
-  if [ $SECONDS -gt ${DEADLINE:-530} ]; then echo "deadline: $n skipped"; return; fi
-  (cd /tmp/v/$name && timeout 150 $RG bench rays $args --backend compute --frames 10 --out $OUT/r/$n > $OUT/r/$n.log 2>&1) || tail -2 $OUT/r/$n.log
-  echo "== $n ($SECONDS s)"; grep -E "^\| " $OUT/r/$n/rays.md | grep -v -- "---" | grep -v " test |" | awk -F'|' '{print $2 "|" $5 "|" $6}' | sed 's|/[^ ]*/||'
-}
 bench main table3; bench main real
 bench all table3; bench all real
 for v in merged_path start_extent rows_at_leaf merged_extent; do bench $v table3; done
