@@ -5,7 +5,7 @@
 # (`late_box`: this checkout's), `raygraph selftest`, then `bench rays --frames 10` on this
 # checkout, Table 3 and the real assets (the helmet, the pine and helmet_5x5x5 at their cameras
 # and at 2%, 5%, 10% of the frame), both back-ends; last, Table 3 before, compute only.
-# Made by `bash docs/experiments/low_coverage/pack.sh HEAD~1 docs/experiments/planes_rows
+# Made by `bash docs/experiments/low_coverage/pack.sh 9a7ce72 docs/experiments/planes_rows
 # late_box`. Results in $OUT/late_box.tgz.
 . docs/experiments/low_coverage/preamble.sh
 for v in main late_box; do
