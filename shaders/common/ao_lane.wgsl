@@ -19,8 +19,9 @@ fn ao_lane_open(pixel: vec2<u32>, lane: u32, p: vec3<f32>, n: vec3<f32>) -> f32 
 fn ao_lane_open_of(pixel: vec2<u32>, lane: u32, lanes: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let origin = offset_ray_origin(p, n);
     let range = params.range + params.range_scale * frame.scene_sphere.w;
-    // Every ray of the lane stays within `range` of `origin`: they start together below the
-    // root (trace/common.wgsl).
+    // Every ray of the lane stays within `range` of `origin` (its t_max is `range`, its
+    // direction a unit vector), as trace_transmittance_within asks: they start together below
+    // the root (trace/common.wgsl).
     let start = trace_start_within(origin, range);
     // With `per_frame`, every frame draws new samples: R2 goes on along its sequence, white
     // noise is seeded again.

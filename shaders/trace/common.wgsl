@@ -10,12 +10,17 @@
 //                               the same with per-ray flags (TRACE_CULL_BACK_FACES)
 //   trace_start_within(origin, radius) -> TraceStart
 //   trace_transmittance_within(ray, start, flags) -> f32
-//                               trace_transmittance_flags for rays that stay within `radius`
-//                               of `origin` (AO rays): the compute back-end finds once, for all
-//                               of them, the node under which every triangle they can reach
-//                               lies, and starts each ray there; the same result as
-//                               trace_transmittance_flags (a ray that leaves the sphere's box
-//                               takes the whole traversal). Other back-ends trace from the root.
+//                               trace_transmittance_flags for rays from `origin` that reach no
+//                               farther than `radius` (t_max |dir| <= radius: AO rays, whose
+//                               t_max is the radius and whose directions are unit vectors):
+//                               the compute back-end finds once, for all of them, the node
+//                               under which every triangle they can reach lies, and starts
+//                               each ray there; the same result as trace_transmittance_flags
+//                               for such rays. Its merged path does not test each ray for it
+//                               (the test cost the atrium's frame 2.8%, PERF.md step 43), so a
+//                               ray that reaches farther may miss what lies outside the
+//                               sphere's box; its two-level path sends such a ray to the whole
+//                               traversal. Other back-ends trace from the root.
 //   trace_flush_stats()         adds this invocation's ray counts to the GPU counters; call it
 //                               once at the end of the entry point
 // A pass includes "trace/trace.wgsl"; the back-end chosen at start-up substitutes its module

@@ -600,14 +600,15 @@ fn trace_transmittance_below(ray: Ray, node: u32, alpha_instance: u32, cull: boo
 }
 
 // trace_transmittance_within in the merged layout (TRACE_MERGED), with one traversal call:
-// from the start node, or from the instance's BLAS root for rays from the root and rays that
-// leave the start's box (trace_levels would enter that BLAS through the TLAS's one leaf, whose
-// box is the BLAS root's).
+// from the start node, or from the instance's BLAS root for rays from the root (trace_levels
+// would enter that BLAS through the TLAS's one leaf, whose box is the BLAS root's). A ray is
+// not tested for staying in the start's box: the interface's rays reach no farther than its
+// radius (trace/common.wgsl), and the test cost the atrium's frame 2.8% (PERF.md step 43).
 fn trace_transmittance_merged(ray: Ray, start: TraceStart, flags: u32) -> f32 {
     if !trace_transmittance_starts(ray) {
         return 1.0;
     }
-    var node = select(TRACE_START_ROOT, start.node, trace_segment_within(ray, start));
+    var node = start.node;
     var alpha_instance = NO_HIT;
     if node == TRACE_START_ROOT {
         let inst = trace_instance(trace_tlas_node(0u).left_or_first);

@@ -540,8 +540,10 @@ impl CpuTraverser<'_> {
     }
 
     /// Whether an any-hit `ray` hits anything, started where `start` says (the WGSL's
-    /// `trace_transmittance_within` for opaque geometry): a ray whose segment leaves the
-    /// start's box takes the whole traversal. Adds what it touched to `counts`.
+    /// `trace_transmittance_within` for opaque geometry, for the rays it is given: from the
+    /// sphere's centre, reaching no farther than its radius); a ray whose segment leaves the
+    /// start's box, which the WGSL's merged path does not test for, takes the whole traversal
+    /// here. Adds what it touched to `counts`.
     pub fn any_within(&self, ray: &Ray, start: &TraceStart, counts: &mut TraversalCounts) -> bool {
         let TraceStart::Within { instance, node, lo, hi } = *start else { return self.counted(ray, true, counts).is_some() };
         if !ray_is_valid(ray) {
