@@ -74,6 +74,40 @@ fn round_steps(steps: &[Vec<u64>]) -> (u64, u64) {
     (useful, longest * steps.len() as u64)
 }
 
+/// The time a subgroup takes, in steps, to trace `steps[lane]` (each ray's steps, in order) in
+/// one loop where lanes whose ray is done fetch their next one together: an iteration is a
+/// fetch, costing `fetch` steps, when some lanes wait to fetch and either no lane has a ray in
+/// flight or at least `threshold` of the lanes with work left wait; else one step of every ray
+/// in flight, costing `1 + vote` (the vote's own work). A `threshold` above 1 is rays in
+/// rounds (every round one fetch, no vote). Returns the steps that do work and the time.
+pub fn voted_fetch_time(steps: &[Vec<u64>], fetch: f64, vote: f64, threshold: f64) -> (u64, f64) {
+    let useful: u64 = steps.iter().flatten().sum();
+    let mut next = vec![0usize; steps.len()];
+    let mut left: Vec<Option<u64>> = vec![None; steps.len()];
+    let mut time = 0.0;
+    loop {
+        let waiting = (0..steps.len()).filter(|&l| left[l].is_none() && next[l] < steps[l].len()).count();
+        let flying = left.iter().filter(|r| r.is_some()).count();
+        if waiting + flying == 0 {
+            return (useful, time);
+        }
+        if waiting > 0 && (flying == 0 || waiting as f64 >= threshold * (waiting + flying) as f64) {
+            time += fetch;
+            for l in 0..steps.len() {
+                if left[l].is_none() && next[l] < steps[l].len() {
+                    left[l] = Some(steps[l][next[l]]).filter(|&s| s > 0);
+                    next[l] += 1;
+                }
+            }
+            continue;
+        }
+        time += 1.0 + if threshold > 1.0 { 0.0 } else { vote };
+        for r in left.iter_mut() {
+            *r = r.and_then(|s| Some(s - 1).filter(|&s| s > 0));
+        }
+    }
+}
+
 fn share(useful: u64, issued: u64) -> f64 {
     if issued == 0 {
         1.0
@@ -110,7 +144,11 @@ fn row(test: &str, rays: u64, c: &TraversalCounts, bandwidth: f64) -> RooflineRo
 /// The scene workload of one scene: primary, shadow and AO rays, counted together.
 pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) -> RooflineRow {
     let accel = merged_layout(scene);
-    let tracer = CpuTraverser::new(&accel);
+    scene_workload_on(scene, &CpuTraverser::new(&accel), stride, ao_rays, bandwidth)
+}
+
+/// [`scene_workload`] traced by `tracer` (another layout of `scene`, or with its alpha test).
+pub fn scene_workload_on(scene: &Scene, tracer: &CpuTraverser, stride: u32, ao_rays: u32, bandwidth: f64) -> RooflineRow {
     let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
     let mut counts = TraversalCounts::default();
     let mut rays = 0u64;
@@ -179,12 +217,22 @@ fn steps(c: &TraversalCounts) -> u64 {
 /// parameter: 2, the net, is their default), through the f32 mirror
 /// [`crate::accel::reference_render::ao_numbers`], seed 0 as in `graph/bench_rays.ron`.
 pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32, sampling: u32) -> f64 {
+    let (mut useful, mut issued) = (0u64, 0u64);
+    for lanes in ao_subgroup_steps(scene, blocks, ao_rays, sampling) {
+        let (u, i) = round_steps(&lanes);
+        (useful, issued) = (useful + u, issued + i);
+    }
+    share(useful, issued)
+}
+
+/// The subgroups of [`subgroup_share_ao`]: for each, `steps[lane][round]`.
+pub fn ao_subgroup_steps(scene: &Scene, blocks: u32, ao_rays: u32, sampling: u32) -> Vec<Vec<Vec<u64>>> {
     let accel = merged_layout(scene);
     let tracer = CpuTraverser::new(&accel);
     let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
     let range = 0.05 * 0.5 * scene.bounds().diagonal();
     let settings = AoSettings { rays: ao_rays, range, sampling, seed: 0 };
-    let (mut useful, mut issued) = (0u64, 0u64);
+    let mut subgroups = Vec::new();
     for (x0, y0) in subgroup_corners(blocks, (4, 2)) {
         let mut lanes = Vec::with_capacity(SUBGROUP_LANES);
         for k in 0..8 {
@@ -210,10 +258,9 @@ pub fn subgroup_share_ao(scene: &Scene, blocks: u32, ao_rays: u32, sampling: u32
                 lanes.push(lane);
             }
         }
-        let (u, i) = round_steps(&lanes);
-        (useful, issued) = (useful + u, issued + i);
+        subgroups.push(lanes);
     }
-    share(useful, issued)
+    subgroups
 }
 
 /// [`round_share`] of a primary test (Miss, Stress: `rt/primary_n.wgsl`): subgroups of 8x4
@@ -252,7 +299,11 @@ const AO_LANES: u32 = 4;
 /// The Miss or Stress test: closest-hit primary rays from `camera`.
 pub fn primary_workload(test: &str, scene: &Scene, camera: &Camera, stride: u32, bandwidth: f64) -> RooflineRow {
     let accel = merged_layout(scene);
-    let tracer = CpuTraverser::new(&accel);
+    primary_workload_on(test, &CpuTraverser::new(&accel), camera, stride, bandwidth)
+}
+
+/// [`primary_workload`] traced by `tracer` (another layout of the scene, or with its alpha test).
+pub fn primary_workload_on(test: &str, tracer: &CpuTraverser, camera: &Camera, stride: u32, bandwidth: f64) -> RooflineRow {
     let (mut counts, mut known) = (TraversalCounts::default(), TraversalCounts::default());
     let rays = camera_rays(camera, (2560, 1440), stride);
     for r in &rays {
@@ -346,7 +397,25 @@ pub fn csv(rows: &[RooflineRow]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::round_share;
+    use super::{round_share, voted_fetch_time};
+
+    #[test]
+    fn rounds_cost_a_fetch_and_their_longest_ray_each() {
+        let lanes = vec![vec![3, 0, 5], vec![1, 0, 2]];
+        // (2 + 3) + 2 (a round of rays that need no step) + (2 + 5)
+        assert_eq!(voted_fetch_time(&lanes, 2.0, 0.5, f64::INFINITY), (11, 14.0));
+    }
+
+    #[test]
+    fn a_vote_lets_lanes_out_of_step_fetch_together() {
+        // Rounds: 10 + 10. Lane 0 fetches its second ray when it is half the lanes with work
+        // left and waits, at step 1: both lanes are done at step 11.
+        let lanes = vec![vec![1, 10], vec![10, 1]];
+        assert_eq!(voted_fetch_time(&lanes, 0.0, 0.0, f64::INFINITY).1, 20.0);
+        assert_eq!(voted_fetch_time(&lanes, 0.0, 0.0, 0.5).1, 11.0);
+        // A vote that needs both lanes is rounds again.
+        assert_eq!(voted_fetch_time(&lanes, 0.0, 0.0, 1.0).1, 20.0);
+    }
 
     #[test]
     fn a_round_lasts_its_longest_ray() {
