@@ -149,29 +149,65 @@ pub fn scene_workload(scene: &Scene, stride: u32, ao_rays: u32, bandwidth: f64) 
 
 /// [`scene_workload`] traced by `tracer` (another layout of `scene`, or with its alpha test).
 pub fn scene_workload_on(scene: &Scene, tracer: &CpuTraverser, stride: u32, ao_rays: u32, bandwidth: f64) -> RooflineRow {
-    let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
     let mut counts = TraversalCounts::default();
     let mut rays = 0u64;
+    let mut start = TraceStart::Root;
+    scene_workload_rays(scene, tracer, stride, ao_rays, |w| match w {
+        WorkloadRay::Primary(r) => {
+            rays += 1;
+            tracer.counted(&r, false, &mut counts);
+        }
+        WorkloadRay::Shadow(r) => {
+            rays += 1;
+            tracer.counted(&r, true, &mut counts);
+        }
+        WorkloadRay::LaneStart { origin, radius } => start = tracer.start_within(origin, radius, &mut counts),
+        WorkloadRay::Ao(r) => {
+            rays += 1;
+            tracer.any_within(&r, &start, &mut counts);
+        }
+    });
+    row(scene.name(), rays, &counts, bandwidth)
+}
+
+/// One ray of the scene workload, or the start of a lane's AO rays.
+#[derive(Debug, Clone, Copy)]
+pub enum WorkloadRay {
+    /// A primary ray (closest hit).
+    Primary(Ray),
+    /// The shadow ray of a primary ray's hit (any hit).
+    Shadow(Ray),
+    /// The AO rays that follow, up to the next start, stay within `radius` of `origin` and
+    /// start together below the root (`common/ao_lane.wgsl`; the executor turns it on).
+    LaneStart {
+        /// The rays' origin.
+        origin: Vec3,
+        /// Their reach.
+        radius: f32,
+    },
+    /// An AO ray (any hit).
+    Ao(Ray),
+}
+
+/// The rays of [`scene_workload`], in the order it traces them: every `stride`-th pixel's
+/// primary ray; where `tracer` finds it a hit, one shadow ray towards the light and `ao_rays`
+/// AO rays, a lane's share of them (a quarter) after its [`WorkloadRay::LaneStart`].
+pub fn scene_workload_rays(scene: &Scene, tracer: &CpuTraverser, stride: u32, ao_rays: u32, mut visit: impl FnMut(WorkloadRay)) {
+    let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
     let mut rng = crate::util::SplitMix64(1);
     let range = 0.05 * 0.5 * scene.bounds().diagonal();
     for r in camera_rays(scene.camera(), (2560, 1440), stride) {
-        rays += 1;
-        let Some(hit) = tracer.counted(&r, false, &mut counts) else { continue };
+        visit(WorkloadRay::Primary(r));
+        let Some(hit) = tracer.closest(&r) else { continue };
         let (origin, n) = ao_origin(scene, &r, &hit);
-        rays += 1;
-        tracer.counted(&Ray::new(origin, scene.light().direction), true, &mut counts);
-        // A pixel's AO rays go to AO_LANES lanes; a lane's rays start together below the root
-        // where the executor turns that on (`common/ao_lane.wgsl`).
-        let mut start = TraceStart::Root;
+        visit(WorkloadRay::Shadow(Ray::new(origin, scene.light().direction)));
         for i in 0..ao_rays {
             if i % ao_rays.div_ceil(AO_LANES) == 0 && start_below_root {
-                start = tracer.start_within(origin, range, &mut counts);
+                visit(WorkloadRay::LaneStart { origin, radius: range });
             }
-            rays += 1;
-            tracer.any_within(&Ray::with_interval(origin, cosine_direction(n, &mut rng), 0.0, range), &start, &mut counts);
+            visit(WorkloadRay::Ao(Ray::with_interval(origin, cosine_direction(n, &mut rng), 0.0, range)));
         }
     }
-    row(scene.name(), rays, &counts, bandwidth)
 }
 
 /// Where the AO rays of the primary ray `r`'s `hit` start (the hit moved off the surface as the
