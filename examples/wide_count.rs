@@ -107,7 +107,7 @@ impl WideTree<'_> {
                 c.child_hits += h.len() as u64;
                 h
             };
-            for &(_, k) in h_rev_interior(&hits, self.accel) {
+            for &(_, k) in interior_farthest_first(&hits, self.accel) {
                 stack.push(k);
             }
             for &(_, k) in hits.iter().filter(|(_, k)| self.accel.blas_nodes[*k as usize].count > 0) {
@@ -129,7 +129,7 @@ impl WideTree<'_> {
 }
 
 /// The interior children among `hits` (nearest first), farthest first: the order to push them.
-fn h_rev_interior<'h>(hits: &'h [(f32, u32)], accel: &GpuAccel) -> Vec<&'h (f32, u32)> {
+fn interior_farthest_first<'h>(hits: &'h [(f32, u32)], accel: &GpuAccel) -> Vec<&'h (f32, u32)> {
     hits.iter().rev().filter(|(_, k)| accel.blas_nodes[*k as usize].count == 0).collect()
 }
 
@@ -166,11 +166,13 @@ fn main() -> anyhow::Result<()> {
         WorkloadRay::Shadow(r) => _ = (tracer.counted(&r, true, &mut b), wide.trace(&r, root, true, &mut w)),
         WorkloadRay::LaneStart { origin, radius } => start = tracer.start_within(origin, radius, &mut TraversalCounts::default()),
         WorkloadRay::Ao(r) => {
-            let from = match start {
-                TraceStart::Within { node: Some(n), .. } => n,
-                _ => root,
-            };
-            _ = (tracer.any_within(&r, &start, &mut ao_b), wide.trace(&r, from, true, &mut ao_w));
+            tracer.any_within(&r, &start, &mut ao_b);
+            match start {
+                TraceStart::Within { node: Some(n), .. } => _ = wide.trace(&r, n, true, &mut ao_w),
+                // Nothing within reach: no traversal in either tree.
+                TraceStart::Within { node: None, .. } => ao_w.rays += 1,
+                TraceStart::Root => _ = wide.trace(&r, root, true, &mut ao_w),
+            }
         }
     });
     report("primary and shadow", &b, w.rays, &w);
