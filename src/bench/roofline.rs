@@ -19,6 +19,9 @@
 //! lay them out (a subgroup of 32), each lane's rays in rounds, the share of a subgroup's
 //! traversal steps (interior nodes and leaves visited) that do work; the AO rays there take
 //! the directions the shader takes (the AO layers' default sampling, the net).
+//! [`voted_fetch_time`] prices the same subgroups' rays in one loop whose lanes fetch together
+//! by a vote ([`ao_subgroup_steps`] gives them); [`scene_workload_rays`] hands the workload's
+//! rays to other tracers (the examples `ao_fetch_model` and `wide_count`, PERF.md steps 44-47).
 
 use crate::accel::bvh::{Blas, BuildConfig};
 use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceStart, TraversalCounts};
