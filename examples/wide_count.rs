@@ -10,7 +10,7 @@
 
 use glam::Vec3;
 use raygraph::accel::bvh::{Blas, BuildConfig};
-use raygraph::accel::cpu_traverse::{CpuTraverser, Ray, TraceStart, TraversalCounts};
+use raygraph::accel::cpu_traverse::{CpuTraverser, Ray, TraceStart, TraversalCounts, WatertightRay};
 use raygraph::accel::layout::{merge, merge_instances, GpuAccel, GpuBvhNode};
 use raygraph::bench::rays::STRESS_PRESET;
 use raygraph::bench::roofline::{scene_workload_rays, WorkloadRay};
@@ -39,58 +39,37 @@ fn area(n: &GpuBvhNode) -> f32 {
     d.x * d.y + d.y * d.z + d.z * d.x
 }
 
-impl<'a> WideTree<'a> {
-    /// The children of the wide node rooted at binary interior node `n`.
-    fn children(&mut self, n: u32) -> Vec<u32> {
-        let nodes = &self.accel.blas_nodes;
-        self.children
-            .entry(n)
-            .or_insert_with(|| {
-                let first = nodes[n as usize].left_or_first;
-                let mut open = vec![first, first + 1];
-                while open.len() < WIDTH {
-                    let interior = open.iter().enumerate().filter(|(_, &k)| nodes[k as usize].count == 0);
-                    let Some((i, _)) = interior.max_by(|a, b| area(&nodes[*a.1 as usize]).total_cmp(&area(&nodes[*b.1 as usize]))) else { break };
-                    let k = open.swap_remove(i);
-                    let f = nodes[k as usize].left_or_first;
-                    open.extend([f, f + 1]);
-                }
-                open
-            })
-            .clone()
-    }
+/// The children of the wide node rooted at binary interior node `n` of `nodes`, made once.
+fn wide_children<'m>(memo: &'m mut HashMap<u32, Vec<u32>>, nodes: &[GpuBvhNode], n: u32) -> &'m [u32] {
+    memo.entry(n).or_insert_with(|| {
+        let first = nodes[n as usize].left_or_first;
+        let mut open = vec![first, first + 1];
+        while open.len() < WIDTH {
+            let interior = open.iter().enumerate().filter(|(_, &k)| nodes[k as usize].count == 0);
+            let Some((i, _)) = interior.max_by(|a, b| area(&nodes[*a.1 as usize]).total_cmp(&area(&nodes[*b.1 as usize]))) else { break };
+            let k = open.swap_remove(i);
+            let f = nodes[k as usize].left_or_first;
+            open.extend([f, f + 1]);
+        }
+        open
+    })
 }
 
-/// Entry distance of `ray` into `n` within `(t_min, t_max]`, if it enters.
-fn slab(ray: &Ray, n: &GpuBvhNode, t_max: f32) -> Option<f32> {
-    let inv = ray.dir.recip();
-    let t1 = (Vec3::from(n.min) - ray.origin) * inv;
-    let t2 = (Vec3::from(n.max) - ray.origin) * inv;
-    let near = t1.min(t2).max_element().max(ray.t_min);
+/// Entry distance of a ray from `origin` with reciprocal direction `inv` into `n` within
+/// `(t_min, t_max]`, if it enters.
+fn slab(origin: Vec3, inv: Vec3, n: &GpuBvhNode, t_min: f32, t_max: f32) -> Option<f32> {
+    let t1 = (Vec3::from(n.min) - origin) * inv;
+    let t2 = (Vec3::from(n.max) - origin) * inv;
+    let near = t1.min(t2).max_element().max(t_min);
     let far = t1.max(t2).min_element().min(t_max) * 1.000_000_5;
     (near <= far).then_some(near)
-}
-
-/// Möller-Trumbore distance of a hit of triangle `t` in `(t_min, t_max]`.
-fn triangle(ray: &Ray, t: &raygraph::accel::layout::GpuTriangle, t_max: f32) -> Option<f32> {
-    let (v0, e1, e2) = (Vec3::from(t.v0), Vec3::from(t.v1) - Vec3::from(t.v0), Vec3::from(t.v2) - Vec3::from(t.v0));
-    let p = ray.dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-20 {
-        return None;
-    }
-    let s = ray.origin - v0;
-    let u = s.dot(p) / det;
-    let q = s.cross(e1);
-    let v = ray.dir.dot(q) / det;
-    let d = e2.dot(q) / det;
-    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && d > ray.t_min && d <= t_max).then_some(d)
 }
 
 impl WideTree<'_> {
     /// Traces `ray` from the wide node rooted at binary node `root` (a leaf: its triangles).
     fn trace(&mut self, ray: &Ray, root: u32, any_hit: bool, c: &mut WideCounts) -> bool {
         c.rays += 1;
+        let (inv, Some(watertight)) = (ray.dir.recip(), WatertightRay::new(ray.origin, ray.dir)) else { return false };
         let mut best = ray.t_max;
         let mut stack = vec![root];
         let mut found = false;
@@ -100,9 +79,10 @@ impl WideTree<'_> {
                 vec![(0.0, n)]
             } else {
                 c.nodes += 1;
-                let kids = self.children(n);
+                let nodes = &self.accel.blas_nodes;
+                let kids = wide_children(&mut self.children, nodes, n);
                 c.child_boxes += kids.len() as u64;
-                let mut h: Vec<(f32, u32)> = kids.iter().filter_map(|&k| slab(ray, &self.accel.blas_nodes[k as usize], best).map(|t| (t, k))).collect();
+                let mut h: Vec<(f32, u32)> = kids.iter().filter_map(|&k| slab(ray.origin, inv, &nodes[k as usize], ray.t_min, best).map(|t| (t, k))).collect();
                 h.sort_by(|a, b| a.0.total_cmp(&b.0));
                 c.child_hits += h.len() as u64;
                 h
@@ -114,7 +94,7 @@ impl WideTree<'_> {
                 let leaf = self.accel.blas_nodes[k as usize];
                 for t in &self.accel.triangles[leaf.left_or_first as usize..(leaf.left_or_first + leaf.count) as usize] {
                     c.triangles += 1;
-                    if let Some(d) = triangle(ray, t, best) {
+                    if let Some((d, ..)) = watertight.intersect(t, ray.t_min, best) {
                         best = d;
                         found = true;
                         if any_hit {
@@ -161,10 +141,19 @@ fn main() -> anyhow::Result<()> {
     let mut wide = WideTree { accel: &accel, children: HashMap::new() };
     let (mut b, mut w, mut start) = (TraversalCounts::default(), WideCounts::default(), TraceStart::Root);
     let (mut ao_b, mut ao_w) = (TraversalCounts::default(), WideCounts::default());
-    scene_workload_rays(&s, &tracer, stride.parse()?, ao.parse()?, |ray| match ray {
-        WorkloadRay::Primary(r) => _ = (tracer.counted(&r, false, &mut b), wide.trace(&r, root, false, &mut w)),
-        WorkloadRay::Shadow(r) => _ = (tracer.counted(&r, true, &mut b), wide.trace(&r, root, true, &mut w)),
-        WorkloadRay::LaneStart { origin, radius } => start = tracer.start_within(origin, radius, &mut TraversalCounts::default()),
+    scene_workload_rays(&s, stride.parse()?, ao.parse()?, |ray| match ray {
+        WorkloadRay::Primary(r) => {
+            wide.trace(&r, root, false, &mut w);
+            tracer.counted(&r, false, &mut b)
+        }
+        WorkloadRay::Shadow(r) => {
+            _ = (tracer.counted(&r, true, &mut b), wide.trace(&r, root, true, &mut w));
+            None
+        }
+        WorkloadRay::LaneStart { origin, radius } => {
+            start = tracer.start_within(origin, radius, &mut TraversalCounts::default());
+            None
+        }
         WorkloadRay::Ao(r) => {
             tracer.any_within(&r, &start, &mut ao_b);
             match start {
@@ -173,6 +162,7 @@ fn main() -> anyhow::Result<()> {
                 TraceStart::Within { node: None, .. } => ao_w.rays += 1,
                 TraceStart::Root => _ = wide.trace(&r, root, true, &mut ao_w),
             }
+            None
         }
     });
     report("primary and shadow", &b, w.rays, &w);

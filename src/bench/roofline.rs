@@ -24,7 +24,7 @@
 //! rays to other tracers (the examples `ao_fetch_model` and `wide_count`, PERF.md steps 44-47).
 
 use crate::accel::bvh::{Blas, BuildConfig};
-use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Ray, TraceStart, TraversalCounts};
+use crate::accel::cpu_traverse::{offset_ray_origin, CpuTraverser, Hit, Ray, TraceStart, TraversalCounts};
 use crate::accel::layout::{merge, merge_instances, GpuAccel};
 use crate::accel::reference_render::{ao_numbers, cosine_hemisphere, r2_sample, AoSettings};
 use crate::scene::{Camera, Scene};
@@ -155,19 +155,24 @@ pub fn scene_workload_on(scene: &Scene, tracer: &CpuTraverser, stride: u32, ao_r
     let mut counts = TraversalCounts::default();
     let mut rays = 0u64;
     let mut start = TraceStart::Root;
-    scene_workload_rays(scene, tracer, stride, ao_rays, |w| match w {
+    scene_workload_rays(scene, stride, ao_rays, |w| match w {
         WorkloadRay::Primary(r) => {
             rays += 1;
-            tracer.counted(&r, false, &mut counts);
+            tracer.counted(&r, false, &mut counts)
         }
         WorkloadRay::Shadow(r) => {
             rays += 1;
             tracer.counted(&r, true, &mut counts);
+            None
         }
-        WorkloadRay::LaneStart { origin, radius } => start = tracer.start_within(origin, radius, &mut counts),
+        WorkloadRay::LaneStart { origin, radius } => {
+            start = tracer.start_within(origin, radius, &mut counts);
+            None
+        }
         WorkloadRay::Ao(r) => {
             rays += 1;
             tracer.any_within(&r, &start, &mut counts);
+            None
         }
     });
     row(scene.name(), rays, &counts, bandwidth)
@@ -193,15 +198,15 @@ pub enum WorkloadRay {
 }
 
 /// The rays of [`scene_workload`], in the order it traces them: every `stride`-th pixel's
-/// primary ray; where `tracer` finds it a hit, one shadow ray towards the light and `ao_rays`
-/// AO rays, a lane's share of them (a quarter) after its [`WorkloadRay::LaneStart`].
-pub fn scene_workload_rays(scene: &Scene, tracer: &CpuTraverser, stride: u32, ao_rays: u32, mut visit: impl FnMut(WorkloadRay)) {
+/// primary ray; where `visit` returns its closest hit (its answer for a primary ray; the
+/// others' answers are not read), one shadow ray towards the light and `ao_rays` AO rays, a
+/// lane's share of them (a quarter) after its [`WorkloadRay::LaneStart`].
+pub fn scene_workload_rays(scene: &Scene, stride: u32, ao_rays: u32, mut visit: impl FnMut(WorkloadRay) -> Option<Hit>) {
     let start_below_root = crate::runtime::exec::features::SceneFeatures::of(scene).start_below_root;
     let mut rng = crate::util::SplitMix64(1);
     let range = 0.05 * 0.5 * scene.bounds().diagonal();
     for r in camera_rays(scene.camera(), (2560, 1440), stride) {
-        visit(WorkloadRay::Primary(r));
-        let Some(hit) = tracer.closest(&r) else { continue };
+        let Some(hit) = visit(WorkloadRay::Primary(r)) else { continue };
         let (origin, n) = ao_origin(scene, &r, &hit);
         visit(WorkloadRay::Shadow(Ray::new(origin, scene.light().direction)));
         for i in 0..ao_rays {
@@ -215,7 +220,7 @@ pub fn scene_workload_rays(scene: &Scene, tracer: &CpuTraverser, stride: u32, ao
 
 /// Where the AO rays of the primary ray `r`'s `hit` start (the hit moved off the surface as the
 /// shaders move it), and the surface's normal facing the ray.
-fn ao_origin(scene: &Scene, r: &Ray, hit: &crate::accel::cpu_traverse::Hit) -> (Vec3, Vec3) {
+fn ao_origin(scene: &Scene, r: &Ray, hit: &Hit) -> (Vec3, Vec3) {
     let inst = &scene.instances()[hit.instance_id as usize];
     let m = &scene.meshes()[inst.mesh];
     let v: [Vec3; 3] = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[m.indices[3 * hit.prim as usize + k] as usize].position)));
