@@ -2,13 +2,15 @@
 // rt/ao_spread_sum.wgsl compute it alike from the list's length): how many lanes share one
 // listed pixel's rays this frame. Enough (pixel, lane) items for one an image pixel, as a
 // power of two from AO_LANES up to AO_SPREAD_MAX_LANES, and no more than the rays (rounded up
-// to a power of two): a model covering 2% of the frame gets 64 lanes a pixel, its rays side by
-// side instead of in a chain of 16 a lane. Item i is lane i % lanes of list entry i / lanes,
+// to a power of two): a model covering 2% of the frame gets 16 lanes a pixel, four of its 64
+// rays a lane instead of a chain of 16. More lanes than 16 pay a lane's own work (its list
+// entry, the G-buffer, the start below the root, its texel and the sum's read) for too few
+// rays, fewer make the chains long again (PERF.md steps 48-49). Item i is lane i % lanes of list entry i / lanes,
 // stored at texel (i % width, i / width) of `spread` (four texels an image pixel: lanes x
 // listed fits, as lanes < 2 x pixels / listed where that is above AO_LANES).
 //#include "common/ao_params.wgsl"
 
-const AO_SPREAD_MAX_LANES: u32 = 64u;
+const AO_SPREAD_MAX_LANES: u32 = 16u;
 
 fn ao_spread_lanes(listed: u32, pixels: u32, rays: u32) -> u32 {
     let wanted = (pixels + max(listed, 1u) - 1u) / max(listed, 1u);

@@ -1,6 +1,6 @@
 // Ambient occlusion spread over lanes (layers/rt_ao.ron's `ao_spread`, run in frames where
 // fewer than an eighth of the pixels had AO rays the frame before): each pixel of the list
-// (rt/ao_list.wgsl) gets the lane count of common/ao_lane_count.wgsl, 4 to 64, and the pass runs
+// (rt/ao_list.wgsl) gets the lane count of common/ao_lane_count.wgsl, 4 to 16, and the pass runs
 // one invocation per (listed pixel, lane) item: the invocation at texel t of `spread` runs item
 // `ao_spread_item(t)`, lane item % lanes of entry item / lanes, and items past the list's end
 // return at once. Each ray keeps its samples whatever the lane count (common/ao_lane.wgsl).
