@@ -6,8 +6,7 @@
 // trace/trace.wgsl.
 //#include "common/ray_blend.wgsl"
 
-// How many culled back faces and BLEND surfaces a primary ray passes before it gives up (a
-// miss).
+// How many culled back faces a primary ray passes before it gives up (a miss).
 const MAX_CULLED: u32 = 16u;
 
 // Whether a primary ray goes on past `hit`: a back face of a single-sided material, or a BLEND
@@ -18,13 +17,16 @@ fn primary_passes(hit: Hit) -> bool {
 }
 
 // The closest hit that is neither a back face of a single-sided material nor a BLEND surface.
+// The traversal itself passes BLEND surfaces (TRACE_PASS_BLEND); a culled back face is passed
+// by a new traversal just past it.
 fn closest_visible(ray_in: Ray) -> Hit {
     var ray = ray_in;
-    var hit = trace_closest(ray);
+    let flags = select(TRACE_FLAGS_NONE, TRACE_PASS_BLEND, SCENE_BLEND);
+    var hit = trace_closest_flags(ray, flags);
     for (var i = 0u; i < MAX_CULLED && hit.instance != NO_HIT && primary_passes(hit); i++) {
         // Past the passed triangle: 64 ulps of its distance.
         ray.t_min = blend_past(hit.t);
-        hit = trace_closest(ray);
+        hit = trace_closest_flags(ray, flags);
     }
     if hit.instance != NO_HIT && primary_passes(hit) {
         hit.instance = NO_HIT;

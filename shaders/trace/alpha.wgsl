@@ -14,6 +14,9 @@
 //     For a candidate of a transmittance ray: true where the ray passes it (the alpha test
 //     rejects it, or a BLEND surface whose coverage is taken out of the private
 //     trace_transmitted, still >= 1/256 after).
+//   trace_visible_passes(instance, primitive, bary) -> bool
+//     For a candidate of a closest-hit ray with TRACE_PASS_BLEND: true where the ray passes
+//     it (a BLEND surface, which needs no texel, or the alpha test rejects it).
 //   trace_blend_coverage(instance, primitive, bary) -> f32
 //     base_color.a x that texture alpha where the instance's material is BLEND, else -1;
 //     where its transmission texture is drawn, times 1 - the transmitted share x its texel.
@@ -77,6 +80,18 @@ fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
     }
     let c = trace_alpha_corners(rec, primitive, bary);
     return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
+}
+
+fn trace_visible_passes(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
+    let rec = trace_alpha_word(instance);
+    if rec.x == TRACE_ALPHA_OPAQUE {
+        return false;
+    }
+    if (rec.y & TRACE_ALPHA_BLEND) != 0u {
+        return true;
+    }
+    let c = trace_alpha_corners(rec, primitive, bary);
+    return !alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
 }
 
 // What a transmittance ray (trace_transmittance_flags) has let through so far; each

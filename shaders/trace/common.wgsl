@@ -7,7 +7,8 @@
 //                               trace_transmittance_passes), 0 at an opaque one; one any-hit
 //                               traversal, counted as one any-hit ray (common/ray_blend.wgsl)
 //   trace_closest_flags(ray, flags), trace_any_flags(ray, flags)
-//                               the same with per-ray flags (TRACE_CULL_BACK_FACES)
+//                               the same with per-ray flags (TRACE_CULL_BACK_FACES;
+//                               TRACE_PASS_BLEND for trace_closest_flags)
 //   trace_start_within(origin, radius) -> TraceStart
 //   trace_transmittance_within(ray, start, flags) -> f32
 //                               trace_transmittance_flags for rays from `origin` that reach no
@@ -51,6 +52,13 @@ const TRACE_FLAGS_NONE: u32 = 0u;
 // not hit: the ray passes through them. The value is the SPIR-V / WGSL ray flag
 // RAY_FLAG_CULL_BACK_FACING, so the ray-query back-end passes it through.
 const TRACE_CULL_BACK_FACES: u32 = 16u;
+// trace_closest_flags only: BLEND surfaces (translucent materials, common/ray_blend.wgsl) are
+// not hit: the ray passes them in its one traversal and finds the closest other surface, as
+// the G-buffer's primary rays want it (common/primary_hit.wgsl). Not a ray flag of SPIR-V or
+// WGSL: each back-end passes such candidates itself (trace/alpha.wgsl's
+// trace_visible_passes), where a new traversal past each one took the pine's primary pass at
+// 2% of the frame 0.45 ms against 0.17 without them (H200, PERF.md step 50).
+const TRACE_PASS_BLEND: u32 = 0x10000u;
 
 // Slots of `accel_stats`.
 const STAT_CLOSEST_RAYS: u32 = 0u;

@@ -280,7 +280,8 @@ fn trace_to_object(m0: vec4<f32>, m1: vec4<f32>, m2: vec4<f32>, p: vec3<f32>, w:
 // and their instance themselves); hits the alpha test rejects are passed through.
 // `through_blend` (with `any_hit`): a BLEND surface the alpha test keeps is passed through,
 // its coverage taken out of trace_transmitted, unless what is left falls below
-// TRACE_TRANSMITTANCE_MIN (then it stops the ray as an opaque one does).
+// TRACE_TRANSMITTANCE_MIN (then it stops the ray as an opaque one does); without `any_hit`
+// (TRACE_PASS_BLEND): every BLEND surface is passed through.
 fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, any_hit: bool, through_blend: bool, cull: bool, alpha_instance: u32, sp: ptr<function, u32>) -> u32 {
     let base = *sp;
     var desc = trace_descriptor(trace_blas_node(root));
@@ -298,8 +299,10 @@ fn trace_blas(root: u32, r: TraceRay, t_min: f32, best: ptr<function, TriHit>, a
                         let owner = select(alpha_instance, tri.instance, tri_alpha);
                         let bary = vec2<f32>(h.u, h.v);
                         var passed: bool;
-                        if through_blend {
+                        if through_blend && any_hit {
                             passed = trace_transmittance_passes(owner, tri.prim, bary);
+                        } else if through_blend {
+                            passed = trace_visible_passes(owner, tri.prim, bary);
                         } else {
                             passed = !trace_alpha_visible(owner, tri.prim, bary);
                         }
@@ -488,7 +491,7 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
         return trace_miss();
     }
     trace_count_closest++;
-    let r = trace_impl(ray, false, false, (flags & TRACE_CULL_BACK_FACES) != 0u);
+    let r = trace_impl(ray, false, (flags & TRACE_PASS_BLEND) != 0u, (flags & TRACE_CULL_BACK_FACES) != 0u);
     if r.any {
         trace_count_hits++;
     }

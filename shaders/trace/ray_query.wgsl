@@ -27,10 +27,18 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
     let ray_flags = flags & TRACE_CULL_BACK_FACES;
     rayQueryInitialize(&rq, accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir));
     // The candidate loop (naga takes a ray query only as a local variable, so it is written
-    // out in both entry points): confirm the candidates the alpha test keeps.
+    // out in both entry points): confirm the candidates the alpha test keeps, with
+    // TRACE_PASS_BLEND none on a BLEND surface.
+    let pass_blend = (flags & TRACE_PASS_BLEND) != 0u;
     while rayQueryProceed(&rq) {
         let c = rayQueryGetCandidateIntersection(&rq);
-        if trace_alpha_visible(c.instance_custom_data, c.primitive_index, c.barycentrics) {
+        var passed: bool;
+        if pass_blend {
+            passed = trace_visible_passes(c.instance_custom_data, c.primitive_index, c.barycentrics);
+        } else {
+            passed = !trace_alpha_visible(c.instance_custom_data, c.primitive_index, c.barycentrics);
+        }
+        if !passed {
             rayQueryConfirmIntersection(&rq);
         }
     }

@@ -54,6 +54,8 @@ const TRACE_RAY_ANY: u32 = 1u;
 // A transmittance ray (trace_transmittance_flags): an any-hit ray whose any-hit shader passes
 // BLEND surfaces, multiplying `transmittance` by what each lets through.
 const TRACE_RAY_TRANSMITTANCE: u32 = 2u;
+// A closest-hit ray with TRACE_PASS_BLEND: its any-hit shader passes every BLEND surface.
+const TRACE_RAY_CLOSEST_PAST_BLEND: u32 = 3u;
 
 struct TracePayload {
     ray_type: u32,
@@ -76,7 +78,7 @@ fn trace_closest_flags(ray: Ray, flags: u32) -> Hit {
         return trace_miss();
     }
     trace_count_closest++;
-    trace_payload.ray_type = TRACE_RAY_CLOSEST;
+    trace_payload.ray_type = select(TRACE_RAY_CLOSEST, TRACE_RAY_CLOSEST_PAST_BLEND, (flags & TRACE_PASS_BLEND) != 0u);
     let ray_flags = flags & TRACE_CULL_BACK_FACES;
     traceRay(accel_tlas, RayDesc(ray_flags, 0xffu, ray.t_min, ray.t_max, ray.origin, ray.dir), &trace_payload);
     let p = trace_payload;
@@ -123,7 +125,7 @@ fn trace_transmittance_flags(ray: Ray, flags: u32) -> f32 {
 // The miss shader of every ray type (see the module comment).
 @miss @incoming_payload(trace_incoming)
 fn trace_miss_shader() {
-    if trace_incoming.ray_type != TRACE_RAY_CLOSEST {
+    if trace_incoming.ray_type == TRACE_RAY_ANY || trace_incoming.ray_type == TRACE_RAY_TRANSMITTANCE {
         // Shadow and AO rays: only "nothing hit" matters (and what a transmittance ray's
         // payload has let through).
         trace_incoming.instance = NO_HIT;
@@ -193,7 +195,8 @@ var<private> trace_hit_attribute: vec2<f32>;
 var<private> trace_ignore_intersection: u32;
 
 // Runs on candidates of alpha-tested (non-opaque) geometry only: rejects a transparent texel;
-// a transmittance ray also passes a BLEND surface (trace_transmittance_passes on the
+// a closest-hit ray with TRACE_PASS_BLEND passes every BLEND surface; a transmittance ray
+// passes a BLEND surface (trace_transmittance_passes on the
 // payload's transmittance; the geometry is built NO_DUPLICATE_ANY_HIT_INVOCATION, so no
 // surface is taken out twice).
 @any_hit @incoming_payload(trace_incoming)
@@ -212,6 +215,8 @@ fn trace_any_hit_shader(
         trace_transmitted = trace_incoming.transmittance;
         ignore = trace_transmittance_passes(tri.instance, tri.primitive, b);
         trace_incoming.transmittance = trace_transmitted;
+    } else if trace_incoming.ray_type == TRACE_RAY_CLOSEST_PAST_BLEND {
+        ignore = trace_visible_passes(tri.instance, tri.primitive, b);
     } else {
         ignore = !trace_alpha_visible(tri.instance, tri.primitive, b);
     }
