@@ -1,0 +1,9 @@
+#!/bin/bash
+# PERF.md step 51: primary rays that pass BLEND surfaces in one traversal (TRACE_PASS_BLEND).
+# On the GPU machine, one release binary (.gpu/raygraph.xz) and this checkout as it is:
+# `shipped` (`raygraph selftest`, then `bench rays --frames 10` on both back-ends, Table 3 and
+# the real assets: the helmet, the pine and helmet_5x5x5 at their cameras and at 2%, 5%, 10%
+# of the frame). .gpu/diag.tgz is unpacked but not used. Results in $OUT/pass_blend.tgz.
+. docs/experiments/low_coverage/preamble.sh
+shipped
+cd $OUT && tar czf pass_blend.tgz r && rm -rf r
