@@ -29,6 +29,9 @@
 //! its red).
 //!
 //! A scene without BLEND materials runs its shadow rays as any-hit rays (SCENE_BLEND off).
+//!
+//! The G-buffer's primary rays pass both stacked panels within their one traversal
+//! (TRACE_PASS_BLEND): one closest-hit ray a pixel on every back-end.
 
 mod common;
 
@@ -207,6 +210,35 @@ fn the_ray_traced_modes_composite_the_panel_over_the_wall_on_every_back_end() {
             assert!(worst_in < 3e-3, "{what}, {graph} {backend:?}: the panel over the wall, largest error {worst_in}");
             assert!(worst_out < 3e-3, "{graph} {backend:?}: the bare wall, largest error {worst_out}");
         }
+    }
+}
+
+#[test]
+fn primary_rays_pass_the_stacked_panels_in_one_traversal_on_every_back_end() {
+    let gpu = gpu();
+    let scene = stacked_scene();
+    let path = repo().join("graph/full_rt.ron");
+    let pixels = u64::from(SIZE.0 * SIZE.1);
+    for backend in backends(&gpu) {
+        let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+        let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
+        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
+        let frame = exec.render(&gpu, scene.camera(), &scene).unwrap();
+        let at = exec.plan().passes().iter().position(|p| p.name == "gbuffer/primary").expect("full RT's G-buffer pass");
+        let rays = frame.pass_rays[at].expect("a trace pass counts its rays");
+        let position = channel(&gpu, &exec, "gbuffer.position");
+        let inside: Vec<&[f32; 4]> =
+            position.iter().enumerate().filter(|(i, _)| inside_panel(*i as u32 % SIZE.0, *i as u32 / SIZE.0)).map(|(_, p)| p).collect();
+        let on_wall = inside.iter().filter(|p| p[3] == 1.0 && p[2].abs() < 1e-3).count();
+        println!(
+            "{backend:?}: G-buffer pass {} closest-hit rays for {pixels} pixels; {on_wall} of {} pixels behind both panels on the wall",
+            rays.closest,
+            inside.len()
+        );
+        // TRACE_PASS_BLEND: the two panels are passed inside the ray's one traversal, not by a
+        // new traversal past each.
+        assert_eq!(rays.closest, pixels, "{backend:?}: one closest-hit ray a pixel");
+        assert!(inside.len() > 600 && on_wall == inside.len(), "{backend:?}: the G-buffer holds the wall behind both panels");
     }
 }
 
