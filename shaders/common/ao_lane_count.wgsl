@@ -5,9 +5,10 @@
 // to a power of two): a model covering 2% of the frame gets 16 lanes a pixel, four of its 64
 // rays a lane instead of a chain of 16. More lanes than 16 pay a lane's own work (its list
 // entry, the G-buffer, the start below the root, its texel and the sum's read) for too few
-// rays, fewer make the chains long again (PERF.md steps 48-49). Item i is lane i % lanes of list entry i / lanes,
-// stored at texel (i % width, i / width) of `spread` (four texels an image pixel: lanes x
-// listed fits, as lanes < 2 x pixels / listed where that is above AO_LANES).
+// rays, fewer make the chains long again (PERF.md steps 48-49). Item i is lane i % lanes of
+// list entry i / lanes, stored at texel (i % width, i / width) of `spread` (four texels an
+// image pixel: lanes x listed fits, as lanes < 2 x pixels / listed where that is above
+// AO_LANES).
 //#include "common/ao_params.wgsl"
 
 const AO_SPREAD_MAX_LANES: u32 = 16u;

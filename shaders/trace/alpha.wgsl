@@ -78,8 +78,7 @@ fn trace_alpha_visible(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
     if rec.x == TRACE_ALPHA_OPAQUE {
         return true;
     }
-    let c = trace_alpha_corners(rec, primitive, bary);
-    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
+    return trace_alpha_kept_by(rec, primitive, bary);
 }
 
 fn trace_visible_passes(instance: u32, primitive: u32, bary: vec2<f32>) -> bool {
@@ -90,8 +89,13 @@ fn trace_visible_passes(instance: u32, primitive: u32, bary: vec2<f32>) -> bool 
     if (rec.y & TRACE_ALPHA_BLEND) != 0u {
         return true;
     }
+    return !trace_alpha_kept_by(rec, primitive, bary);
+}
+
+// The alpha test of a hit on an alpha-tested instance whose record is `rec`: true where kept.
+fn trace_alpha_kept_by(rec: vec4<u32>, primitive: u32, bary: vec2<f32>) -> bool {
     let c = trace_alpha_corners(rec, primitive, bary);
-    return !alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
+    return alpha_kept(rec.y & 0xffffffu, bitcast<f32>(rec.z) * c.z, trace_alpha_cutoff(rec), c.xy, (rec.y >> 24u) & 15u);
 }
 
 // What a transmittance ray (trace_transmittance_flags) has let through so far; each

@@ -196,9 +196,8 @@ var<private> trace_ignore_intersection: u32;
 
 // Runs on candidates of alpha-tested (non-opaque) geometry only: rejects a transparent texel;
 // a closest-hit ray with TRACE_PASS_BLEND passes every BLEND surface; a transmittance ray
-// passes a BLEND surface (trace_transmittance_passes on the
-// payload's transmittance; the geometry is built NO_DUPLICATE_ANY_HIT_INVOCATION, so no
-// surface is taken out twice).
+// passes a BLEND surface (trace_transmittance_passes on the payload's transmittance; the
+// geometry is built NO_DUPLICATE_ANY_HIT_INVOCATION, so no surface is taken out twice).
 @any_hit @incoming_payload(trace_incoming)
 fn trace_any_hit_shader(
     @builtin(instance_custom_data) instance: u32,
