@@ -37,11 +37,13 @@ mod common;
 
 use common::{channel, gpu, repo};
 use glam::{Mat4, Vec3};
+use raygraph::accel::cache::RayStats;
 use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions};
 use raygraph::graph::Project;
 use raygraph::runtime::{Executor, Gpu};
 use raygraph::scene::{builtin, AlphaMode, Camera, Instance, LightKind, Material, Mesh, PunctualLight, Scene, Vertex, VertexExtra};
+use std::path::Path;
 
 const SIZE: (u32, u32) = (64, 64);
 const COVERAGE: f32 = 0.4;
@@ -170,6 +172,18 @@ fn render(gpu: &Gpu, graph: &str, backend: Backend, scene: &Scene) -> Executor {
     common::modes::render_graph(gpu, graph, backend, scene, SIZE)
 }
 
+/// One frame of `graph` on `backend`, and the rays each trace pass counted, by pass name.
+fn render_counting_rays(gpu: &Gpu, graph: &Path, backend: Backend, scene: &Scene) -> (Executor, impl Fn(&str) -> RayStats) {
+    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
+    let plan = compile_with(graph, &Project::beside_graph(graph), SIZE, &options).unwrap();
+    let mut exec = Executor::new(gpu, plan, scene).unwrap();
+    let frame = exec.render(gpu, scene.camera(), scene).unwrap();
+    let names: Vec<String> = exec.plan().passes().iter().map(|p| p.name.clone()).collect();
+    let rays_of =
+        move |pass: &str| frame.pass_rays[names.iter().position(|n| n == pass).expect("the pass is in the plan")].expect("a trace pass counts its rays");
+    (exec, rays_of)
+}
+
 /// Whether pixel (x, y) is wholly inside the panel's image (its middle half, a pixel's margin).
 fn inside_panel(x: u32, y: u32) -> bool {
     let (lo, hi) = (SIZE.0 / 4 + 1, 3 * SIZE.0 / 4 - 1);
@@ -220,12 +234,8 @@ fn primary_rays_pass_the_stacked_panels_in_one_traversal_on_every_back_end() {
     let path = repo().join("graph/full_rt.ron");
     let pixels = u64::from(SIZE.0 * SIZE.1);
     for backend in backends(&gpu) {
-        let options = CompileOptions { reuse: false, ..gpu.compile_options_for(backend) };
-        let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
-        let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-        let frame = exec.render(&gpu, scene.camera(), &scene).unwrap();
-        let at = exec.plan().passes().iter().position(|p| p.name == "gbuffer/primary").expect("full RT's G-buffer pass");
-        let rays = frame.pass_rays[at].expect("a trace pass counts its rays");
+        let (exec, rays_of) = render_counting_rays(&gpu, &path, backend, &scene);
+        let rays = rays_of("gbuffer/primary");
         let position = channel(&gpu, &exec, "gbuffer.position");
         let inside: Vec<&[f32; 4]> =
             position.iter().enumerate().filter(|(i, _)| inside_panel(*i as u32 % SIZE.0, *i as u32 / SIZE.0)).map(|(_, p)| p).collect();
@@ -350,13 +360,7 @@ fn a_scene_without_blend_materials_traces_its_shadow_rays_as_any_hit_rays() {
     let gpu = gpu();
     let scene = builtin::default_scene();
     assert!(scene.materials().iter().all(|m| m.alpha_mode != AlphaMode::Blend));
-    let options = CompileOptions { reuse: false, ..gpu.compile_options_for(Backend::Compute) };
-    let path = repo().join("graph/hybrid.ron");
-    let plan = compile_with(&path, &Project::beside_graph(&path), SIZE, &options).unwrap();
-    let mut exec = Executor::new(&gpu, plan, &scene).unwrap();
-    let frame = exec.render(&gpu, scene.camera(), &scene).unwrap();
-    let names: Vec<String> = exec.plan().passes().iter().map(|p| p.name.clone()).collect();
-    let rays_of = |pass: &str| frame.pass_rays[names.iter().position(|n| n == pass).unwrap()].expect("a trace pass counts its rays");
+    let (_, rays_of) = render_counting_rays(&gpu, &repo().join("graph/hybrid.ron"), Backend::Compute, &scene);
     let (shadow, blend) = (rays_of("shadow/shadow"), rays_of("blend/blend"));
     println!("default scene: shadow pass {} any-hit, {} closest-hit rays; blend pass {} rays", shadow.any, shadow.closest, blend.traced());
     assert!(shadow.any > 0 && shadow.closest == 0, "shadow rays are any-hit rays without BLEND materials");

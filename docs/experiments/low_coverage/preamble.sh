@@ -1,7 +1,8 @@
 # Sourced by low_coverage/run.sh and wide_any/run.sh on the GPU machine: unpacks the GL packages,
 # the release binary and the variant folders (.gpu/diag.tgz into /tmp/v), prints the device, and
 # sets ROOT, RG (the binary), OUT (results, with $OUT/r made) and REAL (the helmet and the pine at
-# their cameras and at 2%, 5%, 10% of the frame); defines `bench`, `kstats` and `shipped` (below).
+# their cameras and at 2%, 5%, 10% of the frame); defines `bench`, `kstats`, `export_copies`,
+# `selftest`, `bench_both` and `shipped` (below).
 set -u
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 xz -dc .gpu/raygraph.xz > .gpu/raygraph; chmod +x .gpu/raygraph
@@ -30,18 +31,31 @@ kstats() {
     --out $OUT/r/${name}_$what.png --kernel-stats $OUT/r/${name}_$what.md > $OUT/r/${name}_$what.log 2>&1) || tail -3 $OUT/r/${name}_$what.log
   echo "== $name $what"; awk '/^## /{k=$2} /Register Count/ {r=$5} /Binary Size/ {b=$5} /Local Memory/ {print "  " k " registers " r ", binary " b ", local bytes " $6 % 4294967296}' $OUT/r/${name}_$what.md
 }
-# shipped: this checkout as it is: `raygraph selftest`, then `bench rays --frames 10` on both
-# back-ends, Table 3 (into $OUT/r/table3) and the real assets (the helmet, the pine and
-# helmet_5x5x5 at their cameras and at 2%, 5%, 10% of the frame; $OUT/r/real); prints each row.
-shipped() {
+# REAL_ALL: REAL with helmet_5x5x5 (the helmet 125 times, 1.93M triangles, which
+# `export_copies` writes to /tmp).
+REAL_ALL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1"
+export_copies() {
+  $RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
+}
+# selftest: `raygraph selftest` into $OUT/r/selftest.log; prints its exit and its summary.
+selftest() {
   timeout 150 $RG selftest > $OUT/r/selftest.log 2>&1; echo "selftest exit $?"
   grep -E "passed|failed|not applicable" $OUT/r/selftest.log | tail -3
-  $RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
-  local what args
-  for what in table3 real; do
-    args=""
-    [ $what = real ] && args="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1"
-    timeout 240 $RG bench rays $args --frames 10 --out $OUT/r/$what > $OUT/r/$what.log 2>&1 || tail -2 $OUT/r/$what.log
-    echo "== $what ($SECONDS s)"; grep -E "^\| " $OUT/r/$what/rays.md | grep -v -- "---" | grep -v " test |" | awk -F'|' '{print $2 "|" $3 "|" $5 "|" $6}' | sed 's|/[^ ]*/||'
-  done
+}
+# bench_both WHAT: `bench rays --frames 10` on both back-ends of this checkout, Table 3
+# (WHAT=table3, into $OUT/r/table3) or the real assets with helmet_5x5x5 (WHAT=real, $OUT/r/real);
+# prints each row.
+bench_both() {
+  local what=$1 args=""
+  [ $what = real ] && args="$REAL_ALL"
+  timeout 240 $RG bench rays $args --frames 10 --out $OUT/r/$what > $OUT/r/$what.log 2>&1 || tail -2 $OUT/r/$what.log
+  echo "== $what ($SECONDS s)"; grep -E "^\| " $OUT/r/$what/rays.md | grep -v -- "---" | grep -v " test |" | awk -F'|' '{print $2 "|" $3 "|" $5 "|" $6}' | sed 's|/[^ ]*/||'
+}
+# shipped: this checkout as it is: selftest, then both back-ends on Table 3 and the real assets
+# (the helmet, the pine and helmet_5x5x5 at their cameras and at 2%, 5%, 10% of the frame).
+shipped() {
+  selftest
+  export_copies
+  bench_both table3
+  bench_both real
 }

@@ -9,8 +9,7 @@
 # docs/experiments/low_coverage/pack.sh REV docs/experiments/spread_lanes items_quarter
 # items_eighth items_sixteenth`. Results in $OUT/spread_lanes.tgz.
 . docs/experiments/low_coverage/preamble.sh
-$RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
-A=$ROOT/assets/gltf
-REAL="--scenes $A/DamagedHelmet/DamagedHelmet.glb,$A/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1"
+export_copies
+REAL=$REAL_ALL
 for v in main items_quarter items_eighth items_sixteenth main; do bench $v real; done
 cd $OUT && tar czf spread_lanes.tgz r && rm -rf r

@@ -7,9 +7,8 @@
 # checkout as it is (`shipped`: selftest, both back-ends on Table 3 and the real assets).
 # Results in $OUT/spread_cap.tgz.
 . docs/experiments/low_coverage/preamble.sh
-$RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
-A=$ROOT/assets/gltf
-REAL="--scenes $A/DamagedHelmet/DamagedHelmet.glb,$A/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1"
+export_copies
+REAL=$REAL_ALL
 bench main real
 shipped
 cd $OUT && tar czf spread_cap.tgz r && rm -rf r
