@@ -7,8 +7,8 @@
 @group(0) @binding(3) var partial: texture_2d<f32>;
 @group(0) @binding(4) var ao: texture_storage_2d<rgba16float, write>;
 
-// 16x16 workgroups: a pass over every pixel with little work each is bound by its
-// invocations, not its bytes; in 8x8 ones the tone map took half as long again (PERF.md step 52).
+// 16x16 workgroups, as the other passes over every pixel (PERF.md steps 52-53: this one took
+// as long in 8x8 ones, the tone map half as long again).
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(ao);
