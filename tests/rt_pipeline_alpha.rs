@@ -8,7 +8,7 @@
 mod common;
 
 use raygraph::accel::cache::AccelSettings;
-use raygraph::accel::rt_pipeline::{any_hit_binding_map, any_hit_spirv, live_hal_objects};
+use raygraph::accel::rt_pipeline::{any_hit_binding_map, any_hit_spirv, entry_calls, live_hal_objects};
 use raygraph::backend::Backend;
 use raygraph::graph::compile::{compile_with, CompileOptions, Project};
 use raygraph::runtime::batch::{BatchTracer, GpuRay};
@@ -143,7 +143,7 @@ fn the_any_hit_shader_is_valid_spirv() {
                             .collect()
                     })
                     .collect();
-                let words = any_hit_spirv(&module.module, &module.info, "trace_any_hit_shader", any_hit_binding_map(&layouts))
+                let words = any_hit_spirv(&module.module, &module.info, "trace_any_hit_shader", &pass.entry, any_hit_binding_map(&layouts))
                     .unwrap_or_else(|e| panic!("pass {}: {e}", pass.name));
                 // OpIgnoreIntersectionKHR (4448) once; OpVariable (59) of storage class
                 // HitAttributeKHR (5339) once.
@@ -163,6 +163,31 @@ fn the_any_hit_shader_is_valid_spirv() {
     }
     println!("{checked} any-hit modules patched and validated by spirv-val");
     assert!(checked >= 4, "the graphs' trace passes were not found");
+}
+
+/// The any-hit shader keeps its branch for closest-hit rays past BLEND surfaces
+/// (TRACE_CLOSEST_RAYS) in the pipelines of passes that trace closest-hit rays, and only there:
+/// the G-buffer's primary rays and the reflection rays call `trace_closest_flags`, the shadow
+/// and AO passes do not (their pipelines' any-hit shaders compile the branch out).
+#[test]
+fn only_passes_that_trace_closest_hit_rays_keep_the_past_blend_branch() {
+    let mut seen = std::collections::BTreeMap::new();
+    for graph in ["graph/hybrid.ron", "graph/full_rt.ron", "graph/bench_rays.ron"] {
+        let graph = common::repo().join(graph);
+        let options = CompileOptions { includes: raygraph::runtime::gpu::include_aliases(false), backend: Backend::RtPipeline, ..Default::default() };
+        let plan = compile_with(&graph, &Project::beside_graph(&graph), (64, 48), &options).unwrap();
+        for pass in plan.passes().iter().filter(|p| p.shader.ray_tracing.is_some()) {
+            let module = &pass.shader.ray_tracing.as_ref().unwrap().module;
+            seen.insert(pass.name.clone(), entry_calls(module, &pass.entry, "trace_closest_flags"));
+        }
+    }
+    println!("{seen:?}");
+    let with = |prefix: &str| seen.iter().filter(move |(name, _)| name.starts_with(prefix)).map(|(_, &calls)| calls).collect::<Vec<_>>();
+    for (prefix, expected) in [("gbuffer/", true), ("reflection/", true), ("shadow/", false), ("ao/", false)] {
+        let found = with(prefix);
+        assert!(!found.is_empty(), "no trace pass named {prefix}* in the shipped graphs: {seen:?}");
+        assert!(found.iter().all(|&calls| calls == expected), "{prefix}*: calls trace_closest_flags should be {expected}: {seen:?}");
+    }
 }
 
 /// The quads cut out exactly the opaque texels: closest-hit rays hit the quad there and the

@@ -57,6 +57,13 @@ const TRACE_RAY_TRANSMITTANCE: u32 = 2u;
 // A closest-hit ray with TRACE_PASS_BLEND: its any-hit shader passes every BLEND surface.
 const TRACE_RAY_CLOSEST_PAST_BLEND: u32 = 3u;
 
+// Whether the pass traces closest-hit rays (its ray-generation shader calls
+// trace_closest_flags): false compiles the any-hit shader's branch for TRACE_RAY_CLOSEST_PAST_BLEND
+// out of the pipelines of passes that trace only shadow and AO rays, whose any-hit shader then
+// carries no code of a ray type they never trace. Set by the runtime for the any-hit stage alone
+// (src/accel/rt_pipeline/any_hit.rs); the default keeps the branch.
+override TRACE_CLOSEST_RAYS: bool = true;
+
 struct TracePayload {
     ray_type: u32,
     t: f32,
@@ -214,7 +221,7 @@ fn trace_any_hit_shader(
         trace_transmitted = trace_incoming.transmittance;
         ignore = trace_transmittance_passes(tri.instance, tri.primitive, b);
         trace_incoming.transmittance = trace_transmitted;
-    } else if trace_incoming.ray_type == TRACE_RAY_CLOSEST_PAST_BLEND {
+    } else if TRACE_CLOSEST_RAYS && trace_incoming.ray_type == TRACE_RAY_CLOSEST_PAST_BLEND {
         ignore = trace_visible_passes(tri.instance, tri.primitive, b);
     } else {
         ignore = !trace_alpha_visible(tri.instance, tri.primitive, b);

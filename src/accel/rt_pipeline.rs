@@ -52,7 +52,7 @@ mod pass;
 mod pipeline;
 mod structures;
 
-pub use any_hit::{any_hit_spirv, binding_map as any_hit_binding_map};
+pub use any_hit::{any_hit_spirv, binding_map as any_hit_binding_map, entry_calls};
 pub use bindings::{AccelBuffers, RtBinding, RtResource};
 pub use hal_objects::live_hal_objects;
 pub(crate) use pass::RtPass;

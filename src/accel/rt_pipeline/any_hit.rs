@@ -27,8 +27,21 @@ const IGNORE_MARKER: &str = "trace_ignore_intersection";
 
 pub use crate::spirv_words::binding_map;
 
-/// The any-hit entry point `entry` of `module` as patched SPIR-V (see the module docs).
-pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entry: &str, binding_map: naga::back::spv::BindingMap) -> Result<Vec<u32>, String> {
+/// The trace module's pipeline constant that keeps the any-hit shader's branch for closest-hit
+/// rays passing BLEND surfaces (shaders/trace/rt_pipeline.wgsl), and the function whose call
+/// decides it: a pass whose ray-generation shader never calls it traces no closest-hit rays.
+const CLOSEST_RAYS_CONSTANT: &str = "TRACE_CLOSEST_RAYS";
+const CLOSEST_TRACE_FUNCTION: &str = "trace_closest_flags";
+
+/// The any-hit entry point `entry` of `module` as patched SPIR-V (see the module docs), for the
+/// pipeline whose ray-generation shader is entry point `ray_generation`.
+pub fn any_hit_spirv(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    entry: &str,
+    ray_generation: &str,
+    binding_map: naga::back::spv::BindingMap,
+) -> Result<Vec<u32>, String> {
     let checks = crate::gpu_util::ShaderOrigin::TracePass.checks();
     let restrict = naga::proc::BoundsCheckPolicy::Restrict;
     let options = naga::back::spv::Options {
@@ -48,13 +61,55 @@ pub fn any_hit_spirv(module: &naga::Module, info: &naga::valid::ModuleInfo, entr
         fake_missing_bindings: false,
         ..Default::default()
     };
-    // The trace module's pipeline constants (TRACE_ALPHA_TEST) keep their defaults here: the
-    // any-hit shader is the alpha test.
-    let (module, info) = naga::back::pipeline_constants::process_overrides(module, info, None, &Default::default())
+    // The trace module's pipeline constants keep their defaults here (TRACE_ALPHA_TEST: the
+    // any-hit shader is the alpha test), but for TRACE_CLOSEST_RAYS.
+    let closest = if entry_calls(module, ray_generation, CLOSEST_TRACE_FUNCTION) { 1.0 } else { 0.0 };
+    let constants = naga::back::PipelineConstants::from([(CLOSEST_RAYS_CONSTANT.to_string(), closest)]);
+    let (module, info) = naga::back::pipeline_constants::process_overrides(module, info, None, &constants)
         .map_err(|e| format!("resolving the pipeline constants of `{entry}`: {e}"))?;
     let pipeline = naga::back::spv::PipelineOptions { shader_stage: naga::ShaderStage::AnyHit, entry_point: entry.to_string() };
     let words = naga::back::spv::write_vec(&module, &info, &options, Some(&pipeline)).map_err(|e| format!("writing `{entry}` as SPIR-V: {e}"))?;
     patch(&words).map_err(|e| format!("patching `{entry}`: {e}"))
+}
+
+/// Whether entry point `entry` of `module` calls the function named `function`, directly or
+/// through the functions it calls.
+pub fn entry_calls(module: &naga::Module, entry: &str, function: &str) -> bool {
+    let Some(ep) = module.entry_points.iter().find(|e| e.name == entry) else { return false };
+    let mut seen = std::collections::HashSet::new();
+    let mut pending = Vec::new();
+    block_calls(&ep.function.body, &mut pending);
+    while let Some(handle) = pending.pop() {
+        if !seen.insert(handle) {
+            continue;
+        }
+        let called = &module.functions[handle];
+        if called.name.as_deref() == Some(function) {
+            return true;
+        }
+        block_calls(&called.body, &mut pending);
+    }
+    false
+}
+
+/// Pushes the function of every call in `block` and its nested blocks onto `calls`.
+fn block_calls(block: &naga::Block, calls: &mut Vec<naga::Handle<naga::Function>>) {
+    for statement in block.iter() {
+        match statement {
+            naga::Statement::Call { function, .. } => calls.push(*function),
+            naga::Statement::Block(inner) => block_calls(inner, calls),
+            naga::Statement::If { accept, reject, .. } => {
+                block_calls(accept, calls);
+                block_calls(reject, calls);
+            }
+            naga::Statement::Switch { cases, .. } => cases.iter().for_each(|case| block_calls(&case.body, calls)),
+            naga::Statement::Loop { body, continuing, .. } => {
+                block_calls(body, calls);
+                block_calls(continuing, calls);
+            }
+            _ => {}
+        }
+    }
 }
 
 /// Applies the two patches of the module docs to a SPIR-V module naga wrote.

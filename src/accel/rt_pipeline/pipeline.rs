@@ -84,7 +84,7 @@ impl PassPipeline {
             .map(|g| bindings.iter().filter(|b| b.group == g).map(|b| wgpu::BindGroupLayoutEntry { visibility: RT_STAGES, ..b.entry }).collect())
             .collect();
         let module = source.module;
-        let any_hit_words = any_hit::any_hit_spirv(&module.module, &module.info, &names.any_hit, any_hit::binding_map(&layout_entries))
+        let any_hit_words = any_hit::any_hit_spirv(&module.module, &module.info, &names.any_hit, source.entry, any_hit::binding_map(&layout_entries))
             .map_err(|e| RuntimeError::Gpu(format!("pass {}: the any-hit shader: {e}", source.label)))?;
         let commands = record_raw(device, "rt-pipeline shader binding table", |d, enc| {
             made.make_layouts(d, source.label, &layout_entries)?;
