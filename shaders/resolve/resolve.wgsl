@@ -28,8 +28,8 @@ fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
     return textureLoad(t, min(p, textureDimensions(t) - vec2<u32>(1u)), 0);
 }
 
-// 16x16 workgroups: a pass over every pixel with little work each is bound by its
-// invocations, not its bytes; in 8x8 ones the tone map took half as long again (PERF.md step 52).
+// 16x16 workgroups: a pass over every pixel with little work each is not bound by its bytes;
+// in 8x8 ones this pass took 15-20% longer, the tone map half as long again (PERF.md step 52).
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let texel = id.xy;

@@ -32,8 +32,8 @@ fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
     return select(hi, 12.92 * c, c <= vec3<f32>(0.0031308));
 }
 
-// 16x16 workgroups: a pass over every pixel with little work each is bound by its
-// invocations, not its bytes; in 8x8 ones the tone map took half as long again (PERF.md step 52).
+// 16x16 workgroups: a pass over every pixel with little work each is not bound by its bytes;
+// in 8x8 ones this pass took half as long again (PERF.md step 52).
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(color);
