@@ -29,7 +29,7 @@ fn load(t: texture_2d<f32>, p: vec2<u32>) -> vec4<f32> {
 }
 
 // 16x16 workgroups: a pass over every pixel with little work each is not bound by its bytes;
-// in 8x8 ones this pass took 15-20% longer, the tone map half as long again (PERF.md step 52).
+// in 8x8 ones this pass took 11-21% longer, the tone map half as long again (PERF.md step 52).
 @compute @workgroup_size(16, 16)
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let texel = id.xy;
