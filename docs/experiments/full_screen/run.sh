@@ -1,6 +1,6 @@
 #!/bin/bash
 # PERF.md step 52: what the passes cost over the whole image where few pixels are covered.
-# Variants (diagnostic; made by `bash docs/experiments/low_coverage/pack.sh HEAD
+# Variants (diagnostic; made by `bash docs/experiments/low_coverage/pack.sh 959bde6
 # docs/experiments/full_screen wg16 trace_wg16 sky_position_only tonemap_write_only
 # shadow_sky_nowrite`): `wg16` the resolve and tone-map passes in 16x16 workgroups (8x8 in
 # main); `trace_wg16` the primary and shadow passes likewise; `sky_position_only` the G-buffer

@@ -6,7 +6,7 @@
 # 5%, 10% of the frame). Step 55 (diagnostic, compute): what is left of the tone map without its
 # store (`tonemap_no_store`) and with every invocation but one returning at once
 # (`tonemap_empty`), between two runs of main, on the helmet and the pine at their cameras and
-# at 2% and 10%. Made by `bash docs/experiments/low_coverage/pack.sh HEAD
+# at 2% and 10%. Made by `bash docs/experiments/low_coverage/pack.sh af3dfd8
 # docs/experiments/full_screen tonemap_no_store tonemap_empty`. Results in
 # $OUT/fair_any_hit.tgz.
 . docs/experiments/low_coverage/preamble.sh

@@ -4,7 +4,7 @@
 # and two diagnostic variants with more pixels an invocation (`block2`, `block4`: the resolve
 # and the tone map with two and four pixels an invocation, the dispatch fixed to 2560x1440),
 # compute only, between two runs of main, on the helmet and the pine at their cameras and at 2%
-# and 10% of the frame. Made by `bash docs/experiments/low_coverage/pack.sh HEAD
+# and 10% of the frame. Made by `bash docs/experiments/low_coverage/pack.sh 11bb2e4
 # docs/experiments/full_screen block2 block4`. Results in $OUT/full_screen_product.tgz.
 . docs/experiments/low_coverage/preamble.sh
 shipped
