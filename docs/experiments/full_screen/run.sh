@@ -10,6 +10,6 @@
 # 10` on the helmet and the pine at their cameras and at 2% and 10% of the frame, for main,
 # each variant, and main again. Results in $OUT/full_screen.tgz.
 . docs/experiments/low_coverage/preamble.sh
-REAL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.1"
+REAL=$REAL_ENDS
 for v in main wg16 trace_wg16 sky_position_only tonemap_write_only shadow_sky_nowrite main; do bench $v real; done
 cd $OUT && tar czf full_screen.tgz r && rm -rf r

@@ -11,6 +11,6 @@
 # $OUT/fair_any_hit.tgz.
 . docs/experiments/low_coverage/preamble.sh
 shipped
-REAL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.1"
+REAL=$REAL_ENDS
 for v in main tonemap_no_store tonemap_empty main; do bench $v real; done
 cd $OUT && tar czf fair_any_hit.tgz r && rm -rf r

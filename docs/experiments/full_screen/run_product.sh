@@ -8,6 +8,6 @@
 # docs/experiments/full_screen block2 block4`. Results in $OUT/full_screen_product.tgz.
 . docs/experiments/low_coverage/preamble.sh
 shipped
-REAL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.1"
+REAL=$REAL_ENDS
 for v in main block2 block4 main; do bench $v real; done
 cd $OUT && tar czf full_screen_product.tgz r && rm -rf r

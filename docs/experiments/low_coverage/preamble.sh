@@ -1,7 +1,7 @@
 # Sourced by low_coverage/run.sh and wide_any/run.sh on the GPU machine: unpacks the GL packages,
 # the release binary and the variant folders (.gpu/diag.tgz into /tmp/v), prints the device, and
 # sets ROOT, RG (the binary), OUT (results, with $OUT/r made) and REAL (the helmet and the pine at
-# their cameras and at 2%, 5%, 10% of the frame); defines `bench`, `kstats`, `export_copies`,
+# their cameras and at 2%, 5%, 10% of the frame; REAL_ALL and REAL_ENDS below); defines `bench`, `kstats`, `export_copies`,
 # `selftest`, `bench_both` and `shipped` (below).
 set -u
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
@@ -9,7 +9,8 @@ xz -dc .gpu/raygraph.xz > .gpu/raygraph; chmod +x .gpu/raygraph
 ROOT=$PWD; RG=$ROOT/.gpu/raygraph; OUT=${OUT:-/tmp/out}; mkdir -p $OUT/r /tmp/v
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
 tar xzf .gpu/diag.tgz -C /tmp/v
-REAL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf --coverage 0.02,0.05,0.1"
+REAL_SCENES="$ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf"
+REAL="--scenes $REAL_SCENES --coverage 0.02,0.05,0.1"
 
 # bench NAME WHAT: `bench rays --backend compute --frames 10` in variant folder NAME, Table 3
 # (WHAT=table3) or the real assets (WHAT=real), into $OUT/r/NAME_WHAT (NAME_WHAT_2 the second
@@ -33,7 +34,9 @@ kstats() {
 }
 # REAL_ALL: REAL with helmet_5x5x5 (the helmet 125 times, 1.93M triangles, which
 # `export_copies` writes to /tmp).
-REAL_ALL="--scenes $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb,$ROOT/assets/gltf/smallpine/scene.gltf,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1"
+REAL_ALL="--scenes $REAL_SCENES,/tmp/helmet_5x5x5.glb --coverage 0.02,0.05,0.1"
+# REAL_ENDS: the helmet and the pine at their cameras and at 2% and 10% of the frame only.
+REAL_ENDS="--scenes $REAL_SCENES --coverage 0.02,0.1"
 export_copies() {
   $RG scene export $ROOT/assets/gltf/DamagedHelmet/DamagedHelmet.glb /tmp/helmet_5x5x5.glb --duplicate 5 --no-dedup > /dev/null
 }
