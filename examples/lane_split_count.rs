@@ -1,0 +1,184 @@
+//! How long the shadow pass's subgroups run when one ray's tree is split over several lanes
+//! (PERF.md step 56): `cargo run --release --example lane_split_count -- SCENE SCALE [WARPS]`.
+//!
+//! The scene's camera is moved SCALE times as far from its target (the `bench rays` coverage
+//! rows name their scale); every pixel of 2560x1440 traces its primary ray and, where it hits,
+//! the roofline's shadow ray (towards the scene's light, from the hit moved off the surface:
+//! `bench::roofline::scene_workload_rays`), an any-hit ray on the merged layout with the alpha
+//! test. With `lanes` = 1 a lane traces a pixel's ray from the root, as `rt/shadow.wgsl` does;
+//! with `lanes` = 2, 4, 8 or 16 each lane traces it in one subtree of the frontier log2(lanes)
+//! levels below the root (a leaf above that depth is a subtree of its own), stopping at its
+//! own first hit, and the pixel's answer is whether any lane hit. A lane's steps are the
+//! interior nodes and leaves it visits (one more for its subtree's box).
+//!
+//! Subgroups are 32 lanes over tiles of 32 / `lanes` pixels (8x4 for one lane a pixel, as the
+//! 8x8 workgroups lay them out); a subgroup lasts as long as its longest lane. The pass's length
+//! is modelled as the makespan of its subgroups (in steps) on WARPS slots (default 3168: 132 SMs
+//! x 24 subgroups, the trace kernels' occupancy, PERF.md step 37), each subgroup given to the
+//! slot that frees first, in the order of its tiles: a constant time a step, which holds where
+//! the GPU is mostly idle (the step's latency) and not where it is full.
+
+use glam::Vec3;
+use raygraph::accel::bvh::{Blas, BuildConfig};
+use raygraph::accel::cpu_traverse::{CpuTraverser, Ray, TraceStart, TraversalCounts};
+use raygraph::accel::layout::{merge, merge_instances, GpuAccel};
+use raygraph::bench::roofline::{scene_workload_rays, WorkloadRay};
+use raygraph::scene::{self, LoadOptions};
+use std::collections::{BTreeMap, BinaryHeap};
+
+const SIZE: (u32, u32) = (2560, 1440);
+const LANES: [u32; 5] = [1, 2, 4, 8, 16];
+
+/// The merged BLAS's nodes `depth` levels below its root (leaves above that depth included).
+fn frontier(accel: &GpuAccel, depth: u32) -> Vec<u32> {
+    let mut level = vec![accel.instances[0].blas_root];
+    for _ in 0..depth {
+        level = level
+            .iter()
+            .flat_map(|&n| {
+                let node = &accel.blas_nodes[n as usize];
+                if node.count > 0 {
+                    vec![n]
+                } else {
+                    vec![node.left_or_first, node.left_or_first + 1]
+                }
+            })
+            .collect();
+    }
+    level
+}
+
+/// Steps (interior nodes and leaves) of a count.
+fn steps(c: &TraversalCounts) -> u64 {
+    c.interior + c.leaves
+}
+
+/// The steps of each lane of one pixel's shadow ray split over `subtrees` (the root alone: one
+/// lane), and whether any lane hit.
+fn lane_steps(tracer: &CpuTraverser, ray: &Ray, subtrees: &[u32]) -> (Vec<u64>, bool) {
+    if subtrees.len() == 1 {
+        let mut c = TraversalCounts::default();
+        let hit = tracer.counted(ray, true, &mut c).is_some();
+        return (vec![steps(&c)], hit);
+    }
+    let mut any = false;
+    let lanes = subtrees
+        .iter()
+        .map(|&node| {
+            let start = TraceStart::Within { instance: 0, node: Some(node), lo: Vec3::splat(f32::NEG_INFINITY), hi: Vec3::splat(f32::INFINITY) };
+            let mut c = TraversalCounts::default();
+            any |= tracer.any_within(ray, &start, &mut c);
+            1 + steps(&c)
+        })
+        .collect();
+    (lanes, any)
+}
+
+/// Each subgroup's longest lane (steps), tiles of `tile` pixels in row-major tile order.
+fn subgroup_lengths(pixels: &BTreeMap<(u32, u32), Vec<u64>>, tile: (u32, u32)) -> Vec<u64> {
+    let mut longest: BTreeMap<(u32, u32), u64> = BTreeMap::new();
+    for (&(x, y), lanes) in pixels {
+        let key = (y / tile.1, x / tile.0);
+        let l = longest.entry(key).or_default();
+        *l = (*l).max(lanes.iter().copied().max().unwrap_or(0));
+    }
+    longest.into_values().collect()
+}
+
+/// The makespan of `jobs` (in order) on `slots` slots, each job to the slot that frees first.
+fn makespan(jobs: &[u64], slots: usize) -> u64 {
+    let mut free: BinaryHeap<std::cmp::Reverse<u64>> = (0..slots).map(|_| std::cmp::Reverse(0)).collect();
+    let mut end = 0;
+    for &j in jobs {
+        let std::cmp::Reverse(t) = free.pop().unwrap_or(std::cmp::Reverse(0));
+        end = end.max(t + j);
+        free.push(std::cmp::Reverse(t + j));
+    }
+    end
+}
+
+fn percentile(sorted: &[u64], p: f64) -> u64 {
+    sorted.get(((sorted.len() as f64 - 1.0) * p).round() as usize).copied().unwrap_or(0)
+}
+
+/// The shadow rays of every covered pixel, by pixel.
+fn shadow_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
+    let mut pixel = 0u64;
+    let mut rays = BTreeMap::new();
+    let accel = merged(s);
+    let tracer = CpuTraverser::with_scene(&accel, s);
+    scene_workload_rays(s, 1, 0, |w| match w {
+        WorkloadRay::Primary(r) => {
+            pixel += 1;
+            tracer.closest(&r)
+        }
+        WorkloadRay::Shadow(r) => {
+            let p = pixel - 1;
+            rays.insert(((p % SIZE.0 as u64) as u32, (p / SIZE.0 as u64) as u32), r);
+            None
+        }
+        _ => None,
+    });
+    rays
+}
+
+fn merged(s: &scene::Scene) -> GpuAccel {
+    let (mesh, origin) = merge_instances(s);
+    merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
+}
+
+fn main() -> anyhow::Result<()> {
+    let args: Vec<String> = std::env::args().collect();
+    let (Some(name), Some(scale)) = (args.get(1), args.get(2)) else {
+        anyhow::bail!("usage: lane_split_count SCENE SCALE [WARPS]");
+    };
+    let scale: f32 = scale.parse()?;
+    let slots: usize = args.get(3).map_or(Ok(132 * 24), |w| w.parse())?;
+    let (mut s, _) = scene::open(name, &LoadOptions::default())?;
+    let camera = s.camera_mut();
+    camera.position = camera.target + (camera.position - camera.target) * scale;
+    camera.far += (camera.position - camera.target).length();
+    let rays = shadow_rays(&s);
+    let accel = merged(&s);
+    let tracer = CpuTraverser::with_scene(&accel, &s);
+    println!("{name} x{scale}: {} shadow rays ({:.2}% of the pixels), {slots} slots", rays.len(), 100.0 * rays.len() as f64 / (SIZE.0 * SIZE.1) as f64);
+    println!("| lanes a pixel | subtrees | hits | subgroups | lane steps a ray | longest subgroup | p99 | p50 | sum of subgroups | makespan |");
+    println!("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for lanes in LANES {
+        let subtrees = frontier(&accel, lanes.trailing_zeros());
+        let mut hits = 0u64;
+        let mut total = 0u64;
+        let pixels: BTreeMap<(u32, u32), Vec<u64>> = rays
+            .iter()
+            .map(|(&p, r)| {
+                let (l, hit) = lane_steps(&tracer, r, &subtrees);
+                hits += hit as u64;
+                total += l.iter().sum::<u64>();
+                (p, l)
+            })
+            .collect();
+        let per_tile = 32 / lanes;
+        let tile = match per_tile {
+            32 => (8, 4),
+            16 => (4, 4),
+            8 => (4, 2),
+            4 => (2, 2),
+            _ => (2, 1),
+        };
+        let jobs = subgroup_lengths(&pixels, tile);
+        let mut sorted = jobs.clone();
+        sorted.sort_unstable();
+        println!(
+            "| {lanes} | {} | {hits} | {} | {:.1} | {} | {} | {} | {} | {} |",
+            subtrees.len(),
+            jobs.len(),
+            total as f64 / rays.len().max(1) as f64,
+            sorted.last().copied().unwrap_or(0),
+            percentile(&sorted, 0.99),
+            percentile(&sorted, 0.5),
+            jobs.iter().sum::<u64>(),
+            makespan(&jobs, slots)
+        );
+    }
+    Ok(())
+}
