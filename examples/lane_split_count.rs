@@ -4,8 +4,9 @@
 //! The scene's camera is moved SCALE times as far from its target (the `bench rays` coverage
 //! rows name their scale); every pixel of 2560x1440 traces its primary ray and, where it hits,
 //! the roofline's shadow ray (towards the scene's light, from the hit moved off the surface:
-//! `bench::roofline::scene_workload_rays`), an any-hit ray on the merged layout with the alpha
-//! test. With `lanes` = 1 a lane traces a pixel's ray from the root, as `rt/shadow.wgsl` does;
+//! `bench::roofline::scene_workload_rays`) where the surface faces the light, an any-hit ray on
+//! the merged layout with the alpha test (a BLEND surface stops it: the shader's transmittance
+//! rays go on through it). With `lanes` = 1 a lane traces a pixel's ray from the root, as `rt/shadow.wgsl` does;
 //! with `lanes` = 2, 4, 8 or 16 each lane traces it in one subtree of the frontier log2(lanes)
 //! levels below the root (a leaf above that depth is a subtree of its own), stopping at its
 //! own first hit, and the pixel's answer is whether any lane hit. A lane's steps are the
@@ -20,7 +21,7 @@
 
 use glam::Vec3;
 use raygraph::accel::bvh::{Blas, BuildConfig};
-use raygraph::accel::cpu_traverse::{CpuTraverser, Ray, TraceStart, TraversalCounts};
+use raygraph::accel::cpu_traverse::{CpuTraverser, Hit, Ray, TraceStart, TraversalCounts};
 use raygraph::accel::layout::{merge, merge_instances, GpuAccel};
 use raygraph::bench::roofline::{scene_workload_rays, WorkloadRay};
 use raygraph::scene::{self, LoadOptions};
@@ -101,18 +102,35 @@ fn percentile(sorted: &[u64], p: f64) -> u64 {
     sorted.get(((sorted.len() as f64 - 1.0) * p).round() as usize).copied().unwrap_or(0)
 }
 
-/// The shadow rays of every covered pixel, by pixel.
+/// The geometric normal of the triangle `hit`, facing the ray `r` that hit it.
+fn facing_normal(s: &scene::Scene, r: &Ray, hit: &Hit) -> Vec3 {
+    let inst = &s.instances()[hit.instance_id as usize];
+    let m = &s.meshes()[inst.mesh];
+    let v: [Vec3; 3] = [0, 1, 2].map(|k| inst.transform.transform_point3(Vec3::from(m.vertices[m.indices[3 * hit.prim as usize + k] as usize].position)));
+    let n = (v[1] - v[0]).cross(v[2] - v[0]).normalize_or_zero();
+    if n.dot(r.dir) > 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
+/// The shadow rays of every covered pixel whose surface faces the light (the shader traces
+/// none where it faces away: `light_transmittance`), by pixel.
 fn shadow_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
     let mut pixel = 0u64;
     let mut rays = BTreeMap::new();
     let accel = merged(s);
     let tracer = CpuTraverser::with_scene(&accel, s);
+    let mut facing = Vec3::ZERO;
     scene_workload_rays(s, 1, 0, |w| match w {
         WorkloadRay::Primary(r) => {
             pixel += 1;
-            tracer.closest(&r)
+            let hit = tracer.closest(&r);
+            facing = hit.as_ref().map_or(Vec3::ZERO, |h| facing_normal(s, &r, h));
+            hit
         }
-        WorkloadRay::Shadow(r) => {
+        WorkloadRay::Shadow(r) if facing.dot(r.dir) > 0.0 => {
             let p = pixel - 1;
             rays.insert(((p % SIZE.0 as u64) as u32, (p / SIZE.0 as u64) as u32), r);
             None
