@@ -19,6 +19,9 @@
 //! slot that frees first, in the order of its tiles: a constant time a step, which holds where
 //! the GPU is mostly idle (the step's latency) and not where it is full.
 
+#[path = "common/wide_tree.rs"]
+mod wide_tree;
+
 use glam::Vec3;
 use raygraph::accel::bvh::{Blas, BuildConfig};
 use raygraph::accel::cpu_traverse::{CpuTraverser, Hit, Ray, TraceStart, TraversalCounts};
@@ -26,9 +29,11 @@ use raygraph::accel::layout::{merge, merge_instances, GpuAccel};
 use raygraph::bench::roofline::{scene_workload_rays, WorkloadRay};
 use raygraph::scene::{self, LoadOptions};
 use std::collections::{BTreeMap, BinaryHeap};
+use wide_tree::{WideCounts, WideTree};
 
 const SIZE: (u32, u32) = (2560, 1440);
 const LANES: [u32; 5] = [1, 2, 4, 8, 16];
+const WIDTHS: [usize; 2] = [4, 8];
 
 /// The merged BLAS's nodes `depth` levels below its root (leaves above that depth included).
 fn frontier(accel: &GpuAccel, depth: u32) -> Vec<u32> {
@@ -145,6 +150,44 @@ fn merged(s: &scene::Scene) -> GpuAccel {
     merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
 }
 
+/// One row of the table: the tree, the split, and what its rays did.
+struct Row {
+    tree: String,
+    lanes: u32,
+    subtrees: usize,
+    hits: u64,
+    total: u64,
+    rays: usize,
+}
+
+/// Prints `row` with its subgroups' lengths: `pixels` holds each pixel's lanes' steps.
+fn report(row: &Row, pixels: &BTreeMap<(u32, u32), Vec<u64>>, slots: usize) {
+    let tile = match 32 / row.lanes {
+        32 => (8, 4),
+        16 => (4, 4),
+        8 => (4, 2),
+        4 => (2, 2),
+        _ => (2, 1),
+    };
+    let jobs = subgroup_lengths(pixels, tile);
+    let mut sorted = jobs.clone();
+    sorted.sort_unstable();
+    println!(
+        "| {} | {} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |",
+        row.tree,
+        row.lanes,
+        row.subtrees,
+        row.hits,
+        jobs.len(),
+        row.total as f64 / row.rays.max(1) as f64,
+        sorted.last().copied().unwrap_or(0),
+        percentile(&sorted, 0.99),
+        percentile(&sorted, 0.5),
+        jobs.iter().sum::<u64>(),
+        makespan(&jobs, slots)
+    );
+}
+
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let (Some(name), Some(scale)) = (args.get(1), args.get(2)) else {
@@ -160,12 +203,11 @@ fn main() -> anyhow::Result<()> {
     let accel = merged(&s);
     let tracer = CpuTraverser::with_scene(&accel, &s);
     println!("{name} x{scale}: {} shadow rays ({:.2}% of the pixels), {slots} slots", rays.len(), 100.0 * rays.len() as f64 / (SIZE.0 * SIZE.1) as f64);
-    println!("| lanes a pixel | subtrees | hits | subgroups | lane steps a ray | longest subgroup | p99 | p50 | sum of subgroups | makespan |");
-    println!("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    println!("| tree | lanes a pixel | subtrees | hits | subgroups | lane steps a ray | longest subgroup | p99 | p50 | sum of subgroups | makespan |");
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for lanes in LANES {
         let subtrees = frontier(&accel, lanes.trailing_zeros());
-        let mut hits = 0u64;
-        let mut total = 0u64;
+        let (mut hits, mut total) = (0u64, 0u64);
         let pixels: BTreeMap<(u32, u32), Vec<u64>> = rays
             .iter()
             .map(|(&p, r)| {
@@ -175,28 +217,23 @@ fn main() -> anyhow::Result<()> {
                 (p, l)
             })
             .collect();
-        let per_tile = 32 / lanes;
-        let tile = match per_tile {
-            32 => (8, 4),
-            16 => (4, 4),
-            8 => (4, 2),
-            4 => (2, 2),
-            _ => (2, 1),
-        };
-        let jobs = subgroup_lengths(&pixels, tile);
-        let mut sorted = jobs.clone();
-        sorted.sort_unstable();
-        println!(
-            "| {lanes} | {} | {hits} | {} | {:.1} | {} | {} | {} | {} | {} |",
-            subtrees.len(),
-            jobs.len(),
-            total as f64 / rays.len().max(1) as f64,
-            sorted.last().copied().unwrap_or(0),
-            percentile(&sorted, 0.99),
-            percentile(&sorted, 0.5),
-            jobs.iter().sum::<u64>(),
-            makespan(&jobs, slots)
-        );
+        let row = Row { tree: "binary".into(), lanes, subtrees: subtrees.len(), hits, total, rays: rays.len() };
+        report(&row, &pixels, slots);
+    }
+    for width in WIDTHS {
+        let mut wide = WideTree::new(&accel, width);
+        let (mut hits, mut total) = (0u64, 0u64);
+        let pixels: BTreeMap<(u32, u32), Vec<u64>> = rays
+            .iter()
+            .map(|(&p, r)| {
+                let mut c = WideCounts::default();
+                hits += wide.trace(r, accel.instances[0].blas_root, true, &mut c) as u64;
+                total += c.steps();
+                (p, vec![c.steps()])
+            })
+            .collect();
+        let row = Row { tree: format!("{width}-wide"), lanes: 1, subtrees: 1, hits, total, rays: rays.len() };
+        report(&row, &pixels, slots);
     }
     Ok(())
 }
