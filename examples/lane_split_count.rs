@@ -1,5 +1,5 @@
 //! How long the shadow pass's subgroups run when one ray's tree is split over several lanes
-//! (PERF.md step 56): `cargo run --release --example lane_split_count -- SCENE SCALE [WARPS]`.
+//! (PERF.md step 56): `cargo run --release --example lane_split_count -- SCENE SCALE [KIND [WARPS]]`.
 //!
 //! The scene's camera is moved SCALE times as far from its target (the `bench rays` coverage
 //! rows name their scale); every pixel of 2560x1440 traces its primary ray and, where it hits,
@@ -18,6 +18,13 @@
 //! x 24 subgroups, the trace kernels' occupancy, PERF.md step 37), each subgroup given to the
 //! slot that frees first, in the order of its tiles: a constant time a step, which holds where
 //! the GPU is mostly idle (the step's latency) and not where it is full.
+//!
+//! Then the same rays at one lane a pixel in 4- and 8-wide trees collapsed from the binary one
+//! (examples/common/wide_tree.rs; without the alpha test): a step there is a wide node's child
+//! boxes, or a round of the triangles of its leaf children (PERF.md step 58). KIND `primary`:
+//! the pixels' primary rays instead of the shadow rays (closest hit, without the alpha test;
+//! those that enter the scene's box), in the binary tree at one lane a pixel and in the wide
+//! trees.
 
 #[path = "common/wide_tree.rs"]
 mod wide_tree;
@@ -59,12 +66,12 @@ fn steps(c: &TraversalCounts) -> u64 {
     c.interior + c.leaves
 }
 
-/// The steps of each lane of one pixel's shadow ray split over `subtrees` (the root alone: one
-/// lane), and whether any lane hit.
-fn lane_steps(tracer: &CpuTraverser, ray: &Ray, subtrees: &[u32]) -> (Vec<u64>, bool) {
+/// The steps of each lane of one pixel's ray split over `subtrees` (the root alone: one lane,
+/// closest-hit where `any_hit` is off; split: any-hit), and whether any lane hit.
+fn lane_steps(tracer: &CpuTraverser, ray: &Ray, subtrees: &[u32], any_hit: bool) -> (Vec<u64>, bool) {
     if subtrees.len() == 1 {
         let mut c = TraversalCounts::default();
-        let hit = tracer.counted(ray, true, &mut c).is_some();
+        let hit = tracer.counted(ray, any_hit, &mut c).is_some();
         return (vec![steps(&c)], hit);
     }
     let mut any = false;
@@ -145,6 +152,22 @@ fn shadow_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
     rays
 }
 
+/// The primary rays of the pixels whose ray enters the scene's box (the others take no step).
+fn primary_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
+    let accel = merged(s);
+    let tracer = CpuTraverser::new(&accel);
+    let mut rays = BTreeMap::new();
+    for (p, (origin, dir)) in s.camera().rays(SIZE, 1).into_iter().enumerate() {
+        let r = Ray::new(origin, dir);
+        let mut c = TraversalCounts::default();
+        tracer.counted(&r, false, &mut c);
+        if steps(&c) > 0 {
+            rays.insert(((p % SIZE.0 as usize) as u32, (p / SIZE.0 as usize) as u32), r);
+        }
+    }
+    rays
+}
+
 fn merged(s: &scene::Scene) -> GpuAccel {
     let (mesh, origin) = merge_instances(s);
     merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
@@ -191,27 +214,34 @@ fn report(row: &Row, pixels: &BTreeMap<(u32, u32), Vec<u64>>, slots: usize) {
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let (Some(name), Some(scale)) = (args.get(1), args.get(2)) else {
-        anyhow::bail!("usage: lane_split_count SCENE SCALE [WARPS]");
+        anyhow::bail!("usage: lane_split_count SCENE SCALE [shadow|primary] [WARPS]");
     };
     let scale: f32 = scale.parse()?;
-    let slots: usize = args.get(3).map_or(Ok(132 * 24), |w| w.parse())?;
+    let primary = args.get(3).is_some_and(|k| k == "primary");
+    let slots: usize = args.get(4).map_or(Ok(132 * 24), |w| w.parse())?;
     let (mut s, _) = scene::open(name, &LoadOptions::default())?;
     let camera = s.camera_mut();
     camera.position = camera.target + (camera.position - camera.target) * scale;
     camera.far += (camera.position - camera.target).length();
-    let rays = shadow_rays(&s);
+    let rays = if primary { primary_rays(&s) } else { shadow_rays(&s) };
     let accel = merged(&s);
     let tracer = CpuTraverser::with_scene(&accel, &s);
-    println!("{name} x{scale}: {} shadow rays ({:.2}% of the pixels), {slots} slots", rays.len(), 100.0 * rays.len() as f64 / (SIZE.0 * SIZE.1) as f64);
+    println!(
+        "{name} x{scale}: {} {} rays ({:.2}% of the pixels), {slots} slots",
+        rays.len(),
+        if primary { "primary" } else { "shadow" },
+        100.0 * rays.len() as f64 / (SIZE.0 * SIZE.1) as f64
+    );
     println!("| tree | lanes a pixel | subtrees | hits | subgroups | lane steps a ray | longest subgroup | p99 | p50 | sum of subgroups | makespan |");
     println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
-    for lanes in LANES {
+    // Closest-hit rays are not split (a lane cannot stop at its own first hit).
+    for lanes in LANES.into_iter().filter(|&l| l == 1 || !primary) {
         let subtrees = frontier(&accel, lanes.trailing_zeros());
         let (mut hits, mut total) = (0u64, 0u64);
         let pixels: BTreeMap<(u32, u32), Vec<u64>> = rays
             .iter()
             .map(|(&p, r)| {
-                let (l, hit) = lane_steps(&tracer, r, &subtrees);
+                let (l, hit) = lane_steps(&tracer, r, &subtrees, !primary);
                 hits += hit as u64;
                 total += l.iter().sum::<u64>();
                 (p, l)
@@ -227,7 +257,7 @@ fn main() -> anyhow::Result<()> {
             .iter()
             .map(|(&p, r)| {
                 let mut c = WideCounts::default();
-                hits += wide.trace(r, accel.instances[0].blas_root, true, &mut c) as u64;
+                hits += wide.trace(r, accel.instances[0].blas_root, !primary, &mut c) as u64;
                 total += c.steps();
                 (p, vec![c.steps()])
             })
