@@ -30,7 +30,6 @@ pub struct WideCounts {
 
 impl WideCounts {
     /// Dependent steps: each wide node's boxes, and each round of its leaves' triangles.
-    #[allow(dead_code)]
     pub fn steps(&self) -> u64 {
         self.nodes + self.leaf_rounds
     }
