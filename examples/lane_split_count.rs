@@ -6,11 +6,11 @@
 //! the roofline's shadow ray (towards the scene's light, from the hit moved off the surface:
 //! `bench::roofline::scene_workload_rays`) where the surface faces the light, an any-hit ray on
 //! the merged layout with the alpha test (a BLEND surface stops it: the shader's transmittance
-//! rays go on through it). With `lanes` = 1 a lane traces a pixel's ray from the root, as `rt/shadow.wgsl` does;
-//! with `lanes` = 2, 4, 8 or 16 each lane traces it in one subtree of the frontier log2(lanes)
-//! levels below the root (a leaf above that depth is a subtree of its own), stopping at its
-//! own first hit, and the pixel's answer is whether any lane hit. A lane's steps are the
-//! interior nodes and leaves it visits (one more for its subtree's box).
+//! rays go on through it). With `lanes` = 1 a lane traces a pixel's ray from the root, as
+//! `rt/shadow.wgsl` does; with `lanes` = 2, 4, 8 or 16 each lane traces it in one subtree of the
+//! frontier log2(lanes) levels below the root (a leaf above that depth is a subtree of its own),
+//! stopping at its own first hit, and the pixel's answer is whether any lane hit. A lane's steps
+//! are the interior nodes and leaves it visits (one more for its subtree's box).
 //!
 //! Subgroups are 32 lanes over tiles of 32 / `lanes` pixels (8x4 for one lane a pixel, as the
 //! 8x8 workgroups lay them out); a subgroup lasts as long as its longest lane. The pass's length
@@ -22,9 +22,10 @@
 //! Then the same rays at one lane a pixel in 4- and 8-wide trees collapsed from the binary one
 //! (examples/common/wide_tree.rs; without the alpha test): a step there is a wide node's child
 //! boxes, or a round of the triangles of its leaf children (PERF.md step 58). KIND `primary`:
-//! the pixels' primary rays instead of the shadow rays (closest hit, without the alpha test;
-//! those that enter the scene's box), in the binary tree at one lane a pixel and in the wide
-//! trees.
+//! the primary rays of the pixels whose ray enters the scene's box instead of the shadow rays
+//! (closest hit), in the binary tree at one lane a pixel and in the wide trees. The binary rows
+//! run the alpha test and the wide rows do not: on a scene with alpha-tested materials (the
+//! pine) the two are not the same rays' work.
 
 #[path = "common/wide_tree.rs"]
 mod wide_tree;
