@@ -31,10 +31,9 @@
 mod wide_tree;
 
 use glam::Vec3;
-use raygraph::accel::bvh::{Blas, BuildConfig};
 use raygraph::accel::cpu_traverse::{CpuTraverser, Hit, Ray, TraceStart, TraversalCounts};
-use raygraph::accel::layout::{merge, merge_instances, GpuAccel};
-use raygraph::bench::roofline::{scene_workload_rays, WorkloadRay};
+use raygraph::accel::layout::GpuAccel;
+use raygraph::bench::roofline::{merged_layout, scene_workload_rays, WorkloadRay};
 use raygraph::scene::{self, LoadOptions};
 use std::collections::{BTreeMap, BinaryHeap};
 use wide_tree::{WideCounts, WideTree};
@@ -130,11 +129,9 @@ fn facing_normal(s: &scene::Scene, r: &Ray, hit: &Hit) -> Vec3 {
 
 /// The shadow rays of every covered pixel whose surface faces the light (the shader traces
 /// none where it faces away: `light_transmittance`), by pixel.
-fn shadow_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
+fn shadow_rays(s: &scene::Scene, tracer: &CpuTraverser) -> BTreeMap<(u32, u32), Ray> {
     let mut pixel = 0u64;
     let mut rays = BTreeMap::new();
-    let accel = merged(s);
-    let tracer = CpuTraverser::with_scene(&accel, s);
     let mut facing = Vec3::ZERO;
     scene_workload_rays(s, 1, 0, |w| match w {
         WorkloadRay::Primary(r) => {
@@ -154,9 +151,7 @@ fn shadow_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
 }
 
 /// The primary rays of the pixels whose ray enters the scene's box (the others take no step).
-fn primary_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
-    let accel = merged(s);
-    let tracer = CpuTraverser::new(&accel);
+fn primary_rays(s: &scene::Scene, tracer: &CpuTraverser) -> BTreeMap<(u32, u32), Ray> {
     let mut rays = BTreeMap::new();
     for (p, (origin, dir)) in s.camera().rays(SIZE, 1).into_iter().enumerate() {
         let r = Ray::new(origin, dir);
@@ -167,11 +162,6 @@ fn primary_rays(s: &scene::Scene) -> BTreeMap<(u32, u32), Ray> {
         }
     }
     rays
-}
-
-fn merged(s: &scene::Scene) -> GpuAccel {
-    let (mesh, origin) = merge_instances(s);
-    merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
 }
 
 /// One row of the table: the tree, the split, and what its rays did.
@@ -224,9 +214,9 @@ fn main() -> anyhow::Result<()> {
     let camera = s.camera_mut();
     camera.position = camera.target + (camera.position - camera.target) * scale;
     camera.far += (camera.position - camera.target).length();
-    let rays = if primary { primary_rays(&s) } else { shadow_rays(&s) };
-    let accel = merged(&s);
+    let accel = merged_layout(&s);
     let tracer = CpuTraverser::with_scene(&accel, &s);
+    let rays = if primary { primary_rays(&s, &CpuTraverser::new(&accel)) } else { shadow_rays(&s, &tracer) };
     println!(
         "{name} x{scale}: {} {} rays ({:.2}% of the pixels), {slots} slots",
         rays.len(),

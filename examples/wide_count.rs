@@ -10,11 +10,9 @@
 #[path = "common/wide_tree.rs"]
 mod wide_tree;
 
-use raygraph::accel::bvh::{Blas, BuildConfig};
 use raygraph::accel::cpu_traverse::{CpuTraverser, Ray, TraceStart, TraversalCounts};
-use raygraph::accel::layout::{merge, merge_instances};
 use raygraph::bench::rays::STRESS_PRESET;
-use raygraph::bench::roofline::{scene_workload_rays, WorkloadRay};
+use raygraph::bench::roofline::{merged_layout, scene_workload_rays, WorkloadRay};
 use raygraph::scene::{self, LoadOptions};
 use wide_tree::{WideCounts, WideTree};
 
@@ -42,8 +40,7 @@ fn main() -> anyhow::Result<()> {
     };
     let width: usize = args.get(4).map_or(Ok(8), |w| w.parse())?;
     let (s, _) = scene::open(name, &LoadOptions { textures: false, ..Default::default() })?;
-    let (mesh, origin) = merge_instances(&s);
-    let accel = merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()));
+    let accel = merged_layout(&s);
     let tracer = CpuTraverser::new(&accel);
     let root = accel.instances[0].blas_root;
     let mut wide = WideTree::new(&accel, width);

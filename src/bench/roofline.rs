@@ -123,8 +123,9 @@ fn camera_rays(camera: &Camera, size: (u32, u32), stride: u32) -> Vec<Ray> {
     camera.ray_dirs(size, stride).into_iter().map(|d| Ray::new(camera.position, d)).collect()
 }
 
-/// The merged layout of `scene`, as `Accel(merge: true)` builds it.
-pub(crate) fn merged_layout(scene: &Scene) -> GpuAccel {
+/// The merged layout of `scene`, as `Accel(merge: true)` builds it (also for the examples that
+/// count its rays: `wide_count`, `lane_split_count`).
+pub fn merged_layout(scene: &Scene) -> GpuAccel {
     let (mesh, origin) = merge_instances(scene);
     merge(&mesh, &origin, Blas::build(&mesh, &BuildConfig::default()))
 }

@@ -1,8 +1,8 @@
-# Sourced by low_coverage/run.sh and wide_any/run.sh on the GPU machine: unpacks the GL packages,
-# the release binary and the variant folders (.gpu/diag.tgz into /tmp/v), prints the device, and
-# sets ROOT, RG (the binary), OUT (results, with $OUT/r made) and REAL (the helmet and the pine at
-# their cameras and at 2%, 5%, 10% of the frame; REAL_ALL and REAL_ENDS below); defines `bench`, `kstats`, `export_copies`,
-# `selftest`, `bench_both` and `shipped` (below).
+# Sourced by the device scripts under docs/experiments on the GPU machine: unpacks the GL
+# packages, the release binary and the variant folders (.gpu/diag.tgz into /tmp/v), prints the
+# device, and sets ROOT, RG (the binary), OUT (results, with $OUT/r made) and REAL (the helmet and
+# the pine at their cameras and at 2%, 5%, 10% of the frame; REAL_ALL and REAL_ENDS below);
+# defines `bench`, `kstats`, `export_copies`, `selftest`, `bench_both` and `shipped` (below).
 set -u
 for f in .gpu/gl/*.deb; do dpkg -x $f / ; done; ldconfig
 xz -dc .gpu/raygraph.xz > .gpu/raygraph; chmod +x .gpu/raygraph
